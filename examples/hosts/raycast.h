@@ -1,0 +1,96 @@
+/* The C side of the example hosts: the GPU ray caster (raycast.vert/raycast.frag) and
+ * the conformance probe (probe.frag). Not part of the installed libhalo: the examples,
+ * halo-validate and the tests link it from a convenience library.
+ *
+ * Every GL call goes through a halo_glfuncs table; the caller's context must be
+ * current (see libhalo/gl/headless.h for one without a window). */
+#ifndef HALO_EXAMPLE_RAYCAST_H
+#define HALO_EXAMPLE_RAYCAST_H
+
+#include "halo.h"
+#include "gl/glfuncs.h"
+
+/* ---- Host shader texts ------------------------------------------------------- */
+
+/* The text of an example host shader embedded at build time ("raycast.frag",
+ * "raycast.vert", "probe.frag"), or NULL. */
+const char *halo_host_embedded(const char *name);
+/* A copy (free() it) of the file at override_path when given, else of the embedded
+ * host `name`; NULL with an IO_READ diagnostic when neither exists. */
+char *halo_host_load(const char *name, const char *override_path, halo_diagnostics *diag);
+
+/* ---- Programs ------------------------------------------------------------------ */
+
+typedef struct halo_host_desc {
+    const halo_glfuncs *gl;        /* required; the context must be current */
+    halo_gl *runtime;              /* required with program */
+    const halo_program *program;   /* the host linked by halo_link, or NULL ... */
+    const char *fragment_source;   /* ... for this unlinked text (default: the embedded host) */
+    const char *fragment_file;     /* for diagnostics (default: the host's name) */
+    const char *vertex_source;     /* default: the embedded raycast.vert */
+    const char *vertex_file;       /* default "raycast.vert" */
+    int width, height;             /* render target size, required */
+} halo_host_desc;
+
+/* ---- The ray caster -------------------------------------------------------------- */
+
+typedef struct halo_raycast halo_raycast;
+
+/* The values the ray caster's shader runs with, for an emulation of it. The matrix
+ * and vectors hold exactly the float values uploaded. */
+typedef struct halo_raycast_state {
+    int width, height;
+    double inverse_view_projection[16]; /* column-major, clip space -> volume texture space */
+    double eye[3];                      /* volume texture space */
+    double step_size;                   /* texture units */
+    double unit_step;                   /* the step transfer opacities are given for (one voxel) */
+    double background[3];
+    int transfer_texels;                /* HALO_RAYCAST_TRANSFER_TEXELS */
+    const float *transfer;              /* transfer_texels RGBA texels as uploaded */
+    int dims[3];                        /* volume size in voxels */
+    const float *volume;                /* the values uploaded (x fastest), NULL before upload */
+} halo_raycast_state;
+
+#define HALO_RAYCAST_TRANSFER_TEXELS 256
+/* Field of view across the smaller image side at zoom 1, in degrees. */
+#define HALO_RAYCAST_FIELD_OF_VIEW 30.0
+
+/* Builds the program (linked or raw) and the render target. Returns NULL with
+ * diagnostics (GL_COMPILE, GL_LINK, OUT_OF_MEMORY, USAGE) on failure. */
+halo_raycast *halo_raycast_create(const halo_host_desc *desc, halo_diagnostics *diag);
+void halo_raycast_destroy(halo_raycast *r);
+/* Uploads a volume of values already normalized to [0,1] (x fastest); the ray
+ * caster keeps a reference to data for halo_raycast_get_state: keep it alive. */
+halo_status halo_raycast_set_volume(halo_raycast *r, const float *data, int nx, int ny, int nz,
+                                    halo_diagnostics *diag);
+/* Transfer function (control points linearly interpolated into a 256-texel table;
+ * none: a grey ramp), background and step (voxels; <= 0 means 0.5) from a scene's
+ * render settings. */
+halo_status halo_raycast_set_render(halo_raycast *r, const halo_render_settings *settings,
+                                    halo_diagnostics *diag);
+/* Perspective camera looking at the volume centre from azimuth (about +y, 0 = on
+ * the +z side) and elevation (degrees); zoom 1 fits the bounding sphere in view. */
+void halo_raycast_set_camera(halo_raycast *r, double azimuth, double elevation, double zoom);
+/* Renders into the RGBA32F target and reads it back: width*height*4 floats, rows
+ * bottom-up, premultiplied colour over the background. */
+halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *diag);
+void halo_raycast_get_state(const halo_raycast *r, halo_raycast_state *state);
+unsigned halo_raycast_gl_program(const halo_raycast *r);
+
+/* ---- The conformance probe ----------------------------------------------------- */
+
+typedef struct halo_probe halo_probe;
+
+/* As halo_raycast_create, with probe.frag as the default fragment host. */
+halo_probe *halo_probe_create(const halo_host_desc *desc, halo_diagnostics *diag);
+void halo_probe_destroy(halo_probe *p);
+/* One sample per pixel (width*height of them, row y at samples[y*width]; pixel (x,y)
+ * has gl_FragCoord (x+0.5, y+0.5)): uploads position, value, gradient, depth, view,
+ * colour and opacity as float, renders probe.frag and reads back colour and opacity
+ * (width*height*4 floats). */
+halo_status halo_probe_run(halo_probe *p, const halo_emu_sample *samples, float *rgba, halo_diagnostics *diag);
+/* Rounds the host-filled fields of s to the floats halo_probe_run uploads and sets
+ * fragcoord to the pixel centre, so an emulation sees exactly the GPU's inputs. */
+void halo_probe_round_inputs(halo_emu_sample *s, int x, int y);
+
+#endif

@@ -1,0 +1,107 @@
+/* The built-in procedural volume (see volume.h). */
+#include "volume.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* 1 inside, 0 outside, a smooth (cubic) ramp of `width` across the edge at distance 0;
+ * distance is negative inside. */
+static double soft_inside(double distance, double width)
+{
+    double t = 0.5 - distance / width;
+    if (t <= 0.0)
+        return 0.0;
+    if (t >= 1.0)
+        return 1.0;
+    return t * t * (3.0 - 2.0 * t);
+}
+
+static float maxf(float a, float b)
+{
+    return a > b ? a : b;
+}
+
+float *halo_volume_create(int size)
+{
+    if (size < HALO_VOLUME_MIN_SIZE || size > HALO_VOLUME_MAX_SIZE)
+        return NULL;
+    size_t n = (size_t)size;
+    float *v = calloc(n * n * n, sizeof *v);
+    if (!v)
+        return NULL;
+    const double scale = size / 96.0;   /* feature sizes below are in voxels at size 96 */
+    const double c = 0.5 * (size - 1);  /* centre, in voxel index units */
+    const double edge = 2.0 * scale + 1.0; /* width of every smooth edge */
+    const int border = 2;
+
+    /* Nested shells: radius and half thickness. The outer shell is cut open where
+     * x and z both exceed the centre, with a smooth cut edge. */
+    const double outer_radius = 38.0 * scale, outer_half = 1.8 * scale + 0.5;
+    const double inner_radius = 17.0 * scale, inner_half = 2.2 * scale + 0.5;
+    for (int z = border; z < size - border; ++z)
+        for (int y = border; y < size - border; ++y)
+            for (int x = border; x < size - border; ++x) {
+                double dx = x - c, dy = y - c, dz = z - c;
+                double r = sqrt(dx * dx + dy * dy + dz * dz);
+                double outer = soft_inside(fabs(r - outer_radius) - outer_half, edge);
+                double cut = soft_inside(-fmin(dx, dz) + 4.0 * scale, edge); /* 1 outside the cut */
+                double inner = soft_inside(fabs(r - inner_radius) - inner_half, edge);
+                float value = maxf((float)(HALO_VOLUME_OUTER_SHELL * outer * cut),
+                                   (float)(HALO_VOLUME_INNER_SHELL * inner));
+                v[((size_t)z * n + (size_t)y) * n + (size_t)x] = value;
+            }
+
+    /* A thin tube along a trefoil knot between the shells: splat the distance to
+     * densely spaced points of the curve into a small box around each point. */
+    const double tube_radius = 1.6 * scale + 0.4;
+    const double knot_scale = 9.0 * scale; /* the knot spans about +-27 voxels at 96 */
+    const int points = (int)(1200 * scale) + 200;
+    const int reach = (int)ceil(tube_radius + edge) + 1;
+    for (int i = 0; i < points; ++i) {
+        double t = 2.0 * M_PI * i / points;
+        double px = c + knot_scale * (sin(t) + 2.0 * sin(2.0 * t));
+        double py = c + knot_scale * (cos(t) - 2.0 * cos(2.0 * t));
+        double pz = c - knot_scale * 1.2 * sin(3.0 * t);
+        for (int z = (int)pz - reach; z <= (int)pz + reach + 1; ++z)
+            for (int y = (int)py - reach; y <= (int)py + reach + 1; ++y)
+                for (int x = (int)px - reach; x <= (int)px + reach + 1; ++x) {
+                    if (x < border || y < border || z < border || x >= size - border || y >= size - border ||
+                        z >= size - border)
+                        continue;
+                    double d = sqrt((x - px) * (x - px) + (y - py) * (y - py) + (z - pz) * (z - pz));
+                    float value = (float)(HALO_VOLUME_TUBE * soft_inside(d - tube_radius, edge));
+                    float *dst = &v[((size_t)z * n + (size_t)y) * n + (size_t)x];
+                    *dst = maxf(*dst, value);
+                }
+    }
+
+    /* Small Gaussian blobs (sigma 2-4 voxels at 96): three inside the inner shell,
+     * the others scattered between and outside the shells. Fixed positions, in units
+     * of the half size, and sigmas. */
+    static const double blobs[][4] = {
+        {0.12, -0.10, 0.05, 2.5}, {-0.15, 0.08, -0.12, 3.0}, {0.02, 0.18, 0.14, 2.0},
+        {0.55, 0.40, -0.20, 4.0}, {-0.50, -0.45, 0.30, 3.5}, {0.35, -0.60, -0.35, 2.5},
+        {-0.30, 0.62, 0.45, 3.0}, {0.60, -0.05, 0.55, 2.0}, {0.88, 0.10, 0.10, 3.0},
+    };
+    for (size_t b = 0; b < sizeof blobs / sizeof blobs[0]; ++b) {
+        double bx = c + blobs[b][0] * c, by = c + blobs[b][1] * c, bz = c + blobs[b][2] * c;
+        double sigma = blobs[b][3] * scale;
+        int blob_reach = (int)ceil(3.5 * sigma) + 1;
+        for (int z = (int)bz - blob_reach; z <= (int)bz + blob_reach + 1; ++z)
+            for (int y = (int)by - blob_reach; y <= (int)by + blob_reach + 1; ++y)
+                for (int x = (int)bx - blob_reach; x <= (int)bx + blob_reach + 1; ++x) {
+                    if (x < border || y < border || z < border || x >= size - border || y >= size - border ||
+                        z >= size - border)
+                        continue;
+                    double d2 = (x - bx) * (x - bx) + (y - by) * (y - by) + (z - bz) * (z - bz);
+                    float value = (float)(HALO_VOLUME_BLOB * exp(-d2 / (2.0 * sigma * sigma)));
+                    float *dst = &v[((size_t)z * n + (size_t)y) * n + (size_t)x];
+                    *dst = maxf(*dst, value);
+                }
+    }
+    return v;
+}

@@ -1,0 +1,25 @@
+/* The built-in procedural volume of the examples and the conformance suite. */
+#ifndef HALO_EXAMPLE_VOLUME_H
+#define HALO_EXAMPLE_VOLUME_H
+
+#define HALO_VOLUME_DEFAULT_SIZE 96
+#define HALO_VOLUME_MIN_SIZE 8
+#define HALO_VOLUME_MAX_SIZE 512
+
+/* A size³ volume (x fastest, then y, then z) of values in [0,1] with features of
+ * several scales that occlude each other: two nested spherical shells (the outer one
+ * cut open towards +x+z), a thin tube along a trefoil knot winding through the gap
+ * between the shells, and small Gaussian blobs, some inside the inner shell. Every
+ * edge is smooth over about two voxels, so central-difference gradients are
+ * meaningful; the outermost two voxels are zero. Feature sizes scale with size
+ * (stated for the default of 96). Deterministic. Returns NULL when size is out of
+ * [HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE] or memory runs out; free() the result. */
+float *halo_volume_create(int size);
+
+/* The values each feature peaks at, for transfer functions that separate them. */
+#define HALO_VOLUME_OUTER_SHELL 0.3f
+#define HALO_VOLUME_INNER_SHELL 0.5f
+#define HALO_VOLUME_TUBE 0.75f
+#define HALO_VOLUME_BLOB 1.0f
+
+#endif

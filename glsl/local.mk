@@ -1,0 +1,19 @@
+# Stage modules, embedded into the library at build time.
+HALO_MODULES = \
+	glsl/halo_math.glsl \
+	glsl/sample/gradient.glsl \
+	glsl/sample/opacity_power.glsl \
+	glsl/sample/boundary.glsl \
+	glsl/sample/silhouette.glsl \
+	glsl/sample/orientation_fade.glsl \
+	glsl/sample/sketch.glsl \
+	glsl/sample/tone_shading.glsl \
+	glsl/sample/distance_blend.glsl \
+	glsl/sample/distance_cue.glsl
+
+EXTRA_DIST += $(HALO_MODULES)
+
+libhalo/embedded_modules.c: $(HALO_MODULES) $(top_srcdir)/build-aux/embed.sh
+	$(AM_V_GEN)$(MKDIR_P) libhalo && \
+	$(SHELL) $(top_srcdir)/build-aux/embed.sh halo_embedded_modules $@ $(top_srcdir) \
+		$(HALO_MODULES)

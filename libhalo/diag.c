@@ -1,0 +1,125 @@
+#include "diag.h"
+#include "strbuf.h"
+
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct halo_diagnostics {
+    halo_diagnostic *items;
+    size_t count, cap;
+};
+
+static const char *const message_names[] = {
+#define HALO_X_NAME(id, text) #id,
+    HALO_MESSAGES(HALO_X_NAME)
+#undef HALO_X_NAME
+};
+
+static void (*setup_logger)(const halo_diagnostic *, void *);
+static void *setup_user_data;
+
+void halo_diag_set_logger(void (*logger)(const halo_diagnostic *, void *), void *user_data) {
+    setup_logger = logger;
+    setup_user_data = user_data;
+}
+
+const char *halo_message_name(halo_message_id id) {
+    return (unsigned)id < HALO_MSG_COUNT ? message_names[id] : "UNKNOWN";
+}
+
+halo_diagnostics *halo_diagnostics_create(void) { return calloc(1, sizeof(halo_diagnostics)); }
+
+static void free_item(halo_diagnostic *d) {
+    free((char *)d->file);
+    free((char *)d->text);
+    free((char *)d->source_line);
+}
+
+void halo_diagnostics_clear(halo_diagnostics *d) {
+    if (!d) return;
+    for (size_t i = 0; i < d->count; i++) free_item(&d->items[i]);
+    d->count = 0;
+}
+
+void halo_diagnostics_destroy(halo_diagnostics *d) {
+    if (!d) return;
+    halo_diagnostics_clear(d);
+    free(d->items);
+    free(d);
+}
+
+size_t halo_diagnostics_count(const halo_diagnostics *d) { return d ? d->count : 0; }
+
+const halo_diagnostic *halo_diagnostics_get(const halo_diagnostics *d, size_t i) {
+    return d && i < d->count ? &d->items[i] : NULL;
+}
+
+size_t halo_diagnostics_errors(const halo_diagnostics *d) {
+    size_t n = 0;
+    for (size_t i = 0; d && i < d->count; i++) n += d->items[i].severity == HALO_SEVERITY_ERROR;
+    return n;
+}
+
+int halo_diagnostics_has(const halo_diagnostics *d, halo_message_id id) {
+    for (size_t i = 0; d && i < d->count; i++)
+        if (d->items[i].id == id) return 1;
+    return 0;
+}
+
+void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id id, const char *file, int line,
+                   int column, const char *source_line, const char *fmt, ...) {
+    halo_strbuf text = {0};
+    va_list ap;
+    va_start(ap, fmt);
+    halo_strbuf_vprintf(&text, fmt, ap);
+    va_end(ap);
+    halo_diagnostic item = {
+        .severity = severity,
+        .id = id,
+        .file = halo_strdup(file ? file : ""),
+        .line = line,
+        .column = column,
+        .text = halo_strbuf_take(&text),
+        .source_line = NULL,
+    };
+    if (source_line) {
+        size_t n = strcspn(source_line, "\r\n");
+        char *s = malloc(n + 1);
+        if (s) { memcpy(s, source_line, n); s[n] = '\0'; }
+        item.source_line = s;
+    }
+    if (!item.text) item.text = halo_strdup(halo_message_name(id));
+    if (setup_logger) setup_logger(&item, setup_user_data);
+    if (!d || !item.file || !item.text) { free_item(&item); return; }
+    if (d->count == d->cap) {
+        size_t cap = d->cap ? d->cap * 2 : 16;
+        halo_diagnostic *p = realloc(d->items, cap * sizeof *p);
+        if (!p) { free_item(&item); return; }
+        d->items = p;
+        d->cap = cap;
+    }
+    d->items[d->count++] = item;
+}
+
+void halo_diagnostics_print(const halo_diagnostics *d, FILE *out) {
+    static const char *const sev[] = {"error", "warning", "note"};
+    for (size_t i = 0; d && i < d->count; i++) {
+        const halo_diagnostic *g = &d->items[i];
+        if (g->file[0] && g->line > 0)
+            fprintf(out, "%s:%d:%d: ", g->file, g->line, g->column > 0 ? g->column : 1);
+        else if (g->file[0])
+            fprintf(out, "%s: ", g->file);
+        fprintf(out, "%s: %s\n", sev[g->severity], g->text);
+        if (g->source_line) {
+            fprintf(out, " %5d | %s\n", g->line, g->source_line);
+            if (g->column > 0) {
+                fprintf(out, "       | ");
+                size_t n = strlen(g->source_line);
+                for (int c = 1; c < g->column; c++)
+                    fputc((size_t)c <= n && g->source_line[c - 1] == '\t' ? '\t' : ' ', out);
+                fputs("^\n", out);
+            }
+        }
+    }
+}

@@ -1,0 +1,29 @@
+/* The table of stage emulations, looked up by module name. */
+#include <string.h>
+
+#include "stages.h"
+
+static const struct {
+    const char *name;
+    halo_emu_stage_fn fn;
+} halo_emu_stages[] = {
+    {"gradient", halo_emu_gradient},
+    {"opacity_power", halo_emu_opacity_power},
+    {"boundary", halo_emu_boundary},
+    {"silhouette", halo_emu_silhouette},
+    {"orientation_fade", halo_emu_orientation_fade},
+    {"sketch", halo_emu_sketch},
+    {"tone_shading", halo_emu_tone_shading},
+    {"distance_blend", halo_emu_distance_blend},
+    {"distance_cue", halo_emu_distance_cue},
+};
+
+halo_emu_stage_fn halo_emu_lookup(const char *name)
+{
+    if (!name)
+        return NULL;
+    for (size_t i = 0; i < sizeof halo_emu_stages / sizeof halo_emu_stages[0]; ++i)
+        if (strcmp(halo_emu_stages[i].name, name) == 0)
+            return halo_emu_stages[i].fn;
+    return NULL;
+}

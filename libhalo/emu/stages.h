@@ -1,0 +1,28 @@
+/* The per-sample stage emulations (one file each in emu/), and the few guards they share
+ * beyond emu.h. Internal: not installed. */
+#ifndef HALO_EMU_STAGES_H
+#define HALO_EMU_STAGES_H
+
+#include "emu.h"
+
+void halo_emu_gradient(halo_emu_sample *s, const halo_emu_params *p);
+void halo_emu_opacity_power(halo_emu_sample *s, const halo_emu_params *p);
+void halo_emu_boundary(halo_emu_sample *s, const halo_emu_params *p);
+void halo_emu_silhouette(halo_emu_sample *s, const halo_emu_params *p);
+void halo_emu_orientation_fade(halo_emu_sample *s, const halo_emu_params *p);
+void halo_emu_sketch(halo_emu_sample *s, const halo_emu_params *p);
+void halo_emu_tone_shading(halo_emu_sample *s, const halo_emu_params *p);
+void halo_emu_distance_blend(halo_emu_sample *s, const halo_emu_params *p);
+void halo_emu_distance_cue(halo_emu_sample *s, const halo_emu_params *p);
+
+/* Mirrors halo_dot_clamped: the dot product clamped to [-1, 1] (emu/math.c). */
+double halo_emu_dot_clamped(const double a[3], const double b[3]);
+
+/* The GLSL test `v == vec3(0.0)`: a normal from halo_normalize is exactly zero when the
+ * gradient has no direction. */
+static inline int halo_emu_is_zero3(const double v[3])
+{
+    return v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0;
+}
+
+#endif

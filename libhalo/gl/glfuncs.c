@@ -1,0 +1,33 @@
+/* Loading the OpenGL entry point table (see glfuncs.h). */
+#include "gl/glfuncs.h"
+
+#include <string.h>
+
+int halo_glfuncs_load(halo_glfuncs *f, void *(*get_proc_address)(const char *name), const char **missing_name)
+{
+    int complete = 1;
+    if (missing_name)
+        *missing_name = NULL;
+    memset(f, 0, sizeof *f);
+    if (!get_proc_address) {
+        if (missing_name)
+            *missing_name = "get_proc_address";
+        return 0;
+    }
+    /* Object pointers and function pointers share a representation on every platform
+     * OpenGL runs on (POSIX requires it for dlsym); memcpy keeps ISO C quiet. */
+#define HALO_X_GLFUNC_LOAD(type, name)                                  \
+    {                                                                   \
+        void *address = get_proc_address("gl" #name);                   \
+        if (address) {                                                  \
+            memcpy(&f->name, &address, sizeof f->name);                 \
+        } else {                                                        \
+            if (complete && missing_name)                               \
+                *missing_name = "gl" #name;                             \
+            complete = 0;                                               \
+        }                                                               \
+    }
+    HALO_GL_FUNCTIONS(HALO_X_GLFUNC_LOAD)
+#undef HALO_X_GLFUNC_LOAD
+    return complete;
+}

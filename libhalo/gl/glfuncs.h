@@ -1,0 +1,131 @@
+/* Internal: the OpenGL entry points libhalo, the example hosts and the conformance
+ * suite use, loaded at run time through the host's get-proc-address callback.
+ * Nothing links against libGL directly; every call goes through a halo_glfuncs table.
+ *
+ * All entry points are OpenGL 3.3 core (and, but for glBindFragDataLocation and the
+ * 3D/float formats' filtering, OpenGL ES 3.0). */
+#ifndef HALO_GLFUNCS_H
+#define HALO_GLFUNCS_H
+
+#include <GL/glcorearb.h>
+
+/* X(function pointer type from glcorearb.h, name without the "gl" prefix) */
+#define HALO_GL_FUNCTIONS(X)                                              \
+    /* state and queries */                                               \
+    X(PFNGLGETERRORPROC, GetError)                                        \
+    X(PFNGLGETSTRINGPROC, GetString)                                      \
+    X(PFNGLGETSTRINGIPROC, GetStringi)                                    \
+    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                  \
+    X(PFNGLENABLEPROC, Enable)                                            \
+    X(PFNGLDISABLEPROC, Disable)                                          \
+    X(PFNGLBLENDFUNCPROC, BlendFunc)                                      \
+    X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)                      \
+    X(PFNGLBLENDEQUATIONPROC, BlendEquation)                              \
+    X(PFNGLDEPTHFUNCPROC, DepthFunc)                                      \
+    X(PFNGLDEPTHMASKPROC, DepthMask)                                      \
+    X(PFNGLCOLORMASKPROC, ColorMask)                                      \
+    X(PFNGLVIEWPORTPROC, Viewport)                                        \
+    X(PFNGLSCISSORPROC, Scissor)                                          \
+    X(PFNGLCLEARCOLORPROC, ClearColor)                                    \
+    X(PFNGLCLEARPROC, Clear)                                              \
+    X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv)                              \
+    X(PFNGLFINISHPROC, Finish)                                            \
+    X(PFNGLFLUSHPROC, Flush)                                              \
+    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                  \
+    X(PFNGLREADPIXELSPROC, ReadPixels)                                    \
+    X(PFNGLREADBUFFERPROC, ReadBuffer)                                    \
+    X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                                  \
+    /* shaders and programs */                                            \
+    X(PFNGLCREATESHADERPROC, CreateShader)                                \
+    X(PFNGLSHADERSOURCEPROC, ShaderSource)                                \
+    X(PFNGLCOMPILESHADERPROC, CompileShader)                              \
+    X(PFNGLGETSHADERIVPROC, GetShaderiv)                                  \
+    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                        \
+    X(PFNGLDELETESHADERPROC, DeleteShader)                                \
+    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                              \
+    X(PFNGLATTACHSHADERPROC, AttachShader)                                \
+    X(PFNGLDETACHSHADERPROC, DetachShader)                                \
+    X(PFNGLBINDATTRIBLOCATIONPROC, BindAttribLocation)                    \
+    X(PFNGLBINDFRAGDATALOCATIONPROC, BindFragDataLocation)                \
+    X(PFNGLLINKPROGRAMPROC, LinkProgram)                                  \
+    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                                \
+    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                      \
+    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                              \
+    X(PFNGLUSEPROGRAMPROC, UseProgram)                                    \
+    X(PFNGLGETATTRIBLOCATIONPROC, GetAttribLocation)                      \
+    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                    \
+    X(PFNGLGETACTIVEUNIFORMPROC, GetActiveUniform)                        \
+    /* uniforms */                                                        \
+    X(PFNGLUNIFORM1FPROC, Uniform1f)                                      \
+    X(PFNGLUNIFORM2FPROC, Uniform2f)                                      \
+    X(PFNGLUNIFORM3FPROC, Uniform3f)                                      \
+    X(PFNGLUNIFORM4FPROC, Uniform4f)                                      \
+    X(PFNGLUNIFORM1IPROC, Uniform1i)                                      \
+    X(PFNGLUNIFORM2IPROC, Uniform2i)                                      \
+    X(PFNGLUNIFORM3IPROC, Uniform3i)                                      \
+    X(PFNGLUNIFORM4IPROC, Uniform4i)                                      \
+    X(PFNGLUNIFORM1FVPROC, Uniform1fv)                                    \
+    X(PFNGLUNIFORM2FVPROC, Uniform2fv)                                    \
+    X(PFNGLUNIFORM3FVPROC, Uniform3fv)                                    \
+    X(PFNGLUNIFORM4FVPROC, Uniform4fv)                                    \
+    X(PFNGLUNIFORM1IVPROC, Uniform1iv)                                    \
+    X(PFNGLUNIFORM2IVPROC, Uniform2iv)                                    \
+    X(PFNGLUNIFORM3IVPROC, Uniform3iv)                                    \
+    X(PFNGLUNIFORM4IVPROC, Uniform4iv)                                    \
+    X(PFNGLUNIFORMMATRIX3FVPROC, UniformMatrix3fv)                        \
+    X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                        \
+    /* textures */                                                        \
+    X(PFNGLGENTEXTURESPROC, GenTextures)                                  \
+    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                            \
+    X(PFNGLBINDTEXTUREPROC, BindTexture)                                  \
+    X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                              \
+    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                    \
+    X(PFNGLTEXIMAGE3DPROC, TexImage3D)                                    \
+    X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                              \
+    X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                              \
+    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                              \
+    X(PFNGLTEXPARAMETERFVPROC, TexParameterfv)                            \
+    X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap)                            \
+    /* framebuffers */                                                    \
+    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                          \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                    \
+    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                          \
+    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                \
+    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)          \
+    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)            \
+    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                        \
+    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                  \
+    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                        \
+    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                  \
+    X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)                          \
+    /* vertex arrays, buffers, drawing */                                 \
+    X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                          \
+    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                    \
+    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                          \
+    X(PFNGLGENBUFFERSPROC, GenBuffers)                                    \
+    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                              \
+    X(PFNGLBINDBUFFERPROC, BindBuffer)                                    \
+    X(PFNGLBUFFERDATAPROC, BufferData)                                    \
+    X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                              \
+    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                  \
+    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)          \
+    X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, DisableVertexAttribArray)        \
+    X(PFNGLDRAWARRAYSPROC, DrawArrays)                                    \
+    X(PFNGLDRAWELEMENTSPROC, DrawElements)
+
+typedef struct halo_glfuncs {
+#define HALO_X_GLFUNC_MEMBER(type, name) type name;
+    HALO_GL_FUNCTIONS(HALO_X_GLFUNC_MEMBER)
+#undef HALO_X_GLFUNC_MEMBER
+} halo_glfuncs;
+
+/* Fills f through get_proc_address ("glCreateShader", ...). Returns 1 when every entry
+ * point was found; otherwise 0, with *missing_name (if not NULL) the first one missing.
+ * Entry points that were found are set even on failure; missing ones are NULL. */
+int halo_glfuncs_load(halo_glfuncs *f, void *(*get_proc_address)(const char *name), const char **missing_name);
+
+/* The table of a GL runtime (runtime.c), for library code that issues its own calls. */
+struct halo_gl;
+const halo_glfuncs *halo_gl_functions(const struct halo_gl *gl);
+
+#endif

@@ -1,0 +1,344 @@
+/* The GL runtime: builds linked programs in the host's context and uploads live
+ * parameters. Every GL call goes through the halo_glfuncs table loaded from the host's
+ * get-proc-address callback; libhalo never links against libGL. */
+#include "halo.h"
+#include "diag.h"
+#include "gl/glfuncs.h"
+
+#include <ctype.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct halo_gl {
+    halo_glfuncs f;
+};
+
+const halo_glfuncs *halo_gl_functions(const halo_gl *gl)
+{
+    return gl ? &gl->f : NULL;
+}
+
+halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
+{
+    if (!desc || !desc->get_proc_address) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_create: desc.get_proc_address is required");
+        return NULL;
+    }
+    halo_gl *gl = calloc(1, sizeof *gl);
+    if (!gl) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory creating the GL runtime");
+        return NULL;
+    }
+    const char *missing = NULL;
+    if (!halo_glfuncs_load(&gl->f, desc->get_proc_address, &missing)) {
+        halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
+                        "OpenGL entry point '%s' not found: an OpenGL 3.3 core context must be current",
+                        missing ? missing : "?");
+        free(gl);
+        return NULL;
+    }
+    return gl;
+}
+
+void halo_gl_destroy(halo_gl *gl)
+{
+    free(gl);
+}
+
+/* ---- Driver info logs ------------------------------------------------------ */
+
+/* Copies line `line` (1-based) of text into a new string, or returns NULL. */
+static char *source_line_of(const char *text, int line)
+{
+    if (!text || line < 1)
+        return NULL;
+    const char *p = text;
+    for (int i = 1; i < line; ++i) {
+        p = strchr(p, '\n');
+        if (!p)
+            return NULL;
+        ++p;
+    }
+    size_t n = strcspn(p, "\r\n");
+    char *copy = malloc(n + 1);
+    if (!copy)
+        return NULL;
+    memcpy(copy, p, n);
+    copy[n] = '\0';
+    return copy;
+}
+
+/* One message of a driver's info log, with its position when the driver gave one. */
+typedef struct log_message {
+    int line, column;      /* 0 when absent */
+    halo_severity severity;
+    const char *text;      /* points into the (modified) log line */
+} log_message;
+
+static int starts_with_nocase(const char *s, const char *word)
+{
+    for (; *word; ++s, ++word)
+        if (tolower((unsigned char)*s) != *word)
+            return 0;
+    return 1;
+}
+
+/* Skips "error: " / "warning: " (any case) at *p and sets the severity. */
+static void take_severity(const char **p, log_message *m)
+{
+    while (**p == ' ')
+        ++*p;
+    static const struct { const char *word; halo_severity severity; } words[] = {
+        {"error", HALO_SEVERITY_ERROR}, {"warning", HALO_SEVERITY_WARNING}, {"info", HALO_SEVERITY_NOTE},
+        {"note", HALO_SEVERITY_NOTE}};
+    for (size_t i = 0; i < sizeof words / sizeof words[0]; ++i) {
+        if (starts_with_nocase(*p, words[i].word)) {
+            const char *q = *p + strlen(words[i].word);
+            while (*q && *q != ':' && !isspace((unsigned char)*q))
+                ++q; /* "error C0000" (NVIDIA) */
+            if (*q == ':') {
+                m->severity = words[i].severity;
+                *p = q + 1;
+                while (**p == ' ')
+                    ++*p;
+                return;
+            }
+        }
+    }
+}
+
+/* Parses one log line. Formats: Mesa "0:12(5): error: msg", NVIDIA "0(12) : error C1008: msg",
+ * glslang/ANGLE "ERROR: 0:12: msg"; anything else is kept whole without a position. */
+static log_message parse_log_line(const char *s)
+{
+    log_message m = {0, 0, HALO_SEVERITY_ERROR, s};
+    int string_index, line, column, used = 0;
+    const char *p = s;
+    while (*p == ' ' || *p == '\t')
+        ++p;
+    if (sscanf(p, "%d:%d(%d):%n", &string_index, &line, &column, &used) == 3 && used > 0) {
+        m.line = line;
+        m.column = column;
+        p += used;
+        take_severity(&p, &m);
+    } else if (used = 0, sscanf(p, "%d(%d) :%n", &string_index, &line, &used) == 2 && used > 0) {
+        m.line = line;
+        p += used;
+        take_severity(&p, &m);
+    } else {
+        const char *q = p;
+        log_message probe = m;
+        take_severity(&q, &probe);
+        if (q != p && (used = 0, sscanf(q, "%d:%d:%n", &string_index, &line, &used) == 2) && used > 0) {
+            m.line = line;
+            m.severity = probe.severity;
+            p = q + used;
+            while (*p == ' ')
+                ++p;
+        } else {
+            take_severity(&p, &m);
+        }
+    }
+    m.text = p;
+    return m;
+}
+
+/* Reports every message of an info log. Lines of the fragment shader are mapped through
+ * the program's line map; others (vertex shader, link log) keep their own file. */
+static void report_log(halo_diagnostics *diag, halo_message_id id, char *log, const halo_program *p,
+                       const char *source, const char *file)
+{
+    int reported = 0;
+    char *next = log;
+    while (next && *next) {
+        char *line = next;
+        next = strchr(line, '\n');
+        if (next)
+            *next++ = '\0';
+        size_t n = strlen(line);
+        while (n > 0 && (line[n - 1] == '\r' || line[n - 1] == ' '))
+            line[--n] = '\0';
+        if (n == 0)
+            continue;
+        log_message m = parse_log_line(line);
+        const char *origin_file = file;
+        int origin_line = m.line;
+        char *text_line = source_line_of(source, m.line);
+        if (p && m.line > 0) {
+            const char *mapped_file = NULL;
+            int mapped_line = 0;
+            if (halo_program_map_line(p, m.line, &mapped_file, &mapped_line) && mapped_file) {
+                origin_file = mapped_file;
+                origin_line = mapped_line;
+            } else {
+                origin_file = "(linked source)";
+            }
+        }
+        halo_diag_add(diag, m.severity, id, origin_file ? origin_file : "", origin_line, m.column, text_line,
+                      "%s", m.text);
+        free(text_line);
+        if (m.severity == HALO_SEVERITY_ERROR)
+            ++reported;
+    }
+    if (reported == 0 && id != HALO_MSG_GL_LINK)
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, id, file ? file : "", 0, 0, NULL,
+                      "the driver rejected the shader without an error message");
+}
+
+static char *shader_log(const halo_glfuncs *f, GLuint shader)
+{
+    GLint length = 0;
+    f->GetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    if (length < 1)
+        length = 1;
+    char *log = calloc((size_t)length + 1, 1);
+    if (log)
+        f->GetShaderInfoLog(shader, length, NULL, log);
+    return log;
+}
+
+static char *program_log(const halo_glfuncs *f, GLuint program)
+{
+    GLint length = 0;
+    f->GetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+    if (length < 1)
+        length = 1;
+    char *log = calloc((size_t)length + 1, 1);
+    if (log)
+        f->GetProgramInfoLog(program, length, NULL, log);
+    return log;
+}
+
+/* Compiles one shader; returns its name or 0 after reporting the driver's messages. */
+static GLuint compile(const halo_glfuncs *f, GLenum type, const char *source, const halo_program *p,
+                      const char *file, halo_diagnostics *diag)
+{
+    GLuint shader = f->CreateShader(type);
+    if (!shader) {
+        halo_diag_error(diag, GL_COMPILE, file, 0, 0, "glCreateShader failed (GL error 0x%x)", f->GetError());
+        return 0;
+    }
+    f->ShaderSource(shader, 1, &source, NULL);
+    f->CompileShader(shader);
+    GLint ok = GL_FALSE;
+    f->GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char *log = shader_log(f, shader);
+        if (!log)
+            halo_diag_error(diag, OUT_OF_MEMORY, file, 0, 0, "out of memory reading the driver's log");
+        else
+            report_log(diag, HALO_MSG_GL_COMPILE, log, p, source, file);
+        free(log);
+        f->DeleteShader(shader);
+        return 0;
+    }
+    return shader;
+}
+
+unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *vertex_source,
+                               const char *vertex_file, halo_diagnostics *diag)
+{
+    if (!gl || !p || !vertex_source) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_program_build: gl, program and vertex source are required");
+        return 0;
+    }
+    const halo_glfuncs *f = &gl->f;
+    if (!vertex_file)
+        vertex_file = "vertex";
+    const char *fragment_source = halo_program_source(p);
+    GLuint vertex = compile(f, GL_VERTEX_SHADER, vertex_source, NULL, vertex_file, diag);
+    GLuint fragment = fragment_source ? compile(f, GL_FRAGMENT_SHADER, fragment_source, p, "(linked source)", diag)
+                                      : 0;
+    if (!fragment_source)
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_program_build: the program has no source");
+    if (!vertex || !fragment) {
+        if (vertex)
+            f->DeleteShader(vertex);
+        if (fragment)
+            f->DeleteShader(fragment);
+        return 0;
+    }
+    GLuint program = f->CreateProgram();
+    if (!program) {
+        halo_diag_error(diag, GL_LINK, "", 0, 0, "glCreateProgram failed (GL error 0x%x)", f->GetError());
+        f->DeleteShader(vertex);
+        f->DeleteShader(fragment);
+        return 0;
+    }
+    f->AttachShader(program, vertex);
+    f->AttachShader(program, fragment);
+    f->LinkProgram(program);
+    f->DetachShader(program, vertex);
+    f->DetachShader(program, fragment);
+    f->DeleteShader(vertex);
+    f->DeleteShader(fragment);
+    GLint ok = GL_FALSE;
+    f->GetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char *log = program_log(f, program);
+        if (!log) {
+            halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory reading the driver's log");
+        } else {
+            size_t errors_before = halo_diagnostics_errors(diag);
+            report_log(diag, HALO_MSG_GL_LINK, log, NULL, NULL, "");
+            if (!diag || halo_diagnostics_errors(diag) == errors_before)
+                halo_diag_error(diag, GL_LINK, "", 0, 0, "the driver could not link the program");
+        }
+        free(log);
+        f->DeleteProgram(program);
+        return 0;
+    }
+    return program;
+}
+
+/* ---- Live parameters --------------------------------------------------------- */
+
+void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_program)
+{
+    if (!gl || !p || !gl_program)
+        return;
+    const halo_glfuncs *f = &gl->f;
+    size_t n = halo_program_uniform_count(p);
+    for (size_t i = 0; i < n; ++i) {
+        const halo_uniform_info *u = halo_program_uniform(p, i);
+        if (!u || !u->live || !u->info || !u->name || !u->value)
+            continue;
+        GLint location = f->GetUniformLocation(gl_program, u->name);
+        const halo_param_info *info = u->info;
+        int components = info->components < 1 ? 1 : info->components > 4 ? 4 : info->components;
+        int count = info->array_size > 0 ? u->count : 1;
+        if (count < 0)
+            count = 0;
+        if (count * components > HALO_MAX_COMPONENTS)
+            count = HALO_MAX_COMPONENTS / components;
+        if (location >= 0 && count > 0) {
+            if (info->type == HALO_PARAM_INT || info->type == HALO_PARAM_BOOL) {
+                GLint values[HALO_MAX_COMPONENTS];
+                for (int k = 0; k < count * components; ++k)
+                    values[k] = info->type == HALO_PARAM_BOOL ? (u->value[k] != 0.0) : (GLint)u->value[k];
+                f->Uniform1iv(location, count, values);
+            } else {
+                GLfloat values[HALO_MAX_COMPONENTS];
+                for (int k = 0; k < count * components; ++k)
+                    values[k] = (GLfloat)u->value[k];
+                switch (components) {
+                case 1: f->Uniform1fv(location, count, values); break;
+                case 2: f->Uniform2fv(location, count, values); break;
+                case 3: f->Uniform3fv(location, count, values); break;
+                default: f->Uniform4fv(location, count, values); break;
+                }
+            }
+        }
+        if (info->array_size > 0) {
+            /* `<name>_count`: the number of elements set (modules.md) */
+            char count_name[256];
+            int written = snprintf(count_name, sizeof count_name, "%s_count", u->name);
+            if (written > 0 && (size_t)written < sizeof count_name) {
+                GLint count_location = f->GetUniformLocation(gl_program, count_name);
+                if (count_location >= 0)
+                    f->Uniform1i(count_location, count);
+            }
+        }
+    }
+}

@@ -1,0 +1,348 @@
+/* libhalo — illustrative volume rendering stages for existing OpenGL volume renderers.
+ *
+ * The pipeline: load modules (halo_library) → read a scene (halo_scene) → link the
+ * enabled stages into the host's own shader (halo_link → halo_program) → validate with
+ * glslang (halo_program_validate) → run it in the host's GL context (halo_gl_*), or
+ * compute the same thing in double precision (halo_emu_*).
+ *
+ * Conventions (sokol-style): descriptor structs where zero means "use the default",
+ * opaque objects with create/destroy pairs, output argument last. The library never
+ * prints and never exits: every call that can fail takes a halo_diagnostics list
+ * (may be NULL) and returns a status or NULL.
+ */
+#ifndef HALO_H
+#define HALO_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(HALO_BUILDING) && defined(__GNUC__)
+#define HALO_API __attribute__((visibility("default")))
+#else
+#define HALO_API
+#endif
+
+/* The host contract version (docs/host-contract.md). The linker defines
+ * HALO_CONTRACT_VERSION with this value in every linked shader. */
+#define HALO_CONTRACT_VERSION 1
+
+/* ---- Status and diagnostics ------------------------------------------------ */
+
+typedef enum halo_status {
+    HALO_OK = 0,
+    HALO_ERROR_INPUT = 1, /* the input has errors: diagnostics say which */
+    HALO_ERROR_IO = 2     /* a file could not be read or written, or memory ran out */
+} halo_status;
+
+typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SEVERITY_NOTE } halo_severity;
+
+/* One list of message ids; tests assert on ids, never on wording. */
+#define HALO_MESSAGES(X)                                                                   \
+    X(IO_READ, "cannot read file")                                                         \
+    X(IO_WRITE, "cannot write file")                                                       \
+    X(OUT_OF_MEMORY, "out of memory")                                                      \
+    X(ANNOTATION_UNKNOWN, "unknown '#pragma halo' directive")                              \
+    X(ANNOTATION_SYNTAX, "malformed '#pragma halo' annotation")                            \
+    X(ANNOTATION_DUPLICATE, "annotation given twice")                                      \
+    X(ANNOTATION_MISSING, "required annotation missing")                                   \
+    X(MODULE_HOOK_UNKNOWN, "unknown hook")                                                 \
+    X(MODULE_ENTRY_MISSING, "module does not define its entry function")                   \
+    X(MODULE_DUPLICATE, "a module with this name is already loaded")                       \
+    X(MODULE_RESERVED_NAME, "module uses a name reserved by the host contract")            \
+    X(PARAM_TYPE_UNKNOWN, "unknown parameter type")                                        \
+    X(PARAM_DEFAULT_INVALID, "parameter default does not match its type or range")        \
+    X(PARAM_DUPLICATE, "parameter declared twice")                                         \
+    X(SCENE_JSON, "scene is not valid JSON")                                               \
+    X(SCENE_KEY_UNKNOWN, "unknown key")                                                    \
+    X(SCENE_TYPE, "value has the wrong type")                                              \
+    X(SCENE_STAGE_UNKNOWN, "unknown stage")                                                \
+    X(SCENE_STAGE_DUPLICATE, "stage listed twice")                                         \
+    X(SCENE_PARAM_UNKNOWN, "unknown parameter")                                            \
+    X(SCENE_VALUE_BELOW_MIN, "value is below the minimum")                                 \
+    X(SCENE_VALUE_ABOVE_MAX, "value is above the maximum")                                 \
+    X(SCENE_VALUE_NONFINITE, "value is not finite")                                        \
+    X(SCENE_VALUE_COUNT, "value has the wrong number of components")                       \
+    X(SCENE_VERSION, "unsupported scene version")                                          \
+    X(LINK_MISSING_PROVIDER, "no enabled stage or host provides what a stage needs")       \
+    X(LINK_DUPLICATE_PROVIDER, "two enabled stages provide the same thing")                \
+    X(LINK_CYCLE, "stage dependencies form a cycle")                                       \
+    X(LINK_HOOK_MISMATCH, "stage hook does not fit this host")                             \
+    X(HOST_MARKER_MISSING, "host has no '#pragma halo declarations' line")                 \
+    X(HOST_MARKER_DUPLICATE, "host has more than one '#pragma halo declarations' line")   \
+    X(HOST_MARKER_SCOPE, "'#pragma halo declarations' must be at global scope")            \
+    X(HOST_RESERVED_NAME, "host declares a name reserved by the host contract")            \
+    X(HOST_VERSION, "host '#version' does not fit the target")                             \
+    X(GLSL_ERROR, "GLSL error")                                                            \
+    X(GLSL_WARNING, "GLSL warning")                                                        \
+    X(EMU_MISSING, "stage has no C emulation")                                             \
+    X(GL_PROC_MISSING, "OpenGL entry point not found")                                     \
+    X(GL_COMPILE, "driver rejected the shader")                                            \
+    X(GL_LINK, "driver rejected the program")                                              \
+    X(USAGE, "invalid argument")
+
+typedef enum halo_message_id {
+#define HALO_X_ENUM(id, text) HALO_MSG_##id,
+    HALO_MESSAGES(HALO_X_ENUM)
+#undef HALO_X_ENUM
+    HALO_MSG_COUNT
+} halo_message_id;
+
+typedef struct halo_diagnostic {
+    halo_severity severity;
+    halo_message_id id;
+    const char *file;        /* origin: module, host or scene file ("" when none) */
+    int line, column;        /* 1-based; 0 when unknown */
+    const char *text;        /* the full message, naming the offending field */
+    const char *source_line; /* the line it points at, or NULL */
+} halo_diagnostic;
+
+typedef struct halo_diagnostics halo_diagnostics;
+
+HALO_API halo_diagnostics *halo_diagnostics_create(void);
+HALO_API void halo_diagnostics_destroy(halo_diagnostics *d);
+HALO_API size_t halo_diagnostics_count(const halo_diagnostics *d);
+HALO_API const halo_diagnostic *halo_diagnostics_get(const halo_diagnostics *d, size_t index);
+HALO_API size_t halo_diagnostics_errors(const halo_diagnostics *d);
+HALO_API int halo_diagnostics_has(const halo_diagnostics *d, halo_message_id id);
+HALO_API void halo_diagnostics_clear(halo_diagnostics *d);
+/* Writes `file:line:col: error: text`, then the source line and a caret. */
+HALO_API void halo_diagnostics_print(const halo_diagnostics *d, FILE *out);
+HALO_API const char *halo_message_name(halo_message_id id); /* "SCENE_JSON" */
+
+/* ---- Process-wide setup ---------------------------------------------------- */
+
+typedef struct halo_setup_desc {
+    /* Called for every diagnostic as it is added, besides collecting it. */
+    void (*logger)(const halo_diagnostic *diagnostic, void *user_data);
+    void *user_data;
+} halo_setup_desc;
+
+/* Initializes glslang. Safe to call more than once; pair each call with halo_shutdown. */
+HALO_API halo_status halo_setup(const halo_setup_desc *desc);
+HALO_API void halo_shutdown(void);
+HALO_API const char *halo_version(void);
+
+/* ---- Targets ---------------------------------------------------------------- */
+
+typedef enum halo_target {
+    HALO_TARGET_DEFAULT = 0, /* GLSL 330 core */
+    HALO_TARGET_GLSL330,
+    HALO_TARGET_GLSL450,
+    HALO_TARGET_ES300,
+    HALO_TARGET_COUNT
+} halo_target;
+
+HALO_API const char *halo_target_name(halo_target t); /* "330", "450", "es300" */
+HALO_API halo_target halo_target_from_name(const char *name); /* HALO_TARGET_COUNT if unknown */
+
+typedef enum halo_shader_kind { HALO_SHADER_FRAGMENT = 0, HALO_SHADER_VERTEX } halo_shader_kind;
+
+/* ---- Modules ---------------------------------------------------------------- */
+
+typedef enum halo_hook {
+    HALO_HOOK_SAMPLE = 0,    /* per sample, inside the host's loop: void apply(inout halo_sample s) */
+    HALO_HOOK_IMAGE,         /* image pass: a complete full-screen program run by the GL runtime */
+    HALO_HOOK_LINE_VERTEX,   /* line strip expansion, in a line host's vertex shader */
+    HALO_HOOK_LINE_FRAGMENT, /* line core/halo split, in a line host's fragment shader */
+    HALO_HOOK_COUNT
+} halo_hook;
+
+typedef enum halo_param_type {
+    HALO_PARAM_FLOAT = 0,
+    HALO_PARAM_VEC2,
+    HALO_PARAM_VEC3,
+    HALO_PARAM_VEC4,
+    HALO_PARAM_INT,
+    HALO_PARAM_BOOL
+} halo_param_type;
+
+#define HALO_MAX_COMPONENTS 64
+
+typedef struct halo_param_info {
+    const char *name;       /* as written in the module: "k_gs" */
+    halo_param_type type;
+    int array_size;         /* 0: scalar or vector; N: an array of at most N elements */
+    int components;         /* per element: 1..4 */
+    double min, max;        /* valid range of each component */
+    int default_count;      /* elements in the default (1 unless an array) */
+    double default_value[HALO_MAX_COMPONENTS];
+    const char *meaning;    /* one line, with units */
+} halo_param_info;
+
+typedef struct halo_module halo_module;
+typedef struct halo_library halo_library;
+
+/* A library holds the modules embedded at build time; more may be added from files. */
+HALO_API halo_library *halo_library_create(halo_diagnostics *diag);
+HALO_API void halo_library_destroy(halo_library *lib);
+HALO_API halo_status halo_library_add_file(halo_library *lib, const char *path, halo_diagnostics *diag);
+/* Adds a module, replacing a loaded one of the same name (to try a modified built-in stage). */
+HALO_API halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag);
+HALO_API halo_status halo_library_add_source(halo_library *lib, const char *file, const char *source,
+                                             halo_diagnostics *diag);
+HALO_API size_t halo_library_module_count(const halo_library *lib);
+HALO_API const halo_module *halo_library_module(const halo_library *lib, size_t index);
+HALO_API const halo_module *halo_library_find(const halo_library *lib, const char *name);
+
+HALO_API const char *halo_module_name(const halo_module *m);
+HALO_API const char *halo_module_file(const halo_module *m);
+HALO_API const char *halo_module_summary(const halo_module *m);
+HALO_API halo_hook halo_module_hook(const halo_module *m);
+HALO_API size_t halo_module_param_count(const halo_module *m);
+HALO_API const halo_param_info *halo_module_param(const halo_module *m, size_t index);
+HALO_API const halo_param_info *halo_module_find_param(const halo_module *m, const char *name);
+HALO_API int halo_module_has_emulation(const halo_module *m);
+
+/* ---- Scenes ----------------------------------------------------------------- */
+
+/* Rendering settings the example renderers read from a scene's "render" object.
+ * libhalo itself only validates them. */
+#define HALO_MAX_TRANSFER_POINTS 32
+typedef struct halo_render_settings {
+    double azimuth, elevation, zoom; /* degrees, degrees, 1 = volume fills the view */
+    double background[3];
+    double step;                     /* ray step in voxels */
+    double window[2];                /* intensity window mapped to [0,1] */
+    int transfer_count;              /* control points: value, r, g, b, opacity */
+    double transfer[HALO_MAX_TRANSFER_POINTS][5];
+} halo_render_settings;
+
+typedef struct halo_scene halo_scene;
+
+/* Reads a scene file (docs/scene.md) and checks it against the library's modules.
+ * Returns NULL when it has errors; every error is in diag with the JSON path. */
+HALO_API halo_scene *halo_scene_load(const char *path, const halo_library *lib, halo_diagnostics *diag);
+HALO_API halo_scene *halo_scene_parse(const char *json_text, const char *file, const halo_library *lib,
+                                      halo_diagnostics *diag);
+/* An empty scene: no stage enabled, default render settings. */
+HALO_API halo_scene *halo_scene_create(const halo_library *lib);
+HALO_API void halo_scene_destroy(halo_scene *scene);
+HALO_API halo_status halo_scene_enable(halo_scene *scene, const char *stage, int enabled, halo_diagnostics *diag);
+/* Fixes a parameter (stage.param) to values; live marks it a uniform the host may change. */
+HALO_API halo_status halo_scene_set(halo_scene *scene, const char *stage, const char *param, const double *values,
+                                    int count, int live, halo_diagnostics *diag);
+HALO_API size_t halo_scene_stage_count(const halo_scene *scene);
+HALO_API const char *halo_scene_stage(const halo_scene *scene, size_t index);
+HALO_API const halo_render_settings *halo_scene_render(const halo_scene *scene);
+HALO_API halo_render_settings *halo_scene_render_mutable(halo_scene *scene);
+
+/* ---- Linking ---------------------------------------------------------------- */
+
+typedef struct halo_link_desc {
+    const halo_library *library; /* required */
+    const halo_scene *scene;     /* NULL: no stage enabled */
+    const char *host_source;     /* required: the host's shader text */
+    const char *host_file;       /* name used in diagnostics; default "host" */
+    halo_target target;          /* default GLSL 330 core */
+    halo_shader_kind kind;       /* default fragment */
+    int all_live;                /* every parameter becomes a uniform (the "uniform switches" variant) */
+} halo_link_desc;
+
+typedef enum halo_uniform_kind { HALO_UNIFORM_PARAM = 0, HALO_UNIFORM_COUNT_OF_ARRAY } halo_uniform_kind;
+
+typedef struct halo_uniform_info {
+    const char *name;   /* GLSL name in the linked source: "halo_boundary_k_gs" */
+    const char *stage;  /* "boundary" */
+    const char *param;  /* "k_gs" */
+    const halo_param_info *info;
+    int live;           /* 1: a uniform the host sets; 0: emitted as a constant */
+    int count;          /* elements currently set (arrays) */
+    const double *value;/* current value: count * components doubles */
+} halo_uniform_info;
+
+typedef struct halo_output_info {
+    const char *name;
+    int location;
+    int components;
+} halo_output_info;
+
+typedef struct halo_pass_info {
+    const char *name;
+    const char *stage;
+    const char *vertex_source;
+    const char *fragment_source;
+} halo_pass_info;
+
+typedef struct halo_program halo_program;
+
+HALO_API halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag);
+HALO_API void halo_program_destroy(halo_program *p);
+HALO_API const char *halo_program_source(const halo_program *p);
+HALO_API halo_target halo_program_target(const halo_program *p);
+/* Maps a 1-based line of the linked source to its origin; returns 0 when it has none. */
+HALO_API int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line);
+HALO_API size_t halo_program_stage_count(const halo_program *p);
+HALO_API const char *halo_program_stage(const halo_program *p, size_t index); /* in execution order */
+/* Every parameter of every linked stage, live or constant. */
+HALO_API size_t halo_program_uniform_count(const halo_program *p);
+HALO_API const halo_uniform_info *halo_program_uniform(const halo_program *p, size_t index);
+HALO_API const halo_uniform_info *halo_program_find_uniform(const halo_program *p, const char *stage,
+                                                            const char *param);
+/* Changes a parameter's value: a live one is uploaded by halo_gl_program_upload; the
+ * emulation always uses the current value. Values are range-checked. */
+HALO_API halo_status halo_program_set(halo_program *p, const char *stage, const char *param, const double *values,
+                                      int count, halo_diagnostics *diag);
+HALO_API size_t halo_program_output_count(const halo_program *p);
+HALO_API const halo_output_info *halo_program_output(const halo_program *p, size_t index);
+HALO_API size_t halo_program_pass_count(const halo_program *p);
+HALO_API const halo_pass_info *halo_program_pass(const halo_program *p, size_t index);
+/* Reflection as a JSON document (caller frees with free()). */
+HALO_API char *halo_program_reflect_json(const halo_program *p);
+
+/* ---- Validation (glslang, in process) -------------------------------------- */
+
+/* Validates the linked source; glslang's errors are rewritten to the module's or the
+ * host's own file:line:col. Returns HALO_OK or HALO_ERROR_INPUT. */
+HALO_API halo_status halo_program_validate(const halo_program *p, halo_diagnostics *diag);
+/* Validates a stand-alone shader (no linking). */
+HALO_API halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind,
+                                          halo_target target, halo_diagnostics *diag);
+/* Validates a module by linking it alone into a minimal host of its hook. */
+HALO_API halo_status halo_module_validate(const halo_library *lib, const halo_module *m, halo_target target,
+                                          halo_diagnostics *diag);
+
+/* ---- C emulation (double precision) ---------------------------------------- */
+
+typedef struct halo_emu_sample {
+    /* filled by the caller, as a host fills halo_sample */
+    double position[3];
+    double value;
+    double gradient[3];
+    double view[3];
+    double depth;
+    double fragcoord[2];
+    double color[3];
+    double opacity;
+    /* provided by stages */
+    double normal[3];
+    double gradient_magnitude;
+} halo_emu_sample;
+
+/* Applies the program's stages, in its order, with its current parameter values. */
+HALO_API halo_status halo_emu_apply(const halo_program *p, halo_emu_sample *s, halo_diagnostics *diag);
+
+/* ---- GL runtime (in the host's context) ------------------------------------ */
+
+typedef struct halo_gl halo_gl;
+
+typedef struct halo_gl_desc {
+    void *(*get_proc_address)(const char *name); /* required: the host's loader */
+} halo_gl_desc;
+
+HALO_API halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag);
+HALO_API void halo_gl_destroy(halo_gl *gl);
+/* Compiles the linked fragment program with the host's vertex shader (plain text) and
+ * links them; driver messages are mapped to file:line. Returns the GL program name or 0. */
+HALO_API unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *vertex_source,
+                                        const char *vertex_file, halo_diagnostics *diag);
+/* Uploads the live parameters' current values to the GL program (which must be current). */
+HALO_API void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_program);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,139 @@
+/* Internal structures shared by the parts of the library. */
+#ifndef HALO_INTERNAL_H
+#define HALO_INTERNAL_H
+
+#include "halo.h"
+#include "glsl_lex.h"
+
+typedef struct halo_resource_decl {
+    char *name;
+    char *type; /* GLSL type of the halo_sample field */
+    int line;
+} halo_resource_decl;
+
+typedef struct halo_name_list {
+    char **items;
+    int *lines; /* annotation line of each item */
+    size_t count;
+} halo_name_list;
+
+/* A top-level function of a library file, emitted only when called. */
+typedef struct halo_chunk {
+    char *name;
+    int first_line, last_line;
+    halo_name_list calls; /* halo_* names it references */
+} halo_chunk;
+
+struct halo_module {
+    char *name, *file, *summary;
+    halo_hook hook;
+    int is_library;
+    int module_line; /* line of the `module` annotation */
+    int hook_line;
+    halo_name_list needs, after;
+    halo_resource_decl *provides;
+    size_t provides_count;
+    halo_param_info *params;
+    size_t param_count;
+    int *param_lines;
+    char *source;
+    char **lines; /* the source split into lines (views into line_storage) */
+    char *line_storage;
+    int line_count;
+    unsigned char *is_annotation; /* per line: 1 = a #pragma halo line (not emitted) */
+    halo_token_list tokens;       /* tokens of the code (annotation lines excluded) */
+    halo_name_list declared;      /* names declared at global scope: private, renamed */
+    halo_name_list calls;         /* halo_* names referenced */
+    halo_chunk *chunks;           /* library files only */
+    size_t chunk_count;
+    int has_entry;
+};
+
+struct halo_library {
+    halo_module **modules;
+    size_t count;
+};
+
+/* Parses a module or library file. Returns NULL on errors (reported to diag). */
+halo_module *halo_module_parse(const char *file, const char *source, halo_diagnostics *diag);
+void halo_module_free(halo_module *m);
+int halo_name_list_has(const halo_name_list *l, const char *name);
+int halo_name_list_add(halo_name_list *l, const char *name, size_t n, int line);
+void halo_name_list_free(halo_name_list *l);
+/* The fields the host fills; never need a provider. */
+int halo_is_host_resource(const char *name);
+/* Library helpers (halo_math.glsl) found in lib. */
+const halo_module *halo_library_helpers(const halo_library *lib);
+/* Parses a parameter value from JSON text or a jansson value into info's layout. */
+const char *halo_param_type_name(halo_param_type t);
+
+/* A parameter's value as set by a scene or a program. */
+typedef struct halo_param_value {
+    int set;   /* given by the scene (else the default) */
+    int live;
+    int count; /* elements */
+    double value[HALO_MAX_COMPONENTS];
+} halo_param_value;
+
+typedef struct halo_scene_stage {
+    const halo_module *module;
+    int enabled;
+    halo_param_value *values; /* one per module parameter */
+} halo_scene_entry;
+
+struct halo_scene {
+    const halo_library *library;
+    halo_scene_entry *stages;
+    size_t count;
+    halo_render_settings render;
+};
+
+/* Checks values against info; on failure returns a message id and writes a text. */
+int halo_param_check(const halo_param_info *info, const double *values, int count, char *why, size_t why_len);
+
+typedef struct halo_line_origin {
+    const char *file; /* points into a module, the host name, or "<libhalo>" */
+    int line;
+    const char *text; /* the original line (before renaming), or NULL */
+} halo_line_origin;
+
+extern const char halo_generated_file[]; /* "<libhalo>": lines the linker wrote */
+
+/* Splits text into lines in place (text is modified); returns the count or -1. */
+int halo_split_lines(char *text, char ***lines);
+/* Column (1-based) of the directive after "#pragma halo", or 0. */
+int halo_annotation_start(const char *line);
+
+typedef struct halo_program_stage {
+    const halo_module *module;
+    halo_param_value *values;
+    size_t first_uniform; /* index into uniforms */
+} halo_linked_stage;
+
+struct halo_program {
+    halo_target target;
+    halo_shader_kind kind;
+    char *source;
+    char *host_file;
+    char *host_storage; /* the host's text split into lines (origins point here) */
+    char **host_lines;
+    halo_line_origin *origins;
+    int origin_count;
+    halo_linked_stage *stages;
+    size_t stage_count;
+    halo_uniform_info *uniforms;
+    size_t uniform_count;
+    char **uniform_names;
+    halo_output_info *outputs;
+    size_t output_count;
+    halo_pass_info *passes;
+    size_t pass_count;
+    const halo_library *library;
+};
+
+/* glslang validation of one source with origins for mapping. */
+halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, halo_target target,
+                                  const halo_line_origin *origins, int origin_count, const char *fallback_file,
+                                  halo_diagnostics *diag);
+
+#endif

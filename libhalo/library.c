@@ -1,0 +1,114 @@
+/* The module library: modules embedded at build time, plus any the user adds. */
+#include "diag.h"
+#include "internal.h"
+#include "strbuf.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+struct halo_embedded_file {
+    const char *name;
+    const char *text;
+};
+extern const struct halo_embedded_file halo_embedded_modules[];
+
+static halo_status add_module(halo_library *lib, halo_module *m, halo_diagnostics *diag) {
+    const char *name = halo_module_name(m);
+    const halo_module *old = halo_library_find(lib, name);
+    if (old) {
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_DUPLICATE, m->file, m->module_line, 1,
+                      m->lines[m->module_line - 1], "a module named '%s' is already loaded from %s", name,
+                      old->file);
+        halo_module_free(m);
+        return HALO_ERROR_INPUT;
+    }
+    halo_module **p = realloc(lib->modules, (lib->count + 1) * sizeof *p);
+    if (!p) {
+        halo_module_free(m);
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        return HALO_ERROR_IO;
+    }
+    lib->modules = p;
+    lib->modules[lib->count++] = m;
+    return HALO_OK;
+}
+
+halo_status halo_library_add_source(halo_library *lib, const char *file, const char *source, halo_diagnostics *diag) {
+    if (!lib || !source) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_library_add_source: library and source are required");
+        return HALO_ERROR_IO;
+    }
+    halo_module *m = halo_module_parse(file ? file : "module", source, diag);
+    if (!m) return HALO_ERROR_INPUT;
+    return add_module(lib, m, diag);
+}
+
+halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
+    char *text = halo_read_file(path, NULL);
+    if (!text) {
+        halo_diag_error(diag, IO_READ, path, 0, 0, "cannot read module: %s", strerror(errno));
+        return HALO_ERROR_IO;
+    }
+    halo_module *m = halo_module_parse(path, text, diag);
+    free(text);
+    if (!m) return HALO_ERROR_INPUT;
+    for (size_t i = 0; i < lib->count; i++)
+        if (!strcmp(halo_module_name(lib->modules[i]), halo_module_name(m))) {
+            halo_module_free(lib->modules[i]);
+            lib->modules[i] = m;
+            return HALO_OK;
+        }
+    return add_module(lib, m, diag);
+}
+
+halo_status halo_library_add_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
+    char *text = halo_read_file(path, NULL);
+    if (!text) {
+        halo_diag_error(diag, IO_READ, path, 0, 0, "cannot read module: %s", strerror(errno));
+        return HALO_ERROR_IO;
+    }
+    halo_status s = halo_library_add_source(lib, path, text, diag);
+    free(text);
+    return s;
+}
+
+halo_library *halo_library_create(halo_diagnostics *diag) {
+    halo_library *lib = calloc(1, sizeof *lib);
+    if (!lib) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        return NULL;
+    }
+    for (const struct halo_embedded_file *f = halo_embedded_modules; f->name; f++) {
+        if (halo_library_add_source(lib, f->name, f->text, diag) != HALO_OK) {
+            halo_library_destroy(lib);
+            return NULL;
+        }
+    }
+    return lib;
+}
+
+void halo_library_destroy(halo_library *lib) {
+    if (!lib) return;
+    for (size_t i = 0; i < lib->count; i++) halo_module_free(lib->modules[i]);
+    free(lib->modules);
+    free(lib);
+}
+
+size_t halo_library_module_count(const halo_library *lib) { return lib ? lib->count : 0; }
+
+const halo_module *halo_library_module(const halo_library *lib, size_t i) {
+    return lib && i < lib->count ? lib->modules[i] : NULL;
+}
+
+const halo_module *halo_library_find(const halo_library *lib, const char *name) {
+    for (size_t i = 0; lib && name && i < lib->count; i++)
+        if (!strcmp(halo_module_name(lib->modules[i]), name)) return lib->modules[i];
+    return NULL;
+}
+
+const halo_module *halo_library_helpers(const halo_library *lib) {
+    for (size_t i = 0; lib && i < lib->count; i++)
+        if (lib->modules[i]->is_library) return lib->modules[i];
+    return NULL;
+}

@@ -1,0 +1,792 @@
+/* The linker: scene + modules + host shader → one program, emitting only what the
+ * scene needs. A straight pipeline: check the host → resolve and order the stages →
+ * gather parameters → emit, each line with its origin. */
+#include "diag.h"
+#include "internal.h"
+#include "strbuf.h"
+
+#include <ctype.h>
+#include <jansson.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char halo_generated_file[] = "<libhalo>";
+
+int halo_split_lines(char *text, char ***out) {
+    int count = 0, cap = 64;
+    char **lines = malloc((size_t)cap * sizeof *lines);
+    if (!lines) return -1;
+    for (char *p = text;;) {
+        if (count == cap) {
+            cap *= 2;
+            char **l = realloc(lines, (size_t)cap * sizeof *l);
+            if (!l) { free(lines); return -1; }
+            lines = l;
+        }
+        lines[count++] = p;
+        char *nl = strchr(p, '\n');
+        if (!nl) break;
+        *nl = '\0';
+        if (nl > p && nl[-1] == '\r') nl[-1] = '\0';
+        p = nl + 1;
+    }
+    *out = lines;
+    return count;
+}
+
+/* ---- Output with origins ---- */
+
+typedef struct emitter {
+    halo_strbuf text;
+    halo_line_origin *origins;
+    int count, cap;
+    int failed;
+} emitter;
+
+static void emit(emitter *e, const char *file, int line, const char *original, const char *fmt, ...)
+    __attribute__((format(printf, 5, 6)));
+
+static void emit(emitter *e, const char *file, int line, const char *original, const char *fmt, ...) {
+    /* fmt may hold several lines: each gets the same origin. */
+    halo_strbuf b = {0};
+    va_list ap;
+    va_start(ap, fmt);
+    halo_strbuf_vprintf(&b, fmt, ap);
+    va_end(ap);
+    if (b.failed || !b.data) { e->failed = 1; halo_strbuf_free(&b); return; }
+    for (char *p = b.data;;) {
+        char *nl = strchr(p, '\n');
+        size_t n = nl ? (size_t)(nl - p) : strlen(p);
+        if (e->count == e->cap) {
+            int cap = e->cap ? e->cap * 2 : 256;
+            halo_line_origin *o = realloc(e->origins, (size_t)cap * sizeof *o);
+            if (!o) { e->failed = 1; break; }
+            e->origins = o;
+            e->cap = cap;
+        }
+        e->origins[e->count++] = (halo_line_origin){file, line, original};
+        halo_strbuf_append_n(&e->text, p, n);
+        halo_strbuf_append(&e->text, "\n");
+        if (!nl || !nl[1]) break;
+        p = nl + 1;
+    }
+    halo_strbuf_free(&b);
+}
+
+#define GEN(e, ...) emit((e), halo_generated_file, 0, NULL, __VA_ARGS__)
+
+/* ---- The host ---- */
+
+static const char *const contract_names[] = {"halo_sample", "halo_make_sample", "halo_apply", "HALO_LINKED",
+                                             "HALO_CONTRACT_VERSION", NULL};
+
+typedef struct host_info {
+    int version_line; /* 0: none */
+    int marker_line;
+} host_info;
+
+static int is_version_line(const char *l) {
+    while (*l == ' ' || *l == '\t') l++;
+    if (*l != '#') return 0;
+    l++;
+    while (*l == ' ' || *l == '\t') l++;
+    return !strncmp(l, "version", 7) && !isalnum((unsigned char)l[7]);
+}
+
+static int is_marker_line(const char *l) {
+    int col = halo_annotation_start(l);
+    if (!col) return 0;
+    const char *d = l + col - 1;
+    if (strncmp(d, "declarations", 12)) return 0;
+    for (d += 12; *d; d++)
+        if (!isspace((unsigned char)*d)) return 0;
+    return 1;
+}
+
+static int check_host(const char *file, const char *source, char **lines, int count, host_info *h,
+                      halo_diagnostics *diag) {
+    int errors = 0;
+    h->version_line = h->marker_line = 0;
+    halo_token_list toks;
+    if (halo_lex(source, &toks)) {
+        halo_diag_error(diag, OUT_OF_MEMORY, file, 0, 0, "out of memory");
+        return 1;
+    }
+    for (int i = 0; i < count; i++) {
+        if (is_version_line(lines[i]) && !h->version_line) h->version_line = i + 1;
+        if (is_marker_line(lines[i])) {
+            if (h->marker_line) {
+                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_MARKER_DUPLICATE, file, i + 1, 1, lines[i],
+                              "second '#pragma halo declarations' (the first is at line %d); the host has exactly one",
+                              h->marker_line);
+                errors++;
+                continue;
+            }
+            h->marker_line = i + 1;
+            /* The marker must be at global scope: no open brace before it. */
+            int depth = 0;
+            for (size_t t = 0; t < toks.count && toks.items[t].line <= i; t++) {
+                if (halo_token_is(source, &toks.items[t], "{")) depth++;
+                if (halo_token_is(source, &toks.items[t], "}")) depth--;
+            }
+            if (depth > 0) {
+                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_MARKER_SCOPE, file, i + 1, 1, lines[i],
+                              "'#pragma halo declarations' is inside a block; put it at global scope, before the "
+                              "first function that uses halo_sample");
+                errors++;
+            }
+        } else if (halo_annotation_start(lines[i])) {
+            int col = halo_annotation_start(lines[i]);
+            halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_UNKNOWN, file, i + 1, col, lines[i],
+                          "a host shader takes only '#pragma halo declarations'");
+            errors++;
+        }
+    }
+    if (!h->marker_line) {
+        int at = h->version_line ? h->version_line : 1;
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_MARKER_MISSING, file, at, 1, lines[at - 1],
+                      "host shader has no '#pragma halo declarations' line; add one at global scope after "
+                      "#version (docs/host-contract.md)");
+        errors++;
+    }
+    for (size_t t = 0; t < toks.count; t++) {
+        const halo_token *k = &toks.items[t];
+        if (k->kind != HALO_TOK_IDENT || k->length < 5) continue;
+        const char *s = source + k->offset;
+        if (strncmp(s, "halo_", 5) && strncmp(s, "HALO_", 5)) continue;
+        if (t > 0 && halo_token_is(source, &toks.items[t - 1], ".")) continue; /* a field */
+        int allowed = 0;
+        for (int c = 0; contract_names[c]; c++) allowed |= halo_token_is(source, k, contract_names[c]);
+        if (allowed) continue;
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_RESERVED_NAME, file, k->line, k->column,
+                      lines[k->line - 1],
+                      "'%.*s' is reserved: names starting with halo_ or HALO_ belong to libhalo (the host may use "
+                      "halo_sample, halo_make_sample, halo_apply, HALO_LINKED and HALO_CONTRACT_VERSION)",
+                      (int)k->length, s);
+        errors++;
+    }
+    halo_token_list_free(&toks);
+    return errors;
+}
+
+/* ---- Stage resolution and order ---- */
+
+typedef struct node {
+    const halo_module *module;
+    const halo_scene_entry *entry; /* NULL: enabled as a dependency */
+    double rank;
+    int indegree;
+    int done;
+} node;
+
+static int provides(const halo_module *m, const char *resource) {
+    for (size_t i = 0; i < m->provides_count; i++)
+        if (!strcmp(m->provides[i].name, resource)) return 1;
+    return 0;
+}
+
+static int hook_fits(halo_hook hook, halo_shader_kind kind) {
+    if (kind == HALO_SHADER_VERTEX) return hook == HALO_HOOK_LINE_VERTEX;
+    return hook == HALO_HOOK_SAMPLE || hook == HALO_HOOK_LINE_FRAGMENT;
+}
+
+/* Returns the ordered stages in *out (count in *out_count), or errors. */
+static int resolve(const halo_library *lib, const halo_scene *scene, halo_shader_kind kind, node **out, int *out_count,
+                   halo_diagnostics *diag) {
+    int errors = 0, n = 0, cap = (int)(scene ? scene->count : 0) + (int)lib->count + 1;
+    node *nodes = calloc((size_t)cap, sizeof *nodes);
+    if (!nodes) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        return 1;
+    }
+    for (size_t i = 0; scene && i < scene->count; i++) {
+        if (!scene->stages[i].enabled) continue;
+        nodes[n++] = (node){scene->stages[i].module, &scene->stages[i], (double)i, 0, 0};
+    }
+    /* Enable providers of what the stages need. */
+    for (int i = 0; i < n; i++) {
+        const halo_module *m = nodes[i].module;
+        for (size_t r = 0; r < m->needs.count; r++) {
+            const char *res = m->needs.items[r];
+            if (halo_is_host_resource(res)) continue;
+            int have = 0;
+            for (int j = 0; j < n; j++) have |= provides(nodes[j].module, res);
+            if (have) continue;
+            const halo_module *found = NULL;
+            int candidates = 0;
+            for (size_t k = 0; k < lib->count; k++)
+                if (provides(lib->modules[k], res)) {
+                    candidates++;
+                    if (!found) found = lib->modules[k];
+                }
+            if (candidates == 0) {
+                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_MISSING_PROVIDER, m->file, m->needs.lines[r], 1,
+                              m->lines[m->needs.lines[r] - 1],
+                              "stage '%s' needs '%s', which neither the host nor any module provides", m->name, res);
+                errors++;
+            } else if (candidates > 1) {
+                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_DUPLICATE_PROVIDER, m->file, m->needs.lines[r],
+                              1, m->lines[m->needs.lines[r] - 1],
+                              "stage '%s' needs '%s', which %d modules provide; enable the one to use in the scene",
+                              m->name, res, candidates);
+                errors++;
+            } else if (n < cap) {
+                nodes[n++] = (node){found, NULL, nodes[i].rank - 0.5, 0, 0};
+            }
+        }
+    }
+    /* Each resource has one provider; each stage fits the host. */
+    for (int i = 0; i < n; i++) {
+        const halo_module *m = nodes[i].module;
+        if (!hook_fits(m->hook, kind)) {
+            halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_HOOK_MISMATCH, m->file, m->hook_line, 1,
+                          m->lines[m->hook_line - 1], "stage '%s' runs at a hook that a %s host cannot place", m->name,
+                          kind == HALO_SHADER_VERTEX ? "vertex" : "fragment");
+            errors++;
+        }
+        for (size_t p = 0; p < m->provides_count; p++)
+            for (int j = 0; j < i; j++)
+                if (provides(nodes[j].module, m->provides[p].name)) {
+                    halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_DUPLICATE_PROVIDER, m->file,
+                                  m->provides[p].line, 1, m->lines[m->provides[p].line - 1],
+                                  "stages '%s' and '%s' both provide '%s'; enable only one", nodes[j].module->name,
+                                  m->name, m->provides[p].name);
+                    errors++;
+                }
+    }
+    if (errors) {
+        free(nodes);
+        return errors;
+    }
+    /* Edges: provider → needer, and `after` between enabled stages. */
+    unsigned char *edge = calloc((size_t)n * (size_t)n + 1, 1);
+    node *order = calloc((size_t)n + 1, sizeof *order);
+    if (!edge || !order) {
+        free(edge);
+        free(order);
+        free(nodes);
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        return 1;
+    }
+    for (int a = 0; a < n; a++) {
+        const halo_module *m = nodes[a].module;
+        for (int b = 0; b < n; b++) {
+            if (a == b) continue;
+            int before = 0;
+            for (size_t r = 0; r < m->needs.count; r++) before |= provides(nodes[b].module, m->needs.items[r]);
+            before |= halo_name_list_has(&m->after, halo_module_name(nodes[b].module));
+            if (before && !edge[b * n + a]) {
+                edge[b * n + a] = 1;
+                nodes[a].indegree++;
+            }
+        }
+    }
+    int placed = 0;
+    while (placed < n) {
+        int best = -1;
+        for (int i = 0; i < n; i++) {
+            if (nodes[i].done || nodes[i].indegree) continue;
+            if (best < 0 || nodes[i].rank < nodes[best].rank ||
+                (nodes[i].rank == nodes[best].rank &&
+                 strcmp(halo_module_name(nodes[i].module), halo_module_name(nodes[best].module)) < 0))
+                best = i;
+        }
+        if (best < 0) break;
+        nodes[best].done = 1;
+        order[placed++] = nodes[best];
+        for (int j = 0; j < n; j++)
+            if (edge[best * n + j]) nodes[j].indegree--;
+    }
+    if (placed < n) {
+        halo_strbuf names = {0};
+        const halo_module *first = NULL;
+        for (int i = 0; i < n; i++)
+            if (!nodes[i].done) {
+                halo_strbuf_printf(&names, "%s%s", first ? ", " : "", halo_module_name(nodes[i].module));
+                if (!first) first = nodes[i].module;
+            }
+        int line = first->after.count ? first->after.lines[0] : first->needs.count ? first->needs.lines[0]
+                                                                                     : first->module_line;
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_CYCLE, first->file, line, 1, first->lines[line - 1],
+                      "the 'needs' and 'after' annotations of these stages form a cycle: %s",
+                      names.data ? names.data : "");
+        halo_strbuf_free(&names);
+        errors++;
+    }
+    free(edge);
+    free(nodes);
+    if (errors) {
+        free(order);
+        return errors;
+    }
+    *out = order;
+    *out_count = n;
+    return 0;
+}
+
+/* ---- Emission ---- */
+
+static void format_number(char *buf, size_t len, double v, halo_param_type t) {
+    if (t == HALO_PARAM_INT) {
+        snprintf(buf, len, "%d", (int)v);
+        return;
+    }
+    if (t == HALO_PARAM_BOOL) {
+        snprintf(buf, len, "%s", v != 0 ? "true" : "false");
+        return;
+    }
+    snprintf(buf, len, "%.9g", v);
+    if (!strpbrk(buf, ".e")) strncat(buf, ".0", len - strlen(buf) - 1);
+}
+
+static void format_element(halo_strbuf *b, const halo_param_info *info, const double *v) {
+    char num[64];
+    if (info->components == 1) {
+        format_number(num, sizeof num, v[0], info->type);
+        halo_strbuf_append(b, num);
+        return;
+    }
+    halo_strbuf_printf(b, "%s(", halo_param_type_name(info->type));
+    for (int c = 0; c < info->components; c++) {
+        format_number(num, sizeof num, v[c], info->type);
+        halo_strbuf_printf(b, "%s%s", c ? ", " : "", num);
+    }
+    halo_strbuf_append(b, ")");
+}
+
+/* Is name used (as an identifier, not a field) in the module's code? */
+static int module_uses(const halo_module *m, const char *name) {
+    for (size_t i = 0; i < m->tokens.count; i++) {
+        const halo_token *t = &m->tokens.items[i];
+        if (t->kind == HALO_TOK_IDENT && halo_token_is(m->source, t, name) &&
+            !(i > 0 && halo_token_is(m->source, &m->tokens.items[i - 1], ".")))
+            return 1;
+    }
+    return 0;
+}
+
+static void emit_params(emitter *e, const halo_program *p, const halo_linked_stage *st) {
+    const halo_module *m = st->module;
+    for (size_t i = 0; i < m->param_count; i++) {
+        const halo_param_info *info = &m->params[i];
+        const halo_uniform_info *u = &p->uniforms[st->first_uniform + i];
+        char count_name[160];
+        snprintf(count_name, sizeof count_name, "%s_count", info->name);
+        int used = module_uses(m, info->name), count_used = info->array_size && module_uses(m, count_name);
+        if (!used && !count_used) continue;
+        const char *type = halo_param_type_name(info->type);
+        int line = m->param_lines[i];
+        const char *orig = m->lines[line - 1];
+        if (u->live) {
+            if (info->array_size) {
+                if (used) emit(e, m->file, line, orig, "uniform %s %s[%d];", type, u->name, info->array_size);
+                if (count_used) emit(e, m->file, line, orig, "uniform int %s_count;", u->name);
+            } else {
+                emit(e, m->file, line, orig, "uniform %s %s;", type, u->name);
+            }
+            continue;
+        }
+        halo_strbuf b = {0};
+        if (info->array_size) {
+            if (count_used) emit(e, m->file, line, orig, "const int %s_count = %d;", u->name, u->count);
+            if (!used) continue;
+            halo_strbuf_printf(&b, "const %s %s[%d] = %s[%d](", type, u->name, u->count, type, u->count);
+            for (int k = 0; k < u->count; k++) {
+                if (k) halo_strbuf_append(&b, ", ");
+                format_element(&b, info, u->value + k * info->components);
+            }
+            halo_strbuf_append(&b, ");");
+        } else {
+            halo_strbuf_printf(&b, "const %s %s = ", type, u->name);
+            format_element(&b, info, u->value);
+            halo_strbuf_append(&b, ";");
+        }
+        if (b.data) emit(e, m->file, line, orig, "%s", b.data);
+        else e->failed = 1;
+        halo_strbuf_free(&b);
+    }
+}
+
+/* Copies lines [first, last] of m, renaming its private names and parameters. */
+static void emit_module_lines(emitter *e, const halo_module *m, int first, int last, int rename) {
+    size_t t = 0;
+    for (int li = first; li <= last && li <= m->line_count; li++) {
+        if (m->is_annotation[li - 1]) continue;
+        const char *line = m->lines[li - 1];
+        size_t start = (size_t)(line - m->line_storage), len = strlen(line);
+        const char *p = line;
+        while (*p == ' ' || *p == '\t') p++;
+        if (!*p) continue;
+        halo_strbuf b = {0};
+        size_t pos = start;
+        while (t < m->tokens.count && m->tokens.items[t].offset < start) t++;
+        for (; t < m->tokens.count && m->tokens.items[t].offset < start + len; t++) {
+            const halo_token *k = &m->tokens.items[t];
+            if (!rename || k->kind != HALO_TOK_IDENT) continue;
+            if (t > 0 && halo_token_is(m->source, &m->tokens.items[t - 1], ".")) continue;
+            char name[160];
+            size_t n = k->length < sizeof name - 8 ? k->length : sizeof name - 8;
+            memcpy(name, m->source + k->offset, n);
+            name[n] = '\0';
+            const char *base = name;
+            int is_count = 0;
+            if (n > 6 && !strcmp(name + n - 6, "_count")) {
+                char stem[160];
+                memcpy(stem, name, n - 6);
+                stem[n - 6] = '\0';
+                const halo_param_info *pi = halo_module_find_param(m, stem);
+                is_count = pi && pi->array_size;
+            }
+            if (!is_count && !halo_name_list_has(&m->declared, base) && !halo_module_find_param(m, base)) continue;
+            halo_strbuf_append_n(&b, m->source + pos, k->offset - pos);
+            halo_strbuf_printf(&b, "halo_%s_%s", m->name, name);
+            pos = k->offset + k->length;
+        }
+        halo_strbuf_append_n(&b, m->source + pos, start + len - pos);
+        if (b.data) {
+            /* Strip a trailing \r kept by the copy. */
+            if (b.len && b.data[b.len - 1] == '\r') b.data[--b.len] = '\0';
+            emit(e, m->file, li, line, "%s", b.data);
+        } else {
+            e->failed = 1;
+        }
+        halo_strbuf_free(&b);
+    }
+}
+
+static void emit_helpers(emitter *e, const halo_library *lib, const halo_program *p) {
+    const halo_module *h = halo_library_helpers(lib);
+    if (!h || !h->chunk_count) return;
+    unsigned char *need = calloc(h->chunk_count, 1);
+    if (!need) { e->failed = 1; return; }
+    for (size_t c = 0; c < h->chunk_count; c++)
+        for (size_t s = 0; s < p->stage_count; s++)
+            if (halo_name_list_has(&p->stages[s].module->calls, h->chunks[c].name)) need[c] = 1;
+    for (int changed = 1; changed;) {
+        changed = 0;
+        for (size_t c = 0; c < h->chunk_count; c++) {
+            if (!need[c]) continue;
+            for (size_t d = 0; d < h->chunk_count; d++)
+                if (!need[d] && halo_name_list_has(&h->chunks[c].calls, h->chunks[d].name)) need[d] = changed = 1;
+        }
+    }
+    for (size_t c = 0; c < h->chunk_count; c++)
+        if (need[c]) emit_module_lines(e, h, h->chunks[c].first_line, h->chunks[c].last_line, 0);
+    free(need);
+}
+
+static const char *const sample_fields[][2] = {{"vec3", "position"}, {"float", "value"},    {"vec3", "gradient"},
+                                               {"vec3", "view"},     {"float", "depth"},    {"vec2", "fragcoord"},
+                                               {"vec3", "color"},    {"float", "opacity"}};
+
+static void emit_declarations(emitter *e, const halo_program *p) {
+    GEN(e, "#define HALO_LINKED 1\n#define HALO_CONTRACT_VERSION %d", HALO_CONTRACT_VERSION);
+    GEN(e, "struct halo_sample {");
+    for (int i = 0; i < 8; i++) GEN(e, "    %s %s;", sample_fields[i][0], sample_fields[i][1]);
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        for (size_t r = 0; r < m->provides_count; r++)
+            emit(e, m->file, m->provides[r].line, m->lines[m->provides[r].line - 1], "    %s %s;", m->provides[r].type,
+                 m->provides[r].name);
+    }
+    GEN(e, "};");
+    GEN(e, "halo_sample halo_make_sample(vec3 position, float value, vec3 gradient, vec3 view, float depth,\n"
+           "                             vec2 fragcoord, vec3 color, float opacity) {\n"
+           "    halo_sample s;");
+    for (int i = 0; i < 8; i++) GEN(e, "    s.%s = %s;", sample_fields[i][1], sample_fields[i][1]);
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        for (size_t r = 0; r < m->provides_count; r++) {
+            const char *t = m->provides[r].type;
+            char zero[32];
+            if (!strncmp(t, "vec", 3)) snprintf(zero, sizeof zero, "%s(0.0)", t);
+            else snprintf(zero, sizeof zero, "%s", !strcmp(t, "int") ? "0" : !strcmp(t, "bool") ? "false" : "0.0");
+            GEN(e, "    s.%s = %s;", m->provides[r].name, zero);
+        }
+    }
+    GEN(e, "    return s;\n}");
+}
+
+static int emit_program(halo_program *p, const char *host_source, char **host_lines, int host_count,
+                        const host_info *h, const halo_library *lib) {
+    emitter e = {0};
+    static const char *const version_text[HALO_TARGET_COUNT] = {"#version 330 core", "#version 330 core",
+                                                                "#version 450 core", "#version 300 es"};
+    const char *ver = version_text[p->target];
+    int es = p->target == HALO_TARGET_ES300;
+    const char *precision = p->kind == HALO_SHADER_FRAGMENT
+                                ? "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\n"
+                                  "precision highp sampler3D;"
+                                : "precision highp float;\nprecision highp int;";
+    (void)host_source;
+    if (!h->version_line) {
+        GEN(&e, "%s", ver);
+        if (es) GEN(&e, "%s", precision);
+    }
+    for (int i = 0; i < host_count; i++) {
+        const char *line = host_lines[i];
+        if (i + 1 == h->version_line) {
+            emit(&e, p->host_file, i + 1, line, "%s", ver);
+            if (es) emit(&e, p->host_file, i + 1, line, "%s", precision);
+            continue;
+        }
+        if (i + 1 != h->marker_line) {
+            emit(&e, p->host_file, i + 1, line, "%s", line);
+            continue;
+        }
+        emit(&e, p->host_file, i + 1, line, "// ---- libhalo %s: %zu stage%s (contract %d) ----", PACKAGE_VERSION,
+             p->stage_count, p->stage_count == 1 ? "" : "s", HALO_CONTRACT_VERSION);
+        emit_declarations(&e, p);
+        emit_helpers(&e, lib, p);
+        for (size_t s = 0; s < p->stage_count; s++) {
+            const halo_module *m = p->stages[s].module;
+            emit(&e, m->file, m->module_line, m->lines[m->module_line - 1], "// stage %s (%s)", m->name, m->file);
+            emit_params(&e, p, &p->stages[s]);
+            emit_module_lines(&e, m, 1, m->line_count, 1);
+        }
+        GEN(&e, "void halo_apply(inout halo_sample s) {");
+        for (size_t s = 0; s < p->stage_count; s++) GEN(&e, "    halo_%s_apply(s);", p->stages[s].module->name);
+        GEN(&e, "}");
+        emit(&e, p->host_file, i + 1, line, "// ---- end of libhalo declarations ----");
+    }
+    if (e.failed || e.text.failed) {
+        halo_strbuf_free(&e.text);
+        free(e.origins);
+        return -1;
+    }
+    p->source = halo_strbuf_take(&e.text);
+    p->origins = e.origins;
+    p->origin_count = e.count;
+    return p->source ? 0 : -1;
+}
+
+/* ---- The program ---- */
+
+static int build_uniforms(halo_program *p, int all_live) {
+    size_t n = 0;
+    for (size_t s = 0; s < p->stage_count; s++) n += p->stages[s].module->param_count;
+    p->uniforms = calloc(n + 1, sizeof *p->uniforms);
+    p->uniform_names = calloc(n + 1, sizeof *p->uniform_names);
+    if (!p->uniforms || !p->uniform_names) return -1;
+    for (size_t s = 0; s < p->stage_count; s++) {
+        halo_linked_stage *st = &p->stages[s];
+        st->first_uniform = p->uniform_count;
+        for (size_t i = 0; i < st->module->param_count; i++) {
+            halo_strbuf b = {0};
+            halo_strbuf_printf(&b, "halo_%s_%s", st->module->name, st->module->params[i].name);
+            char *name = halo_strbuf_take(&b);
+            if (!name) return -1;
+            p->uniform_names[p->uniform_count] = name;
+            halo_param_value *v = &st->values[i];
+            if (all_live) v->live = 1;
+            p->uniforms[p->uniform_count++] = (halo_uniform_info){
+                .name = name,
+                .stage = st->module->name,
+                .param = st->module->params[i].name,
+                .info = &st->module->params[i],
+                .live = v->live,
+                .count = v->count,
+                .value = v->value,
+            };
+        }
+    }
+    return 0;
+}
+
+halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
+    if (!desc || !desc->library || !desc->host_source) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: library and host_source are required");
+        return NULL;
+    }
+    if ((unsigned)desc->target >= HALO_TARGET_COUNT) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: unknown target %d", (int)desc->target);
+        return NULL;
+    }
+    halo_program *p = calloc(1, sizeof *p);
+    if (!p) goto oom;
+    p->library = desc->library;
+    p->target = desc->target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : desc->target;
+    p->kind = desc->kind;
+    p->host_file = halo_strdup(desc->host_file ? desc->host_file : "host");
+    p->host_storage = halo_strdup(desc->host_source);
+    if (!p->host_file || !p->host_storage) goto oom;
+    int host_count = halo_split_lines(p->host_storage, &p->host_lines);
+    if (host_count < 0) goto oom;
+
+    /* 1. The host keeps the contract. */
+    host_info h;
+    int errors = check_host(p->host_file, desc->host_source, p->host_lines, host_count, &h, diag);
+    /* 2. Stages, their dependencies and their order. */
+    node *order = NULL;
+    int n = 0;
+    errors += resolve(desc->library, desc->scene, desc->kind, &order, &n, diag);
+    if (errors) {
+        free(order);
+        halo_program_destroy(p);
+        return NULL;
+    }
+    /* 3. Parameters: the scene's values, or the defaults. */
+    p->stages = calloc((size_t)n + 1, sizeof *p->stages);
+    if (!p->stages) { free(order); goto oom; }
+    for (int i = 0; i < n; i++) {
+        const halo_module *m = order[i].module;
+        halo_linked_stage *st = &p->stages[p->stage_count++];
+        st->module = m;
+        st->values = calloc(m->param_count + 1, sizeof *st->values);
+        if (!st->values) { free(order); goto oom; }
+        for (size_t k = 0; k < m->param_count; k++) {
+            if (order[i].entry) {
+                st->values[k] = order[i].entry->values[k];
+            } else {
+                st->values[k].count = m->params[k].default_count;
+                memcpy(st->values[k].value, m->params[k].default_value, sizeof st->values[k].value);
+            }
+        }
+    }
+    free(order);
+    if (build_uniforms(p, desc->all_live)) goto oom;
+    /* 4. Emit. */
+    if (emit_program(p, desc->host_source, p->host_lines, host_count, &h, desc->library)) goto oom;
+    return p;
+oom:
+    halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    halo_program_destroy(p);
+    return NULL;
+}
+
+void halo_program_destroy(halo_program *p) {
+    if (!p) return;
+    free(p->source);
+    free(p->host_file);
+    free(p->host_storage);
+    free(p->host_lines);
+    free(p->origins);
+    for (size_t s = 0; s < p->stage_count; s++) free(p->stages[s].values);
+    free(p->stages);
+    for (size_t i = 0; i < p->uniform_count; i++) free(p->uniform_names[i]);
+    free(p->uniform_names);
+    free(p->uniforms);
+    free(p->outputs);
+    free(p->passes);
+    free(p);
+}
+
+const char *halo_program_source(const halo_program *p) { return p->source; }
+halo_target halo_program_target(const halo_program *p) { return p->target; }
+
+int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line) {
+    if (!p || line < 1 || line > p->origin_count) return 0;
+    const halo_line_origin *o = &p->origins[line - 1];
+    if (file) *file = o->file;
+    if (origin_line) *origin_line = o->line;
+    return o->file != halo_generated_file;
+}
+
+size_t halo_program_stage_count(const halo_program *p) { return p->stage_count; }
+const char *halo_program_stage(const halo_program *p, size_t i) {
+    return i < p->stage_count ? p->stages[i].module->name : NULL;
+}
+size_t halo_program_uniform_count(const halo_program *p) { return p->uniform_count; }
+const halo_uniform_info *halo_program_uniform(const halo_program *p, size_t i) {
+    return i < p->uniform_count ? &p->uniforms[i] : NULL;
+}
+const halo_uniform_info *halo_program_find_uniform(const halo_program *p, const char *stage, const char *param) {
+    for (size_t i = 0; p && i < p->uniform_count; i++)
+        if (!strcmp(p->uniforms[i].stage, stage) && !strcmp(p->uniforms[i].param, param)) return &p->uniforms[i];
+    return NULL;
+}
+
+halo_status halo_program_set(halo_program *p, const char *stage, const char *param, const double *values, int count,
+                             halo_diagnostics *diag) {
+    const halo_uniform_info *u = halo_program_find_uniform(p, stage, param);
+    if (!u) {
+        halo_diag_error(diag, SCENE_PARAM_UNKNOWN, "", 0, 0, "%s.%s: no such parameter in this program", stage, param);
+        return HALO_ERROR_INPUT;
+    }
+    if (!u->live) {
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "%s.%s is a compile-time constant in this program; mark it live in the scene to change it "
+                        "at run time",
+                        stage, param);
+        return HALO_ERROR_INPUT;
+    }
+    char why[256];
+    int id = halo_param_check(u->info, values, count, why, sizeof why);
+    if (id >= 0) {
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage, param, why);
+        return HALO_ERROR_INPUT;
+    }
+    halo_uniform_info *w = &p->uniforms[u - p->uniforms];
+    memcpy((double *)w->value, values, (size_t)count * (size_t)u->info->components * sizeof(double));
+    w->count = count;
+    /* Keep the stage's value record in step. */
+    for (size_t s = 0; s < p->stage_count; s++)
+        for (size_t i = 0; i < p->stages[s].module->param_count; i++)
+            if (p->stages[s].values[i].value == w->value) p->stages[s].values[i].count = count;
+    return HALO_OK;
+}
+
+size_t halo_program_output_count(const halo_program *p) { return p->output_count; }
+const halo_output_info *halo_program_output(const halo_program *p, size_t i) {
+    return i < p->output_count ? &p->outputs[i] : NULL;
+}
+size_t halo_program_pass_count(const halo_program *p) { return p->pass_count; }
+const halo_pass_info *halo_program_pass(const halo_program *p, size_t i) {
+    return i < p->pass_count ? &p->passes[i] : NULL;
+}
+
+static json_t *number_or_null(double v) { return isfinite(v) ? json_real(v) : json_null(); }
+
+char *halo_program_reflect_json(const halo_program *p) {
+    json_t *root = json_object();
+    json_object_set_new(root, "contract", json_integer(HALO_CONTRACT_VERSION));
+    json_object_set_new(root, "target", json_string(halo_target_name(p->target)));
+    json_t *stages = json_array();
+    for (size_t s = 0; s < p->stage_count; s++) json_array_append_new(stages, json_string(p->stages[s].module->name));
+    json_object_set_new(root, "stages", stages);
+    json_t *uniforms = json_array(), *constants = json_array();
+    for (size_t i = 0; i < p->uniform_count; i++) {
+        const halo_uniform_info *u = &p->uniforms[i];
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(u->name));
+        json_object_set_new(o, "stage", json_string(u->stage));
+        json_object_set_new(o, "param", json_string(u->param));
+        halo_strbuf t = {0};
+        halo_strbuf_append(&t, halo_param_type_name(u->info->type));
+        if (u->info->array_size) halo_strbuf_printf(&t, "[%d]", u->info->array_size);
+        json_object_set_new(o, "type", json_string(t.data ? t.data : "?"));
+        halo_strbuf_free(&t);
+        json_t *val = json_array();
+        for (int k = 0; k < u->count * u->info->components; k++) json_array_append_new(val, json_real(u->value[k]));
+        json_object_set_new(o, "value", val);
+        json_object_set_new(o, "count", json_integer(u->count));
+        json_object_set_new(o, "min", number_or_null(u->info->min));
+        json_object_set_new(o, "max", number_or_null(u->info->max));
+        json_object_set_new(o, "meaning", json_string(u->info->meaning));
+        json_array_append_new(u->live ? uniforms : constants, o);
+    }
+    json_object_set_new(root, "uniforms", uniforms);
+    json_object_set_new(root, "constants", constants);
+    json_object_set_new(root, "samplers", json_array());
+    json_t *outputs = json_array();
+    for (size_t i = 0; i < p->output_count; i++) {
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(p->outputs[i].name));
+        json_object_set_new(o, "location", json_integer(p->outputs[i].location));
+        json_object_set_new(o, "components", json_integer(p->outputs[i].components));
+        json_array_append_new(outputs, o);
+    }
+    json_object_set_new(root, "outputs", outputs);
+    json_t *passes = json_array();
+    for (size_t i = 0; i < p->pass_count; i++) {
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(p->passes[i].name));
+        json_object_set_new(o, "stage", json_string(p->passes[i].stage));
+        json_array_append_new(passes, o);
+    }
+    json_object_set_new(root, "passes", passes);
+    char *text = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(9));
+    json_decref(root);
+    return text;
+}

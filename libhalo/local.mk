@@ -1,0 +1,35 @@
+# The library. libhalo-core.la holds everything (tests link it for internal
+# symbols); libhalo.la is the installed library exporting only halo_* symbols.
+include_HEADERS += libhalo/halo.h
+noinst_HEADERS += libhalo/diag.h libhalo/strbuf.h libhalo/internal.h libhalo/glsl_lex.h \
+	libhalo/emu/emu.h libhalo/emu/stages.h libhalo/gl/glfuncs.h libhalo/gl/headless.h
+
+BUILT_SOURCES += libhalo/embedded_modules.c
+CLEANFILES += libhalo/embedded_modules.c
+
+noinst_LTLIBRARIES += libhalo/libhalo-core.la
+libhalo_libhalo_core_la_SOURCES = \
+	libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c \
+	libhalo/scene.c libhalo/link.c libhalo/validate.c libhalo/setup.c \
+	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c \
+	libhalo/emu/gradient.c libhalo/emu/opacity_power.c libhalo/emu/boundary.c \
+	libhalo/emu/silhouette.c libhalo/emu/orientation_fade.c libhalo/emu/sketch.c \
+	libhalo/emu/tone_shading.c libhalo/emu/distance_blend.c libhalo/emu/distance_cue.c \
+	libhalo/gl/glfuncs.c libhalo/gl/runtime.c
+nodist_libhalo_libhalo_core_la_SOURCES = libhalo/embedded_modules.c
+libhalo_libhalo_core_la_CPPFLAGS = $(AM_CPPFLAGS) -DHALO_BUILDING $(JANSSON_CFLAGS) $(GLSLANG_CFLAGS)
+libhalo_libhalo_core_la_CFLAGS = $(AM_CFLAGS) -fvisibility=hidden
+libhalo_libhalo_core_la_LIBADD = $(JANSSON_LIBS) $(GLSLANG_LIBS)
+
+lib_LTLIBRARIES += libhalo/libhalo.la
+libhalo_libhalo_la_SOURCES =
+# glslang is C++: link through the C++ linker (automake picks it for a .cc source).
+nodist_EXTRA_libhalo_libhalo_la_SOURCES = build-aux/force-cxx-link.cc
+libhalo_libhalo_la_LIBADD = libhalo/libhalo-core.la
+libhalo_libhalo_la_LDFLAGS = $(AM_LDFLAGS) -version-info $(HALO_LT_VERSION) -export-symbols-regex '^halo_' -no-undefined
+
+# Headless contexts for the tools and tests (not installed: hosts bring their own context).
+noinst_LTLIBRARIES += libhalo/libhalo-headless.la
+libhalo_libhalo_headless_la_SOURCES = libhalo/gl/headless.c
+libhalo_libhalo_headless_la_CPPFLAGS = $(AM_CPPFLAGS) $(OSMESA_CFLAGS)
+libhalo_libhalo_headless_la_LIBADD = $(OSMESA_LIBS)

@@ -1,0 +1,637 @@
+/* Parsing a module: `#pragma halo` annotations, then the code's global declarations. */
+#include "diag.h"
+#include "internal.h"
+#include "strbuf.h"
+
+#include <ctype.h>
+#include <jansson.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const hook_names[HALO_HOOK_COUNT] = {"sample", "image", "line_vertex", "line_fragment"};
+static const char *const host_resources[] = {"position", "value", "gradient", "view", "depth",
+                                             "fragcoord", "color", "opacity", NULL};
+
+int halo_is_host_resource(const char *name) {
+    for (int i = 0; host_resources[i]; i++)
+        if (!strcmp(host_resources[i], name)) return 1;
+    return 0;
+}
+
+int halo_name_list_has(const halo_name_list *l, const char *name) {
+    for (size_t i = 0; i < l->count; i++)
+        if (!strcmp(l->items[i], name)) return 1;
+    return 0;
+}
+
+int halo_name_list_add(halo_name_list *l, const char *name, size_t n, int line) {
+    char **items = realloc(l->items, (l->count + 1) * sizeof *items);
+    if (!items) return -1;
+    l->items = items;
+    int *lines = realloc(l->lines, (l->count + 1) * sizeof *lines);
+    if (!lines) return -1;
+    l->lines = lines;
+    char *s = malloc(n + 1);
+    if (!s) return -1;
+    memcpy(s, name, n);
+    s[n] = '\0';
+    l->items[l->count] = s;
+    l->lines[l->count] = line;
+    l->count++;
+    return 0;
+}
+
+void halo_name_list_free(halo_name_list *l) {
+    for (size_t i = 0; i < l->count; i++) free(l->items[i]);
+    free(l->items);
+    free(l->lines);
+    memset(l, 0, sizeof *l);
+}
+
+const char *halo_param_type_name(halo_param_type t) {
+    static const char *const names[] = {"float", "vec2", "vec3", "vec4", "int", "bool"};
+    return (unsigned)t < 6 ? names[t] : "?";
+}
+
+static int param_components(halo_param_type t) {
+    switch (t) {
+    case HALO_PARAM_VEC2: return 2;
+    case HALO_PARAM_VEC3: return 3;
+    case HALO_PARAM_VEC4: return 4;
+    default: return 1;
+    }
+}
+
+int halo_param_check(const halo_param_info *info, const double *values, int count, char *why, size_t why_len) {
+    int max_count = info->array_size ? info->array_size : 1;
+    if (count < 1 || count > max_count) {
+        snprintf(why, why_len, "has %d element%s; %s takes %s%d", count, count == 1 ? "" : "s", info->name,
+                 info->array_size ? "1 to " : "", max_count);
+        return HALO_MSG_SCENE_VALUE_COUNT;
+    }
+    for (int i = 0; i < count * info->components; i++) {
+        double v = values[i];
+        if (!isfinite(v)) {
+            snprintf(why, why_len, "%g is not finite", v);
+            return HALO_MSG_SCENE_VALUE_NONFINITE;
+        }
+        if (v < info->min) {
+            snprintf(why, why_len, "%.9g is below the minimum %.9g", v, info->min);
+            return HALO_MSG_SCENE_VALUE_BELOW_MIN;
+        }
+        if (v > info->max) {
+            snprintf(why, why_len, "%.9g is above the maximum %.9g", v, info->max);
+            return HALO_MSG_SCENE_VALUE_ABOVE_MAX;
+        }
+        if ((info->type == HALO_PARAM_INT || info->type == HALO_PARAM_BOOL) && v != floor(v)) {
+            snprintf(why, why_len, "%.9g is not a whole number", v);
+            return HALO_MSG_SCENE_TYPE;
+        }
+    }
+    return -1;
+}
+
+/* Reads one element (scalar or vector) of a parameter from JSON. */
+static int element_from_json(const halo_param_info *info, json_t *v, double *out, char *why, size_t why_len) {
+    int n = info->components;
+    if (n == 1) {
+        if (info->type == HALO_PARAM_BOOL && json_is_boolean(v)) {
+            out[0] = json_is_true(v);
+            return 0;
+        }
+        if (!json_is_number(v)) {
+            snprintf(why, why_len, "expected a number for %s (%s)", info->name, halo_param_type_name(info->type));
+            return -1;
+        }
+        out[0] = json_number_value(v);
+        return 0;
+    }
+    if (!json_is_array(v) || (int)json_array_size(v) != n) {
+        snprintf(why, why_len, "expected a list of %d numbers for %s (%s)", n, info->name,
+                 halo_param_type_name(info->type));
+        return -1;
+    }
+    for (int i = 0; i < n; i++) {
+        json_t *c = json_array_get(v, (size_t)i);
+        if (!json_is_number(c)) {
+            snprintf(why, why_len, "expected a list of %d numbers for %s", n, info->name);
+            return -1;
+        }
+        out[i] = json_number_value(c);
+    }
+    return 0;
+}
+
+/* Fills values/count from JSON in the parameter's layout. Returns 0, or -1 with why. */
+int halo_param_from_json(const halo_param_info *info, void *json, double *values, int *count, char *why,
+                         size_t why_len);
+int halo_param_from_json(const halo_param_info *info, void *json, double *values, int *count, char *why,
+                         size_t why_len) {
+    json_t *v = json;
+    if (!info->array_size) {
+        *count = 1;
+        return element_from_json(info, v, values, why, why_len);
+    }
+    if (!json_is_array(v)) {
+        snprintf(why, why_len, "expected a list of 1 to %d elements for %s", info->array_size, info->name);
+        return -1;
+    }
+    size_t n = json_array_size(v);
+    if (n < 1 || n > (size_t)info->array_size) {
+        snprintf(why, why_len, "has %zu elements; %s takes 1 to %d", n, info->name, info->array_size);
+        return -1;
+    }
+    for (size_t i = 0; i < n; i++)
+        if (element_from_json(info, json_array_get(v, i), values + i * (size_t)info->components, why, why_len))
+            return -1;
+    *count = (int)n;
+    return 0;
+}
+
+/* Splits an annotation's arguments into words: "quoted text", or runs without white
+ * space outside brackets (so JSON lists with spaces stay one word). */
+typedef struct words {
+    char *w[24];
+    int col[24];
+    int n;
+} words;
+
+static int split_words(const char *s, int col0, words *out, char *storage) {
+    out->n = 0;
+    size_t i = 0, k = 0;
+    while (s[i]) {
+        while (s[i] == ' ' || s[i] == '\t') i++;
+        if (!s[i]) break;
+        if (out->n == 24) return -1;
+        out->col[out->n] = col0 + (int)i;
+        out->w[out->n++] = storage + k;
+        if (s[i] == '"') {
+            storage[k++] = s[i++];
+            while (s[i] && s[i] != '"') storage[k++] = s[i++];
+            if (s[i] != '"') return -1;
+            storage[k++] = s[i++];
+        } else {
+            int depth = 0;
+            while (s[i] && (depth > 0 || (s[i] != ' ' && s[i] != '\t'))) {
+                if (s[i] == '[') depth++;
+                if (s[i] == ']') depth--;
+                storage[k++] = s[i++];
+            }
+        }
+        storage[k++] = '\0';
+    }
+    return 0;
+}
+
+static int valid_name(const char *s) {
+    if (!islower((unsigned char)s[0])) return 0;
+    for (; *s; s++)
+        if (!islower((unsigned char)*s) && !isdigit((unsigned char)*s) && *s != '_') return 0;
+    return 1;
+}
+
+static char *unquote(const char *w) {
+    size_t n = strlen(w);
+    if (n >= 2 && w[0] == '"' && w[n - 1] == '"') {
+        char *s = malloc(n - 1);
+        if (s) { memcpy(s, w + 1, n - 2); s[n - 2] = '\0'; }
+        return s;
+    }
+    return halo_strdup(w);
+}
+
+typedef struct parse_ctx {
+    halo_module *m;
+    halo_diagnostics *diag;
+    int errors;
+} parse_ctx;
+
+#define ANNOT_ERROR(ctx, id, line, col, ...)                                                                     \
+    do {                                                                                                        \
+        halo_diag_add((ctx)->diag, HALO_SEVERITY_ERROR, HALO_MSG_##id, (ctx)->m->file, (line), (col),            \
+                      (ctx)->m->lines[(line)-1], __VA_ARGS__);                                                  \
+        (ctx)->errors++;                                                                                        \
+    } while (0)
+
+static void parse_param(parse_ctx *ctx, words *w, int line) {
+    halo_module *m = ctx->m;
+    if (w->n < 3) {
+        ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[0],
+                    "param needs: NAME TYPE default=VALUE [min=N] [max=N] \"meaning\"");
+        return;
+    }
+    const char *name = w->w[1], *type = w->w[2];
+    if (!valid_name(name)) {
+        ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[1], "parameter name '%s' must match [a-z][a-z0-9_]*", name);
+        return;
+    }
+    for (size_t i = 0; i < m->param_count; i++)
+        if (!strcmp(m->params[i].name, name)) {
+            ANNOT_ERROR(ctx, PARAM_DUPLICATE, line, w->col[1], "parameter '%s' is already declared at line %d", name,
+                        m->param_lines[i]);
+            return;
+        }
+    halo_param_info info = {0};
+    info.min = -HUGE_VAL;
+    info.max = HUGE_VAL;
+    char base[16] = {0};
+    const char *bracket = strchr(type, '[');
+    size_t blen = bracket ? (size_t)(bracket - type) : strlen(type);
+    if (blen >= sizeof base) blen = sizeof base - 1;
+    memcpy(base, type, blen);
+    static const char *const types[] = {"float", "vec2", "vec3", "vec4", "int", "bool"};
+    int t = -1;
+    for (int i = 0; i < 6; i++)
+        if (!strcmp(base, types[i])) t = i;
+    if (t < 0) {
+        ANNOT_ERROR(ctx, PARAM_TYPE_UNKNOWN, line, w->col[2],
+                    "unknown parameter type '%s' (float, int, bool, vec2, vec3, vec4, or TYPE[N])", type);
+        return;
+    }
+    info.type = (halo_param_type)t;
+    info.components = param_components(info.type);
+    if (info.type == HALO_PARAM_BOOL) { info.min = 0; info.max = 1; }
+    if (bracket) {
+        char *end;
+        long n = strtol(bracket + 1, &end, 10);
+        if (*end != ']' || end[1] || n < 1 || n > 16 || n * info.components > HALO_MAX_COMPONENTS) {
+            ANNOT_ERROR(ctx, PARAM_TYPE_UNKNOWN, line, w->col[2],
+                        "array type '%s' needs a size from 1 to 16 (at most %d numbers)", type, HALO_MAX_COMPONENTS);
+            return;
+        }
+        info.array_size = (int)n;
+    }
+    const char *default_text = NULL;
+    int default_col = w->col[0];
+    for (int i = 3; i < w->n; i++) {
+        const char *a = w->w[i];
+        if (a[0] == '"') {
+            free((char *)info.meaning);
+            info.meaning = unquote(a);
+        } else if (!strncmp(a, "default=", 8)) {
+            default_text = a + 8;
+            default_col = w->col[i];
+        } else if (!strncmp(a, "min=", 4) || !strncmp(a, "max=", 4)) {
+            char *end;
+            double v = strtod(a + 4, &end);
+            if (*end || end == a + 4 || !isfinite(v)) {
+                ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "'%s' needs a finite number", a);
+                free((char *)info.meaning);
+                return;
+            }
+            if (a[1] == 'i') info.min = v;
+            else info.max = v;
+        } else {
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i],
+                        "unexpected '%s' in param (default=, min=, max= or a \"meaning\")", a);
+            free((char *)info.meaning);
+            return;
+        }
+    }
+    if (!default_text) {
+        ANNOT_ERROR(ctx, ANNOTATION_MISSING, line, w->col[0], "parameter '%s' has no default=", name);
+        free((char *)info.meaning);
+        return;
+    }
+    info.name = halo_strdup(name);
+    json_error_t jerr;
+    json_t *v = json_loads(default_text, JSON_DECODE_ANY, &jerr);
+    char why[256];
+    if (!v || halo_param_from_json(&info, v, info.default_value, &info.default_count, why, sizeof why)) {
+        if (!v) snprintf(why, sizeof why, "default '%s' is not JSON: %s", default_text, jerr.text);
+        ANNOT_ERROR(ctx, PARAM_DEFAULT_INVALID, line, default_col, "%s", why);
+        json_decref(v);
+        free((char *)info.name);
+        free((char *)info.meaning);
+        return;
+    }
+    json_decref(v);
+    if (info.min > info.max) {
+        ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[0], "min %g is above max %g", info.min, info.max);
+    } else if (halo_param_check(&info, info.default_value, info.default_count, why, sizeof why) >= 0) {
+        ANNOT_ERROR(ctx, PARAM_DEFAULT_INVALID, line, default_col, "default of '%s': %s", name, why);
+    } else {
+        halo_param_info *p = realloc(m->params, (m->param_count + 1) * sizeof *p);
+        int *pl = p ? realloc(m->param_lines, (m->param_count + 1) * sizeof *pl) : NULL;
+        if (p) m->params = p;
+        if (pl) m->param_lines = pl;
+        if (p && pl) {
+            if (!info.meaning) info.meaning = halo_strdup("");
+            m->params[m->param_count] = info;
+            m->param_lines[m->param_count++] = line;
+            return;
+        }
+        ANNOT_ERROR(ctx, OUT_OF_MEMORY, line, 1, "out of memory");
+    }
+    free((char *)info.name);
+    free((char *)info.meaning);
+}
+
+static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int line, char *storage) {
+    halo_module *m = ctx->m;
+    words w;
+    if (split_words(rest, col0, &w, storage) || w.n == 0) {
+        ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, col0, "cannot split annotation into words (unclosed quote?)");
+        return;
+    }
+    const char *d = w.w[0];
+    if (!strcmp(d, "module") || !strcmp(d, "library")) {
+        int lib = d[0] == 'l';
+        if (m->module_line) {
+            ANNOT_ERROR(ctx, ANNOTATION_DUPLICATE, line, w.col[0], "'%s' given twice (first at line %d)", d,
+                        m->module_line);
+            return;
+        }
+        if (lib ? w.n != 1 : (w.n != 2 || !valid_name(w.w[1]))) {
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0],
+                        lib ? "'library' takes no argument" : "'module' takes one name matching [a-z][a-z0-9_]*");
+            return;
+        }
+        m->module_line = line;
+        m->is_library = lib;
+        if (!lib) m->name = halo_strdup(w.w[1]);
+    } else if (!strcmp(d, "summary")) {
+        if (w.n != 2 || w.w[1][0] != '"') {
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'summary' takes one \"quoted\" line");
+            return;
+        }
+        free(m->summary);
+        m->summary = unquote(w.w[1]);
+    } else if (!strcmp(d, "hook")) {
+        if (w.n != 2) {
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'hook' takes one hook name");
+            return;
+        }
+        int h = -1;
+        for (int i = 0; i < HALO_HOOK_COUNT; i++)
+            if (!strcmp(w.w[1], hook_names[i])) h = i;
+        if (h < 0) {
+            ANNOT_ERROR(ctx, MODULE_HOOK_UNKNOWN, line, w.col[1],
+                        "unknown hook '%s' (sample, image, line_vertex, line_fragment)", w.w[1]);
+            return;
+        }
+        if (m->hook_line) {
+            ANNOT_ERROR(ctx, ANNOTATION_DUPLICATE, line, w.col[0], "'hook' given twice (first at line %d)",
+                        m->hook_line);
+            return;
+        }
+        m->hook = (halo_hook)h;
+        m->hook_line = line;
+    } else if (!strcmp(d, "needs") || !strcmp(d, "after")) {
+        halo_name_list *l = d[0] == 'n' ? &m->needs : &m->after;
+        if (w.n < 2) ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'%s' takes one or more names", d);
+        for (int i = 1; i < w.n; i++) {
+            if (!valid_name(w.w[i])) {
+                ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[i], "'%s' is not a valid name", w.w[i]);
+                continue;
+            }
+            if (halo_name_list_add(l, w.w[i], strlen(w.w[i]), line))
+                ANNOT_ERROR(ctx, OUT_OF_MEMORY, line, 1, "out of memory");
+        }
+    } else if (!strcmp(d, "provides")) {
+        static const char *const ok_types[] = {"float", "vec2", "vec3", "vec4", "int", "bool", NULL};
+        int ok = w.n == 3 && valid_name(w.w[1]);
+        int tok = 0;
+        for (int i = 0; ok && ok_types[i]; i++) tok |= !strcmp(w.w[2], ok_types[i]);
+        if (!ok || !tok) {
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'provides' takes a name and a type (float, vec3, ...)");
+            return;
+        }
+        if (halo_is_host_resource(w.w[1])) {
+            ANNOT_ERROR(ctx, MODULE_RESERVED_NAME, line, w.col[1], "'%s' is filled by the host; stages modify it, "
+                        "they do not provide it", w.w[1]);
+            return;
+        }
+        halo_resource_decl *p = realloc(m->provides, (m->provides_count + 1) * sizeof *p);
+        if (!p) { ANNOT_ERROR(ctx, OUT_OF_MEMORY, line, 1, "out of memory"); return; }
+        m->provides = p;
+        p[m->provides_count++] = (halo_resource_decl){halo_strdup(w.w[1]), halo_strdup(w.w[2]), line};
+    } else if (!strcmp(d, "param")) {
+        parse_param(ctx, &w, line);
+    } else if (!strcmp(d, "declarations")) {
+        ANNOT_ERROR(ctx, ANNOTATION_UNKNOWN, line, w.col[0],
+                    "'#pragma halo declarations' belongs in a host shader, not in a module");
+    } else {
+        ANNOT_ERROR(ctx, ANNOTATION_UNKNOWN, line, w.col[0],
+                    "unknown directive '%s' (module, library, summary, hook, needs, provides, after, param)", d);
+    }
+}
+
+/* Returns the column (1-based) of the directive after "#pragma halo", or 0 if the line
+ * is not a libhalo annotation. */
+int halo_annotation_start(const char *line);
+int halo_annotation_start(const char *line) {
+    const char *p = line;
+    while (*p == ' ' || *p == '\t') p++;
+    if (*p != '#') return 0;
+    p++;
+    while (*p == ' ' || *p == '\t') p++;
+    if (strncmp(p, "pragma", 6) || (p[6] != ' ' && p[6] != '\t')) return 0;
+    p += 6;
+    while (*p == ' ' || *p == '\t') p++;
+    if (strncmp(p, "halo", 4) || (p[4] && p[4] != ' ' && p[4] != '\t' && p[4] != '\r')) return 0;
+    p += 4;
+    while (*p == ' ' || *p == '\t') p++;
+    return (int)(p - line) + 1;
+}
+
+/* Finds the names the code declares at global scope, and the halo_* names it uses. */
+static void scan_code(parse_ctx *ctx) {
+    halo_module *m = ctx->m;
+    const char *src = m->source;
+    halo_token *t = m->tokens.items;
+    size_t n = m->tokens.count;
+    for (size_t i = 0; i < n; i++) {
+        if (t[i].kind != HALO_TOK_IDENT) continue;
+        const char *s = src + t[i].offset;
+        size_t len = t[i].length;
+        if (len > 5 && !strncmp(s, "halo_", 5) && !(i > 0 && halo_token_is(src, &t[i - 1], "."))) {
+            char name[128];
+            size_t k = len < sizeof name - 1 ? len : sizeof name - 1;
+            memcpy(name, s, k);
+            name[k] = '\0';
+            if (strcmp(name, "halo_sample") && !halo_name_list_has(&m->calls, name))
+                halo_name_list_add(&m->calls, name, k, t[i].line);
+        }
+        if (t[i].depth != 0 || halo_is_glsl_keyword(s, len)) continue;
+        int declared = 0;
+        if (i > 0 && (t[i - 1].kind == HALO_TOK_IDENT || halo_token_is(src, &t[i - 1], "]")) && i + 1 < n) {
+            const halo_token *nx = &t[i + 1];
+            declared = halo_token_is(src, nx, "(") || halo_token_is(src, nx, "=") || halo_token_is(src, nx, ";") ||
+                       halo_token_is(src, nx, "[") || halo_token_is(src, nx, ",");
+            if (i > 1 && halo_token_is(src, &t[i - 2], "#")) declared = halo_token_is(src, &t[i - 1], "define");
+        }
+        if (!declared) continue;
+        char name[128];
+        size_t k = len < sizeof name - 1 ? len : sizeof name - 1;
+        memcpy(name, s, k);
+        name[k] = '\0';
+        if (halo_name_list_has(&m->declared, name)) continue;
+        if (!m->is_library && !strncmp(name, "halo_", 5)) {
+            halo_diag_add(ctx->diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_RESERVED_NAME, m->file, t[i].line,
+                          t[i].column, m->lines[t[i].line - 1],
+                          "module declares '%s': names starting with 'halo_' are reserved for the library", name);
+            ctx->errors++;
+            continue;
+        }
+        if (!strcmp(name, "apply") && halo_token_is(src, &t[i + 1], "(")) m->has_entry = 1;
+        halo_name_list_add(&m->declared, name, k, t[i].line);
+        if (m->is_library && halo_token_is(src, &t[i + 1], "(")) {
+            /* A helper function: its chunk runs from after the previous chunk to its closing brace. */
+            size_t j = i + 1;
+            while (j < n && !(halo_token_is(src, &t[j], "{") && t[j].brace_depth == 0) &&
+                   !(halo_token_is(src, &t[j], ";") && t[j].depth == 0))
+                j++;
+            if (j < n && halo_token_is(src, &t[j], ";")) continue; /* a prototype */
+            while (j < n && !(halo_token_is(src, &t[j], "}") && t[j].brace_depth == 0)) j++;
+            if (j >= n) break;
+            halo_chunk *c = realloc(m->chunks, (m->chunk_count + 1) * sizeof *c);
+            if (!c) break;
+            m->chunks = c;
+            halo_chunk *ch = &c[m->chunk_count++];
+            memset(ch, 0, sizeof *ch);
+            ch->name = halo_strdup(name);
+            ch->first_line = m->chunk_count > 1 ? c[m->chunk_count - 2].last_line + 1 : 1;
+            ch->last_line = t[j].line;
+            for (size_t q = i + 1; q < j; q++) {
+                const char *qs = src + t[q].offset;
+                if (t[q].kind == HALO_TOK_IDENT && t[q].length > 5 && !strncmp(qs, "halo_", 5)) {
+                    char cn[128];
+                    size_t ck = t[q].length < sizeof cn - 1 ? t[q].length : sizeof cn - 1;
+                    memcpy(cn, qs, ck);
+                    cn[ck] = '\0';
+                    if (strcmp(cn, name) && !halo_name_list_has(&ch->calls, cn))
+                        halo_name_list_add(&ch->calls, cn, ck, t[q].line);
+                }
+            }
+            i = j;
+        }
+    }
+}
+
+halo_module *halo_module_parse(const char *file, const char *source, halo_diagnostics *diag) {
+    halo_module *m = calloc(1, sizeof *m);
+    if (!m) return NULL;
+    parse_ctx ctx = {m, diag, 0};
+    m->file = halo_strdup(file);
+    m->source = halo_strdup(source);
+    m->line_storage = halo_strdup(source);
+    if (!m->file || !m->source || !m->line_storage) goto oom;
+    /* Split into lines (in place, in line_storage). */
+    int cap = 64;
+    m->lines = malloc((size_t)cap * sizeof *m->lines);
+    if (!m->lines) goto oom;
+    for (char *p = m->line_storage;;) {
+        if (m->line_count == cap) {
+            cap *= 2;
+            char **l = realloc(m->lines, (size_t)cap * sizeof *l);
+            if (!l) goto oom;
+            m->lines = l;
+        }
+        m->lines[m->line_count++] = p;
+        char *nl = strchr(p, '\n');
+        if (!nl) break;
+        *nl = '\0';
+        if (nl > p && nl[-1] == '\r') nl[-1] = '\0';
+        p = nl + 1;
+    }
+    m->is_annotation = calloc((size_t)m->line_count + 1, 1);
+    if (!m->is_annotation) goto oom;
+    size_t longest = 0;
+    for (int i = 0; i < m->line_count; i++)
+        if (strlen(m->lines[i]) > longest) longest = strlen(m->lines[i]);
+    char *storage = malloc(longest * 2 + 64);
+    if (!storage) goto oom;
+    for (int i = 0; i < m->line_count; i++) {
+        int col = halo_annotation_start(m->lines[i]);
+        if (!col) continue;
+        m->is_annotation[i] = 1;
+        parse_annotation(&ctx, m->lines[i] + col - 1, col, i + 1, storage);
+    }
+    free(storage);
+    if (!m->module_line) {
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_MISSING, file, 1, 1, m->lines[0],
+                      "no '#pragma halo module NAME' (or '#pragma halo library') annotation");
+        ctx.errors++;
+    } else if (!m->is_library && !m->hook_line) {
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_MISSING, file, m->module_line, 1,
+                      m->lines[m->module_line - 1], "module '%s' has no '#pragma halo hook' annotation", m->name);
+        ctx.errors++;
+    }
+    /* Tokens of the code, annotation lines left out. */
+    halo_token_list all;
+    if (halo_lex(m->source, &all)) goto oom;
+    size_t k = 0;
+    for (size_t i = 0; i < all.count; i++)
+        if (!m->is_annotation[all.items[i].line - 1]) all.items[k++] = all.items[i];
+    all.count = k;
+    m->tokens = all;
+    if (ctx.errors == 0) {
+        scan_code(&ctx);
+        if (!m->is_library && m->hook == HALO_HOOK_SAMPLE && !m->has_entry) {
+            halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_ENTRY_MISSING, file, m->module_line, 1,
+                          m->lines[m->module_line - 1],
+                          "sample module '%s' must define 'void apply(inout halo_sample s)'", m->name);
+            ctx.errors++;
+        }
+    }
+    if (!m->summary) m->summary = halo_strdup("");
+    if (ctx.errors) {
+        halo_module_free(m);
+        return NULL;
+    }
+    return m;
+oom:
+    halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_OUT_OF_MEMORY, file, 0, 0, NULL, "out of memory");
+    halo_module_free(m);
+    return NULL;
+}
+
+void halo_module_free(halo_module *m) {
+    if (!m) return;
+    free(m->name);
+    free(m->file);
+    free(m->summary);
+    halo_name_list_free(&m->needs);
+    halo_name_list_free(&m->after);
+    for (size_t i = 0; i < m->provides_count; i++) {
+        free(m->provides[i].name);
+        free(m->provides[i].type);
+    }
+    free(m->provides);
+    for (size_t i = 0; i < m->param_count; i++) {
+        free((char *)m->params[i].name);
+        free((char *)m->params[i].meaning);
+    }
+    free(m->params);
+    free(m->param_lines);
+    free(m->source);
+    free(m->lines);
+    free(m->line_storage);
+    free(m->is_annotation);
+    halo_token_list_free(&m->tokens);
+    halo_name_list_free(&m->declared);
+    halo_name_list_free(&m->calls);
+    for (size_t i = 0; i < m->chunk_count; i++) {
+        free(m->chunks[i].name);
+        halo_name_list_free(&m->chunks[i].calls);
+    }
+    free(m->chunks);
+    free(m);
+}
+
+/* ---- Accessors ---- */
+const char *halo_module_name(const halo_module *m) { return m->is_library ? "halo_math" : m->name; }
+const char *halo_module_file(const halo_module *m) { return m->file; }
+const char *halo_module_summary(const halo_module *m) { return m->summary; }
+halo_hook halo_module_hook(const halo_module *m) { return m->hook; }
+size_t halo_module_param_count(const halo_module *m) { return m->param_count; }
+const halo_param_info *halo_module_param(const halo_module *m, size_t i) {
+    return i < m->param_count ? &m->params[i] : NULL;
+}
+const halo_param_info *halo_module_find_param(const halo_module *m, const char *name) {
+    for (size_t i = 0; i < m->param_count; i++)
+        if (!strcmp(m->params[i].name, name)) return &m->params[i];
+    return NULL;
+}

@@ -1,0 +1,422 @@
+/* Scene files (docs/scene.md): which stages are enabled, their parameters, and the
+ * render settings of the example renderers. Every error names the file and JSON path. */
+#include "diag.h"
+#include "internal.h"
+#include "strbuf.h"
+
+#include <errno.h>
+#include <jansson.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int halo_param_from_json(const halo_param_info *info, void *json, double *values, int *count, char *why,
+                         size_t why_len);
+
+#define SCENE_FORMAT_VERSION 1
+
+static void default_render(halo_render_settings *r) {
+    memset(r, 0, sizeof *r);
+    r->azimuth = 30;
+    r->elevation = 20;
+    r->zoom = 1;
+    r->step = 0.5;
+    r->window[0] = 0;
+    r->window[1] = 1;
+    static const double tf[][5] = {{0.0, 0.0, 0.0, 0.0, 0.0},
+                                   {0.15, 0.9, 0.75, 0.6, 0.0},
+                                   {0.35, 0.9, 0.75, 0.6, 0.08},
+                                   {0.6, 0.95, 0.5, 0.4, 0.3},
+                                   {1.0, 1.0, 1.0, 0.9, 0.8}};
+    r->transfer_count = 5;
+    memcpy(r->transfer, tf, sizeof tf);
+}
+
+halo_scene *halo_scene_create(const halo_library *lib) {
+    halo_scene *s = calloc(1, sizeof *s);
+    if (!s) return NULL;
+    s->library = lib;
+    default_render(&s->render);
+    return s;
+}
+
+void halo_scene_destroy(halo_scene *s) {
+    if (!s) return;
+    for (size_t i = 0; i < s->count; i++) free(s->stages[i].values);
+    free(s->stages);
+    free(s);
+}
+
+static halo_scene_entry *find_entry(halo_scene *s, const char *stage) {
+    for (size_t i = 0; i < s->count; i++)
+        if (!strcmp(halo_module_name(s->stages[i].module), stage)) return &s->stages[i];
+    return NULL;
+}
+
+/* Adds a stage with default values, or returns the existing entry. */
+static halo_scene_entry *add_entry(halo_scene *s, const halo_module *m) {
+    halo_scene_entry *e = find_entry(s, halo_module_name(m));
+    if (e) return e;
+    halo_scene_entry *p = realloc(s->stages, (s->count + 1) * sizeof *p);
+    if (!p) return NULL;
+    s->stages = p;
+    e = &p[s->count];
+    e->module = m;
+    e->enabled = 1;
+    e->values = calloc(m->param_count ? m->param_count : 1, sizeof *e->values);
+    if (!e->values) return NULL;
+    for (size_t i = 0; i < m->param_count; i++) {
+        e->values[i].count = m->params[i].default_count;
+        memcpy(e->values[i].value, m->params[i].default_value, sizeof e->values[i].value);
+    }
+    s->count++;
+    return e;
+}
+
+static const halo_module *stage_module(const halo_scene *s, const char *stage, const char *file, const char *path,
+                                       halo_diagnostics *diag) {
+    const halo_module *m = halo_library_find(s->library, stage);
+    if (!m || m->is_library) {
+        halo_diag_error(diag, SCENE_STAGE_UNKNOWN, file, 0, 0, "%s: unknown stage '%s'", path, stage);
+        return NULL;
+    }
+    return m;
+}
+
+halo_status halo_scene_enable(halo_scene *s, const char *stage, int enabled, halo_diagnostics *diag) {
+    const halo_module *m = stage_module(s, stage, "", "stages", diag);
+    if (!m) return HALO_ERROR_INPUT;
+    halo_scene_entry *e = add_entry(s, m);
+    if (!e) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        return HALO_ERROR_IO;
+    }
+    e->enabled = enabled;
+    return HALO_OK;
+}
+
+halo_status halo_scene_set(halo_scene *s, const char *stage, const char *param, const double *values, int count,
+                           int live, halo_diagnostics *diag) {
+    const halo_module *m = stage_module(s, stage, "", "stages", diag);
+    if (!m) return HALO_ERROR_INPUT;
+    const halo_param_info *info = halo_module_find_param(m, param);
+    if (!info) {
+        halo_diag_error(diag, SCENE_PARAM_UNKNOWN, "", 0, 0, "%s: unknown parameter '%s'", stage, param);
+        return HALO_ERROR_INPUT;
+    }
+    char why[256];
+    int id = halo_param_check(info, values, count, why, sizeof why);
+    if (id >= 0) {
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage, param, why);
+        return HALO_ERROR_INPUT;
+    }
+    halo_scene_entry *e = add_entry(s, m);
+    if (!e) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        return HALO_ERROR_IO;
+    }
+    halo_param_value *v = &e->values[info - m->params];
+    v->set = 1;
+    v->live = live;
+    v->count = count;
+    memcpy(v->value, values, (size_t)count * (size_t)info->components * sizeof(double));
+    return HALO_OK;
+}
+
+size_t halo_scene_stage_count(const halo_scene *s) { return s ? s->count : 0; }
+const char *halo_scene_stage(const halo_scene *s, size_t i) {
+    return s && i < s->count ? halo_module_name(s->stages[i].module) : NULL;
+}
+const halo_render_settings *halo_scene_render(const halo_scene *s) { return &s->render; }
+halo_render_settings *halo_scene_render_mutable(halo_scene *s) { return &s->render; }
+
+/* ---- Reading JSON ---- */
+
+typedef struct reader {
+    halo_scene *scene;
+    const char *file;
+    halo_diagnostics *diag;
+    int errors;
+} reader;
+
+#define READ_ERROR(r, id, ...)                                          \
+    do {                                                                \
+        halo_diag_error((r)->diag, id, (r)->file, 0, 0, __VA_ARGS__); \
+        (r)->errors++;                                                  \
+    } while (0)
+
+static const char *json_type_name(const json_t *v) {
+    switch (json_typeof(v)) {
+    case JSON_OBJECT: return "an object";
+    case JSON_ARRAY: return "a list";
+    case JSON_STRING: return "a string";
+    case JSON_INTEGER:
+    case JSON_REAL: return "a number";
+    case JSON_TRUE:
+    case JSON_FALSE: return "a boolean";
+    default: return "null";
+    }
+}
+
+static void read_param(reader *r, halo_scene_entry *e, const char *path, const char *key, json_t *v) {
+    const halo_module *m = e->module;
+    const halo_param_info *info = halo_module_find_param(m, key);
+    if (!info) {
+        halo_strbuf names = {0};
+        for (size_t i = 0; i < m->param_count; i++) halo_strbuf_printf(&names, "%s%s", i ? ", " : "", m->params[i].name);
+        READ_ERROR(r, SCENE_PARAM_UNKNOWN, "%s.%s: unknown parameter of stage '%s' (it has: %s%s)", path, key,
+                   halo_module_name(m), names.data ? names.data : "none", m->param_count ? ", live, enabled" : "");
+        halo_strbuf_free(&names);
+        return;
+    }
+    double values[HALO_MAX_COMPONENTS];
+    int count = 0;
+    char why[256];
+    if (halo_param_from_json(info, v, values, &count, why, sizeof why)) {
+        READ_ERROR(r, SCENE_TYPE, "%s.%s: %s, got %s", path, key, why, json_type_name(v));
+        return;
+    }
+    int id = halo_param_check(info, values, count, why, sizeof why);
+    if (id >= 0) {
+        halo_diag_add(r->diag, HALO_SEVERITY_ERROR, (halo_message_id)id, r->file, 0, 0, NULL, "%s.%s: %s", path, key,
+                      why);
+        r->errors++;
+        return;
+    }
+    halo_param_value *pv = &e->values[info - m->params];
+    pv->set = 1;
+    pv->count = count;
+    memcpy(pv->value, values, (size_t)count * (size_t)info->components * sizeof(double));
+}
+
+static void read_stage(reader *r, size_t index, json_t *item) {
+    char path[256];
+    const char *stage = NULL;
+    json_t *body = NULL;
+    if (json_is_string(item)) {
+        stage = json_string_value(item);
+    } else if (json_is_object(item) && json_object_size(item) == 1) {
+        void *it = json_object_iter(item);
+        stage = json_object_iter_key(it);
+        body = json_object_iter_value(it);
+    } else {
+        READ_ERROR(r, SCENE_TYPE, "stages[%zu]: expected a stage name or an object {\"STAGE\": {...}}, got %s", index,
+                   json_is_object(item) ? "an object with several keys" : json_type_name(item));
+        return;
+    }
+    snprintf(path, sizeof path, "stages[%zu].%s", index, stage);
+    const halo_module *m = halo_library_find(r->scene->library, stage);
+    if (!m || m->is_library || m->hook != HALO_HOOK_SAMPLE) {
+        char at[64];
+        snprintf(at, sizeof at, "stages[%zu]", index);
+        READ_ERROR(r, SCENE_STAGE_UNKNOWN, "%s: unknown stage '%s' (halo-validate list shows the stages)", at, stage);
+        return;
+    }
+    if (find_entry(r->scene, stage)) {
+        READ_ERROR(r, SCENE_STAGE_DUPLICATE, "%s: stage '%s' is listed twice", path, stage);
+        return;
+    }
+    halo_scene_entry *e = add_entry(r->scene, m);
+    if (!e) {
+        READ_ERROR(r, OUT_OF_MEMORY, "out of memory");
+        return;
+    }
+    if (!body) return;
+    if (!json_is_object(body)) {
+        READ_ERROR(r, SCENE_TYPE, "%s: expected an object of parameters, got %s", path, json_type_name(body));
+        return;
+    }
+    json_t *live = NULL;
+    const char *key;
+    json_t *v;
+    json_object_foreach(body, key, v) {
+        if (!strcmp(key, "enabled")) {
+            if (!json_is_boolean(v)) READ_ERROR(r, SCENE_TYPE, "%s.enabled: expected true or false, got %s", path,
+                                                json_type_name(v));
+            else e->enabled = json_is_true(v);
+        } else if (!strcmp(key, "live")) {
+            live = v;
+        } else {
+            read_param(r, e, path, key, v);
+        }
+    }
+    if (live) {
+        if (json_is_boolean(live)) {
+            for (size_t i = 0; i < m->param_count; i++) e->values[i].live = json_is_true(live);
+        } else if (json_is_array(live)) {
+            size_t i;
+            json_t *name;
+            json_array_foreach(live, i, name) {
+                const halo_param_info *info = json_is_string(name) ? halo_module_find_param(m, json_string_value(name))
+                                                                  : NULL;
+                if (!info)
+                    READ_ERROR(r, SCENE_PARAM_UNKNOWN, "%s.live[%zu]: %s%s%s is not a parameter of '%s'", path, i,
+                               json_is_string(name) ? "'" : "", json_is_string(name) ? json_string_value(name) : "value",
+                               json_is_string(name) ? "'" : "", stage);
+                else
+                    e->values[info - m->params].live = 1;
+            }
+        } else {
+            READ_ERROR(r, SCENE_TYPE, "%s.live: expected true, false or a list of parameter names, got %s", path,
+                       json_type_name(live));
+        }
+    }
+}
+
+static int read_number(reader *r, json_t *v, const char *path, double lo, double hi, double *out) {
+    if (!json_is_number(v)) {
+        READ_ERROR(r, SCENE_TYPE, "%s: expected a number, got %s", path, json_type_name(v));
+        return -1;
+    }
+    double x = json_number_value(v);
+    if (!isfinite(x)) {
+        READ_ERROR(r, SCENE_VALUE_NONFINITE, "%s: %g is not finite", path, x);
+        return -1;
+    }
+    if (x < lo) {
+        READ_ERROR(r, SCENE_VALUE_BELOW_MIN, "%s: %.9g is below the minimum %.9g", path, x, lo);
+        return -1;
+    }
+    if (x > hi) {
+        READ_ERROR(r, SCENE_VALUE_ABOVE_MAX, "%s: %.9g is above the maximum %.9g", path, x, hi);
+        return -1;
+    }
+    *out = x;
+    return 0;
+}
+
+static int read_numbers(reader *r, json_t *v, const char *path, size_t n, double lo, double hi, double *out) {
+    if (!json_is_array(v) || json_array_size(v) != n) {
+        READ_ERROR(r, SCENE_VALUE_COUNT, "%s: expected a list of %zu numbers, got %s", path, n, json_type_name(v));
+        return -1;
+    }
+    int bad = 0;
+    for (size_t i = 0; i < n; i++) {
+        char p[256];
+        snprintf(p, sizeof p, "%s[%zu]", path, i);
+        bad |= read_number(r, json_array_get(v, i), p, lo, hi, &out[i]);
+    }
+    return bad;
+}
+
+static void read_render(reader *r, json_t *obj) {
+    halo_render_settings *rs = &r->scene->render;
+    if (!json_is_object(obj)) {
+        READ_ERROR(r, SCENE_TYPE, "render: expected an object, got %s", json_type_name(obj));
+        return;
+    }
+    const char *key;
+    json_t *v;
+    char path[256];
+    json_object_foreach(obj, key, v) {
+        snprintf(path, sizeof path, "render.%s", key);
+        if (!strcmp(key, "azimuth")) read_number(r, v, path, -360, 360, &rs->azimuth);
+        else if (!strcmp(key, "elevation")) read_number(r, v, path, -90, 90, &rs->elevation);
+        else if (!strcmp(key, "zoom")) read_number(r, v, path, 0.05, 20, &rs->zoom);
+        else if (!strcmp(key, "step")) read_number(r, v, path, 0.05, 4, &rs->step);
+        else if (!strcmp(key, "background")) read_numbers(r, v, path, 3, 0, 1, rs->background);
+        else if (!strcmp(key, "window")) {
+            double w[2];
+            if (!read_numbers(r, v, path, 2, -1e30, 1e30, w)) {
+                if (!(w[0] < w[1])) READ_ERROR(r, SCENE_VALUE_BELOW_MIN, "%s: the window's end %g is not above its start %g",
+                                               path, w[1], w[0]);
+                else memcpy(rs->window, w, sizeof w);
+            }
+        } else if (!strcmp(key, "transfer")) {
+            if (!json_is_array(v) || json_array_size(v) < 1 || json_array_size(v) > HALO_MAX_TRANSFER_POINTS) {
+                READ_ERROR(r, SCENE_VALUE_COUNT, "%s: expected a list of 1 to %d points [value, r, g, b, opacity]",
+                           path, HALO_MAX_TRANSFER_POINTS);
+                continue;
+            }
+            size_t i;
+            json_t *pt;
+            double tf[HALO_MAX_TRANSFER_POINTS][5];
+            int bad = 0;
+            json_array_foreach(v, i, pt) {
+                char p[256];
+                snprintf(p, sizeof p, "%s[%zu]", path, i);
+                bad |= read_numbers(r, pt, p, 5, 0, 1, tf[i]);
+                if (!bad && i > 0 && tf[i][0] < tf[i - 1][0]) {
+                    READ_ERROR(r, SCENE_VALUE_BELOW_MIN, "%s[0]: %g is below the previous point's value %g", p,
+                               tf[i][0], tf[i - 1][0]);
+                    bad = 1;
+                }
+            }
+            if (!bad) {
+                rs->transfer_count = (int)json_array_size(v);
+                memcpy(rs->transfer, tf, sizeof tf);
+            }
+        } else {
+            READ_ERROR(r, SCENE_KEY_UNKNOWN,
+                       "%s: unknown key (azimuth, elevation, zoom, step, background, window, transfer)", path);
+        }
+    }
+}
+
+halo_scene *halo_scene_parse(const char *text, const char *file, const halo_library *lib, halo_diagnostics *diag) {
+    if (!file) file = "scene";
+    json_error_t err;
+    json_t *root = json_loads(text ? text : "", JSON_REJECT_DUPLICATES, &err);
+    if (!root) {
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_JSON, file, err.line > 0 ? err.line : 1,
+                      err.column > 0 ? err.column : 1, NULL, "invalid JSON: %s", err.text);
+        return NULL;
+    }
+    halo_scene *scene = halo_scene_create(lib);
+    if (!scene) {
+        json_decref(root);
+        halo_diag_error(diag, OUT_OF_MEMORY, file, 0, 0, "out of memory");
+        return NULL;
+    }
+    reader r = {scene, file, diag, 0};
+    if (!json_is_object(root)) {
+        READ_ERROR(&r, SCENE_TYPE, "(top level): expected an object, got %s", json_type_name(root));
+    } else {
+        const char *key;
+        json_t *v;
+        json_object_foreach(root, key, v) {
+            if (!strcmp(key, "halo_scene")) {
+                if (!json_is_integer(v) || json_integer_value(v) != SCENE_FORMAT_VERSION)
+                    READ_ERROR(&r, SCENE_VERSION, "halo_scene: this libhalo reads scene version %d", SCENE_FORMAT_VERSION);
+            } else if (!strcmp(key, "description")) {
+                if (!json_is_string(v)) READ_ERROR(&r, SCENE_TYPE, "description: expected a string, got %s",
+                                                   json_type_name(v));
+            } else if (!strcmp(key, "stages")) {
+                if (!json_is_array(v)) {
+                    READ_ERROR(&r, SCENE_TYPE, "stages: expected a list, got %s", json_type_name(v));
+                    continue;
+                }
+                size_t i;
+                json_t *item;
+                json_array_foreach(v, i, item) read_stage(&r, i, item);
+            } else if (!strcmp(key, "render")) {
+                read_render(&r, v);
+            } else {
+                READ_ERROR(&r, SCENE_KEY_UNKNOWN, "%s: unknown key (halo_scene, description, stages, render)", key);
+            }
+        }
+    }
+    json_decref(root);
+    if (r.errors) {
+        halo_scene_destroy(scene);
+        return NULL;
+    }
+    return scene;
+}
+
+halo_scene *halo_scene_load(const char *path, const halo_library *lib, halo_diagnostics *diag) {
+    size_t len = 0;
+    char *text = halo_read_file(path, &len);
+    if (!text) {
+        halo_diag_error(diag, IO_READ, path, 0, 0, "cannot read scene: %s", strerror(errno));
+        return NULL;
+    }
+    if (strlen(text) != len) {
+        halo_diag_error(diag, SCENE_JSON, path, 0, 0, "invalid JSON: the file contains a NUL byte");
+        free(text);
+        return NULL;
+    }
+    halo_scene *s = halo_scene_parse(text, path, lib, diag);
+    free(text);
+    return s;
+}

@@ -1,0 +1,33 @@
+#include "diag.h"
+
+#include <glslang/Include/glslang_c_interface.h>
+
+static int setup_count;
+
+halo_status halo_setup(const halo_setup_desc *desc) {
+    if (desc) halo_diag_set_logger(desc->logger, desc->user_data);
+    if (setup_count++ == 0 && !glslang_initialize_process()) {
+        setup_count = 0;
+        return HALO_ERROR_IO;
+    }
+    return HALO_OK;
+}
+
+void halo_shutdown(void) {
+    if (setup_count > 0 && --setup_count == 0) {
+        glslang_finalize_process();
+        halo_diag_set_logger(NULL, NULL);
+    }
+}
+
+const char *halo_version(void) { return PACKAGE_VERSION; }
+
+static const char *const target_names[HALO_TARGET_COUNT] = {"330", "330", "450", "es300"};
+
+const char *halo_target_name(halo_target t) { return (unsigned)t < HALO_TARGET_COUNT ? target_names[t] : "?"; }
+
+halo_target halo_target_from_name(const char *name) {
+    for (int t = HALO_TARGET_GLSL330; t < HALO_TARGET_COUNT; t++)
+        if (name && !__builtin_strcmp(name, target_names[t])) return (halo_target)t;
+    return HALO_TARGET_COUNT;
+}

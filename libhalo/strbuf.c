@@ -1,0 +1,89 @@
+#include "strbuf.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int reserve(halo_strbuf *b, size_t extra) {
+    if (b->failed) return 0;
+    if (b->len + extra + 1 <= b->cap) return 1;
+    size_t cap = b->cap ? b->cap : 256;
+    while (cap < b->len + extra + 1) {
+        if (cap > ((size_t)-1) / 2) { b->failed = 1; return 0; }
+        cap *= 2;
+    }
+    char *p = realloc(b->data, cap);
+    if (!p) { b->failed = 1; return 0; }
+    b->data = p;
+    b->cap = cap;
+    return 1;
+}
+
+void halo_strbuf_append_n(halo_strbuf *b, const char *s, size_t n) {
+    if (!reserve(b, n)) return;
+    memcpy(b->data + b->len, s, n);
+    b->len += n;
+    b->data[b->len] = '\0';
+}
+
+void halo_strbuf_append(halo_strbuf *b, const char *s) { halo_strbuf_append_n(b, s, strlen(s)); }
+
+void halo_strbuf_vprintf(halo_strbuf *b, const char *fmt, va_list ap) {
+    va_list ap2;
+    va_copy(ap2, ap);
+    int n = vsnprintf(NULL, 0, fmt, ap2);
+    va_end(ap2);
+    if (n < 0) { b->failed = 1; return; }
+    if (!reserve(b, (size_t)n)) return;
+    vsnprintf(b->data + b->len, (size_t)n + 1, fmt, ap);
+    b->len += (size_t)n;
+}
+
+void halo_strbuf_printf(halo_strbuf *b, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    halo_strbuf_vprintf(b, fmt, ap);
+    va_end(ap);
+}
+
+char *halo_strbuf_take(halo_strbuf *b) {
+    if (b->failed) { halo_strbuf_free(b); return NULL; }
+    if (!b->data) { reserve(b, 0); if (b->failed) return NULL; b->data[0] = '\0'; }
+    char *s = b->data;
+    b->data = NULL;
+    b->len = b->cap = 0;
+    return s;
+}
+
+void halo_strbuf_free(halo_strbuf *b) {
+    free(b->data);
+    b->data = NULL;
+    b->len = b->cap = 0;
+    b->failed = 0;
+}
+
+char *halo_strdup(const char *s) {
+    if (!s) return NULL;
+    size_t n = strlen(s) + 1;
+    char *p = malloc(n);
+    if (p) memcpy(p, s, n);
+    return p;
+}
+
+char *halo_read_file(const char *path, size_t *len) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    halo_strbuf b = {0};
+    char chunk[65536];
+    size_t n;
+    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) halo_strbuf_append_n(&b, chunk, n);
+    int err = ferror(f);
+    fclose(f);
+    if (err) { halo_strbuf_free(&b); errno = EIO; return NULL; }
+    size_t l = b.len;
+    char *s = halo_strbuf_take(&b);
+    if (!s) { errno = ENOMEM; return NULL; }
+    if (len) *len = l;
+    return s;
+}

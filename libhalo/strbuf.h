@@ -1,0 +1,26 @@
+/* Internal: a growable string buffer (never fixed arrays with strcat). */
+#ifndef HALO_STRBUF_H
+#define HALO_STRBUF_H
+
+#include <stdarg.h>
+#include <stddef.h>
+
+typedef struct halo_strbuf {
+    char *data; /* always NUL-terminated once anything was appended */
+    size_t len, cap;
+    int failed; /* an allocation failed: contents are incomplete */
+} halo_strbuf;
+
+void halo_strbuf_append(halo_strbuf *b, const char *s);
+void halo_strbuf_append_n(halo_strbuf *b, const char *s, size_t n);
+void halo_strbuf_printf(halo_strbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+void halo_strbuf_vprintf(halo_strbuf *b, const char *fmt, va_list ap);
+/* Returns the string (caller frees) and resets b; NULL if an allocation failed. */
+char *halo_strbuf_take(halo_strbuf *b);
+void halo_strbuf_free(halo_strbuf *b);
+
+/* Reads a whole file; NULL on failure (errno set). */
+char *halo_read_file(const char *path, size_t *len);
+char *halo_strdup(const char *s);
+
+#endif

@@ -1,0 +1,242 @@
+/* Validation with glslang's C interface, in process. Every error glslang reports is
+ * rewritten to the origin of its line: the module's or the host's own file:line:col. */
+#include "diag.h"
+#include "internal.h"
+#include "strbuf.h"
+
+#include <glslang/Include/glslang_c_interface.h>
+#include <glslang/Public/resource_limits_c.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Column of token in the original line; tries the name without a halo_<stage>_ prefix
+ * when the linker renamed it. */
+static int find_column(const char *line, const char *token) {
+    if (!line || !token || !*token) return 0;
+    const char *hit = strstr(line, token);
+    if (hit) return (int)(hit - line) + 1;
+    if (!strncmp(token, "halo_", 5)) {
+        for (const char *p = token + 5; (p = strchr(p, '_')) != NULL; p++) {
+            hit = strstr(line, p + 1);
+            if (hit && p[1]) return (int)(hit - line) + 1;
+        }
+    }
+    return 0;
+}
+
+static void report_log(const char *log, const halo_line_origin *origins, int origin_count, const char *fallback,
+                       halo_diagnostics *diag, int *errors) {
+    char *copy = halo_strdup(log ? log : "");
+    if (!copy) return;
+    for (char *line = strtok(copy, "\n"); line; line = strtok(NULL, "\n")) {
+        halo_severity sev;
+        const char *rest;
+        if (!strncmp(line, "ERROR: ", 7)) { sev = HALO_SEVERITY_ERROR; rest = line + 7; }
+        else if (!strncmp(line, "WARNING: ", 9)) { sev = HALO_SEVERITY_WARNING; rest = line + 9; }
+        else continue;
+        int string_index, out_line = 0, consumed = 0;
+        const char *msg = rest;
+        if (sscanf(rest, "%d:%d:%n", &string_index, &out_line, &consumed) == 2 && consumed > 0) msg = rest + consumed;
+        while (*msg == ' ') msg++;
+        if (strstr(msg, "compilation errors.") || strstr(msg, "compilation terminated")) continue;
+        /* The message usually starts with 'token' : text. */
+        char token[256] = "";
+        const char *q = msg;
+        if (*q == '\'') {
+            const char *end = strchr(q + 1, '\'');
+            if (end && (size_t)(end - q - 1) < sizeof token) {
+                memcpy(token, q + 1, (size_t)(end - q - 1));
+                token[end - q - 1] = '\0';
+            }
+        }
+        const char *file = fallback;
+        int line_no = 0, col = 0;
+        const char *text = NULL;
+        if (out_line >= 1 && out_line <= origin_count) {
+            const halo_line_origin *o = &origins[out_line - 1];
+            file = o->file;
+            line_no = o->line;
+            text = o->text;
+            col = find_column(o->text, token);
+            if (o->file == halo_generated_file) {
+                file = fallback;
+                line_no = out_line;
+            }
+        }
+        halo_diag_add(diag, sev, sev == HALO_SEVERITY_ERROR ? HALO_MSG_GLSL_ERROR : HALO_MSG_GLSL_WARNING, file,
+                      line_no, col > 0 ? col : (line_no ? 1 : 0), text, "%s", msg);
+        if (sev == HALO_SEVERITY_ERROR) (*errors)++;
+    }
+    free(copy);
+}
+
+halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, halo_target target,
+                                  const halo_line_origin *origins, int origin_count, const char *fallback_file,
+                                  halo_diagnostics *diag) {
+    (void)target; /* the #version line in the source selects the language */
+    glslang_input_t in = {0};
+    in.language = GLSLANG_SOURCE_GLSL;
+    in.stage = kind == HALO_SHADER_VERTEX ? GLSLANG_STAGE_VERTEX : GLSLANG_STAGE_FRAGMENT;
+    in.client = GLSLANG_CLIENT_NONE;
+    in.target_language = GLSLANG_TARGET_NONE;
+    in.code = source;
+    in.default_version = 100;
+    in.default_profile = GLSLANG_NO_PROFILE;
+    in.messages = GLSLANG_MSG_CASCADING_ERRORS_BIT;
+    in.resource = glslang_default_resource();
+    glslang_shader_t *sh = glslang_shader_create(&in);
+    if (!sh) {
+        halo_diag_error(diag, OUT_OF_MEMORY, fallback_file, 0, 0, "glslang could not create a shader");
+        return HALO_ERROR_IO;
+    }
+    int errors = 0;
+    int ok = glslang_shader_preprocess(sh, &in);
+    if (ok) ok = glslang_shader_parse(sh, &in);
+    report_log(glslang_shader_get_info_log(sh), origins, origin_count, fallback_file, diag, &errors);
+    if (ok) {
+        /* Linking catches a missing main and interface errors. */
+        glslang_program_t *prog = glslang_program_create();
+        glslang_program_add_shader(prog, sh);
+        if (!glslang_program_link(prog, GLSLANG_MSG_CASCADING_ERRORS_BIT)) {
+            report_log(glslang_program_get_info_log(prog), origins, origin_count, fallback_file, diag, &errors);
+            if (!errors) {
+                halo_diag_error(diag, GLSL_ERROR, fallback_file, 0, 0, "glslang: link failed");
+                errors++;
+            }
+        }
+        glslang_program_delete(prog);
+    }
+    glslang_shader_delete(sh);
+    if (!ok && !errors) {
+        halo_diag_error(diag, GLSL_ERROR, fallback_file, 0, 0, "glslang rejected the shader");
+        errors++;
+    }
+    return errors ? HALO_ERROR_INPUT : HALO_OK;
+}
+
+halo_status halo_program_validate(const halo_program *p, halo_diagnostics *diag) {
+    return halo_glslang_validate(p->source, p->kind, p->target, p->origins, p->origin_count, p->host_file, diag);
+}
+
+halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind, halo_target target,
+                                 halo_diagnostics *diag) {
+    if (!source) return HALO_ERROR_IO;
+    if (!file) file = "shader";
+    /* A host (it has the marker): link it with no stage, which also checks the contract. */
+    char *copy = halo_strdup(source);
+    char **lines = NULL;
+    int n = copy ? halo_split_lines(copy, &lines) : -1;
+    if (n < 0) {
+        free(copy);
+        halo_diag_error(diag, OUT_OF_MEMORY, file, 0, 0, "out of memory");
+        return HALO_ERROR_IO;
+    }
+    int is_host = 0, version = 0;
+    for (int i = 0; i < n; i++) {
+        int col = halo_annotation_start(lines[i]);
+        if (col && !strncmp(lines[i] + col - 1, "declarations", 12)) is_host = 1;
+        const char *l = lines[i];
+        while (*l == ' ' || *l == '\t') l++;
+        if (!version && *l == '#' && strstr(l, "version")) version = i + 1;
+    }
+    halo_status st;
+    if (is_host) {
+        halo_library empty = {0};
+        halo_program *p = halo_link(&(halo_link_desc){.library = &empty, .host_source = source, .host_file = file,
+                                                      .target = target, .kind = kind},
+                                    diag);
+        st = p ? halo_program_validate(p, diag) : HALO_ERROR_INPUT;
+        halo_program_destroy(p);
+    } else {
+        /* A plain shader: set the target's #version and validate as is. */
+        static const char *const ver[HALO_TARGET_COUNT] = {"#version 330 core", "#version 330 core",
+                                                           "#version 450 core", "#version 300 es"};
+        halo_target t = target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : target;
+        halo_strbuf b = {0};
+        halo_line_origin *origins = calloc((size_t)n + 8, sizeof *origins);
+        int count = 0;
+        if (!version) {
+            halo_strbuf_printf(&b, "%s\n", ver[t]);
+            origins[count++] = (halo_line_origin){halo_generated_file, 0, NULL};
+        }
+        for (int i = 0; i < n && origins; i++) {
+            if (i + 1 == version) {
+                halo_strbuf_printf(&b, "%s\n", ver[t]);
+                origins[count++] = (halo_line_origin){file, i + 1, lines[i]};
+                if (t == HALO_TARGET_ES300) {
+                    halo_strbuf_append(&b, "precision highp float;\n");
+                    origins[count++] = (halo_line_origin){file, i + 1, lines[i]};
+                }
+                continue;
+            } else {
+                halo_strbuf_printf(&b, "%s\n", lines[i]);
+            }
+            origins[count++] = (halo_line_origin){file, i + 1, lines[i]};
+        }
+        char *text = halo_strbuf_take(&b);
+        st = text && origins ? halo_glslang_validate(text, kind, t, origins, count, file, diag) : HALO_ERROR_IO;
+        free(text);
+        free(origins);
+    }
+    free(lines);
+    free(copy);
+    return st;
+}
+
+static const char check_host_source[] =
+    "#pragma halo declarations\n"
+    "out vec4 fragment_color;\n"
+    "void main() {\n"
+    "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1, 0.2, 0.3), vec3(0.0, 0.0, 1.0), 0.5,\n"
+    "                                     gl_FragCoord.xy, vec3(0.8), 0.5);\n"
+    "    halo_apply(s);\n"
+    "    fragment_color = vec4(s.color, s.opacity);\n"
+    "}\n";
+
+halo_status halo_module_validate(const halo_library *lib, const halo_module *m, halo_target target,
+                                 halo_diagnostics *diag) {
+    if (m->is_library) {
+        /* Every helper, in file order, in a translation unit of its own. */
+        halo_strbuf b = {0};
+        halo_line_origin *origins = calloc((size_t)m->line_count + 8, sizeof *origins);
+        if (!origins) return HALO_ERROR_IO;
+        int count = 0;
+        static const char *const ver[HALO_TARGET_COUNT] = {"#version 330 core", "#version 330 core",
+                                                           "#version 450 core", "#version 300 es"};
+        halo_target t = target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : target;
+        halo_strbuf_printf(&b, "%s\n", ver[t]);
+        origins[count++] = (halo_line_origin){halo_generated_file, 0, NULL};
+        if (t == HALO_TARGET_ES300) {
+            halo_strbuf_append(&b, "precision highp float;\n");
+            origins[count++] = (halo_line_origin){halo_generated_file, 0, NULL};
+        }
+        for (int i = 0; i < m->line_count; i++) {
+            if (m->is_annotation[i]) continue;
+            halo_strbuf_printf(&b, "%s\n", m->lines[i]);
+            origins[count++] = (halo_line_origin){m->file, i + 1, m->lines[i]};
+        }
+        halo_strbuf_append(&b, "void main() {}\n");
+        origins[count++] = (halo_line_origin){halo_generated_file, 0, NULL};
+        char *text = halo_strbuf_take(&b);
+        halo_status st = text ? halo_glslang_validate(text, HALO_SHADER_FRAGMENT, t, origins, count, m->file, diag)
+                              : HALO_ERROR_IO;
+        free(text);
+        free(origins);
+        return st;
+    }
+    if (m->hook != HALO_HOOK_SAMPLE) return HALO_OK; /* other hooks are checked by their own hosts */
+    halo_scene *scene = halo_scene_create(lib);
+    if (!scene) return HALO_ERROR_IO;
+    halo_status st = halo_scene_enable(scene, m->name, 1, diag);
+    /* Both variants must compile: parameters as constants, and as uniforms. */
+    for (int live = 0; live < 2 && st == HALO_OK; live++) {
+        halo_program *p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = check_host_source,
+                                                      .host_file = "<check-host>", .target = target,
+                                                      .all_live = live},
+                                    diag);
+        st = p ? halo_program_validate(p, diag) : HALO_ERROR_INPUT;
+        halo_program_destroy(p);
+    }
+    halo_scene_destroy(scene);
+    return st;
+}
