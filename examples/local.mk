@@ -23,4 +23,7 @@ nodist_EXTRA_examples_halo_render_SOURCES = build-aux/force-cxx-link.cc
 examples_halo_render_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples
 examples_halo_render_LDADD = $(HALO_TOOL_LIBS)
 
-EXTRA_DIST += examples/scenes/default.json
+HALO_SCENES = examples/scenes/default.json examples/scenes/plain.json examples/scenes/boundary-silhouette.json \
+	examples/scenes/sketch.json examples/scenes/tone.json examples/scenes/distance.json \
+	examples/scenes/orientation.json examples/scenes/color-cue.json
+EXTRA_DIST += $(HALO_SCENES)

@@ -97,7 +97,9 @@ typedef struct halo_line_origin {
     const char *text; /* the original line (before renaming), or NULL */
 } halo_line_origin;
 
-extern const char halo_generated_file[]; /* "<libhalo>": lines the linker wrote */
+extern const char halo_generated_file[];
+/* The #version line of a target (HALO_TARGET_DEFAULT: 330 core). */
+const char *halo_target_version_line(halo_target t); /* "<libhalo>": lines the linker wrote */
 
 /* Splits text into lines in place (text is modified); returns the count or -1. */
 int halo_split_lines(char *text, char ***lines);

@@ -44,15 +44,23 @@ halo_status halo_library_add_source(halo_library *lib, const char *file, const c
     return add_module(lib, m, diag);
 }
 
-halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
+static halo_module *read_module(const char *path, halo_diagnostics *diag, halo_status *status) {
     char *text = halo_read_file(path, NULL);
     if (!text) {
         halo_diag_error(diag, IO_READ, path, 0, 0, "cannot read module: %s", strerror(errno));
-        return HALO_ERROR_IO;
+        *status = HALO_ERROR_IO;
+        return NULL;
     }
     halo_module *m = halo_module_parse(path, text, diag);
     free(text);
-    if (!m) return HALO_ERROR_INPUT;
+    *status = m ? HALO_OK : HALO_ERROR_INPUT;
+    return m;
+}
+
+halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
+    halo_status st;
+    halo_module *m = read_module(path, diag, &st);
+    if (!m) return st;
     for (size_t i = 0; i < lib->count; i++)
         if (!strcmp(halo_module_name(lib->modules[i]), halo_module_name(m))) {
             halo_module_free(lib->modules[i]);
@@ -63,14 +71,9 @@ halo_status halo_library_override_file(halo_library *lib, const char *path, halo
 }
 
 halo_status halo_library_add_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
-    char *text = halo_read_file(path, NULL);
-    if (!text) {
-        halo_diag_error(diag, IO_READ, path, 0, 0, "cannot read module: %s", strerror(errno));
-        return HALO_ERROR_IO;
-    }
-    halo_status s = halo_library_add_source(lib, path, text, diag);
-    free(text);
-    return s;
+    halo_status st;
+    halo_module *m = read_module(path, diag, &st);
+    return m ? add_module(lib, m, diag) : st;
 }
 
 halo_library *halo_library_create(halo_diagnostics *diag) {

@@ -511,9 +511,7 @@ static void emit_declarations(emitter *e, const halo_program *p) {
 static int emit_program(halo_program *p, const char *host_source, char **host_lines, int host_count,
                         const host_info *h, const halo_library *lib) {
     emitter e = {0};
-    static const char *const version_text[HALO_TARGET_COUNT] = {"#version 330 core", "#version 330 core",
-                                                                "#version 450 core", "#version 300 es"};
-    const char *ver = version_text[p->target];
+    const char *ver = halo_target_version_line(p->target);
     int es = p->target == HALO_TARGET_ES300;
     const char *precision = p->kind == HALO_SHADER_FRAGMENT
                                 ? "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\n"

@@ -333,7 +333,7 @@ static void read_render(reader *r, json_t *obj) {
             double tf[HALO_MAX_TRANSFER_POINTS][5];
             int bad = 0;
             json_array_foreach(v, i, pt) {
-                char p[256];
+                char p[300];
                 snprintf(p, sizeof p, "%s[%zu]", path, i);
                 bad |= read_numbers(r, pt, p, 5, 0, 1, tf[i]);
                 if (!bad && i > 0 && tf[i][0] < tf[i - 1][0]) {

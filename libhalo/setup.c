@@ -1,4 +1,5 @@
 #include "diag.h"
+#include "internal.h"
 
 #include <glslang/Include/glslang_c_interface.h>
 
@@ -30,4 +31,10 @@ halo_target halo_target_from_name(const char *name) {
     for (int t = HALO_TARGET_GLSL330; t < HALO_TARGET_COUNT; t++)
         if (name && !__builtin_strcmp(name, target_names[t])) return (halo_target)t;
     return HALO_TARGET_COUNT;
+}
+
+const char *halo_target_version_line(halo_target t) {
+    static const char *const lines[HALO_TARGET_COUNT] = {"#version 330 core", "#version 330 core",
+                                                         "#version 450 core", "#version 300 es"};
+    return (unsigned)t < HALO_TARGET_COUNT ? lines[t] : lines[0];
 }

@@ -38,6 +38,7 @@ static void report_log(const char *log, const halo_line_origin *origins, int ori
         const char *msg = rest;
         if (sscanf(rest, "%d:%d:%n", &string_index, &out_line, &consumed) == 2 && consumed > 0) msg = rest + consumed;
         while (*msg == ' ') msg++;
+        for (size_t n = strlen(msg); n > 0 && (msg[n - 1] == ' ' || msg[n - 1] == '\r'); n--) line[msg - line + n - 1] = '\0';
         if (strstr(msg, "compilation errors.") || strstr(msg, "compilation terminated")) continue;
         /* The message usually starts with 'token' : text. */
         char token[256] = "";
@@ -149,19 +150,17 @@ halo_status halo_validate_shader(const char *source, const char *file, halo_shad
         halo_program_destroy(p);
     } else {
         /* A plain shader: set the target's #version and validate as is. */
-        static const char *const ver[HALO_TARGET_COUNT] = {"#version 330 core", "#version 330 core",
-                                                           "#version 450 core", "#version 300 es"};
         halo_target t = target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : target;
         halo_strbuf b = {0};
         halo_line_origin *origins = calloc((size_t)n + 8, sizeof *origins);
         int count = 0;
         if (!version) {
-            halo_strbuf_printf(&b, "%s\n", ver[t]);
+            halo_strbuf_printf(&b, "%s\n", halo_target_version_line(t));
             origins[count++] = (halo_line_origin){halo_generated_file, 0, NULL};
         }
         for (int i = 0; i < n && origins; i++) {
             if (i + 1 == version) {
-                halo_strbuf_printf(&b, "%s\n", ver[t]);
+                halo_strbuf_printf(&b, "%s\n", halo_target_version_line(t));
                 origins[count++] = (halo_line_origin){file, i + 1, lines[i]};
                 if (t == HALO_TARGET_ES300) {
                     halo_strbuf_append(&b, "precision highp float;\n");
@@ -201,10 +200,8 @@ halo_status halo_module_validate(const halo_library *lib, const halo_module *m, 
         halo_line_origin *origins = calloc((size_t)m->line_count + 8, sizeof *origins);
         if (!origins) return HALO_ERROR_IO;
         int count = 0;
-        static const char *const ver[HALO_TARGET_COUNT] = {"#version 330 core", "#version 330 core",
-                                                           "#version 450 core", "#version 300 es"};
         halo_target t = target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : target;
-        halo_strbuf_printf(&b, "%s\n", ver[t]);
+        halo_strbuf_printf(&b, "%s\n", halo_target_version_line(t));
         origins[count++] = (halo_line_origin){halo_generated_file, 0, NULL};
         if (t == HALO_TARGET_ES300) {
             halo_strbuf_append(&b, "precision highp float;\n");

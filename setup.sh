@@ -1,0 +1,28 @@
+#!/bin/sh
+# libhalo set-up: installs the Debian packages that are missing, builds, and runs the
+# main job (halo-render with no arguments). Safe to run again.
+#   HALO_CONFIGURE_FLAGS  extra flags for ./configure (e.g. --enable-sanitizers)
+set -eu
+cd "$(dirname "$0")"
+
+packages="build-essential autoconf automake libtool pkg-config file
+  glslang-dev libosmesa6-dev mesa-common-dev libopenimageio-dev libjansson-dev"
+
+missing=""
+for p in $packages; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+if [ -n "$missing" ]; then
+  echo "setup: installing:$missing"
+  sudo=""
+  [ "$(id -u)" -eq 0 ] || sudo=sudo
+  $sudo apt-get update -q
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends $missing
+fi
+
+[ -x configure ] || autoreconf -fi
+[ -f Makefile ] || ./configure ${HALO_CONFIGURE_FLAGS:-}
+make -j"$(nproc)"
+
+# The main job: render the built-in volume with the default scene.
+LP_NUM_THREADS=${LP_NUM_THREADS:-2} ./examples/halo-render

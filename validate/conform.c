@@ -1,0 +1,927 @@
+/* The conformance suite: every per-sample stage rendered through OSMesa on chosen
+ * inputs and compared with its C emulation; the ray caster linked with no stage
+ * compared bit for bit with the unlinked one; a whole small render compared with a C
+ * emulation of the ray caster. Tolerances and their reasons: the table below and
+ * docs/accuracy.md. */
+#include "conform.h"
+
+#include "halo.h"
+#include "diag.h"
+#include "gl/glfuncs.h"
+#include "gl/headless.h"
+#include "hosts/raycast.h"
+#include "volume.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- Tolerances ---------------------------------------------------------------------
+ *
+ * A GPU result r passes against the emulation e (double precision, same guards, on the
+ * very float inputs uploaded) when, for each of colour r, g, b and opacity,
+ *
+ *     |r - e| <= abs + rel * |e| + condition
+ *
+ * abs and rel (per stage, below) bound the float32 evaluation of the stage's formula
+ * where it is well conditioned: every operation rounds to 24 bits (2^-24 = 6e-8
+ * relative), llvmpipe's pow is exp2(e * log2 x) with a few ulps of error in each, and
+ * the parameters (k_gs up to 50 in the defaults) scale those errors up.
+ *
+ * condition is measured per sample: the largest change of the emulated result when one
+ * input (view, gradient, value, depth, colour, opacity) is scaled by 1 +- 2^-21, i.e.
+ * moved by the few float ulps that the GPU's own intermediate rounding (|grad f|, n,
+ * n.V) amounts to. It is zero where the formula is flat and large only where the
+ * formula itself is ill conditioned: (1 - |n.V|)^k with k < 1 near |n.V| = 1 has an
+ * infinite derivative, so float32 cannot do better there and no fixed tolerance both
+ * passes a correct float implementation and catches a wrong one. Inputs on a guard's
+ * threshold (|grad f|^2 = 1e-20) are avoided: either side is correct there.
+ *
+ * A row also fails on any NaN or infinity in the GPU's output (nonfinite). */
+typedef struct stage_tolerance {
+    const char *stage;
+    double abs, rel;
+    const char *reason;
+} stage_tolerance;
+
+static const stage_tolerance stage_tolerances[] = {
+    {"gradient", 0.0, 0.0, "writes only normal and |grad f|: colour and opacity pass through bit for bit"},
+    {"opacity_power", 2e-6, 8e-6,
+     "one pow: llvmpipe's exp2/log2 give ~1e-6 relative for exponents up to 64 (error in the argument e*log2 x)"},
+    {"boundary", 2e-6, 8e-6,
+     "opacity * (k_gc + k_gs |g|^k_ge): pow as above, scaled by k_gs <= 10 on an opacity <= 1, then saturated"},
+    {"silhouette", 4e-6, 8e-6,
+     "opacity * (k_sc + k_ss (1-|n.V|)^k_se): k_ss = 50 multiplies pow's ~1e-7 absolute error"},
+    {"orientation_fade", 2e-6, 4e-6, "RGB->HSV->RGB in float: a division by chroma and max, a few ulps each"},
+    {"sketch", 4e-6, 8e-6, "pow of 1-|n.V| with exponent 8 and a colour mix: a few ulps"},
+    {"tone_shading", 2e-6, 4e-6, "sums of up to four lights' dot products and mixes, no pow: a few ulps"},
+    {"distance_blend", 2e-6, 4e-6, "one pow of the depth and a mix: a few ulps"},
+    {"distance_cue", 2e-6, 4e-6, "a piecewise linear colour map of depth and a mix: a few ulps"},
+};
+/* Stages added from files: a pow and a few operations. */
+static const stage_tolerance default_tolerance = {NULL, 1e-5, 1e-5, "a stage not in the table"};
+
+/* The relative input change that models the GPU's intermediate rounding (see above). */
+#define INPUT_PERTURBATION (1.0 / 2097152.0) /* 2^-21 */
+
+/* Whole-image rows. The empty scene must not change a single bit. The ray cast row:
+ * llvmpipe computes texel coordinates and trilinear weights in float32, so each fetch
+ * carries ~1e-7 relative error in position (size * 2^-24 texels) and weight; central
+ * differences of such values have ~1e-6 absolute error on gradients of ~0.01-0.3; the
+ * enhancements scale opacities by up to k_gs = 10 and the compositing of ~100 samples
+ * with pow(1 - a, step) accumulates them: 2e-4 absolute per channel covers this with a
+ * margin of about 10 over the measured error. Decisions on a threshold (the 0.99 early
+ * termination, the last step before the exit point) are bracketed: the emulation is
+ * also run with each threshold moved by 1e-5 and the spread is allowed. */
+#define RAYCAST_TOLERANCE 2e-4
+#define RAYCAST_THRESHOLD_MOVE 1e-5
+
+/* ---- Statistics and rows -------------------------------------------------------------- */
+
+typedef struct row_stats {
+    double max_abs, sum_squares;
+    size_t values, over, nonfinite;
+    size_t worst; /* sample index of max_abs */
+} row_stats;
+
+typedef struct conform {
+    halo_library *lib;
+    halo_headless *context;
+    halo_gl *runtime;
+    const halo_glfuncs *gl;
+    halo_diagnostics *diag;
+    int size, verbose;
+    const char *only;
+    int rows, failures, errors;
+} conform;
+
+static int row_selected(const conform *c, const char *row, const char *stage)
+{
+    return !c->only || strcmp(c->only, row) == 0 || (stage && strcmp(c->only, stage) == 0);
+}
+
+static void print_row(conform *c, const char *row, const row_stats *s, const char *tolerance, int pass)
+{
+    double rmse = s->values ? sqrt(s->sum_squares / (double)s->values) : 0.0;
+    printf("%-26s %10.3e %10.3e %8zu %9zu %12s %s\n", row, s->max_abs, rmse, s->over, s->nonfinite, tolerance,
+           pass ? "PASS" : "FAIL");
+    fflush(stdout);
+    c->rows++;
+    if (!pass)
+        c->failures++;
+}
+
+/* A row that could not run (link or compile error): the diagnostics say why. */
+static void print_error_row(conform *c, const char *row)
+{
+    printf("%-26s %10s %10s %8s %9s %12s FAIL\n", row, "-", "-", "-", "-", "-");
+    halo_diagnostics_print(c->diag, stderr);
+    halo_diagnostics_clear(c->diag);
+    fflush(stdout);
+    c->rows++;
+    c->failures++;
+}
+
+/* ---- Probe inputs ---------------------------------------------------------------------- */
+
+static uint64_t random_state;
+
+static double random_uniform(void) /* splitmix64, [0, 1) */
+{
+    uint64_t z = (random_state += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return (double)(z >> 11) / 9007199254740992.0;
+}
+
+static void normalize3(double v[3])
+{
+    double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (n > 0.0)
+        for (int k = 0; k < 3; ++k)
+            v[k] /= n;
+}
+
+static void set3(double out[3], double x, double y, double z)
+{
+    out[0] = x, out[1] = y, out[2] = z;
+}
+
+/* A (gradient, view) pair of the hard cases. */
+typedef struct direction_case {
+    double gradient[3];
+    double view[3];
+} direction_case;
+
+/* Float one ulp above and below 1 (2^-23 and 2^-24 away). */
+#define ONE_ULP_UP (1.0 + 1.0 / 8388608.0)
+#define ONE_ULP_DOWN (1.0 - 1.0 / 16777216.0)
+
+static size_t direction_cases(direction_case *out)
+{
+    size_t n = 0;
+    double oblique[3] = {1, 2, 3}, other[3] = {-0.3, 0.5, -0.8};
+    normalize3(oblique);
+    normalize3(other);
+    /* Round the view to float first: the host's V is a float unit vector. */
+    for (int k = 0; k < 3; ++k)
+        oblique[k] = (float)oblique[k], other[k] = (float)other[k];
+    const double *views[] = {(const double[]){0, 0, 1}, (const double[]){0, 0, -1}, (const double[]){1, 0, 0},
+                             oblique, other};
+    for (size_t v = 0; v < sizeof views / sizeof views[0]; ++v) {
+        const double *V = views[v];
+        /* no gradient, and gradients too small to have a direction (|g|^2 < 1e-20) */
+        set3(out[n].gradient, 0, 0, 0), memcpy(out[n++].view, V, 3 * sizeof *V);
+        set3(out[n].gradient, 1e-12, 0, 0), memcpy(out[n++].view, V, 3 * sizeof *V);
+        set3(out[n].gradient, 0, -1e-12, 1e-12), memcpy(out[n++].view, V, 3 * sizeof *V);
+        /* tiny but with a direction (|g|^2 = 1e-18, above the guard) */
+        for (int k = 0; k < 3; ++k)
+            out[n].gradient[k] = -1e-9 * V[k];
+        memcpy(out[n++].view, V, 3 * sizeof *V);
+        /* n.V = +1 exactly (g = -a V: the normal points to the eye), and -1 */
+        for (int k = 0; k < 3; ++k)
+            out[n].gradient[k] = -0.3 * V[k];
+        memcpy(out[n++].view, V, 3 * sizeof *V);
+        for (int k = 0; k < 3; ++k)
+            out[n].gradient[k] = 0.25 * V[k];
+        memcpy(out[n++].view, V, 3 * sizeof *V);
+        /* parallel, but the view one ulp longer / shorter than 1: n.V rounds past +-1 */
+        for (int k = 0; k < 3; ++k) {
+            out[n].gradient[k] = -0.2 * V[k];
+            out[n].view[k] = V[k] * ONE_ULP_UP;
+        }
+        n++;
+        for (int k = 0; k < 3; ++k) {
+            out[n].gradient[k] = 0.45 * V[k];
+            out[n].view[k] = V[k] * ONE_ULP_DOWN;
+        }
+        n++;
+        /* perpendicular: n.V = 0 (silhouette) */
+        double perpendicular[3] = {V[1] - V[2], V[2] - V[0], V[0] - V[1]};
+        normalize3(perpendicular);
+        for (int k = 0; k < 3; ++k)
+            out[n].gradient[k] = 0.4 * perpendicular[k];
+        memcpy(out[n++].view, V, 3 * sizeof *V);
+        /* the largest gradient the host contract allows (|each component| <= 0.5) */
+        set3(out[n].gradient, 0.5, -0.5, 0.5), memcpy(out[n++].view, V, 3 * sizeof *V);
+    }
+    return n;
+}
+
+/* Fills count samples: first every hard case (direction pairs x depths x opacities,
+ * colours cycling), then random samples (fixed seed). Inputs are rounded to the floats
+ * the probe uploads. */
+static void fill_samples(halo_emu_sample *samples, int width, int height)
+{
+    static direction_case directions[64];
+    size_t direction_count = direction_cases(directions);
+    static const double depths[] = {0.0, 1.0, 0.5, 1e-7, 0.9999999};
+    static const double opacities[] = {0.0, 1.0, 0.5, 0.02};
+    static const double colors[][3] = {{0, 0, 0}, {1, 1, 1}, {1, 0, 0}, {0.2, 0.5, 0.9},
+                                       {0.5, 0.5, 0.5}, {1, 1, 0}, {0, 0.3, 0.3}};
+    static const double values[] = {0.0, 1.0, 0.5};
+    static const double positions[][3] = {{0.5, 0.5, 0.5}, {0, 0, 0}, {1, 1, 1}};
+    const size_t depth_count = sizeof depths / sizeof depths[0];
+    const size_t opacity_count = sizeof opacities / sizeof opacities[0];
+    const size_t hard = direction_count * depth_count * opacity_count;
+    const size_t count = (size_t)width * (size_t)height;
+    random_state = 0x68616c6f2d636f6eull; /* fixed seed: every run uses the same samples */
+    for (size_t i = 0; i < count; ++i) {
+        halo_emu_sample *s = &samples[i];
+        memset(s, 0, sizeof *s);
+        if (i < hard) {
+            const direction_case *d = &directions[i % direction_count];
+            memcpy(s->gradient, d->gradient, sizeof s->gradient);
+            memcpy(s->view, d->view, sizeof s->view);
+            s->depth = depths[(i / direction_count) % depth_count];
+            s->opacity = opacities[(i / (direction_count * depth_count)) % opacity_count];
+            memcpy(s->color, colors[i % (sizeof colors / sizeof colors[0])], sizeof s->color);
+            s->value = values[i % 3];
+            memcpy(s->position, positions[(i / 3) % 3], sizeof s->position);
+        } else {
+            for (int k = 0; k < 3; ++k) {
+                s->position[k] = random_uniform();
+                s->color[k] = random_uniform();
+                s->view[k] = random_uniform() * 2.0 - 1.0;
+                s->gradient[k] = random_uniform() - 0.5;
+            }
+            normalize3(s->view);
+            /* gradient magnitudes over many scales, 1e-6 .. 0.87 */
+            double scale = pow(10.0, -6.0 * random_uniform() * random_uniform());
+            for (int k = 0; k < 3; ++k)
+                s->gradient[k] *= scale;
+            s->value = random_uniform();
+            s->depth = random_uniform();
+            double o = random_uniform();
+            s->opacity = o < 0.05 ? 0.0 : o > 0.95 ? 1.0 : o;
+        }
+        halo_probe_round_inputs(s, (int)(i % (size_t)width), (int)(i / (size_t)width));
+    }
+}
+
+/* ---- Per-stage rows ---------------------------------------------------------------- */
+
+static const stage_tolerance *tolerance_of(const char *stage)
+{
+    for (size_t i = 0; i < sizeof stage_tolerances / sizeof stage_tolerances[0]; ++i)
+        if (strcmp(stage_tolerances[i].stage, stage) == 0)
+            return &stage_tolerances[i];
+    return &default_tolerance;
+}
+
+static void emulated_output(const halo_emu_sample *s, double out[4])
+{
+    out[0] = s->color[0], out[1] = s->color[1], out[2] = s->color[2], out[3] = s->opacity;
+}
+
+/* The emulated result with one input scaled by factor: the sensitivity to rounding. */
+static int perturbed_output(const halo_program *p, const halo_emu_sample *input, int field, double factor,
+                            double out[4])
+{
+    halo_emu_sample s = *input;
+    switch (field) {
+    case 0: for (int k = 0; k < 3; ++k) s.view[k] *= factor; break;
+    case 1: for (int k = 0; k < 3; ++k) s.gradient[k] *= factor; break;
+    case 2: s.value *= factor; break;
+    case 3: s.depth = fmin(1.0, s.depth * factor); break;
+    case 4: for (int k = 0; k < 3; ++k) s.color[k] = fmin(1.0, s.color[k] * factor); break;
+    default: s.opacity = fmin(1.0, s.opacity * factor); break;
+    }
+    if (halo_emu_apply(p, &s, NULL) != HALO_OK)
+        return 0;
+    emulated_output(&s, out);
+    return 1;
+}
+
+static void print_sample(const char *label, const halo_emu_sample *s, const float *gpu, const double *emu)
+{
+    fprintf(stderr,
+            "  %s: position (%.9g %.9g %.9g) value %.9g gradient (%.9g %.9g %.9g) view (%.9g %.9g %.9g)\n"
+            "    depth %.9g colour (%.9g %.9g %.9g) opacity %.9g fragcoord (%.1f %.1f)\n"
+            "    gpu (%.9g %.9g %.9g %.9g) emulation (%.9g %.9g %.9g %.9g)\n",
+            label, s->position[0], s->position[1], s->position[2], s->value, s->gradient[0], s->gradient[1],
+            s->gradient[2], s->view[0], s->view[1], s->view[2], s->depth, s->color[0], s->color[1], s->color[2],
+            s->opacity, s->fragcoord[0], s->fragcoord[1], gpu[0], gpu[1], gpu[2], gpu[3], emu[0], emu[1], emu[2],
+            emu[3]);
+}
+
+/* The parameter variants of a stage's rows. */
+enum variant { VARIANT_DEFAULT, VARIANT_EXPONENT_0, VARIANT_EXPONENT_64, VARIANT_LIVE, VARIANT_COUNT };
+static const char *const variant_suffix[VARIANT_COUNT] = {"", "@exp0", "@exp64", "@live"};
+
+/* Exponents are the float parameters whose range ends at 64 (modules.md convention:
+ * every exponent is declared max=64). */
+static int is_exponent(const halo_param_info *info)
+{
+    return info->type == HALO_PARAM_FLOAT && info->array_size == 0 && info->max == 64.0;
+}
+
+static int has_exponent(const halo_module *m)
+{
+    for (size_t i = 0; i < halo_module_param_count(m); ++i)
+        if (is_exponent(halo_module_param(m, i)))
+            return 1;
+    return 0;
+}
+
+/* For the live variant: arrays get several elements (up to 4), including a zero
+ * vector where the range allows it, so `<name>_count` and every element are used. */
+static void set_live_arrays(halo_program *p, const halo_module *m, halo_diagnostics *diag)
+{
+    static const double elements[4][4] = {{0.6, -0.8, 0.0, 1.0}, {0.0, 0.0, 0.0, 0.0},
+                                          {-0.3, 0.5, 0.8, 0.5}, {1.0, 1.0, -1.0, 0.25}};
+    for (size_t i = 0; i < halo_module_param_count(m); ++i) {
+        const halo_param_info *info = halo_module_param(m, i);
+        if (info->array_size < 2)
+            continue;
+        int count = info->array_size < 4 ? info->array_size : 4;
+        double values[HALO_MAX_COMPONENTS];
+        for (int e = 0; e < count; ++e)
+            for (int k = 0; k < info->components; ++k) {
+                double v = elements[e][k];
+                values[e * info->components + k] = v < info->min ? info->min : v > info->max ? info->max : v;
+            }
+        halo_program_set(p, halo_module_name(m), info->name, values, count, diag);
+    }
+}
+
+static void run_stage_row(conform *c, const halo_module *m, enum variant variant, const char *probe_source)
+{
+    const char *stage = halo_module_name(m);
+    char row[128];
+    snprintf(row, sizeof row, "%s%s", stage, variant_suffix[variant]);
+    if (!row_selected(c, row, stage))
+        return;
+    const stage_tolerance *tol = tolerance_of(stage);
+    char tolerance_text[32];
+    snprintf(tolerance_text, sizeof tolerance_text, "%.0e+%.0er", tol->abs, tol->rel);
+
+    halo_scene *scene = halo_scene_create(c->lib);
+    halo_program *program = NULL;
+    halo_probe *probe = NULL;
+    halo_emu_sample *samples = NULL;
+    float *gpu = NULL;
+    if (!scene || halo_scene_enable(scene, stage, 1, c->diag) != HALO_OK)
+        goto error;
+    if (variant == VARIANT_EXPONENT_0 || variant == VARIANT_EXPONENT_64) {
+        double exponent = variant == VARIANT_EXPONENT_0 ? 0.0 : 64.0;
+        for (size_t i = 0; i < halo_module_param_count(m); ++i) {
+            const halo_param_info *info = halo_module_param(m, i);
+            if (is_exponent(info) && halo_scene_set(scene, stage, info->name, &exponent, 1, 0, c->diag) != HALO_OK)
+                goto error;
+        }
+    }
+    program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = probe_source,
+                                          .host_file = "probe.frag", .all_live = variant == VARIANT_LIVE},
+                        c->diag);
+    if (!program)
+        goto error;
+    if (variant == VARIANT_LIVE)
+        set_live_arrays(program, m, c->diag);
+    if (halo_diagnostics_errors(c->diag) > 0)
+        goto error;
+    probe = halo_probe_create(&(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = program,
+                                                .width = c->size, .height = c->size},
+                              c->diag);
+    size_t count = (size_t)c->size * (size_t)c->size;
+    samples = malloc(count * sizeof *samples);
+    gpu = malloc(count * 4 * sizeof *gpu);
+    if (!probe || !samples || !gpu) {
+        if (!samples || !gpu)
+            halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        goto error;
+    }
+    fill_samples(samples, c->size, c->size);
+    if (halo_probe_run(probe, samples, gpu, c->diag) != HALO_OK)
+        goto error;
+
+    row_stats stats = {0};
+    size_t worst_over = SIZE_MAX;
+    double worst_excess = 0.0;
+    for (size_t i = 0; i < count; ++i) {
+        halo_emu_sample s = samples[i];
+        if (halo_emu_apply(program, &s, c->diag) != HALO_OK)
+            goto error;
+        double emu[4], condition[4] = {0, 0, 0, 0};
+        emulated_output(&s, emu);
+        for (int field = 0; field < 6; ++field)
+            for (int sign = -1; sign <= 1; sign += 2) {
+                double moved[4];
+                if (perturbed_output(program, &samples[i], field, 1.0 + sign * INPUT_PERTURBATION, moved))
+                    for (int k = 0; k < 4; ++k)
+                        condition[k] = fmax(condition[k], fabs(moved[k] - emu[k]));
+            }
+        int over = 0, nonfinite = 0;
+        for (int k = 0; k < 4; ++k) {
+            double g = gpu[i * 4 + (size_t)k];
+            if (!isfinite(g) || !isfinite(emu[k])) {
+                nonfinite = 1;
+                continue;
+            }
+            double error = fabs(g - emu[k]);
+            double allowed = tol->abs + tol->rel * fabs(emu[k]) + condition[k];
+            stats.sum_squares += error * error;
+            stats.values++;
+            if (error > stats.max_abs) {
+                stats.max_abs = error;
+                stats.worst = i;
+            }
+            if (error > allowed) {
+                over = 1;
+                if (error - allowed > worst_excess) {
+                    worst_excess = error - allowed;
+                    worst_over = i;
+                }
+            }
+        }
+        stats.over += (size_t)over;
+        stats.nonfinite += (size_t)nonfinite;
+    }
+    int pass = stats.over == 0 && stats.nonfinite == 0;
+    print_row(c, row, &stats, tolerance_text, pass);
+    if (c->verbose || !pass) {
+        size_t shown[2] = {stats.worst, worst_over};
+        const char *labels[2] = {"largest error", "furthest over tolerance"};
+        for (int j = 0; j < 2; ++j) {
+            if (shown[j] == SIZE_MAX || (j == 1 && shown[1] == shown[0]))
+                continue;
+            halo_emu_sample s = samples[shown[j]];
+            halo_emu_apply(program, &s, NULL);
+            double emu[4];
+            emulated_output(&s, emu);
+            print_sample(labels[j], &samples[shown[j]], &gpu[shown[j] * 4], emu);
+        }
+        if (c->verbose)
+            fprintf(stderr, "  tolerance: %s\n", tol->reason);
+    }
+    goto done;
+error:
+    print_error_row(c, row);
+done:
+    halo_diagnostics_clear(c->diag);
+    free(samples);
+    free(gpu);
+    halo_probe_destroy(probe);
+    halo_program_destroy(program);
+    halo_scene_destroy(scene);
+}
+
+/* ---- The ray caster: empty scene and emulation ------------------------------------------ */
+
+static void compare_images(const float *gpu, const double *reference, const double *allowed, size_t pixels,
+                           row_stats *stats)
+{
+    memset(stats, 0, sizeof *stats);
+    for (size_t i = 0; i < pixels; ++i) {
+        int over = 0, nonfinite = 0;
+        for (int k = 0; k < 4; ++k) {
+            double g = gpu[i * 4 + (size_t)k], r = reference[i * 4 + (size_t)k];
+            if (!isfinite(g) || !isfinite(r)) {
+                nonfinite = 1;
+                continue;
+            }
+            double error = fabs(g - r);
+            stats->sum_squares += error * error;
+            stats->values++;
+            if (error > stats->max_abs) {
+                stats->max_abs = error;
+                stats->worst = i;
+            }
+            if (error > allowed[i * 4 + (size_t)k])
+                over = 1;
+        }
+        stats->over += (size_t)over;
+        stats->nonfinite += (size_t)nonfinite;
+    }
+}
+
+/* Renders the built-in volume with the ray caster: linked program, or raw text. */
+static float *render_raycast(conform *c, const halo_program *program, const char *raw_source,
+                             const halo_scene *scene, const float *volume, int volume_size,
+                             halo_raycast_state *state_out, float *transfer_out)
+{
+    halo_raycast *r = halo_raycast_create(&(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = program,
+                                                           .fragment_source = program ? NULL : raw_source,
+                                                           .fragment_file = "raycast.frag",
+                                                           .width = c->size, .height = c->size},
+                                          c->diag);
+    if (!r)
+        return NULL;
+    float *image = malloc((size_t)c->size * (size_t)c->size * 4 * sizeof *image);
+    const halo_render_settings *settings = halo_scene_render(scene);
+    if (!image || halo_raycast_set_volume(r, volume, volume_size, volume_size, volume_size, c->diag) != HALO_OK ||
+        halo_raycast_set_render(r, settings, c->diag) != HALO_OK) {
+        if (!image)
+            halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        free(image);
+        halo_raycast_destroy(r);
+        return NULL;
+    }
+    halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);
+    if (halo_raycast_render(r, image, c->diag) != HALO_OK) {
+        free(image);
+        image = NULL;
+    }
+    if (state_out) {
+        /* the state points into the ray caster: keep a copy of its transfer table */
+        halo_raycast_get_state(r, state_out);
+        memcpy(transfer_out, state_out->transfer, HALO_RAYCAST_TRANSFER_TEXELS * 4 * sizeof *transfer_out);
+        state_out->transfer = transfer_out;
+    }
+    halo_raycast_destroy(r);
+    return image;
+}
+
+static void run_empty_row(conform *c, const char *host_source, const float *volume, int volume_size)
+{
+    if (!row_selected(c, "empty", NULL))
+        return;
+    halo_scene *scene = halo_scene_create(c->lib);
+    halo_program *program = NULL;
+    float *raw = NULL, *linked = NULL;
+    if (!scene)
+        goto error;
+    program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = host_source,
+                                          .host_file = "raycast.frag"},
+                        c->diag);
+    if (!program)
+        goto error;
+    raw = render_raycast(c, NULL, host_source, scene, volume, volume_size, NULL, NULL);
+    linked = raw ? render_raycast(c, program, NULL, scene, volume, volume_size, NULL, NULL) : NULL;
+    if (!raw || !linked)
+        goto error;
+    size_t pixels = (size_t)c->size * (size_t)c->size;
+    row_stats stats = {0};
+    for (size_t i = 0; i < pixels; ++i) {
+        int differs = memcmp(&raw[i * 4], &linked[i * 4], 4 * sizeof(float)) != 0, nonfinite = 0;
+        for (int k = 0; k < 4; ++k) {
+            double a = raw[i * 4 + (size_t)k], b = linked[i * 4 + (size_t)k];
+            if (!isfinite(a) || !isfinite(b)) {
+                nonfinite = 1;
+                continue;
+            }
+            double error = fabs(a - b);
+            stats.sum_squares += error * error;
+            stats.values++;
+            if (error > stats.max_abs)
+                stats.max_abs = error;
+        }
+        stats.over += (size_t)differs;
+        stats.nonfinite += (size_t)nonfinite;
+    }
+    print_row(c, "empty", &stats, "0 (bits)", stats.over == 0 && stats.nonfinite == 0);
+    goto done;
+error:
+    print_error_row(c, "empty");
+done:
+    halo_diagnostics_clear(c->diag);
+    free(raw);
+    free(linked);
+    halo_program_destroy(program);
+    halo_scene_destroy(scene);
+}
+
+/* GL_LINEAR with GL_CLAMP_TO_EDGE on a 3D texture, in double. */
+static double trilinear(const float *v, const int dims[3], const double p[3])
+{
+    int i0[3], i1[3];
+    double f[3];
+    for (int k = 0; k < 3; ++k) {
+        double u = p[k] * dims[k] - 0.5;
+        double base = floor(u);
+        f[k] = u - base;
+        int b = (int)base;
+        i0[k] = b < 0 ? 0 : b > dims[k] - 1 ? dims[k] - 1 : b;
+        i1[k] = b + 1 < 0 ? 0 : b + 1 > dims[k] - 1 ? dims[k] - 1 : b + 1;
+    }
+    double result = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
+        double w = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
+                   (corner & 4 ? f[2] : 1.0 - f[2]);
+        result += w * v[((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] + (size_t)x];
+    }
+    return result;
+}
+
+/* The transfer texture lookup of raycast.frag's classify(), in double. */
+static void classify(const halo_raycast_state *s, double value, double rgba[4])
+{
+    double v = value < 0.0 ? 0.0 : value > 1.0 ? 1.0 : value;
+    int n = s->transfer_texels;
+    double u = v * (n - 1); /* texel coordinate: ((v (n-1) + 0.5) / n) * n - 0.5 */
+    double base = floor(u);
+    double f = u - base;
+    int i0 = (int)base, i1 = i0 + 1 > n - 1 ? n - 1 : i0 + 1;
+    for (int k = 0; k < 4; ++k)
+        rgba[k] = (1.0 - f) * s->transfer[i0 * 4 + k] + f * s->transfer[i1 * 4 + k];
+}
+
+static void transform(const double m[16], const double v[4], double out[4])
+{
+    for (int row = 0; row < 4; ++row)
+        out[row] = m[row] * v[0] + m[4 + row] * v[1] + m[8 + row] * v[2] + m[12 + row] * v[3];
+}
+
+/* One pixel of raycast.frag, in double, with halo_emu_apply per sample. The two
+ * thresholds are parameters so that the decisions on them can be bracketed. */
+static int emulate_pixel(const halo_raycast_state *s, const halo_program *p, int x, int y, double threshold,
+                         double exit_move, double out[4])
+{
+    double ndc[2] = {(x + 0.5) / s->width * 2.0 - 1.0, (y + 0.5) / s->height * 2.0 - 1.0};
+    double near_point[4], far_point[4];
+    transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
+    transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
+    double origin[3], direction[3];
+    for (int k = 0; k < 3; ++k) {
+        origin[k] = near_point[k] / near_point[3];
+        direction[k] = far_point[k] / far_point[3] - origin[k];
+    }
+    normalize3(direction);
+    double t_enter = 0.0, t_exit = INFINITY;
+    for (int k = 0; k < 3; ++k) {
+        double inverse = 1.0 / direction[k];
+        double a = (0.0 - origin[k]) * inverse, b = (1.0 - origin[k]) * inverse;
+        t_enter = fmax(t_enter, fmin(a, b));
+        t_exit = fmin(t_exit, fmax(a, b));
+    }
+    t_exit += exit_move;
+    const double radius = 0.8660254037844386;
+    double centre_distance = sqrt((s->eye[0] - 0.5) * (s->eye[0] - 0.5) + (s->eye[1] - 0.5) * (s->eye[1] - 0.5) +
+                                  (s->eye[2] - 0.5) * (s->eye[2] - 0.5));
+    double front_distance = centre_distance - radius;
+    double exponent = s->step_size / s->unit_step;
+    double voxel[3] = {1.0 / s->dims[0], 1.0 / s->dims[1], 1.0 / s->dims[2]};
+    double accumulated[4] = {0, 0, 0, 0};
+    for (int i = 0; i < 4096; ++i) {
+        double t = t_enter + i * s->step_size;
+        if (t > t_exit)
+            break;
+        double P[3] = {origin[0] + t * direction[0], origin[1] + t * direction[1], origin[2] + t * direction[2]};
+        double value = trilinear(s->volume, s->dims, P);
+        double color[4];
+        classify(s, value, color);
+        halo_emu_sample sample = {0};
+        memcpy(sample.position, P, sizeof P);
+        sample.value = value;
+        for (int k = 0; k < 3; ++k) {
+            double plus[3] = {P[0], P[1], P[2]}, minus[3] = {P[0], P[1], P[2]};
+            plus[k] += voxel[k];
+            minus[k] -= voxel[k];
+            sample.gradient[k] = (trilinear(s->volume, s->dims, plus) - trilinear(s->volume, s->dims, minus)) * 0.5;
+            sample.view[k] = s->eye[k] - P[k];
+        }
+        double distance = sqrt(sample.view[0] * sample.view[0] + sample.view[1] * sample.view[1] +
+                               sample.view[2] * sample.view[2]);
+        normalize3(sample.view);
+        double depth = (distance - front_distance) / (2.0 * radius);
+        sample.depth = depth < 0.0 ? 0.0 : depth > 1.0 ? 1.0 : depth;
+        sample.fragcoord[0] = x + 0.5;
+        sample.fragcoord[1] = y + 0.5;
+        memcpy(sample.color, color, 3 * sizeof *color);
+        sample.opacity = color[3];
+        if (halo_emu_apply(p, &sample, NULL) != HALO_OK)
+            return 0;
+        double alpha = sample.opacity < 0.0 ? 0.0 : sample.opacity > 1.0 ? 1.0 : sample.opacity;
+        if (alpha > 0.0) {
+            alpha = 1.0 - pow(1.0 - alpha, exponent);
+            for (int k = 0; k < 3; ++k)
+                accumulated[k] += (1.0 - accumulated[3]) * alpha * sample.color[k];
+            accumulated[3] += (1.0 - accumulated[3]) * alpha;
+            if (accumulated[3] >= threshold)
+                break;
+        }
+    }
+    for (int k = 0; k < 3; ++k)
+        out[k] = accumulated[k] + (1.0 - accumulated[3]) * s->background[k];
+    out[3] = 1.0;
+    return 1;
+}
+
+/* The scene of the ray cast row: several stages with well-conditioned parameters. */
+static const char raycast_scene[] =
+    "{\"halo_scene\": 1, \"stages\": ["
+    "{\"boundary\": {}}, {\"silhouette\": {\"k_ss\": 4, \"k_se\": 1}}, {\"tone_shading\": {}},"
+    " {\"distance_blend\": {}}],"
+    " \"render\": {\"azimuth\": 30, \"elevation\": 20, \"zoom\": 1.3, \"step\": 0.5}}";
+
+static void run_raycast_row(conform *c, const char *host_source)
+{
+    if (!row_selected(c, "raycast", NULL))
+        return;
+    const int volume_size = 32;
+    halo_scene *scene = NULL;
+    halo_program *program = NULL;
+    float *volume = NULL, *gpu = NULL;
+    double *reference = NULL, *allowed = NULL;
+    volume = halo_volume_create(volume_size);
+    if (!volume) {
+        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        goto error;
+    }
+    scene = halo_scene_parse(raycast_scene, "(conformance ray cast scene)", c->lib, c->diag);
+    if (!scene)
+        goto error;
+    program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = host_source,
+                                          .host_file = "raycast.frag"},
+                        c->diag);
+    if (!program)
+        goto error;
+    halo_raycast_state state;
+    float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4];
+    gpu = render_raycast(c, program, NULL, scene, volume, volume_size, &state, transfer);
+    if (!gpu)
+        goto error;
+    state.volume = volume;
+    size_t pixels = (size_t)c->size * (size_t)c->size;
+    reference = malloc(pixels * 4 * sizeof *reference);
+    allowed = malloc(pixels * 4 * sizeof *allowed);
+    if (!reference || !allowed) {
+        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        goto error;
+    }
+    static const double moves[][2] = {{-RAYCAST_THRESHOLD_MOVE, 0.0}, {RAYCAST_THRESHOLD_MOVE, 0.0},
+                                      {0.0, -RAYCAST_THRESHOLD_MOVE}, {0.0, RAYCAST_THRESHOLD_MOVE}};
+    for (int y = 0; y < c->size; ++y)
+        for (int x = 0; x < c->size; ++x) {
+            size_t i = (size_t)y * (size_t)c->size + (size_t)x;
+            double *r = &reference[i * 4];
+            if (!emulate_pixel(&state, program, x, y, 0.99, 0.0, r)) {
+                halo_diag_error(c->diag, EMU_MISSING, "", 0, 0, "the ray cast scene has a stage without emulation");
+                goto error;
+            }
+            double spread[4] = {0, 0, 0, 0};
+            for (size_t m = 0; m < sizeof moves / sizeof moves[0]; ++m) {
+                double moved[4];
+                if (emulate_pixel(&state, program, x, y, 0.99 + moves[m][0], moves[m][1], moved))
+                    for (int k = 0; k < 4; ++k)
+                        spread[k] = fmax(spread[k], fabs(moved[k] - r[k]));
+            }
+            for (int k = 0; k < 4; ++k)
+                allowed[i * 4 + (size_t)k] = RAYCAST_TOLERANCE + spread[k];
+        }
+    row_stats stats;
+    compare_images(gpu, reference, allowed, pixels, &stats);
+    char tolerance_text[32];
+    snprintf(tolerance_text, sizeof tolerance_text, "%.0e", RAYCAST_TOLERANCE);
+    int pass = stats.over == 0 && stats.nonfinite == 0;
+    print_row(c, "raycast", &stats, tolerance_text, pass);
+    if (c->verbose || !pass) {
+        size_t w = stats.worst;
+        fprintf(stderr, "  largest error at pixel (%zu, %zu): gpu (%.9g %.9g %.9g %.9g) emulation (%.9g %.9g %.9g %.9g)\n",
+                w % (size_t)c->size, w / (size_t)c->size, gpu[w * 4], gpu[w * 4 + 1], gpu[w * 4 + 2], gpu[w * 4 + 3],
+                reference[w * 4], reference[w * 4 + 1], reference[w * 4 + 2], reference[w * 4 + 3]);
+    }
+    goto done;
+error:
+    print_error_row(c, "raycast");
+done:
+    halo_diagnostics_clear(c->diag);
+    free(volume);
+    free(gpu);
+    free(reference);
+    free(allowed);
+    halo_program_destroy(program);
+    halo_scene_destroy(scene);
+}
+
+/* ---- Main ------------------------------------------------------------------------------ */
+
+static void conform_usage(FILE *out)
+{
+    fputs("Usage: halo-validate conform [--stage NAME] [--size N] [-v]\n"
+          "Renders every per-sample stage through a headless OpenGL context (OSMesa) and\n"
+          "compares it with the C emulation; one row per test:\n"
+          "  empty     the ray caster linked with no stage against the unlinked one (bit for bit)\n"
+          "  STAGE     the stage with its default parameters, on a probe of hard and random samples\n"
+          "  STAGE@exp0, STAGE@exp64   every exponent parameter set to 0 / 64\n"
+          "  STAGE@live                every parameter a uniform, arrays with several elements\n"
+          "  raycast   a small whole render against a C emulation of the ray caster\n"
+          "Columns: max_abs and rmse of the error over colour and opacity, over_tol the samples\n"
+          "(pixels) beyond tolerance, nonfinite the NaN/Inf values, the tolerance (absolute +\n"
+          "relative; the per-sample conditioning term is explained in docs/accuracy.md).\n"
+          "  --stage NAME  only the rows of this stage (or one row: empty, raycast, boundary@exp64)\n"
+          "  --size N      probe and image side in pixels, 25..512 (default 64)\n"
+          "  -v            print the worst sample of every row and the tolerance's reason\n"
+          "Exit status: 0 all pass, 1 a row failed, 2 usage or setup failure (no OpenGL context).\n",
+          out);
+}
+
+int halo_conform_main(int argc, char **argv)
+{
+    conform c = {.size = 64};
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
+            conform_usage(stdout);
+            return 0;
+        } else if (!strcmp(a, "-v") || !strcmp(a, "--verbose")) {
+            c.verbose = 1;
+        } else if (!strcmp(a, "--stage") && i + 1 < argc) {
+            c.only = argv[++i];
+        } else if (!strcmp(a, "--size") && i + 1 < argc) {
+            const char *text = argv[++i];
+            char *end = NULL;
+            errno = 0;
+            long n = strtol(text, &end, 10);
+            if (end == text || *end != '\0' || errno == ERANGE || n < 25 || n > 512) {
+                fprintf(stderr, "halo-validate: conform: --size: '%s' is not an integer in 25..512\n", text);
+                return 2;
+            }
+            c.size = (int)n;
+        } else {
+            fprintf(stderr, "halo-validate: conform: unknown or incomplete argument '%s'\n", a);
+            conform_usage(stderr);
+            return 2;
+        }
+    }
+
+    int status = 2;
+    char *raycast_source = NULL, *probe_source = NULL;
+    float *volume = NULL;
+    c.diag = halo_diagnostics_create();
+    if (!c.diag || halo_setup(NULL) != HALO_OK) {
+        fprintf(stderr, "halo-validate: conform: cannot initialize libhalo\n");
+        halo_diagnostics_destroy(c.diag);
+        return 2;
+    }
+    c.lib = halo_library_create(c.diag);
+    if (!c.lib)
+        goto setup_failed;
+    if (c.only && strcmp(c.only, "empty") != 0 && strcmp(c.only, "raycast") != 0) {
+        char base[128];
+        snprintf(base, sizeof base, "%s", c.only);
+        char *at = strchr(base, '@');
+        if (at)
+            *at = '\0';
+        const halo_module *m = halo_library_find(c.lib, base);
+        if (!m || halo_module_hook(m) != HALO_HOOK_SAMPLE) {
+            fprintf(stderr, "halo-validate: conform: --stage: no per-sample stage '%s' (rows: empty, raycast, or a"
+                            " stage of halo-validate list)\n", c.only);
+            goto setup_failed;
+        }
+    }
+    raycast_source = halo_host_load("raycast.frag", NULL, c.diag);
+    probe_source = halo_host_load("probe.frag", NULL, c.diag);
+    if (!raycast_source || !probe_source)
+        goto setup_failed;
+    char err[512];
+    c.context = halo_headless_create(c.size, c.size, err, sizeof err);
+    if (!c.context) {
+        fprintf(stderr, "halo-validate: conform: %s\n", err);
+        goto setup_failed;
+    }
+    c.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, c.diag);
+    if (!c.runtime)
+        goto setup_failed;
+    c.gl = halo_gl_functions(c.runtime);
+    if (c.verbose)
+        fprintf(stderr, "conform: %s context, %s\n", halo_headless_backend(c.context),
+                halo_headless_renderer(c.context));
+
+    printf("%-26s %10s %10s %8s %9s %12s %s\n", "stage", "max_abs", "rmse", "over_tol", "nonfinite", "tolerance",
+           "result");
+    const int empty_volume_size = 32;
+    volume = halo_volume_create(empty_volume_size);
+    if (!volume)
+        goto setup_failed;
+    run_empty_row(&c, raycast_source, volume, empty_volume_size);
+    for (size_t i = 0; i < halo_library_module_count(c.lib); ++i) {
+        const halo_module *m = halo_library_module(c.lib, i);
+        if (halo_module_hook(m) != HALO_HOOK_SAMPLE)
+            continue;
+        if (!halo_module_has_emulation(m)) {
+            if (row_selected(&c, halo_module_name(m), halo_module_name(m))) {
+                halo_diag_error(c.diag, EMU_MISSING, halo_module_file(m), 0, 0, "stage '%s' has no C emulation",
+                                halo_module_name(m));
+                print_error_row(&c, halo_module_name(m));
+            }
+            continue;
+        }
+        for (int v = 0; v < VARIANT_COUNT; ++v)
+            if (v == VARIANT_DEFAULT || v == VARIANT_LIVE || has_exponent(m))
+                run_stage_row(&c, m, (enum variant)v, probe_source);
+    }
+    run_raycast_row(&c, raycast_source);
+    status = c.failures ? 1 : 0;
+    printf("%d rows, %d failed\n", c.rows, c.failures);
+    goto done;
+
+setup_failed:
+    halo_diagnostics_print(c.diag, stderr);
+    status = 2;
+done:
+    free(volume);
+    free(raycast_source);
+    free(probe_source);
+    halo_gl_destroy(c.runtime);
+    halo_headless_destroy(c.context);
+    halo_library_destroy(c.lib);
+    halo_diagnostics_destroy(c.diag);
+    halo_shutdown();
+    return status;
+}
