@@ -76,6 +76,8 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(HOST_MARKER_SCOPE, "'#pragma halo declarations' must be at global scope")            \
     X(HOST_RESERVED_NAME, "host declares a name reserved by the host contract")            \
     X(HOST_VERSION, "host '#version' does not fit the target")                             \
+    X(HOST_FINISH_MISSING, "host never calls halo_finish() but the program has outputs")   \
+    X(PASS_INVALID, "malformed image pass")                                                \
     X(GLSL_ERROR, "GLSL error")                                                            \
     X(GLSL_WARNING, "GLSL warning")                                                        \
     X(EMU_MISSING, "stage has no C emulation")                                             \
@@ -157,7 +159,8 @@ typedef enum halo_param_type {
     HALO_PARAM_VEC3,
     HALO_PARAM_VEC4,
     HALO_PARAM_INT,
-    HALO_PARAM_BOOL
+    HALO_PARAM_BOOL,
+    HALO_PARAM_CHANNELS /* one float per halo (1..4): halo_channels in GLSL (docs/image-passes.md) */
 } halo_param_type;
 
 #define HALO_MAX_COMPONENTS 64
@@ -240,6 +243,7 @@ typedef struct halo_link_desc {
     halo_target target;          /* default GLSL 330 core */
     halo_shader_kind kind;       /* default fragment */
     int all_live;                /* every parameter becomes a uniform (the "uniform switches" variant) */
+    int image_precision;         /* images of image passes: 32 (float, default), 16 (half), 8 (unorm) */
 } halo_link_desc;
 
 typedef enum halo_uniform_kind { HALO_UNIFORM_PARAM = 0, HALO_UNIFORM_COUNT_OF_ARRAY } halo_uniform_kind;
@@ -254,15 +258,48 @@ typedef struct halo_uniform_info {
     const double *value;/* current value: count * components doubles */
 } halo_uniform_info;
 
+typedef enum halo_blend { HALO_BLEND_NONE = 0, HALO_BLEND_MAX, HALO_BLEND_ADD } halo_blend;
+
+/* An extra fragment output, fed from a halo_sample field (docs/image-passes.md). */
 typedef struct halo_output_info {
-    const char *name;
+    const char *name;   /* GLSL name: "halo_output_seed" */
     int location;
-    int components;
+    int components;     /* the program's channel count */
+    const char *image;  /* the image it writes: "seed" */
+    halo_blend blend;   /* how the host's blending must combine fragments and slices */
 } halo_output_info;
 
-typedef struct halo_pass_info {
+/* A screen-sized image used by image passes, outputs and samplers. */
+typedef enum halo_image_reset { HALO_RESET_FRAME = 0, HALO_RESET_GENERATION } halo_image_reset;
+typedef struct halo_image_info {
     const char *name;
-    const char *stage;
+    int channels;
+    halo_image_reset reset; /* cleared at frame start; RESET_GENERATION: also after each generation */
+} halo_image_info;
+
+/* A sampler a per-sample stage reads: bind the image's current texture to it. */
+typedef struct halo_sampler_info {
+    const char *name;  /* "halo_image_field" */
+    const char *image; /* "field" */
+} halo_sampler_info;
+
+/* A uniform the host must set every frame (e.g. the image-plane axes). */
+typedef struct halo_host_uniform_info {
+    const char *name;  /* "halo_host_screen_right" */
+    const char *type;  /* GLSL type */
+    const char *meaning;
+} halo_host_uniform_info;
+
+#define HALO_MAX_PASS_INPUTS 4
+typedef struct halo_pass_info {
+    const char *name;   /* "spread" */
+    const char *stage;  /* module: "halo_generate" */
+    const char *entry;
+    int input_count;
+    const char *inputs[HALO_MAX_PASS_INPUTS]; /* image names; "previous" = the output before the pass */
+    const char *first;  /* for "previous" in the first repetition; NULL = the output itself */
+    const char *output;
+    int repeat;         /* >= 1 */
     const char *vertex_source;
     const char *fragment_source;
 } halo_pass_info;
@@ -290,6 +327,16 @@ HALO_API size_t halo_program_output_count(const halo_program *p);
 HALO_API const halo_output_info *halo_program_output(const halo_program *p, size_t index);
 HALO_API size_t halo_program_pass_count(const halo_program *p);
 HALO_API const halo_pass_info *halo_program_pass(const halo_program *p, size_t index);
+HALO_API size_t halo_program_image_count(const halo_program *p);
+HALO_API const halo_image_info *halo_program_image(const halo_program *p, size_t index);
+HALO_API size_t halo_program_sampler_count(const halo_program *p);
+HALO_API const halo_sampler_info *halo_program_sampler(const halo_program *p, size_t index);
+HALO_API size_t halo_program_host_uniform_count(const halo_program *p);
+HALO_API const halo_host_uniform_info *halo_program_host_uniform(const halo_program *p, size_t index);
+/* 1..4: halos (channels) in this program; 1 when it has none. */
+HALO_API int halo_program_channel_count(const halo_program *p);
+HALO_API int halo_program_image_precision(const halo_program *p);
+/* Validates the fragment program of each image pass (part of halo_program_validate). */
 /* Reflection as a JSON document (caller frees with free()). */
 HALO_API char *halo_program_reflect_json(const halo_program *p);
 
@@ -320,10 +367,35 @@ typedef struct halo_emu_sample {
     /* provided by stages */
     double normal[3];
     double gradient_magnitude;
+    double seed[4];  /* per-halo seed intensity (volumetric halos) */
+    /* extra outputs: accumulated over the halo_emu_apply_frame calls of one fragment;
+     * zero them at the start of a fragment (e.g. memset the whole sample) */
+    double output_accum[4];
 } halo_emu_sample;
 
 /* Applies the program's stages, in its order, with its current parameter values. */
 HALO_API halo_status halo_emu_apply(const halo_program *p, halo_emu_sample *s, halo_diagnostics *diag);
+
+/* Screen-sized images of a program with image passes, outputs or samplers, in double
+ * precision: the reference for the GL runtime's frame (docs/image-passes.md). */
+typedef struct halo_emu_frame halo_emu_frame;
+
+HALO_API halo_emu_frame *halo_emu_frame_create(const halo_program *p, int width, int height, halo_diagnostics *diag);
+HALO_API void halo_emu_frame_destroy(halo_emu_frame *f);
+/* The image's current data: width * height * channels doubles, row 0 at the bottom (GL order). */
+HALO_API double *halo_emu_frame_image(halo_emu_frame *f, const char *name);
+HALO_API halo_status halo_emu_frame_set_host_uniform(halo_emu_frame *f, const char *name, const double *values,
+                                                     int count);
+/* Clears every image (start of a frame). */
+HALO_API void halo_emu_frame_begin(halo_emu_frame *f);
+/* Like halo_emu_apply, with the frame's images and host uniforms available to the stages
+ * and outputs folded into s->output_accum. */
+HALO_API halo_status halo_emu_apply_frame(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s,
+                                          halo_diagnostics *diag);
+/* Ends a fragment: blends s->output_accum into each output image at s->fragcoord. */
+HALO_API void halo_emu_frame_finish(halo_emu_frame *f, const halo_emu_sample *s);
+/* Runs the image passes, then clears the reset=generation images. */
+HALO_API halo_status halo_emu_frame_generate(halo_emu_frame *f, halo_diagnostics *diag);
 
 /* ---- GL runtime (in the host's context) ------------------------------------ */
 
@@ -341,6 +413,32 @@ HALO_API unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, cons
                                         const char *vertex_file, halo_diagnostics *diag);
 /* Uploads the live parameters' current values to the GL program (which must be current). */
 HALO_API void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_program);
+/* Sets a host uniform (reflection: host_uniforms) of the bound GL program by its short
+ * name ("screen_right") or full name. */
+HALO_API halo_status halo_gl_set_host_uniform(halo_gl *gl, unsigned gl_program, const char *name,
+                                              const float *values, int count);
+
+/* The images, pass programs and schedule of one program at one viewport size. */
+typedef struct halo_gl_frame halo_gl_frame;
+HALO_API halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int width, int height,
+                                             halo_diagnostics *diag);
+HALO_API void halo_gl_frame_destroy(halo_gl_frame *f);
+/* Clears every image: call at the start of a frame. */
+HALO_API void halo_gl_frame_begin(halo_gl_frame *f);
+/* Attaches the output images to the host's framebuffer (bound as GL_DRAW_FRAMEBUFFER) at
+ * their locations, sets the draw buffers and each output's blend; draw buffer 0 keeps
+ * the host's blend state. */
+HALO_API void halo_gl_frame_attach(halo_gl_frame *f, unsigned host_framebuffer);
+/* Binds the images the stages read to the host program's samplers, from texture unit
+ * first_unit on. The host program must be current. */
+HALO_API void halo_gl_frame_bind(halo_gl_frame *f, unsigned gl_program, int first_unit);
+/* Runs the image passes and clears the reset=generation images; restores the GL state
+ * it changes (framebuffer, viewport, program, blend, textures of the units it used). */
+HALO_API void halo_gl_frame_generate(halo_gl_frame *f);
+/* Reads an image back: width * height * channels floats, row 0 at the bottom. */
+HALO_API halo_status halo_gl_frame_read(halo_gl_frame *f, const char *image, float *out);
+/* Passes drawn by halo_gl_frame_generate since creation (for benchmarks). */
+HALO_API long halo_gl_frame_pass_draws(const halo_gl_frame *f);
 
 #ifdef __cplusplus
 }

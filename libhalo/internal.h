@@ -24,6 +24,30 @@ typedef struct halo_chunk {
     halo_name_list calls; /* halo_* names it references */
 } halo_chunk;
 
+typedef struct halo_output_decl {
+    char *name;
+    halo_blend blend;
+    int line;
+} halo_output_decl;
+
+typedef struct halo_image_decl {
+    char *name;
+    halo_image_reset reset;
+    int line;
+} halo_image_decl;
+
+typedef struct halo_host_uniform_decl {
+    char *name, *type, *meaning;
+    int line;
+} halo_host_uniform_decl;
+
+typedef struct halo_pass_decl {
+    char *name, *entry, *output, *first, *repeat, *when;
+    char *inputs[HALO_MAX_PASS_INPUTS];
+    int input_count;
+    int line;
+} halo_pass_decl;
+
 struct halo_module {
     char *name, *file, *summary;
     halo_hook hook;
@@ -47,6 +71,15 @@ struct halo_module {
     halo_chunk *chunks;           /* library files only */
     size_t chunk_count;
     int has_entry;
+    halo_output_decl *outputs;
+    size_t output_count;
+    halo_image_decl *images; /* sample hook: images read; image hook: images of the schedule */
+    size_t image_count;
+    halo_host_uniform_decl *host_uniforms;
+    size_t host_uniform_count;
+    halo_pass_decl *passes;
+    size_t pass_count;
+    halo_name_list per_halo;
 };
 
 struct halo_library {
@@ -130,6 +163,18 @@ struct halo_program {
     size_t output_count;
     halo_pass_info *passes;
     size_t pass_count;
+    halo_line_origin **pass_origins; /* per pass: origins of its fragment source */
+    int *pass_origin_counts;
+    halo_image_info *images;
+    size_t image_count;
+    halo_sampler_info *samplers;
+    size_t sampler_count;
+    halo_host_uniform_info *host_uniforms;
+    size_t host_uniform_count;
+    int channel_count;
+    int image_precision;
+    char **strings; /* owned strings the reflection points to */
+    size_t string_count;
     const halo_library *library;
 };
 

@@ -78,7 +78,7 @@ static void emit(emitter *e, const char *file, int line, const char *original, c
 
 /* ---- The host ---- */
 
-static const char *const contract_names[] = {"halo_sample", "halo_make_sample", "halo_apply", "HALO_LINKED",
+static const char *const contract_names[] = {"halo_sample", "halo_make_sample", "halo_apply", "halo_finish", "HALO_LINKED",
                                              "HALO_CONTRACT_VERSION", NULL};
 
 typedef struct host_info {
@@ -162,7 +162,7 @@ static int check_host(const char *file, const char *source, char **lines, int co
         halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_RESERVED_NAME, file, k->line, k->column,
                       lines[k->line - 1],
                       "'%.*s' is reserved: names starting with halo_ or HALO_ belong to libhalo (the host may use "
-                      "halo_sample, halo_make_sample, halo_apply, HALO_LINKED and HALO_CONTRACT_VERSION)",
+                      "halo_sample, halo_make_sample, halo_apply, halo_finish, HALO_LINKED and HALO_CONTRACT_VERSION)",
                       (int)k->length, s);
         errors++;
     }
@@ -187,6 +187,7 @@ static int provides(const halo_module *m, const char *resource) {
 }
 
 static int hook_fits(halo_hook hook, halo_shader_kind kind) {
+    if (hook == HALO_HOOK_IMAGE) return 1; /* image passes are programs of their own */
     if (kind == HALO_SHADER_VERTEX) return hook == HALO_HOOK_LINE_VERTEX;
     return hook == HALO_HOOK_SAMPLE || hook == HALO_HOOK_LINE_FRAGMENT;
 }
@@ -379,7 +380,9 @@ static void emit_params(emitter *e, const halo_program *p, const halo_linked_sta
         int line = m->param_lines[i];
         const char *orig = m->lines[line - 1];
         if (u->live) {
-            if (info->array_size) {
+            if (info->type == HALO_PARAM_CHANNELS) {
+                emit(e, m->file, line, orig, "uniform halo_channels %s;", u->name);
+            } else if (info->array_size) {
                 if (used) emit(e, m->file, line, orig, "uniform %s %s[%d];", type, u->name, info->array_size);
                 if (count_used) emit(e, m->file, line, orig, "uniform int %s_count;", u->name);
             } else {
@@ -388,7 +391,16 @@ static void emit_params(emitter *e, const halo_program *p, const halo_linked_sta
             continue;
         }
         halo_strbuf b = {0};
-        if (info->array_size) {
+        if (info->type == HALO_PARAM_CHANNELS) {
+            static const char *const ctor[] = {"float", "float", "vec2", "vec3", "vec4"};
+            halo_strbuf_printf(&b, "const halo_channels %s = %s(", u->name, ctor[p->channel_count]);
+            for (int k = 0; k < p->channel_count; k++) {
+                char num[64];
+                format_number(num, sizeof num, u->value[k < u->count ? k : u->count - 1], HALO_PARAM_FLOAT);
+                halo_strbuf_printf(&b, "%s%s", k ? ", " : "", num);
+            }
+            halo_strbuf_append(&b, ");");
+        } else if (info->array_size) {
             if (count_used) emit(e, m->file, line, orig, "const int %s_count = %d;", u->name, u->count);
             if (!used) continue;
             halo_strbuf_printf(&b, "const %s %s[%d] = %s[%d](", type, u->name, u->count, type, u->count);
@@ -480,12 +492,38 @@ static const char *const sample_fields[][2] = {{"vec3", "position"}, {"float", "
                                                {"vec3", "view"},     {"float", "depth"},    {"vec2", "fragcoord"},
                                                {"vec3", "color"},    {"float", "opacity"}};
 
+/* Does any linked stage use per-halo channels? */
+static int uses_channels(const halo_program *p) {
+    if (p->image_count || p->output_count || p->sampler_count) return 1;
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        for (size_t i = 0; i < m->calls.count; i++)
+            if (!strncmp(m->calls.items[i], "halo_channel", 12)) return 1;
+        for (size_t i = 0; i < m->param_count; i++)
+            if (m->params[i].type == HALO_PARAM_CHANNELS) return 1;
+    }
+    return 0;
+}
+
+static void emit_channel_definitions(emitter *e, int c) {
+    static const char *const type[] = {"float", "float", "vec2", "vec3", "vec4"};
+    static const char *const from[] = {"v.x", "v.x", "v.xy", "v.xyz", "v"};
+    static const char *const to[] = {"vec4(v, 0.0, 0.0, 0.0)", "vec4(v, 0.0, 0.0, 0.0)", "vec4(v, 0.0, 0.0)",
+                                     "vec4(v, 0.0)", "v"};
+    GEN(e, "#define halo_channels %s\nconst int halo_channel_count = %d;", type[c], c);
+    GEN(e, "float halo_channel(halo_channels v, int i) { return %s; }", c == 1 ? "v" : "v[i]");
+    GEN(e, "halo_channels halo_channels_from(vec4 v) { return %s; }", from[c]);
+    GEN(e, "vec4 halo_channels_to_vec4(halo_channels v) { return %s; }", to[c]);
+}
+
 static void emit_declarations(emitter *e, const halo_program *p) {
     GEN(e, "#define HALO_LINKED 1\n#define HALO_CONTRACT_VERSION %d", HALO_CONTRACT_VERSION);
+    if (uses_channels(p)) emit_channel_definitions(e, p->channel_count);
     GEN(e, "struct halo_sample {");
     for (int i = 0; i < 8; i++) GEN(e, "    %s %s;", sample_fields[i][0], sample_fields[i][1]);
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_module *m = p->stages[s].module;
+        if (m->hook != HALO_HOOK_SAMPLE) continue;
         for (size_t r = 0; r < m->provides_count; r++)
             emit(e, m->file, m->provides[r].line, m->lines[m->provides[r].line - 1], "    %s %s;", m->provides[r].type,
                  m->provides[r].name);
@@ -497,15 +535,33 @@ static void emit_declarations(emitter *e, const halo_program *p) {
     for (int i = 0; i < 8; i++) GEN(e, "    s.%s = %s;", sample_fields[i][1], sample_fields[i][1]);
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_module *m = p->stages[s].module;
+        if (m->hook != HALO_HOOK_SAMPLE) continue;
         for (size_t r = 0; r < m->provides_count; r++) {
             const char *t = m->provides[r].type;
             char zero[32];
-            if (!strncmp(t, "vec", 3)) snprintf(zero, sizeof zero, "%s(0.0)", t);
+            if (!strncmp(t, "vec", 3) || !strcmp(t, "halo_channels")) snprintf(zero, sizeof zero, "%s(0.0)", t);
             else snprintf(zero, sizeof zero, "%s", !strcmp(t, "int") ? "0" : !strcmp(t, "bool") ? "false" : "0.0");
             GEN(e, "    s.%s = %s;", m->provides[r].name, zero);
         }
     }
     GEN(e, "    return s;\n}");
+    for (size_t o = 0; o < p->output_count; o++) {
+        const halo_output_info *out = &p->outputs[o];
+        GEN(e, "layout(location = %d) out halo_channels %s;", out->location, out->name);
+        GEN(e, "halo_channels halo_accum_%s = halo_channels(0.0);", out->image);
+    }
+    for (size_t i = 0; i < p->sampler_count; i++) {
+        const halo_sampler_info *sm = &p->samplers[i];
+        GEN(e, "uniform highp sampler2D %s;", sm->name);
+        GEN(e, "halo_channels halo_read_%s(vec2 fragcoord) {\n"
+               "    ivec2 pixel = ivec2(fragcoord);\n"
+               "    if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, textureSize(%s, 0))))\n"
+               "        return halo_channels(0.0);\n"
+               "    return halo_channels_from(texelFetch(%s, pixel, 0));\n}",
+            sm->image, sm->name, sm->name);
+    }
+    for (size_t i = 0; i < p->host_uniform_count; i++)
+        GEN(e, "uniform %s %s;", p->host_uniforms[i].type, p->host_uniforms[i].name);
 }
 
 static int emit_program(halo_program *p, const char *host_source, char **host_lines, int host_count,
@@ -539,12 +595,25 @@ static int emit_program(halo_program *p, const char *host_source, char **host_li
         emit_helpers(&e, lib, p);
         for (size_t s = 0; s < p->stage_count; s++) {
             const halo_module *m = p->stages[s].module;
+            if (m->hook != HALO_HOOK_SAMPLE) continue;
             emit(&e, m->file, m->module_line, m->lines[m->module_line - 1], "// stage %s (%s)", m->name, m->file);
             emit_params(&e, p, &p->stages[s]);
             emit_module_lines(&e, m, 1, m->line_count, 1);
         }
         GEN(&e, "void halo_apply(inout halo_sample s) {");
-        for (size_t s = 0; s < p->stage_count; s++) GEN(&e, "    halo_%s_apply(s);", p->stages[s].module->name);
+        for (size_t s = 0; s < p->stage_count; s++)
+            if (p->stages[s].module->hook == HALO_HOOK_SAMPLE) GEN(&e, "    halo_%s_apply(s);", p->stages[s].module->name);
+        for (size_t o = 0; o < p->output_count; o++) {
+            const char *img = p->outputs[o].image;
+            if (p->outputs[o].blend == HALO_BLEND_MAX)
+                GEN(&e, "    halo_accum_%s = max(halo_accum_%s, s.%s);", img, img, img);
+            else
+                GEN(&e, "    halo_accum_%s += s.%s;", img, img);
+        }
+        GEN(&e, "}");
+        GEN(&e, "void halo_finish() {");
+        for (size_t o = 0; o < p->output_count; o++)
+            GEN(&e, "    %s = halo_accum_%s;", p->outputs[o].name, p->outputs[o].image);
         GEN(&e, "}");
         emit(&e, p->host_file, i + 1, line, "// ---- end of libhalo declarations ----");
     }
@@ -557,6 +626,260 @@ static int emit_program(halo_program *p, const char *host_source, char **host_li
     p->origins = e.origins;
     p->origin_count = e.count;
     return p->source ? 0 : -1;
+}
+
+
+/* ---- Channels, images and passes (docs/image-passes.md) ---- */
+
+static int is_per_halo(const halo_module *m, size_t i) {
+    return m->params[i].type == HALO_PARAM_CHANNELS || halo_name_list_has(&m->per_halo, m->params[i].name);
+}
+
+/* The channel count is the longest per-halo list; shorter ones repeat their last element. */
+static void set_channel_count(halo_program *p) {
+    int c = 1;
+    for (size_t s = 0; s < p->stage_count; s++)
+        for (size_t i = 0; i < p->stages[s].module->param_count; i++)
+            if (is_per_halo(p->stages[s].module, i) && p->stages[s].values[i].count > c)
+                c = p->stages[s].values[i].count;
+    if (c > 4) c = 4;
+    p->channel_count = c;
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        for (size_t i = 0; i < m->param_count; i++) {
+            if (!is_per_halo(m, i)) continue;
+            halo_param_value *v = &p->stages[s].values[i];
+            int comps = m->params[i].components, max = m->params[i].array_size;
+            int target = c < max ? c : max;
+            for (int k = v->count; k < target; k++)
+                memcpy(v->value + k * comps, v->value + (v->count - 1) * comps, (size_t)comps * sizeof(double));
+            if (v->count < target) v->count = target;
+            p->uniforms[p->stages[s].first_uniform + i].count = v->count;
+        }
+    }
+}
+
+static char *own(halo_program *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static char *own(halo_program *p, const char *fmt, ...) {
+    halo_strbuf b = {0};
+    va_list ap;
+    va_start(ap, fmt);
+    halo_strbuf_vprintf(&b, fmt, ap);
+    va_end(ap);
+    char *str = halo_strbuf_take(&b);
+    char **list = str ? realloc(p->strings, (p->string_count + 1) * sizeof *list) : NULL;
+    if (!list) { free(str); return NULL; }
+    p->strings = list;
+    p->strings[p->string_count++] = str;
+    return str;
+}
+
+static halo_image_info *find_image(halo_program *p, const char *name) {
+    for (size_t i = 0; i < p->image_count; i++)
+        if (!strcmp(p->images[i].name, name)) return &p->images[i];
+    return NULL;
+}
+
+static int add_image(halo_program *p, const char *name, halo_image_reset reset) {
+    halo_image_info *im = find_image(p, name);
+    if (im) {
+        if (reset == HALO_RESET_GENERATION) im->reset = reset;
+        return 0;
+    }
+    halo_image_info *list = realloc(p->images, (p->image_count + 1) * sizeof *list);
+    if (!list) return -1;
+    p->images = list;
+    list[p->image_count++] = (halo_image_info){own(p, "%s", name), p->channel_count, reset};
+    return 0;
+}
+
+/* The first fragment output location the host does not declare. */
+static int first_free_location(const char *host) {
+    halo_token_list t;
+    int max = 0; /* location 0: the host's colour, declared or implied */
+    if (halo_lex(host, &t)) return 1;
+    for (size_t i = 0; i + 2 < t.count; i++)
+        if (halo_token_is(host, &t.items[i], "location") && halo_token_is(host, &t.items[i + 1], "=") &&
+            t.items[i + 2].kind == HALO_TOK_NUMBER) {
+            int loc = atoi(host + t.items[i + 2].offset);
+            if (loc > max) max = loc;
+        }
+    halo_token_list_free(&t);
+    return max + 1;
+}
+
+static int collect_resources(halo_program *p, const char *host, halo_diagnostics *diag) {
+    int errors = 0, location = first_free_location(host);
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        for (size_t i = 0; i < m->image_count && m->hook == HALO_HOOK_IMAGE; i++)
+            if (add_image(p, m->images[i].name, m->images[i].reset)) return -1;
+    }
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        for (size_t o = 0; o < m->output_count; o++) {
+            const halo_output_decl *od = &m->outputs[o];
+            int provided = 0;
+            for (size_t r = 0; r < m->provides_count; r++) provided |= !strcmp(m->provides[r].name, od->name);
+            if (!provided || m->hook != HALO_HOOK_SAMPLE) {
+                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, m->file, od->line, 1,
+                              m->lines[od->line - 1], "output '%s' must be a field the sample stage provides", od->name);
+                errors++;
+                continue;
+            }
+            halo_output_info *list = realloc(p->outputs, (p->output_count + 1) * sizeof *list);
+            if (!list || add_image(p, od->name, HALO_RESET_FRAME)) return -1;
+            p->outputs = list;
+            list[p->output_count++] = (halo_output_info){own(p, "halo_output_%s", od->name), location++,
+                                                         p->channel_count, own(p, "%s", od->name), od->blend};
+        }
+        for (size_t i = 0; i < m->image_count && m->hook == HALO_HOOK_SAMPLE; i++) {
+            const char *name = m->images[i].name;
+            int known = find_image(p, name) != NULL;
+            for (size_t k = 0; k < p->sampler_count; k++) known |= !strcmp(p->samplers[k].image, name) * 2;
+            if (known == 0) {
+                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_MISSING_PROVIDER, m->file, m->images[i].line,
+                              1, m->lines[m->images[i].line - 1],
+                              "stage '%s' reads image '%s', which no linked stage produces", m->name, name);
+                errors++;
+                continue;
+            }
+            if (known >= 2) continue;
+            halo_sampler_info *list = realloc(p->samplers, (p->sampler_count + 1) * sizeof *list);
+            if (!list) return -1;
+            p->samplers = list;
+            list[p->sampler_count++] = (halo_sampler_info){own(p, "halo_image_%s", name), own(p, "%s", name)};
+        }
+        for (size_t i = 0; i < m->host_uniform_count; i++) {
+            const halo_host_uniform_decl *hu = &m->host_uniforms[i];
+            char *name = own(p, "halo_host_%s", hu->name);
+            int dup = 0;
+            for (size_t k = 0; k < p->host_uniform_count; k++) dup |= !strcmp(p->host_uniforms[k].name, name);
+            if (dup) continue;
+            halo_host_uniform_info *list = realloc(p->host_uniforms, (p->host_uniform_count + 1) * sizeof *list);
+            if (!list) return -1;
+            p->host_uniforms = list;
+            list[p->host_uniform_count++] = (halo_host_uniform_info){name, hu->type, hu->meaning};
+        }
+    }
+    /* Pass images must be declared. */
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        for (size_t i = 0; i < m->pass_count; i++) {
+            const halo_pass_decl *pd = &m->passes[i];
+            const char *names[HALO_MAX_PASS_INPUTS + 2] = {pd->output, pd->first};
+            int n = 2;
+            for (int k = 0; k < pd->input_count; k++) names[n++] = pd->inputs[k];
+            for (int k = 0; k < n; k++)
+                if (names[k] && strcmp(names[k], "previous") && !find_image(p, names[k])) {
+                    halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, m->file, pd->line, 1,
+                                  m->lines[pd->line - 1], "pass '%s' uses image '%s', which is not declared", pd->name,
+                                  names[k]);
+                    errors++;
+                }
+        }
+    }
+    if (p->output_count && !strstr(host, "halo_finish")) {
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_FINISH_MISSING, p->host_file, 1, 1, p->host_lines[0],
+                      "the linked stages write extra outputs (%s...), so the host must call halo_finish() once per "
+                      "fragment before it returns (docs/image-passes.md)",
+                      p->outputs[0].name);
+        errors++;
+    }
+    return errors;
+}
+
+static const char pass_vertex_body[] =
+    "// One full-screen triangle from gl_VertexID; no vertex attributes.\n"
+    "void main() {\n"
+    "    vec2 corner = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
+    "    gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);\n"
+    "}";
+
+static int param_int(const halo_linked_stage *st, const char *name) {
+    for (size_t i = 0; i < st->module->param_count; i++)
+        if (!strcmp(st->module->params[i].name, name)) return (int)st->values[i].value[0];
+    return 0;
+}
+
+static int build_pass(halo_program *p, const halo_library *lib, const halo_linked_stage *st, const halo_pass_decl *pd) {
+    const halo_module *m = st->module;
+    emitter e = {0};
+    int es = p->target == HALO_TARGET_ES300;
+    GEN(&e, "%s", halo_target_version_line(p->target));
+    if (es) GEN(&e, "precision highp float;\nprecision highp int;\nprecision highp sampler2D;");
+    emit(&e, m->file, pd->line, m->lines[pd->line - 1], "// libhalo image pass '%s' of stage %s", pd->name, m->name);
+    emit_channel_definitions(&e, p->channel_count);
+    for (int k = 0; k < pd->input_count; k++) GEN(&e, "uniform highp sampler2D halo_input_%d;", k);
+    GEN(&e, "uniform int halo_pass_index;\nuniform int halo_pass_count;");
+    GEN(&e, "layout(location = 0) out vec4 halo_pass_output;");
+    GEN(&e, "// Input k at a pixel; 0 outside the image (zero padding at the borders).");
+    GEN(&e, "halo_channels halo_input(int k, ivec2 pixel) {");
+    for (int k = 0; k < pd->input_count; k++) {
+        GEN(&e, "    if (k == %d) {\n"
+                "        if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, textureSize(halo_input_%d, 0))))\n"
+                "            return halo_channels(0.0);\n"
+                "        return halo_channels_from(texelFetch(halo_input_%d, pixel, 0));\n"
+                "    }", k, k, k);
+    }
+    GEN(&e, "    return halo_channels(0.0);\n}");
+    /* The helpers this module calls. */
+    halo_program one = *p;
+    halo_linked_stage only = *st;
+    one.stages = &only;
+    one.stage_count = 1;
+    emit_helpers(&e, lib, &one);
+    emit_params(&e, p, st);
+    emit_module_lines(&e, m, 1, m->line_count, 1);
+    GEN(&e, "void main() {\n    halo_pass_output = halo_channels_to_vec4(halo_%s_%s(ivec2(gl_FragCoord.xy)));\n}",
+        m->name, pd->entry);
+    if (e.failed || e.text.failed) {
+        halo_strbuf_free(&e.text);
+        free(e.origins);
+        return -1;
+    }
+    halo_pass_info *list = realloc(p->passes, (p->pass_count + 1) * sizeof *list);
+    halo_line_origin **ol = realloc(p->pass_origins, (p->pass_count + 1) * sizeof *ol);
+    int *oc = realloc(p->pass_origin_counts, (p->pass_count + 1) * sizeof *oc);
+    if (list) p->passes = list;
+    if (ol) p->pass_origins = ol;
+    if (oc) p->pass_origin_counts = oc;
+    char *fragment = halo_strbuf_take(&e.text);
+    char *frag_owned = fragment ? own(p, "%s", fragment) : NULL;
+    free(fragment);
+    if (!list || !ol || !oc || !frag_owned) {
+        free(e.origins);
+        return -1;
+    }
+    halo_pass_info *pi = &p->passes[p->pass_count];
+    memset(pi, 0, sizeof *pi);
+    pi->name = own(p, "%s", pd->name);
+    pi->stage = m->name;
+    pi->entry = own(p, "%s", pd->entry);
+    pi->input_count = pd->input_count;
+    for (int k = 0; k < pd->input_count; k++) pi->inputs[k] = own(p, "%s", pd->inputs[k]);
+    pi->first = pd->first ? own(p, "%s", pd->first) : NULL;
+    pi->output = own(p, "%s", pd->output);
+    pi->repeat = pd->repeat ? param_int(st, pd->repeat) : 1;
+    pi->vertex_source = own(p, "%s\n%s\n", halo_target_version_line(p->target), pass_vertex_body);
+    pi->fragment_source = frag_owned;
+    p->pass_origins[p->pass_count] = e.origins;
+    p->pass_origin_counts[p->pass_count] = e.count;
+    p->pass_count++;
+    return 0;
+}
+
+static int build_passes(halo_program *p, const halo_library *lib) {
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_linked_stage *st = &p->stages[s];
+        for (size_t i = 0; i < st->module->pass_count; i++) {
+            const halo_pass_decl *pd = &st->module->passes[i];
+            if (pd->when && !param_int(st, pd->when)) continue;
+            if (pd->repeat && param_int(st, pd->repeat) < 1) continue;
+            if (build_pass(p, lib, st, pd)) return -1;
+        }
+    }
+    return 0;
 }
 
 /* ---- The program ---- */
@@ -644,8 +967,21 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
     }
     free(order);
     if (build_uniforms(p, desc->all_live)) goto oom;
-    /* 4. Emit. */
+    /* 4. Channels, images, outputs, samplers, host uniforms, passes. */
+    p->image_precision = desc->image_precision ? desc->image_precision : 32;
+    if (p->image_precision != 32 && p->image_precision != 16 && p->image_precision != 8) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "image_precision must be 32, 16 or 8, not %d", desc->image_precision);
+        halo_program_destroy(p);
+        return NULL;
+    }
+    set_channel_count(p);
+    if (collect_resources(p, desc->host_source, diag)) {
+        halo_program_destroy(p);
+        return NULL;
+    }
+    /* 5. Emit. */
     if (emit_program(p, desc->host_source, p->host_lines, host_count, &h, desc->library)) goto oom;
+    if (build_passes(p, desc->library)) goto oom;
     return p;
 oom:
     halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
@@ -667,6 +1003,14 @@ void halo_program_destroy(halo_program *p) {
     free(p->uniforms);
     free(p->outputs);
     free(p->passes);
+    for (size_t i = 0; i < p->pass_count; i++) free(p->pass_origins[i]);
+    free(p->pass_origins);
+    free(p->pass_origin_counts);
+    free(p->images);
+    free(p->samplers);
+    free(p->host_uniforms);
+    for (size_t i = 0; i < p->string_count; i++) free(p->strings[i]);
+    free(p->strings);
     free(p);
 }
 
@@ -729,6 +1073,20 @@ size_t halo_program_output_count(const halo_program *p) { return p->output_count
 const halo_output_info *halo_program_output(const halo_program *p, size_t i) {
     return i < p->output_count ? &p->outputs[i] : NULL;
 }
+size_t halo_program_image_count(const halo_program *p) { return p->image_count; }
+const halo_image_info *halo_program_image(const halo_program *p, size_t i) {
+    return i < p->image_count ? &p->images[i] : NULL;
+}
+size_t halo_program_sampler_count(const halo_program *p) { return p->sampler_count; }
+const halo_sampler_info *halo_program_sampler(const halo_program *p, size_t i) {
+    return i < p->sampler_count ? &p->samplers[i] : NULL;
+}
+size_t halo_program_host_uniform_count(const halo_program *p) { return p->host_uniform_count; }
+const halo_host_uniform_info *halo_program_host_uniform(const halo_program *p, size_t i) {
+    return i < p->host_uniform_count ? &p->host_uniforms[i] : NULL;
+}
+int halo_program_channel_count(const halo_program *p) { return p->channel_count; }
+int halo_program_image_precision(const halo_program *p) { return p->image_precision; }
 size_t halo_program_pass_count(const halo_program *p) { return p->pass_count; }
 const halo_pass_info *halo_program_pass(const halo_program *p, size_t i) {
     return i < p->pass_count ? &p->passes[i] : NULL;
@@ -751,8 +1109,8 @@ char *halo_program_reflect_json(const halo_program *p) {
         json_object_set_new(o, "stage", json_string(u->stage));
         json_object_set_new(o, "param", json_string(u->param));
         halo_strbuf t = {0};
-        halo_strbuf_append(&t, halo_param_type_name(u->info->type));
-        if (u->info->array_size) halo_strbuf_printf(&t, "[%d]", u->info->array_size);
+        halo_strbuf_append(&t, u->info->type == HALO_PARAM_CHANNELS ? "channels" : halo_param_type_name(u->info->type));
+        if (u->info->array_size && u->info->type != HALO_PARAM_CHANNELS) halo_strbuf_printf(&t, "[%d]", u->info->array_size);
         json_object_set_new(o, "type", json_string(t.data ? t.data : "?"));
         halo_strbuf_free(&t);
         json_t *val = json_array();
@@ -766,21 +1124,60 @@ char *halo_program_reflect_json(const halo_program *p) {
     }
     json_object_set_new(root, "uniforms", uniforms);
     json_object_set_new(root, "constants", constants);
-    json_object_set_new(root, "samplers", json_array());
+    json_object_set_new(root, "channels", json_integer(p->channel_count));
+    json_object_set_new(root, "image_precision", json_integer(p->image_precision));
+    json_t *samplers = json_array();
+    for (size_t i = 0; i < p->sampler_count; i++) {
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(p->samplers[i].name));
+        json_object_set_new(o, "image", json_string(p->samplers[i].image));
+        json_array_append_new(samplers, o);
+    }
+    json_object_set_new(root, "samplers", samplers);
+    json_t *host_uniforms = json_array();
+    for (size_t i = 0; i < p->host_uniform_count; i++) {
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(p->host_uniforms[i].name));
+        json_object_set_new(o, "type", json_string(p->host_uniforms[i].type));
+        json_object_set_new(o, "meaning", json_string(p->host_uniforms[i].meaning));
+        json_array_append_new(host_uniforms, o);
+    }
+    json_object_set_new(root, "host_uniforms", host_uniforms);
+    json_t *images = json_array();
+    for (size_t i = 0; i < p->image_count; i++) {
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(p->images[i].name));
+        json_object_set_new(o, "channels", json_integer(p->images[i].channels));
+        json_object_set_new(o, "reset", json_string(p->images[i].reset == HALO_RESET_GENERATION ? "generation"
+                                                                                                   : "frame"));
+        json_array_append_new(images, o);
+    }
+    json_object_set_new(root, "images", images);
+    static const char *const blends[] = {"none", "max", "add"};
     json_t *outputs = json_array();
     for (size_t i = 0; i < p->output_count; i++) {
         json_t *o = json_object();
         json_object_set_new(o, "name", json_string(p->outputs[i].name));
         json_object_set_new(o, "location", json_integer(p->outputs[i].location));
         json_object_set_new(o, "components", json_integer(p->outputs[i].components));
+        json_object_set_new(o, "image", json_string(p->outputs[i].image));
+        json_object_set_new(o, "blend", json_string(blends[p->outputs[i].blend]));
         json_array_append_new(outputs, o);
     }
     json_object_set_new(root, "outputs", outputs);
     json_t *passes = json_array();
     for (size_t i = 0; i < p->pass_count; i++) {
+        const halo_pass_info *pi = &p->passes[i];
         json_t *o = json_object();
-        json_object_set_new(o, "name", json_string(p->passes[i].name));
-        json_object_set_new(o, "stage", json_string(p->passes[i].stage));
+        json_object_set_new(o, "name", json_string(pi->name));
+        json_object_set_new(o, "stage", json_string(pi->stage));
+        json_object_set_new(o, "entry", json_string(pi->entry));
+        json_t *in = json_array();
+        for (int k = 0; k < pi->input_count; k++) json_array_append_new(in, json_string(pi->inputs[k]));
+        json_object_set_new(o, "inputs", in);
+        if (pi->first) json_object_set_new(o, "first", json_string(pi->first));
+        json_object_set_new(o, "output", json_string(pi->output));
+        json_object_set_new(o, "repeat", json_integer(pi->repeat));
         json_array_append_new(passes, o);
     }
     json_object_set_new(root, "passes", passes);

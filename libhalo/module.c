@@ -50,8 +50,8 @@ void halo_name_list_free(halo_name_list *l) {
 }
 
 const char *halo_param_type_name(halo_param_type t) {
-    static const char *const names[] = {"float", "vec2", "vec3", "vec4", "int", "bool"};
-    return (unsigned)t < 6 ? names[t] : "?";
+    static const char *const names[] = {"float", "vec2", "vec3", "vec4", "int", "bool", "halo_channels"};
+    return (unsigned)t < 7 ? names[t] : "?";
 }
 
 static int param_components(halo_param_type t) {
@@ -129,6 +129,11 @@ int halo_param_from_json(const halo_param_info *info, void *json, double *values
 int halo_param_from_json(const halo_param_info *info, void *json, double *values, int *count, char *why,
                          size_t why_len) {
     json_t *v = json;
+    if (info->type == HALO_PARAM_CHANNELS && json_is_number(v)) {
+        *count = 1;
+        values[0] = json_number_value(v);
+        return 0;
+    }
     if (!info->array_size) {
         *count = 1;
         return element_from_json(info, v, values, why, why_len);
@@ -240,9 +245,9 @@ static void parse_param(parse_ctx *ctx, words *w, int line) {
     size_t blen = bracket ? (size_t)(bracket - type) : strlen(type);
     if (blen >= sizeof base) blen = sizeof base - 1;
     memcpy(base, type, blen);
-    static const char *const types[] = {"float", "vec2", "vec3", "vec4", "int", "bool"};
+    static const char *const types[] = {"float", "vec2", "vec3", "vec4", "int", "bool", "channels"};
     int t = -1;
-    for (int i = 0; i < 6; i++)
+    for (int i = 0; i < 7; i++)
         if (!strcmp(base, types[i])) t = i;
     if (t < 0) {
         ANNOT_ERROR(ctx, PARAM_TYPE_UNKNOWN, line, w->col[2],
@@ -252,6 +257,14 @@ static void parse_param(parse_ctx *ctx, words *w, int line) {
     info.type = (halo_param_type)t;
     info.components = param_components(info.type);
     if (info.type == HALO_PARAM_BOOL) { info.min = 0; info.max = 1; }
+    if (info.type == HALO_PARAM_CHANNELS) {
+        if (bracket) {
+            ANNOT_ERROR(ctx, PARAM_TYPE_UNKNOWN, line, w->col[2], "'channels' holds one value per halo already; "
+                        "it takes no [N]");
+            return;
+        }
+        info.array_size = 4;
+    }
     if (bracket) {
         char *end;
         long n = strtol(bracket + 1, &end, 10);
@@ -328,6 +341,58 @@ static void parse_param(parse_ctx *ctx, words *w, int line) {
     free((char *)info.meaning);
 }
 
+static void parse_pass(parse_ctx *ctx, words *w, int line) {
+    halo_module *m = ctx->m;
+    if (w->n < 3 || !valid_name(w->w[1])) {
+        ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[0],
+                    "'pass' takes NAME entry=FUNC inputs=A,B output=IMAGE [repeat=PARAM first=IMAGE] [when=PARAM]");
+        return;
+    }
+    halo_pass_decl pd = {0};
+    pd.name = halo_strdup(w->w[1]);
+    pd.line = line;
+    for (int i = 2; i < w->n; i++) {
+        const char *a = w->w[i], *eq = strchr(a, '=');
+        if (!eq || !eq[1]) {
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "'%s': expected KEY=VALUE", a);
+            continue;
+        }
+        size_t k = (size_t)(eq - a);
+        const char *v = eq + 1;
+        char **slot = NULL;
+        if (k == 5 && !strncmp(a, "entry", 5)) slot = &pd.entry;
+        else if (k == 6 && !strncmp(a, "output", 6)) slot = &pd.output;
+        else if (k == 5 && !strncmp(a, "first", 5)) slot = &pd.first;
+        else if (k == 6 && !strncmp(a, "repeat", 6)) slot = &pd.repeat;
+        else if (k == 4 && !strncmp(a, "when", 4)) slot = &pd.when;
+        else if (k == 6 && !strncmp(a, "inputs", 6)) {
+            char buf[256];
+            snprintf(buf, sizeof buf, "%s", v);
+            for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
+                if (pd.input_count == HALO_MAX_PASS_INPUTS) {
+                    ANNOT_ERROR(ctx, PASS_INVALID, line, w->col[i], "a pass reads at most %d images",
+                                HALO_MAX_PASS_INPUTS);
+                    break;
+                }
+                pd.inputs[pd.input_count++] = halo_strdup(tok);
+            }
+            continue;
+        } else {
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "unknown pass key '%.*s' (entry, inputs, output, "
+                        "repeat, first, when)", (int)k, a);
+            continue;
+        }
+        free(*slot);
+        *slot = halo_strdup(v);
+    }
+    if (!pd.entry || !pd.output || !pd.input_count)
+        ANNOT_ERROR(ctx, PASS_INVALID, line, w->col[0], "pass '%s' needs entry=, inputs= and output=", pd.name);
+    halo_pass_decl *p = realloc(m->passes, (m->pass_count + 1) * sizeof *p);
+    if (!p) return;
+    m->passes = p;
+    p[m->pass_count++] = pd;
+}
+
 static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int line, char *storage) {
     halo_module *m = ctx->m;
     words w;
@@ -390,7 +455,7 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
                 ANNOT_ERROR(ctx, OUT_OF_MEMORY, line, 1, "out of memory");
         }
     } else if (!strcmp(d, "provides")) {
-        static const char *const ok_types[] = {"float", "vec2", "vec3", "vec4", "int", "bool", NULL};
+        static const char *const ok_types[] = {"float", "vec2", "vec3", "vec4", "int", "bool", "channels", "image", NULL};
         int ok = w.n == 3 && valid_name(w.w[1]);
         int tok = 0;
         for (int i = 0; ok && ok_types[i]; i++) tok |= !strcmp(w.w[2], ok_types[i]);
@@ -406,15 +471,64 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
         halo_resource_decl *p = realloc(m->provides, (m->provides_count + 1) * sizeof *p);
         if (!p) { ANNOT_ERROR(ctx, OUT_OF_MEMORY, line, 1, "out of memory"); return; }
         m->provides = p;
-        p[m->provides_count++] = (halo_resource_decl){halo_strdup(w.w[1]), halo_strdup(w.w[2]), line};
+        p[m->provides_count++] = (halo_resource_decl){
+            halo_strdup(w.w[1]), halo_strdup(!strcmp(w.w[2], "channels") ? "halo_channels" : w.w[2]), line};
     } else if (!strcmp(d, "param")) {
         parse_param(ctx, &w, line);
+    } else if (!strcmp(d, "output")) {
+        halo_blend blend = HALO_BLEND_NONE;
+        if (w.n == 3) blend = !strcmp(w.w[2], "max") ? HALO_BLEND_MAX : !strcmp(w.w[2], "add") ? HALO_BLEND_ADD
+                                                                                              : HALO_BLEND_NONE;
+        if (w.n != 3 || !valid_name(w.w[1]) || blend == HALO_BLEND_NONE) {
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'output' takes a provided field and max or add");
+            return;
+        }
+        halo_output_decl *o = realloc(m->outputs, (m->output_count + 1) * sizeof *o);
+        if (!o) return;
+        m->outputs = o;
+        o[m->output_count++] = (halo_output_decl){halo_strdup(w.w[1]), blend, line};
+    } else if (!strcmp(d, "image")) {
+        halo_image_reset reset = HALO_RESET_FRAME;
+        int ok = w.n >= 2 && w.n <= 3 && valid_name(w.w[1]);
+        if (ok && w.n == 3) {
+            if (!strcmp(w.w[2], "reset=generation")) reset = HALO_RESET_GENERATION;
+            else if (strcmp(w.w[2], "reset=frame")) ok = 0;
+        }
+        if (!ok) {
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'image' takes a name and optionally "
+                        "reset=frame or reset=generation");
+            return;
+        }
+        halo_image_decl *im = realloc(m->images, (m->image_count + 1) * sizeof *im);
+        if (!im) return;
+        m->images = im;
+        im[m->image_count++] = (halo_image_decl){halo_strdup(w.w[1]), reset, line};
+    } else if (!strcmp(d, "host_uniform")) {
+        static const char *const ok_types[] = {"float", "vec2", "vec3", "vec4", "int", "mat4", NULL};
+        int ok = w.n >= 3 && w.n <= 4 && valid_name(w.w[1]), tok = 0;
+        for (int i = 0; ok && ok_types[i]; i++) tok |= !strcmp(w.w[2], ok_types[i]);
+        if (!ok || !tok || (w.n == 4 && w.w[3][0] != '"')) {
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'host_uniform' takes a name, a type "
+                        "(float, vec2, vec3, vec4, int, mat4) and a \"meaning\"");
+            return;
+        }
+        halo_host_uniform_decl *h = realloc(m->host_uniforms, (m->host_uniform_count + 1) * sizeof *h);
+        if (!h) return;
+        m->host_uniforms = h;
+        h[m->host_uniform_count++] = (halo_host_uniform_decl){halo_strdup(w.w[1]), halo_strdup(w.w[2]),
+                                                              w.n == 4 ? unquote(w.w[3]) : halo_strdup(""), line};
+    } else if (!strcmp(d, "pass")) {
+        parse_pass(ctx, &w, line);
+    } else if (!strcmp(d, "per_halo")) {
+        if (w.n < 2) ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'per_halo' takes parameter names");
+        for (int i = 1; i < w.n; i++) halo_name_list_add(&m->per_halo, w.w[i], strlen(w.w[i]), line);
     } else if (!strcmp(d, "declarations")) {
         ANNOT_ERROR(ctx, ANNOTATION_UNKNOWN, line, w.col[0],
                     "'#pragma halo declarations' belongs in a host shader, not in a module");
     } else {
         ANNOT_ERROR(ctx, ANNOTATION_UNKNOWN, line, w.col[0],
-                    "unknown directive '%s' (module, library, summary, hook, needs, provides, after, param)", d);
+                    "unknown directive '%s' (module, library, summary, hook, needs, provides, after, param, "
+                    "output, image, host_uniform, pass, per_halo)", d);
     }
 }
 
@@ -569,6 +683,35 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
     m->tokens = all;
     if (ctx.errors == 0) {
         scan_code(&ctx);
+        for (size_t i = 0; i < m->pass_count; i++) {
+            const halo_pass_decl *pd = &m->passes[i];
+            if (pd->entry && !halo_name_list_has(&m->declared, pd->entry)) {
+                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1,
+                              m->lines[pd->line - 1], "pass '%s': the module defines no function '%s'", pd->name,
+                              pd->entry);
+                ctx.errors++;
+            }
+            const char *need[2] = {pd->repeat, pd->when};
+            for (int k = 0; k < 2; k++) {
+                const halo_param_info *pi = need[k] ? halo_module_find_param(m, need[k]) : NULL;
+                if (need[k] && (!pi || pi->type != (k ? HALO_PARAM_BOOL : HALO_PARAM_INT) || pi->array_size)) {
+                    halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1,
+                                  m->lines[pd->line - 1], "pass '%s': %s=%s must name an %s parameter of the module",
+                                  pd->name, k ? "when" : "repeat", need[k], k ? "bool" : "int");
+                    ctx.errors++;
+                }
+            }
+        }
+        for (size_t i = 0; i < m->per_halo.count; i++) {
+            const halo_param_info *pi = halo_module_find_param(m, m->per_halo.items[i]);
+            if (!pi || !pi->array_size || pi->type == HALO_PARAM_CHANNELS) {
+                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, m->per_halo.lines[i], 1,
+                              m->lines[m->per_halo.lines[i] - 1],
+                              "per_halo '%s' must name an array parameter (TYPE[N]) of the module",
+                              m->per_halo.items[i]);
+                ctx.errors++;
+            }
+        }
         if (!m->is_library && m->hook == HALO_HOOK_SAMPLE && !m->has_entry) {
             halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_ENTRY_MISSING, file, m->module_line, 1,
                           m->lines[m->module_line - 1],
@@ -613,6 +756,23 @@ void halo_module_free(halo_module *m) {
     halo_token_list_free(&m->tokens);
     halo_name_list_free(&m->declared);
     halo_name_list_free(&m->calls);
+    halo_name_list_free(&m->per_halo);
+    for (size_t i = 0; i < m->output_count; i++) free(m->outputs[i].name);
+    free(m->outputs);
+    for (size_t i = 0; i < m->image_count; i++) free(m->images[i].name);
+    free(m->images);
+    for (size_t i = 0; i < m->host_uniform_count; i++) {
+        free(m->host_uniforms[i].name);
+        free(m->host_uniforms[i].type);
+        free(m->host_uniforms[i].meaning);
+    }
+    free(m->host_uniforms);
+    for (size_t i = 0; i < m->pass_count; i++) {
+        halo_pass_decl *pd = &m->passes[i];
+        free(pd->name); free(pd->entry); free(pd->output); free(pd->first); free(pd->repeat); free(pd->when);
+        for (int k = 0; k < pd->input_count; k++) free(pd->inputs[k]);
+    }
+    free(m->passes);
     for (size_t i = 0; i < m->chunk_count; i++) {
         free(m->chunks[i].name);
         halo_name_list_free(&m->chunks[i].calls);

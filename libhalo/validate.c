@@ -116,7 +116,18 @@ halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, hal
 }
 
 halo_status halo_program_validate(const halo_program *p, halo_diagnostics *diag) {
-    return halo_glslang_validate(p->source, p->kind, p->target, p->origins, p->origin_count, p->host_file, diag);
+    halo_status st = halo_glslang_validate(p->source, p->kind, p->target, p->origins, p->origin_count, p->host_file,
+                                           diag);
+    for (size_t i = 0; i < p->pass_count; i++) {
+        const halo_pass_info *pass = &p->passes[i];
+        const char *file = pass->stage;
+        if (halo_glslang_validate(pass->fragment_source, HALO_SHADER_FRAGMENT, p->target, p->pass_origins[i],
+                                  p->pass_origin_counts[i], file, diag) != HALO_OK ||
+            halo_glslang_validate(pass->vertex_source, HALO_SHADER_VERTEX, p->target, NULL, 0, "<pass vertex shader>",
+                                  diag) != HALO_OK)
+            st = HALO_ERROR_INPUT;
+    }
+    return st;
 }
 
 halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind, halo_target target,

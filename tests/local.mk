@@ -1,1 +1,109 @@
-# tests: see below
+# make check: unit tests (no GL), module validation, bad-input CLI tests,
+# conformance and a render smoke test. Every test finds its data through $srcdir, so
+# they run from a build directory other than the source directory (make distcheck).
+
+# ---- Unit tests: C programs linked with the static core library (internal symbols) ----
+HALO_UNIT_TESTS = \
+	tests/unit/test_module \
+	tests/unit/test_scene \
+	tests/unit/test_scene_counts \
+	tests/unit/test_link \
+	tests/unit/test_emu
+check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
+noinst_HEADERS += tests/unit/check.h
+
+HALO_TEST_CORE_LIBS = libhalo/libhalo-core.la -lm
+
+# Per-program CPPFLAGS give each its own force-cxx-link object: automake refuses one
+# object built both with libtool (libhalo.la) and without.
+tests_unit_test_module_SOURCES = tests/unit/test_module.c
+tests_unit_test_module_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_module_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_module_LDADD = $(HALO_TEST_CORE_LIBS)
+
+tests_unit_test_scene_SOURCES = tests/unit/test_scene.c
+tests_unit_test_scene_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_scene_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_scene_LDADD = $(HALO_TEST_CORE_LIBS)
+
+tests_unit_test_scene_counts_SOURCES = tests/unit/test_scene_counts.c
+tests_unit_test_scene_counts_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_scene_counts_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_scene_counts_LDADD = $(HALO_TEST_CORE_LIBS)
+
+tests_unit_test_link_SOURCES = tests/unit/test_link.c
+tests_unit_test_link_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_link_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_link_LDADD = $(HALO_TEST_CORE_LIBS)
+
+tests_unit_test_emu_SOURCES = tests/unit/test_emu.c
+tests_unit_test_emu_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_emu_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_emu_LDADD = $(HALO_TEST_CORE_LIBS)
+
+# The public API only, through the installed-style shared library.
+tests_unit_test_public_SOURCES = tests/unit/test_public.c
+tests_unit_test_public_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_public_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_public_LDADD = libhalo/libhalo.la
+
+TESTS += $(HALO_UNIT_TESTS) tests/unit/test_public
+
+# ---- Shell tests: the command-line tools on good and bad input ----
+HALO_SHELL_TESTS = \
+	tests/check_modules.sh \
+	tests/exports.sh \
+	tests/conform.sh \
+	tests/render.sh \
+	tests/cli/link_ok.sh \
+	tests/cli/missing_file.sh \
+	tests/cli/bad_annotation.sh \
+	tests/cli/unknown_stage.sh \
+	tests/cli/cycle.sh \
+	tests/cli/host_no_marker.sh \
+	tests/cli/bad_json.sh \
+	tests/cli/out_of_range.sh \
+	tests/cli/nonfinite.sh \
+	tests/cli/usage.sh
+TESTS += $(HALO_SHELL_TESTS)
+
+# Library bugs found by these tests, expected to fail until the library is fixed
+# (an XPASS then fails the suite: remove the test from this list):
+# - test_scene_counts: scene JSON with the wrong number of elements gives SCENE_TYPE,
+#   not SCENE_VALUE_COUNT as halo_scene_set does.
+# - exports.sh: libhalo.so exports glslang's symbols (Sh*, C++ mangled names). The C++
+#   linker's libtool command applies -export-symbols-regex with -retain-symbols-file,
+#   which does not limit the dynamic symbol table.
+XFAIL_TESTS = tests/unit/test_scene_counts tests/exports.sh
+
+TEST_EXTENSIONS = .sh
+SH_LOG_COMPILER = $(SHELL)
+AM_TESTS_ENVIRONMENT = \
+	srcdir='$(srcdir)'; export srcdir; \
+	top_srcdir='$(top_srcdir)'; export top_srcdir; \
+	top_builddir='$(top_builddir)'; export top_builddir; \
+	HALO_VALIDATE='$(abs_top_builddir)/validate/halo-validate'; export HALO_VALIDATE; \
+	HALO_RENDER='$(abs_top_builddir)/examples/halo-render'; export HALO_RENDER; \
+	HALO_LIBDIR='$(abs_top_builddir)/libhalo'; export HALO_LIBDIR; \
+	LP_NUM_THREADS=2; export LP_NUM_THREADS; \
+	MESA_SHADER_CACHE_DISABLE=true; export MESA_SHADER_CACHE_DISABLE; \
+	LSAN_OPTIONS="suppressions=$(abs_top_srcdir)/tests/lsan.supp:print_suppressions=0$${LSAN_OPTIONS:+:$$LSAN_OPTIONS}"; \
+	export LSAN_OPTIONS;
+
+# Test data: scenes, hosts and modules, good and bad.
+HALO_TEST_FILES = \
+	tests/cli/common.sh \
+	tests/lsan.supp \
+	tests/data/hosts/minimal.frag \
+	tests/data/hosts/no_marker.frag \
+	tests/data/modules/bad_param.glsl \
+	tests/data/modules/cycle_a.glsl \
+	tests/data/modules/cycle_b.glsl \
+	tests/data/scenes/good.json \
+	tests/data/scenes/cycle.json \
+	tests/data/scenes/unknown_stage.json \
+	tests/data/scenes/bad_json.json \
+	tests/data/scenes/out_of_range.json \
+	tests/data/scenes/nan.json \
+	tests/data/scenes/huge.json
+EXTRA_DIST += $(HALO_SHELL_TESTS) $(HALO_TEST_FILES)

@@ -1,0 +1,9 @@
+#!/bin/sh
+# A parameter below its minimum: exit 1, the JSON path of the value named.
+. "$srcdir/tests/cli/common.sh"
+
+run 1 "$HALO_VALIDATE" link --scene "$data/scenes/out_of_range.json" --host "$data/hosts/minimal.frag"
+expect_stderr "out_of_range\.json(:[0-9]+:[0-9]+)?: error:"
+expect_stderr "stages\[1\]\.boundary\.k_gs"
+expect_no_stdout
+finish

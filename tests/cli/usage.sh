@@ -1,0 +1,26 @@
+#!/bin/sh
+# Unknown commands and options, and missing arguments: exit 2, a message on stderr.
+. "$srcdir/tests/cli/common.sh"
+
+run 2 "$HALO_VALIDATE"
+run 2 "$HALO_VALIDATE" frobnicate
+expect_stderr "frobnicate"
+run 2 "$HALO_VALIDATE" --frobnicate
+run 2 "$HALO_VALIDATE" check
+run 2 "$HALO_VALIDATE" check --bogus "$srcdir/glsl/sample/boundary.glsl"
+expect_stderr "bogus"
+run 2 "$HALO_VALIDATE" check --target 999 "$srcdir/glsl/sample/boundary.glsl"
+run 2 "$HALO_VALIDATE" check "$data/scenes/good.json"
+expect_stderr "good\.json(:[0-9]+:[0-9]+)?: error:"
+run 2 "$HALO_VALIDATE" link --bogus
+expect_stderr "bogus"
+run 2 "$HALO_VALIDATE" link --scene "$data/scenes/good.json"
+run 2 "$HALO_VALIDATE" link --scene
+run 2 "$HALO_VALIDATE" link --scene "$data/scenes/good.json" --host "$data/hosts/minimal.frag" --target es310
+expect_stderr "es310"
+if test -n "${HALO_RENDER:-}" && test -x "$HALO_RENDER"; then
+    run 2 "$HALO_RENDER" --bogus
+    run 2 "$HALO_RENDER" --size 0x0
+    run 2 "$HALO_RENDER" --size
+fi
+finish

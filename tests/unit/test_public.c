@@ -1,0 +1,95 @@
+/* The public API only (halo.h), through the shared library libhalo.la as an
+ * application links it: create a library, read a scene, link it into a host, validate,
+ * emulate. */
+#include "check.h"
+
+static const char host[] =
+    "#version 330 core\n"
+    "#pragma halo declarations\n"
+    "out vec4 fragment_color;\n"
+    "void main()\n"
+    "{\n"
+    "    vec4 color = vec4(0.8, 0.6, 0.4, 0.5);\n"
+    "#ifdef HALO_LINKED\n"
+    "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1, 0.2, 0.3), vec3(0.0, 0.0, 1.0), 0.5,\n"
+    "                                     gl_FragCoord.xy, color.rgb, color.a);\n"
+    "    halo_apply(s);\n"
+    "    color = vec4(s.color, s.opacity);\n"
+    "#endif\n"
+    "    fragment_color = color;\n"
+    "}\n";
+
+static int test_pipeline(void) {
+    halo_diagnostics *d = halo_diagnostics_create();
+    CHECK(d != NULL);
+    halo_library *lib = halo_library_create(d);
+    CHECK(lib != NULL);
+    CHECK(halo_library_module_count(lib) >= 9);
+    CHECK(halo_library_find(lib, "boundary") != NULL);
+    halo_scene *scene = halo_scene_parse("{\"halo_scene\": 1, \"stages\": [{\"boundary\": {\"k_gs\": 10, \"live\":"
+                                         " [\"k_gc\"]}}, \"silhouette\", \"tone_shading\"]}",
+                                         "public.json", lib, d);
+    CHECK(scene != NULL);
+    CHECK_INT_EQ(halo_scene_stage_count(scene), 3);
+    for (int t = HALO_TARGET_GLSL330; t < HALO_TARGET_COUNT; t++) {
+        halo_program *p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
+                                                      .host_file = "public.frag", .target = (halo_target)t},
+                                    d);
+        CHECK(p != NULL);
+        if (halo_program_validate(p, d) != HALO_OK) {
+            check_print_diags(d);
+            CHECK_FAIL_AT("does not validate for %s", halo_target_name((halo_target)t));
+        }
+        CHECK_INT_EQ(halo_program_stage_count(p), 4); /* with gradient */
+        CHECK_STR_CONTAINS(halo_program_source(p), "uniform float halo_boundary_k_gc;");
+        const halo_uniform_info *u = halo_program_find_uniform(p, "boundary", "k_gc");
+        CHECK(u && u->live);
+        halo_emu_sample s = {.value = 0.5, .gradient = {0.1, 0.2, 0.3}, .view = {0, 0, 1}, .depth = 0.5,
+                             .color = {0.8, 0.6, 0.4}, .opacity = 0.5};
+        CHECK_INT_EQ(halo_emu_apply(p, &s, d), HALO_OK);
+        CHECK_FINITE(s.opacity);
+        char *json = halo_program_reflect_json(p);
+        CHECK(json != NULL);
+        CHECK_STR_CONTAINS(json, "halo_boundary_k_gc");
+        free(json);
+        halo_program_destroy(p);
+    }
+    CHECK_INT_EQ(halo_diagnostics_errors(d), 0);
+    /* Errors come back as ids. */
+    halo_scene *bad = halo_scene_parse("{\"stages\": [\"nope\"]}", "bad.json", lib, d);
+    CHECK(bad == NULL);
+    CHECK_DIAG(d, HALO_MSG_SCENE_STAGE_UNKNOWN);
+    CHECK_STR_EQ(halo_message_name(HALO_MSG_SCENE_STAGE_UNKNOWN), "SCENE_STAGE_UNKNOWN");
+    halo_scene_destroy(scene);
+    halo_library_destroy(lib);
+    halo_diagnostics_destroy(d);
+    return 0;
+}
+
+static int logged;
+static void logger(const halo_diagnostic *g, void *user_data) {
+    (void)g;
+    *(int *)user_data += 1;
+}
+
+static int test_logger(void) {
+    logged = 0;
+    halo_diagnostics *d = halo_diagnostics_create();
+    halo_library *lib = halo_library_create(d);
+    CHECK(lib != NULL);
+    CHECK(halo_scene_parse("not json", "bad.json", lib, d) == NULL);
+    CHECK_INT_EQ(logged, 1);
+    CHECK_INT_EQ(halo_diagnostics_count(d), 1);
+    halo_library_destroy(lib);
+    halo_diagnostics_destroy(d);
+    return 0;
+}
+
+int main(void) {
+    SETUP(halo_setup(&(halo_setup_desc){.logger = logger, .user_data = &logged}) == HALO_OK);
+    CHECK_STR_EQ(halo_version(), PACKAGE_VERSION);
+    RUN_TEST(test_pipeline);
+    RUN_TEST(test_logger);
+    halo_shutdown();
+    return check_exit_status();
+}
