@@ -76,7 +76,7 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(HOST_MARKER_SCOPE, "'#pragma halo declarations' must be at global scope")            \
     X(HOST_RESERVED_NAME, "host declares a name reserved by the host contract")            \
     X(HOST_VERSION, "host '#version' does not fit the target")                             \
-    X(HOST_FINISH_MISSING, "host never calls halo_finish() but the program has outputs")   \
+    X(HOST_FINISH_MISSING, "host never calls halo_finish but the program has extra outputs") \
     X(PASS_INVALID, "malformed image pass")                                                \
     X(GLSL_ERROR, "GLSL error")                                                            \
     X(GLSL_WARNING, "GLSL warning")                                                        \

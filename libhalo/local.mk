@@ -26,7 +26,12 @@ libhalo_libhalo_la_SOURCES =
 # glslang is C++: link through the C++ linker (automake picks it for a .cc source).
 nodist_EXTRA_libhalo_libhalo_la_SOURCES = build-aux/force-cxx-link.cc
 libhalo_libhalo_la_LIBADD = libhalo/libhalo-core.la
-libhalo_libhalo_la_LDFLAGS = $(AM_LDFLAGS) -version-info $(HALO_LT_VERSION) -export-symbols-regex '^halo_' -no-undefined
+# A version script, not -export-symbols-regex: with the C++ linker libtool turns the
+# regex into -retain-symbols-file, which leaves glslang's symbols in the dynamic table.
+libhalo_libhalo_la_LDFLAGS = $(AM_LDFLAGS) -version-info $(HALO_LT_VERSION) -no-undefined \
+	-Wl,--version-script=$(top_srcdir)/libhalo/libhalo.map
+EXTRA_libhalo_libhalo_la_DEPENDENCIES = libhalo/libhalo.map
+EXTRA_DIST += libhalo/libhalo.map
 
 # Headless contexts for the tools and tests (not installed: hosts bring their own context).
 noinst_LTLIBRARIES += libhalo/libhalo-headless.la

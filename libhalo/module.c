@@ -92,38 +92,44 @@ int halo_param_check(const halo_param_info *info, const double *values, int coun
     return -1;
 }
 
-/* Reads one element (scalar or vector) of a parameter from JSON. */
+/* Reads one element (scalar or vector) of a parameter from JSON. Returns -1, or the id. */
 static int element_from_json(const halo_param_info *info, json_t *v, double *out, char *why, size_t why_len) {
     int n = info->components;
     if (n == 1) {
         if (info->type == HALO_PARAM_BOOL && json_is_boolean(v)) {
             out[0] = json_is_true(v);
-            return 0;
+            return -1;
         }
         if (!json_is_number(v)) {
             snprintf(why, why_len, "expected a number for %s (%s)", info->name, halo_param_type_name(info->type));
-            return -1;
+            return HALO_MSG_SCENE_TYPE;
         }
         out[0] = json_number_value(v);
-        return 0;
+        return -1;
     }
-    if (!json_is_array(v) || (int)json_array_size(v) != n) {
+    if (!json_is_array(v)) {
         snprintf(why, why_len, "expected a list of %d numbers for %s (%s)", n, info->name,
                  halo_param_type_name(info->type));
-        return -1;
+        return HALO_MSG_SCENE_TYPE;
+    }
+    if ((int)json_array_size(v) != n) {
+        snprintf(why, why_len, "has %zu numbers; %s (%s) takes %d", json_array_size(v), info->name,
+                 halo_param_type_name(info->type), n);
+        return HALO_MSG_SCENE_VALUE_COUNT;
     }
     for (int i = 0; i < n; i++) {
         json_t *c = json_array_get(v, (size_t)i);
         if (!json_is_number(c)) {
             snprintf(why, why_len, "expected a list of %d numbers for %s", n, info->name);
-            return -1;
+            return HALO_MSG_SCENE_TYPE;
         }
         out[i] = json_number_value(c);
     }
-    return 0;
+    return -1;
 }
 
-/* Fills values/count from JSON in the parameter's layout. Returns 0, or -1 with why. */
+/* Fills values/count from JSON in the parameter's layout. Returns -1, or a message id
+ * (SCENE_TYPE, SCENE_VALUE_COUNT) with why. */
 int halo_param_from_json(const halo_param_info *info, void *json, double *values, int *count, char *why,
                          size_t why_len);
 int halo_param_from_json(const halo_param_info *info, void *json, double *values, int *count, char *why,
@@ -132,7 +138,7 @@ int halo_param_from_json(const halo_param_info *info, void *json, double *values
     if (info->type == HALO_PARAM_CHANNELS && json_is_number(v)) {
         *count = 1;
         values[0] = json_number_value(v);
-        return 0;
+        return -1;
     }
     if (!info->array_size) {
         *count = 1;
@@ -140,18 +146,19 @@ int halo_param_from_json(const halo_param_info *info, void *json, double *values
     }
     if (!json_is_array(v)) {
         snprintf(why, why_len, "expected a list of 1 to %d elements for %s", info->array_size, info->name);
-        return -1;
+        return HALO_MSG_SCENE_TYPE;
     }
     size_t n = json_array_size(v);
     if (n < 1 || n > (size_t)info->array_size) {
         snprintf(why, why_len, "has %zu elements; %s takes 1 to %d", n, info->name, info->array_size);
-        return -1;
+        return HALO_MSG_SCENE_VALUE_COUNT;
     }
-    for (size_t i = 0; i < n; i++)
-        if (element_from_json(info, json_array_get(v, i), values + i * (size_t)info->components, why, why_len))
-            return -1;
+    for (size_t i = 0; i < n; i++) {
+        int id = element_from_json(info, json_array_get(v, i), values + i * (size_t)info->components, why, why_len);
+        if (id >= 0) return id;
+    }
     *count = (int)n;
-    return 0;
+    return -1;
 }
 
 /* Splits an annotation's arguments into words: "quoted text", or runs without white
@@ -311,7 +318,7 @@ static void parse_param(parse_ctx *ctx, words *w, int line) {
     json_error_t jerr;
     json_t *v = json_loads(default_text, JSON_DECODE_ANY, &jerr);
     char why[256];
-    if (!v || halo_param_from_json(&info, v, info.default_value, &info.default_count, why, sizeof why)) {
+    if (!v || halo_param_from_json(&info, v, info.default_value, &info.default_count, why, sizeof why) >= 0) {
         if (!v) snprintf(why, sizeof why, "default '%s' is not JSON: %s", default_text, jerr.text);
         ANNOT_ERROR(ctx, PARAM_DEFAULT_INVALID, line, default_col, "%s", why);
         json_decref(v);

@@ -172,11 +172,14 @@ static void read_param(reader *r, halo_scene_entry *e, const char *path, const c
     double values[HALO_MAX_COMPONENTS];
     int count = 0;
     char why[256];
-    if (halo_param_from_json(info, v, values, &count, why, sizeof why)) {
-        READ_ERROR(r, SCENE_TYPE, "%s.%s: %s, got %s", path, key, why, json_type_name(v));
+    int id = halo_param_from_json(info, v, values, &count, why, sizeof why);
+    if (id >= 0) {
+        halo_diag_add(r->diag, HALO_SEVERITY_ERROR, (halo_message_id)id, r->file, 0, 0, NULL, "%s.%s: %s, got %s",
+                      path, key, why, json_type_name(v));
+        r->errors++;
         return;
     }
-    int id = halo_param_check(info, values, count, why, sizeof why);
+    id = halo_param_check(info, values, count, why, sizeof why);
     if (id >= 0) {
         halo_diag_add(r->diag, HALO_SEVERITY_ERROR, (halo_message_id)id, r->file, 0, 0, NULL, "%s.%s: %s", path, key,
                       why);

@@ -67,15 +67,6 @@ HALO_SHELL_TESTS = \
 	tests/cli/usage.sh
 TESTS += $(HALO_SHELL_TESTS)
 
-# Library bugs found by these tests, expected to fail until the library is fixed
-# (an XPASS then fails the suite: remove the test from this list):
-# - test_scene_counts: scene JSON with the wrong number of elements gives SCENE_TYPE,
-#   not SCENE_VALUE_COUNT as halo_scene_set does.
-# - exports.sh: libhalo.so exports glslang's symbols (Sh*, C++ mangled names). The C++
-#   linker's libtool command applies -export-symbols-regex with -retain-symbols-file,
-#   which does not limit the dynamic symbol table.
-XFAIL_TESTS = tests/unit/test_scene_counts tests/exports.sh
-
 TEST_EXTENSIONS = .sh
 SH_LOG_COMPILER = $(SHELL)
 AM_TESTS_ENVIRONMENT = \
