@@ -6,7 +6,8 @@ set -eu
 cd "$(dirname "$0")"
 
 packages="build-essential autoconf automake libtool pkg-config file
-  glslang-dev libosmesa6-dev mesa-common-dev libopenimageio-dev libjansson-dev"
+  glslang-dev libosmesa6-dev mesa-common-dev libopenimageio-dev libjansson-dev
+  clang libclang-rt-14-dev"
 
 missing=""
 for p in $packages; do

@@ -185,6 +185,8 @@ HALO_API void halo_library_destroy(halo_library *lib);
 HALO_API halo_status halo_library_add_file(halo_library *lib, const char *path, halo_diagnostics *diag);
 /* Adds a module, replacing a loaded one of the same name (to try a modified built-in stage). */
 HALO_API halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag);
+HALO_API halo_status halo_library_override_source(halo_library *lib, const char *file, const char *source,
+                                                  halo_diagnostics *diag);
 HALO_API halo_status halo_library_add_source(halo_library *lib, const char *file, const char *source,
                                              halo_diagnostics *diag);
 HALO_API size_t halo_library_module_count(const halo_library *lib);
@@ -439,6 +441,39 @@ HALO_API void halo_gl_frame_generate(halo_gl_frame *f);
 HALO_API halo_status halo_gl_frame_read(halo_gl_frame *f, const char *image, float *out);
 /* Passes drawn by halo_gl_frame_generate since creation (for benchmarks). */
 HALO_API long halo_gl_frame_pass_draws(const halo_gl_frame *f);
+
+/* ---- Lines (Everts et al. 2009) ---- */
+
+/* What a line host fills (docs/lines.md), in double precision: the fields of the GLSL
+ * structs halo_line_vertex and halo_line_fragment. */
+typedef struct halo_emu_line_vertex {
+    double position[3];  /* the polyline vertex (world space); the stage moves it sideways */
+    double direction[3]; /* averaged line direction D at the vertex (any length, or 0) */
+    double uv[2];        /* u along the line 0..1, v across the strip: 0 or 1 */
+    double eye[3];       /* eye position (world space) */
+    double width;        /* the host's length unit for strip widths; the stage writes the strip width */
+    double color[3];
+    double opacity;
+} halo_emu_line_vertex;
+
+typedef struct halo_emu_line_fragment {
+    double uv[2];        /* interpolated strip coordinates: v = 0.5 at the line's centre */
+    double depth;        /* normalized linear depth: 0 front, 1 back of the data; the host writes it */
+    double fragcoord[2];
+    double color[3];     /* line colour; becomes the background colour in the halo */
+    double opacity;
+    double background[3];
+} halo_emu_line_fragment;
+
+/* Applies the program's line_vertex stages (program linked into a vertex host) to v,
+ * with their current parameters; depth_range is the host uniform halo_host_depth_range
+ * (distance from the eye to the front and back of the data; NULL = unset, (0, 0)).
+ * EMU_MISSING for a stage without emulation. */
+HALO_API halo_status halo_emu_line_vertex_apply(const halo_program *p, const double depth_range[2],
+                                                halo_emu_line_vertex *v, halo_diagnostics *diag);
+/* Applies the program's line_fragment stages to f (fragment host). */
+HALO_API halo_status halo_emu_line_fragment_apply(const halo_program *p, halo_emu_line_fragment *f,
+                                                  halo_diagnostics *diag);
 
 #ifdef __cplusplus
 }

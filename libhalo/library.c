@@ -57,10 +57,7 @@ static halo_module *read_module(const char *path, halo_diagnostics *diag, halo_s
     return m;
 }
 
-halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
-    halo_status st;
-    halo_module *m = read_module(path, diag, &st);
-    if (!m) return st;
+static halo_status replace_or_add(halo_library *lib, halo_module *m, halo_diagnostics *diag) {
     for (size_t i = 0; i < lib->count; i++)
         if (!strcmp(halo_module_name(lib->modules[i]), halo_module_name(m))) {
             halo_module_free(lib->modules[i]);
@@ -68,6 +65,22 @@ halo_status halo_library_override_file(halo_library *lib, const char *path, halo
             return HALO_OK;
         }
     return add_module(lib, m, diag);
+}
+
+halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
+    halo_status st;
+    halo_module *m = read_module(path, diag, &st);
+    return m ? replace_or_add(lib, m, diag) : st;
+}
+
+halo_status halo_library_override_source(halo_library *lib, const char *file, const char *source,
+                                         halo_diagnostics *diag) {
+    if (!lib || !source) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_library_override_source: library and source are required");
+        return HALO_ERROR_IO;
+    }
+    halo_module *m = halo_module_parse(file ? file : "module", source, diag);
+    return m ? replace_or_add(lib, m, diag) : HALO_ERROR_INPUT;
 }
 
 halo_status halo_library_add_file(halo_library *lib, const char *path, halo_diagnostics *diag) {

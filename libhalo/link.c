@@ -78,7 +78,9 @@ static void emit(emitter *e, const char *file, int line, const char *original, c
 
 /* ---- The host ---- */
 
-static const char *const contract_names[] = {"halo_sample", "halo_make_sample", "halo_apply", "halo_finish", "HALO_LINKED",
+static const char *const contract_names[] = {"halo_sample", "halo_make_sample", "halo_apply", "halo_finish",
+                                             "halo_line_vertex", "halo_make_line_vertex", "halo_line_fragment",
+                                             "halo_make_line_fragment", "HALO_LINKED",
                                              "HALO_CONTRACT_VERSION", NULL};
 
 typedef struct host_info {
@@ -488,9 +490,42 @@ static void emit_helpers(emitter *e, const halo_library *lib, const halo_program
     free(need);
 }
 
-static const char *const sample_fields[][2] = {{"vec3", "position"}, {"float", "value"},    {"vec3", "gradient"},
-                                               {"vec3", "view"},     {"float", "depth"},    {"vec2", "fragcoord"},
-                                               {"vec3", "color"},    {"float", "opacity"}};
+/* The structs the host fills, one per hook that runs inside the host (host-contract.md). */
+typedef struct hook_struct {
+    halo_hook hook;
+    const char *type, *make, *var;
+    int field_count;
+    const char *fields[8][2];
+} hook_struct;
+
+static const hook_struct hook_structs[] = {
+    {HALO_HOOK_SAMPLE, "halo_sample", "halo_make_sample", "s", 8,
+     {{"vec3", "position"}, {"float", "value"}, {"vec3", "gradient"}, {"vec3", "view"}, {"float", "depth"},
+      {"vec2", "fragcoord"}, {"vec3", "color"}, {"float", "opacity"}}},
+    {HALO_HOOK_LINE_VERTEX, "halo_line_vertex", "halo_make_line_vertex", "v", 7,
+     {{"vec3", "position"}, {"vec3", "direction"}, {"vec2", "uv"}, {"vec3", "eye"}, {"float", "width"},
+      {"vec3", "color"}, {"float", "opacity"}}},
+    {HALO_HOOK_LINE_FRAGMENT, "halo_line_fragment", "halo_make_line_fragment", "f", 6,
+     {{"vec2", "uv"}, {"float", "depth"}, {"vec2", "fragcoord"}, {"vec3", "color"}, {"float", "opacity"},
+      {"vec3", "background"}}},
+};
+#define HOOK_STRUCT_COUNT (sizeof hook_structs / sizeof hook_structs[0])
+
+int halo_is_host_resource(const char *name) {
+    for (size_t h = 0; h < HOOK_STRUCT_COUNT; h++)
+        for (int i = 0; i < hook_structs[h].field_count; i++)
+            if (!strcmp(hook_structs[h].fields[i][1], name)) return 1;
+    return 0;
+}
+
+/* A struct is emitted when a linked stage runs at its hook or the host names it. */
+static int hook_needed(const halo_program *p, const hook_struct *hs, const char *host) {
+    for (size_t s = 0; s < p->stage_count; s++)
+        if (p->stages[s].module->hook == hs->hook) return 1;
+    if (hs->hook == HALO_HOOK_SAMPLE && p->kind == HALO_SHADER_FRAGMENT && !strstr(host, "halo_line_fragment"))
+        return 1; /* the classic host: halo_sample and halo_apply always exist */
+    return strstr(host, hs->type) != NULL;
+}
 
 /* Does any linked stage use per-halo channels? */
 static int uses_channels(const halo_program *p) {
@@ -516,35 +551,41 @@ static void emit_channel_definitions(emitter *e, int c) {
     GEN(e, "vec4 halo_channels_to_vec4(halo_channels v) { return %s; }", to[c]);
 }
 
-static void emit_declarations(emitter *e, const halo_program *p) {
+static void emit_declarations(emitter *e, const halo_program *p, const char *host) {
     GEN(e, "#define HALO_LINKED 1\n#define HALO_CONTRACT_VERSION %d", HALO_CONTRACT_VERSION);
     if (uses_channels(p)) emit_channel_definitions(e, p->channel_count);
-    GEN(e, "struct halo_sample {");
-    for (int i = 0; i < 8; i++) GEN(e, "    %s %s;", sample_fields[i][0], sample_fields[i][1]);
-    for (size_t s = 0; s < p->stage_count; s++) {
-        const halo_module *m = p->stages[s].module;
-        if (m->hook != HALO_HOOK_SAMPLE) continue;
-        for (size_t r = 0; r < m->provides_count; r++)
-            emit(e, m->file, m->provides[r].line, m->lines[m->provides[r].line - 1], "    %s %s;", m->provides[r].type,
-                 m->provides[r].name);
-    }
-    GEN(e, "};");
-    GEN(e, "halo_sample halo_make_sample(vec3 position, float value, vec3 gradient, vec3 view, float depth,\n"
-           "                             vec2 fragcoord, vec3 color, float opacity) {\n"
-           "    halo_sample s;");
-    for (int i = 0; i < 8; i++) GEN(e, "    s.%s = %s;", sample_fields[i][1], sample_fields[i][1]);
-    for (size_t s = 0; s < p->stage_count; s++) {
-        const halo_module *m = p->stages[s].module;
-        if (m->hook != HALO_HOOK_SAMPLE) continue;
-        for (size_t r = 0; r < m->provides_count; r++) {
-            const char *t = m->provides[r].type;
-            char zero[32];
-            if (!strncmp(t, "vec", 3) || !strcmp(t, "halo_channels")) snprintf(zero, sizeof zero, "%s(0.0)", t);
-            else snprintf(zero, sizeof zero, "%s", !strcmp(t, "int") ? "0" : !strcmp(t, "bool") ? "false" : "0.0");
-            GEN(e, "    s.%s = %s;", m->provides[r].name, zero);
+    for (size_t h = 0; h < HOOK_STRUCT_COUNT; h++) {
+        const hook_struct *hs = &hook_structs[h];
+        if (!hook_needed(p, hs, host)) continue;
+        GEN(e, "struct %s {", hs->type);
+        for (int i = 0; i < hs->field_count; i++) GEN(e, "    %s %s;", hs->fields[i][0], hs->fields[i][1]);
+        for (size_t s = 0; s < p->stage_count; s++) {
+            const halo_module *m = p->stages[s].module;
+            if (m->hook != hs->hook) continue;
+            for (size_t r = 0; r < m->provides_count; r++)
+                emit(e, m->file, m->provides[r].line, m->lines[m->provides[r].line - 1], "    %s %s;",
+                     m->provides[r].type, m->provides[r].name);
         }
+        GEN(e, "};");
+        halo_strbuf sig = {0};
+        for (int i = 0; i < hs->field_count; i++)
+            halo_strbuf_printf(&sig, "%s%s %s", i ? ", " : "", hs->fields[i][0], hs->fields[i][1]);
+        GEN(e, "%s %s(%s) {\n    %s %s;", hs->type, hs->make, sig.data ? sig.data : "", hs->type, hs->var);
+        halo_strbuf_free(&sig);
+        for (int i = 0; i < hs->field_count; i++) GEN(e, "    %s.%s = %s;", hs->var, hs->fields[i][1], hs->fields[i][1]);
+        for (size_t s = 0; s < p->stage_count; s++) {
+            const halo_module *m = p->stages[s].module;
+            if (m->hook != hs->hook) continue;
+            for (size_t r = 0; r < m->provides_count; r++) {
+                const char *t = m->provides[r].type;
+                char zero[32];
+                if (!strncmp(t, "vec", 3) || !strcmp(t, "halo_channels")) snprintf(zero, sizeof zero, "%s(0.0)", t);
+                else snprintf(zero, sizeof zero, "%s", !strcmp(t, "int") ? "0" : !strcmp(t, "bool") ? "false" : "0.0");
+                GEN(e, "    %s.%s = %s;", hs->var, m->provides[r].name, zero);
+            }
+        }
+        GEN(e, "    return %s;\n}", hs->var);
     }
-    GEN(e, "    return s;\n}");
     for (size_t o = 0; o < p->output_count; o++) {
         const halo_output_info *out = &p->outputs[o];
         GEN(e, "layout(location = %d) out halo_channels %s;", out->location, out->name);
@@ -573,7 +614,6 @@ static int emit_program(halo_program *p, const char *host_source, char **host_li
                                 ? "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\n"
                                   "precision highp sampler3D;"
                                 : "precision highp float;\nprecision highp int;";
-    (void)host_source;
     if (!h->version_line) {
         GEN(&e, "%s", ver);
         if (es) GEN(&e, "%s", precision);
@@ -591,26 +631,31 @@ static int emit_program(halo_program *p, const char *host_source, char **host_li
         }
         emit(&e, p->host_file, i + 1, line, "// ---- libhalo %s: %zu stage%s (contract %d) ----", PACKAGE_VERSION,
              p->stage_count, p->stage_count == 1 ? "" : "s", HALO_CONTRACT_VERSION);
-        emit_declarations(&e, p);
+        emit_declarations(&e, p, host_source);
         emit_helpers(&e, lib, p);
         for (size_t s = 0; s < p->stage_count; s++) {
             const halo_module *m = p->stages[s].module;
-            if (m->hook != HALO_HOOK_SAMPLE) continue;
+            if (m->hook == HALO_HOOK_IMAGE) continue;
             emit(&e, m->file, m->module_line, m->lines[m->module_line - 1], "// stage %s (%s)", m->name, m->file);
             emit_params(&e, p, &p->stages[s]);
             emit_module_lines(&e, m, 1, m->line_count, 1);
         }
-        GEN(&e, "void halo_apply(inout halo_sample s) {");
-        for (size_t s = 0; s < p->stage_count; s++)
-            if (p->stages[s].module->hook == HALO_HOOK_SAMPLE) GEN(&e, "    halo_%s_apply(s);", p->stages[s].module->name);
-        for (size_t o = 0; o < p->output_count; o++) {
-            const char *img = p->outputs[o].image;
-            if (p->outputs[o].blend == HALO_BLEND_MAX)
-                GEN(&e, "    halo_accum_%s = max(halo_accum_%s, s.%s);", img, img, img);
-            else
-                GEN(&e, "    halo_accum_%s += s.%s;", img, img);
+        for (size_t h = 0; h < HOOK_STRUCT_COUNT; h++) {
+            const hook_struct *hs = &hook_structs[h];
+            if (!hook_needed(p, hs, host_source)) continue;
+            GEN(&e, "void halo_apply(inout %s %s) {", hs->type, hs->var);
+            for (size_t s = 0; s < p->stage_count; s++)
+                if (p->stages[s].module->hook == hs->hook)
+                    GEN(&e, "    halo_%s_apply(%s);", p->stages[s].module->name, hs->var);
+            for (size_t o = 0; o < p->output_count && hs->hook == HALO_HOOK_SAMPLE; o++) {
+                const char *img = p->outputs[o].image;
+                if (p->outputs[o].blend == HALO_BLEND_MAX)
+                    GEN(&e, "    halo_accum_%s = max(halo_accum_%s, s.%s);", img, img, img);
+                else
+                    GEN(&e, "    halo_accum_%s += s.%s;", img, img);
+            }
+            GEN(&e, "}");
         }
-        GEN(&e, "}");
         GEN(&e, "void halo_finish() {");
         for (size_t o = 0; o < p->output_count; o++)
             GEN(&e, "    %s = halo_accum_%s;", p->outputs[o].name, p->outputs[o].image);

@@ -10,14 +10,6 @@
 #include <string.h>
 
 static const char *const hook_names[HALO_HOOK_COUNT] = {"sample", "image", "line_vertex", "line_fragment"};
-static const char *const host_resources[] = {"position", "value", "gradient", "view", "depth",
-                                             "fragcoord", "color", "opacity", NULL};
-
-int halo_is_host_resource(const char *name) {
-    for (int i = 0; host_resources[i]; i++)
-        if (!strcmp(host_resources[i], name)) return 1;
-    return 0;
-}
 
 int halo_name_list_has(const halo_name_list *l, const char *name) {
     for (size_t i = 0; i < l->count; i++)

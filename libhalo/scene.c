@@ -209,7 +209,7 @@ static void read_stage(reader *r, size_t index, json_t *item) {
     }
     snprintf(path, sizeof path, "stages[%zu].%s", index, stage);
     const halo_module *m = halo_library_find(r->scene->library, stage);
-    if (!m || m->is_library || m->hook != HALO_HOOK_SAMPLE) {
+    if (!m || m->is_library) {
         char at[64];
         snprintf(at, sizeof at, "stages[%zu]", index);
         READ_ERROR(r, SCENE_STAGE_UNKNOWN, "%s: unknown stage '%s' (halo-validate list shows the stages)", at, stage);

@@ -98,3 +98,23 @@ HALO_TEST_FILES = \
 	tests/data/scenes/nan.json \
 	tests/data/scenes/huge.json
 EXTRA_DIST += $(HALO_SHELL_TESTS) $(HALO_TEST_FILES)
+
+# ---- Fuzz targets (tests/fuzz): make check replays the seed corpus and a fixed set of
+# deterministic mutations of it; tests/fuzz/run-libfuzzer.sh fuzzes for real (CI). ----
+HALO_FUZZ_TARGETS = tests/fuzz/fuzz_module tests/fuzz/fuzz_scene tests/fuzz/fuzz_host
+check_PROGRAMS += $(HALO_FUZZ_TARGETS)
+noinst_HEADERS += tests/fuzz/fuzz.h
+tests_fuzz_fuzz_module_SOURCES = tests/fuzz/fuzz_module.c tests/fuzz/driver.c
+tests_fuzz_fuzz_module_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/fuzz
+nodist_EXTRA_tests_fuzz_fuzz_module_SOURCES = build-aux/force-cxx-link.cc
+tests_fuzz_fuzz_module_LDADD = $(HALO_TEST_CORE_LIBS)
+tests_fuzz_fuzz_scene_SOURCES = tests/fuzz/fuzz_scene.c tests/fuzz/driver.c
+tests_fuzz_fuzz_scene_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/fuzz
+nodist_EXTRA_tests_fuzz_fuzz_scene_SOURCES = build-aux/force-cxx-link.cc
+tests_fuzz_fuzz_scene_LDADD = $(HALO_TEST_CORE_LIBS)
+tests_fuzz_fuzz_host_SOURCES = tests/fuzz/fuzz_host.c tests/fuzz/driver.c
+tests_fuzz_fuzz_host_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/fuzz
+nodist_EXTRA_tests_fuzz_fuzz_host_SOURCES = build-aux/force-cxx-link.cc
+tests_fuzz_fuzz_host_LDADD = $(HALO_TEST_CORE_LIBS)
+TESTS += tests/fuzz/replay.sh
+EXTRA_DIST += tests/fuzz/replay.sh tests/fuzz/run-libfuzzer.sh tests/fuzz/corpus

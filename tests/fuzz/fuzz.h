@@ -1,0 +1,10 @@
+/* The fuzz targets share one entry point, as libFuzzer defines it. Built two ways:
+ * with driver.c into a plain program that make check runs (replays the corpus and a
+ * fixed number of deterministic mutations of it), and by run-libfuzzer.sh with clang's
+ * -fsanitize=fuzzer for real fuzzing in CI. */
+#ifndef HALO_FUZZ_H
+#define HALO_FUZZ_H
+#include <stddef.h>
+#include <stdint.h>
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+#endif

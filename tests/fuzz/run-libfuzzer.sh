@@ -1,0 +1,34 @@
+#!/bin/sh
+# Fuzzes the module parser, the scene reader and the host checks with libFuzzer (clang,
+# -fsanitize=fuzzer,address,undefined) for SECONDS each (default 20). Run from a
+# configured and built source tree (it needs libhalo/embedded_modules.c). A crash leaves
+# its input in tests/fuzz/crashes/; add it to tests/fuzz/corpus/TARGET/ as a regression.
+set -eu
+seconds=${1:-20}
+top=$(cd "$(dirname "$0")/../.." && pwd)
+cd "$top"
+command -v clang >/dev/null || { echo "run-libfuzzer: clang not found (Debian: clang, libclang-rt-dev)" >&2; exit 77; }
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+cflags="-g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -DHALO_BUILDING
+  -DPACKAGE_VERSION=\"fuzz\" -Ilibhalo -Itests/fuzz $(pkg-config --cflags jansson glslang)"
+libs="$(pkg-config --libs jansson glslang) -lSPIRV -lglslang-default-resource-limits -lm -lstdc++ -lpthread"
+sources="libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c libhalo/scene.c
+  libhalo/link.c libhalo/validate.c libhalo/setup.c libhalo/embedded_modules.c"
+mkdir -p tests/fuzz/crashes
+status=0
+for target in module scene host; do
+    # shellcheck disable=SC2086
+    clang $cflags -o "$out/fuzz_$target" "tests/fuzz/fuzz_$target.c" $sources $libs
+    mkdir -p "$out/corpus_$target"
+    cp "tests/fuzz/corpus/$target"/* "$out/corpus_$target/"
+    echo "== fuzz_$target for ${seconds}s"
+    if ! ASAN_OPTIONS=detect_leaks=0 "$out/fuzz_$target" -max_total_time="$seconds" -max_len=8192 \
+        -artifact_prefix="tests/fuzz/crashes/${target}-" "$out/corpus_$target" 2>"$out/log_$target"; then
+        tail -40 "$out/log_$target" >&2
+        status=1
+    else
+        grep -E "^#[0-9]+.*(DONE|pulse)" "$out/log_$target" | tail -1
+    fi
+done
+exit $status
