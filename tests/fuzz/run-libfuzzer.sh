@@ -21,7 +21,14 @@ for target in module scene host; do
     # shellcheck disable=SC2086
     clang $cflags -o "$out/fuzz_$target" "tests/fuzz/fuzz_$target.c" $sources $libs
     mkdir -p "$out/corpus_$target"
-    cp "tests/fuzz/corpus/$target"/* "$out/corpus_$target/"
+    case $target in
+    module) seeds="glsl/*.glsl glsl/*/*.glsl tests/data/modules/*" ;;
+    scene) seeds="examples/scenes/*.json tests/data/scenes/*" ;;
+    host) seeds="examples/hosts/*.frag examples/hosts/*.vert tests/data/hosts/*" ;;
+    esac
+    # shellcheck disable=SC2086
+    cp $seeds "$out/corpus_$target/" 2>/dev/null || true
+    [ -d "tests/fuzz/corpus/$target" ] && cp "tests/fuzz/corpus/$target"/* "$out/corpus_$target/"
     echo "== fuzz_$target for ${seconds}s"
     if ! ASAN_OPTIONS=detect_leaks=0 "$out/fuzz_$target" -max_total_time="$seconds" -max_len=8192 \
         -artifact_prefix="tests/fuzz/crashes/${target}-" "$out/corpus_$target" 2>"$out/log_$target"; then
