@@ -7,7 +7,8 @@ cd "$(dirname "$0")"
 
 packages="build-essential autoconf automake libtool pkg-config file
   glslang-dev libosmesa6-dev mesa-common-dev libopenimageio-dev libjansson-dev
-  clang libclang-rt-14-dev"
+  clang libclang-rt-14-dev
+  libnifti2-dev zlib1g-dev mricron-data"
 
 missing=""
 for p in $packages; do

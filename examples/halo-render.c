@@ -1,70 +1,93 @@
-/* halo-render: renders a volume with the example GPU ray caster and a libhalo scene,
- * offline (headless OpenGL), to a PNG or EXR image.
+/* halo-render: renders a volume with a libhalo scene through one of the example GPU
+ * hosts (slices, slab ray caster, ray caster), offline (headless OpenGL), to a PNG
+ * or EXR image. The manual is docs/halo-render.md and halo-render(1).
  *
- *   halo-render [--scene S] [-o OUT] [--size WxH] [--azimuth A] [--elevation E]
- *               [--zoom Z] [--volume-size N] [--help]
- *
- * With no arguments: the built-in procedural volume, the built-in default scene,
- * halo-render.png in the current directory. Exit status: 0 success, 1 the input has
- * errors (diagnostics on stderr), 2 usage or I/O failure. */
+ * With no arguments: the built-in procedural volume, the default scene
+ * (examples/scenes/default.json, embedded at build time), halo-render.png in the
+ * current directory. Exit status: 0 success, 1 the input has errors (scene, shaders,
+ * volume contents), 2 usage or I/O failure (bad options, missing or truncated files). */
+#define _POSIX_C_SOURCE 200809L
 #include "halo.h"
 #include "gl/glfuncs.h"
 #include "gl/headless.h"
 #include "hosts/raycast.h"
+#include "hosts/slab.h"
+#include "hosts/slice.h"
 #include "image_write.h"
 #include "volume.h"
+#include "volume_io.h"
+
+#include <jansson.h>
 
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+#include <unistd.h>
 
-/* The default scene: gradient-dependent enhancements strong enough to see at a
- * glance on the built-in volume (|grad f| there is about 0.05-0.3 per voxel). */
-static const char default_scene[] =
-    "{\n"
-    "  \"halo_scene\": 1,\n"
-    "  \"description\": \"halo-render's built-in scene: boundary and silhouette enhancement, tone shading,"
-    " distance colour blending\",\n"
-    "  \"stages\": [\n"
-    "    {\"boundary\": {\"k_gc\": 0.4, \"k_gs\": 12, \"k_ge\": 1}},\n"
-    "    {\"silhouette\": {\"k_sc\": 0.5, \"k_ss\": 3, \"k_se\": 2}},\n"
-    "    {\"tone_shading\": {\"k_ty\": 0.35, \"k_tb\": 0.45, \"k_ta\": 0.6, \"k_td\": 0.5,"
-    " \"lights\": [[-0.4, 0.7, 0.6]]}},\n"
-    "    {\"distance_blend\": {\"background\": [0.05, 0.08, 0.25], \"k_ds\": 0.9, \"k_de\": 1.5}}\n"
-    "  ],\n"
-    "  \"render\": {\n"
-    "    \"azimuth\": 35, \"elevation\": 25, \"zoom\": 1.5, \"step\": 0.5,\n"
-    "    \"background\": [0.05, 0.08, 0.25],\n"
-    "    \"transfer\": [[0, 0, 0, 0, 0], [0.18, 0.6, 0.8, 1, 0], [0.3, 0.6, 0.8, 1, 0.06],\n"
-    "                   [0.42, 1, 0.85, 0.55, 0.02], [0.5, 1, 0.85, 0.55, 0.25], [0.62, 0.9, 0.35, 0.25, 0.05],\n"
-    "                   [0.75, 0.95, 0.3, 0.2, 0.7], [0.9, 1, 0.95, 0.7, 0.8], [1, 1, 1, 0.8, 0.9]]\n"
-    "  }\n"
-    "}\n";
+/* examples/scenes/default.json, embedded by build-aux/embed.sh (embedded_scenes.c). */
+struct halo_embedded_file {
+    const char *name;
+    const char *text;
+};
+extern const struct halo_embedded_file halo_embedded_scenes[];
+
+static const char *embedded_scene(const char *name)
+{
+    for (const struct halo_embedded_file *f = halo_embedded_scenes; f->name; ++f)
+        if (!strcmp(f->name, name))
+            return f->text;
+    return NULL;
+}
+
+#define DEFAULT_SCENE "examples/scenes/default.json"
+/* The default window of a volume file whose scene sets none: these percentiles. */
+#define WINDOW_LOW_PERCENT 1.0
+#define WINDOW_HIGH_PERCENT 99.0
 
 static void usage(FILE *out)
 {
-    fputs("Usage: halo-render [--scene S] [-o OUT] [--size WxH] [--azimuth A] [--elevation E]\n"
-          "                   [--zoom Z] [--volume-size N] [--help]\n"
-          "Renders the built-in procedural volume with libhalo's example GPU ray caster\n"
-          "(OSMesa, headless) and writes an image.\n"
+    fputs("Usage: halo-render [OPTION]...\n"
+          "Renders a volume with a libhalo scene through an example GPU host (OSMesa,\n"
+          "headless) and writes an image. With no options: the built-in procedural volume\n"
+          "and the default halo scene, to halo-render.png.\n"
           "\n"
-          "  --scene S        scene file (JSON); default: a built-in scene with boundary and\n"
-          "                   silhouette enhancement, tone shading and distance blending\n"
-          "  -o OUT           output image, .png (8-bit, values clamped) or .exr (float);\n"
-          "                   default halo-render.png\n"
-          "  --size WxH       image size in pixels, 1..8192 each; default 512x512\n"
-          "  --azimuth A      camera azimuth in degrees (default: the scene's)\n"
-          "  --elevation E    camera elevation in degrees, -90..90 (default: the scene's)\n"
-          "  --zoom Z         1 fits the volume in view, larger is closer, > 0 (default: the scene's)\n"
-          "  --volume-size N  size of the built-in volume, 8..512 voxels per side; default 96\n"
-          "  --help           show this help\n"
+          "Scene and host:\n"
+          "  --scene S          scene file (JSON); default: examples/scenes/default.json (built in)\n"
+          "  --host H           slice, slab or raycast; default: slice when the scene has\n"
+          "                     halo stages, else raycast\n"
+          "  --no-halos         switch the halo stages (image passes, images, extra outputs)\n"
+          "                     off: the same scene and host without halos, for comparison\n"
+          "Volume (default: the built-in procedural volume):\n"
+          "  --volume FILE      NIfTI volume (.nii, .nii.gz, .hdr/.img), or raw with --raw-dims\n"
+          "  --raw-dims XxYxZ   raw file: voxels per axis, x fastest\n"
+          "  --raw-type T       raw file: uint8, uint16, int16 or float32 (required with --raw-dims)\n"
+          "  --raw-endian E     raw file: little (default) or big\n"
+          "  --raw-offset N     raw file: header bytes to skip (default 0)\n"
+          "  --raw-spacing XxYxZ  raw file: voxel size per axis (default 1x1x1)\n"
+          "  --window LOW:HIGH  values mapped to [0,1]; default: the scene's render.window,\n"
+          "                     else for a file the 1st..99th percentile of its values\n"
+          "  --volume-size N    side of the cube the volume is resampled to (8..512); default:\n"
+          "                     96 for the built-in volume, a file's own resolution up to 512\n"
+          "Camera and image:\n"
+          "  --azimuth A        degrees about the vertical axis (default: the scene's)\n"
+          "  --elevation E      degrees, -90..90 (default: the scene's)\n"
+          "  --zoom Z           1 fits the volume in view, larger is closer (default: the scene's)\n"
+          "  --size WxH         image size in pixels, 1..8192 each; default 512x512\n"
+          "  -o OUT             .png (8-bit, clamped) or .exr (float); default halo-render.png\n"
+          "  --quiet            no progress or volume notes on stderr\n"
+          "  --help             show this help\n"
           "\n"
-          "Exit status: 0 success, 1 the scene or shaders have errors, 2 usage or I/O failure.\n",
+          "Exit status: 0 success, 1 the scene, shaders or volume contents have errors,\n"
+          "2 usage or I/O failure (bad options, missing or truncated files).\n",
           out);
 }
+
+/* ---- Option parsing ---------------------------------------------------------------- */
 
 static int parse_number(const char *option, const char *text, double lo, double hi, double *out)
 {
@@ -83,7 +106,7 @@ static int parse_number(const char *option, const char *text, double lo, double 
     return 1;
 }
 
-static int parse_int(const char *option, const char *text, long lo, long hi, int *out)
+static int parse_long(const char *option, const char *text, long lo, long hi, long *out)
 {
     char *end = NULL;
     errno = 0;
@@ -96,36 +119,62 @@ static int parse_int(const char *option, const char *text, long lo, long hi, int
         fprintf(stderr, "halo-render: error: %s: %ld is outside %ld..%ld\n", option, x, lo, hi);
         return 0;
     }
+    *out = x;
+    return 1;
+}
+
+static int parse_int(const char *option, const char *text, int lo, int hi, int *out)
+{
+    long x;
+    if (!parse_long(option, text, lo, hi, &x))
+        return 0;
     *out = (int)x;
+    return 1;
+}
+
+/* Splits "AsepBsepC" into count parts of at most 63 characters. */
+static int split(const char *option, const char *text, char separator, int count, char parts[][64])
+{
+    const char *p = text ? text : "";
+    for (int k = 0; k < count; ++k) {
+        const char *end = k + 1 < count ? strchr(p, separator) : p + strlen(p);
+        if (!end || end == p || (size_t)(end - p) >= 64) {
+            fprintf(stderr, "halo-render: error: %s: '%s' is not %d values separated by '%c'\n", option,
+                    text ? text : "", count, separator);
+            return 0;
+        }
+        memcpy(parts[k], p, (size_t)(end - p));
+        parts[k][end - p] = '\0';
+        p = end + (k + 1 < count);
+    }
     return 1;
 }
 
 static int parse_size(const char *text, int *width, int *height)
 {
-    const char *x = text ? strchr(text, 'x') : NULL;
-    if (!x) {
-        fprintf(stderr, "halo-render: error: --size: '%s' is not WIDTHxHEIGHT\n", text ? text : "");
-        return 0;
-    }
-    char first[32];
-    size_t n = (size_t)(x - text);
-    if (n == 0 || n >= sizeof first) {
-        fprintf(stderr, "halo-render: error: --size: '%s' is not WIDTHxHEIGHT\n", text);
-        return 0;
-    }
-    memcpy(first, text, n);
-    first[n] = '\0';
-    return parse_int("--size", first, 1, 8192, width) && parse_int("--size", x + 1, 1, 8192, height);
+    char parts[2][64];
+    return split("--size", text, 'x', 2, parts) && parse_int("--size", parts[0], 1, 8192, width) &&
+           parse_int("--size", parts[1], 1, 8192, height);
 }
 
+typedef enum host_kind { HOST_AUTO = 0, HOST_SLICE, HOST_SLAB, HOST_RAYCAST } host_kind;
+static const char *const host_names[] = {"auto", "slice", "slab", "raycast"};
+
 typedef struct options {
-    const char *scene_path, *output;
-    int width, height, volume_size;
-    int have_azimuth, have_elevation, have_zoom;
-    double azimuth, elevation, zoom;
+    const char *scene_path, *output, *volume_path;
+    int width, height, volume_size, have_volume_size;
+    int have_azimuth, have_elevation, have_zoom, have_window, no_halos, quiet;
+    double azimuth, elevation, zoom, window[2];
+    host_kind host;
+    int raw, have_raw_type, have_raw_extra;
+    halo_raw_desc raw_desc;
 } options;
 
-/* Returns 0 to go on, or an exit status. */
+static const char *const valued_options[] = {
+    "--scene", "-o", "--output", "--size", "--azimuth", "--elevation", "--zoom", "--volume-size", "--volume",
+    "--raw-dims", "--raw-type", "--raw-endian", "--raw-offset", "--raw-spacing", "--window", "--host", NULL};
+
+/* Returns 0 to go on, -1 to exit 0 (help), or an exit status. */
 static int parse_options(int argc, char **argv, options *o)
 {
     *o = (options){.output = "halo-render.png", .width = 512, .height = 512,
@@ -136,38 +185,99 @@ static int parse_options(int argc, char **argv, options *o)
             usage(stdout);
             return -1;
         }
-        const char *value = i + 1 < argc ? argv[i + 1] : NULL;
-        int ok = 1;
-        if (!strcmp(a, "--scene") || !strcmp(a, "-o") || !strcmp(a, "--output") || !strcmp(a, "--size") ||
-            !strcmp(a, "--azimuth") || !strcmp(a, "--elevation") || !strcmp(a, "--zoom") ||
-            !strcmp(a, "--volume-size")) {
-            if (!value) {
-                fprintf(stderr, "halo-render: error: %s needs a value\n", a);
-                usage(stderr);
-                return 2;
-            }
-            ++i;
-        } else {
+        if (!strcmp(a, "--no-halos")) {
+            o->no_halos = 1;
+            continue;
+        }
+        if (!strcmp(a, "--quiet") || !strcmp(a, "-q")) {
+            o->quiet = 1;
+            continue;
+        }
+        int valued = 0;
+        for (const char *const *v = valued_options; *v; ++v)
+            valued |= !strcmp(a, *v);
+        if (!valued) {
             fprintf(stderr, "halo-render: error: unknown argument '%s'\n", a);
             usage(stderr);
             return 2;
         }
+        const char *value = i + 1 < argc ? argv[++i] : NULL;
+        if (!value) {
+            fprintf(stderr, "halo-render: error: %s needs a value\n", a);
+            usage(stderr);
+            return 2;
+        }
+        int ok = 1;
         if (!strcmp(a, "--scene"))
             o->scene_path = value;
         else if (!strcmp(a, "-o") || !strcmp(a, "--output"))
             o->output = value;
+        else if (!strcmp(a, "--volume"))
+            o->volume_path = value;
         else if (!strcmp(a, "--size"))
             ok = parse_size(value, &o->width, &o->height);
         else if (!strcmp(a, "--azimuth"))
             ok = o->have_azimuth = parse_number(a, value, -3600, 3600, &o->azimuth);
         else if (!strcmp(a, "--elevation"))
             ok = o->have_elevation = parse_number(a, value, -90, 90, &o->elevation);
-        else if (!strcmp(a, "--zoom")) {
+        else if (!strcmp(a, "--zoom"))
             ok = o->have_zoom = parse_number(a, value, 1e-3, 1e3, &o->zoom);
-            if (ok && o->zoom <= 0.0)
+        else if (!strcmp(a, "--volume-size"))
+            ok = o->have_volume_size =
+                parse_int(a, value, HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE, &o->volume_size);
+        else if (!strcmp(a, "--window")) {
+            char parts[2][64];
+            ok = split(a, value, ':', 2, parts) && parse_number(a, parts[0], -1e30, 1e30, &o->window[0]) &&
+                 parse_number(a, parts[1], -1e30, 1e30, &o->window[1]);
+            if (ok && !(o->window[1] > o->window[0])) {
+                fprintf(stderr, "halo-render: error: --window: HIGH %g is not above LOW %g\n", o->window[1],
+                        o->window[0]);
                 ok = 0;
-        } else if (!strcmp(a, "--volume-size"))
-            ok = parse_int(a, value, HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE, &o->volume_size);
+            }
+            o->have_window = ok;
+        } else if (!strcmp(a, "--host")) {
+            o->host = HOST_AUTO;
+            for (int h = HOST_SLICE; h <= HOST_RAYCAST; ++h)
+                if (!strcmp(value, host_names[h]))
+                    o->host = (host_kind)h;
+            if (o->host == HOST_AUTO) {
+                fprintf(stderr, "halo-render: error: --host: unknown host '%s' (slice, slab or raycast)\n", value);
+                ok = 0;
+            }
+        } else if (!strcmp(a, "--raw-dims")) {
+            char parts[3][64];
+            o->raw = 1;
+            ok = split(a, value, 'x', 3, parts);
+            for (int k = 0; ok && k < 3; ++k)
+                ok = parse_long(a, parts[k], 1, LONG_MAX, &o->raw_desc.dims[k]);
+        } else if (!strcmp(a, "--raw-type")) {
+            o->raw_desc.type = halo_voxel_type_from_name(value);
+            o->have_raw_type = 1;
+            if (o->raw_desc.type == HALO_VOXEL_TYPE_COUNT) {
+                fprintf(stderr, "halo-render: error: --raw-type: unknown type '%s' (uint8, uint16, int16, float32)\n",
+                        value);
+                ok = 0;
+            }
+        } else if (!strcmp(a, "--raw-endian")) {
+            o->have_raw_extra = 1;
+            if (!strcmp(value, "little") || !strcmp(value, "big"))
+                o->raw_desc.big_endian = !strcmp(value, "big");
+            else {
+                fprintf(stderr, "halo-render: error: --raw-endian: '%s' is not little or big\n", value);
+                ok = 0;
+            }
+        } else if (!strcmp(a, "--raw-offset")) {
+            long offset;
+            o->have_raw_extra = 1;
+            ok = parse_long(a, value, 0, LONG_MAX, &offset);
+            o->raw_desc.offset = offset;
+        } else if (!strcmp(a, "--raw-spacing")) {
+            char parts[3][64];
+            o->have_raw_extra = 1;
+            ok = split(a, value, 'x', 3, parts);
+            for (int k = 0; ok && k < 3; ++k)
+                ok = parse_number(a, parts[k], 1e-6, 1e6, &o->raw_desc.spacing[k]);
+        }
         if (!ok)
             return 2;
     }
@@ -175,8 +285,288 @@ static int parse_options(int argc, char **argv, options *o)
         fprintf(stderr, "halo-render: error: -o: empty file name\n");
         return 2;
     }
+    if ((o->have_raw_type || o->have_raw_extra) && !o->raw) {
+        fprintf(stderr, "halo-render: error: --raw-type, --raw-endian, --raw-offset and --raw-spacing need --raw-dims\n");
+        return 2;
+    }
+    if (o->raw && !o->have_raw_type) {
+        fprintf(stderr, "halo-render: error: --raw-dims needs --raw-type (uint8, uint16, int16 or float32)\n");
+        return 2;
+    }
+    if (o->raw && !o->volume_path) {
+        fprintf(stderr, "halo-render: error: --raw-dims needs --volume FILE\n");
+        return 2;
+    }
     return 0;
 }
+
+/* ---- Progress ---------------------------------------------------------------------- */
+
+static double seconds_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* While a render runs, a thread prints the elapsed time on stderr once a second has
+ * passed (a line rewritten in place on a terminal, a line every 5 s otherwise). */
+typedef struct progress {
+    pthread_mutex_t lock;
+    pthread_cond_t wake;
+    pthread_t thread;
+    int running, done, printed, tty;
+    double start;
+    char what[160];
+} progress;
+
+static void *progress_main(void *arg)
+{
+    progress *p = arg;
+    pthread_mutex_lock(&p->lock);
+    double next = p->start + 1.0;
+    while (!p->done) {
+        struct timespec until;
+        until.tv_sec = (time_t)next;
+        until.tv_nsec = (long)((next - (double)until.tv_sec) * 1e9);
+        pthread_cond_timedwait(&p->wake, &p->lock, &until); /* the condition uses CLOCK_MONOTONIC */
+        if (p->done)
+            break;
+        double now = seconds_now();
+        if (now >= next) {
+            fprintf(stderr, p->tty ? "\rhalo-render: %s: %.0f s" : "halo-render: %s: %.0f s\n", p->what,
+                    now - p->start);
+            fflush(stderr);
+            p->printed = 1;
+            next = now + (p->tty ? 1.0 : 5.0);
+        }
+    }
+    pthread_mutex_unlock(&p->lock);
+    return NULL;
+}
+
+static void progress_begin(progress *p, int quiet, const char *what)
+{
+    memset(p, 0, sizeof *p);
+    p->start = seconds_now();
+    snprintf(p->what, sizeof p->what, "%s", what);
+    if (quiet)
+        return;
+    p->tty = isatty(fileno(stderr));
+    pthread_condattr_t attributes;
+    pthread_condattr_init(&attributes);
+    pthread_condattr_setclock(&attributes, CLOCK_MONOTONIC);
+    pthread_mutex_init(&p->lock, NULL);
+    pthread_cond_init(&p->wake, &attributes);
+    pthread_condattr_destroy(&attributes);
+    p->running = pthread_create(&p->thread, NULL, progress_main, p) == 0;
+    if (!p->running) {
+        pthread_cond_destroy(&p->wake);
+        pthread_mutex_destroy(&p->lock);
+    }
+}
+
+/* Ends the line and, when the step took more than a second, says how long. */
+static void progress_end(progress *p, int quiet, const char *done_text)
+{
+    double elapsed = seconds_now() - p->start;
+    if (p->running) {
+        pthread_mutex_lock(&p->lock);
+        p->done = 1;
+        pthread_cond_signal(&p->wake);
+        pthread_mutex_unlock(&p->lock);
+        pthread_join(p->thread, NULL);
+        pthread_cond_destroy(&p->wake);
+        pthread_mutex_destroy(&p->lock);
+    }
+    if (!quiet && elapsed > 1.0)
+        fprintf(stderr, "%shalo-render: %s in %.1f s\n", p->printed && p->tty ? "\r" : "", done_text, elapsed);
+}
+
+/* ---- Halo stages ----------------------------------------------------------------------- */
+
+/* A host for probing what a stage links to: calls halo_finish, as the slice host does. */
+static const char probe_host[] =
+    "#version 330 core\n"
+    "#pragma halo declarations\n"
+    "layout(location = 0) out vec4 frag_color;\n"
+    "void main()\n"
+    "{\n"
+    "    vec4 color = vec4(0.0);\n"
+    "#ifdef HALO_LINKED\n"
+    "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.0, 0.1, 0.0), vec3(0.0, 0.0, 1.0), 0.5,\n"
+    "                                     gl_FragCoord.xy, vec3(1.0), 0.5);\n"
+    "    halo_apply(s);\n"
+    "    color = vec4(s.color, s.opacity);\n"
+    "    halo_finish();\n"
+    "#endif\n"
+    "    frag_color = color;\n"
+    "}\n";
+
+typedef struct link_shape {
+    int ok;
+    size_t outputs, samplers, passes;
+} link_shape;
+
+static link_shape probe_link(const halo_library *lib, const char *const *stages, size_t count)
+{
+    link_shape shape = {0};
+    halo_scene *scene = halo_scene_create(lib);
+    int ok = scene != NULL;
+    for (size_t i = 0; ok && i < count; ++i)
+        ok = halo_scene_enable(scene, stages[i], 1, NULL) == HALO_OK;
+    halo_program *p = ok ? halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = probe_host,
+                                                       .host_file = "probe"},
+                                     NULL)
+                         : NULL;
+    if (p) {
+        shape.ok = 1;
+        shape.outputs = halo_program_output_count(p);
+        shape.samplers = halo_program_sampler_count(p);
+        shape.passes = halo_program_pass_count(p);
+    }
+    halo_program_destroy(p);
+    halo_scene_destroy(scene);
+    return shape;
+}
+
+/* Marks the scene's halo stages: a stage with hook image, or one that adds extra
+ * outputs, images read per sample or image passes to a program. A stage that does
+ * not link alone (it needs what a halo stage provides) is judged together with the
+ * halo stages found first. Returns the number found. */
+static size_t find_halo_stages(const halo_library *lib, const halo_scene *scene, int *is_halo)
+{
+    size_t n = halo_scene_stage_count(scene), found = 0;
+    const char **base = calloc(n + 1, sizeof *base);
+    int *pending = calloc(n + 1, sizeof *pending);
+    if (!base || !pending) {
+        free(base);
+        free(pending);
+        return 0;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const char *name = halo_scene_stage(scene, i);
+        const halo_module *m = halo_library_find(lib, name);
+        is_halo[i] = 0;
+        if (m && halo_module_hook(m) == HALO_HOOK_IMAGE) {
+            is_halo[i] = 1;
+            continue;
+        }
+        link_shape alone = probe_link(lib, &name, 1);
+        if (alone.ok)
+            is_halo[i] = alone.outputs || alone.samplers || alone.passes;
+        else
+            pending[i] = 1;
+    }
+    size_t base_count = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (is_halo[i])
+            base[base_count++] = halo_scene_stage(scene, i);
+    link_shape without = probe_link(lib, base, base_count);
+    for (size_t i = 0; i < n; ++i) {
+        if (!pending[i] || !without.ok)
+            continue;
+        base[base_count] = halo_scene_stage(scene, i);
+        link_shape with = probe_link(lib, base, base_count + 1);
+        is_halo[i] = with.ok && (with.outputs > without.outputs || with.samplers > without.samplers ||
+                                 with.passes > without.passes);
+    }
+    for (size_t i = 0; i < n; ++i)
+        found += is_halo[i] != 0;
+    free(base);
+    free(pending);
+    return found;
+}
+
+/* ---- Volume --------------------------------------------------------------------------- */
+
+/* Whether the scene text sets render.window (a file volume then uses it as it is). */
+static int scene_sets_window(const char *scene_path, const char *scene_text)
+{
+    json_error_t error;
+    json_t *root = scene_path ? json_load_file(scene_path, 0, &error) : json_loads(scene_text, 0, &error);
+    json_t *render = root ? json_object_get(root, "render") : NULL;
+    int has = render && json_object_get(render, "window") != NULL;
+    json_decref(root);
+    return has;
+}
+
+/* Loads the volume (a file, or the built-in one), windows it to [0,1] and resamples
+ * it into a cube. Returns an exit status; *volume_out is the cube. */
+static int prepare_volume(const options *o, const halo_render_settings *settings, int scene_window,
+                          float **volume_out, int *size_out)
+{
+    *volume_out = NULL;
+    if (!o->volume_path) {
+        float *v = halo_volume_create(o->volume_size);
+        if (!v) {
+            fprintf(stderr, "halo-render: error: out of memory for the built-in volume\n");
+            return 2;
+        }
+        /* The built-in volume's values are in [0,1]: window only when asked to. */
+        double lo = o->have_window ? o->window[0] : settings->window[0];
+        double hi = o->have_window ? o->window[1] : settings->window[1];
+        if (lo != 0.0 || hi != 1.0) {
+            size_t n = (size_t)o->volume_size * (size_t)o->volume_size * (size_t)o->volume_size;
+            for (size_t i = 0; i < n; ++i) {
+                double x = (v[i] - lo) / (hi - lo);
+                v[i] = (float)(x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x);
+            }
+        }
+        *volume_out = v;
+        *size_out = o->volume_size;
+        return 0;
+    }
+
+    halo_volume_file file;
+    char err[512];
+    progress step;
+    progress_begin(&step, o->quiet, "reading the volume");
+    halo_volume_status status = o->raw ? halo_volume_read_raw(o->volume_path, &o->raw_desc, &file, err, sizeof err)
+                                       : halo_volume_read_nifti(o->volume_path, &file, err, sizeof err);
+    progress_end(&step, o->quiet, "read the volume");
+    if (status != HALO_VOLUME_OK) {
+        fprintf(stderr, "halo-render: error: %s\n", err);
+        return (int)status;
+    }
+    if (file.nonfinite)
+        fprintf(stderr, "halo-render: warning: %s: %zu voxel%s NaN or infinite: rendered as the smallest finite value\n",
+                o->volume_path, file.nonfinite, file.nonfinite == 1 ? " is" : "s are");
+    if (file.discarded_volumes)
+        fprintf(stderr, "halo-render: warning: %s: 4-D file: rendering its first volume, %d more ignored\n",
+                o->volume_path, file.discarded_volumes);
+    double window[2];
+    const char *window_from;
+    if (o->have_window) {
+        window[0] = o->window[0];
+        window[1] = o->window[1];
+        window_from = "--window";
+    } else if (scene_window) {
+        window[0] = settings->window[0];
+        window[1] = settings->window[1];
+        window_from = "the scene's render.window";
+    } else {
+        halo_volume_percentile_window(&file, WINDOW_LOW_PERCENT, WINDOW_HIGH_PERCENT, window);
+        window_from = "1st..99th percentile";
+    }
+    int size = o->have_volume_size ? o->volume_size : halo_volume_display_size(&file, HALO_VOLUME_MAX_SIZE);
+    if (!o->quiet)
+        fprintf(stderr, "halo-render: %s: %s; window %g:%g (%s); resampled to %d^3\n", o->volume_path,
+                file.description, window[0], window[1], window_from, size);
+    progress_begin(&step, o->quiet, "resampling the volume");
+    float *cube = halo_volume_to_display(&file, window, size);
+    progress_end(&step, o->quiet, "resampled the volume");
+    halo_volume_file_free(&file);
+    if (!cube) {
+        fprintf(stderr, "halo-render: error: %s: out of memory for a %d^3 volume\n", o->volume_path, size);
+        return 2;
+    }
+    *volume_out = cube;
+    *size_out = size;
+    return 0;
+}
+
+/* ---- Main ----------------------------------------------------------------------------- */
 
 /* Diagnostics decide the exit status: an input error is 1, I/O or memory 2. */
 static int failure_status(const halo_diagnostics *d)
@@ -185,6 +575,36 @@ static int failure_status(const halo_diagnostics *d)
         halo_diagnostics_has(d, HALO_MSG_OUT_OF_MEMORY))
         return 2;
     return 1;
+}
+
+/* The hosts behind one interface: the slab caster shares the slice host's object. */
+typedef struct render_host {
+    host_kind kind;
+    halo_raycast *raycast;
+    halo_slice *slice;
+} render_host;
+
+static int host_create(render_host *h, host_kind kind, const halo_host_desc *desc, halo_diagnostics *diag)
+{
+    h->kind = kind;
+    if (kind == HOST_RAYCAST)
+        h->raycast = halo_raycast_create(desc, diag);
+    else if (kind == HOST_SLAB)
+        h->slice = halo_slab_create(desc, diag);
+    else
+        h->slice = halo_slice_create(desc, diag);
+    return h->raycast || h->slice;
+}
+
+static void host_destroy(render_host *h)
+{
+    halo_raycast_destroy(h->raycast);
+    halo_slice_destroy(h->slice);
+}
+
+static const char *host_fragment(host_kind kind)
+{
+    return kind == HOST_RAYCAST ? "raycast.frag" : kind == HOST_SLAB ? "slab.frag" : "slice.frag";
 }
 
 int main(int argc, char **argv)
@@ -205,26 +625,79 @@ int main(int argc, char **argv)
     halo_program *program = NULL;
     halo_headless *context = NULL;
     halo_gl *runtime = NULL;
-    halo_raycast *raycast = NULL;
+    render_host host = {0};
     float *volume = NULL, *image = NULL;
-    char *host = NULL;
+    char *host_source = NULL;
+    int *is_halo = NULL;
+    const char *scene_text = NULL;
     status = 1;
 
     lib = halo_library_create(diag);
     if (!lib)
         goto done;
+    if (!o.scene_path) {
+        scene_text = embedded_scene(DEFAULT_SCENE);
+        if (!scene_text) {
+            fprintf(stderr, "halo-render: error: %s is not embedded\n", DEFAULT_SCENE);
+            status = 2;
+            goto done;
+        }
+    }
     scene = o.scene_path ? halo_scene_load(o.scene_path, lib, diag)
-                         : halo_scene_parse(default_scene, "(built-in scene)", lib, diag);
+                         : halo_scene_parse(scene_text, DEFAULT_SCENE " (built in)", lib, diag);
     if (!scene)
         goto done;
-    host = halo_host_load("raycast.frag", NULL, diag);
-    if (!host)
+
+    /* The halo stages decide the default host; --no-halos keeps that host. */
+    size_t stage_count = halo_scene_stage_count(scene);
+    is_halo = calloc(stage_count + 1, sizeof *is_halo);
+    if (!is_halo) {
+        status = 2;
         goto done;
-    program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
-                                          .host_file = "raycast.frag"},
+    }
+    size_t halo_stages = find_halo_stages(lib, scene, is_halo);
+    host_kind kind = o.host != HOST_AUTO ? o.host : halo_stages ? HOST_SLICE : HOST_RAYCAST;
+    if (o.no_halos) {
+        /* Collect the names first: disabling changes the scene's stage list. */
+        const char **names = calloc(stage_count + 1, sizeof *names);
+        size_t count = 0;
+        for (size_t i = 0; names && i < stage_count; ++i)
+            if (is_halo[i])
+                names[count++] = halo_scene_stage(scene, i);
+        char **copies = calloc(count + 1, sizeof *copies);
+        for (size_t i = 0; copies && i < count; ++i)
+            copies[i] = strdup(names[i]);
+        for (size_t i = 0; copies && i < count; ++i)
+            if (!copies[i] || halo_scene_enable(scene, copies[i], 0, diag) != HALO_OK)
+                status = 2;
+        for (size_t i = 0; copies && i < count; ++i)
+            free(copies[i]);
+        int failed = !names || !copies;
+        free(copies);
+        free(names);
+        if (failed || status == 2) {
+            status = 2;
+            goto done;
+        }
+        if (!halo_stages && !o.quiet)
+            fprintf(stderr, "halo-render: note: --no-halos: the scene has no halo stages\n");
+    }
+
+    host_source = halo_host_load(host_fragment(kind), NULL, diag);
+    if (!host_source)
+        goto done;
+    program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host_source,
+                                          .host_file = host_fragment(kind)},
                         diag);
     if (!program || halo_program_validate(program, diag) != HALO_OK)
         goto done;
+
+    const halo_render_settings *settings = halo_scene_render(scene);
+    int size = 0;
+    status = prepare_volume(&o, settings, scene_sets_window(o.scene_path, scene_text), &volume, &size);
+    if (status)
+        goto done;
+    status = 1;
 
     char err[512];
     context = halo_headless_create(o.width, o.height, err, sizeof err);
@@ -238,39 +711,49 @@ int main(int argc, char **argv)
         status = 2;
         goto done;
     }
-    const halo_glfuncs *gl = halo_gl_functions(runtime);
-    raycast = halo_raycast_create(&(halo_host_desc){.gl = gl, .runtime = runtime, .program = program,
-                                                   .width = o.width, .height = o.height},
-                                  diag);
-    if (!raycast)
+    const halo_host_desc desc = {.gl = halo_gl_functions(runtime), .runtime = runtime, .program = program,
+                                 .width = o.width, .height = o.height};
+    if (!host_create(&host, kind, &desc, diag))
         goto done;
-
-    const halo_render_settings *settings = halo_scene_render(scene);
-    volume = halo_volume_create(o.volume_size);
     image = malloc((size_t)o.width * (size_t)o.height * 4 * sizeof *image);
-    if (!volume || !image) {
-        fprintf(stderr, "halo-render: error: out of memory\n");
+    if (!image) {
+        fprintf(stderr, "halo-render: error: out of memory for a %dx%d image\n", o.width, o.height);
         status = 2;
         goto done;
     }
-    /* The intensity window maps the scene's value range to [0,1]. */
-    double lo = settings->window[0], hi = settings->window[1];
-    if (hi > lo && (lo != 0.0 || hi != 1.0)) {
-        size_t n = (size_t)o.volume_size * (size_t)o.volume_size * (size_t)o.volume_size;
-        for (size_t i = 0; i < n; ++i) {
-            double v = (volume[i] - lo) / (hi - lo);
-            volume[i] = (float)(v < 0.0 ? 0.0 : v > 1.0 ? 1.0 : v);
+    double azimuth = o.have_azimuth ? o.azimuth : settings->azimuth;
+    double elevation = o.have_elevation ? o.elevation : settings->elevation;
+    double zoom = o.have_zoom ? o.zoom : settings->zoom;
+    halo_status rendered;
+    char what[160];
+    snprintf(what, sizeof what, "rendering %dx%d with the %s host", o.width, o.height, host_names[kind]);
+    progress step;
+    if (host.raycast) {
+        if (halo_raycast_set_volume(host.raycast, volume, size, size, size, diag) != HALO_OK ||
+            halo_raycast_set_render(host.raycast, settings, diag) != HALO_OK) {
+            status = 2;
+            goto done;
         }
+        halo_raycast_set_camera(host.raycast, azimuth, elevation, zoom);
+        progress_begin(&step, o.quiet, what);
+        rendered = halo_raycast_render(host.raycast, image, diag);
+    } else {
+        if (halo_slice_set_volume(host.slice, volume, size, size, size, diag) != HALO_OK ||
+            halo_slice_set_render(host.slice, settings, diag) != HALO_OK) {
+            status = 2;
+            goto done;
+        }
+        halo_slice_set_camera(host.slice, azimuth, elevation, zoom);
+        progress_begin(&step, o.quiet, what);
+        rendered = halo_slice_render(host.slice, image, diag);
     }
-    if (halo_raycast_set_volume(raycast, volume, o.volume_size, o.volume_size, o.volume_size, diag) != HALO_OK ||
-        halo_raycast_set_render(raycast, settings, diag) != HALO_OK) {
-        status = 2;
-        goto done;
-    }
-    halo_raycast_set_camera(raycast, o.have_azimuth ? o.azimuth : settings->azimuth,
-                            o.have_elevation ? o.elevation : settings->elevation,
-                            o.have_zoom ? o.zoom : settings->zoom);
-    if (halo_raycast_render(raycast, image, diag) != HALO_OK) {
+    if (host.slice)
+        snprintf(what, sizeof what, "rendered %ld %s and %ld image passes", halo_slice_draws(host.slice),
+                 kind == HOST_SLAB ? "slabs" : "slices", halo_slice_pass_draws(host.slice));
+    else
+        snprintf(what, sizeof what, "rendered");
+    progress_end(&step, o.quiet || rendered != HALO_OK, what);
+    if (rendered != HALO_OK) {
         status = 2;
         goto done;
     }
@@ -280,8 +763,8 @@ int main(int argc, char **argv)
         goto done;
     }
     size_t stages = halo_program_stage_count(program);
-    printf("halo-render: wrote %s (%dx%d, %zu stage%s%s", o.output, o.width, o.height, stages,
-           stages == 1 ? "" : "s", stages ? ": " : "");
+    printf("halo-render: wrote %s (%dx%d, %s host, %zu stage%s%s", o.output, o.width, o.height, host_names[kind],
+           stages, stages == 1 ? "" : "s", stages ? ": " : "");
     for (size_t i = 0; i < stages; ++i)
         printf("%s%s", i ? ", " : "", halo_program_stage(program, i));
     printf(")\n");
@@ -295,13 +778,14 @@ done:
     } else if (status == 0 && halo_diagnostics_count(diag) > 0) {
         halo_diagnostics_print(diag, stderr); /* warnings */
     }
-    halo_raycast_destroy(raycast);
+    host_destroy(&host);
     halo_gl_destroy(runtime);
     halo_headless_destroy(context);
     halo_program_destroy(program);
     halo_scene_destroy(scene);
     halo_library_destroy(lib);
-    free(host);
+    free(host_source);
+    free(is_halo);
     free(volume);
     free(image);
     halo_diagnostics_destroy(diag);

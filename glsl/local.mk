@@ -9,7 +9,12 @@ HALO_MODULES = \
 	glsl/sample/sketch.glsl \
 	glsl/sample/tone_shading.glsl \
 	glsl/sample/distance_blend.glsl \
-	glsl/sample/distance_cue.glsl
+	glsl/sample/distance_cue.glsl \
+	glsl/lines/strip.glsl \
+	glsl/lines/halo.glsl \
+	glsl/halo/seed.glsl \
+	glsl/halo/generate.glsl \
+	glsl/halo/map.glsl
 
 EXTRA_DIST += $(HALO_MODULES)
 

@@ -205,6 +205,11 @@ static int resolve(const halo_library *lib, const halo_scene *scene, halo_shader
     }
     for (size_t i = 0; scene && i < scene->count; i++) {
         if (!scene->stages[i].enabled) continue;
+        /* One line scene serves both shaders of a line host: each takes its own hook. */
+        halo_hook hook = scene->stages[i].module->hook;
+        if ((hook == HALO_HOOK_LINE_VERTEX && kind == HALO_SHADER_FRAGMENT) ||
+            (hook == HALO_HOOK_LINE_FRAGMENT && kind == HALO_SHADER_VERTEX))
+            continue;
         nodes[n++] = (node){scene->stages[i].module, &scene->stages[i], (double)i, 0, 0};
     }
     /* Enable providers of what the stages need. */
@@ -853,7 +858,7 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     int es = p->target == HALO_TARGET_ES300;
     GEN(&e, "%s", halo_target_version_line(p->target));
     if (es) GEN(&e, "precision highp float;\nprecision highp int;\nprecision highp sampler2D;");
-    emit(&e, m->file, pd->line, m->lines[pd->line - 1], "// libhalo image pass '%s' of stage %s", pd->name, m->name);
+    emit(&e, m->file, pd->line, m->lines[pd->line - 1], "// stage %s (%s): image pass '%s'", m->name, m->file, pd->name);
     emit_channel_definitions(&e, p->channel_count);
     for (int k = 0; k < pd->input_count; k++) GEN(&e, "uniform highp sampler2D halo_input_%d;", k);
     GEN(&e, "uniform int halo_pass_index;\nuniform int halo_pass_count;");

@@ -15,6 +15,8 @@ libhalo_libhalo_core_la_SOURCES = \
 	libhalo/emu/gradient.c libhalo/emu/opacity_power.c libhalo/emu/boundary.c \
 	libhalo/emu/silhouette.c libhalo/emu/orientation_fade.c libhalo/emu/sketch.c \
 	libhalo/emu/tone_shading.c libhalo/emu/distance_blend.c libhalo/emu/distance_cue.c \
+	libhalo/emu/lines.c \
+	libhalo/emu/halo_seed.c libhalo/emu/halo_generate.c libhalo/emu/halo_map.c libhalo/emu/frame.c \
 	libhalo/gl/glfuncs.c libhalo/gl/runtime.c
 nodist_libhalo_libhalo_core_la_SOURCES = libhalo/embedded_modules.c
 libhalo_libhalo_core_la_CPPFLAGS = $(AM_CPPFLAGS) -DHALO_BUILDING $(JANSSON_CFLAGS) $(GLSLANG_CFLAGS)

@@ -195,11 +195,12 @@ halo_status halo_validate_shader(const char *source, const char *file, halo_shad
 
 static const char check_host_source[] =
     "#pragma halo declarations\n"
-    "out vec4 fragment_color;\n"
+    "layout(location = 0) out vec4 fragment_color;\n"
     "void main() {\n"
     "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1, 0.2, 0.3), vec3(0.0, 0.0, 1.0), 0.5,\n"
     "                                     gl_FragCoord.xy, vec3(0.8), 0.5);\n"
     "    halo_apply(s);\n"
+    "    halo_finish();\n"
     "    fragment_color = vec4(s.color, s.opacity);\n"
     "}\n";
 

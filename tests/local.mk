@@ -118,3 +118,24 @@ nodist_EXTRA_tests_fuzz_fuzz_host_SOURCES = build-aux/force-cxx-link.cc
 tests_fuzz_fuzz_host_LDADD = $(HALO_TEST_CORE_LIBS)
 TESTS += tests/fuzz/replay.sh
 EXTRA_DIST += tests/fuzz/replay.sh tests/fuzz/run-libfuzzer.sh tests/fuzz/corpus
+
+# ---- Lines (Everts et al. 2009): halo-lines renders, conformance rows, bad polylines ----
+HALO_LINES_TESTS = \
+	tests/lines/depth_gap.sh \
+	tests/lines/conform.sh \
+	tests/lines/render.sh \
+	tests/lines/bad_polyline.sh
+TESTS += $(HALO_LINES_TESTS)
+EXTRA_DIST += $(HALO_LINES_TESTS) tests/lines/common.sh
+
+# ---- halo-render: every example scene, --no-halos, volume files (NIfTI, raw), the MRI
+# head of mricron-data (skipped without it), bad volumes and options ----
+HALO_RENDER_TESTS = \
+	tests/render/scenes.sh \
+	tests/render/no_halos.sh \
+	tests/render/volumes.sh \
+	tests/render/bad_volumes.sh \
+	tests/render/mri.sh
+TESTS += $(HALO_RENDER_TESTS)
+EXTRA_DIST += $(HALO_RENDER_TESTS) tests/render/common.sh \
+	tests/data/volumes/sphere.nii tests/data/volumes/sphere.nii.gz

@@ -4,9 +4,12 @@
  * emulation of the ray caster. Tolerances and their reasons: the table below and
  * docs/accuracy.md. */
 #include "conform.h"
+#include "conform_lines.h"
+#include "conform_slice.h"
 
 #include "halo.h"
 #include "diag.h"
+#include "internal.h"
 #include "gl/glfuncs.h"
 #include "gl/headless.h"
 #include "hosts/raycast.h"
@@ -792,6 +795,597 @@ done:
     halo_scene_destroy(scene);
 }
 
+/* ---- Volumetric halos: stages with images, outputs and host uniforms; image passes --------
+ *
+ * These rows run through the GL runtime's frame (halo_gl_frame_*: images, attached outputs,
+ * bound samplers, the pass schedule) and compare with the emulation's frame
+ * (halo_emu_frame_*). The probe host is drawn by conform itself (it needs the output
+ * attachments and the image samplers, which halo_probe does not set up). */
+
+/* The image-plane axes the frame rows use (oblique, so that both matter), as floats. */
+static void host_axes(double right[3], double up[3])
+{
+    const double a = 0.3, b = 0.4;
+    double r[3] = {cos(a), sin(a), 0.0}, u[3] = {-sin(a) * cos(b), cos(a) * cos(b), sin(b)};
+    for (int k = 0; k < 3; ++k)
+        right[k] = (float)r[k], up[k] = (float)u[k];
+}
+
+typedef struct frame_probe {
+    const halo_glfuncs *f;
+    GLuint program, framebuffer, color, inputs[4], vertex_array;
+    int size;
+    float *staging;
+} frame_probe;
+
+static void frame_probe_release(frame_probe *fp)
+{
+    const halo_glfuncs *f = fp->f;
+    if (f) {
+        if (fp->framebuffer)
+            f->DeleteFramebuffers(1, &fp->framebuffer);
+        if (fp->color)
+            f->DeleteTextures(1, &fp->color);
+        if (fp->inputs[0])
+            f->DeleteTextures(4, fp->inputs);
+        if (fp->vertex_array)
+            f->DeleteVertexArrays(1, &fp->vertex_array);
+        if (fp->program)
+            f->DeleteProgram(fp->program);
+    }
+    free(fp->staging);
+    memset(fp, 0, sizeof *fp);
+}
+
+static int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp)
+{
+    memset(fp, 0, sizeof *fp);
+    const halo_glfuncs *f = c->gl;
+    fp->f = f;
+    fp->size = c->size;
+    const char *vertex = halo_host_embedded("raycast.vert");
+    fp->program = vertex ? halo_gl_program_build(c->runtime, p, vertex, "raycast.vert", c->diag) : 0;
+    fp->staging = malloc((size_t)c->size * (size_t)c->size * 4 * sizeof *fp->staging);
+    if (!fp->program || !fp->staging)
+        return 0;
+    f->GenVertexArrays(1, &fp->vertex_array);
+    f->GenTextures(4, fp->inputs);
+    f->GenTextures(1, &fp->color);
+    for (int i = 0; i < 5; ++i) {
+        f->BindTexture(GL_TEXTURE_2D, i < 4 ? fp->inputs[i] : fp->color);
+        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, c->size, c->size, 0, GL_RGBA, GL_FLOAT, NULL);
+    }
+    f->BindTexture(GL_TEXTURE_2D, 0);
+    f->GenFramebuffers(1, &fp->framebuffer);
+    f->BindFramebuffer(GL_FRAMEBUFFER, fp->framebuffer);
+    f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, fp->color, 0);
+    GLenum status = f->CheckFramebufferStatus(GL_FRAMEBUFFER);
+    f->BindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        halo_diag_error(c->diag, GL_LINK, "", 0, 0, "frame probe: incomplete framebuffer (0x%x)", status);
+        return 0;
+    }
+    return 1;
+}
+
+/* Draws probe.frag once over samples (one per pixel) with the frame's outputs attached and
+ * images bound; reads colour and opacity back into rgba (may be NULL). */
+static halo_status frame_probe_draw(conform *c, frame_probe *fp, const halo_program *p, halo_gl_frame *frame,
+                                    const halo_emu_sample *samples, float *rgba)
+{
+    const halo_glfuncs *f = fp->f;
+    size_t n = (size_t)fp->size * (size_t)fp->size;
+    static const char *const names[4] = {"position_value", "gradient_depth", "view_texture", "color_opacity"};
+    for (int t = 0; t < 4; ++t) {
+        for (size_t i = 0; i < n; ++i) {
+            const halo_emu_sample *s = &samples[i];
+            float *d = &fp->staging[i * 4];
+            const double *v = t == 0 ? s->position : t == 1 ? s->gradient : t == 2 ? s->view : s->color;
+            double w = t == 0 ? s->value : t == 1 ? s->depth : t == 2 ? 0.0 : s->opacity;
+            d[0] = (float)v[0], d[1] = (float)v[1], d[2] = (float)v[2], d[3] = (float)w;
+        }
+        f->BindTexture(GL_TEXTURE_2D, fp->inputs[t]);
+        f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        f->TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, fp->size, fp->size, GL_RGBA, GL_FLOAT, fp->staging);
+    }
+    f->BindTexture(GL_TEXTURE_2D, 0);
+    f->Disable(GL_BLEND);
+    f->Disable(GL_DEPTH_TEST);
+    f->Disable(GL_SCISSOR_TEST);
+    f->BindFramebuffer(GL_FRAMEBUFFER, fp->framebuffer);
+    halo_gl_frame_attach(frame, fp->framebuffer);
+    f->Viewport(0, 0, fp->size, fp->size);
+    f->UseProgram(fp->program);
+    halo_gl_program_upload(c->runtime, p, fp->program);
+    for (int t = 0; t < 4; ++t) {
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)t);
+        f->BindTexture(GL_TEXTURE_2D, fp->inputs[t]);
+        f->Uniform1i(f->GetUniformLocation(fp->program, names[t]), t);
+    }
+    f->ActiveTexture(GL_TEXTURE0);
+    halo_gl_frame_bind(frame, fp->program, 4);
+    double right[3], up[3];
+    host_axes(right, up);
+    float fr[3] = {(float)right[0], (float)right[1], (float)right[2]}, fu[3] = {(float)up[0], (float)up[1], (float)up[2]};
+    for (size_t i = 0; i < halo_program_host_uniform_count(p); ++i) {
+        const char *name = halo_program_host_uniform(p, i)->name;
+        if (strstr(name, "screen_right"))
+            halo_gl_set_host_uniform(c->runtime, fp->program, name, fr, 3);
+        else if (strstr(name, "screen_up"))
+            halo_gl_set_host_uniform(c->runtime, fp->program, name, fu, 3);
+    }
+    f->BindVertexArray(fp->vertex_array);
+    f->DrawArrays(GL_TRIANGLES, 0, 3);
+    f->BindVertexArray(0);
+    if (rgba) {
+        f->ReadBuffer(GL_COLOR_ATTACHMENT0);
+        f->PixelStorei(GL_PACK_ALIGNMENT, 4);
+        f->ReadPixels(0, 0, fp->size, fp->size, GL_RGBA, GL_FLOAT, rgba);
+    }
+    for (int t = 3; t >= 0; --t) {
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)t);
+        f->BindTexture(GL_TEXTURE_2D, 0);
+    }
+    f->UseProgram(0);
+    f->Disable(GL_BLEND);
+    f->BindFramebuffer(GL_FRAMEBUFFER, 0);
+    GLenum error = f->GetError();
+    if (error != GL_NO_ERROR) {
+        halo_diag_error(c->diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x while drawing the frame probe", error);
+        return HALO_ERROR_IO;
+    }
+    return HALO_OK;
+}
+
+static void emu_set_axes(halo_emu_frame *ef)
+{
+    double right[3], up[3];
+    host_axes(right, up);
+    halo_emu_frame_set_host_uniform(ef, "screen_right", right, 3);
+    halo_emu_frame_set_host_uniform(ef, "screen_up", up, 3);
+}
+
+/* One sample through the emulated frame: colour, opacity and the seed (8 values). Does
+ * not fold into the frame's images (finish is separate). */
+static int emulate_frame_sample(const halo_program *p, halo_emu_frame *ef, halo_emu_sample *s, double out[8])
+{
+    memset(s->output_accum, 0, sizeof s->output_accum);
+    if (halo_emu_apply_frame(p, ef, s, NULL) != HALO_OK)
+        return 0;
+    out[0] = s->color[0], out[1] = s->color[1], out[2] = s->color[2], out[3] = s->opacity;
+    for (int k = 0; k < 4; ++k)
+        out[4 + k] = s->output_accum[k];
+    return 1;
+}
+
+/* Scenes of the frame rows of the volumetric-halo stages. */
+typedef struct frame_variant {
+    const char *suffix;
+    const char *scene; /* JSON; NULL = the module's defaults */
+    int live;
+} frame_variant;
+
+static const frame_variant seed_variants[] = {
+    {"", NULL, 0},
+    {"@halos2",
+     "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": [32, 4], \"beta\": [0.125, 1],"
+     " \"gradient_scale\": [2, 5], \"value_0\": [[0.2, 0], [0.5, 1], [0.8, 0]], \"value_1\": [[0, 1], [1, 0.2]],"
+     " \"direction_center\": [0, 90], \"direction_width\": [360, 120], \"direction_softness\": [30, 0],"
+     " \"focus\": [[0.5, 0.5, 0.5], [0.3, 0.6, 0.5]], \"focus_radius\": [10, 0.3],"
+     " \"focus_transition\": [0, 0.2]}}]}",
+     0},
+    {"@halos4",
+     "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": [1, 2, 8, 32], \"beta\": [0, 0.5, 2, 0.125],"
+     " \"direction_center\": [-135, 180, 45, 0], \"direction_width\": [180, 90, 0, 359],"
+     " \"direction_softness\": [30, 180, 10, 0], \"focus_radius\": [0.4, 0, 10, 0.5],"
+     " \"focus_transition\": [0, 0.5, 0, 10], \"value_2\": [[0.5, 0.3]], \"value_3\": [[0.1, 0], [0.1, 1]]}}]}",
+     0},
+    {"@live", NULL, 1},
+};
+
+static const frame_variant map_variants[] = {
+    {"",
+     "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": 1, \"gradient_scale\": 20}},"
+     " {\"halo_generate\": {\"delta\": 0.9}}, {\"halo_map\": {\"color_near\": [[1, 0.5, 0]],"
+     " \"color_far\": [[0, 0, 1]], \"full_at\": 0.5, \"profile_exponent\": 2, \"opacity\": 0.8}}]}",
+     0},
+    {"@halos2",
+     "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": [1, 2], \"gradient_scale\": [20, 10]}},"
+     " {\"halo_generate\": {\"delta\": [0.9, 0.7]}}, {\"halo_map\": {\"mode\": [0, 1],"
+     " \"color_near\": [[1, 0.5, 0], [0, 0, 0]], \"color_far\": [[0, 0, 1], [0.2, 0.2, 0.2]],"
+     " \"full_at\": [0.5, 0.01], \"profile_exponent\": [2, 0], \"opacity\": [0.8, 1]}}]}",
+     0},
+    {"@halos4",
+     "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": 1, \"gradient_scale\": [20, 10, 5, 50]}},"
+     " {\"halo_generate\": {\"delta\": [0.9, 0.7, 0.5, 1], \"passes\": 3}}, {\"halo_map\": {\"mode\": [1, 0, 0.5, 0.2],"
+     " \"color_near\": [[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]], \"color_far\": [[0, 0, 0]],"
+     " \"full_at\": [1, 0.2, 0.05, 0.5], \"profile_exponent\": [1, 64, 0.5, 3], \"opacity\": [1, 0.5, 0.25, 0.9]}}]}",
+     0},
+    {"@live", NULL, 1},
+};
+
+#define SEED_TOLERANCE_ABS 1e-5
+#define SEED_TOLERANCE_REL 1e-5
+#define MAP_TOLERANCE_ABS 2e-6
+#define MAP_TOLERANCE_REL 4e-6
+
+/* halo_seed and halo_map, and any stage with outputs, images or host uniforms: the probe
+ * is drawn through a frame. halo_map's program also holds halo_seed and halo_generate: the
+ * first draw seeds, the GPU generates, the GPU's field and occlusion images are copied
+ * into the emulated frame, and the second draw is compared (so that this row measures
+ * halo_map alone; the pass rows measure the images). halo_seed's rows also compare the
+ * seed image (max over the one fragment of each pixel). */
+static void run_frame_stage_row(conform *c, const halo_module *m, const frame_variant *v, const char *probe_source)
+{
+    const char *stage = halo_module_name(m);
+    char row[128];
+    snprintf(row, sizeof row, "%s%s", stage, v->suffix);
+    if (!row_selected(c, row, stage))
+        return;
+    int is_map = m->image_count > 0;
+    double tol_abs = is_map ? MAP_TOLERANCE_ABS : SEED_TOLERANCE_ABS;
+    double tol_rel = is_map ? MAP_TOLERANCE_REL : SEED_TOLERANCE_REL;
+    char tolerance_text[32];
+    snprintf(tolerance_text, sizeof tolerance_text, "%.0e+%.0er+cond", tol_abs, tol_rel);
+    halo_scene *scene = NULL;
+    halo_program *program = NULL;
+    halo_gl_frame *gframe = NULL;
+    halo_emu_frame *eframe = NULL;
+    frame_probe fp = {0};
+    halo_emu_sample *samples = NULL;
+    float *gpu = NULL, *gpu_seed = NULL, *image = NULL;
+    size_t count = (size_t)c->size * (size_t)c->size;
+    if (v->scene)
+        scene = halo_scene_parse(v->scene, "(conformance frame scene)", c->lib, c->diag);
+    else if ((scene = halo_scene_create(c->lib)) && halo_scene_enable(scene, stage, 1, c->diag) != HALO_OK)
+        goto error;
+    if (!scene)
+        goto error;
+    program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = probe_source,
+                                          .host_file = "probe.frag", .all_live = v->live},
+                        c->diag);
+    if (!program)
+        goto error;
+    if (v->live)
+        set_live_arrays(program, m, c->diag);
+    if (halo_diagnostics_errors(c->diag) > 0)
+        goto error;
+    int channels = halo_program_channel_count(program);
+    samples = malloc(count * sizeof *samples);
+    gpu = malloc(count * 4 * sizeof *gpu);
+    gpu_seed = malloc(count * 4 * sizeof *gpu_seed);
+    image = malloc(count * 4 * sizeof *image);
+    if (!samples || !gpu || !gpu_seed || !image) {
+        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        goto error;
+    }
+    fill_samples(samples, c->size, c->size);
+    gframe = halo_gl_frame_create(c->runtime, program, c->size, c->size, c->diag);
+    eframe = halo_emu_frame_create(program, c->size, c->size, c->diag);
+    if (!gframe || !eframe || !frame_probe_init(c, program, &fp))
+        goto error;
+    emu_set_axes(eframe);
+    halo_gl_frame_begin(gframe);
+    halo_emu_frame_begin(eframe);
+    if (frame_probe_draw(c, &fp, program, gframe, samples, gpu) != HALO_OK)
+        goto error;
+    if (is_map) {
+        /* generate on the GPU; the emulation continues from the GPU's images */
+        halo_gl_frame_generate(gframe);
+        for (size_t i = 0; i < halo_program_image_count(program); ++i) {
+            const char *name = halo_program_image(program, i)->name;
+            if (halo_gl_frame_read(gframe, name, image) != HALO_OK)
+                goto error;
+            double *e = halo_emu_frame_image(eframe, name);
+            for (size_t k = 0; k < count * (size_t)channels; ++k)
+                e[k] = image[k];
+        }
+        if (frame_probe_draw(c, &fp, program, gframe, samples, gpu) != HALO_OK)
+            goto error;
+    } else if (halo_gl_frame_read(gframe, "seed", gpu_seed) != HALO_OK) {
+        goto error;
+    }
+    row_stats stats = {0};
+    size_t worst_over = SIZE_MAX;
+    int values = is_map ? 4 : 4 + channels;
+    for (size_t i = 0; i < count; ++i) {
+        halo_emu_sample s = samples[i];
+        double emu[8], condition[8] = {0};
+        if (!emulate_frame_sample(program, eframe, &s, emu)) {
+            halo_diag_error(c->diag, EMU_MISSING, "", 0, 0, "a stage of row %s has no emulation", row);
+            goto error;
+        }
+        for (int field = 0; field < 6; ++field)
+            for (int sign = -1; sign <= 1; sign += 2) {
+                halo_emu_sample moved = samples[i];
+                double factor = 1.0 + sign * INPUT_PERTURBATION, out[8];
+                switch (field) {
+                case 0: for (int k = 0; k < 3; ++k) moved.view[k] *= factor; break;
+                case 1: for (int k = 0; k < 3; ++k) moved.gradient[k] *= factor; break;
+                case 2: moved.value *= factor; break;
+                case 3: for (int k = 0; k < 3; ++k) moved.position[k] *= factor; break;
+                case 4: for (int k = 0; k < 3; ++k) moved.color[k] = fmin(1.0, moved.color[k] * factor); break;
+                default: moved.opacity = fmin(1.0, moved.opacity * factor); break;
+                }
+                if (emulate_frame_sample(program, eframe, &moved, out))
+                    for (int k = 0; k < 8; ++k)
+                        condition[k] = fmax(condition[k], fabs(out[k] - emu[k]));
+            }
+        int over = 0, nonfinite = 0;
+        for (int k = 0; k < values; ++k) {
+            double g = k < 4 ? gpu[i * 4 + (size_t)k] : gpu_seed[i * (size_t)channels + (size_t)(k - 4)];
+            if (!isfinite(g) || !isfinite(emu[k])) {
+                nonfinite = 1;
+                continue;
+            }
+            double error = fabs(g - emu[k]), allowed = tol_abs + tol_rel * fabs(emu[k]) + condition[k];
+            stats.sum_squares += error * error;
+            stats.values++;
+            if (error > stats.max_abs)
+                stats.max_abs = error, stats.worst = i;
+            if (error > allowed)
+                over = 1, worst_over = i;
+        }
+        stats.over += (size_t)over;
+        stats.nonfinite += (size_t)nonfinite;
+    }
+    int pass = stats.over == 0 && stats.nonfinite == 0;
+    print_row(c, row, &stats, tolerance_text, pass);
+    if (c->verbose || !pass) {
+        size_t shown = worst_over != SIZE_MAX ? worst_over : stats.worst;
+        halo_emu_sample s = samples[shown];
+        double emu[8];
+        emulate_frame_sample(program, eframe, &s, emu);
+        print_sample(worst_over != SIZE_MAX ? "over tolerance" : "largest error", &samples[shown], &gpu[shown * 4],
+                     emu);
+        if (!is_map)
+            fprintf(stderr, "    seed gpu (%.9g %.9g %.9g %.9g) emulation (%.9g %.9g %.9g %.9g)\n",
+                    gpu_seed[shown * (size_t)channels], channels > 1 ? gpu_seed[shown * (size_t)channels + 1] : 0.0,
+                    channels > 2 ? gpu_seed[shown * (size_t)channels + 2] : 0.0,
+                    channels > 3 ? gpu_seed[shown * (size_t)channels + 3] : 0.0, emu[4], emu[5], emu[6], emu[7]);
+    }
+    goto done;
+error:
+    print_error_row(c, row);
+done:
+    halo_diagnostics_clear(c->diag);
+    frame_probe_release(&fp);
+    halo_gl_frame_destroy(gframe);
+    halo_emu_frame_destroy(eframe);
+    free(samples);
+    free(gpu);
+    free(gpu_seed);
+    free(image);
+    halo_program_destroy(program);
+    halo_scene_destroy(scene);
+}
+
+/* ---- Pass rows: halo_generate's passes on chosen seed images ---- */
+
+/* A sample stage that writes its colour and opacity as the seeds: the pass rows draw any
+ * seed image through the host and the frame's seed output. */
+static const char conform_seed_module[] =
+    "#pragma halo module conform_seed\n"
+    "#pragma halo summary \"conformance: seeds = (r, g, b, opacity) of the sample\"\n"
+    "#pragma halo hook sample\n"
+    "#pragma halo provides seed channels\n"
+    "#pragma halo output seed max\n"
+    "void apply(inout halo_sample s) { s.seed = halo_channels_from(vec4(s.color, s.opacity)); }\n";
+
+enum { SEED_EMPTY, SEED_FULL, SEED_PIXEL, SEED_BORDER, SEED_DISCS, SEED_NOISE, SEED_CASES };
+static const char *const seed_case_names[SEED_CASES] = {"empty", "full", "single pixel", "border", "discs", "noise"};
+
+/* Seed image case `which` for one channel, as floats (what the GPU's seed image holds). */
+static double seed_case(int which, int x, int y, int size)
+{
+    int c0 = size / 2;
+    switch (which) {
+    case SEED_EMPTY: return 0.0;
+    case SEED_FULL: return 1.0;
+    case SEED_PIXEL: return x == c0 && y == c0 ? 1.0 : 0.0;
+    case SEED_BORDER: {
+        int last = size - 1;
+        if ((x == 0 || x == last) && (y == 0 || y == last)) return 1.0;
+        if (x == 0 && y % 3 == 0) return 1.0;
+        if (x == last && y % 4 == 1) return 0.75;
+        if (y == 0 && x % 5 == 2) return 1.0;
+        if (y == last && x % 2 == 0) return 0.5;
+        return 0.0;
+    }
+    case SEED_DISCS: {
+        static const double discs[][4] = {{0.25, 0.3, 1, 0.7}, {0.6, 0.35, 3, 1.0}, {0.35, 0.7, 6, 0.35}, {0.8, 0.8, 2, 1.0}};
+        for (size_t d = 0; d < sizeof discs / sizeof discs[0]; ++d) {
+            double dx = x - discs[d][0] * size, dy = y - discs[d][1] * size;
+            if (dx * dx + dy * dy <= discs[d][2] * discs[d][2]) return discs[d][3];
+        }
+        return 0.0;
+    }
+    default: {
+        uint64_t z = (uint64_t)(y * size + x) * 0x9e3779b97f4a7c15ull + 0x1234567ull;
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        z ^= z >> 31;
+        double u = (double)(z >> 11) / 9007199254740992.0;
+        return u < 0.3 ? 0.0 : (float)u;
+    }
+    }
+}
+
+typedef struct pass_row {
+    const char *name;
+    const char *generate;   /* halo_generate's parameters (JSON object) */
+    const char *compare[3]; /* images compared after the generation(s) */
+    int generations;        /* 2: a second generation on the next case, in the same frame */
+    double tolerance;
+    const char *reason;
+} pass_row;
+
+static const pass_row pass_rows[] = {
+    {"pass:median", "{\"median\": true, \"passes\": 1}", {"initial"}, 1, 3e-7,
+     "the median selects an input value (exact); the gradient after it: one sqrt of a sum of squares, ~1 ulp"},
+    {"pass:gradient", "{\"passes\": 1}", {"initial"}, 1, 3e-7,
+     "differences of exact seeds, sqrt of a sum of two squares: ~1 ulp of a value <= 1"},
+    {"pass:spread@N1", "{\"passes\": 1}", {"field"}, 1, 2e-6,
+     "float32 sums of 9 taps and a mix per pass (~1e-7 each), gain <= 1 from pass to pass"},
+    {"pass:spread@N2", "{\"passes\": 2}", {"field"}, 1, 2e-6, "as N1, over 2 passes"},
+    {"pass:spread@N3", "{\"passes\": 3}", {"field"}, 1, 2e-6, "as N1, over 3 passes"},
+    {"pass:spread@N4", "{\"passes\": 4}", {"field"}, 1, 2e-6, "as N1, over 4 passes"},
+    {"pass:spread@delta0", "{\"passes\": 4, \"delta\": 0}", {"field"}, 1, 3e-7, "delta 0: H_N = H_0 exactly"},
+    {"pass:spread@delta1", "{\"passes\": 4, \"delta\": 1}", {"field"}, 1, 2e-6, "as N4"},
+    {"pass:occlude", "{\"passes\": 4}", {"occlusion", "field"}, 2, 2e-6,
+     "max of two fields (exact) over 2 generations in one frame: the spreading's error"},
+    {"pass:halos2", "{\"passes\": 4, \"delta\": [0.7, 0.95]}", {"initial", "field", "occlusion"}, 1, 2e-6,
+     "two halos (vec2 images): as N4 per channel"},
+    {"pass:halos4", "{\"passes\": 3, \"delta\": [0, 0.5, 0.8, 1], \"median\": true}", {"initial", "field", "occlusion"},
+     2, 2e-6, "four halos (vec4 images), median on: as N4 per channel"},
+};
+
+static void run_pass_row(conform *c, halo_library *lib, const pass_row *r, const char *probe_source)
+{
+    if (!row_selected(c, r->name, NULL))
+        return;
+    char json[512], tolerance_text[32];
+    snprintf(json, sizeof json, "{\"halo_scene\": 1, \"stages\": [\"conform_seed\", {\"halo_generate\": %s}]}",
+             r->generate);
+    snprintf(tolerance_text, sizeof tolerance_text, "%.0e", r->tolerance);
+    halo_scene *scene = halo_scene_parse(json, "(conformance pass scene)", lib, c->diag);
+    halo_program *program = NULL;
+    halo_gl_frame *gframe = NULL;
+    halo_emu_frame *eframe = NULL;
+    frame_probe fp = {0};
+    size_t count = (size_t)c->size * (size_t)c->size;
+    halo_emu_sample *samples = calloc(count, sizeof *samples);
+    float *image = malloc(count * 4 * sizeof *image);
+    if (!scene || !samples || !image)
+        goto error;
+    program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = probe_source,
+                                          .host_file = "probe.frag"},
+                        c->diag);
+    if (!program || halo_diagnostics_errors(c->diag) > 0)
+        goto error;
+    int channels = halo_program_channel_count(program);
+    gframe = halo_gl_frame_create(c->runtime, program, c->size, c->size, c->diag);
+    eframe = halo_emu_frame_create(program, c->size, c->size, c->diag);
+    if (!gframe || !eframe || !frame_probe_init(c, program, &fp))
+        goto error;
+    row_stats stats = {0};
+    int worst_case = -1;
+    for (int which = 0; which < SEED_CASES; ++which) {
+        halo_gl_frame_begin(gframe);
+        halo_emu_frame_begin(eframe);
+        for (int g = 0; g < r->generations; ++g) {
+            int base = (which + g) % SEED_CASES;
+            double *seed = halo_emu_frame_image(eframe, "seed");
+            for (int y = 0; y < c->size; ++y)
+                for (int x = 0; x < c->size; ++x) {
+                    size_t i = (size_t)y * (size_t)c->size + (size_t)x;
+                    halo_emu_sample *s = &samples[i];
+                    memset(s, 0, sizeof *s);
+                    double v[4] = {0, 0, 0, 0};
+                    for (int h = 0; h < channels; ++h)
+                        v[h] = seed_case((base + h) % SEED_CASES, x, y, c->size);
+                    s->color[0] = v[0], s->color[1] = v[1], s->color[2] = v[2], s->opacity = v[3];
+                    s->view[2] = 1.0;
+                    for (int h = 0; h < channels; ++h)
+                        seed[i * (size_t)channels + (size_t)h] = v[h];
+                }
+            if (frame_probe_draw(c, &fp, program, gframe, samples, NULL) != HALO_OK)
+                goto error;
+            halo_gl_frame_generate(gframe);
+            if (halo_emu_frame_generate(eframe, c->diag) != HALO_OK)
+                goto error;
+        }
+        for (int k = 0; k < 3 && r->compare[k]; ++k) {
+            if (halo_gl_frame_read(gframe, r->compare[k], image) != HALO_OK)
+                goto error;
+            const double *e = halo_emu_frame_image(eframe, r->compare[k]);
+            for (size_t i = 0; i < count; ++i) {
+                int over = 0, nonfinite = 0;
+                for (int h = 0; h < channels; ++h) {
+                    double gv = image[i * (size_t)channels + (size_t)h], ev = e[i * (size_t)channels + (size_t)h];
+                    if (!isfinite(gv)) {
+                        nonfinite = 1;
+                        continue;
+                    }
+                    double error = fabs(gv - ev);
+                    stats.sum_squares += error * error;
+                    stats.values++;
+                    if (error > stats.max_abs)
+                        stats.max_abs = error, stats.worst = i, worst_case = which;
+                    if (error > r->tolerance)
+                        over = 1;
+                }
+                stats.over += (size_t)over;
+                stats.nonfinite += (size_t)nonfinite;
+            }
+        }
+    }
+    int pass = stats.over == 0 && stats.nonfinite == 0;
+    print_row(c, r->name, &stats, tolerance_text, pass);
+    if ((c->verbose || !pass) && worst_case >= 0)
+        fprintf(stderr, "  largest error at pixel (%zu, %zu) of seed case '%s'; tolerance: %s\n",
+                stats.worst % (size_t)c->size, stats.worst / (size_t)c->size, seed_case_names[worst_case], r->reason);
+    goto done;
+error:
+    print_error_row(c, r->name);
+done:
+    halo_diagnostics_clear(c->diag);
+    frame_probe_release(&fp);
+    halo_gl_frame_destroy(gframe);
+    halo_emu_frame_destroy(eframe);
+    free(samples);
+    free(image);
+    halo_program_destroy(program);
+    halo_scene_destroy(scene);
+}
+
+static void run_pass_rows(conform *c, const char *probe_source)
+{
+    int any = 0;
+    for (size_t i = 0; i < sizeof pass_rows / sizeof pass_rows[0]; ++i)
+        any |= row_selected(c, pass_rows[i].name, NULL);
+    if (!any)
+        return;
+    /* The test module lives in a library of its own, so that it gets no stage row. */
+    halo_library *lib = halo_library_create(c->diag);
+    if (!lib || halo_library_add_source(lib, "(conformance seed module)", conform_seed_module, c->diag) != HALO_OK) {
+        print_error_row(c, "pass:*");
+        halo_library_destroy(lib);
+        return;
+    }
+    for (size_t i = 0; i < sizeof pass_rows / sizeof pass_rows[0]; ++i)
+        run_pass_row(c, lib, &pass_rows[i], probe_source);
+    halo_library_destroy(lib);
+}
+
+/* ---- Figure 3 (validate/figure3.c) ---- */
+
+int halo_figure3_run(const halo_library *lib, FILE *out, double ratios[4], halo_diagnostics *diag);
+
+static void run_figure3_row(conform *c)
+{
+    if (!row_selected(c, "figure3", NULL))
+        return;
+    double ratios[4];
+    if (halo_figure3_run(c->lib, stdout, ratios, c->diag) != 0) {
+        print_error_row(c, "figure3");
+        return;
+    }
+    /* The paper's claim: spreading the gradient keeps small features' halos (ratio near 1)
+     * where a low-pass of the seeds loses them (ratio << 1). */
+    double spread_gradient = fabs(log(fmax(ratios[3], 1e-300))), lowpass = fabs(log(fmax(ratios[0], 1e-300)));
+    int pass = ratios[3] > 0.0 && spread_gradient < lowpass;
+    printf("%-26s %10s %10s %8s %9s %17s %s\n", "figure3", "-", "-", "-", "-", "|log f| < |log b|",
+           pass ? "PASS" : "FAIL");
+    printf("  (f)/(b) feature-preservation ratios: %.4f vs %.4f\n", ratios[3], ratios[0]);
+    fflush(stdout);
+    c->rows++;
+    if (!pass)
+        c->failures++;
+}
+
 /* ---- Main ------------------------------------------------------------------------------ */
 
 static void conform_usage(FILE *out)
@@ -803,7 +1397,12 @@ static void conform_usage(FILE *out)
           "  STAGE     the stage with its default parameters, on a probe of hard and random samples\n"
           "  STAGE@exp0, STAGE@exp64   every exponent parameter set to 0 / 64\n"
           "  STAGE@live                every parameter a uniform, arrays with several elements\n"
+          "  halo_seed, halo_map (and @halos2, @halos4, @live)   drawn through a GL frame (outputs,\n"
+          "            images, host uniforms) against the emulated frame\n"
+          "  pass:*    halo_generate's image passes on chosen seed images (GPU frame vs emulation)\n"
           "  raycast   a small whole render against a C emulation of the ray caster\n"
+          "  figure3   the paper's Fig. 3 as numbers (emulation): fails unless spreading the seed\n"
+          "            gradient keeps small features' halos better than a low-pass of the seeds\n"
           "Columns: max_abs and rmse of the error over colour and opacity, over_tol the samples\n"
           "(pixels) beyond tolerance, nonfinite the NaN/Inf values, the tolerance (absolute +\n"
           "relative; the per-sample conditioning term is explained in docs/accuracy.md).\n"
@@ -855,7 +1454,9 @@ int halo_conform_main(int argc, char **argv)
     c.lib = halo_library_create(c.diag);
     if (!c.lib)
         goto setup_failed;
-    if (c.only && strcmp(c.only, "empty") != 0 && strcmp(c.only, "raycast") != 0) {
+    if (c.only && strcmp(c.only, "empty") != 0 && strcmp(c.only, "raycast") != 0 && strcmp(c.only, "figure3") != 0 &&
+        strncmp(c.only, "pass:", 5) != 0 && strncmp(c.only, "slice", 5) != 0 && strncmp(c.only, "slab", 4) != 0 &&
+        strncmp(c.only, "line", 4) != 0) {
         char base[128];
         snprintf(base, sizeof base, "%s", c.only);
         char *at = strchr(base, '@');
@@ -863,8 +1464,8 @@ int halo_conform_main(int argc, char **argv)
             *at = '\0';
         const halo_module *m = halo_library_find(c.lib, base);
         if (!m || halo_module_hook(m) != HALO_HOOK_SAMPLE) {
-            fprintf(stderr, "halo-validate: conform: --stage: no per-sample stage '%s' (rows: empty, raycast, or a"
-                            " stage of halo-validate list)\n", c.only);
+            fprintf(stderr, "halo-validate: conform: --stage: no per-sample stage '%s' (rows: empty, raycast, figure3,"
+                            " pass:NAME, slice, slab, line_strip, line_halo, lines, or a stage of halo-validate list)\n", c.only);
             goto setup_failed;
         }
     }
@@ -909,11 +1510,29 @@ int halo_conform_main(int argc, char **argv)
             }
             continue;
         }
+        if (m->output_count || m->image_count || m->host_uniform_count) {
+            const frame_variant *variants = m->image_count ? map_variants : seed_variants;
+            size_t n = m->image_count ? sizeof map_variants / sizeof *map_variants
+                                      : sizeof seed_variants / sizeof *seed_variants;
+            /* the named scenes are written for halo_seed and halo_map; other such stages get
+             * their defaults and the live variant */
+            int own = !strcmp(halo_module_name(m), m->image_count ? "halo_map" : "halo_seed");
+            for (size_t v = 0; v < n; ++v)
+                if (own || !variants[v].scene)
+                    run_frame_stage_row(&c, m, &variants[v], probe_source);
+            continue;
+        }
         for (int v = 0; v < VARIANT_COUNT; ++v)
             if (v == VARIANT_DEFAULT || v == VARIANT_LIVE || has_exponent(m))
                 run_stage_row(&c, m, (enum variant)v, probe_source);
     }
+    run_pass_rows(&c, probe_source);
+    if (!c.only || !strncmp(c.only, "slice", 5) || !strncmp(c.only, "slab", 4))
+        c.rows += halo_conform_slice_rows(c.size, c.verbose, &c.failures);
+    if (!c.only || !strncmp(c.only, "line", 4))
+        c.rows += halo_conform_line_rows_select(c.only, c.verbose, &c.failures);
     run_raycast_row(&c, raycast_source);
+    run_figure3_row(&c);
     status = c.failures ? 1 : 0;
     printf("%d rows, %d failed\n", c.rows, c.failures);
     goto done;

@@ -1,5 +1,6 @@
 /* halo-validate: the command-line front end of libhalo.
  * Exit status: 0 success, 1 the input has errors (diagnostics on stderr), 2 usage or I/O. */
+#include "bench.h"
 #include "conform.h"
 #include "halo.h"
 
@@ -24,6 +25,9 @@ static const char usage_text[] =
     "  conform [--stage NAME] [--size N] [-v]\n"
     "                                 render each stage headless and compare it with its\n"
     "                                 C emulation; one row per stage\n"
+    "  bench [--size N] [--volume-size N] [--repeat R] [--table1]\n"
+    "                                 frame time with and without halos, and the error\n"
+    "                                 of each approximation against the exact reference\n"
     "  --help, --version\n"
     "\n"
     "targets: 330 (GLSL 330 core), 450 (GLSL 450 core), es300 (GLSL ES 300)\n"
@@ -320,6 +324,7 @@ int main(int argc, char **argv) {
     else if (!strcmp(cmd, "link")) status = cmd_link(argc - 1, argv + 1);
     else if (!strcmp(cmd, "list")) status = cmd_list();
     else if (!strcmp(cmd, "conform")) status = halo_conform_main(argc - 1, argv + 1);
+    else if (!strcmp(cmd, "bench")) status = halo_bench_main(argc - 1, argv + 1);
     else status = usage_error("unknown command '%s'", cmd);
     halo_shutdown();
     return status;

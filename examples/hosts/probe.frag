@@ -27,6 +27,7 @@ void main()
                                      gl_FragCoord.xy, color.rgb, color.a);
     halo_apply(s);
     color = vec4(s.color, s.opacity);
+    halo_finish();
 #endif
     result = color;
 }

@@ -5,11 +5,6 @@
 
 #include <string.h>
 
-struct halo_emu_params {
-    const halo_program *program;
-    const halo_linked_stage *stage;
-};
-
 const double *halo_emu_param(const halo_emu_params *p, const char *name, int *count) {
     const halo_module *m = p->stage->module;
     for (size_t i = 0; i < m->param_count; i++)
@@ -26,21 +21,79 @@ double halo_emu_scalar(const halo_emu_params *p, const char *name) {
     return v ? v[0] : 0.0;
 }
 
-halo_status halo_emu_apply(const halo_program *p, halo_emu_sample *s, halo_diagnostics *diag) {
+const double *halo_emu_channel_param(const halo_emu_params *p, const char *name, int h) {
+    const halo_module *m = p->stage->module;
+    for (size_t i = 0; i < m->param_count; i++)
+        if (!strcmp(m->params[i].name, name)) {
+            int count = p->stage->values[i].count;
+            if (count < 1) return NULL;
+            if (h > count - 1) h = count - 1;
+            if (h < 0) h = 0;
+            return p->stage->values[i].value + (size_t)h * (size_t)m->params[i].components;
+        }
+    return NULL;
+}
+
+double halo_emu_channel(const halo_emu_params *p, const char *name, int h) {
+    const double *v = halo_emu_channel_param(p, name, h);
+    return v ? v[0] : 0.0;
+}
+
+int halo_emu_channel_count(const halo_emu_params *p) {
+    int c = p->program ? p->program->channel_count : 1;
+    return c < 1 ? 1 : c > 4 ? 4 : c;
+}
+
+/* The stages of the program in order; image-hook stages have no per-sample code. */
+static halo_status run_stages(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s, halo_diagnostics *diag) {
     memset(s->normal, 0, sizeof s->normal);
     s->gradient_magnitude = 0;
+    memset(s->seed, 0, sizeof s->seed);
     for (size_t i = 0; i < p->stage_count; i++) {
         const halo_linked_stage *st = &p->stages[i];
+        if (st->module->hook != HALO_HOOK_SAMPLE) continue;
         halo_emu_stage_fn fn = halo_emu_lookup(st->module->name);
         if (!fn) {
             halo_diag_error(diag, EMU_MISSING, st->module->file, st->module->module_line, 1,
                             "stage '%s' has no C emulation", st->module->name);
             return HALO_ERROR_INPUT;
         }
-        halo_emu_params params = {p, st};
+        halo_emu_params params = {p, st, f};
         fn(s, &params);
     }
     return HALO_OK;
 }
 
-int halo_module_has_emulation(const halo_module *m) { return !m->is_library && halo_emu_lookup(m->name) != NULL; }
+halo_status halo_emu_apply(const halo_program *p, halo_emu_sample *s, halo_diagnostics *diag) {
+    return run_stages(p, NULL, s, diag);
+}
+
+halo_status halo_emu_apply_frame(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s,
+                                 halo_diagnostics *diag) {
+    halo_status st = run_stages(p, f, s, diag);
+    if (st != HALO_OK) return st;
+    /* The linker folds each output's field after halo_apply: halo_accum = op(halo_accum, s.field).
+     * The emulated sample has one such field, seed. */
+    for (size_t o = 0; o < p->output_count; o++) {
+        const halo_output_info *out = &p->outputs[o];
+        if (strcmp(out->image, "seed")) {
+            halo_diag_error(diag, EMU_MISSING, "", 0, 0, "output '%s' has no field in halo_emu_sample", out->name);
+            return HALO_ERROR_INPUT;
+        }
+        for (int c = 0; c < p->channel_count && c < 4; c++) {
+            double a = s->output_accum[c], v = s->seed[c];
+            s->output_accum[c] = out->blend == HALO_BLEND_ADD ? a + v : (v > a ? v : a);
+        }
+    }
+    return HALO_OK;
+}
+
+int halo_module_has_emulation(const halo_module *m) {
+    if (m->is_library) return 0;
+    if (m->hook == HALO_HOOK_IMAGE) {
+        for (size_t i = 0; i < m->pass_count; i++)
+            if (!halo_emu_lookup_pass(m->name, m->passes[i].entry)) return 0;
+        return m->pass_count > 0;
+    }
+    return halo_emu_lookup(m->name) != NULL;
+}

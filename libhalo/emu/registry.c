@@ -16,6 +16,8 @@ static const struct {
     {"tone_shading", halo_emu_tone_shading},
     {"distance_blend", halo_emu_distance_blend},
     {"distance_cue", halo_emu_distance_cue},
+    {"halo_seed", halo_emu_halo_seed},
+    {"halo_map", halo_emu_halo_map},
 };
 
 halo_emu_stage_fn halo_emu_lookup(const char *name)
@@ -25,5 +27,26 @@ halo_emu_stage_fn halo_emu_lookup(const char *name)
     for (size_t i = 0; i < sizeof halo_emu_stages / sizeof halo_emu_stages[0]; ++i)
         if (strcmp(halo_emu_stages[i].name, name) == 0)
             return halo_emu_stages[i].fn;
+    return NULL;
+}
+
+/* The image-pass emulations, looked up by module and entry. */
+static const struct {
+    const char *module, *entry;
+    halo_emu_pass_fn fn;
+} halo_emu_passes[] = {
+    {"halo_generate", "median_pass", halo_emu_halo_generate_median},
+    {"halo_generate", "gradient_pass", halo_emu_halo_generate_gradient},
+    {"halo_generate", "spread_pass", halo_emu_halo_generate_spread},
+    {"halo_generate", "occlusion_pass", halo_emu_halo_generate_occlusion},
+};
+
+halo_emu_pass_fn halo_emu_lookup_pass(const char *module, const char *entry)
+{
+    if (!module || !entry)
+        return NULL;
+    for (size_t i = 0; i < sizeof halo_emu_passes / sizeof halo_emu_passes[0]; ++i)
+        if (strcmp(halo_emu_passes[i].module, module) == 0 && strcmp(halo_emu_passes[i].entry, entry) == 0)
+            return halo_emu_passes[i].fn;
     return NULL;
 }

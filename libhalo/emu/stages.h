@@ -14,6 +14,14 @@ void halo_emu_sketch(halo_emu_sample *s, const halo_emu_params *p);
 void halo_emu_tone_shading(halo_emu_sample *s, const halo_emu_params *p);
 void halo_emu_distance_blend(halo_emu_sample *s, const halo_emu_params *p);
 void halo_emu_distance_cue(halo_emu_sample *s, const halo_emu_params *p);
+void halo_emu_halo_seed(halo_emu_sample *s, const halo_emu_params *p);
+void halo_emu_halo_map(halo_emu_sample *s, const halo_emu_params *p);
+
+/* The image passes of halo_generate (emu/halo_generate.c). */
+void halo_emu_halo_generate_median(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_halo_generate_gradient(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_halo_generate_spread(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_halo_generate_occlusion(const halo_emu_pass_context *c, int x, int y, double out[4]);
 
 /* Mirrors halo_dot_clamped: the dot product clamped to [-1, 1] (emu/math.c). */
 double halo_emu_dot_clamped(const double a[3], const double b[3]);

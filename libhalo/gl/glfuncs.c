@@ -29,5 +29,13 @@ int halo_glfuncs_load(halo_glfuncs *f, void *(*get_proc_address)(const char *nam
     }
     HALO_GL_FUNCTIONS(HALO_X_GLFUNC_LOAD)
 #undef HALO_X_GLFUNC_LOAD
+#define HALO_X_GLFUNC_LOAD_OPTIONAL(type, name)                         \
+    {                                                                   \
+        void *address = get_proc_address("gl" #name);                   \
+        if (address)                                                    \
+            memcpy(&f->name, &address, sizeof f->name);                 \
+    }
+    HALO_GL_FUNCTIONS_OPTIONAL(HALO_X_GLFUNC_LOAD_OPTIONAL)
+#undef HALO_X_GLFUNC_LOAD_OPTIONAL
     return complete;
 }

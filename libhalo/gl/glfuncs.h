@@ -113,9 +113,23 @@
     X(PFNGLDRAWARRAYSPROC, DrawArrays)                                    \
     X(PFNGLDRAWELEMENTSPROC, DrawElements)
 
+/* Entry points beyond OpenGL 3.3 core: loaded when present, NULL otherwise (no failure).
+ * Per-draw-buffer blending (OpenGL 4.0 / ARB_draw_buffers_blend) is what the extra
+ * outputs of image-pass programs need (halo_gl_frame_attach). */
+#define HALO_GL_FUNCTIONS_OPTIONAL(X)                                     \
+    X(PFNGLENABLEIPROC, Enablei)                                          \
+    X(PFNGLDISABLEIPROC, Disablei)                                        \
+    X(PFNGLISENABLEDIPROC, IsEnabledi)                                    \
+    X(PFNGLISENABLEDPROC, IsEnabled)                                      \
+    X(PFNGLBLENDEQUATIONIPROC, BlendEquationi)                            \
+    X(PFNGLBLENDFUNCIPROC, BlendFunci)                                    \
+    X(PFNGLBLENDEQUATIONSEPARATEIPROC, BlendEquationSeparatei)            \
+    X(PFNGLBLENDFUNCSEPARATEIPROC, BlendFuncSeparatei)
+
 typedef struct halo_glfuncs {
 #define HALO_X_GLFUNC_MEMBER(type, name) type name;
     HALO_GL_FUNCTIONS(HALO_X_GLFUNC_MEMBER)
+    HALO_GL_FUNCTIONS_OPTIONAL(HALO_X_GLFUNC_MEMBER)
 #undef HALO_X_GLFUNC_MEMBER
 } halo_glfuncs;
 

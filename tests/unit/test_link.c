@@ -11,7 +11,7 @@ static const char host_source[] =
     "#version 330 core\n"                                                                   /* 1 */
     "// a test host\n"                                                                      /* 2 */
     "#pragma halo declarations\n"                                                           /* 3 */
-    "out vec4 fragment_color;\n"                                                            /* 4 */
+    "layout(location = 0) out vec4 fragment_color;\n"                                      /* 4 */
     "void main()\n"                                                                         /* 5 */
     "{\n"                                                                                   /* 6 */
     "    vec4 color = vec4(0.8, 0.6, 0.4, 0.5);\n"                                          /* 7 */
@@ -19,7 +19,7 @@ static const char host_source[] =
     "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1, 0.2, 0.3), vec3(0.0, 0.0, 1.0), 0.5,\n"
     "                                     gl_FragCoord.xy, color.rgb, color.a);\n"          /* 10 */
     "    halo_apply(s);\n"                                                                  /* 11 */
-    "    color = vec4(s.color, s.opacity);\n"                                               /* 12 */
+    "    color = vec4(s.color, s.opacity); halo_finish();\n"                                /* 12 */
     "#endif\n"                                                                              /* 13 */
     "    fragment_color = color;\n"                                                         /* 14 */
     "}\n";
@@ -92,8 +92,25 @@ static int helper_needed(const halo_program *p, const halo_module *helpers, size
 }
 
 /* The source holds code of the linked stages only, and exactly the helpers they use. */
+static int check_only_linked_in(const halo_program *p, const char *src);
+/* The program's text: the host's source and every image pass's programs. */
 static int check_only_linked(const halo_program *p) {
-    const char *src = halo_program_source(p);
+    size_t len = strlen(halo_program_source(p)) + 1;
+    for (size_t i = 0; i < halo_program_pass_count(p); i++)
+        len += strlen(halo_program_pass(p, i)->fragment_source) + strlen(halo_program_pass(p, i)->vertex_source);
+    char *all = malloc(len);
+    SETUP(all != NULL);
+    strcpy(all, halo_program_source(p));
+    for (size_t i = 0; i < halo_program_pass_count(p); i++) {
+        strcat(all, halo_program_pass(p, i)->fragment_source);
+        strcat(all, halo_program_pass(p, i)->vertex_source);
+    }
+    int status = check_only_linked_in(p, all);
+    free(all);
+    return status;
+}
+
+static int check_only_linked_in(const halo_program *p, const char *src) {
     for (size_t i = 0; i < halo_library_module_count(library); i++) {
         const halo_module *m = halo_library_module(library, i);
         if (m->is_library) continue;

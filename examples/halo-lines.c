@@ -1,0 +1,402 @@
+/* halo-lines: renders dense line data with depth-dependent halos (Everts et al. 2009)
+ * through libhalo's line stages and the example line host, offline (headless OpenGL).
+ *
+ *   halo-lines [--lines FILE | --builtin streamlines|knots] [--scene S] [-o OUT]
+ *              [--size WxH] [--no-halos] [--stereo anaglyph] [--azimuth A]
+ *              [--elevation E] [--zoom Z] [--write-lines FILE]
+ *   halo-lines --bench [--frames N] [--size WxH] [--lines FILE | --builtin ...]
+ *   halo-lines --conform [--row NAME] [-v]
+ *
+ * Exit status: 0 success, 1 the input has errors (diagnostics on stderr), 2 usage or
+ * I/O failure. */
+#include "halo.h"
+#include "conform_lines.h"
+#include "gl/glfuncs.h"
+#include "gl/headless.h"
+#include "hosts/lines.h"
+#include "image_write.h"
+#include "linegen.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* The built-in scene: black lines with white halos (the paper's look). */
+static const char default_scene[] =
+    "{\n"
+    "  \"halo_scene\": 1,\n"
+    "  \"description\": \"halo-lines' built-in scene: black lines, white depth-dependent halos\",\n"
+    "  \"stages\": [\n"
+    "    {\"line_strip\": {\"strip_width\": 0.025, \"depth_attenuation\": 0.5, \"taper\": 0.1}},\n"
+    "    {\"line_halo\": {\"core\": 0.4, \"d_max\": 0.05, \"profile\": 0}}\n"
+    "  ],\n"
+    "  \"render\": {\"azimuth\": 30, \"elevation\": 20, \"zoom\": 1.1, \"background\": [1, 1, 1]}\n"
+    "}\n";
+
+/* The paper's first data set has 260 836 vertices (11 306 lines). */
+#define BENCH_POINTS 260836
+
+static void usage(FILE *out)
+{
+    fputs("Usage: halo-lines [--lines FILE | --builtin streamlines|knots] [--scene S] [-o OUT]\n"
+          "                  [--size WxH] [--no-halos] [--stereo anaglyph] [--azimuth A]\n"
+          "                  [--elevation E] [--zoom Z] [--write-lines FILE]\n"
+          "       halo-lines --bench [--frames N] [--size WxH] [--lines FILE | --builtin ...]\n"
+          "       halo-lines --conform [--row NAME] [-v]\n"
+          "Renders lines with depth-dependent halos (Everts et al. 2009) through libhalo's\n"
+          "line stages (OSMesa, headless) and writes an image.\n"
+          "\n"
+          "  --lines FILE       polylines in the text format of docs/polyline-format.md\n"
+          "  --builtin NAME     streamlines (ABC flow, default) or knots (a trefoil tube)\n"
+          "  --scene S          scene file (JSON); default: black lines with white halos\n"
+          "  -o OUT             output image, .png or .exr; default halo-lines.png\n"
+          "  --size WxH         image size, 1..16384 each (print: 4096x4096); default 800x800\n"
+          "  --no-halos         plain lines: line_halo off, the strip narrowed to the core\n"
+          "  --stereo anaglyph  red (left eye) / cyan (right eye) stereo image\n"
+          "  --azimuth A, --elevation E, --zoom Z   camera (default: the scene's)\n"
+          "  --write-lines FILE write the line data in the text format and go on\n"
+          "  --bench            frame time with and without halos, as a ratio (default data:\n"
+          "                     streamlines of 260 836 vertices, as the paper's first data set)\n"
+          "  --frames N         frames per variant for --bench, 1..1000; default 10\n"
+          "  --conform          the line conformance rows (GPU against the C emulation)\n"
+          "  --row NAME         only this conformance row (or all rows of a stage)\n"
+          "  -v                 details of failing conformance rows\n"
+          "  --help             show this help\n"
+          "\n"
+          "Exit status: 0 success, 1 the input has errors, 2 usage or I/O failure.\n",
+          out);
+}
+
+static int parse_number(const char *option, const char *text, double lo, double hi, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    double x = text ? strtod(text, &end) : NAN;
+    if (!text || end == text || *end != '\0' || errno == ERANGE || !isfinite(x)) {
+        fprintf(stderr, "halo-lines: error: %s: '%s' is not a finite number\n", option, text ? text : "");
+        return 0;
+    }
+    if (x < lo || x > hi) {
+        fprintf(stderr, "halo-lines: error: %s: %g is outside %g..%g\n", option, x, lo, hi);
+        return 0;
+    }
+    *out = x;
+    return 1;
+}
+
+static int parse_size(const char *text, int *w, int *h)
+{
+    char *end = NULL;
+    long a = text ? strtol(text, &end, 10) : 0, b = 0;
+    if (text && end != text && (*end == 'x' || *end == 'X')) {
+        const char *rest = end + 1;
+        b = strtol(rest, &end, 10);
+        if (end != rest && *end == '\0' && a >= 1 && a <= 16384 && b >= 1 && b <= 16384) {
+            *w = (int)a;
+            *h = (int)b;
+            return 1;
+        }
+    }
+    fprintf(stderr, "halo-lines: error: --size: '%s' is not WxH with each side 1..16384\n", text ? text : "");
+    return 0;
+}
+
+static double seconds_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+typedef struct options {
+    const char *lines_path, *builtin, *scene_path, *output, *write_lines, *row;
+    int width, height, no_halos, stereo, bench, frames, conform, verbose;
+    double azimuth, elevation, zoom;
+    int has_azimuth, has_elevation, has_zoom;
+} options;
+
+/* Loads the scene (file or built-in) once per use: each host keeps the stages of its hook. */
+static halo_scene *load_scene(const options *o, const halo_library *lib, halo_diagnostics *diag)
+{
+    return o->scene_path ? halo_scene_load(o->scene_path, lib, diag)
+                         : halo_scene_parse(default_scene, "built-in scene", lib, diag);
+}
+
+/* Links both hosts. Without halos: line_halo (every fragment stage) off, and the strip
+ * narrowed to the halo's core, so the lines keep their visible width. */
+static int link_programs(const options *o, const halo_library *lib, int halos, halo_program **vp,
+                         halo_program **fp, halo_diagnostics *diag)
+{
+    halo_scene *vs = load_scene(o, lib, diag), *fs = load_scene(o, lib, NULL);
+    int ok = vs && fs;
+    if (ok) {
+        halo_lines_scene_keep_hook(vs, lib, HALO_HOOK_LINE_VERTEX);
+        halo_lines_scene_keep_hook(fs, lib, HALO_HOOK_LINE_FRAGMENT);
+        ok = halo_lines_link_scenes(lib, vs, fs, NULL, NULL, vp, fp, diag) == HALO_OK;
+    }
+    if (ok && !halos) {
+        const halo_uniform_info *width = halo_program_find_uniform(*vp, "line_strip", "strip_width");
+        const halo_uniform_info *core = halo_program_find_uniform(*fp, "line_halo", "core");
+        double narrowed = width && core ? width->value[0] * core->value[0] : 0.0;
+        halo_program_destroy(*vp);
+        halo_program_destroy(*fp);
+        *vp = *fp = NULL;
+        halo_scene_destroy(fs);
+        fs = halo_scene_create(lib);
+        if (width && core)
+            halo_scene_set(vs, "line_strip", "strip_width", &narrowed, 1, 0, diag);
+        ok = fs && halo_lines_link_scenes(lib, vs, fs, NULL, NULL, vp, fp, diag) == HALO_OK;
+    }
+    halo_scene_destroy(vs);
+    halo_scene_destroy(fs);
+    return ok;
+}
+
+static halo_status make_lines(const options *o, size_t bench_points, halo_polylines *lines, halo_diagnostics *diag)
+{
+    if (o->lines_path)
+        return halo_polylines_load(o->lines_path, lines, diag);
+    if (o->builtin && strcmp(o->builtin, "knots") == 0)
+        return halo_linegen_knot(2, 3, 32, 800, 0.35, lines, diag);
+    return halo_linegen_streamlines(bench_points ? bench_points : 120000, 800, 2009, lines, diag);
+}
+
+static void view_from(const options *o, const halo_render_settings *rs, halo_lines_view *view)
+{
+    memset(view, 0, sizeof *view);
+    view->azimuth = o->has_azimuth ? o->azimuth : rs->azimuth;
+    view->elevation = o->has_elevation ? o->elevation : rs->elevation;
+    view->zoom = o->has_zoom ? o->zoom : rs->zoom;
+    for (int c = 0; c < 3; ++c)
+        view->background[c] = rs->background[c];
+}
+
+static int run_bench(const options *o, const halo_glfuncs *gl, const halo_library *lib, const halo_polylines *lines,
+                     const halo_render_settings *rs, halo_diagnostics *diag)
+{
+    halo_program *vp[2] = {NULL, NULL}, *fp[2] = {NULL, NULL};
+    halo_lines *l[2] = {NULL, NULL};
+    int ok = 1;
+    for (int halos = 0; halos < 2 && ok; ++halos) {
+        ok = link_programs(o, lib, halos, &vp[halos], &fp[halos], diag);
+        if (ok)
+            l[halos] = halo_lines_create(&(halo_lines_desc){.gl = gl, .vertex_program = vp[halos],
+                                                            .fragment_program = fp[halos], .width = o->width,
+                                                            .height = o->height},
+                                         diag);
+        ok = ok && l[halos] && halo_lines_set_data(l[halos], lines, diag) == HALO_OK;
+    }
+    halo_lines_view view;
+    view_from(o, rs, &view);
+    double total[2] = {0.0, 0.0}, best[2] = {INFINITY, INFINITY};
+    /* one warm-up frame each (shader compilation in the driver), then interleaved frames */
+    for (int frame = -1; frame < o->frames && ok; ++frame)
+        for (int halos = 0; halos < 2 && ok; ++halos) {
+            halo_lines_finish(l[halos]);
+            double start = seconds_now();
+            ok = halo_lines_draw(l[halos], &view, diag) == HALO_OK;
+            halo_lines_finish(l[halos]);
+            double elapsed = seconds_now() - start;
+            if (frame >= 0) {
+                total[halos] += elapsed;
+                best[halos] = fmin(best[halos], elapsed);
+            }
+        }
+    if (ok) {
+        double with = total[1] / o->frames, without = total[0] / o->frames;
+        printf("halo-lines bench: %zu lines, %zu vertices (%zu strip vertices), %dx%d, %d frames each, %s\n",
+               lines->line_count, lines->point_count, halo_lines_vertex_count(l[1]), o->width, o->height, o->frames,
+               "interleaved");
+        printf("  without halos: %8.2f ms/frame (best %8.2f ms), %7.2f fps\n", 1e3 * without, 1e3 * best[0],
+               1.0 / without);
+        printf("  with halos:    %8.2f ms/frame (best %8.2f ms), %7.2f fps\n", 1e3 * with, 1e3 * best[1], 1.0 / with);
+        printf("  ratio with/without: %.3f (mean), %.3f (best)\n", with / without, best[1] / best[0]);
+    }
+    for (int i = 0; i < 2; ++i) {
+        halo_lines_destroy(l[i]);
+        halo_program_destroy(vp[i]);
+        halo_program_destroy(fp[i]);
+    }
+    return ok ? 0 : 1;
+}
+
+int main(int argc, char **argv)
+{
+    options o = {.width = 800, .height = 800, .frames = 10, .output = "halo-lines.png"};
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i];
+        const char *value = i + 1 < argc ? argv[i + 1] : NULL;
+        int takes = 1;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage(stdout);
+            return 0;
+        } else if (strcmp(a, "--no-halos") == 0) {
+            o.no_halos = 1, takes = 0;
+        } else if (strcmp(a, "--bench") == 0) {
+            o.bench = 1, takes = 0;
+        } else if (strcmp(a, "--conform") == 0) {
+            o.conform = 1, takes = 0;
+        } else if (strcmp(a, "-v") == 0) {
+            o.verbose = 1, takes = 0;
+        } else if (!value) {
+            fprintf(stderr, "halo-lines: error: unknown or incomplete argument '%s'\n", a);
+            usage(stderr);
+            return 2;
+        } else if (strcmp(a, "--lines") == 0) {
+            o.lines_path = value;
+        } else if (strcmp(a, "--builtin") == 0) {
+            if (strcmp(value, "streamlines") != 0 && strcmp(value, "knots") != 0) {
+                fprintf(stderr, "halo-lines: error: --builtin: '%s' is not streamlines or knots\n", value);
+                return 2;
+            }
+            o.builtin = value;
+        } else if (strcmp(a, "--scene") == 0) {
+            o.scene_path = value;
+        } else if (strcmp(a, "-o") == 0) {
+            o.output = value;
+        } else if (strcmp(a, "--write-lines") == 0) {
+            o.write_lines = value;
+        } else if (strcmp(a, "--row") == 0) {
+            o.row = value;
+        } else if (strcmp(a, "--size") == 0) {
+            if (!parse_size(value, &o.width, &o.height))
+                return 2;
+        } else if (strcmp(a, "--stereo") == 0) {
+            if (strcmp(value, "anaglyph") != 0) {
+                fprintf(stderr, "halo-lines: error: --stereo: '%s' is not anaglyph\n", value);
+                return 2;
+            }
+            o.stereo = 1;
+        } else if (strcmp(a, "--frames") == 0) {
+            double x;
+            if (!parse_number(a, value, 1, 1000, &x))
+                return 2;
+            o.frames = (int)x;
+        } else if (strcmp(a, "--azimuth") == 0) {
+            if (!parse_number(a, value, -360, 360, &o.azimuth))
+                return 2;
+            o.has_azimuth = 1;
+        } else if (strcmp(a, "--elevation") == 0) {
+            if (!parse_number(a, value, -90, 90, &o.elevation))
+                return 2;
+            o.has_elevation = 1;
+        } else if (strcmp(a, "--zoom") == 0) {
+            if (!parse_number(a, value, 0.05, 20, &o.zoom) || o.zoom <= 0)
+                return 2;
+            o.has_zoom = 1;
+        } else {
+            fprintf(stderr, "halo-lines: error: unknown argument '%s'\n", a);
+            usage(stderr);
+            return 2;
+        }
+        i += takes;
+    }
+    if (o.lines_path && o.builtin) {
+        fprintf(stderr, "halo-lines: error: --lines and --builtin exclude each other\n");
+        return 2;
+    }
+
+    char err[256] = "";
+    halo_headless *context = halo_headless_create(o.width, o.height, err, sizeof err);
+    if (!context) {
+        fprintf(stderr, "halo-lines: error: no OpenGL context: %s\n", err);
+        return 2;
+    }
+    if (o.conform) {
+        int failed = 0;
+        printf("%-26s %10s %10s %8s %9s %17s %s\n", "stage", "max_abs", "rmse", "over_tol", "nonfinite", "tolerance",
+               "result");
+        int count = halo_conform_line_rows_select(o.row, o.verbose, &failed);
+        printf("%d rows, %d failed\n", count, failed);
+        halo_headless_destroy(context);
+        return count == 0 ? 2 : failed ? 1 : 0;
+    }
+
+    int status = 0;
+    halo_diagnostics *diag = halo_diagnostics_create();
+    halo_library *lib = halo_library_create(diag);
+    halo_polylines lines = {0};
+    halo_glfuncs gl;
+    const char *missing = NULL;
+    halo_scene *scene = NULL;
+    halo_program *vp = NULL, *fp = NULL;
+    halo_lines *renderer = NULL;
+    float *rgba = NULL;
+    if (!halo_glfuncs_load(&gl, halo_headless_get_proc_address, &missing)) {
+        fprintf(stderr, "halo-lines: error: OpenGL entry point %s missing\n", missing ? missing : "?");
+        status = 2;
+        goto done;
+    }
+    if (!lib || !(scene = load_scene(&o, lib, diag))) {
+        status = 1;
+        goto done;
+    }
+    halo_status made = make_lines(&o, o.bench && !o.lines_path ? BENCH_POINTS : 0, &lines, diag);
+    if (made != HALO_OK) {
+        status = made == HALO_ERROR_IO ? 2 : 1;
+        goto done;
+    }
+    if (o.write_lines && halo_polylines_write(o.write_lines, &lines) != 0) {
+        fprintf(stderr, "halo-lines: error: cannot write '%s'\n", o.write_lines);
+        status = 2;
+        goto done;
+    }
+    const halo_render_settings *rs = halo_scene_render(scene);
+    if (o.bench) {
+        status = run_bench(&o, &gl, lib, &lines, rs, diag);
+        goto done;
+    }
+    if (!link_programs(&o, lib, !o.no_halos, &vp, &fp, diag)) {
+        status = 1;
+        goto done;
+    }
+    renderer = halo_lines_create(&(halo_lines_desc){.gl = &gl, .vertex_program = vp, .fragment_program = fp,
+                                                    .width = o.width, .height = o.height},
+                                 diag);
+    rgba = malloc((size_t)o.width * (size_t)o.height * 4 * sizeof *rgba);
+    if (!renderer || !rgba || halo_lines_set_data(renderer, &lines, diag) != HALO_OK) {
+        status = renderer && rgba ? 1 : 2;
+        goto done;
+    }
+    halo_lines_view view;
+    view_from(&o, rs, &view);
+    int ok;
+    if (o.stereo) {
+        /* left eye into red, right eye into green and blue; eyes 6% of the distance apart */
+        view.eye_shift = -0.03;
+        view.mask_channels = 1;
+        ok = halo_lines_draw(renderer, &view, diag) == HALO_OK;
+        view.eye_shift = 0.03;
+        view.mask_channels = 6;
+        view.keep_color = 1;
+        ok = ok && halo_lines_draw(renderer, &view, diag) == HALO_OK;
+    } else {
+        ok = halo_lines_draw(renderer, &view, diag) == HALO_OK;
+    }
+    if (!ok || halo_lines_read(renderer, rgba, diag) != HALO_OK) {
+        status = 2;
+        goto done;
+    }
+    if (halo_image_write(o.output, o.width, o.height, rgba, err, sizeof err) != 0) {
+        fprintf(stderr, "halo-lines: error: %s\n", err);
+        status = 2;
+        goto done;
+    }
+    fprintf(stderr, "halo-lines: %zu lines, %zu vertices, %dx%d%s%s -> %s\n", lines.line_count, lines.point_count,
+            o.width, o.height, o.no_halos ? ", no halos" : "", o.stereo ? ", anaglyph" : "", o.output);
+done:
+    halo_diagnostics_print(diag, stderr);
+    free(rgba);
+    halo_lines_destroy(renderer);
+    halo_program_destroy(vp);
+    halo_program_destroy(fp);
+    halo_scene_destroy(scene);
+    halo_polylines_free(&lines);
+    halo_library_destroy(lib);
+    halo_diagnostics_destroy(diag);
+    halo_headless_destroy(context);
+    return status;
+}

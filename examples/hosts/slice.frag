@@ -1,0 +1,85 @@
+#version 330 core
+// Example slice renderer: view-aligned slices drawn front to back, as in Bruckner &
+// Groller 2007 (Sec. 4), following the libhalo host contract (docs/host-contract.md).
+//
+// One draw per slice: a full-screen triangle whose fragments intersect their pixel's
+// ray with the slice's plane (perpendicular to the view axis, slice_distance from the
+// eye), sample the volume there, run halo_apply once and write the sample's opacity-
+// corrected, premultiplied colour. The host composites it front to back by blending
+// into colour buffer 0 (glBlendFunci(0, GL_ONE_MINUS_DST_ALPHA, GL_ONE)); the extra
+// outputs of halo stages (the seed image) are blended by halo_gl_frame_attach.
+// Outside the unit cube the sample is empty (value 0, transparent), but halo_apply
+// still runs, so that emissive halos composite over the background.
+//
+// Same conventions as raycast.frag: positions in volume texture space, gradient per
+// voxel step, depth against the bounding sphere, opacities per voxel step.
+
+#pragma halo declarations
+
+uniform highp sampler3D volume_texture;   // R32F, value normalized to [0,1]
+uniform highp sampler2D transfer_texture; // N x 1 RGBA: linear RGB and opacity per unit step
+uniform mat4 inverse_view_projection;     // clip space -> volume texture space
+uniform vec3 eye;                         // eye position in volume texture space
+uniform vec3 view_axis;                   // unit view direction (from the eye into the scene)
+uniform float slice_distance;             // this slice's plane: dot(P - eye, view_axis) = slice_distance
+uniform float step_size;                  // distance between slices along the view axis, texture units
+uniform float unit_step;                  // the step the transfer opacities are given for (one voxel)
+
+in vec2 ndc;
+layout(location = 0) out vec4 frag_color;
+
+float sample_value(vec3 p)
+{
+    return texture(volume_texture, p).r;
+}
+
+vec3 sample_gradient(vec3 p, vec3 voxel)
+{
+    return vec3(sample_value(p + vec3(voxel.x, 0.0, 0.0)) - sample_value(p - vec3(voxel.x, 0.0, 0.0)),
+                sample_value(p + vec3(0.0, voxel.y, 0.0)) - sample_value(p - vec3(0.0, voxel.y, 0.0)),
+                sample_value(p + vec3(0.0, 0.0, voxel.z)) - sample_value(p - vec3(0.0, 0.0, voxel.z))) * 0.5;
+}
+
+vec4 classify(float value)
+{
+    float texels = float(textureSize(transfer_texture, 0).x);
+    float u = (clamp(value, 0.0, 1.0) * (texels - 1.0) + 0.5) / texels;
+    return texture(transfer_texture, vec2(u, 0.5));
+}
+
+void main()
+{
+    vec4 near_point = inverse_view_projection * vec4(ndc, -1.0, 1.0);
+    vec4 far_point = inverse_view_projection * vec4(ndc, 1.0, 1.0);
+    vec3 origin = near_point.xyz / near_point.w;
+    vec3 direction = normalize(far_point.xyz / far_point.w - origin);
+    // The pixel's ray meets the plane at t; consecutive slices are step_size / cosine
+    // apart along the ray, which is the distance the opacity is corrected for.
+    float cosine = dot(direction, view_axis);
+    float t = (slice_distance - dot(origin - eye, view_axis)) / cosine;
+    vec3 P = origin + t * direction;
+    bool inside = all(greaterThanEqual(P, vec3(0.0))) && all(lessThanEqual(P, vec3(1.0)));
+
+    vec3 voxel = 1.0 / vec3(textureSize(volume_texture, 0));
+    const float radius = 0.8660254037844386;
+    float front_distance = distance(eye, vec3(0.5)) - radius;
+    float opacity_exponent = step_size / (cosine * unit_step);
+
+    float value = inside ? sample_value(P) : 0.0;
+    vec4 color = inside ? classify(value) : vec4(0.0);
+#ifdef HALO_LINKED
+    vec3 gradient = inside ? sample_gradient(P, voxel) : vec3(0.0);
+    vec3 V = normalize(eye - P);
+    float depth = clamp((distance(eye, P) - front_distance) / (2.0 * radius), 0.0, 1.0);
+    halo_sample s = halo_make_sample(P, value, gradient, V, depth, gl_FragCoord.xy, color.rgb, color.a);
+    halo_apply(s);
+    color = vec4(s.color, s.opacity);
+#endif
+    float alpha = clamp(color.a, 0.0, 1.0);
+    if (alpha > 0.0)
+        alpha = 1.0 - pow(1.0 - alpha, opacity_exponent);
+    frag_color = vec4(alpha * color.rgb, alpha);
+#ifdef HALO_LINKED
+    halo_finish();
+#endif
+}

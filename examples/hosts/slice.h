@@ -1,0 +1,68 @@
+/* The slice host (slice.vert/slice.frag): view-aligned slices composited front to back,
+ * as Bruckner & Groller 2007 render volumetric halos, and the slab ray caster
+ * (slab.frag, slab.h) that advances every ray by M samples per draw. Not part of the
+ * installed libhalo; every GL call goes through a halo_glfuncs table and the caller's
+ * context must be current.
+ *
+ * Slices are planes perpendicular to the view axis, step voxels apart, from the front
+ * of the volume's bounding sphere to its back. Per slice one full-screen draw: every
+ * fragment samples where its pixel's ray meets the plane, runs halo_apply once and
+ * halo_finish, and is blended front to back into colour buffer 0; the seed output is
+ * blended into the seed image (halo_gl_frame_attach). After every M-th slice the
+ * halo images are regenerated (halo_gl_frame_generate). */
+#ifndef HALO_EXAMPLE_SLICE_H
+#define HALO_EXAMPLE_SLICE_H
+
+#include "hosts/raycast.h"
+
+typedef struct halo_slice halo_slice;
+
+/* The values the shaders run with, for an emulation: float values as uploaded. */
+typedef struct halo_slice_state {
+    int width, height;
+    double inverse_view_projection[16]; /* column-major, clip space -> volume texture space */
+    double eye[3];                      /* volume texture space */
+    double view_axis[3];                /* unit, from the eye into the scene */
+    double screen_right[3], screen_up[3]; /* unit image-plane axes (host uniforms of halo_seed) */
+    double first_distance;              /* plane of slice 0 along the view axis, from the eye */
+    int slice_count;                    /* slice k at first_distance + k * step_size */
+    double step_size;                   /* texture units */
+    double unit_step;                   /* one voxel: the step transfer opacities are given for */
+    int interval;                       /* M: slices between two generations (slab: samples per draw) */
+    int slab;                           /* 1: the slab ray caster */
+    double background[3];
+    int transfer_texels;
+    const float *transfer;
+    int dims[3];
+    const float *volume;
+} halo_slice_state;
+
+/* desc as for halo_raycast_create; the default shaders are slice.frag and slice.vert.
+ * A program with extra outputs, images or passes gets a halo_gl_frame of the render
+ * size (GL 4.0 per-buffer blending required: GL_PROC_MISSING otherwise). */
+halo_slice *halo_slice_create(const halo_host_desc *desc, halo_diagnostics *diag);
+void halo_slice_destroy(halo_slice *s);
+/* As halo_raycast_set_volume / _set_render / _set_camera (same camera). */
+halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int ny, int nz, halo_diagnostics *diag);
+halo_status halo_slice_set_render(halo_slice *s, const halo_render_settings *settings, halo_diagnostics *diag);
+void halo_slice_set_camera(halo_slice *s, double azimuth, double elevation, double zoom);
+/* M, the slices between two halo generations (slab caster: samples per draw). 0 (the
+ * default) takes the program's halo_generate.interval, or 4 (the paper's) when the
+ * program has none. */
+void halo_slice_set_interval(halo_slice *s, int interval);
+int halo_slice_interval(const halo_slice *s);
+/* Renders and reads back width*height*4 floats, rows bottom-up, premultiplied colour
+ * composited over the background (alpha 1). */
+halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag);
+void halo_slice_get_state(const halo_slice *s, halo_slice_state *state);
+unsigned halo_slice_gl_program(const halo_slice *s);
+/* The halo images (NULL for a program without them): halo_gl_frame_read, _pass_draws. */
+halo_gl_frame *halo_slice_frame(const halo_slice *s);
+/* Draws of the last render: slices (or slabs), and image passes. */
+long halo_slice_draws(const halo_slice *s);
+long halo_slice_pass_draws(const halo_slice *s);
+
+/* Internal: shared by halo_slice_create and halo_slab_create (slab.h). */
+halo_slice *halo_slice_create_mode(const halo_host_desc *desc, int slab, halo_diagnostics *diag);
+
+#endif

@@ -1,0 +1,666 @@
+/* Volumes from NIfTI and raw files, windowed and resampled for the example hosts
+ * (see volume_io.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "volume_io.h"
+
+#include <nifti2_io.h>
+#include <zlib.h>
+
+#include <errno.h>
+#include <float.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static const struct {
+    const char *name;
+    int bytes;
+} voxel_types[HALO_VOXEL_TYPE_COUNT] = {
+    [HALO_VOXEL_UINT8] = {"uint8", 1},
+    [HALO_VOXEL_UINT16] = {"uint16", 2},
+    [HALO_VOXEL_INT16] = {"int16", 2},
+    [HALO_VOXEL_FLOAT32] = {"float32", 4},
+};
+
+halo_voxel_type halo_voxel_type_from_name(const char *name)
+{
+    for (int t = 0; t < HALO_VOXEL_TYPE_COUNT; ++t)
+        if (name && !strcmp(name, voxel_types[t].name))
+            return (halo_voxel_type)t;
+    return HALO_VOXEL_TYPE_COUNT;
+}
+
+const char *halo_voxel_type_name(halo_voxel_type type)
+{
+    return type < HALO_VOXEL_TYPE_COUNT ? voxel_types[type].name : "?";
+}
+
+static halo_volume_status fail(halo_volume_status status, char *err, size_t err_size, const char *format, ...)
+{
+    if (err && err_size) {
+        va_list args;
+        va_start(args, format);
+        vsnprintf(err, err_size, format, args);
+        va_end(args);
+    }
+    return status;
+}
+
+void halo_volume_file_free(halo_volume_file *v)
+{
+    if (!v)
+        return;
+    free(v->data);
+    v->data = NULL;
+}
+
+static int host_is_big_endian(void)
+{
+    const uint16_t one = 1;
+    unsigned char first;
+    memcpy(&first, &one, 1);
+    return first == 0;
+}
+
+/* Checks dimensions against the limits; returns the voxel count or 0 with err set. */
+static size_t checked_voxels(const char *path, const long long dims[3], char *err, size_t err_size)
+{
+    size_t voxels = 1;
+    for (int a = 0; a < 3; ++a) {
+        if (dims[a] < 1 || dims[a] > HALO_VOLUME_FILE_MAX_SIDE) {
+            fail(HALO_VOLUME_INVALID, err, err_size, "%s: dimension %c is %lld, outside 1..%d", path, "xyz"[a],
+                 dims[a], HALO_VOLUME_FILE_MAX_SIDE);
+            return 0;
+        }
+        voxels *= (size_t)dims[a]; /* at most 8192^3 = 2^39: no overflow in 64 bits */
+    }
+    if (voxels > HALO_VOLUME_FILE_MAX_VOXELS) {
+        fail(HALO_VOLUME_INVALID, err, err_size, "%s: %lldx%lldx%lld is %zu voxels, more than the %zu this renderer reads",
+             path, dims[0], dims[1], dims[2], voxels, HALO_VOLUME_FILE_MAX_VOXELS);
+        return 0;
+    }
+    return voxels;
+}
+
+/* Replaces NaN and infinite voxels by the smallest finite value; fails when there is none. */
+static halo_volume_status replace_nonfinite(const char *path, halo_volume_file *v, size_t n, char *err,
+                                            size_t err_size)
+{
+    float lowest = INFINITY;
+    size_t bad = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (!isfinite(v->data[i]))
+            ++bad;
+        else if (v->data[i] < lowest)
+            lowest = v->data[i];
+    }
+    if (bad == n)
+        return fail(HALO_VOLUME_INVALID, err, err_size, "%s: no voxel has a finite value", path);
+    if (bad)
+        for (size_t i = 0; i < n; ++i)
+            if (!isfinite(v->data[i]))
+                v->data[i] = lowest;
+    v->nonfinite = bad;
+    return HALO_VOLUME_OK;
+}
+
+/* ---- Raw files ------------------------------------------------------------------- */
+
+static float raw_value(const unsigned char *p, halo_voxel_type type, int swap)
+{
+    unsigned char b[4];
+    int size = voxel_types[type].bytes;
+    for (int i = 0; i < size; ++i)
+        b[i] = p[swap ? size - 1 - i : i];
+    switch (type) {
+    case HALO_VOXEL_UINT8:
+        return b[0];
+    case HALO_VOXEL_UINT16: {
+        uint16_t x;
+        memcpy(&x, b, 2);
+        return x;
+    }
+    case HALO_VOXEL_INT16: {
+        int16_t x;
+        memcpy(&x, b, 2);
+        return x;
+    }
+    case HALO_VOXEL_FLOAT32: {
+        float x;
+        memcpy(&x, b, 4);
+        return x;
+    }
+    default:
+        return 0.0f;
+    }
+}
+
+halo_volume_status halo_volume_read_raw(const char *path, const halo_raw_desc *desc, halo_volume_file *out,
+                                        char *err, size_t err_size)
+{
+    memset(out, 0, sizeof *out);
+    if (!desc || desc->type >= HALO_VOXEL_TYPE_COUNT || desc->offset < 0)
+        return fail(HALO_VOLUME_IO, err, err_size, "%s: invalid raw description", path);
+    long long dims[3] = {desc->dims[0], desc->dims[1], desc->dims[2]};
+    size_t voxels = checked_voxels(path, dims, err, err_size);
+    if (!voxels)
+        return HALO_VOLUME_INVALID;
+    const int bytes = voxel_types[desc->type].bytes;
+    const unsigned long long needed = (unsigned long long)desc->offset + (unsigned long long)voxels * (unsigned)bytes;
+
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return fail(HALO_VOLUME_IO, err, err_size, "%s: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        fclose(f);
+        return fail(HALO_VOLUME_IO, err, err_size, "%s: not a regular file", path);
+    }
+    unsigned long long have = (unsigned long long)st.st_size;
+    if (have < needed) {
+        fclose(f);
+        return fail(HALO_VOLUME_IO, err, err_size,
+                    "%s: truncated: %llu bytes, but %lldx%lldx%lld %s voxels after %lld header bytes need %llu", path,
+                    have, dims[0], dims[1], dims[2], voxel_types[desc->type].name, desc->offset, needed);
+    }
+    if (have > needed) {
+        fclose(f);
+        return fail(HALO_VOLUME_INVALID, err, err_size,
+                    "%s: %llu bytes, more than the %llu that %lldx%lldx%lld %s voxels after %lld header bytes need "
+                    "(check --raw-dims, --raw-type and --raw-offset)",
+                    path, have, needed, dims[0], dims[1], dims[2], voxel_types[desc->type].name, desc->offset);
+    }
+    out->data = malloc(voxels * sizeof *out->data);
+    if (!out->data) {
+        fclose(f);
+        return fail(HALO_VOLUME_IO, err, err_size, "%s: out of memory for %zu voxels", path, voxels);
+    }
+    if (desc->offset > 0 && fseeko(f, (off_t)desc->offset, SEEK_SET) != 0) {
+        fclose(f);
+        halo_volume_file_free(out);
+        return fail(HALO_VOLUME_IO, err, err_size, "%s: cannot seek: %s", path, strerror(errno));
+    }
+    const int swap = bytes > 1 && desc->big_endian != host_is_big_endian();
+    unsigned char chunk[1 << 16];
+    size_t done = 0;
+    while (done < voxels) {
+        size_t want = voxels - done;
+        if (want > sizeof chunk / (size_t)bytes)
+            want = sizeof chunk / (size_t)bytes;
+        if (fread(chunk, (size_t)bytes, want, f) != want) {
+            int e = ferror(f) ? errno : 0;
+            fclose(f);
+            halo_volume_file_free(out);
+            return fail(HALO_VOLUME_IO, err, err_size, "%s: read failed after %zu voxels%s%s", path, done,
+                        e ? ": " : " (file shrank?)", e ? strerror(e) : "");
+        }
+        for (size_t i = 0; i < want; ++i)
+            out->data[done + i] = raw_value(chunk + i * (size_t)bytes, desc->type, swap);
+        done += want;
+    }
+    fclose(f);
+
+    for (int a = 0; a < 3; ++a) {
+        out->dims[a] = (int)dims[a];
+        double s = desc->spacing[a];
+        out->spacing[a] = isfinite(s) && s > 0.0 ? s : 1.0;
+        out->display_axis[a] = a;
+        out->display_flip[a] = 0;
+    }
+    snprintf(out->description, sizeof out->description, "raw %s %s-endian, %dx%dx%d voxels of %gx%gx%g",
+             voxel_types[desc->type].name, desc->big_endian ? "big" : "little", out->dims[0], out->dims[1],
+             out->dims[2], out->spacing[0], out->spacing[1], out->spacing[2]);
+    halo_volume_status status = replace_nonfinite(path, out, voxels, err, err_size);
+    if (status != HALO_VOLUME_OK)
+        halo_volume_file_free(out);
+    return status;
+}
+
+/* ---- NIfTI --------------------------------------------------------------------------- */
+
+static int nifti_type_supported(int datatype)
+{
+    switch (datatype) {
+    case DT_UINT8: case DT_INT8: case DT_INT16: case DT_UINT16: case DT_INT32: case DT_UINT32:
+    case DT_INT64: case DT_UINT64: case DT_FLOAT32: case DT_FLOAT64:
+        return 1;
+    default:
+        return 0;
+    }
+}
+
+static double nifti_value(const unsigned char *p, int datatype)
+{
+    switch (datatype) {
+#define HALO_NIFTI_CASE(dt, type)                                                                          \
+    case dt: {                                                                                             \
+        type x;                                                                                            \
+        memcpy(&x, p, sizeof x);                                                                           \
+        return (double)x;                                                                                  \
+    }
+    HALO_NIFTI_CASE(DT_UINT8, uint8_t)
+    HALO_NIFTI_CASE(DT_INT8, int8_t)
+    HALO_NIFTI_CASE(DT_INT16, int16_t)
+    HALO_NIFTI_CASE(DT_UINT16, uint16_t)
+    HALO_NIFTI_CASE(DT_INT32, int32_t)
+    HALO_NIFTI_CASE(DT_UINT32, uint32_t)
+    HALO_NIFTI_CASE(DT_INT64, int64_t)
+    HALO_NIFTI_CASE(DT_UINT64, uint64_t)
+    HALO_NIFTI_CASE(DT_FLOAT32, float)
+    HALO_NIFTI_CASE(DT_FLOAT64, double)
+#undef HALO_NIFTI_CASE
+    default:
+        return 0.0;
+    }
+}
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && !strcmp(s + n - m, suffix);
+}
+
+/* Turns the NIfTI orientation (from the sform, else the qform) into display axes:
+ * display +x towards the patient's left, +y superior, +z anterior. Returns 0 when
+ * the file has no usable orientation. */
+static int nifti_display_axes(const nifti_image *nim, int axis[3], int flip[3])
+{
+    nifti_dmat44 m;
+    if (nim->sform_code > 0)
+        m = nim->sto_xyz;
+    else if (nim->qform_code > 0)
+        m = nim->qto_xyz;
+    else
+        return 0;
+    int code[3];
+    nifti_dmat44_to_orientation(m, &code[0], &code[1], &code[2]);
+    int seen[3] = {0, 0, 0};
+    for (int a = 0; a < 3; ++a) {
+        int d, backwards;
+        switch (code[a]) {
+        case NIFTI_L2R: d = 0; backwards = 1; break;
+        case NIFTI_R2L: d = 0; backwards = 0; break;
+        case NIFTI_I2S: d = 1; backwards = 0; break;
+        case NIFTI_S2I: d = 1; backwards = 1; break;
+        case NIFTI_P2A: d = 2; backwards = 0; break;
+        case NIFTI_A2P: d = 2; backwards = 1; break;
+        default: return 0;
+        }
+        if (seen[d]++)
+            return 0;
+        axis[d] = a;
+        flip[d] = backwards;
+    }
+    return 1;
+}
+
+/* Reads `total` bytes at the data offset through zlib (which also reads uncompressed
+ * files), growing the buffer as data arrives so that a short file never makes a
+ * large allocation. */
+static halo_volume_status read_nifti_data(const char *path, const nifti_image *nim, size_t total,
+                                          unsigned char **data_out, char *err, size_t err_size)
+{
+    *data_out = NULL;
+    const char *data_path = nim->iname ? nim->iname : path;
+    if (!ends_with(data_path, ".gz")) {
+        struct stat st;
+        if (stat(data_path, &st) != 0)
+            return fail(HALO_VOLUME_IO, err, err_size, "%s: %s", data_path, strerror(errno));
+        unsigned long long needed = (unsigned long long)nim->iname_offset + total;
+        if ((unsigned long long)st.st_size < needed)
+            return fail(HALO_VOLUME_IO, err, err_size,
+                        "%s: truncated: %llu bytes, but the header's %lldx%lldx%lld %s voxels at offset %lld need %llu",
+                        data_path, (unsigned long long)st.st_size, (long long)nim->nx, (long long)nim->ny,
+                        (long long)nim->nz, nifti_datatype_string(nim->datatype), (long long)nim->iname_offset,
+                        needed);
+    }
+    gzFile gz = gzopen(data_path, "rb");
+    if (!gz)
+        return fail(HALO_VOLUME_IO, err, err_size, "%s: %s", data_path, errno ? strerror(errno) : "cannot open");
+    if (nim->iname_offset > 0 && gzseek(gz, (z_off_t)nim->iname_offset, SEEK_SET) != (z_off_t)nim->iname_offset) {
+        gzclose(gz);
+        return fail(HALO_VOLUME_IO, err, err_size, "%s: truncated: ends before the voxel data at offset %lld",
+                    data_path, (long long)nim->iname_offset);
+    }
+    size_t capacity = total < ((size_t)16 << 20) ? total : ((size_t)16 << 20);
+    unsigned char *data = malloc(capacity ? capacity : 1);
+    size_t have = 0;
+    char why[128] = "end of file"; /* gzerror's text lives in the gzFile: copy it before gzclose */
+    while (data && have < total) {
+        if (have == capacity) {
+            size_t grown = capacity * 2 < total ? capacity * 2 : total;
+            unsigned char *bigger = realloc(data, grown);
+            if (!bigger) {
+                free(data);
+                data = NULL;
+                break;
+            }
+            data = bigger;
+            capacity = grown;
+        }
+        size_t want = capacity - have;
+        if (want > ((size_t)1 << 30))
+            want = (size_t)1 << 30;
+        int got = gzread(gz, data + have, (unsigned)want);
+        if (got <= 0) {
+            int code = Z_OK;
+            const char *message = gzerror(gz, &code);
+            if ((got < 0 || code != Z_OK) && message && message[0])
+                snprintf(why, sizeof why, "%s", message);
+            break;
+        }
+        have += (size_t)got;
+    }
+    gzclose(gz);
+    if (!data)
+        return fail(HALO_VOLUME_IO, err, err_size, "%s: out of memory for %zu bytes of voxel data", data_path, total);
+    if (have < total) {
+        free(data);
+        return fail(HALO_VOLUME_IO, err, err_size, "%s: truncated: %s after %zu of the %zu bytes of voxel data",
+                    data_path, why, have, total);
+    }
+    *data_out = data;
+    return HALO_VOLUME_OK;
+}
+
+halo_volume_status halo_volume_read_nifti(const char *path, halo_volume_file *out, char *err, size_t err_size)
+{
+    memset(out, 0, sizeof *out);
+    FILE *probe = fopen(path, "rb");
+    if (!probe)
+        return fail(HALO_VOLUME_IO, err, err_size, "%s: %s", path, strerror(errno));
+    fclose(probe);
+
+    nifti_set_debug_level(0);
+    nifti_image *nim = nifti_image_read(path, 0); /* the header only */
+    if (!nim)
+        return fail(HALO_VOLUME_INVALID, err, err_size,
+                    "%s: not a NIfTI file, or its header is incomplete or invalid", path);
+    halo_volume_status status = HALO_VOLUME_OK;
+    unsigned char *raw = NULL;
+    long long dims[3] = {nim->nx, nim->ny, nim->nz};
+    size_t voxels = 0;
+    if (nim->ndim < 1 || nim->ndim > 7) {
+        status = fail(HALO_VOLUME_INVALID, err, err_size, "%s: %lld dimensions, expected 1 to 7", path,
+                      (long long)nim->ndim);
+        goto done;
+    }
+    if (!nifti_type_supported(nim->datatype)) {
+        status = fail(HALO_VOLUME_INVALID, err, err_size,
+                      "%s: voxel type %s is not supported (integers of 8 to 64 bits, float32, float64)", path,
+                      nifti_datatype_string(nim->datatype));
+        goto done;
+    }
+    voxels = checked_voxels(path, dims, err, err_size);
+    if (!voxels) {
+        status = HALO_VOLUME_INVALID;
+        goto done;
+    }
+    for (int d = 4; d <= 7 && d <= nim->ndim; ++d)
+        if (nim->dim[d] < 1) {
+            status = fail(HALO_VOLUME_INVALID, err, err_size, "%s: dimension %d is %lld", path, d,
+                          (long long)nim->dim[d]);
+            goto done;
+        }
+    int bytes = nim->nbyper;
+    status = read_nifti_data(path, nim, voxels * (size_t)bytes, &raw, err, err_size);
+    if (status != HALO_VOLUME_OK)
+        goto done;
+    if (bytes > 1 && nim->byteorder != nifti_short_order())
+        nifti_swap_Nbytes((int64_t)voxels, nim->swapsize > 1 ? nim->swapsize : bytes, raw);
+
+    out->data = malloc(voxels * sizeof *out->data);
+    if (!out->data) {
+        status = fail(HALO_VOLUME_IO, err, err_size, "%s: out of memory for %zu voxels", path, voxels);
+        goto done;
+    }
+    double slope = nim->scl_slope, intercept = nim->scl_inter;
+    int scaled = isfinite(slope) && slope != 0.0 && isfinite(intercept) && (slope != 1.0 || intercept != 0.0);
+    for (size_t i = 0; i < voxels; ++i) {
+        double x = nifti_value(raw + i * (size_t)bytes, nim->datatype);
+        if (scaled)
+            x = x * slope + intercept;
+        out->data[i] = (float)x; /* beyond float range: infinite, then replaced below */
+    }
+    free(raw);
+    raw = NULL;
+
+    double spacing[3] = {nim->dx, nim->dy, nim->dz};
+    for (int a = 0; a < 3; ++a) {
+        out->dims[a] = (int)dims[a];
+        out->spacing[a] = isfinite(spacing[a]) && fabs(spacing[a]) > 1e-9 ? fabs(spacing[a]) : 1.0;
+        out->display_axis[a] = a;
+        out->display_flip[a] = 0;
+    }
+    int oriented = nifti_display_axes(nim, out->display_axis, out->display_flip);
+    long long extra = 1;
+    for (int d = 4; d <= 7 && d <= nim->ndim; ++d)
+        extra = extra > INT_MAX / nim->dim[d] ? INT_MAX : extra * nim->dim[d];
+    out->discarded_volumes = extra - 1 > INT_MAX ? INT_MAX : (int)(extra - 1);
+    const char *units = nim->xyz_units ? nifti_units_string(nim->xyz_units) : "";
+    snprintf(out->description, sizeof out->description, "NIfTI-%d, %s, %dx%dx%d voxels of %gx%gx%g%s%s%s", 
+             nim->nifti_type >= NIFTI_FTYPE_NIFTI2_1 ? 2 : 1, nifti_datatype_string(nim->datatype), out->dims[0],
+             out->dims[1], out->dims[2], out->spacing[0], out->spacing[1], out->spacing[2], units[0] ? " " : "",
+             units, oriented ? "" : ", no orientation (axes kept)");
+    status = replace_nonfinite(path, out, voxels, err, err_size);
+
+done:
+    free(raw);
+    if (status != HALO_VOLUME_OK)
+        halo_volume_file_free(out);
+    nifti_image_free(nim);
+    return status;
+}
+
+/* ---- Window ------------------------------------------------------------------------ */
+
+void halo_volume_percentile_window(const halo_volume_file *v, double low_percent, double high_percent,
+                                   double window[2])
+{
+    size_t n = (size_t)v->dims[0] * (size_t)v->dims[1] * (size_t)v->dims[2];
+    double lo = INFINITY, hi = -INFINITY;
+    int integral = 1;
+    for (size_t i = 0; i < n; ++i) {
+        double x = v->data[i];
+        if (x < lo)
+            lo = x;
+        if (x > hi)
+            hi = x;
+        if (integral && x != floor(x))
+            integral = 0;
+    }
+    if (!(hi > lo)) {
+        window[0] = lo;
+        window[1] = lo + 1.0;
+        return;
+    }
+    /* Integer data spanning at most 65536 values get one bin per value (exact). */
+    enum { FLOAT_BINS = 65536 };
+    const int exact = integral && hi - lo < FLOAT_BINS;
+    const size_t bins = exact ? (size_t)(hi - lo) + 1 : FLOAT_BINS;
+    const double bin_width = exact ? 1.0 : (hi - lo) / FLOAT_BINS;
+    size_t *histogram = calloc(bins, sizeof *histogram);
+    if (!histogram) {
+        window[0] = lo;
+        window[1] = hi;
+        return;
+    }
+    for (size_t i = 0; i < n; ++i) {
+        size_t b = (size_t)((v->data[i] - lo) / bin_width);
+        histogram[b < bins ? b : bins - 1]++;
+    }
+    double percent[2] = {low_percent, high_percent};
+    for (int k = 0; k < 2; ++k) {
+        double rank = percent[k] / 100.0 * (double)(n - 1);
+        size_t count = 0, b = 0;
+        for (; b < bins; ++b) {
+            count += histogram[b];
+            if ((double)count > rank)
+                break;
+        }
+        if (b == bins)
+            b = bins - 1;
+        window[k] = exact ? lo + (double)b : lo + ((double)b + 0.5) * bin_width;
+    }
+    free(histogram);
+    if (!(window[1] > window[0])) {
+        window[0] = lo;
+        window[1] = hi;
+    }
+}
+
+/* ---- Resampling into the display cube ------------------------------------------------ */
+
+/* The source positions and weights of each output position along one axis. */
+typedef struct taps {
+    int count_max;
+    int *first, *count;
+    float *weight; /* count_max per output */
+} taps;
+
+static void taps_free(taps *t)
+{
+    free(t->first);
+    free(t->count);
+    free(t->weight);
+}
+
+/* Output voxel u (of size, each `out_size` long) sits at physical (u + 0.5) * out_size
+ * - margin from the source axis's start; source voxel i at (i + 0.5) * spacing. A tent
+ * of radius max(1, out_size / spacing) source voxels; positions outside the source
+ * count as 0, so the volume's edges fade over one output voxel. */
+static int taps_make(taps *t, int size, double out_size, double margin, int n, double spacing)
+{
+    double radius = out_size / spacing;
+    if (radius < 1.0)
+        radius = 1.0;
+    t->count_max = 2 * (int)ceil(radius) + 2;
+    t->first = malloc((size_t)size * sizeof *t->first);
+    t->count = malloc((size_t)size * sizeof *t->count);
+    t->weight = malloc((size_t)size * (size_t)t->count_max * sizeof *t->weight);
+    if (!t->first || !t->count || !t->weight)
+        return 0;
+    for (int u = 0; u < size; ++u) {
+        double x = ((u + 0.5) * out_size - margin) / spacing - 0.5;
+        int i0 = (int)ceil(x - radius), i1 = (int)floor(x + radius);
+        double total = 0.0;
+        for (int i = i0; i <= i1; ++i)
+            total += 1.0 - fabs(i - x) / radius;
+        int first = i0 < 0 ? 0 : i0, last = i1 > n - 1 ? n - 1 : i1;
+        if (last - first + 1 > t->count_max)
+            last = first + t->count_max - 1;
+        t->first[u] = first;
+        t->count[u] = last >= first ? last - first + 1 : 0;
+        for (int i = first; i <= last; ++i) {
+            double w = 1.0 - fabs(i - x) / radius;
+            t->weight[(size_t)u * (size_t)t->count_max + (size_t)(i - first)] =
+                (float)(total > 0.0 && w > 0.0 ? w / total : 0.0);
+        }
+    }
+    return 1;
+}
+
+int halo_volume_display_size(const halo_volume_file *v, int max_size)
+{
+    double extent = 0.0, finest = INFINITY;
+    for (int a = 0; a < 3; ++a) {
+        double e = v->dims[a] * v->spacing[a];
+        if (e > extent)
+            extent = e;
+        if (v->spacing[a] < finest)
+            finest = v->spacing[a];
+    }
+    double size = ceil(extent / finest - 1e-6);
+    if (size > max_size)
+        size = max_size;
+    if (size < 8)
+        size = 8;
+    return (int)size;
+}
+
+float *halo_volume_to_display(const halo_volume_file *v, const double window[2], int size)
+{
+    int n[3];
+    double spacing[3], extent[3], longest = 0.0;
+    ptrdiff_t stride[3], base = 0;
+    const ptrdiff_t file_stride[3] = {1, v->dims[0], (ptrdiff_t)v->dims[0] * v->dims[1]};
+    for (int d = 0; d < 3; ++d) {
+        int a = v->display_axis[d];
+        n[d] = v->dims[a];
+        spacing[d] = v->spacing[a];
+        extent[d] = n[d] * spacing[d];
+        if (extent[d] > longest)
+            longest = extent[d];
+        stride[d] = v->display_flip[d] ? -file_stride[a] : file_stride[a];
+        if (v->display_flip[d])
+            base += (ptrdiff_t)(n[d] - 1) * file_stride[a];
+    }
+    const double out_size = longest / size;
+    const double lo = window[0], scale = 1.0 / (window[1] - window[0]);
+    const size_t s = (size_t)size;
+
+    taps t[3] = {{0}};
+    float *pass1 = NULL, *pass2 = NULL, *out = NULL;
+    int ok = 1;
+    for (int d = 0; d < 3; ++d)
+        ok &= taps_make(&t[d], size, out_size, 0.5 * (longest - extent[d]), n[d], spacing[d]);
+    if (ok) {
+        pass1 = calloc(s * (size_t)n[1] * (size_t)n[2], sizeof *pass1);
+        pass2 = calloc(s * s * (size_t)n[2], sizeof *pass2);
+        out = calloc(s * s * s, sizeof *out);
+    }
+    if (!ok || !pass1 || !pass2 || !out) {
+        free(out);
+        out = NULL;
+        goto done;
+    }
+    /* Along display x, windowing each source value on the way. */
+    for (int z = 0; z < n[2]; ++z)
+        for (int y = 0; y < n[1]; ++y) {
+            const float *row = v->data + (base + (ptrdiff_t)y * stride[1] + (ptrdiff_t)z * stride[2]);
+            float *dst = pass1 + ((size_t)z * (size_t)n[1] + (size_t)y) * s;
+            for (int u = 0; u < size; ++u) {
+                const float *w = t[0].weight + (size_t)u * (size_t)t[0].count_max;
+                double sum = 0.0;
+                for (int k = 0; k < t[0].count[u]; ++k) {
+                    double x = (row[(ptrdiff_t)(t[0].first[u] + k) * stride[0]] - lo) * scale;
+                    sum += w[k] * (x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x);
+                }
+                dst[u] = (float)sum;
+            }
+        }
+    /* Along y. */
+    for (int z = 0; z < n[2]; ++z)
+        for (int u = 0; u < size; ++u) {
+            float *dst = pass2 + ((size_t)z * s + (size_t)u) * s;
+            const float *w = t[1].weight + (size_t)u * (size_t)t[1].count_max;
+            for (int k = 0; k < t[1].count[u]; ++k) {
+                const float *src = pass1 + ((size_t)z * (size_t)n[1] + (size_t)(t[1].first[u] + k)) * s;
+                for (size_t x = 0; x < s; ++x)
+                    dst[x] += w[k] * src[x];
+            }
+        }
+    /* Along z. */
+    for (int u = 0; u < size; ++u) {
+        float *dst = out + (size_t)u * s * s;
+        const float *w = t[2].weight + (size_t)u * (size_t)t[2].count_max;
+        for (int k = 0; k < t[2].count[u]; ++k) {
+            const float *src = pass2 + (size_t)(t[2].first[u] + k) * s * s;
+            for (size_t i = 0; i < s * s; ++i)
+                dst[i] += w[k] * src[i];
+        }
+    }
+    for (size_t i = 0; i < s * s * s; ++i)
+        out[i] = out[i] < 0.0f ? 0.0f : out[i] > 1.0f ? 1.0f : out[i];
+done:
+    free(pass1);
+    free(pass2);
+    for (int d = 0; d < 3; ++d)
+        taps_free(&t[d]);
+    return out;
+}

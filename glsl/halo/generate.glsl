@@ -1,0 +1,76 @@
+#pragma halo module halo_generate
+#pragma halo summary "volumetric halos, generation: spreads the gradient of the seed image into the halo field and the occlusion image"
+#pragma halo hook image
+#pragma halo needs seed
+#pragma halo provides field image
+#pragma halo provides occlusion image
+#pragma halo image seed reset=generation
+#pragma halo image initial
+#pragma halo image field
+#pragma halo image occlusion
+#pragma halo param passes int default=4 min=1 max=8 "N: spreading passes; pass i reads at distance 2^(N-i) pixels (reach 2^N - 1)"
+#pragma halo param delta channels default=0.8 min=0 max=1 "spreading amount (0: the seed gradient only; paper's Fig. 4: 0.70..0.95)"
+#pragma halo param median bool default=false "3x3 median filter on the seed image before spreading"
+#pragma halo param interval int default=4 min=1 max=64 "M: slices between two generations (read by hosts from the reflection)"
+#pragma halo pass median entry=median_pass inputs=seed output=seed when=median
+#pragma halo pass gradient entry=gradient_pass inputs=seed output=initial
+#pragma halo pass spread entry=spread_pass inputs=previous,initial output=field repeat=passes first=initial
+#pragma halo pass occlude entry=occlusion_pass inputs=field,occlusion output=occlusion
+
+// Volumetric halos, step 2 (Bruckner & Groller 2007, Sec. 3.2; docs/stages/halo_generate.md):
+//   H_0 = |grad S| (central differences, not halved, clamped to [0, 1]);
+//   F_i(p) = sum over u, v in {-1, 0, 1} of w(u, v) H_{i-1}(p + k (u, v)), k = 2^(N - i),
+//   w = [1 2 1; 2 4 2; 1 2 1] / 16;  H_i = delta F_i + (1 - delta F_i) H_0;
+//   O = max(O, H_N) (occlusion image, for occlusive halos).
+// Every channel is one halo. Pixels outside the image read as 0 (halo_input).
+
+// Median of nine (insertion sort; no arithmetic, so the emulation matches bit for bit).
+float median9(float v[9])
+{
+    for (int i = 1; i < 9; ++i) {
+        float x = v[i];
+        int j = i - 1;
+        while (j >= 0 && v[j] > x) {
+            v[j + 1] = v[j];
+            --j;
+        }
+        v[j + 1] = x;
+    }
+    return v[4];
+}
+
+halo_channels median_pass(ivec2 pixel)
+{
+    vec4 result = vec4(0.0);
+    for (int c = 0; c < halo_channel_count; ++c) {
+        float v[9];
+        for (int i = 0; i < 9; ++i)
+            v[i] = halo_channel(halo_input(0, pixel + ivec2(i % 3 - 1, i / 3 - 1)), c);
+        result[c] = median9(v);
+    }
+    return halo_channels_from(result);
+}
+
+halo_channels gradient_pass(ivec2 pixel)
+{
+    halo_channels gx = halo_input(0, pixel + ivec2(1, 0)) - halo_input(0, pixel - ivec2(1, 0));
+    halo_channels gy = halo_input(0, pixel + ivec2(0, 1)) - halo_input(0, pixel - ivec2(0, 1));
+    return clamp(sqrt(gx * gx + gy * gy), 0.0, 1.0);
+}
+
+halo_channels spread_pass(ivec2 pixel)
+{
+    int k = 1 << (halo_pass_count - halo_pass_index);
+    halo_channels corners = halo_input(0, pixel + ivec2(-k, -k)) + halo_input(0, pixel + ivec2(k, -k)) +
+                            halo_input(0, pixel + ivec2(-k, k)) + halo_input(0, pixel + ivec2(k, k));
+    halo_channels edges = halo_input(0, pixel + ivec2(0, -k)) + halo_input(0, pixel + ivec2(-k, 0)) +
+                          halo_input(0, pixel + ivec2(k, 0)) + halo_input(0, pixel + ivec2(0, k));
+    halo_channels f = (corners + 2.0 * edges + 4.0 * halo_input(0, pixel)) * (1.0 / 16.0);
+    halo_channels spread = delta * f;
+    return spread + (halo_channels(1.0) - spread) * halo_input(1, pixel);
+}
+
+halo_channels occlusion_pass(ivec2 pixel)
+{
+    return max(halo_input(0, pixel), halo_input(1, pixel));
+}

@@ -1,0 +1,37 @@
+#!/bin/sh
+# A malformed polyline file: every error reported at its file:line, exit status 1.
+. "${srcdir:-.}/tests/lines/common.sh"
+bad="$tmp/bad.txt"
+cat >"$bad" <<'DATA'
+halo-polylines 1
+# a good line
+line
+0 0 0
+1 0 0
+line
+0 1
+2 x 3
+nan 0 0
+line
+5 5 5
+wobble
+DATA
+run_lines --lines "$bad" --size 32x32 -o "$tmp/bad.png"
+status=$?
+cat "$tmp/out"
+test "$status" -eq 1 || { echo "FAIL: exit status $status, expected 1" >&2; exit 1; }
+for where in "bad.txt:7:1: error" "bad.txt:8:3: error" "bad.txt:9:1: error" "bad.txt:10:1: error" \
+    "bad.txt:12:1: error"; do
+    grep -q "$where" "$tmp/out" || { echo "FAIL: no diagnostic at $where" >&2; exit 1; }
+done
+test ! -e "$tmp/bad.png" || { echo "FAIL: an image was written" >&2; exit 1; }
+# a file without the header, and an empty file
+printf '0 0 0\n1 1 1\n' >"$tmp/noheader.txt"
+run_lines --lines "$tmp/noheader.txt" --size 32x32 -o "$tmp/x.png"
+test $? -eq 1 && grep -q "noheader.txt:1:1: error" "$tmp/out" || { cat "$tmp/out" >&2; echo "FAIL: no header" >&2; exit 1; }
+: >"$tmp/empty.txt"
+run_lines --lines "$tmp/empty.txt" --size 32x32 -o "$tmp/x.png"
+test $? -eq 1 || { cat "$tmp/out" >&2; echo "FAIL: empty file" >&2; exit 1; }
+run_lines --lines "$tmp/missing.txt" --size 32x32 -o "$tmp/x.png"
+test $? -eq 2 || { cat "$tmp/out" >&2; echo "FAIL: a missing file should exit 2" >&2; exit 1; }
+exit 0
