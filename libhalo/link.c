@@ -607,7 +607,8 @@ static void emit_declarations(emitter *e, const halo_program *p, const char *hos
             sm->image, sm->name, sm->name);
     }
     for (size_t i = 0; i < p->host_uniform_count; i++)
-        GEN(e, "uniform %s %s;", p->host_uniforms[i].type, p->host_uniforms[i].name);
+        GEN(e, "uniform %s%s %s;", strncmp(p->host_uniforms[i].type, "sampler", 7) ? "" : "highp ",
+            p->host_uniforms[i].type, p->host_uniforms[i].name);
 }
 
 static int emit_program(halo_program *p, const char *host_source, char **host_lines, int host_count,

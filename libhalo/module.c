@@ -503,12 +503,13 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
         m->images = im;
         im[m->image_count++] = (halo_image_decl){halo_strdup(w.w[1]), reset, line};
     } else if (!strcmp(d, "host_uniform")) {
-        static const char *const ok_types[] = {"float", "vec2", "vec3", "vec4", "int", "mat4", NULL};
+        static const char *const ok_types[] = {"float", "vec2", "vec3", "vec4", "int", "mat4", "sampler2D",
+                                               "sampler3D", NULL};
         int ok = w.n >= 3 && w.n <= 4 && valid_name(w.w[1]), tok = 0;
         for (int i = 0; ok && ok_types[i]; i++) tok |= !strcmp(w.w[2], ok_types[i]);
         if (!ok || !tok || (w.n == 4 && w.w[3][0] != '"')) {
             ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'host_uniform' takes a name, a type "
-                        "(float, vec2, vec3, vec4, int, mat4) and a \"meaning\"");
+                        "(float, vec2, vec3, vec4, int, mat4, sampler2D, sampler3D) and a \"meaning\"");
             return;
         }
         halo_host_uniform_decl *h = realloc(m->host_uniforms, (m->host_uniform_count + 1) * sizeof *h);
