@@ -8,7 +8,9 @@ cd "$(dirname "$0")"
 packages="build-essential autoconf automake libtool pkg-config file
   glslang-dev libosmesa6-dev mesa-common-dev libopenimageio-dev libjansson-dev
   clang libclang-rt-14-dev
-  libnifti2-dev zlib1g-dev mricron-data"
+  libnifti2-dev zlib1g-dev mricron-data
+  libglfw3-dev xvfb xauth
+  gnuplot-nox"
 
 missing=""
 for p in $packages; do

@@ -1,4 +1,39 @@
-EXTRA_DIST += docs/modules.md docs/host-contract.md docs/scene.md docs/accuracy.md \
-	docs/stages/gradient.md docs/stages/opacity_power.md docs/stages/boundary.md \
-	docs/stages/silhouette.md docs/stages/orientation_fade.md docs/stages/sketch.md \
-	docs/stages/tone_shading.md docs/stages/distance_blend.md docs/stages/distance_cue.md
+# The manual: every page and picture in docs/ ships in the tarball.
+EXTRA_DIST += \
+	docs/accuracy.md \
+	docs/blur.md \
+	docs/feature-halos.md \
+	docs/halo-render.md \
+	docs/halo-view.md \
+	docs/hard-cases.md \
+	docs/host-contract.md \
+	docs/image-passes.md \
+	docs/images/feature-halos.png \
+	docs/images/feature-volumetric.png \
+	docs/images/halo-view.png \
+	docs/lines.md \
+	docs/modules.md \
+	docs/outlines.md \
+	docs/performance-bench.png \
+	docs/performance.md \
+	docs/polyline-format.md \
+	docs/scene.md \
+	docs/stages/boundary.md \
+	docs/stages/distance_blend.md \
+	docs/stages/distance_cue.md \
+	docs/stages/feature_halo.md \
+	docs/stages/gradient.md \
+	docs/stages/halo_generate.md \
+	docs/stages/halo_map.md \
+	docs/stages/halo_seed.md \
+	docs/stages/line_halo.md \
+	docs/stages/line_strip.md \
+	docs/stages/opacity_power.md \
+	docs/stages/orientation_fade.md \
+	docs/stages/outline_feature.md \
+	docs/stages/outlines.md \
+	docs/stages/silhouette.md \
+	docs/stages/sketch.md \
+	docs/stages/tone_shading.md \
+	docs/volumetric-halos-performance.md \
+	docs/volumetric-halos.md

@@ -8,6 +8,7 @@
  * volume contents), 2 usage or I/O failure (bad options, missing or truncated files). */
 #define _POSIX_C_SOURCE 200809L
 #include "halo.h"
+#include "halo_feature.h"
 #include "gl/glfuncs.h"
 #include "gl/headless.h"
 #include "hosts/raycast.h"
@@ -16,6 +17,8 @@
 #include "image_write.h"
 #include "volume.h"
 #include "volume_io.h"
+
+#include "bench_budget.h"
 
 #include <jansson.h>
 
@@ -44,6 +47,13 @@ static const char *embedded_scene(const char *name)
     return NULL;
 }
 
+
+/* The stage of feature halos (libhalo/halo_feature.h): its halo buffer is built here. */
+#define FEATURE_STAGE "feature_halo"
+/* The texture unit the feature halo buffer is bound to: the hosts use 0..2, the slice
+ * host's halo images 3 on. */
+#define FEATURE_BUFFER_UNIT 15
+
 #define DEFAULT_SCENE "examples/scenes/default.json"
 /* The default window of a volume file whose scene sets none: these percentiles. */
 #define WINDOW_LOW_PERCENT 1.0
@@ -60,8 +70,14 @@ static void usage(FILE *out)
           "  --scene S          scene file (JSON); default: examples/scenes/default.json (built in)\n"
           "  --host H           slice, slab or raycast; default: slice when the scene has\n"
           "                     halo stages, else raycast\n"
-          "  --no-halos         switch the halo stages (image passes, images, extra outputs)\n"
-          "                     off: the same scene and host without halos, for comparison\n"
+          "  --no-halos         switch the halo stages (image passes, images, extra outputs,\n"
+          "                     feature_halo) off: the same scene and host without halos\n"
+          "  --max-error E      measure a sweep of configurations (slice or slab host, M, N,\n"
+          "                     halo image precision, step) of this scene, volume and image\n"
+          "                     against the exact reference and render with the cheapest whose\n"
+          "                     largest colour error is <= E (E >= 0). The sweep renders about\n"
+          "                     30 configurations 4 times each: about 30 s at 64x64 with a\n"
+          "                     48^3 volume on llvmpipe, minutes at larger sizes\n"
           "Volume (default: the built-in procedural volume):\n"
           "  --volume FILE      NIfTI volume (.nii, .nii.gz, .hdr/.img), or raw with --raw-dims\n"
           "  --raw-dims XxYxZ   raw file: voxels per axis, x fastest\n"
@@ -163,8 +179,8 @@ static const char *const host_names[] = {"auto", "slice", "slab", "raycast"};
 typedef struct options {
     const char *scene_path, *output, *volume_path;
     int width, height, volume_size, have_volume_size;
-    int have_azimuth, have_elevation, have_zoom, have_window, no_halos, quiet;
-    double azimuth, elevation, zoom, window[2];
+    int have_azimuth, have_elevation, have_zoom, have_window, no_halos, quiet, have_max_error;
+    double azimuth, elevation, zoom, window[2], max_error;
     host_kind host;
     int raw, have_raw_type, have_raw_extra;
     halo_raw_desc raw_desc;
@@ -172,7 +188,8 @@ typedef struct options {
 
 static const char *const valued_options[] = {
     "--scene", "-o", "--output", "--size", "--azimuth", "--elevation", "--zoom", "--volume-size", "--volume",
-    "--raw-dims", "--raw-type", "--raw-endian", "--raw-offset", "--raw-spacing", "--window", "--host", NULL};
+    "--raw-dims", "--raw-type", "--raw-endian", "--raw-offset", "--raw-spacing", "--window", "--host", "--max-error",
+    NULL};
 
 /* Returns 0 to go on, -1 to exit 0 (help), or an exit status. */
 static int parse_options(int argc, char **argv, options *o)
@@ -222,6 +239,8 @@ static int parse_options(int argc, char **argv, options *o)
             ok = o->have_elevation = parse_number(a, value, -90, 90, &o->elevation);
         else if (!strcmp(a, "--zoom"))
             ok = o->have_zoom = parse_number(a, value, 1e-3, 1e3, &o->zoom);
+        else if (!strcmp(a, "--max-error"))
+            ok = o->have_max_error = parse_number(a, value, 0, 1e30, &o->max_error);
         else if (!strcmp(a, "--volume-size"))
             ok = o->have_volume_size =
                 parse_int(a, value, HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE, &o->volume_size);
@@ -291,6 +310,14 @@ static int parse_options(int argc, char **argv, options *o)
     }
     if (o->raw && !o->have_raw_type) {
         fprintf(stderr, "halo-render: error: --raw-dims needs --raw-type (uint8, uint16, int16 or float32)\n");
+        return 2;
+    }
+    if (o->have_max_error && o->no_halos) {
+        fprintf(stderr, "halo-render: error: --max-error chooses how to render the halos: not with --no-halos\n");
+        return 2;
+    }
+    if (o->have_max_error && o->host != HOST_AUTO) {
+        fprintf(stderr, "halo-render: error: --max-error chooses the host (slice or slab): not with --host\n");
         return 2;
     }
     if (o->raw && !o->volume_path) {
@@ -380,7 +407,33 @@ static void progress_end(progress *p, int quiet, const char *done_text)
         pthread_mutex_destroy(&p->lock);
     }
     if (!quiet && elapsed > 1.0)
-        fprintf(stderr, "%shalo-render: %s in %.1f s\n", p->printed && p->tty ? "\r" : "", done_text, elapsed);
+        fprintf(stderr, "%shalo-render: %s in %.1f s\n", p->printed && p->tty ? "\r\033[K" : "", done_text, elapsed);
+}
+
+/* The slice and slab hosts report each slice (slab) drawn (halo_slice_set_progress):
+ * once a render has taken a second, "slice k of n" on stderr, rewritten in place on a
+ * terminal (at most 4 times a second), a line every 5 s otherwise. */
+typedef struct slice_progress {
+    const halo_glfuncs *gl;
+    int tty, printed;
+    double start, next;
+    const char *what, *unit;
+} slice_progress;
+
+static void slice_progress_report(int done, int total, void *user)
+{
+    slice_progress *p = user;
+    /* llvmpipe queues draws: flushing keeps the count close to what has been drawn (the
+     * driver blocks once a few frames of work are queued) */
+    p->gl->Flush();
+    double now = seconds_now();
+    if (now < p->next || done >= total)
+        return;
+    fprintf(stderr, p->tty ? "\rhalo-render: %s: %s %d of %d (%.0f s)" : "halo-render: %s: %s %d of %d (%.0f s)\n",
+            p->what, p->unit, done, total, now - p->start);
+    fflush(stderr);
+    p->printed = 1;
+    p->next = now + (p->tty ? 0.25 : 5.0);
 }
 
 /* ---- Halo stages ----------------------------------------------------------------------- */
@@ -607,6 +660,232 @@ static const char *host_fragment(host_kind kind)
     return kind == HOST_RAYCAST ? "raycast.frag" : kind == HOST_SLAB ? "slab.frag" : "slice.frag";
 }
 
+static int has_stage(const halo_scene *scene, const char *name)
+{
+    for (size_t i = 0; i < halo_scene_stage_count(scene); ++i)
+        if (!strcmp(halo_scene_stage(scene, i), name))
+            return 1;
+    return 0;
+}
+
+/* Switches off the scene's halo stages (is_halo) and feature_halo. Returns 0 on failure. */
+static int disable_halo_stages(halo_scene *scene, const int *is_halo, halo_diagnostics *diag)
+{
+    /* Collect the names first: disabling changes the scene's stage list. */
+    size_t n = halo_scene_stage_count(scene), count = 0;
+    char **names = calloc(n + 1, sizeof *names);
+    int ok = names != NULL;
+    for (size_t i = 0; ok && i < n; ++i)
+        if (is_halo[i] || !strcmp(halo_scene_stage(scene, i), FEATURE_STAGE))
+            ok = (names[count++] = strdup(halo_scene_stage(scene, i))) != NULL;
+    for (size_t i = 0; ok && i < count; ++i)
+        ok = halo_scene_enable(scene, names[i], 0, diag) == HALO_OK;
+    for (size_t i = 0; names && i < count; ++i)
+        free(names[i]);
+    free(names);
+    return ok;
+}
+
+/* ---- --max-error ------------------------------------------------------------------------ */
+
+/* The scene text the sweep renders: the scene with the camera options written into its
+ * render object (the sweep reads the camera from the scene). NULL: out of memory or
+ * an unreadable scene (diagnosed by the scene loader before). */
+static char *budget_scene_text(const options *o, const char *scene_text)
+{
+    json_error_t error;
+    json_t *root = o->scene_path ? json_load_file(o->scene_path, 0, &error) : json_loads(scene_text, 0, &error);
+    if (!root || !json_is_object(root)) {
+        json_decref(root);
+        return NULL;
+    }
+    json_t *render = json_object_get(root, "render");
+    if (!json_is_object(render)) {
+        render = json_object();
+        json_object_set_new(root, "render", render);
+    }
+    if (o->have_azimuth)
+        json_object_set_new(render, "azimuth", json_real(o->azimuth));
+    if (o->have_elevation)
+        json_object_set_new(render, "elevation", json_real(o->elevation));
+    if (o->have_zoom)
+        json_object_set_new(render, "zoom", json_real(o->zoom));
+    char *text = json_dumps(root, 0);
+    json_decref(root);
+    return text;
+}
+
+/* Runs the error budget (validate/bench_budget.c) on the scene, volume and image size
+ * and applies its choice to the scene (N, step) and to *kind, *precision, *interval.
+ * Returns an exit status. */
+static int apply_budget(const options *o, const char *scene_text, halo_library *lib, halo_gl *runtime,
+                        const float *volume, int size, int scene_passes, halo_scene *scene, host_kind *kind,
+                        int *precision, int *interval, halo_diagnostics *diag)
+{
+    char *text = budget_scene_text(o, scene_text);
+    if (!text) {
+        fprintf(stderr, "halo-render: error: --max-error: cannot prepare the scene for the sweep\n");
+        return 2;
+    }
+    halo_bench_env env = {.lib = lib, .runtime = runtime, .gl = halo_gl_functions(runtime), .diag = diag,
+                          .width = o->width, .height = o->height, .volume = volume, .dims = {size, size, size},
+                          .repeat = 3, .scene_text = text, .progress = o->quiet ? NULL : stderr};
+    char *report_text = NULL;
+    size_t report_size = 0;
+    FILE *report = open_memstream(&report_text, &report_size);
+    halo_bench_config choice;
+    double start = seconds_now();
+    if (!o->quiet)
+        fprintf(stderr, "halo-render: --max-error %g: measuring the configurations at %dx%d...\n", o->max_error,
+                o->width, o->height);
+    halo_status st = halo_bench_budget(&env, scene_passes, o->max_error, &choice, report);
+    double elapsed = seconds_now() - start;
+    if (report)
+        fclose(report);
+    free(text);
+    /* "budget: max error E: slice, M = ..., (verified: within); the exact reference ..." */
+    char *line = report_text;
+    size_t length = line ? strcspn(line, "\n") : 0;
+    if (line && length)
+        printf("halo-render: %.*s (sweep %.1f s)\n", (int)length, line, elapsed);
+    free(report_text);
+    if (st != HALO_OK) {
+        if (st == HALO_ERROR_INPUT && line && length)
+            fprintf(stderr, "halo-render: error: --max-error %g: the cheapest configuration is not within it when "
+                            "measured again\n", o->max_error);
+        return st == HALO_ERROR_INPUT ? 1 : 2;
+    }
+    if (has_stage(scene, "halo_generate") && choice.passes > 0) {
+        double passes = choice.passes;
+        if (halo_scene_set(scene, "halo_generate", "passes", &passes, 1, 0, diag) != HALO_OK)
+            return 1;
+    }
+    if (choice.step > 0.0)
+        halo_scene_render_mutable(scene)->step = choice.step;
+    *kind = choice.slab ? HOST_SLAB : HOST_SLICE;
+    *precision = choice.precision;
+    *interval = choice.interval;
+    return 0;
+}
+
+/* ---- Feature halos ------------------------------------------------------------------------ */
+
+/* Builds the feature_halo stage's halo buffer for the host's current view (from the
+ * volume's centre towards the eye) and binds it to the stage's sampler. Call again
+ * after every camera change. Returns 0 on failure (diagnostics in diag). */
+static int feature_update(halo_feature_buffer **buffer, halo_gl *runtime, const halo_program *program,
+                          const render_host *host, const float *volume, int size, int quiet, halo_diagnostics *diag)
+{
+    const halo_glfuncs *f = halo_gl_functions(runtime);
+    double start = seconds_now();
+    if (!*buffer) {
+        halo_feature_desc fd;
+        if (halo_feature_desc_from_program(program, &fd) != HALO_OK)
+            return 0;
+        const int dims[3] = {size, size, size};
+        *buffer = halo_feature_buffer_create(runtime, volume, dims, &fd, diag);
+        if (!*buffer)
+            return 0;
+    }
+    double eye[3];
+    unsigned gl_program;
+    if (host->raycast) {
+        halo_raycast_state state;
+        halo_raycast_get_state(host->raycast, &state);
+        memcpy(eye, state.eye, sizeof eye);
+        gl_program = halo_raycast_gl_program(host->raycast);
+    } else {
+        halo_slice_state state;
+        halo_slice_get_state(host->slice, &state);
+        memcpy(eye, state.eye, sizeof eye);
+        gl_program = halo_slice_gl_program(host->slice);
+    }
+    /* texture space = voxel space up to the scale for the cube the hosts render */
+    double view[3] = {eye[0] - 0.5, eye[1] - 0.5, eye[2] - 0.5};
+    double length = sqrt(view[0] * view[0] + view[1] * view[1] + view[2] * view[2]);
+    for (int k = 0; k < 3 && length > 0.0; ++k)
+        view[k] /= length;
+    if (halo_feature_buffer_build(*buffer, view) != HALO_OK) {
+        fprintf(stderr, "halo-render: error: building the feature halo buffer failed\n");
+        return 0;
+    }
+    f->UseProgram(gl_program);
+    f->Uniform1i(f->GetUniformLocation(gl_program, "halo_host_feature_buffer"), FEATURE_BUFFER_UNIT);
+    f->UseProgram(0);
+    f->ActiveTexture(GL_TEXTURE0 + FEATURE_BUFFER_UNIT);
+    f->BindTexture(GL_TEXTURE_3D, halo_feature_buffer_texture(*buffer));
+    f->ActiveTexture(GL_TEXTURE0);
+    f->Finish();
+    if (!quiet)
+        fprintf(stderr, "halo-render: feature halo buffer: %zu qualified voxels, built in %.2f s\n",
+                halo_feature_buffer_qualified(*buffer), seconds_now() - start);
+    return 1;
+}
+
+/* ---- Post passes ------------------------------------------------------------------------------ */
+
+/* The image the program's last at=post pass writes ("final" for the outlines), or NULL. */
+static const halo_image_info *post_output(const halo_program *program)
+{
+    const char *name = NULL;
+    for (size_t i = 0; i < halo_program_pass_count(program); ++i) {
+        const halo_pass_info *pass = halo_program_pass(program, i);
+        if (pass->post)
+            name = pass->output;
+    }
+    for (size_t i = 0; name && i < halo_program_image_count(program); ++i)
+        if (!strcmp(halo_program_image(program, i)->name, name))
+            return halo_program_image(program, i);
+    return NULL;
+}
+
+/* Runs the post passes on the host's image (rgba, over its background) and replaces rgba
+ * with their result. Returns 0 on failure. */
+static int run_post_passes(halo_gl *runtime, halo_gl_frame *frame, const halo_image_info *info, int width,
+                           int height, float *rgba)
+{
+    const halo_glfuncs *f = halo_gl_functions(runtime);
+    size_t pixels = (size_t)width * (size_t)height;
+    float *out = malloc(pixels * (size_t)(info->channels > 4 ? info->channels : 4) * sizeof *out);
+    if (!out) {
+        fprintf(stderr, "halo-render: error: out of memory for the post passes\n");
+        return 0;
+    }
+    unsigned texture = 0;
+    f->GenTextures(1, &texture);
+    f->BindTexture(GL_TEXTURE_2D, texture);
+    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, rgba);
+    f->BindTexture(GL_TEXTURE_2D, 0);
+    halo_gl_frame_post(frame, texture);
+    int ok = halo_gl_frame_read(frame, info->name, out) == HALO_OK && f->GetError() == GL_NO_ERROR;
+    f->DeleteTextures(1, &texture);
+    if (!ok) {
+        fprintf(stderr, "halo-render: error: the post passes failed (image %s)\n", info->name);
+        free(out);
+        return 0;
+    }
+    int channels = info->channels;
+    for (size_t p = 0; p < pixels; ++p) {
+        if (channels >= 3) {
+            for (int c = 0; c < 3; ++c)
+                rgba[p * 4 + (size_t)c] = out[p * (size_t)channels + (size_t)c];
+        } else {
+            /* a feature image: grey levels of its largest channel */
+            float v = 0.0f;
+            for (int c = 0; c < channels; ++c)
+                v = out[p * (size_t)channels + (size_t)c] > v ? out[p * (size_t)channels + (size_t)c] : v;
+            rgba[p * 4] = rgba[p * 4 + 1] = rgba[p * 4 + 2] = v;
+        }
+        rgba[p * 4 + 3] = 1.0f;
+    }
+    free(out);
+    return 1;
+}
+
+/* ---- Main ----------------------------------------------------------------------------- */
+
 int main(int argc, char **argv)
 {
     options o;
@@ -625,6 +904,7 @@ int main(int argc, char **argv)
     halo_program *program = NULL;
     halo_headless *context = NULL;
     halo_gl *runtime = NULL;
+    halo_feature_buffer *feature_buffer = NULL;
     render_host host = {0};
     float *volume = NULL, *image = NULL;
     char *host_source = NULL;
@@ -648,7 +928,8 @@ int main(int argc, char **argv)
     if (!scene)
         goto done;
 
-    /* The halo stages decide the default host; --no-halos keeps that host. */
+    /* The halo stages decide the default host; --no-halos keeps that host. Feature
+     * halos (a halo buffer read per sample) go with any host: the ray caster by default. */
     size_t stage_count = halo_scene_stage_count(scene);
     is_halo = calloc(stage_count + 1, sizeof *is_halo);
     if (!is_halo) {
@@ -656,31 +937,27 @@ int main(int argc, char **argv)
         goto done;
     }
     size_t halo_stages = find_halo_stages(lib, scene, is_halo);
+    for (size_t i = 0; i < stage_count; ++i)
+        if (is_halo[i] && !strcmp(halo_scene_stage(scene, i), FEATURE_STAGE)) {
+            is_halo[i] = 0;
+            --halo_stages;
+        }
+    int feature = has_stage(scene, FEATURE_STAGE);
     host_kind kind = o.host != HOST_AUTO ? o.host : halo_stages ? HOST_SLICE : HOST_RAYCAST;
+    if (o.have_max_error && feature) {
+        fprintf(stderr, "halo-render: error: --max-error: the sweep cannot render feature_halo (no halo buffer); "
+                        "render this scene without --max-error\n");
+        status = 2;
+        goto done;
+    }
     if (o.no_halos) {
-        /* Collect the names first: disabling changes the scene's stage list. */
-        const char **names = calloc(stage_count + 1, sizeof *names);
-        size_t count = 0;
-        for (size_t i = 0; names && i < stage_count; ++i)
-            if (is_halo[i])
-                names[count++] = halo_scene_stage(scene, i);
-        char **copies = calloc(count + 1, sizeof *copies);
-        for (size_t i = 0; copies && i < count; ++i)
-            copies[i] = strdup(names[i]);
-        for (size_t i = 0; copies && i < count; ++i)
-            if (!copies[i] || halo_scene_enable(scene, copies[i], 0, diag) != HALO_OK)
-                status = 2;
-        for (size_t i = 0; copies && i < count; ++i)
-            free(copies[i]);
-        int failed = !names || !copies;
-        free(copies);
-        free(names);
-        if (failed || status == 2) {
+        if (!disable_halo_stages(scene, is_halo, diag)) {
             status = 2;
             goto done;
         }
-        if (!halo_stages && !o.quiet)
+        if (!halo_stages && !feature && !o.quiet)
             fprintf(stderr, "halo-render: note: --no-halos: the scene has no halo stages\n");
+        feature = 0;
     }
 
     host_source = halo_host_load(host_fragment(kind), NULL, diag);
@@ -711,6 +988,31 @@ int main(int argc, char **argv)
         status = 2;
         goto done;
     }
+    int interval = 0;
+    if (o.have_max_error) {
+        /* the scene's N heads the sweep */
+        const halo_uniform_info *u = halo_program_find_uniform(program, "halo_generate", "passes");
+        int scene_passes = u && u->value ? (int)u->value[0] : 0;
+        int precision = 32;
+        status = apply_budget(&o, scene_text, lib, runtime, volume, size, scene_passes, scene, &kind, &precision,
+                              &interval, diag);
+        if (status)
+            goto done;
+        status = 1;
+        /* the program again, for the chosen host, N and precision */
+        halo_program_destroy(program);
+        free(host_source);
+        program = NULL;
+        host_source = halo_host_load(host_fragment(kind), NULL, diag);
+        if (!host_source)
+            goto done;
+        program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host_source,
+                                              .host_file = host_fragment(kind), .image_precision = precision},
+                            diag);
+        if (!program || halo_program_validate(program, diag) != HALO_OK)
+            goto done;
+        settings = halo_scene_render(scene);
+    }
     const halo_host_desc desc = {.gl = halo_gl_functions(runtime), .runtime = runtime, .program = program,
                                  .width = o.width, .height = o.height};
     if (!host_create(&host, kind, &desc, diag))
@@ -728,6 +1030,8 @@ int main(int argc, char **argv)
     char what[160];
     snprintf(what, sizeof what, "rendering %dx%d with the %s host", o.width, o.height, host_names[kind]);
     progress step;
+    slice_progress sp = {.gl = halo_gl_functions(runtime), .tty = isatty(fileno(stderr)), .what = what,
+                         .unit = kind == HOST_SLAB ? "slab" : "slice"};
     if (host.raycast) {
         if (halo_raycast_set_volume(host.raycast, volume, size, size, size, diag) != HALO_OK ||
             halo_raycast_set_render(host.raycast, settings, diag) != HALO_OK) {
@@ -735,8 +1039,6 @@ int main(int argc, char **argv)
             goto done;
         }
         halo_raycast_set_camera(host.raycast, azimuth, elevation, zoom);
-        progress_begin(&step, o.quiet, what);
-        rendered = halo_raycast_render(host.raycast, image, diag);
     } else {
         if (halo_slice_set_volume(host.slice, volume, size, size, size, diag) != HALO_OK ||
             halo_slice_set_render(host.slice, settings, diag) != HALO_OK) {
@@ -744,12 +1046,36 @@ int main(int argc, char **argv)
             goto done;
         }
         halo_slice_set_camera(host.slice, azimuth, elevation, zoom);
+        halo_slice_set_interval(host.slice, interval);
+    }
+    /* the feature halo buffer, for this view (rebuilt after every camera change) */
+    if (feature &&
+        !feature_update(&feature_buffer, runtime, program, &host, volume, size, o.quiet, diag))
+        goto done;
+    if (host.raycast) {
         progress_begin(&step, o.quiet, what);
+        rendered = halo_raycast_render(host.raycast, image, diag);
+    } else {
+        /* progress per slice (slab) from the host; no timer thread */
+        progress_begin(&step, 1, what);
+        sp.start = step.start;
+        sp.next = sp.start + 1.0;
+        if (!o.quiet)
+            halo_slice_set_progress(host.slice, slice_progress_report, &sp);
         rendered = halo_slice_render(host.slice, image, diag);
+        step.printed = sp.printed;
+        step.tty = sp.tty;
+    }
+    const halo_image_info *post = host.slice && halo_slice_frame(host.slice) ? post_output(program) : NULL;
+    if (rendered == HALO_OK && post &&
+        !run_post_passes(runtime, halo_slice_frame(host.slice), post, o.width, o.height, image)) {
+        status = 2;
+        goto done;
     }
     if (host.slice)
-        snprintf(what, sizeof what, "rendered %ld %s and %ld image passes", halo_slice_draws(host.slice),
-                 kind == HOST_SLAB ? "slabs" : "slices", halo_slice_pass_draws(host.slice));
+        snprintf(what, sizeof what, "rendered %ld %s and %ld image passes%s", halo_slice_draws(host.slice),
+                 kind == HOST_SLAB ? "slabs" : "slices", halo_slice_pass_draws(host.slice),
+                 post ? " (and the post passes)" : "");
     else
         snprintf(what, sizeof what, "rendered");
     progress_end(&step, o.quiet || rendered != HALO_OK, what);
@@ -767,6 +1093,8 @@ int main(int argc, char **argv)
            stages, stages == 1 ? "" : "s", stages ? ": " : "");
     for (size_t i = 0; i < stages; ++i)
         printf("%s%s", i ? ", " : "", halo_program_stage(program, i));
+    if (post)
+        printf("; image %s of the post passes", post->name);
     printf(")\n");
     status = 0;
 
@@ -778,6 +1106,7 @@ done:
     } else if (status == 0 && halo_diagnostics_count(diag) > 0) {
         halo_diagnostics_print(diag, stderr); /* warnings */
     }
+    halo_feature_buffer_destroy(feature_buffer);
     host_destroy(&host);
     halo_gl_destroy(runtime);
     halo_headless_destroy(context);

@@ -5,7 +5,7 @@ EXTRA_DIST += $(HALO_HOST_SHADERS)
 BUILT_SOURCES += examples/hosts/embedded_hosts.c
 CLEANFILES += examples/hosts/embedded_hosts.c
 
-examples/hosts/embedded_hosts.c: $(HALO_HOST_SHADERS) $(top_srcdir)/build-aux/embed.sh
+examples/hosts/embedded_hosts.c: $(HALO_HOST_SHADERS) $(top_srcdir)/build-aux/embed.sh $(top_srcdir)/examples/local.mk
 	$(AM_V_GEN)$(MKDIR_P) examples/hosts && \
 	$(SHELL) $(top_srcdir)/build-aux/embed.sh halo_embedded_hosts $@ $(top_srcdir) $(HALO_HOST_SHADERS)
 
@@ -28,11 +28,15 @@ examples/embedded_scenes.c: $(HALO_EMBEDDED_SCENES) $(top_srcdir)/build-aux/embe
 	$(AM_V_GEN)$(MKDIR_P) examples && \
 	$(SHELL) $(top_srcdir)/build-aux/embed.sh halo_embedded_scenes $@ $(top_srcdir) $(HALO_EMBEDDED_SCENES)
 
+# Its --max-error runs the error budget of validate/bench_budget.c.
+
 bin_PROGRAMS += examples/halo-render
-examples_halo_render_SOURCES = examples/halo-render.c examples/volume_io.c examples/volume_io.h
+examples_halo_render_SOURCES = examples/halo-render.c examples/volume_io.c examples/volume_io.h \
+	validate/bench_run.c validate/bench_run.h validate/bench_budget.c validate/bench_budget.h
 nodist_examples_halo_render_SOURCES = examples/embedded_scenes.c
 nodist_EXTRA_examples_halo_render_SOURCES = build-aux/force-cxx-link.cc
-examples_halo_render_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples $(NIFTI_CFLAGS) $(JANSSON_CFLAGS)
+examples_halo_render_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate \
+	$(NIFTI_CFLAGS) $(JANSSON_CFLAGS)
 examples_halo_render_CFLAGS = $(AM_CFLAGS) -pthread
 examples_halo_render_LDADD = $(HALO_TOOL_LIBS) $(NIFTI_LIBS) $(JANSSON_LIBS) -lpthread
 dist_man_MANS += examples/halo-render.1
@@ -44,7 +48,8 @@ HALO_SCENES = examples/scenes/default.json examples/scenes/plain.json examples/s
 	examples/scenes/halo-delta-0.90.json examples/scenes/halo-delta-0.95.json \
 	examples/scenes/halo-emissive.json examples/scenes/halo-occlusive.json examples/scenes/halo-directional.json \
 	examples/scenes/halo-focus.json examples/scenes/halo-multi.json examples/scenes/halo-transparent.json \
-	examples/scenes/halo-cartoon.json examples/scenes/mri-head.json
+	examples/scenes/halo-cartoon.json examples/scenes/mri-head.json \
+	examples/scenes/feature-halos.json examples/scenes/feature-volumetric.json
 EXTRA_DIST += $(HALO_SCENES)
 
 # Lines (Everts et al. 2009, docs/lines.md): the line host, line data and halo-lines.
@@ -58,4 +63,37 @@ nodist_EXTRA_examples_halo_lines_SOURCES = build-aux/force-cxx-link.cc
 examples_halo_lines_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate
 examples_halo_lines_LDADD = $(HALO_TOOL_LIBS)
 HALO_SCENES += examples/scenes/lines-default.json examples/scenes/lines-knots.json
-EXTRA_DIST += docs/lines.md docs/polyline-format.md docs/stages/line_strip.md docs/stages/line_halo.md
+
+# halo-view: the interactive viewer (GLFW window; docs/halo-view.md). Built when
+# configure finds GLFW 3 (libglfw3-dev); its sources and manual are distributed always.
+if HALO_HAVE_GLFW
+bin_PROGRAMS += examples/halo-view
+dist_man_MANS += examples/halo-view.1
+endif
+examples_halo_view_SOURCES = examples/halo-view.c examples/volume_io.c examples/volume_io.h
+nodist_examples_halo_view_SOURCES = examples/embedded_scenes.c
+nodist_EXTRA_examples_halo_view_SOURCES = build-aux/force-cxx-link.cc
+examples_halo_view_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples $(NIFTI_CFLAGS) $(JANSSON_CFLAGS) $(GLFW_CFLAGS)
+examples_halo_view_LDADD = $(HALO_TOOL_LIBS) $(NIFTI_LIBS) $(JANSSON_LIBS) $(GLFW_LIBS)
+
+# halo-feature: feature halos (docs/feature-halos.md): render with the halo buffer, the
+# measurements (report) and the conformance rows (conform).
+bin_PROGRAMS += examples/halo-feature
+examples_halo_feature_SOURCES = examples/halo-feature.c examples/volume_io.c examples/volume_io.h \
+	validate/conform_feature.c validate/conform_feature.h validate/feature_report.c validate/feature_report.h
+nodist_EXTRA_examples_halo_feature_SOURCES = build-aux/force-cxx-link.cc
+examples_halo_feature_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate $(NIFTI_CFLAGS)
+examples_halo_feature_LDADD = $(HALO_TOOL_LIBS) $(NIFTI_LIBS)
+
+# Outlines and depth enhancement (Svakhine et al. 2009, docs/outlines.md): halo-outline.
+bin_PROGRAMS += examples/halo-outline
+examples_halo_outline_SOURCES = examples/halo-outline.c
+nodist_EXTRA_examples_halo_outline_SOURCES = build-aux/force-cxx-link.cc
+examples_halo_outline_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/libhalo
+examples_halo_outline_LDADD = $(HALO_TOOL_LIBS)
+HALO_SCENES += examples/scenes/outline-depth.json examples/scenes/outline-mask.json \
+	examples/scenes/outline-silhouette.json examples/scenes/outline-normals.json \
+	examples/scenes/outline-occluded-hidden.json examples/scenes/outline-occluded-dashed.json \
+	examples/scenes/outline-occluded-front.json examples/scenes/outline-colors-user.json \
+	examples/scenes/outline-colors-fraction.json examples/scenes/outline-colors-contrast.json \
+	examples/scenes/depth-subtle.json examples/scenes/depth-line-fading.json

@@ -14,11 +14,14 @@ HALO_MODULES = \
 	glsl/lines/halo.glsl \
 	glsl/halo/seed.glsl \
 	glsl/halo/generate.glsl \
-	glsl/halo/map.glsl
+	glsl/halo/map.glsl \
+	glsl/outline/feature.glsl \
+	glsl/feature/feature_halo.glsl \
+	glsl/outline/outlines.glsl
 
 EXTRA_DIST += $(HALO_MODULES)
 
-libhalo/embedded_modules.c: $(HALO_MODULES) $(top_srcdir)/build-aux/embed.sh
+libhalo/embedded_modules.c: $(HALO_MODULES) $(top_srcdir)/build-aux/embed.sh $(top_srcdir)/glsl/local.mk
 	$(AM_V_GEN)$(MKDIR_P) libhalo && \
 	$(SHELL) $(top_srcdir)/build-aux/embed.sh halo_embedded_modules $@ $(top_srcdir) \
 		$(HALO_MODULES)

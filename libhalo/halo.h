@@ -260,23 +260,30 @@ typedef struct halo_uniform_info {
     const double *value;/* current value: count * components doubles */
 } halo_uniform_info;
 
-typedef enum halo_blend { HALO_BLEND_NONE = 0, HALO_BLEND_MAX, HALO_BLEND_ADD } halo_blend;
+/* MIN: front-most value (e.g. a feature depth; its image is cleared to 1). FIRST: the
+ * first hit along the ray wins: the field is vec4(value, hit), blended front to back by
+ * coverage (GL_ONE_MINUS_DST_ALPHA, GL_ONE); docs/image-passes.md. */
+typedef enum halo_blend { HALO_BLEND_NONE = 0, HALO_BLEND_MAX, HALO_BLEND_ADD, HALO_BLEND_MIN, HALO_BLEND_FIRST } halo_blend;
 
 /* An extra fragment output, fed from a halo_sample field (docs/image-passes.md). */
 typedef struct halo_output_info {
     const char *name;   /* GLSL name: "halo_output_seed" */
     int location;
-    int components;     /* the program's channel count */
+    int components;     /* the field's: the program's channel count for a channels field */
     const char *image;  /* the image it writes: "seed" */
     halo_blend blend;   /* how the host's blending must combine fragments and slices */
+    const char *field;  /* the halo_sample field: "seed" */
+    int channel;        /* -1; else the column of a per-channel (mat4) field: image FIELD_k */
 } halo_output_info;
 
 /* A screen-sized image used by image passes, outputs and samplers. */
 typedef enum halo_image_reset { HALO_RESET_FRAME = 0, HALO_RESET_GENERATION } halo_image_reset;
 typedef struct halo_image_info {
     const char *name;
-    int channels;
+    int channels;           /* components: the program's channel count, or fixed by components=N */
     halo_image_reset reset; /* cleared at frame start; RESET_GENERATION: also after each generation */
+    double clear;           /* the value it is cleared to (0; 1 for a min output) */
+    int host;               /* 1: host_color, the host's texture (halo_gl_frame_post); never cleared */
 } halo_image_info;
 
 /* A sampler a per-sample stage reads: bind the image's current texture to it. */
@@ -292,7 +299,7 @@ typedef struct halo_host_uniform_info {
     const char *meaning;
 } halo_host_uniform_info;
 
-#define HALO_MAX_PASS_INPUTS 4
+#define HALO_MAX_PASS_INPUTS 12
 typedef struct halo_pass_info {
     const char *name;   /* "spread" */
     const char *stage;  /* module: "halo_generate" */
@@ -304,6 +311,8 @@ typedef struct halo_pass_info {
     int repeat;         /* >= 1 */
     const char *vertex_source;
     const char *fragment_source;
+    int post;           /* 1: runs at the end of the frame (halo_gl_frame_post), not in _generate */
+    int channel;        /* -1; else the channel of an each=channel pass (halo_pass_channel) */
 } halo_pass_info;
 
 typedef struct halo_program halo_program;
@@ -373,6 +382,14 @@ typedef struct halo_emu_sample {
     /* extra outputs: accumulated over the halo_emu_apply_frame calls of one fragment;
      * zero them at the start of a fragment (e.g. memset the whole sample) */
     double output_accum[4];
+    /* outlines (docs/outlines.md): the front-most feature depth per feature (1: none),
+     * the first-hit normal of each feature (xyz, hit), the front-most occluder depth */
+    double feature_depth[4];
+    double feature_normal[4][4];
+    double occluder_depth;
+    /* accumulators of outputs 1.. (output 0: output_accum); a min output holds
+     * clear - value, so that zero means "nothing yet" here too */
+    double output_accum_next[15][4];
 } halo_emu_sample;
 
 /* Applies the program's stages, in its order, with its current parameter values. */
@@ -398,6 +415,28 @@ HALO_API halo_status halo_emu_apply_frame(const halo_program *p, halo_emu_frame 
 HALO_API void halo_emu_frame_finish(halo_emu_frame *f, const halo_emu_sample *s);
 /* Runs the image passes, then clears the reset=generation images. */
 HALO_API halo_status halo_emu_frame_generate(halo_emu_frame *f, halo_diagnostics *diag);
+/* Runs the at=post passes (end of frame; fill the "host_color" image first). */
+HALO_API halo_status halo_emu_frame_post(halo_emu_frame *f, halo_diagnostics *diag);
+/* A sampler3D host uniform (e.g. "labels"): nx*ny*nz values, x fastest; read with
+ * texelFetch semantics (nearest voxel, 0 outside). The frame keeps the pointer. */
+HALO_API halo_status halo_emu_frame_set_volume(halo_emu_frame *f, const char *name, const float *data, int nx, int ny,
+                                               int nz);
+
+/* ---- Error budget (libhalo/budget.c) ----------------------------------------- */
+
+/* One measured configuration of a scene (halo-validate bench): its frame time and its
+ * error against the exact reference (M = 1, float32 images, the finest sampling). */
+typedef struct halo_budget_row {
+    double seconds; /* median frame time */
+    double error;   /* e.g. the largest absolute colour error; NaN: not measured */
+} halo_budget_row;
+
+/* Picks the cheapest row (smallest seconds; ties: the smaller error, then the lower
+ * index) whose error is <= max_error and writes its index to *chosen. Rows with a
+ * non-finite or negative time or error never qualify. HALO_ERROR_INPUT (USAGE, naming
+ * the smallest measured error) when no row fits or the arguments are invalid. */
+HALO_API halo_status halo_budget_choose(const halo_budget_row *rows, size_t count, double max_error, size_t *chosen,
+                                        halo_diagnostics *diag);
 
 /* ---- GL runtime (in the host's context) ------------------------------------ */
 
@@ -416,7 +455,8 @@ HALO_API unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, cons
 /* Uploads the live parameters' current values to the GL program (which must be current). */
 HALO_API void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_program);
 /* Sets a host uniform (reflection: host_uniforms) of the bound GL program by its short
- * name ("screen_right") or full name. */
+ * name ("screen_right") or full name. A sampler host uniform takes one value: the
+ * texture unit the host bound its texture to. */
 HALO_API halo_status halo_gl_set_host_uniform(halo_gl *gl, unsigned gl_program, const char *name,
                                               const float *values, int count);
 
@@ -437,6 +477,13 @@ HALO_API void halo_gl_frame_bind(halo_gl_frame *f, unsigned gl_program, int firs
 /* Runs the image passes and clears the reset=generation images; restores the GL state
  * it changes (framebuffer, viewport, program, blend, textures of the units it used). */
 HALO_API void halo_gl_frame_generate(halo_gl_frame *f);
+/* End of frame: binds the host's final colour (an RGBA texture of the frame's size, over
+ * its background) as the image "host_color" and runs the at=post passes; the result
+ * is the image their last pass writes (e.g. "final": halo_gl_frame_read or
+ * halo_gl_frame_texture). Restores the GL state it changes. */
+HALO_API void halo_gl_frame_post(halo_gl_frame *f, unsigned host_color_texture);
+/* The current GL texture of an image (0 if none), e.g. to blit "final". */
+HALO_API unsigned halo_gl_frame_texture(const halo_gl_frame *f, const char *image);
 /* Reads an image back: width * height * channels floats, row 0 at the bottom. */
 HALO_API halo_status halo_gl_frame_read(halo_gl_frame *f, const char *image, float *out);
 /* Passes drawn by halo_gl_frame_generate since creation (for benchmarks). */

@@ -31,9 +31,13 @@ typedef struct halo_output_decl {
 } halo_output_decl;
 
 typedef struct halo_image_decl {
-    char *name;
+    char *name;          /* without the trailing '*' of a per-channel family */
     halo_image_reset reset;
     int line;
+    int family;          /* NAME*: one image per channel, NAME_0 .. NAME_{c-1} */
+    int components;      /* 0: the program's channel count; else 1..4 */
+    double clear;        /* value every component is cleared to (default 0) */
+    int clear_set;
 } halo_image_decl;
 
 typedef struct halo_host_uniform_decl {
@@ -43,9 +47,11 @@ typedef struct halo_host_uniform_decl {
 
 typedef struct halo_pass_decl {
     char *name, *entry, *output, *first, *repeat, *when;
-    char *inputs[HALO_MAX_PASS_INPUTS];
+    char *inputs[HALO_MAX_PASS_INPUTS]; /* NAME*: one input per channel (expanded by the linker) */
     int input_count;
     int line;
+    int post;         /* at=post: runs in halo_*_frame_post, not between slices */
+    int each_channel; /* each=channel: one pass per channel; '*' names that channel's image */
 } halo_pass_decl;
 
 struct halo_module {

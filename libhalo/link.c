@@ -556,6 +556,13 @@ static void emit_channel_definitions(emitter *e, int c) {
     GEN(e, "vec4 halo_channels_to_vec4(halo_channels v) { return %s; }", to[c]);
 }
 
+/* GLSL type of an output: the program's halo_channels, or float/vecN for a fixed size. */
+static const char *output_type(const halo_program *p, const halo_output_info *out) {
+    static const char *const types[] = {"float", "float", "vec2", "vec3", "vec4"};
+    if (out->channel < 0 && out->components == p->channel_count) return "halo_channels";
+    return types[out->components < 1 ? 1 : out->components > 4 ? 4 : out->components];
+}
+
 static void emit_declarations(emitter *e, const halo_program *p, const char *host) {
     GEN(e, "#define HALO_LINKED 1\n#define HALO_CONTRACT_VERSION %d", HALO_CONTRACT_VERSION);
     if (uses_channels(p)) emit_channel_definitions(e, p->channel_count);
@@ -584,7 +591,8 @@ static void emit_declarations(emitter *e, const halo_program *p, const char *hos
             for (size_t r = 0; r < m->provides_count; r++) {
                 const char *t = m->provides[r].type;
                 char zero[32];
-                if (!strncmp(t, "vec", 3) || !strcmp(t, "halo_channels")) snprintf(zero, sizeof zero, "%s(0.0)", t);
+                if (!strncmp(t, "vec", 3) || !strncmp(t, "mat", 3) || !strcmp(t, "halo_channels"))
+                    snprintf(zero, sizeof zero, "%s(0.0)", t);
                 else snprintf(zero, sizeof zero, "%s", !strcmp(t, "int") ? "0" : !strcmp(t, "bool") ? "false" : "0.0");
                 GEN(e, "    %s.%s = %s;", hs->var, m->provides[r].name, zero);
             }
@@ -593,8 +601,9 @@ static void emit_declarations(emitter *e, const halo_program *p, const char *hos
     }
     for (size_t o = 0; o < p->output_count; o++) {
         const halo_output_info *out = &p->outputs[o];
-        GEN(e, "layout(location = %d) out halo_channels %s;", out->location, out->name);
-        GEN(e, "halo_channels halo_accum_%s = halo_channels(0.0);", out->image);
+        const char *type = output_type(p, out);
+        GEN(e, "layout(location = %d) out %s %s;", out->location, type, out->name);
+        GEN(e, "%s halo_accum_%s = %s(%s);", type, out->image, type, out->blend == HALO_BLEND_MIN ? "1.0" : "0.0");
     }
     for (size_t i = 0; i < p->sampler_count; i++) {
         const halo_sampler_info *sm = &p->samplers[i];
@@ -654,11 +663,19 @@ static int emit_program(halo_program *p, const char *host_source, char **host_li
                 if (p->stages[s].module->hook == hs->hook)
                     GEN(&e, "    halo_%s_apply(%s);", p->stages[s].module->name, hs->var);
             for (size_t o = 0; o < p->output_count && hs->hook == HALO_HOOK_SAMPLE; o++) {
-                const char *img = p->outputs[o].image;
-                if (p->outputs[o].blend == HALO_BLEND_MAX)
-                    GEN(&e, "    halo_accum_%s = max(halo_accum_%s, s.%s);", img, img, img);
+                const halo_output_info *out = &p->outputs[o];
+                const char *img = out->image;
+                char field[160];
+                if (out->channel >= 0) snprintf(field, sizeof field, "s.%s[%d]", out->field, out->channel);
+                else snprintf(field, sizeof field, "s.%s", out->field);
+                if (out->blend == HALO_BLEND_MAX)
+                    GEN(&e, "    halo_accum_%s = max(halo_accum_%s, %s);", img, img, field);
+                else if (out->blend == HALO_BLEND_MIN)
+                    GEN(&e, "    halo_accum_%s = min(halo_accum_%s, %s);", img, img, field);
+                else if (out->blend == HALO_BLEND_FIRST) /* the first hit of the fragment wins */
+                    GEN(&e, "    if (halo_accum_%s.a <= 0.0) halo_accum_%s = %s;", img, img, field);
                 else
-                    GEN(&e, "    halo_accum_%s += s.%s;", img, img);
+                    GEN(&e, "    halo_accum_%s += %s;", img, field);
             }
             GEN(&e, "}");
         }
@@ -731,16 +748,45 @@ static halo_image_info *find_image(halo_program *p, const char *name) {
     return NULL;
 }
 
-static int add_image(halo_program *p, const char *name, halo_image_reset reset) {
+/* components 0: the program's channel count. A second declaration keeps the first's size
+ * and clear value unless it is the first to give them (clear_set). */
+static int add_image(halo_program *p, const char *name, halo_image_reset reset, int components, double clear,
+                     int clear_set) {
     halo_image_info *im = find_image(p, name);
     if (im) {
         if (reset == HALO_RESET_GENERATION) im->reset = reset;
+        if (clear_set) im->clear = clear;
         return 0;
     }
     halo_image_info *list = realloc(p->images, (p->image_count + 1) * sizeof *list);
     if (!list) return -1;
     p->images = list;
-    list[p->image_count++] = (halo_image_info){own(p, "%s", name), p->channel_count, reset};
+    int host = !strcmp(name, "host_color");
+    list[p->image_count++] = (halo_image_info){own(p, "%s", name), host ? 4 : components ? components : p->channel_count,
+                                               reset, clear, host};
+    return 0;
+}
+
+/* Image names of a declaration: NAME, or NAME_0 .. NAME_{c-1} for a family. */
+static int add_image_decl(halo_program *p, const halo_image_decl *d) {
+    if (!d->family) return add_image(p, d->name, d->reset, d->components, d->clear, d->clear_set);
+    for (int k = 0; k < p->channel_count; k++) {
+        char name[160];
+        snprintf(name, sizeof name, "%s_%d", d->name, k);
+        if (add_image(p, name, d->reset, d->components, d->clear, d->clear_set)) return -1;
+    }
+    return 0;
+}
+
+/* Components of a provided field's GLSL type; 0 if it cannot be an output. */
+static int field_components(const halo_program *p, const char *type, int *per_channel) {
+    *per_channel = 0;
+    if (!strcmp(type, "halo_channels")) return p->channel_count;
+    if (!strcmp(type, "float")) return 1;
+    if (!strcmp(type, "vec2")) return 2;
+    if (!strcmp(type, "vec3")) return 3;
+    if (!strcmp(type, "vec4")) return 4;
+    if (!strcmp(type, "mat4")) { *per_channel = 1; return 4; }
     return 0;
 }
 
@@ -764,25 +810,39 @@ static int collect_resources(halo_program *p, const char *host, halo_diagnostics
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_module *m = p->stages[s].module;
         for (size_t i = 0; i < m->image_count && m->hook == HALO_HOOK_IMAGE; i++)
-            if (add_image(p, m->images[i].name, m->images[i].reset)) return -1;
+            if (add_image_decl(p, &m->images[i])) return -1;
     }
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_module *m = p->stages[s].module;
         for (size_t o = 0; o < m->output_count; o++) {
             const halo_output_decl *od = &m->outputs[o];
-            int provided = 0;
-            for (size_t r = 0; r < m->provides_count; r++) provided |= !strcmp(m->provides[r].name, od->name);
-            if (!provided || m->hook != HALO_HOOK_SAMPLE) {
+            const char *type = NULL;
+            for (size_t r = 0; r < m->provides_count; r++)
+                if (!strcmp(m->provides[r].name, od->name)) type = m->provides[r].type;
+            int per_channel = 0, components = type ? field_components(p, type, &per_channel) : 0;
+            if (!type || m->hook != HALO_HOOK_SAMPLE || !components ||
+                (od->blend == HALO_BLEND_FIRST && components != 4)) {
                 halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, m->file, od->line, 1,
-                              m->lines[od->line - 1], "output '%s' must be a field the sample stage provides", od->name);
+                              m->lines[od->line - 1],
+                              "output '%s' must be a field the sample stage provides, of type channels, float, "
+                              "vec2..vec4 or mat4 (one vec4 column per channel); a 'first' output needs vec4 or mat4",
+                              od->name);
                 errors++;
                 continue;
             }
-            halo_output_info *list = realloc(p->outputs, (p->output_count + 1) * sizeof *list);
-            if (!list || add_image(p, od->name, HALO_RESET_FRAME)) return -1;
-            p->outputs = list;
-            list[p->output_count++] = (halo_output_info){own(p, "halo_output_%s", od->name), location++,
-                                                         p->channel_count, own(p, "%s", od->name), od->blend};
+            int n = per_channel ? p->channel_count : 1;
+            for (int k = 0; k < n; k++) {
+                char *image = per_channel ? own(p, "%s_%d", od->name, k) : own(p, "%s", od->name);
+                halo_output_info *list = realloc(p->outputs, (p->output_count + 1) * sizeof *list);
+                if (!list || !image) return -1;
+                p->outputs = list;
+                if (add_image(p, image, HALO_RESET_FRAME, components, od->blend == HALO_BLEND_MIN ? 1.0 : 0.0,
+                              !find_image(p, image)))
+                    return -1;
+                list[p->output_count++] = (halo_output_info){own(p, "halo_output_%s", image), location++, components,
+                                                             image, od->blend, own(p, "%s", od->name),
+                                                             per_channel ? k : -1};
+            }
         }
         for (size_t i = 0; i < m->image_count && m->hook == HALO_HOOK_SAMPLE; i++) {
             const char *name = m->images[i].name;
@@ -821,13 +881,19 @@ static int collect_resources(halo_program *p, const char *host, halo_diagnostics
             const char *names[HALO_MAX_PASS_INPUTS + 2] = {pd->output, pd->first};
             int n = 2;
             for (int k = 0; k < pd->input_count; k++) names[n++] = pd->inputs[k];
-            for (int k = 0; k < n; k++)
+            for (int k = 0; k < n; k++) {
+                char expanded[160];
+                if (names[k] && names[k][0] && names[k][strlen(names[k]) - 1] == '*') {
+                    snprintf(expanded, sizeof expanded, "%.*s_0", (int)strlen(names[k]) - 1, names[k]);
+                    names[k] = expanded;
+                }
                 if (names[k] && strcmp(names[k], "previous") && !find_image(p, names[k])) {
                     halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, m->file, pd->line, 1,
                                   m->lines[pd->line - 1], "pass '%s' uses image '%s', which is not declared", pd->name,
                                   names[k]);
                     errors++;
                 }
+            }
         }
     }
     if (p->output_count && !strstr(host, "halo_finish")) {
@@ -853,20 +919,48 @@ static int param_int(const halo_linked_stage *st, const char *name) {
     return 0;
 }
 
-static int build_pass(halo_program *p, const halo_library *lib, const halo_linked_stage *st, const halo_pass_decl *pd) {
+/* An image name of a pass with its '*' resolved: channel k of an each=channel pass. */
+static char *resolve_name(halo_program *p, const char *name, int channel) {
+    size_t n = strlen(name);
+    if (n > 1 && name[n - 1] == '*') return own(p, "%.*s_%d", (int)n - 1, name, channel < 0 ? 0 : channel);
+    return own(p, "%s", name);
+}
+
+static int build_pass(halo_program *p, const halo_library *lib, const halo_linked_stage *st, const halo_pass_decl *pd,
+                      int channel) {
     const halo_module *m = st->module;
     emitter e = {0};
+    /* The inputs: NAME* of a pass that is not each=channel expands to one input per channel. */
+    const char *inputs[HALO_MAX_PASS_INPUTS];
+    int input_count = 0;
+    for (int k = 0; k < pd->input_count; k++) {
+        size_t n = strlen(pd->inputs[k]);
+        int family = n > 1 && pd->inputs[k][n - 1] == '*' && channel < 0;
+        for (int c = 0; c < (family ? p->channel_count : 1); c++) {
+            if (input_count == HALO_MAX_PASS_INPUTS) return -2;
+            inputs[input_count++] = resolve_name(p, pd->inputs[k], family ? c : channel);
+        }
+    }
+    const char *output = resolve_name(p, pd->output, channel);
+    const halo_image_info *out_image = find_image(p, output);
+    (void)out_image;
     int es = p->target == HALO_TARGET_ES300;
     GEN(&e, "%s", halo_target_version_line(p->target));
     if (es) GEN(&e, "precision highp float;\nprecision highp int;\nprecision highp sampler2D;");
     emit(&e, m->file, pd->line, m->lines[pd->line - 1], "// stage %s (%s): image pass '%s'", m->name, m->file, pd->name);
     emit_channel_definitions(&e, p->channel_count);
-    for (int k = 0; k < pd->input_count; k++) GEN(&e, "uniform highp sampler2D halo_input_%d;", k);
+    for (int k = 0; k < input_count; k++) GEN(&e, "uniform highp sampler2D halo_input_%d;", k);
     GEN(&e, "uniform int halo_pass_index;\nuniform int halo_pass_count;");
+    GEN(&e, "const int halo_pass_channel = %d; // each=channel: this pass's channel (0 otherwise)",
+        channel < 0 ? 0 : channel);
+    GEN(&e, "vec4 halo_pass_vec4(float v) { return vec4(v, 0.0, 0.0, 0.0); }\n"
+            "vec4 halo_pass_vec4(vec2 v) { return vec4(v, 0.0, 0.0); }\n"
+            "vec4 halo_pass_vec4(vec3 v) { return vec4(v, 0.0); }\n"
+            "vec4 halo_pass_vec4(vec4 v) { return v; }");
     GEN(&e, "layout(location = 0) out vec4 halo_pass_output;");
     GEN(&e, "// Input k at a pixel; 0 outside the image (zero padding at the borders).");
     GEN(&e, "halo_channels halo_input(int k, ivec2 pixel) {");
-    for (int k = 0; k < pd->input_count; k++) {
+    for (int k = 0; k < input_count; k++) {
         GEN(&e, "    if (k == %d) {\n"
                 "        if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, textureSize(halo_input_%d, 0))))\n"
                 "            return halo_channels(0.0);\n"
@@ -874,6 +968,18 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
                 "    }", k, k, k);
     }
     GEN(&e, "    return halo_channels(0.0);\n}");
+    GEN(&e, "// All four components of input k (images of components=N, host_color); 0 outside.");
+    GEN(&e, "vec4 halo_input4(int k, ivec2 pixel) {");
+    for (int k = 0; k < input_count; k++) {
+        GEN(&e, "    if (k == %d) {\n"
+                "        if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, textureSize(halo_input_%d, 0))))\n"
+                "            return vec4(0.0);\n"
+                "        return texelFetch(halo_input_%d, pixel, 0);\n"
+                "    }", k, k, k);
+    }
+    GEN(&e, "    return vec4(0.0);\n}");
+    GEN(&e, "// The frame's size in pixels (every image has it).\n"
+            "ivec2 halo_image_size() { return textureSize(halo_input_0, 0); }");
     /* The helpers this module calls. */
     halo_program one = *p;
     halo_linked_stage only = *st;
@@ -882,7 +988,7 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     emit_helpers(&e, lib, &one);
     emit_params(&e, p, st);
     emit_module_lines(&e, m, 1, m->line_count, 1);
-    GEN(&e, "void main() {\n    halo_pass_output = halo_channels_to_vec4(halo_%s_%s(ivec2(gl_FragCoord.xy)));\n}",
+    GEN(&e, "void main() {\n    halo_pass_output = halo_pass_vec4(halo_%s_%s(ivec2(gl_FragCoord.xy)));\n}",
         m->name, pd->entry);
     if (e.failed || e.text.failed) {
         halo_strbuf_free(&e.text);
@@ -904,13 +1010,15 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     }
     halo_pass_info *pi = &p->passes[p->pass_count];
     memset(pi, 0, sizeof *pi);
-    pi->name = own(p, "%s", pd->name);
+    pi->name = channel < 0 ? own(p, "%s", pd->name) : own(p, "%s_%d", pd->name, channel);
     pi->stage = m->name;
     pi->entry = own(p, "%s", pd->entry);
-    pi->input_count = pd->input_count;
-    for (int k = 0; k < pd->input_count; k++) pi->inputs[k] = own(p, "%s", pd->inputs[k]);
-    pi->first = pd->first ? own(p, "%s", pd->first) : NULL;
-    pi->output = own(p, "%s", pd->output);
+    pi->input_count = input_count;
+    for (int k = 0; k < input_count; k++) pi->inputs[k] = inputs[k];
+    pi->first = pd->first ? resolve_name(p, pd->first, channel) : NULL;
+    pi->output = output;
+    pi->post = pd->post;
+    pi->channel = channel;
     pi->repeat = pd->repeat ? param_int(st, pd->repeat) : 1;
     pi->vertex_source = own(p, "%s\n%s\n", halo_target_version_line(p->target), pass_vertex_body);
     pi->fragment_source = frag_owned;
@@ -920,14 +1028,24 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     return 0;
 }
 
-static int build_passes(halo_program *p, const halo_library *lib) {
+static int build_passes(halo_program *p, const halo_library *lib, halo_diagnostics *diag) {
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_linked_stage *st = &p->stages[s];
         for (size_t i = 0; i < st->module->pass_count; i++) {
             const halo_pass_decl *pd = &st->module->passes[i];
             if (pd->when && !param_int(st, pd->when)) continue;
             if (pd->repeat && param_int(st, pd->repeat) < 1) continue;
-            if (build_pass(p, lib, st, pd)) return -1;
+            for (int c = 0; c < (pd->each_channel ? p->channel_count : 1); c++) {
+                int r = build_pass(p, lib, st, pd, pd->each_channel ? c : -1);
+                if (r == -2) {
+                    halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, st->module->file, pd->line, 1,
+                                  st->module->lines[pd->line - 1],
+                                  "pass '%s' reads more than %d images with %d channels", pd->name,
+                                  HALO_MAX_PASS_INPUTS, p->channel_count);
+                    return -2;
+                }
+                if (r) return -1;
+            }
         }
     }
     return 0;
@@ -1032,7 +1150,12 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
     }
     /* 5. Emit. */
     if (emit_program(p, desc->host_source, p->host_lines, host_count, &h, desc->library)) goto oom;
-    if (build_passes(p, desc->library)) goto oom;
+    int passes = build_passes(p, desc->library, diag);
+    if (passes == -2) {
+        halo_program_destroy(p);
+        return NULL;
+    }
+    if (passes) goto oom;
     return p;
 oom:
     halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
@@ -1199,12 +1322,14 @@ char *halo_program_reflect_json(const halo_program *p) {
         json_t *o = json_object();
         json_object_set_new(o, "name", json_string(p->images[i].name));
         json_object_set_new(o, "channels", json_integer(p->images[i].channels));
+        if (p->images[i].clear != 0.0) json_object_set_new(o, "clear", json_real(p->images[i].clear));
+        if (p->images[i].host) json_object_set_new(o, "host", json_true());
         json_object_set_new(o, "reset", json_string(p->images[i].reset == HALO_RESET_GENERATION ? "generation"
                                                                                                    : "frame"));
         json_array_append_new(images, o);
     }
     json_object_set_new(root, "images", images);
-    static const char *const blends[] = {"none", "max", "add"};
+    static const char *const blends[] = {"none", "max", "add", "min", "first"};
     json_t *outputs = json_array();
     for (size_t i = 0; i < p->output_count; i++) {
         json_t *o = json_object();
@@ -1229,6 +1354,8 @@ char *halo_program_reflect_json(const halo_program *p) {
         if (pi->first) json_object_set_new(o, "first", json_string(pi->first));
         json_object_set_new(o, "output", json_string(pi->output));
         json_object_set_new(o, "repeat", json_integer(pi->repeat));
+        if (pi->post) json_object_set_new(o, "at", json_string("post"));
+        if (pi->channel >= 0) json_object_set_new(o, "channel", json_integer(pi->channel));
         json_array_append_new(passes, o);
     }
     json_object_set_new(root, "passes", passes);

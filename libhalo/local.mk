@@ -1,8 +1,8 @@
 # The library. libhalo-core.la holds everything (tests link it for internal
 # symbols); libhalo.la is the installed library exporting only halo_* symbols.
-include_HEADERS += libhalo/halo.h
+include_HEADERS += libhalo/halo.h libhalo/halo_feature.h
 noinst_HEADERS += libhalo/diag.h libhalo/strbuf.h libhalo/internal.h libhalo/glsl_lex.h \
-	libhalo/emu/emu.h libhalo/emu/stages.h libhalo/gl/glfuncs.h libhalo/gl/headless.h
+	libhalo/emu/emu.h libhalo/emu/stages.h libhalo/emu/feature_internal.h libhalo/gl/glfuncs.h libhalo/gl/headless.h
 
 BUILT_SOURCES += libhalo/embedded_modules.c
 CLEANFILES += libhalo/embedded_modules.c
@@ -16,9 +16,12 @@ libhalo_libhalo_core_la_SOURCES = \
 	libhalo/emu/silhouette.c libhalo/emu/orientation_fade.c libhalo/emu/sketch.c \
 	libhalo/emu/tone_shading.c libhalo/emu/distance_blend.c libhalo/emu/distance_cue.c \
 	libhalo/emu/lines.c \
-	libhalo/emu/halo_seed.c libhalo/emu/halo_generate.c libhalo/emu/halo_map.c libhalo/emu/frame.c \
-	libhalo/gl/glfuncs.c libhalo/gl/runtime.c
+	libhalo/emu/halo_seed.c libhalo/emu/halo_generate.c libhalo/emu/halo_map.c libhalo/emu/frame.c libhalo/emu/outline.c \
+	libhalo/gl/glfuncs.c libhalo/gl/runtime.c \
+	libhalo/emu/feature_halo.c libhalo/gl/feature_splat.c
 nodist_libhalo_libhalo_core_la_SOURCES = libhalo/embedded_modules.c
+# The error budget (halo_budget_choose): halo-validate bench --max-error.
+libhalo_libhalo_core_la_SOURCES += libhalo/budget.c
 libhalo_libhalo_core_la_CPPFLAGS = $(AM_CPPFLAGS) -DHALO_BUILDING $(JANSSON_CFLAGS) $(GLSLANG_CFLAGS)
 libhalo_libhalo_core_la_CFLAGS = $(AM_CFLAGS) -fvisibility=hidden
 libhalo_libhalo_core_la_LIBADD = $(JANSSON_LIBS) $(GLSLANG_LIBS)

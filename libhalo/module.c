@@ -364,6 +364,15 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
         else if (k == 5 && !strncmp(a, "first", 5)) slot = &pd.first;
         else if (k == 6 && !strncmp(a, "repeat", 6)) slot = &pd.repeat;
         else if (k == 4 && !strncmp(a, "when", 4)) slot = &pd.when;
+        else if (k == 2 && !strncmp(a, "at", 2)) {
+            if (!strcmp(v, "post")) pd.post = 1;
+            else if (strcmp(v, "generate")) ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "at= takes generate or post");
+            continue;
+        } else if (k == 4 && !strncmp(a, "each", 4)) {
+            if (!strcmp(v, "channel")) pd.each_channel = 1;
+            else ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "each= takes channel");
+            continue;
+        }
         else if (k == 6 && !strncmp(a, "inputs", 6)) {
             char buf[256];
             snprintf(buf, sizeof buf, "%s", v);
@@ -378,7 +387,7 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
             continue;
         } else {
             ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "unknown pass key '%.*s' (entry, inputs, output, "
-                        "repeat, first, when)", (int)k, a);
+                        "repeat, first, when, at, each)", (int)k, a);
             continue;
         }
         free(*slot);
@@ -454,7 +463,7 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
                 ANNOT_ERROR(ctx, OUT_OF_MEMORY, line, 1, "out of memory");
         }
     } else if (!strcmp(d, "provides")) {
-        static const char *const ok_types[] = {"float", "vec2", "vec3", "vec4", "int", "bool", "channels", "image", NULL};
+        static const char *const ok_types[] = {"float", "vec2", "vec3", "vec4", "int", "bool", "mat4", "channels", "image", NULL};
         int ok = w.n == 3 && valid_name(w.w[1]);
         int tok = 0;
         for (int i = 0; ok && ok_types[i]; i++) tok |= !strcmp(w.w[2], ok_types[i]);
@@ -477,9 +486,10 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
     } else if (!strcmp(d, "output")) {
         halo_blend blend = HALO_BLEND_NONE;
         if (w.n == 3) blend = !strcmp(w.w[2], "max") ? HALO_BLEND_MAX : !strcmp(w.w[2], "add") ? HALO_BLEND_ADD
+                              : !strcmp(w.w[2], "min") ? HALO_BLEND_MIN : !strcmp(w.w[2], "first") ? HALO_BLEND_FIRST
                                                                                               : HALO_BLEND_NONE;
         if (w.n != 3 || !valid_name(w.w[1]) || blend == HALO_BLEND_NONE) {
-            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'output' takes a provided field and max or add");
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'output' takes a provided field and max, add, min or first");
             return;
         }
         halo_output_decl *o = realloc(m->outputs, (m->output_count + 1) * sizeof *o);
@@ -488,20 +498,35 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
         o[m->output_count++] = (halo_output_decl){halo_strdup(w.w[1]), blend, line};
     } else if (!strcmp(d, "image")) {
         halo_image_reset reset = HALO_RESET_FRAME;
-        int ok = w.n >= 2 && w.n <= 3 && valid_name(w.w[1]);
-        if (ok && w.n == 3) {
-            if (!strcmp(w.w[2], "reset=generation")) reset = HALO_RESET_GENERATION;
-            else if (strcmp(w.w[2], "reset=frame")) ok = 0;
+        char name[128];
+        int family = 0, components = 0, clear_set = 0;
+        double clear = 0.0;
+        snprintf(name, sizeof name, "%s", w.n >= 2 ? w.w[1] : "");
+        size_t len = strlen(name);
+        if (len > 1 && name[len - 1] == '*') { family = 1; name[len - 1] = 0; }
+        int ok = w.n >= 2 && w.n <= 5 && valid_name(name);
+        for (int i = 2; ok && i < w.n; i++) {
+            char *end = NULL;
+            if (!strcmp(w.w[i], "reset=generation")) reset = HALO_RESET_GENERATION;
+            else if (!strcmp(w.w[i], "reset=frame")) reset = HALO_RESET_FRAME;
+            else if (!strncmp(w.w[i], "clear=", 6)) {
+                clear = strtod(w.w[i] + 6, &end);
+                ok = end != w.w[i] + 6 && !*end && isfinite(clear);
+                clear_set = 1;
+            } else if (!strncmp(w.w[i], "components=", 11)) {
+                components = (int)strtol(w.w[i] + 11, &end, 10);
+                ok = end != w.w[i] + 11 && !*end && components >= 1 && components <= 4;
+            } else ok = 0;
         }
         if (!ok) {
-            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'image' takes a name and optionally "
-                        "reset=frame or reset=generation");
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'image' takes a name (NAME* for one per channel) and "
+                        "optionally reset=frame or reset=generation, clear=VALUE, components=1..4");
             return;
         }
         halo_image_decl *im = realloc(m->images, (m->image_count + 1) * sizeof *im);
         if (!im) return;
         m->images = im;
-        im[m->image_count++] = (halo_image_decl){halo_strdup(w.w[1]), reset, line};
+        im[m->image_count++] = (halo_image_decl){halo_strdup(name), reset, line, family, components, clear, clear_set};
     } else if (!strcmp(d, "host_uniform")) {
         static const char *const ok_types[] = {"float", "vec2", "vec3", "vec4", "int", "mat4", "sampler2D",
                                                "sampler3D", NULL};

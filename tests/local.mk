@@ -129,13 +129,65 @@ TESTS += $(HALO_LINES_TESTS)
 EXTRA_DIST += $(HALO_LINES_TESTS) tests/lines/common.sh
 
 # ---- halo-render: every example scene, --no-halos, volume files (NIfTI, raw), the MRI
-# head of mricron-data (skipped without it), bad volumes and options ----
+# head of mricron-data (skipped without it), bad volumes and options, --max-error, feature
+# halos and outline post passes ----
 HALO_RENDER_TESTS = \
 	tests/render/scenes.sh \
 	tests/render/no_halos.sh \
 	tests/render/volumes.sh \
 	tests/render/bad_volumes.sh \
-	tests/render/mri.sh
+	tests/render/mri.sh \
+	tests/render/max_error.sh \
+	tests/render/features.sh
 TESTS += $(HALO_RENDER_TESTS)
 EXTRA_DIST += $(HALO_RENDER_TESTS) tests/render/common.sh \
 	tests/data/volumes/sphere.nii tests/data/volumes/sphere.nii.gz
+
+# ---- halo-view, the interactive viewer (needs GLFW and xvfb-run, else skipped): its
+# screenshot against halo-render's image of the same view, keys and saved scenes, and
+# reloading an edited or broken scene file ----
+HALO_VIEW_TESTS = \
+	tests/view/screenshot.sh \
+	tests/view/keys.sh \
+	tests/view/reload.sh
+TESTS += $(HALO_VIEW_TESTS)
+EXTRA_DIST += $(HALO_VIEW_TESTS) tests/view/common.sh
+check_PROGRAMS += tests/view/image_compare
+tests_view_image_compare_SOURCES = tests/view/image_compare.cc
+tests_view_image_compare_CPPFLAGS = $(AM_CPPFLAGS) $(OIIO_CFLAGS)
+tests_view_image_compare_LDADD = $(OIIO_LIBS)
+if HALO_HAVE_GLFW
+AM_TESTS_ENVIRONMENT += HALO_VIEW='$(abs_top_builddir)/examples/halo-view'; export HALO_VIEW;
+endif
+AM_TESTS_ENVIRONMENT += HALO_IMAGE_COMPARE='$(abs_top_builddir)/tests/view/image_compare'; export HALO_IMAGE_COMPARE;
+
+# ---- Hard cases (docs/hard-cases.md): whole renders on the GPU path (slice host, slab
+# ray caster) against the emulation on fragile inputs, and the conformance rows that
+# already hold per-stage hard inputs ----
+check_PROGRAMS += tests/hard/test_hard_render
+tests_hard_test_hard_render_SOURCES = tests/hard/test_hard_render.c validate/conform_slice.c
+tests_hard_test_hard_render_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate
+nodist_EXTRA_tests_hard_test_hard_render_SOURCES = build-aux/force-cxx-link.cc
+tests_hard_test_hard_render_LDADD = $(HALO_TOOL_LIBS)
+check_PROGRAMS += tests/hard/test_budget
+tests_hard_test_budget_SOURCES = tests/hard/test_budget.c
+tests_hard_test_budget_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_hard_test_budget_SOURCES = build-aux/force-cxx-link.cc
+tests_hard_test_budget_LDADD = $(HALO_TEST_CORE_LIBS)
+TESTS += tests/hard/test_hard_render tests/hard/test_budget tests/hard/conform_rows.sh
+EXTRA_DIST += tests/hard/conform_rows.sh
+
+# ---- Feature halos (Svakhine & Ebert 2003, docs/feature-halos.md): conformance rows of
+# the GPU halo buffer and the stage, and the side-by-side scenes ----
+HALO_FEATURE_TESTS = tests/feature/conform.sh tests/feature/render.sh
+TESTS += $(HALO_FEATURE_TESTS)
+EXTRA_DIST += $(HALO_FEATURE_TESTS) glsl/feature/feature_halo.glsl
+AM_TESTS_ENVIRONMENT += HALO_FEATURE='$(abs_top_builddir)/examples/halo-feature'; export HALO_FEATURE;
+
+# ---- Outlines and depth enhancement (Svakhine et al. 2009, docs/outlines.md): every
+# outline/depth scene through halo-outline (GPU post passes against their emulation),
+# and the occlusion styles give different images ----
+HALO_OUTLINE_TESTS = tests/outline/render.sh tests/outline/occlusion.sh
+TESTS += $(HALO_OUTLINE_TESTS)
+EXTRA_DIST += $(HALO_OUTLINE_TESTS) tests/outline/common.sh
+AM_TESTS_ENVIRONMENT += HALO_OUTLINE='$(abs_top_builddir)/examples/halo-outline'; export HALO_OUTLINE;

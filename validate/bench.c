@@ -1,17 +1,20 @@
-/* halo-validate bench: Table 1 of Bruckner & Groller 2007 on this machine. The slice
- * host (examples/hosts/slice.h) renders the built-in volume without halos (the
- * reference: the same host and scene with the halo stages off) and with one emissive
- * halo for M = 1, 2, 4, 8 slices between generations; the slab ray caster renders the
- * same with M samples per draw. Each configuration: the median of R frames, glFinish
- * before and after each; all measured in the same run. Each M's image is compared with
- * M = 1's of the same renderer. */
+/* halo-validate bench: speed against error (docs/performance.md).
+ *
+ * The default: a sweep of the approximations of one scene and volume (M, N, halo image
+ * precision, sampling distance, slab ray caster against slices), each configuration
+ * timed in the same run as the renders without halos (interleaved rounds, median) and
+ * compared with the exact reference (M = 1, float32, the finest sampling); a table,
+ * CSV (--csv), and a plot of error against time with the Pareto front (--plot, gnuplot).
+ * --max-error E: the cheapest configuration within E (halo_budget_choose), verified.
+ * --table1: Table 1 of Bruckner & Groller 2007 and the 75 % target at M = 4.
+ * --specialize: what the linker's specialization buys against uniform switches. */
 #include "bench.h"
 
+#include "bench_budget.h"
+#include "bench_run.h"
 #include "halo.h"
-#include "gl/glfuncs.h"
 #include "gl/headless.h"
-#include "hosts/slab.h"
-#include "hosts/slice.h"
+#include "hosts/raycast.h"
 #include "volume.h"
 
 #include <errno.h>
@@ -19,7 +22,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 /* The paper's Table 1: halo frame rate as % of the reference (29.34 fps), GeForce 8800 GTX. */
 static const int paper_m[4] = {1, 2, 4, 8};
@@ -31,136 +33,69 @@ static const double paper_percent[4] = {15.85, 26.31, 34.97, 42.91};
     " \"transfer\": [[0, 0, 0, 0, 0], [0.2, 0.6, 0.8, 1, 0], [0.3, 0.6, 0.8, 1, 0.08],"              \
     "  [0.5, 1, 0.85, 0.55, 0.3], [0.75, 0.95, 0.3, 0.2, 0.7], [1, 1, 1, 0.8, 0.9]]}"
 
-static const char bench_reference_scene[] = "{\"halo_scene\": 1, \"stages\": [], " BENCH_RENDER "}";
 /* One emissive halo with the paper's seeding exponents (alpha 32, beta 0.125), N = 4. */
-static const char bench_halo_scene[] =
-    "{\"halo_scene\": 1, \"stages\": ["
-    " {\"halo_seed\": {}}, {\"halo_generate\": {\"passes\": 4, \"delta\": 0.8}},"
-    " {\"halo_map\": {\"mode\": 0, \"color_near\": [[1, 0.9, 0.4]], \"color_far\": [[1, 0.3, 0.1]], \"opacity\": 0.9}}], "
-    BENCH_RENDER "}";
+#define BENCH_HALO_STAGES                                                                                    \
+    " {\"halo_seed\": {}}, {\"halo_generate\": {\"passes\": 4, \"delta\": 0.8}},"                            \
+    " {\"halo_map\": {\"mode\": 0, \"color_near\": [[1, 0.9, 0.4]], \"color_far\": [[1, 0.3, 0.1]], \"opacity\": 0.9}}"
+static const char bench_halo_scene[] = "{\"halo_scene\": 1, \"stages\": [" BENCH_HALO_STAGES "], " BENCH_RENDER "}";
+/* Parts of the per-sample halo work for --table1: the gradient stage alone, and seeding alone. */
+static const char bench_gradient_scene[] = "{\"halo_scene\": 1, \"stages\": [{\"gradient\": {}}], " BENCH_RENDER "}";
+static const char bench_seed_scene[] =
+    "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {\"passes\": 4}}], " BENCH_RENDER "}";
 
-static double now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
-}
+/* --specialize: the enabled per-sample stages, and every per-sample stage with the ones
+ * not enabled switched off by their parameters (the linker has no per-stage switch).
+ * opacity_power and sketch have no parameter values that leave the sample alone
+ * (opacity_power replaces the opacity by (k_os v)^k_oe, sketch the colour by its line
+ * colour), so they are left out. */
+#define BENCH_SAMPLE_STAGES " {\"boundary\": {}}, {\"silhouette\": {}}, {\"tone_shading\": {}}"
+#define BENCH_NEUTRAL_STAGES                                                                                  \
+    " {\"gradient\": {}},"                                                                                  \
+    " {\"orientation_fade\": {\"k_fo\": 0, \"k_fs\": 0, \"k_fv\": 0}},"          \
+    " {\"distance_blend\": {\"k_ds\": 0}}, {\"distance_cue\": {\"k_cm\": 0}}"
+#define BENCH_OFF_SAMPLE_STAGES                                                                               \
+    " {\"boundary\": {\"k_gc\": 1, \"k_gs\": 0}}, {\"silhouette\": {\"k_sc\": 1, \"k_ss\": 0}},"             \
+    " {\"tone_shading\": {\"k_ta\": 1, \"k_td\": 0, \"k_ty\": 0, \"k_tb\": 0}}"
+static const char bench_sample_scene[] = "{\"halo_scene\": 1, \"stages\": [" BENCH_SAMPLE_STAGES "], " BENCH_RENDER "}";
+static const char bench_sample_all_scene[] =
+    "{\"halo_scene\": 1, \"stages\": [" BENCH_SAMPLE_STAGES "," BENCH_NEUTRAL_STAGES "], " BENCH_RENDER "}";
+static const char bench_halo_all_scene[] = "{\"halo_scene\": 1, \"stages\": [" BENCH_OFF_SAMPLE_STAGES
+                                           "," BENCH_NEUTRAL_STAGES "," BENCH_HALO_STAGES "], " BENCH_RENDER "}";
 
-static int compare_doubles(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
+static const char resolution_note[] =
+    "halo buffer resolution 1/2, 1/4: not available: halo_gl_frame_create makes every halo image the host's "
+    "viewport size and the per-sample stages read the field with texelFetch at gl_FragCoord "
+    "(docs/performance.md, 'Lower-resolution halo images')";
 
-typedef struct bench {
-    halo_library *lib;
-    halo_gl *runtime;
-    const halo_glfuncs *gl;
-    halo_diagnostics *diag;
+typedef struct bench_options {
     int size, volume_size, repeat;
-    float *volume;
-} bench;
-
-typedef struct bench_result {
-    const char *renderer;
-    int halos, interval;
-    int slices;
-    long draws, pass_draws;
-    double seconds; /* median */
-    float *image;
-} bench_result;
-
-/* Renders one configuration repeat times; keeps the last image. Returns 0 on failure. */
-static int run_config(bench *b, const char *scene_text, int slab, int interval, bench_result *out)
-{
-    int ok = 0;
-    halo_scene *scene = halo_scene_parse(scene_text, "(bench scene)", b->lib, b->diag);
-    char *source = halo_host_load(slab ? "slab.frag" : "slice.frag", NULL, b->diag);
-    halo_program *program = NULL;
-    halo_slice *host = NULL;
-    double *times = calloc((size_t)b->repeat, sizeof *times);
-    out->image = malloc((size_t)b->size * (size_t)b->size * 4 * sizeof(float));
-    if (!scene || !source || !times || !out->image)
-        goto done;
-    program = halo_link(&(halo_link_desc){.library = b->lib, .scene = scene, .host_source = source,
-                                          .host_file = slab ? "slab.frag" : "slice.frag"},
-                        b->diag);
-    if (!program)
-        goto done;
-    halo_host_desc desc = {.gl = b->gl, .runtime = b->runtime, .program = program, .width = b->size,
-                           .height = b->size};
-    host = slab ? halo_slab_create(&desc, b->diag) : halo_slice_create(&desc, b->diag);
-    if (!host)
-        goto done;
-    const halo_render_settings *settings = halo_scene_render(scene);
-    if (halo_slice_set_volume(host, b->volume, b->volume_size, b->volume_size, b->volume_size, b->diag) != HALO_OK ||
-        halo_slice_set_render(host, settings, b->diag) != HALO_OK)
-        goto done;
-    halo_slice_set_camera(host, settings->azimuth, settings->elevation, settings->zoom);
-    halo_slice_set_interval(host, interval);
-    /* one frame to warm up (shader compilation on first draw, texture residency) */
-    if (halo_slice_render(host, out->image, b->diag) != HALO_OK)
-        goto done;
-    for (int r = 0; r < b->repeat; ++r) {
-        b->gl->Finish();
-        double start = now_seconds();
-        if (halo_slice_render(host, out->image, b->diag) != HALO_OK)
-            goto done;
-        b->gl->Finish();
-        times[r] = now_seconds() - start;
-    }
-    qsort(times, (size_t)b->repeat, sizeof *times, compare_doubles);
-    out->seconds = b->repeat % 2 ? times[b->repeat / 2] : 0.5 * (times[b->repeat / 2 - 1] + times[b->repeat / 2]);
-    halo_slice_state state;
-    halo_slice_get_state(host, &state);
-    out->slices = state.slice_count;
-    out->interval = state.interval;
-    out->draws = halo_slice_draws(host);
-    out->pass_draws = halo_slice_pass_draws(host);
-    ok = 1;
-done:
-    if (!ok)
-        halo_diagnostics_print(b->diag, stderr);
-    halo_diagnostics_clear(b->diag);
-    halo_slice_destroy(host);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
-    free(source);
-    free(times);
-    return ok;
-}
-
-/* Error of image against base: max abs, RMSE over colour, share of pixels with a channel off by > 1/255. */
-static void image_error(const float *image, const float *base, size_t pixels, double *max_abs, double *rmse,
-                        double *share)
-{
-    double m = 0.0, sum = 0.0;
-    size_t over = 0;
-    for (size_t i = 0; i < pixels; ++i) {
-        int off = 0;
-        for (int c = 0; c < 3; ++c) {
-            double e = fabs((double)image[i * 4 + (size_t)c] - (double)base[i * 4 + (size_t)c]);
-            m = e > m ? e : m;
-            sum += e * e;
-            off |= e > 1.0 / 255.0;
-        }
-        over += (size_t)off;
-    }
-    *max_abs = m;
-    *rmse = pixels ? sqrt(sum / (double)(pixels * 3)) : 0.0;
-    *share = pixels ? (double)over / (double)pixels : 0.0;
-}
+    int table1, specialize;
+    double max_error;
+    double finest;
+    const char *csv, *plot, *scene;
+} bench_options;
 
 static void bench_usage(FILE *out)
 {
-    fputs("Usage: halo-validate bench [--size N] [--volume-size N] [--repeat R] [--table1]\n"
-          "Frame time of the slice host (view-aligned slices, as Bruckner & Groller 2007) without\n"
-          "halos and with one emissive halo generated every M = 1, 2, 4, 8 slices, and of the slab\n"
-          "ray caster (M samples per draw); the median of R frames each, glFinish around each.\n"
+    fputs("Usage: halo-validate bench [OPTIONS]\n"
+          "Speed against error of the approximations of one scene (docs/performance.md): M (1..16),\n"
+          "N (1..6), halo image precision (32/16/8 bits), sampling distance, slab ray caster against\n"
+          "slices; each configuration's median frame time, measured in the same run as the renders\n"
+          "without halos, and its error against the exact reference (M = 1, float32, the finest\n"
+          "sampling). Progress on stderr.\n"
           "  --size N         image side in pixels, 16..2048 (default 512)\n"
           "  --volume-size N  built-in volume side in voxels, 8..512 (default 128)\n"
-          "  --repeat R       frames per configuration, 1..101 (default 3)\n"
-          "  --table1         also print the paper's Table 1 beside the measured rates\n",
+          "  --scene FILE     a scene file instead of the built-in one-halo scene\n"
+          "  --repeat R       timed frames per configuration, 1..101 (default 3)\n"
+          "  --finest STEP    the reference's sampling distance in voxels, 0.05..1 (default 0.25)\n"
+          "  --csv FILE       also write the rows as CSV\n"
+          "  --plot FILE.png  write FILE.gp (gnuplot script: max error against time, Pareto front)\n"
+          "                   and run gnuplot on it when it is installed\n"
+          "  --max-error E    choose the cheapest configuration with max error <= E and verify it\n"
+          "                   by measuring it again (exit 1 when none fits)\n"
+          "  --table1         instead: Table 1 of Bruckner & Groller 2007 (slice and slab, M = 1..8),\n"
+          "                   the cost of the per-sample halo work, and the 75 %% target at M = 4\n"
+          "  --specialize     instead: specialized shaders against uniform switches (all_live)\n",
           out);
 }
 
@@ -175,133 +110,509 @@ static int parse_int(const char *text, int low, int high, int *out)
     return 1;
 }
 
+static int parse_double(const char *text, double low, double high, double *out)
+{
+    char *end = NULL;
+    errno = 0;
+    double x = strtod(text, &end);
+    if (end == text || *end != '\0' || errno == ERANGE || !(x >= low && x <= high))
+        return 0;
+    *out = x;
+    return 1;
+}
+
+static const char *host_name(const halo_bench_config *k)
+{
+    return k->slab ? "slab" : "slice";
+}
+
+/* The render without halos of the same host and sampling distance. */
+static const halo_bench_case *reference_of(const halo_bench_case *cases, size_t count, const halo_bench_config *k)
+{
+    for (size_t i = 0; i < count; ++i)
+        if (!cases[i].config.halos && cases[i].config.slab == k->slab && cases[i].config.step == k->step &&
+            !cases[i].scene_text)
+            return &cases[i];
+    return NULL;
+}
+
+static void format_error(char *out, size_t size, const halo_bench_case *c)
+{
+    if (isfinite(c->max_abs) || isinf(c->max_abs))
+        snprintf(out, size, "%10.3e %10.3e %7.2f%%", c->max_abs, c->rmse, 100.0 * c->share_over);
+    else
+        snprintf(out, size, "%10s %10s %8s", "-", "-", "-");
+}
+
+/* ---- The sweep ------------------------------------------------------------------------ */
+
+static void print_sweep(const bench_options *o, const halo_bench_env *env, const halo_bench_case *cases,
+                        size_t count, const char *renderer)
+{
+    const halo_bench_config *r = &cases[0].config;
+    printf("# halo-validate bench: %dx%d image, %d^3 built-in volume, %s; median of %d interleaved frames; %s\n",
+           env->width, env->height, o->volume_size, o->scene ? o->scene : "built-in one-halo scene", env->repeat,
+           renderer ? renderer : "?");
+    printf("# errors against the exact reference: %s, M = %d, N = %d, float32 halo images, step %g voxel (colour,"
+           " linear RGB; >1/255: share of pixels with a channel off by more)\n",
+           host_name(r), r->interval, r->passes, r->step);
+    printf("# %%ref: the frame rate as a percentage of the same host's render without halos at the same step\n");
+    printf("# %s\n", resolution_note);
+    printf("# halo_err: max abs against M = 1 of the slice host at the same step (the halo approximations alone)\n");
+    printf("%-9s %-5s %3s %2s %4s %5s %5s %6s %9s %9s %7s %10s %10s %8s %10s %s\n", "axis", "host", "M", "N", "bits",
+           "step", "draws", "passes", "ms/frame", "nohalo_ms", "%ref", "max_abs", "rmse", ">1/255", "halo_err",
+           "pareto");
+    for (size_t i = 0; i < count; ++i) {
+        const halo_bench_case *c = &cases[i];
+        const halo_bench_config *k = &c->config;
+        const halo_bench_case *ref = reference_of(cases, count, k);
+        char errors[64], percent[16] = "-";
+        format_error(errors, sizeof errors, c);
+        if (!k->halos)
+            snprintf(errors, sizeof errors, "%10s %10s %8s", "-", "-", "-");
+        if (ref && c->seconds > 0.0)
+            snprintf(percent, sizeof percent, "%.1f%%", 100.0 * ref->seconds / c->seconds);
+        char halo_err[16] = "-";
+        if (k->halos && !isnan(c->halo_max_abs))
+            snprintf(halo_err, sizeof halo_err, "%.3e", c->halo_max_abs);
+        printf("%-9s %-5s %3d %2d %4d %5.2f %5ld %6ld %9.1f %9.1f %7s %s %10s %s%s\n", c->axis, host_name(k),
+               k->interval, k->halos ? k->passes : 0, k->halos ? k->precision : 0, k->step, c->draws, c->pass_draws,
+               c->seconds * 1e3, ref ? ref->seconds * 1e3 : NAN, percent, errors, halo_err, c->pareto ? "*" : "",
+               c->nonfinite ? "  NONFINITE" : "");
+    }
+}
+
+static int write_csv(const char *path, const halo_bench_case *cases, size_t count)
+{
+    FILE *out = fopen(path, "w");
+    if (!out) {
+        fprintf(stderr, "halo-validate: bench: cannot write %s: %s\n", path, strerror(errno));
+        return 0;
+    }
+    fprintf(out, "axis,host,halos,M,N,precision,step,resolution,draws,passes,ms,nohalo_ms,percent_ref,max_abs,rmse,"
+                 "share_over_1_255,halo_max_abs,nonfinite,pareto\n");
+    for (size_t i = 0; i < count; ++i) {
+        const halo_bench_case *c = &cases[i];
+        const halo_bench_config *k = &c->config;
+        const halo_bench_case *ref = reference_of(cases, count, k);
+        fprintf(out, "%s,%s,%d,%d,%d,%d,%g,full,%ld,%ld,%.3f,%.3f,%.2f,", c->axis, host_name(k), k->halos, k->interval,
+                k->halos ? k->passes : 0, k->halos ? k->precision : 0, k->step, c->draws, c->pass_draws,
+                c->seconds * 1e3, ref ? ref->seconds * 1e3 : NAN, ref ? 100.0 * ref->seconds / c->seconds : NAN);
+        if (k->halos)
+            fprintf(out, "%.6e,%.6e,%.6f,%.6e,", c->max_abs, c->rmse, c->share_over, c->halo_max_abs);
+        else
+            fprintf(out, ",,,,");
+        fprintf(out, "%ld,%d\n", c->nonfinite, c->pareto);
+    }
+    int ok = fclose(out) == 0;
+    if (!ok)
+        fprintf(stderr, "halo-validate: bench: cannot write %s\n", path);
+    return ok;
+}
+
+/* FILE.png -> FILE.gp, with the data inline (a gnuplot 5 datablock); runs gnuplot if present. */
+static int write_plot(const char *png, const halo_bench_env *env, const halo_bench_case *cases, size_t count)
+{
+    if (strchr(png, '\'') || strchr(png, '"')) {
+        fprintf(stderr, "halo-validate: bench: --plot: the path may not contain quotes\n");
+        return 0;
+    }
+    size_t length = strlen(png);
+    char *script = malloc(length + 4);
+    if (!script)
+        return 0;
+    memcpy(script, png, length + 1);
+    if (length > 4 && strcmp(script + length - 4, ".png") == 0)
+        script[length - 4] = '\0';
+    strcat(script, ".gp");
+    FILE *out = fopen(script, "w");
+    if (!out) {
+        fprintf(stderr, "halo-validate: bench: cannot write %s: %s\n", script, strerror(errno));
+        free(script);
+        return 0;
+    }
+    fprintf(out, "# halo-validate bench: max abs error against frame time; the Pareto front joined.\n"
+                 "# Run: gnuplot %s (labels: the Pareto front's configurations)\n", script);
+    fprintf(out, "$rows << EOD\n# ms max_abs label pareto\n");
+    for (size_t i = 0; i < count; ++i) {
+        const halo_bench_case *c = &cases[i];
+        const halo_bench_config *k = &c->config;
+        if (!k->halos || k->no_generation || !isfinite(c->max_abs))
+            continue;
+        /* the exact reference has error 0: drawn on the axis's floor */
+        fprintf(out, "%.3f %.6e \"%s%s M%d N%d %db s%g\" %d\n", c->seconds * 1e3, c->max_abs > 1e-7 ? c->max_abs : 1e-7,
+                k->slab ? "slab" : "", i == 0 ? "ref" : "", k->interval, k->passes, k->precision, k->step, c->pareto);
+    }
+    fprintf(out, "EOD\n$front << EOD\n");
+    /* the front in order of time */
+    int *done = calloc(count, sizeof *done);
+    for (;;) {
+        size_t best = count;
+        for (size_t i = 0; i < count; ++i)
+            if (cases[i].pareto && !(done && done[i]) && (best == count || cases[i].seconds < cases[best].seconds))
+                best = i;
+        if (best == count || !done)
+            break;
+        done[best] = 1;
+        fprintf(out, "%.3f %.6e\n", cases[best].seconds * 1e3, cases[best].max_abs > 1e-7 ? cases[best].max_abs : 1e-7);
+    }
+    free(done);
+    fprintf(out, "EOD\n"
+                 "set terminal pngcairo size 1000,700 noenhanced\n"
+                 "set output '%s'\n"
+                 "set title 'halo-validate bench: %dx%d, error against the exact reference (M=1, float32, finest step)'\n"
+                 "set xlabel 'frame time (ms, median)'\n"
+                 "set ylabel 'max abs colour error (floor 1e-7 = exact)'\n"
+                 "set logscale xy\n"
+                 "set grid\n"
+                 "set format y '%%.0e'\n"
+                 "set key top right\n"
+                 "set arrow from graph 0, first 1.0/255 to graph 1, first 1.0/255 nohead dt 2 lc rgb 'gray40'\n"
+                 "set label '1/255' at graph 0.01, first 1.0/255 offset 0, 0.6 tc rgb 'gray40'\n"
+                 "plot $rows using 1:2 with points pt 7 ps 1.2 lc rgb '#4060c0' title 'configuration', \\\n"
+                 "     $rows using 1:($4 == 1 ? $2 : NaN):3 with labels offset 0.8, 0.6 left font ',8' notitle, \\\n"
+                 "     $front using 1:2 with linespoints lw 2 pt 6 ps 2 lc rgb '#d02020' title 'Pareto front'\n",
+            png, env->width, env->height);
+    int ok = fclose(out) == 0;
+    if (ok) {
+        if (system("command -v gnuplot >/dev/null 2>&1") == 0) {
+            size_t n = strlen(script) + 32;
+            char *command = malloc(n);
+            if (command) {
+                snprintf(command, n, "gnuplot '%s'", script);
+                int status = system(command);
+                if (status != 0)
+                    fprintf(stderr, "halo-validate: bench: gnuplot failed on %s (status %d)\n", script, status);
+                else
+                    fprintf(stderr, "bench: wrote %s and %s\n", script, png);
+                free(command);
+            }
+        } else {
+            fprintf(stderr, "bench: wrote %s; gnuplot is not installed (Debian: gnuplot-nox), so no %s\n", script,
+                    png);
+        }
+    }
+    free(script);
+    return ok;
+}
+
+static int run_sweep(const bench_options *o, halo_bench_env *env, const char *renderer)
+{
+    halo_bench_case cases[48];
+    int passes = 4;
+    if (o->scene) {
+        halo_scene *scene = halo_scene_load(o->scene, env->lib, env->diag);
+        if (!scene)
+            return 1;
+        size_t n = halo_scene_stage_count(scene);
+        for (size_t i = 0; i < n; ++i)
+            if (!strcmp(halo_scene_stage(scene, i), "halo_generate")) {
+                /* the scene's N: link it to read the effective value */
+                char *source = halo_host_load("slice.frag", NULL, env->diag);
+                halo_program *p = source ? halo_link(&(halo_link_desc){.library = env->lib, .scene = scene,
+                                                                       .host_source = source}, env->diag)
+                                         : NULL;
+                const halo_uniform_info *u = p ? halo_program_find_uniform(p, "halo_generate", "passes") : NULL;
+                if (u && u->value)
+                    passes = (int)u->value[0];
+                halo_program_destroy(p);
+                free(source);
+            }
+        halo_scene_destroy(scene);
+    }
+    size_t count = halo_bench_sweep(cases, sizeof cases / sizeof cases[0], passes, o->finest);
+    int status = 2;
+    if (!halo_bench_run(env, cases, count)) {
+        halo_diagnostics_print(env->diag, stderr);
+        goto done;
+    }
+    halo_bench_errors(env, cases, count, 0);
+    halo_bench_pareto(cases, count);
+    print_sweep(o, env, cases, count, renderer);
+    status = 0;
+    if (o->csv && !write_csv(o->csv, cases, count))
+        status = 2;
+    if (o->plot && !write_plot(o->plot, env, cases, count))
+        status = 2;
+    long nonfinite = 0;
+    for (size_t i = 0; i < count; ++i)
+        nonfinite += cases[i].nonfinite;
+    if (nonfinite) {
+        fprintf(stderr, "halo-validate: bench: %ld non-finite colour values (rows marked NONFINITE)\n", nonfinite);
+        status = 1;
+    }
+    if (o->max_error >= 0.0 && status == 0) {
+        size_t chosen = 0;
+        if (halo_bench_budget_pick(cases, count, o->max_error, &chosen, env->diag) != HALO_OK) {
+            halo_diagnostics_print(env->diag, stderr);
+            printf("# budget: max error %g: no configuration fits\n", o->max_error);
+            status = 1;
+            goto done;
+        }
+        fprintf(stderr, "bench: verifying the choice for --max-error %g...\n", o->max_error);
+        halo_bench_case check;
+        int verified = 0;
+        if (!halo_bench_budget_verify(env, cases[0].image, &cases[chosen].config, o->max_error, &check, &verified)) {
+            halo_diagnostics_print(env->diag, stderr);
+            status = 2;
+        } else {
+            const halo_bench_config *k = &cases[chosen].config;
+            printf("# budget: max error %g: cheapest within it: %s (%s), M = %d, N = %d, %d-bit, step %g:"
+                   " %.1f ms, max abs %.3e in the sweep; measured again: %.1f ms, max abs %.3e: %s"
+                   " (exact reference: %.1f ms)\n",
+                   o->max_error, cases[chosen].axis, host_name(k), k->interval, k->passes, k->precision, k->step,
+                   cases[chosen].seconds * 1e3, cases[chosen].max_abs, check.seconds * 1e3, check.max_abs,
+                   verified ? "verified" : "NOT within the bound", cases[0].seconds * 1e3);
+            status = verified ? status : 1;
+        }
+        halo_bench_cases_free(&check, 1);
+    }
+done:
+    halo_bench_cases_free(cases, count);
+    return status;
+}
+
+/* ---- Table 1 and the target ------------------------------------------------------------ */
+
+static int run_table1(const bench_options *o, halo_bench_env *env, const char *renderer)
+{
+    const halo_bench_config halo = {.halos = 1, .interval = 4, .passes = 4, .precision = 32, .step = 0.5};
+    halo_bench_case cases[16];
+    memset(cases, 0, sizeof cases);
+    size_t n = 0;
+#define ROW(AXIS, SCENE, ...)                                                                                 \
+    do {                                                                                                      \
+        cases[n].config = halo;                                                                               \
+        cases[n].axis = (AXIS);                                                                               \
+        cases[n].scene_text = (SCENE);                                                                        \
+        __VA_ARGS__;                                                                                          \
+        ++n;                                                                                                  \
+    } while (0)
+    ROW("reference", NULL, cases[n].config.halos = 0; cases[n].config.interval = 1);
+    ROW("gradient", bench_gradient_scene, cases[n].config.interval = 1);
+    ROW("seed", bench_seed_scene, cases[n].config.no_generation = 1);
+    ROW("seed+map", NULL, cases[n].config.no_generation = 1);
+    for (int k = 0; k < 4; ++k)
+        ROW("halo", NULL, cases[n].config.interval = paper_m[k]);
+    ROW("halo16", NULL, cases[n].config.precision = 16);
+    ROW("reference", NULL, cases[n].config.halos = 0; cases[n].config.slab = 1; cases[n].config.interval = 8);
+    for (int k = 0; k < 4; ++k)
+        ROW("halo", NULL, cases[n].config.slab = 1; cases[n].config.interval = paper_m[k]);
+#undef ROW
+    env->scene_text = bench_halo_scene;
+    if (!halo_bench_run(env, cases, n)) {
+        halo_diagnostics_print(env->diag, stderr);
+        halo_bench_cases_free(cases, n);
+        return 2;
+    }
+    /* errors: each halo row against M = 1 of the same host */
+    size_t pixels = (size_t)env->width * (size_t)env->height;
+    for (size_t i = 0; i < n; ++i) {
+        cases[i].max_abs = NAN;
+        for (size_t j = 0; j < n && strcmp(cases[i].axis, "halo") == 0; ++j)
+            if (!strcmp(cases[j].axis, "halo") && cases[j].config.interval == 1 && cases[j].config.slab == cases[i].config.slab)
+                halo_bench_image_error(cases[i].image, cases[j].image, pixels, &cases[i].max_abs, &cases[i].rmse,
+                                       &cases[i].share_over);
+        if (!strcmp(cases[i].axis, "halo16")) /* against 32-bit M = 4 */
+            halo_bench_image_error(cases[i].image, cases[6].image, pixels, &cases[i].max_abs, &cases[i].rmse,
+                                   &cases[i].share_over);
+    }
+    printf("# halo-validate bench --table1: %dx%d image, %d^3 built-in volume, %d slices (sample distance 0.5 voxel),\n"
+           "# median of %d interleaved frames, %s\n",
+           env->width, env->height, o->volume_size, cases[0].slices, env->repeat, renderer ? renderer : "?");
+    printf("# gradient: the gradient stage alone; seed: + seeding into the seed image; seed+map: + mapping (M = -:"
+           " no generation); halo16: M = 4 with 16-bit halo images (error against 32-bit M = 4)\n");
+    printf("%-9s %-5s %3s %6s %7s %10s %8s %9s %7s %10s %10s %8s\n", "row", "host", "M", "draws", "passes",
+           "ms/frame", "fps", "%ref", "paper%", "max_abs", "rmse", ">1/255");
+    double reference = cases[0].seconds;
+    for (size_t i = 0; i < n; ++i) {
+        const halo_bench_case *c = &cases[i];
+        char paper[16] = "", errors[64], interval[16];
+        for (int k = 0; k < 4; ++k)
+            if (!strcmp(c->axis, "halo") && !c->config.slab && paper_m[k] == c->config.interval)
+                snprintf(paper, sizeof paper, "%.2f", paper_percent[k]);
+        format_error(errors, sizeof errors, c);
+        snprintf(interval, sizeof interval, "%d", c->config.interval);
+        printf("%-9s %-5s %3s %6ld %7ld %10.1f %8.3f %8.2f%% %7s %s\n", c->axis, host_name(&c->config),
+               c->config.no_generation ? "-" : interval, c->draws, c->pass_draws, c->seconds * 1e3, 1.0 / c->seconds,
+               100.0 * reference / c->seconds, paper, errors);
+    }
+    printf("# paper (GeForce 8800 GTX, 256^3, 512^2, sample distance 0.5): reference 29.34 fps;"
+           " M = 1, 2, 4, 8: 15.85, 26.31, 34.97, 42.91 %% of it\n");
+    /* where the time goes, per frame, against the reference */
+    double t_gradient = cases[1].seconds - reference, t_seed = cases[2].seconds - cases[1].seconds,
+           t_map = cases[3].seconds - cases[2].seconds, t_generation = cases[6].seconds - cases[3].seconds;
+    printf("# M = 4, slice host, per frame over the reference's %.1f ms: gradient stage %+.1f ms, seeding %+.1f ms,"
+           " mapping %+.1f ms, generation (%ld pass draws) %+.1f ms (%.2f ms a pass draw)\n",
+           reference * 1e3, t_gradient * 1e3, t_seed * 1e3, t_map * 1e3, cases[6].pass_draws, t_generation * 1e3,
+           cases[6].pass_draws ? t_generation * 1e3 / (double)cases[6].pass_draws : 0.0);
+    double best_percent = 0.0;
+    const halo_bench_case *best = NULL;
+    for (size_t i = 0; i < n; ++i)
+        if (!strcmp(cases[i].axis, "halo") && cases[i].config.interval == 4 &&
+            100.0 * reference / cases[i].seconds > best_percent) {
+            best_percent = 100.0 * reference / cases[i].seconds;
+            best = &cases[i];
+        }
+    if (best) {
+        int met = best_percent >= 75.0 && best->max_abs <= 1.0 / 255.0;
+        printf("# target: halo frame rate >= 75 %% of the reference at M = 4 with max error <= 1/255 (against M = 1):"
+               " %s host %.1f %%, max error %.3e: %s\n",
+               host_name(&best->config), best_percent, best->max_abs, met ? "MET" : "NOT MET");
+    }
+    halo_bench_cases_free(cases, n);
+    return 0;
+}
+
+/* ---- Specialization -------------------------------------------------------------------- */
+
+static int run_specialize(const bench_options *o, halo_bench_env *env, const char *renderer)
+{
+    const halo_bench_config base = {.halos = 1, .interval = 4, .passes = 4, .precision = 32, .step = 0.5};
+    struct { const char *family, *variant, *scene; int all_live; } rows[] = {
+        {"none", "reference", bench_sample_scene, 0},
+        {"per-sample", "specialized", bench_sample_scene, 0},
+        {"per-sample", "all_live", bench_sample_scene, 1},
+        {"per-sample", "all stages, all_live", bench_sample_all_scene, 1},
+        {"halos", "specialized", bench_halo_scene, 0},
+        {"halos", "all_live", bench_halo_scene, 1},
+        {"halos", "all stages, all_live", bench_halo_all_scene, 1},
+    };
+    enum { ROWS = sizeof rows / sizeof rows[0] };
+    halo_bench_case cases[ROWS];
+    memset(cases, 0, sizeof cases);
+    for (size_t i = 0; i < ROWS; ++i) {
+        cases[i].config = base;
+        cases[i].config.halos = i > 0;
+        cases[i].config.all_live = rows[i].all_live;
+        cases[i].scene_text = rows[i].scene;
+        cases[i].axis = rows[i].family;
+    }
+    if (!halo_bench_run(env, cases, ROWS)) {
+        halo_diagnostics_print(env->diag, stderr);
+        halo_bench_cases_free(cases, ROWS);
+        return 2;
+    }
+    size_t pixels = (size_t)env->width * (size_t)env->height;
+    printf("# halo-validate bench --specialize: %dx%d image, %d^3 built-in volume, slice host, step 0.5, M = 4;"
+           " median of %d interleaved frames; %s\n",
+           env->width, env->height, o->volume_size, env->repeat, renderer ? renderer : "?");
+    printf("# per-sample: boundary, silhouette, tone_shading; halos: halo_seed, halo_generate (N = 4), halo_map.\n"
+           "# 'all stages': the per-sample stages with neutral parameter values (gradient, orientation_fade,\n"
+           "# distance_blend, distance_cue; opacity_power and sketch have none) linked too, switched off by\n"
+           "# their parameters (the linker has no per-stage 'enabled' uniform); 'max_abs': against the\n"
+           "# specialized image\n");
+    printf("%-11s %-22s %9s %12s %12s %10s\n", "family", "variant", "ms/frame", "x_specialized", "stages_ms",
+           "max_abs");
+    for (size_t i = 0; i < ROWS; ++i) {
+        const halo_bench_case *c = &cases[i];
+        const halo_bench_case *spec = i == 0 ? c : i < 4 ? &cases[1] : &cases[4];
+        double m = 0, r = 0, s = 0;
+        halo_bench_image_error(c->image, spec->image, pixels, &m, &r, &s);
+        printf("%-11s %-22s %9.1f %12.2f %12.1f %10.3e\n", rows[i].family, rows[i].variant, c->seconds * 1e3,
+               c->seconds / spec->seconds, (c->seconds - cases[0].seconds) * 1e3, m);
+    }
+    printf("# stages_ms: the time over the reference's (the stages' own cost); x_specialized: frame time / the"
+           " specialized shader's\n");
+    halo_bench_cases_free(cases, ROWS);
+    return 0;
+}
+
 int halo_bench_main(int argc, char **argv)
 {
-    bench b = {.size = 512, .volume_size = 128, .repeat = 3};
-    int table1 = 0;
+    bench_options o = {.size = 512, .volume_size = 128, .repeat = 3, .max_error = -1.0, .finest = 0.25};
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
+        int more = i + 1 < argc;
         if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
             bench_usage(stdout);
             return 0;
         } else if (!strcmp(a, "--table1")) {
-            table1 = 1;
-        } else if (!strcmp(a, "--size") && i + 1 < argc) {
-            if (!parse_int(argv[++i], 16, 2048, &b.size)) {
+            o.table1 = 1;
+        } else if (!strcmp(a, "--specialize")) {
+            o.specialize = 1;
+        } else if (!strcmp(a, "--size") && more) {
+            if (!parse_int(argv[++i], 16, 2048, &o.size)) {
                 fprintf(stderr, "halo-validate: bench: --size: '%s' is not an integer in 16..2048\n", argv[i]);
                 return 2;
             }
-        } else if (!strcmp(a, "--volume-size") && i + 1 < argc) {
-            if (!parse_int(argv[++i], HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE, &b.volume_size)) {
+        } else if (!strcmp(a, "--volume-size") && more) {
+            if (!parse_int(argv[++i], HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE, &o.volume_size)) {
                 fprintf(stderr, "halo-validate: bench: --volume-size: '%s' is not an integer in %d..%d\n", argv[i],
                         HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE);
                 return 2;
             }
-        } else if (!strcmp(a, "--repeat") && i + 1 < argc) {
-            if (!parse_int(argv[++i], 1, 101, &b.repeat)) {
+        } else if (!strcmp(a, "--repeat") && more) {
+            if (!parse_int(argv[++i], 1, 101, &o.repeat)) {
                 fprintf(stderr, "halo-validate: bench: --repeat: '%s' is not an integer in 1..101\n", argv[i]);
                 return 2;
             }
+        } else if (!strcmp(a, "--finest") && more) {
+            if (!parse_double(argv[++i], 0.05, 1.0, &o.finest)) {
+                fprintf(stderr, "halo-validate: bench: --finest: '%s' is not a number in 0.05..1\n", argv[i]);
+                return 2;
+            }
+        } else if (!strcmp(a, "--max-error") && more) {
+            if (!parse_double(argv[++i], 0.0, 1e9, &o.max_error)) {
+                fprintf(stderr, "halo-validate: bench: --max-error: '%s' is not a number >= 0\n", argv[i]);
+                return 2;
+            }
+        } else if (!strcmp(a, "--csv") && more) {
+            o.csv = argv[++i];
+        } else if (!strcmp(a, "--plot") && more) {
+            o.plot = argv[++i];
+        } else if (!strcmp(a, "--scene") && more) {
+            o.scene = argv[++i];
         } else {
             fprintf(stderr, "halo-validate: bench: unknown or incomplete argument '%s'\n", a);
             bench_usage(stderr);
             return 2;
         }
     }
-    int status = 2;
-    halo_headless *context = NULL;
-    enum { CONFIGS = 12 };
-    bench_result results[CONFIGS];
-    memset(results, 0, sizeof results);
-    b.diag = halo_diagnostics_create();
-    if (!b.diag || halo_setup(NULL) != HALO_OK) {
-        fprintf(stderr, "halo-validate: bench: cannot initialize libhalo\n");
-        halo_diagnostics_destroy(b.diag);
+    if (o.table1 + o.specialize > 1 || ((o.table1 || o.specialize) && (o.csv || o.plot || o.max_error >= 0.0))) {
+        fprintf(stderr, "halo-validate: bench: --table1 and --specialize stand alone (no --csv, --plot, --max-error)\n");
         return 2;
     }
-    b.lib = halo_library_create(b.diag);
-    b.volume = halo_volume_create(b.volume_size);
+    int status = 2;
+    halo_headless *context = NULL;
+    halo_bench_env env = {.width = o.size, .height = o.size, .repeat = o.repeat, .progress = stderr,
+                          .scene_text = o.scene ? NULL : bench_halo_scene, .scene_path = o.scene};
+    float *volume = NULL;
+    env.diag = halo_diagnostics_create();
+    if (!env.diag || halo_setup(NULL) != HALO_OK) {
+        fprintf(stderr, "halo-validate: bench: cannot initialize libhalo\n");
+        halo_diagnostics_destroy(env.diag);
+        return 2;
+    }
+    env.lib = halo_library_create(env.diag);
+    volume = halo_volume_create(o.volume_size);
+    env.volume = volume;
+    env.dims[0] = env.dims[1] = env.dims[2] = o.volume_size;
     char err[512];
-    context = halo_headless_create(b.size, b.size, err, sizeof err);
+    context = halo_headless_create(o.size, o.size, err, sizeof err);
     if (!context) {
         fprintf(stderr, "halo-validate: bench: %s\n", err);
         goto cleanup;
     }
-    b.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, b.diag);
-    if (!b.lib || !b.volume || !b.runtime) {
-        halo_diagnostics_print(b.diag, stderr);
+    env.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, env.diag);
+    if (!env.lib || !volume || !env.runtime) {
+        halo_diagnostics_print(env.diag, stderr);
         goto cleanup;
     }
-    b.gl = halo_gl_functions(b.runtime);
-    const char *renderer = (const char *)b.gl->GetString(GL_RENDERER);
-
-    /* The slice reference first (every % is against it); NO_GENERATION: seeding and mapping
-     * per sample but no image pass (M beyond the last slice), the paper's "seeding and
-     * mapping alone"; the slab reference batches 8 samples per draw. */
-    enum { NO_GENERATION = 1 << 20 };
-    struct { const char *name; int halos, slab, interval; } configs[] = {
-        {"slice", 0, 0, 1}, {"slice", 1, 0, 1}, {"slice", 1, 0, 2}, {"slice", 1, 0, 4}, {"slice", 1, 0, 8},
-        {"slice", 1, 0, NO_GENERATION},
-        {"slab", 0, 1, 8}, {"slab", 1, 1, 1}, {"slab", 1, 1, 2}, {"slab", 1, 1, 4}, {"slab", 1, 1, 8},
-    };
-    size_t config_count = sizeof configs / sizeof configs[0];
-    for (size_t i = 0; i < config_count; ++i) {
-        fprintf(stderr, "bench: %s, %s, M = %d (%zu of %zu)...\n", configs[i].name,
-                configs[i].halos ? "one halo" : "no halos", configs[i].interval == NO_GENERATION ? 0 : configs[i].interval,
-                i + 1, config_count);
-        results[i].renderer = configs[i].name;
-        results[i].halos = configs[i].halos;
-        if (!run_config(&b, configs[i].halos ? bench_halo_scene : bench_reference_scene, configs[i].slab,
-                        configs[i].interval, &results[i]))
-            goto cleanup;
-        fprintf(stderr, "bench:   %.1f ms\n", results[i].seconds * 1e3);
-    }
-    printf("# halo-validate bench: %dx%d image, %d^3 built-in volume, %d slices (sample distance 0.5 voxel),\n"
-           "# median of %d frames, %s\n", b.size, b.size, b.volume_size, results[0].slices, b.repeat,
-           renderer ? renderer : "?");
-    printf("# M = -: seeding and mapping per sample, no generation (the halo field stays empty)\n");
-    printf("%-6s %-6s %3s %6s %7s %10s %8s %9s %9s %10s %10s %8s\n", "host", "halos", "M", "draws", "passes",
-           "ms/frame", "fps", "%ref", table1 ? "paper%" : "", "max_abs", "rmse", ">1/255");
-    size_t pixels = (size_t)b.size * (size_t)b.size;
-    for (size_t i = 0; i < config_count; ++i) {
-        const bench_result *r = &results[i];
-        double reference = results[0].seconds;
-        char paper[16] = "";
-        int is_slice = strcmp(r->renderer, "slice") == 0;
-        if (table1 && r->halos && is_slice)
-            for (int k = 0; k < 4; ++k)
-                if (paper_m[k] == r->interval)
-                    snprintf(paper, sizeof paper, "%.2f", paper_percent[k]);
-        char errors[64] = "";
-        const bench_result *base = NULL; /* M = 1 of the same renderer */
-        for (size_t j = 0; j < config_count && r->halos && r->interval != NO_GENERATION; ++j)
-            if (results[j].halos && results[j].interval == 1 && strcmp(results[j].renderer, r->renderer) == 0)
-                base = &results[j];
-        double max_abs = 0, rmse = 0, share = 0;
-        if (base && base != r)
-            image_error(r->image, base->image, pixels, &max_abs, &rmse, &share);
-        if (base && base != r)
-            snprintf(errors, sizeof errors, "%10.3e %10.3e %7.2f%%", max_abs, rmse, 100.0 * share);
-        else
-            snprintf(errors, sizeof errors, "%10s %10s %8s", "-", "-", "-");
-        char interval[16];
-        snprintf(interval, sizeof interval, "%d", r->interval);
-        printf("%-6s %-6s %3s %6ld %7ld %10.1f %8.3f %8.2f%% %9s %s\n", r->renderer, r->halos ? "1" : "0",
-               r->interval == NO_GENERATION ? "-" : interval, r->draws, r->pass_draws, r->seconds * 1e3, 1.0 / r->seconds,
-               100.0 * reference / r->seconds, paper, errors);
-    }
-    if (table1)
-        printf("# paper (GeForce 8800 GTX, 256^3, 512^2, sample distance 0.5): reference 29.34 fps;"
-               " M = 1, 2, 4, 8: 15.85, 26.31, 34.97, 42.91 %% of it\n");
-    status = 0;
+    env.gl = halo_gl_functions(env.runtime);
+    const char *renderer = (const char *)env.gl->GetString(GL_RENDERER);
+    if (o.table1)
+        status = run_table1(&o, &env, renderer);
+    else if (o.specialize)
+        status = run_specialize(&o, &env, renderer);
+    else
+        status = run_sweep(&o, &env, renderer);
 cleanup:
-    for (size_t i = 0; i < CONFIGS; ++i)
-        free(results[i].image);
-    free(b.volume);
-    halo_gl_destroy(b.runtime);
+    free(volume);
+    halo_gl_destroy(env.runtime);
     halo_headless_destroy(context);
-    halo_library_destroy(b.lib);
-    halo_diagnostics_destroy(b.diag);
+    halo_library_destroy(env.lib);
+    halo_diagnostics_destroy(env.diag);
     halo_shutdown();
     return status;
 }

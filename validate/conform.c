@@ -4,7 +4,10 @@
  * emulation of the ray caster. Tolerances and their reasons: the table below and
  * docs/accuracy.md. */
 #include "conform.h"
+#include "conform_internal.h"
+#include "conform_feature.h"
 #include "conform_lines.h"
+#include "conform_outline.h"
 #include "conform_slice.h"
 
 #include "halo.h"
@@ -85,29 +88,14 @@ static const stage_tolerance default_tolerance = {NULL, 1e-5, 1e-5, "a stage not
 
 /* ---- Statistics and rows -------------------------------------------------------------- */
 
-typedef struct row_stats {
-    double max_abs, sum_squares;
-    size_t values, over, nonfinite;
-    size_t worst; /* sample index of max_abs */
-} row_stats;
+/* row_stats and conform: conform_internal.h */
 
-typedef struct conform {
-    halo_library *lib;
-    halo_headless *context;
-    halo_gl *runtime;
-    const halo_glfuncs *gl;
-    halo_diagnostics *diag;
-    int size, verbose;
-    const char *only;
-    int rows, failures, errors;
-} conform;
-
-static int row_selected(const conform *c, const char *row, const char *stage)
+int row_selected(const conform *c, const char *row, const char *stage)
 {
     return !c->only || strcmp(c->only, row) == 0 || (stage && strcmp(c->only, stage) == 0);
 }
 
-static void print_row(conform *c, const char *row, const row_stats *s, const char *tolerance, int pass)
+void print_row(conform *c, const char *row, const row_stats *s, const char *tolerance, int pass)
 {
     double rmse = s->values ? sqrt(s->sum_squares / (double)s->values) : 0.0;
     printf("%-26s %10.3e %10.3e %8zu %9zu %17s %s\n", row, s->max_abs, rmse, s->over, s->nonfinite, tolerance,
@@ -119,7 +107,7 @@ static void print_row(conform *c, const char *row, const row_stats *s, const cha
 }
 
 /* A row that could not run (link or compile error): the diagnostics say why. */
-static void print_error_row(conform *c, const char *row)
+void print_error_row(conform *c, const char *row)
 {
     printf("%-26s %10s %10s %8s %9s %12s FAIL\n", row, "-", "-", "-", "-", "-");
     halo_diagnostics_print(c->diag, stderr);
@@ -803,7 +791,7 @@ done:
  * attachments and the image samplers, which halo_probe does not set up). */
 
 /* The image-plane axes the frame rows use (oblique, so that both matter), as floats. */
-static void host_axes(double right[3], double up[3])
+void host_axes(double right[3], double up[3])
 {
     const double a = 0.3, b = 0.4;
     double r[3] = {cos(a), sin(a), 0.0}, u[3] = {-sin(a) * cos(b), cos(a) * cos(b), sin(b)};
@@ -811,14 +799,27 @@ static void host_axes(double right[3], double up[3])
         right[k] = (float)r[k], up[k] = (float)u[k];
 }
 
-typedef struct frame_probe {
-    const halo_glfuncs *f;
-    GLuint program, framebuffer, color, inputs[4], vertex_array;
-    int size;
-    float *staging;
-} frame_probe;
+/* Sampler host uniforms of the frame rows (e.g. outline_feature's "labels"): a small
+ * volume of integer labels, the same in GL (unit 15) and in the emulation
+ * (halo_emu_frame_set_volume); sampler2D host uniforms get a 1x1 texture on unit 14.
+ * GL needs a texture of the sampler's own type on a unit of its own: the default unit 0
+ * holds the probe's sampler2D inputs, and two sampler types on one unit are
+ * GL_INVALID_OPERATION at draw. */
+/* PROBE_VOLUME_*, PROBE_UNIT_*: conform_internal.h */
 
-static void frame_probe_release(frame_probe *fp)
+const float *probe_label_volume(void)
+{
+    static float labels[PROBE_VOLUME_X * PROBE_VOLUME_Y * PROBE_VOLUME_Z];
+    for (int z = 0; z < PROBE_VOLUME_Z; ++z)
+        for (int y = 0; y < PROBE_VOLUME_Y; ++y)
+            for (int x = 0; x < PROBE_VOLUME_X; ++x)
+                labels[(z * PROBE_VOLUME_Y + y) * PROBE_VOLUME_X + x] = (float)((x + 2 * y + 3 * z) % 4);
+    return labels;
+}
+
+/* frame_probe: conform_internal.h */
+
+void frame_probe_release(frame_probe *fp)
 {
     const halo_glfuncs *f = fp->f;
     if (f) {
@@ -830,6 +831,8 @@ static void frame_probe_release(frame_probe *fp)
             f->DeleteTextures(4, fp->inputs);
         if (fp->vertex_array)
             f->DeleteVertexArrays(1, &fp->vertex_array);
+        if (fp->host_textures[0])
+            f->DeleteTextures(2, fp->host_textures);
         if (fp->program)
             f->DeleteProgram(fp->program);
     }
@@ -837,7 +840,7 @@ static void frame_probe_release(frame_probe *fp)
     memset(fp, 0, sizeof *fp);
 }
 
-static int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp)
+int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp)
 {
     memset(fp, 0, sizeof *fp);
     const halo_glfuncs *f = c->gl;
@@ -858,6 +861,19 @@ static int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp)
         f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, c->size, c->size, 0, GL_RGBA, GL_FLOAT, NULL);
     }
     f->BindTexture(GL_TEXTURE_2D, 0);
+    f->GenTextures(2, fp->host_textures);
+    f->BindTexture(GL_TEXTURE_3D, fp->host_textures[0]);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    f->TexImage3D(GL_TEXTURE_3D, 0, GL_R32F, PROBE_VOLUME_X, PROBE_VOLUME_Y, PROBE_VOLUME_Z, 0, GL_RED, GL_FLOAT,
+                  probe_label_volume());
+    f->BindTexture(GL_TEXTURE_3D, 0);
+    f->BindTexture(GL_TEXTURE_2D, fp->host_textures[1]);
+    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, 1, 1, 0, GL_RGBA, GL_FLOAT, (const float[]){0, 0, 0, 0});
+    f->BindTexture(GL_TEXTURE_2D, 0);
     f->GenFramebuffers(1, &fp->framebuffer);
     f->BindFramebuffer(GL_FRAMEBUFFER, fp->framebuffer);
     f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, fp->color, 0);
@@ -872,7 +888,7 @@ static int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp)
 
 /* Draws probe.frag once over samples (one per pixel) with the frame's outputs attached and
  * images bound; reads colour and opacity back into rgba (may be NULL). */
-static halo_status frame_probe_draw(conform *c, frame_probe *fp, const halo_program *p, halo_gl_frame *frame,
+halo_status frame_probe_draw(conform *c, frame_probe *fp, const halo_program *p, halo_gl_frame *frame,
                                     const halo_emu_sample *samples, float *rgba)
 {
     const halo_glfuncs *f = fp->f;
@@ -915,7 +931,17 @@ static halo_status frame_probe_draw(conform *c, frame_probe *fp, const halo_prog
             halo_gl_set_host_uniform(c->runtime, fp->program, name, fr, 3);
         else if (strstr(name, "screen_up"))
             halo_gl_set_host_uniform(c->runtime, fp->program, name, fu, 3);
+        else if (!strcmp(halo_program_host_uniform(p, i)->type, "sampler3D")) {
+            f->ActiveTexture(GL_TEXTURE0 + PROBE_UNIT_3D);
+            f->BindTexture(GL_TEXTURE_3D, fp->host_textures[0]);
+            halo_gl_set_host_uniform(c->runtime, fp->program, name, (const float[]){PROBE_UNIT_3D}, 1);
+        } else if (!strncmp(halo_program_host_uniform(p, i)->type, "sampler", 7)) {
+            f->ActiveTexture(GL_TEXTURE0 + PROBE_UNIT_2D);
+            f->BindTexture(GL_TEXTURE_2D, fp->host_textures[1]);
+            halo_gl_set_host_uniform(c->runtime, fp->program, name, (const float[]){PROBE_UNIT_2D}, 1);
+        }
     }
+    f->ActiveTexture(GL_TEXTURE0);
     f->BindVertexArray(fp->vertex_array);
     f->DrawArrays(GL_TRIANGLES, 0, 3);
     f->BindVertexArray(0);
@@ -924,6 +950,10 @@ static halo_status frame_probe_draw(conform *c, frame_probe *fp, const halo_prog
         f->PixelStorei(GL_PACK_ALIGNMENT, 4);
         f->ReadPixels(0, 0, fp->size, fp->size, GL_RGBA, GL_FLOAT, rgba);
     }
+    f->ActiveTexture(GL_TEXTURE0 + PROBE_UNIT_3D);
+    f->BindTexture(GL_TEXTURE_3D, 0);
+    f->ActiveTexture(GL_TEXTURE0 + PROBE_UNIT_2D);
+    f->BindTexture(GL_TEXTURE_2D, 0);
     for (int t = 3; t >= 0; --t) {
         f->ActiveTexture(GL_TEXTURE0 + (GLenum)t);
         f->BindTexture(GL_TEXTURE_2D, 0);
@@ -939,7 +969,7 @@ static halo_status frame_probe_draw(conform *c, frame_probe *fp, const halo_prog
     return HALO_OK;
 }
 
-static void emu_set_axes(halo_emu_frame *ef)
+void emu_set_axes(halo_emu_frame *ef)
 {
     double right[3], up[3];
     host_axes(right, up);
@@ -958,6 +988,176 @@ static int emulate_frame_sample(const halo_program *p, halo_emu_frame *ef, halo_
     for (int k = 0; k < 4; ++k)
         out[4 + k] = s->output_accum[k];
     return 1;
+}
+
+static int program_has_image(const halo_program *p, const char *name)
+{
+    for (size_t i = 0; i < halo_program_image_count(p); ++i)
+        if (!strcmp(halo_program_image(p, i)->name, name))
+            return 1;
+    return 0;
+}
+
+void emu_set_probe_volumes(const halo_program *p, halo_emu_frame *ef)
+{
+    for (size_t i = 0; i < halo_program_host_uniform_count(p); ++i)
+        if (!strcmp(halo_program_host_uniform(p, i)->type, "sampler3D"))
+            halo_emu_frame_set_volume(ef, halo_program_host_uniform(p, i)->name + strlen("halo_host_"),
+                                      probe_label_volume(), PROBE_VOLUME_X, PROBE_VOLUME_Y, PROBE_VOLUME_Z);
+}
+
+/* One sample through a 1x1 emulated frame (fragcoord moved to its pixel): the output
+ * images' values at that pixel, nv of them (outputs in order, each image's components). */
+static int emulate_output_pixel(const halo_program *p, halo_emu_frame *one, const halo_emu_sample *sample,
+                                double *values, int max_values, int *nv)
+{
+    halo_emu_sample s = *sample;
+    memset(s.output_accum, 0, sizeof s.output_accum);
+    memset(s.output_accum_next, 0, sizeof s.output_accum_next);
+    s.fragcoord[0] = s.fragcoord[1] = 0.5;
+    halo_emu_frame_begin(one);
+    if (halo_emu_apply_frame(p, one, &s, NULL) != HALO_OK)
+        return 0;
+    halo_emu_frame_finish(one, &s);
+    int n = 0;
+    for (size_t i = 0; i < halo_program_image_count(p); ++i) {
+        const halo_image_info *info = halo_program_image(p, i);
+        int written = 0;
+        for (size_t o = 0; o < halo_program_output_count(p); ++o)
+            written |= !strcmp(halo_program_output(p, o)->image, info->name);
+        const double *px = written ? halo_emu_frame_image(one, info->name) : NULL;
+        for (int k = 0; px && k < info->channels && n < max_values; ++k)
+            values[n++] = px[k];
+    }
+    *nv = n;
+    return 1;
+}
+
+/* The output images of a frame row (one fragment per pixel) against the emulated frame,
+ * with colour and opacity: each value within tol_abs + tol_rel |emu| + the change that a
+ * 2^-21 relative perturbation of the sample's inputs makes (a label or value-range
+ * membership that flips within float rounding of the inputs). */
+static int compare_output_images(conform *c, const char *row, const halo_program *p, halo_gl_frame *gframe,
+                                 halo_emu_frame *eframe, const halo_emu_sample *samples, const float *gpu,
+                                 double tol_abs, double tol_rel, const char *tolerance_text)
+{
+    enum { MAX_VALUES = 64 };
+    size_t count = (size_t)c->size * (size_t)c->size;
+    size_t images = halo_program_image_count(p);
+    float **gl_images = calloc(images ? images : 1, sizeof *gl_images);
+    halo_emu_frame *one = halo_emu_frame_create(p, 1, 1, c->diag);
+    int ok = 0;
+    if (!gl_images || !one)
+        goto out;
+    emu_set_axes(one);
+    emu_set_probe_volumes(p, one);
+    for (size_t i = 0; i < images; ++i) {
+        const halo_image_info *info = halo_program_image(p, i);
+        int written = 0;
+        for (size_t o = 0; o < halo_program_output_count(p); ++o)
+            written |= !strcmp(halo_program_output(p, o)->image, info->name);
+        if (!written)
+            continue;
+        gl_images[i] = malloc(count * (size_t)info->channels * sizeof **gl_images);
+        if (!gl_images[i] || halo_gl_frame_read(gframe, info->name, gl_images[i]) != HALO_OK)
+            goto out;
+    }
+    for (size_t i = 0; i < count; ++i) { /* the whole frame, as a host would fold it */
+        halo_emu_sample s = samples[i];
+        memset(s.output_accum, 0, sizeof s.output_accum);
+        memset(s.output_accum_next, 0, sizeof s.output_accum_next);
+        if (halo_emu_apply_frame(p, eframe, &s, c->diag) != HALO_OK)
+            goto out;
+        halo_emu_frame_finish(eframe, &s);
+    }
+    row_stats stats = {0};
+    size_t worst_over = SIZE_MAX;
+    for (size_t i = 0; i < count; ++i) {
+        double emu[4 + MAX_VALUES], g[4 + MAX_VALUES], condition[4 + MAX_VALUES] = {0}, one_px[MAX_VALUES];
+        int n = 0, nv = 0;
+        halo_emu_sample s = samples[i];
+        double colour[8];
+        if (!emulate_frame_sample(p, eframe, &s, colour))
+            goto out;
+        for (int k = 0; k < 4; ++k)
+            emu[n] = colour[k], g[n++] = gpu[i * 4 + (size_t)k];
+        for (size_t m = 0; m < images; ++m) {
+            if (!gl_images[m])
+                continue;
+            int ch = halo_program_image(p, m)->channels;
+            const double *e = halo_emu_frame_image(eframe, halo_program_image(p, m)->name);
+            for (int k = 0; k < ch && n < 4 + MAX_VALUES; ++k)
+                emu[n] = e[i * (size_t)ch + (size_t)k], g[n++] = gl_images[m][i * (size_t)ch + (size_t)k];
+        }
+        for (int field = 0; field < 6; ++field)
+            for (int sign = -1; sign <= 1; sign += 2) {
+                halo_emu_sample moved = samples[i];
+                double factor = 1.0 + sign * INPUT_PERTURBATION, out[8];
+                switch (field) {
+                case 0: for (int k = 0; k < 3; ++k) moved.view[k] *= factor; break;
+                case 1: for (int k = 0; k < 3; ++k) moved.gradient[k] *= factor; break;
+                case 2: moved.value *= factor; break;
+                case 3: for (int k = 0; k < 3; ++k) moved.position[k] *= factor; break;
+                case 4: for (int k = 0; k < 3; ++k) moved.color[k] = fmin(1.0, moved.color[k] * factor); break;
+                default: moved.opacity = fmin(1.0, moved.opacity * factor); break;
+                }
+                halo_emu_sample copy = moved;
+                if (emulate_frame_sample(p, eframe, &copy, out))
+                    for (int k = 0; k < 4; ++k)
+                        condition[k] = fmax(condition[k], fabs(out[k] - emu[k]));
+                if (emulate_output_pixel(p, one, &moved, one_px, MAX_VALUES, &nv))
+                    for (int k = 0; k < nv && 4 + k < n; ++k)
+                        condition[4 + k] = fmax(condition[4 + k], fabs(one_px[k] - emu[4 + k]));
+            }
+        int over = 0, nonfinite = 0;
+        for (int k = 0; k < n; ++k) {
+            if (!isfinite(g[k]) || !isfinite(emu[k])) {
+                nonfinite = 1;
+                continue;
+            }
+            double error = fabs(g[k] - emu[k]), allowed = tol_abs + tol_rel * fabs(emu[k]) + condition[k];
+            stats.sum_squares += error * error;
+            stats.values++;
+            if (error > stats.max_abs)
+                stats.max_abs = error, stats.worst = i;
+            if (error > allowed)
+                over = 1, worst_over = i;
+        }
+        stats.over += (size_t)over;
+        stats.nonfinite += (size_t)nonfinite;
+    }
+    int pass = stats.over == 0 && stats.nonfinite == 0;
+    print_row(c, row, &stats, tolerance_text, pass);
+    if (c->verbose || !pass) {
+        size_t shown = worst_over != SIZE_MAX ? worst_over : stats.worst;
+        halo_emu_sample s = samples[shown];
+        double emu[8];
+        emulate_frame_sample(p, eframe, &s, emu);
+        print_sample(worst_over != SIZE_MAX ? "over tolerance" : "largest error", &samples[shown], &gpu[shown * 4],
+                     emu);
+        for (size_t m = 0; m < images; ++m) {
+            if (!gl_images[m])
+                continue;
+            int ch = halo_program_image(p, m)->channels;
+            const double *e = halo_emu_frame_image(eframe, halo_program_image(p, m)->name);
+            fprintf(stderr, "    %-16s gpu", halo_program_image(p, m)->name);
+            for (int k = 0; k < ch; ++k)
+                fprintf(stderr, " %.9g", gl_images[m][shown * (size_t)ch + (size_t)k]);
+            fprintf(stderr, "  emulation");
+            for (int k = 0; k < ch; ++k)
+                fprintf(stderr, " %.9g", e[shown * (size_t)ch + (size_t)k]);
+            fprintf(stderr, "\n");
+        }
+    }
+    ok = 1;
+out:
+    if (!ok)
+        halo_diag_error(c->diag, EMU_MISSING, "", 0, 0, "row %s: an output image could not be read or emulated", row);
+    for (size_t i = 0; gl_images && i < images; ++i)
+        free(gl_images[i]);
+    free(gl_images);
+    halo_emu_frame_destroy(one);
+    return ok;
 }
 
 /* Scenes of the frame rows of the volumetric-halo stages. */
@@ -1067,10 +1267,17 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const frame_va
     if (!gframe || !eframe || !frame_probe_init(c, program, &fp))
         goto error;
     emu_set_axes(eframe);
+    emu_set_probe_volumes(program, eframe);
     halo_gl_frame_begin(gframe);
     halo_emu_frame_begin(eframe);
     if (frame_probe_draw(c, &fp, program, gframe, samples, gpu) != HALO_OK)
         goto error;
+    if (!is_map && !program_has_image(program, "seed")) {
+        /* outputs other than seed (outline_feature): compare every output image */
+        if (!compare_output_images(c, row, program, gframe, eframe, samples, gpu, tol_abs, tol_rel, tolerance_text))
+            goto error;
+        goto done;
+    }
     if (is_map) {
         /* generate on the GPU; the emulation continues from the GPU's images */
         halo_gl_frame_generate(gframe);
@@ -1400,6 +1607,8 @@ static void conform_usage(FILE *out)
           "  halo_seed, halo_map (and @halos2, @halos4, @live)   drawn through a GL frame (outputs,\n"
           "            images, host uniforms) against the emulated frame\n"
           "  pass:*    halo_generate's image passes on chosen seed images (GPU frame vs emulation)\n"
+          "  outline:* the outline passes (at=post) on synthetic feature buffers: flat depth, depth 1,\n"
+          "            one pixel, border, sigma > image, no-hit normals, occlusion styles, depth effects\n"
           "  raycast   a small whole render against a C emulation of the ray caster\n"
           "  figure3   the paper's Fig. 3 as numbers (emulation): fails unless spreading the seed\n"
           "            gradient keeps small features' halos better than a low-pass of the seeds\n"
@@ -1456,7 +1665,7 @@ int halo_conform_main(int argc, char **argv)
         goto setup_failed;
     if (c.only && strcmp(c.only, "empty") != 0 && strcmp(c.only, "raycast") != 0 && strcmp(c.only, "figure3") != 0 &&
         strncmp(c.only, "pass:", 5) != 0 && strncmp(c.only, "slice", 5) != 0 && strncmp(c.only, "slab", 4) != 0 &&
-        strncmp(c.only, "line", 4) != 0) {
+        strncmp(c.only, "line", 4) != 0 && strncmp(c.only, "outline", 7) != 0 && strncmp(c.only, "feature", 7) != 0) {
         char base[128];
         snprintf(base, sizeof base, "%s", c.only);
         char *at = strchr(base, '@');
@@ -1498,6 +1707,10 @@ int halo_conform_main(int argc, char **argv)
         const halo_module *m = halo_library_module(c.lib, i);
         if (halo_module_hook(m) != HALO_HOOK_SAMPLE)
             continue;
+        /* feature_halo reads a 3D halo buffer the generic probe cannot supply: its own
+         * rows (conform_feature.c) build the buffer on the GPU and in the emulation. */
+        if (!strcmp(halo_module_name(m), "feature_halo"))
+            continue;
         if (!halo_module_has_emulation(m)) {
             /* helper libraries (halo_math) are modules too, but no scene can enable them */
             halo_scene *probe_scene = halo_scene_create(c.lib);
@@ -1527,8 +1740,11 @@ int halo_conform_main(int argc, char **argv)
                 run_stage_row(&c, m, (enum variant)v, probe_source);
     }
     run_pass_rows(&c, probe_source);
+    halo_conform_outline_rows(&c, probe_source);
     if (!c.only || !strncmp(c.only, "slice", 5) || !strncmp(c.only, "slab", 4))
         c.rows += halo_conform_slice_rows(c.size, c.verbose, &c.failures);
+    if (!c.only || !strncmp(c.only, "feature", 7))
+        c.rows += halo_conform_feature_rows(c.verbose, &c.failures);
     if (!c.only || !strncmp(c.only, "line", 4))
         c.rows += halo_conform_line_rows_select(c.only, c.verbose, &c.failures);
     run_raycast_row(&c, raycast_source);

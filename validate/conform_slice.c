@@ -82,7 +82,7 @@ static double trilinear(const float *v, const int dims[3], const double p[3])
 
 static void classify(const halo_slice_state *s, double value, double rgba[4])
 {
-    double v = value < 0.0 ? 0.0 : value > 1.0 ? 1.0 : value;
+    double v = value > 0.0 ? (value < 1.0 ? value : 1.0) : 0.0; /* NaN -> 0, as the hosts do */
     int n = s->transfer_texels;
     double u = v * (n - 1);
     double base = floor(u);

@@ -1,6 +1,7 @@
 /* halo-validate: the command-line front end of libhalo.
  * Exit status: 0 success, 1 the input has errors (diagnostics on stderr), 2 usage or I/O. */
 #include "bench.h"
+#include "blur_report.h"
 #include "conform.h"
 #include "halo.h"
 
@@ -28,6 +29,9 @@ static const char usage_text[] =
     "  bench [--size N] [--volume-size N] [--repeat R] [--table1]\n"
     "                                 frame time with and without halos, and the error\n"
     "                                 of each approximation against the exact reference\n"
+    "  blur [--size N] [--repeat R] [--kernels K,...]\n"
+    "                                 Gaussian blur of the outlines: error and time of\n"
+    "                                 direct, separable and linear-sampled kernels\n"
     "  --help, --version\n"
     "\n"
     "targets: 330 (GLSL 330 core), 450 (GLSL 450 core), es300 (GLSL ES 300)\n"
@@ -325,6 +329,7 @@ int main(int argc, char **argv) {
     else if (!strcmp(cmd, "list")) status = cmd_list();
     else if (!strcmp(cmd, "conform")) status = halo_conform_main(argc - 1, argv + 1);
     else if (!strcmp(cmd, "bench")) status = halo_bench_main(argc - 1, argv + 1);
+    else if (!strcmp(cmd, "blur")) status = halo_blur_report_main(argc - 1, argv + 1);
     else status = usage_error("unknown command '%s'", cmd);
     halo_shutdown();
     return status;

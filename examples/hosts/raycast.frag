@@ -48,7 +48,7 @@ vec3 sample_gradient(vec3 p, vec3 voxel)
 vec4 classify(float value)
 {
     float texels = float(textureSize(transfer_texture, 0).x);
-    float u = (clamp(value, 0.0, 1.0) * (texels - 1.0) + 0.5) / texels;
+    float u = ((value > 0.0 ? min(value, 1.0) : 0.0) * (texels - 1.0) + 0.5) / texels; // NaN -> 0
     return texture(transfer_texture, vec2(u, 0.5));
 }
 

@@ -29,6 +29,8 @@ struct halo_slice {
     float background[3];
     int interval_override;
     long draws, pass_draws;
+    halo_slice_progress_fn progress;
+    void *progress_user;
 };
 
 /* ---- Programs ------------------------------------------------------------------------- */
@@ -236,6 +238,14 @@ void halo_slice_set_interval(halo_slice *s, int interval)
 {
     if (s)
         s->interval_override = interval > 0 ? interval : 0;
+}
+
+void halo_slice_set_progress(halo_slice *s, halo_slice_progress_fn fn, void *user)
+{
+    if (s) {
+        s->progress = fn;
+        s->progress_user = user;
+    }
 }
 
 int halo_slice_interval(const halo_slice *s)
@@ -514,6 +524,8 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
             s->draws++;
             if (generate && (k + 1) % interval == 0 && k + 1 < st.slice_count)
                 halo_gl_frame_generate(s->frame);
+            if (s->progress)
+                s->progress(k + 1, st.slice_count, s->progress_user);
         }
         f->Disable(GL_BLEND);
     } else {
@@ -533,6 +545,8 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
             current = 1 - current;
             if (generate && k + interval < st.slice_count)
                 halo_gl_frame_generate(s->frame);
+            if (s->progress)
+                s->progress((int)s->draws, (st.slice_count + interval - 1) / interval, s->progress_user);
         }
         f->ActiveTexture(GL_TEXTURE2);
         f->BindTexture(GL_TEXTURE_2D, 0);

@@ -51,6 +51,13 @@ void halo_slice_set_camera(halo_slice *s, double azimuth, double elevation, doub
  * program has none. */
 void halo_slice_set_interval(halo_slice *s, int interval);
 int halo_slice_interval(const halo_slice *s);
+/* Progress of a render: after each slice (slab caster: each slab) is drawn, and the
+ * halo images regenerated where due, fn(done, total, user) with done = 1..total, the
+ * slices (slabs) drawn so far and in all. The draws are queued, not necessarily
+ * executed: fn may call glFinish before reporting. fn must not change the GL state.
+ * NULL (the default) reports nothing. */
+typedef void (*halo_slice_progress_fn)(int done, int total, void *user);
+void halo_slice_set_progress(halo_slice *s, halo_slice_progress_fn fn, void *user);
 /* Renders and reads back width*height*4 floats, rows bottom-up, premultiplied colour
  * composited over the background (alpha 1). */
 halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag);

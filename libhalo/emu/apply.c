@@ -72,20 +72,8 @@ halo_status halo_emu_apply_frame(const halo_program *p, halo_emu_frame *f, halo_
                                  halo_diagnostics *diag) {
     halo_status st = run_stages(p, f, s, diag);
     if (st != HALO_OK) return st;
-    /* The linker folds each output's field after halo_apply: halo_accum = op(halo_accum, s.field).
-     * The emulated sample has one such field, seed. */
-    for (size_t o = 0; o < p->output_count; o++) {
-        const halo_output_info *out = &p->outputs[o];
-        if (strcmp(out->image, "seed")) {
-            halo_diag_error(diag, EMU_MISSING, "", 0, 0, "output '%s' has no field in halo_emu_sample", out->name);
-            return HALO_ERROR_INPUT;
-        }
-        for (int c = 0; c < p->channel_count && c < 4; c++) {
-            double a = s->output_accum[c], v = s->seed[c];
-            s->output_accum[c] = out->blend == HALO_BLEND_ADD ? a + v : (v > a ? v : a);
-        }
-    }
-    return HALO_OK;
+    /* The linker folds each output's field after halo_apply (emu/frame.c). */
+    return halo_emu_frame_fold(p, s, diag);
 }
 
 int halo_module_has_emulation(const halo_module *m) {

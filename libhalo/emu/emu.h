@@ -52,10 +52,18 @@ typedef struct halo_emu_pass_context {
     int pass_index, pass_count;
     int input_count;
     const double *inputs[HALO_MAX_PASS_INPUTS];
+    int input_components[HALO_MAX_PASS_INPUTS]; /* per input: its image's components */
+    int pass_channel;                           /* halo_pass_channel (each=channel passes) */
 } halo_emu_pass_context;
 
-/* halo_input(k, pixel) for one channel: 0 outside the image (zero padding). */
+/* halo_input(k, pixel) / halo_input4 for one component: 0 outside the image (zero
+ * padding) and beyond the image's components. */
 double halo_emu_input(const halo_emu_pass_context *c, int k, int x, int y, int channel);
+
+/* A sampler3D host uniform given by halo_emu_frame_set_volume (NULL if unset). */
+const float *halo_emu_host_volume(const halo_emu_params *p, const char *name, int dims[3]);
+/* Folds the sample's output fields into its accumulators (halo_apply's epilogue). */
+halo_status halo_emu_frame_fold(const halo_program *p, halo_emu_sample *s, halo_diagnostics *diag);
 
 /* One pass entry at pixel (x, y): writes the pixel's `channels` values to out. */
 typedef void (*halo_emu_pass_fn)(const halo_emu_pass_context *c, int x, int y, double out[4]);

@@ -14,6 +14,10 @@ struct halo_emu_frame {
     double **images;        /* per program image: width * height * channels */
     double *scratch;        /* one image: every pass writes a fresh buffer */
     double (*host)[4];      /* per program host uniform */
+    struct {
+        const float *data;
+        int dims[3];
+    } *volumes;             /* per program host uniform: sampler3D data (halo_emu_frame_set_volume) */
 };
 
 static int image_index(const halo_emu_frame *f, const char *name) {
@@ -22,8 +26,18 @@ static int image_index(const halo_emu_frame *f, const char *name) {
     return -1;
 }
 
-static size_t image_values(const halo_emu_frame *f) {
-    return (size_t)f->width * (size_t)f->height * (size_t)f->channels;
+static int image_components(const halo_emu_frame *f, size_t i) {
+    int c = f->program->images[i].channels;
+    return c < 1 ? 1 : c > 4 ? 4 : c;
+}
+
+static size_t image_values(const halo_emu_frame *f, size_t i) {
+    return (size_t)f->width * (size_t)f->height * (size_t)image_components(f, i);
+}
+
+static void clear_image(halo_emu_frame *f, size_t i) {
+    size_t n = image_values(f, i);
+    for (size_t k = 0; k < n; k++) f->images[i][k] = f->program->images[i].clear;
 }
 
 halo_emu_frame *halo_emu_frame_create(const halo_program *p, int width, int height, halo_diagnostics *diag) {
@@ -39,10 +53,13 @@ halo_emu_frame *halo_emu_frame_create(const halo_program *p, int width, int heig
     f->channels = p->channel_count < 1 ? 1 : p->channel_count;
     f->images = calloc(p->image_count + 1, sizeof *f->images);
     f->host = calloc(p->host_uniform_count + 1, sizeof *f->host);
-    f->scratch = calloc(image_values(f), sizeof *f->scratch);
-    if (!f->images || !f->host || !f->scratch) goto oom;
+    f->volumes = calloc(p->host_uniform_count + 1, sizeof *f->volumes);
+    f->scratch = calloc((size_t)width * (size_t)height * 4, sizeof *f->scratch);
+    if (!f->images || !f->host || !f->volumes || !f->scratch) goto oom;
     for (size_t i = 0; i < p->image_count; i++)
-        if (!(f->images[i] = calloc(image_values(f), sizeof **f->images))) goto oom;
+        /* four components of room: passes swap buffers between images of any size */
+        if (!(f->images[i] = calloc((size_t)width * (size_t)height * 4, sizeof **f->images))) goto oom;
+    halo_emu_frame_begin(f);
     return f;
 oom:
     halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
@@ -57,6 +74,7 @@ void halo_emu_frame_destroy(halo_emu_frame *f) {
     free(f->images);
     free(f->scratch);
     free(f->host);
+    free(f->volumes);
     free(f);
 }
 
@@ -85,17 +103,82 @@ halo_status halo_emu_frame_set_host_uniform(halo_emu_frame *f, const char *name,
 
 void halo_emu_frame_begin(halo_emu_frame *f) {
     if (!f) return;
-    for (size_t i = 0; i < f->program->image_count; i++) memset(f->images[i], 0, image_values(f) * sizeof(double));
+    for (size_t i = 0; i < f->program->image_count; i++)
+        if (!f->program->images[i].host) clear_image(f, i);
 }
 
-/* The pixel ivec2(fragcoord): GLSL's conversion truncates towards zero. */
+halo_status halo_emu_frame_set_volume(halo_emu_frame *f, const char *name, const float *data, int nx, int ny, int nz) {
+    if (!f || !name || !data || nx < 1 || ny < 1 || nz < 1) return HALO_ERROR_INPUT;
+    int i = host_index(f->program, name);
+    if (i < 0 || strcmp(f->program->host_uniforms[i].type, "sampler3D")) return HALO_ERROR_INPUT;
+    f->volumes[i].data = data;
+    f->volumes[i].dims[0] = nx;
+    f->volumes[i].dims[1] = ny;
+    f->volumes[i].dims[2] = nz;
+    return HALO_OK;
+}
+
+const float *halo_emu_host_volume(const halo_emu_params *p, const char *name, int dims[3]) {
+    halo_emu_frame *f = p ? p->frame : NULL;
+    dims[0] = dims[1] = dims[2] = 0;
+    int i = f ? host_index(f->program, name) : -1;
+    if (i < 0 || !f->volumes[i].data) return NULL;
+    memcpy(dims, f->volumes[i].dims, sizeof f->volumes[i].dims);
+    return f->volumes[i].data;
+}
+
+/* The pixel ivec2(fragcoord) (GLSL's conversion truncates towards zero), as an index of
+ * pixels (multiply by the image's components). */
 static int pixel_of(const halo_emu_frame *f, const double fragcoord[2], size_t *index) {
     double fx = fragcoord[0], fy = fragcoord[1];
     if (!(fx > -1.0 && fy > -1.0 && fx < (double)f->width && fy < (double)f->height)) return 0;
     int x = (int)fx, y = (int)fy; /* truncation: (-1, 0) -> 0 */
     if (x < 0 || y < 0 || x >= f->width || y >= f->height) return 0;
-    *index = ((size_t)y * (size_t)f->width + (size_t)x) * (size_t)f->channels;
+    *index = (size_t)y * (size_t)f->width + (size_t)x;
     return 1;
+}
+
+/* The accumulator of output o in the sample. */
+static double *output_accum(halo_emu_sample *s, size_t o) {
+    return o == 0 ? s->output_accum : o <= 15 ? s->output_accum_next[o - 1] : NULL;
+}
+
+/* The emulated sample's storage of an output's field (NULL: not emulated). */
+static const double *output_field(const halo_emu_sample *s, const halo_output_info *out) {
+    if (!strcmp(out->field, "seed") && out->channel < 0) return s->seed;
+    if (!strcmp(out->field, "feature_depth") && out->channel < 0) return s->feature_depth;
+    if (!strcmp(out->field, "occluder_depth") && out->channel < 0) return &s->occluder_depth;
+    if (!strcmp(out->field, "feature_normal") && out->channel >= 0 && out->channel < 4)
+        return s->feature_normal[out->channel];
+    return NULL;
+}
+
+halo_status halo_emu_frame_fold(const halo_program *p, halo_emu_sample *s, halo_diagnostics *diag) {
+    for (size_t o = 0; o < p->output_count; o++) {
+        const halo_output_info *out = &p->outputs[o];
+        const double *v = output_field(s, out);
+        double *a = output_accum(s, o);
+        if (!v || !a) {
+            halo_diag_error(diag, EMU_MISSING, "", 0, 0, "output '%s' has no field in halo_emu_sample", out->name);
+            return HALO_ERROR_INPUT;
+        }
+        int n = out->components < 4 ? out->components : 4;
+        if (out->blend == HALO_BLEND_FIRST) {
+            if (a[3] <= 0.0) memcpy(a, v, 4 * sizeof *a);
+            continue;
+        }
+        for (int c = 0; c < n; c++) {
+            if (out->blend == HALO_BLEND_MIN) { /* stored as 1 - accumulator: zero is the GLSL initial 1.0 */
+                double acc = 1.0 - a[c];
+                a[c] = 1.0 - (v[c] < acc ? v[c] : acc);
+            } else if (out->blend == HALO_BLEND_ADD) {
+                a[c] += v[c];
+            } else {
+                a[c] = v[c] > a[c] ? v[c] : a[c];
+            }
+        }
+    }
+    return HALO_OK;
 }
 
 void halo_emu_frame_finish(halo_emu_frame *f, const halo_emu_sample *s) {
@@ -105,11 +188,19 @@ void halo_emu_frame_finish(halo_emu_frame *f, const halo_emu_sample *s) {
     for (size_t o = 0; o < f->program->output_count; o++) {
         const halo_output_info *out = &f->program->outputs[o];
         int i = image_index(f, out->image);
-        if (i < 0) continue;
-        double *px = f->images[i] + at;
-        for (int c = 0; c < f->channels; c++) {
-            double v = s->output_accum[c];
-            px[c] = out->blend == HALO_BLEND_ADD ? px[c] + v : (v > px[c] ? v : px[c]);
+        const double *a = output_accum((halo_emu_sample *)s, o);
+        if (i < 0 || !a) continue;
+        int n = image_components(f, (size_t)i);
+        double *px = f->images[i] + at * (size_t)n;
+        double coverage = 1.0 - px[n - 1];
+        for (int c = 0; c < n; c++) {
+            double v = a[c];
+            switch (out->blend) {
+            case HALO_BLEND_ADD: px[c] += v; break;
+            case HALO_BLEND_MIN: v = 1.0 - v; px[c] = v < px[c] ? v : px[c]; break;
+            case HALO_BLEND_FIRST: px[c] += coverage * v; break; /* GL_ONE_MINUS_DST_ALPHA, GL_ONE */
+            default: px[c] = v > px[c] ? v : px[c]; break;
+            }
         }
     }
 }
@@ -120,7 +211,17 @@ static const halo_linked_stage *find_stage(const halo_program *p, const char *na
     return NULL;
 }
 
+static halo_status run_passes(halo_emu_frame *f, int post, halo_diagnostics *diag);
+
 halo_status halo_emu_frame_generate(halo_emu_frame *f, halo_diagnostics *diag) {
+    return run_passes(f, 0, diag);
+}
+
+halo_status halo_emu_frame_post(halo_emu_frame *f, halo_diagnostics *diag) {
+    return run_passes(f, 1, diag);
+}
+
+static halo_status run_passes(halo_emu_frame *f, int post, halo_diagnostics *diag) {
     if (!f) return HALO_ERROR_INPUT;
     const halo_program *p = f->program;
     /* Resolve everything first, so that a missing emulation changes no image. */
@@ -138,24 +239,28 @@ halo_status halo_emu_frame_generate(halo_emu_frame *f, halo_diagnostics *diag) {
     }
     for (size_t i = 0; i < p->pass_count; i++) {
         const halo_pass_info *pi = &p->passes[i];
+        if (pi->post != post) continue;
         halo_emu_params params = {p, find_stage(p, pi->stage), f};
         halo_emu_pass_fn fn = halo_emu_lookup_pass(pi->stage, pi->entry);
         int out = image_index(f, pi->output);
+        int out_components = image_components(f, (size_t)out);
+        if (p->images[out].host) continue;
         int repeat = pi->repeat < 1 ? 1 : pi->repeat;
         for (int r = 1; r <= repeat; r++) {
-            halo_emu_pass_context c = {&params, f->width, f->height, f->channels, r, repeat, pi->input_count, {0}};
+            halo_emu_pass_context c = {&params, f->width, f->height, f->channels, r, repeat, pi->input_count, {0},
+                                       {0}, pi->channel < 0 ? 0 : pi->channel};
             for (int k = 0; k < pi->input_count; k++) {
-                if (!strcmp(pi->inputs[k], "previous"))
-                    c.inputs[k] = r == 1 && pi->first ? f->images[image_index(f, pi->first)] : f->images[out];
-                else
-                    c.inputs[k] = f->images[image_index(f, pi->inputs[k])];
+                int in = !strcmp(pi->inputs[k], "previous") ? (r == 1 && pi->first ? image_index(f, pi->first) : out)
+                                                            : image_index(f, pi->inputs[k]);
+                c.inputs[k] = f->images[in];
+                c.input_components[k] = image_components(f, (size_t)in);
             }
             for (int y = 0; y < f->height; y++)
                 for (int x = 0; x < f->width; x++) {
                     double v[4] = {0, 0, 0, 0};
                     fn(&c, x, y, v);
-                    memcpy(f->scratch + ((size_t)y * (size_t)f->width + (size_t)x) * (size_t)f->channels, v,
-                           (size_t)f->channels * sizeof *v);
+                    memcpy(f->scratch + ((size_t)y * (size_t)f->width + (size_t)x) * (size_t)out_components, v,
+                           (size_t)out_components * sizeof *v);
                 }
             /* Double buffering: the fresh result becomes the image; the old buffer is reused. */
             double *old = f->images[out];
@@ -163,8 +268,8 @@ halo_status halo_emu_frame_generate(halo_emu_frame *f, halo_diagnostics *diag) {
             f->scratch = old;
         }
     }
-    for (size_t i = 0; i < p->image_count; i++)
-        if (p->images[i].reset == HALO_RESET_GENERATION) memset(f->images[i], 0, image_values(f) * sizeof(double));
+    for (size_t i = 0; i < p->image_count && !post; i++)
+        if (p->images[i].reset == HALO_RESET_GENERATION) clear_image(f, i);
     return HALO_OK;
 }
 
@@ -177,7 +282,8 @@ void halo_emu_read_image(const halo_emu_params *p, const char *name, const doubl
     int i = image_index(f, name);
     size_t at;
     if (i < 0 || !pixel_of(f, fragcoord, &at)) return;
-    for (int c = 0; c < f->channels; c++) out[c] = f->images[i][at + (size_t)c];
+    int n = image_components(f, (size_t)i);
+    for (int c = 0; c < n; c++) out[c] = f->images[i][at * (size_t)n + (size_t)c];
 }
 
 const double *halo_emu_host_uniform(const halo_emu_params *p, const char *name) {
@@ -189,8 +295,10 @@ const double *halo_emu_host_uniform(const halo_emu_params *p, const char *name) 
 }
 
 double halo_emu_input(const halo_emu_pass_context *c, int k, int x, int y, int channel) {
-    if (k < 0 || k >= c->input_count || !c->inputs[k] || x < 0 || y < 0 || x >= c->width || y >= c->height ||
-        channel < 0 || channel >= c->channels)
+    if (k < 0 || k >= c->input_count || !c->inputs[k] || x < 0 || y < 0 || x >= c->width || y >= c->height)
         return 0.0;
-    return c->inputs[k][((size_t)y * (size_t)c->width + (size_t)x) * (size_t)c->channels + (size_t)channel];
+    int n = c->input_components[k] > 0 ? c->input_components[k] : c->channels;
+    /* halo_input gives the program's channels of any image; halo_input4 all of them */
+    if (channel < 0 || channel >= n) return 0.0;
+    return c->inputs[k][((size_t)y * (size_t)c->width + (size_t)x) * (size_t)n + (size_t)channel];
 }

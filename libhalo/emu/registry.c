@@ -1,6 +1,7 @@
 /* The table of stage emulations, looked up by module name. */
 #include <string.h>
 
+#include "feature_internal.h"
 #include "stages.h"
 
 static const struct {
@@ -18,6 +19,8 @@ static const struct {
     {"distance_cue", halo_emu_distance_cue},
     {"halo_seed", halo_emu_halo_seed},
     {"halo_map", halo_emu_halo_map},
+    {"outline_feature", halo_emu_outline_feature},
+    {"feature_halo", halo_emu_feature_halo},
 };
 
 halo_emu_stage_fn halo_emu_lookup(const char *name)
@@ -39,6 +42,16 @@ static const struct {
     {"halo_generate", "gradient_pass", halo_emu_halo_generate_gradient},
     {"halo_generate", "spread_pass", halo_emu_halo_generate_spread},
     {"halo_generate", "occlusion_pass", halo_emu_halo_generate_occlusion},
+    {"outlines", "blur_x_pass", halo_emu_outline_blur_x},
+    {"outlines", "blur_y_pass", halo_emu_outline_blur_y},
+    {"outlines", "min_x_pass", halo_emu_outline_min_x},
+    {"outlines", "min_y_pass", halo_emu_outline_min_y},
+    {"outlines", "normal_blur_x_pass", halo_emu_outline_normal_blur_x},
+    {"outlines", "normal_blur_y_pass", halo_emu_outline_normal_blur_y},
+    {"outlines", "importance_pass", halo_emu_outline_importance},
+    {"outlines", "compose_pass", halo_emu_outline_compose},
+    {"outlines", "final_blur_x_pass", halo_emu_outline_final_blur_x},
+    {"outlines", "final_blur_y_pass", halo_emu_outline_final_blur_y},
 };
 
 halo_emu_pass_fn halo_emu_lookup_pass(const char *module, const char *entry)

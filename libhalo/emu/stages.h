@@ -23,6 +23,19 @@ void halo_emu_halo_generate_gradient(const halo_emu_pass_context *c, int x, int 
 void halo_emu_halo_generate_spread(const halo_emu_pass_context *c, int x, int y, double out[4]);
 void halo_emu_halo_generate_occlusion(const halo_emu_pass_context *c, int x, int y, double out[4]);
 
+/* Outlines (emu/outline.c): the feature buffers and the passes of glsl/outline/outline.glsl. */
+void halo_emu_outline_feature(halo_emu_sample *s, const halo_emu_params *p);
+void halo_emu_outline_blur_x(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_outline_blur_y(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_outline_min_x(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_outline_min_y(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_outline_normal_blur_x(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_outline_normal_blur_y(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_outline_importance(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_outline_compose(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_outline_final_blur_x(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_outline_final_blur_y(const halo_emu_pass_context *c, int x, int y, double out[4]);
+
 /* Mirrors halo_dot_clamped: the dot product clamped to [-1, 1] (emu/math.c). */
 double halo_emu_dot_clamped(const double a[3], const double b[3]);
 

@@ -91,6 +91,7 @@
     X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                    \
     X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                          \
     X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                \
+    X(PFNGLFRAMEBUFFERTEXTURELAYERPROC, FramebufferTextureLayer)          \
     X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)          \
     X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)            \
     X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                        \

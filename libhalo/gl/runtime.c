@@ -386,6 +386,31 @@ void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_prog
 
 /* ---- Host uniforms ------------------------------------------------------------ */
 
+/* Whether the active uniform `name` of the program is a sampler (by its GL type). */
+static int uniform_is_sampler(const halo_glfuncs *f, GLuint program, const char *name)
+{
+    GLint active = 0;
+    f->GetProgramiv(program, GL_ACTIVE_UNIFORMS, &active);
+    for (GLint i = 0; i < active; ++i) {
+        char found[256];
+        GLsizei length = 0;
+        GLint size = 0;
+        GLenum type = 0;
+        f->GetActiveUniform(program, (GLuint)i, sizeof found, &length, &size, &type, found);
+        if (strcmp(found, name) != 0)
+            continue;
+        switch (type) {
+        case GL_SAMPLER_1D: case GL_SAMPLER_2D: case GL_SAMPLER_3D: case GL_SAMPLER_CUBE:
+        case GL_SAMPLER_2D_ARRAY: case GL_SAMPLER_2D_SHADOW: case GL_INT_SAMPLER_2D: case GL_INT_SAMPLER_3D:
+        case GL_UNSIGNED_INT_SAMPLER_2D: case GL_UNSIGNED_INT_SAMPLER_3D:
+            return 1;
+        default:
+            return 0;
+        }
+    }
+    return 0;
+}
+
 halo_status halo_gl_set_host_uniform(halo_gl *gl, unsigned gl_program, const char *name, const float *values,
                                      int count)
 {
@@ -403,6 +428,13 @@ halo_status halo_gl_set_host_uniform(halo_gl *gl, unsigned gl_program, const cha
     GLint location = f->GetUniformLocation(gl_program, lookup);
     if (location < 0)
         return HALO_ERROR_INPUT;
+    if (count == 1 && uniform_is_sampler(f, gl_program, lookup)) {
+        /* a sampler takes its texture unit as an int (glUniform1f on it is GL_INVALID_OPERATION) */
+        if (!(values[0] >= 0.0f && values[0] < 1024.0f))
+            return HALO_ERROR_INPUT;
+        f->Uniform1i(location, (GLint)values[0]);
+        return HALO_OK;
+    }
     switch (count) {
     case 1: f->Uniform1fv(location, 1, values); break;
     case 2: f->Uniform2fv(location, 1, values); break;
@@ -420,6 +452,8 @@ typedef struct frame_image {
     const char *name;
     int channels;
     halo_image_reset reset;
+    GLfloat clear;
+    int host;          /* host_color: texture[0] is the host's, set by halo_gl_frame_post */
     GLuint texture[2]; /* double-buffered: a pass reads texture[current], writes the other */
     int current;
 } frame_image;
@@ -527,11 +561,13 @@ static void frame_restore(const halo_glfuncs *f, const frame_saved *s)
 static void frame_clear_image(halo_gl_frame *fr, int i)
 {
     const halo_glfuncs *f = &fr->gl->f;
-    static const GLfloat zero[4] = {0, 0, 0, 0};
     frame_image *image = &fr->images[i];
+    if (image->host)
+        return;
+    const GLfloat value[4] = {image->clear, image->clear, image->clear, image->clear};
     f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
                             image->texture[image->current], 0);
-    f->ClearBufferfv(GL_COLOR, 0, zero);
+    f->ClearBufferfv(GL_COLOR, 0, value);
 }
 
 static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, size_t index, halo_diagnostics *diag)
@@ -627,8 +663,12 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
         const halo_image_info *info = halo_program_image(p, i);
         frame_image *image = &fr->images[i];
         image->name = info->name;
-        image->channels = halo_program_channel_count(p);
+        image->channels = info->channels;
         image->reset = info->reset;
+        image->clear = (GLfloat)info->clear;
+        image->host = info->host;
+        if (image->host)
+            continue;
         GLint internal;
         GLenum format;
         image_formats(image->channels, precision, &internal, &format);
@@ -713,7 +753,7 @@ void halo_gl_frame_destroy(halo_gl_frame *fr)
         return;
     const halo_glfuncs *f = &fr->gl->f;
     for (size_t i = 0; fr->images && i < fr->image_count; ++i)
-        if (fr->images[i].texture[0])
+        if (fr->images[i].texture[0] && !fr->images[i].host)
             f->DeleteTextures(2, fr->images[i].texture);
     for (size_t i = 0; fr->passes && i < fr->pass_count; ++i)
         if (fr->passes[i].program)
@@ -794,8 +834,13 @@ void halo_gl_frame_attach(halo_gl_frame *fr, unsigned host_framebuffer)
             continue;
         }
         f->Enablei(GL_BLEND, (GLuint)o->location);
-        f->BlendEquationi((GLuint)o->location, o->blend == HALO_BLEND_MAX ? GL_MAX : GL_FUNC_ADD);
-        f->BlendFunci((GLuint)o->location, GL_ONE, GL_ONE);
+        f->BlendEquationi((GLuint)o->location, o->blend == HALO_BLEND_MAX   ? GL_MAX
+                                               : o->blend == HALO_BLEND_MIN ? GL_MIN
+                                                                            : GL_FUNC_ADD);
+        if (o->blend == HALO_BLEND_FIRST) /* front to back by coverage: the first hit stays */
+            f->BlendFunci((GLuint)o->location, GL_ONE_MINUS_DST_ALPHA, GL_ONE);
+        else
+            f->BlendFunci((GLuint)o->location, GL_ONE, GL_ONE);
     }
     f->DrawBuffers(max_location + 1, buffers);
     fr->attached = 1;
@@ -836,7 +881,32 @@ void halo_gl_frame_bind(halo_gl_frame *fr, unsigned gl_program, int first_unit)
     fr->bound_first_unit = first_unit;
 }
 
+static void frame_run(halo_gl_frame *fr, int post);
+
 void halo_gl_frame_generate(halo_gl_frame *fr)
+{
+    frame_run(fr, 0);
+}
+
+void halo_gl_frame_post(halo_gl_frame *fr, unsigned host_color_texture)
+{
+    if (!fr)
+        return;
+    for (size_t i = 0; i < fr->image_count; ++i)
+        if (fr->images[i].host) {
+            fr->images[i].texture[0] = fr->images[i].texture[1] = host_color_texture;
+            fr->images[i].current = 0;
+        }
+    frame_run(fr, 1);
+}
+
+unsigned halo_gl_frame_texture(const halo_gl_frame *fr, const char *image)
+{
+    int i = fr ? frame_find_image(fr, image) : -1;
+    return i < 0 ? 0 : fr->images[i].texture[fr->images[i].current];
+}
+
+static void frame_run(halo_gl_frame *fr, int post)
 {
     if (!fr || (fr->pass_count == 0 && fr->image_count == 0))
         return;
@@ -852,6 +922,8 @@ void halo_gl_frame_generate(halo_gl_frame *fr)
     for (size_t i = 0; i < fr->pass_count; ++i) {
         frame_pass *pass = &fr->passes[i];
         frame_image *out = &fr->images[pass->output];
+        if (pass->info->post != post || out->host)
+            continue;
         f->UseProgram(pass->program);
         halo_gl_program_upload(gl, fr->program, pass->program);
         for (int rep = 1; rep <= pass->repeat; ++rep) {
@@ -873,7 +945,7 @@ void halo_gl_frame_generate(halo_gl_frame *fr)
             fr->pass_draws++;
         }
     }
-    for (size_t i = 0; i < fr->image_count; ++i)
+    for (size_t i = 0; i < fr->image_count && !post; ++i)
         if (fr->images[i].reset == HALO_RESET_GENERATION)
             frame_clear_image(fr, (int)i);
     f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);

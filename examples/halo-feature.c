@@ -1,0 +1,284 @@
+/* halo-feature: feature halos (docs/feature-halos.md) from the command line.
+ *
+ *   halo-feature render [--scene S] [--volume FILE] [--volume-size N] [--size N]
+ *                       [--splat N] [--threshold T] [--half] [-o OUT]
+ *   halo-feature report [--size N] [--mri PATH] [--mri-size N] [--splat N] [--repeat N]
+ *   halo-feature conform [-v]
+ *
+ * render: a scene through the example ray caster (or, for a scene with volumetric halos,
+ * the slice host), with the halo buffer of a feature_halo stage built for the camera
+ * and bound to the stage's sampler; prints the buffer's preprocessing, build and render
+ * times. report: the tables of docs/feature-halos.md. conform: the conformance rows. */
+#include "halo.h"
+#include "halo_feature.h"
+#include "gl/glfuncs.h"
+#include "gl/headless.h"
+#include "hosts/raycast.h"
+#include "hosts/slice.h"
+#include "image_write.h"
+#include "volume.h"
+#include "volume_io.h"
+
+#include "conform_feature.h"
+#include "feature_report.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* The texture unit the halo buffer is bound to: the hosts use 0..3. */
+#define FEATURE_BUFFER_UNIT 6
+
+static double now_ms(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec * 1e3 + (double)t.tv_nsec * 1e-6;
+}
+
+static void usage(FILE *out)
+{
+    fputs("Usage: halo-feature render [--scene S] [--volume FILE] [--volume-size N] [--size N]\n"
+          "                           [--splat N] [--threshold T] [--half] [-o OUT]\n"
+          "       halo-feature report [--size N] [--mri PATH] [--mri-size N] [--splat N] [--repeat N]\n"
+          "       halo-feature conform [-v]\n",
+          out);
+}
+
+typedef struct render_options {
+    const char *scene, *volume, *output;
+    int volume_size, size, splat, half;
+    double threshold;
+} render_options;
+
+static int has_stage(const halo_scene *scene, const char *name)
+{
+    for (size_t i = 0; i < halo_scene_stage_count(scene); ++i)
+        if (!strcmp(halo_scene_stage(scene, i), name))
+            return 1;
+    return 0;
+}
+
+static float *load_volume(const render_options *o, const halo_render_settings *settings, int *size)
+{
+    if (!o->volume) {
+        *size = o->volume_size ? o->volume_size : HALO_VOLUME_DEFAULT_SIZE;
+        return halo_volume_create(*size);
+    }
+    halo_volume_file file = {0};
+    char err[512];
+    if (halo_volume_read_nifti(o->volume, &file, err, sizeof err) != HALO_VOLUME_OK) {
+        fprintf(stderr, "halo-feature: %s\n", err);
+        return NULL;
+    }
+    double window[2] = {settings->window[0], settings->window[1]};
+    if (!(window[1] > window[0]) || (window[0] == 0 && window[1] == 1))
+        halo_volume_percentile_window(&file, 1.0, 99.0, window);
+    *size = o->volume_size ? o->volume_size : halo_volume_display_size(&file, 256);
+    float *cube = halo_volume_to_display(&file, window, *size);
+    halo_volume_file_free(&file);
+    return cube;
+}
+
+static int render_main(int argc, char **argv)
+{
+    render_options o = {.output = "halo-feature.png", .size = 512};
+    int threshold_set = 0;
+    for (int i = 0; i < argc; ++i) {
+        const char *a = argv[i];
+        int has = i + 1 < argc;
+        if (!strcmp(a, "--scene") && has)
+            o.scene = argv[++i];
+        else if (!strcmp(a, "--volume") && has)
+            o.volume = argv[++i];
+        else if (!strcmp(a, "--volume-size") && has)
+            o.volume_size = atoi(argv[++i]);
+        else if (!strcmp(a, "--size") && has)
+            o.size = atoi(argv[++i]);
+        else if (!strcmp(a, "--splat") && has)
+            o.splat = atoi(argv[++i]);
+        else if (!strcmp(a, "--threshold") && has)
+            o.threshold = atof(argv[++i]), threshold_set = 1;
+        else if (!strcmp(a, "--half"))
+            o.half = 1;
+        else if (!strcmp(a, "-o") && has)
+            o.output = argv[++i];
+        else {
+            usage(stderr);
+            return 2;
+        }
+    }
+    if (o.size < 16 || o.size > 4096 || (o.volume_size && (o.volume_size < 8 || o.volume_size > 512)) ||
+        (o.splat && (o.splat < 3 || o.splat > 9 || o.splat % 2 == 0))) {
+        fprintf(stderr, "halo-feature: --size 16..4096, --volume-size 8..512, --splat 3, 5, 7 or 9\n");
+        return 2;
+    }
+    if (threshold_set && o.threshold == 0.0)
+        o.threshold = -1.0; /* 0 asks for no cutoff */
+    int status = 1;
+    halo_diagnostics *diag = halo_diagnostics_create();
+    halo_setup(NULL);
+    halo_library *lib = halo_library_create(diag);
+    halo_scene *scene = NULL;
+    halo_program *program = NULL;
+    halo_headless *context = NULL;
+    halo_gl *runtime = NULL;
+    halo_raycast *raycast = NULL;
+    halo_slice *slice = NULL;
+    halo_feature_buffer *buffer = NULL;
+    float *volume = NULL, *image = NULL;
+    if (!lib || halo_feature_ensure_module(lib, diag) != HALO_OK)
+        goto done;
+    scene = o.scene ? halo_scene_load(o.scene, lib, diag) : halo_scene_create(lib);
+    if (!scene)
+        goto done;
+    if (!o.scene && halo_scene_enable(scene, "feature_halo", 1, diag) != HALO_OK)
+        goto done;
+    int feature = has_stage(scene, "feature_halo");
+    const halo_render_settings *settings = halo_scene_render(scene);
+    int size = 0;
+    volume = load_volume(&o, settings, &size);
+    if (!volume)
+        goto done;
+    char err[512];
+    context = halo_headless_create(o.size, o.size, err, sizeof err);
+    if (!context) {
+        fprintf(stderr, "halo-feature: %s\n", err);
+        status = 77;
+        goto done;
+    }
+    runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, diag);
+    if (!runtime)
+        goto done;
+    /* feature halos through the ray caster; any other scene (volumetric halos need
+     * image passes) through the slice host */
+    int use_slice = !feature;
+    program = halo_link(&(halo_link_desc){.library = lib, .scene = scene,
+                                          .host_source = halo_host_embedded(use_slice ? "slice.frag" : "raycast.frag"),
+                                          .host_file = use_slice ? "slice.frag" : "raycast.frag"},
+                        diag);
+    if (!program)
+        goto done;
+    const halo_host_desc desc = {.gl = halo_gl_functions(runtime), .runtime = runtime, .program = program,
+                                 .width = o.size, .height = o.size};
+    const halo_glfuncs *f = halo_gl_functions(runtime);
+    image = malloc((size_t)o.size * o.size * 4 * sizeof *image);
+    if (!image)
+        goto done;
+    double create_ms = 0, build_ms = 0, render_ms[2] = {0, 0};
+    if (use_slice) {
+        slice = halo_slice_create(&desc, diag);
+        if (!slice || halo_slice_set_volume(slice, volume, size, size, size, diag) != HALO_OK ||
+            halo_slice_set_render(slice, settings, diag) != HALO_OK)
+            goto done;
+        halo_slice_set_camera(slice, settings->azimuth, settings->elevation, settings->zoom);
+        for (int k = 0; k < 2; ++k) {
+            double t0 = now_ms();
+            if (halo_slice_render(slice, image, diag) != HALO_OK)
+                goto done;
+            render_ms[k] = now_ms() - t0;
+        }
+    } else {
+        raycast = halo_raycast_create(&desc, diag);
+        if (!raycast || halo_raycast_set_volume(raycast, volume, size, size, size, diag) != HALO_OK ||
+            halo_raycast_set_render(raycast, settings, diag) != HALO_OK)
+            goto done;
+        halo_raycast_set_camera(raycast, settings->azimuth, settings->elevation, settings->zoom);
+        if (feature) {
+            int dims[3] = {size, size, size};
+            halo_feature_desc fd;
+            halo_feature_desc_from_program(program, &fd);
+            if (o.splat)
+                fd.splat_size = o.splat;
+            if (threshold_set)
+                fd.threshold = o.threshold;
+            if (o.half)
+                fd.half_resolution = 1;
+            double t0 = now_ms();
+            buffer = halo_feature_buffer_create(runtime, volume, dims, &fd, diag);
+            create_ms = now_ms() - t0;
+            if (!buffer)
+                goto done;
+            /* the view: from the volume's centre towards the eye (one direction for the
+             * whole buffer; voxel space = texture space for the cube) */
+            halo_raycast_state state;
+            halo_raycast_get_state(raycast, &state);
+            double view[3] = {state.eye[0] - 0.5, state.eye[1] - 0.5, state.eye[2] - 0.5};
+            f->Finish();
+            t0 = now_ms();
+            if (halo_feature_buffer_build(buffer, view) != HALO_OK)
+                goto done;
+            f->Finish();
+            build_ms = now_ms() - t0;
+            unsigned gl_program = halo_raycast_gl_program(raycast);
+            f->UseProgram(gl_program);
+            f->Uniform1i(f->GetUniformLocation(gl_program, "halo_host_feature_buffer"), FEATURE_BUFFER_UNIT);
+            f->UseProgram(0);
+            f->ActiveTexture(GL_TEXTURE0 + FEATURE_BUFFER_UNIT);
+            f->BindTexture(GL_TEXTURE_3D, halo_feature_buffer_texture(buffer));
+            f->ActiveTexture(GL_TEXTURE0);
+        }
+        for (int k = 0; k < 2; ++k) {
+            double t0 = now_ms();
+            if (halo_raycast_render(raycast, image, diag) != HALO_OK)
+                goto done;
+            render_ms[k] = now_ms() - t0;
+        }
+    }
+    if (halo_image_write(o.output, o.size, o.size, image, err, sizeof err) != 0) {
+        fprintf(stderr, "halo-feature: %s\n", err);
+        status = 2;
+        goto done;
+    }
+    printf("%s: %d^3 volume, %dx%d, %s host", o.output, size, o.size, o.size, use_slice ? "slice" : "raycast");
+    if (feature)
+        printf(", halo buffer: %zu qualified, preprocess %.1f ms, build %.1f ms", halo_feature_buffer_qualified(buffer),
+               create_ms, build_ms);
+    printf(", render %.1f ms (first %.1f ms)\n", render_ms[1], render_ms[0]);
+    status = 0;
+done:
+    if (status == 1)
+        halo_diagnostics_print(diag, stderr);
+    halo_feature_buffer_destroy(buffer);
+    halo_raycast_destroy(raycast);
+    halo_slice_destroy(slice);
+    halo_program_destroy(program);
+    halo_scene_destroy(scene);
+    halo_gl_destroy(runtime);
+    halo_headless_destroy(context);
+    halo_library_destroy(lib);
+    halo_diagnostics_destroy(diag);
+    halo_shutdown();
+    free(volume);
+    free(image);
+    return status;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    if (!strcmp(argv[1], "render"))
+        return render_main(argc - 2, argv + 2);
+    if (!strcmp(argv[1], "report"))
+        return halo_feature_report_main(argc - 2, argv + 2);
+    if (!strcmp(argv[1], "conform")) {
+        int verbose = argc > 2 && !strcmp(argv[2], "-v");
+        int failed = 0;
+        printf("%-26s %10s %10s %8s %9s %17s %s\n", "stage", "max_abs", "rmse", "over_tol", "nonfinite", "tolerance",
+               "result");
+        int rows = halo_conform_feature_rows(verbose, &failed);
+        printf("%d rows, %d failed\n", rows, failed);
+        return failed ? 1 : 0;
+    }
+    if (!strcmp(argv[1], "--help")) {
+        usage(stdout);
+        return 0;
+    }
+    usage(stderr);
+    return 2;
+}

@@ -1,0 +1,193 @@
+/* halo-outline: renders a scene with outline/depth-enhancement stages (docs/outlines.md)
+ * through the slice host and the frame runtime: slices fill the feature buffers, then
+ * halo_gl_frame_post runs the outline passes on the host's colour and the image
+ * "final" (or --image NAME, e.g. importance) is written.
+ *
+ *   halo-outline --scene S [--size N] [--volume-size N] [--image NAME] [-o OUT.png] [--check]
+ *
+ * --check: copies the GL frame's inputs of the post passes (feature buffers, host colour)
+ * into the C emulation, runs halo_emu_frame_post and prints the largest difference of
+ * every image the post passes write (exit 1 above 1e-3). */
+#include "gl/headless.h"
+#include "halo.h"
+#include "hosts/slice.h"
+#include "image_write.h"
+#include "volume.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* GL post passes against their emulation on the same inputs. */
+static int check_post(const halo_program *program, halo_gl_frame *frame, int size, halo_diagnostics *diag)
+{
+    halo_emu_frame *emu = halo_emu_frame_create(program, size, size, diag);
+    float *buffer = malloc((size_t)size * size * 4 * sizeof *buffer);
+    int written[64] = {0}, failed = 0;
+    if (!emu || !buffer) {
+        halo_emu_frame_destroy(emu);
+        free(buffer);
+        return 2;
+    }
+    for (size_t i = 0; i < halo_program_pass_count(program); ++i) {
+        const halo_pass_info *pass = halo_program_pass(program, i);
+        for (size_t k = 0; pass->post && k < halo_program_image_count(program) && k < 64; ++k)
+            if (!strcmp(halo_program_image(program, k)->name, pass->output))
+                written[k] = 1;
+    }
+    for (size_t k = 0; k < halo_program_image_count(program) && k < 64; ++k) {
+        const halo_image_info *info = halo_program_image(program, k);
+        if (written[k] || halo_gl_frame_read(frame, info->name, buffer) != HALO_OK)
+            continue;
+        double *dst = halo_emu_frame_image(emu, info->name);
+        for (size_t n = 0; n < (size_t)size * size * (size_t)info->channels; ++n)
+            dst[n] = buffer[n];
+    }
+    if (halo_emu_frame_post(emu, diag) != HALO_OK)
+        failed = 1;
+    for (size_t k = 0; !failed && k < halo_program_image_count(program) && k < 64; ++k) {
+        const halo_image_info *info = halo_program_image(program, k);
+        if (!written[k] || halo_gl_frame_read(frame, info->name, buffer) != HALO_OK)
+            continue;
+        const double *e = halo_emu_frame_image(emu, info->name);
+        double worst = 0.0;
+        int finite = 1;
+        for (size_t n = 0; n < (size_t)size * size * (size_t)info->channels; ++n) {
+            finite &= isfinite(buffer[n]) && isfinite(e[n]);
+            double d = fabs(buffer[n] - e[n]);
+            worst = d > worst ? d : worst;
+        }
+        int ok = finite && worst <= 1e-3;
+        printf("  %-16s max |GL - emu| %.2e  %s%s\n", info->name, worst, ok ? "PASS" : "FAIL", finite ? "" : " (not finite)");
+        failed |= !ok;
+    }
+    halo_emu_frame_destroy(emu);
+    free(buffer);
+    return failed;
+}
+
+int main(int argc, char **argv)
+{
+    const char *scene_path = NULL, *output = "halo-outline.png", *image_name = "final";
+    int size = 256, volume_size = 96, check = 0;
+    for (int i = 1; i < argc; ++i) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--scene") && v) scene_path = v, ++i;
+        else if (!strcmp(a, "--size") && v) size = atoi(v), ++i;
+        else if (!strcmp(a, "--volume-size") && v) volume_size = atoi(v), ++i;
+        else if (!strcmp(a, "--image") && v) image_name = v, ++i;
+        else if (!strcmp(a, "-o") && v) output = v, ++i;
+        else if (!strcmp(a, "--check")) check = 1;
+        else {
+            fprintf(stderr, "usage: halo-outline --scene S [--size N] [--volume-size N] [--image NAME] [-o OUT]\n");
+            return !strcmp(a, "--help") ? 0 : 2;
+        }
+    }
+    if (!scene_path || size < 8 || size > 4096) {
+        fprintf(stderr, "halo-outline: --scene is required; --size 8..4096\n");
+        return 2;
+    }
+    halo_diagnostics *diag = halo_diagnostics_create();
+    if (!diag || halo_setup(NULL) != HALO_OK)
+        return 2;
+    int status = 1;
+    halo_library *lib = halo_library_create(diag);
+    halo_scene *scene = lib ? halo_scene_load(scene_path, lib, diag) : NULL;
+    char *host = scene ? halo_host_load("slice.frag", NULL, diag) : NULL;
+    halo_program *program = host ? halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
+                                                                .host_file = "slice.frag"},
+                                             diag)
+                                 : NULL;
+    halo_headless *context = NULL;
+    halo_gl *runtime = NULL;
+    halo_slice *slice = NULL;
+    float *volume = NULL, *rgba = NULL, *out = NULL;
+    unsigned texture = 0;
+    if (!program || halo_program_validate(program, diag) != HALO_OK)
+        goto done;
+    char err[512];
+    if (!(context = halo_headless_create(size, size, err, sizeof err))) {
+        fprintf(stderr, "halo-outline: error: %s\n", err);
+        status = 77;
+        goto done;
+    }
+    runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, diag);
+    const halo_glfuncs *f = runtime ? halo_gl_functions(runtime) : NULL;
+    slice = runtime ? halo_slice_create(&(halo_host_desc){.gl = f, .runtime = runtime, .program = program,
+                                                          .width = size, .height = size},
+                                        diag)
+                    : NULL;
+    volume = halo_volume_create(volume_size);
+    rgba = malloc((size_t)size * size * 4 * sizeof *rgba);
+    out = malloc((size_t)size * size * 4 * sizeof *out);
+    if (!slice || !volume || !rgba || !out)
+        goto done;
+    const halo_render_settings *settings = halo_scene_render(scene);
+    if (halo_slice_set_volume(slice, volume, volume_size, volume_size, volume_size, diag) != HALO_OK ||
+        halo_slice_set_render(slice, settings, diag) != HALO_OK)
+        goto done;
+    halo_slice_set_camera(slice, settings->azimuth, settings->elevation, settings->zoom);
+    if (halo_slice_render(slice, rgba, diag) != HALO_OK)
+        goto done;
+    halo_gl_frame *frame = halo_slice_frame(slice);
+    int channels = 4;
+    if (frame) {
+        /* the host's colour over its background, as the post passes read it */
+        f->GenTextures(1, &texture);
+        f->BindTexture(GL_TEXTURE_2D, texture);
+        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, size, size, 0, GL_RGBA, GL_FLOAT, rgba);
+        f->BindTexture(GL_TEXTURE_2D, 0);
+        halo_gl_frame_post(frame, texture);
+        const halo_image_info *info = NULL;
+        for (size_t i = 0; i < halo_program_image_count(program); ++i)
+            if (!strcmp(halo_program_image(program, i)->name, image_name))
+                info = halo_program_image(program, i);
+        if (!info || halo_gl_frame_read(frame, image_name, out) != HALO_OK) {
+            fprintf(stderr, "halo-outline: error: the program has no image '%s'\n", image_name);
+            goto done;
+        }
+        channels = info->channels;
+        if (check && (status = check_post(program, frame, size, diag)) != 0)
+            goto done;
+        /* a feature image (importance, depth) as grey levels of its first channel, max over channels */
+        if (channels != 4) {
+            for (size_t p = (size_t)size * size; p-- > 0;) {
+                float v = 0.0f;
+                for (int c = 0; c < channels; ++c)
+                    v = out[p * channels + c] > v ? out[p * channels + c] : v;
+                out[p * 4] = out[p * 4 + 1] = out[p * 4 + 2] = v;
+                out[p * 4 + 3] = 1.0f;
+            }
+        }
+    } else {
+        memcpy(out, rgba, (size_t)size * size * 4 * sizeof *out);
+    }
+    if (halo_image_write(output, size, size, out, err, sizeof err) != 0) {
+        fprintf(stderr, "halo-outline: error: %s\n", err);
+        status = 2;
+        goto done;
+    }
+    printf("halo-outline: wrote %s (%dx%d, image %s)\n", output, size, size, frame ? image_name : "host colour");
+    status = 0;
+done:
+    if (halo_diagnostics_count(diag) > 0)
+        halo_diagnostics_print(diag, stderr);
+    if (texture && runtime)
+        halo_gl_functions(runtime)->DeleteTextures(1, &texture);
+    halo_slice_destroy(slice);
+    halo_gl_destroy(runtime);
+    halo_headless_destroy(context);
+    halo_program_destroy(program);
+    halo_scene_destroy(scene);
+    halo_library_destroy(lib);
+    free(host);
+    free(volume);
+    free(rgba);
+    free(out);
+    halo_diagnostics_destroy(diag);
+    halo_shutdown();
+    return status;
+}

@@ -1,0 +1,128 @@
+/* libhalo feature halos from the neighbourhood (Ebert & Rheingans 2000, Sec. 5.2;
+ * Svakhine & Ebert 2003, Sec. 3.3-3.4): the halo buffer built on the GPU by additive
+ * splatting, its double-precision emulation, and the exact reference.
+ *
+ * The per-sample stage `feature_halo` (glsl/feature/feature_halo.glsl) reads the buffer
+ * through its host uniform `halo_host_feature_buffer` (a sampler3D): build the buffer
+ * for the current view with halo_feature_buffer_build, bind halo_feature_buffer_texture
+ * to a free texture unit and set the sampler to that unit (glUniform1i). Rebuild it
+ * whenever the view direction changes. docs/feature-halos.md has the formulas, the
+ * conventions and the measured costs and errors.
+ *
+ * Volumes are float values already normalized to [0,1], x fastest, one voxel per step;
+ * every position and direction is in voxel index space (for the cube the example hosts
+ * render, texture space up to the scale). Gradients are the host contract's: central
+ * differences over +-1 voxel divided by 2 (value per voxel step), clamped at the
+ * volume's faces like a CLAMP_TO_EDGE texture sampled at voxel centres. */
+#ifndef HALO_FEATURE_H
+#define HALO_FEATURE_H
+
+#include <stddef.h>
+
+#include "halo.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define HALO_FEATURE_SPLAT_MIN 3
+#define HALO_FEATURE_SPLAT_MAX 9
+
+/* Zero means "use the default" for every field (halo_feature_desc_effective). */
+typedef struct halo_feature_desc {
+    int splat_size;      /* n: the neighbourhood is the n x n x n cube around a voxel, odd, 3..9; default 5 */
+    double threshold;    /* low-gradient cutoff: only voxels with |grad f| > threshold splat (value per
+                          * voxel step); default 0.1; negative: no cutoff (every voxel whose gradient has
+                          * a direction, |grad f| > 1e-10, as the exact reference) */
+    int half_resolution; /* 1: the buffer has ceil(dims/2) texels per side; gradients are the mean over
+                          * each 2x2x2 block; the splat radius is halved (rounded up) so that it covers
+                          * the same neighbourhood */
+    double k_hpe;        /* how directly a neighbour's normal must point at the sample; default 1 (Fig. 6) */
+    double k_hse;        /* how tightly halos are kept in the plane facing the viewer; default 2 (Fig. 6) */
+    int gradient_weighted; /* 1: IVIS Eq. 2, |grad f(P_n) . e|^k_hpe with the unnormalized gradient, i.e.
+                            * h_n times |grad f(P_n)|^k_hpe: weak gradients add little, which is what
+                            * makes the low-gradient cutoff a good approximation; 0: Ebert & Rheingans
+                            * 2000 with the normalized gradient (the default) */
+} halo_feature_desc;
+
+/* The values a desc runs with (defaults patched in, splat size forced odd and into range). */
+HALO_API void halo_feature_desc_effective(const halo_feature_desc *desc, halo_feature_desc *out);
+
+/* The desc a linked program's feature_halo stage asks for (its parameters k_hpe, k_hse,
+ * splat_size, threshold, half_resolution, gradient_weighted, current values).
+ * HALO_ERROR_INPUT when the program has no feature_halo stage. */
+HALO_API halo_status halo_feature_desc_from_program(const halo_program *p, halo_feature_desc *out);
+
+/* The buffer's size in texels for a volume of dims voxels. */
+HALO_API void halo_feature_buffer_dims(const int dims[3], const halo_feature_desc *desc, int out[3]);
+
+/* S: the sum of 1/|d|^2 over the offsets d != 0 of an n x n x n splat (voxel units). A
+ * splat texel's weight is (1/|d|^2)/S, so one splat's weights sum to 1 and the buffer
+ * holds the paper's neighbour sum divided by S (docs/feature-halos.md). */
+HALO_API double halo_feature_splat_weight_sum(int splat_size);
+
+/* ---- Reference and emulation (double precision, CPU) ---------------------------- */
+
+/* |grad f| of every voxel (dims[0]*dims[1]*dims[2] floats). HALO_ERROR_INPUT on bad
+ * arguments. */
+HALO_API halo_status halo_feature_gradient_magnitudes(const float *values, const int dims[3], float *out);
+
+/* The exact reference, Ebert & Rheingans 2000, Sec. 5.2, at every voxel P_i:
+ *   h_i = ( sum_{n in cube, n != i} h_n / |P_i - P_n|^2 ) (1 - |grad f(P_i)|)
+ *   h_n = max(0, n(P_n).e)^k_hpe (1 - |n(P_n).V|)^k_hse,  e = (P_i - P_n)/|P_i - P_n|
+ * (times |grad f(P_n)|^k_hpe with desc->gradient_weighted)
+ * with n = -grad f/|grad f| (points out of dense material) and V the unit view vector
+ * (sample -> eye, voxel space, one direction for the whole volume). Neighbours without a
+ * gradient direction (|grad f| <= 1e-10) and outside the volume contribute nothing. No
+ * cutoff, full resolution, unnormalized weights. out: dims[0]*dims[1]*dims[2] doubles. */
+HALO_API halo_status halo_feature_reference(const float *values, const int dims[3], const halo_feature_desc *desc,
+                                            const double view[3], double *out);
+
+/* The emulation of halo_feature_buffer_build: the normalized, cut-off (and optionally
+ * half-resolution) neighbour sum the GPU splats, in double. out: the buffer's texels
+ * (halo_feature_buffer_dims), x fastest. */
+HALO_API halo_status halo_feature_emu_buffer(const float *values, const int dims[3], const halo_feature_desc *desc,
+                                             const double view[3], double *out);
+
+/* The buffer read as the stage reads it: GL_LINEAR with CLAMP_TO_EDGE at texture-space
+ * position (in [0,1]^3) of a buffer of dims texels, in double. */
+HALO_API double halo_feature_buffer_lookup(const double *buffer, const int dims[3], const double position[3]);
+
+/* halo_emu_apply for a program holding feature_halo: every stage as halo_emu_apply runs
+ * it, with feature_halo reading buffer_value (the halo buffer at the sample, e.g. from
+ * halo_feature_buffer_lookup) from its halo buffer. Without a frame, halo_emu_apply itself
+ * reads the buffer as 0 (an unbound sampler). */
+HALO_API halo_status halo_feature_emu_apply(const halo_program *p, double buffer_value, halo_emu_sample *s,
+                                            halo_diagnostics *diag);
+
+/* ---- The GPU halo buffer ----------------------------------------------------------- */
+
+typedef struct halo_feature_buffer halo_feature_buffer;
+
+/* Preprocesses the volume once (gradients, the qualified voxels sorted by z, a vertex
+ * buffer) and creates the R32F 3D texture, its framebuffer and the splat program in the
+ * current context of gl. The volume is copied. NULL with diagnostics (USAGE,
+ * OUT_OF_MEMORY, GL_COMPILE, GL_LINK) on failure. */
+HALO_API halo_feature_buffer *halo_feature_buffer_create(halo_gl *gl, const float *values, const int dims[3],
+                                                          const halo_feature_desc *desc, halo_diagnostics *diag);
+HALO_API void halo_feature_buffer_destroy(halo_feature_buffer *b);
+/* Splats the buffer for unit view vector view (sample -> eye, voxel space): per layer of
+ * the buffer, the qualified voxels within reach drawn as points of the splat's size with
+ * additive blending. Saves and restores the GL state it touches (framebuffer, viewport,
+ * program, blending, vertex array). */
+HALO_API halo_status halo_feature_buffer_build(halo_feature_buffer *b, const double view[3]);
+/* The GL texture name of the buffer (GL_TEXTURE_3D, R32F, GL_LINEAR, CLAMP_TO_EDGE). */
+HALO_API unsigned halo_feature_buffer_texture(const halo_feature_buffer *b);
+HALO_API void halo_feature_buffer_get_dims(const halo_feature_buffer *b, int out[3]);
+/* Voxels that splat (|grad f| above the cutoff, at the buffer's resolution) and points
+ * drawn by the last build (each qualified voxel once per layer it reaches). */
+HALO_API size_t halo_feature_buffer_qualified(const halo_feature_buffer *b);
+HALO_API size_t halo_feature_buffer_points_drawn(const halo_feature_buffer *b);
+/* Reads the buffer back: dims[0]*dims[1]*dims[2] floats, x fastest. */
+HALO_API halo_status halo_feature_buffer_read(halo_feature_buffer *b, float *out);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,98 @@
+# Helpers for the halo-view tests, sourced by each tests/view/*.sh. The harness sets
+# srcdir, HALO_RENDER, HALO_IMAGE_COMPARE and, when halo-view was built (GLFW found),
+# HALO_VIEW. The viewer needs an X display: each test runs it under xvfb-run -a (a
+# private Xvfb server), and is skipped (77) without halo-view or xvfb-run.
+
+if test -z "${srcdir:-}" || test -z "${HALO_RENDER:-}" || test -z "${HALO_IMAGE_COMPARE:-}"; then
+    echo "broken setup: run through 'make check' (srcdir, HALO_RENDER or HALO_IMAGE_COMPARE unset)" >&2
+    exit 99
+fi
+if test -z "${HALO_VIEW:-}" || test ! -x "$HALO_VIEW"; then
+    echo "SKIP: halo-view is not built (configure found no GLFW 3: install libglfw3-dev)"
+    exit 77
+fi
+if ! command -v xvfb-run >/dev/null 2>&1; then
+    echo "SKIP: xvfb-run not found (install the Debian packages xvfb and xauth)"
+    exit 77
+fi
+scenes="$srcdir/examples/scenes"
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/halo-view-test.XXXXXX") || exit 99
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+
+fail() {
+    echo "FAIL: $*" >&2
+    failures=$((failures + 1))
+}
+
+# xrun COMMAND...: runs it on a private X server (Xvfb, 24-bit screen). xvfb-run -a
+# looks for a free display number from -n on, racing with other tests doing the same
+# (make -j check): each test starts from its own number, and a server that failed to
+# start is retried on another.
+xdisplay=$((200 + $$ % 600))
+xrun() {
+    xattempt=0
+    while :; do
+        xattempt=$((xattempt + 1))
+        xvfb-run -a -n "$xdisplay" -s "-screen 0 1280x1024x24" "$@" 2>"$tmp/xrun.err"
+        xstatus=$?
+        if test "$xstatus" -ne 0 && test "$xattempt" -lt 5 && grep -q "Xvfb failed to start" "$tmp/xrun.err"; then
+            echo "    (Xvfb did not start on :$xdisplay; retrying)"
+            xdisplay=$((xdisplay + 37))
+            sleep 1
+            continue
+        fi
+        cat "$tmp/xrun.err" >&2
+        return "$xstatus"
+    done
+}
+
+# Whether this machine can open a GLFW window with OpenGL at all (Xvfb without GLX,
+# a broken Mesa): if not, the tests are skipped rather than failed.
+probe_display() {
+    xrun "$HALO_VIEW" --scene "$scenes/plain.json" --size 8x8 --volume-size 8 --frames 1 --quit \
+        >"$tmp/probe.out" 2>"$tmp/probe.err"
+    probe_status=$?
+    if test "$probe_status" -ne 0 && grep -E -q "cannot (initialize GLFW|open a .* window)" "$tmp/probe.err"; then
+        sed 's/^/    probe: /' "$tmp/probe.err"
+        echo "SKIP: no X display with OpenGL 3.3 core under xvfb-run"
+        exit 77
+    fi
+}
+
+# run STATUS COMMAND [ARG]...: stdout in $tmp/out, stderr in $tmp/err; checks the status.
+run() {
+    expected=$1
+    shift
+    echo "+ $* (expect exit $expected)"
+    "$@" >"$tmp/out" 2>"$tmp/err"
+    status=$?
+    sed 's/^/    stdout: /' "$tmp/out"
+    sed 's/^/    stderr: /' "$tmp/err"
+    if test "$status" -ge 128; then
+        fail "'$*' crashed (exit $status)"
+    elif test "$status" -ne "$expected"; then
+        fail "'$*' exited $status, expected $expected"
+    fi
+}
+
+# same A B [image_compare limits]: A and B match within the limits (default: exactly).
+same() {
+    a=$1
+    b=$2
+    shift 2
+    "$HALO_IMAGE_COMPARE" "$a" "$b" "$@" || fail "$a and $b differ beyond the limits ($*)"
+}
+
+# different A B: A and B are not the same image.
+different() {
+    "$HALO_IMAGE_COMPARE" "$1" "$2" --differ || fail "$1 and $2 are the same image"
+}
+
+finish() {
+    if test "$failures" -ne 0; then
+        echo "$failures failure(s)" >&2
+        exit 1
+    fi
+    exit 0
+}

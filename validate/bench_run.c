@@ -1,0 +1,274 @@
+/* Rendering and timing bench configurations (bench_run.h). */
+#include "bench_run.h"
+
+#include "hosts/slab.h"
+#include "hosts/slice.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+double halo_bench_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static void describe(const halo_bench_case *c, char *out, size_t size)
+{
+    const halo_bench_config *k = &c->config;
+    if (!k->halos)
+        snprintf(out, size, "%s, no halos, step %g", k->slab ? "slab" : "slice", k->step);
+    else if (k->no_generation)
+        snprintf(out, size, "%s, seeding and mapping only", k->slab ? "slab" : "slice");
+    else
+        snprintf(out, size, "%s, M = %d, N = %d, %d-bit, step %g%s", k->slab ? "slab" : "slice", k->interval,
+                 k->passes, k->precision, k->step, k->all_live ? ", all live" : "");
+}
+
+/* Applies the case's settings to its freshly read scene. */
+static int configure_scene(const halo_bench_env *env, halo_bench_case *c)
+{
+    halo_scene *scene = c->scene;
+    if (!c->config.halos) {
+        size_t n = halo_scene_stage_count(scene);
+        for (size_t i = 0; i < n; ++i)
+            if (halo_scene_enable(scene, halo_scene_stage(scene, i), 0, env->diag) != HALO_OK)
+                return 0;
+    } else if (c->config.passes > 0) {
+        int has_generate = 0;
+        for (size_t i = 0; i < halo_scene_stage_count(scene); ++i)
+            has_generate |= strcmp(halo_scene_stage(scene, i), "halo_generate") == 0;
+        double passes = c->config.passes;
+        if (has_generate && halo_scene_set(scene, "halo_generate", "passes", &passes, 1, 0, env->diag) != HALO_OK)
+            return 0;
+    }
+    if (c->config.step > 0.0)
+        halo_scene_render_mutable(scene)->step = c->config.step;
+    return 1;
+}
+
+static int open_case(const halo_bench_env *env, halo_bench_case *c)
+{
+    const char *text = c->scene_text ? c->scene_text : env->scene_text;
+    c->scene = text ? halo_scene_parse(text, "(bench scene)", env->lib, env->diag)
+                    : halo_scene_load(env->scene_path, env->lib, env->diag);
+    if (!c->scene || !configure_scene(env, c))
+        return 0;
+    const char *host_file = c->config.slab ? "slab.frag" : "slice.frag";
+    char *source = halo_host_load(host_file, NULL, env->diag);
+    if (!source)
+        return 0;
+    c->program = halo_link(&(halo_link_desc){.library = env->lib, .scene = c->scene, .host_source = source,
+                                             .host_file = host_file, .all_live = c->config.all_live,
+                                             .image_precision = c->config.precision ? c->config.precision : 32},
+                           env->diag);
+    free(source);
+    if (!c->program)
+        return 0;
+    halo_host_desc desc = {.gl = env->gl, .runtime = env->runtime, .program = c->program, .width = env->width,
+                           .height = env->height};
+    halo_slice *host = c->config.slab ? halo_slab_create(&desc, env->diag) : halo_slice_create(&desc, env->diag);
+    c->host = host;
+    if (!host)
+        return 0;
+    const halo_render_settings *settings = halo_scene_render(c->scene);
+    if (halo_slice_set_volume(host, env->volume, env->dims[0], env->dims[1], env->dims[2], env->diag) != HALO_OK ||
+        halo_slice_set_render(host, settings, env->diag) != HALO_OK)
+        return 0;
+    halo_slice_set_camera(host, settings->azimuth, settings->elevation, settings->zoom);
+    /* beyond the last slice: the field is never generated */
+    halo_slice_set_interval(host, c->config.no_generation ? 1 << 20 : c->config.interval);
+    size_t values = (size_t)env->width * (size_t)env->height * 4;
+    c->image = c->image ? c->image : malloc(values * sizeof(float));
+    c->times = calloc((size_t)env->repeat, sizeof *c->times);
+    return c->image && c->times;
+}
+
+static void close_case(halo_bench_case *c)
+{
+    halo_slice_destroy(c->host);
+    halo_program_destroy(c->program);
+    halo_scene_destroy(c->scene);
+    free(c->times);
+    c->host = NULL;
+    c->program = NULL;
+    c->scene = NULL;
+    c->times = NULL;
+}
+
+int halo_bench_run(const halo_bench_env *env, halo_bench_case *cases, size_t count)
+{
+    int ok = 1;
+    char name[160];
+    size_t values = (size_t)env->width * (size_t)env->height * 4;
+    for (size_t i = 0; i < count && ok; ++i) {
+        describe(&cases[i], name, sizeof name);
+        if (env->progress)
+            fprintf(env->progress, "bench: preparing %zu of %zu: %s\n", i + 1, count, name);
+        /* one frame to warm up: shader compilation on the first draw, texture residency */
+        ok = open_case(env, &cases[i]) && halo_slice_render(cases[i].host, cases[i].image, env->diag) == HALO_OK;
+    }
+    for (int r = 0; r < env->repeat && ok; ++r) {
+        double round_start = halo_bench_now();
+        for (size_t i = 0; i < count && ok; ++i) {
+            halo_bench_case *c = &cases[i];
+            env->gl->Finish();
+            double start = halo_bench_now();
+            ok = halo_slice_render(c->host, c->image, env->diag) == HALO_OK;
+            env->gl->Finish();
+            c->times[r] = halo_bench_now() - start;
+        }
+        if (env->progress)
+            fprintf(env->progress, "bench: round %d of %d done (%.1f s)\n", r + 1, env->repeat,
+                    halo_bench_now() - round_start);
+    }
+    for (size_t i = 0; i < count; ++i) {
+        halo_bench_case *c = &cases[i];
+        if (ok) {
+            int n = env->repeat;
+            qsort(c->times, (size_t)n, sizeof *c->times, compare_doubles);
+            c->seconds = n % 2 ? c->times[n / 2] : 0.5 * (c->times[n / 2 - 1] + c->times[n / 2]);
+            halo_slice_state state;
+            halo_slice_get_state(c->host, &state);
+            c->slices = state.slice_count;
+            c->draws = halo_slice_draws(c->host);
+            c->pass_draws = halo_slice_pass_draws(c->host);
+            c->nonfinite = 0;
+            for (size_t v = 0; v < values; ++v)
+                c->nonfinite += !isfinite(c->image[v]);
+            c->max_abs = c->rmse = c->share_over = NAN;
+        }
+        close_case(c);
+    }
+    return ok;
+}
+
+void halo_bench_image_error(const float *image, const float *base, size_t pixels, double *max_abs, double *rmse,
+                            double *share)
+{
+    double m = 0.0, sum = 0.0;
+    size_t over = 0;
+    for (size_t i = 0; i < pixels; ++i) {
+        int off = 0;
+        for (int c = 0; c < 3; ++c) {
+            double e = fabs((double)image[i * 4 + (size_t)c] - (double)base[i * 4 + (size_t)c]);
+            if (!(e <= 1e30)) /* NaN or Inf: the largest possible error */
+                e = INFINITY;
+            m = e > m ? e : m;
+            sum += e * e;
+            off |= e > 1.0 / 255.0;
+        }
+        over += (size_t)off;
+    }
+    *max_abs = m;
+    *rmse = pixels ? sqrt(sum / (double)(pixels * 3)) : 0.0;
+    *share = pixels ? (double)over / (double)pixels : 0.0;
+}
+
+void halo_bench_errors(const halo_bench_env *env, halo_bench_case *cases, size_t count, size_t reference)
+{
+    size_t pixels = (size_t)env->width * (size_t)env->height;
+    for (size_t i = 0; i < count; ++i)
+        if (cases[i].image && cases[reference].image)
+            halo_bench_image_error(cases[i].image, cases[reference].image, pixels, &cases[i].max_abs, &cases[i].rmse,
+                                   &cases[i].share_over);
+    const halo_bench_config *r = &cases[reference].config;
+    for (size_t i = 0; i < count; ++i) {
+        cases[i].halo_max_abs = NAN;
+        for (size_t j = 0; j < count && cases[i].image && cases[i].config.halos; ++j) {
+            const halo_bench_config *k = &cases[j].config;
+            if (k->halos && !k->slab && k->interval == 1 && k->passes == r->passes && k->precision == r->precision &&
+                k->step == cases[i].config.step && !k->all_live && !k->no_generation && cases[j].image) {
+                double rmse, share;
+                halo_bench_image_error(cases[i].image, cases[j].image, pixels, &cases[i].halo_max_abs, &rmse, &share);
+                break;
+            }
+        }
+    }
+}
+
+void halo_bench_pareto(halo_bench_case *cases, size_t count)
+{
+    for (size_t i = 0; i < count; ++i) {
+        halo_bench_case *a = &cases[i];
+        a->pareto = 0;
+        if (!a->config.halos || a->config.no_generation || !isfinite(a->max_abs))
+            continue;
+        int dominated = 0;
+        for (size_t j = 0; j < count && !dominated; ++j) {
+            const halo_bench_case *b = &cases[j];
+            if (j == i || !b->config.halos || b->config.no_generation || !isfinite(b->max_abs))
+                continue;
+            dominated = b->seconds <= a->seconds && b->max_abs <= a->max_abs &&
+                        (b->seconds < a->seconds || b->max_abs < a->max_abs);
+        }
+        a->pareto = !dominated;
+    }
+}
+
+void halo_bench_cases_free(halo_bench_case *cases, size_t count)
+{
+    for (size_t i = 0; i < count; ++i) {
+        close_case(&cases[i]);
+        free(cases[i].image);
+        cases[i].image = NULL;
+    }
+}
+
+size_t halo_bench_sweep(halo_bench_case *out, size_t max, int scene_passes, double finest_step)
+{
+    int n = scene_passes > 0 ? scene_passes : 4;
+    double fine = finest_step > 0.0 ? finest_step : 0.25;
+    /* the base of every axis: slice host, M = 4 (the paper's choice), float32, step 0.5 */
+    const halo_bench_config base = {.halos = 1, .interval = 4, .passes = n, .precision = 32, .step = 0.5};
+    struct { const char *axis; halo_bench_config k; } list[48];
+    size_t count = 0;
+#define ADD(AXIS, ...)                                                                                       \
+    do {                                                                                                     \
+        halo_bench_config k_ = base;                                                                         \
+        __VA_ARGS__;                                                                                         \
+        list[count].axis = (AXIS);                                                                           \
+        list[count++].k = k_;                                                                                \
+    } while (0)
+    ADD("reference", k_.interval = 1; k_.step = fine);
+    static const int intervals[] = {1, 2, 4, 8, 16};
+    for (int i = 0; i < 5; ++i)
+        ADD("M", k_.interval = intervals[i]);
+    for (int p = 1; p <= 6; ++p)
+        if (p != n)
+            ADD("N", k_.passes = p);
+    ADD("precision", k_.precision = 16);
+    ADD("precision", k_.precision = 8);
+    double steps[3] = {fine, 0.5, 1.0};
+    for (int i = 0; i < 3; ++i)
+        if (steps[i] != 0.5 && (i == 0 || steps[i] != steps[i - 1]))
+            ADD("step", k_.step = steps[i]);
+    ADD("step", k_.interval = 1; k_.step = 1.0); /* M = 1 at the coarsest step: the halo error alone there */
+    static const int slab_intervals[] = {4, 8, 16};
+    for (int i = 0; i < 3; ++i)
+        ADD("slab", k_.slab = 1; k_.interval = slab_intervals[i]);
+    ADD("combined", k_.interval = 8; k_.precision = 16);
+    ADD("combined", k_.interval = 16; k_.precision = 16; k_.step = 1.0);
+    ADD("combined", k_.slab = 1; k_.interval = 16; k_.precision = 16; k_.step = 1.0);
+    for (int slab = 0; slab <= 1; ++slab)
+        for (int i = 0; i < 3; ++i)
+            if (i == 0 || steps[i] != steps[i - 1])
+                ADD("no halos", k_.halos = 0; k_.slab = slab; k_.interval = slab ? 16 : 1; k_.step = steps[i]);
+#undef ADD
+    size_t written = 0;
+    for (size_t i = 0; i < count && written < max; ++i) {
+        memset(&out[written], 0, sizeof out[written]);
+        out[written].axis = list[i].axis;
+        out[written++].config = list[i].k;
+    }
+    return written;
+}

@@ -1,0 +1,83 @@
+/* halo-validate bench: rendering configurations of one scene and volume with the slice
+ * host or the slab ray caster (examples/hosts/slice.h), timed in interleaved rounds, and
+ * their error against a reference image. Shared by the bench subcommand and the error
+ * budget (bench_budget.h). The caller's OpenGL context must be current. */
+#ifndef HALO_BENCH_RUN_H
+#define HALO_BENCH_RUN_H
+
+#include "halo.h"
+#include "gl/glfuncs.h"
+
+#include <stdio.h>
+
+/* One approximation of the scene. Zero values take the scene's own (or the default). */
+typedef struct halo_bench_config {
+    int halos;         /* 0: the same render with every stage off (the reference renderer) */
+    int slab;          /* 0: slice host, 1: slab ray caster */
+    int interval;      /* M: slices between generations (slab: samples per draw) */
+    int passes;        /* N: spreading passes (halo_generate.passes); 0: the scene's */
+    int precision;     /* halo image precision: 32, 16 or 8 (halo_link_desc.image_precision) */
+    double step;       /* sampling distance in voxels; 0: the scene's */
+    int all_live;      /* every parameter a uniform (halo_link_desc.all_live) */
+    int no_generation; /* seeding and mapping per sample, no image pass */
+} halo_bench_config;
+
+typedef struct halo_bench_case {
+    halo_bench_config config;
+    const char *axis;        /* what the row varies (for the table): "reference", "M", ... */
+    const char *scene_text;  /* overrides the environment's scene (NULL: the environment's) */
+    /* results */
+    double seconds;          /* median frame time */
+    long draws, pass_draws;  /* per frame */
+    int slices;
+    float *image;            /* width*height*4, the last frame (caller frees with halo_bench_cases_free) */
+    double max_abs, rmse, share_over; /* against the reference image; NaN when not compared */
+    double halo_max_abs;     /* against M = 1 of the slice host at the same step (the halo approximations alone) */
+    long nonfinite;          /* NaN or Inf colour values in the image */
+    int pareto;              /* 1: no other halo row is both faster and more accurate */
+    /* while running */
+    halo_scene *scene;
+    halo_program *program;
+    void *host;
+    double *times;
+} halo_bench_case;
+
+typedef struct halo_bench_env {
+    halo_library *lib;
+    halo_gl *runtime;
+    const halo_glfuncs *gl;
+    halo_diagnostics *diag;
+    int width, height;
+    const float *volume;
+    int dims[3];
+    int repeat;              /* timed frames per case (>= 1) */
+    const char *scene_text;  /* the scene (JSON text), or */
+    const char *scene_path;  /* a scene file (when scene_text is NULL) */
+    FILE *progress;          /* progress lines (stderr), or NULL */
+} halo_bench_env;
+
+/* Renders every case: one warm-up frame each, then env->repeat rounds over all cases
+ * (interleaved, so that a change of machine load hits every case alike), glFinish
+ * around each frame. Fills seconds, draws, pass_draws, slices, image, nonfinite.
+ * Returns 1, or 0 with diagnostics in env->diag. */
+int halo_bench_run(const halo_bench_env *env, halo_bench_case *cases, size_t count);
+/* Fills max_abs, rmse, share_over of every case with an image against cases[reference]. */
+void halo_bench_errors(const halo_bench_env *env, halo_bench_case *cases, size_t count, size_t reference);
+/* Marks the Pareto front among the halo cases (time against max_abs). */
+void halo_bench_pareto(halo_bench_case *cases, size_t count);
+void halo_bench_cases_free(halo_bench_case *cases, size_t count);
+
+/* The standard sweep around the scene's settings (M 1..16, N 1..6, precision 32/16/8,
+ * sampling distance finest..1, slab against slices, a few combinations), headed by the
+ * exact reference (index 0: M = 1, float32, the finest sampling) and followed by the
+ * renders without halos. Returns the number of cases written (at most max). */
+size_t halo_bench_sweep(halo_bench_case *out, size_t max, int scene_passes, double finest_step);
+
+/* Image error: largest absolute colour difference, RMSE over colour, share of pixels
+ * with a channel off by more than 1/255. */
+void halo_bench_image_error(const float *image, const float *base, size_t pixels, double *max_abs, double *rmse,
+                            double *share);
+
+double halo_bench_now(void);
+
+#endif

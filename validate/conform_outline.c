@@ -1,0 +1,413 @@
+/* Conformance rows of the outline passes (Svakhine, Ebert & Andrews 2009;
+ * glsl/outline/outlines.glsl, docs/outlines.md, docs/accuracy.md "Outline rows").
+ *
+ * Each row draws synthetic feature samples (one fragment per pixel, a second draw for
+ * occluders) through outline_feature and the GL frame, runs the at=post passes on the
+ * GPU with a synthetic host colour, and does the same in the emulation from the same
+ * samples (feature buffers included). Every image a post pass writes is compared, and
+ * each hard case also checks what it is about (flat depth gives no outline, ...). */
+#include "conform_outline.h"
+
+#include "diag.h"
+#include "hosts/raycast.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum shape { SHAPE_DISCS, SHAPE_FLAT, SHAPE_DEPTH_ONE, SHAPE_PIXEL, SHAPE_BORDER, SHAPE_FOUR };
+
+typedef struct outline_case {
+    const char *name;
+    enum shape shape;
+    int occluder_band; /* second draw: an opaque band (rows size/3 .. size/2) at depth 0.1 */
+    const char *outlines; /* the outlines stage's parameters (JSON object members) */
+    double tol_abs, tol_rel;
+    const char *reason; /* of the tolerance */
+} outline_case;
+
+#define ONE_FEATURE "\"value_min\": 0.5, \"value_max\": 1, \"occluder_opacity\": 0.5"
+#define FOUR_FEATURES                                                                                             \
+    "\"value_min\": [0, 0.2, 0.5, 0.8], \"value_max\": [0.199, 0.399, 0.7, 1], \"occluder_opacity\": 0.5"
+
+/* Blurs: float sums of up to 2r+1 taps (r <= size) of exp() weights, renormalized:
+ * a few ulps of the depth (<= 1) per tap, 1e-6 relative at most; importance is lambda
+ * (<= 4) times a difference of blurred depths: 4e-6; the final colour a mix of colours
+ * <= 1 by that importance. Measured: 1.2e-6 at most (64 x 64, llvmpipe); 1e-5 leaves a
+ * margin of about 8. */
+#define DEPTH_TOL 1e-5
+/* Normals: the GPU's normal is normalize(gradient) in float (1e-7 relative), 1 - n.n'
+ * of nearly parallel normals loses the leading digits (cancellation: 1e-7 absolute on
+ * dN), and the window (dN - n_min) / (n_max - n_min) multiplies it by up to 1 / 0.2;
+ * normal blurs add a few ulps per tap as above. Measured: 2e-6 at most (64 x 64). */
+#define NORMAL_TOL 2e-5
+
+static const outline_case outline_cases[] = {
+    {"outline:discs", SHAPE_DISCS, 0, "\"sigma\": 2, \"lambda\": 4", DEPTH_TOL, DEPTH_TOL, "blurred depth, lambda 4"},
+    {"outline:power0.6", SHAPE_DISCS, 0, "\"sigma\": 2, \"lambda\": 2, \"depth_power\": 0.6", 1e-4, DEPTH_TOL,
+     "x^0.6 near x = 0 magnifies the blur's float error: d(x^0.6)/dx = 0.6 x^-0.4, 2.5e3 at x = 1e-8"},
+    {"outline:flat", SHAPE_FLAT, 0, "\"sigma\": 2, \"lambda\": 1000", DEPTH_TOL, DEPTH_TOL,
+     "a constant depth blurs to itself (renormalized weights): no outline even at lambda 1000"},
+    {"outline:depth1", SHAPE_DEPTH_ONE, 0, "\"sigma\": 2, \"lambda\": 1000, \"depth_start\": 0.5, \"depth_cue\": true",
+     DEPTH_TOL, DEPTH_TOL, "features at depth exactly 1 are the background: no outline, gamma 1"},
+    {"outline:pixel", SHAPE_PIXEL, 0, "\"sigma\": 2, \"lambda\": 4", DEPTH_TOL, DEPTH_TOL,
+     "a one-pixel feature: its ring of outline"},
+    {"outline:border", SHAPE_BORDER, 0, "\"sigma\": 3, \"lambda\": 4", DEPTH_TOL, DEPTH_TOL,
+     "features touching the border: taps outside the image are left out, weights renormalized"},
+    {"outline:sigma>image", SHAPE_DISCS, 0,
+     "\"sigma\": 100, \"lambda\": 4, \"normal_unsharp\": true, \"normal_sigma\": 100", NORMAL_TOL, NORMAL_TOL,
+     "sigma 100 % of the diagonal: radius clamped to the image side, 2 size + 1 taps"},
+    {"outline:normals", SHAPE_DISCS, 0,
+     "\"sigma\": 2, \"lambda\": 2, \"normal_difference\": true, \"normal_unsharp\": true, \"normal_sigma\": 2,"
+     " \"normal_min\": 0.05, \"normal_max\": 0.6",
+     NORMAL_TOL, NORMAL_TOL, "normals zero (no hit) outside the discs: halo_normalize of 0, 1 - dot"},
+    {"outline:hidden", SHAPE_DISCS, 1, "\"sigma\": 2, \"lambda\": 4, \"occluded\": 0", DEPTH_TOL, DEPTH_TOL,
+     "occlusion: hidden"},
+    {"outline:dashed", SHAPE_DISCS, 1, "\"sigma\": 2, \"lambda\": 4, \"occluded\": 1, \"dash_length\": 3", DEPTH_TOL,
+     DEPTH_TOL, "occlusion: dashed (integer dash arithmetic)"},
+    {"outline:front", SHAPE_DISCS, 1, "\"sigma\": 2, \"lambda\": 4, \"occluded\": 2", DEPTH_TOL, DEPTH_TOL,
+     "occlusion: forced to the front"},
+    {"outline:colors", SHAPE_DISCS, 0, "\"sigma\": 2, \"lambda\": 4, \"line_color_mode\": 2", DEPTH_TOL, DEPTH_TOL,
+     "line colour by the brightness behind"},
+    {"outline:depth", SHAPE_DISCS, 0,
+     "\"sigma\": 2, \"lambda\": 4, \"depth_start\": 0.3, \"depth_color_blend\": true, \"depth_color\": [0.9, 0.9, 1],"
+     " \"depth_cue\": true, \"cue_gray\": 0.6, \"depth_blur\": true, \"blur_max\": 8, \"line_fading\": true,"
+     " \"line_color_mode\": 1",
+     DEPTH_TOL, DEPTH_TOL, "depth colour blending, cueing, blurring (kernel per pixel), line fading"},
+    {"outline:features4", SHAPE_FOUR, 1,
+     "\"sigma\": 2, \"lambda\": [4, 2, 8, 1], \"occluded\": [0, 1, 2, 2], \"normal_difference\": true,"
+     " \"normal_min\": [0.1, 0.2, 0.3, 2], \"normal_max\": [0.5, 0.5, 0.3, 3]",
+     NORMAL_TOL, NORMAL_TOL, "four features, per-feature parameters"},
+};
+
+/* Depth and sphere normal of a disc at (cx, cy), radius r, front depth d0: 1 outside. */
+static int disc(double x, double y, double cx, double cy, double r, double d0, double *depth, double n[3])
+{
+    double dx = (x - cx) / r, dy = (y - cy) / r, q = dx * dx + dy * dy;
+    if (q >= 1.0)
+        return 0;
+    double dz = sqrt(1.0 - q);
+    *depth = d0 + 0.25 * (1.0 - dz);
+    n[0] = dx, n[1] = dy, n[2] = dz;
+    return 1;
+}
+
+/* The feature sample of pixel (x, y): value selects the feature (0.75: feature 0 of
+ * ONE_FEATURE; 0.1/0.3/0.6/0.9: features 0-3 of FOUR_FEATURES); outside every feature
+ * an empty sample (opacity 0: no depth, no normal, no occluder). Feature samples are
+ * translucent (opacity 0.25 < occluder_opacity): only the band occludes. */
+static void feature_sample(enum shape shape, int size, int x, int y, halo_emu_sample *s)
+{
+    memset(s, 0, sizeof *s);
+    double px = x + 0.5, py = y + 0.5, depth = 1.0, n[3] = {0, 0, 1}, value = 0.75;
+    int hit = 0;
+    switch (shape) {
+    case SHAPE_FLAT: hit = 1, depth = 0.5; break;
+    case SHAPE_DEPTH_ONE: hit = disc(px, py, size * 0.5, size * 0.5, size * 0.3, 0.0, &depth, n), depth = 1.0; break;
+    case SHAPE_PIXEL: hit = x == size / 2 && y == size / 2, depth = 0.4; break;
+    case SHAPE_BORDER:
+        hit = disc(px, py, 0.0, size * 0.5, size * 0.3, 0.3, &depth, n);
+        if (!hit && y >= size - 3)
+            hit = 1, depth = 0.45, n[0] = 0, n[1] = 0.6, n[2] = 0.8;
+        break;
+    case SHAPE_FOUR: {
+        static const double centres[4][2] = {{0.3, 0.3}, {0.7, 0.3}, {0.3, 0.7}, {0.62, 0.62}};
+        static const double values[4] = {0.1, 0.3, 0.6, 0.9};
+        for (int k = 0; k < 4 && !hit; ++k)
+            if (disc(px, py, centres[k][0] * size, centres[k][1] * size, size * (0.18 + 0.03 * k), 0.2 + 0.15 * k,
+                     &depth, n))
+                hit = 1, value = values[k];
+        break;
+    }
+    default: /* two discs, the smaller in front and overlapping */
+        hit = disc(px, py, size * 0.38, size * 0.5, size * 0.3, 0.4, &depth, n);
+        double d2, n2[3];
+        if (disc(px, py, size * 0.62, size * 0.58, size * 0.18, 0.2, &d2, n2) && (!hit || d2 < depth)) {
+            hit = 1, depth = d2;
+            memcpy(n, n2, sizeof n);
+        }
+        break;
+    }
+    s->position[0] = s->position[1] = s->position[2] = 0.5;
+    s->view[2] = 1.0;
+    s->color[0] = s->color[1] = s->color[2] = 0.5;
+    if (hit) {
+        s->value = value;
+        s->opacity = 0.25;
+        s->depth = depth;
+        memcpy(s->gradient, n, sizeof n);
+    } else {
+        s->value = 0.45; /* outside every feature */
+        s->depth = 1.0;
+        s->gradient[2] = 1.0;
+    }
+    halo_probe_round_inputs(s, x, y);
+}
+
+/* The occluder band: an opaque sample in front of everything, in no feature. */
+static void occluder_sample(int size, int x, int y, halo_emu_sample *s)
+{
+    memset(s, 0, sizeof *s);
+    s->position[0] = s->position[1] = s->position[2] = 0.5;
+    s->view[2] = 1.0;
+    s->gradient[2] = 1.0;
+    s->color[0] = 0.3;
+    int band = y >= size / 3 && y < size / 2;
+    s->value = 0.45;
+    s->opacity = band ? 1.0 : 0.0;
+    s->depth = band ? 0.1 : 1.0;
+    halo_probe_round_inputs(s, x, y);
+}
+
+/* The host colour behind: smooth, brightness away from 0.5 (line_color_mode 2 switches
+ * there): dark left half 0.1-0.3, light right half 0.7-0.9. */
+static void host_colour(int size, int x, int y, double out[4])
+{
+    double t = (double)y / size, light = x >= size / 2;
+    double base = light ? 0.7 : 0.1;
+    out[0] = (float)(base + 0.2 * t);
+    out[1] = (float)(base + 0.2 * (1.0 - t));
+    out[2] = (float)(base + 0.1);
+    out[3] = 1.0;
+}
+
+static int post_written(const halo_program *p, const char *image)
+{
+    for (size_t i = 0; i < halo_program_pass_count(p); ++i) {
+        const halo_pass_info *pass = halo_program_pass(p, i);
+        if (pass->post && !strcmp(pass->output, image))
+            return 1;
+    }
+    return 0;
+}
+
+static const halo_image_info *image_named(const halo_program *p, const char *name)
+{
+    for (size_t i = 0; i < halo_program_image_count(p); ++i)
+        if (!strcmp(halo_program_image(p, i)->name, name))
+            return halo_program_image(p, i);
+    return NULL;
+}
+
+/* What the case is about, on the GPU's images: NULL if it holds, else why not. */
+static const char *check_case(const outline_case *oc, int size, const float *importance, int channels,
+                              const float *final, const float *host)
+{
+    double most = 0.0, band_most = 0.0, off_band = 0.0, final_change = 0.0;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            size_t i = (size_t)y * size + (size_t)x;
+            double v = 0.0;
+            for (int k = 0; k < channels; ++k)
+                v = fmax(v, importance[i * (size_t)channels + (size_t)k]);
+            most = fmax(most, v);
+            if (y >= size / 3 && y < size / 2)
+                band_most = fmax(band_most, v);
+            else
+                off_band = fmax(off_band, v);
+            for (int k = 0; k < 3; ++k)
+                final_change = fmax(final_change, fabs(final[i * 4 + (size_t)k] - host[i * 4 + (size_t)k]));
+        }
+    switch (oc->shape) {
+    case SHAPE_FLAT:
+        if (most > 1e-4 || final_change > 1e-4)
+            return "a flat depth drew an outline";
+        return NULL;
+    case SHAPE_DEPTH_ONE:
+        if (most > 0.0)
+            return "features at depth 1 drew an outline";
+        return NULL;
+    case SHAPE_PIXEL: {
+        size_t c = (size_t)(size / 2) * size + (size_t)(size / 2);
+        /* a ring: lambda (G*D - D) > 0 at the 4-neighbours (0.1 at 64 x 64, sigma 1.8 px) */
+        if (importance[(c + 1) * (size_t)channels] <= 0.0 || importance[(c - (size_t)size) * (size_t)channels] <= 0.0)
+            return "no outline around the one-pixel feature";
+        if (importance[c * (size_t)channels] > 0.0)
+            return "an outline on the one-pixel feature itself (it lies in front of its blur)";
+        return NULL;
+    }
+    default: break;
+    }
+    if (!strcmp(oc->name, "outline:hidden") && (band_most > 0.0 || off_band <= 0.0))
+        return "hidden: outline under the occluder (or none elsewhere)";
+    if (!strcmp(oc->name, "outline:front") && band_most <= 0.0)
+        return "front: no outline under the occluder";
+    if (most <= 0.0)
+        return "no outline at all";
+    return NULL;
+}
+
+/* The dashed style must lie between hidden and front: checked across rows. */
+static double band_sum(int size, const float *importance, int channels)
+{
+    double sum = 0.0;
+    for (int y = size / 3; y < size / 2; ++y)
+        for (int x = 0; x < size; ++x)
+            for (int k = 0; k < channels; ++k)
+                sum += importance[((size_t)y * size + (size_t)x) * (size_t)channels + (size_t)k];
+    return sum;
+}
+
+static void run_case(conform *c, const outline_case *oc, const char *probe_source, double band_sums[3])
+{
+    if (!row_selected(c, oc->name, "outlines") && !row_selected(c, oc->name, "outline"))
+        return;
+    int size = c->size, four = oc->shape == SHAPE_FOUR;
+    size_t count = (size_t)size * (size_t)size;
+    char json[2048], tolerance_text[32];
+    snprintf(json, sizeof json,
+             "{\"halo_scene\": 1, \"stages\": [{\"outline_feature\": {%s}}, {\"outlines\": {%s}}]}",
+             four ? FOUR_FEATURES : ONE_FEATURE, oc->outlines);
+    snprintf(tolerance_text, sizeof tolerance_text, "%.0e+%.0er", oc->tol_abs, oc->tol_rel);
+    halo_scene *scene = halo_scene_parse(json, oc->name, c->lib, c->diag);
+    halo_program *program =
+        scene ? halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = probe_source,
+                                            .host_file = "probe.frag"},
+                          c->diag)
+              : NULL;
+    halo_gl_frame *gframe = NULL;
+    halo_emu_frame *eframe = NULL;
+    frame_probe fp = {0};
+    halo_emu_sample *samples = malloc(2 * count * sizeof *samples);
+    float *host = malloc(count * 4 * sizeof *host), *gl_image = malloc(count * 4 * sizeof *gl_image);
+    float *importance = malloc(count * 4 * sizeof *importance), *final = malloc(count * 4 * sizeof *final);
+    unsigned host_texture = 0;
+    if (!program || !samples || !host || !gl_image || !importance || !final ||
+        halo_diagnostics_errors(c->diag) > 0)
+        goto error;
+    int channels = halo_program_channel_count(program);
+    gframe = halo_gl_frame_create(c->runtime, program, size, size, c->diag);
+    eframe = halo_emu_frame_create(program, size, size, c->diag);
+    if (!gframe || !eframe || !frame_probe_init(c, program, &fp))
+        goto error;
+    emu_set_axes(eframe);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            size_t i = (size_t)y * size + (size_t)x;
+            feature_sample(oc->shape, size, x, y, &samples[i]);
+            occluder_sample(size, x, y, &samples[count + i]);
+        }
+    halo_gl_frame_begin(gframe);
+    halo_emu_frame_begin(eframe);
+    int draws = oc->occluder_band ? 2 : 1;
+    for (int d = 0; d < draws; ++d) {
+        if (frame_probe_draw(c, &fp, program, gframe, samples + (size_t)d * count, NULL) != HALO_OK)
+            goto error;
+        for (size_t i = 0; i < count; ++i) {
+            halo_emu_sample s = samples[(size_t)d * count + i];
+            if (halo_emu_apply_frame(program, eframe, &s, c->diag) != HALO_OK)
+                goto error;
+            halo_emu_frame_finish(eframe, &s);
+        }
+    }
+    /* the host colour, in both */
+    double *ehost = halo_emu_frame_image(eframe, "host_color");
+    if (!ehost)
+        goto error;
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            size_t i = (size_t)y * size + (size_t)x;
+            double rgba[4];
+            host_colour(size, x, y, rgba);
+            for (int k = 0; k < 4; ++k)
+                host[i * 4 + (size_t)k] = (float)rgba[k], ehost[i * 4 + (size_t)k] = rgba[k];
+        }
+    const halo_glfuncs *f = c->gl;
+    f->GenTextures(1, &host_texture);
+    f->BindTexture(GL_TEXTURE_2D, host_texture);
+    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, size, size, 0, GL_RGBA, GL_FLOAT, host);
+    f->BindTexture(GL_TEXTURE_2D, 0);
+    halo_gl_frame_post(gframe, host_texture);
+    GLenum gl_error = f->GetError();
+    if (gl_error != GL_NO_ERROR) {
+        halo_diag_error(c->diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x in the post passes", gl_error);
+        goto error;
+    }
+    if (halo_emu_frame_post(eframe, c->diag) != HALO_OK)
+        goto error;
+    row_stats stats = {0};
+    const char *worst_image = "";
+    size_t worst_over = SIZE_MAX;
+    const char *worst_over_image = "";
+    double worst_values[2] = {0, 0};
+    for (size_t m = 0; m < halo_program_image_count(program); ++m) {
+        const halo_image_info *info = halo_program_image(program, m);
+        if (!post_written(program, info->name))
+            continue;
+        if (halo_gl_frame_read(gframe, info->name, gl_image) != HALO_OK)
+            goto error;
+        const double *e = halo_emu_frame_image(eframe, info->name);
+        size_t n = count * (size_t)info->channels;
+        for (size_t i = 0; i < n; ++i) {
+            double g = gl_image[i];
+            if (!isfinite(g) || !isfinite(e[i])) {
+                stats.nonfinite++;
+                continue;
+            }
+            double error = fabs(g - e[i]);
+            stats.sum_squares += error * error;
+            stats.values++;
+            if (error > stats.max_abs)
+                stats.max_abs = error, stats.worst = i / (size_t)info->channels, worst_image = info->name;
+            if (getenv("HALO_OUTLINE_DEBUG") && error > 1e-3)
+                fprintf(stderr, "    %s (%zu, %zu)[%zu] gpu %.9g emu %.9g\n", info->name, (i / (size_t)info->channels) % (size_t)size,
+                        (i / (size_t)info->channels) / (size_t)size, i % (size_t)info->channels, g, e[i]);
+            if (error > oc->tol_abs + oc->tol_rel * fabs(e[i]))
+                stats.over++, worst_over = i / (size_t)info->channels, worst_over_image = info->name,
+                worst_values[0] = g, worst_values[1] = e[i];
+        }
+    }
+    const halo_image_info *imp = image_named(program, "importance");
+    if (!imp || halo_gl_frame_read(gframe, "importance", importance) != HALO_OK ||
+        halo_gl_frame_read(gframe, "final", final) != HALO_OK)
+        goto error;
+    const char *broken = check_case(oc, size, importance, imp->channels, final, host);
+    if (!strcmp(oc->name, "outline:hidden"))
+        band_sums[0] = band_sum(size, importance, imp->channels);
+    else if (!strcmp(oc->name, "outline:dashed"))
+        band_sums[1] = band_sum(size, importance, imp->channels);
+    else if (!strcmp(oc->name, "outline:front"))
+        band_sums[2] = band_sum(size, importance, imp->channels);
+    if (!strcmp(oc->name, "outline:front") && band_sums[1] >= 0.0 &&
+        !(band_sums[0] < band_sums[1] && band_sums[1] < band_sums[2]))
+        broken = "occlusion styles: hidden < dashed < front does not hold under the occluder";
+    int pass = stats.over == 0 && stats.nonfinite == 0 && !broken;
+    print_row(c, oc->name, &stats, tolerance_text, pass);
+    if (broken)
+        fprintf(stderr, "  %s: %s\n", oc->name, broken);
+    if (c->verbose || !pass) {
+        size_t w = worst_over != SIZE_MAX ? worst_over : stats.worst;
+        if (worst_over != SIZE_MAX)
+            fprintf(stderr, "  gpu %.9g emulation %.9g\n", worst_values[0], worst_values[1]);
+        fprintf(stderr, "  %s at pixel (%zu, %zu) of image %s; tolerance: %s; channels %d\n",
+                worst_over != SIZE_MAX ? "over tolerance" : "largest error", w % (size_t)size, w / (size_t)size,
+                worst_over != SIZE_MAX ? worst_over_image : worst_image, oc->reason, channels);
+    }
+    goto done;
+error:
+    print_error_row(c, oc->name);
+done:
+    halo_diagnostics_clear(c->diag);
+    if (host_texture)
+        c->gl->DeleteTextures(1, &host_texture);
+    frame_probe_release(&fp);
+    halo_gl_frame_destroy(gframe);
+    halo_emu_frame_destroy(eframe);
+    halo_program_destroy(program);
+    halo_scene_destroy(scene);
+    free(samples);
+    free(host);
+    free(gl_image);
+    free(importance);
+    free(final);
+}
+
+void halo_conform_outline_rows(conform *c, const char *probe_source)
+{
+    double band_sums[3] = {-1.0, -1.0, -1.0};
+    for (size_t i = 0; i < sizeof outline_cases / sizeof *outline_cases; ++i)
+        run_case(c, &outline_cases[i], probe_source, band_sums);
+}
