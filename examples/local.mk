@@ -11,6 +11,7 @@ examples/hosts/embedded_hosts.c: $(HALO_HOST_SHADERS) $(top_srcdir)/build-aux/em
 
 noinst_LTLIBRARIES += examples/libhalo-hosts.la
 examples_libhalo_hosts_la_SOURCES = examples/hosts/raycast.c examples/hosts/raycast.h \
+	examples/hosts/host_common.c examples/hosts/host_common.h \
 	examples/hosts/slice.c examples/hosts/slice.h examples/hosts/slab.c examples/hosts/slab.h \
 	examples/volume.c examples/volume.h examples/image_write.cc examples/image_write.h
 nodist_examples_libhalo_hosts_la_SOURCES = examples/hosts/embedded_hosts.c

@@ -105,3 +105,25 @@ float *halo_volume_create(int size)
     }
     return v;
 }
+
+double halo_volume_trilinear(const float *v, const int dims[3], const double p[3])
+{
+    int i0[3], i1[3];
+    double f[3];
+    for (int k = 0; k < 3; ++k) {
+        double u = p[k] * dims[k] - 0.5;
+        double base = floor(u);
+        f[k] = u - base;
+        int b = (int)base;
+        i0[k] = b < 0 ? 0 : b > dims[k] - 1 ? dims[k] - 1 : b;
+        i1[k] = b + 1 < 0 ? 0 : b + 1 > dims[k] - 1 ? dims[k] - 1 : b + 1;
+    }
+    double result = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
+        double w = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
+                   (corner & 4 ? f[2] : 1.0 - f[2]);
+        result += w * v[((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] + (size_t)x];
+    }
+    return result;
+}

@@ -22,4 +22,8 @@ float *halo_volume_create(int size);
 #define HALO_VOLUME_TUBE 0.75f
 #define HALO_VOLUME_BLOB 1.0f
 
+/* The value of GL_LINEAR with GL_CLAMP_TO_EDGE on a dims[0] x dims[1] x dims[2] 3D
+ * texture of v (x fastest) at texture coordinate p, in double. */
+double halo_volume_trilinear(const float *v, const int dims[3], const double p[3]);
+
 #endif

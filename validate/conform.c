@@ -579,29 +579,6 @@ done:
     halo_scene_destroy(scene);
 }
 
-/* GL_LINEAR with GL_CLAMP_TO_EDGE on a 3D texture, in double. */
-static double trilinear(const float *v, const int dims[3], const double p[3])
-{
-    int i0[3], i1[3];
-    double f[3];
-    for (int k = 0; k < 3; ++k) {
-        double u = p[k] * dims[k] - 0.5;
-        double base = floor(u);
-        f[k] = u - base;
-        int b = (int)base;
-        i0[k] = b < 0 ? 0 : b > dims[k] - 1 ? dims[k] - 1 : b;
-        i1[k] = b + 1 < 0 ? 0 : b + 1 > dims[k] - 1 ? dims[k] - 1 : b + 1;
-    }
-    double result = 0.0;
-    for (int corner = 0; corner < 8; ++corner) {
-        int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
-        double w = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
-                   (corner & 4 ? f[2] : 1.0 - f[2]);
-        result += w * v[((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] + (size_t)x];
-    }
-    return result;
-}
-
 /* The transfer texture lookup of raycast.frag's classify(), in double. */
 static void classify(const halo_raycast_state *s, double value, double rgba[4])
 {
@@ -656,7 +633,7 @@ static int emulate_pixel(const halo_raycast_state *s, const halo_program *p, int
         if (t > t_exit)
             break;
         double P[3] = {origin[0] + t * direction[0], origin[1] + t * direction[1], origin[2] + t * direction[2]};
-        double value = trilinear(s->volume, s->dims, P);
+        double value = halo_volume_trilinear(s->volume, s->dims, P);
         double color[4];
         classify(s, value, color);
         halo_emu_sample sample = {0};
@@ -666,7 +643,8 @@ static int emulate_pixel(const halo_raycast_state *s, const halo_program *p, int
             double plus[3] = {P[0], P[1], P[2]}, minus[3] = {P[0], P[1], P[2]};
             plus[k] += voxel[k];
             minus[k] -= voxel[k];
-            sample.gradient[k] = (trilinear(s->volume, s->dims, plus) - trilinear(s->volume, s->dims, minus)) * 0.5;
+            sample.gradient[k] = (halo_volume_trilinear(s->volume, s->dims, plus) -
+                                  halo_volume_trilinear(s->volume, s->dims, minus)) * 0.5;
             sample.view[k] = s->eye[k] - P[k];
         }
         double distance = sqrt(sample.view[0] * sample.view[0] + sample.view[1] * sample.view[1] +

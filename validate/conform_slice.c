@@ -57,29 +57,6 @@ static const char slice_scene_plain[] =
     "  \"transfer\": [[0, 0, 0, 0, 0], [0.2, 0.6, 0.8, 1, 0], [0.3, 0.6, 0.8, 1, 0.08],"
     "                [0.5, 1, 0.85, 0.55, 0.3], [0.75, 0.95, 0.3, 0.2, 0.7], [1, 1, 1, 0.8, 0.9]]}}";
 
-/* GL_LINEAR with GL_CLAMP_TO_EDGE on a 3D texture, in double. */
-static double trilinear(const float *v, const int dims[3], const double p[3])
-{
-    int i0[3], i1[3];
-    double f[3];
-    for (int k = 0; k < 3; ++k) {
-        double u = p[k] * dims[k] - 0.5;
-        double base = floor(u);
-        f[k] = u - base;
-        int b = (int)base;
-        i0[k] = b < 0 ? 0 : b > dims[k] - 1 ? dims[k] - 1 : b;
-        i1[k] = b + 1 < 0 ? 0 : b + 1 > dims[k] - 1 ? dims[k] - 1 : b + 1;
-    }
-    double result = 0.0;
-    for (int corner = 0; corner < 8; ++corner) {
-        int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
-        double w = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
-                   (corner & 4 ? f[2] : 1.0 - f[2]);
-        result += w * v[((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] + (size_t)x];
-    }
-    return result;
-}
-
 static void classify(const halo_slice_state *s, double value, double rgba[4])
 {
     double v = value > 0.0 ? (value < 1.0 ? value : 1.0) : 0.0; /* NaN -> 0, as the hosts do */
@@ -173,7 +150,7 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
             memcpy(sample.position, P, sizeof P);
             double color[4] = {0, 0, 0, 0};
             if (inside) {
-                sample.value = trilinear(s->volume, s->dims, P);
+                sample.value = halo_volume_trilinear(s->volume, s->dims, P);
                 classify(s, sample.value, color);
             }
             double distance = 0.0;
@@ -182,7 +159,8 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
                     double plus[3] = {P[0], P[1], P[2]}, minus[3] = {P[0], P[1], P[2]};
                     plus[c] += voxel[c];
                     minus[c] -= voxel[c];
-                    sample.gradient[c] = (trilinear(s->volume, s->dims, plus) - trilinear(s->volume, s->dims, minus)) * 0.5;
+                    sample.gradient[c] = (halo_volume_trilinear(s->volume, s->dims, plus) -
+                                          halo_volume_trilinear(s->volume, s->dims, minus)) * 0.5;
                 }
                 sample.view[c] = s->eye[c] - P[c];
                 distance += sample.view[c] * sample.view[c];

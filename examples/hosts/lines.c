@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "diag.h"
-#include "raycast.h" /* halo_host_embedded */
+#include "host_common.h" /* halo_host_embedded, halo_host_matrix_multiply */
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -286,10 +286,7 @@ halo_lines *halo_lines_create(const halo_lines_desc *desc, halo_diagnostics *dia
     f->GenBuffers(1, &l->buffer);
     f->GenBuffers(1, &l->index_buffer);
     f->GenTextures(1, &l->color_texture);
-    f->BindTexture(GL_TEXTURE_2D, l->color_texture);
-    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, l->width, l->height, 0, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    halo_host_image_texture(f, l->color_texture, GL_RGBA8, l->width, l->height, GL_RGBA, GL_UNSIGNED_BYTE);
     f->BindTexture(GL_TEXTURE_2D, 0);
     f->GenRenderbuffers(1, &l->depth_buffer);
     f->BindRenderbuffer(GL_RENDERBUFFER, l->depth_buffer);
@@ -421,19 +418,6 @@ halo_status halo_lines_set_data(halo_lines *l, const halo_polylines *lines, halo
 
 /* ---- Camera ---------------------------------------------------------------------------- */
 
-static void matrix_multiply(const double a[16], const double b[16], double out[16])
-{
-    double r[16];
-    for (int col = 0; col < 4; ++col)
-        for (int row = 0; row < 4; ++row) {
-            double sum = 0.0;
-            for (int k = 0; k < 4; ++k)
-                sum += a[k * 4 + row] * b[col * 4 + k];
-            r[col * 4 + row] = sum;
-        }
-    memcpy(out, r, sizeof r);
-}
-
 static void cross3(const double a[3], const double b[3], double out[3])
 {
     double r[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
@@ -498,7 +482,7 @@ void halo_lines_get_state(const halo_lines *l, const halo_lines_view *view, halo
     double projection[16] = {sx, 0.0, 0.0, 0.0, 0.0, sy, 0.0, 0.0,
                              0.0, 0.0, -(reach + near_plane) / (reach - near_plane), -1.0,
                              0.0, 0.0, -2.0 * reach * near_plane / (reach - near_plane), 0.0};
-    matrix_multiply(projection, viewm, s->view_projection);
+    halo_host_matrix_multiply(projection, viewm, s->view_projection);
     for (int i = 0; i < 16; ++i)
         s->view_projection[i] = f32(s->view_projection[i]);
     /* depth along forward of the sphere's front and back: the eye is `distance` from the

@@ -1,15 +1,12 @@
 /* The C side of the example hosts (see raycast.h). */
 #include "raycast.h"
+#include "host_common.h"
 
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-#ifndef M_PI
-#define M_PI 3.14159265358979323846
-#endif
 
 /* Generated at build time by build-aux/embed.sh from examples/hosts/. */
 struct halo_embedded_file {
@@ -93,89 +90,6 @@ char *halo_host_load(const char *name, const char *override_path, halo_diagnosti
 
 /* ---- Programs and targets ---------------------------------------------------------- */
 
-static void report_log(halo_diagnostics *diag, halo_message_id id, const char *file, const char *log)
-{
-    /* Raw (unlinked) shaders: the driver's lines already refer to the file itself. */
-    const char *p = log;
-    while (p && *p) {
-        const char *end = strchr(p, '\n');
-        size_t n = end ? (size_t)(end - p) : strlen(p);
-        int source, line = 0, column = 0, used = 0;
-        const char *text = p;
-        if (sscanf(p, "%d:%d(%d):%n", &source, &line, &column, &used) == 3 && used > 0 && (size_t)used <= n) {
-            text = p + used;
-            while (*text == ' ')
-                ++text;
-            if (strncmp(text, "error:", 6) == 0)
-                text += 6;
-            while (*text == ' ')
-                ++text;
-        } else {
-            line = column = 0;
-        }
-        if (n > 0)
-            halo_diag_add(diag, HALO_SEVERITY_ERROR, id, file, line, column, NULL, "%.*s", (int)(n - (size_t)(text - p)),
-                          text);
-        p = end ? end + 1 : NULL;
-    }
-}
-
-static GLuint compile_raw(const halo_glfuncs *f, GLenum type, const char *source, const char *file,
-                          halo_diagnostics *diag)
-{
-    GLuint shader = f->CreateShader(type);
-    f->ShaderSource(shader, 1, &source, NULL);
-    f->CompileShader(shader);
-    GLint ok = GL_FALSE, length = 0;
-    f->GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (ok)
-        return shader;
-    f->GetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-    char *log = calloc((size_t)(length > 0 ? length : 1) + 1, 1);
-    if (log) {
-        f->GetShaderInfoLog(shader, length, NULL, log);
-        report_log(diag, HALO_MSG_GL_COMPILE, file, log);
-        free(log);
-    }
-    halo_diag_error(diag, GL_COMPILE, file, 0, 0, "the driver rejected '%s'", file);
-    f->DeleteShader(shader);
-    return 0;
-}
-
-static GLuint link_raw(const halo_glfuncs *f, const char *vertex_source, const char *vertex_file,
-                       const char *fragment_source, const char *fragment_file, halo_diagnostics *diag)
-{
-    GLuint vertex = compile_raw(f, GL_VERTEX_SHADER, vertex_source, vertex_file, diag);
-    GLuint fragment = compile_raw(f, GL_FRAGMENT_SHADER, fragment_source, fragment_file, diag);
-    if (!vertex || !fragment) {
-        if (vertex)
-            f->DeleteShader(vertex);
-        if (fragment)
-            f->DeleteShader(fragment);
-        return 0;
-    }
-    GLuint program = f->CreateProgram();
-    f->AttachShader(program, vertex);
-    f->AttachShader(program, fragment);
-    f->LinkProgram(program);
-    f->DeleteShader(vertex);
-    f->DeleteShader(fragment);
-    GLint ok = GL_FALSE, length = 0;
-    f->GetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (ok)
-        return program;
-    f->GetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-    char *log = calloc((size_t)(length > 0 ? length : 1) + 1, 1);
-    if (log) {
-        f->GetProgramInfoLog(program, length, NULL, log);
-        report_log(diag, HALO_MSG_GL_LINK, fragment_file, log);
-        free(log);
-    }
-    halo_diag_error(diag, GL_LINK, fragment_file, 0, 0, "the driver could not link '%s'", fragment_file);
-    f->DeleteProgram(program);
-    return 0;
-}
-
 /* The parts both hosts share: program, full-screen triangle, RGBA32F target. */
 typedef struct host_target {
     const halo_glfuncs *f;
@@ -189,57 +103,22 @@ static int host_target_init(host_target *t, const halo_host_desc *desc, const ch
                             halo_diagnostics *diag)
 {
     memset(t, 0, sizeof *t);
-    if (!desc || !desc->gl || desc->width < 1 || desc->height < 1 || desc->width > 16384 || desc->height > 16384 ||
-        (desc->program && !desc->runtime)) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "host: gl, a size in 1..16384 and (with a program) a runtime are required");
+    if (!halo_host_desc_check(desc, diag))
         return 0;
-    }
     const halo_glfuncs *f = desc->gl;
     t->f = f;
     t->runtime = desc->runtime;
     t->linked = desc->program;
     t->width = desc->width;
     t->height = desc->height;
-    const char *vertex_source = desc->vertex_source ? desc->vertex_source : halo_host_embedded("raycast.vert");
-    const char *vertex_file = desc->vertex_file ? desc->vertex_file : "raycast.vert";
-    if (!vertex_source) {
-        halo_diag_error(diag, IO_READ, "raycast.vert", 0, 0, "no vertex shader: raycast.vert is not embedded");
-        return 0;
-    }
-    if (desc->program) {
-        t->program = halo_gl_program_build(desc->runtime, desc->program, vertex_source, vertex_file, diag);
-    } else {
-        const char *fragment_source = desc->fragment_source ? desc->fragment_source
-                                                            : halo_host_embedded(default_fragment);
-        const char *fragment_file = desc->fragment_file ? desc->fragment_file : default_fragment;
-        if (!fragment_source) {
-            halo_diag_error(diag, IO_READ, default_fragment, 0, 0, "no fragment shader: %s is not embedded",
-                            default_fragment);
-            return 0;
-        }
-        t->program = link_raw(f, vertex_source, vertex_file, fragment_source, fragment_file, diag);
-    }
+    t->program = halo_host_program_build(desc, "raycast.vert", default_fragment, HALO_HOST_LOG_LINES, diag);
     if (!t->program)
         return 0;
 
     f->GenVertexArrays(1, &t->vertex_array);
     f->GenTextures(1, &t->color_texture);
-    f->BindTexture(GL_TEXTURE_2D, t->color_texture);
-    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, t->width, t->height, 0, GL_RGBA, GL_FLOAT, NULL);
-    f->GenFramebuffers(1, &t->framebuffer);
-    f->BindFramebuffer(GL_FRAMEBUFFER, t->framebuffer);
-    f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, t->color_texture, 0);
-    GLenum status = f->CheckFramebufferStatus(GL_FRAMEBUFFER);
-    f->BindFramebuffer(GL_FRAMEBUFFER, 0);
-    GLenum error = f->GetError();
-    if (status != GL_FRAMEBUFFER_COMPLETE || error != GL_NO_ERROR) {
-        halo_diag_error(diag, GL_LINK, "", 0, 0, "cannot create a %dx%d RGBA32F render target (status 0x%x, GL error 0x%x)",
-                        t->width, t->height, status, error);
-        return 0;
-    }
-    return 1;
+    halo_host_image_texture(f, t->color_texture, GL_RGBA32F, t->width, t->height, GL_RGBA, GL_FLOAT);
+    return halo_host_framebuffer(f, &t->framebuffer, t->color_texture, t->width, t->height, diag);
 }
 
 static void host_target_release(host_target *t)
@@ -348,25 +227,10 @@ unsigned halo_raycast_gl_program(const halo_raycast *r)
 halo_status halo_raycast_set_volume(halo_raycast *r, const float *data, int nx, int ny, int nz,
                                     halo_diagnostics *diag)
 {
-    if (!r || !data || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "volume of %dx%dx%d voxels: each side must be 2..2048", nx, ny, nz);
-        return HALO_ERROR_INPUT;
-    }
-    const halo_glfuncs *f = r->target.f;
-    f->BindTexture(GL_TEXTURE_3D, r->volume_texture);
-    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    f->TexImage3D(GL_TEXTURE_3D, 0, GL_R32F, nx, ny, nz, 0, GL_RED, GL_FLOAT, data);
-    f->BindTexture(GL_TEXTURE_3D, 0);
-    GLenum error = f->GetError();
-    if (error != GL_NO_ERROR) {
-        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload a %dx%dx%d volume (GL error 0x%x)", nx, ny, nz, error);
-        return HALO_ERROR_IO;
-    }
+    halo_status status = halo_host_upload_volume(r ? r->target.f : NULL, r ? r->volume_texture : 0, data, nx, ny,
+                                                 nz, diag);
+    if (status != HALO_OK)
+        return status;
     r->volume = data;
     r->dims[0] = nx;
     r->dims[1] = ny;
@@ -374,165 +238,27 @@ halo_status halo_raycast_set_volume(halo_raycast *r, const float *data, int nx, 
     return HALO_OK;
 }
 
-/* The transfer table: control points (value, r, g, b, opacity) sorted by value,
- * linearly interpolated, constant beyond the first and last. */
-static void fill_transfer(float *table, const halo_render_settings *s)
-{
-    for (int i = 0; i < HALO_RAYCAST_TRANSFER_TEXELS; ++i) {
-        double x = (double)i / (HALO_RAYCAST_TRANSFER_TEXELS - 1);
-        double rgba[4] = {x, x, x, x}; /* no control points: a grey ramp */
-        int n = s ? s->transfer_count : 0;
-        if (n > HALO_MAX_TRANSFER_POINTS)
-            n = HALO_MAX_TRANSFER_POINTS;
-        if (n > 0) {
-            const double(*p)[5] = s->transfer;
-            int k = 0;
-            while (k < n && p[k][0] <= x)
-                ++k;
-            if (k == 0 || k == n) {
-                int j = k == 0 ? 0 : n - 1;
-                for (int c = 0; c < 4; ++c)
-                    rgba[c] = p[j][c + 1];
-            } else {
-                double span = p[k][0] - p[k - 1][0];
-                double w = span > 0.0 ? (x - p[k - 1][0]) / span : 1.0;
-                for (int c = 0; c < 4; ++c)
-                    rgba[c] = (1.0 - w) * p[k - 1][c + 1] + w * p[k][c + 1];
-            }
-        }
-        for (int c = 0; c < 4; ++c)
-            table[i * 4 + c] = (float)(rgba[c] < 0.0 ? 0.0 : rgba[c] > 1.0 ? 1.0 : rgba[c]);
-    }
-}
-
 halo_status halo_raycast_set_render(halo_raycast *r, const halo_render_settings *settings, halo_diagnostics *diag)
 {
     if (!r)
         return HALO_ERROR_INPUT;
-    fill_transfer(r->transfer, settings);
-    const halo_glfuncs *f = r->target.f;
-    f->BindTexture(GL_TEXTURE_2D, r->transfer_texture);
-    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, HALO_RAYCAST_TRANSFER_TEXELS, 1, 0, GL_RGBA, GL_FLOAT, r->transfer);
-    f->BindTexture(GL_TEXTURE_2D, 0);
-    double step = settings && settings->step > 0.0 && isfinite(settings->step) ? settings->step : 0.5;
-    r->step_voxels = (float)step;
-    for (int c = 0; c < 3; ++c)
-        r->background[c] = settings ? (float)settings->background[c] : 0.0f;
-    GLenum error = f->GetError();
-    if (error != GL_NO_ERROR) {
-        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload the transfer function (GL error 0x%x)", error);
-        return HALO_ERROR_IO;
-    }
-    return HALO_OK;
+    return halo_host_upload_transfer(r->target.f, r->transfer_texture, r->transfer, settings, &r->step_voxels,
+                                     r->background, diag);
 }
 
 /* ---- Camera ---------------------------------------------------------------------------- */
-
-/* 4x4 matrices, column-major (m[column * 4 + row]) as OpenGL takes them. */
-static void matrix_multiply(const double a[16], const double b[16], double out[16])
-{
-    double r[16];
-    for (int col = 0; col < 4; ++col)
-        for (int row = 0; row < 4; ++row) {
-            double sum = 0.0;
-            for (int k = 0; k < 4; ++k)
-                sum += a[k * 4 + row] * b[col * 4 + k];
-            r[col * 4 + row] = sum;
-        }
-    memcpy(out, r, sizeof r);
-}
-
-/* Gauss-Jordan with partial pivoting; returns 0 for a singular matrix. */
-static int matrix_invert(const double m[16], double out[16])
-{
-    double a[4][8];
-    for (int row = 0; row < 4; ++row)
-        for (int col = 0; col < 4; ++col) {
-            a[row][col] = m[col * 4 + row];
-            a[row][col + 4] = row == col ? 1.0 : 0.0;
-        }
-    for (int col = 0; col < 4; ++col) {
-        int pivot = col;
-        for (int row = col + 1; row < 4; ++row)
-            if (fabs(a[row][col]) > fabs(a[pivot][col]))
-                pivot = row;
-        if (fabs(a[pivot][col]) < 1e-300)
-            return 0;
-        if (pivot != col)
-            for (int k = 0; k < 8; ++k) {
-                double tmp = a[col][k];
-                a[col][k] = a[pivot][k];
-                a[pivot][k] = tmp;
-            }
-        double scale = 1.0 / a[col][col];
-        for (int k = 0; k < 8; ++k)
-            a[col][k] *= scale;
-        for (int row = 0; row < 4; ++row)
-            if (row != col) {
-                double factor = a[row][col];
-                for (int k = 0; k < 8; ++k)
-                    a[row][k] -= factor * a[col][k];
-            }
-    }
-    for (int row = 0; row < 4; ++row)
-        for (int col = 0; col < 4; ++col)
-            out[col * 4 + row] = a[row][col + 4];
-    return 1;
-}
 
 void halo_raycast_set_camera(halo_raycast *r, double azimuth, double elevation, double zoom)
 {
     if (!r)
         return;
-    if (!isfinite(azimuth))
-        azimuth = 0.0;
-    if (!isfinite(elevation))
-        elevation = 0.0;
-    if (!isfinite(zoom) || zoom <= 0.0)
-        zoom = 1.0;
-    const double radius = sqrt(3.0) / 2.0, centre = 0.5;
-    double az = azimuth * M_PI / 180.0, el = elevation * M_PI / 180.0;
-    double half_fov = HALO_RAYCAST_FIELD_OF_VIEW * M_PI / 360.0;
-    double distance = radius / sin(half_fov) / zoom;
-    double back[3] = {cos(el) * sin(az), sin(el), cos(el) * cos(az)}; /* from the centre to the eye */
-    double eye[3] = {centre + distance * back[0], centre + distance * back[1], centre + distance * back[2]};
-    /* right stays horizontal at any elevation, so straight up and down are well defined */
-    double right[3] = {cos(az), 0.0, -sin(az)};
-    double up[3] = {back[1] * right[2] - back[2] * right[1], back[2] * right[0] - back[0] * right[2],
-                    back[0] * right[1] - back[1] * right[0]};
-    double view[16] = {right[0], up[0], back[0], 0.0, right[1], up[1], back[1], 0.0,
-                       right[2], up[2], back[2], 0.0, 0.0, 0.0, 0.0, 1.0};
-    for (int row = 0; row < 3; ++row)
-        view[12 + row] = -(view[row] * eye[0] + view[4 + row] * eye[1] + view[8 + row] * eye[2]);
-
-    double aspect = (double)r->target.width / r->target.height;
-    double near_plane = distance - radius > 0.01 ? distance - radius : 0.01;
-    double far_plane = distance + radius + 1.0;
-    double t = tan(half_fov);
-    /* The field of view spans the smaller image side. */
-    double sx = aspect >= 1.0 ? 1.0 / (t * aspect) : 1.0 / t;
-    double sy = aspect >= 1.0 ? 1.0 / t : aspect / t;
-    double projection[16] = {sx, 0.0, 0.0, 0.0, 0.0, sy, 0.0, 0.0,
-                             0.0, 0.0, -(far_plane + near_plane) / (far_plane - near_plane), -1.0,
-                             0.0, 0.0, -2.0 * far_plane * near_plane / (far_plane - near_plane), 0.0};
-    double view_projection[16], inverse[16];
-    matrix_multiply(projection, view, view_projection);
-    if (!matrix_invert(view_projection, inverse))
+    halo_host_camera camera;
+    if (!halo_host_orbit_camera(azimuth, elevation, zoom, r->target.width, r->target.height, &camera))
         return;
     for (int i = 0; i < 16; ++i)
-        r->inverse_view_projection[i] = (float)inverse[i];
+        r->inverse_view_projection[i] = camera.inverse_view_projection[i];
     for (int c = 0; c < 3; ++c)
-        r->eye[c] = (float)eye[c];
-}
-
-static int max_dimension(const int dims[3])
-{
-    int m = dims[0] > dims[1] ? dims[0] : dims[1];
-    return m > dims[2] ? m : dims[2];
+        r->eye[c] = (float)camera.eye[c];
 }
 
 void halo_raycast_get_state(const halo_raycast *r, halo_raycast_state *s)
@@ -544,7 +270,7 @@ void halo_raycast_get_state(const halo_raycast *r, halo_raycast_state *s)
     s->height = r->target.height;
     for (int i = 0; i < 16; ++i)
         s->inverse_view_projection[i] = r->inverse_view_projection[i];
-    int voxels = r->volume ? max_dimension(r->dims) : 1;
+    int voxels = r->volume ? halo_host_max_dimension(r->dims) : 1;
     float unit_step = 1.0f / (float)voxels;
     for (int c = 0; c < 3; ++c) {
         s->eye[c] = r->eye[c];
@@ -626,10 +352,7 @@ halo_probe *halo_probe_create(const halo_host_desc *desc, halo_diagnostics *diag
     const halo_glfuncs *f = p->target.f;
     f->GenTextures(PROBE_TEXTURES, p->textures);
     for (int i = 0; i < PROBE_TEXTURES; ++i) {
-        f->BindTexture(GL_TEXTURE_2D, p->textures[i]);
-        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, p->target.width, p->target.height, 0, GL_RGBA, GL_FLOAT, NULL);
+        halo_host_image_texture(f, p->textures[i], GL_RGBA32F, p->target.width, p->target.height, GL_RGBA, GL_FLOAT);
     }
     f->BindTexture(GL_TEXTURE_2D, 0);
     return p;

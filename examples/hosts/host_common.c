@@ -1,0 +1,352 @@
+/* What the example hosts' C sides share (see host_common.h). */
+#include "host_common.h"
+
+#include "diag.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifndef M_PI
+#define M_PI 3.14159265358979323846
+#endif
+
+/* ---- Programs ------------------------------------------------------------------ */
+
+int halo_host_desc_check(const halo_host_desc *desc, halo_diagnostics *diag)
+{
+    if (!desc || !desc->gl || desc->width < 1 || desc->height < 1 || desc->width > 16384 || desc->height > 16384 ||
+        (desc->program && !desc->runtime)) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "host: gl, a size in 1..16384 and (with a program) a runtime are required");
+        return 0;
+    }
+    return 1;
+}
+
+static void report_log(halo_diagnostics *diag, halo_message_id id, const char *file, const char *log)
+{
+    /* Raw (unlinked) shaders: the driver's lines already refer to the file itself. */
+    const char *p = log;
+    while (p && *p) {
+        const char *end = strchr(p, '\n');
+        size_t n = end ? (size_t)(end - p) : strlen(p);
+        int source, line = 0, column = 0, used = 0;
+        const char *text = p;
+        if (sscanf(p, "%d:%d(%d):%n", &source, &line, &column, &used) == 3 && used > 0 && (size_t)used <= n) {
+            text = p + used;
+            while (*text == ' ')
+                ++text;
+            if (strncmp(text, "error:", 6) == 0)
+                text += 6;
+            while (*text == ' ')
+                ++text;
+        } else {
+            line = column = 0;
+        }
+        if (n > 0)
+            halo_diag_add(diag, HALO_SEVERITY_ERROR, id, file, line, column, NULL, "%.*s", (int)(n - (size_t)(text - p)),
+                          text);
+        p = end ? end + 1 : NULL;
+    }
+}
+
+static GLuint compile_raw(const halo_glfuncs *f, GLenum type, const char *source, const char *file, int log_style,
+                          halo_diagnostics *diag)
+{
+    GLuint shader = f->CreateShader(type);
+    f->ShaderSource(shader, 1, &source, NULL);
+    f->CompileShader(shader);
+    GLint ok = GL_FALSE, length = 0;
+    f->GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (ok)
+        return shader;
+    f->GetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    char *log = calloc((size_t)(length > 0 ? length : 1) + 1, 1);
+    if (log_style == HALO_HOST_LOG_LINES) {
+        if (log) {
+            f->GetShaderInfoLog(shader, length, NULL, log);
+            report_log(diag, HALO_MSG_GL_COMPILE, file, log);
+            free(log);
+        }
+        halo_diag_error(diag, GL_COMPILE, file, 0, 0, "the driver rejected '%s'", file);
+    } else {
+        if (log)
+            f->GetShaderInfoLog(shader, length, NULL, log);
+        halo_diag_error(diag, GL_COMPILE, file, 0, 0, "the driver rejected '%s': %s", file, log ? log : "");
+        free(log);
+    }
+    f->DeleteShader(shader);
+    return 0;
+}
+
+GLuint halo_host_link_raw(const halo_glfuncs *f, const char *vertex_source, const char *vertex_file,
+                          const char *fragment_source, const char *fragment_file, int log_style,
+                          halo_diagnostics *diag)
+{
+    GLuint vertex = compile_raw(f, GL_VERTEX_SHADER, vertex_source, vertex_file, log_style, diag);
+    GLuint fragment = compile_raw(f, GL_FRAGMENT_SHADER, fragment_source, fragment_file, log_style, diag);
+    if (!vertex || !fragment) {
+        if (vertex)
+            f->DeleteShader(vertex);
+        if (fragment)
+            f->DeleteShader(fragment);
+        return 0;
+    }
+    GLuint program = f->CreateProgram();
+    f->AttachShader(program, vertex);
+    f->AttachShader(program, fragment);
+    f->LinkProgram(program);
+    f->DeleteShader(vertex);
+    f->DeleteShader(fragment);
+    GLint ok = GL_FALSE, length = 0;
+    f->GetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (ok)
+        return program;
+    if (log_style == HALO_HOST_LOG_LINES) {
+        f->GetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+        char *log = calloc((size_t)(length > 0 ? length : 1) + 1, 1);
+        if (log) {
+            f->GetProgramInfoLog(program, length, NULL, log);
+            report_log(diag, HALO_MSG_GL_LINK, fragment_file, log);
+            free(log);
+        }
+    }
+    halo_diag_error(diag, GL_LINK, fragment_file, 0, 0, "the driver could not link '%s'", fragment_file);
+    f->DeleteProgram(program);
+    return 0;
+}
+
+GLuint halo_host_program_build(const halo_host_desc *desc, const char *default_vertex, const char *default_fragment,
+                               int log_style, halo_diagnostics *diag)
+{
+    const char *vertex_source = desc->vertex_source ? desc->vertex_source : halo_host_embedded(default_vertex);
+    const char *vertex_file = desc->vertex_file ? desc->vertex_file : default_vertex;
+    if (!vertex_source) {
+        halo_diag_error(diag, IO_READ, default_vertex, 0, 0, "no vertex shader: %s is not embedded", default_vertex);
+        return 0;
+    }
+    if (desc->program)
+        return halo_gl_program_build(desc->runtime, desc->program, vertex_source, vertex_file, diag);
+    const char *fragment_source = desc->fragment_source ? desc->fragment_source : halo_host_embedded(default_fragment);
+    const char *fragment_file = desc->fragment_file ? desc->fragment_file : default_fragment;
+    if (!fragment_source) {
+        halo_diag_error(diag, IO_READ, default_fragment, 0, 0, "no fragment shader: %s is not embedded",
+                        default_fragment);
+        return 0;
+    }
+    return halo_host_link_raw(desc->gl, vertex_source, vertex_file, fragment_source, fragment_file, log_style, diag);
+}
+
+/* ---- Targets and textures ------------------------------------------------------- */
+
+void halo_host_image_texture(const halo_glfuncs *f, GLuint texture, GLint internal_format, int width, int height,
+                             GLenum format, GLenum type)
+{
+    f->BindTexture(GL_TEXTURE_2D, texture);
+    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    f->TexImage2D(GL_TEXTURE_2D, 0, internal_format, width, height, 0, format, type, NULL);
+}
+
+int halo_host_framebuffer(const halo_glfuncs *f, GLuint *framebuffer, GLuint color_texture, int width, int height,
+                          halo_diagnostics *diag)
+{
+    f->GenFramebuffers(1, framebuffer);
+    f->BindFramebuffer(GL_FRAMEBUFFER, *framebuffer);
+    f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, color_texture, 0);
+    GLenum status = f->CheckFramebufferStatus(GL_FRAMEBUFFER);
+    f->BindFramebuffer(GL_FRAMEBUFFER, 0);
+    GLenum error = f->GetError();
+    if (status != GL_FRAMEBUFFER_COMPLETE || error != GL_NO_ERROR) {
+        halo_diag_error(diag, GL_LINK, "", 0, 0, "cannot create a %dx%d RGBA32F render target (status 0x%x, GL error 0x%x)",
+                        width, height, status, error);
+        return 0;
+    }
+    return 1;
+}
+
+halo_status halo_host_upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
+                                    halo_diagnostics *diag)
+{
+    if (!f || !data || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "volume of %dx%dx%d voxels: each side must be 2..2048", nx, ny, nz);
+        return HALO_ERROR_INPUT;
+    }
+    f->BindTexture(GL_TEXTURE_3D, texture);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    f->TexImage3D(GL_TEXTURE_3D, 0, GL_R32F, nx, ny, nz, 0, GL_RED, GL_FLOAT, data);
+    f->BindTexture(GL_TEXTURE_3D, 0);
+    GLenum error = f->GetError();
+    if (error != GL_NO_ERROR) {
+        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload a %dx%dx%d volume (GL error 0x%x)", nx, ny, nz, error);
+        return HALO_ERROR_IO;
+    }
+    return HALO_OK;
+}
+
+void halo_host_fill_transfer(float *table, const halo_render_settings *s)
+{
+    for (int i = 0; i < HALO_RAYCAST_TRANSFER_TEXELS; ++i) {
+        double x = (double)i / (HALO_RAYCAST_TRANSFER_TEXELS - 1);
+        double rgba[4] = {x, x, x, x}; /* no control points: a grey ramp */
+        int n = s ? s->transfer_count : 0;
+        if (n > HALO_MAX_TRANSFER_POINTS)
+            n = HALO_MAX_TRANSFER_POINTS;
+        if (n > 0) {
+            const double(*p)[5] = s->transfer;
+            int k = 0;
+            while (k < n && p[k][0] <= x)
+                ++k;
+            if (k == 0 || k == n) {
+                int j = k == 0 ? 0 : n - 1;
+                for (int c = 0; c < 4; ++c)
+                    rgba[c] = p[j][c + 1];
+            } else {
+                double span = p[k][0] - p[k - 1][0];
+                double w = span > 0.0 ? (x - p[k - 1][0]) / span : 1.0;
+                for (int c = 0; c < 4; ++c)
+                    rgba[c] = (1.0 - w) * p[k - 1][c + 1] + w * p[k][c + 1];
+            }
+        }
+        for (int c = 0; c < 4; ++c)
+            table[i * 4 + c] = (float)(rgba[c] < 0.0 ? 0.0 : rgba[c] > 1.0 ? 1.0 : rgba[c]);
+    }
+}
+
+halo_status halo_host_upload_transfer(const halo_glfuncs *f, GLuint texture, float *table,
+                                      const halo_render_settings *settings, float *step_voxels, float background[3],
+                                      halo_diagnostics *diag)
+{
+    halo_host_fill_transfer(table, settings);
+    f->BindTexture(GL_TEXTURE_2D, texture);
+    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, HALO_RAYCAST_TRANSFER_TEXELS, 1, 0, GL_RGBA, GL_FLOAT, table);
+    f->BindTexture(GL_TEXTURE_2D, 0);
+    double step = settings && settings->step > 0.0 && isfinite(settings->step) ? settings->step : 0.5;
+    *step_voxels = (float)step;
+    for (int c = 0; c < 3; ++c)
+        background[c] = settings ? (float)settings->background[c] : 0.0f;
+    GLenum error = f->GetError();
+    if (error != GL_NO_ERROR) {
+        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload the transfer function (GL error 0x%x)", error);
+        return HALO_ERROR_IO;
+    }
+    return HALO_OK;
+}
+
+int halo_host_max_dimension(const int dims[3])
+{
+    int m = dims[0] > dims[1] ? dims[0] : dims[1];
+    return m > dims[2] ? m : dims[2];
+}
+
+/* ---- Camera ---------------------------------------------------------------------- */
+
+void halo_host_matrix_multiply(const double a[16], const double b[16], double out[16])
+{
+    double r[16];
+    for (int col = 0; col < 4; ++col)
+        for (int row = 0; row < 4; ++row) {
+            double sum = 0.0;
+            for (int k = 0; k < 4; ++k)
+                sum += a[k * 4 + row] * b[col * 4 + k];
+            r[col * 4 + row] = sum;
+        }
+    memcpy(out, r, sizeof r);
+}
+
+int halo_host_matrix_invert(const double m[16], double out[16])
+{
+    double a[4][8];
+    for (int row = 0; row < 4; ++row)
+        for (int col = 0; col < 4; ++col) {
+            a[row][col] = m[col * 4 + row];
+            a[row][col + 4] = row == col ? 1.0 : 0.0;
+        }
+    for (int col = 0; col < 4; ++col) {
+        int pivot = col;
+        for (int row = col + 1; row < 4; ++row)
+            if (fabs(a[row][col]) > fabs(a[pivot][col]))
+                pivot = row;
+        if (fabs(a[pivot][col]) < 1e-300)
+            return 0;
+        if (pivot != col)
+            for (int k = 0; k < 8; ++k) {
+                double tmp = a[col][k];
+                a[col][k] = a[pivot][k];
+                a[pivot][k] = tmp;
+            }
+        double scale = 1.0 / a[col][col];
+        for (int k = 0; k < 8; ++k)
+            a[col][k] *= scale;
+        for (int row = 0; row < 4; ++row)
+            if (row != col) {
+                double factor = a[row][col];
+                for (int k = 0; k < 8; ++k)
+                    a[row][k] -= factor * a[col][k];
+            }
+    }
+    for (int row = 0; row < 4; ++row)
+        for (int col = 0; col < 4; ++col)
+            out[col * 4 + row] = a[row][col + 4];
+    return 1;
+}
+
+int halo_host_orbit_camera(double azimuth, double elevation, double zoom, int width, int height,
+                           halo_host_camera *camera)
+{
+    if (!isfinite(azimuth))
+        azimuth = 0.0;
+    if (!isfinite(elevation))
+        elevation = 0.0;
+    if (!isfinite(zoom) || zoom <= 0.0)
+        zoom = 1.0;
+    const double radius = sqrt(3.0) / 2.0, centre = 0.5;
+    double az = azimuth * M_PI / 180.0, el = elevation * M_PI / 180.0;
+    double half_fov = HALO_RAYCAST_FIELD_OF_VIEW * M_PI / 360.0;
+    double distance = radius / sin(half_fov) / zoom;
+    double *back = camera->back, *eye = camera->eye, *right = camera->right, *up = camera->up;
+    back[0] = cos(el) * sin(az);
+    back[1] = sin(el);
+    back[2] = cos(el) * cos(az);
+    for (int c = 0; c < 3; ++c)
+        eye[c] = centre + distance * back[c];
+    /* right stays horizontal at any elevation, so straight up and down are well defined */
+    right[0] = cos(az);
+    right[1] = 0.0;
+    right[2] = -sin(az);
+    up[0] = back[1] * right[2] - back[2] * right[1];
+    up[1] = back[2] * right[0] - back[0] * right[2];
+    up[2] = back[0] * right[1] - back[1] * right[0];
+    double view[16] = {right[0], up[0], back[0], 0.0, right[1], up[1], back[1], 0.0,
+                       right[2], up[2], back[2], 0.0, 0.0, 0.0, 0.0, 1.0};
+    for (int row = 0; row < 3; ++row)
+        view[12 + row] = -(view[row] * eye[0] + view[4 + row] * eye[1] + view[8 + row] * eye[2]);
+
+    double aspect = (double)width / height;
+    double near_plane = distance - radius > 0.01 ? distance - radius : 0.01;
+    double far_plane = distance + radius + 1.0;
+    double t = tan(half_fov);
+    /* The field of view spans the smaller image side. */
+    double sx = aspect >= 1.0 ? 1.0 / (t * aspect) : 1.0 / t;
+    double sy = aspect >= 1.0 ? 1.0 / t : aspect / t;
+    double projection[16] = {sx, 0.0, 0.0, 0.0, 0.0, sy, 0.0, 0.0,
+                             0.0, 0.0, -(far_plane + near_plane) / (far_plane - near_plane), -1.0,
+                             0.0, 0.0, -2.0 * far_plane * near_plane / (far_plane - near_plane), 0.0};
+    double view_projection[16], inverse[16];
+    halo_host_matrix_multiply(projection, view, view_projection);
+    if (!halo_host_matrix_invert(view_projection, inverse))
+        return 0;
+    for (int i = 0; i < 16; ++i)
+        camera->inverse_view_projection[i] = (float)inverse[i];
+    return 1;
+}

@@ -1,0 +1,79 @@
+/* What the example hosts' C sides share (raycast.c, slice.c, lines.c): raw program
+ * builds, render targets, volume and transfer textures, and the orbit camera. Not part
+ * of the installed libhalo. Every GL call goes through a halo_glfuncs table. */
+#ifndef HALO_EXAMPLE_HOST_COMMON_H
+#define HALO_EXAMPLE_HOST_COMMON_H
+
+#include "raycast.h"
+
+/* ---- Programs ------------------------------------------------------------------ */
+
+/* 0 with a USAGE diagnostic unless desc names gl, a size in 1..16384 and (with a
+ * program) a runtime. */
+int halo_host_desc_check(const halo_host_desc *desc, halo_diagnostics *diag);
+
+/* How halo_host_link_raw reports a driver log: one diagnostic per "0:LINE(COL):" line
+ * (HALO_HOST_LOG_LINES), or the compile log appended to one diagnostic. */
+enum { HALO_HOST_LOG_APPENDED, HALO_HOST_LOG_LINES };
+
+/* Compiles and links unlinked host texts; 0 with diagnostics on failure. */
+GLuint halo_host_link_raw(const halo_glfuncs *f, const char *vertex_source, const char *vertex_file,
+                          const char *fragment_source, const char *fragment_file, int log_style,
+                          halo_diagnostics *diag);
+
+/* The host's program: desc->program built with halo_gl_program_build, else the
+ * unlinked fragment text (default: the embedded default_fragment); the vertex text
+ * defaults to the embedded default_vertex. 0 with diagnostics on failure. */
+GLuint halo_host_program_build(const halo_host_desc *desc, const char *default_vertex, const char *default_fragment,
+                               int log_style, halo_diagnostics *diag);
+
+/* ---- Targets and textures ------------------------------------------------------- */
+
+/* Binds texture and gives it NEAREST filtering and width x height texels of
+ * internal_format (format/type: the NULL upload's). Leaves it bound. */
+void halo_host_image_texture(const halo_glfuncs *f, GLuint texture, GLint internal_format, int width, int height,
+                             GLenum format, GLenum type);
+
+/* Generates *framebuffer with color_texture as colour attachment 0 and checks it;
+ * 0 with a GL_LINK diagnostic for an incomplete target or a GL error. */
+int halo_host_framebuffer(const halo_glfuncs *f, GLuint *framebuffer, GLuint color_texture, int width, int height,
+                          halo_diagnostics *diag);
+
+/* Uploads nx*ny*nz floats to texture as an R32F GL_LINEAR/CLAMP_TO_EDGE 3D texture.
+ * HALO_ERROR_INPUT (USAGE) for no f or data or a side outside 2..2048. */
+halo_status halo_host_upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
+                                    halo_diagnostics *diag);
+
+/* The transfer table: control points (value, r, g, b, opacity) sorted by value,
+ * linearly interpolated, constant beyond the first and last. */
+void halo_host_fill_transfer(float *table, const halo_render_settings *s);
+
+/* Fills table from settings (see above), uploads it to texture and takes the step
+ * (voxels, default 0.5) and background colour of settings (NULL: defaults). */
+halo_status halo_host_upload_transfer(const halo_glfuncs *f, GLuint texture, float *table,
+                                      const halo_render_settings *settings, float *step_voxels, float background[3],
+                                      halo_diagnostics *diag);
+
+int halo_host_max_dimension(const int dims[3]);
+
+/* ---- Camera ---------------------------------------------------------------------- */
+
+/* 4x4 matrices, column-major (m[column * 4 + row]) as OpenGL takes them. */
+void halo_host_matrix_multiply(const double a[16], const double b[16], double out[16]);
+/* Gauss-Jordan with partial pivoting; returns 0 for a singular matrix. */
+int halo_host_matrix_invert(const double m[16], double out[16]);
+
+/* The ray caster's orbit camera around the unit volume's centre. */
+typedef struct halo_host_camera {
+    double eye[3];
+    double back[3]; /* from the centre to the eye */
+    double right[3], up[3];
+    float inverse_view_projection[16];
+} halo_host_camera;
+
+/* Degrees; non-finite angles count as 0 and zoom as 1. Returns 0 (camera partly
+ * filled) when the view-projection matrix is singular. */
+int halo_host_orbit_camera(double azimuth, double elevation, double zoom, int width, int height,
+                           halo_host_camera *camera);
+
+#endif
