@@ -8,6 +8,7 @@ EXTRA_DIST += \
 	docs/hard-cases.md \
 	docs/host-contract.md \
 	docs/image-passes.md \
+	docs/images/atlas-aal.png \
 	docs/images/feature-halos.png \
 	docs/images/feature-volumetric.png \
 	docs/images/halo-view.png \

@@ -85,6 +85,9 @@ static void usage(FILE *out)
           "  --raw-endian E     raw file: little (default) or big\n"
           "  --raw-offset N     raw file: header bytes to skip (default 0)\n"
           "  --raw-spacing XxYxZ  raw file: voxel size per axis (default 1x1x1)\n"
+          "  --labels FILE      segmentation (NIfTI, integer label ids) on the grid of --volume\n"
+          "                     (same dimensions and orientation), resampled nearest into the\n"
+          "                     same cube: the label features of outline_feature (label >= 0)\n"
           "  --window LOW:HIGH  values mapped to [0,1]; default: the scene's render.window,\n"
           "                     else for a file the 1st..99th percentile of its values\n"
           "  --volume-size N    side of the cube the volume is resampled to (8..512); default:\n"
@@ -177,7 +180,7 @@ typedef enum host_kind { HOST_AUTO = 0, HOST_SLICE, HOST_SLAB, HOST_RAYCAST } ho
 static const char *const host_names[] = {"auto", "slice", "slab", "raycast"};
 
 typedef struct options {
-    const char *scene_path, *output, *volume_path;
+    const char *scene_path, *output, *volume_path, *labels_path;
     int width, height, volume_size, have_volume_size;
     int have_azimuth, have_elevation, have_zoom, have_window, no_halos, quiet, have_max_error;
     double azimuth, elevation, zoom, window[2], max_error;
@@ -189,7 +192,7 @@ typedef struct options {
 static const char *const valued_options[] = {
     "--scene", "-o", "--output", "--size", "--azimuth", "--elevation", "--zoom", "--volume-size", "--volume",
     "--raw-dims", "--raw-type", "--raw-endian", "--raw-offset", "--raw-spacing", "--window", "--host", "--max-error",
-    NULL};
+    "--labels", NULL};
 
 /* Returns 0 to go on, -1 to exit 0 (help), or an exit status. */
 static int parse_options(int argc, char **argv, options *o)
@@ -231,6 +234,8 @@ static int parse_options(int argc, char **argv, options *o)
             o->output = value;
         else if (!strcmp(a, "--volume"))
             o->volume_path = value;
+        else if (!strcmp(a, "--labels"))
+            o->labels_path = value;
         else if (!strcmp(a, "--size"))
             ok = parse_size(value, &o->width, &o->height);
         else if (!strcmp(a, "--azimuth"))
@@ -318,6 +323,18 @@ static int parse_options(int argc, char **argv, options *o)
     }
     if (o->have_max_error && o->host != HOST_AUTO) {
         fprintf(stderr, "halo-render: error: --max-error chooses the host (slice or slab): not with --host\n");
+        return 2;
+    }
+    if (o->labels_path && !o->volume_path) {
+        fprintf(stderr, "halo-render: error: --labels needs --volume FILE (the labels are on that volume's grid)\n");
+        return 2;
+    }
+    if (o->labels_path && o->host == HOST_RAYCAST) {
+        fprintf(stderr, "halo-render: error: --labels: the raycast host has no label texture; use slice or slab\n");
+        return 2;
+    }
+    if (o->labels_path && o->have_max_error) {
+        fprintf(stderr, "halo-render: error: --max-error sweeps halo scenes without labels: not with --labels\n");
         return 2;
     }
     if (o->raw && !o->volume_path) {
@@ -546,10 +563,59 @@ static int scene_sets_window(const char *scene_path, const char *scene_text)
 
 /* Loads the volume (a file, or the built-in one), windows it to [0,1] and resamples
  * it into a cube. Returns an exit status; *volume_out is the cube. */
+/* Whether a feature of outline_feature reads the labels (label >= 0). */
+static int has_label_feature(const halo_program *program)
+{
+    const halo_uniform_info *u = halo_program_find_uniform(program, "outline_feature", "label");
+    for (int k = 0; u && u->value && k < u->count; ++k)
+        if (u->value[k] >= 0.0)
+            return 1;
+    return 0;
+}
+
+/* The segmentation of --labels, on the grid of the volume file vol: the same cube. */
+static int prepare_labels(const options *o, const halo_volume_file *vol, int size, float **labels_out)
+{
+    halo_volume_file file;
+    char err[512];
+    halo_volume_status status = halo_volume_read_nifti(o->labels_path, &file, err, sizeof err);
+    if (status != HALO_VOLUME_OK) {
+        fprintf(stderr, "halo-render: error: --labels: %s\n", err);
+        return (int)status;
+    }
+    int same = 1;
+    for (int a = 0; a < 3; ++a)
+        same &= file.dims[a] == vol->dims[a] && file.display_axis[a] == vol->display_axis[a] &&
+                file.display_flip[a] == vol->display_flip[a] &&
+                fabs(file.spacing[a] - vol->spacing[a]) <= 1e-4 * vol->spacing[a];
+    if (!same) {
+        fprintf(stderr,
+                "halo-render: error: --labels: %s (%s) is not on the grid of %s (%s): same dimensions, spacing and "
+                "orientation needed (resample it first)\n",
+                o->labels_path, file.description, o->volume_path, vol->description);
+        halo_volume_file_free(&file);
+        return 1;
+    }
+    if (file.nonfinite) {
+        fprintf(stderr, "halo-render: error: --labels: %s: %zu voxels are NaN or infinite: not label ids\n",
+                o->labels_path, file.nonfinite);
+        halo_volume_file_free(&file);
+        return 1;
+    }
+    *labels_out = halo_volume_labels_to_display(&file, size);
+    halo_volume_file_free(&file);
+    if (!*labels_out) {
+        fprintf(stderr, "halo-render: error: %s: out of memory for a %d^3 label volume\n", o->labels_path, size);
+        return 2;
+    }
+    return 0;
+}
+
 static int prepare_volume(const options *o, const halo_render_settings *settings, int scene_window,
-                          float **volume_out, int *size_out)
+                          float **volume_out, float **labels_out, int *size_out)
 {
     *volume_out = NULL;
+    *labels_out = NULL;
     if (!o->volume_path) {
         float *v = halo_volume_create(o->volume_size);
         if (!v) {
@@ -609,6 +675,14 @@ static int prepare_volume(const options *o, const halo_render_settings *settings
     progress_begin(&step, o->quiet, "resampling the volume");
     float *cube = halo_volume_to_display(&file, window, size);
     progress_end(&step, o->quiet, "resampled the volume");
+    if (cube && o->labels_path) {
+        int labelled = prepare_labels(o, &file, size, labels_out);
+        if (labelled) {
+            halo_volume_file_free(&file);
+            free(cube);
+            return labelled;
+        }
+    }
     halo_volume_file_free(&file);
     if (!cube) {
         fprintf(stderr, "halo-render: error: %s: out of memory for a %d^3 volume\n", o->volume_path, size);
@@ -906,7 +980,7 @@ int main(int argc, char **argv)
     halo_gl *runtime = NULL;
     halo_feature_buffer *feature_buffer = NULL;
     render_host host = {0};
-    float *volume = NULL, *image = NULL;
+    float *volume = NULL, *labels = NULL, *image = NULL;
     char *host_source = NULL;
     int *is_halo = NULL;
     const char *scene_text = NULL;
@@ -971,7 +1045,7 @@ int main(int argc, char **argv)
 
     const halo_render_settings *settings = halo_scene_render(scene);
     int size = 0;
-    status = prepare_volume(&o, settings, scene_sets_window(o.scene_path, scene_text), &volume, &size);
+    status = prepare_volume(&o, settings, scene_sets_window(o.scene_path, scene_text), &volume, &labels, &size);
     if (status)
         goto done;
     status = 1;
@@ -1047,6 +1121,17 @@ int main(int argc, char **argv)
         }
         halo_slice_set_camera(host.slice, azimuth, elevation, zoom);
         halo_slice_set_interval(host.slice, interval);
+        if (!labels && has_label_feature(program))
+            fprintf(stderr, "halo-render: warning: the scene's label features (outline_feature label >= 0) need "
+                            "--labels FILE: without it they are empty\n");
+        if (labels) {
+            if (!has_label_feature(program) && !o.quiet)
+                fprintf(stderr, "halo-render: note: --labels: the scene has no label feature (outline_feature label)\n");
+            if (halo_slice_set_labels(host.slice, labels, size, size, size, diag) != HALO_OK) {
+                status = 2;
+                goto done;
+            }
+        }
     }
     /* the feature halo buffer, for this view (rebuilt after every camera change) */
     if (feature &&
@@ -1116,6 +1201,7 @@ done:
     free(host_source);
     free(is_halo);
     free(volume);
+    free(labels);
     free(image);
     halo_diagnostics_destroy(diag);
     halo_shutdown();

@@ -96,5 +96,5 @@ HALO_SCENES += examples/scenes/outline-depth.json examples/scenes/outline-mask.j
 	examples/scenes/outline-silhouette.json examples/scenes/outline-normals.json \
 	examples/scenes/outline-occluded-hidden.json examples/scenes/outline-occluded-dashed.json \
 	examples/scenes/outline-occluded-front.json examples/scenes/outline-colors-user.json \
-	examples/scenes/outline-colors-fraction.json examples/scenes/outline-colors-contrast.json \
+	examples/scenes/outline-colors-fraction.json examples/scenes/outline-colors-contrast.json examples/scenes/atlas-aal.json \
 	examples/scenes/depth-subtle.json examples/scenes/depth-line-fading.json

@@ -583,23 +583,71 @@ int halo_volume_display_size(const halo_volume_file *v, int max_size)
     return (int)size;
 }
 
-float *halo_volume_to_display(const halo_volume_file *v, const double window[2], int size)
-{
+/* The file's axes in display order: sizes, spacings, physical extents, strides through
+ * the data (negative where the axis runs backwards) and the offset of display voxel 0. */
+typedef struct display_axes {
     int n[3];
-    double spacing[3], extent[3], longest = 0.0;
-    ptrdiff_t stride[3], base = 0;
+    double spacing[3], extent[3], longest;
+    ptrdiff_t stride[3], base;
+} display_axes;
+
+static void display_axes_of(const halo_volume_file *v, display_axes *g)
+{
     const ptrdiff_t file_stride[3] = {1, v->dims[0], (ptrdiff_t)v->dims[0] * v->dims[1]};
+    g->longest = 0.0;
+    g->base = 0;
     for (int d = 0; d < 3; ++d) {
         int a = v->display_axis[d];
-        n[d] = v->dims[a];
-        spacing[d] = v->spacing[a];
-        extent[d] = n[d] * spacing[d];
-        if (extent[d] > longest)
-            longest = extent[d];
-        stride[d] = v->display_flip[d] ? -file_stride[a] : file_stride[a];
+        g->n[d] = v->dims[a];
+        g->spacing[d] = v->spacing[a];
+        g->extent[d] = g->n[d] * g->spacing[d];
+        if (g->extent[d] > g->longest)
+            g->longest = g->extent[d];
+        g->stride[d] = v->display_flip[d] ? -file_stride[a] : file_stride[a];
         if (v->display_flip[d])
-            base += (ptrdiff_t)(n[d] - 1) * file_stride[a];
+            g->base += (ptrdiff_t)(g->n[d] - 1) * file_stride[a];
     }
+}
+
+float *halo_volume_labels_to_display(const halo_volume_file *v, int size)
+{
+    display_axes g;
+    display_axes_of(v, &g);
+    const double out_size = g.longest / size;
+    const size_t s = (size_t)size;
+    /* the source voxel nearest each output voxel's centre along each axis, -1 outside */
+    int *nearest = malloc(3 * s * sizeof *nearest);
+    float *out = malloc(s * s * s * sizeof *out);
+    if (!nearest || !out) {
+        free(nearest);
+        free(out);
+        return NULL;
+    }
+    for (int d = 0; d < 3; ++d)
+        for (int u = 0; u < size; ++u) {
+            double x = floor(((u + 0.5) * out_size - 0.5 * (g.longest - g.extent[d])) / g.spacing[d]);
+            nearest[(size_t)d * s + (size_t)u] = x >= 0.0 && x < g.n[d] ? (int)x : -1;
+        }
+    for (size_t z = 0; z < s; ++z)
+        for (size_t y = 0; y < s; ++y)
+            for (size_t x = 0; x < s; ++x) {
+                int i = nearest[x], j = nearest[s + y], k = nearest[2 * s + z];
+                out[(z * s + y) * s + x] =
+                    i < 0 || j < 0 || k < 0
+                        ? 0.0f
+                        : v->data[g.base + i * g.stride[0] + j * g.stride[1] + k * g.stride[2]];
+            }
+    free(nearest);
+    return out;
+}
+
+float *halo_volume_to_display(const halo_volume_file *v, const double window[2], int size)
+{
+    display_axes g;
+    display_axes_of(v, &g);
+    const int *n = g.n;
+    const double *spacing = g.spacing, *extent = g.extent, longest = g.longest;
+    const ptrdiff_t *stride = g.stride, base = g.base;
     const double out_size = longest / size;
     const double lo = window[0], scale = 1.0 / (window[1] - window[0]);
     const size_t s = (size_t)size;

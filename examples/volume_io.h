@@ -81,6 +81,12 @@ void halo_volume_percentile_window(const halo_volume_file *v, double low_percent
  * when memory runs out; free() the result. */
 float *halo_volume_to_display(const halo_volume_file *v, const double window[2], int size);
 
+/* A segmentation (label ids) resampled into the same cube as halo_volume_to_display
+ * puts the volume it was drawn on: each output voxel takes the label of the source
+ * voxel nearest its centre (never a blend of two labels), 0 outside the source.
+ * Returns NULL when memory runs out; free() the result. */
+float *halo_volume_labels_to_display(const halo_volume_file *v, int size);
+
 /* The cube side that keeps the finest spacing of the file's longest physical side,
  * limited to max_size. */
 int halo_volume_display_size(const halo_volume_file *v, int max_size);

@@ -187,7 +187,7 @@ AM_TESTS_ENVIRONMENT += HALO_FEATURE='$(abs_top_builddir)/examples/halo-feature'
 # ---- Outlines and depth enhancement (Svakhine et al. 2009, docs/outlines.md): every
 # outline/depth scene through halo-outline (GPU post passes against their emulation),
 # and the occlusion styles give different images ----
-HALO_OUTLINE_TESTS = tests/outline/render.sh tests/outline/occlusion.sh
+HALO_OUTLINE_TESTS = tests/outline/render.sh tests/outline/occlusion.sh tests/outline/atlas.sh
 TESTS += $(HALO_OUTLINE_TESTS)
 EXTRA_DIST += $(HALO_OUTLINE_TESTS) tests/outline/common.sh
 AM_TESTS_ENVIRONMENT += HALO_OUTLINE='$(abs_top_builddir)/examples/halo-outline'; export HALO_OUTLINE;

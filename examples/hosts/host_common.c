@@ -166,16 +166,31 @@ int halo_host_framebuffer(const halo_glfuncs *f, GLuint *framebuffer, GLuint col
     return 1;
 }
 
+static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
+                                 GLint filter, const char *what, halo_diagnostics *diag);
+
 halo_status halo_host_upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
                                     halo_diagnostics *diag)
 {
+    return upload_volume(f, texture, data, nx, ny, nz, GL_LINEAR, "volume", diag);
+}
+
+halo_status halo_host_upload_labels(const halo_glfuncs *f, GLuint texture, const float *labels, int nx, int ny, int nz,
+                                    halo_diagnostics *diag)
+{
+    return upload_volume(f, texture, labels, nx, ny, nz, GL_NEAREST, "label volume", diag);
+}
+
+static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
+                                 GLint filter, const char *what, halo_diagnostics *diag)
+{
     if (!f || !data || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "volume of %dx%dx%d voxels: each side must be 2..2048", nx, ny, nz);
+        halo_diag_error(diag, USAGE, "", 0, 0, "%s of %dx%dx%d voxels: each side must be 2..2048", what, nx, ny, nz);
         return HALO_ERROR_INPUT;
     }
     f->BindTexture(GL_TEXTURE_3D, texture);
-    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, filter);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, filter);
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
@@ -184,7 +199,7 @@ halo_status halo_host_upload_volume(const halo_glfuncs *f, GLuint texture, const
     f->BindTexture(GL_TEXTURE_3D, 0);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
-        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload a %dx%dx%d volume (GL error 0x%x)", nx, ny, nz, error);
+        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload a %dx%dx%d %s (GL error 0x%x)", nx, ny, nz, what, error);
         return HALO_ERROR_IO;
     }
     return HALO_OK;

@@ -43,6 +43,10 @@ int halo_host_framebuffer(const halo_glfuncs *f, GLuint *framebuffer, GLuint col
  * HALO_ERROR_INPUT (USAGE) for no f or data or a side outside 2..2048. */
 halo_status halo_host_upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
                                     halo_diagnostics *diag);
+/* The same for a segmentation (integer label ids as floats), read with texelFetch:
+ * GL_NEAREST, so that no two labels are ever blended. */
+halo_status halo_host_upload_labels(const halo_glfuncs *f, GLuint texture, const float *labels, int nx, int ny, int nz,
+                                    halo_diagnostics *diag);
 
 /* The transfer table: control points (value, r, g, b, opacity) sorted by value,
  * linearly interpolated, constant beyond the first and last. */

@@ -15,7 +15,7 @@ struct halo_slice {
     halo_gl_frame *frame;
     int slab;
     GLuint program, vertex_array, framebuffer, textures[2]; /* textures[1]: the slab's second ray state */
-    GLuint volume_texture, transfer_texture;
+    GLuint volume_texture, transfer_texture, labels_texture;
     int width, height;
     const float *volume;
     int dims[3];
@@ -67,6 +67,10 @@ halo_slice *halo_slice_create_mode(const halo_host_desc *desc, int slab, halo_di
     f->GenTextures(1, &s->transfer_texture);
     halo_slice_set_render(s, NULL, diag);
     halo_slice_set_camera(s, 30.0, 20.0, 1.0);
+    for (size_t i = 0; p && i < halo_program_host_uniform_count(p); ++i)
+        if (!strcmp(halo_program_host_uniform(p, i)->name, "halo_host_labels") &&
+            halo_slice_set_labels(s, NULL, 0, 0, 0, diag) != HALO_OK)
+            goto fail;
     return s;
 fail:
     halo_slice_destroy(s);
@@ -92,6 +96,8 @@ void halo_slice_destroy(halo_slice *s)
         f->DeleteTextures(1, &s->volume_texture);
     if (s->transfer_texture)
         f->DeleteTextures(1, &s->transfer_texture);
+    if (s->labels_texture)
+        f->DeleteTextures(1, &s->labels_texture);
     if (s->vertex_array)
         f->DeleteVertexArrays(1, &s->vertex_array);
     if (s->program)
@@ -143,6 +149,29 @@ int halo_slice_interval(const halo_slice *s)
     if (u && u->value && u->count > 0 && u->value[0] >= 1.0)
         return (int)u->value[0];
     return 4;
+}
+
+/* Without a segmentation the labels sampler still needs a 3D texture of its own (unit 0
+ * holds the volume, whose values could pass for label ids 0 and 1): 2^3 voxels of -1,
+ * which no label id (>= 0) matches. */
+static const float no_labels[8] = {-1, -1, -1, -1, -1, -1, -1, -1};
+
+halo_status halo_slice_set_labels(halo_slice *s, const float *labels, int nx, int ny, int nz, halo_diagnostics *diag)
+{
+    if (!s)
+        return HALO_ERROR_INPUT;
+    if (!labels) {
+        labels = no_labels;
+        nx = ny = nz = 2;
+    }
+    if (!s->labels_texture)
+        s->f->GenTextures(1, &s->labels_texture);
+    halo_status status = halo_host_upload_labels(s->f, s->labels_texture, labels, nx, ny, nz, diag);
+    if (status != HALO_OK) {
+        s->f->DeleteTextures(1, &s->labels_texture);
+        s->labels_texture = 0;
+    }
+    return status;
 }
 
 halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int ny, int nz, halo_diagnostics *diag)
@@ -263,6 +292,12 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
         /* ignored (HALO_ERROR_INPUT) when no stage declares them */
         halo_gl_set_host_uniform(s->runtime, program, "screen_right", s->screen_right, 3);
         halo_gl_set_host_uniform(s->runtime, program, "screen_up", s->screen_up, 3);
+        if (s->labels_texture) {
+            f->ActiveTexture(GL_TEXTURE0 + HALO_SLICE_LABEL_UNIT);
+            f->BindTexture(GL_TEXTURE_3D, s->labels_texture);
+            f->ActiveTexture(GL_TEXTURE0);
+            halo_gl_set_host_uniform(s->runtime, program, "labels", &(float){HALO_SLICE_LABEL_UNIT}, 1);
+        }
     }
     if (s->slab) {
         f->Disable(GL_BLEND);
@@ -329,6 +364,10 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
     f->UseProgram(0);
     f->ActiveTexture(GL_TEXTURE1);
     f->BindTexture(GL_TEXTURE_2D, 0);
+    if (s->labels_texture) {
+        f->ActiveTexture(GL_TEXTURE0 + HALO_SLICE_LABEL_UNIT);
+        f->BindTexture(GL_TEXTURE_3D, 0);
+    }
     f->ActiveTexture(GL_TEXTURE0);
     f->BindTexture(GL_TEXTURE_3D, 0);
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -46,6 +46,12 @@ void halo_slice_destroy(halo_slice *s);
 halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int ny, int nz, halo_diagnostics *diag);
 halo_status halo_slice_set_render(halo_slice *s, const halo_render_settings *settings, halo_diagnostics *diag);
 void halo_slice_set_camera(halo_slice *s, double azimuth, double elevation, double zoom);
+/* A segmentation on the volume's grid (label ids as floats, nx*ny*nz, x fastest), bound
+ * as the host uniform "labels" (outline_feature's label features) on texture unit
+ * HALO_SLICE_LABEL_UNIT while rendering. NULL data (and the default, for a program
+ * that declares "labels") is a segmentation where no voxel has a label id (>= 0). */
+#define HALO_SLICE_LABEL_UNIT 15
+halo_status halo_slice_set_labels(halo_slice *s, const float *labels, int nx, int ny, int nz, halo_diagnostics *diag);
 /* M, the slices between two halo generations (slab caster: samples per draw). 0 (the
  * default) takes the program's halo_generate.interval, or 4 (the paper's) when the
  * program has none. */
