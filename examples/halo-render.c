@@ -72,11 +72,14 @@ static void usage(FILE *out)
           "                     halo stages, else raycast\n"
           "  --no-halos         switch the halo stages (image passes, images, extra outputs,\n"
           "                     feature_halo) off: the same scene and host without halos\n"
+          "  --halo-scale S     halo images at 1/S of the image per side: 1 (default), 2 or 4\n"
+          "                     (faster image passes; docs/performance.md)\n"
           "  --max-error E      measure a sweep of configurations (slice or slab host, M, N,\n"
-          "                     halo image precision, step) of this scene, volume and image\n"
-          "                     against the exact reference and render with the cheapest whose\n"
-          "                     largest colour error is <= E (E >= 0). The sweep renders about\n"
-          "                     30 configurations 4 times each: about 30 s at 64x64 with a\n"
+          "                     halo image precision and resolution, step) of this scene,\n"
+          "                     volume and image against the exact reference and render with\n"
+          "                     the cheapest whose largest colour error is <= E (E >= 0). The\n"
+          "                     sweep renders about 35 configurations 4 times each: about\n"
+          "                     40 s at 64x64 with a\n"
           "                     48^3 volume on llvmpipe, minutes at larger sizes\n"
           "Volume (default: the built-in procedural volume):\n"
           "  --volume FILE      NIfTI volume (.nii, .nii.gz, .hdr/.img), or raw with --raw-dims\n"
@@ -186,13 +189,14 @@ typedef struct options {
     double azimuth, elevation, zoom, window[2], max_error;
     host_kind host;
     int raw, have_raw_type, have_raw_extra;
+    int halo_scale, have_halo_scale;
     halo_raw_desc raw_desc;
 } options;
 
 static const char *const valued_options[] = {
     "--scene", "-o", "--output", "--size", "--azimuth", "--elevation", "--zoom", "--volume-size", "--volume",
     "--raw-dims", "--raw-type", "--raw-endian", "--raw-offset", "--raw-spacing", "--window", "--host", "--max-error",
-    "--labels", NULL};
+    "--labels", "--halo-scale", NULL};
 
 /* Returns 0 to go on, -1 to exit 0 (help), or an exit status. */
 static int parse_options(int argc, char **argv, options *o)
@@ -236,6 +240,13 @@ static int parse_options(int argc, char **argv, options *o)
             o->volume_path = value;
         else if (!strcmp(a, "--labels"))
             o->labels_path = value;
+        else if (!strcmp(a, "--halo-scale")) {
+            ok = o->have_halo_scale = parse_int(a, value, 1, 4, &o->halo_scale);
+            if (ok && o->halo_scale == 3) {
+                fprintf(stderr, "halo-render: error: --halo-scale: 3 is not 1, 2 or 4\n");
+                ok = 0;
+            }
+        }
         else if (!strcmp(a, "--size"))
             ok = parse_size(value, &o->width, &o->height);
         else if (!strcmp(a, "--azimuth"))
@@ -331,6 +342,10 @@ static int parse_options(int argc, char **argv, options *o)
     }
     if (o->labels_path && o->host == HOST_RAYCAST) {
         fprintf(stderr, "halo-render: error: --labels: the raycast host has no label texture; use slice or slab\n");
+        return 2;
+    }
+    if (o->have_halo_scale && o->have_max_error) {
+        fprintf(stderr, "halo-render: error: --max-error chooses the halo image resolution: not with --halo-scale\n");
         return 2;
     }
     if (o->labels_path && o->have_max_error) {
@@ -790,11 +805,12 @@ static char *budget_scene_text(const options *o, const char *scene_text)
 }
 
 /* Runs the error budget (validate/bench_budget.c) on the scene, volume and image size
- * and applies its choice to the scene (N, step) and to *kind, *precision, *interval.
+ * and applies its choice to the scene (N, step) and to *kind, *precision, *scale,
+ * *interval.
  * Returns an exit status. */
 static int apply_budget(const options *o, const char *scene_text, halo_library *lib, halo_gl *runtime,
                         const float *volume, int size, int scene_passes, halo_scene *scene, host_kind *kind,
-                        int *precision, int *interval, halo_diagnostics *diag)
+                        int *precision, int *scale, int *interval, halo_diagnostics *diag)
 {
     char *text = budget_scene_text(o, scene_text);
     if (!text) {
@@ -838,6 +854,7 @@ static int apply_budget(const options *o, const char *scene_text, halo_library *
         halo_scene_render_mutable(scene)->step = choice.step;
     *kind = choice.slab ? HOST_SLAB : HOST_SLICE;
     *precision = choice.precision;
+    *scale = choice.scale;
     *interval = choice.interval;
     return 0;
 }
@@ -1038,7 +1055,7 @@ int main(int argc, char **argv)
     if (!host_source)
         goto done;
     program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host_source,
-                                          .host_file = host_fragment(kind)},
+                                          .host_file = host_fragment(kind), .image_scale = o.halo_scale},
                         diag);
     if (!program || halo_program_validate(program, diag) != HALO_OK)
         goto done;
@@ -1067,9 +1084,9 @@ int main(int argc, char **argv)
         /* the scene's N heads the sweep */
         const halo_uniform_info *u = halo_program_find_uniform(program, "halo_generate", "passes");
         int scene_passes = u && u->value ? (int)u->value[0] : 0;
-        int precision = 32;
+        int precision = 32, scale = 1;
         status = apply_budget(&o, scene_text, lib, runtime, volume, size, scene_passes, scene, &kind, &precision,
-                              &interval, diag);
+                              &scale, &interval, diag);
         if (status)
             goto done;
         status = 1;
@@ -1081,7 +1098,8 @@ int main(int argc, char **argv)
         if (!host_source)
             goto done;
         program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host_source,
-                                              .host_file = host_fragment(kind), .image_precision = precision},
+                                              .host_file = host_fragment(kind), .image_precision = precision,
+                                              .image_scale = scale},
                             diag);
         if (!program || halo_program_validate(program, diag) != HALO_OK)
             goto done;

@@ -246,6 +246,8 @@ typedef struct halo_link_desc {
     halo_shader_kind kind;       /* default fragment */
     int all_live;                /* every parameter becomes a uniform (the "uniform switches" variant) */
     int image_precision;         /* images of image passes: 32 (float, default), 16 (half), 8 (unorm) */
+    int image_scale;             /* pass images at 1/scale of the frame per side: 1 (0: default), 2 or 4
+                                  * (outputs, host_color and at=post images stay full size; docs/image-passes.md) */
 } halo_link_desc;
 
 typedef enum halo_uniform_kind { HALO_UNIFORM_PARAM = 0, HALO_UNIFORM_COUNT_OF_ARRAY } halo_uniform_kind;
@@ -284,6 +286,7 @@ typedef struct halo_image_info {
     halo_image_reset reset; /* cleared at frame start; RESET_GENERATION: also after each generation */
     double clear;           /* the value it is cleared to (0; 1 for a min output) */
     int host;               /* 1: host_color, the host's texture (halo_gl_frame_post); never cleared */
+    int scale;              /* 1: the frame's size; 2, 4: ceil(width / scale) x ceil(height / scale) */
 } halo_image_info;
 
 /* A sampler a per-sample stage reads: bind the image's current texture to it. */
@@ -347,6 +350,8 @@ HALO_API const halo_host_uniform_info *halo_program_host_uniform(const halo_prog
 /* 1..4: halos (channels) in this program; 1 when it has none. */
 HALO_API int halo_program_channel_count(const halo_program *p);
 HALO_API int halo_program_image_precision(const halo_program *p);
+/* halo_link_desc.image_scale as linked: 1, 2 or 4. */
+HALO_API int halo_program_image_scale(const halo_program *p);
 /* Validates the fragment program of each image pass (part of halo_program_validate). */
 /* Reflection as a JSON document (caller frees with free()). */
 HALO_API char *halo_program_reflect_json(const halo_program *p);
@@ -401,7 +406,8 @@ typedef struct halo_emu_frame halo_emu_frame;
 
 HALO_API halo_emu_frame *halo_emu_frame_create(const halo_program *p, int width, int height, halo_diagnostics *diag);
 HALO_API void halo_emu_frame_destroy(halo_emu_frame *f);
-/* The image's current data: width * height * channels doubles, row 0 at the bottom (GL order). */
+/* The image's current data: width * height * channels doubles, row 0 at the bottom (GL order);
+ * an image of scale s (halo_image_info.scale): ceil(width / s) * ceil(height / s) * channels. */
 HALO_API double *halo_emu_frame_image(halo_emu_frame *f, const char *name);
 HALO_API halo_status halo_emu_frame_set_host_uniform(halo_emu_frame *f, const char *name, const double *values,
                                                      int count);
@@ -484,7 +490,8 @@ HALO_API void halo_gl_frame_generate(halo_gl_frame *f);
 HALO_API void halo_gl_frame_post(halo_gl_frame *f, unsigned host_color_texture);
 /* The current GL texture of an image (0 if none), e.g. to blit "final". */
 HALO_API unsigned halo_gl_frame_texture(const halo_gl_frame *f, const char *image);
-/* Reads an image back: width * height * channels floats, row 0 at the bottom. */
+/* Reads an image back: width * height * channels floats, row 0 at the bottom (an image of
+ * scale s, halo_image_info.scale: ceil(width / s) * ceil(height / s) * channels). */
 HALO_API halo_status halo_gl_frame_read(halo_gl_frame *f, const char *image, float *out);
 /* Passes drawn by halo_gl_frame_generate since creation (for benchmarks). */
 HALO_API long halo_gl_frame_pass_draws(const halo_gl_frame *f);

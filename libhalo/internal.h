@@ -179,6 +179,7 @@ struct halo_program {
     size_t host_uniform_count;
     int channel_count;
     int image_precision;
+    int image_scale;
     char **strings; /* owned strings the reflection points to */
     size_t string_count;
     const halo_library *library;

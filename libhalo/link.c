@@ -563,6 +563,8 @@ static const char *output_type(const halo_program *p, const halo_output_info *ou
     return types[out->components < 1 ? 1 : out->components > 4 ? 4 : out->components];
 }
 
+static halo_image_info *find_image(halo_program *p, const char *name);
+
 static void emit_declarations(emitter *e, const halo_program *p, const char *host) {
     GEN(e, "#define HALO_LINKED 1\n#define HALO_CONTRACT_VERSION %d", HALO_CONTRACT_VERSION);
     if (uses_channels(p)) emit_channel_definitions(e, p->channel_count);
@@ -608,12 +610,31 @@ static void emit_declarations(emitter *e, const halo_program *p, const char *hos
     for (size_t i = 0; i < p->sampler_count; i++) {
         const halo_sampler_info *sm = &p->samplers[i];
         GEN(e, "uniform highp sampler2D %s;", sm->name);
-        GEN(e, "halo_channels halo_read_%s(vec2 fragcoord) {\n"
-               "    ivec2 pixel = ivec2(fragcoord);\n"
-               "    if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, textureSize(%s, 0))))\n"
-               "        return halo_channels(0.0);\n"
-               "    return halo_channels_from(texelFetch(%s, pixel, 0));\n}",
-            sm->image, sm->name, sm->name);
+        const halo_image_info *im = find_image((halo_program *)p, sm->image);
+        int scale = im ? im->scale : 1;
+        if (scale > 1)
+            /* a 1/scale image: bilinear between its four nearest pixel centres (clamped to
+             * the image), written out so that the emulation can match it */
+            GEN(e, "halo_channels halo_read_%s(vec2 fragcoord) {\n"
+                   "    ivec2 size = textureSize(%s, 0);\n"
+                   "    ivec2 pixel = ivec2(fragcoord);\n"
+                   "    if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, size * %d)))\n"
+                   "        return halo_channels(0.0);\n"
+                   "    vec2 at = fragcoord * (1.0 / %d.0) - 0.5;\n"
+                   "    vec2 corner = floor(at);\n"
+                   "    vec2 t = at - corner;\n"
+                   "    ivec2 p0 = clamp(ivec2(corner), ivec2(0), size - 1), p1 = clamp(ivec2(corner) + 1, ivec2(0), size - 1);\n"
+                   "    vec4 bottom = mix(texelFetch(%s, p0, 0), texelFetch(%s, ivec2(p1.x, p0.y), 0), t.x);\n"
+                   "    vec4 top = mix(texelFetch(%s, ivec2(p0.x, p1.y), 0), texelFetch(%s, p1, 0), t.x);\n"
+                   "    return halo_channels_from(mix(bottom, top, t.y));\n}",
+                sm->image, sm->name, scale, scale, sm->name, sm->name, sm->name, sm->name);
+        else
+            GEN(e, "halo_channels halo_read_%s(vec2 fragcoord) {\n"
+                   "    ivec2 pixel = ivec2(fragcoord);\n"
+                   "    if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, textureSize(%s, 0))))\n"
+                   "        return halo_channels(0.0);\n"
+                   "    return halo_channels_from(texelFetch(%s, pixel, 0));\n}",
+                sm->image, sm->name, sm->name);
     }
     for (size_t i = 0; i < p->host_uniform_count; i++)
         GEN(e, "uniform %s%s %s;", strncmp(p->host_uniforms[i].type, "sampler", 7) ? "" : "highp ",
@@ -763,7 +784,7 @@ static int add_image(halo_program *p, const char *name, halo_image_reset reset, 
     p->images = list;
     int host = !strcmp(name, "host_color");
     list[p->image_count++] = (halo_image_info){own(p, "%s", name), host ? 4 : components ? components : p->channel_count,
-                                               reset, clear, host};
+                                               reset, clear, host, 1};
     return 0;
 }
 
@@ -906,6 +927,29 @@ static int collect_resources(halo_program *p, const char *host, halo_diagnostics
     return errors;
 }
 
+/* Pass images at 1/image_scale: every image but the outputs (fragment outputs of the
+ * host's framebuffer), host_color and the images at=post passes write (end-of-frame
+ * work on the frame's own pixels). */
+static void set_image_scales(halo_program *p) {
+    for (size_t i = 0; i < p->image_count; i++) {
+        halo_image_info *im = &p->images[i];
+        int full = im->host;
+        for (size_t o = 0; o < p->output_count && !full; o++) full = !strcmp(p->outputs[o].image, im->name);
+        for (size_t s = 0; s < p->stage_count && !full; s++) {
+            const halo_module *m = p->stages[s].module;
+            for (size_t k = 0; k < m->pass_count && !full; k++) {
+                const halo_pass_decl *pd = &m->passes[k];
+                if (!pd->post) continue;
+                size_t n = strlen(pd->output);
+                full = n > 1 && pd->output[n - 1] == '*' ? !strncmp(im->name, pd->output, n - 1) &&
+                                                                im->name[n - 1] == '_'
+                                                          : !strcmp(im->name, pd->output);
+            }
+        }
+        im->scale = full ? 1 : p->image_scale;
+    }
+}
+
 static const char pass_vertex_body[] =
     "// One full-screen triangle from gl_VertexID; no vertex attributes.\n"
     "void main() {\n"
@@ -943,7 +987,6 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     }
     const char *output = resolve_name(p, pd->output, channel);
     const halo_image_info *out_image = find_image(p, output);
-    (void)out_image;
     int es = p->target == HALO_TARGET_ES300;
     GEN(&e, "%s", halo_target_version_line(p->target));
     if (es) GEN(&e, "precision highp float;\nprecision highp int;\nprecision highp sampler2D;");
@@ -958,28 +1001,50 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
             "vec4 halo_pass_vec4(vec3 v) { return vec4(v, 0.0); }\n"
             "vec4 halo_pass_vec4(vec4 v) { return v; }");
     GEN(&e, "layout(location = 0) out vec4 halo_pass_output;");
-    GEN(&e, "// Input k at a pixel; 0 outside the image (zero padding at the borders).");
-    GEN(&e, "halo_channels halo_input(int k, ivec2 pixel) {");
+    /* Inputs of another size than the output (halo_link_desc.image_scale): a larger one
+     * (the full-size seed read by a 1/s pass) gives the max over the s x s block of the
+     * pixel, so that no seed is lost; a smaller one its pixel / s. */
+    int out_scale = out_image ? out_image->scale : 1;
+    GEN(&e, "const int halo_pass_scale = %d; // the output image is 1/halo_pass_scale of the frame per side",
+        out_scale);
+    int down[HALO_MAX_PASS_INPUTS], up[HALO_MAX_PASS_INPUTS];
     for (int k = 0; k < input_count; k++) {
-        GEN(&e, "    if (k == %d) {\n"
-                "        if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, textureSize(halo_input_%d, 0))))\n"
-                "            return halo_channels(0.0);\n"
-                "        return halo_channels_from(texelFetch(halo_input_%d, pixel, 0));\n"
-                "    }", k, k, k);
+        const halo_image_info *in = strcmp(inputs[k], "previous") ? find_image(p, inputs[k]) : out_image;
+        int in_scale = in ? in->scale : out_scale;
+        down[k] = in_scale < out_scale ? out_scale / in_scale : 1;
+        up[k] = in_scale > out_scale ? in_scale / out_scale : 1;
+        GEN(&e, "vec4 halo_fetch_%d(ivec2 pixel) {\n"
+                "    if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, textureSize(halo_input_%d, 0))))\n"
+                "        return vec4(0.0);\n"
+                "    return texelFetch(halo_input_%d, pixel, 0);\n}", k, k, k);
     }
-    GEN(&e, "    return halo_channels(0.0);\n}");
-    GEN(&e, "// All four components of input k (images of components=N, host_color); 0 outside.");
+    GEN(&e, "// All four components of input k (images of components=N, host_color) at a pixel of the\n"
+            "// output; 0 outside the image (zero padding at the borders).");
     GEN(&e, "vec4 halo_input4(int k, ivec2 pixel) {");
     for (int k = 0; k < input_count; k++) {
-        GEN(&e, "    if (k == %d) {\n"
-                "        if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, textureSize(halo_input_%d, 0))))\n"
-                "            return vec4(0.0);\n"
-                "        return texelFetch(halo_input_%d, pixel, 0);\n"
-                "    }", k, k, k);
+        if (down[k] > 1)
+            GEN(&e, "    if (k == %d) {\n"
+                    "        vec4 m = halo_fetch_%d(pixel * %d);\n"
+                    "        for (int i = 1; i < %d; ++i)\n"
+                    "            m = max(m, halo_fetch_%d(pixel * %d + ivec2(i %% %d, i / %d)));\n"
+                    "        return m;\n"
+                    "    }", k, k, down[k], down[k] * down[k], k, down[k], down[k], down[k]);
+        else if (up[k] > 1)
+            GEN(&e, "    if (k == %d) return any(lessThan(pixel, ivec2(0))) ? vec4(0.0) : halo_fetch_%d(pixel / %d);",
+                k, k, up[k]);
+        else
+            GEN(&e, "    if (k == %d) return halo_fetch_%d(pixel);", k, k);
     }
     GEN(&e, "    return vec4(0.0);\n}");
-    GEN(&e, "// The frame's size in pixels (every image has it).\n"
-            "ivec2 halo_image_size() { return textureSize(halo_input_0, 0); }");
+    GEN(&e, "// Input k at a pixel: the program's channels.\n"
+            "halo_channels halo_input(int k, ivec2 pixel) { return halo_channels_from(halo_input4(k, pixel)); }");
+    if (input_count > 0 && (down[0] > 1 || up[0] > 1))
+        GEN(&e, "// The output's size in pixels.\n"
+                "ivec2 halo_image_size() { return (textureSize(halo_input_0, 0) * %d + %d) / %d; }",
+            up[0], down[0] - 1, down[0]);
+    else
+        GEN(&e, "// The output's size in pixels (input 0 has it).\n"
+                "ivec2 halo_image_size() { return textureSize(halo_input_0, 0); }");
     /* The helpers this module calls. */
     halo_program one = *p;
     halo_linked_stage only = *st;
@@ -1143,11 +1208,18 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
         halo_program_destroy(p);
         return NULL;
     }
+    p->image_scale = desc->image_scale ? desc->image_scale : 1;
+    if (p->image_scale != 1 && p->image_scale != 2 && p->image_scale != 4) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "image_scale must be 1, 2 or 4, not %d", desc->image_scale);
+        halo_program_destroy(p);
+        return NULL;
+    }
     set_channel_count(p);
     if (collect_resources(p, desc->host_source, diag)) {
         halo_program_destroy(p);
         return NULL;
     }
+    set_image_scales(p);
     /* 5. Emit. */
     if (emit_program(p, desc->host_source, p->host_lines, host_count, &h, desc->library)) goto oom;
     int passes = build_passes(p, desc->library, diag);
@@ -1261,6 +1333,7 @@ const halo_host_uniform_info *halo_program_host_uniform(const halo_program *p, s
 }
 int halo_program_channel_count(const halo_program *p) { return p->channel_count; }
 int halo_program_image_precision(const halo_program *p) { return p->image_precision; }
+int halo_program_image_scale(const halo_program *p) { return p->image_scale; }
 size_t halo_program_pass_count(const halo_program *p) { return p->pass_count; }
 const halo_pass_info *halo_program_pass(const halo_program *p, size_t i) {
     return i < p->pass_count ? &p->passes[i] : NULL;
@@ -1300,6 +1373,7 @@ char *halo_program_reflect_json(const halo_program *p) {
     json_object_set_new(root, "constants", constants);
     json_object_set_new(root, "channels", json_integer(p->channel_count));
     json_object_set_new(root, "image_precision", json_integer(p->image_precision));
+    json_object_set_new(root, "image_scale", json_integer(p->image_scale));
     json_t *samplers = json_array();
     for (size_t i = 0; i < p->sampler_count; i++) {
         json_t *o = json_object();
@@ -1324,6 +1398,7 @@ char *halo_program_reflect_json(const halo_program *p) {
         json_object_set_new(o, "channels", json_integer(p->images[i].channels));
         if (p->images[i].clear != 0.0) json_object_set_new(o, "clear", json_real(p->images[i].clear));
         if (p->images[i].host) json_object_set_new(o, "host", json_true());
+        if (p->images[i].scale > 1) json_object_set_new(o, "scale", json_integer(p->images[i].scale));
         json_object_set_new(o, "reset", json_string(p->images[i].reset == HALO_RESET_GENERATION ? "generation"
                                                                                                    : "frame"));
         json_array_append_new(images, o);

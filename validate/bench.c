@@ -63,9 +63,8 @@ static const char bench_halo_all_scene[] = "{\"halo_scene\": 1, \"stages\": [" B
                                            "," BENCH_NEUTRAL_STAGES "," BENCH_HALO_STAGES "], " BENCH_RENDER "}";
 
 static const char resolution_note[] =
-    "halo buffer resolution 1/2, 1/4: not available: halo_gl_frame_create makes every halo image the host's "
-    "viewport size and the per-sample stages read the field with texelFetch at gl_FragCoord "
-    "(docs/performance.md, 'Lower-resolution halo images')";
+    "res: halo image resolution (halo_link_desc.image_scale): full, 1/2, 1/4 of the frame per side "
+    "(the seed max-downsampled, spreading at the low size, the field read bilinearly)";
 
 typedef struct bench_options {
     int size, volume_size, repeat;
@@ -159,9 +158,9 @@ static void print_sweep(const bench_options *o, const halo_bench_env *env, const
     printf("# %%ref: the frame rate as a percentage of the same host's render without halos at the same step\n");
     printf("# %s\n", resolution_note);
     printf("# halo_err: max abs against M = 1 of the slice host at the same step (the halo approximations alone)\n");
-    printf("%-9s %-5s %3s %2s %4s %5s %5s %6s %9s %9s %7s %10s %10s %8s %10s %s\n", "axis", "host", "M", "N", "bits",
-           "step", "draws", "passes", "ms/frame", "nohalo_ms", "%ref", "max_abs", "rmse", ">1/255", "halo_err",
-           "pareto");
+    printf("%-10s %-5s %3s %2s %4s %4s %5s %5s %6s %9s %9s %7s %10s %10s %8s %10s %s\n", "axis", "host", "M", "N",
+           "bits", "res", "step", "draws", "passes", "ms/frame", "nohalo_ms", "%ref", "max_abs", "rmse", ">1/255",
+           "halo_err", "pareto");
     for (size_t i = 0; i < count; ++i) {
         const halo_bench_case *c = &cases[i];
         const halo_bench_config *k = &c->config;
@@ -175,8 +174,9 @@ static void print_sweep(const bench_options *o, const halo_bench_env *env, const
         char halo_err[16] = "-";
         if (k->halos && !isnan(c->halo_max_abs))
             snprintf(halo_err, sizeof halo_err, "%.3e", c->halo_max_abs);
-        printf("%-9s %-5s %3d %2d %4d %5.2f %5ld %6ld %9.1f %9.1f %7s %s %10s %s%s\n", c->axis, host_name(k),
-               k->interval, k->halos ? k->passes : 0, k->halos ? k->precision : 0, k->step, c->draws, c->pass_draws,
+        printf("%-10s %-5s %3d %2d %4d %4s %5.2f %5ld %6ld %9.1f %9.1f %7s %s %10s %s%s\n", c->axis, host_name(k),
+               k->interval, k->halos ? k->passes : 0, k->halos ? k->precision : 0,
+               k->halos ? halo_bench_resolution(k) : "-", k->step, c->draws, c->pass_draws,
                c->seconds * 1e3, ref ? ref->seconds * 1e3 : NAN, percent, errors, halo_err, c->pareto ? "*" : "",
                c->nonfinite ? "  NONFINITE" : "");
     }
@@ -195,8 +195,9 @@ static int write_csv(const char *path, const halo_bench_case *cases, size_t coun
         const halo_bench_case *c = &cases[i];
         const halo_bench_config *k = &c->config;
         const halo_bench_case *ref = reference_of(cases, count, k);
-        fprintf(out, "%s,%s,%d,%d,%d,%d,%g,full,%ld,%ld,%.3f,%.3f,%.2f,", c->axis, host_name(k), k->halos, k->interval,
-                k->halos ? k->passes : 0, k->halos ? k->precision : 0, k->step, c->draws, c->pass_draws,
+        fprintf(out, "%s,%s,%d,%d,%d,%d,%g,%s,%ld,%ld,%.3f,%.3f,%.2f,", c->axis, host_name(k), k->halos, k->interval,
+                k->halos ? k->passes : 0, k->halos ? k->precision : 0, k->step, halo_bench_resolution(k), c->draws,
+                c->pass_draws,
                 c->seconds * 1e3, ref ? ref->seconds * 1e3 : NAN, ref ? 100.0 * ref->seconds / c->seconds : NAN);
         if (k->halos)
             fprintf(out, "%.6e,%.6e,%.6f,%.6e,", c->max_abs, c->rmse, c->share_over, c->halo_max_abs);
@@ -240,8 +241,10 @@ static int write_plot(const char *png, const halo_bench_env *env, const halo_ben
         if (!k->halos || k->no_generation || !isfinite(c->max_abs))
             continue;
         /* the exact reference has error 0: drawn on the axis's floor */
-        fprintf(out, "%.3f %.6e \"%s%s M%d N%d %db s%g\" %d\n", c->seconds * 1e3, c->max_abs > 1e-7 ? c->max_abs : 1e-7,
-                k->slab ? "slab" : "", i == 0 ? "ref" : "", k->interval, k->passes, k->precision, k->step, c->pareto);
+        fprintf(out, "%.3f %.6e \"%s%s M%d N%d %db%s%s s%g\" %d\n", c->seconds * 1e3,
+                c->max_abs > 1e-7 ? c->max_abs : 1e-7, k->slab ? "slab" : "", i == 0 ? "ref" : "", k->interval,
+                k->passes, k->precision, k->scale > 1 ? " r" : "", k->scale > 1 ? halo_bench_resolution(k) : "",
+                k->step, c->pareto);
     }
     fprintf(out, "EOD\n$front << EOD\n");
     /* the front in order of time */
@@ -357,11 +360,11 @@ static int run_sweep(const bench_options *o, halo_bench_env *env, const char *re
             status = 2;
         } else {
             const halo_bench_config *k = &cases[chosen].config;
-            printf("# budget: max error %g: cheapest within it: %s (%s), M = %d, N = %d, %d-bit, step %g:"
+            printf("# budget: max error %g: cheapest within it: %s (%s), M = %d, N = %d, %d-bit, %s resolution, step %g:"
                    " %.1f ms, max abs %.3e in the sweep; measured again: %.1f ms, max abs %.3e: %s"
                    " (exact reference: %.1f ms)\n",
-                   o->max_error, cases[chosen].axis, host_name(k), k->interval, k->passes, k->precision, k->step,
-                   cases[chosen].seconds * 1e3, cases[chosen].max_abs, check.seconds * 1e3, check.max_abs,
+                   o->max_error, cases[chosen].axis, host_name(k), k->interval, k->passes, k->precision,
+                   halo_bench_resolution(k), k->step, cases[chosen].seconds * 1e3, cases[chosen].max_abs, check.seconds * 1e3, check.max_abs,
                    verified ? "verified" : "NOT within the bound", cases[0].seconds * 1e3);
             status = verified ? status : 1;
         }

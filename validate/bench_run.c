@@ -30,8 +30,14 @@ static void describe(const halo_bench_case *c, char *out, size_t size)
     else if (k->no_generation)
         snprintf(out, size, "%s, seeding and mapping only", k->slab ? "slab" : "slice");
     else
-        snprintf(out, size, "%s, M = %d, N = %d, %d-bit, step %g%s", k->slab ? "slab" : "slice", k->interval,
-                 k->passes, k->precision, k->step, k->all_live ? ", all live" : "");
+        snprintf(out, size, "%s, M = %d, N = %d, %d-bit, %s resolution, step %g%s", k->slab ? "slab" : "slice",
+                 k->interval, k->passes, k->precision, halo_bench_resolution(k), k->step,
+                 k->all_live ? ", all live" : "");
+}
+
+const char *halo_bench_resolution(const halo_bench_config *k)
+{
+    return k->scale == 4 ? "1/4" : k->scale == 2 ? "1/2" : "full";
 }
 
 /* Applies the case's settings to its freshly read scene. */
@@ -69,7 +75,8 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
         return 0;
     c->program = halo_link(&(halo_link_desc){.library = env->lib, .scene = c->scene, .host_source = source,
                                              .host_file = host_file, .all_live = c->config.all_live,
-                                             .image_precision = c->config.precision ? c->config.precision : 32},
+                                             .image_precision = c->config.precision ? c->config.precision : 32,
+                                             .image_scale = c->config.scale},
                            env->diag);
     free(source);
     if (!c->program)
@@ -187,6 +194,7 @@ void halo_bench_errors(const halo_bench_env *env, halo_bench_case *cases, size_t
         for (size_t j = 0; j < count && cases[i].image && cases[i].config.halos; ++j) {
             const halo_bench_config *k = &cases[j].config;
             if (k->halos && !k->slab && k->interval == 1 && k->passes == r->passes && k->precision == r->precision &&
+                k->scale <= 1 &&
                 k->step == cases[i].config.step && !k->all_live && !k->no_generation && cases[j].image) {
                 double rmse, share;
                 halo_bench_image_error(cases[i].image, cases[j].image, pixels, &cases[i].halo_max_abs, &rmse, &share);
@@ -248,6 +256,10 @@ size_t halo_bench_sweep(halo_bench_case *out, size_t max, int scene_passes, doub
             ADD("N", k_.passes = p);
     ADD("precision", k_.precision = 16);
     ADD("precision", k_.precision = 8);
+    ADD("resolution", k_.scale = 2);
+    ADD("resolution", k_.scale = 4);
+    ADD("resolution", k_.interval = 1; k_.scale = 2);
+    ADD("resolution", k_.interval = 2; k_.scale = 2);
     double steps[3] = {fine, 0.5, 1.0};
     for (int i = 0; i < 3; ++i)
         if (steps[i] != 0.5 && (i == 0 || steps[i] != steps[i - 1]))
@@ -259,6 +271,7 @@ size_t halo_bench_sweep(halo_bench_case *out, size_t max, int scene_passes, doub
     ADD("combined", k_.interval = 8; k_.precision = 16);
     ADD("combined", k_.interval = 16; k_.precision = 16; k_.step = 1.0);
     ADD("combined", k_.slab = 1; k_.interval = 16; k_.precision = 16; k_.step = 1.0);
+    ADD("combined", k_.slab = 1; k_.interval = 8; k_.scale = 2);
     for (int slab = 0; slab <= 1; ++slab)
         for (int i = 0; i < 3; ++i)
             if (i == 0 || steps[i] != steps[i - 1])

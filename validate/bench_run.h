@@ -17,6 +17,7 @@ typedef struct halo_bench_config {
     int interval;      /* M: slices between generations (slab: samples per draw) */
     int passes;        /* N: spreading passes (halo_generate.passes); 0: the scene's */
     int precision;     /* halo image precision: 32, 16 or 8 (halo_link_desc.image_precision) */
+    int scale;         /* halo image resolution 1/scale of the frame: 1 (0), 2 or 4 (halo_link_desc.image_scale) */
     double step;       /* sampling distance in voxels; 0: the scene's */
     int all_live;      /* every parameter a uniform (halo_link_desc.all_live) */
     int no_generation; /* seeding and mapping per sample, no image pass */
@@ -67,7 +68,11 @@ void halo_bench_errors(const halo_bench_env *env, halo_bench_case *cases, size_t
 void halo_bench_pareto(halo_bench_case *cases, size_t count);
 void halo_bench_cases_free(halo_bench_case *cases, size_t count);
 
+/* "full", "1/2", "1/4": the halo image resolution of a configuration. */
+const char *halo_bench_resolution(const halo_bench_config *k);
+
 /* The standard sweep around the scene's settings (M 1..16, N 1..6, precision 32/16/8,
+ * halo image resolution full, 1/2, 1/4,
  * sampling distance finest..1, slab against slices, a few combinations), headed by the
  * exact reference (index 0: M = 1, float32, the finest sampling) and followed by the
  * renders without halos. Returns the number of cases written (at most max). */

@@ -238,7 +238,7 @@ static void print_error(slice_context *c, const char *row)
 
 /* One row: render with the slice host (slab = 0) or slab caster at interval M (0: the
  * program's), emulate, compare. */
-static void run_row(slice_context *c, const char *row, const char *scene_text, int slab, int interval,
+static void run_row(slice_context *c, const char *row, const char *scene_text, int slab, int interval, int scale,
                     double tolerance, const char *reason)
 {
     halo_scene *scene = halo_scene_parse(scene_text, "(conformance slice scene)", c->lib, c->diag);
@@ -255,7 +255,7 @@ static void run_row(slice_context *c, const char *row, const char *scene_text, i
         goto error;
     program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = source,
                                           .host_file = slab ? "slab.frag" : "slice.frag",
-                                          .target = HALO_TARGET_GLSL330},
+                                          .target = HALO_TARGET_GLSL330, .image_scale = scale},
                         c->diag);
     if (!program)
         goto error;
@@ -347,7 +347,7 @@ int halo_conform_slice_rows(int size, int verbose, int *failed)
         else
             fprintf(stderr, "halo-validate: conform: %s\n", err);
     }
-    static const char *const rows[] = {"slice", "slice@nohalo", "slab", "slab@M4"};
+    static const char *const rows[] = {"slice", "slice@nohalo", "slab", "slab@M4", "slice@half", "slab@quarter"};
     if (!c.lib || !c.volume || !c.runtime) {
         for (size_t i = 0; i < sizeof rows / sizeof rows[0]; ++i)
             print_error(&c, rows[i]);
@@ -356,11 +356,15 @@ int halo_conform_slice_rows(int size, int verbose, int *failed)
         const char *halo_reason =
             "float32 sampling, seeds (|grad f|^alpha amplifies its relative error), image passes and blending "
             "of ~110 slices against double";
-        run_row(&c, "slice", slice_scene_halos, 0, 0, SLICE_TOLERANCE, halo_reason);
-        run_row(&c, "slice@nohalo", slice_scene_plain, 0, 0, SLICE_NOHALO_TOLERANCE,
+        run_row(&c, "slice", slice_scene_halos, 0, 0, 1, SLICE_TOLERANCE, halo_reason);
+        run_row(&c, "slice@nohalo", slice_scene_plain, 0, 0, 1, SLICE_NOHALO_TOLERANCE,
                 "float32 trilinear sampling, opacity correction and blending of ~110 slices against double");
-        run_row(&c, "slab", slice_scene_halos, 1, 1, SLICE_TOLERANCE, halo_reason);
-        run_row(&c, "slab@M4", slice_scene_halos, 1, 4, SLICE_TOLERANCE, halo_reason);
+        run_row(&c, "slab", slice_scene_halos, 1, 1, 1, SLICE_TOLERANCE, halo_reason);
+        run_row(&c, "slab@M4", slice_scene_halos, 1, 4, 1, SLICE_TOLERANCE, halo_reason);
+        /* halo images at 1/2 and 1/4 of the frame (halo_link_desc.image_scale): the
+         * max-downsampled seed, the spreading at the low size, the bilinear read */
+        run_row(&c, "slice@half", slice_scene_halos, 0, 0, 2, SLICE_TOLERANCE, halo_reason);
+        run_row(&c, "slab@quarter", slice_scene_halos, 1, 4, 4, SLICE_TOLERANCE, halo_reason);
     }
     if (failed)
         *failed += c.failures;

@@ -86,7 +86,8 @@ static void lowpass(const double *in, double *out, double *tmp)
 static void run_pass(halo_emu_pass_fn fn, const halo_emu_params *params, int index, int count, const double *in0,
                      const double *in1, double *out)
 {
-    halo_emu_pass_context c = {params, FIG_SIZE, FIG_SIZE, 1, index, count, in1 ? 2 : 1, {in0, in1}, {0}, 0};
+    halo_emu_pass_context c = {params, FIG_SIZE, FIG_SIZE, 1, index, count, in1 ? 2 : 1, {in0, in1}, {0}, 0, 1,
+                               {0}, {0}, {0}, {0}};
     for (int y = 0; y < FIG_SIZE; ++y)
         for (int x = 0; x < FIG_SIZE; ++x) {
             double v[4] = {0, 0, 0, 0};

@@ -19,7 +19,8 @@
 
 // Volumetric halos, step 2 (Bruckner & Groller 2007, Sec. 3.2; docs/stages/halo_generate.md):
 //   H_0 = |grad S| (central differences, not halved, clamped to [0, 1]);
-//   F_i(p) = sum over u, v in {-1, 0, 1} of w(u, v) H_{i-1}(p + k (u, v)), k = 2^(N - i),
+//   F_i(p) = sum over u, v in {-1, 0, 1} of w(u, v) H_{i-1}(p + k (u, v)), k = 2^(N - i)
+//   (max(1, 2^(N - i) / s) on images at 1/s of the frame: docs/image-passes.md),
 //   w = [1 2 1; 2 4 2; 1 2 1] / 16;  H_i = delta F_i + (1 - delta F_i) H_0;
 //   O = max(O, H_N) (occlusion image, for occlusive halos).
 // Every channel is one halo. Pixels outside the image read as 0 (halo_input).
@@ -60,7 +61,9 @@ halo_channels gradient_pass(ivec2 pixel)
 
 halo_channels spread_pass(ivec2 pixel)
 {
-    int k = 1 << (halo_pass_count - halo_pass_index);
+    // 2^(N - i) frame pixels; on a 1/s image (halo_link_desc.image_scale) 2^(N - i) / s of
+    // its pixels, and at least 1: the reach stays about 2^N frame pixels
+    int k = max(1, (1 << (halo_pass_count - halo_pass_index)) / halo_pass_scale);
     halo_channels corners = halo_input(0, pixel + ivec2(-k, -k)) + halo_input(0, pixel + ivec2(k, -k)) +
                             halo_input(0, pixel + ivec2(-k, k)) + halo_input(0, pixel + ivec2(k, k));
     halo_channels edges = halo_input(0, pixel + ivec2(0, -k)) + halo_input(0, pixel + ivec2(-k, 0)) +

@@ -54,10 +54,15 @@ typedef struct halo_emu_pass_context {
     const double *inputs[HALO_MAX_PASS_INPUTS];
     int input_components[HALO_MAX_PASS_INPUTS]; /* per input: its image's components */
     int pass_channel;                           /* halo_pass_channel (each=channel passes) */
+    int scale;                                  /* halo_pass_scale: the output is 1/scale of the frame */
+    int input_width[HALO_MAX_PASS_INPUTS], input_height[HALO_MAX_PASS_INPUTS];
+    int input_down[HALO_MAX_PASS_INPUTS];       /* input larger by this: max over the block */
+    int input_up[HALO_MAX_PASS_INPUTS];         /* input smaller by this: its pixel / up */
 } halo_emu_pass_context;
 
 /* halo_input(k, pixel) / halo_input4 for one component: 0 outside the image (zero
- * padding) and beyond the image's components. */
+ * padding) and beyond the image's components; an input larger than the output gives the
+ * max over the pixel's block, a smaller one its pixel / up (docs/image-passes.md). */
 double halo_emu_input(const halo_emu_pass_context *c, int k, int x, int y, int channel);
 
 /* A sampler3D host uniform given by halo_emu_frame_set_volume (NULL if unset). */

@@ -5,6 +5,7 @@
 #include "emu.h"
 #include "internal.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -31,8 +32,19 @@ static int image_components(const halo_emu_frame *f, size_t i) {
     return c < 1 ? 1 : c > 4 ? 4 : c;
 }
 
+static int image_scale(const halo_emu_frame *f, size_t i) {
+    int s = f->program->images[i].scale;
+    return s > 1 ? s : 1;
+}
+
+/* An image's size: ceil(frame / scale) per side. */
+static int image_width(const halo_emu_frame *f, size_t i) { return (f->width + image_scale(f, i) - 1) / image_scale(f, i); }
+static int image_height(const halo_emu_frame *f, size_t i) {
+    return (f->height + image_scale(f, i) - 1) / image_scale(f, i);
+}
+
 static size_t image_values(const halo_emu_frame *f, size_t i) {
-    return (size_t)f->width * (size_t)f->height * (size_t)image_components(f, i);
+    return (size_t)image_width(f, i) * (size_t)image_height(f, i) * (size_t)image_components(f, i);
 }
 
 static void clear_image(halo_emu_frame *f, size_t i) {
@@ -246,20 +258,27 @@ static halo_status run_passes(halo_emu_frame *f, int post, halo_diagnostics *dia
         int out_components = image_components(f, (size_t)out);
         if (p->images[out].host) continue;
         int repeat = pi->repeat < 1 ? 1 : pi->repeat;
+        int out_scale = image_scale(f, (size_t)out), width = image_width(f, (size_t)out),
+            height = image_height(f, (size_t)out);
         for (int r = 1; r <= repeat; r++) {
-            halo_emu_pass_context c = {&params, f->width, f->height, f->channels, r, repeat, pi->input_count, {0},
-                                       {0}, pi->channel < 0 ? 0 : pi->channel};
+            halo_emu_pass_context c = {&params, width, height, f->channels, r, repeat, pi->input_count, {0},
+                                       {0}, pi->channel < 0 ? 0 : pi->channel, out_scale, {0}, {0}, {0}, {0}};
             for (int k = 0; k < pi->input_count; k++) {
                 int in = !strcmp(pi->inputs[k], "previous") ? (r == 1 && pi->first ? image_index(f, pi->first) : out)
                                                             : image_index(f, pi->inputs[k]);
+                int in_scale = image_scale(f, (size_t)in);
                 c.inputs[k] = f->images[in];
                 c.input_components[k] = image_components(f, (size_t)in);
+                c.input_width[k] = image_width(f, (size_t)in);
+                c.input_height[k] = image_height(f, (size_t)in);
+                c.input_down[k] = in_scale < out_scale ? out_scale / in_scale : 1;
+                c.input_up[k] = in_scale > out_scale ? in_scale / out_scale : 1;
             }
-            for (int y = 0; y < f->height; y++)
-                for (int x = 0; x < f->width; x++) {
+            for (int y = 0; y < height; y++)
+                for (int x = 0; x < width; x++) {
                     double v[4] = {0, 0, 0, 0};
                     fn(&c, x, y, v);
-                    memcpy(f->scratch + ((size_t)y * (size_t)f->width + (size_t)x) * (size_t)out_components, v,
+                    memcpy(f->scratch + ((size_t)y * (size_t)width + (size_t)x) * (size_t)out_components, v,
                            (size_t)out_components * sizeof *v);
                 }
             /* Double buffering: the fresh result becomes the image; the old buffer is reused. */
@@ -283,7 +302,29 @@ void halo_emu_read_image(const halo_emu_params *p, const char *name, const doubl
     size_t at;
     if (i < 0 || !pixel_of(f, fragcoord, &at)) return;
     int n = image_components(f, (size_t)i);
-    for (int c = 0; c < n; c++) out[c] = f->images[i][at * (size_t)n + (size_t)c];
+    int s = image_scale(f, (size_t)i);
+    if (s == 1) {
+        for (int c = 0; c < n; c++) out[c] = f->images[i][at * (size_t)n + (size_t)c];
+        return;
+    }
+    /* a 1/s image: bilinear between the four nearest pixel centres, clamped to the image
+     * (halo_read_NAME of a scaled image, libhalo/link.c) */
+    int w = image_width(f, (size_t)i), h = image_height(f, (size_t)i);
+    double ax = fragcoord[0] / s - 0.5, ay = fragcoord[1] / s - 0.5;
+    double cx = floor(ax), cy = floor(ay), tx = ax - cx, ty = ay - cy;
+    int x0 = (int)cx, y0 = (int)cy, x1 = x0 + 1, y1 = y0 + 1;
+    x0 = x0 < 0 ? 0 : x0 > w - 1 ? w - 1 : x0;
+    x1 = x1 < 0 ? 0 : x1 > w - 1 ? w - 1 : x1;
+    y0 = y0 < 0 ? 0 : y0 > h - 1 ? h - 1 : y0;
+    y1 = y1 < 0 ? 0 : y1 > h - 1 ? h - 1 : y1;
+    const double *im = f->images[i];
+#define TEXEL(x, y, c) im[((size_t)(y) * (size_t)w + (size_t)(x)) * (size_t)n + (size_t)(c)]
+    for (int c = 0; c < n; c++) {
+        double bottom = TEXEL(x0, y0, c) + (TEXEL(x1, y0, c) - TEXEL(x0, y0, c)) * tx;
+        double top = TEXEL(x0, y1, c) + (TEXEL(x1, y1, c) - TEXEL(x0, y1, c)) * tx;
+        out[c] = bottom + (top - bottom) * ty;
+    }
+#undef TEXEL
 }
 
 const double *halo_emu_host_uniform(const halo_emu_params *p, const char *name) {
@@ -294,11 +335,28 @@ const double *halo_emu_host_uniform(const halo_emu_params *p, const char *name) 
     return i < 0 ? zero : f->host[i];
 }
 
+/* One texel of input k; 0 outside it. */
+static double input_texel(const halo_emu_pass_context *c, int k, int x, int y, int channel, int n) {
+    int w = c->input_width[k] > 0 ? c->input_width[k] : c->width;
+    int h = c->input_height[k] > 0 ? c->input_height[k] : c->height;
+    if (x < 0 || y < 0 || x >= w || y >= h) return 0.0;
+    return c->inputs[k][((size_t)y * (size_t)w + (size_t)x) * (size_t)n + (size_t)channel];
+}
+
 double halo_emu_input(const halo_emu_pass_context *c, int k, int x, int y, int channel) {
-    if (k < 0 || k >= c->input_count || !c->inputs[k] || x < 0 || y < 0 || x >= c->width || y >= c->height)
-        return 0.0;
+    if (k < 0 || k >= c->input_count || !c->inputs[k]) return 0.0;
     int n = c->input_components[k] > 0 ? c->input_components[k] : c->channels;
     /* halo_input gives the program's channels of any image; halo_input4 all of them */
     if (channel < 0 || channel >= n) return 0.0;
-    return c->inputs[k][((size_t)y * (size_t)c->width + (size_t)x) * (size_t)n + (size_t)channel];
+    int down = c->input_down[k] > 1 ? c->input_down[k] : 1, up = c->input_up[k] > 1 ? c->input_up[k] : 1;
+    if (down > 1) {
+        double m = input_texel(c, k, x * down, y * down, channel, n);
+        for (int i = 1; i < down * down; i++) {
+            double v = input_texel(c, k, x * down + i % down, y * down + i / down, channel, n);
+            m = v > m ? v : m;
+        }
+        return m;
+    }
+    if (up > 1) return x < 0 || y < 0 ? 0.0 : input_texel(c, k, x / up, y / up, channel, n);
+    return input_texel(c, k, x, y, channel, n);
 }

@@ -43,7 +43,9 @@ void halo_emu_halo_generate_gradient(const halo_emu_pass_context *c, int x, int 
 void halo_emu_halo_generate_spread(const halo_emu_pass_context *c, int x, int y, double out[4])
 {
     int shift = c->pass_count - c->pass_index;
-    int k = shift >= 0 && shift < 30 ? 1 << shift : 1;
+    int k = shift >= 0 && shift < 30 ? (1 << shift) / (c->scale > 1 ? c->scale : 1) : 1;
+    if (k < 1)
+        k = 1;
     for (int ch = 0; ch < c->channels; ++ch) {
         double corners = halo_emu_input(c, 0, x - k, y - k, ch) + halo_emu_input(c, 0, x + k, y - k, ch) +
                          halo_emu_input(c, 0, x - k, y + k, ch) + halo_emu_input(c, 0, x + k, y + k, ch);

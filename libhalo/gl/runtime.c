@@ -454,6 +454,7 @@ typedef struct frame_image {
     halo_image_reset reset;
     GLfloat clear;
     int host;          /* host_color: texture[0] is the host's, set by halo_gl_frame_post */
+    int width, height; /* ceil(frame / scale) */
     GLuint texture[2]; /* double-buffered: a pass reads texture[current], writes the other */
     int current;
 } frame_image;
@@ -667,6 +668,9 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
         image->reset = info->reset;
         image->clear = (GLfloat)info->clear;
         image->host = info->host;
+        int scale = info->scale > 1 ? info->scale : 1;
+        image->width = (width + scale - 1) / scale;
+        image->height = (height + scale - 1) / scale;
         if (image->host)
             continue;
         GLint internal;
@@ -679,13 +683,13 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-            f->TexImage2D(GL_TEXTURE_2D, 0, internal, width, height, 0, format, GL_FLOAT, NULL);
+            f->TexImage2D(GL_TEXTURE_2D, 0, internal, image->width, image->height, 0, format, GL_FLOAT, NULL);
             f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, image->texture[k], 0);
             GLenum status = f->CheckFramebufferStatus(GL_FRAMEBUFFER);
             if (status != GL_FRAMEBUFFER_COMPLETE) {
                 halo_diag_error(diag, GL_LINK, "", 0, 0,
                                 "image '%s': a %dx%d texture of %d channels at precision %d cannot be rendered to "
-                                "(framebuffer status 0x%x)", image->name, width, height, image->channels, precision,
+                                "(framebuffer status 0x%x)", image->name, image->width, image->height, image->channels, precision,
                                 status);
                 failed = 1;
                 break;
@@ -926,6 +930,7 @@ static void frame_run(halo_gl_frame *fr, int post)
             continue;
         f->UseProgram(pass->program);
         halo_gl_program_upload(gl, fr->program, pass->program);
+        f->Viewport(0, 0, out->width, out->height);
         for (int rep = 1; rep <= pass->repeat; ++rep) {
             for (int k = 0; k < pass->info->input_count; ++k) {
                 const frame_image *in = pass->inputs[k] >= 0 ? &fr->images[pass->inputs[k]]
@@ -981,7 +986,7 @@ halo_status halo_gl_frame_read(halo_gl_frame *fr, const char *name, float *out)
     f->ReadBuffer(GL_COLOR_ATTACHMENT0);
     f->PixelStorei(GL_PACK_ALIGNMENT, 4);
     static const GLenum formats[4] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
-    f->ReadPixels(0, 0, fr->width, fr->height, formats[im->channels - 1], GL_FLOAT, out);
+    f->ReadPixels(0, 0, im->width, im->height, formats[im->channels - 1], GL_FLOAT, out);
     f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
     f->PixelStorei(GL_PACK_ALIGNMENT, pack);
     f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)read_framebuffer);

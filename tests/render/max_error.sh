@@ -12,7 +12,7 @@ budget_error() {
 
 # E = 0: only the exact reference (or a configuration that renders the same image) fits.
 run 0 "$HALO_RENDER" --quiet --max-error 0 --size 32x32 --volume-size 24 -o "$tmp/exact.exr"
-expect_stdout "budget: max error 0: (slice|slab), M = [0-9]+, N = [0-9]+, [0-9]+-bit halo images, step"
+expect_stdout "budget: max error 0: (slice|slab), M = [0-9]+, N = [0-9]+, [0-9]+-bit halo images at (full|1/2|1/4) resolution, step"
 expect_stdout "verified: within"
 expect_stdout "wrote .*exact\.exr"
 e=$(budget_error)
@@ -49,6 +49,17 @@ run 2 "$HALO_RENDER" --max-error 0.1 --no-halos -o "$tmp/x.png"
 expect_stderr "not with --no-halos"
 run 2 "$HALO_RENDER" --max-error 0.1 --host slab -o "$tmp/x.png"
 expect_stderr "not with --host"
+run 2 "$HALO_RENDER" --max-error 0.1 --halo-scale 2 -o "$tmp/x.png"
+expect_stderr "not with --halo-scale"
+
+# --halo-scale: halo images at 1/2 and 1/4 render; other scales are refused.
+for s in 2 4; do
+    run 0 "$HALO_RENDER" --quiet --halo-scale $s --size 32x32 --volume-size 24 -o "$tmp/scale$s.png"
+    expect_png "$tmp/scale$s.png"
+done
+run 2 "$HALO_RENDER" --halo-scale 3 -o "$tmp/x.png"
+expect_stderr "not 1, 2 or 4"
+run 2 "$HALO_RENDER" --halo-scale 8 -o "$tmp/x.png"
 run 2 "$HALO_RENDER" --max-error 0.1 --scene "$scenes/feature-halos.json" --size 32x32 --volume-size 24 -o "$tmp/x.png"
 expect_stderr "feature_halo"
 finish

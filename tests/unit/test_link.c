@@ -688,6 +688,48 @@ static int test_targets(void) {
     return 0;
 }
 
+/* Halo images at 1/scale (halo_link_desc.image_scale): the pass images are scaled, the
+ * seed output is not; the per-sample read interpolates, the first pass max-downsamples;
+ * a scale other than 1, 2 or 4 is a usage error. */
+static int test_image_scale(void) {
+    halo_scene *scene = scene_of("{\"stages\": [\"halo_seed\", \"halo_generate\", \"halo_map\"]}");
+    for (int scale = 1; scale <= 4; scale *= 2) {
+        halo_diagnostics_clear(diags);
+        halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host_source,
+                                                      .host_file = "test.frag", .image_scale = scale},
+                                    diags);
+        CHECK(p != NULL);
+        CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
+        CHECK_INT_EQ(halo_program_image_scale(p), scale);
+        int seen = 0;
+        for (size_t i = 0; i < halo_program_image_count(p); i++) {
+            const halo_image_info *im = halo_program_image(p, i);
+            int expected = !strcmp(im->name, "seed") ? 1 : scale;
+            CHECK_INT_EQ(im->scale, expected);
+            seen += !strcmp(im->name, "field") || !strcmp(im->name, "seed");
+        }
+        CHECK_INT_EQ(seen, 2);
+        if (scale > 1) {
+            CHECK_STR_CONTAINS(halo_program_source(p), "floor(at)"); /* the bilinear read */
+            const halo_pass_info *gradient = NULL;
+            for (size_t i = 0; i < halo_program_pass_count(p); i++)
+                if (!strcmp(halo_program_pass(p, i)->name, "gradient")) gradient = halo_program_pass(p, i);
+            CHECK(gradient != NULL);
+            CHECK_STR_CONTAINS(gradient->fragment_source, "m = max(m, halo_fetch_0"); /* seed: block max */
+        } else {
+            CHECK_STR_NOT_CONTAINS(halo_program_source(p), "floor(at)");
+        }
+        halo_program_destroy(p);
+    }
+    halo_diagnostics_clear(diags);
+    CHECK(halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host_source,
+                                      .host_file = "test.frag", .image_scale = 3},
+                    diags) == NULL);
+    CHECK_DIAG(diags, HALO_MSG_USAGE);
+    halo_scene_destroy(scene);
+    return 0;
+}
+
 /* (k) Changing parameters of a linked program. */
 static int test_program_set(void) {
     halo_program *p = link_valid("{\"stages\": [{\"boundary\": {\"live\": [\"k_gs\"]}},"
@@ -825,6 +867,7 @@ int main(void) {
     RUN_TEST(test_targets);
     RUN_TEST(test_program_set);
     RUN_TEST(test_hook_mismatch);
+    RUN_TEST(test_image_scale);
     halo_library_destroy(library);
     halo_diagnostics_destroy(diags);
     halo_shutdown();
