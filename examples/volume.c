@@ -106,10 +106,29 @@ float *halo_volume_create(int size)
     return v;
 }
 
-double halo_volume_trilinear(const float *v, const int dims[3], const double p[3])
+float *halo_volume_gradients(const float *v, const int dims[3])
 {
-    int i0[3], i1[3];
-    double f[3];
+    size_t nx = (size_t)dims[0], ny = (size_t)dims[1], nz = (size_t)dims[2];
+    float *g = malloc(nx * ny * nz * 3 * sizeof *g);
+    if (!g)
+        return NULL;
+    for (size_t z = 0; z < nz; ++z)
+        for (size_t y = 0; y < ny; ++y)
+            for (size_t x = 0; x < nx; ++x) {
+                size_t at[3] = {x, y, z}, n[3] = {nx, ny, nz}, stride[3] = {1, nx, nx * ny};
+                size_t i = (z * ny + y) * nx + x;
+                for (int k = 0; k < 3; ++k) {
+                    size_t plus = at[k] + 1 < n[k] ? i + stride[k] : i;
+                    size_t minus = at[k] > 0 ? i - stride[k] : i;
+                    g[i * 3 + (size_t)k] = (v[plus] - v[minus]) * 0.5f;
+                }
+            }
+    return g;
+}
+
+/* Texel indices and weights of GL_LINEAR with GL_CLAMP_TO_EDGE at p. */
+static void trilinear_taps(const int dims[3], const double p[3], int i0[3], int i1[3], double f[3])
+{
     for (int k = 0; k < 3; ++k) {
         double u = p[k] * dims[k] - 0.5;
         double base = floor(u);
@@ -118,6 +137,29 @@ double halo_volume_trilinear(const float *v, const int dims[3], const double p[3
         i0[k] = b < 0 ? 0 : b > dims[k] - 1 ? dims[k] - 1 : b;
         i1[k] = b + 1 < 0 ? 0 : b + 1 > dims[k] - 1 ? dims[k] - 1 : b + 1;
     }
+}
+
+void halo_volume_trilinear3(const float *v, const int dims[3], const double p[3], double out[3])
+{
+    int i0[3], i1[3];
+    double f[3];
+    trilinear_taps(dims, p, i0, i1, f);
+    out[0] = out[1] = out[2] = 0.0;
+    for (int corner = 0; corner < 8; ++corner) {
+        int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
+        double w = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
+                   (corner & 4 ? f[2] : 1.0 - f[2]);
+        const float *t = v + ((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] * 3 + (size_t)x * 3;
+        for (int c = 0; c < 3; ++c)
+            out[c] += w * t[c];
+    }
+}
+
+double halo_volume_trilinear(const float *v, const int dims[3], const double p[3])
+{
+    int i0[3], i1[3];
+    double f[3];
+    trilinear_taps(dims, p, i0, i1, f);
     double result = 0.0;
     for (int corner = 0; corner < 8; ++corner) {
         int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];

@@ -26,4 +26,14 @@ float *halo_volume_create(int size);
  * texture of v (x fastest) at texture coordinate p, in double. */
 double halo_volume_trilinear(const float *v, const int dims[3], const double p[3]);
 
+/* Central-difference gradients at the voxels, per voxel step: g = (v[i+1] - v[i-1]) / 2
+ * along each axis, indices clamped to the volume (as GL_CLAMP_TO_EDGE reads beyond the
+ * edge), in float; 3 floats per voxel, x fastest. Trilinear interpolation of them is
+ * the central difference of the trilinear field at +-1 voxel (exactly, away from the
+ * edges), so a host can read its gradient with one RGB fetch instead of six. Returns
+ * NULL when memory runs out; free() the result. */
+float *halo_volume_gradients(const float *v, const int dims[3]);
+/* halo_volume_trilinear of a 3-component volume (out: 3 values). */
+void halo_volume_trilinear3(const float *v, const int dims[3], const double p[3], double out[3]);
+
 #endif

@@ -12,10 +12,24 @@ float halo_saturate(float x)
 }
 
 // x^e with C's pow(0, 0) = 1; a base at or below zero gives 0 (e != 0) instead of NaN.
+// A whole exponent 1..64 (alpha = 32, profile exponents) multiplies by repeated squaring:
+// with a compile-time exponent the branch and the loop fold into a few multiplications
+// (g^32: 5), where pow is exp2(e log2 x) with its approximations. Both are within a few
+// float ulps of x^e; the emulation keeps the exact pow (docs/accuracy.md).
 float halo_pow(float x, float e)
 {
     if (x <= 0.0)
         return e == 0.0 ? 1.0 : 0.0;
+    if (e >= 1.0 && e <= 64.0 && e == floor(e)) {
+        int n = int(e);
+        float result = 1.0, power = x;
+        for (int bit = 0; bit < 7; ++bit) {
+            if ((n & (1 << bit)) != 0)
+                result *= power;
+            power *= power;
+        }
+        return result;
+    }
     return pow(x, e);
 }
 

@@ -38,8 +38,12 @@ static const double paper_percent[4] = {15.85, 26.31, 34.97, 42.91};
     " {\"halo_seed\": {}}, {\"halo_generate\": {\"passes\": 4, \"delta\": 0.8}},"                            \
     " {\"halo_map\": {\"mode\": 0, \"color_near\": [[1, 0.9, 0.4]], \"color_far\": [[1, 0.3, 0.1]], \"opacity\": 0.9}}"
 static const char bench_halo_scene[] = "{\"halo_scene\": 1, \"stages\": [" BENCH_HALO_STAGES "], " BENCH_RENDER "}";
-/* Parts of the per-sample halo work for --table1: the gradient stage alone, and seeding alone. */
-static const char bench_gradient_scene[] = "{\"halo_scene\": 1, \"stages\": [{\"gradient\": {}}], " BENCH_RENDER "}";
+/* Parts of the per-sample halo work for --table1: the gradient fetched and used (by a
+ * boundary stage whose live parameters keep the opacity: k_gc = 1, k_gs = 0; a stage
+ * whose result is unused would be compiled away with the fetch), and seeding alone. */
+static const char bench_gradient_scene[] =
+    "{\"halo_scene\": 1, \"stages\": [{\"boundary\": {\"k_gc\": 1, \"k_gs\": 0, \"k_ge\": 1, \"live\": [\"k_gc\", \"k_gs\"]}}], "
+    BENCH_RENDER "}";
 static const char bench_seed_scene[] =
     "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {\"passes\": 4}}], " BENCH_RENDER "}";
 
@@ -380,7 +384,7 @@ done:
 static int run_table1(const bench_options *o, halo_bench_env *env, const char *renderer)
 {
     const halo_bench_config halo = {.halos = 1, .interval = 4, .passes = 4, .precision = 32, .step = 0.5};
-    halo_bench_case cases[16];
+    halo_bench_case cases[24];
     memset(cases, 0, sizeof cases);
     size_t n = 0;
 #define ROW(AXIS, SCENE, ...)                                                                                 \
@@ -398,9 +402,13 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
     for (int k = 0; k < 4; ++k)
         ROW("halo", NULL, cases[n].config.interval = paper_m[k]);
     ROW("halo16", NULL, cases[n].config.precision = 16);
+    ROW("halo1/2", NULL, cases[n].config.scale = 2);
+    ROW("halo1/4", NULL, cases[n].config.scale = 4);
     ROW("reference", NULL, cases[n].config.halos = 0; cases[n].config.slab = 1; cases[n].config.interval = 8);
     for (int k = 0; k < 4; ++k)
         ROW("halo", NULL, cases[n].config.slab = 1; cases[n].config.interval = paper_m[k]);
+    ROW("halo1/2", NULL, cases[n].config.slab = 1; cases[n].config.scale = 2);
+    ROW("halo1/4", NULL, cases[n].config.slab = 1; cases[n].config.scale = 4);
 #undef ROW
     env->scene_text = bench_halo_scene;
     if (!halo_bench_run(env, cases, n)) {
@@ -412,7 +420,7 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
     size_t pixels = (size_t)env->width * (size_t)env->height;
     for (size_t i = 0; i < n; ++i) {
         cases[i].max_abs = NAN;
-        for (size_t j = 0; j < n && strcmp(cases[i].axis, "halo") == 0; ++j)
+        for (size_t j = 0; j < n && strncmp(cases[i].axis, "halo", 4) == 0 && strcmp(cases[i].axis, "halo16"); ++j)
             if (!strcmp(cases[j].axis, "halo") && cases[j].config.interval == 1 && cases[j].config.slab == cases[i].config.slab)
                 halo_bench_image_error(cases[i].image, cases[j].image, pixels, &cases[i].max_abs, &cases[i].rmse,
                                        &cases[i].share_over);
@@ -423,8 +431,10 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
     printf("# halo-validate bench --table1: %dx%d image, %d^3 built-in volume, %d slices (sample distance 0.5 voxel),\n"
            "# median of %d interleaved frames, %s\n",
            env->width, env->height, o->volume_size, cases[0].slices, env->repeat, renderer ? renderer : "?");
-    printf("# gradient: the gradient stage alone; seed: + seeding into the seed image; seed+map: + mapping (M = -:"
-           " no generation); halo16: M = 4 with 16-bit halo images (error against 32-bit M = 4)\n");
+    printf("# gradient: the gradient fetched and used (boundary with neutral live parameters); seed: seeding into the"
+           " seed image instead; seed+map: + mapping (M = -: no generation); halo16: M = 4 with 16-bit halo images (error"
+           " against 32-bit M = 4); halo1/2, halo1/4: M = 4 with halo images at 1/2, 1/4 of the frame per side (error"
+           " against M = 1 at full size)\n");
     printf("%-9s %-5s %3s %6s %7s %10s %8s %9s %7s %10s %10s %8s\n", "row", "host", "M", "draws", "passes",
            "ms/frame", "fps", "%ref", "paper%", "max_abs", "rmse", ">1/255");
     double reference = cases[0].seconds;
@@ -443,25 +453,36 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
     printf("# paper (GeForce 8800 GTX, 256^3, 512^2, sample distance 0.5): reference 29.34 fps;"
            " M = 1, 2, 4, 8: 15.85, 26.31, 34.97, 42.91 %% of it\n");
     /* where the time goes, per frame, against the reference */
-    double t_gradient = cases[1].seconds - reference, t_seed = cases[2].seconds - cases[1].seconds,
+    double t_gradient = cases[1].seconds - reference, t_seed = cases[2].seconds - reference,
            t_map = cases[3].seconds - cases[2].seconds, t_generation = cases[6].seconds - cases[3].seconds;
-    printf("# M = 4, slice host, per frame over the reference's %.1f ms: gradient stage %+.1f ms, seeding %+.1f ms,"
+    printf("# M = 4, slice host, per frame over the reference's %.1f ms: the gradient %+.1f ms, seeding (with it) %+.1f ms,"
            " mapping %+.1f ms, generation (%ld pass draws) %+.1f ms (%.2f ms a pass draw)\n",
            reference * 1e3, t_gradient * 1e3, t_seed * 1e3, t_map * 1e3, cases[6].pass_draws, t_generation * 1e3,
            cases[6].pass_draws ? t_generation * 1e3 / (double)cases[6].pass_draws : 0.0);
-    double best_percent = 0.0;
-    const halo_bench_case *best = NULL;
-    for (size_t i = 0; i < n; ++i)
-        if (!strcmp(cases[i].axis, "halo") && cases[i].config.interval == 4 &&
-            100.0 * reference / cases[i].seconds > best_percent) {
-            best_percent = 100.0 * reference / cases[i].seconds;
-            best = &cases[i];
-        }
-    if (best) {
-        int met = best_percent >= 75.0 && best->max_abs <= 1.0 / 255.0;
+    /* the target: the fastest M = 4 row, and the fastest M = 4 row within 1/255 */
+    const halo_bench_case *fastest = NULL, *within = NULL;
+    for (size_t i = 0; i < n; ++i) {
+        const halo_bench_case *c = &cases[i];
+        if (strncmp(c->axis, "halo", 4) || !strcmp(c->axis, "halo16") || c->config.interval != 4 || !(c->seconds > 0.0))
+            continue;
+        if (!fastest || c->seconds < fastest->seconds)
+            fastest = c;
+        if (c->max_abs <= 1.0 / 255.0 && (!within || c->seconds < within->seconds))
+            within = c;
+    }
+    if (fastest) {
+        double percent = 100.0 * reference / fastest->seconds;
+        int met = percent >= 75.0 && fastest->max_abs <= 1.0 / 255.0;
+        if (!met && within && 100.0 * reference / within->seconds >= 75.0)
+            met = 1, fastest = within, percent = 100.0 * reference / within->seconds;
         printf("# target: halo frame rate >= 75 %% of the reference at M = 4 with max error <= 1/255 (against M = 1):"
-               " %s host %.1f %%, max error %.3e: %s\n",
-               host_name(&best->config), best_percent, best->max_abs, met ? "MET" : "NOT MET");
+               " fastest M = 4 row: %s %s %.1f %%, max error %.3e; %s\n",
+               fastest->axis, host_name(&fastest->config), percent, fastest->max_abs, met ? "MET" : "NOT MET");
+        if (within && within != fastest)
+            printf("# the fastest M = 4 row within 1/255: %s %s %.1f %%, max error %.3e\n", within->axis,
+                   host_name(&within->config), 100.0 * reference / within->seconds, within->max_abs);
+        else if (!within)
+            printf("# no M = 4 row is within 1/255 of M = 1 at this size and volume\n");
     }
     halo_bench_cases_free(cases, n);
     return 0;

@@ -132,8 +132,10 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
     double centre_distance = sqrt((s->eye[0] - 0.5) * (s->eye[0] - 0.5) + (s->eye[1] - 0.5) * (s->eye[1] - 0.5) +
                                   (s->eye[2] - 0.5) * (s->eye[2] - 0.5));
     double front_distance = centre_distance - radius;
-    double voxel[3] = {1.0 / s->dims[0], 1.0 / s->dims[1], 1.0 / s->dims[2]};
-    int ok = 1;
+    float *gradients = halo_volume_gradients(s->volume, s->dims);
+    int ok = gradients != NULL;
+    if (!ok)
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
     for (int k = 0; k < s->slice_count && ok; ++k) {
         double plane = s->first_distance + k * s->step_size;
         for (size_t i = 0; i < pixels && ok; ++i) {
@@ -154,14 +156,9 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
                 classify(s, sample.value, color);
             }
             double distance = 0.0;
+            if (inside) /* the host's precomputed voxel gradients (float), trilinear */
+                halo_volume_trilinear3(gradients, s->dims, P, sample.gradient);
             for (int c = 0; c < 3; ++c) {
-                if (inside) {
-                    double plus[3] = {P[0], P[1], P[2]}, minus[3] = {P[0], P[1], P[2]};
-                    plus[c] += voxel[c];
-                    minus[c] -= voxel[c];
-                    sample.gradient[c] = (halo_volume_trilinear(s->volume, s->dims, plus) -
-                                          halo_volume_trilinear(s->volume, s->dims, minus)) * 0.5;
-                }
                 sample.view[c] = s->eye[c] - P[c];
                 distance += sample.view[c] * sample.view[c];
             }
@@ -200,6 +197,7 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
     }
     halo_emu_frame_destroy(frame);
     free(rays);
+    free(gradients);
     return ok;
 }
 

@@ -1,6 +1,7 @@
 /* The slice host and the slab ray caster (see slice.h, slab.h). */
 #include "hosts/slice.h"
 #include "hosts/host_common.h"
+#include "volume.h"
 
 #include "diag.h"
 
@@ -15,7 +16,7 @@ struct halo_slice {
     halo_gl_frame *frame;
     int slab;
     GLuint program, vertex_array, framebuffer, textures[2]; /* textures[1]: the slab's second ray state */
-    GLuint volume_texture, transfer_texture, labels_texture;
+    GLuint volume_texture, transfer_texture, labels_texture, gradient_texture;
     int width, height;
     const float *volume;
     int dims[3];
@@ -65,6 +66,7 @@ halo_slice *halo_slice_create_mode(const halo_host_desc *desc, int slab, halo_di
     }
     f->GenTextures(1, &s->volume_texture);
     f->GenTextures(1, &s->transfer_texture);
+    f->GenTextures(1, &s->gradient_texture);
     halo_slice_set_render(s, NULL, diag);
     halo_slice_set_camera(s, 30.0, 20.0, 1.0);
     for (size_t i = 0; p && i < halo_program_host_uniform_count(p); ++i)
@@ -98,6 +100,8 @@ void halo_slice_destroy(halo_slice *s)
         f->DeleteTextures(1, &s->transfer_texture);
     if (s->labels_texture)
         f->DeleteTextures(1, &s->labels_texture);
+    if (s->gradient_texture)
+        f->DeleteTextures(1, &s->gradient_texture);
     if (s->vertex_array)
         f->DeleteVertexArrays(1, &s->vertex_array);
     if (s->program)
@@ -179,6 +183,30 @@ halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int 
     halo_status status = halo_host_upload_volume(s ? s->f : NULL, s ? s->volume_texture : 0, data, nx, ny, nz, diag);
     if (status != HALO_OK)
         return status;
+    /* the gradients for the linked stages (slice.frag's sample_gradient): 12 bytes a voxel */
+    float *gradients = halo_volume_gradients(data, (const int[]){nx, ny, nz});
+    if (!gradients) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory for the gradients of a %dx%dx%d volume", nx, ny,
+                        nz);
+        return HALO_ERROR_IO;
+    }
+    const halo_glfuncs *f = s->f;
+    f->BindTexture(GL_TEXTURE_3D, s->gradient_texture);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+    f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    f->TexImage3D(GL_TEXTURE_3D, 0, GL_RGB32F, nx, ny, nz, 0, GL_RGB, GL_FLOAT, gradients);
+    f->BindTexture(GL_TEXTURE_3D, 0);
+    free(gradients);
+    GLenum error = f->GetError();
+    if (error != GL_NO_ERROR) {
+        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload the gradients of a %dx%dx%d volume (GL error 0x%x)",
+                        nx, ny, nz, error);
+        return HALO_ERROR_IO;
+    }
     s->volume = data;
     s->dims[0] = nx;
     s->dims[1] = ny;
@@ -282,6 +310,10 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
     f->Uniform1i(f->GetUniformLocation(program, "volume_texture"), 0);
     f->Uniform1i(f->GetUniformLocation(program, "transfer_texture"), 1);
     f->Uniform1i(f->GetUniformLocation(program, "ray_state"), 2);
+    f->ActiveTexture(GL_TEXTURE0 + HALO_SLICE_GRADIENT_UNIT);
+    f->BindTexture(GL_TEXTURE_3D, s->gradient_texture);
+    f->ActiveTexture(GL_TEXTURE0);
+    f->Uniform1i(f->GetUniformLocation(program, "gradient_texture"), HALO_SLICE_GRADIENT_UNIT);
     f->UniformMatrix4fv(f->GetUniformLocation(program, "inverse_view_projection"), 1, GL_FALSE,
                         s->inverse_view_projection);
     f->Uniform3fv(f->GetUniformLocation(program, "eye"), 1, s->eye);
@@ -368,6 +400,8 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
         f->ActiveTexture(GL_TEXTURE0 + HALO_SLICE_LABEL_UNIT);
         f->BindTexture(GL_TEXTURE_3D, 0);
     }
+    f->ActiveTexture(GL_TEXTURE0 + HALO_SLICE_GRADIENT_UNIT);
+    f->BindTexture(GL_TEXTURE_3D, 0);
     f->ActiveTexture(GL_TEXTURE0);
     f->BindTexture(GL_TEXTURE_3D, 0);
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);

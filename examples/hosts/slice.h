@@ -51,6 +51,8 @@ void halo_slice_set_camera(halo_slice *s, double azimuth, double elevation, doub
  * HALO_SLICE_LABEL_UNIT while rendering. NULL data (and the default, for a program
  * that declares "labels") is a segmentation where no voxel has a label id (>= 0). */
 #define HALO_SLICE_LABEL_UNIT 15
+/* The precomputed gradients (set_volume) are on this unit while rendering. */
+#define HALO_SLICE_GRADIENT_UNIT 14
 halo_status halo_slice_set_labels(halo_slice *s, const float *labels, int nx, int ny, int nz, halo_diagnostics *diag);
 /* M, the slices between two halo generations (slab caster: samples per draw). 0 (the
  * default) takes the program's halo_generate.interval, or 4 (the paper's) when the
