@@ -36,11 +36,39 @@ static double now(void)
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-static void gauss_weights(int r, double *w)
+static void gauss_weights_sigma(int r, double sigma, double *w)
 {
-    double sigma = r / 3.0;
     for (int i = 0; i <= r; ++i)
         w[i] = exp(-0.5 * (i / sigma) * (i / sigma));
+}
+
+static void gauss_weights(int r, double *w)
+{
+    gauss_weights_sigma(r, r / 3.0, w);
+}
+
+/* The Gaussian of sigma truncated at radius r, separable in double (exact to rounding),
+ * renormalized over the inside taps: the reference of the truncation table. */
+static void reference_separable(int n, int r, double sigma, const float *in, double *scratch, double *out)
+{
+    double w[MAX_RADIUS + 1];
+    gauss_weights_sigma(r, sigma, w);
+    for (int pass = 0; pass < 2; ++pass)
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                double sum[4] = {0, 0, 0, 0}, total = 0.0;
+                for (int i = -r; i <= r; ++i) {
+                    int px = pass ? x : x + i, py = pass ? y + i : y;
+                    if (px < 0 || py < 0 || px >= n || py >= n)
+                        continue;
+                    size_t at = ((size_t)py * n + px) * 4;
+                    for (int c = 0; c < 4; ++c)
+                        sum[c] += w[abs(i)] * (pass ? scratch[at + c] : (double)in[at + c]);
+                    total += w[abs(i)];
+                }
+                for (int c = 0; c < 4; ++c)
+                    (pass ? out : scratch)[((size_t)y * n + x) * 4 + c] = sum[c] / total;
+            }
 }
 
 /* Test image: noise over steps and a smooth ramp, values in [0, 1]. */
@@ -434,6 +462,47 @@ int halo_blur_report_main(int argc, char **argv)
                 status = 1;
         }
     }
+    /* Truncation: the sigma of the largest kernel, the separable GPU blur cut at t sigma,
+     * against the same Gaussian cut at 6 sigma (exp(-18): nothing left to cut). */
+    double *exact = malloc(count * sizeof *exact), *exact_scratch = malloc(count * sizeof *exact_scratch);
+    int r_max = (sizes[size_count - 1] - 1) / 2;
+    double sigma = r_max / 3.0;
+    int r_exact = (int)ceil(6.0 * sigma);
+    if (exact && exact_scratch && r_exact <= MAX_RADIUS) {
+        reference_separable(n, r_exact, sigma, in, exact_scratch, exact);
+        printf("truncation: sigma %.3g px (the %dx%d kernel's), gpu separable cut at t sigma, against the Gaussian cut "
+               "at 6 sigma (radius %d) in double\n", sigma, sizes[size_count - 1], sizes[size_count - 1], r_exact);
+        printf("%-7s %-7s %12s %10s %12s %12s\n", "t", "radius", "ms/frame", "fps", "max_abs_err", "rmse");
+        static const double cuts[] = {1.0, 1.5, 2.0, 2.5, 3.0, 4.0};
+        for (size_t c = 0; c < sizeof cuts / sizeof cuts[0]; ++c) {
+            int r = (int)ceil(cuts[c] * sigma - 1e-9);
+            double wd[MAX_RADIUS + 1];
+            float w[MAX_RADIUS + 1];
+            gauss_weights_sigma(r, sigma, wd);
+            for (int i = 0; i <= r; ++i)
+                w[i] = (float)wd[i];
+            double times[50];
+            run_variant(&g, V_GPU_SEPARABLE, r, w, in, scratch, out);
+            for (int rep = 0; rep < repeat; ++rep) {
+                f->Finish();
+                double t0 = now();
+                run_variant(&g, V_GPU_SEPARABLE, r, w, in, scratch, NULL);
+                times[rep] = now() - t0;
+            }
+            qsort(times, (size_t)repeat, sizeof *times, compare_doubles);
+            double t = times[repeat / 2], worst = 0.0, squares = 0.0;
+            for (size_t i = 0; i < count; ++i) {
+                double e = isfinite(out[i]) ? fabs(out[i] - exact[i]) : INFINITY;
+                worst = e > worst ? e : worst;
+                squares += e * e;
+            }
+            printf("%-7.1f %-7d %12.2f %10.2f %12.2e %12.2e%s\n", cuts[c], r, 1e3 * t, 1.0 / t, worst,
+                   sqrt(squares / (double)count), cuts[c] == 3.0 ? "  (libhalo's outlines)" : "");
+            fflush(stdout);
+        }
+    }
+    free(exact);
+    free(exact_scratch);
     if (f->GetError() != GL_NO_ERROR) {
         fprintf(stderr, "halo-validate blur: OpenGL error\n");
         status = 2;
