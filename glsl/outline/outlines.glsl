@@ -64,10 +64,6 @@
 // the image (a constant image stays constant up to the border).
 
 const int max_radius = 1024;
-// Border pixels (Sec. 4.1.1): depth 1 and an outline I at least this (a quarter of an
-// 8-bit step) take gamma of d_min. "I > 0" would switch on the exp() tails of the blur,
-// where float and double disagree on zero; below it the line is invisible anyway.
-const float outline_visible = 1.0 / 1024.0;
 
 float sigma_pixels(float percent)
 {
@@ -237,6 +233,18 @@ halo_channels importance_pass(ivec2 pixel)
     return halo_channels_from(result);
 }
 
+// gamma at depth d (the front-most feature's), nearest depth d_min and outline I.
+// Outline pixels over the background (d = 1, Sec. 4.1.1) are line in the share I and
+// background in 1 - I: gamma(d_min) and gamma(1) mixed by I. A switch (I > 0, or any
+// threshold) would jump where the blur's exp() tails are zero in one precision and not
+// in the other; the mix is continuous in I, with slope at most 1.
+float border_gamma(float d, float d_min, float I)
+{
+    if (d < 1.0 || !depth_correction)
+        return depth_gamma(d);
+    return mix(depth_gamma(d), depth_gamma(d_min), clamp(I, 0.0, 1.0));
+}
+
 // gamma of a pixel: the front-most feature; outline pixels over the background use d_min.
 float pixel_gamma(ivec2 pixel)
 {
@@ -247,7 +255,7 @@ float pixel_gamma(ivec2 pixel)
         d_min = min(d_min, halo_channel(M, k));
         line = max(line, halo_channel(I, k));
     }
-    return depth_gamma(d >= 1.0 && line >= outline_visible && depth_correction ? d_min : d);
+    return border_gamma(d, d_min, line);
 }
 
 vec4 compose_pass(ivec2 pixel)
@@ -262,7 +270,7 @@ vec4 compose_pass(ivec2 pixel)
         d = min(d, halo_channel(halo_input(2, pixel), k));
         d_min = min(d_min, halo_channel(halo_input(3, pixel), k));
     }
-    float gamma = depth_gamma(d >= 1.0 && I >= outline_visible && depth_correction ? d_min : d);
+    float gamma = border_gamma(d, d_min, I);
     if (depth_color_blend)
         c = mix(c, depth_color, gamma);
     if (depth_cue)

@@ -244,9 +244,9 @@ void halo_emu_outline_importance(const halo_emu_pass_context *c, int x, int y, d
     }
 }
 
-/* Border pixels: d = 1 and I >= OUTLINE_VISIBLE take gamma of d_min (outlines.glsl:
- * outline_visible; float and double disagree on whether blur tails are zero). */
-#define OUTLINE_VISIBLE (1.0 / 1024.0)
+/* Border pixels (d = 1): gamma(1) and gamma(d_min) mixed by the outline I
+ * (outlines.glsl: border_gamma; continuous in I, so that float and double, which
+ * disagree on whether blur tails are zero, stay close). */
 
 /* gamma of a pixel from inputs (depth, d_min, importance) at indices first.. */
 static double pixel_gamma(const halo_emu_pass_context *c, int x, int y, int depth, int dmin, int importance)
@@ -260,7 +260,10 @@ static double pixel_gamma(const halo_emu_pass_context *c, int x, int y, int dept
         line = i > line ? i : line;
     }
     int correction = halo_emu_scalar(c->params, "depth_correction") != 0.0;
-    return depth_gamma(c->params, d >= 1.0 && line >= OUTLINE_VISIBLE && correction ? d_min : d);
+    if (d < 1.0 || !correction)
+        return depth_gamma(c->params, d);
+    double t = line < 0.0 ? 0.0 : line > 1.0 ? 1.0 : line;
+    return halo_emu_mix(depth_gamma(c->params, d), depth_gamma(c->params, d_min), t);
 }
 
 void halo_emu_outline_compose(const halo_emu_pass_context *c, int x, int y, double out[4])
