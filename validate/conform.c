@@ -1405,26 +1405,32 @@ typedef struct pass_row {
     int generations;        /* 2: a second generation on the next case, in the same frame */
     double tolerance;
     const char *reason;
+    int scale;              /* halo_link_desc.image_scale: the pass images at 1/scale (0: 1) */
 } pass_row;
 
 static const pass_row pass_rows[] = {
     {"pass:median", "{\"median\": true, \"passes\": 1}", {"initial"}, 1, 3e-7,
-     "the median selects an input value (exact); the gradient after it: one sqrt of a sum of squares, ~1 ulp"},
+     "the median selects an input value (exact); the gradient after it: one sqrt of a sum of squares, ~1 ulp", 1},
     {"pass:gradient", "{\"passes\": 1}", {"initial"}, 1, 3e-7,
-     "differences of exact seeds, sqrt of a sum of two squares: ~1 ulp of a value <= 1"},
+     "differences of exact seeds, sqrt of a sum of two squares: ~1 ulp of a value <= 1", 1},
     {"pass:spread@N1", "{\"passes\": 1}", {"field"}, 1, 2e-6,
-     "float32 sums of 9 taps and a mix per pass (~1e-7 each), gain <= 1 from pass to pass"},
-    {"pass:spread@N2", "{\"passes\": 2}", {"field"}, 1, 2e-6, "as N1, over 2 passes"},
-    {"pass:spread@N3", "{\"passes\": 3}", {"field"}, 1, 2e-6, "as N1, over 3 passes"},
-    {"pass:spread@N4", "{\"passes\": 4}", {"field"}, 1, 2e-6, "as N1, over 4 passes"},
-    {"pass:spread@delta0", "{\"passes\": 4, \"delta\": 0}", {"field"}, 1, 3e-7, "delta 0: H_N = H_0 exactly"},
-    {"pass:spread@delta1", "{\"passes\": 4, \"delta\": 1}", {"field"}, 1, 2e-6, "as N4"},
+     "float32 sums of 9 taps and a mix per pass (~1e-7 each), gain <= 1 from pass to pass", 1},
+    {"pass:spread@N2", "{\"passes\": 2}", {"field"}, 1, 2e-6, "as N1, over 2 passes", 1},
+    {"pass:spread@N3", "{\"passes\": 3}", {"field"}, 1, 2e-6, "as N1, over 3 passes", 1},
+    {"pass:spread@N4", "{\"passes\": 4}", {"field"}, 1, 2e-6, "as N1, over 4 passes", 1},
+    {"pass:spread@delta0", "{\"passes\": 4, \"delta\": 0}", {"field"}, 1, 3e-7, "delta 0: H_N = H_0 exactly", 1},
+    {"pass:spread@delta1", "{\"passes\": 4, \"delta\": 1}", {"field"}, 1, 2e-6, "as N4", 1},
     {"pass:occlude", "{\"passes\": 4}", {"occlusion", "field"}, 2, 2e-6,
-     "max of two fields (exact) over 2 generations in one frame: the spreading's error"},
+     "max of two fields (exact) over 2 generations in one frame: the spreading's error", 1},
     {"pass:halos2", "{\"passes\": 4, \"delta\": [0.7, 0.95]}", {"initial", "field", "occlusion"}, 1, 2e-6,
-     "two halos (vec2 images): as N4 per channel"},
+     "two halos (vec2 images): as N4 per channel", 1},
     {"pass:halos4", "{\"passes\": 3, \"delta\": [0, 0.5, 0.8, 1], \"median\": true}", {"initial", "field", "occlusion"},
-     2, 2e-6, "four halos (vec4 images), median on: as N4 per channel"},
+     2, 2e-6, "four halos (vec4 images), median on: as N4 per channel", 1},
+    /* halo images at 1/2 and 1/4 of the frame (an odd frame size gives partial blocks):
+     * the first pass max-downsamples the full-size seed (exact), the rest as above */
+    {"pass:spread@half", "{\"passes\": 4}", {"initial", "field"}, 1, 2e-6, "as N4 on the 1/2 images", 2},
+    {"pass:halos4@quarter", "{\"passes\": 3, \"delta\": [0, 0.5, 0.8, 1], \"median\": true}",
+     {"initial", "field", "occlusion"}, 2, 2e-6, "as halos4 on the 1/4 images", 4},
 };
 
 static void run_pass_row(conform *c, halo_library *lib, const pass_row *r, const char *probe_source)
@@ -1446,7 +1452,7 @@ static void run_pass_row(conform *c, halo_library *lib, const pass_row *r, const
     if (!scene || !samples || !image)
         goto error;
     program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = probe_source,
-                                          .host_file = "probe.frag"},
+                                          .host_file = "probe.frag", .image_scale = r->scale},
                         c->diag);
     if (!program || halo_diagnostics_errors(c->diag) > 0)
         goto error;
@@ -1486,7 +1492,12 @@ static void run_pass_row(conform *c, halo_library *lib, const pass_row *r, const
             if (halo_gl_frame_read(gframe, r->compare[k], image) != HALO_OK)
                 goto error;
             const double *e = halo_emu_frame_image(eframe, r->compare[k]);
-            for (size_t i = 0; i < count; ++i) {
+            int scale = 1;
+            for (size_t m = 0; m < halo_program_image_count(program); ++m)
+                if (!strcmp(halo_program_image(program, m)->name, r->compare[k]))
+                    scale = halo_program_image(program, m)->scale;
+            size_t side = (size_t)((c->size + scale - 1) / scale), compared = side * side;
+            for (size_t i = 0; i < compared; ++i) {
                 int over = 0, nonfinite = 0;
                 for (int h = 0; h < channels; ++h) {
                     double gv = image[i * (size_t)channels + (size_t)h], ev = e[i * (size_t)channels + (size_t)h];
@@ -1510,8 +1521,8 @@ static void run_pass_row(conform *c, halo_library *lib, const pass_row *r, const
     int pass = stats.over == 0 && stats.nonfinite == 0;
     print_row(c, r->name, &stats, tolerance_text, pass);
     if ((c->verbose || !pass) && worst_case >= 0)
-        fprintf(stderr, "  largest error at pixel (%zu, %zu) of seed case '%s'; tolerance: %s\n",
-                stats.worst % (size_t)c->size, stats.worst / (size_t)c->size, seed_case_names[worst_case], r->reason);
+        fprintf(stderr, "  largest error at texel %zu (row-major in its image) of seed case '%s'; tolerance: %s\n",
+                stats.worst, seed_case_names[worst_case], r->reason);
     goto done;
 error:
     print_error_row(c, r->name);
