@@ -138,6 +138,7 @@ HALO_RENDER_TESTS = \
 	tests/render/bad_volumes.sh \
 	tests/render/mri.sh \
 	tests/render/max_error.sh \
+	tests/render/bench.sh \
 	tests/render/features.sh
 TESTS += $(HALO_RENDER_TESTS)
 EXTRA_DIST += $(HALO_RENDER_TESTS) tests/render/common.sh \

@@ -1,0 +1,58 @@
+#!/bin/sh
+# halo-validate bench (docs/performance.md) on a tiny image and volume: the sweep writes
+# its table, CSV (every axis, the halo image resolutions included, no non-finite
+# image) and plot, and verifies the --max-error choice; --table1 and --specialize run;
+# halo-validate blur writes its variant and truncation rows as CSV. The times are not
+# checked (speed goals live in the benchmark's output, not in make check).
+. "$srcdir/tests/render/common.sh"
+HALO_VALIDATE=${HALO_VALIDATE:-${top_builddir:-.}/validate/halo-validate}
+export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
+
+run 0 "$HALO_VALIDATE" bench --size 16 --volume-size 16 --repeat 1 --csv "$tmp/bench.csv" \
+    --plot "$tmp/bench.png" --max-error 1
+expect_stdout "^axis +host +M +N +bits +res +step"
+expect_stdout "budget: max error 1: .*verified"
+if grep -q NONFINITE "$tmp/out"; then
+    fail "a configuration rendered a non-finite value"
+fi
+test -s "$tmp/bench.gp" || fail "no gnuplot script next to the plot"
+if command -v gnuplot >/dev/null 2>&1; then
+    expect_png "$tmp/bench.png"
+fi
+if test -s "$tmp/bench.csv"; then
+    rows=$(($(wc -l <"$tmp/bench.csv") - 1))
+    test "$rows" -ge 30 || fail "the CSV has $rows configurations, expected the whole sweep (>= 30)"
+    for axis in reference M N precision resolution step slab combined "no halos"; do
+        grep -q "^$axis," "$tmp/bench.csv" || fail "no '$axis' row in the CSV"
+    done
+    for res in full 1/2 1/4; do
+        grep -q "^resolution,slice,1,4,4,32,0.5,$res,\|^M,slice,1,4,4,32,0.5,$res," "$tmp/bench.csv" ||
+            fail "no M = 4 row at halo resolution $res in the CSV"
+    done
+    # every halo row has an error against the reference, finite and in [0, 1]
+    awk -F, 'NR > 1 && $3 == 1 && !($14 >= 0 && $14 <= 1) { bad = 1 } END { exit bad }' "$tmp/bench.csv" ||
+        fail "a halo row's max_abs is not in [0, 1]"
+else
+    fail "no CSV written"
+fi
+
+run 0 "$HALO_VALIDATE" bench --table1 --size 16 --volume-size 16 --repeat 1
+expect_stdout "^halo1/2 +slice +4 "
+expect_stdout "^# target: .*(MET|NOT MET)"
+run 0 "$HALO_VALIDATE" bench --specialize --size 16 --volume-size 16 --repeat 1
+expect_stdout "all_live"
+
+run 0 "$HALO_VALIDATE" blur --size 32 --kernels 5,9 --repeat 1 --csv "$tmp/blur.csv"
+expect_stdout "^truncation: "
+if test -s "$tmp/blur.csv"; then
+    test "$(grep -c '^variants,' "$tmp/blur.csv")" -eq 10 || fail "blur CSV: expected 10 variant rows"
+    test "$(grep -c '^truncation,' "$tmp/blur.csv")" -eq 6 || fail "blur CSV: expected 6 truncation rows"
+else
+    fail "halo-validate blur wrote no CSV"
+fi
+
+# usage errors
+run 2 "$HALO_VALIDATE" bench --size 0
+run 2 "$HALO_VALIDATE" bench --repeat nan
+run 2 "$HALO_VALIDATE" blur --kernels 4
+finish
