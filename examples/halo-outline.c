@@ -24,7 +24,10 @@ static int check_post(const halo_program *program, halo_gl_frame *frame, int siz
 {
     halo_emu_frame *emu = halo_emu_frame_create(program, size, size, diag);
     float *buffer = malloc((size_t)size * size * 4 * sizeof *buffer);
-    int written[64] = {0}, failed = 0;
+    int written[64] = {0}, written_final[64] = {0}, failed = 0;
+    /* feature groups: the GL frame's per-group images hold the last group, and its
+     * accumulator (written by an at=post pass) all of them: copy it too */
+    int grouped = halo_program_group_count(program) > 1;
     if (!emu || !buffer) {
         halo_emu_frame_destroy(emu);
         free(buffer);
@@ -33,19 +36,27 @@ static int check_post(const halo_program *program, halo_gl_frame *frame, int siz
     for (size_t i = 0; i < halo_program_pass_count(program); ++i) {
         const halo_pass_info *pass = halo_program_pass(program, i);
         for (size_t k = 0; pass->post && k < halo_program_image_count(program) && k < 64; ++k)
-            if (!strcmp(halo_program_image(program, k)->name, pass->output))
+            if (!strcmp(halo_program_image(program, k)->name, pass->output)) {
                 written[k] = 1;
+                written_final[k] |= pass->post == 2;
+            }
     }
     for (size_t k = 0; k < halo_program_image_count(program) && k < 64; ++k) {
         const halo_image_info *info = halo_program_image(program, k);
-        if (written[k] || halo_gl_frame_read(frame, info->name, buffer) != HALO_OK)
+        if ((grouped ? written_final[k] : written[k]) || halo_gl_frame_read(frame, info->name, buffer) != HALO_OK)
             continue;
         double *dst = halo_emu_frame_image(emu, info->name);
         for (size_t n = 0; n < (size_t)size * size * (size_t)info->channels; ++n)
             dst[n] = buffer[n];
     }
+    /* the per-group passes ran last with the last group's values */
+    int groups = halo_program_group_count(program);
+    if (grouped)
+        halo_program_select_group((halo_program *)program, groups - 1);
     if (halo_emu_frame_post(emu, diag) != HALO_OK)
         failed = 1;
+    if (grouped)
+        halo_program_select_group((halo_program *)program, 0);
     for (size_t k = 0; !failed && k < halo_program_image_count(program) && k < 64; ++k) {
         const halo_image_info *info = halo_program_image(program, k);
         if (!written[k] || halo_gl_frame_read(frame, info->name, buffer) != HALO_OK)

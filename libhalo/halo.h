@@ -279,7 +279,10 @@ typedef struct halo_output_info {
 } halo_output_info;
 
 /* A screen-sized image used by image passes, outputs and samplers. */
-typedef enum halo_image_reset { HALO_RESET_FRAME = 0, HALO_RESET_GENERATION } halo_image_reset;
+/* FRAME: cleared at the start of a frame and of every feature group; GENERATION: also
+ * after each generation; FRAME_ONLY: at the start of a frame only (an accumulator over
+ * the feature groups of a frame). */
+typedef enum halo_image_reset { HALO_RESET_FRAME = 0, HALO_RESET_GENERATION, HALO_RESET_FRAME_ONLY } halo_image_reset;
 typedef struct halo_image_info {
     const char *name;
     int channels;           /* components: the program's channel count, or fixed by components=N */
@@ -314,7 +317,9 @@ typedef struct halo_pass_info {
     int repeat;         /* >= 1 */
     const char *vertex_source;
     const char *fragment_source;
-    int post;           /* 1: runs at the end of the frame (halo_gl_frame_post), not in _generate */
+    int post;           /* 1: at the end of each feature group (halo_gl_frame_end_group, or _post when the
+                         * frame has one group), 2: once at the end of the frame (halo_gl_frame_post);
+                         * 0: in halo_gl_frame_generate */
     int channel;        /* -1; else the channel of an each=channel pass (halo_pass_channel) */
 } halo_pass_info;
 
@@ -352,6 +357,15 @@ HALO_API int halo_program_channel_count(const halo_program *p);
 HALO_API int halo_program_image_precision(const halo_program *p);
 /* halo_link_desc.image_scale as linked: 1, 2 or 4. */
 HALO_API int halo_program_image_scale(const halo_program *p);
+/* Feature groups (docs/image-passes.md, "Feature groups"): a stage annotated
+ * `#pragma halo groups` (outline_feature, outlines) takes up to HALO_MAX_GROUP_CHANNELS
+ * values per channels parameter; the linker splits them into groups of four. The host
+ * renders the volume once per group: halo_program_select_group(p, g) makes group g's
+ * values current (upload them: halo_gl_program_upload), then halo_gl_frame_begin_group,
+ * the volume, halo_gl_frame_end_group; halo_gl_frame_post after the last. */
+#define HALO_MAX_GROUP_CHANNELS 16
+HALO_API int halo_program_group_count(const halo_program *p);
+HALO_API halo_status halo_program_select_group(halo_program *p, int group);
 /* Validates the fragment program of each image pass (part of halo_program_validate). */
 /* Reflection as a JSON document (caller frees with free()). */
 HALO_API char *halo_program_reflect_json(const halo_program *p);
@@ -413,6 +427,9 @@ HALO_API halo_status halo_emu_frame_set_host_uniform(halo_emu_frame *f, const ch
                                                      int count);
 /* Clears every image (start of a frame). */
 HALO_API void halo_emu_frame_begin(halo_emu_frame *f);
+/* As halo_gl_frame_begin_group / _end_group. */
+HALO_API void halo_emu_frame_begin_group(halo_emu_frame *f);
+HALO_API halo_status halo_emu_frame_end_group(halo_emu_frame *f, halo_diagnostics *diag);
 /* Like halo_emu_apply, with the frame's images and host uniforms available to the stages
  * and outputs folded into s->output_accum. */
 HALO_API halo_status halo_emu_apply_frame(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s,
@@ -473,6 +490,11 @@ HALO_API halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p,
 HALO_API void halo_gl_frame_destroy(halo_gl_frame *f);
 /* Clears every image: call at the start of a frame. */
 HALO_API void halo_gl_frame_begin(halo_gl_frame *f);
+/* Feature groups (halo_program_group_count > 1): before the volume pass of each group,
+ * clears every image but the frame's accumulators (reset=frame-only); after it, runs the
+ * at=post passes (halo_gl_frame_post then runs only the at=final ones). */
+HALO_API void halo_gl_frame_begin_group(halo_gl_frame *f);
+HALO_API void halo_gl_frame_end_group(halo_gl_frame *f);
 /* Attaches the output images to the host's framebuffer (bound as GL_DRAW_FRAMEBUFFER) at
  * their locations, sets the draw buffers and each output's blend; draw buffer 0 keeps
  * the host's blend state. */

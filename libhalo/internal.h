@@ -86,6 +86,8 @@ struct halo_module {
     halo_pass_decl *passes;
     size_t pass_count;
     halo_name_list per_halo;
+    int groups;          /* #pragma halo groups: channels parameters take up to HALO_MAX_GROUP_CHANNELS values,
+                          * linked four at a time (feature groups, halo_program_select_group) */
 };
 
 struct halo_library {
@@ -149,6 +151,8 @@ typedef struct halo_program_stage {
     const halo_module *module;
     halo_param_value *values;
     size_t first_uniform; /* index into uniforms */
+    halo_param_value *group_values; /* a grouped stage of a program with feature groups: the scene's
+                                     * whole lists (values holds the selected group's four) */
 } halo_linked_stage;
 
 struct halo_program {
@@ -178,6 +182,8 @@ struct halo_program {
     halo_host_uniform_info *host_uniforms;
     size_t host_uniform_count;
     int channel_count;
+    int group_count;   /* feature groups: ceil(features / 4) of the grouped stages, at least 1 */
+    int group;         /* the selected one */
     int image_precision;
     int image_scale;
     char **strings; /* owned strings the reflection points to */

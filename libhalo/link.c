@@ -1149,6 +1149,9 @@ static int build_uniforms(halo_program *p, int all_live) {
     return 0;
 }
 
+static int set_groups(halo_program *p);
+static void load_group(halo_program *p, int g);
+
 halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
     if (!desc || !desc->library || !desc->host_source) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: library and host_source are required");
@@ -1200,6 +1203,7 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
         }
     }
     free(order);
+    if (set_groups(p)) goto oom;
     if (build_uniforms(p, desc->all_live)) goto oom;
     /* 4. Channels, images, outputs, samplers, host uniforms, passes. */
     p->image_precision = desc->image_precision ? desc->image_precision : 32;
@@ -1220,6 +1224,7 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
         return NULL;
     }
     set_image_scales(p);
+    if (p->group_count > 1) load_group(p, 0);
     /* 5. Emit. */
     if (emit_program(p, desc->host_source, p->host_lines, host_count, &h, desc->library)) goto oom;
     int passes = build_passes(p, desc->library, diag);
@@ -1242,7 +1247,10 @@ void halo_program_destroy(halo_program *p) {
     free(p->host_storage);
     free(p->host_lines);
     free(p->origins);
-    for (size_t s = 0; s < p->stage_count; s++) free(p->stages[s].values);
+    for (size_t s = 0; s < p->stage_count; s++) {
+        free(p->stages[s].values);
+        free(p->stages[s].group_values);
+    }
     free(p->stages);
     for (size_t i = 0; i < p->uniform_count; i++) free(p->uniform_names[i]);
     free(p->uniform_names);
@@ -1334,6 +1342,64 @@ const halo_host_uniform_info *halo_program_host_uniform(const halo_program *p, s
 int halo_program_channel_count(const halo_program *p) { return p->channel_count; }
 int halo_program_image_precision(const halo_program *p) { return p->image_precision; }
 int halo_program_image_scale(const halo_program *p) { return p->image_scale; }
+int halo_program_group_count(const halo_program *p) { return p && p->group_count > 1 ? p->group_count : 1; }
+
+/* Group g's values of every grouped channels parameter: values 4g .. 4g + 3 of the
+ * scene's list (the last value repeated where the list ends), padded to the channel
+ * count by repeating the group's last. */
+static void load_group(halo_program *p, int g) {
+    for (size_t s = 0; s < p->stage_count; s++) {
+        halo_linked_stage *st = &p->stages[s];
+        if (!st->group_values) continue;
+        for (size_t i = 0; i < st->module->param_count; i++) {
+            if (st->module->params[i].type != HALO_PARAM_CHANNELS) continue;
+            const halo_param_value *full = &st->group_values[i];
+            halo_param_value *v = &st->values[i];
+            int n = full->count < 1 ? 1 : full->count, c = p->channel_count < 1 ? 4 : p->channel_count;
+            for (int k = 0; k < c; k++) {
+                int from = 4 * g + k < n ? 4 * g + k : n - 1;
+                v->value[k] = full->value[from];
+            }
+            v->count = c;
+            p->uniforms[st->first_uniform + i].count = c;
+        }
+    }
+    p->group = g;
+}
+
+halo_status halo_program_select_group(halo_program *p, int group) {
+    if (!p || group < 0 || group >= halo_program_group_count(p)) return HALO_ERROR_INPUT;
+    if (p->group_count > 1) load_group(p, group);
+    return HALO_OK;
+}
+
+/* Feature groups: grouped stages whose channels lists are longer than four. Their lists
+ * are kept whole (group_values), their channels parameters become uniforms (switching
+ * groups is an upload), and group 0 is loaded. */
+static int set_groups(halo_program *p) {
+    int features = 0;
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        for (size_t i = 0; m->groups && i < m->param_count; i++)
+            if (m->params[i].type == HALO_PARAM_CHANNELS && p->stages[s].values[i].count > features)
+                features = p->stages[s].values[i].count;
+    }
+    p->group_count = features > 4 ? (features + 3) / 4 : 1;
+    if (p->group_count == 1) return 0;
+    for (size_t s = 0; s < p->stage_count; s++) {
+        halo_linked_stage *st = &p->stages[s];
+        if (!st->module->groups) continue;
+        st->group_values = calloc(st->module->param_count + 1, sizeof *st->group_values);
+        if (!st->group_values) return -1;
+        for (size_t i = 0; i < st->module->param_count; i++) {
+            if (st->module->params[i].type != HALO_PARAM_CHANNELS) continue;
+            st->group_values[i] = st->values[i];
+            st->values[i].live = 1;
+            st->values[i].count = 4; /* group 0 (set_channel_count sees four) */
+        }
+    }
+    return 0;
+}
 size_t halo_program_pass_count(const halo_program *p) { return p->pass_count; }
 const halo_pass_info *halo_program_pass(const halo_program *p, size_t i) {
     return i < p->pass_count ? &p->passes[i] : NULL;

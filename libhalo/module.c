@@ -366,7 +366,9 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
         else if (k == 4 && !strncmp(a, "when", 4)) slot = &pd.when;
         else if (k == 2 && !strncmp(a, "at", 2)) {
             if (!strcmp(v, "post")) pd.post = 1;
-            else if (strcmp(v, "generate")) ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "at= takes generate or post");
+            else if (!strcmp(v, "final")) pd.post = 2;
+            else if (strcmp(v, "generate"))
+                ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "at= takes generate, post or final");
             continue;
         } else if (k == 4 && !strncmp(a, "each", 4)) {
             if (!strcmp(v, "channel")) pd.each_channel = 1;
@@ -509,6 +511,7 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
             char *end = NULL;
             if (!strcmp(w.w[i], "reset=generation")) reset = HALO_RESET_GENERATION;
             else if (!strcmp(w.w[i], "reset=frame")) reset = HALO_RESET_FRAME;
+            else if (!strcmp(w.w[i], "reset=frame-only")) reset = HALO_RESET_FRAME_ONLY;
             else if (!strncmp(w.w[i], "clear=", 6)) {
                 clear = strtod(w.w[i] + 6, &end);
                 ok = end != w.w[i] + 6 && !*end && isfinite(clear);
@@ -520,7 +523,7 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
         }
         if (!ok) {
             ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'image' takes a name (NAME* for one per channel) and "
-                        "optionally reset=frame or reset=generation, clear=VALUE, components=1..4");
+                        "optionally reset=frame, reset=generation or reset=frame-only, clear=VALUE, components=1..4");
             return;
         }
         halo_image_decl *im = realloc(m->images, (m->image_count + 1) * sizeof *im);
@@ -544,6 +547,10 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
                                                               w.n == 4 ? unquote(w.w[3]) : halo_strdup(""), line};
     } else if (!strcmp(d, "pass")) {
         parse_pass(ctx, &w, line);
+    } else if (!strcmp(d, "groups")) {
+        /* features in groups of four: its channels parameters take up to 16 values */
+        if (w.n != 1) ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'groups' takes no arguments");
+        m->groups = 1;
     } else if (!strcmp(d, "per_halo")) {
         if (w.n < 2) ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'per_halo' takes parameter names");
         for (int i = 1; i < w.n; i++) halo_name_list_add(&m->per_halo, w.w[i], strlen(w.w[i]), line);
@@ -553,7 +560,7 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
     } else {
         ANNOT_ERROR(ctx, ANNOTATION_UNKNOWN, line, w.col[0],
                     "unknown directive '%s' (module, library, summary, hook, needs, provides, after, param, "
-                    "output, image, host_uniform, pass, per_halo)", d);
+                    "output, image, host_uniform, pass, per_halo, groups)", d);
     }
 }
 
@@ -727,6 +734,9 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
                 }
             }
         }
+        for (size_t i = 0; m->groups && i < m->param_count; i++)
+            if (m->params[i].type == HALO_PARAM_CHANNELS)
+                m->params[i].array_size = HALO_MAX_GROUP_CHANNELS;
         for (size_t i = 0; i < m->per_halo.count; i++) {
             const halo_param_info *pi = halo_module_find_param(m, m->per_halo.items[i]);
             if (!pi || !pi->array_size || pi->type == HALO_PARAM_CHANNELS) {

@@ -16,7 +16,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum shape { SHAPE_DISCS, SHAPE_FLAT, SHAPE_DEPTH_ONE, SHAPE_PIXEL, SHAPE_BORDER, SHAPE_FOUR };
+enum shape { SHAPE_DISCS, SHAPE_FLAT, SHAPE_DEPTH_ONE, SHAPE_PIXEL, SHAPE_BORDER, SHAPE_FOUR, SHAPE_SIX };
 
 typedef struct outline_case {
     const char *name;
@@ -30,6 +30,13 @@ typedef struct outline_case {
 #define ONE_FEATURE "\"value_min\": 0.5, \"value_max\": 1, \"occluder_opacity\": 0.5"
 #define FOUR_FEATURES                                                                                             \
     "\"value_min\": [0, 0.2, 0.5, 0.8], \"value_max\": [0.199, 0.399, 0.7, 1], \"occluder_opacity\": 0.5"
+
+/* Six features: two feature groups (features 0-3, then 4-5), one volume pass each. */
+#define SIX_FEATURES                                                                                              \
+    "\"value_min\": [0, 0.15, 0.3, 0.5, 0.65, 0.85], \"value_max\": [0.1, 0.25, 0.4, 0.6, 0.75, 1],"                  \
+    " \"occluder_opacity\": 0.5"
+static const double six_centres[6][2] = {{0.2, 0.3}, {0.5, 0.3}, {0.8, 0.3}, {0.2, 0.7}, {0.5, 0.7}, {0.8, 0.7}};
+static const double six_values[6] = {0.05, 0.2, 0.35, 0.55, 0.7, 0.9};
 
 /* Blurs: float sums of up to 2r+1 taps (r <= size) of exp() weights, renormalized:
  * a few ulps of the depth (<= 1) per tap, 1e-6 relative at most; importance is lambda
@@ -79,6 +86,10 @@ static const outline_case outline_cases[] = {
      "\"sigma\": 2, \"lambda\": [4, 2, 8, 1], \"occluded\": [0, 1, 2, 2], \"normal_difference\": true,"
      " \"normal_min\": [0.1, 0.2, 0.3, 2], \"normal_max\": [0.5, 0.5, 0.3, 3]",
      NORMAL_TOL, NORMAL_TOL, "four features, per-feature parameters"},
+    {"outline:features6", SHAPE_SIX, 1,
+     "\"sigma\": 2, \"lambda\": [4, 2, 8, 1, 4, 6], \"occluded\": [0, 1, 2, 2, 1, 2], \"depth_start\": 0.3,"
+     " \"depth_cue\": true, \"line_fading\": true",
+     DEPTH_TOL, DEPTH_TOL, "six features in two feature groups (two volume passes), depth cueing over both"},
 };
 
 /* Depth and sphere normal of a disc at (cx, cy), radius r, front depth d0: 1 outside. */
@@ -120,6 +131,11 @@ static void feature_sample(enum shape shape, int size, int x, int y, halo_emu_sa
                 hit = 1, value = values[k];
         break;
     }
+    case SHAPE_SIX:
+        for (int k = 0; k < 6 && !hit; ++k)
+            if (disc(px, py, six_centres[k][0] * size, six_centres[k][1] * size, size * 0.12, 0.2 + 0.1 * k, &depth, n))
+                hit = 1, value = six_values[k];
+        break;
     default: /* two discs, the smaller in front and overlapping */
         hit = disc(px, py, size * 0.38, size * 0.5, size * 0.3, 0.4, &depth, n);
         double d2, n2[3];
@@ -253,12 +269,12 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
 {
     if (!row_selected(c, oc->name, "outlines") && !row_selected(c, oc->name, "outline"))
         return;
-    int size = c->size, four = oc->shape == SHAPE_FOUR;
+    int size = c->size, four = oc->shape == SHAPE_FOUR, six = oc->shape == SHAPE_SIX;
     size_t count = (size_t)size * (size_t)size;
     char json[2048], tolerance_text[32];
     snprintf(json, sizeof json,
              "{\"halo_scene\": 1, \"stages\": [{\"outline_feature\": {%s}}, {\"outlines\": {%s}}]}",
-             four ? FOUR_FEATURES : ONE_FEATURE, oc->outlines);
+             six ? SIX_FEATURES : four ? FOUR_FEATURES : ONE_FEATURE, oc->outlines);
     snprintf(tolerance_text, sizeof tolerance_text, "%.0e+%.0er", oc->tol_abs, oc->tol_rel);
     halo_scene *scene = halo_scene_parse(json, oc->name, c->lib, c->diag);
     halo_program *program =
@@ -290,16 +306,34 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
         }
     halo_gl_frame_begin(gframe);
     halo_emu_frame_begin(eframe);
-    int draws = oc->occluder_band ? 2 : 1;
-    for (int d = 0; d < draws; ++d) {
-        if (frame_probe_draw(c, &fp, program, gframe, samples + (size_t)d * count, NULL) != HALO_OK)
-            goto error;
-        for (size_t i = 0; i < count; ++i) {
-            halo_emu_sample s = samples[(size_t)d * count + i];
-            if (halo_emu_apply_frame(program, eframe, &s, c->diag) != HALO_OK)
+    int draws = oc->occluder_band ? 2 : 1, groups = halo_program_group_count(program);
+    for (int g = 0; g < groups; ++g) {
+        /* feature groups: the volume (here: the probe's samples) once per group */
+        if (groups > 1) {
+            if (halo_program_select_group(program, g) != HALO_OK)
                 goto error;
-            halo_emu_frame_finish(eframe, &s);
+            halo_gl_frame_begin_group(gframe);
+            halo_emu_frame_begin_group(eframe);
         }
+        for (int d = 0; d < draws; ++d) {
+            if (frame_probe_draw(c, &fp, program, gframe, samples + (size_t)d * count, NULL) != HALO_OK)
+                goto error;
+            for (size_t i = 0; i < count; ++i) {
+                halo_emu_sample s = samples[(size_t)d * count + i];
+                if (halo_emu_apply_frame(program, eframe, &s, c->diag) != HALO_OK)
+                    goto error;
+                halo_emu_frame_finish(eframe, &s);
+            }
+        }
+        if (groups > 1) {
+            halo_gl_frame_end_group(gframe);
+            if (halo_emu_frame_end_group(eframe, c->diag) != HALO_OK)
+                goto error;
+        }
+    }
+    if (six && groups != 2) {
+        halo_diag_error(c->diag, USAGE, "", 0, 0, "six features linked into %d feature groups, not 2", groups);
+        goto error;
     }
     /* the host colour, in both */
     double *ehost = halo_emu_frame_image(eframe, "host_color");
@@ -365,6 +399,21 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
         halo_gl_frame_read(gframe, "final", final) != HALO_OK)
         goto error;
     const char *broken = check_case(oc, size, importance, imp->channels, final, host);
+    if (six) { /* every feature outlined in the frame's reduced image, whichever group it was in */
+        if (halo_gl_frame_read(gframe, "reduced", gl_image) != HALO_OK)
+            goto error;
+        for (int k = 0; k < 6 && !broken; ++k) {
+            double line = 0.0;
+            int cx = (int)(six_centres[k][0] * size), cy = (int)(six_centres[k][1] * size), r = (int)(size * 0.12) + 3;
+            for (int y = cy - r; y <= cy + r; ++y)
+                for (int x = cx - r; x <= cx + r; ++x)
+                    if (x >= 0 && y >= 0 && x < size && y < size)
+                        line = fmax(line, 1.0 - gl_image[((size_t)y * size + (size_t)x) * 4]);
+            if (line < 0.1)
+                broken = k < 4 ? "a feature of the first group has no outline after both groups"
+                               : "a feature of the second group has no outline after both groups";
+        }
+    }
     if (!strcmp(oc->name, "outline:hidden"))
         band_sums[0] = band_sum(size, importance, imp->channels);
     else if (!strcmp(oc->name, "outline:dashed"))

@@ -275,6 +275,12 @@ void halo_slice_get_state(const halo_slice *s, halo_slice_state *st)
 
 /* ---- Rendering ------------------------------------------------------------------------------ */
 
+static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagnostics *diag);
+
+/* A program with feature groups (halo_program_group_count > 1, e.g. more than four
+ * outline features) renders the volume once per group: the group's values uploaded,
+ * its feature images cleared before and reduced after (halo_gl_frame_begin_group,
+ * _end_group); the colour is the same every time. */
 halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag)
 {
     if (!s || !rgba)
@@ -283,6 +289,29 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
         halo_diag_error(diag, USAGE, "", 0, 0, "slice host: no volume uploaded");
         return HALO_ERROR_INPUT;
     }
+    int groups = s->linked && s->frame ? halo_program_group_count(s->linked) : 1;
+    if (groups == 1)
+        return render_pass(s, rgba, -1, diag);
+    long draws = 0, pass_draws = 0;
+    halo_status status = HALO_OK;
+    /* the host was given the program to render: selecting a group changes its current
+     * values, which the next upload sends */
+    halo_program *program = (halo_program *)s->linked;
+    for (int g = 0; g < groups && status == HALO_OK; ++g) {
+        halo_program_select_group(program, g);
+        status = render_pass(s, rgba, g, diag);
+        draws += s->draws;
+        pass_draws += s->pass_draws;
+    }
+    halo_program_select_group(program, 0);
+    s->draws = draws;
+    s->pass_draws = pass_draws;
+    return status;
+}
+
+/* One pass over the volume; group >= 0: feature group `group` of a grouped program. */
+static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagnostics *diag)
+{
     halo_slice_state st;
     halo_slice_get_state(s, &st);
     const halo_glfuncs *f = s->f;
@@ -342,7 +371,10 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
     int interval = st.interval;
     int generate = s->frame && halo_program_pass_count(s->linked) > 0;
     if (s->frame) {
-        halo_gl_frame_begin(s->frame);
+        if (group <= 0)
+            halo_gl_frame_begin(s->frame);
+        if (group >= 0)
+            halo_gl_frame_begin_group(s->frame);
         halo_gl_frame_attach(s->frame, s->framebuffer); /* buffer 0 keeps the blend set above */
         halo_gl_frame_bind(s->frame, program, 3);
     }
@@ -386,6 +418,8 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
         f->BindFramebuffer(GL_FRAMEBUFFER, s->framebuffer);
         f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->textures[current], 0);
     }
+    if (group >= 0)
+        halo_gl_frame_end_group(s->frame);
     f->BindFramebuffer(GL_READ_FRAMEBUFFER, s->framebuffer);
     f->ReadBuffer(GL_COLOR_ATTACHMENT0);
     f->PixelStorei(GL_PACK_ALIGNMENT, 4);

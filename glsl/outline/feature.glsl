@@ -2,6 +2,7 @@
 #pragma halo summary "outlines, feature buffers: per feature (channel) the front-most depth and first-hit normal of its samples, and the occluder depth"
 #pragma halo hook sample
 #pragma halo needs normal
+#pragma halo groups
 #pragma halo after opacity_power boundary silhouette orientation_fade sketch tone_shading distance_blend distance_cue halo_seed halo_map
 #pragma halo provides feature_depth channels
 #pragma halo provides feature_normal mat4

@@ -2,6 +2,7 @@
 #pragma halo summary "outlines and depth enhancement: depth and normal unsharp masks per feature, occlusion styles, line colour, depth colour blending, cueing, blurring and line fading (end of frame)"
 #pragma halo hook image
 #pragma halo needs feature_depth feature_normal occluder_depth
+#pragma halo groups
 #pragma halo provides final image
 #pragma halo provides importance image
 #pragma halo image feature_depth clear=1
@@ -15,6 +16,7 @@
 #pragma halo image normal_blur_x* components=4
 #pragma halo image normal_blur* components=4
 #pragma halo image importance
+#pragma halo image reduced components=4 clear=1 reset=frame-only
 #pragma halo image final_blur_x components=4
 #pragma halo image final components=4
 #pragma halo param sigma float default=1 min=0 max=100 "sigma of the depth unsharp mask G_sigma, percent of the image diagonal (paper: about 2.5)"
@@ -48,9 +50,10 @@
 #pragma halo pass normal_blur_x entry=normal_blur_x_pass inputs=feature_normal* output=normal_blur_x* each=channel when=normal_unsharp at=post
 #pragma halo pass normal_blur_y entry=normal_blur_y_pass inputs=normal_blur_x* output=normal_blur* each=channel when=normal_unsharp at=post
 #pragma halo pass importance entry=importance_pass inputs=feature_depth,depth_blur,depth_min,occluder_depth,feature_normal*,normal_blur* output=importance at=post
-#pragma halo pass compose entry=compose_pass inputs=host_color,importance,feature_depth,depth_min output=final at=post
-#pragma halo pass final_blur_x entry=final_blur_x_pass inputs=final,feature_depth,depth_min,importance output=final_blur_x when=depth_blur at=post
-#pragma halo pass final_blur_y entry=final_blur_y_pass inputs=final_blur_x,feature_depth,depth_min,importance output=final when=depth_blur at=post
+#pragma halo pass reduce entry=reduce_pass inputs=importance,feature_depth,depth_min,reduced output=reduced at=post
+#pragma halo pass compose entry=compose_pass inputs=host_color,reduced output=final at=final
+#pragma halo pass final_blur_x entry=final_blur_x_pass inputs=final,reduced output=final_blur_x when=depth_blur at=final
+#pragma halo pass final_blur_y entry=final_blur_y_pass inputs=final_blur_x,reduced output=final when=depth_blur at=final
 
 // Outlines and depth enhancement (Svakhine, Ebert & Andrews 2009, Eqs. 1-17; Luft et al.
 // 2006; docs/outlines.md, docs/blur.md). Every pass runs once at the end of the frame.
@@ -245,32 +248,36 @@ float border_gamma(float d, float d_min, float I)
     return mix(depth_gamma(d), depth_gamma(d_min), clamp(I, 0.0, 1.0));
 }
 
-// gamma of a pixel: the front-most feature; outline pixels over the background use d_min.
-float pixel_gamma(ivec2 pixel)
+// The features of a group reduced to what the end of the frame needs, folded (min) into
+// the frame's accumulator over the feature groups (docs/image-passes.md): 1 - the
+// largest outline I, the front-most feature depth d, the nearest depth d_min.
+vec4 reduce_pass(ivec2 pixel)
 {
-    halo_channels D = halo_input(1, pixel), M = halo_input(2, pixel), I = halo_input(3, pixel);
-    float d = 1.0, d_min = 1.0, line = 0.0;
+    halo_channels I = halo_input(0, pixel), D = halo_input(1, pixel), M = halo_input(2, pixel);
+    float line = 0.0, d = 1.0, d_min = 1.0;
     for (int k = 0; k < halo_channel_count; ++k) {
+        line = max(line, halo_channel(I, k));
         d = min(d, halo_channel(D, k));
         d_min = min(d_min, halo_channel(M, k));
-        line = max(line, halo_channel(I, k));
     }
-    return border_gamma(d, d_min, line);
+    return min(halo_input4(3, pixel), vec4(1.0 - line, d, d_min, 1.0));
+}
+
+// gamma of a pixel (input 1: the reduced features): the front-most feature; outline
+// pixels over the background use d_min.
+float pixel_gamma(ivec2 pixel)
+{
+    vec4 r = halo_input4(1, pixel);
+    return border_gamma(r.y, r.z, 1.0 - r.x);
 }
 
 vec4 compose_pass(ivec2 pixel)
 {
     vec3 back = halo_input4(0, pixel).rgb;
     vec3 c = back;
-    halo_channels importance_k = halo_input(1, pixel);
-    float I = 0.0;
-    float d = 1.0, d_min = 1.0;
-    for (int k = 0; k < halo_channel_count; ++k) {
-        I = max(I, halo_channel(importance_k, k));
-        d = min(d, halo_channel(halo_input(2, pixel), k));
-        d_min = min(d_min, halo_channel(halo_input(3, pixel), k));
-    }
-    float gamma = border_gamma(d, d_min, I);
+    vec4 r = halo_input4(1, pixel);
+    float I = 1.0 - r.x;
+    float gamma = border_gamma(r.y, r.z, I);
     if (depth_color_blend)
         c = mix(c, depth_color, gamma);
     if (depth_cue)

@@ -19,6 +19,7 @@ struct halo_emu_frame {
         const float *data;
         int dims[3];
     } *volumes;             /* per program host uniform: sampler3D data (halo_emu_frame_set_volume) */
+    int groups_ended;       /* halo_emu_frame_end_group calls since halo_emu_frame_begin */
 };
 
 static int image_index(const halo_emu_frame *f, const char *name) {
@@ -115,8 +116,15 @@ halo_status halo_emu_frame_set_host_uniform(halo_emu_frame *f, const char *name,
 
 void halo_emu_frame_begin(halo_emu_frame *f) {
     if (!f) return;
+    f->groups_ended = 0;
     for (size_t i = 0; i < f->program->image_count; i++)
         if (!f->program->images[i].host) clear_image(f, i);
+}
+
+void halo_emu_frame_begin_group(halo_emu_frame *f) {
+    if (!f) return;
+    for (size_t i = 0; i < f->program->image_count; i++)
+        if (!f->program->images[i].host && f->program->images[i].reset != HALO_RESET_FRAME_ONLY) clear_image(f, i);
 }
 
 halo_status halo_emu_frame_set_volume(halo_emu_frame *f, const char *name, const float *data, int nx, int ny, int nz) {
@@ -229,8 +237,15 @@ halo_status halo_emu_frame_generate(halo_emu_frame *f, halo_diagnostics *diag) {
     return run_passes(f, 0, diag);
 }
 
+halo_status halo_emu_frame_end_group(halo_emu_frame *f, halo_diagnostics *diag) {
+    halo_status st = run_passes(f, 1, diag);
+    if (f && st == HALO_OK) f->groups_ended++;
+    return st;
+}
+
 halo_status halo_emu_frame_post(halo_emu_frame *f, halo_diagnostics *diag) {
-    return run_passes(f, 1, diag);
+    halo_status st = f && f->groups_ended ? HALO_OK : run_passes(f, 1, diag);
+    return st == HALO_OK ? run_passes(f, 2, diag) : st;
 }
 
 static halo_status run_passes(halo_emu_frame *f, int post, halo_diagnostics *diag) {

@@ -248,17 +248,29 @@ void halo_emu_outline_importance(const halo_emu_pass_context *c, int x, int y, d
  * (outlines.glsl: border_gamma; continuous in I, so that float and double, which
  * disagree on whether blur tails are zero, stay close). */
 
-/* gamma of a pixel from inputs (depth, d_min, importance) at indices first.. */
-static double pixel_gamma(const halo_emu_pass_context *c, int x, int y, int depth, int dmin, int importance)
+/* reduce_pass: inputs importance, feature_depth, depth_min, reduced (the accumulator):
+ * min(accumulator, (1 - max I, min d, min d_min, 1)). */
+void halo_emu_outline_reduce(const halo_emu_pass_context *c, int x, int y, double out[4])
 {
     double d = 1.0, d_min = 1.0, line = 0.0;
     for (int k = 0; k < c->channels; ++k) {
-        double v = halo_emu_input(c, depth, x, y, k), m = halo_emu_input(c, dmin, x, y, k),
-               i = halo_emu_input(c, importance, x, y, k);
+        double i = halo_emu_input(c, 0, x, y, k), v = halo_emu_input(c, 1, x, y, k), m = halo_emu_input(c, 2, x, y, k);
         d = v < d ? v : d;
         d_min = m < d_min ? m : d_min;
         line = i > line ? i : line;
     }
+    const double mine[4] = {1.0 - line, d, d_min, 1.0};
+    for (int j = 0; j < 4; ++j) {
+        double acc = halo_emu_input(c, 3, x, y, j);
+        out[j] = mine[j] < acc ? mine[j] : acc;
+    }
+}
+
+/* gamma of a pixel from the reduced features (input `reduced`) */
+static double pixel_gamma(const halo_emu_pass_context *c, int x, int y, int reduced)
+{
+    double line = 1.0 - halo_emu_input(c, reduced, x, y, 0), d = halo_emu_input(c, reduced, x, y, 1),
+           d_min = halo_emu_input(c, reduced, x, y, 2);
     int correction = halo_emu_scalar(c->params, "depth_correction") != 0.0;
     if (d < 1.0 || !correction)
         return depth_gamma(c->params, d);
@@ -272,12 +284,8 @@ void halo_emu_outline_compose(const halo_emu_pass_context *c, int x, int y, doub
     double back[3], col[3], line[3];
     for (int j = 0; j < 3; ++j)
         back[j] = col[j] = halo_emu_input(c, 0, x, y, j);
-    double I = 0.0;
-    for (int k = 0; k < c->channels; ++k) {
-        double v = halo_emu_input(c, 1, x, y, k);
-        I = v > I ? v : I;
-    }
-    double gamma = pixel_gamma(c, x, y, 2, 3, 1);
+    double I = 1.0 - halo_emu_input(c, 1, x, y, 0);
+    double gamma = pixel_gamma(c, x, y, 1);
     const double *depth_color = halo_emu_param(p, "depth_color", NULL);
     double gray = halo_emu_scalar(p, "cue_gray");
     for (int j = 0; j < 3; ++j) {
@@ -299,7 +307,7 @@ void halo_emu_outline_compose(const halo_emu_pass_context *c, int x, int y, doub
 
 static double final_sigma(const halo_emu_pass_context *c, int x, int y)
 {
-    double size = halo_emu_mix(1.0, sigma_pixels(c, halo_emu_scalar(c->params, "blur_max")), pixel_gamma(c, x, y, 1, 2, 3));
+    double size = halo_emu_mix(1.0, sigma_pixels(c, halo_emu_scalar(c->params, "blur_max")), pixel_gamma(c, x, y, 1));
     return size <= 1.0 ? 0.0 : size / 6.0;
 }
 

@@ -49,6 +49,7 @@ static const struct {
     {"outlines", "normal_blur_x_pass", halo_emu_outline_normal_blur_x},
     {"outlines", "normal_blur_y_pass", halo_emu_outline_normal_blur_y},
     {"outlines", "importance_pass", halo_emu_outline_importance},
+    {"outlines", "reduce_pass", halo_emu_outline_reduce},
     {"outlines", "compose_pass", halo_emu_outline_compose},
     {"outlines", "final_blur_x_pass", halo_emu_outline_final_blur_x},
     {"outlines", "final_blur_y_pass", halo_emu_outline_final_blur_y},

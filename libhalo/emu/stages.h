@@ -32,6 +32,7 @@ void halo_emu_outline_min_y(const halo_emu_pass_context *c, int x, int y, double
 void halo_emu_outline_normal_blur_x(const halo_emu_pass_context *c, int x, int y, double out[4]);
 void halo_emu_outline_normal_blur_y(const halo_emu_pass_context *c, int x, int y, double out[4]);
 void halo_emu_outline_importance(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_outline_reduce(const halo_emu_pass_context *c, int x, int y, double out[4]);
 void halo_emu_outline_compose(const halo_emu_pass_context *c, int x, int y, double out[4]);
 void halo_emu_outline_final_blur_x(const halo_emu_pass_context *c, int x, int y, double out[4]);
 void halo_emu_outline_final_blur_y(const halo_emu_pass_context *c, int x, int y, double out[4]);

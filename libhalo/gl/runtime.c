@@ -479,6 +479,7 @@ struct halo_gl_frame {
     int max_inputs;
     GLuint framebuffer, vertex_array;
     long pass_draws;
+    int groups_ended; /* halo_gl_frame_end_group calls since halo_gl_frame_begin */
     int attached;  /* outputs attached to attached_framebuffer by halo_gl_frame_attach */
     GLuint attached_framebuffer;
     int bound;     /* samplers bound by halo_gl_frame_bind from bound_first_unit */
@@ -771,7 +772,31 @@ void halo_gl_frame_destroy(halo_gl_frame *fr)
     free(fr);
 }
 
+static void frame_clear(halo_gl_frame *fr, int group);
+static void frame_run(halo_gl_frame *fr, int post);
+
 void halo_gl_frame_begin(halo_gl_frame *fr)
+{
+    if (fr)
+        fr->groups_ended = 0;
+    frame_clear(fr, 0);
+}
+
+void halo_gl_frame_begin_group(halo_gl_frame *fr)
+{
+    frame_clear(fr, 1);
+}
+
+void halo_gl_frame_end_group(halo_gl_frame *fr)
+{
+    if (!fr)
+        return;
+    frame_run(fr, 1);
+    fr->groups_ended++;
+}
+
+/* Clears every image (group: all but the frame's accumulators, reset=frame-only). */
+static void frame_clear(halo_gl_frame *fr, int group)
 {
     if (!fr || fr->image_count == 0)
         return;
@@ -783,10 +808,12 @@ void halo_gl_frame_begin(halo_gl_frame *fr)
     if (scissor)
         f->Disable(GL_SCISSOR_TEST);
     for (size_t i = 0; i < fr->image_count; ++i)
-        frame_clear_image(fr, (int)i);
+        if (!group || fr->images[i].reset != HALO_RESET_FRAME_ONLY)
+            frame_clear_image(fr, (int)i);
     f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
     if (scissor)
         f->Enable(GL_SCISSOR_TEST);
+
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)draw_framebuffer);
 }
 
@@ -901,7 +928,9 @@ void halo_gl_frame_post(halo_gl_frame *fr, unsigned host_color_texture)
             fr->images[i].texture[0] = fr->images[i].texture[1] = host_color_texture;
             fr->images[i].current = 0;
         }
-    frame_run(fr, 1);
+    if (!fr->groups_ended)
+        frame_run(fr, 1);
+    frame_run(fr, 2);
 }
 
 unsigned halo_gl_frame_texture(const halo_gl_frame *fr, const char *image)

@@ -730,6 +730,66 @@ static int test_image_scale(void) {
     return 0;
 }
 
+/* Feature groups: more than four features of a grouped stage (outline_feature,
+ * outlines) link in groups of four, their channels parameters live, group g's values
+ * current after halo_program_select_group; other stages keep the limit of four. */
+static int test_feature_groups(void) {
+    halo_scene *scene = scene_of("{\"stages\": [{\"outline_feature\": {\"value_min\": [0.1, 0.2, 0.3, 0.4, 0.5, 0.6],"
+                                 " \"value_max\": [0.15, 0.25, 0.35, 0.45, 0.55, 0.65]}},"
+                                 " {\"outlines\": {\"lambda\": [1, 2, 3, 4, 5]}}]}");
+    halo_diagnostics_clear(diags);
+    halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host_source,
+                                                  .host_file = "test.frag"},
+                                diags);
+    CHECK(p != NULL);
+    CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
+    CHECK_INT_EQ(halo_program_group_count(p), 2);
+    CHECK_INT_EQ(halo_program_channel_count(p), 4);
+    const halo_uniform_info *vmin = halo_program_find_uniform(p, "outline_feature", "value_min");
+    const halo_uniform_info *lambda = halo_program_find_uniform(p, "outlines", "lambda");
+    CHECK(vmin && lambda && vmin->live && lambda->live);
+    CHECK_INT_EQ(vmin->count, 4);
+    CHECK_NEAR(vmin->value[0], 0.1, 0);
+    CHECK_NEAR(vmin->value[3], 0.4, 0);
+    CHECK_INT_EQ(halo_program_select_group(p, 1), HALO_OK);
+    /* group 1: features 4, 5, then the last repeated */
+    CHECK_NEAR(vmin->value[0], 0.5, 0);
+    CHECK_NEAR(vmin->value[1], 0.6, 0);
+    CHECK_NEAR(vmin->value[3], 0.6, 0);
+    CHECK_NEAR(lambda->value[0], 5, 0); /* a list of five: its last for the rest */
+    CHECK_NEAR(lambda->value[2], 5, 0);
+    CHECK_INT_EQ(halo_program_select_group(p, 0), HALO_OK);
+    CHECK_NEAR(vmin->value[1], 0.2, 0);
+    CHECK_INT_EQ(halo_program_select_group(p, 2), HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_program_select_group(p, -1), HALO_ERROR_INPUT);
+    /* an at=post reduce pass into the frame's accumulator, at=final compose */
+    int reduce = 0, final = 0;
+    for (size_t i = 0; i < halo_program_pass_count(p); i++) {
+        reduce |= !strcmp(halo_program_pass(p, i)->name, "reduce") && halo_program_pass(p, i)->post == 1;
+        final |= !strcmp(halo_program_pass(p, i)->name, "compose") && halo_program_pass(p, i)->post == 2;
+    }
+    CHECK(reduce && final);
+    halo_program_destroy(p);
+    halo_scene_destroy(scene);
+    /* four features: one group, parameters constant as before */
+    halo_program *q = link_valid("{\"stages\": [{\"outline_feature\": {\"value_min\": [0.1, 0.2, 0.3, 0.4]}}, \"outlines\"]}");
+    CHECK(q != NULL);
+    CHECK_INT_EQ(halo_program_group_count(q), 1);
+    CHECK(!halo_program_find_uniform(q, "outline_feature", "value_min")->live);
+    CHECK_INT_EQ(halo_program_select_group(q, 0), HALO_OK);
+    CHECK_INT_EQ(halo_program_select_group(q, 1), HALO_ERROR_INPUT);
+    halo_program_destroy(q);
+    /* more than 16 features, or more than four halos: the scene says no */
+    halo_diagnostics_clear(diags);
+    CHECK(halo_scene_parse("{\"stages\": [{\"outline_feature\": {\"label\": [1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17]}}]}",
+                           "t.json", library, diags) == NULL);
+    halo_diagnostics_clear(diags);
+    CHECK(halo_scene_parse("{\"stages\": [{\"halo_seed\": {\"alpha\": [1, 2, 3, 4, 5]}}]}", "t.json", library, diags) ==
+          NULL);
+    halo_diagnostics_clear(diags);
+    return 0;
+}
+
 /* (k) Changing parameters of a linked program. */
 static int test_program_set(void) {
     halo_program *p = link_valid("{\"stages\": [{\"boundary\": {\"live\": [\"k_gs\"]}},"
@@ -868,6 +928,7 @@ int main(void) {
     RUN_TEST(test_program_set);
     RUN_TEST(test_hook_mismatch);
     RUN_TEST(test_image_scale);
+    RUN_TEST(test_feature_groups);
     halo_library_destroy(library);
     halo_diagnostics_destroy(diags);
     halo_shutdown();
