@@ -1313,6 +1313,24 @@ halo_status halo_program_set(halo_program *p, const char *stage, const char *par
         halo_diag_add(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage, param, why);
         return HALO_ERROR_INPUT;
     }
+    /* a grouped parameter of a program with feature groups: the whole list; the current
+     * group's four become the uniform's values */
+    for (size_t s = 0; s < p->stage_count; s++) {
+        halo_linked_stage *st = &p->stages[s];
+        if (!st->group_values || strcmp(st->module->name, stage)) continue;
+        size_t i = (size_t)(u->info - st->module->params);
+        if (st->module->params[i].type != HALO_PARAM_CHANNELS) break;
+        if (count > 4 * p->group_count) {
+            halo_diag_error(diag, USAGE, "", 0, 0,
+                            "%s.%s: %d features need more than the program's %d feature groups; link the scene again",
+                            stage, param, count, p->group_count);
+            return HALO_ERROR_INPUT;
+        }
+        memcpy(st->group_values[i].value, values, (size_t)count * sizeof(double));
+        st->group_values[i].count = count;
+        load_group(p, p->group);
+        return HALO_OK;
+    }
     halo_uniform_info *w = &p->uniforms[u - p->uniforms];
     memcpy((double *)w->value, values, (size_t)count * (size_t)u->info->components * sizeof(double));
     w->count = count;

@@ -760,6 +760,19 @@ static int test_feature_groups(void) {
     CHECK_NEAR(lambda->value[2], 5, 0);
     CHECK_INT_EQ(halo_program_select_group(p, 0), HALO_OK);
     CHECK_NEAR(vmin->value[1], 0.2, 0);
+    /* halo_program_set takes the whole list; the selected group's values follow */
+    const double more[7] = {0.01, 0.02, 0.03, 0.04, 0.05, 0.06, 0.07};
+    CHECK_INT_EQ(halo_program_select_group(p, 1), HALO_OK);
+    CHECK_INT_EQ(halo_program_set(p, "outline_feature", "value_min", more, 7, diags), HALO_OK);
+    CHECK_NEAR(vmin->value[0], 0.05, 0);
+    CHECK_NEAR(vmin->value[2], 0.07, 0);
+    CHECK_INT_EQ(halo_program_select_group(p, 0), HALO_OK);
+    CHECK_NEAR(vmin->value[3], 0.04, 0);
+    const double nine[9] = {0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1};
+    halo_diagnostics_clear(diags);
+    CHECK_INT_EQ(halo_program_set(p, "outline_feature", "value_min", nine, 9, diags), HALO_ERROR_INPUT);
+    CHECK_DIAG(diags, HALO_MSG_USAGE);
+    halo_diagnostics_clear(diags);
     CHECK_INT_EQ(halo_program_select_group(p, 2), HALO_ERROR_INPUT);
     CHECK_INT_EQ(halo_program_select_group(p, -1), HALO_ERROR_INPUT);
     /* an at=post reduce pass into the frame's accumulator, at=final compose */
