@@ -539,6 +539,10 @@ static int taps_make(taps *t, int size, double out_size, double margin, int n, d
     double radius = out_size / spacing;
     if (radius < 1.0)
         radius = 1.0;
+    /* a tent wider than the axis covers all of it: no wider (absurd spacings, e.g. a
+     * NIfTI header with pixdim 1e-30 beside 1, would overflow the tap count) */
+    if (!(radius <= n + 1.0))
+        radius = n + 1.0;
     t->count_max = 2 * (int)ceil(radius) + 2;
     t->first = malloc((size_t)size * sizeof *t->first);
     t->count = malloc((size_t)size * sizeof *t->count);
@@ -547,6 +551,9 @@ static int taps_make(taps *t, int size, double out_size, double margin, int n, d
         return 0;
     for (int u = 0; u < size; ++u) {
         double x = ((u + 0.5) * out_size - margin) / spacing - 0.5;
+        /* far outside the axis (extreme anisotropy): no tap; keeps the ints in range */
+        if (!(x > -2.0 * radius - 2.0 && x < n + 2.0 * radius + 2.0))
+            x = x > 0.0 ? n + 2.0 * radius + 2.0 : -2.0 * radius - 2.0;
         int i0 = (int)ceil(x - radius), i1 = (int)floor(x + radius);
         double total = 0.0;
         for (int i = i0; i <= i1; ++i)

@@ -12,10 +12,11 @@ seeds() {
     module) echo "$srcdir/glsl $srcdir/glsl/sample $srcdir/glsl/halo $srcdir/glsl/lines $srcdir/tests/data/modules" ;;
     scene) echo "$srcdir/examples/scenes $srcdir/tests/data/scenes" ;;
     host) echo "$srcdir/examples/hosts $srcdir/tests/data/hosts" ;;
+    volume) echo "$srcdir/tests/data/volumes" ;;
     esac
     [ -d "$srcdir/tests/fuzz/corpus/$1" ] && echo "$srcdir/tests/fuzz/corpus/$1"
 }
-for target in module scene host; do
+for target in module scene host volume; do
     dirs=""
     for d in $(seeds $target); do [ -d "$d" ] && dirs="$dirs $d"; done
     # shellcheck disable=SC2086

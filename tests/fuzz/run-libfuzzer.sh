@@ -1,5 +1,6 @@
 #!/bin/sh
-# Fuzzes the module parser, the scene reader and the host checks with libFuzzer (clang,
+# Fuzzes the module parser, the scene reader, the host checks and the volume loaders
+# (examples/volume_io.c: NIfTI and raw) with libFuzzer (clang,
 # -fsanitize=fuzzer,address,undefined) for SECONDS each (default 20). Run from a
 # configured and built source tree (it needs libhalo/embedded_modules.c). A crash leaves
 # its input in tests/fuzz/crashes/; add it to tests/fuzz/corpus/TARGET/ as a regression.
@@ -17,14 +18,21 @@ sources="libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c lib
   libhalo/link.c libhalo/validate.c libhalo/setup.c libhalo/embedded_modules.c"
 mkdir -p tests/fuzz/crashes
 status=0
-for target in module scene host; do
-    # shellcheck disable=SC2086
-    clang $cflags -o "$out/fuzz_$target" "tests/fuzz/fuzz_$target.c" $sources $libs
+for target in module scene host volume; do
+    if [ $target = volume ]; then
+        # shellcheck disable=SC2086
+        clang $cflags -Iexamples -I/usr/include/nifti -o "$out/fuzz_$target" tests/fuzz/fuzz_volume.c \
+            examples/volume_io.c -lnifti2 -lznz -lz -lm
+    else
+        # shellcheck disable=SC2086
+        clang $cflags -o "$out/fuzz_$target" "tests/fuzz/fuzz_$target.c" $sources $libs
+    fi
     mkdir -p "$out/corpus_$target"
     case $target in
     module) seeds="glsl/*.glsl glsl/*/*.glsl tests/data/modules/*" ;;
     scene) seeds="examples/scenes/*.json tests/data/scenes/*" ;;
     host) seeds="examples/hosts/*.frag examples/hosts/*.vert tests/data/hosts/*" ;;
+    volume) seeds="tests/data/volumes/*" ;;
     esac
     # shellcheck disable=SC2086
     cp $seeds "$out/corpus_$target/" 2>/dev/null || true
