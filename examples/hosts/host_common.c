@@ -167,22 +167,28 @@ int halo_host_framebuffer(const halo_glfuncs *f, GLuint *framebuffer, GLuint col
 }
 
 static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
-                                 GLint filter, const char *what, halo_diagnostics *diag);
+                                 GLint filter, int components, const char *what, halo_diagnostics *diag);
 
 halo_status halo_host_upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
                                     halo_diagnostics *diag)
 {
-    return upload_volume(f, texture, data, nx, ny, nz, GL_LINEAR, "volume", diag);
+    return upload_volume(f, texture, data, nx, ny, nz, GL_LINEAR, 1, "volume", diag);
 }
 
 halo_status halo_host_upload_labels(const halo_glfuncs *f, GLuint texture, const float *labels, int nx, int ny, int nz,
                                     halo_diagnostics *diag)
 {
-    return upload_volume(f, texture, labels, nx, ny, nz, GL_NEAREST, "label volume", diag);
+    return upload_volume(f, texture, labels, nx, ny, nz, GL_NEAREST, 1, "label volume", diag);
+}
+
+halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, const float *gradients, int nx, int ny,
+                                       int nz, halo_diagnostics *diag)
+{
+    return upload_volume(f, texture, gradients, nx, ny, nz, GL_LINEAR, 3, "gradient volume", diag);
 }
 
 static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
-                                 GLint filter, const char *what, halo_diagnostics *diag)
+                                 GLint filter, int components, const char *what, halo_diagnostics *diag)
 {
     if (!f || !data || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
         halo_diag_error(diag, USAGE, "", 0, 0, "%s of %dx%dx%d voxels: each side must be 2..2048", what, nx, ny, nz);
@@ -195,7 +201,8 @@ static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const fl
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
     f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    f->TexImage3D(GL_TEXTURE_3D, 0, GL_R32F, nx, ny, nz, 0, GL_RED, GL_FLOAT, data);
+    f->TexImage3D(GL_TEXTURE_3D, 0, components == 3 ? GL_RGB32F : GL_R32F, nx, ny, nz, 0,
+                  components == 3 ? GL_RGB : GL_RED, GL_FLOAT, data);
     f->BindTexture(GL_TEXTURE_3D, 0);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {

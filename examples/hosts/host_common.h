@@ -47,6 +47,9 @@ halo_status halo_host_upload_volume(const halo_glfuncs *f, GLuint texture, const
  * GL_NEAREST, so that no two labels are ever blended. */
 halo_status halo_host_upload_labels(const halo_glfuncs *f, GLuint texture, const float *labels, int nx, int ny, int nz,
                                     halo_diagnostics *diag);
+/* Three floats a voxel (halo_volume_gradients), RGB32F, GL_LINEAR. */
+halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, const float *gradients, int nx, int ny,
+                                       int nz, halo_diagnostics *diag);
 
 /* The transfer table: control points (value, r, g, b, opacity) sorted by value,
  * linearly interpolated, constant beyond the first and last. */

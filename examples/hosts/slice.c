@@ -190,23 +190,10 @@ halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int 
                         nz);
         return HALO_ERROR_IO;
     }
-    const halo_glfuncs *f = s->f;
-    f->BindTexture(GL_TEXTURE_3D, s->gradient_texture);
-    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    f->TexImage3D(GL_TEXTURE_3D, 0, GL_RGB32F, nx, ny, nz, 0, GL_RGB, GL_FLOAT, gradients);
-    f->BindTexture(GL_TEXTURE_3D, 0);
+    status = halo_host_upload_gradients(s->f, s->gradient_texture, gradients, nx, ny, nz, diag);
     free(gradients);
-    GLenum error = f->GetError();
-    if (error != GL_NO_ERROR) {
-        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload the gradients of a %dx%dx%d volume (GL error 0x%x)",
-                        nx, ny, nz, error);
-        return HALO_ERROR_IO;
-    }
+    if (status != HALO_OK)
+        return status;
     s->volume = data;
     s->dims[0] = nx;
     s->dims[1] = ny;
