@@ -28,7 +28,7 @@ extern "C" {
 
 /* The host contract version (docs/host-contract.md). The linker defines
  * HALO_CONTRACT_VERSION with this value in every linked shader. */
-#define HALO_CONTRACT_VERSION 1
+#define HALO_CONTRACT_VERSION 2
 
 /* ---- Status and diagnostics ------------------------------------------------ */
 
@@ -84,6 +84,7 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(GL_PROC_MISSING, "OpenGL entry point not found")                                     \
     X(GL_COMPILE, "driver rejected the shader")                                            \
     X(GL_LINK, "driver rejected the program")                                              \
+    X(HOST_SINGLE_PASS, "the scene needs image passes between slices, which this host cannot run") \
     X(USAGE, "invalid argument")
 
 typedef enum halo_message_id {
@@ -248,6 +249,9 @@ typedef struct halo_link_desc {
     int image_precision;         /* images of image passes: 32 (float, default), 16 (half), 8 (unorm) */
     int image_scale;             /* pass images at 1/scale of the frame per side: 1 (0: default), 2 or 4
                                   * (outputs, host_color and at=post images stay full size; docs/image-passes.md) */
+    int force_segments;          /* host contract 2: a host that calls halo_segment_begin is drawn in segments
+                                  * only when the program has passes between slices; 1 links the segment code
+                                  * anyway (halo_gl_segments_desc.segments then forces a count) */
 } halo_link_desc;
 
 typedef enum halo_uniform_kind { HALO_UNIFORM_PARAM = 0, HALO_UNIFORM_COUNT_OF_ARRAY } halo_uniform_kind;
@@ -357,6 +361,9 @@ HALO_API int halo_program_channel_count(const halo_program *p);
 HALO_API int halo_program_image_precision(const halo_program *p);
 /* halo_link_desc.image_scale as linked: 1, 2 or 4. */
 HALO_API int halo_program_image_scale(const halo_program *p);
+/* Host contract 2: > 0 when the host is drawn in depth segments (halo_gl_frame_draw): the
+ * location of the ray-state output halo_segment_state_out; 0 when it is drawn once. */
+HALO_API int halo_program_segment_location(const halo_program *p);
 /* Feature groups (docs/image-passes.md, "Feature groups"): a stage annotated
  * `#pragma halo groups` (outline_feature, outlines) takes up to HALO_MAX_GROUP_CHANNELS
  * values per channels parameter; the linker splits them into groups of four. The host
@@ -517,6 +524,38 @@ HALO_API unsigned halo_gl_frame_texture(const halo_gl_frame *f, const char *imag
 HALO_API halo_status halo_gl_frame_read(halo_gl_frame *f, const char *image, float *out);
 /* Passes drawn by halo_gl_frame_generate since creation (for benchmarks). */
 HALO_API long halo_gl_frame_pass_draws(const halo_gl_frame *f);
+
+/* ---- Host contract 2: segmented ray casting (docs/host-contract.md) ---- */
+
+/* How a single-pass ray caster is drawn: its camera, its sampling, and a callback that
+ * draws its proxy geometry once. */
+typedef struct halo_gl_segments_desc {
+    const float *inverse_view_projection; /* required: column-major, clip space -> the space of the host's
+                                           * ray positions (the halo_sample position: volume texture space) */
+    float step;            /* required: the host's sample spacing along a ray, in that space; segment
+                            * planes are this far apart, as the slice host's slices */
+    float box_min[3], box_max[3]; /* the volume's box in that space; all zero: the unit cube */
+    int interval;          /* M, planes per segment; 0: the program's halo_generate.interval, or 4 */
+    int segments;          /* > 0: exactly this many segments (a program linked with force_segments) */
+    unsigned framebuffer;  /* the host's framebuffer: its colour attachment 0 gets the host's output */
+    int first_unit;        /* libhalo's textures from this unit on; 0: unit 8 */
+    void (*draw)(void *user); /* draws the host's proxy geometry once; the host's program is current */
+    void *user;
+} halo_gl_segments_desc;
+
+/* Sets the camera uniforms of halo_view_at and halo_depth_at (the program must be current).
+ * halo_gl_frame_draw does it; a host that draws by itself calls this. */
+HALO_API halo_status halo_gl_set_camera(halo_gl *gl, unsigned gl_program, const halo_gl_segments_desc *desc,
+                                        halo_diagnostics *diag);
+/* Draws one frame of a host: halo_gl_frame_begin, the camera, then the proxy geometry
+ * once per depth segment (halo_program_segment_location > 0) with the ray state carried
+ * between segments and the image passes run between them, or once otherwise. Only the
+ * last segment writes the host's colour (draw buffer 0). Then call halo_gl_frame_post
+ * if the program has at=post passes. Restores the GL state it changes. */
+HALO_API halo_status halo_gl_frame_draw(halo_gl_frame *f, unsigned gl_program, const halo_gl_segments_desc *desc,
+                                        halo_diagnostics *diag);
+/* Segments drawn by the last halo_gl_frame_draw. */
+HALO_API int halo_gl_frame_segment_count(const halo_gl_frame *f);
 
 /* ---- Lines (Everts et al. 2009) ---- */
 

@@ -186,10 +186,24 @@ struct halo_program {
     int group;         /* the selected one */
     int image_precision;
     int image_scale;
+    /* host contract 2 (libhalo/segment.c) */
+    int v2_host;            /* the host calls halo_segment_begin, halo_view_at or halo_depth_at, or names a volume */
+    int segment_location;   /* > 0: drawn in segments; the location of the ray state output */
+    char *volume_sampler;   /* #pragma halo volume NAME: the gradient is derived from this sampler3D */
+    char *gradient_sampler; /* #pragma halo gradient NAME: ... or read from this one (RGB, per voxel step) */
     char **strings; /* owned strings the reflection points to */
     size_t string_count;
     const halo_library *library;
 };
+
+/* Host contract 2 (segment.c): segmented ray casting and derived inputs. */
+struct halo_strbuf;
+int halo_host_uses(const char *host, const char *name);
+void halo_segment_emit(struct halo_strbuf *b, const halo_program *p);
+void halo_segment_emit_tail(struct halo_strbuf *b, const halo_program *p);
+int halo_program_has_generation_passes(const halo_program *p);
+/* gl/segments.c: a 4x4 column-major inverse; 0 if m is singular. */
+int halo_mat4_invert(const double m[16], double out[16]);
 
 /* glslang validation of one source with origins for mapping. */
 halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, halo_target target,

@@ -81,12 +81,45 @@ static void emit(emitter *e, const char *file, int line, const char *original, c
 static const char *const contract_names[] = {"halo_sample", "halo_make_sample", "halo_apply", "halo_finish",
                                              "halo_line_vertex", "halo_make_line_vertex", "halo_line_fragment",
                                              "halo_make_line_fragment", "HALO_LINKED",
-                                             "HALO_CONTRACT_VERSION", NULL};
+                                             "HALO_CONTRACT_VERSION",
+                                             /* host contract 2 */
+                                             "halo_segment_begin", "halo_segment_end", "halo_view_at",
+                                             "halo_depth_at", "halo_gradient_at", NULL};
 
 typedef struct host_info {
     int version_line; /* 0: none */
     int marker_line;
+    int slices;       /* #pragma halo slices: the host draws slices or slabs and runs the passes itself */
+    char *volume, *gradient; /* #pragma halo volume NAME / gradient NAME (owned) */
+    int volume_line;
 } host_info;
+
+/* `#pragma halo volume NAME`, `gradient NAME` or `slices`: 1 if the line is one of them
+ * (stored in h), 0 if it is another annotation, -1 if it is one of them but malformed. */
+static int host_annotation(const char *line, int number, host_info *h) {
+    const char *d = line + halo_annotation_start(line) - 1;
+    size_t word = strcspn(d, " \t");
+    const char *arg = d + word;
+    while (*arg == ' ' || *arg == '\t') arg++;
+    size_t n = strcspn(arg, " \t");
+    int rest = arg[n + strspn(arg + n, " \t")] != '\0';
+    if (word == 6 && !strncmp(d, "slices", 6)) {
+        if (*arg) return -1;
+        h->slices = number;
+        return 1;
+    }
+    char **slot = word == 6 && !strncmp(d, "volume", 6) ? &h->volume
+                  : word == 8 && !strncmp(d, "gradient", 8) ? &h->gradient : NULL;
+    if (!slot) return 0;
+    if (!n || rest || !(isalpha((unsigned char)arg[0]) || arg[0] == '_')) return -1;
+    for (size_t k = 0; k < n; k++)
+        if (!isalnum((unsigned char)arg[k]) && arg[k] != '_') return -1;
+    free(*slot);
+    *slot = malloc(n + 1);
+    if (*slot) { memcpy(*slot, arg, n); (*slot)[n] = '\0'; }
+    h->volume_line = number;
+    return 1;
+}
 
 static int is_version_line(const char *l) {
     while (*l == ' ' || *l == '\t') l++;
@@ -109,7 +142,8 @@ static int is_marker_line(const char *l) {
 static int check_host(const char *file, const char *source, char **lines, int count, host_info *h,
                       halo_diagnostics *diag) {
     int errors = 0;
-    h->version_line = h->marker_line = 0;
+    h->version_line = h->marker_line = h->slices = h->volume_line = 0;
+    h->volume = h->gradient = NULL;
     halo_token_list toks;
     if (halo_lex(source, &toks)) {
         halo_diag_error(diag, OUT_OF_MEMORY, file, 0, 0, "out of memory");
@@ -140,8 +174,13 @@ static int check_host(const char *file, const char *source, char **lines, int co
             }
         } else if (halo_annotation_start(lines[i])) {
             int col = halo_annotation_start(lines[i]);
-            halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_UNKNOWN, file, i + 1, col, lines[i],
-                          "a host shader takes only '#pragma halo declarations'");
+            int known = host_annotation(lines[i], i + 1, h);
+            if (known == 1) continue;
+            halo_diag_add(diag, HALO_SEVERITY_ERROR, known ? HALO_MSG_ANNOTATION_SYNTAX : HALO_MSG_ANNOTATION_UNKNOWN,
+                          file, i + 1, col, lines[i],
+                          known ? "'#pragma halo volume' and 'gradient' take one sampler name; 'slices' takes none"
+                                : "a host shader takes only '#pragma halo declarations', 'volume NAME', "
+                                  "'gradient NAME' and 'slices' (docs/host-contract.md)");
             errors++;
         }
     }
@@ -641,6 +680,15 @@ static void emit_declarations(emitter *e, const halo_program *p, const char *hos
             p->host_uniforms[i].type, p->host_uniforms[i].name);
 }
 
+/* Emits generated text written by fn (nothing when it writes none). */
+static void emit_text(emitter *e, const halo_program *p, void (*fn)(halo_strbuf *, const halo_program *)) {
+    halo_strbuf b = {0};
+    fn(&b, p);
+    if (b.failed) e->failed = 1;
+    else if (b.len) GEN(e, "%s", b.data);
+    halo_strbuf_free(&b);
+}
+
 static int emit_program(halo_program *p, const char *host_source, char **host_lines, int host_count,
                         const host_info *h, const halo_library *lib) {
     emitter e = {0};
@@ -704,8 +752,10 @@ static int emit_program(halo_program *p, const char *host_source, char **host_li
         for (size_t o = 0; o < p->output_count; o++)
             GEN(&e, "    %s = halo_accum_%s;", p->outputs[o].name, p->outputs[o].image);
         GEN(&e, "}");
+        emit_text(&e, p, halo_segment_emit);
         emit(&e, p->host_file, i + 1, line, "// ---- end of libhalo declarations ----");
     }
+    emit_text(&e, p, halo_segment_emit_tail);
     if (e.failed || e.text.failed) {
         halo_strbuf_free(&e.text);
         free(e.origins);
@@ -1055,6 +1105,7 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     emit_module_lines(&e, m, 1, m->line_count, 1);
     GEN(&e, "void main() {\n    halo_pass_output = halo_pass_vec4(halo_%s_%s(ivec2(gl_FragCoord.xy)));\n}",
         m->name, pd->entry);
+    emit_text(&e, p, halo_segment_emit_tail);
     if (e.failed || e.text.failed) {
         halo_strbuf_free(&e.text);
         free(e.origins);
@@ -1152,6 +1203,54 @@ static int build_uniforms(halo_program *p, int all_live) {
 static int set_groups(halo_program *p);
 static void load_group(halo_program *p, int g);
 
+/* Host contract 2: does the host take segments, and does the program need them? A
+ * single-pass ray caster (a sample loop, no halo_segment_begin, no `#pragma halo slices`)
+ * cannot run passes between slices: refuse it rather than render without the stages
+ * that need them. */
+static int plan_segments(halo_program *p, const halo_link_desc *desc, const host_info *h, halo_diagnostics *diag) {
+    const char *host = desc->host_source;
+    int segmenting = halo_host_uses(host, "halo_segment_begin");
+    p->v2_host = segmenting || h->volume || h->gradient || halo_host_uses(host, "halo_view_at") ||
+                 halo_host_uses(host, "halo_depth_at");
+    int generation = halo_program_has_generation_passes(p);
+    if (desc->force_segments && !segmenting) {
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_SINGLE_PASS, p->host_file, 1, 1, p->host_lines[0],
+                      "force_segments: the host never calls halo_segment_begin (docs/host-contract.md, "
+                      "\"Segmented ray casting\")");
+        return 1;
+    }
+    /* a host that draws one sample per fragment (a slice host, a probe) runs the passes
+     * between its draws; one that loops over samples marches whole rays */
+    int marches = halo_host_uses(host, "for") || halo_host_uses(host, "while");
+    if (generation && marches && !segmenting && !h->slices && p->kind == HALO_SHADER_FRAGMENT) {
+        halo_strbuf names = {0};
+        for (size_t s = 0; s < p->stage_count; s++) {
+            const halo_module *m = p->stages[s].module;
+            for (size_t k = 0; k < m->pass_count; k++)
+                if (!m->passes[k].post) {
+                    halo_strbuf_printf(&names, "%s%s", names.len ? ", " : "", m->name);
+                    break;
+                }
+        }
+        int at = h->marker_line ? h->marker_line : 1;
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_SINGLE_PASS, p->host_file, at, 1, p->host_lines[at - 1],
+                      "the stages %s run image passes between slices, but this host marches each ray in one draw: "
+                      "clip its ray loop with halo_segment_begin/halo_segment_end and draw it with "
+                      "halo_gl_frame_draw (docs/host-contract.md, \"Segmented ray casting\"), or, for a slice or "
+                      "slab host that runs the passes itself, add '#pragma halo slices'",
+                      names.data ? names.data : "?");
+        halo_strbuf_free(&names);
+        return 1;
+    }
+    if (segmenting && (generation || desc->force_segments)) {
+        int location = first_free_location(host);
+        for (size_t o = 0; o < p->output_count; o++)
+            if (p->outputs[o].location >= location) location = p->outputs[o].location + 1;
+        p->segment_location = location;
+    }
+    return 0;
+}
+
 halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
     if (!desc || !desc->library || !desc->host_source) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: library and host_source are required");
@@ -1175,6 +1274,8 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
     /* 1. The host keeps the contract. */
     host_info h;
     int errors = check_host(p->host_file, desc->host_source, p->host_lines, host_count, &h, diag);
+    p->volume_sampler = h.volume;
+    p->gradient_sampler = h.gradient;
     /* 2. Stages, their dependencies and their order. */
     node *order = NULL;
     int n = 0;
@@ -1225,6 +1326,10 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
     }
     set_image_scales(p);
     if (p->group_count > 1) load_group(p, 0);
+    if (plan_segments(p, desc, &h, diag)) {
+        halo_program_destroy(p);
+        return NULL;
+    }
     /* 5. Emit. */
     if (emit_program(p, desc->host_source, p->host_lines, host_count, &h, desc->library)) goto oom;
     int passes = build_passes(p, desc->library, diag);
@@ -1242,6 +1347,8 @@ oom:
 
 void halo_program_destroy(halo_program *p) {
     if (!p) return;
+    free(p->volume_sampler);
+    free(p->gradient_sampler);
     free(p->source);
     free(p->host_file);
     free(p->host_storage);
@@ -1360,6 +1467,7 @@ const halo_host_uniform_info *halo_program_host_uniform(const halo_program *p, s
 int halo_program_channel_count(const halo_program *p) { return p->channel_count; }
 int halo_program_image_precision(const halo_program *p) { return p->image_precision; }
 int halo_program_image_scale(const halo_program *p) { return p->image_scale; }
+int halo_program_segment_location(const halo_program *p) { return p ? p->segment_location : 0; }
 int halo_program_group_count(const halo_program *p) { return p && p->group_count > 1 ? p->group_count : 1; }
 
 /* Group g's values of every grouped channels parameter: values 4g .. 4g + 3 of the

@@ -2,6 +2,7 @@
 #include "host_common.h"
 
 #include "diag.h"
+#include "internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -288,39 +289,7 @@ void halo_host_matrix_multiply(const double a[16], const double b[16], double ou
 
 int halo_host_matrix_invert(const double m[16], double out[16])
 {
-    double a[4][8];
-    for (int row = 0; row < 4; ++row)
-        for (int col = 0; col < 4; ++col) {
-            a[row][col] = m[col * 4 + row];
-            a[row][col + 4] = row == col ? 1.0 : 0.0;
-        }
-    for (int col = 0; col < 4; ++col) {
-        int pivot = col;
-        for (int row = col + 1; row < 4; ++row)
-            if (fabs(a[row][col]) > fabs(a[pivot][col]))
-                pivot = row;
-        if (fabs(a[pivot][col]) < 1e-300)
-            return 0;
-        if (pivot != col)
-            for (int k = 0; k < 8; ++k) {
-                double tmp = a[col][k];
-                a[col][k] = a[pivot][k];
-                a[pivot][k] = tmp;
-            }
-        double scale = 1.0 / a[col][col];
-        for (int k = 0; k < 8; ++k)
-            a[col][k] *= scale;
-        for (int row = 0; row < 4; ++row)
-            if (row != col) {
-                double factor = a[row][col];
-                for (int k = 0; k < 8; ++k)
-                    a[row][k] -= factor * a[col][k];
-            }
-    }
-    for (int row = 0; row < 4; ++row)
-        for (int col = 0; col < 4; ++col)
-            out[col * 4 + row] = a[row][col + 4];
-    return 1;
+    return halo_mat4_invert(m, out);
 }
 
 int halo_host_orbit_camera(double azimuth, double elevation, double zoom, int width, int height,

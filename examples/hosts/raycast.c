@@ -153,11 +153,21 @@ static void host_target_begin(host_target *t)
         halo_gl_program_upload(t->runtime, t->linked, t->program);
 }
 
+static halo_status host_target_read(host_target *t, float *rgba, halo_diagnostics *diag);
+
 static halo_status host_target_draw(host_target *t, float *rgba, halo_diagnostics *diag)
 {
     const halo_glfuncs *f = t->f;
     f->BindVertexArray(t->vertex_array);
     f->DrawArrays(GL_TRIANGLES, 0, 3);
+    return host_target_read(t, rgba, diag);
+}
+
+/* Reads the target back and unbinds program and target. */
+static halo_status host_target_read(host_target *t, float *rgba, halo_diagnostics *diag)
+{
+    const halo_glfuncs *f = t->f;
+    f->BindFramebuffer(GL_FRAMEBUFFER, t->framebuffer);
     f->ReadBuffer(GL_COLOR_ATTACHMENT0);
     f->PixelStorei(GL_PACK_ALIGNMENT, 4);
     f->ReadPixels(0, 0, t->width, t->height, GL_RGBA, GL_FLOAT, rgba);
@@ -182,9 +192,20 @@ struct halo_raycast {
     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4];
     float inverse_view_projection[16];
     float eye[3];
+    float screen_right[3], screen_up[3];
     float step_voxels;
     float background[3];
+    halo_gl_frame *frame; /* a program with images, outputs or segments (host contract 2) */
+    int interval, segments;
 };
+
+/* The proxy geometry: one full-screen triangle (halo_gl_segments_desc.draw). */
+static void draw_proxy(void *user)
+{
+    halo_raycast *r = user;
+    r->target.f->BindVertexArray(r->target.vertex_array);
+    r->target.f->DrawArrays(GL_TRIANGLES, 0, 3);
+}
 
 halo_raycast *halo_raycast_create(const halo_host_desc *desc, halo_diagnostics *diag)
 {
@@ -199,6 +220,15 @@ halo_raycast *halo_raycast_create(const halo_host_desc *desc, halo_diagnostics *
         return NULL;
     }
     const halo_glfuncs *f = r->target.f;
+    const halo_program *p = desc->program;
+    if (p && (halo_program_image_count(p) || halo_program_output_count(p) || halo_program_sampler_count(p) ||
+              halo_program_segment_location(p) > 0)) {
+        r->frame = halo_gl_frame_create(desc->runtime, p, desc->width, desc->height, diag);
+        if (!r->frame) {
+            halo_raycast_destroy(r);
+            return NULL;
+        }
+    }
     f->GenTextures(1, &r->volume_texture);
     f->GenTextures(1, &r->transfer_texture);
     halo_raycast_set_render(r, NULL, diag);
@@ -211,6 +241,7 @@ void halo_raycast_destroy(halo_raycast *r)
     if (!r)
         return;
     const halo_glfuncs *f = r->target.f;
+    halo_gl_frame_destroy(r->frame);
     if (f) {
         f->DeleteTextures(1, &r->volume_texture);
         f->DeleteTextures(1, &r->transfer_texture);
@@ -257,8 +288,24 @@ void halo_raycast_set_camera(halo_raycast *r, double azimuth, double elevation, 
         return;
     for (int i = 0; i < 16; ++i)
         r->inverse_view_projection[i] = camera.inverse_view_projection[i];
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < 3; ++c) {
         r->eye[c] = (float)camera.eye[c];
+        r->screen_right[c] = (float)camera.right[c];
+        r->screen_up[c] = (float)camera.up[c];
+    }
+}
+
+halo_gl_frame *halo_raycast_frame(const halo_raycast *r)
+{
+    return r ? r->frame : NULL;
+}
+
+void halo_raycast_set_segments(halo_raycast *r, int interval, int segments)
+{
+    if (r) {
+        r->interval = interval > 0 ? interval : 0;
+        r->segments = segments > 0 ? segments : 0;
+    }
 }
 
 void halo_raycast_get_state(const halo_raycast *r, halo_raycast_state *s)
@@ -311,7 +358,24 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
     f->Uniform1f(f->GetUniformLocation(program, "step_size"), (float)s.step_size);
     f->Uniform1f(f->GetUniformLocation(program, "unit_step"), (float)s.unit_step);
     f->Uniform3fv(f->GetUniformLocation(program, "background"), 1, r->background);
-    halo_status status = host_target_draw(&r->target, rgba, diag);
+    halo_status status;
+    if (r->frame) {
+        /* host contract 2: libhalo draws the proxy, once or once per depth segment */
+        halo_gl_set_host_uniform(r->target.runtime, program, "screen_right", r->screen_right, 3);
+        halo_gl_set_host_uniform(r->target.runtime, program, "screen_up", r->screen_up, 3);
+        halo_gl_segments_desc segments = {.inverse_view_projection = r->inverse_view_projection,
+                                          .step = (float)s.step_size,
+                                          .interval = r->interval,
+                                          .segments = r->segments,
+                                          .framebuffer = r->target.framebuffer,
+                                          .draw = draw_proxy,
+                                          .user = r};
+        status = halo_gl_frame_draw(r->frame, program, &segments, diag);
+        if (status == HALO_OK)
+            status = host_target_read(&r->target, rgba, diag);
+    } else {
+        status = host_target_draw(&r->target, rgba, diag);
+    }
     f->ActiveTexture(GL_TEXTURE1);
     f->BindTexture(GL_TEXTURE_2D, 0);
     f->ActiveTexture(GL_TEXTURE0);

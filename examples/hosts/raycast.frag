@@ -1,6 +1,8 @@
 #version 330 core
 // Example GPU ray caster: an ordinary front-to-back emission-absorption ray caster
-// that follows the libhalo host contract (docs/host-contract.md, version 1).
+// that follows the libhalo host contract (docs/host-contract.md, version 2): with
+// stages that run image passes between slices (volumetric halos), libhalo's runtime
+// draws it once per depth segment (halo_gl_frame_draw).
 //
 // The same file is the renderer's original shader: compiled as it is, the pragma
 // below is ignored and HALO_LINKED is undefined. Linked by libhalo, the pragma is
@@ -78,7 +80,13 @@ void main()
     float opacity_exponent = step_size / unit_step;
 
     vec4 accumulated = vec4(0.0); // premultiplied colour, opacity
-    for (int i = 0; i < max_steps; ++i) {
+    int first = 0, end = max_steps;
+#ifdef HALO_LINKED
+    // host contract 2: in a frame drawn in depth segments, march only this segment's samples
+    halo_segment_begin(origin, direction, t_enter, step_size, first, end, accumulated);
+#endif
+    int i = first;
+    for (; i < end; ++i) {
         float t = t_enter + float(i) * step_size;
         if (t > t_exit)
             break;
@@ -102,5 +110,9 @@ void main()
                 break;
         }
     }
+#ifdef HALO_LINKED
+    halo_segment_end(accumulated, i < end); // the loop stopped early: the ray has ended
+    halo_finish();
+#endif
     frag_color = vec4(accumulated.rgb + (1.0 - accumulated.a) * background, 1.0);
 }

@@ -75,6 +75,11 @@ void halo_raycast_set_camera(halo_raycast *r, double azimuth, double elevation, 
  * bottom-up, premultiplied colour over the background. */
 halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *diag);
 void halo_raycast_get_state(const halo_raycast *r, halo_raycast_state *state);
+/* The frame of a program with images, outputs or segments (host contract 2), else NULL. */
+halo_gl_frame *halo_raycast_frame(const halo_raycast *r);
+/* Segments (host contract 2): M planes per segment (0: the program's halo_generate.interval,
+ * or 4), or exactly `segments` of them (> 0: a program linked with force_segments). */
+void halo_raycast_set_segments(halo_raycast *r, int interval, int segments);
 unsigned halo_raycast_gl_program(const halo_raycast *r);
 
 /* ---- The conformance probe ----------------------------------------------------- */

@@ -12,6 +12,7 @@
 // slices between two generations in the slice host.
 
 #pragma halo declarations
+#pragma halo slices
 
 uniform highp sampler3D volume_texture;
 uniform highp sampler2D transfer_texture;

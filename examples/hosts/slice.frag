@@ -15,6 +15,7 @@
 // voxel step, depth against the bounding sphere, opacities per voxel step.
 
 #pragma halo declarations
+#pragma halo slices
 
 uniform highp sampler3D volume_texture;   // R32F, value normalized to [0,1]
 uniform highp sampler2D transfer_texture; // N x 1 RGBA: linear RGB and opacity per unit step

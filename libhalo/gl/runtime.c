@@ -484,7 +484,36 @@ struct halo_gl_frame {
     GLuint attached_framebuffer;
     int bound;     /* samplers bound by halo_gl_frame_bind from bound_first_unit */
     int bound_first_unit;
+    GLuint state[2];   /* host contract 2: the rays' state between segments (RGBA32F), ping-ponged */
+    int state_current; /* state[state_current] holds the state after the last segment drawn */
+    int segments_drawn;
 };
+
+/* For segments.c: the runtime, program, size and ray-state textures of a frame. */
+halo_gl *halo_gl_frame_runtime(const halo_gl_frame *fr) { return fr->gl; }
+const halo_program *halo_gl_frame_program(const halo_gl_frame *fr) { return fr->program; }
+void halo_gl_frame_size(const halo_gl_frame *fr, int *width, int *height)
+{
+    *width = fr->width;
+    *height = fr->height;
+}
+unsigned halo_gl_frame_state(halo_gl_frame *fr, int next)
+{
+    return fr->state[next ? 1 - fr->state_current : fr->state_current];
+}
+void halo_gl_frame_state_flip(halo_gl_frame *fr)
+{
+    fr->state_current = 1 - fr->state_current;
+    fr->segments_drawn++;
+}
+void halo_gl_frame_segments_reset(halo_gl_frame *fr)
+{
+    fr->segments_drawn = 0;
+}
+int halo_gl_frame_segment_count(const halo_gl_frame *fr)
+{
+    return fr ? fr->segments_drawn : 0;
+}
 
 static int frame_find_image(const halo_gl_frame *f, const char *name)
 {
@@ -697,6 +726,15 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
             }
         }
     }
+    if (!failed && halo_program_segment_location(p) > 0) {
+        f->GenTextures(2, fr->state);
+        for (int k = 0; k < 2; ++k) {
+            f->BindTexture(GL_TEXTURE_2D, fr->state[k]);
+            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, NULL);
+        }
+    }
     f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
     f->BindTexture(GL_TEXTURE_2D, 0);
     for (size_t i = 0; i < fr->pass_count && !failed; ++i) {
@@ -763,6 +801,8 @@ void halo_gl_frame_destroy(halo_gl_frame *fr)
     for (size_t i = 0; fr->passes && i < fr->pass_count; ++i)
         if (fr->passes[i].program)
             f->DeleteProgram(fr->passes[i].program);
+    if (fr->state[0])
+        f->DeleteTextures(2, fr->state);
     if (fr->framebuffer)
         f->DeleteFramebuffers(1, &fr->framebuffer);
     if (fr->vertex_array)
