@@ -13,7 +13,7 @@
 /* One approximation of the scene. Zero values take the scene's own (or the default). */
 typedef struct halo_bench_config {
     int halos;         /* 0: the same render with every stage off (the reference renderer) */
-    int slab;          /* 0: slice host, 1: slab ray caster */
+    int slab;          /* 0: slice host, 1: slab ray caster, HALO_BENCH_RAYCAST: the segmented ray caster */
     int interval;      /* M: slices between generations (slab: samples per draw) */
     int passes;        /* N: spreading passes (halo_generate.passes); 0: the scene's */
     int precision;     /* halo image precision: 32, 16 or 8 (halo_link_desc.image_precision) */
@@ -68,6 +68,9 @@ void halo_bench_errors(const halo_bench_env *env, halo_bench_case *cases, size_t
 void halo_bench_pareto(halo_bench_case *cases, size_t count);
 void halo_bench_cases_free(halo_bench_case *cases, size_t count);
 
+#define HALO_BENCH_RAYCAST 2
+/* "slice", "slab" or "ray". */
+const char *halo_bench_host_name(const halo_bench_config *k);
 /* "full", "1/2", "1/4": the halo image resolution of a configuration. */
 const char *halo_bench_resolution(const halo_bench_config *k);
 

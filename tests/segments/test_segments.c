@@ -1,0 +1,314 @@
+/* Host contract 2 (docs/host-contract.md, "Segmented ray casting"): the example ray caster
+ * (raycast.frag) drawn by the runtime in depth segments.
+ *   1. Segments alone change nothing: a per-sample scene linked with force_segments and
+ *      drawn in K = 1, 4, 16 segments gives the float image of the same host drawn once
+ *      (max abs <= 1e-6), with early ray termination on most rays.
+ *   2. Volumetric halos: the segmented ray caster and the slab host agree at equal M
+ *      within the difference their sampling makes without halos (stated below), and the
+ *      halos themselves change the image far more than that.
+ *   3. The diagnostics: a scene with passes in a single-pass ray caster, force_segments
+ *      without halo_segment_begin.
+ * Exit 77 without OpenGL. */
+#include "halo.h"
+#include "gl/glfuncs.h"
+#include "gl/headless.h"
+#include "hosts/raycast.h"
+#include "hosts/slab.h"
+#include "volume.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SIZE 48
+#define VOLUME 24
+
+#define RENDER                                                                                               \
+    "\"render\": {\"azimuth\": 30, \"elevation\": 20, \"zoom\": 1.3, \"step\": 0.5,"                         \
+    " \"transfer\": [[0, 0, 0, 0, 0], [0.25, 0.6, 0.8, 1, 0.6], [0.5, 1, 0.85, 0.55, 1], [1, 1, 1, 0.8, 1]]}"
+
+/* Dense enough that most rays end on the 0.99 opacity threshold. */
+static const char sample_scene[] =
+    "{\"halo_scene\": 1, \"stages\": [{\"boundary\": {}}, {\"silhouette\": {\"k_ss\": 4, \"k_se\": 1}},"
+    " {\"tone_shading\": {}}, {\"distance_blend\": {}}], " RENDER "}";
+/* halo-render's default halo (examples/scenes/default.json): emissive, dark, around the
+ * tube and the blobs, seen through transparent shells. */
+#define HALO_RENDER                                                                                          \
+    "\"render\": {\"azimuth\": 35, \"elevation\": 25, \"zoom\": 1.5, \"step\": 0.5,"                          \
+    " \"background\": [0.05, 0.08, 0.25],"                                                                    \
+    " \"transfer\": [[0, 0, 0, 0, 0], [0.18, 0.6, 0.8, 1, 0], [0.3, 0.6, 0.8, 1, 0.06],"                     \
+    " [0.42, 1, 0.85, 0.55, 0.02], [0.5, 1, 0.85, 0.55, 0.25], [0.62, 0.9, 0.35, 0.25, 0.05],"               \
+    " [0.75, 0.95, 0.3, 0.2, 0.7], [0.9, 1, 0.95, 0.7, 0.8], [1, 1, 1, 0.8, 0.9]]}"
+static const char halos_scene[] =
+    "{\"halo_scene\": 1, \"stages\": ["
+    " {\"halo_seed\": {\"alpha\": 2, \"gradient_scale\": 6, \"value_0\": [[0.55, 0], [0.62, 1], [0.8, 1], [0.9, 0]]}},"
+    " {\"halo_generate\": {\"passes\": 5, \"delta\": 0.9, \"interval\": 4}},"
+    " {\"halo_map\": {\"mode\": 0, \"color_near\": [[0, 0, 0]], \"color_far\": [[0, 0, 0]], \"opacity\": 1,"
+    " \"full_at\": 0.25}}], " HALO_RENDER "}";
+static const char no_halo_scene[] = "{\"halo_scene\": 1, \"stages\": [], " HALO_RENDER "}";
+
+typedef struct env {
+    halo_library *lib;
+    halo_gl *runtime;
+    const halo_glfuncs *gl;
+    halo_diagnostics *diag;
+    float *volume;
+    char *raycast, *slab;
+} env;
+
+static int failures;
+
+#define CHECK(cond, ...)                                                                                     \
+    do {                                                                                                     \
+        if (!(cond)) {                                                                                       \
+            printf("FAIL %s:%d: ", __FILE__, __LINE__);                                                      \
+            printf(__VA_ARGS__);                                                                             \
+            printf("\n");                                                                                    \
+            failures++;                                                                                      \
+        }                                                                                                    \
+    } while (0)
+
+static halo_program *link_scene(env *e, const char *scene_text, const char *host, const char *file, int force,
+                                halo_scene **scene_out)
+{
+    halo_scene *scene = halo_scene_parse(scene_text, "(test scene)", e->lib, e->diag);
+    halo_program *p = scene ? halo_link(&(halo_link_desc){.library = e->lib, .scene = scene, .host_source = host,
+                                                          .host_file = file, .force_segments = force},
+                                        e->diag)
+                            : NULL;
+    if (!p) {
+        halo_diagnostics_print(e->diag, stdout);
+        halo_scene_destroy(scene);
+        return NULL;
+    }
+    *scene_out = scene;
+    return p;
+}
+
+/* Renders with the ray caster in `segments` segments (0: as the program needs) of M planes. */
+static float *render_ray(env *e, const char *scene_text, int force, int interval, int segments, int *drawn)
+{
+    halo_scene *scene = NULL;
+    halo_program *p = link_scene(e, scene_text, e->raycast, "raycast.frag", force, &scene);
+    float *rgba = malloc((size_t)SIZE * SIZE * 4 * sizeof *rgba);
+    halo_raycast *r = p ? halo_raycast_create(&(halo_host_desc){.gl = e->gl, .runtime = e->runtime, .program = p,
+                                                                .width = SIZE, .height = SIZE},
+                                              e->diag)
+                        : NULL;
+    int ok = r && rgba;
+    if (ok) {
+        const halo_render_settings *settings = halo_scene_render(scene);
+        ok = halo_raycast_set_volume(r, e->volume, VOLUME, VOLUME, VOLUME, e->diag) == HALO_OK &&
+             halo_raycast_set_render(r, settings, e->diag) == HALO_OK;
+        halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);
+        halo_raycast_set_segments(r, interval, segments);
+        ok = ok && halo_raycast_render(r, rgba, e->diag) == HALO_OK;
+        if (drawn)
+            *drawn = halo_raycast_frame(r) ? halo_gl_frame_segment_count(halo_raycast_frame(r)) : 1;
+    }
+    if (!ok) {
+        halo_diagnostics_print(e->diag, stdout);
+        free(rgba);
+        rgba = NULL;
+    }
+    halo_raycast_destroy(r);
+    halo_program_destroy(p);
+    halo_scene_destroy(scene);
+    halo_diagnostics_clear(e->diag);
+    return rgba;
+}
+
+static float *render_slab(env *e, const char *scene_text, int interval)
+{
+    halo_scene *scene = NULL;
+    halo_program *p = link_scene(e, scene_text, e->slab, "slab.frag", 0, &scene);
+    float *rgba = malloc((size_t)SIZE * SIZE * 4 * sizeof *rgba);
+    halo_slab *s = p ? halo_slab_create(&(halo_host_desc){.gl = e->gl, .runtime = e->runtime, .program = p,
+                                                          .width = SIZE, .height = SIZE},
+                                        e->diag)
+                     : NULL;
+    int ok = s && rgba;
+    if (ok) {
+        const halo_render_settings *settings = halo_scene_render(scene);
+        ok = halo_slice_set_volume(s, e->volume, VOLUME, VOLUME, VOLUME, e->diag) == HALO_OK &&
+             halo_slice_set_render(s, settings, e->diag) == HALO_OK;
+        halo_slice_set_camera(s, settings->azimuth, settings->elevation, settings->zoom);
+        halo_slice_set_interval(s, interval);
+        ok = ok && halo_slice_render(s, rgba, e->diag) == HALO_OK;
+    }
+    if (!ok) {
+        halo_diagnostics_print(e->diag, stdout);
+        free(rgba);
+        rgba = NULL;
+    }
+    halo_slice_destroy(s);
+    halo_program_destroy(p);
+    halo_scene_destroy(scene);
+    halo_diagnostics_clear(e->diag);
+    return rgba;
+}
+
+static void difference(const float *a, const float *b, double *max_abs, double *rmse)
+{
+    double worst = 0.0, sum = 0.0;
+    size_t n = (size_t)SIZE * SIZE * 4;
+    for (size_t i = 0; i < n; ++i) {
+        double d = fabs((double)a[i] - (double)b[i]);
+        if (!(d <= worst))
+            worst = d; /* NaN wins */
+        sum += d * d;
+    }
+    *max_abs = worst;
+    *rmse = sqrt(sum / (double)n);
+}
+
+static void test_segments_change_nothing(env *e)
+{
+    float *once = render_ray(e, sample_scene, 0, 0, 0, NULL);
+    CHECK(once, "the ray caster renders the per-sample scene in one draw");
+    static const int counts[] = {1, 4, 16};
+    for (size_t k = 0; once && k < sizeof counts / sizeof counts[0]; ++k) {
+        int drawn = 0;
+        float *segmented = render_ray(e, sample_scene, 1, 0, counts[k], &drawn);
+        CHECK(segmented, "K = %d renders", counts[k]);
+        if (!segmented)
+            continue;
+        double max_abs, rmse;
+        difference(segmented, once, &max_abs, &rmse);
+        printf("segments K = %2d (%2d drawn): max abs %.3g against one draw\n", counts[k], drawn, max_abs);
+        CHECK(drawn == counts[k], "K = %d: %d segments drawn", counts[k], drawn);
+        CHECK(max_abs <= 1e-6, "K = %d: max abs %.3g > 1e-6", counts[k], max_abs);
+        free(segmented);
+    }
+    free(once);
+}
+
+/* Tolerance of the ray caster against the slab host with halos at equal M: their samples
+ * lie at other places (along each ray from its entry, against on the slice planes), so
+ * without halos they already differ by d0 (RMSE); the halos may add at most as much again
+ * plus 2e-3 for the seeds that fall into the neighbouring segment. */
+static void test_halos_match_slab(env *e)
+{
+    int drawn = 0;
+    float *ray = render_ray(e, halos_scene, 0, 4, 0, &drawn);
+    float *slab = render_slab(e, halos_scene, 4);
+    float *ray_plain = render_ray(e, no_halo_scene, 0, 0, 0, NULL);
+    float *slab_plain = render_slab(e, no_halo_scene, 4);
+    CHECK(ray && slab && ray_plain && slab_plain, "the four renders");
+    if (ray && slab && ray_plain && slab_plain) {
+        double m_halo, r_halo, m_plain, r_plain, m_effect, r_effect;
+        difference(ray, slab, &m_halo, &r_halo);
+        difference(ray_plain, slab_plain, &m_plain, &r_plain);
+        difference(ray, ray_plain, &m_effect, &r_effect);
+        double tolerance = 2.0 * r_plain + 2e-3;
+        printf("halos at M = 4 (%d segments): ray caster against slab host RMSE %.3g (max %.3g); without halos %.3g"
+               " (max %.3g); tolerance %.3g; the halos' own effect RMSE %.3g\n",
+               drawn, r_halo, m_halo, r_plain, m_plain, tolerance, r_effect);
+        CHECK(r_halo <= tolerance, "ray caster against slab host: RMSE %.3g > %.3g", r_halo, tolerance);
+        CHECK(r_effect > 5.0 * r_halo, "the halos change the image (RMSE %.3g) not far more than the hosts differ (%.3g)",
+              r_effect, r_halo);
+        CHECK(drawn > 1, "a halo scene is drawn in segments (%d)", drawn);
+    }
+    free(ray);
+    free(slab);
+    free(ray_plain);
+    free(slab_plain);
+}
+
+static void test_diagnostics(env *e)
+{
+    static const char single_pass[] =
+        "#version 330 core\n"
+        "#pragma halo declarations\n"
+        "uniform sampler3D volume;\n"
+        "out vec4 color;\n"
+        "void main() {\n"
+        "    vec4 sum = vec4(0.0);\n"
+        "    for (int i = 0; i < 64; ++i) {\n"
+        "        vec3 P = vec3(0.5, 0.5, float(i) / 64.0);\n"
+        "        float v = texture(volume, P).r;\n"
+        "#ifdef HALO_LINKED\n"
+        "        halo_sample s = halo_make_sample(P, v, vec3(0.0), vec3(0.0, 0.0, 1.0), P.z, gl_FragCoord.xy,\n"
+        "                                         vec3(v), v);\n"
+        "        halo_apply(s);\n"
+        "        sum += vec4(s.color, 1.0) * s.opacity * (1.0 - sum.a);\n"
+        "#endif\n"
+        "    }\n"
+        "#ifdef HALO_LINKED\n"
+        "    halo_finish();\n"
+        "#endif\n"
+        "    color = sum;\n"
+        "}\n";
+    halo_scene *scene = halo_scene_parse(halos_scene, "(test scene)", e->lib, e->diag);
+    halo_program *p = halo_link(&(halo_link_desc){.library = e->lib, .scene = scene, .host_source = single_pass,
+                                                  .host_file = "single.frag"},
+                                e->diag);
+    const halo_diagnostic *d = halo_diagnostics_count(e->diag) ? halo_diagnostics_get(e->diag, 0) : NULL;
+    CHECK(!p && halo_diagnostics_has(e->diag, HALO_MSG_HOST_SINGLE_PASS),
+          "a halo scene in a single-pass ray caster is refused with HOST_SINGLE_PASS");
+    CHECK(d && !strcmp(d->file, "single.frag") && d->line == 2, "at the host's marker (single.frag:2): %s:%d",
+          d ? d->file : "-", d ? d->line : 0);
+    CHECK(d && strstr(d->text, "halo_generate"), "the message names the stage with passes");
+    halo_program_destroy(p);
+    halo_diagnostics_clear(e->diag);
+    p = halo_link(&(halo_link_desc){.library = e->lib, .scene = NULL, .host_source = single_pass,
+                                    .host_file = "single.frag", .force_segments = 1},
+                  e->diag);
+    CHECK(!p && halo_diagnostics_has(e->diag, HALO_MSG_HOST_SINGLE_PASS),
+          "force_segments without halo_segment_begin is refused");
+    halo_program_destroy(p);
+    halo_diagnostics_clear(e->diag);
+    /* the same host, declared a slice host that runs the passes itself, links */
+    char *slices = malloc(sizeof single_pass + 32);
+    if (slices) {
+        snprintf(slices, sizeof single_pass + 32, "#pragma halo slices\n%s", single_pass);
+        p = halo_link(&(halo_link_desc){.library = e->lib, .scene = scene, .host_source = slices,
+                                        .host_file = "slices.frag"},
+                      e->diag);
+        CHECK(p != NULL, "with '#pragma halo slices' the host links");
+        halo_program_destroy(p);
+        halo_diagnostics_clear(e->diag);
+        free(slices);
+    }
+    halo_scene_destroy(scene);
+}
+
+int main(void)
+{
+    char err[512];
+    env e = {0};
+    e.diag = halo_diagnostics_create();
+    if (!e.diag || halo_setup(NULL) != HALO_OK)
+        return 99;
+    halo_headless *context = halo_headless_create(SIZE, SIZE, err, sizeof err);
+    if (!context) {
+        printf("no OpenGL context (%s): skipping\n", err);
+        halo_shutdown();
+        halo_diagnostics_destroy(e.diag);
+        return 77;
+    }
+    e.lib = halo_library_create(e.diag);
+    e.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, e.diag);
+    e.volume = halo_volume_create(VOLUME);
+    e.raycast = halo_host_load("raycast.frag", NULL, e.diag);
+    e.slab = halo_host_load("slab.frag", NULL, e.diag);
+    if (!e.lib || !e.runtime || !e.volume || !e.raycast || !e.slab) {
+        halo_diagnostics_print(e.diag, stderr);
+        return 99;
+    }
+    e.gl = halo_gl_functions(e.runtime);
+    test_segments_change_nothing(&e);
+    test_halos_match_slab(&e);
+    test_diagnostics(&e);
+    printf("%d failed\n", failures);
+    free(e.raycast);
+    free(e.slab);
+    free(e.volume);
+    halo_gl_destroy(e.runtime);
+    halo_library_destroy(e.lib);
+    halo_headless_destroy(context);
+    halo_diagnostics_destroy(e.diag);
+    halo_shutdown();
+    return failures ? 1 : 0;
+}
