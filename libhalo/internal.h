@@ -204,6 +204,19 @@ void halo_segment_emit_tail(struct halo_strbuf *b, const halo_program *p);
 int halo_program_has_generation_passes(const halo_program *p);
 /* gl/segments.c: a 4x4 column-major inverse; 0 if m is singular. */
 int halo_mat4_invert(const double m[16], double out[16]);
+/* gl/segments.c: how halo_gl_frame_draw draws a host (the emulation of a segmented host
+ * follows the same plan). Segment j takes the samples with start + j length <= phi <
+ * start + (j + 1) length, phi(P) = dot(plane.xyz, P) + plane.w. */
+typedef struct halo_segment_plan {
+    double eye[4];      /* the eye (w = 1), or the unit direction towards the viewer (w = 0) */
+    double plane[4];    /* |xyz| = 1, phi growing away from the eye */
+    double front, back; /* phi at the front and back of the box's bounding sphere */
+    int segments;       /* 1: drawn once */
+    double start, length;
+} halo_segment_plan;
+/* 0 (USAGE in diag) when the desc cannot be drawn. */
+int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p, halo_segment_plan *plan,
+                           halo_diagnostics *diag);
 
 /* glslang validation of one source with origins for mapping. */
 halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, halo_target target,

@@ -321,6 +321,8 @@ void halo_raycast_get_state(const halo_raycast *r, halo_raycast_state *s)
     float unit_step = 1.0f / (float)voxels;
     for (int c = 0; c < 3; ++c) {
         s->eye[c] = r->eye[c];
+        s->screen_right[c] = r->screen_right[c];
+        s->screen_up[c] = r->screen_up[c];
         s->background[c] = r->background[c];
         s->dims[c] = r->dims[c];
     }

@@ -42,6 +42,7 @@ typedef struct halo_raycast_state {
     int width, height;
     double inverse_view_projection[16]; /* column-major, clip space -> volume texture space */
     double eye[3];                      /* volume texture space */
+    double screen_right[3], screen_up[3]; /* unit image-plane axes (host uniforms of halo_seed) */
     double step_size;                   /* texture units */
     double unit_step;                   /* the step transfer opacities are given for (one voxel) */
     double background[3];

@@ -61,17 +61,10 @@ int halo_mat4_invert(const double m[16], double out[16])
     return 1;
 }
 
-/* The camera of a host in the space of its ray positions. */
-typedef struct segment_camera {
-    double eye[4];   /* the eye (w = 1), or the unit direction towards the viewer (w = 0) */
-    double plane[4]; /* phi(P) = dot(xyz, P) + w, |xyz| = 1, growing away from the eye */
-    double front, back; /* phi at the front and back of the box's bounding sphere */
-} segment_camera;
-
 /* From clip space -> ray space: the clip w row (perspective: the distance along the view
  * axis) or, for an orthographic camera (w constant), the clip z row. The eye is the point
  * whose clip x, y and w are 0: inverse * (0, 0, 1, 0). */
-int halo_segment_camera(const halo_gl_segments_desc *d, segment_camera *c)
+static int segment_camera(const halo_gl_segments_desc *d, halo_segment_plan *c)
 {
     double inverse[16], m[16];
     for (int i = 0; i < 16; ++i)
@@ -130,7 +123,7 @@ static int desc_valid(const halo_gl_segments_desc *d, const char *function, halo
     return 0;
 }
 
-static void set_camera(const halo_glfuncs *f, GLuint program, const segment_camera *c)
+static void set_camera(const halo_glfuncs *f, GLuint program, const halo_segment_plan *c)
 {
     f->Uniform4f(f->GetUniformLocation(program, "halo_camera_eye"), (float)c->eye[0], (float)c->eye[1],
                  (float)c->eye[2], (float)c->eye[3]);
@@ -144,8 +137,8 @@ halo_status halo_gl_set_camera(halo_gl *gl, unsigned gl_program, const halo_gl_s
 {
     if (!gl || !desc_valid(desc, "halo_gl_set_camera", diag))
         return HALO_ERROR_INPUT;
-    segment_camera camera;
-    if (!halo_segment_camera(desc, &camera)) {
+    halo_segment_plan camera;
+    if (!segment_camera(desc, &camera)) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_set_camera: inverse_view_projection is not invertible");
         return HALO_ERROR_INPUT;
     }
@@ -187,6 +180,43 @@ static void set_draw_buffers(const halo_glfuncs *f, const halo_program *p, int l
     f->DrawBuffers(count, buffers);
 }
 
+int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p, halo_segment_plan *plan,
+                           halo_diagnostics *diag)
+{
+    if (!p || !desc_valid(d, "halo_gl_frame_draw", diag))
+        return 0;
+    int location = halo_program_segment_location(p);
+    if (d->segments > 0 && location <= 0) {
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "halo_gl_frame_draw: segments = %d needs a program linked with force_segments from a host "
+                        "that calls halo_segment_begin", d->segments);
+        return 0;
+    }
+    if (!segment_camera(d, plan)) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_frame_draw: inverse_view_projection is not invertible");
+        return 0;
+    }
+    /* planes front + k step, k = 0 .. count - 1; a segment of M of them, each sample in
+     * the segment of its nearest plane */
+    double span = plan->back - plan->front;
+    double planes = floor(span / d->step) + 1.0;
+    plan->segments = 1;
+    plan->start = plan->front - 0.5 * d->step;
+    plan->length = span + d->step;
+    if (location > 0) {
+        if (d->segments > 0) {
+            plan->segments = d->segments;
+            plan->length = planes * d->step / d->segments;
+        } else {
+            int interval = segment_interval(p, d);
+            double count = ceil(planes / interval);
+            plan->segments = count < 1.0 ? 1 : count > 65536.0 ? 65536 : (int)count;
+            plan->length = count > 65536.0 ? planes * d->step / 65536.0 : interval * (double)d->step;
+        }
+    }
+    return 1;
+}
+
 halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
                                halo_diagnostics *diag)
 {
@@ -200,12 +230,6 @@ halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const hal
     const halo_glfuncs *f = halo_gl_functions(gl);
     const halo_program *p = halo_gl_frame_program(fr);
     int location = halo_program_segment_location(p);
-    if (d->segments > 0 && location <= 0) {
-        halo_diag_error(diag, USAGE, "", 0, 0,
-                        "halo_gl_frame_draw: segments = %d needs a program linked with force_segments from a host "
-                        "that calls halo_segment_begin", d->segments);
-        return HALO_ERROR_INPUT;
-    }
     if (halo_program_group_count(p) > 1) {
         halo_diag_error(diag, USAGE, "", 0, 0,
                         "halo_gl_frame_draw: a program with %d feature groups is drawn once per group by the "
@@ -213,30 +237,12 @@ halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const hal
                         halo_program_group_count(p));
         return HALO_ERROR_INPUT;
     }
-    segment_camera camera;
-    if (!halo_segment_camera(d, &camera)) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_frame_draw: inverse_view_projection is not invertible");
+    halo_segment_plan plan;
+    if (!halo_segment_plan_make(d, p, &plan, diag))
         return HALO_ERROR_INPUT;
-    }
     int first_unit = d->first_unit > 0 ? d->first_unit : DEFAULT_FIRST_UNIT;
     int state_unit = first_unit + (int)halo_program_sampler_count(p);
-
-    /* the segments: planes front + k step, k = 0 .. count - 1 */
-    double span = camera.back - camera.front;
-    double planes = floor(span / d->step) + 1.0;
-    int segments = 1;
-    double length = span + d->step;
-    if (location > 0) {
-        if (d->segments > 0) {
-            segments = d->segments;
-            length = planes * d->step / segments;
-        } else {
-            int interval = segment_interval(p, d);
-            double count = ceil(planes / interval);
-            segments = count < 1.0 ? 1 : count > 65536.0 ? 65536 : (int)count;
-            length = segments == 65536 ? planes * d->step / segments : interval * (double)d->step;
-        }
-    }
+    int segments = plan.segments;
     int generate = 0;
     for (size_t i = 0; i < halo_program_pass_count(p); ++i)
         generate |= halo_program_pass(p, i)->post == 0;
@@ -249,7 +255,7 @@ halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const hal
     f->GetIntegerv(GL_TEXTURE_BINDING_2D, &saved_texture);
 
     f->UseProgram(gl_program);
-    set_camera(f, gl_program, &camera);
+    set_camera(f, gl_program, &plan);
     halo_gl_frame_begin(fr);
     halo_gl_frame_segments_reset(fr);
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, d->framebuffer);
@@ -262,12 +268,12 @@ halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         if (f->Disablei)
             f->Disablei(GL_BLEND, (GLuint)location);
     }
-    double start = camera.front - 0.5 * d->step;
     for (int j = 0; j < segments; ++j) {
         int last = j == segments - 1;
         if (location > 0) {
             f->Uniform1i(flags_location, (j == 0 ? 1 : 0) | (last ? 2 : 0));
-            f->Uniform2f(bounds_location, (float)(start + j * length), (float)(start + (j + 1) * length));
+            f->Uniform2f(bounds_location, (float)(plan.start + j * plan.length),
+                         (float)(plan.start + (j + 1) * plan.length));
             f->ActiveTexture(GL_TEXTURE0 + (GLenum)state_unit);
             f->BindTexture(GL_TEXTURE_2D, halo_gl_frame_state(fr, 0));
             f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)location, GL_TEXTURE_2D,

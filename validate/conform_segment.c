@@ -1,0 +1,203 @@
+/* Conformance of segmented ray casting (host contract 2): raycast.frag drawn by
+ * halo_gl_frame_draw in depth segments, against a double-precision emulation of the same
+ * renderer: the same rays, samples and compositing as the one-draw emulation of the
+ * raycast row, the samples of each segment chosen by the same plan as the runtime's
+ * (halo_segment_plan_make), halo_emu_apply_frame per sample, the fragment's outputs
+ * finished once per segment, halo_emu_frame_generate between segments. */
+#include "conform_segment.h"
+
+#include "internal.h"
+#include "diag.h"
+#include "volume.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void classify(const halo_raycast_state *s, double value, double rgba[4])
+{
+    double v = value > 0.0 ? (value < 1.0 ? value : 1.0) : 0.0; /* NaN -> 0, as the host does */
+    int n = s->transfer_texels;
+    double u = v * (n - 1);
+    double base = floor(u);
+    double f = u - base;
+    int i0 = (int)base, i1 = i0 + 1 > n - 1 ? n - 1 : i0 + 1;
+    for (int k = 0; k < 4; ++k)
+        rgba[k] = (1.0 - f) * s->transfer[i0 * 4 + k] + f * s->transfer[i1 * 4 + k];
+}
+
+/* One pixel's ray in raycast.frag: origin, unit direction, the box's entry and exit, and
+ * the segment index bounds as the shader computes them (in float). */
+typedef struct segment_ray {
+    double origin[3], direction[3], t_enter, t_exit;
+    float phi0, dphi;
+    int ended;
+} segment_ray;
+
+static void make_ray(const halo_raycast_state *s, const halo_segment_plan *plan, int x, int y, segment_ray *r)
+{
+    const double *m = s->inverse_view_projection;
+    double ndc[2] = {(x + 0.5) / s->width * 2.0 - 1.0, (y + 0.5) / s->height * 2.0 - 1.0};
+    double near_point[4], far_point[4];
+    for (int row = 0; row < 4; ++row) {
+        near_point[row] = m[row] * ndc[0] + m[4 + row] * ndc[1] - m[8 + row] + m[12 + row];
+        far_point[row] = m[row] * ndc[0] + m[4 + row] * ndc[1] + m[8 + row] + m[12 + row];
+    }
+    double length = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        r->origin[k] = near_point[k] / near_point[3];
+        r->direction[k] = far_point[k] / far_point[3] - r->origin[k];
+        length += r->direction[k] * r->direction[k];
+    }
+    length = sqrt(length);
+    r->t_enter = 0.0;
+    r->t_exit = INFINITY;
+    for (int k = 0; k < 3; ++k) {
+        r->direction[k] /= length;
+        double inverse = 1.0 / r->direction[k];
+        double a = (0.0 - r->origin[k]) * inverse, b = (1.0 - r->origin[k]) * inverse;
+        r->t_enter = fmax(r->t_enter, fmin(a, b));
+        r->t_exit = fmin(r->t_exit, fmax(a, b));
+    }
+    /* halo_segment_begin, in float as the shader */
+    float phi0 = (float)plan->plane[3], dphi = 0.0f;
+    for (int k = 0; k < 3; ++k) {
+        phi0 += (float)plan->plane[k] * (float)(r->origin[k] + r->t_enter * r->direction[k]);
+        dphi += (float)plan->plane[k] * (float)r->direction[k];
+    }
+    r->phi0 = phi0;
+    r->dphi = dphi * (float)s->step_size;
+    r->ended = 0;
+}
+
+/* The shader's halo_segment_index: the first sample at or behind the plane phi = bound. */
+static int segment_index(float bound, const segment_ray *r, int end)
+{
+    float k = ceilf((bound - r->phi0) / r->dphi);
+    return k > (float)end ? end : k > 0.0f ? (int)k : 0;
+}
+
+int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program *p, const halo_segment_plan *plan,
+                                 double threshold, double exit_move, double *out, halo_diagnostics *diag)
+{
+    enum { MAX_STEPS = 4096 };
+    const double radius = 0.8660254037844386;
+    size_t pixels = (size_t)s->width * (size_t)s->height;
+    segment_ray *rays = malloc(pixels * sizeof *rays);
+    halo_emu_frame *frame = NULL;
+    if (!rays) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        return 0;
+    }
+    if (halo_program_image_count(p) || halo_program_output_count(p) || halo_program_sampler_count(p)) {
+        frame = halo_emu_frame_create(p, s->width, s->height, diag);
+        if (!frame) {
+            free(rays);
+            return 0;
+        }
+        halo_emu_frame_begin(frame);
+        halo_emu_frame_set_host_uniform(frame, "screen_right", s->screen_right, 3);
+        halo_emu_frame_set_host_uniform(frame, "screen_up", s->screen_up, 3);
+    }
+    for (int y = 0; y < s->height; ++y)
+        for (int x = 0; x < s->width; ++x)
+            make_ray(s, plan, x, y, &rays[(size_t)y * (size_t)s->width + (size_t)x]);
+    for (size_t i = 0; i < pixels * 4; ++i)
+        out[i] = 0.0;
+    double centre_distance = sqrt((s->eye[0] - 0.5) * (s->eye[0] - 0.5) + (s->eye[1] - 0.5) * (s->eye[1] - 0.5) +
+                                  (s->eye[2] - 0.5) * (s->eye[2] - 0.5));
+    double front_distance = centre_distance - radius;
+    double exponent = s->step_size / s->unit_step;
+    double voxel[3] = {1.0 / s->dims[0], 1.0 / s->dims[1], 1.0 / s->dims[2]};
+    int ok = 1, generation = 0;
+    for (size_t i = 0; i < halo_program_pass_count(p); ++i)
+        generation |= halo_program_pass(p, i)->post == 0;
+    for (int j = 0; j < plan->segments && ok; ++j) {
+        int head = j == 0, tail = j == plan->segments - 1;
+        float low_bound = (float)(plan->start + j * plan->length), high_bound =
+                                                                       (float)(plan->start + (j + 1) * plan->length);
+        for (size_t i = 0; i < pixels && ok; ++i) {
+            segment_ray *r = &rays[i];
+            int first = 0, end = MAX_STEPS;
+            if (r->dphi > 0.0f) {
+                if (!head)
+                    first = segment_index(low_bound, r, MAX_STEPS);
+                if (!tail)
+                    end = segment_index(high_bound, r, MAX_STEPS);
+            } else if (!head) {
+                first = MAX_STEPS;
+            }
+            if (r->ended)
+                first = MAX_STEPS;
+            if (end < first)
+                end = first;
+            double *acc = &out[i * 4];
+            halo_emu_sample fragment; /* the outputs' accumulators of this fragment */
+            memset(&fragment, 0, sizeof fragment);
+            fragment.fragcoord[0] = (double)(i % (size_t)s->width) + 0.5;
+            fragment.fragcoord[1] = (double)(i / (size_t)s->width) + 0.5;
+            int k = first;
+            for (; k < end && ok; ++k) {
+                double t = r->t_enter + k * s->step_size;
+                if (t > r->t_exit + exit_move)
+                    break;
+                halo_emu_sample sample;
+                memset(&sample, 0, sizeof sample);
+                double *P = sample.position;
+                for (int c = 0; c < 3; ++c)
+                    P[c] = r->origin[c] + t * r->direction[c];
+                sample.value = halo_volume_trilinear(s->volume, s->dims, P);
+                double color[4];
+                classify(s, sample.value, color);
+                double distance = 0.0;
+                for (int c = 0; c < 3; ++c) {
+                    double plus[3] = {P[0], P[1], P[2]}, minus[3] = {P[0], P[1], P[2]};
+                    plus[c] += voxel[c];
+                    minus[c] -= voxel[c];
+                    sample.gradient[c] = (halo_volume_trilinear(s->volume, s->dims, plus) -
+                                          halo_volume_trilinear(s->volume, s->dims, minus)) * 0.5;
+                    sample.view[c] = s->eye[c] - P[c];
+                    distance += sample.view[c] * sample.view[c];
+                }
+                distance = sqrt(distance);
+                for (int c = 0; c < 3; ++c)
+                    sample.view[c] /= distance;
+                double depth = (distance - front_distance) / (2.0 * radius);
+                sample.depth = depth < 0.0 ? 0.0 : depth > 1.0 ? 1.0 : depth;
+                memcpy(sample.fragcoord, fragment.fragcoord, sizeof sample.fragcoord);
+                memcpy(sample.color, color, 3 * sizeof *color);
+                sample.opacity = color[3];
+                memcpy(sample.output_accum, fragment.output_accum, sizeof sample.output_accum);
+                memcpy(sample.output_accum_next, fragment.output_accum_next, sizeof sample.output_accum_next);
+                ok = (frame ? halo_emu_apply_frame(p, frame, &sample, diag) : halo_emu_apply(p, &sample, diag)) ==
+                     HALO_OK;
+                memcpy(fragment.output_accum, sample.output_accum, sizeof sample.output_accum);
+                memcpy(fragment.output_accum_next, sample.output_accum_next, sizeof sample.output_accum_next);
+                double alpha = sample.opacity < 0.0 ? 0.0 : sample.opacity > 1.0 ? 1.0 : sample.opacity;
+                if (alpha > 0.0) {
+                    alpha = 1.0 - pow(1.0 - alpha, exponent);
+                    for (int c = 0; c < 3; ++c)
+                        acc[c] += (1.0 - acc[3]) * alpha * sample.color[c];
+                    acc[3] += (1.0 - acc[3]) * alpha;
+                    if (acc[3] >= threshold)
+                        break;
+                }
+            }
+            if (k < end)
+                r->ended = 1;
+            if (frame)
+                halo_emu_frame_finish(frame, &fragment);
+        }
+        if (ok && frame && !tail && generation)
+            ok = halo_emu_frame_generate(frame, diag) == HALO_OK;
+    }
+    for (size_t i = 0; i < pixels; ++i) {
+        double *px = &out[i * 4];
+        for (int c = 0; c < 3; ++c)
+            px[c] += (1.0 - px[3]) * s->background[c];
+        px[3] = 1.0;
+    }
+    halo_emu_frame_destroy(frame);
+    free(rays);
+    return ok;
+}
