@@ -295,6 +295,12 @@ int halo_host_matrix_invert(const double m[16], double out[16])
 int halo_host_orbit_camera(double azimuth, double elevation, double zoom, int width, int height,
                            halo_host_camera *camera)
 {
+    return halo_host_orbit_camera_projection(azimuth, elevation, zoom, width, height, 0, camera);
+}
+
+int halo_host_orbit_camera_projection(double azimuth, double elevation, double zoom, int width, int height,
+                                      int orthographic, halo_host_camera *camera)
+{
     if (!isfinite(azimuth))
         azimuth = 0.0;
     if (!isfinite(elevation))
@@ -333,6 +339,16 @@ int halo_host_orbit_camera(double azimuth, double elevation, double zoom, int wi
     double projection[16] = {sx, 0.0, 0.0, 0.0, 0.0, sy, 0.0, 0.0,
                              0.0, 0.0, -(far_plane + near_plane) / (far_plane - near_plane), -1.0,
                              0.0, 0.0, -2.0 * far_plane * near_plane / (far_plane - near_plane), 0.0};
+    if (orthographic) {
+        /* the same view of the bounding sphere: half the smaller side spans its radius / zoom */
+        double half = radius / zoom;
+        double ox = aspect >= 1.0 ? 1.0 / (half * aspect) : 1.0 / half;
+        double oy = aspect >= 1.0 ? 1.0 / half : aspect / half;
+        double ortho[16] = {ox, 0.0, 0.0, 0.0, 0.0, oy, 0.0, 0.0,
+                            0.0, 0.0, -2.0 / (far_plane - near_plane), 0.0,
+                            0.0, 0.0, -(far_plane + near_plane) / (far_plane - near_plane), 1.0};
+        memcpy(projection, ortho, sizeof projection);
+    }
     double view_projection[16], inverse[16];
     halo_host_matrix_multiply(projection, view, view_projection);
     if (!halo_host_matrix_invert(view_projection, inverse))

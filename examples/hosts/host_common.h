@@ -82,5 +82,9 @@ typedef struct halo_host_camera {
  * filled) when the view-projection matrix is singular. */
 int halo_host_orbit_camera(double azimuth, double elevation, double zoom, int width, int height,
                            halo_host_camera *camera);
+/* The same with an orthographic projection when orthographic is 1 (the eye stays where the
+ * perspective one is: hosts that take a view vector from it see nearly parallel rays). */
+int halo_host_orbit_camera_projection(double azimuth, double elevation, double zoom, int width, int height,
+                                      int orthographic, halo_host_camera *camera);
 
 #endif

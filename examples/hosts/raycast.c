@@ -197,6 +197,7 @@ struct halo_raycast {
     float background[3];
     halo_gl_frame *frame; /* a program with images, outputs or segments (host contract 2) */
     int interval, segments;
+    int orthographic;
 };
 
 /* The proxy geometry: one full-screen triangle (halo_gl_segments_desc.draw). */
@@ -284,7 +285,8 @@ void halo_raycast_set_camera(halo_raycast *r, double azimuth, double elevation, 
     if (!r)
         return;
     halo_host_camera camera;
-    if (!halo_host_orbit_camera(azimuth, elevation, zoom, r->target.width, r->target.height, &camera))
+    if (!halo_host_orbit_camera_projection(azimuth, elevation, zoom, r->target.width, r->target.height,
+                                           r->orthographic, &camera))
         return;
     for (int i = 0; i < 16; ++i)
         r->inverse_view_projection[i] = camera.inverse_view_projection[i];
@@ -298,6 +300,12 @@ void halo_raycast_set_camera(halo_raycast *r, double azimuth, double elevation, 
 halo_gl_frame *halo_raycast_frame(const halo_raycast *r)
 {
     return r ? r->frame : NULL;
+}
+
+void halo_raycast_set_orthographic(halo_raycast *r, int orthographic)
+{
+    if (r)
+        r->orthographic = orthographic != 0;
 }
 
 void halo_raycast_set_segments(halo_raycast *r, int interval, int segments)

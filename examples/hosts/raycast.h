@@ -81,6 +81,8 @@ halo_gl_frame *halo_raycast_frame(const halo_raycast *r);
 /* Segments (host contract 2): M planes per segment (0: the program's halo_generate.interval,
  * or 4), or exactly `segments` of them (> 0: a program linked with force_segments). */
 void halo_raycast_set_segments(halo_raycast *r, int interval, int segments);
+/* An orthographic camera for the next halo_raycast_set_camera (default: perspective). */
+void halo_raycast_set_orthographic(halo_raycast *r, int orthographic);
 unsigned halo_raycast_gl_program(const halo_raycast *r);
 
 /* ---- The conformance probe ----------------------------------------------------- */

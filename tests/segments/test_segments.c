@@ -10,6 +10,7 @@
  *      without halo_segment_begin.
  *   4. Against the emulation (validate/conform_segment.c): the segmented ray caster with
  *      an emissive and an occlusive halo, and with per-sample stages in forced segments.
+ *   1 and 4 again with an orthographic camera (segments of the clip z planes).
  * Exit 77 without OpenGL. */
 #include "halo.h"
 #include "gl/glfuncs.h"
@@ -61,6 +62,7 @@ typedef struct env {
 } env;
 
 static int failures;
+static int orthographic; /* the camera of the next renders */
 
 #define CHECK(cond, ...)                                                                                     \
     do {                                                                                                     \
@@ -104,6 +106,7 @@ static float *render_ray(env *e, const char *scene_text, int force, int interval
         const halo_render_settings *settings = halo_scene_render(scene);
         ok = halo_raycast_set_volume(r, e->volume, VOLUME, VOLUME, VOLUME, e->diag) == HALO_OK &&
              halo_raycast_set_render(r, settings, e->diag) == HALO_OK;
+        halo_raycast_set_orthographic(r, orthographic);
         halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);
         halo_raycast_set_segments(r, interval, segments);
         ok = ok && halo_raycast_render(r, rgba, e->diag) == HALO_OK;
@@ -179,7 +182,8 @@ static void test_segments_change_nothing(env *e)
             continue;
         double max_abs, rmse;
         difference(segmented, once, &max_abs, &rmse);
-        printf("segments K = %2d (%2d drawn): max abs %.3g against one draw\n", counts[k], drawn, max_abs);
+        printf("segments K = %2d (%2d drawn, %s): max abs %.3g against one draw\n", counts[k], drawn,
+               orthographic ? "orthographic" : "perspective", max_abs);
         CHECK(drawn == counts[k], "K = %d: %d segments drawn", counts[k], drawn);
         CHECK(max_abs <= 1e-6, "K = %d: max abs %.3g > 1e-6", counts[k], max_abs);
         free(segmented);
@@ -309,6 +313,7 @@ static void against_emulation(env *e, const char *name, const char *scene_text, 
         const halo_render_settings *settings = halo_scene_render(scene);
         ok = halo_raycast_set_volume(r, e->volume, VOLUME, VOLUME, VOLUME, e->diag) == HALO_OK &&
              halo_raycast_set_render(r, settings, e->diag) == HALO_OK;
+        halo_raycast_set_orthographic(r, orthographic);
         halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);
         halo_raycast_set_segments(r, 0, segments);
         ok = ok && halo_raycast_render(r, gpu, e->diag) == HALO_OK;
@@ -339,8 +344,14 @@ static void against_emulation(env *e, const char *name, const char *scene_text, 
                 worst = d;
             over += !(d <= EMULATION_TOLERANCE + allowed[i]);
         }
+        size_t shown = 0; /* pixels where the volume shows: not the background */
+        for (size_t i = 0; i < values; i += 4)
+            shown += fabs(reference[i] - state.background[0]) + fabs(reference[i + 1] - state.background[1]) +
+                         fabs(reference[i + 2] - state.background[2]) > 0.05;
         printf("%s (%d segments): GPU against the emulation max abs %.3g, %zu values over %.0e (+ bracket), %zu"
-               " non-finite\n", name, plan.segments, worst, over, EMULATION_TOLERANCE, nonfinite);
+               " non-finite; the volume covers %.0f %% of the image\n", name, plan.segments, worst, over,
+               EMULATION_TOLERANCE, nonfinite, 100.0 * (double)shown / (double)(values / 4));
+        CHECK(shown > values / 4 / 10, "%s: the volume covers only %zu pixels", name, shown);
         CHECK(over == 0 && nonfinite == 0, "%s: %zu values over the tolerance", name, over);
     }
     halo_diagnostics_print(e->diag, stdout);
@@ -383,6 +394,9 @@ int main(void)
     test_diagnostics(&e);
     against_emulation(&e, "emulation: halos", emulated_halos, 0, 0);
     against_emulation(&e, "emulation: per-sample stages, 16 forced segments", sample_scene, 1, 16);
+    orthographic = 1;
+    test_segments_change_nothing(&e);
+    against_emulation(&e, "emulation: halos, orthographic", emulated_halos, 0, 0);
     printf("%d failed\n", failures);
     free(e.raycast);
     free(e.slab);
