@@ -11,6 +11,7 @@
 #include "halo_feature.h"
 #include "gl/glfuncs.h"
 #include "gl/headless.h"
+#include "hosts/host_common.h"
 #include "hosts/raycast.h"
 #include "hosts/slab.h"
 #include "hosts/slice.h"
@@ -915,63 +916,25 @@ static int feature_update(halo_feature_buffer **buffer, halo_gl *runtime, const 
 
 /* ---- Post passes ------------------------------------------------------------------------------ */
 
-/* The image the program's last at=post pass writes ("final" for the outlines), or NULL. */
-static const halo_image_info *post_output(const halo_program *program)
-{
-    const char *name = NULL;
-    for (size_t i = 0; i < halo_program_pass_count(program); ++i) {
-        const halo_pass_info *pass = halo_program_pass(program, i);
-        if (pass->post)
-            name = pass->output;
-    }
-    for (size_t i = 0; name && i < halo_program_image_count(program); ++i)
-        if (!strcmp(halo_program_image(program, i)->name, name))
-            return halo_program_image(program, i);
-    return NULL;
-}
 
 /* Runs the post passes on the host's image (rgba, over its background) and replaces rgba
  * with their result. Returns 0 on failure. */
-static int run_post_passes(halo_gl *runtime, halo_gl_frame *frame, const halo_image_info *info, int width,
-                           int height, float *rgba)
+static int run_post_passes(halo_gl *runtime, halo_gl_frame *frame, const halo_program *program, int width,
+                           int height, float *rgba, halo_diagnostics *diag)
 {
     const halo_glfuncs *f = halo_gl_functions(runtime);
-    size_t pixels = (size_t)width * (size_t)height;
-    float *out = malloc(pixels * (size_t)(info->channels > 4 ? info->channels : 4) * sizeof *out);
-    if (!out) {
-        fprintf(stderr, "halo-render: error: out of memory for the post passes\n");
-        return 0;
-    }
     unsigned texture = 0;
     f->GenTextures(1, &texture);
-    f->BindTexture(GL_TEXTURE_2D, texture);
-    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, rgba);
+    halo_host_image_texture(f, texture, GL_RGBA32F, width, height, GL_RGBA, GL_FLOAT);
+    f->TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_RGBA, GL_FLOAT, rgba);
     f->BindTexture(GL_TEXTURE_2D, 0);
-    halo_gl_frame_post(frame, texture);
-    int ok = halo_gl_frame_read(frame, info->name, out) == HALO_OK && f->GetError() == GL_NO_ERROR;
+    halo_status status = halo_host_post_passes(frame, program, texture, width, height, rgba, diag);
     f->DeleteTextures(1, &texture);
-    if (!ok) {
-        fprintf(stderr, "halo-render: error: the post passes failed (image %s)\n", info->name);
-        free(out);
+    if (status != HALO_OK || f->GetError() != GL_NO_ERROR) {
+        halo_diagnostics_print(diag, stderr);
+        fprintf(stderr, "halo-render: error: the post passes failed\n");
         return 0;
     }
-    int channels = info->channels;
-    for (size_t p = 0; p < pixels; ++p) {
-        if (channels >= 3) {
-            for (int c = 0; c < 3; ++c)
-                rgba[p * 4 + (size_t)c] = out[p * (size_t)channels + (size_t)c];
-        } else {
-            /* a feature image: grey levels of its largest channel */
-            float v = 0.0f;
-            for (int c = 0; c < channels; ++c)
-                v = out[p * (size_t)channels + (size_t)c] > v ? out[p * (size_t)channels + (size_t)c] : v;
-            rgba[p * 4] = rgba[p * 4 + 1] = rgba[p * 4 + 2] = v;
-        }
-        rgba[p * 4 + 3] = 1.0f;
-    }
-    free(out);
     return 1;
 }
 
@@ -1169,15 +1132,21 @@ int main(int argc, char **argv)
         step.printed = sp.printed;
         step.tty = sp.tty;
     }
-    const halo_image_info *post = host.slice && halo_slice_frame(host.slice) ? post_output(program) : NULL;
-    if (rendered == HALO_OK && post &&
-        !run_post_passes(runtime, halo_slice_frame(host.slice), post, o.width, o.height, image)) {
+    /* the ray caster runs the post passes itself */
+    halo_gl_frame *frame = host.slice ? halo_slice_frame(host.slice) : halo_raycast_frame(host.raycast);
+    const halo_image_info *post = frame ? halo_host_post_image(program) : NULL;
+    if (rendered == HALO_OK && post && host.slice &&
+        !run_post_passes(runtime, frame, program, o.width, o.height, image, diag)) {
         status = 2;
         goto done;
     }
     if (host.slice)
         snprintf(what, sizeof what, "rendered %ld %s and %ld image passes%s", halo_slice_draws(host.slice),
                  kind == HOST_SLAB ? "slabs" : "slices", halo_slice_pass_draws(host.slice),
+                 post ? " (and the post passes)" : "");
+    else if (frame)
+        snprintf(what, sizeof what, "rendered %d segment%s and %ld image passes%s", halo_gl_frame_segment_count(frame),
+                 halo_gl_frame_segment_count(frame) == 1 ? "" : "s", halo_gl_frame_pass_draws(frame),
                  post ? " (and the post passes)" : "");
     else
         snprintf(what, sizeof what, "rendered");

@@ -77,6 +77,29 @@ static int segment_index(float bound, const segment_ray *r, int end)
     return k > (float)end ? end : k > 0.0f ? (int)k : 0;
 }
 
+static int post_passes(halo_emu_frame *frame, const halo_image_info *post, size_t pixels, double *out,
+                       halo_diagnostics *diag)
+{
+    double *host = halo_emu_frame_image(frame, "host_color");
+    if (!host)
+        return 0;
+    memcpy(host, out, pixels * 4 * sizeof *out);
+    if (halo_emu_frame_post(frame, diag) != HALO_OK)
+        return 0;
+    const double *image = halo_emu_frame_image(frame, post->name);
+    int channels = post->channels;
+    for (size_t k = 0; image && k < pixels; ++k) {
+        const double *px = &image[k * (size_t)channels];
+        double grey = 0.0;
+        for (int c = 0; c < channels; ++c)
+            grey = px[c] > grey ? px[c] : grey;
+        for (int c = 0; c < 3; ++c)
+            out[k * 4 + (size_t)c] = channels >= 3 ? px[c] : grey;
+        out[k * 4 + 3] = 1.0;
+    }
+    return image != NULL;
+}
+
 int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program *p, const halo_segment_plan *plan,
                                  double threshold, double exit_move, double *out, halo_diagnostics *diag)
 {
@@ -197,6 +220,9 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
             px[c] += (1.0 - px[3]) * s->background[c];
         px[3] = 1.0;
     }
+    const halo_image_info *post = halo_host_post_image(p);
+    if (ok && frame && post) /* the host's colour through the at=post passes, as halo_host_post_passes */
+        ok = post_passes(frame, post, pixels, out, diag);
     halo_emu_frame_destroy(frame);
     free(rays);
     return ok;

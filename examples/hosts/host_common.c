@@ -357,3 +357,47 @@ int halo_host_orbit_camera_projection(double azimuth, double elevation, double z
         camera->inverse_view_projection[i] = (float)inverse[i];
     return 1;
 }
+
+/* ---- Post passes ------------------------------------------------------------------------ */
+
+const halo_image_info *halo_host_post_image(const halo_program *p)
+{
+    const char *name = NULL;
+    for (size_t i = 0; p && i < halo_program_pass_count(p); ++i)
+        if (halo_program_pass(p, i)->post)
+            name = halo_program_pass(p, i)->output;
+    for (size_t i = 0; name && i < halo_program_image_count(p); ++i)
+        if (!strcmp(halo_program_image(p, i)->name, name))
+            return halo_program_image(p, i);
+    return NULL;
+}
+
+halo_status halo_host_post_passes(halo_gl_frame *frame, const halo_program *p, unsigned color_texture, int width,
+                                  int height, float *rgba, halo_diagnostics *diag)
+{
+    const halo_image_info *info = halo_host_post_image(p);
+    if (!info || !frame)
+        return HALO_OK;
+    halo_gl_frame_post(frame, color_texture);
+    size_t pixels = (size_t)width * (size_t)height;
+    int channels = info->channels;
+    float *image = malloc(pixels * (size_t)channels * sizeof *image);
+    if (!image) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory for the post passes");
+        return HALO_ERROR_IO;
+    }
+    halo_status status = halo_gl_frame_read(frame, info->name, image);
+    for (size_t k = 0; k < pixels && status == HALO_OK; ++k) {
+        const float *px = &image[k * (size_t)channels];
+        float grey = 0.0f;
+        for (int c = 0; c < channels; ++c)
+            grey = px[c] > grey ? px[c] : grey;
+        for (int c = 0; c < 3; ++c)
+            rgba[k * 4 + (size_t)c] = channels >= 3 ? px[c] : grey;
+        rgba[k * 4 + 3] = 1.0f;
+    }
+    free(image);
+    if (status != HALO_OK)
+        halo_diag_error(diag, GL_LINK, "", 0, 0, "the post passes failed (image %s)", info->name);
+    return status;
+}

@@ -383,6 +383,9 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
         status = halo_gl_frame_draw(r->frame, program, &segments, diag);
         if (status == HALO_OK)
             status = host_target_read(&r->target, rgba, diag);
+        if (status == HALO_OK)
+            status = halo_host_post_passes(r->frame, r->target.linked, r->target.color_texture, r->target.width,
+                                           r->target.height, rgba, diag);
     } else {
         status = host_target_draw(&r->target, rgba, diag);
     }

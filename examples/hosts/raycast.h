@@ -73,9 +73,18 @@ halo_status halo_raycast_set_render(halo_raycast *r, const halo_render_settings 
  * the +z side) and elevation (degrees); zoom 1 fits the bounding sphere in view. */
 void halo_raycast_set_camera(halo_raycast *r, double azimuth, double elevation, double zoom);
 /* Renders into the RGBA32F target and reads it back: width*height*4 floats, rows
- * bottom-up, premultiplied colour over the background. */
+ * bottom-up, premultiplied colour over the background; for a program with at=post passes
+ * (outlines), their result (halo_host_post_image). */
 halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *diag);
 void halo_raycast_get_state(const halo_raycast *r, halo_raycast_state *state);
+/* The image the program's last at=post pass writes (outlines: "final"), or NULL. */
+const halo_image_info *halo_host_post_image(const halo_program *p);
+/* Runs the at=post passes (outlines) on the host's colour (color_texture: RGBA, over the
+ * background, the frame's size); rgba (width*height*4) becomes their last image (an image
+ * of fewer than three channels: grey levels of its largest channel). HALO_OK without
+ * such passes. */
+halo_status halo_host_post_passes(halo_gl_frame *frame, const halo_program *p, unsigned color_texture, int width,
+                                  int height, float *rgba, halo_diagnostics *diag);
 /* The frame of a program with images, outputs or segments (host contract 2), else NULL. */
 halo_gl_frame *halo_raycast_frame(const halo_raycast *r);
 /* Segments (host contract 2): M planes per segment (0: the program's halo_generate.interval,

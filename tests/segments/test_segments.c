@@ -365,6 +365,21 @@ static void against_emulation(env *e, const char *name, const char *scene_text, 
     free(allowed);
 }
 
+/* Outlines (Svakhine et al. 2009) through the segmented host: feature buffers written by
+ * halo_finish, the post passes on the host's colour (examples/scenes/outline-depth.json). */
+static const char emulated_outlines[] =
+    "{\"halo_scene\": 1, \"stages\": [{\"tone_shading\": {}},"
+    " {\"outline_feature\": {\"value_min\": 0.55, \"value_max\": 1}},"
+    " {\"outlines\": {\"sigma\": 1, \"lambda\": 4, \"depth_power\": 1}}], " RENDER "}";
+
+/* Both: segments for the halos, the outlines' buffers accumulated over them. */
+static const char emulated_both[] =
+    "{\"halo_scene\": 1, \"stages\": ["
+    " {\"halo_seed\": {\"alpha\": 2, \"gradient_scale\": 4}}, {\"halo_generate\": {\"passes\": 3}},"
+    " {\"halo_map\": {\"mode\": 0, \"opacity\": 0.8}},"
+    " {\"outline_feature\": {\"value_min\": 0.55, \"value_max\": 1}},"
+    " {\"outlines\": {\"sigma\": 1, \"lambda\": 4, \"depth_power\": 1}}], " RENDER "}";
+
 int main(void)
 {
     char err[512];
@@ -394,6 +409,8 @@ int main(void)
     test_diagnostics(&e);
     against_emulation(&e, "emulation: halos", emulated_halos, 0, 0);
     against_emulation(&e, "emulation: per-sample stages, 16 forced segments", sample_scene, 1, 16);
+    against_emulation(&e, "emulation: outlines", emulated_outlines, 0, 0);
+    against_emulation(&e, "emulation: halos and outlines", emulated_both, 0, 0);
     orthographic = 1;
     test_segments_change_nothing(&e);
     against_emulation(&e, "emulation: halos, orthographic", emulated_halos, 0, 0);
