@@ -1566,6 +1566,9 @@ char *halo_program_reflect_json(const halo_program *p) {
     json_object_set_new(root, "channels", json_integer(p->channel_count));
     json_object_set_new(root, "image_precision", json_integer(p->image_precision));
     json_object_set_new(root, "image_scale", json_integer(p->image_scale));
+    /* host contract 2: drawn in depth segments (halo_gl_frame_draw), the ray state at this location */
+    json_object_set_new(root, "segment_state_location",
+                        p->segment_location > 0 ? json_integer(p->segment_location) : json_null());
     json_t *samplers = json_array();
     for (size_t i = 0; i < p->sampler_count; i++) {
         json_t *o = json_object();

@@ -205,3 +205,5 @@ tests_segments_test_segments_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples 
 nodist_EXTRA_tests_segments_test_segments_SOURCES = build-aux/force-cxx-link.cc
 tests_segments_test_segments_LDADD = $(HALO_TOOL_LIBS)
 TESTS += tests/segments/test_segments
+TESTS += tests/segments/link_cli.sh
+EXTRA_DIST += tests/segments/link_cli.sh tests/data/hosts/single_pass.frag
