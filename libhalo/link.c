@@ -84,7 +84,7 @@ static const char *const contract_names[] = {"halo_sample", "halo_make_sample", 
                                              "HALO_CONTRACT_VERSION",
                                              /* host contract 2 */
                                              "halo_segment_begin", "halo_segment_end", "halo_view_at",
-                                             "halo_depth_at", "halo_gradient_at", NULL};
+                                             "halo_depth_at", "halo_gradient_at", "HALO_RAY_MAY_END", NULL};
 
 typedef struct host_info {
     int version_line; /* 0: none */
@@ -606,6 +606,10 @@ static halo_image_info *find_image(halo_program *p, const char *name);
 
 static void emit_declarations(emitter *e, const halo_program *p, const char *host) {
     GEN(e, "#define HALO_LINKED 1\n#define HALO_CONTRACT_VERSION %d", HALO_CONTRACT_VERSION);
+    /* host contract 2: stages with extra outputs (seeds, feature buffers) read every sample
+     * of a ray, hidden ones too, as the slice host gives them: the host's early ray
+     * termination waits for this */
+    GEN(e, "#define HALO_RAY_MAY_END %d", p->output_count == 0);
     if (uses_channels(p)) emit_channel_definitions(e, p->channel_count);
     for (size_t h = 0; h < HOOK_STRUCT_COUNT; h++) {
         const hook_struct *hs = &hook_structs[h];

@@ -207,3 +207,5 @@ tests_segments_test_segments_LDADD = $(HALO_TOOL_LIBS)
 TESTS += tests/segments/test_segments
 TESTS += tests/segments/link_cli.sh
 EXTRA_DIST += tests/segments/link_cli.sh tests/data/hosts/single_pass.frag
+TESTS += tests/segments/render_cli.sh
+EXTRA_DIST += tests/segments/render_cli.sh

@@ -132,6 +132,8 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
     double front_distance = centre_distance - radius;
     double exponent = s->step_size / s->unit_step;
     double voxel[3] = {1.0 / s->dims[0], 1.0 / s->dims[1], 1.0 / s->dims[2]};
+    if (halo_program_output_count(p) > 0) /* HALO_RAY_MAY_END 0: the ray goes on to its end */
+        threshold = INFINITY;
     int ok = 1, generation = 0;
     for (size_t i = 0; i < halo_program_pass_count(p); ++i)
         generation |= halo_program_pass(p, i)->post == 0;

@@ -16,6 +16,9 @@
 // the opaque background, so alpha is 1 wherever the background shows.
 
 #pragma halo declarations
+#ifndef HALO_RAY_MAY_END
+#define HALO_RAY_MAY_END 1 // libhalo says 0 when its stages need every sample of a ray
+#endif
 
 uniform highp sampler3D volume_texture;   // R32F, value already normalized to [0,1] by the intensity window
 uniform highp sampler2D transfer_texture; // N x 1 RGBA: linear RGB and opacity per unit step, for value in [0,1]
@@ -106,7 +109,7 @@ void main()
             alpha = 1.0 - pow(1.0 - alpha, opacity_exponent);
             accumulated.rgb += (1.0 - accumulated.a) * alpha * color.rgb;
             accumulated.a += (1.0 - accumulated.a) * alpha;
-            if (accumulated.a >= opacity_threshold)
+            if (accumulated.a >= opacity_threshold && HALO_RAY_MAY_END != 0)
                 break;
         }
     }
