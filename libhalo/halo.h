@@ -77,6 +77,10 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(HOST_RESERVED_NAME, "host declares a name reserved by the host contract")            \
     X(HOST_VERSION, "host '#version' does not fit the target")                             \
     X(HOST_FINISH_MISSING, "host never calls halo_finish but the program has extra outputs") \
+    X(HOST_MARKER_INACTIVE, "'#pragma halo declarations' is commented out or in a branch not taken") \
+    X(HOST_APPLY_MISSING, "host never calls halo_apply but the scene links stages that run in it") \
+    X(HOST_MACRO_CLASH, "a host macro rewrites a name that the libhalo declarations use") \
+    X(HOST_OUTPUT_LOCATION, "host output without layout(location) beside libhalo's extra outputs") \
     X(PASS_INVALID, "malformed image pass")                                                \
     X(GLSL_ERROR, "GLSL error")                                                            \
     X(GLSL_WARNING, "GLSL warning")                                                        \

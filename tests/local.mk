@@ -8,6 +8,7 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_scene \
 	tests/unit/test_scene_counts \
 	tests/unit/test_link \
+	tests/unit/test_host_scan \
 	tests/unit/test_emu
 check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
 noinst_HEADERS += tests/unit/check.h
@@ -35,6 +36,11 @@ tests_unit_test_link_SOURCES = tests/unit/test_link.c
 tests_unit_test_link_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
 nodist_EXTRA_tests_unit_test_link_SOURCES = build-aux/force-cxx-link.cc
 tests_unit_test_link_LDADD = $(HALO_TEST_CORE_LIBS)
+
+tests_unit_test_host_scan_SOURCES = tests/unit/test_host_scan.c
+tests_unit_test_host_scan_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_host_scan_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_host_scan_LDADD = $(HALO_TEST_CORE_LIBS)
 
 tests_unit_test_emu_SOURCES = tests/unit/test_emu.c
 tests_unit_test_emu_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
