@@ -382,6 +382,11 @@ HALO_API halo_status halo_program_validate(const halo_program *p, halo_diagnosti
 /* Validates a stand-alone shader (no linking). */
 HALO_API halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind,
                                           halo_target target, halo_diagnostics *diag);
+/* What a shader text is, whatever its file's extension: a module (a '#pragma halo module'
+ * line), a host (a '#pragma halo declarations' line, also one commented out or in a branch
+ * not taken, which halo_validate_shader then reports), or a plain shader. */
+typedef enum halo_source_kind { HALO_SOURCE_SHADER = 0, HALO_SOURCE_MODULE, HALO_SOURCE_HOST } halo_source_kind;
+HALO_API halo_source_kind halo_source_kind_of(const char *source);
 /* Validates a module by linking it alone into a minimal host of its hook. */
 HALO_API halo_status halo_module_validate(const halo_library *lib, const halo_module *m, halo_target target,
                                           halo_diagnostics *diag);
