@@ -67,6 +67,7 @@ HALO_SHELL_TESTS = \
 	tests/cli/unknown_stage.sh \
 	tests/cli/cycle.sh \
 	tests/cli/host_no_marker.sh \
+	tests/cli/host_diagnostics.sh \
 	tests/cli/bad_json.sh \
 	tests/cli/out_of_range.sh \
 	tests/cli/nonfinite.sh \
@@ -93,6 +94,14 @@ HALO_TEST_FILES = \
 	tests/lsan.supp \
 	tests/data/hosts/minimal.frag \
 	tests/data/hosts/no_marker.frag \
+	tests/data/hosts/marker_commented.frag \
+	tests/data/hosts/marker_es_only.frag \
+	tests/data/hosts/no_apply.frag \
+	tests/data/hosts/line_directive.frag \
+	tests/data/hosts/macro_clash.frag \
+	tests/data/hosts/no_location.frag \
+	tests/data/hosts/host.glsl \
+	tests/data/scenes/seed.json \
 	tests/data/modules/bad_param.glsl \
 	tests/data/modules/cycle_a.glsl \
 	tests/data/modules/cycle_b.glsl \
