@@ -7,6 +7,7 @@
 #include "strbuf.h"
 
 #include <ctype.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -94,6 +95,7 @@ typedef struct expr {
     const halo_host_scan *scan;
     int depth;   /* macro expansion depth */
     int unknown; /* something the evaluator cannot decide */
+    int nesting; /* of operands: bounded, for hostile input */
 } expr;
 
 static long parse_binary(expr *e, int min_prec);
@@ -127,20 +129,22 @@ static long eval_macro(expr *e, const halo_host_macro *m) {
         e->unknown = 1;
         return 0;
     }
-    expr inner = {m->value, e->scan, e->depth + 1, 0};
+    expr inner = {m->value, e->scan, e->depth + 1, 0, e->nesting};
     long v = parse_binary(&inner, 1);
     skip_space(&inner);
     if (inner.unknown || *inner.p) e->unknown = 1;
     return v;
 }
 
-static long parse_unary(expr *e) {
+static long parse_unary(expr *e);
+
+static long parse_operand(expr *e) {
     skip_space(e);
     char c = *e->p;
     if (c == '!' || c == '-' || c == '+' || c == '~') {
         e->p++;
         long v = parse_unary(e);
-        return c == '!' ? !v : c == '-' ? -v : c == '~' ? ~v : v;
+        return c == '!' ? !v : c == '-' ? (long)(0UL - (unsigned long)v) : c == '~' ? ~v : v;
     }
     if (c == '(') {
         e->p++;
@@ -179,6 +183,18 @@ static long parse_unary(expr *e) {
     return 0;
 }
 
+static long parse_unary(expr *e) {
+    if (e->nesting >= 256) {
+        e->unknown = 1;
+        e->p += strlen(e->p);
+        return 0;
+    }
+    e->nesting++;
+    long v = parse_operand(e);
+    e->nesting--;
+    return v;
+}
+
 static const struct binary_op {
     const char *text;
     int prec;
@@ -187,20 +203,22 @@ static const struct binary_op {
     {"^", 4},  {"&", 5},  {"<", 7},  {">", 7},  {"+", 9},  {"-", 9},  {"*", 10}, {"/", 10}, {"%", 10},
 };
 
+/* Wrapping arithmetic, as unsigned: hostile input must not reach signed overflow. */
 static long apply_op(expr *e, const char *op, long a, long b) {
+    unsigned long ua = (unsigned long)a, ub = (unsigned long)b;
     switch (op[0]) {
     case '|': return op[1] ? (a || b) : (a | b);
     case '&': return op[1] ? (a && b) : (a & b);
     case '=': return a == b;
     case '!': return a != b;
-    case '<': return op[1] == '=' ? a <= b : op[1] == '<' ? (b >= 0 && b < 63 ? a << b : 0) : a < b;
+    case '<': return op[1] == '=' ? a <= b : op[1] == '<' ? (b >= 0 && b < 63 ? (long)(ua << b) : 0) : a < b;
     case '>': return op[1] == '=' ? a >= b : op[1] == '>' ? (b >= 0 && b < 63 ? a >> b : 0) : a > b;
     case '^': return a ^ b;
-    case '+': return a + b;
-    case '-': return a - b;
-    case '*': return a * b;
+    case '+': return (long)(ua + ub);
+    case '-': return (long)(ua - ub);
+    case '*': return (long)(ua * ub);
     default:
-        if (b == 0) {
+        if (b == 0 || (b == -1 && a == LONG_MIN)) {
             e->unknown = 1;
             return 0;
         }
@@ -224,7 +242,7 @@ static long parse_binary(expr *e, int min_prec) {
 }
 
 static halo_branch evaluate(const halo_host_scan *s, const char *text) {
-    expr e = {text, s, 0, 0};
+    expr e = {text, s, 0, 0, 0};
     long v = parse_binary(&e, 1);
     skip_space(&e);
     if (e.unknown || *e.p) return HALO_BRANCH_UNKNOWN;
@@ -311,7 +329,7 @@ static int line_directive(halo_host_scan *s, scan_state *st, const char *args, i
         if (k < 0) return -1;
         st->file = k;
     }
-    st->next_line = (int)n;
+    st->next_line = n < 1 << 30 ? (int)n : 1 << 30; /* and no overflow counting on */
     s->lines[physical].line_directive = 1;
     return 0;
 }
@@ -386,7 +404,8 @@ static int marker(halo_host_scan *s, int i) {
     if (!s->marker_macros) return -1;
     memcpy(s->marker_macros, s->macros, s->macro_count * sizeof *s->macros);
     s->marker_macro_count = s->macro_count;
-    return predefine(s, "HALO_LINKED", "1") | predefine(s, "HALO_CONTRACT_VERSION", NUMBER_TEXT(HALO_CONTRACT_VERSION));
+    return predefine(s, "HALO_LINKED", "1") |
+           predefine(s, "HALO_CONTRACT_VERSION", NUMBER_TEXT(HALO_CONTRACT_VERSION));
 }
 
 int halo_host_scan_run(const halo_host_scan_desc *desc, halo_host_scan *s) {

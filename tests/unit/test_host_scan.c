@@ -146,6 +146,34 @@ static int test_marker_dead_branch(void) {
     return 0;
 }
 
+/* Conditions a fuzzer would write: deep nesting, overflow, self-referencing macros. */
+static int test_hostile_conditions(void) {
+    static const char *const lines[] = {"#if 9223372036854775807 + 1 < 0 || -(-9223372036854775807 - 1) * 3\n",
+                                        "#if (-9223372036854775807 - 1) / -1 || 1 << 70 || -1 << 3\n",
+                                        "#define A B\n#define B A\n#if A\n"};
+    size_t deep = 20000, size = 2 * deep + 1024;
+    char *host = malloc(size), *nested = malloc(deep + 16);
+    SETUP(host && nested);
+    memcpy(nested, "#if ", 4);
+    memset(nested + 4, '(', deep);
+    strcpy(nested + 4 + deep, "1\n");
+    for (size_t i = 0; i <= sizeof lines / sizeof lines[0]; i++) {
+        snprintf(host, size, "#version 330 core\n%s#pragma halo declarations\n#endif\n" HOST_BODY,
+                 i < sizeof lines / sizeof lines[0] ? lines[i] : nested);
+        halo_program *p = link_host(sample_scene, host, HALO_TARGET_GLSL330);
+        halo_program_destroy(p);
+        if (!p) {
+            check_print_diags(diags);
+            free(host);
+            free(nested);
+            CHECK_FAIL_AT("condition %zu: the link failed", i);
+        }
+    }
+    free(host);
+    free(nested);
+    return 0;
+}
+
 #define HOST_NO_APPLY(call_line)                                                                   \
     "#version 330 core\n"                                                          /* 1 */         \
     "#pragma halo declarations\n"                                                  /* 2 */         \
@@ -328,6 +356,7 @@ int main(void) {
     library = check_library_setup(&diags);
     RUN_TEST(test_marker_commented);
     RUN_TEST(test_marker_dead_branch);
+    RUN_TEST(test_hostile_conditions);
     RUN_TEST(test_apply_missing);
     RUN_TEST(test_finish_missing);
     RUN_TEST(test_line_directive);
