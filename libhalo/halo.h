@@ -77,6 +77,10 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(HOST_RESERVED_NAME, "host declares a name reserved by the host contract")            \
     X(HOST_VERSION, "host '#version' does not fit the target")                             \
     X(HOST_FINISH_MISSING, "host never calls halo_finish but the program has extra outputs") \
+    X(HOST_MARKER_INACTIVE, "'#pragma halo declarations' is commented out or in a branch not taken") \
+    X(HOST_APPLY_MISSING, "host never calls halo_apply but the scene links stages that run in it") \
+    X(HOST_MACRO_CLASH, "a host macro rewrites a name that the libhalo declarations use") \
+    X(HOST_OUTPUT_LOCATION, "host output without layout(location) beside libhalo's extra outputs") \
     X(PASS_INVALID, "malformed image pass")                                                \
     X(GLSL_ERROR, "GLSL error")                                                            \
     X(GLSL_WARNING, "GLSL warning")                                                        \
@@ -385,6 +389,11 @@ HALO_API halo_status halo_program_validate(const halo_program *p, halo_diagnosti
 /* Validates a stand-alone shader (no linking). */
 HALO_API halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind,
                                           halo_target target, halo_diagnostics *diag);
+/* What a shader text is, whatever its file's extension: a module (a '#pragma halo module'
+ * line), a host (a '#pragma halo declarations' line, also one commented out or in a branch
+ * not taken, which halo_validate_shader then reports), or a plain shader. */
+typedef enum halo_source_kind { HALO_SOURCE_SHADER = 0, HALO_SOURCE_MODULE, HALO_SOURCE_HOST } halo_source_kind;
+HALO_API halo_source_kind halo_source_kind_of(const char *source);
 /* Validates a module by linking it alone into a minimal host of its hook. */
 HALO_API halo_status halo_module_validate(const halo_library *lib, const halo_module *m, halo_target target,
                                           halo_diagnostics *diag);

@@ -2,6 +2,7 @@
  * scene needs. A straight pipeline: check the host → resolve and order the stages →
  * gather parameters → emit, each line with its origin. */
 #include "diag.h"
+#include "host_scan.h"
 #include "internal.h"
 #include "strbuf.h"
 
@@ -92,6 +93,7 @@ typedef struct host_info {
     int slices;       /* #pragma halo slices: the host draws slices or slabs and runs the passes itself */
     char *volume, *gradient; /* #pragma halo volume NAME / gradient NAME (owned) */
     int volume_line;
+    halo_host_scan scan; /* comments, #if branches, #line and macros of the host */
 } host_info;
 
 /* `#pragma halo volume NAME`, `gradient NAME` or `slices`: 1 if the line is one of them
@@ -121,6 +123,24 @@ static int host_annotation(const char *line, int number, host_info *h) {
     return 1;
 }
 
+/* Reports at a host line, where its #line directives say it comes from. */
+static void host_diag(const host_info *h, halo_diagnostics *diag, halo_message_id id, const char *host_file,
+                      char **lines, int line, int column, const char *fmt, ...) __attribute__((format(printf, 8, 9)));
+static void host_diag(const host_info *h, halo_diagnostics *diag, halo_message_id id, const char *host_file,
+                      char **lines, int line, int column, const char *fmt, ...) {
+    halo_strbuf b = {0};
+    va_list ap;
+    va_start(ap, fmt);
+    halo_strbuf_vprintf(&b, fmt, ap);
+    va_end(ap);
+    const char *file;
+    int origin_line;
+    halo_host_scan_origin(&h->scan, host_file, line, &file, &origin_line);
+    halo_diag_add(diag, HALO_SEVERITY_ERROR, id, file, origin_line, column, lines[line - 1], "%s",
+                  b.data ? b.data : halo_message_name(id));
+    halo_strbuf_free(&b);
+}
+
 static int is_version_line(const char *l) {
     while (*l == ' ' || *l == '\t') l++;
     if (*l != '#') return 0;
@@ -139,8 +159,33 @@ static int is_marker_line(const char *l) {
     return 1;
 }
 
+/* Marker lines that a compiler never sees: commented out, or in an #if branch not taken. */
+static int report_inactive_markers(const host_info *h, const char *file, char **lines, int count,
+                                   halo_target target, halo_diagnostics *diag) {
+    int errors = 0;
+    for (int i = 0; i < count; i++) {
+        const halo_host_line_info *l = &h->scan.lines[i];
+        if (is_marker_line(h->scan.comment_lines[i])) {
+            host_diag(h, diag, HALO_MSG_HOST_MARKER_INACTIVE, file, lines, i + 1, 1,
+                      "'#pragma halo declarations' is commented out, so no stage would be linked; remove the "
+                      "comment around it");
+            errors++;
+        } else if (is_marker_line(h->scan.code_lines[i]) && l->activity == HALO_BRANCH_NOT_TAKEN) {
+            const char *cfile;
+            int cline;
+            halo_host_scan_origin(&h->scan, file, l->condition_line, &cfile, &cline);
+            host_diag(h, diag, HALO_MSG_HOST_MARKER_INACTIVE, file, lines, i + 1, 1,
+                      "'#pragma halo declarations' is in a preprocessor branch not taken for target %s (the "
+                      "condition at %s:%d), so no stage would be linked; move it out of the conditional",
+                      halo_target_name(target), cfile, cline);
+            errors++;
+        }
+    }
+    return errors;
+}
+
 static int check_host(const char *file, const char *source, char **lines, int count, host_info *h,
-                      halo_diagnostics *diag) {
+                      halo_target target, halo_diagnostics *diag) {
     int errors = 0;
     h->version_line = h->marker_line = h->slices = h->volume_line = 0;
     h->volume = h->gradient = NULL;
@@ -151,11 +196,15 @@ static int check_host(const char *file, const char *source, char **lines, int co
     }
     for (int i = 0; i < count; i++) {
         if (is_version_line(lines[i]) && !h->version_line) h->version_line = i + 1;
-        if (is_marker_line(lines[i])) {
+        if (!halo_host_scan_compiled(&h->scan, i + 1)) continue;
+        if (is_marker_line(h->scan.code_lines[i])) {
             if (h->marker_line) {
-                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_MARKER_DUPLICATE, file, i + 1, 1, lines[i],
-                              "second '#pragma halo declarations' (the first is at line %d); the host has exactly one",
-                              h->marker_line);
+                const char *first_file;
+                int first_line;
+                halo_host_scan_origin(&h->scan, file, h->marker_line, &first_file, &first_line);
+                host_diag(h, diag, HALO_MSG_HOST_MARKER_DUPLICATE, file, lines, i + 1, 1,
+                          "second '#pragma halo declarations' (the first is at line %d); the host has exactly one",
+                          first_line);
                 errors++;
                 continue;
             }
@@ -167,28 +216,29 @@ static int check_host(const char *file, const char *source, char **lines, int co
                 if (halo_token_is(source, &toks.items[t], "}")) depth--;
             }
             if (depth > 0) {
-                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_MARKER_SCOPE, file, i + 1, 1, lines[i],
-                              "'#pragma halo declarations' is inside a block; put it at global scope, before the "
-                              "first function that uses halo_sample");
+                host_diag(h, diag, HALO_MSG_HOST_MARKER_SCOPE, file, lines, i + 1, 1,
+                          "'#pragma halo declarations' is inside a block; put it at global scope, before the "
+                          "first function that uses halo_sample");
                 errors++;
             }
-        } else if (halo_annotation_start(lines[i])) {
-            int col = halo_annotation_start(lines[i]);
-            int known = host_annotation(lines[i], i + 1, h);
+        } else if (halo_annotation_start(h->scan.code_lines[i])) {
+            int col = halo_annotation_start(h->scan.code_lines[i]);
+            int known = host_annotation(h->scan.code_lines[i], i + 1, h);
             if (known == 1) continue;
-            halo_diag_add(diag, HALO_SEVERITY_ERROR, known ? HALO_MSG_ANNOTATION_SYNTAX : HALO_MSG_ANNOTATION_UNKNOWN,
-                          file, i + 1, col, lines[i],
-                          known ? "'#pragma halo volume' and 'gradient' take one sampler name; 'slices' takes none"
-                                : "a host shader takes only '#pragma halo declarations', 'volume NAME', "
-                                  "'gradient NAME' and 'slices' (docs/host-contract.md)");
+            host_diag(h, diag, known ? HALO_MSG_ANNOTATION_SYNTAX : HALO_MSG_ANNOTATION_UNKNOWN, file, lines, i + 1,
+                      col, known ? "'#pragma halo volume' and 'gradient' take one sampler name; 'slices' takes none"
+                                 : "a host shader takes only '#pragma halo declarations', 'volume NAME', "
+                                   "'gradient NAME' and 'slices' (docs/host-contract.md)");
             errors++;
         }
     }
-    if (!h->marker_line) {
+    int inactive = h->marker_line ? 0 : report_inactive_markers(h, file, lines, count, target, diag);
+    errors += inactive;
+    if (!h->marker_line && !inactive) {
         int at = h->version_line ? h->version_line : 1;
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_MARKER_MISSING, file, at, 1, lines[at - 1],
-                      "host shader has no '#pragma halo declarations' line; add one at global scope after "
-                      "#version (docs/host-contract.md)");
+        host_diag(h, diag, HALO_MSG_HOST_MARKER_MISSING, file, lines, at, 1,
+                  "host shader has no '#pragma halo declarations' line; add one at global scope after "
+                  "#version (docs/host-contract.md)");
         errors++;
     }
     for (size_t t = 0; t < toks.count; t++) {
@@ -200,11 +250,10 @@ static int check_host(const char *file, const char *source, char **lines, int co
         int allowed = 0;
         for (int c = 0; contract_names[c]; c++) allowed |= halo_token_is(source, k, contract_names[c]);
         if (allowed) continue;
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_RESERVED_NAME, file, k->line, k->column,
-                      lines[k->line - 1],
-                      "'%.*s' is reserved: names starting with halo_ or HALO_ belong to libhalo (the host may use "
-                      "halo_sample, halo_make_sample, halo_apply, halo_finish, HALO_LINKED and HALO_CONTRACT_VERSION)",
-                      (int)k->length, s);
+        host_diag(h, diag, HALO_MSG_HOST_RESERVED_NAME, file, lines, k->line, k->column,
+                  "'%.*s' is reserved: names starting with halo_ or HALO_ belong to libhalo (the host may use "
+                  "halo_sample, halo_make_sample, halo_apply, halo_finish, HALO_LINKED and HALO_CONTRACT_VERSION)",
+                  (int)k->length, s);
         errors++;
     }
     halo_token_list_free(&toks);
@@ -971,13 +1020,6 @@ static int collect_resources(halo_program *p, const char *host, halo_diagnostics
             }
         }
     }
-    if (p->output_count && !strstr(host, "halo_finish")) {
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_FINISH_MISSING, p->host_file, 1, 1, p->host_lines[0],
-                      "the linked stages write extra outputs (%s...), so the host must call halo_finish() once per "
-                      "fragment before it returns (docs/image-passes.md)",
-                      p->outputs[0].name);
-        errors++;
-    }
     return errors;
 }
 
@@ -1255,7 +1297,159 @@ static int plan_segments(halo_program *p, const halo_link_desc *desc, const host
     return 0;
 }
 
+/* ---- The host against what the program needs ---- */
+
+/* The host's main, where a missing call goes; line 1 when there is none. */
+static halo_host_hit host_main(const host_info *h, const char *host) {
+    const halo_token_list *t = &h->scan.tokens;
+    for (size_t i = 0; i + 1 < t->count; i++)
+        if (t->items[i].depth == 0 && halo_token_is(host, &t->items[i], "main") &&
+            halo_token_is(host, &t->items[i + 1], "(") && halo_host_scan_compiled(&h->scan, t->items[i].line))
+            return (halo_host_hit){t->items[i].line, t->items[i].column, 0};
+    return (halo_host_hit){1, 1, 0};
+}
+
+/* A call the program needs: on a compiled line, not in a comment or a branch not taken. */
+static int require_call(const halo_program *p, const host_info *h, const char *host, const char *name,
+                        halo_message_id id, const char *why, halo_diagnostics *diag) {
+    halo_host_hit unused;
+    if (halo_host_scan_find_call(&h->scan, name, &unused)) return 0;
+    if (unused.line) {
+        const halo_host_line_info *l = &h->scan.lines[unused.line - 1];
+        const char *cfile;
+        int cline;
+        halo_host_scan_origin(&h->scan, p->host_file, l->condition_line, &cfile, &cline);
+        if (unused.in_comment)
+            host_diag(h, diag, id, p->host_file, p->host_lines, unused.line, unused.column,
+                      "this call of %s is commented out, and no other is compiled; %s", name, why);
+        else
+            host_diag(h, diag, id, p->host_file, p->host_lines, unused.line, unused.column,
+                      "this call of %s is in a preprocessor branch not taken for target %s (the condition at "
+                      "%s:%d), and no other is compiled; %s",
+                      name, halo_target_name(p->target), cfile, cline, why);
+        return 1;
+    }
+    halo_host_hit at = host_main(h, host);
+    host_diag(h, diag, id, p->host_file, p->host_lines, at.line, at.column, "the host never calls %s; %s", name, why);
+    return 1;
+}
+
+static int check_host_calls(const halo_program *p, const host_info *h, const char *host, halo_diagnostics *diag) {
+    int errors = 0;
+    halo_strbuf stages = {0}, why = {0};
+    for (size_t s = 0; s < p->stage_count; s++)
+        if (p->stages[s].module->hook != HALO_HOOK_IMAGE)
+            halo_strbuf_printf(&stages, "%s%s", stages.len ? ", " : "", p->stages[s].module->name);
+    if (stages.len) {
+        halo_strbuf_printf(&why, "the scene links the stages %s, which run only inside halo_apply: call it once per "
+                                 "sample (docs/host-contract.md)",
+                           stages.data);
+        errors += require_call(p, h, host, "halo_apply", HALO_MSG_HOST_APPLY_MISSING,
+                               why.data ? why.data : "call it", diag);
+    }
+    if (p->output_count) {
+        halo_strbuf_free(&why);
+        halo_strbuf_printf(&why, "the linked stages write extra outputs (%s...), so the host must call "
+                                 "halo_finish() once per fragment before it returns (docs/image-passes.md)",
+                           p->outputs[0].name);
+        errors += require_call(p, h, host, "halo_finish", HALO_MSG_HOST_FINISH_MISSING,
+                               why.data ? why.data : "call it", diag);
+    }
+    halo_strbuf_free(&stages);
+    halo_strbuf_free(&why);
+    return errors;
+}
+
+/* The host's outputs need explicit locations when libhalo adds outputs of its own: the
+ * compiler would place an output without one anywhere, possibly on libhalo's. */
+static int check_host_outputs(const halo_program *p, const host_info *h, const char *host, halo_diagnostics *diag) {
+    if ((!p->output_count && !p->segment_location) || p->kind != HALO_SHADER_FRAGMENT) return 0;
+    halo_host_hit at[16];
+    size_t n = halo_host_scan_unlocated_outputs(&h->scan, host, at, sizeof at / sizeof at[0]);
+    for (size_t i = 0; i < n && i < sizeof at / sizeof at[0]; i++)
+        host_diag(h, diag, HALO_MSG_HOST_OUTPUT_LOCATION, p->host_file, p->host_lines, at[i].line, at[i].column,
+                  "this output has no layout(location), but the program adds outputs of its own at location %d "
+                  "and up (libhalo takes the first locations after the highest the host declares); declare it "
+                  "'layout(location = 0) out ...' (each host output at its own location)",
+                  p->output_count ? p->outputs[0].location : p->segment_location);
+    return (int)n;
+}
+
+/* A host macro defined at the marker rewrites every use of its name in the declarations
+ * that replace the marker (a halo_sample field, a local of libhalo's code). */
+static int check_host_macros(const halo_program *p, const host_info *h, halo_diagnostics *diag) {
+    int first = 0, last = 0, errors = 0;
+    for (int i = 0; i < p->origin_count; i++)
+        if (p->origins[i].file == p->host_file && p->origins[i].line == h->marker_line) {
+            if (!first) first = i + 1;
+            last = i + 1;
+        }
+    halo_token_list t;
+    if (!first || halo_lex(p->source, &t)) return 0;
+    for (size_t m = 0; m < h->scan.marker_macro_count; m++) {
+        const halo_host_macro *mac = halo_host_scan_macro(&h->scan, h->scan.marker_macros[m].name,
+                                                          h->scan.marker_macros[m].length);
+        for (size_t i = 0; mac && i < t.count; i++) {
+            const halo_token *k = &t.items[i];
+            if (k->line <= first || k->line >= last || k->length != mac->length ||
+                memcmp(p->source + k->offset, mac->name, mac->length))
+                continue;
+            if (mac->function_like && !(i + 1 < t.count && halo_token_is(p->source, &t.items[i + 1], "(")))
+                continue;
+            const char *mfile;
+            int mline;
+            halo_host_scan_origin(&h->scan, p->host_file, h->marker_line, &mfile, &mline);
+            host_diag(h, diag, HALO_MSG_HOST_MACRO_CLASH, p->host_file, p->host_lines, mac->line, mac->column,
+                      "the macro '%.*s' is still defined at '#pragma halo declarations' (%s:%d), so it rewrites the "
+                      "identifier '%.*s' that libhalo's declarations use; #undef it before the marker (and define "
+                      "it again after), or rename it",
+                      (int)mac->length, mac->name, mfile, mline, (int)mac->length, mac->name);
+            errors++;
+            break;
+        }
+    }
+    halo_token_list_free(&t);
+    return errors;
+}
+
+/* A host #line stays out of the compiled text (its numbering would no longer match
+ * the line map); the line map applies it instead. */
+static int hide_line_directives(halo_program *p, const host_info *h) {
+    for (int i = 0; i < h->scan.line_count; i++) {
+        if (!h->scan.lines[i].line_directive) continue;
+        char *comment = own(p, "// %s (libhalo: applied to the line map)", p->host_lines[i]);
+        if (!comment) return -1;
+        p->host_lines[i] = comment;
+    }
+    return 0;
+}
+
+/* Host lines of the program's line map at the origins the host's #line directives give. */
+static int map_host_lines(halo_program *p, const host_info *h) {
+    for (int i = 0; i < p->origin_count; i++) {
+        halo_line_origin *o = &p->origins[i];
+        if (o->file != p->host_file) continue;
+        const char *file;
+        halo_host_scan_origin(&h->scan, p->host_file, o->line, &file, &o->line);
+        if (file == p->host_file) continue;
+        o->file = NULL;
+        for (size_t k = 0; k < p->string_count && !o->file; k++)
+            if (!strcmp(p->strings[k], file)) o->file = p->strings[k];
+        if (!o->file && !(o->file = own(p, "%s", file))) return -1;
+    }
+    return 0;
+}
+
+static halo_program *link_with_host(const halo_link_desc *desc, host_info *h, halo_diagnostics *diag);
+
 halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
+    host_info h = {0};
+    halo_program *p = link_with_host(desc, &h, diag);
+    halo_host_scan_free(&h.scan);
+    return p;
+}
+
+static halo_program *link_with_host(const halo_link_desc *desc, host_info *h, halo_diagnostics *diag) {
     if (!desc || !desc->library || !desc->host_source) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: library and host_source are required");
         return NULL;
@@ -1276,10 +1470,11 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
     if (host_count < 0) goto oom;
 
     /* 1. The host keeps the contract. */
-    host_info h;
-    int errors = check_host(p->host_file, desc->host_source, p->host_lines, host_count, &h, diag);
-    p->volume_sampler = h.volume;
-    p->gradient_sampler = h.gradient;
+    if (halo_host_scan_run(&(halo_host_scan_desc){desc->host_source, p->target, p->kind, is_marker_line}, &h->scan))
+        goto oom;
+    int errors = check_host(p->host_file, desc->host_source, p->host_lines, host_count, h, p->target, diag);
+    p->volume_sampler = h->volume;
+    p->gradient_sampler = h->gradient;
     /* 2. Stages, their dependencies and their order. */
     node *order = NULL;
     int n = 0;
@@ -1324,18 +1519,24 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
         return NULL;
     }
     set_channel_count(p);
-    if (collect_resources(p, desc->host_source, diag)) {
+    int resources = collect_resources(p, desc->host_source, diag);
+    int host_errors = resources < 0 ? 0
+                                    : plan_segments(p, desc, h, diag) + check_host_calls(p, h, desc->host_source, diag) +
+                                          check_host_outputs(p, h, desc->host_source, diag);
+    if (resources || host_errors) {
         halo_program_destroy(p);
         return NULL;
     }
     set_image_scales(p);
     if (p->group_count > 1) load_group(p, 0);
-    if (plan_segments(p, desc, &h, diag)) {
+    /* 5. Emit. */
+    if (hide_line_directives(p, h)) goto oom;
+    if (emit_program(p, desc->host_source, p->host_lines, host_count, h, desc->library)) goto oom;
+    if (check_host_macros(p, h, diag)) {
         halo_program_destroy(p);
         return NULL;
     }
-    /* 5. Emit. */
-    if (emit_program(p, desc->host_source, p->host_lines, host_count, &h, desc->library)) goto oom;
+    if (map_host_lines(p, h)) goto oom;
     int passes = build_passes(p, desc->library, diag);
     if (passes == -2) {
         halo_program_destroy(p);

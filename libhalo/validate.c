@@ -6,6 +6,7 @@
 
 #include <glslang/Include/glslang_c_interface.h>
 #include <glslang/Public/resource_limits_c.h>
+#include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -130,6 +131,31 @@ halo_status halo_program_validate(const halo_program *p, halo_diagnostics *diag)
     return st;
 }
 
+/* Is there a '#pragma halo WORD' at p, or after a '#' later on the line (a commented-out one)? */
+static int mentions_annotation(const char *line, const char *word, int anywhere) {
+    size_t n = strlen(word);
+    for (const char *h = line; h; h = anywhere ? strchr(h + 1, '#') : NULL) {
+        int col = halo_annotation_start(h);
+        if (col && !strncmp(h + col - 1, word, n) && !isalnum((unsigned char)h[col - 1 + n]) && h[col - 1 + n] != '_')
+            return 1;
+    }
+    return 0;
+}
+
+halo_source_kind halo_source_kind_of(const char *source) {
+    char *copy = source ? halo_strdup(source) : NULL;
+    char **lines = NULL;
+    int n = copy ? halo_split_lines(copy, &lines) : -1;
+    halo_source_kind kind = HALO_SOURCE_SHADER;
+    for (int i = 0; i < n && kind != HALO_SOURCE_MODULE; i++) {
+        if (mentions_annotation(lines[i], "module", 0)) kind = HALO_SOURCE_MODULE;
+        else if (mentions_annotation(lines[i], "declarations", 1)) kind = HALO_SOURCE_HOST;
+    }
+    free(lines);
+    free(copy);
+    return kind;
+}
+
 halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind, halo_target target,
                                  halo_diagnostics *diag) {
     if (!source) return HALO_ERROR_IO;
@@ -143,10 +169,8 @@ halo_status halo_validate_shader(const char *source, const char *file, halo_shad
         halo_diag_error(diag, OUT_OF_MEMORY, file, 0, 0, "out of memory");
         return HALO_ERROR_IO;
     }
-    int is_host = 0, version = 0;
+    int is_host = halo_source_kind_of(source) == HALO_SOURCE_HOST, version = 0;
     for (int i = 0; i < n; i++) {
-        int col = halo_annotation_start(lines[i]);
-        if (col && !strncmp(lines[i] + col - 1, "declarations", 12)) is_host = 1;
         const char *l = lines[i];
         while (*l == ' ' || *l == '\t') l++;
         if (!version && *l == '#' && strstr(l, "version")) version = i + 1;

@@ -8,6 +8,7 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_scene \
 	tests/unit/test_scene_counts \
 	tests/unit/test_link \
+	tests/unit/test_host_scan \
 	tests/unit/test_emu
 check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
 noinst_HEADERS += tests/unit/check.h
@@ -36,6 +37,11 @@ tests_unit_test_link_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
 nodist_EXTRA_tests_unit_test_link_SOURCES = build-aux/force-cxx-link.cc
 tests_unit_test_link_LDADD = $(HALO_TEST_CORE_LIBS)
 
+tests_unit_test_host_scan_SOURCES = tests/unit/test_host_scan.c
+tests_unit_test_host_scan_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_host_scan_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_host_scan_LDADD = $(HALO_TEST_CORE_LIBS)
+
 tests_unit_test_emu_SOURCES = tests/unit/test_emu.c
 tests_unit_test_emu_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
 nodist_EXTRA_tests_unit_test_emu_SOURCES = build-aux/force-cxx-link.cc
@@ -61,6 +67,7 @@ HALO_SHELL_TESTS = \
 	tests/cli/unknown_stage.sh \
 	tests/cli/cycle.sh \
 	tests/cli/host_no_marker.sh \
+	tests/cli/host_diagnostics.sh \
 	tests/cli/bad_json.sh \
 	tests/cli/out_of_range.sh \
 	tests/cli/nonfinite.sh \
@@ -87,6 +94,14 @@ HALO_TEST_FILES = \
 	tests/lsan.supp \
 	tests/data/hosts/minimal.frag \
 	tests/data/hosts/no_marker.frag \
+	tests/data/hosts/marker_commented.frag \
+	tests/data/hosts/marker_es_only.frag \
+	tests/data/hosts/no_apply.frag \
+	tests/data/hosts/line_directive.frag \
+	tests/data/hosts/macro_clash.frag \
+	tests/data/hosts/no_location.frag \
+	tests/data/hosts/host.glsl \
+	tests/data/scenes/seed.json \
 	tests/data/modules/bad_param.glsl \
 	tests/data/modules/cycle_a.glsl \
 	tests/data/modules/cycle_b.glsl \

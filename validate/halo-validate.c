@@ -17,8 +17,10 @@ static const char usage_text[] =
     "usage: halo-validate COMMAND [OPTIONS]\n"
     "\n"
     "commands:\n"
-    "  check [--target T] FILE...     validate modules (.glsl) and shaders (.frag, .vert)\n"
-    "                                 for each target (default: 330, 450 and es300)\n"
+    "  check [--target T] FILE...     validate modules ('#pragma halo module', or .glsl),\n"
+    "                                 hosts ('#pragma halo declarations': linked with no\n"
+    "                                 stage) and shaders (.frag, .vert) for each target\n"
+    "                                 (default: 330, 450 and es300)\n"
     "  link --scene S --host H [--target T] [--module FILE]... [-o OUT] [--reflect]\n"
     "                                 link the scene's stages into the host shader and\n"
     "                                 validate; --reflect prints the reflection as JSON\n"
@@ -144,7 +146,14 @@ static int cmd_check(int argc, char **argv) {
         const char *path = files[f], *ext = extension(path);
         halo_diagnostics_clear(d);
         int file_status = 0;
-        if (!strcmp(ext, "glsl")) {
+        /* A module or a host by its annotations, whatever the extension; else by the extension. */
+        char *text = read_text(path, d);
+        halo_source_kind kind = text ? halo_source_kind_of(text) : HALO_SOURCE_SHADER;
+        int module = kind == HALO_SOURCE_MODULE || (kind == HALO_SOURCE_SHADER && !strcmp(ext, "glsl"));
+        int shader = !module && (kind == HALO_SOURCE_HOST || !strcmp(ext, "frag") || !strcmp(ext, "vert"));
+        if (!text) {
+            file_status = EXIT_USAGE;
+        } else if (module) {
             halo_status st = halo_library_override_file(lib, path, d);
             if (st != HALO_OK) {
                 file_status = st == HALO_ERROR_IO ? EXIT_USAGE : EXIT_INPUT;
@@ -161,28 +170,25 @@ static int cmd_check(int argc, char **argv) {
                     halo_diagnostics_clear(d);
                 }
             }
-        } else if (!strcmp(ext, "frag") || !strcmp(ext, "vert")) {
-            char *text = read_text(path, d);
-            if (!text) {
-                file_status = EXIT_USAGE;
-            } else {
-                for (int t = 0; t < ntargets; t++) {
-                    if (halo_validate_shader(text, path, !strcmp(ext, "vert") ? HALO_SHADER_VERTEX
-                                                                              : HALO_SHADER_FRAGMENT,
-                                             targets[t], d) == HALO_OK)
-                        continue;
-                    fprintf(stderr, "%s: for target %s:\n", path, halo_target_name(targets[t]));
-                    halo_diagnostics_print(d, stderr);
-                    int s = status_of(d);
-                    if (s > file_status) file_status = s;
-                    halo_diagnostics_clear(d);
-                }
-                free(text);
+        } else if (shader) {
+            for (int t = 0; t < ntargets; t++) {
+                if (halo_validate_shader(text, path, !strcmp(ext, "vert") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT,
+                                         targets[t], d) == HALO_OK)
+                    continue;
+                fprintf(stderr, "%s: for target %s:\n", path, halo_target_name(targets[t]));
+                halo_diagnostics_print(d, stderr);
+                int s = status_of(d);
+                if (s > file_status) file_status = s;
+                halo_diagnostics_clear(d);
             }
         } else {
-            fprintf(stderr, "%s: error: unknown file type '.%s' (.glsl module, .frag or .vert shader)\n", path, ext);
+            fprintf(stderr,
+                    "%s: error: unknown file type '.%s' (.glsl module, .frag or .vert shader, or a file with "
+                    "'#pragma halo module' or '#pragma halo declarations')\n",
+                    path, ext);
             file_status = EXIT_USAGE;
         }
+        free(text);
         halo_diagnostics_print(d, stderr);
         int s = status_of(d);
         if (s > file_status) file_status = s;

@@ -17,7 +17,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     halo_diagnostics *diag = halo_diagnostics_create();
     halo_scene *scene = halo_scene_parse(text, "fuzz.json", library, diag);
     if (scene) {
-        static const char host[] = "#pragma halo declarations\nout vec4 c;\nvoid main() { c = vec4(1.0); }\n";
+        static const char host[] = "#pragma halo declarations\nlayout(location = 0) out vec4 c;\n"
+                                   "void main() { halo_sample s; halo_apply(s); halo_finish(); c = vec4(1.0); }\n";
         halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host}, diag);
         halo_program_destroy(p);
     }

@@ -229,7 +229,7 @@ static void test_diagnostics(env *e)
         "#version 330 core\n"
         "#pragma halo declarations\n"
         "uniform sampler3D volume;\n"
-        "out vec4 color;\n"
+        "layout(location = 0) out vec4 color;\n"
         "void main() {\n"
         "    vec4 sum = vec4(0.0);\n"
         "    for (int i = 0; i < 64; ++i) {\n"

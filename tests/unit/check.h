@@ -161,6 +161,18 @@ static inline int check_count_diag(const halo_diagnostics *d, halo_message_id id
         if (!(cond)) SETUP_FAIL("%s", #cond);                                                                     \
     } while (0)
 
+/* A diagnostics list and the built-in library (a broken setup when they cannot be made). */
+static inline halo_library *check_library_setup(halo_diagnostics **diags) {
+    *diags = halo_diagnostics_create();
+    SETUP(*diags != NULL);
+    halo_library *library = halo_library_create(*diags);
+    if (!library) {
+        check_print_diags(*diags);
+        SETUP_FAIL("halo_library_create failed");
+    }
+    return library;
+}
+
 #define RUN_TEST(fn)                                                                                              \
     do {                                                                                                          \
         int check_r_ = fn();                                                                                      \

@@ -9,7 +9,8 @@ static halo_diagnostics *diags;
 /* Same formulas in double precision, differently ordered: allow rounding only. */
 #define TOLERANCE 1e-12
 
-static const char trivial_host[] = "#pragma halo declarations\nvoid main() {}\n";
+static const char trivial_host[] = "#pragma halo declarations\n"
+                                   "void main() { halo_sample s; halo_apply(s); halo_finish(); }\n";
 
 static halo_program *program_of(const char *json) {
     halo_diagnostics_clear(diags);

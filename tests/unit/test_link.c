@@ -619,7 +619,7 @@ static int test_glsl_errors_mapped(void) {
                                "void main()\n"                      /* 4 */
                                "{\n"                                /* 5 */
                                "    float y = vec2(1.0);\n"         /* 6 */
-                               "    c = vec4(y);\n"                 /* 7 */
+                               "    halo_sample s; halo_apply(s); c = vec4(y);\n" /* 7 */
                                "}\n";
     scene = scene_of("{\"stages\": [\"boundary\", \"tone_shading\"]}");
     p = link_with(scene, host, HALO_TARGET_DEFAULT, 0);

@@ -36,8 +36,11 @@ xrun() {
         xattempt=$((xattempt + 1))
         xvfb-run -a -n "$xdisplay" -s "-screen 0 1280x1024x24" "$@" 2>"$tmp/xrun.err"
         xstatus=$?
-        if test "$xstatus" -ne 0 && test "$xattempt" -lt 5 && grep -q "Xvfb failed to start" "$tmp/xrun.err"; then
-            echo "    (Xvfb did not start on :$xdisplay; retrying)"
+        # xvfb-run itself can fail: Xvfb not starting, or (on a loaded machine) its own
+        # temporary folder not removed in time, which replaces the command's status by 5
+        if test "$xstatus" -ne 0 && test "$xattempt" -lt 5 &&
+            grep -E -q "Xvfb failed to start|problem while cleaning up temporary directory" "$tmp/xrun.err"; then
+            echo "    (xvfb-run failed on :$xdisplay: $(grep -E -o 'Xvfb failed to start|problem while cleaning up' "$tmp/xrun.err" | head -1); retrying)"
             xdisplay=$((xdisplay + 37))
             sleep 1
             continue

@@ -4,7 +4,7 @@
 #pragma halo declarations
 uniform sampler3D volume;
 in vec2 ndc;
-out vec4 color;
+layout(location = 0) out vec4 color;
 void main() {
     vec4 sum = vec4(0.0);
     for (int i = 0; i < 64; ++i) {
