@@ -1,6 +1,8 @@
-# make check: unit tests (no GL), module validation, bad-input CLI tests,
-# conformance and a render smoke test. Every test finds its data through $srcdir, so
-# they run from a build directory other than the source directory (make distcheck).
+# tests/: everything make check runs. Unit tests (no GL), module validation, bad-input
+# CLI tests, conformance (halo-validate conform, at a small size), render smoke tests,
+# fuzz replays, hard cases, and tree_clean.sh (the build leaves the checkout clean).
+# Every test finds its data through $srcdir, so they run from a build directory other
+# than the source directory (make distcheck).
 
 # ---- Unit tests: C programs linked with the static core library (internal symbols) ----
 HALO_UNIT_TESTS = \
@@ -64,7 +66,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/bad_json.sh \
 	tests/cli/out_of_range.sh \
 	tests/cli/nonfinite.sh \
-	tests/cli/usage.sh
+	tests/cli/usage.sh \
+	tests/tree_clean.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
@@ -195,3 +198,8 @@ HALO_OUTLINE_TESTS = tests/outline/render.sh tests/outline/occlusion.sh tests/ou
 TESTS += $(HALO_OUTLINE_TESTS)
 EXTRA_DIST += $(HALO_OUTLINE_TESTS) tests/outline/common.sh
 AM_TESTS_ENVIRONMENT += HALO_OUTLINE='$(abs_top_builddir)/examples/halo-outline'; export HALO_OUTLINE;
+
+# ---- tree_clean.sh: what the build writes is neither tracked nor left unignored; it
+# checks the names make builds, so it does not depend on the order the tests run in ----
+AM_TESTS_ENVIRONMENT += HALO_BUILD_OUTPUTS='$(bin_PROGRAMS) $(check_PROGRAMS) $(BUILT_SOURCES) \
+	$(lib_LTLIBRARIES) $(noinst_LTLIBRARIES) $(CLEANFILES)'; export HALO_BUILD_OUTPUTS;
