@@ -59,7 +59,8 @@ HALO_HOST_SHADERS += examples/hosts/line.vert examples/hosts/line.frag \
 examples_libhalo_hosts_la_SOURCES += examples/hosts/lines.c examples/hosts/lines.h \
 	examples/linegen.c examples/linegen.h
 bin_PROGRAMS += examples/halo-lines
-examples_halo_lines_SOURCES = examples/halo-lines.c validate/conform_lines.c validate/conform_lines.h
+examples_halo_lines_SOURCES = examples/halo-lines.c validate/conform_lines.c validate/conform_lines.h \
+	validate/conform_harness.c validate/conform_harness.h
 nodist_EXTRA_examples_halo_lines_SOURCES = build-aux/force-cxx-link.cc
 examples_halo_lines_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate
 examples_halo_lines_LDADD = $(HALO_TOOL_LIBS)
@@ -81,7 +82,8 @@ examples_halo_view_LDADD = $(HALO_TOOL_LIBS) $(NIFTI_LIBS) $(JANSSON_LIBS) $(GLF
 # measurements (report) and the conformance rows (conform).
 bin_PROGRAMS += examples/halo-feature
 examples_halo_feature_SOURCES = examples/halo-feature.c examples/volume_io.c examples/volume_io.h \
-	validate/conform_feature.c validate/conform_feature.h validate/feature_report.c validate/feature_report.h
+	validate/conform_feature.c validate/conform_feature.h validate/feature_report.c validate/feature_report.h \
+	validate/conform_harness.c validate/conform_harness.h
 nodist_EXTRA_examples_halo_feature_SOURCES = build-aux/force-cxx-link.cc
 examples_halo_feature_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate $(NIFTI_CFLAGS)
 examples_halo_feature_LDADD = $(HALO_TOOL_LIBS) $(NIFTI_LIBS)

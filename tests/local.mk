@@ -172,7 +172,8 @@ AM_TESTS_ENVIRONMENT += HALO_IMAGE_COMPARE='$(abs_top_builddir)/tests/view/image
 # ray caster) against the emulation on fragile inputs, and the conformance rows that
 # already hold per-stage hard inputs ----
 check_PROGRAMS += tests/hard/test_hard_render
-tests_hard_test_hard_render_SOURCES = tests/hard/test_hard_render.c validate/conform_slice.c
+tests_hard_test_hard_render_SOURCES = tests/hard/test_hard_render.c validate/conform_slice.c \
+	validate/conform_harness.c
 tests_hard_test_hard_render_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate
 nodist_EXTRA_tests_hard_test_hard_render_SOURCES = build-aux/force-cxx-link.cc
 tests_hard_test_hard_render_LDADD = $(HALO_TOOL_LIBS)

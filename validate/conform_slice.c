@@ -7,7 +7,6 @@
 #include "halo.h"
 #include "diag.h"
 #include "gl/glfuncs.h"
-#include "gl/headless.h"
 #include "hosts/slab.h"
 #include "hosts/slice.h"
 #include "volume.h"
@@ -30,14 +29,8 @@
  * 2.8e-6 (slab, M = 1), 3.1e-6 (plain); at 128x128 2.7e-6, 4.6e-5 (slab: 110
  * generations, each a chance for a seed near a blend or clamp decision), 3.2e-6. The
  * tolerances leave a margin of about 10 over the largest of them: 5e-4 with halos,
- * 1e-4 without (more pixels, more extremes at larger sizes). */
-#define SLICE_TOLERANCE 5e-4
-#define SLICE_NOHALO_TOLERANCE 1e-4
-
-typedef struct slice_stats {
-    double max_abs, sum_squares;
-    size_t values, over, nonfinite, worst;
-} slice_stats;
+ * 1e-4 without (more pixels, more extremes at larger sizes): the registry's rows
+ * (conform_rows.c). */
 
 static const char slice_scene_halos[] =
     "{\"halo_scene\": 1, \"stages\": ["
@@ -201,43 +194,11 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
     return ok;
 }
 
-typedef struct slice_context {
-    halo_library *lib;
-    halo_gl *runtime;
-    const halo_glfuncs *gl;
-    halo_diagnostics *diag;
-    int size, verbose, rows, failures;
-    float *volume;
-    int volume_size;
-} slice_context;
-
-static void print_stats(slice_context *c, const char *row, const slice_stats *s, double tolerance, int pass)
-{
-    double rmse = s->values ? sqrt(s->sum_squares / (double)s->values) : 0.0;
-    char text[32];
-    snprintf(text, sizeof text, "%.0e", tolerance);
-    printf("%-26s %10.3e %10.3e %8zu %9zu %17s %s\n", row, s->max_abs, rmse, s->over, s->nonfinite, text,
-           pass ? "PASS" : "FAIL");
-    fflush(stdout);
-    c->rows++;
-    if (!pass)
-        c->failures++;
-}
-
-static void print_error(slice_context *c, const char *row)
-{
-    printf("%-26s %10s %10s %8s %9s %17s FAIL\n", row, "-", "-", "-", "-", "-");
-    halo_diagnostics_print(c->diag, stderr);
-    halo_diagnostics_clear(c->diag);
-    fflush(stdout);
-    c->rows++;
-    c->failures++;
-}
-
 /* One row: render with the slice host (slab = 0) or slab caster at interval M (0: the
  * program's), emulate, compare. */
-static void run_row(slice_context *c, const char *row, const char *scene_text, int slab, int interval, int scale,
-                    double tolerance, const char *reason)
+static void run_row(conform *c, const char *row, const char *scene_text, int slab, int interval, int scale,
+                    double tolerance, const char *tolerance_text, const char *reason, const float *volume,
+                    int volume_size)
 {
     halo_scene *scene = halo_scene_parse(scene_text, "(conformance slice scene)", c->lib, c->diag);
     halo_program *program = NULL;
@@ -263,7 +224,7 @@ static void run_row(slice_context *c, const char *row, const char *scene_text, i
     if (!host)
         goto error;
     const halo_render_settings *settings = halo_scene_render(scene);
-    if (halo_slice_set_volume(host, c->volume, c->volume_size, c->volume_size, c->volume_size, c->diag) != HALO_OK ||
+    if (halo_slice_set_volume(host, volume, volume_size, volume_size, volume_size, c->diag) != HALO_OK ||
         halo_slice_set_render(host, settings, c->diag) != HALO_OK)
         goto error;
     halo_slice_set_camera(host, settings->azimuth, settings->elevation, settings->zoom);
@@ -280,7 +241,7 @@ static void run_row(slice_context *c, const char *row, const char *scene_text, i
     halo_slice_get_state(host, &state);
     if (!halo_conform_slice_emulate(&state, program, state.interval, reference, c->diag))
         goto error;
-    slice_stats stats = {0};
+    row_stats stats = {0};
     for (size_t i = 0; i < pixels; ++i) {
         int over = 0, nonfinite = 0;
         for (int k = 0; k < 4; ++k) {
@@ -303,7 +264,7 @@ static void run_row(slice_context *c, const char *row, const char *scene_text, i
         stats.nonfinite += (size_t)nonfinite;
     }
     int pass = stats.over == 0 && stats.nonfinite == 0;
-    print_stats(c, row, &stats, tolerance, pass);
+    print_row(c, row, &stats, tolerance_text, pass);
     if (c->verbose || !pass) {
         size_t w = stats.worst;
         fprintf(stderr, "  %s: %d slices, M = %d, %ld draws, %ld pass draws; largest error at pixel (%zu, %zu): gpu "
@@ -314,7 +275,7 @@ static void run_row(slice_context *c, const char *row, const char *scene_text, i
     }
     goto done;
 error:
-    print_error(c, row);
+    print_error_row(c, row);
 done:
     halo_diagnostics_clear(c->diag);
     halo_slice_destroy(host);
@@ -325,52 +286,22 @@ done:
     halo_scene_destroy(scene);
 }
 
-int halo_conform_slice_rows(int size, int verbose, int *failed)
+void conform_slice_row(conform *c, const conform_row *row)
 {
-    slice_context c = {.size = size < 25 ? 25 : size > 512 ? 512 : size, .verbose = verbose, .volume_size = 32};
-    halo_headless *context = NULL;
-    c.diag = halo_diagnostics_create();
-    halo_setup(NULL);
-    c.lib = halo_library_create(c.diag);
-    c.volume = halo_volume_create(c.volume_size);
-    /* the caller's context when one is current, else our own */
-    c.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, NULL);
-    if (!c.runtime || !halo_gl_functions(c.runtime)->GetString(GL_VERSION)) {
-        halo_gl_destroy(c.runtime);
-        c.runtime = NULL;
-        char err[512];
-        context = halo_headless_create(c.size, c.size, err, sizeof err);
-        if (context)
-            c.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, c.diag);
-        else
-            fprintf(stderr, "halo-validate: conform: %s\n", err);
+    /* --stage slice or slab (or any slice@, slab@ row) selects the family */
+    if (c->only && strncmp(c->only, "slice", 5) && strncmp(c->only, "slab", 4))
+        return;
+    const conform_slice_params *params = row->params;
+    const int volume_size = 32;
+    float *volume = halo_volume_create(volume_size);
+    if (!volume) {
+        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        print_error_row(c, row->name);
+        return;
     }
-    static const char *const rows[] = {"slice", "slice@nohalo", "slab", "slab@M4", "slice@half", "slab@quarter"};
-    if (!c.lib || !c.volume || !c.runtime) {
-        for (size_t i = 0; i < sizeof rows / sizeof rows[0]; ++i)
-            print_error(&c, rows[i]);
-    } else {
-        c.gl = halo_gl_functions(c.runtime);
-        const char *halo_reason =
-            "float32 sampling, seeds (|grad f|^alpha amplifies its relative error), image passes and blending "
-            "of ~110 slices against double";
-        run_row(&c, "slice", slice_scene_halos, 0, 0, 1, SLICE_TOLERANCE, halo_reason);
-        run_row(&c, "slice@nohalo", slice_scene_plain, 0, 0, 1, SLICE_NOHALO_TOLERANCE,
-                "float32 trilinear sampling, opacity correction and blending of ~110 slices against double");
-        run_row(&c, "slab", slice_scene_halos, 1, 1, 1, SLICE_TOLERANCE, halo_reason);
-        run_row(&c, "slab@M4", slice_scene_halos, 1, 4, 1, SLICE_TOLERANCE, halo_reason);
-        /* halo images at 1/2 and 1/4 of the frame (halo_link_desc.image_scale): the
-         * max-downsampled seed, the spreading at the low size, the bilinear read */
-        run_row(&c, "slice@half", slice_scene_halos, 0, 0, 2, SLICE_TOLERANCE, halo_reason);
-        run_row(&c, "slab@quarter", slice_scene_halos, 1, 4, 4, SLICE_TOLERANCE, halo_reason);
-    }
-    if (failed)
-        *failed += c.failures;
-    free(c.volume);
-    halo_gl_destroy(c.runtime);
-    halo_headless_destroy(context);
-    halo_library_destroy(c.lib);
-    halo_diagnostics_destroy(c.diag);
-    halo_shutdown();
-    return c.rows;
+    char tolerance_text[32];
+    conform_tolerance_text(row, tolerance_text, sizeof tolerance_text);
+    run_row(c, row->name, params->halos ? slice_scene_halos : slice_scene_plain, params->slab, params->interval,
+            params->scale, row->tolerance_abs, tolerance_text, row->why, volume, volume_size);
+    free(volume);
 }
