@@ -67,6 +67,7 @@ HALO_SHELL_TESTS = \
 	tests/cli/out_of_range.sh \
 	tests/cli/nonfinite.sh \
 	tests/cli/usage.sh \
+	tests/cli/conform_list.sh \
 	tests/tree_clean.sh
 TESTS += $(HALO_SHELL_TESTS)
 

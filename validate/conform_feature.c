@@ -43,10 +43,7 @@ typedef struct feature_context {
     int rows, failed;
 } feature_context;
 
-typedef struct stats {
-    double max_abs, sum_squares;
-    size_t values, over, nonfinite, worst;
-} stats;
+typedef row_stats stats; /* conform_harness.h */
 
 static void add_value(stats *s, double gpu, double reference, double tolerance, size_t index)
 {
@@ -66,13 +63,10 @@ static void add_value(stats *s, double gpu, double reference, double tolerance, 
 
 static void feature_print_row(feature_context *c, const char *row, const stats *s, double tolerance, const char *reason)
 {
-    double rmse = s->values ? sqrt(s->sum_squares / (double)s->values) : 0.0;
     char text[32];
     snprintf(text, sizeof text, "%.0e", tolerance);
     int pass = s->over == 0 && s->nonfinite == 0 && s->values > 0;
-    printf("%-26s %10.3e %10.3e %8zu %9zu %17s %s\n", row, s->max_abs, rmse, s->over, s->nonfinite, text,
-           pass ? "PASS" : "FAIL");
-    fflush(stdout);
+    print_row_line(row, s, text, pass);
     if (c->verbose)
         fprintf(stderr, "  %s: worst at index %zu of %zu; tolerance: %s\n", row, s->worst, s->values, reason);
     c->rows++;
@@ -194,13 +188,9 @@ static void run_reference_row(feature_context *c, const float *values, int n, co
 
 static uint64_t random_state;
 
-static double random_uniform(void)
+static double random_uniform(void) /* splitmix64, [0, 1) */
 {
-    uint64_t z = (random_state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) / 9007199254740992.0;
+    return conform_random_uniform(&random_state);
 }
 
 #define PROBE_SIZE 48

@@ -13,6 +13,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Input field (0 view, 1 gradient, 2 value, 3 position, 4 colour, 5 opacity) of s
+ * scaled by factor: the sensitivity of a frame row's result to rounding. */
+static void perturb_input(halo_emu_sample *s, int field, double factor)
+{
+    switch (field) {
+    case 0: for (int k = 0; k < 3; ++k) s->view[k] *= factor; break;
+    case 1: for (int k = 0; k < 3; ++k) s->gradient[k] *= factor; break;
+    case 2: s->value *= factor; break;
+    case 3: for (int k = 0; k < 3; ++k) s->position[k] *= factor; break;
+    case 4: for (int k = 0; k < 3; ++k) s->color[k] = fmin(1.0, s->color[k] * factor); break;
+    default: s->opacity = fmin(1.0, s->opacity * factor); break;
+    }
+}
+
 /* One sample through the emulated frame: colour, opacity and the seed (8 values). Does
  * not fold into the frame's images (finish is separate). */
 static int emulate_frame_sample(const halo_program *p, halo_emu_frame *ef, halo_emu_sample *s, double out[8])
@@ -122,14 +136,7 @@ static int compare_output_images(conform *c, const char *row, const halo_program
             for (int sign = -1; sign <= 1; sign += 2) {
                 halo_emu_sample moved = samples[i];
                 double factor = 1.0 + sign * CONFORM_INPUT_PERTURBATION, out[8];
-                switch (field) {
-                case 0: for (int k = 0; k < 3; ++k) moved.view[k] *= factor; break;
-                case 1: for (int k = 0; k < 3; ++k) moved.gradient[k] *= factor; break;
-                case 2: moved.value *= factor; break;
-                case 3: for (int k = 0; k < 3; ++k) moved.position[k] *= factor; break;
-                case 4: for (int k = 0; k < 3; ++k) moved.color[k] = fmin(1.0, moved.color[k] * factor); break;
-                default: moved.opacity = fmin(1.0, moved.opacity * factor); break;
-                }
+                perturb_input(&moved, field, factor);
                 halo_emu_sample copy = moved;
                 if (emulate_frame_sample(p, eframe, &copy, out))
                     for (int k = 0; k < 4; ++k)
@@ -138,22 +145,8 @@ static int compare_output_images(conform *c, const char *row, const halo_program
                     for (int k = 0; k < nv && 4 + k < n; ++k)
                         condition[4 + k] = fmax(condition[4 + k], fabs(one_px[k] - emu[4 + k]));
             }
-        int over = 0, nonfinite = 0;
-        for (int k = 0; k < n; ++k) {
-            if (!isfinite(g[k]) || !isfinite(emu[k])) {
-                nonfinite = 1;
-                continue;
-            }
-            double error = fabs(g[k] - emu[k]), allowed = tol_abs + tol_rel * fabs(emu[k]) + condition[k];
-            stats.sum_squares += error * error;
-            stats.values++;
-            if (error > stats.max_abs)
-                stats.max_abs = error, stats.worst = i;
-            if (error > allowed)
-                over = 1, worst_over = i;
-        }
-        stats.over += (size_t)over;
-        stats.nonfinite += (size_t)nonfinite;
+        if (row_stats_add(&stats, i, g, emu, condition, n, tol_abs, tol_rel))
+            worst_over = i;
     }
     int pass = stats.over == 0 && stats.nonfinite == 0;
     print_row(c, row, &stats, tolerance_text, pass);
@@ -286,35 +279,16 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
             for (int sign = -1; sign <= 1; sign += 2) {
                 halo_emu_sample moved = samples[i];
                 double factor = 1.0 + sign * CONFORM_INPUT_PERTURBATION, out[8];
-                switch (field) {
-                case 0: for (int k = 0; k < 3; ++k) moved.view[k] *= factor; break;
-                case 1: for (int k = 0; k < 3; ++k) moved.gradient[k] *= factor; break;
-                case 2: moved.value *= factor; break;
-                case 3: for (int k = 0; k < 3; ++k) moved.position[k] *= factor; break;
-                case 4: for (int k = 0; k < 3; ++k) moved.color[k] = fmin(1.0, moved.color[k] * factor); break;
-                default: moved.opacity = fmin(1.0, moved.opacity * factor); break;
-                }
+                perturb_input(&moved, field, factor);
                 if (emulate_frame_sample(program, eframe, &moved, out))
                     for (int k = 0; k < 8; ++k)
                         condition[k] = fmax(condition[k], fabs(out[k] - emu[k]));
             }
-        int over = 0, nonfinite = 0;
-        for (int k = 0; k < values; ++k) {
-            double g = k < 4 ? gpu[i * 4 + (size_t)k] : gpu_seed[i * (size_t)channels + (size_t)(k - 4)];
-            if (!isfinite(g) || !isfinite(emu[k])) {
-                nonfinite = 1;
-                continue;
-            }
-            double error = fabs(g - emu[k]), allowed = tol_abs + tol_rel * fabs(emu[k]) + condition[k];
-            stats.sum_squares += error * error;
-            stats.values++;
-            if (error > stats.max_abs)
-                stats.max_abs = error, stats.worst = i;
-            if (error > allowed)
-                over = 1, worst_over = i;
-        }
-        stats.over += (size_t)over;
-        stats.nonfinite += (size_t)nonfinite;
+        double g[8];
+        for (int k = 0; k < values; ++k)
+            g[k] = k < 4 ? gpu[i * 4 + (size_t)k] : gpu_seed[i * (size_t)channels + (size_t)(k - 4)];
+        if (row_stats_add(&stats, i, g, emu, condition, values, tol_abs, tol_rel))
+            worst_over = i;
     }
     int pass = stats.over == 0 && stats.nonfinite == 0;
     print_row(c, row, &stats, tolerance_text, pass);

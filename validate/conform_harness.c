@@ -39,12 +39,17 @@ int row_selected(const conform *c, const char *row, const char *stage)
     return !c->only || strcmp(c->only, row) == 0 || (stage && strcmp(c->only, stage) == 0);
 }
 
-void print_row(conform *c, const char *row, const row_stats *s, const char *tolerance, int pass)
+void print_row_line(const char *row, const row_stats *s, const char *tolerance, int pass)
 {
     double rmse = s->values ? sqrt(s->sum_squares / (double)s->values) : 0.0;
     printf("%-26s %10.3e %10.3e %8zu %9zu %17s %s\n", row, s->max_abs, rmse, s->over, s->nonfinite, tolerance,
            pass ? "PASS" : "FAIL");
     fflush(stdout);
+}
+
+void print_row(conform *c, const char *row, const row_stats *s, const char *tolerance, int pass)
+{
+    print_row_line(row, s, tolerance, pass);
     c->rows++;
     if (!pass)
         c->failures++;
@@ -59,6 +64,29 @@ void print_error_row(conform *c, const char *row)
     fflush(stdout);
     c->rows++;
     c->failures++;
+}
+
+int row_stats_add(row_stats *s, size_t index, const double *gpu, const double *emu, const double *condition, int n,
+                  double tolerance_abs, double tolerance_rel)
+{
+    int over = 0, nonfinite = 0;
+    for (int k = 0; k < n; ++k) {
+        if (!isfinite(gpu[k]) || !isfinite(emu[k])) {
+            nonfinite = 1;
+            continue;
+        }
+        double error = fabs(gpu[k] - emu[k]);
+        double allowed = tolerance_abs + tolerance_rel * fabs(emu[k]) + (condition ? condition[k] : 0.0);
+        s->sum_squares += error * error;
+        s->values++;
+        if (error > s->max_abs)
+            s->max_abs = error, s->worst = index;
+        if (error > allowed)
+            over = 1;
+    }
+    s->over += (size_t)over;
+    s->nonfinite += (size_t)nonfinite;
+    return over;
 }
 
 void print_header(void)
@@ -77,15 +105,20 @@ void print_plain_row(conform *c, const char *row, const char *tolerance, int pas
 
 /* ---- Probe inputs ---------------------------------------------------------------------- */
 
-static uint64_t random_state;
-
-static double random_uniform(void) /* splitmix64, [0, 1) */
+double conform_random_uniform(uint64_t *state)
 {
-    uint64_t z = (random_state += 0x9e3779b97f4a7c15ull);
+    uint64_t z = (*state += 0x9e3779b97f4a7c15ull);
     z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
     z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
     z ^= z >> 31;
     return (double)(z >> 11) / 9007199254740992.0;
+}
+
+static uint64_t random_state;
+
+static double random_uniform(void) /* splitmix64, [0, 1) */
+{
+    return conform_random_uniform(&random_state);
 }
 
 void conform_normalize3(double v[3])
@@ -209,6 +242,23 @@ void conform_fill_samples(halo_emu_sample *samples, int width, int height)
         }
         halo_probe_round_inputs(s, (int)(i % (size_t)width), (int)(i / (size_t)width));
     }
+}
+
+void conform_transfer_lookup(const float *transfer, int texels, double value, double rgba[4])
+{
+    double v = value > 0.0 ? (value < 1.0 ? value : 1.0) : 0.0; /* NaN -> 0, as the hosts do */
+    double u = v * (texels - 1); /* texel coordinate: ((v (n-1) + 0.5) / n) * n - 0.5 */
+    double base = floor(u);
+    double f = u - base;
+    int i0 = (int)base, i1 = i0 + 1 > texels - 1 ? texels - 1 : i0 + 1;
+    for (int k = 0; k < 4; ++k)
+        rgba[k] = (1.0 - f) * transfer[i0 * 4 + k] + f * transfer[i1 * 4 + k];
+}
+
+void conform_transform(const double m[16], const double v[4], double out[4])
+{
+    for (int row = 0; row < 4; ++row)
+        out[row] = m[row] * v[0] + m[4 + row] * v[1] + m[8 + row] * v[2] + m[12 + row] * v[3];
 }
 
 void conform_print_sample(const char *label, const halo_emu_sample *s, const float *gpu, const double *emu)

@@ -15,6 +15,7 @@
 #include "gl/headless.h"
 
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 
 typedef struct conform conform;
@@ -70,8 +71,16 @@ void conform_close(conform *c);
 /* Whether the registry holds a row of this name (a stage with rows of its own). */
 int conform_has_row(const conform *c, const char *name);
 
+/* Adds sample index's n values to s: each passes within tolerance_abs + tolerance_rel
+ * |emu| + condition[k] (condition may be NULL); a non-finite value counts once per
+ * sample in nonfinite and not in the error. Returns 1 when a value is over. */
+int row_stats_add(row_stats *s, size_t index, const double *gpu, const double *emu, const double *condition, int n,
+                  double tolerance_abs, double tolerance_rel);
 int row_selected(const conform *c, const char *row, const char *stage);
 void print_header(void);
+/* A row's line (stage max_abs rmse over_tol nonfinite tolerance PASS|FAIL) on stdout;
+ * print_row also counts it in c. */
+void print_row_line(const char *row, const row_stats *s, const char *tolerance, int pass);
 void print_row(conform *c, const char *row, const row_stats *s, const char *tolerance, int pass);
 /* A row that could not run (link or compile error): the diagnostics say why. */
 void print_error_row(conform *c, const char *row);
@@ -89,11 +98,22 @@ void print_plain_row(conform *c, const char *row, const char *tolerance, int pas
  * the floats the probe uploads. */
 void conform_fill_samples(halo_emu_sample *samples, int width, int height);
 void conform_normalize3(double v[3]);
+/* splitmix64: the next number in [0, 1) of the sequence *state (each row family keeps
+ * its own fixed seed, so that every run draws the same inputs). */
+double conform_random_uniform(uint64_t *state);
 /* The inputs of a sample, the GPU's and the emulation's colour and opacity, on stderr. */
 void conform_print_sample(const char *label, const halo_emu_sample *s, const float *gpu, const double *emu);
 /* For a live variant: arrays get several elements (up to 4), including a zero vector
  * where the range allows it, so `<name>_count` and every element are used. */
 void conform_set_live_arrays(halo_program *p, const halo_module *m, halo_diagnostics *diag);
+
+/* ---- The example hosts in double (whole-render emulations) ---- */
+
+/* The transfer texture lookup of the hosts' classify() (texels RGBA texels, linear,
+ * clamped to the edge), in double. */
+void conform_transfer_lookup(const float *transfer, int texels, double value, double rgba[4]);
+/* out = m v, m column-major (OpenGL's order). */
+void conform_transform(const double m[16], const double v[4], double out[4]);
 
 /* ---- The frame probe ---- */
 

@@ -16,10 +16,7 @@
 /* The probe targets: PROBE_SIDE x PROBE_SIDE inputs per draw. */
 #define PROBE_SIDE 64
 
-typedef struct stats {
-    double max_abs, sum_squares;
-    size_t values, over, nonfinite;
-} stats;
+typedef row_stats stats; /* conform_harness.h */
 
 typedef struct rows {
     halo_glfuncs f;
@@ -47,10 +44,7 @@ static void add_value(stats *s, double gpu, double emu, double allowed)
 static void lines_print_row(rows *r, const char *row, const stats *s, const char *tolerance)
 {
     int pass = s->over == 0 && s->nonfinite == 0 && s->values > 0;
-    double rmse = s->values ? sqrt(s->sum_squares / (double)s->values) : 0.0;
-    printf("%-26s %10.3e %10.3e %8zu %9zu %17s %s\n", row, s->max_abs, rmse, s->over, s->nonfinite, tolerance,
-           pass ? "PASS" : "FAIL");
-    fflush(stdout);
+    print_row_line(row, s, tolerance, pass);
     r->rows++;
     r->failures += !pass;
 }
@@ -77,10 +71,7 @@ static uint64_t random_state;
 
 static double random_uniform(void) /* splitmix64, [0, 1) */
 {
-    uint64_t z = (random_state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return (double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+    return conform_random_uniform(&random_state);
 }
 
 static double f32(double x)

@@ -21,33 +21,6 @@
  * each threshold moved by 1e-5 and the spread is allowed. */
 #define RAYCAST_THRESHOLD_MOVE 1e-5
 
-static void compare_images(const float *gpu, const double *reference, const double *allowed, size_t pixels,
-                           row_stats *stats)
-{
-    memset(stats, 0, sizeof *stats);
-    for (size_t i = 0; i < pixels; ++i) {
-        int over = 0, nonfinite = 0;
-        for (int k = 0; k < 4; ++k) {
-            double g = gpu[i * 4 + (size_t)k], r = reference[i * 4 + (size_t)k];
-            if (!isfinite(g) || !isfinite(r)) {
-                nonfinite = 1;
-                continue;
-            }
-            double error = fabs(g - r);
-            stats->sum_squares += error * error;
-            stats->values++;
-            if (error > stats->max_abs) {
-                stats->max_abs = error;
-                stats->worst = i;
-            }
-            if (error > allowed[i * 4 + (size_t)k])
-                over = 1;
-        }
-        stats->over += (size_t)over;
-        stats->nonfinite += (size_t)nonfinite;
-    }
-}
-
 /* Renders the built-in volume with the ray caster: linked program, or raw text. */
 static float *render_raycast(conform *c, const halo_program *program, const char *raw_source,
                              const halo_scene *scene, const float *volume, int volume_size,
@@ -141,25 +114,6 @@ done:
     halo_scene_destroy(scene);
 }
 
-/* The transfer texture lookup of raycast.frag's classify(), in double. */
-static void classify(const halo_raycast_state *s, double value, double rgba[4])
-{
-    double v = value < 0.0 ? 0.0 : value > 1.0 ? 1.0 : value;
-    int n = s->transfer_texels;
-    double u = v * (n - 1); /* texel coordinate: ((v (n-1) + 0.5) / n) * n - 0.5 */
-    double base = floor(u);
-    double f = u - base;
-    int i0 = (int)base, i1 = i0 + 1 > n - 1 ? n - 1 : i0 + 1;
-    for (int k = 0; k < 4; ++k)
-        rgba[k] = (1.0 - f) * s->transfer[i0 * 4 + k] + f * s->transfer[i1 * 4 + k];
-}
-
-static void transform(const double m[16], const double v[4], double out[4])
-{
-    for (int row = 0; row < 4; ++row)
-        out[row] = m[row] * v[0] + m[4 + row] * v[1] + m[8 + row] * v[2] + m[12 + row] * v[3];
-}
-
 /* One pixel of raycast.frag, in double, with halo_emu_apply per sample. The two
  * thresholds are parameters so that the decisions on them can be bracketed. */
 static int emulate_pixel(const halo_raycast_state *s, const halo_program *p, int x, int y, double threshold,
@@ -167,8 +121,8 @@ static int emulate_pixel(const halo_raycast_state *s, const halo_program *p, int
 {
     double ndc[2] = {(x + 0.5) / s->width * 2.0 - 1.0, (y + 0.5) / s->height * 2.0 - 1.0};
     double near_point[4], far_point[4];
-    transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
-    transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
+    conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
+    conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
     double origin[3], direction[3];
     for (int k = 0; k < 3; ++k) {
         origin[k] = near_point[k] / near_point[3];
@@ -197,7 +151,7 @@ static int emulate_pixel(const halo_raycast_state *s, const halo_program *p, int
         double P[3] = {origin[0] + t * direction[0], origin[1] + t * direction[1], origin[2] + t * direction[2]};
         double value = halo_volume_trilinear(s->volume, s->dims, P);
         double color[4];
-        classify(s, value, color);
+        conform_transfer_lookup(s->transfer, s->transfer_texels, value, color);
         halo_emu_sample sample = {0};
         memcpy(sample.position, P, sizeof P);
         sample.value = value;
@@ -300,7 +254,11 @@ void conform_raycast_row(conform *c, const conform_row *row)
                 allowed[i * 4 + (size_t)k] = row->tolerance_abs + spread[k];
         }
     row_stats stats;
-    compare_images(gpu, reference, allowed, pixels, &stats);
+    memset(&stats, 0, sizeof stats);
+    for (size_t i = 0; i < pixels; ++i) {
+        const double g[4] = {gpu[i * 4], gpu[i * 4 + 1], gpu[i * 4 + 2], gpu[i * 4 + 3]};
+        row_stats_add(&stats, i, g, &reference[i * 4], &allowed[i * 4], 4, 0.0, 0.0);
+    }
     char tolerance_text[32];
     conform_tolerance_text(row, tolerance_text, sizeof tolerance_text);
     int pass = stats.over == 0 && stats.nonfinite == 0;

@@ -23,7 +23,7 @@
  * |grad f|^alpha (1 - |n.V|)^beta with alpha = 32 amplifying the gradient's relative
  * error 32-fold, the image passes (the spreading's sums over 3x3 taps, 4 passes), the
  * opacity correction's pow and the front-to-back blending of ~110 slices into a
- * float32 colour buffer. The raycast row (conform.c) measured 1e-5 for the volume
+ * float32 colour buffer. The raycast row (conform_render.c) measured 1e-5 for the volume
  * part alone at 64x64; the halo images add the seed's amplification. Measured on
  * llvmpipe (LLVM 15), 32^3 volume: at 64x64 largest errors 2.4e-6 (slice, slab@M4),
  * 2.8e-6 (slab, M = 1), 3.1e-6 (plain); at 128x128 2.7e-6, 4.6e-5 (slab: 110
@@ -49,24 +49,6 @@ static const char slice_scene_plain[] =
     "  \"background\": [0.05, 0.08, 0.25],"
     "  \"transfer\": [[0, 0, 0, 0, 0], [0.2, 0.6, 0.8, 1, 0], [0.3, 0.6, 0.8, 1, 0.08],"
     "                [0.5, 1, 0.85, 0.55, 0.3], [0.75, 0.95, 0.3, 0.2, 0.7], [1, 1, 1, 0.8, 0.9]]}}";
-
-static void classify(const halo_slice_state *s, double value, double rgba[4])
-{
-    double v = value > 0.0 ? (value < 1.0 ? value : 1.0) : 0.0; /* NaN -> 0, as the hosts do */
-    int n = s->transfer_texels;
-    double u = v * (n - 1);
-    double base = floor(u);
-    double f = u - base;
-    int i0 = (int)base, i1 = i0 + 1 > n - 1 ? n - 1 : i0 + 1;
-    for (int k = 0; k < 4; ++k)
-        rgba[k] = (1.0 - f) * s->transfer[i0 * 4 + k] + f * s->transfer[i1 * 4 + k];
-}
-
-static void transform(const double m[16], const double v[4], double out[4])
-{
-    for (int row = 0; row < 4; ++row)
-        out[row] = m[row] * v[0] + m[4 + row] * v[1] + m[8 + row] * v[2] + m[12 + row] * v[3];
-}
 
 /* Per pixel: the ray (origin, unit direction) of slice.frag / slab.frag. */
 typedef struct pixel_ray {
@@ -103,8 +85,8 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
             pixel_ray *r = &rays[(size_t)y * (size_t)s->width + (size_t)x];
             double ndc[2] = {(x + 0.5) / s->width * 2.0 - 1.0, (y + 0.5) / s->height * 2.0 - 1.0};
             double near_point[4], far_point[4];
-            transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
-            transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
+            conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
+            conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
             double length = 0.0;
             for (int k = 0; k < 3; ++k) {
                 r->origin[k] = near_point[k] / near_point[3];
@@ -146,7 +128,7 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
             double color[4] = {0, 0, 0, 0};
             if (inside) {
                 sample.value = halo_volume_trilinear(s->volume, s->dims, P);
-                classify(s, sample.value, color);
+                conform_transfer_lookup(s->transfer, s->transfer_texels, sample.value, color);
             }
             double distance = 0.0;
             if (inside) /* the host's precomputed voxel gradients (float), trilinear */
@@ -243,25 +225,8 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
         goto error;
     row_stats stats = {0};
     for (size_t i = 0; i < pixels; ++i) {
-        int over = 0, nonfinite = 0;
-        for (int k = 0; k < 4; ++k) {
-            double g = gpu[i * 4 + (size_t)k], r = reference[i * 4 + (size_t)k];
-            if (!isfinite(g) || !isfinite(r)) {
-                nonfinite = 1;
-                continue;
-            }
-            double e = fabs(g - r);
-            stats.sum_squares += e * e;
-            stats.values++;
-            if (e > stats.max_abs) {
-                stats.max_abs = e;
-                stats.worst = i;
-            }
-            if (e > tolerance)
-                over = 1;
-        }
-        stats.over += (size_t)over;
-        stats.nonfinite += (size_t)nonfinite;
+        const double g[4] = {gpu[i * 4], gpu[i * 4 + 1], gpu[i * 4 + 2], gpu[i * 4 + 3]};
+        row_stats_add(&stats, i, g, &reference[i * 4], NULL, 4, tolerance, 0.0);
     }
     int pass = stats.over == 0 && stats.nonfinite == 0;
     print_row(c, row, &stats, tolerance_text, pass);
