@@ -1,4 +1,8 @@
-# Example hosts (shaders and their C side), the built-in volume, image output, halo-render.
+# examples/: what a host renderer does with libhalo, and the tools built on it. The
+# example hosts (shaders and their C side, libhalo-hosts), the built-in volume, volume
+# files and image output; halo-render, halo-view, halo-lines, halo-feature and
+# halo-outline; the example scenes. halo-lines and halo-feature print their conformance
+# rows through validate/'s harness (conform_harness.c) and family files.
 HALO_HOST_SHADERS = examples/hosts/raycast.vert examples/hosts/raycast.frag examples/hosts/probe.frag \
 	examples/hosts/slice.vert examples/hosts/slice.frag examples/hosts/slab.frag
 EXTRA_DIST += $(HALO_HOST_SHADERS)

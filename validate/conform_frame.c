@@ -49,6 +49,25 @@ static int program_has_image(const halo_program *p, const char *name)
 }
 
 
+/* Prints a frame row; with -v or when it failed, the sample over tolerance (else the one
+ * of the largest error) with the GPU's and the emulation's colour. Returns that sample's
+ * index, its emulated values in emu (8), or SIZE_MAX when nothing more is to be shown. */
+static size_t print_frame_row(conform *c, const char *row, const row_stats *stats, const char *tolerance_text,
+                              size_t worst_over, const halo_program *p, halo_emu_frame *eframe,
+                              const halo_emu_sample *samples, const float *gpu, double emu[8])
+{
+    int pass = stats->over == 0 && stats->nonfinite == 0;
+    print_row(c, row, stats, tolerance_text, pass);
+    if (!c->verbose && pass)
+        return SIZE_MAX;
+    size_t shown = worst_over != SIZE_MAX ? worst_over : stats->worst;
+    halo_emu_sample s = samples[shown];
+    emulate_frame_sample(p, eframe, &s, emu);
+    conform_print_sample(worst_over != SIZE_MAX ? "over tolerance" : "largest error", &samples[shown],
+                         &gpu[shown * 4], emu);
+    return shown;
+}
+
 /* One sample through a 1x1 emulated frame (fragcoord moved to its pixel): the output
  * images' values at that pixel, nv of them (outputs in order, each image's components). */
 static int emulate_output_pixel(const halo_program *p, halo_emu_frame *one, const halo_emu_sample *sample,
@@ -148,15 +167,9 @@ static int compare_output_images(conform *c, const char *row, const halo_program
         if (row_stats_add(&stats, i, g, emu, condition, n, tol_abs, tol_rel))
             worst_over = i;
     }
-    int pass = stats.over == 0 && stats.nonfinite == 0;
-    print_row(c, row, &stats, tolerance_text, pass);
-    if (c->verbose || !pass) {
-        size_t shown = worst_over != SIZE_MAX ? worst_over : stats.worst;
-        halo_emu_sample s = samples[shown];
-        double emu[8];
-        emulate_frame_sample(p, eframe, &s, emu);
-        conform_print_sample(worst_over != SIZE_MAX ? "over tolerance" : "largest error", &samples[shown], &gpu[shown * 4],
-                     emu);
+    double emu_shown[8];
+    size_t shown = print_frame_row(c, row, &stats, tolerance_text, worst_over, p, eframe, samples, gpu, emu_shown);
+    if (shown != SIZE_MAX) {
         for (size_t m = 0; m < images; ++m) {
             if (!gl_images[m])
                 continue;
@@ -290,15 +303,9 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
         if (row_stats_add(&stats, i, g, emu, condition, values, tol_abs, tol_rel))
             worst_over = i;
     }
-    int pass = stats.over == 0 && stats.nonfinite == 0;
-    print_row(c, row, &stats, tolerance_text, pass);
-    if (c->verbose || !pass) {
-        size_t shown = worst_over != SIZE_MAX ? worst_over : stats.worst;
-        halo_emu_sample s = samples[shown];
-        double emu[8];
-        emulate_frame_sample(program, eframe, &s, emu);
-        conform_print_sample(worst_over != SIZE_MAX ? "over tolerance" : "largest error", &samples[shown], &gpu[shown * 4],
-                     emu);
+    double emu[8];
+    size_t shown = print_frame_row(c, row, &stats, tolerance_text, worst_over, program, eframe, samples, gpu, emu);
+    if (shown != SIZE_MAX) {
         if (!is_map)
             fprintf(stderr, "    seed gpu (%.9g %.9g %.9g %.9g) emulation (%.9g %.9g %.9g %.9g)\n",
                     gpu_seed[shown * (size_t)channels], channels > 1 ? gpu_seed[shown * (size_t)channels + 1] : 0.0,
