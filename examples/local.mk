@@ -1,4 +1,8 @@
-# Example hosts (shaders and their C side), the built-in volume, image output, halo-render.
+# examples/: what a host renderer does with libhalo, and the tools built on it. The
+# example hosts (shaders and their C side, libhalo-hosts), the built-in volume, volume
+# files and image output; halo-render, halo-view, halo-lines, halo-feature and
+# halo-outline; the example scenes. halo-lines and halo-feature print their conformance
+# rows through validate/'s harness (conform_harness.c) and family files.
 HALO_HOST_SHADERS = examples/hosts/raycast.vert examples/hosts/raycast.frag examples/hosts/probe.frag \
 	examples/hosts/slice.vert examples/hosts/slice.frag examples/hosts/slab.frag
 EXTRA_DIST += $(HALO_HOST_SHADERS)
@@ -59,7 +63,8 @@ HALO_HOST_SHADERS += examples/hosts/line.vert examples/hosts/line.frag \
 examples_libhalo_hosts_la_SOURCES += examples/hosts/lines.c examples/hosts/lines.h \
 	examples/linegen.c examples/linegen.h
 bin_PROGRAMS += examples/halo-lines
-examples_halo_lines_SOURCES = examples/halo-lines.c validate/conform_lines.c validate/conform_lines.h
+examples_halo_lines_SOURCES = examples/halo-lines.c validate/conform_lines.c validate/conform_lines.h \
+	validate/conform_harness.c validate/conform_harness.h
 nodist_EXTRA_examples_halo_lines_SOURCES = build-aux/force-cxx-link.cc
 examples_halo_lines_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate
 examples_halo_lines_LDADD = $(HALO_TOOL_LIBS)
@@ -81,7 +86,8 @@ examples_halo_view_LDADD = $(HALO_TOOL_LIBS) $(NIFTI_LIBS) $(JANSSON_LIBS) $(GLF
 # measurements (report) and the conformance rows (conform).
 bin_PROGRAMS += examples/halo-feature
 examples_halo_feature_SOURCES = examples/halo-feature.c examples/volume_io.c examples/volume_io.h \
-	validate/conform_feature.c validate/conform_feature.h validate/feature_report.c validate/feature_report.h
+	validate/conform_feature.c validate/conform_feature.h validate/feature_report.c validate/feature_report.h \
+	validate/conform_harness.c validate/conform_harness.h
 nodist_EXTRA_examples_halo_feature_SOURCES = build-aux/force-cxx-link.cc
 examples_halo_feature_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate $(NIFTI_CFLAGS)
 examples_halo_feature_LDADD = $(HALO_TOOL_LIBS) $(NIFTI_LIBS)

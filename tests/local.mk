@@ -1,6 +1,8 @@
-# make check: unit tests (no GL), module validation, bad-input CLI tests,
-# conformance and a render smoke test. Every test finds its data through $srcdir, so
-# they run from a build directory other than the source directory (make distcheck).
+# tests/: everything make check runs. Unit tests (no GL), module validation, bad-input
+# CLI tests, conformance (halo-validate conform, at a small size), render smoke tests,
+# fuzz replays, hard cases, and tree_clean.sh (the build leaves the checkout clean).
+# Every test finds its data through $srcdir, so they run from a build directory other
+# than the source directory (make distcheck).
 
 # ---- Unit tests: C programs linked with the static core library (internal symbols) ----
 HALO_UNIT_TESTS = \
@@ -71,7 +73,9 @@ HALO_SHELL_TESTS = \
 	tests/cli/bad_json.sh \
 	tests/cli/out_of_range.sh \
 	tests/cli/nonfinite.sh \
-	tests/cli/usage.sh
+	tests/cli/usage.sh \
+	tests/cli/conform_list.sh \
+	tests/tree_clean.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
@@ -184,7 +188,8 @@ AM_TESTS_ENVIRONMENT += HALO_IMAGE_COMPARE='$(abs_top_builddir)/tests/view/image
 # ray caster) against the emulation on fragile inputs, and the conformance rows that
 # already hold per-stage hard inputs ----
 check_PROGRAMS += tests/hard/test_hard_render
-tests_hard_test_hard_render_SOURCES = tests/hard/test_hard_render.c validate/conform_slice.c
+tests_hard_test_hard_render_SOURCES = tests/hard/test_hard_render.c validate/conform_slice.c \
+	validate/conform_harness.c
 tests_hard_test_hard_render_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate
 nodist_EXTRA_tests_hard_test_hard_render_SOURCES = build-aux/force-cxx-link.cc
 tests_hard_test_hard_render_LDADD = $(HALO_TOOL_LIBS)
@@ -224,3 +229,8 @@ TESTS += tests/segments/link_cli.sh
 EXTRA_DIST += tests/segments/link_cli.sh tests/data/hosts/single_pass.frag
 TESTS += tests/segments/render_cli.sh
 EXTRA_DIST += tests/segments/render_cli.sh
+
+# ---- tree_clean.sh: what the build writes is neither tracked nor left unignored; it
+# checks the names make builds, so it does not depend on the order the tests run in ----
+AM_TESTS_ENVIRONMENT += HALO_BUILD_OUTPUTS='$(bin_PROGRAMS) $(check_PROGRAMS) $(BUILT_SOURCES) \
+	$(lib_LTLIBRARIES) $(noinst_LTLIBRARIES) $(CLEANFILES)'; export HALO_BUILD_OUTPUTS;

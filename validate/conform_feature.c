@@ -26,16 +26,13 @@
  * carries ~1e-7 relative error and the blended sum ~n^3 float roundings of the partial
  * sum, so 1e-6 absolute bounds them with a margin: measured on llvmpipe (LLVM 15)
  * 8.6e-8 (n = 5), 7.0e-8 (n = 9), 1.2e-7 (no cutoff), 0 where nothing splats. ~8x
- * over the worst measured. */
-#define SPLAT_TOLERANCE 1e-6
+ * over the worst measured. The numbers: conform_feature.h. */
 /* Emulation against the exact reference: the same sums in double in another order,
  * times S and the gradient factor: only double rounding (measured 7e-15 absolute on sums up to 12). */
-#define REFERENCE_TOLERANCE 1e-12
 /* Application rows: the buffer read with GL_LINEAR (llvmpipe's float weights, ~1e-7
  * relative to the buffer value), |grad f| in float, then c1 h and c2 h with c up to 50
  * amplifying the lookup's error. Measured 8e-8 (defaults), 1.1e-7 (c = 50, clamped
  * mostly). 5e-6 leaves ~40x: a condition margin for other drivers (8-bit filter weights). */
-#define APPLY_TOLERANCE 5e-6
 
 typedef struct feature_context {
     halo_gl *runtime;
@@ -46,10 +43,7 @@ typedef struct feature_context {
     int rows, failed;
 } feature_context;
 
-typedef struct stats {
-    double max_abs, sum_squares;
-    size_t values, over, nonfinite, worst;
-} stats;
+typedef row_stats stats; /* conform_harness.h */
 
 static void add_value(stats *s, double gpu, double reference, double tolerance, size_t index)
 {
@@ -67,15 +61,12 @@ static void add_value(stats *s, double gpu, double reference, double tolerance, 
         s->over++;
 }
 
-static void print_row(feature_context *c, const char *row, const stats *s, double tolerance, const char *reason)
+static void feature_print_row(feature_context *c, const char *row, const stats *s, double tolerance, const char *reason)
 {
-    double rmse = s->values ? sqrt(s->sum_squares / (double)s->values) : 0.0;
     char text[32];
     snprintf(text, sizeof text, "%.0e", tolerance);
     int pass = s->over == 0 && s->nonfinite == 0 && s->values > 0;
-    printf("%-26s %10.3e %10.3e %8zu %9zu %17s %s\n", row, s->max_abs, rmse, s->over, s->nonfinite, text,
-           pass ? "PASS" : "FAIL");
-    fflush(stdout);
+    print_row_line(row, s, text, pass);
     if (c->verbose)
         fprintf(stderr, "  %s: worst at index %zu of %zu; tolerance: %s\n", row, s->worst, s->values, reason);
     c->rows++;
@@ -156,9 +147,8 @@ static void run_splat_row(feature_context *c, const char *row, const float *valu
     } else {
         stats s = {0};
         for (size_t i = 0; i < count; ++i)
-            add_value(&s, gpu[i], emu[i], SPLAT_TOLERANCE, i);
-        print_row(c, row, &s, SPLAT_TOLERANCE,
-                  "float32 weights, unit vectors, pow and R32F additive blending of <= n^3 terms in [0,1]");
+            add_value(&s, gpu[i], emu[i], FEATURE_SPLAT_TOLERANCE, i);
+        feature_print_row(c, row, &s, FEATURE_SPLAT_TOLERANCE, FEATURE_SPLAT_WHY);
     }
     halo_feature_buffer_destroy(b);
     free(gpu);
@@ -186,10 +176,9 @@ static void run_reference_row(feature_context *c, const float *values, int n, co
                     halo_feature_gradient_at(values, dims, x, y, z, g);
                     double factor = 1.0 - sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
                     factor = factor < 0.0 ? 0.0 : factor > 1.0 ? 1.0 : factor;
-                    add_value(&s, emu[i] * sum * factor, exact[i], REFERENCE_TOLERANCE, i);
+                    add_value(&s, emu[i] * sum * factor, exact[i], FEATURE_REFERENCE_TOLERANCE, i);
                 }
-        print_row(c, "feature_reference", &s, REFERENCE_TOLERANCE,
-                  "the same double sums, scaled by S and (1 - |grad f|): double rounding only");
+        feature_print_row(c, "feature_reference", &s, FEATURE_REFERENCE_TOLERANCE, FEATURE_REFERENCE_WHY);
     }
     free(emu);
     free(exact);
@@ -199,13 +188,9 @@ static void run_reference_row(feature_context *c, const float *values, int n, co
 
 static uint64_t random_state;
 
-static double random_uniform(void)
+static double random_uniform(void) /* splitmix64, [0, 1) */
 {
-    uint64_t z = (random_state += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    z ^= z >> 31;
-    return (double)(z >> 11) / 9007199254740992.0;
+    return conform_random_uniform(&random_state);
 }
 
 #define PROBE_SIZE 48
@@ -365,10 +350,9 @@ static void run_apply_row(feature_context *c, const char *row, const char *scene
         }
         double expect[4] = {e.color[0], e.color[1], e.color[2], e.opacity};
         for (int k = 0; k < 4; ++k)
-            add_value(&s, rgba[i * 4 + (size_t)k], expect[k], APPLY_TOLERANCE, i * 4 + (size_t)k);
+            add_value(&s, rgba[i * 4 + (size_t)k], expect[k], FEATURE_APPLY_TOLERANCE, i * 4 + (size_t)k);
     }
-    print_row(c, row, &s, APPLY_TOLERANCE,
-              "GL_LINEAR lookup of the buffer in float, |grad f| in float, scaled by c1 and c2 up to 50");
+    feature_print_row(c, row, &s, FEATURE_APPLY_TOLERANCE, FEATURE_APPLY_WHY);
 done:
     halo_feature_buffer_destroy(b);
     halo_program_destroy(program);
@@ -379,7 +363,10 @@ done:
     free(buffer_double);
 }
 
-int halo_conform_feature_rows(int verbose, int *failed)
+#define WANT(row) (!only || !strcmp(only, row))
+
+/* The rows named only (NULL: all). */
+static int run_rows(const char *only, int verbose, int *failed)
 {
     feature_context c = {.verbose = verbose};
     halo_headless *context = NULL;
@@ -406,35 +393,50 @@ int halo_conform_feature_rows(int verbose, int *failed)
     float *volume = halo_volume_create(n);
     if (!c.lib || !c.runtime || !volume || halo_feature_ensure_module(c.lib, c.diag) != HALO_OK) {
         for (size_t i = 0; i < sizeof rows / sizeof rows[0]; ++i)
-            print_error(&c, rows[i]);
+            if (WANT(rows[i]))
+                print_error(&c, rows[i]);
     } else {
         c.f = halo_gl_functions(c.runtime);
         static const double oblique[3] = {0.3, 0.5, 0.81}, axis[3] = {0, 0, 1}, side[3] = {1, 0, 0};
-        run_splat_row(&c, "feature_splat", volume, n, &(halo_feature_desc){0}, oblique);
-        run_splat_row(&c, "feature_splat@n3", volume, n, &(halo_feature_desc){.splat_size = 3, .k_hse = 0.5},
+        if (WANT("feature_splat"))
+            run_splat_row(&c, "feature_splat", volume, n, &(halo_feature_desc){0}, oblique);
+        if (WANT("feature_splat@n3"))
+            run_splat_row(&c, "feature_splat@n3", volume, n, &(halo_feature_desc){.splat_size = 3, .k_hse = 0.5},
                       axis);
-        run_splat_row(&c, "feature_splat@n9", volume, n, &(halo_feature_desc){.splat_size = 9, .threshold = 0.2},
+        if (WANT("feature_splat@n9"))
+            run_splat_row(&c, "feature_splat@n9", volume, n, &(halo_feature_desc){.splat_size = 9, .threshold = 0.2},
                       oblique);
-        run_splat_row(&c, "feature_splat@half", volume, n, &(halo_feature_desc){.half_resolution = 1}, oblique);
-        run_splat_row(&c, "feature_splat@weighted", volume, n,
+        if (WANT("feature_splat@half"))
+            run_splat_row(&c, "feature_splat@half", volume, n, &(halo_feature_desc){.half_resolution = 1}, oblique);
+        if (WANT("feature_splat@weighted"))
+            run_splat_row(&c, "feature_splat@weighted", volume, n,
                       &(halo_feature_desc){.threshold = 0.05, .gradient_weighted = 1, .k_hpe = 2}, oblique);
-        run_splat_row(&c, "feature_splat@nocutoff", volume, n,
+        if (WANT("feature_splat@nocutoff"))
+            run_splat_row(&c, "feature_splat@nocutoff", volume, n,
                       &(halo_feature_desc){.threshold = -1, .k_hpe = 3, .k_hse = 1}, side);
         float *hard = constant_volume(16, 0.5f);
-        run_splat_row(&c, "feature_splat@constant", hard, 16, &(halo_feature_desc){.threshold = -1}, oblique);
+        if (WANT("feature_splat@constant"))
+            run_splat_row(&c, "feature_splat@constant", hard, 16, &(halo_feature_desc){.threshold = -1}, oblique);
         free(hard);
         hard = single_voxel_volume(15);
-        run_splat_row(&c, "feature_splat@voxel", hard, 15, &(halo_feature_desc){.splat_size = 7}, axis);
+        if (WANT("feature_splat@voxel"))
+            run_splat_row(&c, "feature_splat@voxel", hard, 15, &(halo_feature_desc){.splat_size = 7}, axis);
         free(hard);
         hard = edge_volume(16);
-        run_splat_row(&c, "feature_splat@edge", hard, 16, &(halo_feature_desc){0}, oblique);
-        run_splat_row(&c, "feature_splat@edge_half", hard, 16, &(halo_feature_desc){.half_resolution = 1}, axis);
+        if (WANT("feature_splat@edge"))
+            run_splat_row(&c, "feature_splat@edge", hard, 16, &(halo_feature_desc){0}, oblique);
+        if (WANT("feature_splat@edge_half"))
+            run_splat_row(&c, "feature_splat@edge_half", hard, 16, &(halo_feature_desc){.half_resolution = 1}, axis);
         free(hard);
-        run_reference_row(&c, volume, n, oblique);
+        if (WANT("feature_reference"))
+            run_reference_row(&c, volume, n, oblique);
         static const char scene[] = "{\"halo_scene\": 1, \"stages\": [{\"feature_halo\": {}}]}";
-        run_apply_row(&c, "feature_halo", scene, 0, 0, 0, volume, n);
-        run_apply_row(&c, "feature_halo@live", scene, 1, 7.5, 0.5, volume, n);
-        run_apply_row(&c, "feature_halo@strong",
+        if (WANT("feature_halo"))
+            run_apply_row(&c, "feature_halo", scene, 0, 0, 0, volume, n);
+        if (WANT("feature_halo@live"))
+            run_apply_row(&c, "feature_halo@live", scene, 1, 7.5, 0.5, volume, n);
+        if (WANT("feature_halo@strong"))
+            run_apply_row(&c, "feature_halo@strong",
                       "{\"halo_scene\": 1, \"stages\": [{\"feature_halo\": {\"opacity_gain\": 50, \"darkening\": 50}}]}",
                       0, 0, 0, volume, n);
     }
@@ -447,4 +449,18 @@ int halo_conform_feature_rows(int verbose, int *failed)
     if (failed)
         *failed += c.failed;
     return c.rows;
+}
+
+#undef WANT
+
+int halo_conform_feature_rows(int verbose, int *failed)
+{
+    return run_rows(NULL, verbose, failed);
+}
+
+void conform_feature_row(conform *c, const conform_row *row)
+{
+    /* --stage feature... selects the family */
+    if (!c->only || !strncmp(c->only, "feature", 7))
+        c->rows += run_rows(row->name, c->verbose, &c->failures);
 }

@@ -16,16 +16,14 @@
 /* The probe targets: PROBE_SIDE x PROBE_SIDE inputs per draw. */
 #define PROBE_SIDE 64
 
-typedef struct stats {
-    double max_abs, sum_squares;
-    size_t values, over, nonfinite;
-} stats;
+typedef row_stats stats; /* conform_harness.h */
 
 typedef struct rows {
     halo_glfuncs f;
     halo_library *lib;
     halo_diagnostics *diag;
     const char *only;
+    int exact; /* only is one row's name, not a stage */
     int verbose, rows, failures;
 } rows;
 
@@ -43,18 +41,15 @@ static void add_value(stats *s, double gpu, double emu, double allowed)
         s->over++;
 }
 
-static void print_row(rows *r, const char *row, const stats *s, const char *tolerance)
+static void lines_print_row(rows *r, const char *row, const stats *s, const char *tolerance)
 {
     int pass = s->over == 0 && s->nonfinite == 0 && s->values > 0;
-    double rmse = s->values ? sqrt(s->sum_squares / (double)s->values) : 0.0;
-    printf("%-26s %10.3e %10.3e %8zu %9zu %17s %s\n", row, s->max_abs, rmse, s->over, s->nonfinite, tolerance,
-           pass ? "PASS" : "FAIL");
-    fflush(stdout);
+    print_row_line(row, s, tolerance, pass);
     r->rows++;
     r->failures += !pass;
 }
 
-static void print_error_row(rows *r, const char *row)
+static void lines_print_error_row(rows *r, const char *row)
 {
     printf("%-26s %10s %10s %8s %9s %17s FAIL\n", row, "-", "-", "-", "-", "-");
     fflush(stdout);
@@ -69,17 +64,14 @@ static int selected(const rows *r, const char *row)
     if (!r->only)
         return 1;
     size_t n = strlen(r->only);
-    return strcmp(r->only, row) == 0 || (strncmp(r->only, row, n) == 0 && row[n] == '@');
+    return strcmp(r->only, row) == 0 || (!r->exact && strncmp(r->only, row, n) == 0 && row[n] == '@');
 }
 
 static uint64_t random_state;
 
 static double random_uniform(void) /* splitmix64, [0, 1) */
 {
-    uint64_t z = (random_state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return (double)((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+    return conform_random_uniform(&random_state);
 }
 
 static double f32(double x)
@@ -177,7 +169,7 @@ static void vertex_row(rows *r, const char *row, const char *scene_text, halo_em
         if (program)
             r->f.DeleteProgram(program), target_release(r, &t);
         halo_program_destroy(p);
-        print_error_row(r, row);
+        lines_print_error_row(r, row);
         return;
     }
     const halo_glfuncs *f = &r->f;
@@ -188,7 +180,7 @@ static void vertex_row(rows *r, const char *row, const char *scene_text, halo_em
         f->DeleteProgram(program);
         target_release(r, &t);
         halo_program_destroy(p);
-        print_error_row(r, row);
+        lines_print_error_row(r, row);
         return;
     }
     for (size_t i = 0; i < n; ++i) {
@@ -273,9 +265,9 @@ static void vertex_row(rows *r, const char *row, const char *scene_text, halo_em
     free(attributes), free(out0), free(out1);
     halo_program_destroy(p);
     if (emu_failed)
-        print_error_row(r, row);
+        lines_print_error_row(r, row);
     else
-        print_row(r, row, &s, "4e-6*(1+|p|+|eye|)");
+        lines_print_row(r, row, &s, "4e-6*(1+|p|+|eye|)");
 }
 
 static void random_unit(double v[3])
@@ -419,7 +411,7 @@ static void run_halo_row(rows *r, int profile)
         if (program)
             r->f.DeleteProgram(program), target_release(r, &t);
         halo_program_destroy(p);
-        print_error_row(r, row);
+        lines_print_error_row(r, row);
         return;
     }
     const halo_glfuncs *f = &r->f;
@@ -507,11 +499,11 @@ static void run_halo_row(rows *r, int profile)
         if (r->verbose && excluded)
             fprintf(stderr, "  %s: %zu pixels at the core's edge left out\n", row, excluded);
         if (emu_failed)
-            print_error_row(r, row);
+            lines_print_error_row(r, row);
         else
-            print_row(r, row, &s, "1e-6");
+            lines_print_row(r, row, &s, "1e-6");
     } else {
-        print_error_row(r, row);
+        lines_print_error_row(r, row);
     }
     if (textures[0])
         f->DeleteTextures(3, textures);
@@ -606,7 +598,7 @@ static void run_depth_gap_row(rows *r)
     for (size_t i = 0; i < sizeof gaps / sizeof gaps[0]; ++i) {
         int visible = back_line_visible(r, gaps[i], d_max, &nonfinite);
         if (visible < 0) {
-            print_error_row(r, row);
+            lines_print_error_row(r, row);
             return;
         }
         int expected = gaps[i] < d_max; /* a halo gap only beyond d_max */
@@ -616,7 +608,7 @@ static void run_depth_gap_row(rows *r)
                     visible ? "visible" : "interrupted", expected ? "visible" : "interrupted");
     }
     s.nonfinite += (size_t)nonfinite;
-    print_row(r, row, &s, "gap>d_max hides");
+    lines_print_row(r, row, &s, "gap>d_max hides");
 }
 
 /* A strip through the eye and across the near plane, a line pointing at the eye and
@@ -642,7 +634,7 @@ static void run_near_plane_row(rows *r)
     float *rgba = malloc(128 * 128 * 4 * sizeof *rgba);
     if (!rgba || !render_lines(r, scene, &lines, &view, 128, rgba, NULL)) {
         free(rgba);
-        print_error_row(r, row);
+        lines_print_error_row(r, row);
         return;
     }
     stats s = {0};
@@ -657,18 +649,18 @@ static void run_near_plane_row(rows *r)
     if (r->verbose)
         fprintf(stderr, "  %s: %zu line pixels\n", row, dark);
     free(rgba);
-    print_row(r, row, &s, "finite");
+    lines_print_row(r, row, &s, "finite");
 }
 
-int halo_conform_line_rows_select(const char *only, int verbose, int *failed)
+static int run_rows(const char *only, int exact, int verbose, int *failed)
 {
-    rows r = {.only = only, .verbose = verbose};
+    rows r = {.only = only, .exact = exact, .verbose = verbose};
     r.diag = halo_diagnostics_create();
     const char *missing = NULL;
     if (!halo_glfuncs_load(&r.f, halo_headless_get_proc_address, &missing) || !(r.lib = halo_library_create(r.diag))) {
         if (missing)
             fprintf(stderr, "conform lines: OpenGL entry point %s missing\n", missing);
-        print_error_row(&r, "line_strip");
+        lines_print_error_row(&r, "line_strip");
     } else {
         run_strip_row(&r);
         run_strip_degenerate_row(&r);
@@ -684,7 +676,20 @@ int halo_conform_line_rows_select(const char *only, int verbose, int *failed)
     return r.rows;
 }
 
+int halo_conform_line_rows_select(const char *only, int verbose, int *failed)
+{
+    return run_rows(only, 0, verbose, failed);
+}
+
 int halo_conform_line_rows(int verbose, int *failed)
 {
     return halo_conform_line_rows_select(NULL, verbose, failed);
+}
+
+void conform_lines_row(conform *c, const conform_row *row)
+{
+    rows selection = {.only = c->only};
+    if (c->only && (strncmp(c->only, "line", 4) || !selected(&selection, row->name)))
+        return;
+    c->rows += run_rows(row->name, 1, c->verbose, &c->failures);
 }

@@ -13,4 +13,10 @@ int halo_conform_line_rows(int verbose, int *failed);
  * line_halo row); NULL: all. */
 int halo_conform_line_rows_select(const char *only, int verbose, int *failed);
 
+#include "conform_harness.h"
+
+/* The row row->name of the rows above when --stage selects it (a row name or its stage,
+ * e.g. line_halo), in halo-validate conform's context. */
+void conform_lines_row(conform *c, const conform_row *row);
+
 #endif

@@ -16,11 +16,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum shape { SHAPE_DISCS, SHAPE_FLAT, SHAPE_DEPTH_ONE, SHAPE_PIXEL, SHAPE_BORDER, SHAPE_FOUR, SHAPE_SIX };
-
+/* A case: the registry's row (conform_rows.c) seen by the code below. */
 typedef struct outline_case {
     const char *name;
-    enum shape shape;
+    enum conform_outline_shape shape;
     int occluder_band; /* second draw: an opaque band (rows size/3 .. size/2) at depth 0.1 */
     const char *outlines; /* the outlines stage's parameters (JSON object members) */
     double tol_abs, tol_rel;
@@ -38,59 +37,7 @@ typedef struct outline_case {
 static const double six_centres[6][2] = {{0.2, 0.3}, {0.5, 0.3}, {0.8, 0.3}, {0.2, 0.7}, {0.5, 0.7}, {0.8, 0.7}};
 static const double six_values[6] = {0.05, 0.2, 0.35, 0.55, 0.7, 0.9};
 
-/* Blurs: float sums of up to 2r+1 taps (r <= size) of exp() weights, renormalized:
- * a few ulps of the depth (<= 1) per tap, 1e-6 relative at most; importance is lambda
- * (<= 4) times a difference of blurred depths: 4e-6; the final colour a mix of colours
- * <= 1 by that importance. Measured: 1.2e-6 at most (64 x 64, llvmpipe); 1e-5 leaves a
- * margin of about 8. */
-#define DEPTH_TOL 1e-5
-/* Normals: the GPU's normal is normalize(gradient) in float (1e-7 relative), 1 - n.n'
- * of nearly parallel normals loses the leading digits (cancellation: 1e-7 absolute on
- * dN), and the window (dN - n_min) / (n_max - n_min) multiplies it by up to 1 / 0.2;
- * normal blurs add a few ulps per tap as above. Measured: 2e-6 at most (64 x 64). */
-#define NORMAL_TOL 2e-5
 
-static const outline_case outline_cases[] = {
-    {"outline:discs", SHAPE_DISCS, 0, "\"sigma\": 2, \"lambda\": 4", DEPTH_TOL, DEPTH_TOL, "blurred depth, lambda 4"},
-    {"outline:power0.6", SHAPE_DISCS, 0, "\"sigma\": 2, \"lambda\": 2, \"depth_power\": 0.6", 1e-4, DEPTH_TOL,
-     "x^0.6 near x = 0 magnifies the blur's float error: d(x^0.6)/dx = 0.6 x^-0.4, 2.5e3 at x = 1e-8"},
-    {"outline:flat", SHAPE_FLAT, 0, "\"sigma\": 2, \"lambda\": 1000", DEPTH_TOL, DEPTH_TOL,
-     "a constant depth blurs to itself (renormalized weights): no outline even at lambda 1000"},
-    {"outline:depth1", SHAPE_DEPTH_ONE, 0, "\"sigma\": 2, \"lambda\": 1000, \"depth_start\": 0.5, \"depth_cue\": true",
-     DEPTH_TOL, DEPTH_TOL, "features at depth exactly 1 are the background: no outline, gamma 1"},
-    {"outline:pixel", SHAPE_PIXEL, 0, "\"sigma\": 2, \"lambda\": 4", DEPTH_TOL, DEPTH_TOL,
-     "a one-pixel feature: its ring of outline"},
-    {"outline:border", SHAPE_BORDER, 0, "\"sigma\": 3, \"lambda\": 4", DEPTH_TOL, DEPTH_TOL,
-     "features touching the border: taps outside the image are left out, weights renormalized"},
-    {"outline:sigma>image", SHAPE_DISCS, 0,
-     "\"sigma\": 100, \"lambda\": 4, \"normal_unsharp\": true, \"normal_sigma\": 100", NORMAL_TOL, NORMAL_TOL,
-     "sigma 100 % of the diagonal: radius clamped to the image side, 2 size + 1 taps"},
-    {"outline:normals", SHAPE_DISCS, 0,
-     "\"sigma\": 2, \"lambda\": 2, \"normal_difference\": true, \"normal_unsharp\": true, \"normal_sigma\": 2,"
-     " \"normal_min\": 0.05, \"normal_max\": 0.6",
-     NORMAL_TOL, NORMAL_TOL, "normals zero (no hit) outside the discs: halo_normalize of 0, 1 - dot"},
-    {"outline:hidden", SHAPE_DISCS, 1, "\"sigma\": 2, \"lambda\": 4, \"occluded\": 0", DEPTH_TOL, DEPTH_TOL,
-     "occlusion: hidden"},
-    {"outline:dashed", SHAPE_DISCS, 1, "\"sigma\": 2, \"lambda\": 4, \"occluded\": 1, \"dash_length\": 3", DEPTH_TOL,
-     DEPTH_TOL, "occlusion: dashed (integer dash arithmetic)"},
-    {"outline:front", SHAPE_DISCS, 1, "\"sigma\": 2, \"lambda\": 4, \"occluded\": 2", DEPTH_TOL, DEPTH_TOL,
-     "occlusion: forced to the front"},
-    {"outline:colors", SHAPE_DISCS, 0, "\"sigma\": 2, \"lambda\": 4, \"line_color_mode\": 2", DEPTH_TOL, DEPTH_TOL,
-     "line colour by the brightness behind"},
-    {"outline:depth", SHAPE_DISCS, 0,
-     "\"sigma\": 2, \"lambda\": 4, \"depth_start\": 0.3, \"depth_color_blend\": true, \"depth_color\": [0.9, 0.9, 1],"
-     " \"depth_cue\": true, \"cue_gray\": 0.6, \"depth_blur\": true, \"blur_max\": 8, \"line_fading\": true,"
-     " \"line_color_mode\": 1",
-     DEPTH_TOL, DEPTH_TOL, "depth colour blending, cueing, blurring (kernel per pixel), line fading"},
-    {"outline:features4", SHAPE_FOUR, 1,
-     "\"sigma\": 2, \"lambda\": [4, 2, 8, 1], \"occluded\": [0, 1, 2, 2], \"normal_difference\": true,"
-     " \"normal_min\": [0.1, 0.2, 0.3, 2], \"normal_max\": [0.5, 0.5, 0.3, 3]",
-     NORMAL_TOL, NORMAL_TOL, "four features, per-feature parameters"},
-    {"outline:features6", SHAPE_SIX, 1,
-     "\"sigma\": 2, \"lambda\": [4, 2, 8, 1, 4, 6], \"occluded\": [0, 1, 2, 2, 1, 2], \"depth_start\": 0.3,"
-     " \"depth_cue\": true, \"line_fading\": true",
-     DEPTH_TOL, DEPTH_TOL, "six features in two feature groups (two volume passes), depth cueing over both"},
-};
 
 /* Depth and sphere normal of a disc at (cx, cy), radius r, front depth d0: 1 outside. */
 static int disc(double x, double y, double cx, double cy, double r, double d0, double *depth, double n[3])
@@ -108,21 +55,21 @@ static int disc(double x, double y, double cx, double cy, double r, double d0, d
  * ONE_FEATURE; 0.1/0.3/0.6/0.9: features 0-3 of FOUR_FEATURES); outside every feature
  * an empty sample (opacity 0: no depth, no normal, no occluder). Feature samples are
  * translucent (opacity 0.25 < occluder_opacity): only the band occludes. */
-static void feature_sample(enum shape shape, int size, int x, int y, halo_emu_sample *s)
+static void feature_sample(enum conform_outline_shape shape, int size, int x, int y, halo_emu_sample *s)
 {
     memset(s, 0, sizeof *s);
     double px = x + 0.5, py = y + 0.5, depth = 1.0, n[3] = {0, 0, 1}, value = 0.75;
     int hit = 0;
     switch (shape) {
-    case SHAPE_FLAT: hit = 1, depth = 0.5; break;
-    case SHAPE_DEPTH_ONE: hit = disc(px, py, size * 0.5, size * 0.5, size * 0.3, 0.0, &depth, n), depth = 1.0; break;
-    case SHAPE_PIXEL: hit = x == size / 2 && y == size / 2, depth = 0.4; break;
-    case SHAPE_BORDER:
+    case OUTLINE_FLAT: hit = 1, depth = 0.5; break;
+    case OUTLINE_DEPTH_ONE: hit = disc(px, py, size * 0.5, size * 0.5, size * 0.3, 0.0, &depth, n), depth = 1.0; break;
+    case OUTLINE_PIXEL: hit = x == size / 2 && y == size / 2, depth = 0.4; break;
+    case OUTLINE_BORDER:
         hit = disc(px, py, 0.0, size * 0.5, size * 0.3, 0.3, &depth, n);
         if (!hit && y >= size - 3)
             hit = 1, depth = 0.45, n[0] = 0, n[1] = 0.6, n[2] = 0.8;
         break;
-    case SHAPE_FOUR: {
+    case OUTLINE_FOUR: {
         static const double centres[4][2] = {{0.3, 0.3}, {0.7, 0.3}, {0.3, 0.7}, {0.62, 0.62}};
         static const double values[4] = {0.1, 0.3, 0.6, 0.9};
         for (int k = 0; k < 4 && !hit; ++k)
@@ -131,7 +78,7 @@ static void feature_sample(enum shape shape, int size, int x, int y, halo_emu_sa
                 hit = 1, value = values[k];
         break;
     }
-    case SHAPE_SIX:
+    case OUTLINE_SIX:
         for (int k = 0; k < 6 && !hit; ++k)
             if (disc(px, py, six_centres[k][0] * size, six_centres[k][1] * size, size * 0.12, 0.2 + 0.1 * k, &depth, n))
                 hit = 1, value = six_values[k];
@@ -226,15 +173,15 @@ static const char *check_case(const outline_case *oc, int size, const float *imp
                 final_change = fmax(final_change, fabs(final[i * 4 + (size_t)k] - host[i * 4 + (size_t)k]));
         }
     switch (oc->shape) {
-    case SHAPE_FLAT:
+    case OUTLINE_FLAT:
         if (most > 1e-4 || final_change > 1e-4)
             return "a flat depth drew an outline";
         return NULL;
-    case SHAPE_DEPTH_ONE:
+    case OUTLINE_DEPTH_ONE:
         if (most > 0.0)
             return "features at depth 1 drew an outline";
         return NULL;
-    case SHAPE_PIXEL: {
+    case OUTLINE_PIXEL: {
         size_t c = (size_t)(size / 2) * size + (size_t)(size / 2);
         /* a ring: lambda (G*D - D) > 0 at the 4-neighbours (0.1 at 64 x 64, sigma 1.8 px) */
         if (importance[(c + 1) * (size_t)channels] <= 0.0 || importance[(c - (size_t)size) * (size_t)channels] <= 0.0)
@@ -269,13 +216,13 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
 {
     if (!row_selected(c, oc->name, "outlines") && !row_selected(c, oc->name, "outline"))
         return;
-    int size = c->size, four = oc->shape == SHAPE_FOUR, six = oc->shape == SHAPE_SIX;
+    int size = c->size, four = oc->shape == OUTLINE_FOUR, six = oc->shape == OUTLINE_SIX;
     size_t count = (size_t)size * (size_t)size;
     char json[2048], tolerance_text[32];
     snprintf(json, sizeof json,
              "{\"halo_scene\": 1, \"stages\": [{\"outline_feature\": {%s}}, {\"outlines\": {%s}}]}",
              six ? SIX_FEATURES : four ? FOUR_FEATURES : ONE_FEATURE, oc->outlines);
-    snprintf(tolerance_text, sizeof tolerance_text, "%.0e+%.0er", oc->tol_abs, oc->tol_rel);
+    snprintf(tolerance_text, sizeof tolerance_text, "%.0e+%.0er", oc->tol_abs, oc->tol_rel); /* conform_rows.c */
     halo_scene *scene = halo_scene_parse(json, oc->name, c->lib, c->diag);
     halo_program *program =
         scene ? halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = probe_source,
@@ -454,9 +401,14 @@ done:
     free(final);
 }
 
-void halo_conform_outline_rows(conform *c, const char *probe_source)
+/* The importance in the occluder band of the rows outline:hidden, :dashed and :front of
+ * this run, in that order (-1: not run); outline:front checks their order. */
+static double band_sums[3] = {-1.0, -1.0, -1.0};
+
+void conform_outline_row(conform *c, const conform_row *row)
 {
-    double band_sums[3] = {-1.0, -1.0, -1.0};
-    for (size_t i = 0; i < sizeof outline_cases / sizeof *outline_cases; ++i)
-        run_case(c, &outline_cases[i], probe_source, band_sums);
+    const conform_outline_params *params = row->params;
+    const outline_case oc = {row->name,          params->shape,      params->occluder_band, params->outlines,
+                             row->tolerance_abs, row->tolerance_rel, row->why};
+    run_case(c, &oc, c->probe_source, band_sums);
 }

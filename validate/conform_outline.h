@@ -4,12 +4,31 @@
 #ifndef HALO_CONFORM_OUTLINE_H
 #define HALO_CONFORM_OUTLINE_H
 
-#include "conform_internal.h"
+#include "conform_harness.h"
 
-/* Prints the rows outline:CASE (hard cases: flat depth, depth exactly 1, one-pixel
- * feature, feature on the border, sigma beyond the image, normals of no hit, occlusion
- * styles, depth enhancements, four features) in conform's format; probe_source: the
- * probe host's fragment source. Rows and failures go to c->rows, c->failures. */
-void halo_conform_outline_rows(conform *c, const char *probe_source);
+/* The synthetic feature buffers of a case. */
+enum conform_outline_shape {
+    OUTLINE_DISCS,     /* four discs of one feature at several depths */
+    OUTLINE_FLAT,      /* a constant depth */
+    OUTLINE_DEPTH_ONE, /* features at depth exactly 1 (the background) */
+    OUTLINE_PIXEL,     /* a one-pixel feature */
+    OUTLINE_BORDER,    /* features touching the border */
+    OUTLINE_FOUR,      /* four features */
+    OUTLINE_SIX        /* six features in two feature groups */
+};
+
+/* An outline row's set-up: the shape, an opaque occluder band drawn second (rows
+ * size/3 .. size/2 at depth 0.1), the outlines stage's parameters (JSON object members). */
+typedef struct conform_outline_params {
+    enum conform_outline_shape shape;
+    int occluder_band;
+    const char *outlines;
+} conform_outline_params;
+
+/* One row outline:CASE: the feature buffers through the frame probe, the at=post passes
+ * on the GPU against their emulation (every image a post pass writes, within
+ * row->tolerance_abs + row->tolerance_rel |emu|), and what the case is about (flat depth
+ * gives no outline, ...). */
+void conform_outline_row(conform *c, const conform_row *row);
 
 #endif

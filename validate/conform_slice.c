@@ -7,7 +7,6 @@
 #include "halo.h"
 #include "diag.h"
 #include "gl/glfuncs.h"
-#include "gl/headless.h"
 #include "hosts/slab.h"
 #include "hosts/slice.h"
 #include "volume.h"
@@ -24,20 +23,14 @@
  * |grad f|^alpha (1 - |n.V|)^beta with alpha = 32 amplifying the gradient's relative
  * error 32-fold, the image passes (the spreading's sums over 3x3 taps, 4 passes), the
  * opacity correction's pow and the front-to-back blending of ~110 slices into a
- * float32 colour buffer. The raycast row (conform.c) measured 1e-5 for the volume
+ * float32 colour buffer. The raycast row (conform_render.c) measured 1e-5 for the volume
  * part alone at 64x64; the halo images add the seed's amplification. Measured on
  * llvmpipe (LLVM 15), 32^3 volume: at 64x64 largest errors 2.4e-6 (slice, slab@M4),
  * 2.8e-6 (slab, M = 1), 3.1e-6 (plain); at 128x128 2.7e-6, 4.6e-5 (slab: 110
  * generations, each a chance for a seed near a blend or clamp decision), 3.2e-6. The
  * tolerances leave a margin of about 10 over the largest of them: 5e-4 with halos,
- * 1e-4 without (more pixels, more extremes at larger sizes). */
-#define SLICE_TOLERANCE 5e-4
-#define SLICE_NOHALO_TOLERANCE 1e-4
-
-typedef struct slice_stats {
-    double max_abs, sum_squares;
-    size_t values, over, nonfinite, worst;
-} slice_stats;
+ * 1e-4 without (more pixels, more extremes at larger sizes): the registry's rows
+ * (conform_rows.c). */
 
 static const char slice_scene_halos[] =
     "{\"halo_scene\": 1, \"stages\": ["
@@ -56,24 +49,6 @@ static const char slice_scene_plain[] =
     "  \"background\": [0.05, 0.08, 0.25],"
     "  \"transfer\": [[0, 0, 0, 0, 0], [0.2, 0.6, 0.8, 1, 0], [0.3, 0.6, 0.8, 1, 0.08],"
     "                [0.5, 1, 0.85, 0.55, 0.3], [0.75, 0.95, 0.3, 0.2, 0.7], [1, 1, 1, 0.8, 0.9]]}}";
-
-static void classify(const halo_slice_state *s, double value, double rgba[4])
-{
-    double v = value > 0.0 ? (value < 1.0 ? value : 1.0) : 0.0; /* NaN -> 0, as the hosts do */
-    int n = s->transfer_texels;
-    double u = v * (n - 1);
-    double base = floor(u);
-    double f = u - base;
-    int i0 = (int)base, i1 = i0 + 1 > n - 1 ? n - 1 : i0 + 1;
-    for (int k = 0; k < 4; ++k)
-        rgba[k] = (1.0 - f) * s->transfer[i0 * 4 + k] + f * s->transfer[i1 * 4 + k];
-}
-
-static void transform(const double m[16], const double v[4], double out[4])
-{
-    for (int row = 0; row < 4; ++row)
-        out[row] = m[row] * v[0] + m[4 + row] * v[1] + m[8 + row] * v[2] + m[12 + row] * v[3];
-}
 
 /* Per pixel: the ray (origin, unit direction) of slice.frag / slab.frag. */
 typedef struct pixel_ray {
@@ -110,8 +85,8 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
             pixel_ray *r = &rays[(size_t)y * (size_t)s->width + (size_t)x];
             double ndc[2] = {(x + 0.5) / s->width * 2.0 - 1.0, (y + 0.5) / s->height * 2.0 - 1.0};
             double near_point[4], far_point[4];
-            transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
-            transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
+            conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
+            conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
             double length = 0.0;
             for (int k = 0; k < 3; ++k) {
                 r->origin[k] = near_point[k] / near_point[3];
@@ -153,7 +128,7 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
             double color[4] = {0, 0, 0, 0};
             if (inside) {
                 sample.value = halo_volume_trilinear(s->volume, s->dims, P);
-                classify(s, sample.value, color);
+                conform_transfer_lookup(s->transfer, s->transfer_texels, sample.value, color);
             }
             double distance = 0.0;
             if (inside) /* the host's precomputed voxel gradients (float), trilinear */
@@ -201,43 +176,11 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
     return ok;
 }
 
-typedef struct slice_context {
-    halo_library *lib;
-    halo_gl *runtime;
-    const halo_glfuncs *gl;
-    halo_diagnostics *diag;
-    int size, verbose, rows, failures;
-    float *volume;
-    int volume_size;
-} slice_context;
-
-static void print_stats(slice_context *c, const char *row, const slice_stats *s, double tolerance, int pass)
-{
-    double rmse = s->values ? sqrt(s->sum_squares / (double)s->values) : 0.0;
-    char text[32];
-    snprintf(text, sizeof text, "%.0e", tolerance);
-    printf("%-26s %10.3e %10.3e %8zu %9zu %17s %s\n", row, s->max_abs, rmse, s->over, s->nonfinite, text,
-           pass ? "PASS" : "FAIL");
-    fflush(stdout);
-    c->rows++;
-    if (!pass)
-        c->failures++;
-}
-
-static void print_error(slice_context *c, const char *row)
-{
-    printf("%-26s %10s %10s %8s %9s %17s FAIL\n", row, "-", "-", "-", "-", "-");
-    halo_diagnostics_print(c->diag, stderr);
-    halo_diagnostics_clear(c->diag);
-    fflush(stdout);
-    c->rows++;
-    c->failures++;
-}
-
 /* One row: render with the slice host (slab = 0) or slab caster at interval M (0: the
  * program's), emulate, compare. */
-static void run_row(slice_context *c, const char *row, const char *scene_text, int slab, int interval, int scale,
-                    double tolerance, const char *reason)
+static void run_row(conform *c, const char *row, const char *scene_text, int slab, int interval, int scale,
+                    double tolerance, const char *tolerance_text, const char *reason, const float *volume,
+                    int volume_size)
 {
     halo_scene *scene = halo_scene_parse(scene_text, "(conformance slice scene)", c->lib, c->diag);
     halo_program *program = NULL;
@@ -263,7 +206,7 @@ static void run_row(slice_context *c, const char *row, const char *scene_text, i
     if (!host)
         goto error;
     const halo_render_settings *settings = halo_scene_render(scene);
-    if (halo_slice_set_volume(host, c->volume, c->volume_size, c->volume_size, c->volume_size, c->diag) != HALO_OK ||
+    if (halo_slice_set_volume(host, volume, volume_size, volume_size, volume_size, c->diag) != HALO_OK ||
         halo_slice_set_render(host, settings, c->diag) != HALO_OK)
         goto error;
     halo_slice_set_camera(host, settings->azimuth, settings->elevation, settings->zoom);
@@ -280,30 +223,13 @@ static void run_row(slice_context *c, const char *row, const char *scene_text, i
     halo_slice_get_state(host, &state);
     if (!halo_conform_slice_emulate(&state, program, state.interval, reference, c->diag))
         goto error;
-    slice_stats stats = {0};
+    row_stats stats = {0};
     for (size_t i = 0; i < pixels; ++i) {
-        int over = 0, nonfinite = 0;
-        for (int k = 0; k < 4; ++k) {
-            double g = gpu[i * 4 + (size_t)k], r = reference[i * 4 + (size_t)k];
-            if (!isfinite(g) || !isfinite(r)) {
-                nonfinite = 1;
-                continue;
-            }
-            double e = fabs(g - r);
-            stats.sum_squares += e * e;
-            stats.values++;
-            if (e > stats.max_abs) {
-                stats.max_abs = e;
-                stats.worst = i;
-            }
-            if (e > tolerance)
-                over = 1;
-        }
-        stats.over += (size_t)over;
-        stats.nonfinite += (size_t)nonfinite;
+        const double g[4] = {gpu[i * 4], gpu[i * 4 + 1], gpu[i * 4 + 2], gpu[i * 4 + 3]};
+        row_stats_add(&stats, i, g, &reference[i * 4], NULL, 4, tolerance, 0.0);
     }
     int pass = stats.over == 0 && stats.nonfinite == 0;
-    print_stats(c, row, &stats, tolerance, pass);
+    print_row(c, row, &stats, tolerance_text, pass);
     if (c->verbose || !pass) {
         size_t w = stats.worst;
         fprintf(stderr, "  %s: %d slices, M = %d, %ld draws, %ld pass draws; largest error at pixel (%zu, %zu): gpu "
@@ -314,7 +240,7 @@ static void run_row(slice_context *c, const char *row, const char *scene_text, i
     }
     goto done;
 error:
-    print_error(c, row);
+    print_error_row(c, row);
 done:
     halo_diagnostics_clear(c->diag);
     halo_slice_destroy(host);
@@ -325,52 +251,22 @@ done:
     halo_scene_destroy(scene);
 }
 
-int halo_conform_slice_rows(int size, int verbose, int *failed)
+void conform_slice_row(conform *c, const conform_row *row)
 {
-    slice_context c = {.size = size < 25 ? 25 : size > 512 ? 512 : size, .verbose = verbose, .volume_size = 32};
-    halo_headless *context = NULL;
-    c.diag = halo_diagnostics_create();
-    halo_setup(NULL);
-    c.lib = halo_library_create(c.diag);
-    c.volume = halo_volume_create(c.volume_size);
-    /* the caller's context when one is current, else our own */
-    c.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, NULL);
-    if (!c.runtime || !halo_gl_functions(c.runtime)->GetString(GL_VERSION)) {
-        halo_gl_destroy(c.runtime);
-        c.runtime = NULL;
-        char err[512];
-        context = halo_headless_create(c.size, c.size, err, sizeof err);
-        if (context)
-            c.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, c.diag);
-        else
-            fprintf(stderr, "halo-validate: conform: %s\n", err);
+    /* --stage slice or slab (or any slice@, slab@ row) selects the family */
+    if (c->only && strncmp(c->only, "slice", 5) && strncmp(c->only, "slab", 4))
+        return;
+    const conform_slice_params *params = row->params;
+    const int volume_size = 32;
+    float *volume = halo_volume_create(volume_size);
+    if (!volume) {
+        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        print_error_row(c, row->name);
+        return;
     }
-    static const char *const rows[] = {"slice", "slice@nohalo", "slab", "slab@M4", "slice@half", "slab@quarter"};
-    if (!c.lib || !c.volume || !c.runtime) {
-        for (size_t i = 0; i < sizeof rows / sizeof rows[0]; ++i)
-            print_error(&c, rows[i]);
-    } else {
-        c.gl = halo_gl_functions(c.runtime);
-        const char *halo_reason =
-            "float32 sampling, seeds (|grad f|^alpha amplifies its relative error), image passes and blending "
-            "of ~110 slices against double";
-        run_row(&c, "slice", slice_scene_halos, 0, 0, 1, SLICE_TOLERANCE, halo_reason);
-        run_row(&c, "slice@nohalo", slice_scene_plain, 0, 0, 1, SLICE_NOHALO_TOLERANCE,
-                "float32 trilinear sampling, opacity correction and blending of ~110 slices against double");
-        run_row(&c, "slab", slice_scene_halos, 1, 1, 1, SLICE_TOLERANCE, halo_reason);
-        run_row(&c, "slab@M4", slice_scene_halos, 1, 4, 1, SLICE_TOLERANCE, halo_reason);
-        /* halo images at 1/2 and 1/4 of the frame (halo_link_desc.image_scale): the
-         * max-downsampled seed, the spreading at the low size, the bilinear read */
-        run_row(&c, "slice@half", slice_scene_halos, 0, 0, 2, SLICE_TOLERANCE, halo_reason);
-        run_row(&c, "slab@quarter", slice_scene_halos, 1, 4, 4, SLICE_TOLERANCE, halo_reason);
-    }
-    if (failed)
-        *failed += c.failures;
-    free(c.volume);
-    halo_gl_destroy(c.runtime);
-    halo_headless_destroy(context);
-    halo_library_destroy(c.lib);
-    halo_diagnostics_destroy(c.diag);
-    halo_shutdown();
-    return c.rows;
+    char tolerance_text[32];
+    conform_tolerance_text(row, tolerance_text, sizeof tolerance_text);
+    run_row(c, row->name, params->halos ? slice_scene_halos : slice_scene_plain, params->slab, params->interval,
+            params->scale, row->tolerance_abs, tolerance_text, row->why, volume, volume_size);
+    free(volume);
 }

@@ -3,12 +3,17 @@
 #ifndef HALO_CONFORM_SLICE_H
 #define HALO_CONFORM_SLICE_H
 
-/* Prints the rows slice, slice@nohalo, slab (M = 1) and slab@M4 in halo-validate
- * conform's format (stage max_abs rmse over_tol nonfinite tolerance PASS|FAIL), on a
- * size x size image (25..512). Uses the current OpenGL context when there is one
- * (halo-validate conform's), else creates a headless one. verbose: the worst pixel and
- * the tolerance's reason on stderr. Returns the rows printed; adds the failed ones to
- * *failed (may be NULL). */
-int halo_conform_slice_rows(int size, int verbose, int *failed);
+#include "conform_harness.h"
+
+/* A slice row's set-up: the scene with two halos (else none), the slab ray caster (else
+ * the slice host) at interval M (0: the program's), the halo images at 1/scale. */
+typedef struct conform_slice_params {
+    int halos, slab, interval, scale;
+} conform_slice_params;
+
+/* A whole small render (size x size) against the C emulation of the renderer, within
+ * row->tolerance_abs per channel; verbose: the worst pixel and the reason on stderr.
+ * --stage slice or slab selects every row of the family. */
+void conform_slice_row(conform *c, const conform_row *row);
 
 #endif

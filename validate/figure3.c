@@ -8,6 +8,8 @@
  * equalizes (ratio near 1) where (b) loses small features (ratio << 1). Computed with
  * the C emulation of halo_generate's passes (the conformance rows pass:* tie it to the
  * GPU). Printed by `halo-validate conform` (docs/volumetric-halos.md). */
+#include "figure3.h"
+
 #include "halo.h"
 #include "internal.h"
 #include "emu/emu.h"
@@ -125,7 +127,6 @@ static double ring_mean(const double *img, int f)
 
 /* Computes the four strategies; prints the table to out; ratios[k] = ring(smallest) /
  * ring(largest) for (b), (c), (e), (f). Returns 0, or -1 (diagnostics) on failure. */
-int halo_figure3_run(const halo_library *lib, FILE *out, double ratios[4], halo_diagnostics *diag);
 int halo_figure3_run(const halo_library *lib, FILE *out, double ratios[4], halo_diagnostics *diag)
 {
     int status = -1;
@@ -195,4 +196,24 @@ done:
     halo_scene_destroy(scene);
     free(buffers);
     return status;
+}
+
+void conform_figure3_row(conform *c, const conform_row *row)
+{
+    if (!row_selected(c, row->name, NULL))
+        return;
+    double ratios[4];
+    if (halo_figure3_run(c->lib, stdout, ratios, c->diag) != 0) {
+        print_error_row(c, row->name);
+        return;
+    }
+    /* The paper's claim: spreading the gradient keeps small features' halos (ratio near 1)
+     * where a low-pass of the seeds loses them (ratio << 1). */
+    double spread_gradient = fabs(log(fmax(ratios[3], 1e-300))), lowpass = fabs(log(fmax(ratios[0], 1e-300)));
+    int pass = ratios[3] > 0.0 && spread_gradient < lowpass;
+    char tolerance_text[32];
+    conform_tolerance_text(row, tolerance_text, sizeof tolerance_text);
+    print_plain_row(c, row->name, tolerance_text, pass);
+    printf("  (f)/(b) feature-preservation ratios: %.4f vs %.4f\n", ratios[3], ratios[0]);
+    fflush(stdout);
 }

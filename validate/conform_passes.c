@@ -1,0 +1,184 @@
+/* The pass family: halo_generate's image passes (median, gradient, spreading,
+ * occlusion, several halos, halo images at 1/2 and 1/4 of the frame) on chosen seed
+ * images, drawn through the frame probe by a test stage that writes its colour as the
+ * seeds; the GPU's images against the emulated frame's. */
+#include "conform_passes.h"
+
+#include "halo.h"
+#include "diag.h"
+#include "internal.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A sample stage that writes its colour and opacity as the seeds: the pass rows draw any
+ * seed image through the host and the frame's seed output. */
+static const char conform_seed_module[] =
+    "#pragma halo module conform_seed\n"
+    "#pragma halo summary \"conformance: seeds = (r, g, b, opacity) of the sample\"\n"
+    "#pragma halo hook sample\n"
+    "#pragma halo provides seed channels\n"
+    "#pragma halo output seed max\n"
+    "void apply(inout halo_sample s) { s.seed = halo_channels_from(vec4(s.color, s.opacity)); }\n";
+
+enum { SEED_EMPTY, SEED_FULL, SEED_PIXEL, SEED_BORDER, SEED_DISCS, SEED_NOISE, SEED_CASES };
+static const char *const seed_case_names[SEED_CASES] = {"empty", "full", "single pixel", "border", "discs", "noise"};
+
+/* Seed image case `which` for one channel, as floats (what the GPU's seed image holds). */
+static double seed_case(int which, int x, int y, int size)
+{
+    int c0 = size / 2;
+    switch (which) {
+    case SEED_EMPTY: return 0.0;
+    case SEED_FULL: return 1.0;
+    case SEED_PIXEL: return x == c0 && y == c0 ? 1.0 : 0.0;
+    case SEED_BORDER: {
+        int last = size - 1;
+        if ((x == 0 || x == last) && (y == 0 || y == last)) return 1.0;
+        if (x == 0 && y % 3 == 0) return 1.0;
+        if (x == last && y % 4 == 1) return 0.75;
+        if (y == 0 && x % 5 == 2) return 1.0;
+        if (y == last && x % 2 == 0) return 0.5;
+        return 0.0;
+    }
+    case SEED_DISCS: {
+        static const double discs[][4] = {{0.25, 0.3, 1, 0.7}, {0.6, 0.35, 3, 1.0}, {0.35, 0.7, 6, 0.35}, {0.8, 0.8, 2, 1.0}};
+        for (size_t d = 0; d < sizeof discs / sizeof discs[0]; ++d) {
+            double dx = x - discs[d][0] * size, dy = y - discs[d][1] * size;
+            if (dx * dx + dy * dy <= discs[d][2] * discs[d][2]) return discs[d][3];
+        }
+        return 0.0;
+    }
+    default: {
+        uint64_t z = (uint64_t)(y * size + x) * 0x9e3779b97f4a7c15ull + 0x1234567ull;
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        z ^= z >> 31;
+        double u = (double)(z >> 11) / 9007199254740992.0;
+        return u < 0.3 ? 0.0 : (float)u;
+    }
+    }
+}
+
+
+static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
+{
+    const conform_pass_params *r = row->params;
+    char json[512], tolerance_text[32];
+    snprintf(json, sizeof json, "{\"halo_scene\": 1, \"stages\": [\"conform_seed\", {\"halo_generate\": %s}]}",
+             r->generate);
+    conform_tolerance_text(row, tolerance_text, sizeof tolerance_text);
+    halo_scene *scene = halo_scene_parse(json, "(conformance pass scene)", lib, c->diag);
+    halo_program *program = NULL;
+    halo_gl_frame *gframe = NULL;
+    halo_emu_frame *eframe = NULL;
+    frame_probe fp = {0};
+    size_t count = (size_t)c->size * (size_t)c->size;
+    halo_emu_sample *samples = calloc(count, sizeof *samples);
+    float *image = malloc(count * 4 * sizeof *image);
+    if (!scene || !samples || !image)
+        goto error;
+    program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = c->probe_source,
+                                          .host_file = "probe.frag", .image_scale = r->scale},
+                        c->diag);
+    if (!program || halo_diagnostics_errors(c->diag) > 0)
+        goto error;
+    int channels = halo_program_channel_count(program);
+    gframe = halo_gl_frame_create(c->runtime, program, c->size, c->size, c->diag);
+    eframe = halo_emu_frame_create(program, c->size, c->size, c->diag);
+    if (!gframe || !eframe || !frame_probe_init(c, program, &fp))
+        goto error;
+    row_stats stats = {0};
+    int worst_case = -1;
+    for (int which = 0; which < SEED_CASES; ++which) {
+        halo_gl_frame_begin(gframe);
+        halo_emu_frame_begin(eframe);
+        for (int g = 0; g < r->generations; ++g) {
+            int base = (which + g) % SEED_CASES;
+            double *seed = halo_emu_frame_image(eframe, "seed");
+            for (int y = 0; y < c->size; ++y)
+                for (int x = 0; x < c->size; ++x) {
+                    size_t i = (size_t)y * (size_t)c->size + (size_t)x;
+                    halo_emu_sample *s = &samples[i];
+                    memset(s, 0, sizeof *s);
+                    double v[4] = {0, 0, 0, 0};
+                    for (int h = 0; h < channels; ++h)
+                        v[h] = seed_case((base + h) % SEED_CASES, x, y, c->size);
+                    s->color[0] = v[0], s->color[1] = v[1], s->color[2] = v[2], s->opacity = v[3];
+                    s->view[2] = 1.0;
+                    for (int h = 0; h < channels; ++h)
+                        seed[i * (size_t)channels + (size_t)h] = v[h];
+                }
+            if (frame_probe_draw(c, &fp, program, gframe, samples, NULL) != HALO_OK)
+                goto error;
+            halo_gl_frame_generate(gframe);
+            if (halo_emu_frame_generate(eframe, c->diag) != HALO_OK)
+                goto error;
+        }
+        for (int k = 0; k < 3 && r->compare[k]; ++k) {
+            if (halo_gl_frame_read(gframe, r->compare[k], image) != HALO_OK)
+                goto error;
+            const double *e = halo_emu_frame_image(eframe, r->compare[k]);
+            int scale = 1;
+            for (size_t m = 0; m < halo_program_image_count(program); ++m)
+                if (!strcmp(halo_program_image(program, m)->name, r->compare[k]))
+                    scale = halo_program_image(program, m)->scale;
+            size_t side = (size_t)((c->size + scale - 1) / scale), compared = side * side;
+            for (size_t i = 0; i < compared; ++i) {
+                int over = 0, nonfinite = 0;
+                for (int h = 0; h < channels; ++h) {
+                    double gv = image[i * (size_t)channels + (size_t)h], ev = e[i * (size_t)channels + (size_t)h];
+                    if (!isfinite(gv)) {
+                        nonfinite = 1;
+                        continue;
+                    }
+                    double error = fabs(gv - ev);
+                    stats.sum_squares += error * error;
+                    stats.values++;
+                    if (error > stats.max_abs)
+                        stats.max_abs = error, stats.worst = i, worst_case = which;
+                    if (error > row->tolerance_abs)
+                        over = 1;
+                }
+                stats.over += (size_t)over;
+                stats.nonfinite += (size_t)nonfinite;
+            }
+        }
+    }
+    int pass = stats.over == 0 && stats.nonfinite == 0;
+    print_row(c, row->name, &stats, tolerance_text, pass);
+    if ((c->verbose || !pass) && worst_case >= 0)
+        fprintf(stderr, "  largest error at texel %zu (row-major in its image) of seed case '%s'; tolerance: %s\n",
+                stats.worst, seed_case_names[worst_case], row->why);
+    goto done;
+error:
+    print_error_row(c, row->name);
+done:
+    halo_diagnostics_clear(c->diag);
+    frame_probe_release(&fp);
+    halo_gl_frame_destroy(gframe);
+    halo_emu_frame_destroy(eframe);
+    free(samples);
+    free(image);
+    halo_program_destroy(program);
+    halo_scene_destroy(scene);
+}
+
+
+/* The test module lives in a library of its own, so that it gets no stage row. */
+void conform_pass_row(conform *c, const conform_row *row)
+{
+    if (!row_selected(c, row->name, NULL))
+        return;
+    halo_library *lib = halo_library_create(c->diag);
+    if (!lib || halo_library_add_source(lib, "(conformance seed module)", conform_seed_module, c->diag) != HALO_OK) {
+        print_error_row(c, row->name);
+        halo_library_destroy(lib);
+        return;
+    }
+    run_pass_row(c, lib, row);
+    halo_library_destroy(lib);
+}
