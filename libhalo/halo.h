@@ -88,6 +88,7 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(GL_PROC_MISSING, "OpenGL entry point not found")                                     \
     X(GL_COMPILE, "driver rejected the shader")                                            \
     X(GL_LINK, "driver rejected the program")                                              \
+    X(HOST_COMPOSITING, "the scene's stages mean nothing under the host's compositing (MIP)")          \
     X(HOST_SINGLE_PASS, "the scene needs image passes between slices, which this host cannot run") \
     X(USAGE, "invalid argument")
 

@@ -94,9 +94,10 @@ typedef struct host_info {
     char *volume, *gradient; /* #pragma halo volume NAME / gradient NAME (owned) */
     int volume_line;
     halo_host_scan scan; /* comments, #if branches, #line and macros of the host */
+    int compositing_mip; /* #pragma halo compositing mip: the line; the host composites no samples */
 } host_info;
 
-/* `#pragma halo volume NAME`, `gradient NAME` or `slices`: 1 if the line is one of them
+/* `#pragma halo volume NAME`, `gradient NAME`, `slices` or `compositing mip`: 1 if the line is one of them
  * (stored in h), 0 if it is another annotation, -1 if it is one of them but malformed. */
 static int host_annotation(const char *line, int number, host_info *h) {
     const char *d = line + halo_annotation_start(line) - 1;
@@ -108,6 +109,11 @@ static int host_annotation(const char *line, int number, host_info *h) {
     if (word == 6 && !strncmp(d, "slices", 6)) {
         if (*arg) return -1;
         h->slices = number;
+        return 1;
+    }
+    if (word == 11 && !strncmp(d, "compositing", 11)) {
+        if (n != 3 || strncmp(arg, "mip", 3) || rest) return -1;
+        h->compositing_mip = number;
         return 1;
     }
     char **slot = word == 6 && !strncmp(d, "volume", 6) ? &h->volume
@@ -187,7 +193,7 @@ static int report_inactive_markers(const host_info *h, const char *file, char **
 static int check_host(const char *file, const char *source, char **lines, int count, host_info *h,
                       halo_target target, halo_diagnostics *diag) {
     int errors = 0;
-    h->version_line = h->marker_line = h->slices = h->volume_line = 0;
+    h->version_line = h->marker_line = h->slices = h->volume_line = h->compositing_mip = 0;
     h->volume = h->gradient = NULL;
     halo_token_list toks;
     if (halo_lex(source, &toks)) {
@@ -226,9 +232,10 @@ static int check_host(const char *file, const char *source, char **lines, int co
             int known = host_annotation(h->scan.code_lines[i], i + 1, h);
             if (known == 1) continue;
             host_diag(h, diag, known ? HALO_MSG_ANNOTATION_SYNTAX : HALO_MSG_ANNOTATION_UNKNOWN, file, lines, i + 1,
-                      col, known ? "'#pragma halo volume' and 'gradient' take one sampler name; 'slices' takes none"
+                      col, known ? "'#pragma halo volume' and 'gradient' take one sampler name; 'slices' takes none; "
+                                   "'compositing' takes 'mip'"
                                  : "a host shader takes only '#pragma halo declarations', 'volume NAME', "
-                                   "'gradient NAME' and 'slices' (docs/host-contract.md)");
+                                   "'gradient NAME', 'slices' and 'compositing mip' (docs/host-contract.md)");
             errors++;
         }
     }
@@ -1151,7 +1158,6 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     emit_module_lines(&e, m, 1, m->line_count, 1);
     GEN(&e, "void main() {\n    halo_pass_output = halo_pass_vec4(halo_%s_%s(ivec2(gl_FragCoord.xy)));\n}",
         m->name, pd->entry);
-    emit_text(&e, p, halo_segment_emit_tail);
     if (e.failed || e.text.failed) {
         halo_strbuf_free(&e.text);
         free(e.origins);
@@ -1259,6 +1265,19 @@ static int plan_segments(halo_program *p, const halo_link_desc *desc, const host
     p->v2_host = segmenting || h->volume || h->gradient || halo_host_uses(host, "halo_view_at") ||
                  halo_host_uses(host, "halo_depth_at");
     int generation = halo_program_has_generation_passes(p);
+    if (h->compositing_mip && p->stage_count) {
+        /* a MIP host composites no samples: every stage would be silently meaningless */
+        halo_strbuf names = {0};
+        for (size_t s = 0; s < p->stage_count; s++)
+            halo_strbuf_printf(&names, "%s%s", names.len ? ", " : "", p->stages[s].module->name);
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_COMPOSITING, p->host_file, h->compositing_mip, 1,
+                      p->host_lines[h->compositing_mip - 1],
+                      "the stages %s act on the samples a host composites, but this host declares maximum intensity "
+                      "projection ('#pragma halo compositing mip'): link it with no stage, or use a compositing mode",
+                      names.data ? names.data : "?");
+        halo_strbuf_free(&names);
+        return 1;
+    }
     if (desc->force_segments && !segmenting) {
         halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_SINGLE_PASS, p->host_file, 1, 1, p->host_lines[0],
                       "force_segments: the host never calls halo_segment_begin (docs/host-contract.md, "

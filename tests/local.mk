@@ -234,3 +234,14 @@ EXTRA_DIST += tests/segments/render_cli.sh
 # checks the names make builds, so it does not depend on the order the tests run in ----
 AM_TESTS_ENVIRONMENT += HALO_BUILD_OUTPUTS='$(bin_PROGRAMS) $(check_PROGRAMS) $(BUILT_SOURCES) \
 	$(lib_LTLIBRARIES) $(noinst_LTLIBRARIES) $(CLEANFILES)'; export HALO_BUILD_OUTPUTS;
+
+# ---- The example hosts in the styles of the wild (host contract 2, examples/hosts/): link
+# and validate per target, volumetric halos, outlines and feature halos through each, K
+# forced segments against one draw, the exit-point caster against the ray caster, and the
+# MIP variant's refusal of stages (HOST_COMPOSITING) ----
+check_PROGRAMS += tests/hosts/test_hosts
+tests_hosts_test_hosts_SOURCES = tests/hosts/test_hosts.c
+tests_hosts_test_hosts_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/libhalo
+nodist_EXTRA_tests_hosts_test_hosts_SOURCES = build-aux/force-cxx-link.cc
+tests_hosts_test_hosts_LDADD = $(HALO_TOOL_LIBS)
+TESTS += tests/hosts/test_hosts

@@ -198,6 +198,8 @@ struct halo_raycast {
     halo_gl_frame *frame; /* a program with images, outputs or segments (host contract 2) */
     int interval, segments;
     int orthographic;
+    float jitter; /* the uniform `jitter` of hosts that jitter their first sample */
+    GLuint exit_program, exit_texture, exit_framebuffer; /* halo_raycast_set_exit_points */
 };
 
 /* The proxy geometry: one full-screen triangle (halo_gl_segments_desc.draw). */
@@ -246,6 +248,9 @@ void halo_raycast_destroy(halo_raycast *r)
     if (f) {
         f->DeleteTextures(1, &r->volume_texture);
         f->DeleteTextures(1, &r->transfer_texture);
+        f->DeleteProgram(r->exit_program);
+        f->DeleteTextures(1, &r->exit_texture);
+        f->DeleteFramebuffers(1, &r->exit_framebuffer);
     }
     host_target_release(&r->target);
     free(r);
@@ -316,6 +321,58 @@ void halo_raycast_set_segments(halo_raycast *r, int interval, int segments)
     }
 }
 
+void halo_raycast_set_jitter(halo_raycast *r, float jitter)
+{
+    if (r)
+        r->jitter = jitter;
+}
+
+halo_status halo_raycast_set_exit_points(halo_raycast *r, halo_diagnostics *diag)
+{
+    if (!r)
+        return HALO_ERROR_INPUT;
+    const halo_glfuncs *f = r->target.f;
+    if (!r->exit_program) {
+        r->exit_program = halo_host_link_raw(f, halo_host_embedded("exit_points.vert"), "exit_points.vert",
+                                             halo_host_embedded("exit_points.frag"), "exit_points.frag",
+                                             HALO_HOST_LOG_LINES, diag);
+        if (!r->exit_program)
+            return HALO_ERROR_IO;
+        f->GenTextures(1, &r->exit_texture);
+        halo_host_image_texture(f, r->exit_texture, GL_RGBA32F, r->target.width, r->target.height, GL_RGBA, GL_FLOAT);
+        f->BindTexture(GL_TEXTURE_2D, 0);
+        if (!halo_host_framebuffer(f, &r->exit_framebuffer, r->exit_texture, r->target.width, r->target.height, diag))
+            return HALO_ERROR_IO;
+    }
+    return HALO_OK;
+}
+
+/* The first pass of a two-pass caster: the box's back faces into the exit-point
+ * texture, which is left bound to unit 2. */
+static void draw_exit_points(halo_raycast *r)
+{
+    const halo_glfuncs *f = r->target.f;
+    double inverse[16], view_projection[16];
+    float matrix[16];
+    for (int i = 0; i < 16; ++i)
+        inverse[i] = r->inverse_view_projection[i];
+    halo_host_matrix_invert(inverse, view_projection);
+    for (int i = 0; i < 16; ++i)
+        matrix[i] = (float)view_projection[i];
+    f->BindFramebuffer(GL_FRAMEBUFFER, r->exit_framebuffer);
+    f->Viewport(0, 0, r->target.width, r->target.height);
+    f->ClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+    f->Clear(GL_COLOR_BUFFER_BIT);
+    f->Enable(GL_CULL_FACE); /* the default GL_BACK: the shader's triangles face inwards */
+    f->UseProgram(r->exit_program);
+    f->UniformMatrix4fv(f->GetUniformLocation(r->exit_program, "view_projection"), 1, GL_FALSE, matrix);
+    f->BindVertexArray(r->target.vertex_array);
+    f->DrawArrays(GL_TRIANGLES, 0, 36);
+    f->Disable(GL_CULL_FACE);
+    f->ActiveTexture(GL_TEXTURE2);
+    f->BindTexture(GL_TEXTURE_2D, r->exit_texture);
+}
+
 void halo_raycast_get_state(const halo_raycast *r, halo_raycast_state *s)
 {
     memset(s, 0, sizeof *s);
@@ -353,6 +410,8 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
     halo_raycast_get_state(r, &s);
     const halo_glfuncs *f = r->target.f;
     GLuint program = r->target.program;
+    if (r->exit_program)
+        draw_exit_points(r);
     host_target_begin(&r->target);
     f->ActiveTexture(GL_TEXTURE0);
     f->BindTexture(GL_TEXTURE_3D, r->volume_texture);
@@ -368,18 +427,20 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
     f->Uniform1f(f->GetUniformLocation(program, "step_size"), (float)s.step_size);
     f->Uniform1f(f->GetUniformLocation(program, "unit_step"), (float)s.unit_step);
     f->Uniform3fv(f->GetUniformLocation(program, "background"), 1, r->background);
-    halo_status status;
+    f->Uniform1f(f->GetUniformLocation(program, "jitter"), r->jitter);
+    f->Uniform1i(f->GetUniformLocation(program, "exit_points"), 2);
+    halo_status status = HALO_OK;
+    halo_gl_segments_desc segments = {.inverse_view_projection = r->inverse_view_projection,
+                                      .step = (float)s.step_size,
+                                      .interval = r->interval,
+                                      .segments = r->segments,
+                                      .framebuffer = r->target.framebuffer,
+                                      .draw = draw_proxy,
+                                      .user = r};
     if (r->frame) {
         /* host contract 2: libhalo draws the proxy, once or once per depth segment */
         halo_gl_set_host_uniform(r->target.runtime, program, "screen_right", r->screen_right, 3);
         halo_gl_set_host_uniform(r->target.runtime, program, "screen_up", r->screen_up, 3);
-        halo_gl_segments_desc segments = {.inverse_view_projection = r->inverse_view_projection,
-                                          .step = (float)s.step_size,
-                                          .interval = r->interval,
-                                          .segments = r->segments,
-                                          .framebuffer = r->target.framebuffer,
-                                          .draw = draw_proxy,
-                                          .user = r};
         status = halo_gl_frame_draw(r->frame, program, &segments, diag);
         if (status == HALO_OK)
             status = host_target_read(&r->target, rgba, diag);
@@ -387,8 +448,14 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
             status = halo_host_post_passes(r->frame, r->target.linked, r->target.color_texture, r->target.width,
                                            r->target.height, rgba, diag);
     } else {
-        status = host_target_draw(&r->target, rgba, diag);
+        /* the camera of halo_view_at and halo_depth_at (a v2 host drawn once) */
+        if (r->target.linked)
+            status = halo_gl_set_camera(r->target.runtime, program, &segments, diag);
+        if (status == HALO_OK)
+            status = host_target_draw(&r->target, rgba, diag);
     }
+    f->ActiveTexture(GL_TEXTURE2);
+    f->BindTexture(GL_TEXTURE_2D, 0);
     f->ActiveTexture(GL_TEXTURE1);
     f->BindTexture(GL_TEXTURE_2D, 0);
     f->ActiveTexture(GL_TEXTURE0);

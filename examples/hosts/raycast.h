@@ -92,6 +92,12 @@ halo_gl_frame *halo_raycast_frame(const halo_raycast *r);
 void halo_raycast_set_segments(halo_raycast *r, int interval, int segments);
 /* An orthographic camera for the next halo_raycast_set_camera (default: perspective). */
 void halo_raycast_set_orthographic(halo_raycast *r, int orthographic);
+/* The uniform `jitter` of a host that jitters its first sample (webgl_caster.frag; default 0). */
+void halo_raycast_set_jitter(halo_raycast *r, float jitter);
+/* Two-pass hosts (exit_point_caster.frag): from now on each render first draws the
+ * volume box's back faces into a texture of texture-space exit points, bound to unit 2
+ * as the uniform `exit_points` (xyz, a = 1 where the box covers the pixel). */
+halo_status halo_raycast_set_exit_points(halo_raycast *r, halo_diagnostics *diag);
 unsigned halo_raycast_gl_program(const halo_raycast *r);
 
 /* ---- The conformance probe ----------------------------------------------------- */

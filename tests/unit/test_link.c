@@ -913,6 +913,70 @@ static const char *const user_modules[][2] = {
                              "}\n"},
 };
 
+/* Host contract 2: a host that declares `#pragma halo compositing mip` composites no
+ * samples, so any stage is refused at the pragma (HOST_COMPOSITING); with none it links.
+ * A host whose gradient is derived from its sampler (`#pragma halo volume`) links with
+ * image passes: the pass programs do not get the derived gradient's body (they have no
+ * host sampler). */
+static int test_compositing_mip(void) {
+    static const char mip[] = "#version 330 core\n"
+                              "#pragma halo declarations\n"
+                              "#pragma halo compositing mip\n"
+                              "out vec4 c;\n"
+                              "void main() { c = vec4(1.0);\n"
+                              "#ifdef HALO_LINKED\n"
+                              "    halo_finish();\n"
+                              "#endif\n"
+                              "}\n";
+    halo_scene *scene = scene_of("{\"stages\": [\"boundary\", \"silhouette\"]}");
+    halo_program *p = link_with(scene, mip, HALO_TARGET_DEFAULT, 0);
+    halo_scene_destroy(scene);
+    CHECK(p == NULL);
+    const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_HOST_COMPOSITING, 3);
+    CHECK(g != NULL);
+    CHECK(strstr(g->text, "boundary") && strstr(g->text, "silhouette"));
+    scene = scene_of("{\"stages\": []}");
+    p = link_with(scene, mip, HALO_TARGET_DEFAULT, 0);
+    halo_scene_destroy(scene);
+    CHECK(p != NULL && halo_program_validate(p, diags) == HALO_OK);
+    halo_program_destroy(p);
+    if (check_host_error("#version 330 core\n#pragma halo declarations\n#pragma halo compositing max\n"
+                         "out vec4 c;\nvoid main() { c = vec4(1.0); }\n",
+                         HALO_MSG_ANNOTATION_SYNTAX, 3, 0))
+        return 1;
+    static const char volume_host[] =
+        "#version 330 core\n"
+        "#pragma halo declarations\n"
+        "#pragma halo volume volume_texture\n"
+        "uniform sampler3D volume_texture;\n"
+        "in vec3 P;\n"
+        "layout(location = 0) out vec4 c;\n"
+        "void main() {\n"
+        "    vec4 a = vec4(0.0);\n"
+        "    int first = 0, end = 8;\n"
+        "    halo_segment_begin(P, vec3(0.0, 0.0, 1.0), 0.0, 0.1, first, end, a);\n"
+        "    for (int i = first; i < end; ++i) {\n"
+        "        halo_sample s = halo_make_sample(P, texture(volume_texture, P).r, vec3(1.0), 0.1);\n"
+        "        halo_apply(s);\n"
+        "        a += (1.0 - a.a) * vec4(s.color * s.opacity, s.opacity);\n"
+        "    }\n"
+        "    halo_segment_end(a, false);\n"
+        "    halo_finish();\n"
+        "    c = a;\n"
+        "}\n";
+    scene = scene_of("{\"stages\": [\"halo_seed\", \"halo_generate\", \"halo_map\"]}");
+    p = link_with(scene, volume_host, HALO_TARGET_DEFAULT, 0);
+    halo_scene_destroy(scene);
+    if (!p || halo_program_validate(p, diags) != HALO_OK) {
+        check_print_diags(diags);
+        halo_program_destroy(p);
+        CHECK_FAIL_AT("a '#pragma halo volume' host with image passes does not link and validate");
+    }
+    CHECK(halo_program_segment_location(p) > 0);
+    halo_program_destroy(p);
+    return 0;
+}
+
 int main(void) {
     SETUP(halo_setup(&(halo_setup_desc){0}) == HALO_OK);
     diags = halo_diagnostics_create();
@@ -942,6 +1006,7 @@ int main(void) {
     RUN_TEST(test_hook_mismatch);
     RUN_TEST(test_image_scale);
     RUN_TEST(test_feature_groups);
+    RUN_TEST(test_compositing_mip);
     halo_library_destroy(library);
     halo_diagnostics_destroy(diags);
     halo_shutdown();
