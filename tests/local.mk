@@ -8,7 +8,8 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_scene \
 	tests/unit/test_scene_counts \
 	tests/unit/test_link \
-	tests/unit/test_emu
+	tests/unit/test_emu \
+	tests/unit/test_input_classes
 check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
 noinst_HEADERS += tests/unit/check.h
 
@@ -40,6 +41,11 @@ tests_unit_test_emu_SOURCES = tests/unit/test_emu.c
 tests_unit_test_emu_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
 nodist_EXTRA_tests_unit_test_emu_SOURCES = build-aux/force-cxx-link.cc
 tests_unit_test_emu_LDADD = $(HALO_TEST_CORE_LIBS)
+
+tests_unit_test_input_classes_SOURCES = tests/unit/test_input_classes.c
+tests_unit_test_input_classes_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_input_classes_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_input_classes_LDADD = $(HALO_TEST_CORE_LIBS)
 
 # The public API only, through the installed-style shared library.
 tests_unit_test_public_SOURCES = tests/unit/test_public.c

