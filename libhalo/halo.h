@@ -56,6 +56,7 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(PARAM_TYPE_UNKNOWN, "unknown parameter type")                                        \
     X(PARAM_DEFAULT_INVALID, "parameter default does not match its type or range")        \
     X(PARAM_DUPLICATE, "parameter declared twice")                                         \
+    X(INPUT_NUL_BYTE, "the file contains a NUL byte")                                      \
     X(SCENE_JSON, "scene is not valid JSON")                                               \
     X(SCENE_KEY_UNKNOWN, "unknown key")                                                    \
     X(SCENE_TYPE, "value has the wrong type")                                              \

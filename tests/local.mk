@@ -70,7 +70,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/bad_json.sh \
 	tests/cli/out_of_range.sh \
 	tests/cli/nonfinite.sh \
-	tests/cli/usage.sh
+	tests/cli/usage.sh \
+	tests/cli/nul_byte.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh

@@ -62,11 +62,13 @@ static const char *extension(const char *path) {
     return dot ? dot + 1 : "";
 }
 
-static char *read_text(const char *path, halo_diagnostics *d) {
+/* Reads a shader. NULL with *status EXIT_USAGE when the file cannot be read, or
+ * EXIT_INPUT when it is no text (a NUL byte: an error in the input, at its place). */
+static char *read_text(const char *path, int *status) {
+    *status = EXIT_USAGE;
     FILE *f = fopen(path, "rb");
     if (!f) {
         fprintf(stderr, "%s: error: cannot read: %s\n", path, strerror(errno));
-        (void)d;
         return NULL;
     }
     size_t cap = 65536, len = 0;
@@ -87,11 +89,19 @@ static char *read_text(const char *path, halo_diagnostics *d) {
         return NULL;
     }
     buf[len] = '\0';
-    if (strlen(buf) != len) {
-        fprintf(stderr, "%s: error: the file contains a NUL byte; not a text shader\n", path);
+    const char *nul = memchr(buf, '\0', len);
+    if (nul) {
+        int line = 1, column = 1;
+        for (const char *p = buf; p < nul; p++) {
+            if (*p == '\n') { line++; column = 1; }
+            else column++;
+        }
+        fprintf(stderr, "%s:%d:%d: error: the file contains a NUL byte; not a text shader\n", path, line, column);
         free(buf);
+        *status = EXIT_INPUT;
         return NULL;
     }
+    *status = 0;
     return buf;
 }
 
@@ -162,9 +172,10 @@ static int cmd_check(int argc, char **argv) {
                 }
             }
         } else if (!strcmp(ext, "frag") || !strcmp(ext, "vert")) {
-            char *text = read_text(path, d);
+            int read_status;
+            char *text = read_text(path, &read_status);
             if (!text) {
-                file_status = EXIT_USAGE;
+                file_status = read_status;
             } else {
                 for (int t = 0; t < ntargets; t++) {
                     if (halo_validate_shader(text, path, !strcmp(ext, "vert") ? HALO_SHADER_VERTEX
@@ -238,11 +249,8 @@ static int cmd_link(int argc, char **argv) {
     if (!lib || halo_diagnostics_errors(d)) goto done;
     scene = scene_path ? halo_scene_load(scene_path, lib, d) : halo_scene_create(lib);
     if (!scene) goto done;
-    host = read_text(host_path, d);
-    if (!host) {
-        status = EXIT_USAGE;
-        goto done;
-    }
+    host = read_text(host_path, &status);
+    if (!host) goto done;
     const char *ext = extension(host_path);
     p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host, .host_file = host_path,
                                     .target = target,

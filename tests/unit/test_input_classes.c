@@ -3,6 +3,7 @@
  * UTF-8 byte-order marks, and the cap on the number of diagnostics. Each test
  * asserts on message ids and positions, never on wording. No GL; glslang is not
  * needed either. */
+#define _DEFAULT_SOURCE /* mkstemps */
 #include "check.h"
 
 #include <limits.h>
@@ -105,6 +106,46 @@ static int test_scene_value_beyond_type_range(void) {
     return 0;
 }
 
+/* ---- NUL bytes ---- */
+
+/* Writes len bytes to a new temporary file; its path in path (PATH_MAX). */
+static int write_temp(char *path, const char *suffix, const char *bytes, size_t len) {
+    snprintf(path, 4096, "%s/halo-test-XXXXXX%s", getenv("TMPDIR") && *getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp",
+             suffix);
+    int fd = mkstemps(path, (int)strlen(suffix));
+    if (fd < 0) return 0;
+    int ok = write(fd, bytes, len) == (ssize_t)len;
+    close(fd);
+    return ok;
+}
+
+/* A NUL byte in a module file is an input error at its line and column, not a
+ * module silently cut short there. */
+static int test_module_nul_byte(void) {
+    static const char text[] = "#pragma halo module cut_short\n"
+                               "#pragma halo hook sample\n"
+                               "void apply(inout halo_sample s) {}\n"
+                               "// after this: \0 #pragma halo param k float default=1\n";
+    char path[4096];
+    SETUP(write_temp(path, ".glsl", text, sizeof text - 1));
+    halo_diagnostics_clear(diags);
+    halo_status st = halo_library_add_file(library, path, diags);
+    halo_status st2 = halo_library_override_file(library, path, diags);
+    unlink(path);
+    CHECK_INT_EQ(st, HALO_ERROR_INPUT);
+    CHECK_INT_EQ(st2, HALO_ERROR_INPUT);
+    CHECK(halo_library_find(library, "cut_short") == NULL);
+    const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_INPUT_NUL_BYTE, 4);
+    if (!g) {
+        check_print_diags(diags);
+        CHECK_FAIL_AT("no INPUT_NUL_BYTE at line 4");
+    }
+    CHECK_STR_EQ(g->file, path);
+    CHECK_INT_EQ(g->column, 16);
+    CHECK_INT_EQ(g->severity, HALO_SEVERITY_ERROR);
+    return 0;
+}
+
 int main(void) {
     diags = halo_diagnostics_create();
     SETUP(diags);
@@ -115,6 +156,7 @@ int main(void) {
     }
     RUN_TEST(test_param_beyond_type_range);
     RUN_TEST(test_scene_value_beyond_type_range);
+    RUN_TEST(test_module_nul_byte);
     halo_library_destroy(library);
     halo_diagnostics_destroy(diags);
     return check_exit_status();
