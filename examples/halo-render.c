@@ -15,6 +15,7 @@
 #include "hosts/slab.h"
 #include "hosts/slice.h"
 #include "image_write.h"
+#include "json_file.h"
 #include "volume.h"
 #include "volume_io.h"
 
@@ -569,7 +570,7 @@ static size_t find_halo_stages(const halo_library *lib, const halo_scene *scene,
 static int scene_sets_window(const char *scene_path, const char *scene_text)
 {
     json_error_t error;
-    json_t *root = scene_path ? json_load_file(scene_path, 0, &error) : json_loads(scene_text, 0, &error);
+    json_t *root = scene_path ? halo_json_load_file(scene_path, 0, &error) : json_loads(scene_text, 0, &error);
     json_t *render = root ? json_object_get(root, "render") : NULL;
     int has = render && json_object_get(render, "window") != NULL;
     json_decref(root);
@@ -783,7 +784,7 @@ static int disable_halo_stages(halo_scene *scene, const int *is_halo, halo_diagn
 static char *budget_scene_text(const options *o, const char *scene_text)
 {
     json_error_t error;
-    json_t *root = o->scene_path ? json_load_file(o->scene_path, 0, &error) : json_loads(scene_text, 0, &error);
+    json_t *root = o->scene_path ? halo_json_load_file(o->scene_path, 0, &error) : json_loads(scene_text, 0, &error);
     if (!root || !json_is_object(root)) {
         json_decref(root);
         return NULL;

@@ -19,6 +19,7 @@
 #include "hosts/raycast.h"
 #include "hosts/slice.h"
 #include "image_write.h"
+#include "json_file.h"
 #include "volume.h"
 #include "volume_io.h"
 
@@ -646,7 +647,7 @@ static int load_scene(viewer *v, const char *path, int keep_camera)
         return halo_diagnostics_has(v->diag, HALO_MSG_IO_READ) ? 2 : 1;
     }
     json_error_t json_error;
-    json_t *root = path ? json_load_file(path, 0, &json_error) : json_loads(text, 0, &json_error);
+    json_t *root = path ? halo_json_load_file(path, 0, &json_error) : json_loads(text, 0, &json_error);
     if (!root) { /* changed between the two reads: the next poll reads it again */
         halo_scene_destroy(scene);
         set_error(v, "%s: %s", path ? base_name(path) : "scene", json_error.text);

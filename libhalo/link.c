@@ -1167,14 +1167,16 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
     p->target = desc->target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : desc->target;
     p->kind = desc->kind;
     p->host_file = halo_strdup(desc->host_file ? desc->host_file : "host");
-    p->host_storage = halo_strdup(desc->host_source);
+    /* a UTF-8 byte-order mark is no part of the shader */
+    const char *host_source = halo_skip_bom(desc->host_source);
+    p->host_storage = halo_strdup(host_source);
     if (!p->host_file || !p->host_storage) goto oom;
     int host_count = halo_split_lines(p->host_storage, &p->host_lines);
     if (host_count < 0) goto oom;
 
     /* 1. The host keeps the contract. */
     host_info h;
-    int errors = check_host(p->host_file, desc->host_source, p->host_lines, host_count, &h, diag);
+    int errors = check_host(p->host_file, host_source, p->host_lines, host_count, &h, diag);
     /* 2. Stages, their dependencies and their order. */
     node *order = NULL;
     int n = 0;
@@ -1219,14 +1221,14 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
         return NULL;
     }
     set_channel_count(p);
-    if (collect_resources(p, desc->host_source, diag)) {
+    if (collect_resources(p, host_source, diag)) {
         halo_program_destroy(p);
         return NULL;
     }
     set_image_scales(p);
     if (p->group_count > 1) load_group(p, 0);
     /* 5. Emit. */
-    if (emit_program(p, desc->host_source, p->host_lines, host_count, &h, desc->library)) goto oom;
+    if (emit_program(p, host_source, p->host_lines, host_count, &h, desc->library)) goto oom;
     int passes = build_passes(p, desc->library, diag);
     if (passes == -2) {
         halo_program_destroy(p);

@@ -700,6 +700,7 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
     halo_module *m = calloc(1, sizeof *m);
     if (!m) return NULL;
     parse_ctx ctx = {m, diag, 0};
+    source = halo_skip_bom(source); /* a UTF-8 byte-order mark is no part of the module */
     m->file = halo_strdup(file);
     m->source = halo_strdup(source);
     m->line_storage = halo_strdup(source);

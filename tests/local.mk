@@ -71,7 +71,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/out_of_range.sh \
 	tests/cli/nonfinite.sh \
 	tests/cli/usage.sh \
-	tests/cli/nul_byte.sh
+	tests/cli/nul_byte.sh \
+	tests/cli/bom.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
