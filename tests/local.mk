@@ -72,7 +72,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/nonfinite.sh \
 	tests/cli/usage.sh \
 	tests/cli/nul_byte.sh \
-	tests/cli/bom.sh
+	tests/cli/bom.sh \
+	tests/cli/error_limit.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh

@@ -6,6 +6,7 @@
 #include "halo.h"
 
 #include <errno.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,9 +18,11 @@ static const char usage_text[] =
     "usage: halo-validate COMMAND [OPTIONS]\n"
     "\n"
     "commands:\n"
-    "  check [--target T] FILE...     validate modules (.glsl) and shaders (.frag, .vert)\n"
+    "  check [--target T] [--error-limit N] FILE...\n"
+    "                                 validate modules (.glsl) and shaders (.frag, .vert)\n"
     "                                 for each target (default: 330, 450 and es300)\n"
     "  link --scene S --host H [--target T] [--module FILE]... [-o OUT] [--reflect]\n"
+    "       [--error-limit N]\n"
     "                                 link the scene's stages into the host shader and\n"
     "                                 validate; --reflect prints the reflection as JSON\n"
     "  list                           list the stages with their parameters\n"
@@ -35,6 +38,8 @@ static const char usage_text[] =
     "  --help, --version\n"
     "\n"
     "targets: 330 (GLSL 330 core), 450 (GLSL 450 core), es300 (GLSL ES 300)\n"
+    "--error-limit N: show at most N errors per file and target, then how many more\n"
+    "                 there were (default 100; 0: no limit)\n"
     "exit status: 0 success, 1 the input has errors, 2 usage or I/O failure\n";
 
 static int usage_error(const char *fmt, const char *arg) {
@@ -54,6 +59,16 @@ static int status_of(const halo_diagnostics *d) {
         status = EXIT_INPUT;
     }
     return status;
+}
+
+/* --error-limit N: the cap on the errors shown (halo_diagnostics_set_limit). */
+static int parse_error_limit(const char *arg, size_t *limit) {
+    char *end = NULL;
+    errno = 0;
+    unsigned long long n = arg && *arg >= '0' && *arg <= '9' ? strtoull(arg, &end, 10) : 0;
+    if (!end || *end || errno || n > (unsigned long long)SIZE_MAX) return -1;
+    *limit = (size_t)n;
+    return 0;
 }
 
 static const char *extension(const char *path) {
@@ -123,10 +138,16 @@ static int cmd_check(int argc, char **argv) {
     int ntargets = 0;
     parse_targets("all", targets, &ntargets);
     int nfiles = 0, worst = 0;
+    size_t error_limit = HALO_DIAGNOSTICS_DEFAULT_LIMIT;
     char **files = calloc((size_t)argc + 1, sizeof *files);
     if (!files) return EXIT_USAGE;
     for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--target")) {
+        if (!strcmp(argv[i], "--error-limit")) {
+            if (i + 1 >= argc || parse_error_limit(argv[++i], &error_limit)) {
+                free(files);
+                return usage_error("--error-limit takes a number of errors (0: no limit)%s", "");
+            }
+        } else if (!strcmp(argv[i], "--target")) {
             if (i + 1 >= argc || parse_targets(argv[++i], targets, &ntargets)) {
                 free(files);
                 return usage_error("--target takes 330, 450, es300 or all", "");
@@ -143,6 +164,7 @@ static int cmd_check(int argc, char **argv) {
         return usage_error("check needs at least one FILE%s", "");
     }
     halo_diagnostics *d = halo_diagnostics_create();
+    halo_diagnostics_set_limit(d, error_limit);
     halo_library *lib = halo_library_create(d);
     if (!lib) {
         halo_diagnostics_print(d, stderr);
@@ -213,6 +235,7 @@ static int cmd_check(int argc, char **argv) {
 static int cmd_link(int argc, char **argv) {
     const char *scene_path = NULL, *host_path = NULL, *out_path = NULL;
     int reflect = 0, nmodules = 0;
+    size_t error_limit = HALO_DIAGNOSTICS_DEFAULT_LIMIT;
     halo_target target = HALO_TARGET_GLSL330;
     const char **modules = calloc((size_t)argc + 1, sizeof *modules);
     if (!modules) return EXIT_USAGE;
@@ -224,6 +247,12 @@ static int cmd_link(int argc, char **argv) {
         else if (!strcmp(a, "-o") && has_value) out_path = argv[++i];
         else if (!strcmp(a, "--module") && has_value) modules[nmodules++] = argv[++i];
         else if (!strcmp(a, "--reflect")) reflect = 1;
+        else if (!strcmp(a, "--error-limit") && has_value) {
+            if (parse_error_limit(argv[++i], &error_limit)) {
+                free(modules);
+                return usage_error("--error-limit takes a number of errors (0: no limit), not '%s'", argv[i]);
+            }
+        }
         else if (!strcmp(a, "--target") && has_value) {
             target = halo_target_from_name(argv[++i]);
             if (target == HALO_TARGET_COUNT) {
@@ -240,6 +269,7 @@ static int cmd_link(int argc, char **argv) {
         return usage_error("link needs --host FILE%s", "");
     }
     halo_diagnostics *d = halo_diagnostics_create();
+    halo_diagnostics_set_limit(d, error_limit);
     halo_library *lib = halo_library_create(d);
     halo_scene *scene = NULL;
     halo_program *p = NULL;

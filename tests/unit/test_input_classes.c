@@ -146,6 +146,59 @@ static int test_module_nul_byte(void) {
     return 0;
 }
 
+/* ---- The cap on diagnostics ---- */
+
+static int test_diagnostics_limit(void) {
+    halo_diagnostics *d = halo_diagnostics_create();
+    SETUP(d);
+    CHECK_INT_EQ(halo_diagnostics_limit(d), HALO_DIAGNOSTICS_DEFAULT_LIMIT);
+    /* a host with 1000 markers: 999 duplicates */
+    size_t n = 1000;
+    char *host = malloc(64 + n * 32);
+    SETUP(host);
+    strcpy(host, "#version 330 core\n");
+    for (size_t i = 0; i < n; i++) strcat(host, "#pragma halo declarations\n");
+    strcat(host, "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
+    halo_scene *scene = halo_scene_create(library);
+    SETUP(scene);
+    size_t limits[] = {HALO_DIAGNOSTICS_DEFAULT_LIMIT, 7, 0};
+    for (size_t k = 0; k < 3; k++) {
+        halo_diagnostics_clear(d);
+        if (k) halo_diagnostics_set_limit(d, limits[k]);
+        CHECK_INT_EQ(halo_diagnostics_limit(d), limits[k]);
+        halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host}, d);
+        CHECK(p == NULL);
+        size_t kept = limits[k] ? limits[k] : n - 1;
+        CHECK_INT_EQ(halo_diagnostics_count(d), kept);
+        CHECK_INT_EQ(halo_diagnostics_errors(d), n - 1); /* every error counted */
+        CHECK_INT_EQ(halo_diagnostics_dropped(d), n - 1 - kept);
+        CHECK(halo_diagnostics_has(d, HALO_MSG_HOST_MARKER_DUPLICATE));
+        char *text = NULL;
+        size_t text_len = 0;
+        FILE *out = open_memstream(&text, &text_len);
+        SETUP(out);
+        halo_diagnostics_print(d, out);
+        fclose(out);
+        char expected[64];
+        snprintf(expected, sizeof expected, "\n%zu more errors not shown", n - 1 - kept);
+        if (limits[k]) CHECK_STR_CONTAINS(text, expected);
+        else CHECK_STR_NOT_CONTAINS(text, "more errors not shown");
+        free(text);
+    }
+    /* clearing forgets what was left out */
+    halo_diagnostics_clear(d);
+    CHECK_INT_EQ(halo_diagnostics_errors(d), 0);
+    CHECK_INT_EQ(halo_diagnostics_dropped(d), 0);
+    CHECK(!halo_diagnostics_has(d, HALO_MSG_HOST_MARKER_DUPLICATE));
+    halo_scene_destroy(scene);
+    free(host);
+    halo_diagnostics_destroy(d);
+    /* NULL is no list: nothing to do, nothing to crash */
+    halo_diagnostics_set_limit(NULL, 3);
+    CHECK_INT_EQ(halo_diagnostics_dropped(NULL), 0);
+    return 0;
+}
+
 int main(void) {
     diags = halo_diagnostics_create();
     SETUP(diags);
@@ -157,6 +210,7 @@ int main(void) {
     RUN_TEST(test_param_beyond_type_range);
     RUN_TEST(test_scene_value_beyond_type_range);
     RUN_TEST(test_module_nul_byte);
+    RUN_TEST(test_diagnostics_limit);
     halo_library_destroy(library);
     halo_diagnostics_destroy(diags);
     return check_exit_status();
