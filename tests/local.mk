@@ -148,6 +148,7 @@ HALO_RENDER_TESTS = \
 	tests/render/no_halos.sh \
 	tests/render/volumes.sh \
 	tests/render/bad_volumes.sh \
+	tests/render/nifti_header.sh \
 	tests/render/mri.sh \
 	tests/render/max_error.sh \
 	tests/render/bench.sh \
