@@ -685,6 +685,11 @@ static int prepare_volume(const options *o, const halo_render_settings *settings
         window_from = "1st..99th percentile";
     }
     int size = o->have_volume_size ? o->volume_size : halo_volume_display_size(&file, HALO_VOLUME_MAX_SIZE);
+    if (halo_volume_display_check(&file, size, err, sizeof err) != HALO_VOLUME_OK) {
+        fprintf(stderr, "halo-render: error: %s: %s\n", o->volume_path, err);
+        halo_volume_file_free(&file);
+        return HALO_VOLUME_INVALID;
+    }
     if (!o->quiet)
         fprintf(stderr, "halo-render: %s: %s; window %g:%g (%s); resampled to %d^3\n", o->volume_path,
                 file.description, window[0], window[1], window_from, size);

@@ -484,6 +484,12 @@ static int prepare_volume(viewer *v, const halo_render_settings *settings, int s
         }
     } else {
         size = v->o.have_volume_size ? v->o.volume_size : halo_volume_display_size(&v->file, HALO_VOLUME_MAX_SIZE);
+        char why[512];
+        if (halo_volume_display_check(&v->file, size, why, sizeof why) != HALO_VOLUME_OK) {
+            set_error(v, "%s: %s", v->o.volume_path, why);
+            fprintf(stderr, "halo-view: error: %s\n", v->error);
+            return 1;
+        }
         cube = halo_volume_to_display(&v->file, window, size);
         fprintf(stderr, "halo-view: %s: window %g:%g; resampled to %d^3\n", v->o.volume_path, window[0], window[1],
                 size);

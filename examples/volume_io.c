@@ -740,7 +740,12 @@ int halo_volume_display_size(const halo_volume_file *v, int max_size)
     double size = ceil(extent / finest - 1e-6);
     if (size > max_size)
         size = max_size;
-    if (size < 8)
+    /* bounded by the input: size^3 <= amplification * voxels */
+    double voxels = (double)v->dims[0] * v->dims[1] * v->dims[2];
+    double bound = floor(cbrt(HALO_VOLUME_DISPLAY_AMPLIFICATION * voxels) + 1e-9);
+    if (size > bound)
+        size = bound;
+    if (!(size >= 8))
         size = 8;
     return (int)size;
 }
@@ -771,8 +776,41 @@ static void display_axes_of(const halo_volume_file *v, display_axes *g)
     }
 }
 
+double halo_volume_display_bytes(const halo_volume_file *v, int size)
+{
+    display_axes g;
+    display_axes_of(v, &g);
+    const double s = size, f = sizeof(float);
+    /* pass 1 (s x n1 x n2), pass 2 (s x s x n2), the cube, and per axis the taps of
+     * taps_make: two ints and at most 2 * (n + 2) + 2 weights per output position */
+    double bytes = f * (s * g.n[1] * g.n[2] + s * s * g.n[2] + s * s * s);
+    for (int d = 0; d < 3; ++d)
+        bytes += s * (2.0 * sizeof(int) + f * (2.0 * (g.n[d] + 2.0) + 2.0));
+    return bytes;
+}
+
+double halo_volume_display_cap(const halo_volume_file *v)
+{
+    double input = (double)sizeof(float) * v->dims[0] * v->dims[1] * v->dims[2];
+    double cap = (double)HALO_VOLUME_DISPLAY_MAX_BYTES;
+    return HALO_VOLUME_DISPLAY_INPUT_FACTOR * input > cap ? HALO_VOLUME_DISPLAY_INPUT_FACTOR * input : cap;
+}
+
+halo_volume_status halo_volume_display_check(const halo_volume_file *v, int size, char *err, size_t err_size)
+{
+    double need = halo_volume_display_bytes(v, size), cap = halo_volume_display_cap(v);
+    if (need <= cap)
+        return HALO_VOLUME_OK;
+    return fail(HALO_VOLUME_INVALID, err, err_size,
+                "resampling the %dx%dx%d volume into a %d^3 cube would need %.1f GiB; the cap is %.1f GiB "
+                "(2 GiB, or 4 times the volume's own float copy): choose a smaller --volume-size",
+                v->dims[0], v->dims[1], v->dims[2], size, need / (1 << 30), cap / (1 << 30));
+}
+
 float *halo_volume_labels_to_display(const halo_volume_file *v, int size)
 {
+    if (halo_volume_display_check(v, size, NULL, 0) != HALO_VOLUME_OK)
+        return NULL;
     display_axes g;
     display_axes_of(v, &g);
     const double out_size = g.longest / size;
@@ -805,6 +843,8 @@ float *halo_volume_labels_to_display(const halo_volume_file *v, int size)
 
 float *halo_volume_to_display(const halo_volume_file *v, const double window[2], int size)
 {
+    if (halo_volume_display_check(v, size, NULL, 0) != HALO_VOLUME_OK)
+        return NULL; /* refused before allocating: the caller checked and said why */
     display_axes g;
     display_axes_of(v, &g);
     const int *n = g.n;

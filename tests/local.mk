@@ -149,6 +149,7 @@ HALO_RENDER_TESTS = \
 	tests/render/volumes.sh \
 	tests/render/bad_volumes.sh \
 	tests/render/nifti_header.sh \
+	tests/render/volume_memory.sh \
 	tests/render/mri.sh \
 	tests/render/max_error.sh \
 	tests/render/bench.sh \
