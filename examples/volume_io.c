@@ -319,18 +319,8 @@ static uint64_t field_bits(const unsigned char *p, int size, int swap)
 static long long field_int(const unsigned char *p, int size, int swap)
 {
     uint64_t v = field_bits(p, size, swap);
-    if (size == 2) {
-        int16_t x;
-        uint16_t u = (uint16_t)v;
-        memcpy(&x, &u, 2);
-        return x;
-    }
-    if (size == 4) {
-        int32_t x;
-        uint32_t u = (uint32_t)v;
-        memcpy(&x, &u, 4);
-        return x;
-    }
+    if (size < 8 && (v >> (8 * size - 1)) & 1) /* negative: two's complement of size bytes */
+        return (long long)v - (1LL << (8 * size));
     int64_t x;
     memcpy(&x, &v, 8);
     return x;
