@@ -77,6 +77,11 @@ static float *load_volume(const render_options *o, const halo_render_settings *s
     if (!(window[1] > window[0]) || (window[0] == 0 && window[1] == 1))
         halo_volume_percentile_window(&file, 1.0, 99.0, window);
     *size = o->volume_size ? o->volume_size : halo_volume_display_size(&file, 256);
+    if (halo_volume_display_check(&file, *size, err, sizeof err) != HALO_VOLUME_OK) {
+        fprintf(stderr, "halo-feature: %s: %s\n", o->volume, err);
+        halo_volume_file_free(&file);
+        return NULL;
+    }
     float *cube = halo_volume_to_display(&file, window, *size);
     halo_volume_file_free(&file);
     return cube;

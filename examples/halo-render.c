@@ -16,6 +16,7 @@
 #include "hosts/slab.h"
 #include "hosts/slice.h"
 #include "image_write.h"
+#include "json_file.h"
 #include "volume.h"
 #include "volume_io.h"
 
@@ -570,7 +571,7 @@ static size_t find_halo_stages(const halo_library *lib, const halo_scene *scene,
 static int scene_sets_window(const char *scene_path, const char *scene_text)
 {
     json_error_t error;
-    json_t *root = scene_path ? json_load_file(scene_path, 0, &error) : json_loads(scene_text, 0, &error);
+    json_t *root = scene_path ? halo_json_load_file(scene_path, 0, &error) : json_loads(scene_text, 0, &error);
     json_t *render = root ? json_object_get(root, "render") : NULL;
     int has = render && json_object_get(render, "window") != NULL;
     json_decref(root);
@@ -685,6 +686,11 @@ static int prepare_volume(const options *o, const halo_render_settings *settings
         window_from = "1st..99th percentile";
     }
     int size = o->have_volume_size ? o->volume_size : halo_volume_display_size(&file, HALO_VOLUME_MAX_SIZE);
+    if (halo_volume_display_check(&file, size, err, sizeof err) != HALO_VOLUME_OK) {
+        fprintf(stderr, "halo-render: error: %s: %s\n", o->volume_path, err);
+        halo_volume_file_free(&file);
+        return HALO_VOLUME_INVALID;
+    }
     if (!o->quiet)
         fprintf(stderr, "halo-render: %s: %s; window %g:%g (%s); resampled to %d^3\n", o->volume_path,
                 file.description, window[0], window[1], window_from, size);
@@ -784,7 +790,7 @@ static int disable_halo_stages(halo_scene *scene, const int *is_halo, halo_diagn
 static char *budget_scene_text(const options *o, const char *scene_text)
 {
     json_error_t error;
-    json_t *root = o->scene_path ? json_load_file(o->scene_path, 0, &error) : json_loads(scene_text, 0, &error);
+    json_t *root = o->scene_path ? halo_json_load_file(o->scene_path, 0, &error) : json_loads(scene_text, 0, &error);
     if (!root || !json_is_object(root)) {
         json_decref(root);
         return NULL;

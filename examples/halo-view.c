@@ -19,6 +19,7 @@
 #include "hosts/raycast.h"
 #include "hosts/slice.h"
 #include "image_write.h"
+#include "json_file.h"
 #include "volume.h"
 #include "volume_io.h"
 
@@ -483,6 +484,12 @@ static int prepare_volume(viewer *v, const halo_render_settings *settings, int s
         }
     } else {
         size = v->o.have_volume_size ? v->o.volume_size : halo_volume_display_size(&v->file, HALO_VOLUME_MAX_SIZE);
+        char why[512];
+        if (halo_volume_display_check(&v->file, size, why, sizeof why) != HALO_VOLUME_OK) {
+            set_error(v, "%s: %s", v->o.volume_path, why);
+            fprintf(stderr, "halo-view: error: %s\n", v->error);
+            return 1;
+        }
         cube = halo_volume_to_display(&v->file, window, size);
         fprintf(stderr, "halo-view: %s: window %g:%g; resampled to %d^3\n", v->o.volume_path, window[0], window[1],
                 size);
@@ -646,7 +653,7 @@ static int load_scene(viewer *v, const char *path, int keep_camera)
         return halo_diagnostics_has(v->diag, HALO_MSG_IO_READ) ? 2 : 1;
     }
     json_error_t json_error;
-    json_t *root = path ? json_load_file(path, 0, &json_error) : json_loads(text, 0, &json_error);
+    json_t *root = path ? halo_json_load_file(path, 0, &json_error) : json_loads(text, 0, &json_error);
     if (!root) { /* changed between the two reads: the next poll reads it again */
         halo_scene_destroy(scene);
         set_error(v, "%s: %s", path ? base_name(path) : "scene", json_error.text);

@@ -218,6 +218,8 @@ halo_status halo_polylines_parse(const char *text, const char *file, halo_polyli
     }
     parser ps = {.file = file ? file : "polylines", .diag = diag};
     const char *cursor = text;
+    if (!strncmp(cursor, "\xEF\xBB\xBF", 3)) /* a UTF-8 byte-order mark (editors write it) */
+        cursor += 3;
     while (*cursor && !ps.b.failed) {
         const char *end = strchr(cursor, '\n');
         size_t length = end ? (size_t)(end - cursor) : strlen(cursor);

@@ -39,6 +39,7 @@ examples/embedded_scenes.c: $(HALO_EMBEDDED_SCENES) $(top_srcdir)/build-aux/embe
 
 bin_PROGRAMS += examples/halo-render
 examples_halo_render_SOURCES = examples/halo-render.c examples/volume_io.c examples/volume_io.h \
+	examples/json_file.c examples/json_file.h \
 	validate/bench_run.c validate/bench_run.h validate/bench_budget.c validate/bench_budget.h
 nodist_examples_halo_render_SOURCES = examples/embedded_scenes.c
 nodist_EXTRA_examples_halo_render_SOURCES = build-aux/force-cxx-link.cc
@@ -78,7 +79,8 @@ if HALO_HAVE_GLFW
 bin_PROGRAMS += examples/halo-view
 dist_man_MANS += examples/halo-view.1
 endif
-examples_halo_view_SOURCES = examples/halo-view.c examples/volume_io.c examples/volume_io.h
+examples_halo_view_SOURCES = examples/halo-view.c examples/volume_io.c examples/volume_io.h \
+	examples/json_file.c examples/json_file.h
 nodist_examples_halo_view_SOURCES = examples/embedded_scenes.c
 nodist_EXTRA_examples_halo_view_SOURCES = build-aux/force-cxx-link.cc
 examples_halo_view_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples $(NIFTI_CFLAGS) $(JANSSON_CFLAGS) $(GLFW_CFLAGS)

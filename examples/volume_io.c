@@ -299,6 +299,143 @@ static int nifti_display_axes(const nifti_image *nim, int axis[3], int flip[3])
     return 1;
 }
 
+/* The header fields libnifti would repair or trust, as the file has them. */
+typedef struct nifti_raw_header {
+    int version;          /* 1 or 2; 0: not a NIfTI header (left to libnifti to say so) */
+    int single_file;      /* n+1/n+2: header and data in one file */
+    long long dim[8];
+    double pixdim[8];
+    double vox_offset;
+} nifti_raw_header;
+
+static uint64_t field_bits(const unsigned char *p, int size, int swap)
+{
+    uint64_t v = 0;
+    for (int i = 0; i < size; ++i)
+        v |= (uint64_t)p[swap ? size - 1 - i : i] << (8 * i);
+    return v; /* the value, assembled from the bytes: the same on any host */
+}
+
+static long long field_int(const unsigned char *p, int size, int swap)
+{
+    uint64_t v = field_bits(p, size, swap);
+    if (size < 8 && (v >> (8 * size - 1)) & 1) /* negative: two's complement of size bytes */
+        return (long long)v - (1LL << (8 * size));
+    int64_t x;
+    memcpy(&x, &v, 8);
+    return x;
+}
+
+static double field_real(const unsigned char *p, int size, int swap)
+{
+    uint64_t v = field_bits(p, size, swap);
+    if (size == 4) {
+        float x;
+        uint32_t u = (uint32_t)v;
+        memcpy(&x, &u, 4);
+        return x;
+    }
+    double x;
+    memcpy(&x, &v, 8);
+    return x;
+}
+
+/* The header file of path: itself, or the .hdr beside an .img. */
+static void nifti_header_path(const char *path, char *out, size_t out_size)
+{
+    snprintf(out, out_size, "%s", path);
+    size_t n = strlen(out);
+    if (ends_with(out, ".img"))
+        memcpy(out + n - 4, ".hdr", 4);
+    else if (ends_with(out, ".img.gz"))
+        memcpy(out + n - 7, ".hdr", 4);
+}
+
+/* Reads the header's fields itself (NIfTI-1: 348 bytes, NIfTI-2: 540, either byte
+ * order, through zlib for .gz). A file too short or without a NIfTI size is
+ * version 0: libnifti then refuses it as it always did. */
+static void nifti_read_raw_header(const char *path, nifti_raw_header *h)
+{
+    memset(h, 0, sizeof *h);
+    char header_path[4096];
+    nifti_header_path(path, header_path, sizeof header_path);
+    gzFile gz = gzopen(header_path, "rb");
+    if (!gz)
+        return;
+    unsigned char b[540];
+    int got = gzread(gz, b, sizeof b);
+    gzclose(gz);
+    if (got < 348)
+        return;
+    int swap;
+    for (swap = 0; swap < 2; ++swap) {
+        long long size = field_int(b, 4, swap);
+        if (size == 348 || (size == 540 && got >= 540))
+            break;
+    }
+    if (swap == 2)
+        return;
+    h->version = field_int(b, 4, swap) == 348 ? 1 : 2;
+    if (h->version == 1) {
+        for (int i = 0; i < 8; ++i) {
+            h->dim[i] = field_int(b + 40 + 2 * i, 2, swap);
+            h->pixdim[i] = field_real(b + 76 + 4 * i, 4, swap);
+        }
+        h->vox_offset = field_real(b + 108, 4, swap);
+        h->single_file = !memcmp(b + 344, "n+1", 4);
+    } else {
+        for (int i = 0; i < 8; ++i) {
+            h->dim[i] = field_int(b + 16 + 8 * i, 8, swap);
+            h->pixdim[i] = field_real(b + 104 + 8 * i, 8, swap);
+        }
+        h->vox_offset = (double)field_int(b + 168, 8, swap);
+        h->single_file = !memcmp(b + 4, "n+2", 4);
+    }
+}
+
+/* The checks libnifti does not make, or makes by silently changing the value: the
+ * data offset, the dimension count against the dimensions, the voxel spacing. Each
+ * message names the header field. */
+static halo_volume_status nifti_check_header(const char *path, const nifti_raw_header *h, char *err,
+                                             size_t err_size)
+{
+    if (!h->version)
+        return HALO_VOLUME_OK;
+    const double header_size = h->version == 1 ? 348.0 : 540.0;
+    if (!isfinite(h->vox_offset) || h->vox_offset < 0.0 || h->vox_offset != floor(h->vox_offset) ||
+        h->vox_offset > 9007199254740992.0)
+        return fail(HALO_VOLUME_INVALID, err, err_size,
+                    "%s: header field vox_offset is %g: expected a whole number of bytes from 0 to the file's size",
+                    path, h->vox_offset);
+    if (h->single_file && h->vox_offset < header_size)
+        return fail(HALO_VOLUME_INVALID, err, err_size,
+                    "%s: header field vox_offset is %.0f, inside the %.0f-byte header of a single-file NIfTI-%d", path,
+                    h->vox_offset, header_size, h->version);
+    if (h->single_file && !ends_with(path, ".gz")) {
+        struct stat st;
+        if (stat(path, &st) == 0 && h->vox_offset > (double)st.st_size)
+            return fail(HALO_VOLUME_INVALID, err, err_size,
+                        "%s: header field vox_offset is %.0f, beyond the end of the %lld-byte file", path,
+                        h->vox_offset, (long long)st.st_size);
+    }
+    if (h->dim[0] < 3 || h->dim[0] > 7)
+        return fail(HALO_VOLUME_INVALID, err, err_size,
+                    "%s: header field dim[0] is %lld: a volume has 3 to 7 dimensions (a %s is not one)", path,
+                    h->dim[0], h->dim[0] >= 1 && h->dim[0] <= 2 ? "1-D or 2-D image" : "file of this kind");
+    for (int i = 1; i <= h->dim[0]; ++i)
+        if (h->dim[i] < 1)
+            return fail(HALO_VOLUME_INVALID, err, err_size,
+                        "%s: header field dim[%d] is %lld, but dim[0] = %lld makes it one of the file's "
+                        "dimensions: each needs at least 1 voxel",
+                        path, i, h->dim[i], h->dim[0]);
+    for (int i = 1; i <= 3; ++i)
+        if (!isfinite(h->pixdim[i]) || !(h->pixdim[i] > 0.0))
+            return fail(HALO_VOLUME_INVALID, err, err_size,
+                        "%s: header field pixdim[%d] is %g: the voxel size along %c must be positive and finite",
+                        path, i, h->pixdim[i], "xyz"[i - 1]);
+    return HALO_VOLUME_OK;
+}
+
 /* Reads `total` bytes at the data offset through zlib (which also reads uncompressed
  * files), growing the buffer as data arrives so that a short file never makes a
  * large allocation. */
@@ -376,11 +513,19 @@ halo_volume_status halo_volume_read_nifti(const char *path, halo_volume_file *ou
         return fail(HALO_VOLUME_IO, err, err_size, "%s: %s", path, strerror(errno));
     fclose(probe);
 
-    nifti_set_debug_level(0);
+    nifti_raw_header header;
+    nifti_read_raw_header(path, &header);
+    halo_volume_status checked = nifti_check_header(path, &header, err, err_size);
+    if (checked != HALO_VOLUME_OK)
+        return checked;
+
+    nifti_set_debug_level(0); /* its messages are ours to write, once, naming the field */
     nifti_image *nim = nifti_image_read(path, 0); /* the header only */
     if (!nim)
         return fail(HALO_VOLUME_INVALID, err, err_size,
                     "%s: not a NIfTI file, or its header is incomplete or invalid", path);
+    if (header.version)
+        nim->iname_offset = (int64_t)header.vox_offset; /* the checked value, never a repaired one */
     halo_volume_status status = HALO_VOLUME_OK;
     unsigned char *raw = NULL;
     long long dims[3] = {nim->nx, nim->ny, nim->nz};
@@ -585,7 +730,12 @@ int halo_volume_display_size(const halo_volume_file *v, int max_size)
     double size = ceil(extent / finest - 1e-6);
     if (size > max_size)
         size = max_size;
-    if (size < 8)
+    /* bounded by the input: size^3 <= amplification * voxels */
+    double voxels = (double)v->dims[0] * v->dims[1] * v->dims[2];
+    double bound = floor(cbrt(HALO_VOLUME_DISPLAY_AMPLIFICATION * voxels) + 1e-9);
+    if (size > bound)
+        size = bound;
+    if (!(size >= 8))
         size = 8;
     return (int)size;
 }
@@ -616,8 +766,41 @@ static void display_axes_of(const halo_volume_file *v, display_axes *g)
     }
 }
 
+double halo_volume_display_bytes(const halo_volume_file *v, int size)
+{
+    display_axes g;
+    display_axes_of(v, &g);
+    const double s = size, f = sizeof(float);
+    /* pass 1 (s x n1 x n2), pass 2 (s x s x n2), the cube, and per axis the taps of
+     * taps_make: two ints and at most 2 * (n + 2) + 2 weights per output position */
+    double bytes = f * (s * g.n[1] * g.n[2] + s * s * g.n[2] + s * s * s);
+    for (int d = 0; d < 3; ++d)
+        bytes += s * (2.0 * sizeof(int) + f * (2.0 * (g.n[d] + 2.0) + 2.0));
+    return bytes;
+}
+
+double halo_volume_display_cap(const halo_volume_file *v)
+{
+    double input = (double)sizeof(float) * v->dims[0] * v->dims[1] * v->dims[2];
+    double cap = (double)HALO_VOLUME_DISPLAY_MAX_BYTES;
+    return HALO_VOLUME_DISPLAY_INPUT_FACTOR * input > cap ? HALO_VOLUME_DISPLAY_INPUT_FACTOR * input : cap;
+}
+
+halo_volume_status halo_volume_display_check(const halo_volume_file *v, int size, char *err, size_t err_size)
+{
+    double need = halo_volume_display_bytes(v, size), cap = halo_volume_display_cap(v);
+    if (need <= cap)
+        return HALO_VOLUME_OK;
+    return fail(HALO_VOLUME_INVALID, err, err_size,
+                "resampling the %dx%dx%d volume into a %d^3 cube would need %.1f GiB; the cap is %.1f GiB "
+                "(2 GiB, or 4 times the volume's own float copy): choose a smaller --volume-size",
+                v->dims[0], v->dims[1], v->dims[2], size, need / (1 << 30), cap / (1 << 30));
+}
+
 float *halo_volume_labels_to_display(const halo_volume_file *v, int size)
 {
+    if (halo_volume_display_check(v, size, NULL, 0) != HALO_VOLUME_OK)
+        return NULL;
     display_axes g;
     display_axes_of(v, &g);
     const double out_size = g.longest / size;
@@ -650,6 +833,8 @@ float *halo_volume_labels_to_display(const halo_volume_file *v, int size)
 
 float *halo_volume_to_display(const halo_volume_file *v, const double window[2], int size)
 {
+    if (halo_volume_display_check(v, size, NULL, 0) != HALO_VOLUME_OK)
+        return NULL; /* refused before allocating: the caller checked and said why */
     display_axes g;
     display_axes_of(v, &g);
     const int *n = g.n;

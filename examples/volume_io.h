@@ -88,7 +88,28 @@ float *halo_volume_to_display(const halo_volume_file *v, const double window[2],
 float *halo_volume_labels_to_display(const halo_volume_file *v, int size);
 
 /* The cube side that keeps the finest spacing of the file's longest physical side,
- * limited to max_size. */
+ * limited to max_size, and bounded by the input: the cube holds at most
+ * HALO_VOLUME_DISPLAY_AMPLIFICATION times the file's voxels (so a tiny file with an
+ * extreme aspect ratio or spacing is not blown up into a 512^3 cube). */
+#define HALO_VOLUME_DISPLAY_AMPLIFICATION 64
 int halo_volume_display_size(const halo_volume_file *v, int max_size);
+
+/* The cap on the memory that resampling into the display cube may take (the cube,
+ * the two intermediate passes and the filter taps): HALO_VOLUME_DISPLAY_MAX_BYTES, or
+ * HALO_VOLUME_DISPLAY_INPUT_FACTOR times the file's own float copy when that is more
+ * (a large scan may take what its size calls for). docs/halo-render.md, "Memory". */
+#define HALO_VOLUME_DISPLAY_MAX_BYTES ((size_t)2 << 30)
+#define HALO_VOLUME_DISPLAY_INPUT_FACTOR 4
+
+/* Bytes that halo_volume_to_display(v, window, size) allocates (a double: it may be
+ * far beyond size_t's range for absurd shapes), and the cap above for this file. */
+double halo_volume_display_bytes(const halo_volume_file *v, int size);
+double halo_volume_display_cap(const halo_volume_file *v);
+
+/* Checks, before anything is allocated, that resampling v into a size^3 cube stays
+ * within the cap: HALO_VOLUME_INVALID with "would need N GiB; the cap is M GiB"
+ * otherwise. halo_volume_to_display and halo_volume_labels_to_display return NULL
+ * without allocating for such a size. */
+halo_volume_status halo_volume_display_check(const halo_volume_file *v, int size, char *err, size_t err_size);
 
 #endif

@@ -8,6 +8,11 @@
 struct halo_diagnostics {
     halo_diagnostic *items;
     size_t count, cap;
+    size_t limit;         /* kept per kind (errors; warnings and notes); 0: no cap */
+    int limit_set;        /* limit was given (else the default) */
+    size_t kept_errors;   /* errors among items */
+    size_t dropped[3];    /* left out by the cap, per severity */
+    unsigned char seen[HALO_MSG_COUNT]; /* ids added, kept or not */
 };
 
 static const char *const message_names[] = {
@@ -40,6 +45,9 @@ void halo_diagnostics_clear(halo_diagnostics *d) {
     if (!d) return;
     for (size_t i = 0; i < d->count; i++) free_item(&d->items[i]);
     d->count = 0;
+    d->kept_errors = 0;
+    memset(d->dropped, 0, sizeof d->dropped);
+    memset(d->seen, 0, sizeof d->seen);
 }
 
 void halo_diagnostics_destroy(halo_diagnostics *d) {
@@ -56,19 +64,40 @@ const halo_diagnostic *halo_diagnostics_get(const halo_diagnostics *d, size_t i)
 }
 
 size_t halo_diagnostics_errors(const halo_diagnostics *d) {
-    size_t n = 0;
-    for (size_t i = 0; d && i < d->count; i++) n += d->items[i].severity == HALO_SEVERITY_ERROR;
-    return n;
+    return d ? d->kept_errors + d->dropped[HALO_SEVERITY_ERROR] : 0;
 }
 
 int halo_diagnostics_has(const halo_diagnostics *d, halo_message_id id) {
-    for (size_t i = 0; d && i < d->count; i++)
-        if (d->items[i].id == id) return 1;
-    return 0;
+    return d && (unsigned)id < HALO_MSG_COUNT && d->seen[id];
+}
+
+void halo_diagnostics_set_limit(halo_diagnostics *d, size_t limit) {
+    if (!d) return;
+    d->limit = limit;
+    d->limit_set = 1;
+}
+
+size_t halo_diagnostics_limit(const halo_diagnostics *d) {
+    return d && d->limit_set ? d->limit : HALO_DIAGNOSTICS_DEFAULT_LIMIT;
+}
+
+size_t halo_diagnostics_dropped(const halo_diagnostics *d) {
+    return d ? d->dropped[0] + d->dropped[1] + d->dropped[2] : 0;
+}
+
+/* Whether the cap leaves a diagnostic of this severity out (then it is counted). */
+static int over_limit(halo_diagnostics *d, halo_severity severity) {
+    size_t limit = halo_diagnostics_limit(d);
+    size_t kept = severity == HALO_SEVERITY_ERROR ? d->kept_errors : d->count - d->kept_errors;
+    if (!limit || kept < limit) return 0;
+    d->dropped[(unsigned)severity < 3 ? severity : HALO_SEVERITY_NOTE]++;
+    return 1;
 }
 
 void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id id, const char *file, int line,
                    int column, const char *source_line, const char *fmt, ...) {
+    if (d && (unsigned)id < HALO_MSG_COUNT) d->seen[id] = 1;
+    if (d && over_limit(d, severity)) return; /* nothing formatted or stored: a runaway input stays cheap */
     halo_strbuf text = {0};
     va_list ap;
     va_start(ap, fmt);
@@ -100,6 +129,7 @@ void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id 
         d->cap = cap;
     }
     d->items[d->count++] = item;
+    d->kept_errors += severity == HALO_SEVERITY_ERROR;
 }
 
 void halo_diagnostics_print(const halo_diagnostics *d, FILE *out) {
@@ -122,4 +152,9 @@ void halo_diagnostics_print(const halo_diagnostics *d, FILE *out) {
             }
         }
     }
+    static const char *const kinds[][2] = {{"error", "errors"}, {"warning", "warnings"}, {"note", "notes"}};
+    for (int s = 0; d && s < 3; s++)
+        if (d->dropped[s])
+            fprintf(out, "%zu more %s not shown (the limit is %zu per kind)\n", d->dropped[s],
+                    kinds[s][d->dropped[s] != 1], halo_diagnostics_limit(d));
 }

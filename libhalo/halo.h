@@ -56,6 +56,7 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(PARAM_TYPE_UNKNOWN, "unknown parameter type")                                        \
     X(PARAM_DEFAULT_INVALID, "parameter default does not match its type or range")        \
     X(PARAM_DUPLICATE, "parameter declared twice")                                         \
+    X(INPUT_NUL_BYTE, "the file contains a NUL byte")                                      \
     X(SCENE_JSON, "scene is not valid JSON")                                               \
     X(SCENE_KEY_UNKNOWN, "unknown key")                                                    \
     X(SCENE_TYPE, "value has the wrong type")                                              \
@@ -120,6 +121,18 @@ HALO_API void halo_diagnostics_clear(halo_diagnostics *d);
 /* Writes `file:line:col: error: text`, then the source line and a caret. */
 HALO_API void halo_diagnostics_print(const halo_diagnostics *d, FILE *out);
 HALO_API const char *halo_message_name(halo_message_id id); /* "SCENE_JSON" */
+/* A cap on what a list keeps, as clang's -ferror-limit: past `limit` errors (and
+ * past `limit` warnings and notes) a diagnostic is counted but neither kept nor
+ * passed to the setup logger, and halo_diagnostics_print ends with "N more errors
+ * not shown". halo_diagnostics_errors and halo_diagnostics_has still count every
+ * one. 0 means no cap. The default, 100, lets a module or scene with many mistakes
+ * show them all in one go while a runaway input (100 000 markers, a million stages)
+ * prints a screenful, not hundreds of megabytes. */
+#define HALO_DIAGNOSTICS_DEFAULT_LIMIT 100
+HALO_API void halo_diagnostics_set_limit(halo_diagnostics *d, size_t limit);
+HALO_API size_t halo_diagnostics_limit(const halo_diagnostics *d);
+/* How many diagnostics the cap left out (0 when none). */
+HALO_API size_t halo_diagnostics_dropped(const halo_diagnostics *d);
 
 /* ---- Process-wide setup ---------------------------------------------------- */
 

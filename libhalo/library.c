@@ -45,10 +45,22 @@ halo_status halo_library_add_source(halo_library *lib, const char *file, const c
 }
 
 static halo_module *read_module(const char *path, halo_diagnostics *diag, halo_status *status) {
-    char *text = halo_read_file(path, NULL);
+    size_t len = 0;
+    char *text = halo_read_file(path, &len);
     if (!text) {
         halo_diag_error(diag, IO_READ, path, 0, 0, "cannot read module: %s", strerror(errno));
         *status = HALO_ERROR_IO;
+        return NULL;
+    }
+    int line, column;
+    if (halo_find_nul(text, len, &line, &column)) {
+        /* the text up to the NUL is the line to show */
+        const char *start = text;
+        for (int l = 1; l < line; l++) start = strchr(start, '\n') + 1;
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_INPUT_NUL_BYTE, path, line, column, halo_skip_bom(start),
+                      "the module contains a NUL byte: not a text file");
+        free(text);
+        *status = HALO_ERROR_INPUT;
         return NULL;
     }
     halo_module *m = halo_module_parse(path, text, diag);

@@ -1260,7 +1260,7 @@ static void load_group(halo_program *p, int g);
  * cannot run passes between slices: refuse it rather than render without the stages
  * that need them. */
 static int plan_segments(halo_program *p, const halo_link_desc *desc, const host_info *h, halo_diagnostics *diag) {
-    const char *host = desc->host_source;
+    const char *host = halo_skip_bom(desc->host_source);
     int segmenting = halo_host_uses(host, "halo_segment_begin");
     p->v2_host = segmenting || h->volume || h->gradient || halo_host_uses(host, "halo_view_at") ||
                  halo_host_uses(host, "halo_depth_at");
@@ -1483,15 +1483,17 @@ static halo_program *link_with_host(const halo_link_desc *desc, host_info *h, ha
     p->target = desc->target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : desc->target;
     p->kind = desc->kind;
     p->host_file = halo_strdup(desc->host_file ? desc->host_file : "host");
-    p->host_storage = halo_strdup(desc->host_source);
+    /* a UTF-8 byte-order mark is no part of the shader */
+    const char *host_source = halo_skip_bom(desc->host_source);
+    p->host_storage = halo_strdup(host_source);
     if (!p->host_file || !p->host_storage) goto oom;
     int host_count = halo_split_lines(p->host_storage, &p->host_lines);
     if (host_count < 0) goto oom;
 
     /* 1. The host keeps the contract. */
-    if (halo_host_scan_run(&(halo_host_scan_desc){desc->host_source, p->target, p->kind, is_marker_line}, &h->scan))
+    if (halo_host_scan_run(&(halo_host_scan_desc){host_source, p->target, p->kind, is_marker_line}, &h->scan))
         goto oom;
-    int errors = check_host(p->host_file, desc->host_source, p->host_lines, host_count, h, p->target, diag);
+    int errors = check_host(p->host_file, host_source, p->host_lines, host_count, h, p->target, diag);
     p->volume_sampler = h->volume;
     p->gradient_sampler = h->gradient;
     /* 2. Stages, their dependencies and their order. */
@@ -1538,10 +1540,10 @@ static halo_program *link_with_host(const halo_link_desc *desc, host_info *h, ha
         return NULL;
     }
     set_channel_count(p);
-    int resources = collect_resources(p, desc->host_source, diag);
+    int resources = collect_resources(p, host_source, diag);
     int host_errors = resources < 0 ? 0
-                                    : plan_segments(p, desc, h, diag) + check_host_calls(p, h, desc->host_source, diag) +
-                                          check_host_outputs(p, h, desc->host_source, diag);
+                                    : plan_segments(p, desc, h, diag) + check_host_calls(p, h, host_source, diag) +
+                                          check_host_outputs(p, h, host_source, diag);
     if (resources || host_errors) {
         halo_program_destroy(p);
         return NULL;
@@ -1550,7 +1552,7 @@ static halo_program *link_with_host(const halo_link_desc *desc, host_info *h, ha
     if (p->group_count > 1) load_group(p, 0);
     /* 5. Emit. */
     if (hide_line_directives(p, h)) goto oom;
-    if (emit_program(p, desc->host_source, p->host_lines, host_count, h, desc->library)) goto oom;
+    if (emit_program(p, host_source, p->host_lines, host_count, h, desc->library)) goto oom;
     if (check_host_macros(p, h, diag)) {
         halo_program_destroy(p);
         return NULL;

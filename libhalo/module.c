@@ -4,7 +4,9 @@
 #include "strbuf.h"
 
 #include <ctype.h>
+#include <float.h>
 #include <jansson.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -55,6 +57,34 @@ static int param_components(halo_param_type t) {
     }
 }
 
+/* The range a value of this type can hold in the shader: int's for int, float's for
+ * the float-based types (beyond it a float is +-inf, an int cast is undefined). */
+static void type_range(halo_param_type t, double *lowest, double *highest) {
+    if (t == HALO_PARAM_INT) {
+        *lowest = INT_MIN;
+        *highest = INT_MAX;
+    } else if (t == HALO_PARAM_BOOL) {
+        *lowest = 0;
+        *highest = 1;
+    } else {
+        *lowest = -FLT_MAX;
+        *highest = FLT_MAX;
+    }
+}
+
+/* Whether v fits the type; if not, why names the value and the range. */
+static int fits_type(halo_param_type t, double v, char *why, size_t why_len) {
+    double lowest, highest;
+    type_range(t, &lowest, &highest);
+    if (v >= lowest && v <= highest) return 1;
+    if (t == HALO_PARAM_INT || t == HALO_PARAM_BOOL)
+        snprintf(why, why_len, "%.15g is outside the %s range [%.0f, %.0f]", v, halo_param_type_name(t), lowest,
+                 highest);
+    else
+        snprintf(why, why_len, "%.15g is outside the float range [%.9g, %.9g]", v, lowest, highest);
+    return 0;
+}
+
 int halo_param_check(const halo_param_info *info, const double *values, int count, char *why, size_t why_len) {
     int max_count = info->array_size ? info->array_size : 1;
     if (count < 1 || count > max_count) {
@@ -68,6 +98,8 @@ int halo_param_check(const halo_param_info *info, const double *values, int coun
             snprintf(why, why_len, "%g is not finite", v);
             return HALO_MSG_SCENE_VALUE_NONFINITE;
         }
+        if (!fits_type(info->type, v, why, why_len))
+            return v < 0 ? HALO_MSG_SCENE_VALUE_BELOW_MIN : HALO_MSG_SCENE_VALUE_ABOVE_MAX;
         if (v < info->min) {
             snprintf(why, why_len, "%.9g is below the minimum %.9g", v, info->min);
             return HALO_MSG_SCENE_VALUE_BELOW_MIN;
@@ -292,6 +324,13 @@ static void parse_param(parse_ctx *ctx, words *w, int line) {
                 free((char *)info.meaning);
                 return;
             }
+            char why[160];
+            if (!fits_type(info.type, v, why, sizeof why)) {
+                ANNOT_ERROR(ctx, PARAM_DEFAULT_INVALID, line, w->col[i] + 4, "%.3s of '%s' (%s): %s", a, name,
+                            halo_param_type_name(info.type), why);
+                free((char *)info.meaning);
+                return;
+            }
             if (a[1] == 'i') info.min = v;
             else info.max = v;
         } else {
@@ -322,7 +361,8 @@ static void parse_param(parse_ctx *ctx, words *w, int line) {
     if (info.min > info.max) {
         ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[0], "min %g is above max %g", info.min, info.max);
     } else if (halo_param_check(&info, info.default_value, info.default_count, why, sizeof why) >= 0) {
-        ANNOT_ERROR(ctx, PARAM_DEFAULT_INVALID, line, default_col, "default of '%s': %s", name, why);
+        ANNOT_ERROR(ctx, PARAM_DEFAULT_INVALID, line, default_col + 8, "default of '%s' (%s): %s", name,
+                    halo_param_type_name(info.type), why);
     } else {
         halo_param_info *p = realloc(m->params, (m->param_count + 1) * sizeof *p);
         int *pl = p ? realloc(m->param_lines, (m->param_count + 1) * sizeof *pl) : NULL;
@@ -660,6 +700,7 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
     halo_module *m = calloc(1, sizeof *m);
     if (!m) return NULL;
     parse_ctx ctx = {m, diag, 0};
+    source = halo_skip_bom(source); /* a UTF-8 byte-order mark is no part of the module */
     m->file = halo_strdup(file);
     m->source = halo_strdup(source);
     m->line_storage = halo_strdup(source);

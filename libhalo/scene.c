@@ -358,6 +358,7 @@ static void read_render(reader *r, json_t *obj) {
 
 halo_scene *halo_scene_parse(const char *text, const char *file, const halo_library *lib, halo_diagnostics *diag) {
     if (!file) file = "scene";
+    text = halo_skip_bom(text); /* editors write it; JSON has no place for it */
     json_error_t err;
     json_t *root = json_loads(text ? text : "", JSON_REJECT_DUPLICATES, &err);
     if (!root) {

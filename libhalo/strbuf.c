@@ -87,3 +87,24 @@ char *halo_read_file(const char *path, size_t *len) {
     if (len) *len = l;
     return s;
 }
+
+const char *halo_skip_bom(const char *s) {
+    return s && !strncmp(s, "\xEF\xBB\xBF", 3) ? s + 3 : s;
+}
+
+int halo_find_nul(const char *text, size_t len, int *line, int *column) {
+    const char *nul = memchr(text, '\0', len);
+    if (!nul) return 0;
+    const char *start = len >= 3 && !memcmp(text, "\xEF\xBB\xBF", 3) && nul >= text + 3 ? text + 3 : text;
+    *line = 1;
+    *column = 1;
+    for (const char *p = start; p < nul; p++) {
+        if (*p == '\n') {
+            ++*line;
+            *column = 1;
+        } else {
+            ++*column;
+        }
+    }
+    return 1;
+}

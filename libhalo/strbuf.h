@@ -23,4 +23,12 @@ void halo_strbuf_free(halo_strbuf *b);
 char *halo_read_file(const char *path, size_t *len);
 char *halo_strdup(const char *s);
 
+/* s past a UTF-8 byte-order mark, if it starts with one (editors write it; it is no
+ * part of the text, and skipping it keeps line 1's columns right). */
+const char *halo_skip_bom(const char *s);
+
+/* Finds the first NUL byte among len bytes of text: returns 1 and its 1-based line
+ * and column (a byte-order mark not counted), or 0 when there is none. */
+int halo_find_nul(const char *text, size_t len, int *line, int *column);
+
 #endif

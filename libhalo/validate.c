@@ -160,6 +160,7 @@ halo_status halo_validate_shader(const char *source, const char *file, halo_shad
                                  halo_diagnostics *diag) {
     if (!source) return HALO_ERROR_IO;
     if (!file) file = "shader";
+    source = halo_skip_bom(source); /* editors write it; glslang would not take it */
     /* A host (it has the marker): link it with no stage, which also checks the contract. */
     char *copy = halo_strdup(source);
     char **lines = NULL;

@@ -11,7 +11,8 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_scene_counts \
 	tests/unit/test_link \
 	tests/unit/test_host_scan \
-	tests/unit/test_emu
+	tests/unit/test_emu \
+	tests/unit/test_input_classes
 check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
 noinst_HEADERS += tests/unit/check.h
 
@@ -49,6 +50,11 @@ tests_unit_test_emu_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
 nodist_EXTRA_tests_unit_test_emu_SOURCES = build-aux/force-cxx-link.cc
 tests_unit_test_emu_LDADD = $(HALO_TEST_CORE_LIBS)
 
+tests_unit_test_input_classes_SOURCES = tests/unit/test_input_classes.c
+tests_unit_test_input_classes_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_input_classes_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_input_classes_LDADD = $(HALO_TEST_CORE_LIBS)
+
 # The public API only, through the installed-style shared library.
 tests_unit_test_public_SOURCES = tests/unit/test_public.c
 tests_unit_test_public_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
@@ -75,7 +81,10 @@ HALO_SHELL_TESTS = \
 	tests/cli/nonfinite.sh \
 	tests/cli/usage.sh \
 	tests/cli/conform_list.sh \
-	tests/tree_clean.sh
+	tests/tree_clean.sh \
+	tests/cli/nul_byte.sh \
+	tests/cli/bom.sh \
+	tests/cli/error_limit.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
@@ -158,6 +167,8 @@ HALO_RENDER_TESTS = \
 	tests/render/no_halos.sh \
 	tests/render/volumes.sh \
 	tests/render/bad_volumes.sh \
+	tests/render/nifti_header.sh \
+	tests/render/volume_memory.sh \
 	tests/render/mri.sh \
 	tests/render/max_error.sh \
 	tests/render/bench.sh \

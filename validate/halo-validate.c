@@ -6,6 +6,7 @@
 #include "halo.h"
 
 #include <errno.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,11 +18,13 @@ static const char usage_text[] =
     "usage: halo-validate COMMAND [OPTIONS]\n"
     "\n"
     "commands:\n"
-    "  check [--target T] FILE...     validate modules ('#pragma halo module', or .glsl),\n"
+    "  check [--target T] [--error-limit N] FILE...\n"
+    "                                 validate modules ('#pragma halo module', or .glsl),\n"
     "                                 hosts ('#pragma halo declarations': linked with no\n"
     "                                 stage) and shaders (.frag, .vert) for each target\n"
     "                                 (default: 330, 450 and es300)\n"
     "  link --scene S --host H [--target T] [--module FILE]... [-o OUT] [--reflect]\n"
+    "       [--error-limit N]\n"
     "                                 link the scene's stages into the host shader and\n"
     "                                 validate; --reflect prints the reflection as JSON\n"
     "  list                           list the stages with their parameters\n"
@@ -37,6 +40,8 @@ static const char usage_text[] =
     "  --help, --version\n"
     "\n"
     "targets: 330 (GLSL 330 core), 450 (GLSL 450 core), es300 (GLSL ES 300)\n"
+    "--error-limit N: show at most N errors per file and target, then how many more\n"
+    "                 there were (default 100; 0: no limit)\n"
     "exit status: 0 success, 1 the input has errors, 2 usage or I/O failure\n";
 
 static int usage_error(const char *fmt, const char *arg) {
@@ -58,17 +63,29 @@ static int status_of(const halo_diagnostics *d) {
     return status;
 }
 
+/* --error-limit N: the cap on the errors shown (halo_diagnostics_set_limit). */
+static int parse_error_limit(const char *arg, size_t *limit) {
+    char *end = NULL;
+    errno = 0;
+    unsigned long long n = arg && *arg >= '0' && *arg <= '9' ? strtoull(arg, &end, 10) : 0;
+    if (!end || *end || errno || n > (unsigned long long)SIZE_MAX) return -1;
+    *limit = (size_t)n;
+    return 0;
+}
+
 static const char *extension(const char *path) {
     const char *slash = strrchr(path, '/');
     const char *dot = strrchr(slash ? slash : path, '.');
     return dot ? dot + 1 : "";
 }
 
-static char *read_text(const char *path, halo_diagnostics *d) {
+/* Reads a shader. NULL with *status EXIT_USAGE when the file cannot be read, or
+ * EXIT_INPUT when it is no text (a NUL byte: an error in the input, at its place). */
+static char *read_text(const char *path, int *status) {
+    *status = EXIT_USAGE;
     FILE *f = fopen(path, "rb");
     if (!f) {
         fprintf(stderr, "%s: error: cannot read: %s\n", path, strerror(errno));
-        (void)d;
         return NULL;
     }
     size_t cap = 65536, len = 0;
@@ -89,11 +106,19 @@ static char *read_text(const char *path, halo_diagnostics *d) {
         return NULL;
     }
     buf[len] = '\0';
-    if (strlen(buf) != len) {
-        fprintf(stderr, "%s: error: the file contains a NUL byte; not a text shader\n", path);
+    const char *nul = memchr(buf, '\0', len);
+    if (nul) {
+        int line = 1, column = 1;
+        for (const char *p = buf; p < nul; p++) {
+            if (*p == '\n') { line++; column = 1; }
+            else column++;
+        }
+        fprintf(stderr, "%s:%d:%d: error: the file contains a NUL byte; not a text shader\n", path, line, column);
         free(buf);
+        *status = EXIT_INPUT;
         return NULL;
     }
+    *status = 0;
     return buf;
 }
 
@@ -115,10 +140,16 @@ static int cmd_check(int argc, char **argv) {
     int ntargets = 0;
     parse_targets("all", targets, &ntargets);
     int nfiles = 0, worst = 0;
+    size_t error_limit = HALO_DIAGNOSTICS_DEFAULT_LIMIT;
     char **files = calloc((size_t)argc + 1, sizeof *files);
     if (!files) return EXIT_USAGE;
     for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--target")) {
+        if (!strcmp(argv[i], "--error-limit")) {
+            if (i + 1 >= argc || parse_error_limit(argv[++i], &error_limit)) {
+                free(files);
+                return usage_error("--error-limit takes a number of errors (0: no limit)%s", "");
+            }
+        } else if (!strcmp(argv[i], "--target")) {
             if (i + 1 >= argc || parse_targets(argv[++i], targets, &ntargets)) {
                 free(files);
                 return usage_error("--target takes 330, 450, es300 or all", "");
@@ -135,6 +166,7 @@ static int cmd_check(int argc, char **argv) {
         return usage_error("check needs at least one FILE%s", "");
     }
     halo_diagnostics *d = halo_diagnostics_create();
+    halo_diagnostics_set_limit(d, error_limit);
     halo_library *lib = halo_library_create(d);
     if (!lib) {
         halo_diagnostics_print(d, stderr);
@@ -147,12 +179,13 @@ static int cmd_check(int argc, char **argv) {
         halo_diagnostics_clear(d);
         int file_status = 0;
         /* A module or a host by its annotations, whatever the extension; else by the extension. */
-        char *text = read_text(path, d);
+        int read_status;
+        char *text = read_text(path, &read_status);
         halo_source_kind kind = text ? halo_source_kind_of(text) : HALO_SOURCE_SHADER;
         int module = kind == HALO_SOURCE_MODULE || (kind == HALO_SOURCE_SHADER && !strcmp(ext, "glsl"));
         int shader = !module && (kind == HALO_SOURCE_HOST || !strcmp(ext, "frag") || !strcmp(ext, "vert"));
         if (!text) {
-            file_status = EXIT_USAGE;
+            file_status = read_status;
         } else if (module) {
             halo_status st = halo_library_override_file(lib, path, d);
             if (st != HALO_OK) {
@@ -208,6 +241,7 @@ static int cmd_check(int argc, char **argv) {
 static int cmd_link(int argc, char **argv) {
     const char *scene_path = NULL, *host_path = NULL, *out_path = NULL;
     int reflect = 0, nmodules = 0;
+    size_t error_limit = HALO_DIAGNOSTICS_DEFAULT_LIMIT;
     halo_target target = HALO_TARGET_GLSL330;
     const char **modules = calloc((size_t)argc + 1, sizeof *modules);
     if (!modules) return EXIT_USAGE;
@@ -219,6 +253,12 @@ static int cmd_link(int argc, char **argv) {
         else if (!strcmp(a, "-o") && has_value) out_path = argv[++i];
         else if (!strcmp(a, "--module") && has_value) modules[nmodules++] = argv[++i];
         else if (!strcmp(a, "--reflect")) reflect = 1;
+        else if (!strcmp(a, "--error-limit") && has_value) {
+            if (parse_error_limit(argv[++i], &error_limit)) {
+                free(modules);
+                return usage_error("--error-limit takes a number of errors (0: no limit), not '%s'", argv[i]);
+            }
+        }
         else if (!strcmp(a, "--target") && has_value) {
             target = halo_target_from_name(argv[++i]);
             if (target == HALO_TARGET_COUNT) {
@@ -235,6 +275,7 @@ static int cmd_link(int argc, char **argv) {
         return usage_error("link needs --host FILE%s", "");
     }
     halo_diagnostics *d = halo_diagnostics_create();
+    halo_diagnostics_set_limit(d, error_limit);
     halo_library *lib = halo_library_create(d);
     halo_scene *scene = NULL;
     halo_program *p = NULL;
@@ -244,11 +285,8 @@ static int cmd_link(int argc, char **argv) {
     if (!lib || halo_diagnostics_errors(d)) goto done;
     scene = scene_path ? halo_scene_load(scene_path, lib, d) : halo_scene_create(lib);
     if (!scene) goto done;
-    host = read_text(host_path, d);
-    if (!host) {
-        status = EXIT_USAGE;
-        goto done;
-    }
+    host = read_text(host_path, &status);
+    if (!host) goto done;
     const char *ext = extension(host_path);
     p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host, .host_file = host_path,
                                     .target = target,
