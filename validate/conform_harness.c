@@ -568,6 +568,10 @@ static int stage_known(conform *c)
         strncmp(only, "pass:", 5) == 0 || strncmp(only, "slice", 5) == 0 || strncmp(only, "slab", 4) == 0 ||
         strncmp(only, "line", 4) == 0 || strncmp(only, "outline", 7) == 0 || strncmp(only, "feature", 7) == 0)
         return 1;
+    /* a row of the registry, or a family (every row of it) */
+    for (size_t i = 0; i < c->registry_count; ++i)
+        if (!strcmp(c->registry[i].name, only) || !strcmp(c->registry[i].family, only))
+            return 1;
     char base[128];
     snprintf(base, sizeof base, "%s", only);
     char *at = strchr(base, '@');

@@ -17,6 +17,7 @@
 #include "conform_passes.h"
 #include "conform_render.h"
 #include "conform_sample.h"
+#include "conform_segment.h"
 #include "conform_slice.h"
 #include "figure3.h"
 
@@ -107,6 +108,34 @@
     " \"color_near\": [[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]], \"color_far\": [[0, 0, 0]]," \
     " \"full_at\": [1, 0.2, 0.05, 0.5], \"profile_exponent\": [1, 64, 0.5, 3], \"opacity\": [1, 0.5, 0.25, 0.9]}}]}"
 #define PASS_COMPARE(...) {__VA_ARGS__}
+/* Segmented ray casting (host contract 2, conform_segment.c). */
+#define SEGMENT_ROW(name, renders, tolerance, why, scene, segments, orthographic)                                \
+    {name, "segments", renders, "%.0e", tolerance, 0.0, why, conform_segment_row,                                \
+     &(const conform_segment_params){scene, segments, orthographic}}
+#define SEGMENT_SAME_WHY                                                                                          \
+    "the same samples composited in the same order: a sample belongs to one segment by the same float "           \
+    "expression in both; only the ended-ray flag (opacity + 2) may round the opacity of ended rays by 1.2e-7"
+#define SEGMENT_HALOS_WHY                                                                                         \
+    "as the slice rows (float32 sampling, seeds, passes, blending against double); decisions on the 0.99 "         \
+    "opacity threshold and the rays' exits bracketed"
+#define SEGMENT_RENDER                                                                                            \
+    "\"render\": {\"azimuth\": 30, \"elevation\": 20, \"zoom\": 1.3, \"step\": 0.5,"                          \
+    " \"transfer\": [[0, 0, 0, 0, 0], [0.25, 0.6, 0.8, 1, 0.6], [0.5, 1, 0.85, 0.55, 1], [1, 1, 1, 0.8, 1]]}"
+#define SEGMENT_SAMPLE_SCENE                                                                                      \
+    "{\"halo_scene\": 1, \"stages\": [{\"boundary\": {}}, {\"silhouette\": {\"k_ss\": 4, \"k_se\": 1}},"         \
+    " {\"tone_shading\": {}}, {\"distance_blend\": {}}], " SEGMENT_RENDER "}"
+#define SEGMENT_HALOS_SCENE                                                                                       \
+    "{\"halo_scene\": 1, \"stages\": ["                                                                          \
+    " {\"halo_seed\": {\"alpha\": [1, 2], \"beta\": 0.125, \"gradient_scale\": 4}},"                             \
+    " {\"halo_generate\": {\"passes\": 3, \"delta\": [0.8, 0.9], \"interval\": 4}},"                             \
+    " {\"halo_map\": {\"mode\": [0, 1], \"color_near\": [[1, 0.9, 0.4], [0, 0, 0]],"                             \
+    "   \"color_far\": [[1, 0.3, 0.1], [0, 0, 0]], \"opacity\": [0.8, 0.7]}}], " SEGMENT_RENDER "}"
+#define SEGMENT_OUTLINES_SCENE                                                                                    \
+    "{\"halo_scene\": 1, \"stages\": ["                                                                          \
+    " {\"halo_seed\": {\"alpha\": 2, \"gradient_scale\": 4}}, {\"halo_generate\": {\"passes\": 3}},"            \
+    " {\"halo_map\": {\"mode\": 0, \"opacity\": 0.8}},"                                                          \
+    " {\"outline_feature\": {\"value_min\": 0.55, \"value_max\": 1}},"                                           \
+    " {\"outlines\": {\"sigma\": 1, \"lambda\": 4, \"depth_power\": 1}}], " SEGMENT_RENDER "}"
 
 const conform_row conform_rows[] = {
     {"empty", "render", "the ray caster linked with no stage against the unlinked one", "0 (bits)", 0.0, 0.0,
@@ -235,6 +264,19 @@ const conform_row conform_rows[] = {
     SLICE_ROW("slice@half", "the slice host, halo images at 1/2", SLICE_HALOS_TOL, SLICE_HALOS_WHY, 1, 0, 0, 2),
     SLICE_ROW("slab@quarter", "the slab ray caster, M = 4, halo images at 1/4", SLICE_HALOS_TOL, SLICE_HALOS_WHY, 1,
               1, 4, 4),
+    /* Host contract 2: the single-pass ray caster drawn in depth segments (conform_segment.c) */
+    SEGMENT_ROW("segments@K4", "the ray caster with per-sample stages in 4 forced segments against one draw", 1e-6,
+                SEGMENT_SAME_WHY, SEGMENT_SAMPLE_SCENE, 4, 0),
+    SEGMENT_ROW("segments@K16", "16 forced segments against one draw, early ray termination on most rays", 1e-6,
+                SEGMENT_SAME_WHY, SEGMENT_SAMPLE_SCENE, 16, 0),
+    SEGMENT_ROW("segments@K16_ortho", "16 forced segments, orthographic camera", 1e-6, SEGMENT_SAME_WHY,
+                SEGMENT_SAMPLE_SCENE, 16, 1),
+    SEGMENT_ROW("ray", "the segmented ray caster with two halos, M = 4", SLICE_HALOS_TOL, SEGMENT_HALOS_WHY,
+                SEGMENT_HALOS_SCENE, 0, 0),
+    SEGMENT_ROW("ray@ortho", "the segmented ray caster with two halos, orthographic", SLICE_HALOS_TOL,
+                SEGMENT_HALOS_WHY, SEGMENT_HALOS_SCENE, 0, 1),
+    SEGMENT_ROW("ray@outlines", "the segmented ray caster with a halo and outlines (post passes)", SLICE_HALOS_TOL,
+                SEGMENT_HALOS_WHY, SEGMENT_OUTLINES_SCENE, 0, 0),
     FEATURE_SPLAT("feature_splat", "the GPU halo buffer against its emulation, oblique view"),
     FEATURE_SPLAT("feature_splat@n3", "splats of 3^3, view along an axis"),
     FEATURE_SPLAT("feature_splat@n9", "splats of 9^3, threshold 0.2"),

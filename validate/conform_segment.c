@@ -229,3 +229,117 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
     free(rays);
     return ok;
 }
+
+/* ---- The rows (conform_rows.c) ------------------------------------------------------------ */
+
+/* Renders the ray caster: one draw (segments < 0), as the program needs (0) or in exactly
+ * `segments`; fills state and plan. NULL with diagnostics on failure. */
+static float *render(conform *c, const halo_program *p, const halo_render_settings *settings, const float *volume,
+                     int volume_size, int orthographic, int segments, halo_raycast_state *state,
+                     halo_segment_plan *plan)
+{
+    size_t values = (size_t)c->size * (size_t)c->size * 4;
+    float *gpu = malloc(values * sizeof *gpu);
+    halo_raycast *r = halo_raycast_create(&(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = p,
+                                                            .width = c->size, .height = c->size},
+                                          c->diag);
+    int ok = gpu && r && halo_raycast_set_volume(r, volume, volume_size, volume_size, volume_size, c->diag) == HALO_OK &&
+             halo_raycast_set_render(r, settings, c->diag) == HALO_OK;
+    if (ok) {
+        halo_raycast_set_orthographic(r, orthographic);
+        halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);
+        halo_raycast_set_segments(r, 0, segments > 0 ? segments : 0);
+        ok = halo_raycast_render(r, gpu, c->diag) == HALO_OK;
+        halo_raycast_get_state(r, state);
+        float inverse[16];
+        for (int i = 0; i < 16; ++i)
+            inverse[i] = (float)state->inverse_view_projection[i];
+        halo_gl_segments_desc desc = {.inverse_view_projection = inverse, .step = (float)state->step_size,
+                                      .segments = segments > 0 ? segments : 0};
+        ok = ok && halo_segment_plan_make(&desc, p, plan, c->diag);
+    }
+    halo_raycast_destroy(r);
+    if (!ok) {
+        free(gpu);
+        return NULL;
+    }
+    return gpu;
+}
+
+static halo_program *link_host(conform *c, const halo_scene *scene, int force)
+{
+    return halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = c->raycast_source,
+                                       .host_file = "raycast.frag", .target = HALO_TARGET_GLSL330,
+                                       .force_segments = force},
+                     c->diag);
+}
+
+void conform_segment_row(conform *c, const conform_row *row)
+{
+    if (!row_selected(c, row->name, "segments"))
+        return;
+    const conform_segment_params *params = row->params;
+    const int volume_size = 32;
+    size_t values = (size_t)c->size * (size_t)c->size * 4;
+    float *volume = halo_volume_create(volume_size), *gpu = NULL, *single = NULL;
+    double *reference = NULL, *allowed = NULL, *moved = NULL;
+    halo_program *program = NULL, *plain = NULL;
+    halo_scene *scene = volume ? halo_scene_parse(params->scene, "(conformance segment scene)", c->lib, c->diag) : NULL;
+    halo_raycast_state state;
+    halo_segment_plan plan;
+    int ok = scene && (program = link_host(c, scene, params->segments > 0)) != NULL;
+    const halo_render_settings *settings = ok ? halo_scene_render(scene) : NULL;
+    ok = ok && (gpu = render(c, program, settings, volume, volume_size, params->orthographic, params->segments,
+                             &state, &plan)) != NULL;
+    row_stats stats = {0};
+    if (ok && params->segments > 0) {
+        /* the same host in one draw: the segments alone must change nothing */
+        halo_segment_plan once;
+        ok = (plain = link_host(c, scene, 0)) != NULL &&
+             (single = render(c, plain, settings, volume, volume_size, params->orthographic, 0, &state, &once)) != NULL;
+        for (size_t i = 0; ok && i < values / 4; ++i) {
+            const double g[4] = {gpu[i * 4], gpu[i * 4 + 1], gpu[i * 4 + 2], gpu[i * 4 + 3]};
+            const double s[4] = {single[i * 4], single[i * 4 + 1], single[i * 4 + 2], single[i * 4 + 3]};
+            row_stats_add(&stats, i, g, s, NULL, 4, row->tolerance_abs, 0.0);
+        }
+    } else if (ok) {
+        /* against the emulation; the decisions on the opacity threshold and the ray's exit bracketed */
+        static const double moves[][2] = {{-1e-5, 0.0}, {1e-5, 0.0}, {0.0, -1e-5}, {0.0, 1e-5}};
+        reference = malloc(values * sizeof *reference);
+        moved = malloc(values * sizeof *moved);
+        allowed = calloc(values, sizeof *allowed);
+        state.volume = volume;
+        ok = reference && moved && allowed &&
+             halo_conform_segment_emulate(&state, program, &plan, 0.99, 0.0, reference, c->diag);
+        for (size_t m = 0; ok && m < sizeof moves / sizeof moves[0]; ++m) {
+            ok = halo_conform_segment_emulate(&state, program, &plan, 0.99 + moves[m][0], moves[m][1], moved, c->diag);
+            for (size_t i = 0; ok && i < values; ++i)
+                allowed[i] = fmax(allowed[i], fabs(moved[i] - reference[i]));
+        }
+        for (size_t i = 0; ok && i < values / 4; ++i) {
+            const double g[4] = {gpu[i * 4], gpu[i * 4 + 1], gpu[i * 4 + 2], gpu[i * 4 + 3]};
+            row_stats_add(&stats, i, g, &reference[i * 4], &allowed[i * 4], 4, row->tolerance_abs, 0.0);
+        }
+    }
+    if (ok) {
+        char tolerance_text[32];
+        conform_tolerance_text(row, tolerance_text, sizeof tolerance_text);
+        int pass = stats.over == 0 && stats.nonfinite == 0;
+        print_row(c, row->name, &stats, tolerance_text, pass);
+        if (c->verbose || !pass)
+            fprintf(stderr, "  %s: %d segments; largest error at pixel (%zu, %zu); tolerance: %s\n", row->name,
+                    plan.segments, stats.worst % (size_t)c->size, stats.worst / (size_t)c->size, row->why);
+    } else {
+        print_error_row(c, row->name);
+    }
+    halo_diagnostics_clear(c->diag);
+    halo_program_destroy(program);
+    halo_program_destroy(plain);
+    halo_scene_destroy(scene);
+    free(volume);
+    free(gpu);
+    free(single);
+    free(reference);
+    free(allowed);
+    free(moved);
+}

@@ -3,6 +3,7 @@
 #ifndef HALO_CONFORM_SEGMENT_H
 #define HALO_CONFORM_SEGMENT_H
 
+#include "conform_harness.h"
 #include "halo.h"
 #include "internal.h"
 #include "hosts/raycast.h"
@@ -14,5 +15,14 @@
  * without emulation, out of memory). */
 int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program *p, const halo_segment_plan *plan,
                                  double threshold, double exit_move, double *out, halo_diagnostics *diag);
+
+/* A row: the ray caster (raycast.frag) with the scene; segments > 0: linked with
+ * force_segments and drawn in exactly that many, against the same host in one draw;
+ * 0: drawn as the program needs, against the emulation. --stage segments selects them all. */
+typedef struct conform_segment_params {
+    const char *scene;
+    int segments, orthographic;
+} conform_segment_params;
+void conform_segment_row(conform *c, const conform_row *row);
 
 #endif

@@ -10,7 +10,8 @@ validate_halo_validate_SOURCES = validate/halo-validate.c validate/conform.c val
 	validate/conform_sample.c validate/conform_sample.h validate/conform_frame.c validate/conform_frame.h \
 	validate/conform_render.c validate/conform_render.h validate/conform_passes.c validate/conform_passes.h \
 	validate/figure3.c validate/figure3.h \
-	validate/conform_slice.c validate/conform_slice.h validate/bench.c validate/bench.h \
+	validate/conform_slice.c validate/conform_slice.h validate/conform_segment.c validate/conform_segment.h \
+	validate/bench.c validate/bench.h \
 	validate/bench_run.c validate/bench_run.h validate/bench_budget.c validate/bench_budget.h
 nodist_EXTRA_validate_halo_validate_SOURCES = build-aux/force-cxx-link.cc
 validate_halo_validate_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples
