@@ -9,6 +9,9 @@
 // the C side binds the samplers by name, so the text also links for 330 and ES 300.
 
 #pragma halo declarations
+#ifndef HALO_RAY_MAY_END
+#define HALO_RAY_MAY_END 1 // libhalo says 0 when its stages need every sample of a ray
+#endif
 #pragma halo volume volume_texture
 
 uniform highp sampler3D volume_texture;   // unit 0: R32F, value normalized to [0,1]
@@ -53,7 +56,7 @@ void main()
         src.a = 1.0 - pow(1.0 - clamp(src.a, 0.0, 1.0), step_size / unit_step);
         dst.rgb += (1.0 - dst.a) * src.a * src.rgb;
         dst.a += (1.0 - dst.a) * src.a;
-        if (dst.a >= 0.99)
+        if (dst.a >= 0.99 && HALO_RAY_MAY_END != 0)
             break;
     }
 #ifdef HALO_LINKED

@@ -19,6 +19,9 @@
 // depth from libhalo (halo_view_at, halo_depth_at).
 
 #pragma halo declarations
+#ifndef HALO_RAY_MAY_END
+#define HALO_RAY_MAY_END 1 // libhalo says 0 when its stages need every sample of a ray
+#endif
 
 uniform highp sampler3D volume_texture; // R32F, value normalized to [0,1]
 uniform highp sampler2D transfer_texture; // N x 1 RGBA: colour by value
@@ -91,7 +94,7 @@ void main()
 #endif
         float alpha = clamp(color.a, 0.0, 1.0);
         accumulated += (1.0 - accumulated.a) * vec4(color.rgb * alpha, alpha);
-        if (accumulated.a >= 0.99)
+        if (accumulated.a >= 0.99 && HALO_RAY_MAY_END != 0)
             break;
     }
 #ifdef HALO_LINKED

@@ -17,6 +17,9 @@
 // 0.5), its own view direction, and libhalo's depth (halo_depth_at).
 
 #pragma halo declarations
+#ifndef HALO_RAY_MAY_END
+#define HALO_RAY_MAY_END 1 // libhalo says 0 when its stages need every sample of a ray
+#endif
 
 uniform highp sampler3D volume_texture; // R32F, value normalized to [0,1]
 uniform highp sampler2D transfer_texture; // N x 1 RGBA: colour and opacity per unit step by value
@@ -84,7 +87,7 @@ void main()
         float alpha = 1.0 - pow(1.0 - clamp(color.a, 0.0, 1.0), step_size / unit_step);
         sum.rgb += (1.0 - sum.a) * alpha * color.rgb;
         sum.a += (1.0 - sum.a) * alpha;
-        if (sum.a > 0.995)
+        if (sum.a > 0.995 && HALO_RAY_MAY_END != 0)
             break;
     }
 #ifdef HALO_LINKED

@@ -15,6 +15,9 @@ precision highp int;
 precision highp sampler3D;
 
 #pragma halo declarations
+#ifndef HALO_RAY_MAY_END
+#define HALO_RAY_MAY_END 1 // libhalo says 0 when its stages need every sample of a ray
+#endif
 #pragma halo volume volume_texture
 
 uniform highp sampler3D volume_texture; // R32F, value normalized to [0,1]
@@ -81,7 +84,7 @@ void main()
 #endif
         float alpha = 1.0 - pow(1.0 - clamp(color.a, 0.0, 1.0), exponent);
         accumulated += (1.0 - accumulated.a) * vec4(color.rgb * alpha, alpha);
-        if (accumulated.a >= termination_opacity)
+        if (accumulated.a >= termination_opacity && HALO_RAY_MAY_END != 0)
             break;
     }
 #ifdef HALO_LINKED
