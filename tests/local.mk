@@ -230,8 +230,7 @@ AM_TESTS_ENVIRONMENT += HALO_OUTLINE='$(abs_top_builddir)/examples/halo-outline'
 # ---- Host contract 2 (docs/host-contract.md, "Segmented ray casting"): the ray caster in
 # depth segments against one draw and against the slab host; the single-pass diagnostics ----
 check_PROGRAMS += tests/segments/test_segments
-tests_segments_test_segments_SOURCES = tests/segments/test_segments.c validate/conform_segment.c \
-	validate/conform_harness.c
+tests_segments_test_segments_SOURCES = tests/segments/test_segments.c
 tests_segments_test_segments_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate \
 	-I$(top_srcdir)/libhalo
 nodist_EXTRA_tests_segments_test_segments_SOURCES = build-aux/force-cxx-link.cc

@@ -261,6 +261,23 @@ void conform_transform(const double m[16], const double v[4], double out[4])
         out[row] = m[row] * v[0] + m[4 + row] * v[1] + m[8 + row] * v[2] + m[12 + row] * v[3];
 }
 
+halo_emu_frame *conform_host_frame(const halo_program *p, int width, int height, const double screen_right[3],
+                                   const double screen_up[3], int *ok, halo_diagnostics *diag)
+{
+    *ok = 1;
+    if (!halo_program_image_count(p) && !halo_program_output_count(p) && !halo_program_sampler_count(p))
+        return NULL;
+    halo_emu_frame *frame = halo_emu_frame_create(p, width, height, diag);
+    if (!frame) {
+        *ok = 0;
+        return NULL;
+    }
+    halo_emu_frame_begin(frame);
+    halo_emu_frame_set_host_uniform(frame, "screen_right", screen_right, 3);
+    halo_emu_frame_set_host_uniform(frame, "screen_up", screen_up, 3);
+    return frame;
+}
+
 void conform_print_sample(const char *label, const halo_emu_sample *s, const float *gpu, const double *emu)
 {
     fprintf(stderr,

@@ -114,6 +114,11 @@ void conform_set_live_arrays(halo_program *p, const halo_module *m, halo_diagnos
 void conform_transfer_lookup(const float *transfer, int texels, double value, double rgba[4]);
 /* out = m v, m column-major (OpenGL's order). */
 void conform_transform(const double m[16], const double v[4], double out[4]);
+/* The emulated frame of a host's program, begun, with halo_seed's image-plane axes set;
+ * NULL when the program has no images, outputs or samplers (*ok stays 1) or on failure
+ * (*ok 0, diagnostics in diag). */
+halo_emu_frame *conform_host_frame(const halo_program *p, int width, int height, const double screen_right[3],
+                                   const double screen_up[3], int *ok, halo_diagnostics *diag);
 
 /* ---- The frame probe ---- */
 

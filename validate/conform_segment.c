@@ -14,18 +14,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void classify(const halo_raycast_state *s, double value, double rgba[4])
-{
-    double v = value > 0.0 ? (value < 1.0 ? value : 1.0) : 0.0; /* NaN -> 0, as the host does */
-    int n = s->transfer_texels;
-    double u = v * (n - 1);
-    double base = floor(u);
-    double f = u - base;
-    int i0 = (int)base, i1 = i0 + 1 > n - 1 ? n - 1 : i0 + 1;
-    for (int k = 0; k < 4; ++k)
-        rgba[k] = (1.0 - f) * s->transfer[i0 * 4 + k] + f * s->transfer[i1 * 4 + k];
-}
-
 /* One pixel's ray in raycast.frag: origin, unit direction, the box's entry and exit, and
  * the segment index bounds as the shader computes them (in float). */
 typedef struct segment_ray {
@@ -36,13 +24,10 @@ typedef struct segment_ray {
 
 static void make_ray(const halo_raycast_state *s, const halo_segment_plan *plan, int x, int y, segment_ray *r)
 {
-    const double *m = s->inverse_view_projection;
     double ndc[2] = {(x + 0.5) / s->width * 2.0 - 1.0, (y + 0.5) / s->height * 2.0 - 1.0};
     double near_point[4], far_point[4];
-    for (int row = 0; row < 4; ++row) {
-        near_point[row] = m[row] * ndc[0] + m[4 + row] * ndc[1] - m[8 + row] + m[12 + row];
-        far_point[row] = m[row] * ndc[0] + m[4 + row] * ndc[1] + m[8 + row] + m[12 + row];
-    }
+    conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
+    conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
     double length = 0.0;
     for (int k = 0; k < 3; ++k) {
         r->origin[k] = near_point[k] / near_point[3];
@@ -112,15 +97,11 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
         return 0;
     }
-    if (halo_program_image_count(p) || halo_program_output_count(p) || halo_program_sampler_count(p)) {
-        frame = halo_emu_frame_create(p, s->width, s->height, diag);
-        if (!frame) {
-            free(rays);
-            return 0;
-        }
-        halo_emu_frame_begin(frame);
-        halo_emu_frame_set_host_uniform(frame, "screen_right", s->screen_right, 3);
-        halo_emu_frame_set_host_uniform(frame, "screen_up", s->screen_up, 3);
+    int framed = 1;
+    frame = conform_host_frame(p, s->width, s->height, s->screen_right, s->screen_up, &framed, diag);
+    if (!framed) {
+        free(rays);
+        return 0;
     }
     for (int y = 0; y < s->height; ++y)
         for (int x = 0; x < s->width; ++x)
@@ -173,7 +154,7 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
                     P[c] = r->origin[c] + t * r->direction[c];
                 sample.value = halo_volume_trilinear(s->volume, s->dims, P);
                 double color[4];
-                classify(s, sample.value, color);
+                conform_transfer_lookup(s->transfer, s->transfer_texels, sample.value, color);
                 double distance = 0.0;
                 for (int c = 0; c < 3; ++c) {
                     double plus[3] = {P[0], P[1], P[2]}, minus[3] = {P[0], P[1], P[2]};

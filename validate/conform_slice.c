@@ -67,18 +67,13 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
     size_t pixels = (size_t)s->width * (size_t)s->height;
     pixel_ray *rays = malloc(pixels * sizeof *rays);
     halo_emu_frame *frame = NULL;
-    int has_frame = halo_program_image_count(p) || halo_program_output_count(p) || halo_program_sampler_count(p);
     if (!rays)
         return 0;
-    if (has_frame) {
-        frame = halo_emu_frame_create(p, s->width, s->height, diag);
-        if (!frame) {
-            free(rays);
-            return 0;
-        }
-        halo_emu_frame_begin(frame);
-        halo_emu_frame_set_host_uniform(frame, "screen_right", s->screen_right, 3);
-        halo_emu_frame_set_host_uniform(frame, "screen_up", s->screen_up, 3);
+    int framed = 1;
+    frame = conform_host_frame(p, s->width, s->height, s->screen_right, s->screen_up, &framed, diag);
+    if (!framed) {
+        free(rays);
+        return 0;
     }
     for (int y = 0; y < s->height; ++y)
         for (int x = 0; x < s->width; ++x) {

@@ -8,9 +8,9 @@
  *      halos themselves change the image far more than that.
  *   3. The diagnostics: a scene with passes in a single-pass ray caster, force_segments
  *      without halo_segment_begin.
- *   4. Against the emulation (validate/conform_segment.c): the segmented ray caster with
- *      an emissive and an occlusive halo, and with per-sample stages in forced segments.
- *   1 and 4 again with an orthographic camera (segments of the clip z planes).
+ *   1 again with an orthographic camera (segments of the clip z planes).
+ * The segmented ray caster against its emulation is the conformance family "segments"
+ * (validate/conform_segment.c, halo-validate conform --stage segments).
  * Exit 77 without OpenGL. */
 #include "halo.h"
 #include "gl/glfuncs.h"
@@ -18,7 +18,6 @@
 #include "hosts/raycast.h"
 #include "hosts/slab.h"
 #include "volume.h"
-#include "conform_segment.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -281,105 +280,6 @@ static void test_diagnostics(env *e)
     halo_scene_destroy(scene);
 }
 
-/* The slice rows' tolerance (validate/conform_slice.c): float against double through the
- * seed's |grad f|^alpha and the passes; 5e-4 leaves a margin of about 10. Decisions on the
- * 0.99 opacity threshold and on the ray's exit are bracketed (the raycast row's way). */
-#define EMULATION_TOLERANCE 5e-4
-#define DECISION_MOVE 1e-5
-
-static const char emulated_halos[] =
-    "{\"halo_scene\": 1, \"stages\": ["
-    " {\"halo_seed\": {\"alpha\": [1, 2], \"beta\": 0.125, \"gradient_scale\": 4}},"
-    " {\"halo_generate\": {\"passes\": 3, \"delta\": [0.8, 0.9], \"interval\": 4}},"
-    " {\"halo_map\": {\"mode\": [0, 1], \"color_near\": [[1, 0.9, 0.4], [0, 0, 0]],"
-    "   \"color_far\": [[1, 0.3, 0.1], [0, 0, 0]], \"opacity\": [0.8, 0.7]}}], " RENDER "}";
-
-static void against_emulation(env *e, const char *name, const char *scene_text, int force, int segments)
-{
-    halo_scene *scene = NULL;
-    halo_program *p = link_scene(e, scene_text, e->raycast, "raycast.frag", force, &scene);
-    size_t values = (size_t)SIZE * SIZE * 4;
-    float *gpu = malloc(values * sizeof *gpu);
-    double *reference = malloc(values * sizeof *reference), *moved = malloc(values * sizeof *moved);
-    double *allowed = calloc(values, sizeof *allowed);
-    halo_raycast *r = p ? halo_raycast_create(&(halo_host_desc){.gl = e->gl, .runtime = e->runtime, .program = p,
-                                                                .width = SIZE, .height = SIZE},
-                                              e->diag)
-                        : NULL;
-    int ok = r && gpu && reference && moved && allowed;
-    halo_raycast_state state;
-    halo_segment_plan plan;
-    if (ok) {
-        const halo_render_settings *settings = halo_scene_render(scene);
-        ok = halo_raycast_set_volume(r, e->volume, VOLUME, VOLUME, VOLUME, e->diag) == HALO_OK &&
-             halo_raycast_set_render(r, settings, e->diag) == HALO_OK;
-        halo_raycast_set_orthographic(r, orthographic);
-        halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);
-        halo_raycast_set_segments(r, 0, segments);
-        ok = ok && halo_raycast_render(r, gpu, e->diag) == HALO_OK;
-        halo_raycast_get_state(r, &state);
-        float inverse[16];
-        for (int i = 0; i < 16; ++i)
-            inverse[i] = (float)state.inverse_view_projection[i];
-        halo_gl_segments_desc desc = {.inverse_view_projection = inverse, .step = (float)state.step_size,
-                                      .segments = segments};
-        ok = ok && halo_segment_plan_make(&desc, p, &plan, e->diag) &&
-             halo_conform_segment_emulate(&state, p, &plan, 0.99, 0.0, reference, e->diag);
-    }
-    static const double moves[][2] = {{-DECISION_MOVE, 0.0}, {DECISION_MOVE, 0.0}, {0.0, -DECISION_MOVE},
-                                      {0.0, DECISION_MOVE}};
-    for (size_t m = 0; ok && m < sizeof moves / sizeof moves[0]; ++m) {
-        ok = halo_conform_segment_emulate(&state, p, &plan, 0.99 + moves[m][0], moves[m][1], moved, e->diag);
-        for (size_t i = 0; ok && i < values; ++i)
-            allowed[i] = fmax(allowed[i], fabs(moved[i] - reference[i]));
-    }
-    CHECK(ok, "%s: GPU render and emulation", name);
-    if (ok) {
-        double worst = 0.0;
-        size_t over = 0, nonfinite = 0;
-        for (size_t i = 0; i < values; ++i) {
-            double d = fabs((double)gpu[i] - reference[i]);
-            nonfinite += !isfinite(gpu[i]);
-            if (d > worst)
-                worst = d;
-            over += !(d <= EMULATION_TOLERANCE + allowed[i]);
-        }
-        size_t shown = 0; /* pixels where the volume shows: not the background */
-        for (size_t i = 0; i < values; i += 4)
-            shown += fabs(reference[i] - state.background[0]) + fabs(reference[i + 1] - state.background[1]) +
-                         fabs(reference[i + 2] - state.background[2]) > 0.05;
-        printf("%s (%d segments): GPU against the emulation max abs %.3g, %zu values over %.0e (+ bracket), %zu"
-               " non-finite; the volume covers %.0f %% of the image\n", name, plan.segments, worst, over,
-               EMULATION_TOLERANCE, nonfinite, 100.0 * (double)shown / (double)(values / 4));
-        CHECK(shown > values / 4 / 10, "%s: the volume covers only %zu pixels", name, shown);
-        CHECK(over == 0 && nonfinite == 0, "%s: %zu values over the tolerance", name, over);
-    }
-    halo_diagnostics_print(e->diag, stdout);
-    halo_diagnostics_clear(e->diag);
-    halo_raycast_destroy(r);
-    halo_program_destroy(p);
-    halo_scene_destroy(scene);
-    free(gpu);
-    free(reference);
-    free(moved);
-    free(allowed);
-}
-
-/* Outlines (Svakhine et al. 2009) through the segmented host: feature buffers written by
- * halo_finish, the post passes on the host's colour (examples/scenes/outline-depth.json). */
-static const char emulated_outlines[] =
-    "{\"halo_scene\": 1, \"stages\": [{\"tone_shading\": {}},"
-    " {\"outline_feature\": {\"value_min\": 0.55, \"value_max\": 1}},"
-    " {\"outlines\": {\"sigma\": 1, \"lambda\": 4, \"depth_power\": 1}}], " RENDER "}";
-
-/* Both: segments for the halos, the outlines' buffers accumulated over them. */
-static const char emulated_both[] =
-    "{\"halo_scene\": 1, \"stages\": ["
-    " {\"halo_seed\": {\"alpha\": 2, \"gradient_scale\": 4}}, {\"halo_generate\": {\"passes\": 3}},"
-    " {\"halo_map\": {\"mode\": 0, \"opacity\": 0.8}},"
-    " {\"outline_feature\": {\"value_min\": 0.55, \"value_max\": 1}},"
-    " {\"outlines\": {\"sigma\": 1, \"lambda\": 4, \"depth_power\": 1}}], " RENDER "}";
-
 int main(void)
 {
     char err[512];
@@ -407,13 +307,8 @@ int main(void)
     test_segments_change_nothing(&e);
     test_halos_match_slab(&e);
     test_diagnostics(&e);
-    against_emulation(&e, "emulation: halos", emulated_halos, 0, 0);
-    against_emulation(&e, "emulation: per-sample stages, 16 forced segments", sample_scene, 1, 16);
-    against_emulation(&e, "emulation: outlines", emulated_outlines, 0, 0);
-    against_emulation(&e, "emulation: halos and outlines", emulated_both, 0, 0);
     orthographic = 1;
     test_segments_change_nothing(&e);
-    against_emulation(&e, "emulation: halos, orthographic", emulated_halos, 0, 0);
     printf("%d failed\n", failures);
     free(e.raycast);
     free(e.slab);
