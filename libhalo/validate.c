@@ -134,7 +134,7 @@ halo_status halo_program_validate(const halo_program *p, halo_diagnostics *diag)
 /* Is there a '#pragma halo WORD' at p, or after a '#' later on the line (a commented-out one)? */
 static int mentions_annotation(const char *line, const char *word, int anywhere) {
     size_t n = strlen(word);
-    for (const char *h = line; h; h = anywhere ? strchr(h + 1, '#') : NULL) {
+    for (const char *h = line; h; h = anywhere && *h ? strchr(h + 1, '#') : NULL) {
         int col = halo_annotation_start(h);
         if (col && !strncmp(h + col - 1, word, n) && !isalnum((unsigned char)h[col - 1 + n]) && h[col - 1 + n] != '_')
             return 1;
