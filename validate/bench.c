@@ -472,8 +472,9 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
     const halo_bench_case *fastest = NULL, *within = NULL;
     for (size_t i = 0; i < n; ++i) {
         const halo_bench_case *c = &cases[i];
-        if (strncmp(c->axis, "halo", 4) || !strcmp(c->axis, "halo16") || c->config.interval != 4 || !(c->seconds > 0.0))
-            continue;
+        if (strncmp(c->axis, "halo", 4) || !strcmp(c->axis, "halo16") || c->config.interval != 4 ||
+            !(c->seconds > 0.0) || c->config.slab == HALO_BENCH_RAYCAST)
+            continue; /* the ray caster's reference is its own single-pass render: its line follows */
         if (!fastest || c->seconds < fastest->seconds)
             fastest = c;
         if (c->max_abs <= 1.0 / 255.0 && (!within || c->seconds < within->seconds))
@@ -493,6 +494,17 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
         else if (!within)
             printf("# no M = 4 row is within 1/255 of M = 1 at this size and volume\n");
     }
+    /* host contract 2: the single-pass ray caster drawn in segments, against itself in one draw */
+    printf("# segmented ray caster (raycast.frag, host contract 2), halo frame rate against its own render without"
+           " halos (one draw, early ray termination):");
+    for (size_t i = 0; i < n; ++i)
+        if (!strcmp(cases[i].axis, "halo") && cases[i].config.slab == HALO_BENCH_RAYCAST && cases[i].seconds > 0.0)
+            printf(" M = %d: %.1f %%;", cases[i].config.interval, 100.0 * ray_reference / cases[i].seconds);
+    printf(" the slab host against the slice host's reference:");
+    for (size_t i = 0; i < n; ++i)
+        if (!strcmp(cases[i].axis, "halo") && cases[i].config.slab == 1 && cases[i].seconds > 0.0)
+            printf(" M = %d: %.1f %%;", cases[i].config.interval, 100.0 * reference / cases[i].seconds);
+    printf("\n");
     halo_bench_cases_free(cases, n);
     return 0;
 }
