@@ -261,6 +261,24 @@ void conform_transform(const double m[16], const double v[4], double out[4])
         out[row] = m[row] * v[0] + m[4 + row] * v[1] + m[8 + row] * v[2] + m[12 + row] * v[3];
 }
 
+void conform_pixel_ray(const double inverse_view_projection[16], int width, int height, int x, int y,
+                       double origin[3], double direction[3])
+{
+    double ndc[2] = {(x + 0.5) / width * 2.0 - 1.0, (y + 0.5) / height * 2.0 - 1.0};
+    double near_point[4], far_point[4];
+    conform_transform(inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
+    conform_transform(inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
+    double length = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        origin[k] = near_point[k] / near_point[3];
+        direction[k] = far_point[k] / far_point[3] - origin[k];
+        length += direction[k] * direction[k];
+    }
+    length = sqrt(length);
+    for (int k = 0; k < 3; ++k)
+        direction[k] /= length;
+}
+
 halo_emu_frame *conform_host_frame(const halo_program *p, int width, int height, const double screen_right[3],
                                    const double screen_up[3], int *ok, halo_diagnostics *diag)
 {

@@ -114,6 +114,10 @@ void conform_set_live_arrays(halo_program *p, const halo_module *m, halo_diagnos
 void conform_transfer_lookup(const float *transfer, int texels, double value, double rgba[4]);
 /* out = m v, m column-major (OpenGL's order). */
 void conform_transform(const double m[16], const double v[4], double out[4]);
+/* The ray of pixel (x, y) as the example hosts build it from inverse_view_projection:
+ * its origin on the near plane and its unit direction. */
+void conform_pixel_ray(const double inverse_view_projection[16], int width, int height, int x, int y,
+                       double origin[3], double direction[3]);
 /* The emulated frame of a host's program, begun, with halo_seed's image-plane axes set;
  * NULL when the program has no images, outputs or samplers (*ok stays 1) or on failure
  * (*ok 0, diagnostics in diag). */

@@ -24,21 +24,10 @@ typedef struct segment_ray {
 
 static void make_ray(const halo_raycast_state *s, const halo_segment_plan *plan, int x, int y, segment_ray *r)
 {
-    double ndc[2] = {(x + 0.5) / s->width * 2.0 - 1.0, (y + 0.5) / s->height * 2.0 - 1.0};
-    double near_point[4], far_point[4];
-    conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
-    conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
-    double length = 0.0;
-    for (int k = 0; k < 3; ++k) {
-        r->origin[k] = near_point[k] / near_point[3];
-        r->direction[k] = far_point[k] / far_point[3] - r->origin[k];
-        length += r->direction[k] * r->direction[k];
-    }
-    length = sqrt(length);
+    conform_pixel_ray(s->inverse_view_projection, s->width, s->height, x, y, r->origin, r->direction);
     r->t_enter = 0.0;
     r->t_exit = INFINITY;
     for (int k = 0; k < 3; ++k) {
-        r->direction[k] /= length;
         double inverse = 1.0 / r->direction[k];
         double a = (0.0 - r->origin[k]) * inverse, b = (1.0 - r->origin[k]) * inverse;
         r->t_enter = fmax(r->t_enter, fmin(a, b));

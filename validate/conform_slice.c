@@ -78,20 +78,9 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
     for (int y = 0; y < s->height; ++y)
         for (int x = 0; x < s->width; ++x) {
             pixel_ray *r = &rays[(size_t)y * (size_t)s->width + (size_t)x];
-            double ndc[2] = {(x + 0.5) / s->width * 2.0 - 1.0, (y + 0.5) / s->height * 2.0 - 1.0};
-            double near_point[4], far_point[4];
-            conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
-            conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
-            double length = 0.0;
-            for (int k = 0; k < 3; ++k) {
-                r->origin[k] = near_point[k] / near_point[3];
-                r->direction[k] = far_point[k] / far_point[3] - r->origin[k];
-                length += r->direction[k] * r->direction[k];
-            }
-            length = sqrt(length);
+            conform_pixel_ray(s->inverse_view_projection, s->width, s->height, x, y, r->origin, r->direction);
             r->cosine = r->origin_distance = 0.0;
             for (int k = 0; k < 3; ++k) {
-                r->direction[k] /= length;
                 r->cosine += r->direction[k] * s->view_axis[k];
                 r->origin_distance += (r->origin[k] - s->eye[k]) * s->view_axis[k];
             }
