@@ -202,11 +202,12 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
 
 /* ---- The rows (conform_rows.c) ------------------------------------------------------------ */
 
-/* Renders the ray caster: one draw (segments < 0), as the program needs (0) or in exactly
- * `segments`; fills state and plan. NULL with diagnostics on failure. */
+/* Renders the ray caster as the program needs (segments 0) or in exactly `segments`; fills
+ * state (its transfer table copied into transfer: the host is gone on return) and plan.
+ * NULL with diagnostics on failure. */
 static float *render(conform *c, const halo_program *p, const halo_render_settings *settings, const float *volume,
                      int volume_size, int orthographic, int segments, halo_raycast_state *state,
-                     halo_segment_plan *plan)
+                     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4], halo_segment_plan *plan)
 {
     size_t values = (size_t)c->size * (size_t)c->size * 4;
     float *gpu = malloc(values * sizeof *gpu);
@@ -221,6 +222,8 @@ static float *render(conform *c, const halo_program *p, const halo_render_settin
         halo_raycast_set_segments(r, 0, segments > 0 ? segments : 0);
         ok = halo_raycast_render(r, gpu, c->diag) == HALO_OK;
         halo_raycast_get_state(r, state);
+        memcpy(transfer, state->transfer, sizeof(float) * HALO_RAYCAST_TRANSFER_TEXELS * 4);
+        state->transfer = transfer;
         float inverse[16];
         for (int i = 0; i < 16; ++i)
             inverse[i] = (float)state->inverse_view_projection[i];
@@ -257,16 +260,18 @@ void conform_segment_row(conform *c, const conform_row *row)
     halo_scene *scene = volume ? halo_scene_parse(params->scene, "(conformance segment scene)", c->lib, c->diag) : NULL;
     halo_raycast_state state;
     halo_segment_plan plan;
+    float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4];
     int ok = scene && (program = link_host(c, scene, params->segments > 0)) != NULL;
     const halo_render_settings *settings = ok ? halo_scene_render(scene) : NULL;
     ok = ok && (gpu = render(c, program, settings, volume, volume_size, params->orthographic, params->segments,
-                             &state, &plan)) != NULL;
+                             &state, transfer, &plan)) != NULL;
     row_stats stats = {0};
     if (ok && params->segments > 0) {
         /* the same host in one draw: the segments alone must change nothing */
         halo_segment_plan once;
         ok = (plain = link_host(c, scene, 0)) != NULL &&
-             (single = render(c, plain, settings, volume, volume_size, params->orthographic, 0, &state, &once)) != NULL;
+             (single = render(c, plain, settings, volume, volume_size, params->orthographic, 0, &state, transfer,
+                              &once)) != NULL;
         for (size_t i = 0; ok && i < values / 4; ++i) {
             const double g[4] = {gpu[i * 4], gpu[i * 4 + 1], gpu[i * 4 + 2], gpu[i * 4 + 3]};
             const double s[4] = {single[i * 4], single[i * 4 + 1], single[i * 4 + 2], single[i * 4 + 3]};
