@@ -154,10 +154,12 @@ typedef enum halo_target {
     HALO_TARGET_GLSL330,
     HALO_TARGET_GLSL450,
     HALO_TARGET_ES300,
+    HALO_TARGET_GLSL150,     /* GLSL 1.50 core (OpenGL 3.2: VTK, macOS): fragment outputs carry no
+                              * layout(location); halo_gl_program_build binds them by name */
     HALO_TARGET_COUNT
 } halo_target;
 
-HALO_API const char *halo_target_name(halo_target t); /* "330", "450", "es300" */
+HALO_API const char *halo_target_name(halo_target t); /* "330", "450", "es300", "150" */
 HALO_API halo_target halo_target_from_name(const char *name); /* HALO_TARGET_COUNT if unknown */
 
 typedef enum halo_shader_kind { HALO_SHADER_FRAGMENT = 0, HALO_SHADER_VERTEX } halo_shader_kind;
@@ -256,6 +258,41 @@ HALO_API halo_render_settings *halo_scene_render_mutable(halo_scene *scene);
 
 /* ---- Linking ---------------------------------------------------------------- */
 
+/* halo_link_desc.version */
+typedef enum halo_version_mode {
+    HALO_VERSION_TARGET = 0, /* the target's #version line replaces the host's (or comes first) */
+    HALO_VERSION_KEEP,       /* the host's own #version line stays as written (none if it has none) */
+    HALO_VERSION_NONE        /* no #version line: the engine adds its own */
+} halo_version_mode;
+
+/* A link without host text, for engines that compose their shader from pieces (VTK's
+ * //VTK:: tags, three.js chunks, any template engine). The expressions are the composer's
+ * own GLSL, in scope where it puts the sample piece; NULL takes the default in brackets. */
+typedef struct halo_pieces_desc {
+    const char *position;  /* vec3, volume texture space [0,1]^3 ("halo_position") */
+    const char *value;     /* float, normalised to [0,1] ("halo_value") */
+    const char *gradient;  /* vec3, the contract's gradient; NULL: derived from volume (or gradient_texture) */
+    const char *view;      /* vec3, unit, towards the eye; NULL: derived from the camera uniforms */
+    const char *depth;     /* float in [0,1]; NULL: derived from the camera uniforms */
+    const char *fragcoord; /* vec2 ("gl_FragCoord.xy") */
+    const char *color;     /* a vec4 lvalue, colour and opacity before compositing, not premultiplied
+                            * ("halo_color"): the sample piece reads and writes it */
+    const char *volume;    /* a sampler3D expression the engine declares ("in_volume[0]"): derive the
+                            * gradient from it (central differences, halved) */
+    const char *gradient_texture; /* or a sampler3D with the gradient in RGB, per voxel step */
+    int segmented;         /* 1: the composer calls halo_segment_begin/halo_segment_end in its ray
+                            * loop (host contract 2); the program then runs its image passes */
+    int first_output_location; /* the extra outputs' first location; 0: 1 (after the engine's colour) */
+} halo_pieces_desc;
+
+/* The pieces of a program linked from a halo_pieces_desc. */
+typedef enum halo_piece {
+    HALO_PIECE_DECLARATIONS = 0, /* global scope, after the engine's samplers, before main */
+    HALO_PIECE_SAMPLE,           /* per sample, after classification, before compositing */
+    HALO_PIECE_FINISH,           /* once per fragment, before main returns */
+    HALO_PIECE_COUNT
+} halo_piece;
+
 typedef struct halo_link_desc {
     const halo_library *library; /* required */
     const halo_scene *scene;     /* NULL: no stage enabled */
@@ -270,6 +307,14 @@ typedef struct halo_link_desc {
     int force_segments;          /* host contract 2: a host that calls halo_segment_begin is drawn in segments
                                   * only when the program has passes between slices; 1 links the segment code
                                   * anyway (halo_gl_segments_desc.segments then forces a count) */
+    /* ---- For shader composers (docs/composers.md) ---- */
+    halo_version_mode version;   /* the #version line: the target's (default), the host's own, or none */
+    int engine_uniforms;         /* 1: live parameters are not declared: the engine declares them from the
+                                  * reflection (halo_program_uniform_next), bools as int */
+    int unlocated_outputs;       /* 1: extra outputs without layout(location) (always so for GLSL 150);
+                                  * bind them by name (halo_output_info.location) before linking */
+    const halo_pieces_desc *pieces; /* with host_source NULL: link no host text; the program's pieces
+                                  * (halo_program_piece) go into the composer's own shader */
 } halo_link_desc;
 
 typedef enum halo_uniform_kind { HALO_UNIFORM_PARAM = 0, HALO_UNIFORM_COUNT_OF_ARRAY } halo_uniform_kind;
@@ -282,6 +327,7 @@ typedef struct halo_uniform_info {
     int live;           /* 1: a uniform the host sets; 0: emitted as a constant */
     int count;          /* elements currently set (arrays) */
     const double *value;/* current value: count * components doubles */
+    const char *count_name; /* an array's companion uniform "NAME_count" (int: elements set); else NULL */
 } halo_uniform_info;
 
 /* MIN: front-most value (e.g. a feature depth; its image is cleared to 1). FIRST: the
@@ -350,6 +396,11 @@ typedef struct halo_program halo_program;
 HALO_API halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag);
 HALO_API void halo_program_destroy(halo_program *p);
 HALO_API const char *halo_program_source(const halo_program *p);
+/* A piece of a program linked from pieces (NULL for a program linked into host text, or
+ * for an unknown piece), and its line map: line is 1-based within the piece. */
+HALO_API const char *halo_program_piece(const halo_program *p, halo_piece piece);
+HALO_API int halo_program_piece_map_line(const halo_program *p, halo_piece piece, int line, const char **file,
+                                         int *origin_line);
 HALO_API halo_target halo_program_target(const halo_program *p);
 /* Maps a 1-based line of the linked source to its origin; returns 0 when it has none. */
 HALO_API int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line);
@@ -364,6 +415,21 @@ HALO_API const halo_uniform_info *halo_program_find_uniform(const halo_program *
  * emulation always uses the current value. Values are range-checked. */
 HALO_API halo_status halo_program_set(halo_program *p, const char *stage, const char *param, const double *values,
                                       int count, halo_diagnostics *diag);
+/* Every uniform an engine that declares uniforms itself (halo_link_desc.engine_uniforms)
+ * must declare and set: the live parameters, a bool one as int, an array one with its
+ * count companion. Start with *cursor = 0; returns 0 after the last one. */
+typedef struct halo_uniform_decl {
+    const char *name;       /* "halo_boundary_k_gs" */
+    const char *glsl_type;  /* "float", "vec3", "int" (a bool parameter is int), ... */
+    int components;         /* per element: 1..4 */
+    int array_size;         /* 0: not an array; N: declare name[N] */
+    const char *count_name; /* an array's companion "NAME_count" (int, the elements set), or NULL */
+    int count;              /* elements set (1 unless an array) */
+    const double *value;    /* count * components values */
+    const halo_uniform_info *param;
+    double storage[4];      /* value's storage where it is converted (a channels parameter) */
+} halo_uniform_decl;
+HALO_API int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_uniform_decl *out);
 HALO_API size_t halo_program_output_count(const halo_program *p);
 HALO_API const halo_output_info *halo_program_output(const halo_program *p, size_t index);
 HALO_API size_t halo_program_pass_count(const halo_program *p);
@@ -396,6 +462,20 @@ HALO_API halo_status halo_program_select_group(halo_program *p, int group);
 HALO_API char *halo_program_reflect_json(const halo_program *p);
 
 /* ---- Validation (glslang, in process) -------------------------------------- */
+
+/* A piece of the composer's own template, to map lines of a composed shader back to it. */
+typedef struct halo_composer_piece {
+    const char *name; /* "//VTK::Shading::Impl" or a file name */
+    const char *text; /* found verbatim in the composed shader */
+} halo_composer_piece;
+/* Validates a shader composed by an engine from the program's pieces (found verbatim in
+ * it) and its own template. Errors are mapped to the module's file:line for lines of a
+ * libhalo piece, to name:line for a composer piece, else to composed_file:line. The
+ * composed shader's own #version line selects the language. */
+HALO_API halo_status halo_program_validate_composed(const halo_program *p, const char *composed,
+                                                    const char *composed_file,
+                                                    const halo_composer_piece *pieces, size_t piece_count,
+                                                    halo_diagnostics *diag);
 
 /* Validates the linked source; glslang's errors are rewritten to the module's or the
  * host's own file:line:col. Returns HALO_OK or HALO_ERROR_INPUT. */

@@ -83,7 +83,9 @@ static int predefine_target(halo_host_scan *s, halo_target target, halo_shader_k
         if (kind == HALO_SHADER_FRAGMENT) err |= predefine(s, "GL_FRAGMENT_PRECISION_HIGH", "1");
     } else {
         err |= predefine(s, "GL_core_profile", "1");
-        err |= predefine(s, "__VERSION__", target == HALO_TARGET_GLSL450 ? "450" : "330");
+        err |= predefine(s, "__VERSION__", target == HALO_TARGET_GLSL450   ? "450"
+                                           : target == HALO_TARGET_GLSL150 ? "150"
+                                                                           : "330");
     }
     return err;
 }

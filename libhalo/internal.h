@@ -191,6 +191,14 @@ struct halo_program {
     int segment_location;   /* > 0: drawn in segments; the location of the ray state output */
     char *volume_sampler;   /* #pragma halo volume NAME: the gradient is derived from this sampler3D */
     char *gradient_sampler; /* #pragma halo gradient NAME: ... or read from this one (RGB, per voxel step) */
+    /* for shader composers (compose.c) */
+    halo_version_mode version;
+    int engine_uniforms;   /* live parameters are declared by the engine; bools as int */
+    int unlocated_outputs; /* outputs without layout(location) */
+    int first_location;    /* > 0: the first location of the extra outputs (else after the host's) */
+    char *pieces[HALO_PIECE_COUNT];
+    halo_line_origin *piece_origins[HALO_PIECE_COUNT];
+    int piece_origin_counts[HALO_PIECE_COUNT];
     char **strings; /* owned strings the reflection points to */
     size_t string_count;
     const halo_library *library;
@@ -217,6 +225,18 @@ typedef struct halo_segment_plan {
 /* 0 (USAGE in diag) when the desc cannot be drawn. */
 int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p, halo_segment_plan *plan,
                            halo_diagnostics *diag);
+
+/* compose.c: a program linked from pieces (halo_link_desc.pieces, host_source NULL). */
+halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag);
+/* link.c: halo_link of host text (desc->pieces, if set, gives only first_output_location). */
+halo_program *halo_link_host(const halo_link_desc *desc, halo_diagnostics *diag);
+void halo_pieces_free(halo_program *p);
+/* link.c: a string the program owns (freed with it), printf-style. */
+char *halo_program_own(halo_program *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+/* link.c: is name used (as an identifier, not a field) in the module's code? */
+int halo_module_uses(const halo_module *m, const char *name);
+/* link.c: "layout(location = N) " or "" for a program whose outputs carry none. */
+const char *halo_output_layout(const halo_program *p, int location, char *buf, size_t len);
 
 /* glslang validation of one source with origins for mapping. */
 halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, halo_target target,

@@ -459,7 +459,7 @@ static void format_element(halo_strbuf *b, const halo_param_info *info, const do
 }
 
 /* Is name used (as an identifier, not a field) in the module's code? */
-static int module_uses(const halo_module *m, const char *name) {
+int halo_module_uses(const halo_module *m, const char *name) {
     for (size_t i = 0; i < m->tokens.count; i++) {
         const halo_token *t = &m->tokens.items[i];
         if (t->kind == HALO_TOK_IDENT && halo_token_is(m->source, t, name) &&
@@ -469,18 +469,26 @@ static int module_uses(const halo_module *m, const char *name) {
     return 0;
 }
 
-static void emit_params(emitter *e, const halo_program *p, const halo_linked_stage *st) {
+/* engine: the program's live parameters are declared by the engine (not in image passes) */
+static void emit_params(emitter *e, const halo_program *p, const halo_linked_stage *st, int engine) {
     const halo_module *m = st->module;
     for (size_t i = 0; i < m->param_count; i++) {
         const halo_param_info *info = &m->params[i];
         const halo_uniform_info *u = &p->uniforms[st->first_uniform + i];
         char count_name[160];
         snprintf(count_name, sizeof count_name, "%s_count", info->name);
-        int used = module_uses(m, info->name), count_used = info->array_size && module_uses(m, count_name);
+        int used = halo_module_uses(m, info->name), count_used = info->array_size && halo_module_uses(m, count_name);
         if (!used && !count_used) continue;
         const char *type = halo_param_type_name(info->type);
         int line = m->param_lines[i];
         const char *orig = m->lines[line - 1];
+        if (u->live && engine) {
+            /* declared by the engine from the reflection (halo_program_uniform_next) */
+            emit(e, m->file, line, orig, "// uniform %s %s%s; (declared by the engine%s)",
+                 info->type == HALO_PARAM_BOOL ? "int" : info->type == HALO_PARAM_CHANNELS ? "halo_channels" : type,
+                 u->name, info->array_size && used ? "[]" : "", count_used ? ", with NAME_count" : "");
+            continue;
+        }
         if (u->live) {
             if (info->type == HALO_PARAM_CHANNELS) {
                 emit(e, m->file, line, orig, "uniform halo_channels %s;", u->name);
@@ -522,8 +530,11 @@ static void emit_params(emitter *e, const halo_program *p, const halo_linked_sta
     }
 }
 
-/* Copies lines [first, last] of m, renaming its private names and parameters. */
-static void emit_module_lines(emitter *e, const halo_module *m, int first, int last, int rename) {
+/* Copies lines [first, last] of m, renaming its private names and parameters. engine: a
+ * program whose live parameters the engine declares, a bool one as int (read as
+ * (NAME != 0)). */
+static void emit_module_lines(emitter *e, const halo_module *m, int first, int last, int rename,
+                              const halo_program *engine) {
     size_t t = 0;
     for (int li = first; li <= last && li <= m->line_count; li++) {
         if (m->is_annotation[li - 1]) continue;
@@ -554,7 +565,12 @@ static void emit_module_lines(emitter *e, const halo_module *m, int first, int l
             }
             if (!is_count && !halo_name_list_has(&m->declared, base) && !halo_module_find_param(m, base)) continue;
             halo_strbuf_append_n(&b, m->source + pos, k->offset - pos);
-            halo_strbuf_printf(&b, "halo_%s_%s", m->name, name);
+            const halo_param_info *pi = engine && !is_count ? halo_module_find_param(m, base) : NULL;
+            const halo_uniform_info *u = pi ? halo_program_find_uniform(engine, m->name, base) : NULL;
+            if (pi && pi->type == HALO_PARAM_BOOL && u && u->live)
+                halo_strbuf_printf(&b, "(halo_%s_%s != 0)", m->name, name);
+            else
+                halo_strbuf_printf(&b, "halo_%s_%s", m->name, name);
             pos = k->offset + k->length;
         }
         halo_strbuf_append_n(&b, m->source + pos, start + len - pos);
@@ -586,7 +602,7 @@ static void emit_helpers(emitter *e, const halo_library *lib, const halo_program
         }
     }
     for (size_t c = 0; c < h->chunk_count; c++)
-        if (need[c]) emit_module_lines(e, h, h->chunks[c].first_line, h->chunks[c].last_line, 0);
+        if (need[c]) emit_module_lines(e, h, h->chunks[c].first_line, h->chunks[c].last_line, 0, NULL);
     free(need);
 }
 
@@ -703,7 +719,8 @@ static void emit_declarations(emitter *e, const halo_program *p, const char *hos
     for (size_t o = 0; o < p->output_count; o++) {
         const halo_output_info *out = &p->outputs[o];
         const char *type = output_type(p, out);
-        GEN(e, "layout(location = %d) out %s %s;", out->location, type, out->name);
+        char layout[48];
+        GEN(e, "%sout %s %s;", halo_output_layout(p, out->location, layout, sizeof layout), type, out->name);
         GEN(e, "%s halo_accum_%s = %s(%s);", type, out->image, type, out->blend == HALO_BLEND_MIN ? "1.0" : "0.0");
     }
     for (size_t i = 0; i < p->sampler_count; i++) {
@@ -758,14 +775,15 @@ static int emit_program(halo_program *p, const char *host_source, char **host_li
                                 ? "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\n"
                                   "precision highp sampler3D;"
                                 : "precision highp float;\nprecision highp int;";
-    if (!h->version_line) {
+    if (!h->version_line && p->version == HALO_VERSION_TARGET) {
         GEN(&e, "%s", ver);
         if (es) GEN(&e, "%s", precision);
     }
     for (int i = 0; i < host_count; i++) {
         const char *line = host_lines[i];
         if (i + 1 == h->version_line) {
-            emit(&e, p->host_file, i + 1, line, "%s", ver);
+            if (p->version == HALO_VERSION_NONE) emit(&e, p->host_file, i + 1, line, "// %s (no #version: the engine adds its own)", line);
+            else emit(&e, p->host_file, i + 1, line, "%s", p->version == HALO_VERSION_KEEP ? line : ver);
             if (es) emit(&e, p->host_file, i + 1, line, "%s", precision);
             continue;
         }
@@ -781,8 +799,8 @@ static int emit_program(halo_program *p, const char *host_source, char **host_li
             const halo_module *m = p->stages[s].module;
             if (m->hook == HALO_HOOK_IMAGE) continue;
             emit(&e, m->file, m->module_line, m->lines[m->module_line - 1], "// stage %s (%s)", m->name, m->file);
-            emit_params(&e, p, &p->stages[s]);
-            emit_module_lines(&e, m, 1, m->line_count, 1);
+            emit_params(&e, p, &p->stages[s], p->engine_uniforms);
+            emit_module_lines(&e, m, 1, m->line_count, 1, p->engine_uniforms ? p : NULL);
         }
         for (size_t h = 0; h < HOOK_STRUCT_COUNT; h++) {
             const hook_struct *hs = &hook_structs[h];
@@ -858,8 +876,7 @@ static void set_channel_count(halo_program *p) {
     }
 }
 
-static char *own(halo_program *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static char *own(halo_program *p, const char *fmt, ...) {
+char *halo_program_own(halo_program *p, const char *fmt, ...) {
     halo_strbuf b = {0};
     va_list ap;
     va_start(ap, fmt);
@@ -893,7 +910,7 @@ static int add_image(halo_program *p, const char *name, halo_image_reset reset, 
     if (!list) return -1;
     p->images = list;
     int host = !strcmp(name, "host_color");
-    list[p->image_count++] = (halo_image_info){own(p, "%s", name), host ? 4 : components ? components : p->channel_count,
+    list[p->image_count++] = (halo_image_info){halo_program_own(p, "%s", name), host ? 4 : components ? components : p->channel_count,
                                                reset, clear, host, 1};
     return 0;
 }
@@ -936,8 +953,14 @@ static int first_free_location(const char *host) {
     return max + 1;
 }
 
+const char *halo_output_layout(const halo_program *p, int location, char *buf, size_t len) {
+    if (p->unlocated_outputs) return "";
+    snprintf(buf, len, "layout(location = %d) ", location);
+    return buf;
+}
+
 static int collect_resources(halo_program *p, const char *host, halo_diagnostics *diag) {
-    int errors = 0, location = first_free_location(host);
+    int errors = 0, location = p->first_location > 0 ? p->first_location : first_free_location(host);
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_module *m = p->stages[s].module;
         for (size_t i = 0; i < m->image_count && m->hook == HALO_HOOK_IMAGE; i++)
@@ -963,15 +986,15 @@ static int collect_resources(halo_program *p, const char *host, halo_diagnostics
             }
             int n = per_channel ? p->channel_count : 1;
             for (int k = 0; k < n; k++) {
-                char *image = per_channel ? own(p, "%s_%d", od->name, k) : own(p, "%s", od->name);
+                char *image = per_channel ? halo_program_own(p, "%s_%d", od->name, k) : halo_program_own(p, "%s", od->name);
                 halo_output_info *list = realloc(p->outputs, (p->output_count + 1) * sizeof *list);
                 if (!list || !image) return -1;
                 p->outputs = list;
                 if (add_image(p, image, HALO_RESET_FRAME, components, od->blend == HALO_BLEND_MIN ? 1.0 : 0.0,
                               !find_image(p, image)))
                     return -1;
-                list[p->output_count++] = (halo_output_info){own(p, "halo_output_%s", image), location++, components,
-                                                             image, od->blend, own(p, "%s", od->name),
+                list[p->output_count++] = (halo_output_info){halo_program_own(p, "halo_output_%s", image), location++, components,
+                                                             image, od->blend, halo_program_own(p, "%s", od->name),
                                                              per_channel ? k : -1};
             }
         }
@@ -990,11 +1013,11 @@ static int collect_resources(halo_program *p, const char *host, halo_diagnostics
             halo_sampler_info *list = realloc(p->samplers, (p->sampler_count + 1) * sizeof *list);
             if (!list) return -1;
             p->samplers = list;
-            list[p->sampler_count++] = (halo_sampler_info){own(p, "halo_image_%s", name), own(p, "%s", name)};
+            list[p->sampler_count++] = (halo_sampler_info){halo_program_own(p, "halo_image_%s", name), halo_program_own(p, "%s", name)};
         }
         for (size_t i = 0; i < m->host_uniform_count; i++) {
             const halo_host_uniform_decl *hu = &m->host_uniforms[i];
-            char *name = own(p, "halo_host_%s", hu->name);
+            char *name = halo_program_own(p, "halo_host_%s", hu->name);
             int dup = 0;
             for (size_t k = 0; k < p->host_uniform_count; k++) dup |= !strcmp(p->host_uniforms[k].name, name);
             if (dup) continue;
@@ -1069,8 +1092,8 @@ static int param_int(const halo_linked_stage *st, const char *name) {
 /* An image name of a pass with its '*' resolved: channel k of an each=channel pass. */
 static char *resolve_name(halo_program *p, const char *name, int channel) {
     size_t n = strlen(name);
-    if (n > 1 && name[n - 1] == '*') return own(p, "%.*s_%d", (int)n - 1, name, channel < 0 ? 0 : channel);
-    return own(p, "%s", name);
+    if (n > 1 && name[n - 1] == '*') return halo_program_own(p, "%.*s_%d", (int)n - 1, name, channel < 0 ? 0 : channel);
+    return halo_program_own(p, "%s", name);
 }
 
 static int build_pass(halo_program *p, const halo_library *lib, const halo_linked_stage *st, const halo_pass_decl *pd,
@@ -1103,7 +1126,8 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
             "vec4 halo_pass_vec4(vec2 v) { return vec4(v, 0.0, 0.0); }\n"
             "vec4 halo_pass_vec4(vec3 v) { return vec4(v, 0.0); }\n"
             "vec4 halo_pass_vec4(vec4 v) { return v; }");
-    GEN(&e, "layout(location = 0) out vec4 halo_pass_output;");
+    char layout[48];
+    GEN(&e, "%sout vec4 halo_pass_output;", halo_output_layout(p, 0, layout, sizeof layout));
     /* Inputs of another size than the output (halo_link_desc.image_scale): a larger one
      * (the full-size seed read by a 1/s pass) gives the max over the s x s block of the
      * pixel, so that no seed is lost; a smaller one its pixel / s. */
@@ -1154,8 +1178,8 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     one.stages = &only;
     one.stage_count = 1;
     emit_helpers(&e, lib, &one);
-    emit_params(&e, p, st);
-    emit_module_lines(&e, m, 1, m->line_count, 1);
+    emit_params(&e, p, st, 0);
+    emit_module_lines(&e, m, 1, m->line_count, 1, NULL);
     GEN(&e, "void main() {\n    halo_pass_output = halo_pass_vec4(halo_%s_%s(ivec2(gl_FragCoord.xy)));\n}",
         m->name, pd->entry);
     if (e.failed || e.text.failed) {
@@ -1170,7 +1194,7 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     if (ol) p->pass_origins = ol;
     if (oc) p->pass_origin_counts = oc;
     char *fragment = halo_strbuf_take(&e.text);
-    char *frag_owned = fragment ? own(p, "%s", fragment) : NULL;
+    char *frag_owned = fragment ? halo_program_own(p, "%s", fragment) : NULL;
     free(fragment);
     if (!list || !ol || !oc || !frag_owned) {
         free(e.origins);
@@ -1178,9 +1202,9 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     }
     halo_pass_info *pi = &p->passes[p->pass_count];
     memset(pi, 0, sizeof *pi);
-    pi->name = channel < 0 ? own(p, "%s", pd->name) : own(p, "%s_%d", pd->name, channel);
+    pi->name = channel < 0 ? halo_program_own(p, "%s", pd->name) : halo_program_own(p, "%s_%d", pd->name, channel);
     pi->stage = m->name;
-    pi->entry = own(p, "%s", pd->entry);
+    pi->entry = halo_program_own(p, "%s", pd->entry);
     pi->input_count = input_count;
     for (int k = 0; k < input_count; k++) pi->inputs[k] = inputs[k];
     pi->first = pd->first ? resolve_name(p, pd->first, channel) : NULL;
@@ -1188,7 +1212,7 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     pi->post = pd->post;
     pi->channel = channel;
     pi->repeat = pd->repeat ? param_int(st, pd->repeat) : 1;
-    pi->vertex_source = own(p, "%s\n%s\n", halo_target_version_line(p->target), pass_vertex_body);
+    pi->vertex_source = halo_program_own(p, "%s\n%s\n", halo_target_version_line(p->target), pass_vertex_body);
     pi->fragment_source = frag_owned;
     p->pass_origins[p->pass_count] = e.origins;
     p->pass_origin_counts[p->pass_count] = e.count;
@@ -1246,7 +1270,9 @@ static int build_uniforms(halo_program *p, int all_live) {
                 .live = v->live,
                 .count = v->count,
                 .value = v->value,
+                .count_name = st->module->params[i].array_size ? halo_program_own(p, "%s_count", name) : NULL,
             };
+            if (st->module->params[i].array_size && !p->uniforms[p->uniform_count - 1].count_name) return -1;
         }
     }
     return 0;
@@ -1383,6 +1409,7 @@ static int check_host_calls(const halo_program *p, const host_info *h, const cha
  * compiler would place an output without one anywhere, possibly on libhalo's. */
 static int check_host_outputs(const halo_program *p, const host_info *h, const char *host, halo_diagnostics *diag) {
     if ((!p->output_count && !p->segment_location) || p->kind != HALO_SHADER_FRAGMENT) return 0;
+    if (p->unlocated_outputs) return 0; /* every output is bound by name before linking */
     halo_host_hit at[16];
     size_t n = halo_host_scan_unlocated_outputs(&h->scan, host, at, sizeof at / sizeof at[0]);
     for (size_t i = 0; i < n && i < sizeof at / sizeof at[0]; i++)
@@ -1436,7 +1463,7 @@ static int check_host_macros(const halo_program *p, const host_info *h, halo_dia
 static int hide_line_directives(halo_program *p, const host_info *h) {
     for (int i = 0; i < h->scan.line_count; i++) {
         if (!h->scan.lines[i].line_directive) continue;
-        char *comment = own(p, "// %s (libhalo: applied to the line map)", p->host_lines[i]);
+        char *comment = halo_program_own(p, "// %s (libhalo: applied to the line map)", p->host_lines[i]);
         if (!comment) return -1;
         p->host_lines[i] = comment;
     }
@@ -1454,7 +1481,7 @@ static int map_host_lines(halo_program *p, const host_info *h) {
         o->file = NULL;
         for (size_t k = 0; k < p->string_count && !o->file; k++)
             if (!strcmp(p->strings[k], file)) o->file = p->strings[k];
-        if (!o->file && !(o->file = own(p, "%s", file))) return -1;
+        if (!o->file && !(o->file = halo_program_own(p, "%s", file))) return -1;
     }
     return 0;
 }
@@ -1462,6 +1489,19 @@ static int map_host_lines(halo_program *p, const host_info *h) {
 static halo_program *link_with_host(const halo_link_desc *desc, host_info *h, halo_diagnostics *diag);
 
 halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
+    if (desc && desc->pieces && !desc->host_source) return halo_link_pieces(desc, diag);
+    if (desc && desc->pieces) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: give host_source or pieces, not both");
+        return NULL;
+    }
+    if (desc && (unsigned)desc->version > HALO_VERSION_NONE) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: unknown version mode %d", (int)desc->version);
+        return NULL;
+    }
+    return halo_link_host(desc, diag);
+}
+
+halo_program *halo_link_host(const halo_link_desc *desc, halo_diagnostics *diag) {
     host_info h = {0};
     halo_program *p = link_with_host(desc, &h, diag);
     halo_host_scan_free(&h.scan);
@@ -1482,6 +1522,10 @@ static halo_program *link_with_host(const halo_link_desc *desc, host_info *h, ha
     p->library = desc->library;
     p->target = desc->target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : desc->target;
     p->kind = desc->kind;
+    p->version = desc->version;
+    p->engine_uniforms = desc->engine_uniforms != 0;
+    p->unlocated_outputs = desc->unlocated_outputs || p->target == HALO_TARGET_GLSL150;
+    p->first_location = desc->pieces ? desc->pieces->first_output_location : 0;
     p->host_file = halo_strdup(desc->host_file ? desc->host_file : "host");
     /* a UTF-8 byte-order mark is no part of the shader */
     const char *host_source = halo_skip_bom(desc->host_source);
@@ -1573,6 +1617,7 @@ oom:
 
 void halo_program_destroy(halo_program *p) {
     if (!p) return;
+    halo_pieces_free(p);
     free(p->volume_sampler);
     free(p->gradient_sampler);
     free(p->source);

@@ -10,7 +10,7 @@ CLEANFILES += libhalo/embedded_modules.c
 noinst_LTLIBRARIES += libhalo/libhalo-core.la
 libhalo_libhalo_core_la_SOURCES = \
 	libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c \
-	libhalo/scene.c libhalo/link.c libhalo/segment.c libhalo/host_scan.c libhalo/validate.c libhalo/setup.c \
+	libhalo/scene.c libhalo/link.c libhalo/segment.c libhalo/compose.c libhalo/host_scan.c libhalo/validate.c libhalo/setup.c \
 	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c \
 	libhalo/emu/gradient.c libhalo/emu/opacity_power.c libhalo/emu/boundary.c \
 	libhalo/emu/silhouette.c libhalo/emu/orientation_fade.c libhalo/emu/sketch.c \

@@ -51,7 +51,7 @@ static const char segment_glsl[] =
     "uniform highp sampler2D halo_segment_state; // the rays' state after the previous segment\n"
     "uniform vec2 halo_segment_bounds;           // samples with bounds.x <= phi < bounds.y are this segment's\n"
     "uniform int halo_segment_flags;             // 1: the first segment, 2: the last\n"
-    "layout(location = %d) out vec4 halo_segment_state_out;\n"
+    "%sout vec4 halo_segment_state_out;\n"
     "bool halo_segment_ended = false;\n"
     "// The first sample index at or behind the plane phi = bound (the same expression in\n"
     "// both segments that share the plane, so every sample belongs to exactly one).\n"
@@ -95,8 +95,9 @@ void halo_segment_emit(halo_strbuf *b, const halo_program *p)
         return;
     halo_strbuf_append(b, camera_glsl);
     halo_strbuf_append(b, "\n");
+    char layout[48];
     if (p->segment_location > 0)
-        halo_strbuf_printf(b, segment_glsl, p->segment_location);
+        halo_strbuf_printf(b, segment_glsl, halo_output_layout(p, p->segment_location, layout, sizeof layout));
     else
         halo_strbuf_append(b, single_glsl);
     if (p->volume_sampler || p->gradient_sampler)

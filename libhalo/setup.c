@@ -23,7 +23,7 @@ void halo_shutdown(void) {
 
 const char *halo_version(void) { return PACKAGE_VERSION; }
 
-static const char *const target_names[HALO_TARGET_COUNT] = {"330", "330", "450", "es300"};
+static const char *const target_names[HALO_TARGET_COUNT] = {"330", "330", "450", "es300", "150"};
 
 const char *halo_target_name(halo_target t) { return (unsigned)t < HALO_TARGET_COUNT ? target_names[t] : "?"; }
 
@@ -35,6 +35,7 @@ halo_target halo_target_from_name(const char *name) {
 
 const char *halo_target_version_line(halo_target t) {
     static const char *const lines[HALO_TARGET_COUNT] = {"#version 330 core", "#version 330 core",
-                                                         "#version 450 core", "#version 300 es"};
+                                                         "#version 450 core", "#version 300 es",
+                                                         "#version 150 core"};
     return (unsigned)t < HALO_TARGET_COUNT ? lines[t] : lines[0];
 }

@@ -218,9 +218,10 @@ halo_status halo_validate_shader(const char *source, const char *file, halo_shad
     return st;
 }
 
+/* %s: the output's layout (none under GLSL 150) */
 static const char check_host_source[] =
     "#pragma halo declarations\n"
-    "layout(location = 0) out vec4 fragment_color;\n"
+    "%sout vec4 fragment_color;\n"
     "void main() {\n"
     "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1, 0.2, 0.3), vec3(0.0, 0.0, 1.0), 0.5,\n"
     "                                     gl_FragCoord.xy, vec3(0.8), 0.5);\n"
@@ -263,8 +264,10 @@ halo_status halo_module_validate(const halo_library *lib, const halo_module *m, 
     if (!scene) return HALO_ERROR_IO;
     halo_status st = halo_scene_enable(scene, m->name, 1, diag);
     /* Both variants must compile: parameters as constants, and as uniforms. */
+    char host[sizeof check_host_source + 32];
+    snprintf(host, sizeof host, check_host_source, target == HALO_TARGET_GLSL150 ? "" : "layout(location = 0) ");
     for (int live = 0; live < 2 && st == HALO_OK; live++) {
-        halo_program *p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = check_host_source,
+        halo_program *p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
                                                       .host_file = "<check-host>", .target = target,
                                                       .all_live = live},
                                     diag);

@@ -10,6 +10,7 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_scene \
 	tests/unit/test_scene_counts \
 	tests/unit/test_link \
+	tests/unit/test_compose \
 	tests/unit/test_host_scan \
 	tests/unit/test_emu \
 	tests/unit/test_input_classes
@@ -34,6 +35,11 @@ tests_unit_test_scene_counts_SOURCES = tests/unit/test_scene_counts.c
 tests_unit_test_scene_counts_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
 nodist_EXTRA_tests_unit_test_scene_counts_SOURCES = build-aux/force-cxx-link.cc
 tests_unit_test_scene_counts_LDADD = $(HALO_TEST_CORE_LIBS)
+
+tests_unit_test_compose_SOURCES = tests/unit/test_compose.c
+tests_unit_test_compose_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_compose_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_compose_LDADD = $(HALO_TEST_CORE_LIBS)
 
 tests_unit_test_link_SOURCES = tests/unit/test_link.c
 tests_unit_test_link_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit

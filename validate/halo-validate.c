@@ -24,9 +24,16 @@ static const char usage_text[] =
     "                                 stage) and shaders (.frag, .vert) for each target\n"
     "                                 (default: 330, 450 and es300)\n"
     "  link --scene S --host H [--target T] [--module FILE]... [-o OUT] [--reflect]\n"
+    "       [--version target|keep|none] [--engine-uniforms] [--unlocated-outputs]\n"
     "       [--error-limit N]\n"
     "                                 link the scene's stages into the host shader and\n"
     "                                 validate; --reflect prints the reflection as JSON\n"
+    "  link --pieces --scene S [--sample NAME=EXPR]... [--segmented]\n"
+    "       [--pieces-dir DIR] [--composed FILE] [options of link]\n"
+    "                                 link without host text, for shader composers\n"
+    "                                 (docs/composers.md): print the declarations,\n"
+    "                                 sample and finish pieces (or write DIR/NAME.glsl);\n"
+    "                                 --composed validates the shader an engine composed\n"
     "  list                           list the stages with their parameters\n"
     "  conform [--stage NAME] [--size N] [-v]\n"
     "                                 render each stage headless and compare it with its\n"
@@ -39,7 +46,8 @@ static const char usage_text[] =
     "                                 direct, separable and linear-sampled kernels\n"
     "  --help, --version\n"
     "\n"
-    "targets: 330 (GLSL 330 core), 450 (GLSL 450 core), es300 (GLSL ES 300)\n"
+    "targets: 330 (GLSL 330 core), 450 (GLSL 450 core), es300 (GLSL ES 300),\n"
+    "         150 (GLSL 150 core: outputs bound by name)\n"
     "--error-limit N: show at most N errors per file and target, then how many more\n"
     "                 there were (default 100; 0: no limit)\n"
     "exit status: 0 success, 1 the input has errors, 2 usage or I/O failure\n";
@@ -125,7 +133,9 @@ static char *read_text(const char *path, int *status) {
 static int parse_targets(const char *arg, halo_target *targets, int *count) {
     if (!strcmp(arg, "all")) {
         *count = 0;
-        for (int t = HALO_TARGET_GLSL330; t < HALO_TARGET_COUNT; t++) targets[(*count)++] = (halo_target)t;
+        /* 150 only when asked: hosts written for 330 and up declare layout(location) */
+        for (int t = HALO_TARGET_GLSL330; t < HALO_TARGET_COUNT; t++)
+            if (t != HALO_TARGET_GLSL150) targets[(*count)++] = (halo_target)t;
         return 0;
     }
     halo_target t = halo_target_from_name(arg);
@@ -152,7 +162,7 @@ static int cmd_check(int argc, char **argv) {
         } else if (!strcmp(argv[i], "--target")) {
             if (i + 1 >= argc || parse_targets(argv[++i], targets, &ntargets)) {
                 free(files);
-                return usage_error("--target takes 330, 450, es300 or all", "");
+                return usage_error("--target takes 330, 450, es300, 150 or all", "");
             }
         } else if (argv[i][0] == '-' && argv[i][1]) {
             free(files);
@@ -238,14 +248,61 @@ static int cmd_check(int argc, char **argv) {
     return worst;
 }
 
+/* --sample NAME=EXPR: an expression of halo_pieces_desc. */
+static int set_piece_expression(halo_pieces_desc *d, char *arg) {
+    char *eq = strchr(arg, '=');
+    if (!eq || eq == arg || !eq[1]) return -1;
+    *eq = '\0';
+    const char *v = eq + 1;
+    static const char *const names[] = {"position", "value", "gradient", "view", "depth", "fragcoord", "color",
+                                        "volume", "gradient-texture"};
+    const char **fields[] = {&d->position, &d->value, &d->gradient, &d->view, &d->depth, &d->fragcoord, &d->color,
+                             &d->volume, &d->gradient_texture};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (!strcmp(arg, names[i])) {
+            *fields[i] = v;
+            return 0;
+        }
+    *eq = '=';
+    return -1;
+}
+
+static int write_text(const char *path, const char *text) {
+    FILE *f = fopen(path, "w");
+    if (!f || fputs(text, f) < 0 || fclose(f)) {
+        fprintf(stderr, "%s: error: cannot write: %s\n", path, strerror(errno));
+        return EXIT_USAGE;
+    }
+    return 0;
+}
+
+/* link --pieces: the pieces, to stdout with a header each, or into DIR. */
+static int print_pieces(const halo_program *p, const char *dir) {
+    static const char *const names[HALO_PIECE_COUNT] = {"declarations", "sample", "finish"};
+    for (int k = 0; k < HALO_PIECE_COUNT; k++) {
+        const char *text = halo_program_piece(p, (halo_piece)k);
+        if (!dir) {
+            printf("// ==== libhalo piece: %s ====\n%s", names[k], text ? text : "");
+            continue;
+        }
+        char path[4096];
+        snprintf(path, sizeof path, "%s/%s.glsl", dir, names[k]);
+        int st = write_text(path, text ? text : "");
+        if (st) return st;
+    }
+    return 0;
+}
+
 static int cmd_link(int argc, char **argv) {
-    const char *scene_path = NULL, *host_path = NULL, *out_path = NULL;
-    int reflect = 0, nmodules = 0;
+    const char *scene_path = NULL, *host_path = NULL, *out_path = NULL, *composed_path = NULL, *pieces_dir = NULL;
+    int reflect = 0, nmodules = 0, pieces = 0;
     size_t error_limit = HALO_DIAGNOSTICS_DEFAULT_LIMIT;
-    halo_target target = HALO_TARGET_GLSL330;
+    halo_pieces_desc pd = {0};
+    halo_link_desc desc = {.target = HALO_TARGET_GLSL330};
     const char **modules = calloc((size_t)argc + 1, sizeof *modules);
     if (!modules) return EXIT_USAGE;
-    for (int i = 1; i < argc; i++) {
+    int bad = 0;
+    for (int i = 1; i < argc && !bad; i++) {
         const char *a = argv[i];
         int has_value = i + 1 < argc;
         if (!strcmp(a, "--scene") && has_value) scene_path = argv[++i];
@@ -253,53 +310,76 @@ static int cmd_link(int argc, char **argv) {
         else if (!strcmp(a, "-o") && has_value) out_path = argv[++i];
         else if (!strcmp(a, "--module") && has_value) modules[nmodules++] = argv[++i];
         else if (!strcmp(a, "--reflect")) reflect = 1;
-        else if (!strcmp(a, "--error-limit") && has_value) {
-            if (parse_error_limit(argv[++i], &error_limit)) {
-                free(modules);
-                return usage_error("--error-limit takes a number of errors (0: no limit), not '%s'", argv[i]);
-            }
-        }
-        else if (!strcmp(a, "--target") && has_value) {
-            target = halo_target_from_name(argv[++i]);
-            if (target == HALO_TARGET_COUNT) {
-                free(modules);
-                return usage_error("--target takes 330, 450 or es300, not '%s'", argv[i]);
-            }
+        else if (!strcmp(a, "--pieces")) pieces = 1;
+        else if (!strcmp(a, "--pieces-dir") && has_value) pieces = 1, pieces_dir = argv[++i];
+        else if (!strcmp(a, "--composed") && has_value) pieces = 1, composed_path = argv[++i];
+        else if (!strcmp(a, "--segmented")) pd.segmented = 1;
+        else if (!strcmp(a, "--engine-uniforms")) desc.engine_uniforms = 1;
+        else if (!strcmp(a, "--unlocated-outputs")) desc.unlocated_outputs = 1;
+        else if (!strcmp(a, "--first-output-location") && has_value) {
+            char *end;
+            long v = strtol(argv[++i], &end, 10);
+            if (*end || v < 1 || v > 15) bad = usage_error("--first-output-location takes 1..15, not '%s'", argv[i]);
+            pd.first_output_location = (int)v;
+        } else if (!strcmp(a, "--sample") && has_value) {
+            if (set_piece_expression(&pd, argv[++i]))
+                bad = usage_error("--sample takes NAME=EXPR with NAME position, value, gradient, view, depth, "
+                                  "fragcoord, color, volume or gradient-texture, not '%s'", argv[i]);
+        } else if (!strcmp(a, "--version") && has_value) {
+            const char *v = argv[++i];
+            if (!strcmp(v, "target")) desc.version = HALO_VERSION_TARGET;
+            else if (!strcmp(v, "keep")) desc.version = HALO_VERSION_KEEP;
+            else if (!strcmp(v, "none")) desc.version = HALO_VERSION_NONE;
+            else bad = usage_error("--version takes target, keep or none, not '%s'", v);
+        } else if (!strcmp(a, "--error-limit") && has_value) {
+            if (parse_error_limit(argv[++i], &error_limit))
+                bad = usage_error("--error-limit takes a number of errors (0: no limit), not '%s'", argv[i]);
+        } else if (!strcmp(a, "--target") && has_value) {
+            desc.target = halo_target_from_name(argv[++i]);
+            if (desc.target == HALO_TARGET_COUNT)
+                bad = usage_error("--target takes 330, 450, es300 or 150, not '%s'", argv[i]);
         } else {
-            free(modules);
-            return usage_error("link: unknown option or missing value: '%s'", a);
+            bad = usage_error("link: unknown option or missing value: '%s'", a);
         }
     }
-    if (!host_path) {
+    if (!bad && !host_path && !pieces) bad = usage_error("link needs --host FILE, or --pieces%s", "");
+    if (!bad && host_path && pieces) bad = usage_error("link takes --host FILE or --pieces, not both%s", "");
+    if (bad) {
         free(modules);
-        return usage_error("link needs --host FILE%s", "");
+        return bad;
     }
     halo_diagnostics *d = halo_diagnostics_create();
     halo_diagnostics_set_limit(d, error_limit);
     halo_library *lib = halo_library_create(d);
     halo_scene *scene = NULL;
     halo_program *p = NULL;
-    char *host = NULL;
+    char *host = NULL, *composed = NULL;
     int status = 0;
     for (int i = 0; lib && i < nmodules; i++) halo_library_override_file(lib, modules[i], d);
     if (!lib || halo_diagnostics_errors(d)) goto done;
     scene = scene_path ? halo_scene_load(scene_path, lib, d) : halo_scene_create(lib);
     if (!scene) goto done;
-    host = read_text(host_path, &status);
-    if (!host) goto done;
-    const char *ext = extension(host_path);
-    p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host, .host_file = host_path,
-                                    .target = target,
-                                    .kind = !strcmp(ext, "vert") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT},
-                  d);
+    if (host_path) {
+        host = read_text(host_path, &status);
+        if (!host) goto done;
+        desc.kind = !strcmp(extension(host_path), "vert") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT;
+    } else {
+        desc.pieces = &pd;
+    }
+    if (composed_path && !(composed = read_text(composed_path, &status))) goto done;
+    desc.library = lib;
+    desc.scene = scene;
+    desc.host_source = host;
+    desc.host_file = host_path;
+    p = halo_link(&desc, d);
     if (!p || halo_program_validate(p, d) != HALO_OK) goto done;
-    if (out_path) {
-        FILE *f = fopen(out_path, "w");
-        if (!f || fputs(halo_program_source(p), f) < 0 || fclose(f)) {
-            fprintf(stderr, "%s: error: cannot write: %s\n", out_path, strerror(errno));
-            status = EXIT_USAGE;
-            goto done;
-        }
+    if (composed && halo_program_validate_composed(p, composed, composed_path, NULL, 0, d) != HALO_OK) goto done;
+    if (pieces && (pieces_dir || !reflect)) {
+        status = print_pieces(p, pieces_dir);
+        if (status) goto done;
+    } else if (out_path) {
+        status = write_text(out_path, halo_program_source(p));
+        if (status) goto done;
     } else if (!reflect) {
         fputs(halo_program_source(p), stdout);
     }
@@ -318,6 +398,7 @@ done:
     if (!status && !p) status = EXIT_INPUT;
     halo_program_destroy(p);
     free(host);
+    free(composed);
     halo_scene_destroy(scene);
     halo_library_destroy(lib);
     halo_diagnostics_destroy(d);

@@ -292,6 +292,12 @@ unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *v
     }
     f->AttachShader(program, vertex);
     f->AttachShader(program, fragment);
+    if (p->unlocated_outputs) { /* GLSL 150: the outputs are bound by name */
+        for (size_t o = 0; o < p->output_count; o++)
+            f->BindFragDataLocation(program, (GLuint)p->outputs[o].location, p->outputs[o].name);
+        if (p->segment_location > 0)
+            f->BindFragDataLocation(program, (GLuint)p->segment_location, "halo_segment_state_out");
+    }
     f->LinkProgram(program);
     f->DetachShader(program, vertex);
     f->DetachShader(program, fragment);
@@ -622,6 +628,8 @@ static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, siz
     GLuint program = f->CreateProgram();
     f->AttachShader(program, vertex);
     f->AttachShader(program, fragment);
+    if (p->unlocated_outputs)
+        f->BindFragDataLocation(program, 0, "halo_pass_output");
     f->LinkProgram(program);
     f->DetachShader(program, vertex);
     f->DetachShader(program, fragment);

@@ -1,0 +1,354 @@
+/* Link modes for shader composers (docs/composers.md).
+ *
+ * Engines such as VTK compose their fragment shader at run time from a template and
+ * tagged replacements, so there is no host text to link into. A link from pieces
+ * (halo_link_desc.pieces, host_source NULL) returns the declarations and the per-sample
+ * and finish snippets as separate strings, each with its line map, for the engine to put
+ * in its own tags; halo_program_validate_composed checks the shader the engine composed,
+ * with errors mapped back to the modules and to the composer's pieces.
+ *
+ * How: the pieces are linked into a small host written here, the same way as any host
+ * (so halo_program_validate checks them in a complete shader), and cut out of the
+ * result by the origins of its lines. The sample snippet is written twice: with this
+ * host's names for the program, with the composer's expressions for the piece. */
+#include "diag.h"
+#include "internal.h"
+#include "strbuf.h"
+
+#include <ctype.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char pieces_host_file[] = "(libhalo pieces host)";
+static const char pieces_file[] = "(libhalo piece)";
+
+/* The names the pieces host declares: also the defaults of halo_pieces_desc. */
+typedef struct sample_names {
+    const char *position, *value, *gradient, *view, *depth, *fragcoord, *color;
+} sample_names;
+
+static const sample_names host_names = {"position", "value", "gradient", "view", "depth", "gl_FragCoord.xy",
+                                        "color"};
+
+/* The per-sample snippet: derived inputs where the composer gives none. */
+static void write_sample(halo_strbuf *b, const sample_names *n, const halo_pieces_desc *d) {
+    halo_strbuf b_grad = {0}, b_view = {0}, b_depth = {0};
+    if (d->gradient) halo_strbuf_append(&b_grad, n->gradient);
+    else halo_strbuf_printf(&b_grad, "halo_gradient_at(%s)", n->position);
+    if (d->view) halo_strbuf_append(&b_view, n->view);
+    else halo_strbuf_printf(&b_view, "halo_view_at(%s)", n->position);
+    if (d->depth) halo_strbuf_append(&b_depth, n->depth);
+    else halo_strbuf_printf(&b_depth, "halo_depth_at(%s)", n->position);
+    halo_strbuf_printf(b,
+                       "{\n"
+                       "    halo_sample libhalo_s = halo_make_sample(%s, %s, %s,\n"
+                       "                                             %s, %s, %s, (%s).rgb, (%s).a);\n"
+                       "    halo_apply(libhalo_s);\n"
+                       "    %s = vec4(libhalo_s.color, libhalo_s.opacity);\n"
+                       "}\n",
+                       n->position, n->value, b_grad.data ? b_grad.data : "", b_view.data ? b_view.data : "",
+                       b_depth.data ? b_depth.data : "", n->fragcoord, n->color, n->color, n->color);
+    if (b_grad.failed || b_view.failed || b_depth.failed) b->failed = 1;
+    halo_strbuf_free(&b_grad);
+    halo_strbuf_free(&b_view);
+    halo_strbuf_free(&b_depth);
+}
+
+/* The host the pieces are linked into. */
+static char *pieces_host(const halo_pieces_desc *d, const halo_link_desc *desc) {
+    halo_strbuf b = {0};
+    halo_strbuf_append(&b, "#pragma halo declarations\n");
+    if (d->gradient_texture) halo_strbuf_append(&b, "#pragma halo gradient piece_gradient\n");
+    else if (d->volume) halo_strbuf_append(&b, "#pragma halo volume piece_volume\n");
+    if (d->gradient_texture) halo_strbuf_append(&b, "uniform sampler3D piece_gradient;\n");
+    if (d->volume) halo_strbuf_append(&b, "uniform sampler3D piece_volume;\n");
+    int located = !desc->unlocated_outputs && desc->target != HALO_TARGET_GLSL150;
+    halo_strbuf_printf(&b, "%sout vec4 piece_output;\n", located ? "layout(location = 0) " : "");
+    halo_strbuf_append(&b, "void main() {\n"
+                           "    vec3 position = vec3(0.5);\n"
+                           "    float value = 0.5;\n"
+                           "    vec3 gradient = vec3(0.0, 0.0, 0.1);\n"
+                           "    vec3 view = vec3(0.0, 0.0, 1.0);\n"
+                           "    float depth = 0.5;\n"
+                           "    vec4 color = vec4(0.5);\n");
+    if (d->segmented)
+        halo_strbuf_append(&b, "    int first = 0, end = 2;\n"
+                               "    vec4 state = vec4(0.0);\n"
+                               "    halo_segment_begin(position, view, 0.0, 0.01, first, end, state);\n"
+                               "    for (int i = first; i < end; ++i)\n");
+    write_sample(&b, &host_names, d);
+    if (d->segmented) halo_strbuf_append(&b, "    halo_segment_end(state, false);\n");
+    halo_strbuf_append(&b, "    halo_finish();\n"
+                           "    piece_output = color;\n"
+                           "} // end of the pieces host\n");
+    return halo_strbuf_take(&b);
+}
+
+/* Replaces the identifier from by the expression to, outside other identifiers. */
+static char *replace_identifier(const char *text, const char *from, const char *to) {
+    halo_strbuf b = {0};
+    size_t n = strlen(from);
+    const char *p = text;
+    for (const char *hit; (hit = strstr(p, from)) != NULL; p = hit + n) {
+        int before = hit > text && (hit[-1] == '_' || isalnum((unsigned char)hit[-1]));
+        int after = hit[n] == '_' || isalnum((unsigned char)hit[n]);
+        halo_strbuf_append_n(&b, p, (size_t)(hit - p));
+        halo_strbuf_append(&b, before || after ? from : to);
+    }
+    halo_strbuf_append(&b, p);
+    return halo_strbuf_take(&b);
+}
+
+/* Lines of a text, counted: a final line without '\n' counts. */
+static int count_lines(const char *text) {
+    int n = 0;
+    for (const char *p = text; *p; p++) n += *p == '\n';
+    return n + (*text && text[strlen(text) - 1] != '\n');
+}
+
+/* Cuts the declarations (the marker's block and the tail after the host's last line) out
+ * of the linked pieces host. */
+static int cut_declarations(halo_program *p, const halo_pieces_desc *d) {
+    int first = -1, last = -1, host_end = -1;
+    for (int i = 0; i < p->origin_count; i++) {
+        const halo_line_origin *o = &p->origins[i];
+        if (o->file != p->host_file) continue;
+        if (o->line == 1) {
+            if (first < 0) first = i;
+            last = i;
+        }
+        host_end = i;
+    }
+    if (first < 0 || host_end < 0) return -1;
+    char *copy = halo_strdup(p->source);
+    char **lines = NULL;
+    int count = copy ? halo_split_lines(copy, &lines) : -1;
+    halo_line_origin *origins = count > 0 ? calloc((size_t)count, sizeof *origins) : NULL;
+    halo_strbuf b = {0};
+    int n = 0;
+    for (int i = 0; origins && i < count && i < p->origin_count; i++) {
+        if (!((i >= first && i <= last) || i > host_end)) continue;
+        halo_strbuf_printf(&b, "%s\n", lines[i]);
+        origins[n] = p->origins[i];
+        if (origins[n].file == p->host_file) origins[n] = (halo_line_origin){pieces_file, 0, NULL};
+        n++;
+    }
+    free(lines);
+    free(copy);
+    char *text = halo_strbuf_take(&b);
+    /* the pieces host's sampler names become the composer's expressions */
+    char *named = text && d->volume ? replace_identifier(text, "piece_volume", d->volume) : text;
+    if (named != text) free(text);
+    char *named2 = named && d->gradient_texture ? replace_identifier(named, "piece_gradient", d->gradient_texture)
+                                                : named;
+    if (named2 != named) free(named);
+    if (!origins || !named2) {
+        free(origins);
+        free(named2);
+        return -1;
+    }
+    p->pieces[HALO_PIECE_DECLARATIONS] = named2;
+    p->piece_origins[HALO_PIECE_DECLARATIONS] = origins;
+    p->piece_origin_counts[HALO_PIECE_DECLARATIONS] = n;
+    return 0;
+}
+
+/* A piece written here: every line is libhalo's own. */
+static int set_generated_piece(halo_program *p, halo_piece piece, char *text) {
+    if (!text) return -1;
+    int n = count_lines(text);
+    halo_line_origin *origins = calloc((size_t)n + 1, sizeof *origins);
+    if (!origins) {
+        free(text);
+        return -1;
+    }
+    for (int i = 0; i < n; i++) origins[i] = (halo_line_origin){pieces_file, i + 1, NULL};
+    p->pieces[piece] = text;
+    p->piece_origins[piece] = origins;
+    p->piece_origin_counts[piece] = n;
+    return 0;
+}
+
+halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag) {
+    const halo_pieces_desc *d = desc->pieces;
+    if (desc->kind != HALO_SHADER_FRAGMENT) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: pieces are for fragment shaders (per-sample stages)");
+        return NULL;
+    }
+    if (!d->gradient && !d->volume && !d->gradient_texture) {
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "halo_link: the pieces need a gradient: an expression (halo_pieces_desc.gradient), the "
+                        "volume's sampler to derive it from (volume) or a gradient texture (gradient_texture)");
+        return NULL;
+    }
+    char *host = pieces_host(d, desc);
+    if (!host) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        return NULL;
+    }
+    halo_link_desc inner = *desc;
+    inner.pieces = d;
+    inner.host_source = host;
+    inner.host_file = pieces_host_file;
+    inner.version = HALO_VERSION_TARGET;
+    halo_program *p = halo_link_host(&inner, diag);
+    free(host);
+    if (!p) return NULL;
+    if (!d->segmented && halo_program_has_generation_passes(p)) {
+        halo_strbuf stages = {0};
+        for (size_t s = 0; s < p->stage_count; s++)
+            for (size_t k = 0; k < p->stages[s].module->pass_count; k++)
+                if (!p->stages[s].module->passes[k].post) {
+                    halo_strbuf_printf(&stages, "%s%s", stages.len ? ", " : "", p->stages[s].module->name);
+                    break;
+                }
+        halo_diag_error(diag, HOST_SINGLE_PASS, "", 0, 0,
+                        "the scene's stages %s run image passes between depth segments, but the pieces were "
+                        "linked for a single pass: set halo_pieces_desc.segmented and call halo_segment_begin / "
+                        "halo_segment_end in the ray loop (docs/host-contract.md, segmented ray casting)",
+                        stages.data ? stages.data : "?");
+        halo_strbuf_free(&stages);
+        halo_program_destroy(p);
+        return NULL;
+    }
+    sample_names names = {
+        d->position ? d->position : host_names.position,    d->value ? d->value : host_names.value,
+        d->gradient ? d->gradient : host_names.gradient,    d->view ? d->view : host_names.view,
+        d->depth ? d->depth : host_names.depth,             d->fragcoord ? d->fragcoord : host_names.fragcoord,
+        d->color ? d->color : host_names.color,
+    };
+    halo_strbuf sample = {0};
+    write_sample(&sample, &names, d);
+    char *finish = halo_strdup("halo_finish();\n");
+    if (sample.failed || cut_declarations(p, d) || set_generated_piece(p, HALO_PIECE_SAMPLE, halo_strbuf_take(&sample)) ||
+        set_generated_piece(p, HALO_PIECE_FINISH, finish)) {
+        halo_strbuf_free(&sample);
+        halo_program_destroy(p);
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        return NULL;
+    }
+    return p;
+}
+
+void halo_pieces_free(halo_program *p) {
+    for (int i = 0; i < HALO_PIECE_COUNT; i++) {
+        free(p->pieces[i]);
+        free(p->piece_origins[i]);
+    }
+}
+
+const char *halo_program_piece(const halo_program *p, halo_piece piece) {
+    return p && (unsigned)piece < HALO_PIECE_COUNT ? p->pieces[piece] : NULL;
+}
+
+int halo_program_piece_map_line(const halo_program *p, halo_piece piece, int line, const char **file,
+                                int *origin_line) {
+    if (!halo_program_piece(p, piece) || line < 1 || line > p->piece_origin_counts[piece]) return 0;
+    const halo_line_origin *o = &p->piece_origins[piece][line - 1];
+    if (o->file == halo_generated_file || o->file == pieces_file || !o->line) return 0;
+    if (file) *file = o->file;
+    if (origin_line) *origin_line = o->line;
+    return 1;
+}
+
+/* The line (0-based) of offset in text. */
+static int line_of(const char *text, size_t offset) {
+    int n = 0;
+    for (size_t i = 0; i < offset && text[i]; i++) n += text[i] == '\n';
+    return n;
+}
+
+halo_status halo_program_validate_composed(const halo_program *p, const char *composed, const char *composed_file,
+                                           const halo_composer_piece *pieces, size_t piece_count,
+                                           halo_diagnostics *diag) {
+    if (!p || !composed || (piece_count && !pieces)) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_program_validate_composed: program and composed text are required");
+        return HALO_ERROR_INPUT;
+    }
+    if (!composed_file) composed_file = "composed shader";
+    char *copy = halo_strdup(composed);
+    char **lines = NULL;
+    int count = copy ? halo_split_lines(copy, &lines) : -1;
+    halo_line_origin *origins = count >= 0 ? calloc((size_t)count + 1, sizeof *origins) : NULL;
+    if (!origins) {
+        free(lines);
+        free(copy);
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        return HALO_ERROR_IO;
+    }
+    for (int i = 0; i < count; i++) origins[i] = (halo_line_origin){composed_file, i + 1, lines[i]};
+    /* the composer's pieces, then libhalo's (which may sit inside a composer piece) */
+    for (size_t k = 0; k < piece_count; k++) {
+        const char *at = pieces[k].text && *pieces[k].text ? strstr(composed, pieces[k].text) : NULL;
+        if (!at) continue;
+        int first = line_of(composed, (size_t)(at - composed)), n = count_lines(pieces[k].text);
+        for (int i = 0; i < n && first + i < count; i++)
+            origins[first + i] = (halo_line_origin){pieces[k].name ? pieces[k].name : "composer piece", i + 1,
+                                                    lines[first + i]};
+    }
+    int missing = 0;
+    for (int k = 0; k < HALO_PIECE_COUNT; k++) {
+        const char *text = p->pieces[k];
+        if (!text) continue;
+        const char *at = strstr(composed, text);
+        if (!at) {
+            missing += k == HALO_PIECE_DECLARATIONS;
+            continue;
+        }
+        int first = line_of(composed, (size_t)(at - composed));
+        for (int i = 0; i < p->piece_origin_counts[k] && first + i < count; i++) {
+            halo_line_origin o = p->piece_origins[k][i];
+            origins[first + i] = o.file == pieces_file ? (halo_line_origin){halo_generated_file, 0, NULL} : o;
+        }
+    }
+    if (missing)
+        halo_diag_add(diag, HALO_SEVERITY_WARNING, HALO_MSG_USAGE, composed_file, 0, 0, NULL,
+                      "the program's declarations piece is not in the composed shader (or was changed): its "
+                      "errors are reported at the composed shader's lines");
+    halo_status st = halo_glslang_validate(composed, p->kind, p->target, origins, count, composed_file, diag);
+    free(origins);
+    free(lines);
+    free(copy);
+    return st;
+}
+
+/* ---- The uniforms an engine declares ---- */
+
+int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_uniform_decl *out) {
+    if (!p || !cursor || !out) return 0;
+    while (*cursor < p->uniform_count) {
+        const halo_uniform_info *u = &p->uniforms[(*cursor)++];
+        const halo_param_info *info = u->info;
+        const halo_module *m = NULL;
+        for (size_t s = 0; s < p->stage_count && !m; s++)
+            if (!strcmp(p->stages[s].module->name, u->stage)) m = p->stages[s].module;
+        if (!u->live || !m) continue;
+        char count_name[160];
+        snprintf(count_name, sizeof count_name, "%s_count", info->name);
+        int used = halo_module_uses(m, info->name), count_used = info->array_size && halo_module_uses(m, count_name);
+        if (!used && !count_used) continue;
+        static const char *const channel_types[] = {"float", "float", "vec2", "vec3", "vec4"};
+        memset(out, 0, sizeof *out);
+        out->name = u->name;
+        out->param = u;
+        out->components = info->components;
+        out->count = u->count;
+        out->value = u->value;
+        if (info->type == HALO_PARAM_BOOL) out->glsl_type = "int";
+        else if (info->type == HALO_PARAM_CHANNELS) {
+            out->glsl_type = channel_types[p->channel_count];
+            out->components = p->channel_count;
+            out->count = 1; /* one value per channel; fewer set: the last repeats */
+            for (int k = 0; k < p->channel_count && u->count > 0; k++)
+                out->storage[k] = u->value[k < u->count ? k : u->count - 1];
+            out->value = out->storage;
+        } else out->glsl_type = halo_param_type_name(info->type);
+        if (info->array_size) {
+            out->array_size = used ? info->array_size : 0;
+            out->count_name = count_used ? u->count_name : NULL;
+            if (!used) out->name = NULL; /* only the companion is read */
+        }
+        return 1;
+    }
+    return 0;
+}
