@@ -111,7 +111,7 @@
 /* Segmented ray casting (host contract 2, conform_segment.c). */
 #define SEGMENT_ROW(name, renders, tolerance, why, scene, segments, orthographic)                                \
     {name, "segments", renders, "%.0e", tolerance, 0.0, why, conform_segment_row,                                \
-     &(const conform_segment_params){scene, segments, orthographic}}
+     &(const conform_segment_params){scene, segments, orthographic, NULL, 0.0f}}
 #define SEGMENT_SAME_WHY                                                                                          \
     "the same samples composited in the same order: a sample belongs to one segment by the same float "           \
     "expression in both; only the ended-ray flag (opacity + 2) may round the opacity of ended rays by 1.2e-7"
