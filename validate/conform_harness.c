@@ -244,15 +244,27 @@ void conform_fill_samples(halo_emu_sample *samples, int width, int height)
     }
 }
 
-void conform_transfer_lookup(const float *transfer, int texels, double value, double rgba[4])
+/* Linear filtering of the table at texel coordinate u in [0, texels - 1]. */
+static void transfer_texels(const float *transfer, int texels, double u, double rgba[4])
 {
-    double v = value > 0.0 ? (value < 1.0 ? value : 1.0) : 0.0; /* NaN -> 0, as the hosts do */
-    double u = v * (texels - 1); /* texel coordinate: ((v (n-1) + 0.5) / n) * n - 0.5 */
     double base = floor(u);
     double f = u - base;
     int i0 = (int)base, i1 = i0 + 1 > texels - 1 ? texels - 1 : i0 + 1;
     for (int k = 0; k < 4; ++k)
         rgba[k] = (1.0 - f) * transfer[i0 * 4 + k] + f * transfer[i1 * 4 + k];
+}
+
+void conform_transfer_lookup(const float *transfer, int texels, double value, double rgba[4])
+{
+    double v = value > 0.0 ? (value < 1.0 ? value : 1.0) : 0.0; /* NaN -> 0, as the hosts do */
+    transfer_texels(transfer, texels, v * (texels - 1), rgba); /* ((v (n-1) + 0.5) / n) * n - 0.5 */
+}
+
+void conform_transfer_texture(const float *transfer, int texels, double value, double rgba[4])
+{
+    double v = value > 0.0 ? (value < 1.0 ? value : 1.0) : 0.0;
+    double u = v * texels - 0.5; /* clamped to the edge texels */
+    transfer_texels(transfer, texels, u < 0.0 ? 0.0 : u > texels - 1 ? texels - 1 : u, rgba);
 }
 
 void conform_transform(const double m[16], const double v[4], double out[4])

@@ -112,6 +112,9 @@ void conform_set_live_arrays(halo_program *p, const halo_module *m, halo_diagnos
 /* The transfer texture lookup of the hosts' classify() (texels RGBA texels, linear,
  * clamped to the edge), in double. */
 void conform_transfer_lookup(const float *transfer, int texels, double value, double rgba[4]);
+/* The lookup texture(transfer, vec2(clamp(value, 0, 1), 0.5)) of the hosts in the styles of
+ * the wild (no texel-centre correction: the edge texels cover half a texel more), in double. */
+void conform_transfer_texture(const float *transfer, int texels, double value, double rgba[4]);
 /* out = m v, m column-major (OpenGL's order). */
 void conform_transform(const double m[16], const double v[4], double out[4]);
 /* The ray of pixel (x, y) as the example hosts build it from inverse_view_projection:

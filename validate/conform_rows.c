@@ -111,7 +111,7 @@
 /* Segmented ray casting (host contract 2, conform_segment.c). */
 #define SEGMENT_ROW(name, renders, tolerance, why, scene, segments, orthographic)                                \
     {name, "segments", renders, "%.0e", tolerance, 0.0, why, conform_segment_row,                                \
-     &(const conform_segment_params){scene, segments, orthographic}}
+     &(const conform_segment_params){scene, segments, orthographic, NULL, 0.0f}}
 #define SEGMENT_SAME_WHY                                                                                          \
     "the same samples composited in the same order: a sample belongs to one segment by the same float "           \
     "expression in both; only the ended-ray flag (opacity + 2) may round the opacity of ended rays by 1.2e-7"
@@ -136,6 +136,22 @@
     " {\"halo_map\": {\"mode\": 0, \"opacity\": 0.8}},"                                                          \
     " {\"outline_feature\": {\"value_min\": 0.55, \"value_max\": 1}},"                                           \
     " {\"outlines\": {\"sigma\": 1, \"lambda\": 4, \"depth_power\": 1}}], " SEGMENT_RENDER "}"
+
+/* The hosts in the styles of the wild (examples/hosts/) against the emulation of each
+ * (conform_segment.c models what each does otherwise than raycast.frag). */
+#define HOST_ROW(name, renders, why, scene, host, jitter)                                                        \
+    {name, "segments", renders, "%.0e", SLICE_HALOS_TOL, 0.0, why, conform_segment_row,                          \
+     &(const conform_segment_params){scene, 0, 0, &host, jitter}}
+#define HOST_WHY_DERIVED "libhalo's gradient, view and (planar) depth, emulated from the frame's camera"
+/* the ray row's two halos, and distance_blend: the host's depth convention shows */
+#define SEGMENT_HOST_SCENE                                                                                        \
+    "{\"halo_scene\": 1, \"stages\": ["                                                                          \
+    " {\"halo_seed\": {\"alpha\": [1, 2], \"beta\": 0.125, \"gradient_scale\": 4}},"                             \
+    " {\"halo_generate\": {\"passes\": 3, \"delta\": [0.8, 0.9], \"interval\": 4}},"                             \
+    " {\"halo_map\": {\"mode\": [0, 1], \"color_near\": [[1, 0.9, 0.4], [0, 0, 0]],"                             \
+    "   \"color_far\": [[1, 0.3, 0.1], [0, 0, 0]], \"opacity\": [0.8, 0.7]}},"                                      \
+    " {\"distance_blend\": {\"k_ds\": 0.8, \"k_de\": 1}}], " SEGMENT_RENDER "}"
+#define SEGMENT_EMPTY_SCENE "{\"halo_scene\": 1, \"stages\": [], " SEGMENT_RENDER "}"
 
 const conform_row conform_rows[] = {
     {"empty", "render", "the ray caster linked with no stage against the unlinked one", "0 (bits)", 0.0, 0.0,
@@ -277,6 +293,37 @@ const conform_row conform_rows[] = {
                 SEGMENT_HALOS_WHY, SEGMENT_HALOS_SCENE, 0, 1),
     SEGMENT_ROW("ray@outlines", "the segmented ray caster with a halo and outlines (post passes)", SLICE_HALOS_TOL,
                 SEGMENT_HALOS_WHY, SEGMENT_OUTLINES_SCENE, 0, 0),
+    HOST_ROW("ray@webgl", "webgl_caster.frag (ES 300 style, linked for GLSL 330 here), jitter 1, two halos, M = 4",
+             "as ray; the jitter is the host's integer hash of the pixel, exact in C; " HOST_WHY_DERIVED "; the ceil "
+             "step count bracketed (rays run to their end: the seeds read every sample)",
+             SEGMENT_HOST_SCENE, conform_segment_webgl, 1.0f),
+    HOST_ROW("ray@webgl_sample", "webgl_caster.frag, jitter 1, per-sample stages: early termination at 0.98",
+             "as ray@webgl; the termination decision on 0.98 bracketed", SEGMENT_SAMPLE_SCENE, conform_segment_webgl,
+             1.0f),
+    HOST_ROW("ray@exit_points", "exit_point_caster.frag (two passes, GL 4.5) with two halos, M = 4",
+             "as ray; the exit is the back-face pass's interpolated point (the box's exit up to the rasterizer's "
+             "float interpolation): its step count bracketed as ray's exits; " HOST_WHY_DERIVED,
+             SEGMENT_HOST_SCENE, conform_segment_exit_points, 0.0f),
+    HOST_ROW("ray@exit_points_sample", "exit_point_caster.frag, per-sample stages: early termination at 0.99",
+             "as ray@exit_points; the termination decision on 0.99 bracketed", SEGMENT_SAMPLE_SCENE,
+             conform_segment_exit_points, 0.0f),
+    HOST_ROW("ray@tf2d", "tf2d_caster.frag (2D transfer function, Phong) with two halos, M = 4",
+             "as ray; the 2D transfer function (smoothsteps of |g|) and the Phong headlight (pow 24) in float32 "
+             "on the float32 gradient; the host's view, libhalo's planar depth; the exits bracketed",
+             SEGMENT_HOST_SCENE, conform_segment_tf2d, 0.0f),
+    HOST_ROW("ray@tf2d_sample", "tf2d_caster.frag, per-sample stages: early termination past 0.995",
+             "as ray@tf2d; the termination decision on 0.995 bracketed", SEGMENT_SAMPLE_SCENE, conform_segment_tf2d,
+             0.0f),
+    HOST_ROW("ray@iso", "mip_iso_caster.frag, isosurface at 0.5, with two halos, M = 4",
+             "as ray; the hit is a decision on value >= 0.5 (float32 trilinear value): bracketed with the value "
+             "moved by 1e-5, as the exits; the host's gradient at hits only; " HOST_WHY_DERIVED,
+             SEGMENT_HOST_SCENE, conform_segment_iso, 0.0f),
+    HOST_ROW("ray@iso_sample", "mip_iso_caster.frag's isosurface, per-sample stages: the first hit ends the ray",
+             "as ray@iso; opacity 1 at a hit ends the ray (0.99)", SEGMENT_SAMPLE_SCENE, conform_segment_iso, 0.0f),
+    HOST_ROW("ray@mip", "mip_iso_caster.frag's MIP variant (no stage: it refuses them), drawn once",
+             "the ray rows' tolerance, generous here: float32 trilinear values, their maximum along the ray and one "
+             "table lookup; the step count bracketed",
+             SEGMENT_EMPTY_SCENE, conform_segment_mip, 0.0f),
     FEATURE_SPLAT("feature_splat", "the GPU halo buffer against its emulation, oblique view"),
     FEATURE_SPLAT("feature_splat@n3", "splats of 3^3, view along an axis"),
     FEATURE_SPLAT("feature_splat@n9", "splats of 9^3, threshold 0.2"),

@@ -3,7 +3,14 @@
  * renderer: the same rays, samples and compositing as the one-draw emulation of the
  * raycast row, the samples of each segment chosen by the same plan as the runtime's
  * (halo_segment_plan_make), halo_emu_apply_frame per sample, the fragment's outputs
- * finished once per segment, halo_emu_frame_generate between segments. */
+ * finished once per segment, halo_emu_frame_generate between segments.
+ *
+ * The hosts in the styles of the wild (examples/hosts/webgl_caster.frag,
+ * exit_point_caster.frag, tf2d_caster.frag, mip_iso_caster.frag) are emulated by the same
+ * loop: a conform_segment_host says where each does otherwise than raycast.frag (its
+ * first sample and step count, its transfer lookup, classification and lighting, its
+ * inputs derived by libhalo or its own, its opacity correction and termination), and
+ * the row brackets the decisions float32 may take the other way. */
 #include "conform_segment.h"
 
 #include "internal.h"
@@ -11,18 +18,65 @@
 #include "volume.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* One pixel's ray in raycast.frag: origin, unit direction, the box's entry and exit, and
- * the segment index bounds as the shader computes them (in float). */
+/* The hosts (conform_segment.h): raycast.frag, and what the others do otherwise. */
+const conform_segment_host conform_segment_raycast = {
+    .file = "raycast.frag", .target = HALO_TARGET_GLSL330, .shading = CONFORM_SHADE_TRANSFER, .threshold = 0.99,
+    .centred_lookup = 1, .opacity_correction = 1};
+/* ES 300 style, drawn as GLSL 330 (the context has no ES): derived inputs, a jittered first
+ * sample, a counted loop, termination at 0.98, the table read at texture(tf, vec2(v, 0.5)) */
+const conform_segment_host conform_segment_webgl = {
+    .file = "webgl_caster.frag", .target = HALO_TARGET_GLSL330, .shading = CONFORM_SHADE_TRANSFER,
+    .threshold = 0.98, .counted_steps = 1, .derived_view = 1, .derived_depth = 1, .opacity_correction = 1};
+/* raycast.frag's sampling and classification; its exit from the back-face texture (the
+ * same ray parameter up to the rasterizer's interpolation: bracketed), derived inputs */
+const conform_segment_host conform_segment_exit_points = {
+    .file = "exit_point_caster.frag", .target = HALO_TARGET_GLSL450, .shading = CONFORM_SHADE_TRANSFER,
+    .threshold = 0.99, .centred_lookup = 1, .derived_view = 1, .derived_depth = 1, .opacity_correction = 1,
+    .exit_points = 1};
+/* its own gradient and view, libhalo's depth; passes 0.995 to end */
+const conform_segment_host conform_segment_tf2d = {
+    .file = "tf2d_caster.frag", .target = HALO_TARGET_GLSL330, .shading = CONFORM_SHADE_TF2D, .threshold = 0.995,
+    .strict_threshold = 1, .derived_depth = 1, .opacity_correction = 1};
+/* its own gradient at hits, libhalo's view and depth; opacity 0 or 1, not corrected */
+const conform_segment_host conform_segment_iso = {
+    .file = "mip_iso_caster.frag", .target = HALO_TARGET_GLSL330, .shading = CONFORM_SHADE_ISO, .threshold = 0.99,
+    .counted_steps = 1, .derived_view = 1, .derived_depth = 1};
+const conform_segment_host conform_segment_mip = {
+    .file = "mip_iso_caster.frag", .target = HALO_TARGET_GLSL330, .shading = CONFORM_SHADE_MIP, .counted_steps = 1};
+
+/* mip_iso_caster.frag's iso_value and tf2d_caster.frag's lighting */
+#define ISO_VALUE 0.5
+#define TF2D_AMBIENT 0.3
+#define TF2D_DIFFUSE 0.6
+#define TF2D_SPECULAR 0.25
+#define TF2D_SHININESS 24.0
+
+/* One pixel's ray: origin, unit direction, the box's entry and exit, the first sample
+ * (the entry, jittered in webgl_caster.frag), the host's end of the sample loop, and the
+ * segment index bounds as the shader computes them (in float). */
 typedef struct segment_ray {
-    double origin[3], direction[3], t_enter, t_exit;
+    double origin[3], direction[3], t_enter, t_exit, t_first;
+    int steps;
     float phi0, dphi;
     int ended;
 } segment_ray;
 
-static void make_ray(const halo_raycast_state *s, const halo_segment_plan *plan, int x, int y, segment_ray *r)
+/* webgl_caster.frag's pixel_hash of uvec2(gl_FragCoord.xy): integer arithmetic, exact. */
+static double pixel_hash(int x, int y)
+{
+    uint32_t h = (uint32_t)x * 1664525u + (uint32_t)y * 22695477u + 1013904223u;
+    h ^= h >> 15;
+    h *= 2246822519u;
+    h ^= h >> 13;
+    return (double)(h >> 8) * (1.0 / 16777216.0);
+}
+
+static void make_ray(const halo_raycast_state *s, const halo_segment_plan *plan, const conform_segment_model *m,
+                     int max_steps, int x, int y, segment_ray *r)
 {
     conform_pixel_ray(s->inverse_view_projection, s->width, s->height, x, y, r->origin, r->direction);
     r->t_enter = 0.0;
@@ -33,10 +87,19 @@ static void make_ray(const halo_raycast_state *s, const halo_segment_plan *plan,
         r->t_enter = fmax(r->t_enter, fmin(a, b));
         r->t_exit = fmin(r->t_exit, fmax(a, b));
     }
+    r->t_first = r->t_enter;
+    if (m->jitter != 0.0)
+        r->t_first += m->jitter * pixel_hash(x, y) * s->step_size;
+    r->steps = max_steps;
+    if (m->host->counted_steps) {
+        double exit = r->t_exit + m->exit_move;
+        double steps = exit > r->t_first ? ceil((exit - r->t_first) / s->step_size) : 0.0;
+        r->steps = steps < max_steps ? (int)steps : max_steps;
+    }
     /* halo_segment_begin, in float as the shader */
     float phi0 = (float)plan->plane[3], dphi = 0.0f;
     for (int k = 0; k < 3; ++k) {
-        phi0 += (float)plan->plane[k] * (float)(r->origin[k] + r->t_enter * r->direction[k]);
+        phi0 += (float)plan->plane[k] * (float)(r->origin[k] + r->t_first * r->direction[k]);
         dphi += (float)plan->plane[k] * (float)r->direction[k];
     }
     r->phi0 = phi0;
@@ -74,11 +137,142 @@ static int post_passes(halo_emu_frame *frame, const halo_image_info *post, size_
     return image != NULL;
 }
 
+static double smoothstep(double edge0, double edge1, double x)
+{
+    double t = (x - edge0) / (edge1 - edge0);
+    t = t < 0.0 ? 0.0 : t > 1.0 ? 1.0 : t;
+    return t * t * (3.0 - 2.0 * t);
+}
+
+/* tf2d_caster.frag's transfer_2d and Phong headlight: color holds the 1D table's entry
+ * by value; gradient is the contract's (halved), the host's magnitude is of twice it. */
+static void shade_tf2d(const double gradient[3], const double view[3], double color[4])
+{
+    double g[3] = {2.0 * gradient[0], 2.0 * gradient[1], 2.0 * gradient[2]};
+    double magnitude = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    static const double edge_white[3] = {1.0, 0.97, 0.9};
+    double whiten = 0.4 * smoothstep(0.12, 0.4, magnitude);
+    for (int c = 0; c < 3; ++c)
+        color[c] += (edge_white[c] - color[c]) * whiten;
+    color[3] *= 0.15 + 0.85 * smoothstep(0.01, 0.12, magnitude);
+    if (!(color[3] > 0.0))
+        return;
+    double normal[3], facing = 0.0;
+    for (int c = 0; c < 3; ++c) { /* the normal points to lower values, turned to the eye */
+        normal[c] = magnitude > 1e-6 ? -g[c] / magnitude : view[c];
+        facing += normal[c] * view[c];
+    }
+    double sign = facing < 0.0 ? -1.0 : 1.0, reflected = 0.0;
+    facing *= sign;
+    for (int c = 0; c < 3; ++c) /* reflect(-V, N) . V */
+        reflected += (-view[c] + 2.0 * facing * sign * normal[c]) * view[c];
+    double specular = TF2D_SPECULAR * pow(fmax(reflected, 0.0), TF2D_SHININESS);
+    for (int c = 0; c < 3; ++c)
+        color[c] = color[c] * (TF2D_AMBIENT + TF2D_DIFFUSE * fmax(facing, 0.0)) + specular;
+}
+
+/* mip_iso_caster.frag's isosurface: opaque and lit by |N.V| at a hit, else empty with a
+ * zero gradient; color holds the colour map's entry by value. */
+static void shade_iso(int hit, double gradient[3], const double view[3], double color[4])
+{
+    if (!hit) {
+        for (int c = 0; c < 4; ++c)
+            color[c] = 0.0;
+        gradient[0] = gradient[1] = gradient[2] = 0.0;
+        return;
+    }
+    double g2 = 4.0 * (gradient[0] * gradient[0] + gradient[1] * gradient[1] + gradient[2] * gradient[2]);
+    double scale = 1.0 / sqrt(fmax(g2, 1e-20)), diffuse = 0.0;
+    for (int c = 0; c < 3; ++c)
+        diffuse += -2.0 * gradient[c] * scale * view[c];
+    for (int c = 0; c < 3; ++c)
+        color[c] *= 0.25 + 0.75 * fabs(diffuse);
+    color[3] = 1.0;
+}
+
+/* A sample of the model's host: position P at ray parameter t; fills the halo_sample
+ * fields the host passes (value, gradient, view, depth, colour, opacity). raycast.frag's
+ * arithmetic comes first and stays as it was; the others change what they do otherwise. */
+static void host_sample(const halo_raycast_state *s, const halo_segment_plan *plan, const conform_segment_model *m,
+                        const double P[3], halo_emu_sample *sample)
+{
+    const conform_segment_host *host = m->host;
+    const double radius = 0.8660254037844386;
+    double centre_distance = sqrt((s->eye[0] - 0.5) * (s->eye[0] - 0.5) + (s->eye[1] - 0.5) * (s->eye[1] - 0.5) +
+                                  (s->eye[2] - 0.5) * (s->eye[2] - 0.5));
+    double front_distance = centre_distance - radius;
+    double voxel[3] = {1.0 / s->dims[0], 1.0 / s->dims[1], 1.0 / s->dims[2]};
+    memcpy(sample->position, P, sizeof sample->position);
+    sample->value = halo_volume_trilinear(s->volume, s->dims, P);
+    double color[4];
+    if (host->centred_lookup)
+        conform_transfer_lookup(s->transfer, s->transfer_texels, sample->value, color);
+    else
+        conform_transfer_texture(s->transfer, s->transfer_texels, sample->value, color);
+    double distance = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        double plus[3] = {P[0], P[1], P[2]}, minus[3] = {P[0], P[1], P[2]};
+        plus[c] += voxel[c];
+        minus[c] -= voxel[c];
+        sample->gradient[c] = (halo_volume_trilinear(s->volume, s->dims, plus) -
+                               halo_volume_trilinear(s->volume, s->dims, minus)) * 0.5;
+        sample->view[c] = s->eye[c] - P[c];
+        distance += sample->view[c] * sample->view[c];
+    }
+    distance = sqrt(distance);
+    for (int c = 0; c < 3; ++c)
+        sample->view[c] /= distance;
+    double depth = (distance - front_distance) / (2.0 * radius);
+    sample->depth = depth < 0.0 ? 0.0 : depth > 1.0 ? 1.0 : depth;
+    if (host->shading == CONFORM_SHADE_TF2D)
+        shade_tf2d(sample->gradient, sample->view, color);
+    else if (host->shading == CONFORM_SHADE_ISO)
+        shade_iso(sample->value >= ISO_VALUE + m->iso_move, sample->gradient, sample->view, color);
+    if (host->derived_view) { /* halo_view_at */
+        double v[3], length2 = 0.0;
+        for (int c = 0; c < 3; ++c) {
+            v[c] = plan->eye[c] - P[c] * plan->eye[3];
+            length2 += v[c] * v[c];
+        }
+        for (int c = 0; c < 3; ++c)
+            sample->view[c] = length2 > 1e-30 ? v[c] / sqrt(length2) : 0.0;
+    }
+    if (host->derived_depth) { /* halo_depth_at */
+        double span = fmax(plan->back - plan->front, 1e-30);
+        double phi = plan->plane[0] * P[0] + plan->plane[1] * P[1] + plan->plane[2] * P[2] + plan->plane[3];
+        depth = (phi - plan->front) / span;
+        sample->depth = depth < 0.0 ? 0.0 : depth > 1.0 ? 1.0 : depth;
+    }
+    memcpy(sample->color, color, 3 * sizeof *color);
+    sample->opacity = color[3];
+}
+
+/* The MIP variant of mip_iso_caster.frag (no stage): the largest value along the ray,
+ * classified, over the background. */
+static void emulate_mip(const halo_raycast_state *s, const segment_ray *rays, double *out)
+{
+    for (size_t i = 0; i < (size_t)s->width * (size_t)s->height; ++i) {
+        const segment_ray *r = &rays[i];
+        double largest = 0.0, P[3], mip[4];
+        for (int k = 0; k < r->steps; ++k) {
+            for (int c = 0; c < 3; ++c)
+                P[c] = r->origin[c] + (r->t_first + k * s->step_size) * r->direction[c];
+            largest = fmax(largest, halo_volume_trilinear(s->volume, s->dims, P));
+        }
+        conform_transfer_texture(s->transfer, s->transfer_texels, largest, mip);
+        for (int c = 0; c < 3; ++c)
+            out[i * 4 + (size_t)c] = mip[c] * mip[3] + (1.0 - mip[3]) * s->background[c];
+        out[i * 4 + 3] = 1.0;
+    }
+}
+
 int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program *p, const halo_segment_plan *plan,
-                                 double threshold, double exit_move, double *out, halo_diagnostics *diag)
+                                 const conform_segment_model *model, double *out, halo_diagnostics *diag)
 {
     enum { MAX_STEPS = 4096 };
-    const double radius = 0.8660254037844386;
+    conform_segment_model m = *model;
+    if (!m.host)
+        m.host = &conform_segment_raycast;
     size_t pixels = (size_t)s->width * (size_t)s->height;
     segment_ray *rays = malloc(pixels * sizeof *rays);
     halo_emu_frame *frame = NULL;
@@ -94,14 +288,17 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
     }
     for (int y = 0; y < s->height; ++y)
         for (int x = 0; x < s->width; ++x)
-            make_ray(s, plan, x, y, &rays[(size_t)y * (size_t)s->width + (size_t)x]);
+            make_ray(s, plan, &m, MAX_STEPS, x, y, &rays[(size_t)y * (size_t)s->width + (size_t)x]);
+    if (m.host->shading == CONFORM_SHADE_MIP) {
+        emulate_mip(s, rays, out);
+        halo_emu_frame_destroy(frame);
+        free(rays);
+        return 1;
+    }
     for (size_t i = 0; i < pixels * 4; ++i)
         out[i] = 0.0;
-    double centre_distance = sqrt((s->eye[0] - 0.5) * (s->eye[0] - 0.5) + (s->eye[1] - 0.5) * (s->eye[1] - 0.5) +
-                                  (s->eye[2] - 0.5) * (s->eye[2] - 0.5));
-    double front_distance = centre_distance - radius;
     double exponent = s->step_size / s->unit_step;
-    double voxel[3] = {1.0 / s->dims[0], 1.0 / s->dims[1], 1.0 / s->dims[2]};
+    double threshold = m.host->threshold + m.threshold_move;
     if (halo_program_output_count(p) > 0) /* HALO_RAY_MAY_END 0: the ray goes on to its end */
         threshold = INFINITY;
     int ok = 1, generation = 0;
@@ -113,17 +310,17 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
                                                                        (float)(plan->start + (j + 1) * plan->length);
         for (size_t i = 0; i < pixels && ok; ++i) {
             segment_ray *r = &rays[i];
-            int first = 0, end = MAX_STEPS;
+            int first = 0, end = r->steps;
             if (r->dphi > 0.0f) {
                 if (!head)
-                    first = segment_index(low_bound, r, MAX_STEPS);
+                    first = segment_index(low_bound, r, r->steps);
                 if (!tail)
-                    end = segment_index(high_bound, r, MAX_STEPS);
+                    end = segment_index(high_bound, r, r->steps);
             } else if (!head) {
-                first = MAX_STEPS;
+                first = r->steps;
             }
             if (r->ended)
-                first = MAX_STEPS;
+                first = r->steps;
             if (end < first)
                 end = first;
             double *acc = &out[i * 4];
@@ -133,35 +330,16 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
             fragment.fragcoord[1] = (double)(i / (size_t)s->width) + 0.5;
             int k = first;
             for (; k < end && ok; ++k) {
-                double t = r->t_enter + k * s->step_size;
-                if (t > r->t_exit + exit_move)
+                double t = r->t_first + k * s->step_size;
+                if (!m.host->counted_steps && t > r->t_exit + m.exit_move)
                     break;
                 halo_emu_sample sample;
                 memset(&sample, 0, sizeof sample);
-                double *P = sample.position;
+                double P[3];
                 for (int c = 0; c < 3; ++c)
                     P[c] = r->origin[c] + t * r->direction[c];
-                sample.value = halo_volume_trilinear(s->volume, s->dims, P);
-                double color[4];
-                conform_transfer_lookup(s->transfer, s->transfer_texels, sample.value, color);
-                double distance = 0.0;
-                for (int c = 0; c < 3; ++c) {
-                    double plus[3] = {P[0], P[1], P[2]}, minus[3] = {P[0], P[1], P[2]};
-                    plus[c] += voxel[c];
-                    minus[c] -= voxel[c];
-                    sample.gradient[c] = (halo_volume_trilinear(s->volume, s->dims, plus) -
-                                          halo_volume_trilinear(s->volume, s->dims, minus)) * 0.5;
-                    sample.view[c] = s->eye[c] - P[c];
-                    distance += sample.view[c] * sample.view[c];
-                }
-                distance = sqrt(distance);
-                for (int c = 0; c < 3; ++c)
-                    sample.view[c] /= distance;
-                double depth = (distance - front_distance) / (2.0 * radius);
-                sample.depth = depth < 0.0 ? 0.0 : depth > 1.0 ? 1.0 : depth;
+                host_sample(s, plan, &m, P, &sample);
                 memcpy(sample.fragcoord, fragment.fragcoord, sizeof sample.fragcoord);
-                memcpy(sample.color, color, 3 * sizeof *color);
-                sample.opacity = color[3];
                 memcpy(sample.output_accum, fragment.output_accum, sizeof sample.output_accum);
                 memcpy(sample.output_accum_next, fragment.output_accum_next, sizeof sample.output_accum_next);
                 ok = (frame ? halo_emu_apply_frame(p, frame, &sample, diag) : halo_emu_apply(p, &sample, diag)) ==
@@ -169,12 +347,13 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
                 memcpy(fragment.output_accum, sample.output_accum, sizeof sample.output_accum);
                 memcpy(fragment.output_accum_next, sample.output_accum_next, sizeof sample.output_accum_next);
                 double alpha = sample.opacity < 0.0 ? 0.0 : sample.opacity > 1.0 ? 1.0 : sample.opacity;
-                if (alpha > 0.0) {
-                    alpha = 1.0 - pow(1.0 - alpha, exponent);
+                if (alpha > 0.0) { /* raycast.frag's skip; the others add nothing for alpha 0 either */
+                    if (m.host->opacity_correction)
+                        alpha = 1.0 - pow(1.0 - alpha, exponent);
                     for (int c = 0; c < 3; ++c)
                         acc[c] += (1.0 - acc[3]) * alpha * sample.color[c];
                     acc[3] += (1.0 - acc[3]) * alpha;
-                    if (acc[3] >= threshold)
+                    if (m.host->strict_threshold ? acc[3] > threshold : acc[3] >= threshold)
                         break;
                 }
             }
@@ -202,13 +381,14 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
 
 /* ---- The rows (conform_rows.c) ------------------------------------------------------------ */
 
-/* Renders the ray caster as the program needs (segments 0) or in exactly `segments`; fills
+/* Renders the row's host as the program needs (segments 0) or in exactly `segments`; fills
  * state (its transfer table copied into transfer: the host is gone on return) and plan.
  * NULL with diagnostics on failure. */
 static float *render(conform *c, const halo_program *p, const halo_render_settings *settings, const float *volume,
-                     int volume_size, int orthographic, int segments, halo_raycast_state *state,
+                     int volume_size, const conform_segment_params *params, int segments, halo_raycast_state *state,
                      float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4], halo_segment_plan *plan)
 {
+    const conform_segment_host *host = params->host ? params->host : &conform_segment_raycast;
     size_t values = (size_t)c->size * (size_t)c->size * 4;
     float *gpu = malloc(values * sizeof *gpu);
     halo_raycast *r = halo_raycast_create(&(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = p,
@@ -216,8 +396,11 @@ static float *render(conform *c, const halo_program *p, const halo_render_settin
                                           c->diag);
     int ok = gpu && r && halo_raycast_set_volume(r, volume, volume_size, volume_size, volume_size, c->diag) == HALO_OK &&
              halo_raycast_set_render(r, settings, c->diag) == HALO_OK;
+    if (ok && host->exit_points)
+        ok = halo_raycast_set_exit_points(r, c->diag) == HALO_OK;
     if (ok) {
-        halo_raycast_set_orthographic(r, orthographic);
+        halo_raycast_set_jitter(r, params->jitter);
+        halo_raycast_set_orthographic(r, params->orthographic);
         halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);
         halo_raycast_set_segments(r, 0, segments > 0 ? segments : 0);
         ok = halo_raycast_render(r, gpu, c->diag) == HALO_OK;
@@ -239,12 +422,30 @@ static float *render(conform *c, const halo_program *p, const halo_render_settin
     return gpu;
 }
 
-static halo_program *link_host(conform *c, const halo_scene *scene, int force)
+static halo_program *link_host(conform *c, const halo_scene *scene, const conform_segment_host *host,
+                               const char *source, int force)
 {
-    return halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = c->raycast_source,
-                                       .host_file = "raycast.frag", .target = HALO_TARGET_GLSL330,
-                                       .force_segments = force},
+    return halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = source,
+                                       .host_file = host->file, .target = host->target, .force_segments = force},
                      c->diag);
+}
+
+/* The host's text: raycast.frag's (loaded once by the harness), an embedded host's, or the
+ * MIP variant of mip_iso_caster.frag; *owned is the copy to free. */
+static const char *host_source(conform *c, const conform_segment_host *host, char **owned)
+{
+    *owned = NULL;
+    if (host == &conform_segment_raycast)
+        return c->raycast_source;
+    char *text = halo_host_load(host->file, NULL, c->diag);
+    if (text && host->shading == CONFORM_SHADE_MIP) {
+        char *variant = halo_host_mip_variant(text);
+        free(text);
+        text = variant;
+        if (!text)
+            halo_diag_error(c->diag, USAGE, host->file, 0, 0, "no MIP mode lines to switch on");
+    }
+    return *owned = text;
 }
 
 void conform_segment_row(conform *c, const conform_row *row)
@@ -257,37 +458,45 @@ void conform_segment_row(conform *c, const conform_row *row)
     float *volume = halo_volume_create(volume_size), *gpu = NULL, *single = NULL;
     double *reference = NULL, *allowed = NULL, *moved = NULL;
     halo_program *program = NULL, *plain = NULL;
+    const conform_segment_host *host = params->host ? params->host : &conform_segment_raycast;
+    char *owned_source = NULL;
+    const char *source = host_source(c, host, &owned_source);
     halo_scene *scene = volume ? halo_scene_parse(params->scene, "(conformance segment scene)", c->lib, c->diag) : NULL;
     halo_raycast_state state;
     halo_segment_plan plan;
     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4];
-    int ok = scene && (program = link_host(c, scene, params->segments > 0)) != NULL;
+    int ok = source && scene && (program = link_host(c, scene, host, source, params->segments > 0)) != NULL;
     const halo_render_settings *settings = ok ? halo_scene_render(scene) : NULL;
-    ok = ok && (gpu = render(c, program, settings, volume, volume_size, params->orthographic, params->segments,
-                             &state, transfer, &plan)) != NULL;
+    ok = ok && (gpu = render(c, program, settings, volume, volume_size, params, params->segments, &state, transfer,
+                             &plan)) != NULL;
     row_stats stats = {0};
     if (ok && params->segments > 0) {
         /* the same host in one draw: the segments alone must change nothing */
         halo_segment_plan once;
-        ok = (plain = link_host(c, scene, 0)) != NULL &&
-             (single = render(c, plain, settings, volume, volume_size, params->orthographic, 0, &state, transfer,
-                              &once)) != NULL;
+        ok = (plain = link_host(c, scene, host, source, 0)) != NULL &&
+             (single = render(c, plain, settings, volume, volume_size, params, 0, &state, transfer, &once)) != NULL;
         for (size_t i = 0; ok && i < values / 4; ++i) {
             const double g[4] = {gpu[i * 4], gpu[i * 4 + 1], gpu[i * 4 + 2], gpu[i * 4 + 3]};
             const double s[4] = {single[i * 4], single[i * 4 + 1], single[i * 4 + 2], single[i * 4 + 3]};
             row_stats_add(&stats, i, g, s, NULL, 4, row->tolerance_abs, 0.0);
         }
     } else if (ok) {
-        /* against the emulation; the decisions on the opacity threshold and the ray's exit bracketed */
-        static const double moves[][2] = {{-1e-5, 0.0}, {1e-5, 0.0}, {0.0, -1e-5}, {0.0, 1e-5}};
+        /* against the emulation; the decisions on the opacity threshold, the ray's exit and
+         * the isosurface's value bracketed */
+        static const double moves[][3] = {{-1e-5, 0.0, 0.0}, {1e-5, 0.0, 0.0}, {0.0, -1e-5, 0.0},
+                                          {0.0, 1e-5, 0.0},  {0.0, 0.0, -1e-5}, {0.0, 0.0, 1e-5}};
+        size_t move_count = host->shading == CONFORM_SHADE_ISO ? 6 : 4;
         reference = malloc(values * sizeof *reference);
         moved = malloc(values * sizeof *moved);
         allowed = calloc(values, sizeof *allowed);
         state.volume = volume;
+        conform_segment_model model = {.host = host, .jitter = params->jitter};
         ok = reference && moved && allowed &&
-             halo_conform_segment_emulate(&state, program, &plan, 0.99, 0.0, reference, c->diag);
-        for (size_t m = 0; ok && m < sizeof moves / sizeof moves[0]; ++m) {
-            ok = halo_conform_segment_emulate(&state, program, &plan, 0.99 + moves[m][0], moves[m][1], moved, c->diag);
+             halo_conform_segment_emulate(&state, program, &plan, &model, reference, c->diag);
+        for (size_t m = 0; ok && m < move_count; ++m) {
+            conform_segment_model bracket = {.host = host, .jitter = params->jitter, .threshold_move = moves[m][0],
+                                             .exit_move = moves[m][1], .iso_move = moves[m][2]};
+            ok = halo_conform_segment_emulate(&state, program, &plan, &bracket, moved, c->diag);
             for (size_t i = 0; ok && i < values; ++i)
                 allowed[i] = fmax(allowed[i], fabs(moved[i] - reference[i]));
         }
@@ -311,6 +520,7 @@ void conform_segment_row(conform *c, const conform_row *row)
     halo_program_destroy(program);
     halo_program_destroy(plain);
     halo_scene_destroy(scene);
+    free(owned_source);
     free(volume);
     free(gpu);
     free(single);

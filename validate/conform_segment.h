@@ -1,5 +1,6 @@
 /* Conformance of segmented ray casting (host contract 2): the emulation of raycast.frag
- * drawn by halo_gl_frame_draw in depth segments (conform_segment.c). */
+ * and of the hosts in the styles of the wild (examples/hosts/) drawn by
+ * halo_gl_frame_draw in depth segments (conform_segment.c). */
 #ifndef HALO_CONFORM_SEGMENT_H
 #define HALO_CONFORM_SEGMENT_H
 
@@ -8,20 +9,56 @@
 #include "internal.h"
 #include "hosts/raycast.h"
 
-/* The frame of raycast.frag drawn by the plan (halo_segment_plan_make with the state's
- * camera and step), in double: out gets width*height*4 values over the background. The
- * opacity threshold (the host's 0.99) and a shift of every ray's exit are parameters so
- * that a caller can bracket the decisions on them. Returns 0 with diagnostics (a stage
- * without emulation, out of memory). */
-int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program *p, const halo_segment_plan *plan,
-                                 double threshold, double exit_move, double *out, halo_diagnostics *diag);
+/* How a host classifies and shades a sample. */
+typedef enum conform_segment_shading {
+    CONFORM_SHADE_TRANSFER, /* the transfer function's colour and opacity */
+    CONFORM_SHADE_TF2D,     /* tf2d_caster.frag: value x |g| transfer function, Phong headlight */
+    CONFORM_SHADE_ISO,      /* mip_iso_caster.frag: opaque at and above its iso value, diffuse */
+    CONFORM_SHADE_MIP       /* its MIP variant: the ray's largest value, classified once, no stage */
+} conform_segment_shading;
 
-/* A row: the ray caster (raycast.frag) with the scene; segments > 0: linked with
+/* What the emulation models of a host: where the example hosts differ from raycast.frag
+ * (conform_segment_raycast; the others are conform_segment_webgl, _exit_points, _tf2d,
+ * _iso and _mip). */
+typedef struct conform_segment_host {
+    const char *file;      /* an embedded example host */
+    halo_target target;    /* the target it is linked for and drawn with */
+    conform_segment_shading shading;
+    double threshold;      /* early ray termination at this accumulated opacity ... */
+    int strict_threshold;  /* ... reached (>=), or passed (>) */
+    int counted_steps;     /* ceil((t_exit - t_first) / step) samples, else those with t <= t_exit */
+    int centred_lookup;    /* the transfer table read at texel centres, else texture(tf, vec2(v, 0.5)) */
+    int derived_view;      /* halo_view_at (the frame's camera), else normalize(eye - P) */
+    int derived_depth;     /* halo_depth_at (planar), else the distance to the eye (radial) */
+    int opacity_correction; /* 1 - (1 - a)^(step / unit_step), else a as it is */
+    int exit_points;       /* two passes: the exit from a texture of the box's back faces */
+} conform_segment_host;
+
+extern const conform_segment_host conform_segment_raycast, conform_segment_webgl, conform_segment_exit_points,
+    conform_segment_tf2d, conform_segment_iso, conform_segment_mip;
+
+/* The host and the values of the decisions that a row brackets: the termination
+ * threshold, every ray's exit and the isosurface value, each moved by a small amount. */
+typedef struct conform_segment_model {
+    const conform_segment_host *host; /* NULL: raycast.frag */
+    double jitter;                    /* the uniform `jitter` (webgl_caster.frag) */
+    double threshold_move, exit_move, iso_move;
+} conform_segment_model;
+
+/* The frame of the model's host drawn by the plan (halo_segment_plan_make with the state's
+ * camera and step), in double: out gets width*height*4 values over the background.
+ * Returns 0 with diagnostics (a stage without emulation, out of memory). */
+int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program *p, const halo_segment_plan *plan,
+                                 const conform_segment_model *model, double *out, halo_diagnostics *diag);
+
+/* A row: a host (NULL: raycast.frag) with the scene; segments > 0: linked with
  * force_segments and drawn in exactly that many, against the same host in one draw;
  * 0: drawn as the program needs, against the emulation. --stage segments selects them all. */
 typedef struct conform_segment_params {
     const char *scene;
     int segments, orthographic;
+    const conform_segment_host *host;
+    float jitter;
 } conform_segment_params;
 void conform_segment_row(conform *c, const conform_row *row);
 

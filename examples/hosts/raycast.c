@@ -88,6 +88,20 @@ char *halo_host_load(const char *name, const char *override_path, halo_diagnosti
     return copy;
 }
 
+char *halo_host_mip_variant(const char *source)
+{
+    static const char off[] = "//#define MIP\n//#pragma halo compositing mip\n";
+    const char *at = source ? strstr(source, off) : NULL;
+    char *text = at ? malloc(strlen(source) + 1) : NULL;
+    if (!text)
+        return NULL;
+    size_t head = (size_t)(at - source);
+    memcpy(text, source, head);
+    strcpy(text + head, "#define MIP\n#pragma halo compositing mip\n");
+    strcat(text, at + sizeof off - 1);
+    return text;
+}
+
 /* ---- Programs and targets ---------------------------------------------------------- */
 
 /* The parts both hosts share: program, full-screen triangle, RGBA32F target. */

@@ -18,6 +18,10 @@ const char *halo_host_embedded(const char *name);
 /* A copy (free() it) of the file at override_path when given, else of the embedded
  * host `name`; NULL with an IO_READ diagnostic when neither exists. */
 char *halo_host_load(const char *name, const char *override_path, halo_diagnostics *diag);
+/* The MIP variant of mip_iso_caster.frag (a copy to free()): its two commented mode lines,
+ * `#define MIP` and `#pragma halo compositing mip`, switched on; NULL when the text has
+ * no such lines or memory runs out. */
+char *halo_host_mip_variant(const char *source);
 
 /* ---- Programs ------------------------------------------------------------------ */
 

@@ -93,21 +93,6 @@ static halo_scene *empty_like(const context *c, const halo_scene *scene)
     return empty;
 }
 
-/* The MIP variant of mip_iso_caster.frag: its two commented mode lines switched on. */
-static char *mip_variant(const char *source)
-{
-    static const char off[] = "//#define MIP\n//#pragma halo compositing mip\n";
-    const char *at = strstr(source, off);
-    char *text = at ? malloc(strlen(source) + 1) : NULL;
-    if (!text)
-        return NULL;
-    size_t head = (size_t)(at - source);
-    memcpy(text, source, head);
-    strcpy(text + head, "#define MIP\n#pragma halo compositing mip\n");
-    strcat(text, at + sizeof off - 1);
-    return text;
-}
-
 static halo_program *link_host(const context *c, const char *file, const char *source, const halo_scene *scene,
                                halo_target target, int force_segments)
 {
@@ -405,7 +390,7 @@ static int exit_points_match(const context *c, const char *exit_source)
 static int mip_variant_checks(const context *c, const char *iso_source)
 {
     int failed = 0;
-    char *mip = mip_variant(iso_source);
+    char *mip = halo_host_mip_variant(iso_source);
     if (!mip) {
         printf("%-60s FAIL\n", "mip_iso_caster.frag: no MIP mode lines");
         return 1;
