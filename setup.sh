@@ -10,7 +10,8 @@ packages="build-essential autoconf automake libtool pkg-config file
   clang libclang-rt-14-dev
   libnifti2-dev zlib1g-dev mricron-data
   libglfw3-dev xvfb xauth
-  gnuplot-nox"
+  gnuplot-nox
+  libvtk9-dev"
 
 missing=""
 for p in $packages; do

@@ -169,6 +169,45 @@ static int set_generated_piece(halo_program *p, halo_piece piece, char *text) {
     return 0;
 }
 
+/* With engine_uniforms, the pieces host declares the live parameters as the engine would
+ * (from halo_program_uniform_next), after its #version line, so that it validates. */
+static int declare_engine_uniforms(halo_program *p) {
+    halo_strbuf b = {0};
+    size_t cursor = 0;
+    halo_uniform_decl u;
+    int added = 0;
+    while (halo_program_uniform_next(p, &cursor, &u)) {
+        if (u.name && u.array_size) halo_strbuf_printf(&b, "uniform %s %s[%d];\n", u.glsl_type, u.name, u.array_size), added++;
+        else if (u.name) halo_strbuf_printf(&b, "uniform %s %s;\n", u.glsl_type, u.name), added++;
+        if (u.count_name) halo_strbuf_printf(&b, "uniform int %s;\n", u.count_name), added++;
+    }
+    if (!added) return 0;
+    const char *nl = strchr(p->source, '\n');
+    size_t head = nl ? (size_t)(nl - p->source) + 1 : 0;
+    halo_strbuf text = {0};
+    halo_strbuf_append_n(&text, p->source, head);
+    halo_strbuf_append(&text, b.data ? b.data : "");
+    halo_strbuf_append(&text, p->source + head);
+    halo_strbuf_free(&b);
+    halo_line_origin *origins = calloc((size_t)(p->origin_count + added), sizeof *origins);
+    char *source = halo_strbuf_take(&text);
+    if (!origins || !source) {
+        free(origins);
+        free(source);
+        return -1;
+    }
+    int first = nl ? 1 : 0;
+    memcpy(origins, p->origins, (size_t)first * sizeof *origins);
+    for (int i = 0; i < added; i++) origins[first + i] = (halo_line_origin){halo_generated_file, 0, NULL};
+    memcpy(origins + first + added, p->origins + first, (size_t)(p->origin_count - first) * sizeof *origins);
+    free(p->source);
+    free(p->origins);
+    p->source = source;
+    p->origins = origins;
+    p->origin_count += added;
+    return 0;
+}
+
 halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag) {
     const halo_pieces_desc *d = desc->pieces;
     if (desc->kind != HALO_SHADER_FRAGMENT) {
@@ -220,7 +259,7 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
     halo_strbuf sample = {0};
     write_sample(&sample, &names, d);
     char *finish = halo_strdup("halo_finish();\n");
-    if (sample.failed || cut_declarations(p, d) || set_generated_piece(p, HALO_PIECE_SAMPLE, halo_strbuf_take(&sample)) ||
+    if (sample.failed || cut_declarations(p, d) || (p->engine_uniforms && declare_engine_uniforms(p)) || set_generated_piece(p, HALO_PIECE_SAMPLE, halo_strbuf_take(&sample)) ||
         set_generated_piece(p, HALO_PIECE_FINISH, finish)) {
         halo_strbuf_free(&sample);
         halo_program_destroy(p);

@@ -158,3 +158,9 @@ void halo_diagnostics_print(const halo_diagnostics *d, FILE *out) {
             fprintf(out, "%zu more %s not shown (the limit is %zu per kind)\n", d->dropped[s],
                     kinds[s][d->dropped[s] != 1], halo_diagnostics_limit(d));
 }
+
+void halo_diagnostics_report(halo_diagnostics *d, halo_severity severity, halo_message_id id, const char *file,
+                             int line, int column, const char *text) {
+    if ((unsigned)id >= HALO_MSG_COUNT) id = HALO_MSG_USAGE;
+    halo_diag_add(d, severity, id, file ? file : "", line, column, NULL, "%s", text ? text : "");
+}

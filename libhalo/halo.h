@@ -91,6 +91,7 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(GL_LINK, "driver rejected the program")                                              \
     X(HOST_COMPOSITING, "the scene's stages mean nothing under the host's compositing (MIP)")          \
     X(HOST_SINGLE_PASS, "the scene needs image passes between slices, which this host cannot run") \
+    X(ENGINE_UNSUPPORTED, "the engine's mode or input cannot take the stages (docs/hosts/)")          \
     X(USAGE, "invalid argument")
 
 typedef enum halo_message_id {
@@ -118,6 +119,10 @@ HALO_API const halo_diagnostic *halo_diagnostics_get(const halo_diagnostics *d, 
 HALO_API size_t halo_diagnostics_errors(const halo_diagnostics *d);
 HALO_API int halo_diagnostics_has(const halo_diagnostics *d, halo_message_id id);
 HALO_API void halo_diagnostics_clear(halo_diagnostics *d);
+/* Adds a diagnostic (for adapters and tools built on libhalo); file may be NULL, line
+ * and column 0 when there is no place. */
+HALO_API void halo_diagnostics_report(halo_diagnostics *d, halo_severity severity, halo_message_id id,
+                                      const char *file, int line, int column, const char *text);
 /* Writes `file:line:col: error: text`, then the source line and a caret. */
 HALO_API void halo_diagnostics_print(const halo_diagnostics *d, FILE *out);
 HALO_API const char *halo_message_name(halo_message_id id); /* "SCENE_JSON" */

@@ -262,3 +262,10 @@ tests_hosts_test_hosts_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(to
 nodist_EXTRA_tests_hosts_test_hosts_SOURCES = build-aux/force-cxx-link.cc
 tests_hosts_test_hosts_LDADD = $(HALO_TOOL_LIBS)
 TESTS += tests/hosts/test_hosts
+
+# ---- VTK (adapters/vtk, examples/halo-vtk): skipped (77) when configure found no VTK ----
+TESTS += tests/vtk/vtk.sh
+EXTRA_DIST += tests/vtk/vtk.sh tests/xrun.sh
+if HALO_HAVE_VTK
+AM_TESTS_ENVIRONMENT += HALO_VTK='$(abs_top_builddir)/examples/halo-vtk'; export HALO_VTK;
+endif

@@ -216,6 +216,9 @@ static int test_engine_uniforms(void) {
     CHECK(!strstr(decl, "\nuniform int halo_engine_test_enabled") && !strstr(decl, "\nuniform bool"));
     CHECK(strstr(decl, "(halo_engine_test_enabled != 0)") != NULL);
     CHECK(strstr(decl, "const float halo_boundary_k_gc") != NULL); /* a constant stays a constant */
+    /* the pieces host declares them as the engine would: it validates */
+    halo_diagnostics_clear(diags);
+    CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
     size_t cursor = 0;
     halo_uniform_decl u;
     int seen = 0;

@@ -1,0 +1,51 @@
+/* libhalo-vtk: libhalo's stages inside VTK's GPU volume ray caster (VTK 9.1 and up).
+ *
+ * One call installs a linked scene into a vtkGPUVolumeRayCastMapper through the
+ * volume's vtkOpenGLShaderProperty: the stages' declarations and the per-sample piece
+ * (docs/composers.md) become fragment shader replacements, their live parameters VTK
+ * custom uniforms. The adapter converts VTK's conventions (value normalised over the
+ * data range, opacity corrected for the sample distance, no gradient unless shading is
+ * on) to the host contract's; see docs/hosts/vtk.md. After the first render,
+ * halo_vtk_check says whether the splice took, and validates the shader VTK composed
+ * with libhalo's diagnostics. C++, since VTK is. */
+#ifndef HALO_VTK_H
+#define HALO_VTK_H
+
+#include "halo.h"
+
+class vtkGPUVolumeRayCastMapper;
+class vtkRenderer;
+class vtkVolume;
+
+typedef struct halo_vtk halo_vtk;
+
+typedef struct halo_vtk_desc {
+    vtkGPUVolumeRayCastMapper *mapper; /* required; its input must be set */
+    vtkVolume *volume;                 /* required: its shader property takes the replacements */
+    vtkRenderer *renderer;             /* required: the renderer the volume is in */
+    const halo_library *library;       /* required */
+    const halo_scene *scene;           /* NULL: no stage (the shader stays VTK's own) */
+    double window[2];                  /* the data values mapped to 0 and 1 (the contract's value);
+                                        * {0, 0}: the input's scalar range */
+    int all_live;                      /* every parameter a uniform (halo_vtk_set on any of them) */
+} halo_vtk_desc;
+
+/* Installs the scene. Returns NULL, with the reason in diag, when the mapper or the
+ * scene cannot take it: a blend mode other than composite, more than one component, a
+ * label mask, or stages that need image passes (volumetric halos, outlines, feature
+ * halos: halo_vtk_slabs, docs/hosts/vtk.md). */
+halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag);
+/* Removes the replacements and uniforms; the mapper renders as VTK's own again. */
+void halo_vtk_remove(halo_vtk *h);
+/* A live parameter's new value: a uniform update, no shader rebuild. */
+halo_status halo_vtk_set(halo_vtk *h, const char *stage, const char *param, const double *values, int count,
+                         halo_diagnostics *diag);
+/* After a render: HALO_OK when the shader VTK built holds the stages (the splice took)
+ * and validates; else diagnostics say why (the blend mode changed, VTK's code moved). */
+halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag);
+/* The linked program (its pieces and reflection). */
+const halo_program *halo_vtk_program(const halo_vtk *h);
+/* Shader programs VTK built with the stages since the install (a live change adds none). */
+int halo_vtk_build_count(const halo_vtk *h);
+
+#endif

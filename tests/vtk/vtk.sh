@@ -1,0 +1,126 @@
+#!/bin/sh
+# libhalo inside VTK's GPU ray caster (adapters/vtk, examples/halo-vtk; docs/hosts/vtk.md),
+# on a private X server. Skipped (77) when halo-vtk was not built (configure found no
+# VTK) or xvfb-run is missing. Checks:
+#  - an empty scene installed renders within 1/255 of VTK alone;
+#  - each per-sample stage scene: VTK with the stages against halo-render's ray caster
+#    on the same volume, camera and transfer function differs (mean abs) by at most
+#    2.5e-3 (sketch: 2e-2, its lines are a voxel wide and VTK's volume sits on point
+#    centres) and at most a quarter of what the stages change in VTK's image: the
+#    stages must do the same thing in both, and change the image; the stages are in
+#    VTK's shader and the shader VTK composed validates. Measured at 96x96: 3e-4 to
+#    1.6e-3, sketch 1.8e-2; without the adapter's opacity conversion 2.2e-2 (colour cue);
+#  - a control that must fail that: tone shading with the light negated;
+#  - live parameters: --set changes the image to exactly a fresh render with the new
+#    values, with no shader rebuild;
+#  - what VTK cannot take is diagnosed with exit 1: MIP and additive blend modes, a
+#    scene with volumetric halos or outlines.
+if test -z "${srcdir:-}" || test -z "${HALO_RENDER:-}" || test -z "${HALO_IMAGE_COMPARE:-}"; then
+    echo "broken setup: run through 'make check' (srcdir, HALO_RENDER or HALO_IMAGE_COMPARE unset)" >&2
+    exit 99
+fi
+if test -z "${HALO_VTK:-}" || test ! -x "$HALO_VTK"; then
+    echo "SKIP: halo-vtk is not built (configure found no VTK: install libvtk9-dev)"
+    exit 77
+fi
+if test -z "${HALO_VTK_UNDER_X:-}"; then
+    command -v xvfb-run >/dev/null 2>&1 || { echo "SKIP: xvfb-run not found (install xvfb and xauth)"; exit 77; }
+    tmp=$(mktemp -d "${TMPDIR:-/tmp}/halo-vtk-test.XXXXXX") || exit 99
+    trap 'rm -rf "$tmp"' EXIT
+    . "$srcdir/tests/xrun.sh"
+    HALO_VTK_UNDER_X=1 xrun sh "$0"
+    exit $?
+fi
+
+scenes="$srcdir/examples/scenes"
+tmp=$(mktemp -d "${TMPDIR:-/tmp}/halo-vtk-test.XXXXXX") || exit 99
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+fail() {
+    echo "FAIL: $*" >&2
+    failures=$((failures + 1))
+}
+size=96x96
+vsize=64
+vtk() { # OUT SCENE [ARG]...
+    v_out=$1 v_scene=$2
+    shift 2
+    "$HALO_VTK" --scene "$v_scene" --size $size --volume-size $vsize -o "$tmp/$v_out.exr" "$@" >"$tmp/$v_out.log" 2>&1 ||
+        { fail "halo-vtk --scene $v_scene $* exited $?"; sed 's/^/    /' "$tmp/$v_out.log" >&2; }
+}
+ray() { # OUT SCENE
+    "$HALO_RENDER" --scene "$2" --host raycast --size $size --volume-size $vsize --quiet -o "$tmp/$1.exr" \
+        >/dev/null 2>"$tmp/$1.log" || { fail "halo-render --scene $2 exited $?"; cat "$tmp/$1.log" >&2; }
+}
+mean_abs() { # A B
+    "$HALO_IMAGE_COMPARE" "$tmp/$1.exr" "$tmp/$2.exr" --max-abs 1e9 --max-share 1 | sed -n 's/.*mean abs \([^,]*\),.*/\1/p'
+}
+max_abs() { # A B
+    "$HALO_IMAGE_COMPARE" "$tmp/$1.exr" "$tmp/$2.exr" --max-abs 1e9 --max-share 1 | sed -n 's/.*max abs \([^ ]*\) .*/\1/p'
+}
+
+# VTK must give this machine an OpenGL context at all; if not, skip rather than fail.
+if ! "$HALO_VTK" --size 8x8 --volume-size 8 -o "$tmp/probe.png" >"$tmp/probe.log" 2>&1; then
+    echo "SKIP: VTK cannot render here:"
+    sed 's/^/    /' "$tmp/probe.log"
+    exit 77
+fi
+
+# an empty scene installed against VTK alone
+vtk empty "$scenes/plain.json"
+vtk alone "$scenes/plain.json" --no-stages
+d=$(max_abs empty alone)
+echo "empty scene: max abs $d against VTK alone"
+awk -v d="$d" 'BEGIN { exit !(d != "" && d <= 1.0 / 255 + 1e-6) }' || fail "empty scene: max abs $d > 1/255"
+
+# each per-sample stage scene against halo-render's ray caster
+for scene in boundary-silhouette orientation sketch tone distance color-cue; do
+    vtk "$scene" "$scenes/$scene.json"
+    vtk "$scene-alone" "$scenes/$scene.json" --no-stages
+    ray "$scene-ray" "$scenes/$scene.json"
+    grep -q "validated" "$tmp/$scene.log" || fail "$scene: the stages are not in VTK's shader, or it did not validate"
+    between=$(mean_abs "$scene" "$scene-ray")
+    effect=$(mean_abs "$scene" "$scene-alone")
+    echo "$scene: VTK against halo-render's ray caster $between (mean abs); the stages change VTK's image by $effect"
+    limit=0.0025
+    test "$scene" = sketch && limit=0.02
+    awk -v b="$between" -v e="$effect" -v l="$limit" 'BEGIN { exit !(b != "" && e != "" && e > 0.005 && b <= e / 4 && b <= l) }' ||
+        fail "$scene: VTK and halo-render differ by $between: over $limit or a quarter of the stages' effect $effect"
+done
+
+# the control: the light negated in VTK only must fail the same test
+sed 's/"lights": \[\[0.3, 0.8, 0.5\]\]/"lights": [[-0.3, -0.8, -0.5]]/' "$scenes/tone.json" >"$tmp/tone-negated.json"
+grep -q -- '-0.8' "$tmp/tone-negated.json" || fail "control: could not negate the light in tone.json"
+vtk negated "$tmp/tone-negated.json"
+between=$(mean_abs negated tone-ray)
+effect=$(mean_abs tone tone-alone)
+echo "control (light negated): VTK against halo-render $between; the effect is $effect"
+awk -v b="$between" -v e="$effect" 'BEGIN { exit !(b > e / 4 || b > 0.0025) }' ||
+    fail "control: with the light negated the test still passes ($between): it cannot fail"
+
+# live parameters: no rebuild, and the same image as a fresh render with the new values
+sed 's/"k_ta": 1.0/"k_ta": 0.5/' "$tmp/tone-negated.json" >"$tmp/tone-changed.json"
+vtk live "$scenes/tone.json" --set tone_shading.k_ta=0.5 --set tone_shading.lights=-0.3,-0.8,-0.5
+vtk fresh "$tmp/tone-changed.json"
+test "$(grep -c 'no shader rebuild' "$tmp/live.log")" -eq 2 || { fail "live: VTK rebuilt its shader"; cat "$tmp/live.log" >&2; }
+d=$(max_abs live fresh)
+echo "live parameters: max abs $d against a fresh render"
+awk -v d="$d" 'BEGIN { exit !(d != "" && d == 0) }' || fail "live: the image differs from a fresh render by $d"
+
+# what VTK cannot take
+for blend in mip additive; do
+    "$HALO_VTK" --scene "$scenes/tone.json" --blend $blend --size 8x8 --volume-size 8 -o "$tmp/x.png" \
+        >"$tmp/blend.out" 2>"$tmp/blend.err"
+    status=$?
+    test $status -eq 1 && grep -q "blend mode" "$tmp/blend.err" ||
+        { fail "--blend $blend: exit $status, expected 1 with a diagnostic"; cat "$tmp/blend.err" >&2; }
+done
+for scene in default outline-depth; do
+    "$HALO_VTK" --scene "$scenes/$scene.json" --size 8x8 --volume-size 8 -o "$tmp/x.png" >"$tmp/h.out" 2>"$tmp/h.err"
+    status=$?
+    test $status -eq 1 && grep -q "image passes" "$tmp/h.err" ||
+        { fail "$scene: exit $status, expected 1 with a diagnostic naming the image passes"; cat "$tmp/h.err" >&2; }
+done
+
+test "$failures" -eq 0 || { echo "$failures failure(s)"; exit 1; }
+exit 0
