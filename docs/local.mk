@@ -2,6 +2,10 @@
 EXTRA_DIST += \
 	docs/accuracy.md \
 	docs/blur.md \
+	docs/composers.md \
+	docs/hosts/vtk.md \
+	docs/images/mri-vtk.png \
+	docs/images/mri-vtk-alone.png \
 	docs/feature-halos.md \
 	docs/halo-render.md \
 	docs/halo-view.md \
