@@ -461,8 +461,8 @@ static void slice_progress_report(int done, int total, void *user)
     if (now < p->next || done >= total)
         return;
     /* llvmpipe queues draws: flushing keeps the count printed close to what has been
-     * drawn. Only when printing: a flush after every slice cost 11-17 % of a frame, and
-     * --quiet (no progress) must time the same frame (docs/performance.md). */
+     * drawn. Only when printing: a flush after every slice cost 7 % of a frame, and
+     * --quiet (no progress) must time the same frame (docs/halo-render.md). */
     p->gl->Flush();
     fprintf(stderr, p->tty ? "\rhalo-render: %s: %s %d of %d (%.0f s)" : "halo-render: %s: %s %d of %d (%.0f s)\n",
             p->what, p->unit, done, total, now - p->start);
