@@ -16,6 +16,13 @@ conform_backend() {
         exit 77
     fi
     log=$(mktemp) || exit 99
+    # Mesa 22.3's EGL leaks a little at eglTerminate, after which it unloads the driver:
+    # LeakSanitizer cannot name (suppress) it. Leaks in libhalo are caught by the OSMesa run
+    # of the same code (--enable-sanitizers); memory errors are still checked here.
+    if test "$backend" = egl; then
+        ASAN_OPTIONS="detect_leaks=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+        export ASAN_OPTIONS
+    fi
     "$HALO_VALIDATE" conform --backend "$backend" --size 25 -v 2>"$log"
     status=$?
     cat "$log" >&2

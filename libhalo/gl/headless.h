@@ -8,8 +8,9 @@
  * (halo_headless_backend_option), else HALO_HEADLESS in the environment, else auto.
  *   egl     EGL only
  *   osmesa  OSMesa only
- *   auto    EGL when it reports a hardware renderer (not llvmpipe, softpipe or
- *           another software rasterizer), else OSMesa, else EGL's software renderer
+ *   auto    EGL when one of its devices reports a hardware renderer (not llvmpipe,
+ *           softpipe or another software rasterizer), else OSMesa, else EGL's
+ *           software renderer (surfaceless, then the devices)
  * The context has no default framebuffer worth drawing to: render into framebuffer
  * objects.
  *
