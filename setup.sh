@@ -6,7 +6,7 @@ set -eu
 cd "$(dirname "$0")"
 
 packages="build-essential autoconf automake libtool pkg-config file
-  glslang-dev libosmesa6-dev mesa-common-dev libopenimageio-dev libjansson-dev
+  glslang-dev libosmesa6-dev libegl-dev libegl-mesa0 mesa-common-dev libopenimageio-dev libjansson-dev
   clang libclang-rt-14-dev
   libnifti2-dev zlib1g-dev mricron-data
   libglfw3-dev xvfb xauth

@@ -43,7 +43,9 @@ static void usage(FILE *out)
     fputs("Usage: halo-feature render [--scene S] [--volume FILE] [--volume-size N] [--size N]\n"
           "                           [--splat N] [--threshold T] [--half] [-o OUT]\n"
           "       halo-feature report [--size N] [--mri PATH] [--mri-size N] [--splat N] [--repeat N]\n"
-          "       halo-feature conform [-v]\n",
+          "       halo-feature conform [-v]\n"
+          "Every command takes --backend B: headless OpenGL through egl, osmesa or auto\n"
+          "(default: EGL when it has a hardware renderer, else OSMesa).\n",
           out);
 }
 
@@ -263,6 +265,8 @@ done:
 
 int main(int argc, char **argv)
 {
+    if (!halo_headless_take_backend_option(&argc, argv, "halo-feature"))
+        return 2;
     if (argc < 2) {
         usage(stderr);
         return 2;

@@ -47,7 +47,7 @@ static void usage(FILE *out)
           "       halo-lines --bench [--frames N] [--size WxH] [--lines FILE | --builtin ...]\n"
           "       halo-lines --conform [--row NAME] [-v]\n"
           "Renders lines with depth-dependent halos (Everts et al. 2009) through libhalo's\n"
-          "line stages (OSMesa, headless) and writes an image.\n"
+          "line stages (headless OpenGL: EGL or OSMesa) and writes an image.\n"
           "\n"
           "  --lines FILE       polylines in the text format of docs/polyline-format.md\n"
           "  --builtin NAME     streamlines (ABC flow, default) or knots (a trefoil tube)\n"
@@ -64,6 +64,8 @@ static void usage(FILE *out)
           "  --conform          the line conformance rows (GPU against the C emulation)\n"
           "  --row NAME         only this conformance row (or all rows of a stage)\n"
           "  -v                 details of failing conformance rows\n"
+          "  --backend B        headless OpenGL: egl, osmesa or auto (default: EGL when it\n"
+          "                     has a hardware renderer, else OSMesa)\n"
           "  --help             show this help\n"
           "\n"
           "Exit status: 0 success, 1 the input has errors, 2 usage or I/O failure.\n",
@@ -174,8 +176,9 @@ static void view_from(const options *o, const halo_render_settings *rs, halo_lin
         view->background[c] = rs->background[c];
 }
 
+/* measured: the backend and renderer the frames ran on */
 static int run_bench(const options *o, const halo_glfuncs *gl, const halo_library *lib, const halo_polylines *lines,
-                     const halo_render_settings *rs, halo_diagnostics *diag)
+                     const halo_render_settings *rs, const char *measured, halo_diagnostics *diag)
 {
     halo_program *vp[2] = {NULL, NULL}, *fp[2] = {NULL, NULL};
     halo_lines *l[2] = {NULL, NULL};
@@ -207,9 +210,9 @@ static int run_bench(const options *o, const halo_glfuncs *gl, const halo_librar
         }
     if (ok) {
         double with = total[1] / o->frames, without = total[0] / o->frames;
-        printf("halo-lines bench: %zu lines, %zu vertices (%zu strip vertices), %dx%d, %d frames each, %s\n",
+        printf("halo-lines bench: %zu lines, %zu vertices (%zu strip vertices), %dx%d, %d frames each, %s; %s\n",
                lines->line_count, lines->point_count, halo_lines_vertex_count(l[1]), o->width, o->height, o->frames,
-               "interleaved");
+               "interleaved", measured);
         printf("  without halos: %8.2f ms/frame (best %8.2f ms), %7.2f fps\n", 1e3 * without, 1e3 * best[0],
                1.0 / without);
         printf("  with halos:    %8.2f ms/frame (best %8.2f ms), %7.2f fps\n", 1e3 * with, 1e3 * best[1], 1.0 / with);
@@ -226,6 +229,8 @@ static int run_bench(const options *o, const halo_glfuncs *gl, const halo_librar
 int main(int argc, char **argv)
 {
     options o = {.width = 800, .height = 800, .frames = 10, .output = "halo-lines.png"};
+    if (!halo_headless_take_backend_option(&argc, argv, "halo-lines"))
+        return 2;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         const char *value = i + 1 < argc ? argv[i + 1] : NULL;
@@ -346,7 +351,10 @@ int main(int argc, char **argv)
     }
     const halo_render_settings *rs = halo_scene_render(scene);
     if (o.bench) {
-        status = run_bench(&o, &gl, lib, &lines, rs, diag);
+        char measured[320];
+        snprintf(measured, sizeof measured, "%s backend, %s", halo_headless_backend(context),
+                 halo_headless_renderer(context));
+        status = run_bench(&o, &gl, lib, &lines, rs, measured, diag);
         goto done;
     }
     if (!link_programs(&o, lib, !o.no_halos, &vp, &fp, diag)) {

@@ -82,6 +82,8 @@ int main(int argc, char **argv)
 {
     const char *scene_path = NULL, *output = "halo-outline.png", *image_name = "final";
     int size = 256, volume_size = 96, check = 0;
+    if (!halo_headless_take_backend_option(&argc, argv, "halo-outline"))
+        return 2;
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--scene") && v) scene_path = v, ++i;
@@ -91,7 +93,8 @@ int main(int argc, char **argv)
         else if (!strcmp(a, "-o") && v) output = v, ++i;
         else if (!strcmp(a, "--check")) check = 1;
         else {
-            fprintf(stderr, "usage: halo-outline --scene S [--size N] [--volume-size N] [--image NAME] [-o OUT]\n");
+            fprintf(stderr, "usage: halo-outline --scene S [--size N] [--volume-size N] [--image NAME] [-o OUT]\n"
+                            "                    [--backend egl|osmesa|auto]\n");
             return !strcmp(a, "--help") ? 0 : 2;
         }
     }

@@ -106,23 +106,29 @@ float *halo_volume_create(int size)
     return v;
 }
 
-float *halo_volume_gradients(const float *v, const int dims[3])
+void halo_volume_gradients_slab(const float *v, const int dims[3], int z_first, int z_count, float *out)
 {
     size_t nx = (size_t)dims[0], ny = (size_t)dims[1], nz = (size_t)dims[2];
-    float *g = malloc(nx * ny * nz * 3 * sizeof *g);
-    if (!g)
-        return NULL;
-    for (size_t z = 0; z < nz; ++z)
+    size_t slice = nx * ny;
+    for (size_t z = (size_t)z_first; z < (size_t)z_first + (size_t)z_count; ++z)
         for (size_t y = 0; y < ny; ++y)
             for (size_t x = 0; x < nx; ++x) {
-                size_t at[3] = {x, y, z}, n[3] = {nx, ny, nz}, stride[3] = {1, nx, nx * ny};
+                size_t at[3] = {x, y, z}, n[3] = {nx, ny, nz}, stride[3] = {1, nx, slice};
                 size_t i = (z * ny + y) * nx + x;
+                float *g = &out[(i - (size_t)z_first * slice) * 3];
                 for (int k = 0; k < 3; ++k) {
                     size_t plus = at[k] + 1 < n[k] ? i + stride[k] : i;
                     size_t minus = at[k] > 0 ? i - stride[k] : i;
-                    g[i * 3 + (size_t)k] = (v[plus] - v[minus]) * 0.5f;
+                    g[k] = (v[plus] - v[minus]) * 0.5f;
                 }
             }
+}
+
+float *halo_volume_gradients(const float *v, const int dims[3])
+{
+    float *g = malloc((size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2] * 3 * sizeof *g);
+    if (g)
+        halo_volume_gradients_slab(v, dims, 0, dims[2], g);
     return g;
 }
 

@@ -33,6 +33,10 @@ double halo_volume_trilinear(const float *v, const int dims[3], const double p[3
  * edges), so a host can read its gradient with one RGB fetch instead of six. Returns
  * NULL when memory runs out; free() the result. */
 float *halo_volume_gradients(const float *v, const int dims[3]);
+/* The same for the slices z_first .. z_first + z_count - 1 only (their neighbours are
+ * read from v): 3 * dims[0] * dims[1] * z_count floats into out. A host builds its
+ * gradient texture slab by slab with it, without a whole-volume copy. */
+void halo_volume_gradients_slab(const float *v, const int dims[3], int z_first, int z_count, float *out);
 /* halo_volume_trilinear of a 3-component volume (out: 3 values). */
 void halo_volume_trilinear3(const float *v, const int dims[3], const double p[3], double out[3]);
 

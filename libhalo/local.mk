@@ -38,8 +38,10 @@ libhalo_libhalo_la_LDFLAGS = $(AM_LDFLAGS) -version-info $(HALO_LT_VERSION) -no-
 EXTRA_libhalo_libhalo_la_DEPENDENCIES = libhalo/libhalo.map
 EXTRA_DIST += libhalo/libhalo.map
 
-# Headless contexts for the tools and tests (not installed: hosts bring their own context).
+# Headless contexts for the tools and tests (not installed: hosts bring their own context):
+# EGL and OSMesa, each when configure finds it (HEADLESS_CPPFLAGS defines HALO_HAVE_EGL,
+# HALO_HAVE_OSMESA).
 noinst_LTLIBRARIES += libhalo/libhalo-headless.la
 libhalo_libhalo_headless_la_SOURCES = libhalo/gl/headless.c
-libhalo_libhalo_headless_la_CPPFLAGS = $(AM_CPPFLAGS) $(OSMESA_CFLAGS)
-libhalo_libhalo_headless_la_LIBADD = $(OSMESA_LIBS)
+libhalo_libhalo_headless_la_CPPFLAGS = $(AM_CPPFLAGS) $(HEADLESS_CPPFLAGS)
+libhalo_libhalo_headless_la_LIBADD = $(HEADLESS_LIBS)

@@ -74,6 +74,7 @@ HALO_SHELL_TESTS = \
 	tests/check_modules.sh \
 	tests/exports.sh \
 	tests/conform.sh \
+	tests/conform_egl.sh \
 	tests/render.sh \
 	tests/cli/link_ok.sh \
 	tests/cli/missing_file.sh \
@@ -102,6 +103,8 @@ AM_TESTS_ENVIRONMENT = \
 	HALO_VALIDATE='$(abs_top_builddir)/validate/halo-validate'; export HALO_VALIDATE; \
 	HALO_RENDER='$(abs_top_builddir)/examples/halo-render'; export HALO_RENDER; \
 	HALO_LIBDIR='$(abs_top_builddir)/libhalo'; export HALO_LIBDIR; \
+	HALO_HAVE_EGL='$(HALO_HAVE_EGL)'; export HALO_HAVE_EGL; \
+	HALO_HAVE_OSMESA='$(HALO_HAVE_OSMESA)'; export HALO_HAVE_OSMESA; \
 	LP_NUM_THREADS=2; export LP_NUM_THREADS; \
 	MESA_SHADER_CACHE_DISABLE=true; export MESA_SHADER_CACHE_DISABLE; \
 	LSAN_OPTIONS="suppressions=$(abs_top_srcdir)/tests/lsan.supp:print_suppressions=0$${LSAN_OPTIONS:+:$$LSAN_OPTIONS}"; \
@@ -110,6 +113,7 @@ AM_TESTS_ENVIRONMENT = \
 # Test data: scenes, hosts and modules, good and bad.
 HALO_TEST_FILES = \
 	tests/cli/common.sh \
+	tests/conform_backend.sh \
 	tests/lsan.supp \
 	tests/data/hosts/minimal.frag \
 	tests/data/hosts/no_marker.frag \

@@ -645,7 +645,10 @@ int halo_bench_main(int argc, char **argv)
         goto cleanup;
     }
     env.gl = halo_gl_functions(env.runtime);
-    const char *renderer = (const char *)env.gl->GetString(GL_RENDERER);
+    /* what was measured: the backend and the renderer ("egl backend, llvmpipe (LLVM 15.0.6, 256 bits)") */
+    char renderer[320];
+    snprintf(renderer, sizeof renderer, "%s backend, %s", halo_headless_backend(context),
+             (const char *)env.gl->GetString(GL_RENDERER));
     if (o.table1)
         status = run_table1(&o, &env, renderer);
     else if (o.specialize)

@@ -438,8 +438,8 @@ int halo_blur_report_main(int argc, char **argv)
         loadavg[strcspn(loadavg, "\n")] = '\0';
         fclose(load);
     }
-    printf("blur: %dx%d RGBA32F, %s, median of %d; load average %s\n", n, n,
-           halo_headless_renderer(context), repeat, loadavg);
+    printf("blur: %dx%d RGBA32F, %s backend, %s, median of %d; load average %s\n", n, n,
+           halo_headless_backend(context), halo_headless_renderer(context), repeat, loadavg);
     printf("%-7s %-14s %12s %10s %12s %s\n", "kernel", "variant", "ms/frame", "fps", "max_abs_err", "paper (fps)");
     for (int k = 0; k < size_count; ++k) {
         int r = (sizes[k] - 1) / 2;

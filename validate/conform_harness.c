@@ -548,8 +548,8 @@ void emu_set_probe_volumes(const halo_program *p, halo_emu_frame *ef)
 
 static void conform_usage(FILE *out)
 {
-    fputs("Usage: halo-validate conform [--stage NAME] [--size N] [-v] [--list]\n"
-          "Renders every per-sample stage through a headless OpenGL context (OSMesa) and\n"
+    fputs("Usage: halo-validate conform [--stage NAME] [--size N] [-v] [--list] [--backend B]\n"
+          "Renders every per-sample stage through a headless OpenGL context (EGL or OSMesa) and\n"
           "compares it with the C emulation; one row per test:\n"
           "  empty     the ray caster linked with no stage against the unlinked one (bit for bit)\n"
           "  STAGE     the stage with its default parameters, on a probe of hard and random samples\n"
@@ -570,6 +570,8 @@ static void conform_usage(FILE *out)
           "  --size N      probe and image side in pixels, 25..512 (default 64)\n"
           "  -v            print the worst sample of every row and the tolerance's reason\n"
           "  --list        print the rows (name, family, tolerance, its reason) and run none\n"
+          "  --backend B   the headless context: egl, osmesa or auto (default: EGL when it has a\n"
+          "                hardware renderer, else OSMesa); -v names the one used\n"
           "Exit status: 0 all pass, 1 a row failed, 2 usage or setup failure (no OpenGL context).\n",
           out);
 }

@@ -4,6 +4,7 @@
 #include "blur_report.h"
 #include "conform.h"
 #include "halo.h"
+#include "gl/headless.h"
 
 #include <errno.h>
 #include <stdint.h>
@@ -46,6 +47,8 @@ static const char usage_text[] =
     "                                 direct, separable and linear-sampled kernels\n"
     "  --help, --version\n"
     "\n"
+    "conform, bench and blur render headless: --backend B chooses egl, osmesa or auto\n"
+    "(default auto: EGL when it has a hardware renderer, else OSMesa)\n"
     "targets: 330 (GLSL 330 core), 450 (GLSL 450 core), es300 (GLSL ES 300),\n"
     "         150 (GLSL 150 core: outputs bound by name)\n"
     "--error-limit N: show at most N errors per file and target, then how many more\n"
@@ -446,6 +449,12 @@ int main(int argc, char **argv) {
     }
     if (halo_setup(&(halo_setup_desc){0}) != HALO_OK) {
         fprintf(stderr, "halo-validate: error: glslang failed to initialize\n");
+        return EXIT_USAGE;
+    }
+    /* the commands that render take --backend (libhalo/gl/headless.h) */
+    if ((!strcmp(cmd, "conform") || !strcmp(cmd, "bench") || !strcmp(cmd, "blur")) &&
+        !halo_headless_take_backend_option(&argc, argv, "halo-validate")) {
+        halo_shutdown();
         return EXIT_USAGE;
     }
     int status;

@@ -1,5 +1,6 @@
 /* What the example hosts' C sides share (see host_common.h). */
 #include "host_common.h"
+#include "volume.h"
 
 #include "diag.h"
 #include "internal.h"
@@ -182,16 +183,50 @@ halo_status halo_host_upload_labels(const halo_glfuncs *f, GLuint texture, const
     return upload_volume(f, texture, labels, nx, ny, nz, GL_NEAREST, 1, "label volume", diag);
 }
 
-halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, const float *gradients, int nx, int ny,
+halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, const float *volume, int nx, int ny,
                                        int nz, halo_diagnostics *diag)
 {
-    return upload_volume(f, texture, gradients, nx, ny, nz, GL_LINEAR, 3, "gradient volume", diag);
+    if (!volume) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "gradient volume: no volume");
+        return HALO_ERROR_INPUT;
+    }
+    /* the texture's storage first (no data), then slab by slab */
+    halo_status status = upload_volume(f, texture, NULL, nx, ny, nz, GL_LINEAR, 3, "gradient volume", diag);
+    if (status != HALO_OK)
+        return status;
+    size_t slice_bytes = (size_t)nx * (size_t)ny * 3 * sizeof(float);
+    int slab = (int)(HALO_HOST_GRADIENT_SLAB_BYTES / slice_bytes);
+    slab = slab < 1 ? 1 : slab > nz ? nz : slab;
+    float *gradients = malloc(slice_bytes * (size_t)slab);
+    if (!gradients) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory for the gradients of %d slices of %dx%d voxels",
+                        slab, nx, ny);
+        return HALO_ERROR_IO;
+    }
+    const int dims[3] = {nx, ny, nz};
+    f->BindTexture(GL_TEXTURE_3D, texture);
+    f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    for (int z = 0; z < nz; z += slab) {
+        int count = nz - z < slab ? nz - z : slab;
+        halo_volume_gradients_slab(volume, dims, z, count, gradients);
+        f->TexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, z, nx, ny, count, GL_RGB, GL_FLOAT, gradients);
+    }
+    f->BindTexture(GL_TEXTURE_3D, 0);
+    free(gradients);
+    GLenum error = f->GetError();
+    if (error != GL_NO_ERROR) {
+        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload the gradients of a %dx%dx%d volume (GL error 0x%x)", nx,
+                        ny, nz, error);
+        return HALO_ERROR_IO;
+    }
+    return HALO_OK;
 }
 
+/* data NULL: the storage only (halo_host_upload_gradients fills it slab by slab). */
 static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
                                  GLint filter, int components, const char *what, halo_diagnostics *diag)
 {
-    if (!f || !data || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
+    if (!f || (!data && components != 3) || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
         halo_diag_error(diag, USAGE, "", 0, 0, "%s of %dx%dx%d voxels: each side must be 2..2048", what, nx, ny, nz);
         return HALO_ERROR_INPUT;
     }

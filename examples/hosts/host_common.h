@@ -47,8 +47,11 @@ halo_status halo_host_upload_volume(const halo_glfuncs *f, GLuint texture, const
  * GL_NEAREST, so that no two labels are ever blended. */
 halo_status halo_host_upload_labels(const halo_glfuncs *f, GLuint texture, const float *labels, int nx, int ny, int nz,
                                     halo_diagnostics *diag);
-/* Three floats a voxel (halo_volume_gradients), RGB32F, GL_LINEAR. */
-halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, const float *gradients, int nx, int ny,
+/* The gradients of the volume (nx*ny*nz floats) to texture: three floats a voxel
+ * (halo_volume_gradients), RGB32F, GL_LINEAR. Built and uploaded in slabs of slices:
+ * no whole-volume CPU copy, at most HALO_HOST_GRADIENT_SLAB_BYTES at a time. */
+#define HALO_HOST_GRADIENT_SLAB_BYTES (4u << 20)
+halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, const float *volume, int nx, int ny,
                                        int nz, halo_diagnostics *diag);
 
 /* The transfer table: control points (value, r, g, b, opacity) sorted by value,

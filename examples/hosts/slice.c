@@ -178,22 +178,24 @@ halo_status halo_slice_set_labels(halo_slice *s, const float *labels, int nx, in
     return status;
 }
 
+int halo_slice_reads_gradients(const halo_slice *s)
+{
+    return s && s->f->GetUniformLocation(s->program, "gradient_texture") >= 0;
+}
+
 halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int ny, int nz, halo_diagnostics *diag)
 {
     halo_status status = halo_host_upload_volume(s ? s->f : NULL, s ? s->volume_texture : 0, data, nx, ny, nz, diag);
     if (status != HALO_OK)
         return status;
-    /* the gradients for the linked stages (slice.frag's sample_gradient): 12 bytes a voxel */
-    float *gradients = halo_volume_gradients(data, (const int[]){nx, ny, nz});
-    if (!gradients) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory for the gradients of a %dx%dx%d volume", nx, ny,
-                        nz);
-        return HALO_ERROR_IO;
+    /* the gradients for the linked stages (slice.frag's sample_gradient), 12 bytes a voxel,
+     * only when one reads them: otherwise the driver drops the unread fetch and with it
+     * the sampler (the same image without the texture) */
+    if (halo_slice_reads_gradients(s)) {
+        status = halo_host_upload_gradients(s->f, s->gradient_texture, data, nx, ny, nz, diag);
+        if (status != HALO_OK)
+            return status;
     }
-    status = halo_host_upload_gradients(s->f, s->gradient_texture, gradients, nx, ny, nz, diag);
-    free(gradients);
-    if (status != HALO_OK)
-        return status;
     s->volume = data;
     s->dims[0] = nx;
     s->dims[1] = ny;

@@ -42,7 +42,10 @@ typedef struct halo_slice_state {
  * size (GL 4.0 per-buffer blending required: GL_PROC_MISSING otherwise). */
 halo_slice *halo_slice_create(const halo_host_desc *desc, halo_diagnostics *diag);
 void halo_slice_destroy(halo_slice *s);
-/* As halo_raycast_set_volume / _set_render / _set_camera (same camera). */
+/* As halo_raycast_set_volume / _set_render / _set_camera (same camera). set_volume
+ * builds the gradient texture (12 bytes a voxel, in slabs) only when a linked stage
+ * reads the gradient: halo_slice_reads_gradients. */
+int halo_slice_reads_gradients(const halo_slice *s);
 halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int ny, int nz, halo_diagnostics *diag);
 halo_status halo_slice_set_render(halo_slice *s, const halo_render_settings *settings, halo_diagnostics *diag);
 void halo_slice_set_camera(halo_slice *s, double azimuth, double elevation, double zoom);

@@ -1,12 +1,18 @@
-/* Headless OpenGL contexts: OSMesa, optionally EGL surfaceless (see headless.h). */
+/* Headless OpenGL contexts: EGL and OSMesa, each when built (see headless.h). */
 #include "gl/headless.h"
 
-#include <GL/osmesa.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#if !defined HALO_HAVE_EGL && !defined HALO_HAVE_OSMESA
+#error "libhalo-headless needs EGL (HALO_HAVE_EGL) or OSMesa (HALO_HAVE_OSMESA)"
+#endif
+
+#ifdef HALO_HAVE_OSMESA
+#include <GL/osmesa.h>
+#endif
 #ifdef HALO_HAVE_EGL
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -16,8 +22,10 @@ typedef enum headless_backend { BACKEND_OSMESA, BACKEND_EGL } headless_backend;
 
 struct halo_headless {
     headless_backend backend;
+#ifdef HALO_HAVE_OSMESA
     OSMesaContext osmesa;
     unsigned char *osmesa_buffer; /* OSMesa needs a colour buffer to make a context current */
+#endif
 #ifdef HALO_HAVE_EGL
     EGLDisplay egl_display;
     EGLContext egl_context;
@@ -26,7 +34,15 @@ struct halo_headless {
 };
 
 /* The backend get_proc_address resolves against: the context created last. */
+#ifdef HALO_HAVE_OSMESA
 static headless_backend current_backend = BACKEND_OSMESA;
+#else
+static headless_backend current_backend = BACKEND_EGL;
+#endif
+
+/* The process's choice: --backend (halo_headless_backend_option), else HALO_HEADLESS. */
+static halo_headless_choice process_choice = HALO_HEADLESS_AUTO;
+static int process_choice_set;
 
 static void set_error(char *err, size_t errlen, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static void set_error(char *err, size_t errlen, const char *fmt, ...)
@@ -39,21 +55,134 @@ static void set_error(char *err, size_t errlen, const char *fmt, ...)
     va_end(ap);
 }
 
+/* ---- The choice ----------------------------------------------------------------------- */
+
+const char *halo_headless_built_backends(void)
+{
+#if defined HALO_HAVE_EGL && defined HALO_HAVE_OSMESA
+    return "egl, osmesa";
+#elif defined HALO_HAVE_EGL
+    return "egl";
+#else
+    return "osmesa";
+#endif
+}
+
+int halo_headless_parse_choice(const char *text, halo_headless_choice *choice)
+{
+    if (!text)
+        return 0;
+    if (!strcmp(text, "auto"))
+        *choice = HALO_HEADLESS_AUTO;
+    else if (!strcmp(text, "egl"))
+        *choice = HALO_HEADLESS_EGL;
+    else if (!strcmp(text, "osmesa"))
+        *choice = HALO_HEADLESS_OSMESA;
+    else
+        return 0;
+    return 1;
+}
+
+/* 1 when this build has the chosen backend (auto: always). */
+static int choice_built(halo_headless_choice choice)
+{
+    int egl = 0, osmesa = 0;
+#ifdef HALO_HAVE_EGL
+    egl = 1;
+#endif
+#ifdef HALO_HAVE_OSMESA
+    osmesa = 1;
+#endif
+    return choice == HALO_HEADLESS_EGL ? egl : choice == HALO_HEADLESS_OSMESA ? osmesa : 1;
+}
+
+static int check_choice(const char *where, const char *text, halo_headless_choice *choice, char *err, size_t errlen)
+{
+    if (!halo_headless_parse_choice(text, choice)) {
+        set_error(err, errlen, "%s: '%s' is not egl, osmesa or auto", where, text);
+        return 0;
+    }
+    if (!choice_built(*choice)) {
+        set_error(err, errlen, "%s: this build has no %s backend (built: %s)", where, text,
+                  halo_headless_built_backends());
+        return 0;
+    }
+    return 1;
+}
+
+int halo_headless_backend_option(int *argc, char **argv, char *err, size_t errlen)
+{
+    int kept = 0;
+    for (int i = 0; i < *argc; ++i) {
+        const char *a = argv[i];
+        const char *value = NULL;
+        if (!strcmp(a, "--backend")) {
+            if (i + 1 >= *argc) {
+                set_error(err, errlen, "--backend needs a value (egl, osmesa or auto)");
+                return 0;
+            }
+            value = argv[++i];
+        } else if (!strncmp(a, "--backend=", 10)) {
+            value = a + 10;
+        } else {
+            argv[kept++] = argv[i];
+            continue;
+        }
+        if (!check_choice("--backend", value, &process_choice, err, errlen))
+            return 0;
+        process_choice_set = 1;
+    }
+    for (int i = kept; i < *argc; ++i)
+        argv[i] = NULL;
+    *argc = kept;
+    return 1;
+}
+
+int halo_headless_take_backend_option(int *argc, char **argv, const char *program)
+{
+    char err[160];
+    if (halo_headless_backend_option(argc, argv, err, sizeof err))
+        return 1;
+    fprintf(stderr, "%s: error: %s\n", program, err);
+    return 0;
+}
+
+/* ---- Both backends -------------------------------------------------------------------- */
+
 void *halo_headless_get_proc_address(const char *name)
 {
     void *address = NULL;
 #ifdef HALO_HAVE_EGL
     if (current_backend == BACKEND_EGL) {
         __eglMustCastToProperFunctionPointerType proc = eglGetProcAddress(name);
-        memcpy(&address, &proc, sizeof address);
+        memcpy(&address, &proc, sizeof address); /* function and object pointers share a representation (POSIX) */
         return address;
     }
 #endif
+#ifdef HALO_HAVE_OSMESA
     OSMESAproc proc = OSMesaGetProcAddress(name);
-    memcpy(&address, &proc, sizeof address); /* function and object pointers share a representation (POSIX) */
+    memcpy(&address, &proc, sizeof address);
+#else
+    (void)name;
+#endif
     return address;
 }
 
+/* GL_RENDERER of the current context, through the current backend. */
+static void query_renderer(halo_headless *h)
+{
+    enum { RENDERER = 0x1F01 }; /* GL_RENDERER */
+    typedef const unsigned char *(*get_string_fn)(unsigned int);
+    get_string_fn get_string = NULL;
+    void *address = halo_headless_get_proc_address("glGetString");
+    memcpy(&get_string, &address, sizeof get_string);
+    const char *renderer = get_string ? (const char *)get_string(RENDERER) : NULL;
+    snprintf(h->renderer, sizeof h->renderer, "%s", renderer ? renderer : "unknown");
+}
+
+/* ---- OSMesa ----------------------------------------------------------------------------- */
+
+#ifdef HALO_HAVE_OSMESA
 static int create_osmesa(halo_headless *h, int width, int height, char *err, size_t errlen)
 {
     static const int versions[][2] = {{4, 5}, {3, 3}};
@@ -93,24 +222,54 @@ static void destroy_osmesa(halo_headless *h)
     free(h->osmesa_buffer);
     h->osmesa_buffer = NULL;
 }
+#endif
+
+/* ---- EGL -------------------------------------------------------------------------------- */
 
 #ifdef HALO_HAVE_EGL
-static int create_egl(halo_headless *h, char *err, size_t errlen)
+/* A software rasterizer by its GL_RENDERER: Mesa's llvmpipe and softpipe, and the
+ * names other software drivers give. */
+static int renderer_is_software(const char *renderer)
+{
+    static const char *const software[] = {"llvmpipe", "softpipe", "swrast", "Software Rasterizer", "SwiftShader"};
+    for (size_t i = 0; i < sizeof software / sizeof software[0]; ++i)
+        if (strstr(renderer, software[i]))
+            return 1;
+    return 0;
+}
+
+/* Mesa names the driver of a display (EGL_MESA_query_driver) before any context
+ * exists: "swrast" is llvmpipe or softpipe. 0 when unknown. */
+static int display_is_software(EGLDisplay display)
+{
+    const char *extensions = eglQueryString(display, EGL_EXTENSIONS);
+    if (!extensions || !strstr(extensions, "EGL_MESA_query_driver"))
+        return 0;
+    typedef const char *(*driver_name_fn)(EGLDisplay);
+    driver_name_fn driver_name = NULL;
+    __eglMustCastToProperFunctionPointerType proc = eglGetProcAddress("eglGetDisplayDriverName");
+    memcpy(&driver_name, &proc, sizeof driver_name);
+    const char *name = driver_name ? driver_name(display) : NULL;
+    return name && strstr(name, "swrast") != NULL;
+}
+
+static void destroy_egl(halo_headless *h)
+{
+    if (h->egl_display != EGL_NO_DISPLAY) {
+        eglMakeCurrent(h->egl_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+        if (h->egl_context != EGL_NO_CONTEXT)
+            eglDestroyContext(h->egl_display, h->egl_context);
+        eglTerminate(h->egl_display);
+    }
+    h->egl_display = EGL_NO_DISPLAY;
+    h->egl_context = EGL_NO_CONTEXT;
+}
+
+/* An OpenGL 4.5 (else 3.3) core context on an initialized display, made current
+ * without a surface. */
+static int create_egl_context(halo_headless *h, char *err, size_t errlen)
 {
     static const int versions[][2] = {{4, 5}, {3, 3}};
-    PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display = NULL;
-    __eglMustCastToProperFunctionPointerType proc = eglGetProcAddress("eglGetPlatformDisplayEXT");
-    memcpy(&get_platform_display, &proc, sizeof get_platform_display);
-    if (!get_platform_display) {
-        set_error(err, errlen, "EGL has no eglGetPlatformDisplayEXT");
-        return 0;
-    }
-    h->egl_display = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL);
-    if (h->egl_display == EGL_NO_DISPLAY || !eglInitialize(h->egl_display, NULL, NULL)) {
-        h->egl_display = EGL_NO_DISPLAY;
-        set_error(err, errlen, "EGL surfaceless display unavailable");
-        return 0;
-    }
     if (!eglBindAPI(EGL_OPENGL_API)) {
         set_error(err, errlen, "EGL cannot bind the OpenGL API");
         return 0;
@@ -123,15 +282,13 @@ static int create_egl(halo_headless *h, char *err, size_t errlen)
         set_error(err, errlen, "EGL has no OpenGL config");
         return 0;
     }
-    for (size_t i = 0; i < sizeof versions / sizeof versions[0] && !h->egl_context; ++i) {
+    for (size_t i = 0; i < sizeof versions / sizeof versions[0] && h->egl_context == EGL_NO_CONTEXT; ++i) {
         const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, versions[i][0], EGL_CONTEXT_MINOR_VERSION,
                                              versions[i][1], EGL_CONTEXT_OPENGL_PROFILE_MASK,
                                              EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-        EGLContext context = eglCreateContext(h->egl_display, config, EGL_NO_CONTEXT, context_attributes);
-        if (context != EGL_NO_CONTEXT)
-            h->egl_context = context;
+        h->egl_context = eglCreateContext(h->egl_display, config, EGL_NO_CONTEXT, context_attributes);
     }
-    if (!h->egl_context) {
+    if (h->egl_context == EGL_NO_CONTEXT) {
         set_error(err, errlen, "EGL could not create an OpenGL 4.5 or 3.3 core context");
         return 0;
     }
@@ -139,81 +296,158 @@ static int create_egl(halo_headless *h, char *err, size_t errlen)
         set_error(err, errlen, "eglMakeCurrent without a surface failed");
         return 0;
     }
-    h->backend = BACKEND_EGL;
     return 1;
 }
 
-static void destroy_egl(halo_headless *h)
+/* Tries one display: a context, its renderer, and (hardware_only) a hardware one.
+ * Leaves h without an EGL display when it fails. */
+static int try_egl_display(halo_headless *h, EGLDisplay display, int hardware_only, const char *what, char *err,
+                           size_t errlen)
 {
-    if (h->egl_display != EGL_NO_DISPLAY) {
-        eglMakeCurrent(h->egl_display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-        if (h->egl_context)
-            eglDestroyContext(h->egl_display, h->egl_context);
-        eglTerminate(h->egl_display);
+    h->egl_display = display;
+    if (display == EGL_NO_DISPLAY || !eglInitialize(display, NULL, NULL)) {
+        h->egl_display = EGL_NO_DISPLAY;
+        set_error(err, errlen, "%s: no display", what);
+        return 0;
     }
-    h->egl_display = EGL_NO_DISPLAY;
-    h->egl_context = NULL;
+    if (hardware_only && display_is_software(display)) {
+        set_error(err, errlen, "%s: software renderer only", what);
+        destroy_egl(h);
+        return 0;
+    }
+    if (!create_egl_context(h, err, errlen)) {
+        destroy_egl(h);
+        return 0;
+    }
+    h->backend = current_backend = BACKEND_EGL;
+    query_renderer(h);
+    if (hardware_only && renderer_is_software(h->renderer)) {
+        set_error(err, errlen, "%s: software renderer only (%s)", what, h->renderer);
+        destroy_egl(h);
+        return 0;
+    }
+    return 1;
+}
+
+/* Mesa's software device (llvmpipe) says so in its extensions: no display needed. */
+static int device_is_software(EGLDeviceEXT device)
+{
+    PFNEGLQUERYDEVICESTRINGEXTPROC query_string = NULL;
+    __eglMustCastToProperFunctionPointerType proc = eglGetProcAddress("eglQueryDeviceStringEXT");
+    memcpy(&query_string, &proc, sizeof query_string);
+    const char *extensions = query_string ? query_string(device, EGL_EXTENSIONS) : NULL;
+    return extensions && strstr(extensions, "EGL_MESA_device_software") != NULL;
+}
+
+/* EGL: the surfaceless platform (Mesa), then each device of EGL_EXT_platform_device
+ * (NVIDIA's headless route). hardware_only (auto's first try): the devices only,
+ * skipping software ones before initializing a display (Mesa 22.3 leaks a little at
+ * every eglInitialize/eglTerminate, which LeakSanitizer reports after the driver is
+ * unloaded, where no suppression can name it). */
+static int create_egl(halo_headless *h, int hardware_only, char *err, size_t errlen)
+{
+    PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display = NULL;
+    __eglMustCastToProperFunctionPointerType proc = eglGetProcAddress("eglGetPlatformDisplayEXT");
+    memcpy(&get_platform_display, &proc, sizeof get_platform_display);
+    if (!get_platform_display) {
+        set_error(err, errlen, "EGL has no eglGetPlatformDisplayEXT");
+        return 0;
+    }
+    const char *client_extensions = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
+    if (!hardware_only && client_extensions && strstr(client_extensions, "EGL_MESA_platform_surfaceless") &&
+        try_egl_display(h, get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, NULL),
+                        hardware_only, "surfaceless", err, errlen))
+        return 1;
+    PFNEGLQUERYDEVICESEXTPROC query_devices = NULL;
+    proc = eglGetProcAddress("eglQueryDevicesEXT");
+    memcpy(&query_devices, &proc, sizeof query_devices);
+    EGLDeviceEXT devices[16];
+    EGLint device_count = 0;
+    if (!client_extensions || !strstr(client_extensions, "EGL_EXT_platform_device") || !query_devices ||
+        !query_devices(16, devices, &device_count))
+        device_count = 0;
+    for (EGLint i = 0; i < device_count; ++i) {
+        char what[32];
+        snprintf(what, sizeof what, "device %d", (int)i);
+        if (hardware_only && device_is_software(devices[i])) {
+            set_error(err, errlen, "%s: software renderer only", what);
+            continue;
+        }
+        if (try_egl_display(h, get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], NULL), hardware_only, what,
+                            err, errlen))
+            return 1;
+    }
+    if (device_count == 0 && (hardware_only || !client_extensions ||
+                              !strstr(client_extensions, "EGL_MESA_platform_surfaceless")))
+        set_error(err, errlen, hardware_only ? "no device" : "neither the surfaceless platform nor a device");
+    return 0;
 }
 #endif
 
-static void query_renderer(halo_headless *h)
+/* ---- Creating ----------------------------------------------------------------------------- */
+
+/* The choice of --backend, else of HALO_HEADLESS, else auto. */
+static int effective_choice(halo_headless_choice *choice, char *err, size_t errlen)
 {
-    typedef const GLubyte *(*get_string_fn)(GLenum);
-    get_string_fn get_string = NULL;
-    void *address = halo_headless_get_proc_address("glGetString");
-    memcpy(&get_string, &address, sizeof get_string);
-    const char *renderer = get_string ? (const char *)get_string(GL_RENDERER) : NULL;
-    snprintf(h->renderer, sizeof h->renderer, "%s", renderer ? renderer : "unknown");
+    const char *environment = getenv("HALO_HEADLESS");
+    if (process_choice_set || !environment || !environment[0]) {
+        *choice = process_choice;
+        return 1;
+    }
+    return check_choice("HALO_HEADLESS", environment, choice, err, errlen);
 }
 
 halo_headless *halo_headless_create(int width, int height, char *err, size_t errlen)
 {
     if (width < 1 || height < 1 || width > 16384 || height > 16384) {
-        set_error(err, errlen, "invalid context size %dx%d", width, height);
+        set_error(err, errlen, "no headless OpenGL context: invalid context size %dx%d", width, height);
+        return NULL;
+    }
+    halo_headless_choice choice;
+    char choice_error[160];
+    if (!effective_choice(&choice, choice_error, sizeof choice_error)) {
+        set_error(err, errlen, "no headless OpenGL context: %s", choice_error);
         return NULL;
     }
     halo_headless *h = calloc(1, sizeof *h);
     if (!h) {
-        set_error(err, errlen, "out of memory");
+        set_error(err, errlen, "no headless OpenGL context: out of memory");
         return NULL;
     }
-    const char *choice = getenv("HALO_HEADLESS");
-    int egl_first = choice && strcmp(choice, "egl") == 0;
-    int osmesa_only = choice && strcmp(choice, "osmesa") == 0;
-    char osmesa_error[256] = "", egl_error[256] = "not built with EGL";
+    char osmesa_error[256] = "not built with OSMesa", egl_error[256] = "not built with EGL";
     int ok = 0;
 #ifdef HALO_HAVE_EGL
     h->egl_display = EGL_NO_DISPLAY;
-    if (egl_first) {
-        ok = create_egl(h, egl_error, sizeof egl_error);
-        if (!ok)
-            destroy_egl(h);
-    }
-#else
-    (void)egl_first;
+    h->egl_context = EGL_NO_CONTEXT;
+    /* auto: a GPU first (a hardware renderer), then OSMesa, then EGL's software renderer */
+    if (choice != HALO_HEADLESS_OSMESA)
+        ok = create_egl(h, choice == HALO_HEADLESS_AUTO, egl_error, sizeof egl_error);
 #endif
-    if (!ok) {
+#ifdef HALO_HAVE_OSMESA
+    if (!ok && choice != HALO_HEADLESS_EGL) {
         ok = create_osmesa(h, width, height, osmesa_error, sizeof osmesa_error);
-        if (!ok)
+        if (ok) {
+            current_backend = BACKEND_OSMESA;
+            query_renderer(h);
+        } else {
             destroy_osmesa(h);
+        }
     }
+#endif
 #ifdef HALO_HAVE_EGL
-    if (!ok && !egl_first && !osmesa_only) {
-        ok = create_egl(h, egl_error, sizeof egl_error);
-        if (!ok)
-            destroy_egl(h);
-    }
-#else
-    (void)osmesa_only;
+    if (!ok && choice == HALO_HEADLESS_AUTO)
+        ok = create_egl(h, 0, egl_error, sizeof egl_error);
 #endif
     if (!ok) {
-        set_error(err, errlen, "no headless OpenGL context: OSMesa: %s; EGL: %s",
-                  osmesa_error[0] ? osmesa_error : "not tried", egl_error);
+        if (choice == HALO_HEADLESS_EGL)
+            set_error(err, errlen, "no headless OpenGL context: EGL: %s", egl_error);
+        else if (choice == HALO_HEADLESS_OSMESA)
+            set_error(err, errlen, "no headless OpenGL context: OSMesa: %s", osmesa_error);
+        else
+            set_error(err, errlen, "no headless OpenGL context: EGL: %s; OSMesa: %s", egl_error, osmesa_error);
         free(h);
         return NULL;
     }
-    current_backend = h->backend;
-    query_renderer(h);
     return h;
 }
 
@@ -221,10 +455,12 @@ void halo_headless_destroy(halo_headless *h)
 {
     if (!h)
         return;
+#ifdef HALO_HAVE_OSMESA
     if (h->backend == BACKEND_OSMESA)
         destroy_osmesa(h);
+#endif
 #ifdef HALO_HAVE_EGL
-    else
+    if (h->backend == BACKEND_EGL)
         destroy_egl(h);
 #endif
     free(h);

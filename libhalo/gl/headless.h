@@ -1,10 +1,18 @@
 /* A headless OpenGL context for tools and tests (not part of the installed libhalo).
  *
- * Backends: OSMesa (OpenGL 4.5 core on llvmpipe, falling back to 3.3 core) and,
- * when built with HALO_HAVE_EGL, EGL surfaceless. The default order is OSMesa,
- * then EGL; HALO_HEADLESS=egl in the environment tries EGL first, HALO_HEADLESS=osmesa
- * uses OSMesa only. The context has no default framebuffer worth drawing to: render
- * into framebuffer objects.
+ * Backends, each built when configure finds it: EGL (surfaceless, or a device of
+ * EGL_EXT_platform_device: the route to GPUs and to Mesa >= 25.1, which has no
+ * OSMesa) and OSMesa (OpenGL 4.5 core on llvmpipe, falling back to 3.3 core).
+ *
+ * The backend is chosen once per process: a tool's --backend option
+ * (halo_headless_backend_option), else HALO_HEADLESS in the environment, else auto.
+ *   egl     EGL only
+ *   osmesa  OSMesa only
+ *   auto    EGL when one of its devices reports a hardware renderer (not llvmpipe,
+ *           softpipe or another software rasterizer), else OSMesa, else EGL's
+ *           software renderer (surfaceless, then the devices)
+ * The context has no default framebuffer worth drawing to: render into framebuffer
+ * objects.
  *
  * One context per process: halo_headless_get_proc_address resolves against the
  * backend of the context created last. */
@@ -15,8 +23,32 @@
 
 typedef struct halo_headless halo_headless;
 
-/* Creates a context and makes it current. Returns NULL with a message in err
- * (errlen bytes, may be 0) when no backend could create one. */
+typedef enum halo_headless_choice {
+    HALO_HEADLESS_AUTO,
+    HALO_HEADLESS_EGL,
+    HALO_HEADLESS_OSMESA
+} halo_headless_choice;
+
+/* "egl", "osmesa" or "auto" to *choice; 0 for any other text. */
+int halo_headless_parse_choice(const char *text, halo_headless_choice *choice);
+
+/* The tools' --backend option, one implementation for all of them: removes every
+ * "--backend B" and "--backend=B" from argv (updating *argc) and makes B the
+ * process's choice. Returns 1, or 0 with a message in err (errlen bytes) when B is
+ * missing or not egl, osmesa or auto, or names a backend this build does not have.
+ * Call it before the tool parses its other options. */
+int halo_headless_backend_option(int *argc, char **argv, char *err, size_t errlen);
+
+/* The same for a tool's main: on failure prints "PROGRAM: error: MESSAGE" on stderr
+ * and returns 0 (the tool exits 2, a usage error). */
+int halo_headless_take_backend_option(int *argc, char **argv, const char *program);
+
+/* The backends this build has: "egl, osmesa", "osmesa", ... */
+const char *halo_headless_built_backends(void);
+
+/* Creates a context of the process's choice and makes it current. Returns NULL with
+ * a message in err (errlen bytes, may be 0) that starts "no headless OpenGL context"
+ * when no backend allowed by the choice could create one. */
 halo_headless *halo_headless_create(int width, int height, char *err, size_t errlen);
 void halo_headless_destroy(halo_headless *h);
 /* The loader to pass to halo_gl_create / halo_glfuncs_load. */

@@ -18,7 +18,18 @@ run 2 "$HALO_VALIDATE" link --scene "$data/scenes/good.json"
 run 2 "$HALO_VALIDATE" link --scene
 run 2 "$HALO_VALIDATE" link --scene "$data/scenes/good.json" --host "$data/hosts/minimal.frag" --target es310
 expect_stderr "es310"
+# the headless backend (--backend, HALO_HEADLESS): checked before anything renders
+run 2 "$HALO_VALIDATE" conform --backend vulkan --stage empty
+expect_stderr "--backend: 'vulkan' is not egl, osmesa or auto"
+run 2 "$HALO_VALIDATE" bench --backend
+expect_stderr "--backend needs a value"
+run 2 "$HALO_VALIDATE" check --backend egl "$srcdir/glsl/sample/boundary.glsl"
+expect_stderr "unknown option '--backend'"
+run 2 env HALO_HEADLESS=vulkan "$HALO_VALIDATE" conform --stage empty
+expect_stderr "no headless OpenGL context: HALO_HEADLESS: 'vulkan' is not egl, osmesa or auto"
 if test -n "${HALO_RENDER:-}" && test -x "$HALO_RENDER"; then
+    run 2 "$HALO_RENDER" --backend=software
+    expect_stderr "halo-render: error: --backend: 'software'"
     run 2 "$HALO_RENDER" --bogus
     run 2 "$HALO_RENDER" --size 0x0
     run 2 "$HALO_RENDER" --size
