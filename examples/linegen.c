@@ -223,6 +223,8 @@ halo_status halo_polylines_parse(const char *text, const char *file, halo_polyli
     while (*cursor && !ps.b.failed) {
         const char *end = strchr(cursor, '\n');
         size_t length = end ? (size_t)(end - cursor) : strlen(cursor);
+        /* where the next line starts: length may lose a trailing '\r' below */
+        const char *next = end ? end + 1 : cursor + length;
         ps.line_number++;
         char *row = line_copy(cursor, length), *source_line = line_copy(cursor, length);
         if (!row || !source_line) {
@@ -261,7 +263,7 @@ halo_status halo_polylines_parse(const char *text, const char *file, halo_polyli
         ps.source_line = NULL;
         free(source_line);
         free(row);
-        cursor = end ? end + 1 : cursor + length;
+        cursor = next;
     }
     if (ps.b.failed)
         return builder_finish(&ps.b, out, diag);

@@ -139,7 +139,8 @@ EXTRA_DIST += $(HALO_SHELL_TESTS) $(HALO_TEST_FILES)
 
 # ---- Fuzz targets (tests/fuzz): make check replays the seed corpus and a fixed set of
 # deterministic mutations of it; tests/fuzz/run-libfuzzer.sh fuzzes for real (CI). ----
-HALO_FUZZ_TARGETS = tests/fuzz/fuzz_module tests/fuzz/fuzz_scene tests/fuzz/fuzz_host tests/fuzz/fuzz_volume
+HALO_FUZZ_TARGETS = tests/fuzz/fuzz_module tests/fuzz/fuzz_scene tests/fuzz/fuzz_host tests/fuzz/fuzz_volume \
+	tests/fuzz/fuzz_polyline
 check_PROGRAMS += $(HALO_FUZZ_TARGETS)
 noinst_HEADERS += tests/fuzz/fuzz.h
 tests_fuzz_fuzz_module_SOURCES = tests/fuzz/fuzz_module.c tests/fuzz/driver.c
@@ -157,6 +158,10 @@ tests_fuzz_fuzz_host_LDADD = $(HALO_TEST_CORE_LIBS)
 tests_fuzz_fuzz_volume_SOURCES = tests/fuzz/fuzz_volume.c tests/fuzz/driver.c examples/volume_io.c
 tests_fuzz_fuzz_volume_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/fuzz -I$(top_srcdir)/examples $(NIFTI_CFLAGS)
 tests_fuzz_fuzz_volume_LDADD = $(NIFTI_LIBS)
+tests_fuzz_fuzz_polyline_SOURCES = tests/fuzz/fuzz_polyline.c tests/fuzz/driver.c examples/linegen.c
+tests_fuzz_fuzz_polyline_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/fuzz -I$(top_srcdir)/examples
+nodist_EXTRA_tests_fuzz_fuzz_polyline_SOURCES = build-aux/force-cxx-link.cc
+tests_fuzz_fuzz_polyline_LDADD = $(HALO_TEST_CORE_LIBS)
 TESTS += tests/fuzz/replay.sh
 EXTRA_DIST += tests/fuzz/replay.sh tests/fuzz/run-libfuzzer.sh tests/fuzz/corpus
 

@@ -13,10 +13,11 @@ seeds() {
     scene) echo "$srcdir/examples/scenes $srcdir/tests/data/scenes" ;;
     host) echo "$srcdir/examples/hosts $srcdir/tests/data/hosts" ;;
     volume) echo "$srcdir/tests/data/volumes" ;;
+    polyline) ;; # its seeds are all in tests/fuzz/corpus/polyline
     esac
     [ -d "$srcdir/tests/fuzz/corpus/$1" ] && echo "$srcdir/tests/fuzz/corpus/$1"
 }
-for target in module scene host volume; do
+for target in module scene host volume polyline; do
     dirs=""
     for d in $(seeds $target); do [ -d "$d" ] && dirs="$dirs $d"; done
     # shellcheck disable=SC2086

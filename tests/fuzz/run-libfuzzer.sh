@@ -1,5 +1,5 @@
 #!/bin/sh
-# Fuzzes the module parser, the scene reader, the host checks and the volume loaders
+# Fuzzes the module parser, the scene reader, the host checks, the polyline reader and the volume loaders
 # (examples/volume_io.c: NIfTI and raw) with libFuzzer (clang,
 # -fsanitize=fuzzer,address,undefined) for SECONDS each (default 20). Run from a
 # configured and built source tree (it needs libhalo/embedded_modules.c). A crash leaves
@@ -19,8 +19,11 @@ sources="libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c lib
   libhalo/embedded_modules.c"
 mkdir -p tests/fuzz/crashes
 status=0
-for target in module scene host volume; do
-    if [ $target = volume ]; then
+for target in module scene host volume polyline; do
+    if [ $target = polyline ]; then
+        # shellcheck disable=SC2086
+        clang $cflags -Iexamples -o "$out/fuzz_$target" tests/fuzz/fuzz_polyline.c examples/linegen.c $sources $libs
+    elif [ $target = volume ]; then
         # shellcheck disable=SC2086
         clang $cflags -Iexamples -I/usr/include/nifti -o "$out/fuzz_$target" tests/fuzz/fuzz_volume.c \
             examples/volume_io.c -lnifti2 -lznz -lz -lm
@@ -34,6 +37,7 @@ for target in module scene host volume; do
     scene) seeds="examples/scenes/*.json tests/data/scenes/*" ;;
     host) seeds="examples/hosts/*.frag examples/hosts/*.vert tests/data/hosts/*" ;;
     volume) seeds="tests/data/volumes/*" ;;
+    polyline) seeds="" ;;
     esac
     # shellcheck disable=SC2086
     cp $seeds "$out/corpus_$target/" 2>/dev/null || true
