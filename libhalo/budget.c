@@ -8,8 +8,10 @@
 halo_status halo_budget_choose(const halo_budget_row *rows, size_t count, double max_error, size_t *chosen,
                                halo_diagnostics *diag)
 {
-    if (!rows || !chosen || count == 0) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_budget_choose: no rows (rows, count and chosen are required)");
+    HALO_REFUSE_NULL(diag, rows, "rows", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, chosen, "chosen", HALO_ERROR_INPUT);
+    if (count == 0) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_budget_choose: no rows (count is 0)");
         return HALO_ERROR_INPUT;
     }
     if (!(max_error >= 0.0)) { /* also rejects NaN */

@@ -277,11 +277,13 @@ void halo_pieces_free(halo_program *p) {
 }
 
 const char *halo_program_piece(const halo_program *p, halo_piece piece) {
-    return p && (unsigned)piece < HALO_PIECE_COUNT ? p->pieces[piece] : NULL;
+    HALO_REFUSE_NULL(NULL, p, "program", NULL);
+    return (unsigned)piece < HALO_PIECE_COUNT ? p->pieces[piece] : NULL;
 }
 
 int halo_program_piece_map_line(const halo_program *p, halo_piece piece, int line, const char **file,
                                 int *origin_line) {
+    HALO_REFUSE_NULL(NULL, p, "program", 0);
     if (!halo_program_piece(p, piece) || line < 1 || line > p->piece_origin_counts[piece]) return 0;
     const halo_line_origin *o = &p->piece_origins[piece][line - 1];
     if (o->file == halo_generated_file || o->file == pieces_file || !o->line) return 0;
@@ -300,10 +302,9 @@ static int line_of(const char *text, size_t offset) {
 halo_status halo_program_validate_composed(const halo_program *p, const char *composed, const char *composed_file,
                                            const halo_composer_piece *pieces, size_t piece_count,
                                            halo_diagnostics *diag) {
-    if (!p || !composed || (piece_count && !pieces)) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_program_validate_composed: program and composed text are required");
-        return HALO_ERROR_INPUT;
-    }
+    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, composed, "composed", HALO_ERROR_INPUT);
+    if (piece_count) HALO_REFUSE_NULL(diag, pieces, "pieces (with a piece_count)", HALO_ERROR_INPUT);
     if (!composed_file) composed_file = "composed shader";
     char *copy = halo_strdup(composed);
     char **lines = NULL;
@@ -354,7 +355,9 @@ halo_status halo_program_validate_composed(const halo_program *p, const char *co
 /* ---- The uniforms an engine declares ---- */
 
 int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_uniform_decl *out) {
-    if (!p || !cursor || !out) return 0;
+    HALO_REFUSE_NULL(NULL, p, "program", 0);
+    HALO_REFUSE_NULL(NULL, cursor, "cursor", 0);
+    HALO_REFUSE_NULL(NULL, out, "out", 0);
     while (*cursor < p->uniform_count) {
         const halo_uniform_info *u = &p->uniforms[(*cursor)++];
         const halo_param_info *info = u->info;

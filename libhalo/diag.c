@@ -132,8 +132,13 @@ void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id 
     d->kept_errors += severity == HALO_SEVERITY_ERROR;
 }
 
+void halo_diag_null(halo_diagnostics *d, const char *function, const char *argument) {
+    halo_diag_error(d, USAGE, "", 0, 0, "%s: %s is NULL", function, argument);
+}
+
 void halo_diagnostics_print(const halo_diagnostics *d, FILE *out) {
     static const char *const sev[] = {"error", "warning", "note"};
+    HALO_REFUSE_NULL_VOID(NULL, out, "out");
     for (size_t i = 0; d && i < d->count; i++) {
         const halo_diagnostic *g = &d->items[i];
         if (g->file[0] && g->line > 0)

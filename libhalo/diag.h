@@ -13,6 +13,27 @@ void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id 
 #define halo_diag_error(d, id, file, line, col, ...) \
     halo_diag_add((d), HALO_SEVERITY_ERROR, HALO_MSG_##id, (file), (line), (col), NULL, __VA_ARGS__)
 
+/* A required argument is NULL (halo.h: "every function refuses NULL objects"): adds
+ * USAGE "function: argument is NULL" to d; with d NULL only the setup logger sees it. */
+void halo_diag_null(halo_diagnostics *d, const char *function, const char *argument);
+
+/* Returns value from the calling function, after halo_diag_null, when pointer is NULL;
+ * argument is the name a reader of halo.h knows ("scene", "program"). */
+#define HALO_REFUSE_NULL(d, pointer, argument, value)                                                  \
+    do {                                                                                              \
+        if (!(pointer)) {                                                                             \
+            halo_diag_null((d), __func__, (argument));                                                \
+            return value;                                                                             \
+        }                                                                                             \
+    } while (0)
+#define HALO_REFUSE_NULL_VOID(d, pointer, argument)                                                    \
+    do {                                                                                              \
+        if (!(pointer)) {                                                                             \
+            halo_diag_null((d), __func__, (argument));                                                \
+            return;                                                                                   \
+        }                                                                                             \
+    } while (0)
+
 /* The setup logger (set by halo_setup). */
 void halo_diag_set_logger(void (*logger)(const halo_diagnostic *, void *), void *user_data);
 

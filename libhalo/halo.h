@@ -9,6 +9,21 @@
  * opaque objects with create/destroy pairs, output argument last. The library never
  * prints and never exits: every call that can fail takes a halo_diagnostics list
  * (may be NULL) and returns a status or NULL.
+ *
+ * NULL arguments: every function refuses NULL objects: given NULL where it expects an
+ * object or a required argument (a library, scene, program, frame, runtime, a name, a
+ * source text, values, an output pointer), it returns its error value — HALO_ERROR_INPUT
+ * for a halo_status, NULL for a pointer, 0 for a count, a size, a GL name or a flag,
+ * the COUNT member for an enum (HALO_TARGET_COUNT, HALO_HOOK_COUNT; halo_source_kind_of:
+ * HALO_SOURCE_SHADER) — and reports one USAGE diagnostic naming the function and the
+ * argument ("halo_scene_set: scene is NULL"): into its halo_diagnostics list when it
+ * takes one, and always to the setup logger (halo_setup_desc.logger), so that a void
+ * function's refusal is seen too. Arguments documented as optional (a NULL file name, a
+ * NULL desc that means the defaults, NULL out-parameters of the map_line functions) stay
+ * optional. A NULL halo_diagnostics list is always valid: diagnostics are then only
+ * passed to the logger, and the halo_diagnostics_* functions treat it as an empty list.
+ * The destroy functions take NULL and do nothing, as free() does.
+ * tests/unit/test_null_api.c calls each function with each such argument NULL.
  */
 #ifndef HALO_H
 #define HALO_H

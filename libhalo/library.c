@@ -35,10 +35,8 @@ static halo_status add_module(halo_library *lib, halo_module *m, halo_diagnostic
 }
 
 halo_status halo_library_add_source(halo_library *lib, const char *file, const char *source, halo_diagnostics *diag) {
-    if (!lib || !source) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_library_add_source: library and source are required");
-        return HALO_ERROR_IO;
-    }
+    HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, source, "source", HALO_ERROR_INPUT);
     halo_module *m = halo_module_parse(file ? file : "module", source, diag);
     if (!m) return HALO_ERROR_INPUT;
     return add_module(lib, m, diag);
@@ -80,6 +78,8 @@ static halo_status replace_or_add(halo_library *lib, halo_module *m, halo_diagno
 }
 
 halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, path, "path", HALO_ERROR_INPUT);
     halo_status st;
     halo_module *m = read_module(path, diag, &st);
     return m ? replace_or_add(lib, m, diag) : st;
@@ -87,15 +87,15 @@ halo_status halo_library_override_file(halo_library *lib, const char *path, halo
 
 halo_status halo_library_override_source(halo_library *lib, const char *file, const char *source,
                                          halo_diagnostics *diag) {
-    if (!lib || !source) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_library_override_source: library and source are required");
-        return HALO_ERROR_IO;
-    }
+    HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, source, "source", HALO_ERROR_INPUT);
     halo_module *m = halo_module_parse(file ? file : "module", source, diag);
     return m ? replace_or_add(lib, m, diag) : HALO_ERROR_INPUT;
 }
 
 halo_status halo_library_add_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, path, "path", HALO_ERROR_INPUT);
     halo_status st;
     halo_module *m = read_module(path, diag, &st);
     return m ? add_module(lib, m, diag) : st;
@@ -123,14 +123,20 @@ void halo_library_destroy(halo_library *lib) {
     free(lib);
 }
 
-size_t halo_library_module_count(const halo_library *lib) { return lib ? lib->count : 0; }
+size_t halo_library_module_count(const halo_library *lib) {
+    HALO_REFUSE_NULL(NULL, lib, "library", 0);
+    return lib->count;
+}
 
 const halo_module *halo_library_module(const halo_library *lib, size_t i) {
-    return lib && i < lib->count ? lib->modules[i] : NULL;
+    HALO_REFUSE_NULL(NULL, lib, "library", NULL);
+    return i < lib->count ? lib->modules[i] : NULL;
 }
 
 const halo_module *halo_library_find(const halo_library *lib, const char *name) {
-    for (size_t i = 0; lib && name && i < lib->count; i++)
+    HALO_REFUSE_NULL(NULL, lib, "library", NULL);
+    HALO_REFUSE_NULL(NULL, name, "name", NULL);
+    for (size_t i = 0; i < lib->count; i++)
         if (!strcmp(halo_module_name(lib->modules[i]), name)) return lib->modules[i];
     return NULL;
 }

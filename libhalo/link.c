@@ -1489,12 +1489,15 @@ static int map_host_lines(halo_program *p, const host_info *h) {
 static halo_program *link_with_host(const halo_link_desc *desc, host_info *h, halo_diagnostics *diag);
 
 halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
-    if (desc && desc->pieces && !desc->host_source) return halo_link_pieces(desc, diag);
-    if (desc && desc->pieces) {
+    HALO_REFUSE_NULL(diag, desc, "desc", NULL);
+    HALO_REFUSE_NULL(diag, desc->library, "desc.library", NULL);
+    if (!desc->pieces) HALO_REFUSE_NULL(diag, desc->host_source, "desc.host_source (or desc.pieces)", NULL);
+    if (desc->pieces && !desc->host_source) return halo_link_pieces(desc, diag);
+    if (desc->pieces) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: give host_source or pieces, not both");
         return NULL;
     }
-    if (desc && (unsigned)desc->version > HALO_VERSION_NONE) {
+    if ((unsigned)desc->version > HALO_VERSION_NONE) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: unknown version mode %d", (int)desc->version);
         return NULL;
     }
@@ -1646,33 +1649,51 @@ void halo_program_destroy(halo_program *p) {
     free(p);
 }
 
-const char *halo_program_source(const halo_program *p) { return p->source; }
-halo_target halo_program_target(const halo_program *p) { return p->target; }
+/* A reflection getter: refuses a NULL program with none_value. */
+#define PROGRAM_GETTER(type, name, none_value, expression)                                                        \
+    type name(const halo_program *p) {                                                                            \
+        HALO_REFUSE_NULL(NULL, p, "program", none_value);                                                         \
+        return expression;                                                                                        \
+    }
+#define PROGRAM_ITEM(type, name, count, items)                                                                    \
+    const type *name(const halo_program *p, size_t i) {                                                           \
+        HALO_REFUSE_NULL(NULL, p, "program", NULL);                                                               \
+        return i < p->count ? &p->items[i] : NULL;                                                                \
+    }
+PROGRAM_GETTER(const char *, halo_program_source, NULL, p->source)
+PROGRAM_GETTER(halo_target, halo_program_target, HALO_TARGET_COUNT, p->target)
 
 int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line) {
-    if (!p || line < 1 || line > p->origin_count) return 0;
+    HALO_REFUSE_NULL(NULL, p, "program", 0);
+    if (line < 1 || line > p->origin_count) return 0;
     const halo_line_origin *o = &p->origins[line - 1];
     if (file) *file = o->file;
     if (origin_line) *origin_line = o->line;
     return o->file != halo_generated_file;
 }
 
-size_t halo_program_stage_count(const halo_program *p) { return p->stage_count; }
+PROGRAM_GETTER(size_t, halo_program_stage_count, 0, p->stage_count)
 const char *halo_program_stage(const halo_program *p, size_t i) {
+    HALO_REFUSE_NULL(NULL, p, "program", NULL);
     return i < p->stage_count ? p->stages[i].module->name : NULL;
 }
-size_t halo_program_uniform_count(const halo_program *p) { return p->uniform_count; }
-const halo_uniform_info *halo_program_uniform(const halo_program *p, size_t i) {
-    return i < p->uniform_count ? &p->uniforms[i] : NULL;
-}
+PROGRAM_GETTER(size_t, halo_program_uniform_count, 0, p->uniform_count)
+PROGRAM_ITEM(halo_uniform_info, halo_program_uniform, uniform_count, uniforms)
 const halo_uniform_info *halo_program_find_uniform(const halo_program *p, const char *stage, const char *param) {
-    for (size_t i = 0; p && i < p->uniform_count; i++)
+    HALO_REFUSE_NULL(NULL, p, "program", NULL);
+    HALO_REFUSE_NULL(NULL, stage, "stage", NULL);
+    HALO_REFUSE_NULL(NULL, param, "param", NULL);
+    for (size_t i = 0; i < p->uniform_count; i++)
         if (!strcmp(p->uniforms[i].stage, stage) && !strcmp(p->uniforms[i].param, param)) return &p->uniforms[i];
     return NULL;
 }
 
 halo_status halo_program_set(halo_program *p, const char *stage, const char *param, const double *values, int count,
                              halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, stage, "stage", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, param, "param", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, values, "values", HALO_ERROR_INPUT);
     const halo_uniform_info *u = halo_program_find_uniform(p, stage, param);
     if (!u) {
         halo_diag_error(diag, SCENE_PARAM_UNKNOWN, "", 0, 0, "%s.%s: no such parameter in this program", stage, param);
@@ -1719,27 +1740,19 @@ halo_status halo_program_set(halo_program *p, const char *stage, const char *par
     return HALO_OK;
 }
 
-size_t halo_program_output_count(const halo_program *p) { return p->output_count; }
-const halo_output_info *halo_program_output(const halo_program *p, size_t i) {
-    return i < p->output_count ? &p->outputs[i] : NULL;
-}
-size_t halo_program_image_count(const halo_program *p) { return p->image_count; }
-const halo_image_info *halo_program_image(const halo_program *p, size_t i) {
-    return i < p->image_count ? &p->images[i] : NULL;
-}
-size_t halo_program_sampler_count(const halo_program *p) { return p->sampler_count; }
-const halo_sampler_info *halo_program_sampler(const halo_program *p, size_t i) {
-    return i < p->sampler_count ? &p->samplers[i] : NULL;
-}
-size_t halo_program_host_uniform_count(const halo_program *p) { return p->host_uniform_count; }
-const halo_host_uniform_info *halo_program_host_uniform(const halo_program *p, size_t i) {
-    return i < p->host_uniform_count ? &p->host_uniforms[i] : NULL;
-}
-int halo_program_channel_count(const halo_program *p) { return p->channel_count; }
-int halo_program_image_precision(const halo_program *p) { return p->image_precision; }
-int halo_program_image_scale(const halo_program *p) { return p->image_scale; }
-int halo_program_segment_location(const halo_program *p) { return p ? p->segment_location : 0; }
-int halo_program_group_count(const halo_program *p) { return p && p->group_count > 1 ? p->group_count : 1; }
+PROGRAM_GETTER(size_t, halo_program_output_count, 0, p->output_count)
+PROGRAM_ITEM(halo_output_info, halo_program_output, output_count, outputs)
+PROGRAM_GETTER(size_t, halo_program_image_count, 0, p->image_count)
+PROGRAM_ITEM(halo_image_info, halo_program_image, image_count, images)
+PROGRAM_GETTER(size_t, halo_program_sampler_count, 0, p->sampler_count)
+PROGRAM_ITEM(halo_sampler_info, halo_program_sampler, sampler_count, samplers)
+PROGRAM_GETTER(size_t, halo_program_host_uniform_count, 0, p->host_uniform_count)
+PROGRAM_ITEM(halo_host_uniform_info, halo_program_host_uniform, host_uniform_count, host_uniforms)
+PROGRAM_GETTER(int, halo_program_channel_count, 0, p->channel_count)
+PROGRAM_GETTER(int, halo_program_image_precision, 0, p->image_precision)
+PROGRAM_GETTER(int, halo_program_image_scale, 0, p->image_scale)
+PROGRAM_GETTER(int, halo_program_segment_location, 0, p->segment_location)
+PROGRAM_GETTER(int, halo_program_group_count, 0, p->group_count > 1 ? p->group_count : 1)
 
 /* Group g's values of every grouped channels parameter: values 4g .. 4g + 3 of the
  * scene's list (the last value repeated where the list ends), padded to the channel
@@ -1765,7 +1778,8 @@ static void load_group(halo_program *p, int g) {
 }
 
 halo_status halo_program_select_group(halo_program *p, int group) {
-    if (!p || group < 0 || group >= halo_program_group_count(p)) return HALO_ERROR_INPUT;
+    HALO_REFUSE_NULL(NULL, p, "program", HALO_ERROR_INPUT);
+    if (group < 0 || group >= halo_program_group_count(p)) return HALO_ERROR_INPUT;
     if (p->group_count > 1) load_group(p, group);
     return HALO_OK;
 }
@@ -1797,14 +1811,13 @@ static int set_groups(halo_program *p) {
     }
     return 0;
 }
-size_t halo_program_pass_count(const halo_program *p) { return p->pass_count; }
-const halo_pass_info *halo_program_pass(const halo_program *p, size_t i) {
-    return i < p->pass_count ? &p->passes[i] : NULL;
-}
+PROGRAM_GETTER(size_t, halo_program_pass_count, 0, p->pass_count)
+PROGRAM_ITEM(halo_pass_info, halo_program_pass, pass_count, passes)
 
 static json_t *number_or_null(double v) { return isfinite(v) ? json_real(v) : json_null(); }
 
 char *halo_program_reflect_json(const halo_program *p) {
+    HALO_REFUSE_NULL(NULL, p, "program", NULL);
     json_t *root = json_object();
     json_object_set_new(root, "contract", json_integer(HALO_CONTRACT_VERSION));
     json_object_set_new(root, "target", json_string(halo_target_name(p->target)));

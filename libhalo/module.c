@@ -858,15 +858,33 @@ void halo_module_free(halo_module *m) {
 }
 
 /* ---- Accessors ---- */
-const char *halo_module_name(const halo_module *m) { return m->is_library ? "halo_math" : m->name; }
-const char *halo_module_file(const halo_module *m) { return m->file; }
-const char *halo_module_summary(const halo_module *m) { return m->summary; }
-halo_hook halo_module_hook(const halo_module *m) { return m->hook; }
-size_t halo_module_param_count(const halo_module *m) { return m->param_count; }
+const char *halo_module_name(const halo_module *m) {
+    HALO_REFUSE_NULL(NULL, m, "module", NULL);
+    return m->is_library ? "halo_math" : m->name;
+}
+const char *halo_module_file(const halo_module *m) {
+    HALO_REFUSE_NULL(NULL, m, "module", NULL);
+    return m->file;
+}
+const char *halo_module_summary(const halo_module *m) {
+    HALO_REFUSE_NULL(NULL, m, "module", NULL);
+    return m->summary;
+}
+halo_hook halo_module_hook(const halo_module *m) {
+    HALO_REFUSE_NULL(NULL, m, "module", HALO_HOOK_COUNT);
+    return m->hook;
+}
+size_t halo_module_param_count(const halo_module *m) {
+    HALO_REFUSE_NULL(NULL, m, "module", 0);
+    return m->param_count;
+}
 const halo_param_info *halo_module_param(const halo_module *m, size_t i) {
+    HALO_REFUSE_NULL(NULL, m, "module", NULL);
     return i < m->param_count ? &m->params[i] : NULL;
 }
 const halo_param_info *halo_module_find_param(const halo_module *m, const char *name) {
+    HALO_REFUSE_NULL(NULL, m, "module", NULL);
+    HALO_REFUSE_NULL(NULL, name, "name", NULL);
     for (size_t i = 0; i < m->param_count; i++)
         if (!strcmp(m->params[i].name, name)) return &m->params[i];
     return NULL;

@@ -33,6 +33,7 @@ static void default_render(halo_render_settings *r) {
 }
 
 halo_scene *halo_scene_create(const halo_library *lib) {
+    HALO_REFUSE_NULL(NULL, lib, "library", NULL);
     halo_scene *s = calloc(1, sizeof *s);
     if (!s) return NULL;
     s->library = lib;
@@ -84,6 +85,8 @@ static const halo_module *stage_module(const halo_scene *s, const char *stage, c
 }
 
 halo_status halo_scene_enable(halo_scene *s, const char *stage, int enabled, halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, s, "scene", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, stage, "stage", HALO_ERROR_INPUT);
     const halo_module *m = stage_module(s, stage, "", "stages", diag);
     if (!m) return HALO_ERROR_INPUT;
     halo_scene_entry *e = add_entry(s, m);
@@ -97,6 +100,10 @@ halo_status halo_scene_enable(halo_scene *s, const char *stage, int enabled, hal
 
 halo_status halo_scene_set(halo_scene *s, const char *stage, const char *param, const double *values, int count,
                            int live, halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, s, "scene", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, stage, "stage", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, param, "param", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, values, "values", HALO_ERROR_INPUT);
     const halo_module *m = stage_module(s, stage, "", "stages", diag);
     if (!m) return HALO_ERROR_INPUT;
     const halo_param_info *info = halo_module_find_param(m, param);
@@ -123,12 +130,22 @@ halo_status halo_scene_set(halo_scene *s, const char *stage, const char *param, 
     return HALO_OK;
 }
 
-size_t halo_scene_stage_count(const halo_scene *s) { return s ? s->count : 0; }
-const char *halo_scene_stage(const halo_scene *s, size_t i) {
-    return s && i < s->count ? halo_module_name(s->stages[i].module) : NULL;
+size_t halo_scene_stage_count(const halo_scene *s) {
+    HALO_REFUSE_NULL(NULL, s, "scene", 0);
+    return s->count;
 }
-const halo_render_settings *halo_scene_render(const halo_scene *s) { return &s->render; }
-halo_render_settings *halo_scene_render_mutable(halo_scene *s) { return &s->render; }
+const char *halo_scene_stage(const halo_scene *s, size_t i) {
+    HALO_REFUSE_NULL(NULL, s, "scene", NULL);
+    return i < s->count ? halo_module_name(s->stages[i].module) : NULL;
+}
+const halo_render_settings *halo_scene_render(const halo_scene *s) {
+    HALO_REFUSE_NULL(NULL, s, "scene", NULL);
+    return &s->render;
+}
+halo_render_settings *halo_scene_render_mutable(halo_scene *s) {
+    HALO_REFUSE_NULL(NULL, s, "scene", NULL);
+    return &s->render;
+}
 
 /* ---- Reading JSON ---- */
 
@@ -357,10 +374,12 @@ static void read_render(reader *r, json_t *obj) {
 }
 
 halo_scene *halo_scene_parse(const char *text, const char *file, const halo_library *lib, halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, text, "json_text", NULL);
+    HALO_REFUSE_NULL(diag, lib, "library", NULL);
     if (!file) file = "scene";
     text = halo_skip_bom(text); /* editors write it; JSON has no place for it */
     json_error_t err;
-    json_t *root = json_loads(text ? text : "", JSON_REJECT_DUPLICATES, &err);
+    json_t *root = json_loads(text, JSON_REJECT_DUPLICATES, &err);
     if (!root) {
         halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_JSON, file, err.line > 0 ? err.line : 1,
                       err.column > 0 ? err.column : 1, NULL, "invalid JSON: %s", err.text);
@@ -409,6 +428,8 @@ halo_scene *halo_scene_parse(const char *text, const char *file, const halo_libr
 }
 
 halo_scene *halo_scene_load(const char *path, const halo_library *lib, halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, path, "path", NULL);
+    HALO_REFUSE_NULL(diag, lib, "library", NULL);
     size_t len = 0;
     char *text = halo_read_file(path, &len);
     if (!text) {

@@ -117,6 +117,7 @@ halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, hal
 }
 
 halo_status halo_program_validate(const halo_program *p, halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
     halo_status st = halo_glslang_validate(p->source, p->kind, p->target, p->origins, p->origin_count, p->host_file,
                                            diag);
     for (size_t i = 0; i < p->pass_count; i++) {
@@ -143,6 +144,7 @@ static int mentions_annotation(const char *line, const char *word, int anywhere)
 }
 
 halo_source_kind halo_source_kind_of(const char *source) {
+    HALO_REFUSE_NULL(NULL, source, "source", HALO_SOURCE_SHADER);
     char *copy = source ? halo_strdup(source) : NULL;
     char **lines = NULL;
     int n = copy ? halo_split_lines(copy, &lines) : -1;
@@ -158,7 +160,7 @@ halo_source_kind halo_source_kind_of(const char *source) {
 
 halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind, halo_target target,
                                  halo_diagnostics *diag) {
-    if (!source) return HALO_ERROR_IO;
+    HALO_REFUSE_NULL(diag, source, "source", HALO_ERROR_INPUT);
     if (!file) file = "shader";
     source = halo_skip_bom(source); /* editors write it; glslang would not take it */
     /* A host (it has the marker): link it with no stage, which also checks the contract. */
@@ -232,6 +234,8 @@ static const char check_host_source[] =
 
 halo_status halo_module_validate(const halo_library *lib, const halo_module *m, halo_target target,
                                  halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, m, "module", HALO_ERROR_INPUT);
     if (m->is_library) {
         /* Every helper, in file order, in a translation unit of its own. */
         halo_strbuf b = {0};

@@ -69,6 +69,16 @@ tests_unit_test_public_LDADD = libhalo/libhalo.la
 
 TESTS += $(HALO_UNIT_TESTS) tests/unit/test_public
 
+# Every public function given NULL where it expects an object (one row per HALO_API
+# function; the rows are checked against the headers). The GL calls with a valid
+# runtime need a headless context.
+check_PROGRAMS += tests/unit/test_null_api
+tests_unit_test_null_api_SOURCES = tests/unit/test_null_api.c
+tests_unit_test_null_api_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit -I$(top_srcdir)/libhalo
+nodist_EXTRA_tests_unit_test_null_api_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_null_api_LDADD = $(HALO_TEST_CORE_LIBS) libhalo/libhalo-headless.la
+TESTS += tests/unit/test_null_api
+
 # ---- Shell tests: the command-line tools on good and bad input ----
 HALO_SHELL_TESTS = \
 	tests/check_modules.sh \

@@ -65,11 +65,16 @@ static halo_status run_stages(const halo_program *p, halo_emu_frame *f, halo_emu
 }
 
 halo_status halo_emu_apply(const halo_program *p, halo_emu_sample *s, halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, s, "sample", HALO_ERROR_INPUT);
     return run_stages(p, NULL, s, diag);
 }
 
 halo_status halo_emu_apply_frame(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s,
                                  halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, f, "frame", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, s, "sample", HALO_ERROR_INPUT);
     halo_status st = run_stages(p, f, s, diag);
     if (st != HALO_OK) return st;
     /* The linker folds each output's field after halo_apply (emu/frame.c). */
@@ -77,6 +82,7 @@ halo_status halo_emu_apply_frame(const halo_program *p, halo_emu_frame *f, halo_
 }
 
 int halo_module_has_emulation(const halo_module *m) {
+    HALO_REFUSE_NULL(NULL, m, "module", 0);
     if (m->is_library) return 0;
     if (m->hook == HALO_HOOK_IMAGE) {
         for (size_t i = 0; i < m->pass_count; i++)

@@ -15,6 +15,7 @@
 
 void halo_feature_desc_effective(const halo_feature_desc *desc, halo_feature_desc *out)
 {
+    HALO_REFUSE_NULL_VOID(NULL, out, "out");
     halo_feature_desc d = desc ? *desc : (halo_feature_desc){0};
     if (d.splat_size == 0)
         d.splat_size = 5;
@@ -37,6 +38,8 @@ void halo_feature_desc_effective(const halo_feature_desc *desc, halo_feature_des
 
 void halo_feature_buffer_dims(const int dims[3], const halo_feature_desc *desc, int out[3])
 {
+    HALO_REFUSE_NULL_VOID(NULL, dims, "dims");
+    HALO_REFUSE_NULL_VOID(NULL, out, "out");
     halo_feature_desc d;
     halo_feature_desc_effective(desc, &d);
     for (int k = 0; k < 3; ++k)
@@ -92,7 +95,10 @@ void halo_feature_gradient_at(const float *v, const int dims[3], int x, int y, i
 
 halo_status halo_feature_gradient_magnitudes(const float *values, const int dims[3], float *out)
 {
-    if (!values || !out || !dims_ok(dims))
+    HALO_REFUSE_NULL(NULL, values, "values", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, dims, "dims", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, out, "out", HALO_ERROR_INPUT);
+    if (!dims_ok(dims))
         return HALO_ERROR_INPUT;
     size_t i = 0;
     for (int z = 0; z < dims[2]; ++z)
@@ -225,7 +231,11 @@ static void scatter(const double *gradients, const int bd[3], int radius, double
 halo_status halo_feature_reference(const float *values, const int dims[3], const halo_feature_desc *desc,
                                    const double view[3], double *out)
 {
-    if (!values || !out || !view || !dims_ok(dims))
+    HALO_REFUSE_NULL(NULL, values, "values", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, dims, "dims", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, view, "view", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, out, "out", HALO_ERROR_INPUT);
+    if (!dims_ok(dims))
         return HALO_ERROR_INPUT;
     halo_feature_desc d;
     halo_feature_desc_effective(desc, &d);
@@ -250,7 +260,11 @@ halo_status halo_feature_reference(const float *values, const int dims[3], const
 halo_status halo_feature_emu_buffer(const float *values, const int dims[3], const halo_feature_desc *desc,
                                     const double view[3], double *out)
 {
-    if (!values || !out || !view || !dims_ok(dims))
+    HALO_REFUSE_NULL(NULL, values, "values", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, dims, "dims", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, view, "view", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, out, "out", HALO_ERROR_INPUT);
+    if (!dims_ok(dims))
         return HALO_ERROR_INPUT;
     halo_feature_desc d;
     halo_feature_desc_effective(desc, &d);
@@ -274,7 +288,10 @@ halo_status halo_feature_emu_buffer(const float *values, const int dims[3], cons
 
 double halo_feature_buffer_lookup(const double *buffer, const int dims[3], const double position[3])
 {
-    if (!buffer || !dims_ok(dims) || !position)
+    HALO_REFUSE_NULL(NULL, buffer, "buffer", 0.0);
+    HALO_REFUSE_NULL(NULL, dims, "dims", 0.0);
+    HALO_REFUSE_NULL(NULL, position, "position", 0.0);
+    if (!dims_ok(dims))
         return 0.0;
     int i0[3], i1[3];
     double f[3];
@@ -304,8 +321,8 @@ double halo_feature_buffer_lookup(const double *buffer, const int dims[3], const
 
 halo_status halo_feature_desc_from_program(const halo_program *p, halo_feature_desc *out)
 {
-    if (!p || !out)
-        return HALO_ERROR_INPUT;
+    HALO_REFUSE_NULL(NULL, p, "program", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, out, "out", HALO_ERROR_INPUT);
     for (size_t i = 0; i < p->stage_count; i++) {
         const halo_linked_stage *st = &p->stages[i];
         if (strcmp(st->module->name, "feature_halo"))
@@ -351,8 +368,8 @@ void halo_emu_feature_halo(halo_emu_sample *s, const halo_emu_params *p)
 halo_status halo_feature_emu_apply(const halo_program *p, double buffer_value, halo_emu_sample *s,
                                    halo_diagnostics *diag)
 {
-    if (!p || !s)
-        return HALO_ERROR_INPUT;
+    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, s, "sample", HALO_ERROR_INPUT);
     memset(s->normal, 0, sizeof s->normal);
     s->gradient_magnitude = 0;
     memset(s->seed, 0, sizeof s->seed);

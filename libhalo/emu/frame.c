@@ -54,7 +54,8 @@ static void clear_image(halo_emu_frame *f, size_t i) {
 }
 
 halo_emu_frame *halo_emu_frame_create(const halo_program *p, int width, int height, halo_diagnostics *diag) {
-    if (!p || width < 1 || height < 1) {
+    HALO_REFUSE_NULL(diag, p, "program", NULL);
+    if (width < 1 || height < 1) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_emu_frame_create: a program and a positive size are required");
         return NULL;
     }
@@ -92,7 +93,8 @@ void halo_emu_frame_destroy(halo_emu_frame *f) {
 }
 
 double *halo_emu_frame_image(halo_emu_frame *f, const char *name) {
-    if (!f || !name) return NULL;
+    HALO_REFUSE_NULL(NULL, f, "frame", NULL);
+    HALO_REFUSE_NULL(NULL, name, "name", NULL);
     int i = image_index(f, name);
     return i < 0 ? NULL : f->images[i];
 }
@@ -107,7 +109,10 @@ static int host_index(const halo_program *p, const char *name) {
 }
 
 halo_status halo_emu_frame_set_host_uniform(halo_emu_frame *f, const char *name, const double *values, int count) {
-    if (!f || !name || (!values && count > 0) || count < 0 || count > 4) return HALO_ERROR_INPUT;
+    HALO_REFUSE_NULL(NULL, f, "frame", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, name, "name", HALO_ERROR_INPUT);
+    if (count > 0) HALO_REFUSE_NULL(NULL, values, "values", HALO_ERROR_INPUT);
+    if (count < 0 || count > 4) return HALO_ERROR_INPUT;
     int i = host_index(f->program, name);
     if (i < 0) return HALO_ERROR_INPUT;
     for (int k = 0; k < 4; k++) f->host[i][k] = k < count ? values[k] : 0.0;
@@ -115,20 +120,23 @@ halo_status halo_emu_frame_set_host_uniform(halo_emu_frame *f, const char *name,
 }
 
 void halo_emu_frame_begin(halo_emu_frame *f) {
-    if (!f) return;
+    HALO_REFUSE_NULL_VOID(NULL, f, "frame");
     f->groups_ended = 0;
     for (size_t i = 0; i < f->program->image_count; i++)
         if (!f->program->images[i].host) clear_image(f, i);
 }
 
 void halo_emu_frame_begin_group(halo_emu_frame *f) {
-    if (!f) return;
+    HALO_REFUSE_NULL_VOID(NULL, f, "frame");
     for (size_t i = 0; i < f->program->image_count; i++)
         if (!f->program->images[i].host && f->program->images[i].reset != HALO_RESET_FRAME_ONLY) clear_image(f, i);
 }
 
 halo_status halo_emu_frame_set_volume(halo_emu_frame *f, const char *name, const float *data, int nx, int ny, int nz) {
-    if (!f || !name || !data || nx < 1 || ny < 1 || nz < 1) return HALO_ERROR_INPUT;
+    HALO_REFUSE_NULL(NULL, f, "frame", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, name, "name", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, data, "data", HALO_ERROR_INPUT);
+    if (nx < 1 || ny < 1 || nz < 1) return HALO_ERROR_INPUT;
     int i = host_index(f->program, name);
     if (i < 0 || strcmp(f->program->host_uniforms[i].type, "sampler3D")) return HALO_ERROR_INPUT;
     f->volumes[i].data = data;
@@ -202,7 +210,8 @@ halo_status halo_emu_frame_fold(const halo_program *p, halo_emu_sample *s, halo_
 }
 
 void halo_emu_frame_finish(halo_emu_frame *f, const halo_emu_sample *s) {
-    if (!f || !s) return;
+    HALO_REFUSE_NULL_VOID(NULL, f, "frame");
+    HALO_REFUSE_NULL_VOID(NULL, s, "sample");
     size_t at;
     if (!pixel_of(f, s->fragcoord, &at)) return;
     for (size_t o = 0; o < f->program->output_count; o++) {
@@ -234,17 +243,20 @@ static const halo_linked_stage *find_stage(const halo_program *p, const char *na
 static halo_status run_passes(halo_emu_frame *f, int post, halo_diagnostics *diag);
 
 halo_status halo_emu_frame_generate(halo_emu_frame *f, halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, f, "frame", HALO_ERROR_INPUT);
     return run_passes(f, 0, diag);
 }
 
 halo_status halo_emu_frame_end_group(halo_emu_frame *f, halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, f, "frame", HALO_ERROR_INPUT);
     halo_status st = run_passes(f, 1, diag);
-    if (f && st == HALO_OK) f->groups_ended++;
+    if (st == HALO_OK) f->groups_ended++;
     return st;
 }
 
 halo_status halo_emu_frame_post(halo_emu_frame *f, halo_diagnostics *diag) {
-    halo_status st = f && f->groups_ended ? HALO_OK : run_passes(f, 1, diag);
+    HALO_REFUSE_NULL(diag, f, "frame", HALO_ERROR_INPUT);
+    halo_status st = f->groups_ended ? HALO_OK : run_passes(f, 1, diag);
     return st == HALO_OK ? run_passes(f, 2, diag) : st;
 }
 

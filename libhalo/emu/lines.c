@@ -120,10 +120,8 @@ static halo_status missing(const char *stage, halo_diagnostics *diag)
 halo_status halo_emu_line_vertex_apply(const halo_program *p, const double depth_range[2], halo_emu_line_vertex *v,
                                        halo_diagnostics *diag)
 {
-    if (!p || !v) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_emu_line_vertex_apply: program and vertex are required");
-        return HALO_ERROR_INPUT;
-    }
+    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, v, "vertex", HALO_ERROR_INPUT);
     const double unset[2] = {0.0, 0.0};
     const double *range = depth_range ? depth_range : unset;
     for (size_t i = 0; i < halo_program_stage_count(p); ++i) {
@@ -138,10 +136,8 @@ halo_status halo_emu_line_vertex_apply(const halo_program *p, const double depth
 
 halo_status halo_emu_line_fragment_apply(const halo_program *p, halo_emu_line_fragment *f, halo_diagnostics *diag)
 {
-    if (!p || !f) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_emu_line_fragment_apply: program and fragment are required");
-        return HALO_ERROR_INPUT;
-    }
+    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, f, "fragment", HALO_ERROR_INPUT);
     for (size_t i = 0; i < halo_program_stage_count(p); ++i) {
         const char *stage = halo_program_stage(p, i);
         if (strcmp(stage, "line_halo") == 0)

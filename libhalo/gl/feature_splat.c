@@ -239,9 +239,12 @@ static int build_vertices(halo_feature_buffer *b, const float *values, const int
 halo_feature_buffer *halo_feature_buffer_create(halo_gl *gl, const float *values, const int dims[3],
                                                  const halo_feature_desc *desc, halo_diagnostics *diag)
 {
-    if (!gl || !values || !dims || dims[0] < 1 || dims[1] < 1 || dims[2] < 1 || dims[0] > 8192 ||
+    HALO_REFUSE_NULL(diag, gl, "gl", NULL);
+    HALO_REFUSE_NULL(diag, values, "values", NULL);
+    HALO_REFUSE_NULL(diag, dims, "dims", NULL);
+    if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1 || dims[0] > 8192 ||
         dims[1] > 8192 || dims[2] > 8192) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_feature_buffer_create: a runtime, values and dims >= 1 are required");
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_feature_buffer_create: dims in 1..8192 are required");
         return NULL;
     }
     halo_feature_buffer *b = calloc(1, sizeof *b);
@@ -380,8 +383,8 @@ static void restore_state(const halo_glfuncs *f, const saved_state *s)
 
 halo_status halo_feature_buffer_build(halo_feature_buffer *b, const double view[3])
 {
-    if (!b || !view)
-        return HALO_ERROR_INPUT;
+    HALO_REFUSE_NULL(NULL, b, "buffer", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(b->diag, view, "view", HALO_ERROR_INPUT);
     double length = sqrt(view[0] * view[0] + view[1] * view[1] + view[2] * view[2]);
     if (!(length > 1e-10) || !isfinite(length)) {
         halo_diag_error(b->diag, USAGE, "", 0, 0, "halo_feature_buffer_build: the view vector has no direction");
@@ -444,29 +447,34 @@ halo_status halo_feature_buffer_build(halo_feature_buffer *b, const double view[
 
 unsigned halo_feature_buffer_texture(const halo_feature_buffer *b)
 {
-    return b ? b->texture : 0;
+    HALO_REFUSE_NULL(NULL, b, "buffer", 0);
+    return b->texture;
 }
 
 void halo_feature_buffer_get_dims(const halo_feature_buffer *b, int out[3])
 {
+    HALO_REFUSE_NULL_VOID(NULL, out, "out");
     for (int k = 0; k < 3; ++k)
         out[k] = b ? b->dims[k] : 0;
+    HALO_REFUSE_NULL_VOID(NULL, b, "buffer");
 }
 
 size_t halo_feature_buffer_qualified(const halo_feature_buffer *b)
 {
-    return b ? b->qualified : 0;
+    HALO_REFUSE_NULL(NULL, b, "buffer", 0);
+    return b->qualified;
 }
 
 size_t halo_feature_buffer_points_drawn(const halo_feature_buffer *b)
 {
-    return b ? b->points_drawn : 0;
+    HALO_REFUSE_NULL(NULL, b, "buffer", 0);
+    return b->points_drawn;
 }
 
 halo_status halo_feature_buffer_read(halo_feature_buffer *b, float *out)
 {
-    if (!b || !out)
-        return HALO_ERROR_INPUT;
+    HALO_REFUSE_NULL(NULL, b, "buffer", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(b->diag, out, "out", HALO_ERROR_INPUT);
     const halo_glfuncs *f = b->f;
     GLint saved_read = 0, saved_draw = 0, saved_pack = 0;
     f->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &saved_read);

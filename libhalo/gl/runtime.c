@@ -263,10 +263,9 @@ static GLuint compile(const halo_glfuncs *f, GLenum type, const char *source, co
 unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *vertex_source,
                                const char *vertex_file, halo_diagnostics *diag)
 {
-    if (!gl || !p || !vertex_source) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_program_build: gl, program and vertex source are required");
-        return 0;
-    }
+    HALO_REFUSE_NULL(diag, gl, "gl", 0);
+    HALO_REFUSE_NULL(diag, p, "program", 0);
+    HALO_REFUSE_NULL(diag, vertex_source, "vertex_source", 0);
     const halo_glfuncs *f = &gl->f;
     if (!vertex_file)
         vertex_file = "vertex";
@@ -326,7 +325,9 @@ unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *v
 
 void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_program)
 {
-    if (!gl || !p || !gl_program)
+    HALO_REFUSE_NULL_VOID(NULL, gl, "gl");
+    HALO_REFUSE_NULL_VOID(NULL, p, "program");
+    if (!gl_program)
         return;
     const halo_glfuncs *f = &gl->f;
     size_t n = halo_program_uniform_count(p);
@@ -420,7 +421,10 @@ static int uniform_is_sampler(const halo_glfuncs *f, GLuint program, const char 
 halo_status halo_gl_set_host_uniform(halo_gl *gl, unsigned gl_program, const char *name, const float *values,
                                      int count)
 {
-    if (!gl || !gl_program || !name || !values || count < 1 || count > 4)
+    HALO_REFUSE_NULL(NULL, gl, "gl", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, name, "name", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, values, "values", HALO_ERROR_INPUT);
+    if (!gl_program || count < 1 || count > 4)
         return HALO_ERROR_INPUT;
     const halo_glfuncs *f = &gl->f;
     char full[256];
@@ -518,7 +522,8 @@ void halo_gl_frame_segments_reset(halo_gl_frame *fr)
 }
 int halo_gl_frame_segment_count(const halo_gl_frame *fr)
 {
-    return fr ? fr->segments_drawn : 0;
+    HALO_REFUSE_NULL(NULL, fr, "frame", 0);
+    return fr->segments_drawn;
 }
 
 static int frame_find_image(const halo_gl_frame *f, const char *name)
@@ -654,8 +659,10 @@ static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, siz
 halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int width, int height,
                                     halo_diagnostics *diag)
 {
-    if (!gl || !p || width < 1 || height < 1 || width > 16384 || height > 16384) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_frame_create: a runtime, a program and a size in 1..16384 are required");
+    HALO_REFUSE_NULL(diag, gl, "gl", NULL);
+    HALO_REFUSE_NULL(diag, p, "program", NULL);
+    if (width < 1 || height < 1 || width > 16384 || height > 16384) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_frame_create: a size in 1..16384 is required");
         return NULL;
     }
     const halo_glfuncs *f = &gl->f;
@@ -825,20 +832,20 @@ static void frame_run(halo_gl_frame *fr, int post);
 
 void halo_gl_frame_begin(halo_gl_frame *fr)
 {
-    if (fr)
-        fr->groups_ended = 0;
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
+    fr->groups_ended = 0;
     frame_clear(fr, 0);
 }
 
 void halo_gl_frame_begin_group(halo_gl_frame *fr)
 {
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
     frame_clear(fr, 1);
 }
 
 void halo_gl_frame_end_group(halo_gl_frame *fr)
 {
-    if (!fr)
-        return;
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
     frame_run(fr, 1);
     fr->groups_ended++;
 }
@@ -883,8 +890,7 @@ static void frame_attach_textures(halo_gl_frame *fr)
 
 void halo_gl_frame_attach(halo_gl_frame *fr, unsigned host_framebuffer)
 {
-    if (!fr)
-        return;
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
     size_t n = halo_program_output_count(fr->program);
     if (n == 0)
         return;
@@ -943,7 +949,8 @@ static void frame_bind_textures(halo_gl_frame *fr, int first_unit)
 
 void halo_gl_frame_bind(halo_gl_frame *fr, unsigned gl_program, int first_unit)
 {
-    if (!fr || first_unit < 0)
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
+    if (first_unit < 0)
         return;
     size_t n = halo_program_sampler_count(fr->program);
     if (n == 0)
@@ -964,13 +971,13 @@ static void frame_run(halo_gl_frame *fr, int post);
 
 void halo_gl_frame_generate(halo_gl_frame *fr)
 {
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
     frame_run(fr, 0);
 }
 
 void halo_gl_frame_post(halo_gl_frame *fr, unsigned host_color_texture)
 {
-    if (!fr)
-        return;
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
     for (size_t i = 0; i < fr->image_count; ++i)
         if (fr->images[i].host) {
             fr->images[i].texture[0] = fr->images[i].texture[1] = host_color_texture;
@@ -983,7 +990,9 @@ void halo_gl_frame_post(halo_gl_frame *fr, unsigned host_color_texture)
 
 unsigned halo_gl_frame_texture(const halo_gl_frame *fr, const char *image)
 {
-    int i = fr ? frame_find_image(fr, image) : -1;
+    HALO_REFUSE_NULL(NULL, fr, "frame", 0);
+    HALO_REFUSE_NULL(NULL, image, "image", 0);
+    int i = frame_find_image(fr, image);
     return i < 0 ? 0 : fr->images[i].texture[fr->images[i].current];
 }
 
@@ -1048,8 +1057,9 @@ static void frame_run(halo_gl_frame *fr, int post)
 
 halo_status halo_gl_frame_read(halo_gl_frame *fr, const char *name, float *out)
 {
-    if (!fr || !name || !out)
-        return HALO_ERROR_INPUT;
+    HALO_REFUSE_NULL(NULL, fr, "frame", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, name, "image", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, out, "out", HALO_ERROR_INPUT);
     int index = frame_find_image(fr, name);
     if (index < 0)
         return HALO_ERROR_INPUT;
@@ -1072,5 +1082,6 @@ halo_status halo_gl_frame_read(halo_gl_frame *fr, const char *name, float *out)
 
 long halo_gl_frame_pass_draws(const halo_gl_frame *fr)
 {
-    return fr ? fr->pass_draws : 0;
+    HALO_REFUSE_NULL(NULL, fr, "frame", 0);
+    return fr->pass_draws;
 }

@@ -135,7 +135,9 @@ static void set_camera(const halo_glfuncs *f, GLuint program, const halo_segment
 halo_status halo_gl_set_camera(halo_gl *gl, unsigned gl_program, const halo_gl_segments_desc *desc,
                                halo_diagnostics *diag)
 {
-    if (!gl || !desc_valid(desc, "halo_gl_set_camera", diag))
+    HALO_REFUSE_NULL(diag, gl, "gl", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, desc, "desc", HALO_ERROR_INPUT);
+    if (!desc_valid(desc, "halo_gl_set_camera", diag))
         return HALO_ERROR_INPUT;
     halo_segment_plan camera;
     if (!segment_camera(desc, &camera)) {
@@ -220,7 +222,9 @@ int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p
 halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
                                halo_diagnostics *diag)
 {
-    if (!fr || !desc_valid(d, "halo_gl_frame_draw", diag))
+    HALO_REFUSE_NULL(diag, fr, "frame", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, d, "desc", HALO_ERROR_INPUT);
+    if (!desc_valid(d, "halo_gl_frame_draw", diag))
         return HALO_ERROR_INPUT;
     if (!d->draw) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_frame_draw: desc.draw is required");

@@ -161,6 +161,23 @@ static inline int check_count_diag(const halo_diagnostics *d, halo_message_id id
         if (!(cond)) SETUP_FAIL("%s", #cond);                                                                     \
     } while (0)
 
+/* A minimal fragment host of the contract: one sample through halo_apply. */
+static const char check_sample_host[] =
+    "#version 330 core\n"
+    "#pragma halo declarations\n"
+    "out vec4 fragment_color;\n"
+    "void main()\n"
+    "{\n"
+    "    vec4 color = vec4(0.8, 0.6, 0.4, 0.5);\n"
+    "#ifdef HALO_LINKED\n"
+    "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1, 0.2, 0.3), vec3(0.0, 0.0, 1.0), 0.5,\n"
+    "                                     gl_FragCoord.xy, color.rgb, color.a);\n"
+    "    halo_apply(s);\n"
+    "    color = vec4(s.color, s.opacity);\n"
+    "#endif\n"
+    "    fragment_color = color;\n"
+    "}\n";
+
 /* A diagnostics list and the built-in library (a broken setup when they cannot be made). */
 static inline halo_library *check_library_setup(halo_diagnostics **diags) {
     *diags = halo_diagnostics_create();

@@ -3,22 +3,6 @@
  * emulate. */
 #include "check.h"
 
-static const char host[] =
-    "#version 330 core\n"
-    "#pragma halo declarations\n"
-    "out vec4 fragment_color;\n"
-    "void main()\n"
-    "{\n"
-    "    vec4 color = vec4(0.8, 0.6, 0.4, 0.5);\n"
-    "#ifdef HALO_LINKED\n"
-    "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1, 0.2, 0.3), vec3(0.0, 0.0, 1.0), 0.5,\n"
-    "                                     gl_FragCoord.xy, color.rgb, color.a);\n"
-    "    halo_apply(s);\n"
-    "    color = vec4(s.color, s.opacity);\n"
-    "#endif\n"
-    "    fragment_color = color;\n"
-    "}\n";
-
 static int test_pipeline(void) {
     halo_diagnostics *d = halo_diagnostics_create();
     CHECK(d != NULL);
@@ -32,8 +16,9 @@ static int test_pipeline(void) {
     CHECK(scene != NULL);
     CHECK_INT_EQ(halo_scene_stage_count(scene), 3);
     for (int t = HALO_TARGET_GLSL330; t < HALO_TARGET_COUNT; t++) {
-        halo_program *p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
-                                                      .host_file = "public.frag", .target = (halo_target)t},
+        halo_program *p = halo_link(&(halo_link_desc){.library = lib, .scene = scene,
+                                                      .host_source = check_sample_host, .host_file = "public.frag",
+                                                      .target = (halo_target)t},
                                     d);
         CHECK(p != NULL);
         if (halo_program_validate(p, d) != HALO_OK) {
