@@ -11,7 +11,7 @@ packages="build-essential autoconf automake libtool pkg-config file
   libnifti2-dev zlib1g-dev mricron-data
   libglfw3-dev xvfb xauth
   gnuplot-nox
-  libvtk9-dev"
+  libvtk9-dev python3"
 
 missing=""
 for p in $packages; do

@@ -208,6 +208,23 @@ static int declare_engine_uniforms(halo_program *p) {
     return 0;
 }
 
+/* The public entry: host text (link.c) or pieces (here). */
+halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, desc, "desc", NULL);
+    HALO_REFUSE_NULL(diag, desc->library, "desc.library", NULL);
+    if (!desc->pieces) HALO_REFUSE_NULL(diag, desc->host_source, "desc.host_source (or desc.pieces)", NULL);
+    if (desc->pieces && !desc->host_source) return halo_link_pieces(desc, diag);
+    if (desc->pieces) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: give host_source or pieces, not both");
+        return NULL;
+    }
+    if ((unsigned)desc->version > HALO_VERSION_NONE) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: unknown version mode %d", (int)desc->version);
+        return NULL;
+    }
+    return halo_link_host(desc, diag);
+}
+
 halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag) {
     const halo_pieces_desc *d = desc->pieces;
     if (desc->kind != HALO_SHADER_FRAGMENT) {
@@ -267,13 +284,6 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
         return NULL;
     }
     return p;
-}
-
-void halo_pieces_free(halo_program *p) {
-    for (int i = 0; i < HALO_PIECE_COUNT; i++) {
-        free(p->pieces[i]);
-        free(p->piece_origins[i]);
-    }
 }
 
 const char *halo_program_piece(const halo_program *p, halo_piece piece) {

@@ -142,8 +142,6 @@ extern const char halo_generated_file[];
 /* The #version line of a target (HALO_TARGET_DEFAULT: 330 core). */
 const char *halo_target_version_line(halo_target t); /* "<libhalo>": lines the linker wrote */
 
-/* Splits text into lines in place (text is modified); returns the count or -1. */
-int halo_split_lines(char *text, char ***lines);
 /* Column (1-based) of the directive after "#pragma halo", or 0. */
 int halo_annotation_start(const char *line);
 
@@ -226,16 +224,25 @@ typedef struct halo_segment_plan {
 int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p, halo_segment_plan *plan,
                            halo_diagnostics *diag);
 
+/* contract.c: the structs a host fills per hook (docs/host-contract.md). */
+typedef struct halo_hook_struct {
+    halo_hook hook;
+    const char *type, *make, *var;
+    int field_count;
+    const char *fields[8][2];
+} halo_hook_struct;
+extern const halo_hook_struct halo_hook_structs[];
+extern const size_t halo_hook_struct_count;
+
 /* compose.c: a program linked from pieces (halo_link_desc.pieces, host_source NULL). */
 halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag);
 /* link.c: halo_link of host text (desc->pieces, if set, gives only first_output_location). */
 halo_program *halo_link_host(const halo_link_desc *desc, halo_diagnostics *diag);
-void halo_pieces_free(halo_program *p);
 /* link.c: a string the program owns (freed with it), printf-style. */
 char *halo_program_own(halo_program *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* link.c: is name used (as an identifier, not a field) in the module's code? */
 int halo_module_uses(const halo_module *m, const char *name);
-/* link.c: "layout(location = N) " or "" for a program whose outputs carry none. */
+/* segment.c: "layout(location = N) " or "" for a program whose outputs carry none. */
 const char *halo_output_layout(const halo_program *p, int location, char *buf, size_t len);
 
 /* glslang validation of one source with origins for mapping. */

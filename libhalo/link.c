@@ -14,28 +14,6 @@
 
 const char halo_generated_file[] = "<libhalo>";
 
-int halo_split_lines(char *text, char ***out) {
-    int count = 0, cap = 64;
-    char **lines = malloc((size_t)cap * sizeof *lines);
-    if (!lines) return -1;
-    for (char *p = text;;) {
-        if (count == cap) {
-            cap *= 2;
-            char **l = realloc(lines, (size_t)cap * sizeof *l);
-            if (!l) { free(lines); return -1; }
-            lines = l;
-        }
-        lines[count++] = p;
-        char *nl = strchr(p, '\n');
-        if (!nl) break;
-        *nl = '\0';
-        if (nl > p && nl[-1] == '\r') nl[-1] = '\0';
-        p = nl + 1;
-    }
-    *out = lines;
-    return count;
-}
-
 /* ---- Output with origins ---- */
 
 typedef struct emitter {
@@ -606,36 +584,8 @@ static void emit_helpers(emitter *e, const halo_library *lib, const halo_program
     free(need);
 }
 
-/* The structs the host fills, one per hook that runs inside the host (host-contract.md). */
-typedef struct hook_struct {
-    halo_hook hook;
-    const char *type, *make, *var;
-    int field_count;
-    const char *fields[8][2];
-} hook_struct;
-
-static const hook_struct hook_structs[] = {
-    {HALO_HOOK_SAMPLE, "halo_sample", "halo_make_sample", "s", 8,
-     {{"vec3", "position"}, {"float", "value"}, {"vec3", "gradient"}, {"vec3", "view"}, {"float", "depth"},
-      {"vec2", "fragcoord"}, {"vec3", "color"}, {"float", "opacity"}}},
-    {HALO_HOOK_LINE_VERTEX, "halo_line_vertex", "halo_make_line_vertex", "v", 7,
-     {{"vec3", "position"}, {"vec3", "direction"}, {"vec2", "uv"}, {"vec3", "eye"}, {"float", "width"},
-      {"vec3", "color"}, {"float", "opacity"}}},
-    {HALO_HOOK_LINE_FRAGMENT, "halo_line_fragment", "halo_make_line_fragment", "f", 6,
-     {{"vec2", "uv"}, {"float", "depth"}, {"vec2", "fragcoord"}, {"vec3", "color"}, {"float", "opacity"},
-      {"vec3", "background"}}},
-};
-#define HOOK_STRUCT_COUNT (sizeof hook_structs / sizeof hook_structs[0])
-
-int halo_is_host_resource(const char *name) {
-    for (size_t h = 0; h < HOOK_STRUCT_COUNT; h++)
-        for (int i = 0; i < hook_structs[h].field_count; i++)
-            if (!strcmp(hook_structs[h].fields[i][1], name)) return 1;
-    return 0;
-}
-
 /* A struct is emitted when a linked stage runs at its hook or the host names it. */
-static int hook_needed(const halo_program *p, const hook_struct *hs, const char *host) {
+static int hook_needed(const halo_program *p, const halo_hook_struct *hs, const char *host) {
     for (size_t s = 0; s < p->stage_count; s++)
         if (p->stages[s].module->hook == hs->hook) return 1;
     if (hs->hook == HALO_HOOK_SAMPLE && p->kind == HALO_SHADER_FRAGMENT && !strstr(host, "halo_line_fragment"))
@@ -683,8 +633,8 @@ static void emit_declarations(emitter *e, const halo_program *p, const char *hos
      * termination waits for this */
     GEN(e, "#define HALO_RAY_MAY_END %d", p->output_count == 0);
     if (uses_channels(p)) emit_channel_definitions(e, p->channel_count);
-    for (size_t h = 0; h < HOOK_STRUCT_COUNT; h++) {
-        const hook_struct *hs = &hook_structs[h];
+    for (size_t h = 0; h < halo_hook_struct_count; h++) {
+        const halo_hook_struct *hs = &halo_hook_structs[h];
         if (!hook_needed(p, hs, host)) continue;
         GEN(e, "struct %s {", hs->type);
         for (int i = 0; i < hs->field_count; i++) GEN(e, "    %s %s;", hs->fields[i][0], hs->fields[i][1]);
@@ -802,8 +752,8 @@ static int emit_program(halo_program *p, const char *host_source, char **host_li
             emit_params(&e, p, &p->stages[s], p->engine_uniforms);
             emit_module_lines(&e, m, 1, m->line_count, 1, p->engine_uniforms ? p : NULL);
         }
-        for (size_t h = 0; h < HOOK_STRUCT_COUNT; h++) {
-            const hook_struct *hs = &hook_structs[h];
+        for (size_t h = 0; h < halo_hook_struct_count; h++) {
+            const halo_hook_struct *hs = &halo_hook_structs[h];
             if (!hook_needed(p, hs, host_source)) continue;
             GEN(&e, "void halo_apply(inout %s %s) {", hs->type, hs->var);
             for (size_t s = 0; s < p->stage_count; s++)
@@ -951,12 +901,6 @@ static int first_free_location(const char *host) {
         }
     halo_token_list_free(&t);
     return max + 1;
-}
-
-const char *halo_output_layout(const halo_program *p, int location, char *buf, size_t len) {
-    if (p->unlocated_outputs) return "";
-    snprintf(buf, len, "layout(location = %d) ", location);
-    return buf;
 }
 
 static int collect_resources(halo_program *p, const char *host, halo_diagnostics *diag) {
@@ -1488,22 +1432,6 @@ static int map_host_lines(halo_program *p, const host_info *h) {
 
 static halo_program *link_with_host(const halo_link_desc *desc, host_info *h, halo_diagnostics *diag);
 
-halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
-    HALO_REFUSE_NULL(diag, desc, "desc", NULL);
-    HALO_REFUSE_NULL(diag, desc->library, "desc.library", NULL);
-    if (!desc->pieces) HALO_REFUSE_NULL(diag, desc->host_source, "desc.host_source (or desc.pieces)", NULL);
-    if (desc->pieces && !desc->host_source) return halo_link_pieces(desc, diag);
-    if (desc->pieces) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: give host_source or pieces, not both");
-        return NULL;
-    }
-    if ((unsigned)desc->version > HALO_VERSION_NONE) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: unknown version mode %d", (int)desc->version);
-        return NULL;
-    }
-    return halo_link_host(desc, diag);
-}
-
 halo_program *halo_link_host(const halo_link_desc *desc, halo_diagnostics *diag) {
     host_info h = {0};
     halo_program *p = link_with_host(desc, &h, diag);
@@ -1620,7 +1548,10 @@ oom:
 
 void halo_program_destroy(halo_program *p) {
     if (!p) return;
-    halo_pieces_free(p);
+    for (int i = 0; i < HALO_PIECE_COUNT; i++) { /* pieces (compose.c) */
+        free(p->pieces[i]);
+        free(p->piece_origins[i]);
+    }
     free(p->volume_sampler);
     free(p->gradient_sampler);
     free(p->source);

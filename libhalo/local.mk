@@ -10,14 +10,14 @@ CLEANFILES += libhalo/embedded_modules.c
 noinst_LTLIBRARIES += libhalo/libhalo-core.la
 libhalo_libhalo_core_la_SOURCES = \
 	libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c \
-	libhalo/scene.c libhalo/link.c libhalo/segment.c libhalo/compose.c libhalo/host_scan.c libhalo/validate.c libhalo/setup.c \
+	libhalo/scene.c libhalo/link.c libhalo/segment.c libhalo/compose.c libhalo/contract.c libhalo/host_scan.c libhalo/validate.c libhalo/setup.c \
 	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c \
 	libhalo/emu/gradient.c libhalo/emu/opacity_power.c libhalo/emu/boundary.c \
 	libhalo/emu/silhouette.c libhalo/emu/orientation_fade.c libhalo/emu/sketch.c \
 	libhalo/emu/tone_shading.c libhalo/emu/distance_blend.c libhalo/emu/distance_cue.c \
 	libhalo/emu/lines.c \
 	libhalo/emu/halo_seed.c libhalo/emu/halo_generate.c libhalo/emu/halo_map.c libhalo/emu/frame.c libhalo/emu/outline.c \
-	libhalo/gl/glfuncs.c libhalo/gl/runtime.c libhalo/gl/segments.c \
+	libhalo/gl/glfuncs.c libhalo/gl/runtime.c libhalo/gl/segments.c libhalo/gl/frame.h \
 	libhalo/emu/feature_halo.c libhalo/gl/feature_splat.c
 nodist_libhalo_libhalo_core_la_SOURCES = libhalo/embedded_modules.c
 # The error budget (halo_budget_choose): halo-validate bench --max-error.

@@ -14,6 +14,7 @@
 #include "internal.h"
 #include "strbuf.h"
 
+#include <stdio.h>
 #include <string.h>
 
 /* Does the host's code (comments excluded) use the identifier name? */
@@ -143,4 +144,11 @@ int halo_program_has_generation_passes(const halo_program *p)
                 return 1;
     }
     return 0;
+}
+
+/* "layout(location = N) " or "" for a program whose outputs carry none (GLSL 150). */
+const char *halo_output_layout(const halo_program *p, int location, char *buf, size_t len) {
+    if (p->unlocated_outputs) return "";
+    snprintf(buf, len, "layout(location = %d) ", location);
+    return buf;
 }

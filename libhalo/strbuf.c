@@ -108,3 +108,27 @@ int halo_find_nul(const char *text, size_t len, int *line, int *column) {
     }
     return 1;
 }
+
+/* Splits text in place at its newlines (a \r before one is dropped); *out gets the
+ * line starts. Returns the line count, or -1 when memory runs out. */
+int halo_split_lines(char *text, char ***out) {
+    int count = 0, cap = 64;
+    char **lines = malloc((size_t)cap * sizeof *lines);
+    if (!lines) return -1;
+    for (char *p = text;;) {
+        if (count == cap) {
+            cap *= 2;
+            char **l = realloc(lines, (size_t)cap * sizeof *l);
+            if (!l) { free(lines); return -1; }
+            lines = l;
+        }
+        lines[count++] = p;
+        char *nl = strchr(p, '\n');
+        if (!nl) break;
+        *nl = '\0';
+        if (nl > p && nl[-1] == '\r') nl[-1] = '\0';
+        p = nl + 1;
+    }
+    *out = lines;
+    return count;
+}

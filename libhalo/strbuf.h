@@ -31,4 +31,7 @@ const char *halo_skip_bom(const char *s);
  * and column (a byte-order mark not counted), or 0 when there is none. */
 int halo_find_nul(const char *text, size_t len, int *line, int *column);
 
+/* Splits text into lines in place (text is modified); returns the count or -1. */
+int halo_split_lines(char *text, char ***lines);
+
 #endif

@@ -181,7 +181,7 @@ halo_status halo_validate_shader(const char *source, const char *file, halo_shad
     halo_status st;
     if (is_host) {
         halo_library empty = {0};
-        halo_program *p = halo_link(&(halo_link_desc){.library = &empty, .host_source = source, .host_file = file,
+        halo_program *p = halo_link_host(&(halo_link_desc){.library = &empty, .host_source = source, .host_file = file,
                                                       .target = target, .kind = kind},
                                     diag);
         st = p ? halo_program_validate(p, diag) : HALO_ERROR_INPUT;
@@ -271,7 +271,7 @@ halo_status halo_module_validate(const halo_library *lib, const halo_module *m, 
     char host[sizeof check_host_source + 32];
     snprintf(host, sizeof host, check_host_source, target == HALO_TARGET_GLSL150 ? "" : "layout(location = 0) ");
     for (int live = 0; live < 2 && st == HALO_OK; live++) {
-        halo_program *p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
+        halo_program *p = halo_link_host(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
                                                       .host_file = "<check-host>", .target = target,
                                                       .all_live = live},
                                     diag);

@@ -288,3 +288,7 @@ EXTRA_DIST += tests/vtk/vtk.sh tests/xrun.sh
 if HALO_HAVE_VTK
 AM_TESTS_ENVIRONMENT += HALO_VTK='$(abs_top_builddir)/examples/halo-vtk'; export HALO_VTK;
 endif
+
+# ---- The house: no circles between the C files of a folder (issue 12) ----
+TESTS += tests/no_circles.sh
+EXTRA_DIST += tests/no_circles.sh tests/tools/circles.py

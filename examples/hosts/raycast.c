@@ -8,30 +8,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Generated at build time by build-aux/embed.sh from examples/hosts/. */
-struct halo_embedded_file {
-    const char *name;
-    const char *text;
-};
-extern const struct halo_embedded_file halo_embedded_hosts[];
-
 /* The library's internal diagnostics entry point is not exported; the examples add
  * their own diagnostics through this wrapper around the public list. */
 #include "diag.h"
 
-const char *halo_host_embedded(const char *name)
-{
-    if (!name)
-        return NULL;
-    /* Entries are named by their source path ("examples/hosts/raycast.frag"); match
-     * that or the file name alone. */
-    for (const struct halo_embedded_file *f = halo_embedded_hosts; f->name; ++f) {
-        const char *slash = strrchr(f->name, '/');
-        if (strcmp(f->name, name) == 0 || (slash && strcmp(slash + 1, name) == 0))
-            return f->text;
-    }
-    return NULL;
-}
 
 char *halo_host_load(const char *name, const char *override_path, halo_diagnostics *diag)
 {

@@ -4,6 +4,7 @@
 #include "halo.h"
 #include "internal.h"
 #include "diag.h"
+#include "gl/frame.h"
 #include "gl/glfuncs.h"
 
 #include <ctype.h>

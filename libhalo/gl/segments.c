@@ -8,18 +8,11 @@
 #include "halo.h"
 #include "internal.h"
 #include "diag.h"
+#include "gl/frame.h"
 #include "gl/glfuncs.h"
 
 #include <math.h>
 #include <string.h>
-
-/* runtime.c */
-halo_gl *halo_gl_frame_runtime(const halo_gl_frame *fr);
-const halo_program *halo_gl_frame_program(const halo_gl_frame *fr);
-void halo_gl_frame_size(const halo_gl_frame *fr, int *width, int *height);
-unsigned halo_gl_frame_state(halo_gl_frame *fr, int next);
-void halo_gl_frame_state_flip(halo_gl_frame *fr);
-void halo_gl_frame_segments_reset(halo_gl_frame *fr);
 
 #define DEFAULT_FIRST_UNIT 8
 #define MAX_LOCATIONS 16

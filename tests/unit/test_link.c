@@ -2,6 +2,7 @@
  * it emits (halo_program_validate). No GL. */
 #include "check.h"
 #include "internal.h"
+#include "strbuf.h"
 
 static halo_library *library;
 static halo_diagnostics *diags;
