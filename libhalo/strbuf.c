@@ -78,9 +78,10 @@ char *halo_read_file(const char *path, size_t *len) {
     char chunk[65536];
     size_t n;
     while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) halo_strbuf_append_n(&b, chunk, n);
-    int err = ferror(f);
+    int err = ferror(f) ? errno : 0;
     fclose(f);
-    if (err) { halo_strbuf_free(&b); errno = EIO; return NULL; }
+    /* keep the reason: EISDIR ("Is a directory") for a folder, not a bare EIO */
+    if (err) { halo_strbuf_free(&b); errno = err == EISDIR ? EISDIR : EIO; return NULL; }
     size_t l = b.len;
     char *s = halo_strbuf_take(&b);
     if (!s) { errno = ENOMEM; return NULL; }

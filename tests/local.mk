@@ -100,6 +100,7 @@ HALO_SHELL_TESTS = \
 	tests/cli/conform_list.sh \
 	tests/tree_clean.sh \
 	tests/cli/nul_byte.sh \
+	tests/cli/directory.sh \
 	tests/cli/bom.sh \
 	tests/cli/error_limit.sh
 TESTS += $(HALO_SHELL_TESTS)

@@ -109,10 +109,10 @@ static char *read_text(const char *path, int *status) {
             else buf = p;
         }
     }
-    int err = ferror(f);
+    int err = ferror(f) ? (errno ? errno : EIO) : 0;
     fclose(f);
     if (!buf || err) {
-        fprintf(stderr, "%s: error: cannot read: %s\n", path, err ? "read error" : "out of memory");
+        fprintf(stderr, "%s: error: cannot read: %s\n", path, err ? strerror(err) : "out of memory");
         free(buf);
         return NULL;
     }
