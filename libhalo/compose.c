@@ -57,12 +57,14 @@ static void write_sample(halo_strbuf *b, const sample_names *n, const halo_piece
 /* The host the pieces are linked into. */
 static char *pieces_host(const halo_pieces_desc *d, const halo_link_desc *desc) {
     halo_strbuf b = {0};
+    if (desc->target == HALO_TARGET_GLSL150 && desc->location_extension && !desc->unlocated_outputs)
+        halo_strbuf_append(&b, "#extension GL_ARB_explicit_attrib_location : require\n");
     halo_strbuf_append(&b, "#pragma halo declarations\n");
     if (d->gradient_texture) halo_strbuf_append(&b, "#pragma halo gradient piece_gradient\n");
     else if (d->volume) halo_strbuf_append(&b, "#pragma halo volume piece_volume\n");
     if (d->gradient_texture) halo_strbuf_append(&b, "uniform sampler3D piece_gradient;\n");
     if (d->volume) halo_strbuf_append(&b, "uniform sampler3D piece_volume;\n");
-    int located = !desc->unlocated_outputs && desc->target != HALO_TARGET_GLSL150;
+    int located = !desc->unlocated_outputs && (desc->target != HALO_TARGET_GLSL150 || desc->location_extension);
     halo_strbuf_printf(&b, "%sout vec4 piece_output;\n", located ? "layout(location = 0) " : "");
     halo_strbuf_append(&b, "void main() {\n"
                            "    vec3 position = vec3(0.5);\n"
@@ -108,12 +110,12 @@ static int count_lines(const char *text) {
 
 /* Cuts the declarations (the marker's block and the tail after the host's last line) out
  * of the linked pieces host. */
-static int cut_declarations(halo_program *p, const halo_pieces_desc *d) {
+static int cut_declarations(halo_program *p, const halo_pieces_desc *d, int marker_line) {
     int first = -1, last = -1, host_end = -1;
     for (int i = 0; i < p->origin_count; i++) {
         const halo_line_origin *o = &p->origins[i];
         if (o->file != p->host_file) continue;
-        if (o->line == 1) {
+        if (o->line == marker_line) {
             if (first < 0) first = i;
             last = i;
         }
@@ -238,6 +240,10 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
         return NULL;
     }
     char *host = pieces_host(d, desc);
+    /* the marker's line in the pieces host: after its #extension line, if any */
+    int marker_line = 1;
+    for (const char *c = host; c && strncmp(c, "#pragma halo declarations", 25); c = strchr(c, '\n'), c = c ? c + 1 : c)
+        marker_line++;
     if (!host) {
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
         return NULL;
@@ -276,7 +282,7 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
     halo_strbuf sample = {0};
     write_sample(&sample, &names, d);
     char *finish = halo_strdup("halo_finish();\n");
-    if (sample.failed || cut_declarations(p, d) || (p->engine_uniforms && declare_engine_uniforms(p)) || set_generated_piece(p, HALO_PIECE_SAMPLE, halo_strbuf_take(&sample)) ||
+    if (sample.failed || cut_declarations(p, d, marker_line) || (p->engine_uniforms && declare_engine_uniforms(p)) || set_generated_piece(p, HALO_PIECE_SAMPLE, halo_strbuf_take(&sample)) ||
         set_generated_piece(p, HALO_PIECE_FINISH, finish)) {
         halo_strbuf_free(&sample);
         halo_program_destroy(p);

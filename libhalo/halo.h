@@ -331,8 +331,11 @@ typedef struct halo_link_desc {
     halo_version_mode version;   /* the #version line: the target's (default), the host's own, or none */
     int engine_uniforms;         /* 1: live parameters are not declared: the engine declares them from the
                                   * reflection (halo_program_uniform_next), bools as int */
-    int unlocated_outputs;       /* 1: extra outputs without layout(location) (always so for GLSL 150);
-                                  * bind them by name (halo_output_info.location) before linking */
+    int unlocated_outputs;       /* 1: extra outputs without layout(location) (so for GLSL 150 unless
+                                  * location_extension); bind them by name (halo_output_info.location) */
+    int location_extension;      /* GLSL 150: keep layout(location); the shader enables
+                                  * GL_ARB_explicit_attrib_location after its #version (an engine that
+                                  * links the program itself and cannot bind names, such as VTK) */
     const halo_pieces_desc *pieces; /* with host_source NULL: link no host text; the program's pieces
                                   * (halo_program_piece) go into the composer's own shader */
 } halo_link_desc;

@@ -1071,7 +1071,9 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
             "vec4 halo_pass_vec4(vec3 v) { return vec4(v, 0.0); }\n"
             "vec4 halo_pass_vec4(vec4 v) { return v; }");
     char layout[48];
-    GEN(&e, "%sout vec4 halo_pass_output;", halo_output_layout(p, 0, layout, sizeof layout));
+    /* GLSL 150: libhalo's own pass programs name their one output (bound at 0 by the runtime) */
+    GEN(&e, "%sout vec4 halo_pass_output;",
+        p->target == HALO_TARGET_GLSL150 ? "" : halo_output_layout(p, 0, layout, sizeof layout));
     /* Inputs of another size than the output (halo_link_desc.image_scale): a larger one
      * (the full-size seed read by a 1/s pass) gives the max over the s x s block of the
      * pixel, so that no seed is lost; a smaller one its pixel / s. */
@@ -1455,7 +1457,8 @@ static halo_program *link_with_host(const halo_link_desc *desc, host_info *h, ha
     p->kind = desc->kind;
     p->version = desc->version;
     p->engine_uniforms = desc->engine_uniforms != 0;
-    p->unlocated_outputs = desc->unlocated_outputs || p->target == HALO_TARGET_GLSL150;
+    p->unlocated_outputs =
+        desc->unlocated_outputs || (p->target == HALO_TARGET_GLSL150 && !desc->location_extension);
     p->first_location = desc->pieces ? desc->pieces->first_output_location : 0;
     p->host_file = halo_strdup(desc->host_file ? desc->host_file : "host");
     /* a UTF-8 byte-order mark is no part of the shader */

@@ -634,7 +634,7 @@ static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, siz
     GLuint program = f->CreateProgram();
     f->AttachShader(program, vertex);
     f->AttachShader(program, fragment);
-    if (p->unlocated_outputs)
+    if (p->unlocated_outputs || p->target == HALO_TARGET_GLSL150)
         f->BindFragDataLocation(program, 0, "halo_pass_output");
     f->LinkProgram(program);
     f->DetachShader(program, vertex);

@@ -271,15 +271,15 @@ static int test_engine_uniforms(void) {
  * name at the reflection's location), a first location the engine chooses, and a
  * single-pass link of a halo scene refused with the stages named. */
 static int test_pieces_outputs(void) {
-    static const char halo_scene[] = "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {}},"
+    static const char halo_json[] = "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {}},"
                                      " {\"halo_map\": {}}]}";
-    halo_program *p = link_pieces(halo_scene, &engine_names, HALO_TARGET_GLSL150, 0);
+    halo_program *p = link_pieces(halo_json, &engine_names, HALO_TARGET_GLSL150, 0);
     CHECK(p == NULL);
     CHECK(check_find_diag(diags, HALO_MSG_HOST_SINGLE_PASS, 0) != NULL);
     halo_pieces_desc segmented = engine_names;
     segmented.segmented = 1;
     segmented.first_output_location = 3;
-    p = link_pieces(halo_scene, &segmented, HALO_TARGET_GLSL150, 0);
+    p = link_pieces(halo_json, &segmented, HALO_TARGET_GLSL150, 0);
     CHECK(p != NULL);
     CHECK(halo_program_validate(p, diags) == HALO_OK);
     const char *decl = halo_program_piece(p, HALO_PIECE_DECLARATIONS);
@@ -292,8 +292,22 @@ static int test_pieces_outputs(void) {
     for (size_t i = 0; i < halo_program_pass_count(p); i++)
         CHECK(!strstr(halo_program_pass(p, i)->fragment_source, "layout(location"));
     halo_program_destroy(p);
+    /* GLSL 150 with GL_ARB_explicit_attrib_location: located, and the pieces host enables it */
+    halo_diagnostics_clear(diags);
+    halo_scene *hs = halo_scene_parse(halo_json, "h.json", library, diags);
+    CHECK(hs != NULL);
+    p = halo_link(&(halo_link_desc){.library = library, .scene = hs, .pieces = &segmented,
+                                    .target = HALO_TARGET_GLSL150, .location_extension = 1},
+                  diags);
+    halo_scene_destroy(hs);
+    CHECK(p != NULL);
+    CHECK(strstr(halo_program_piece(p, HALO_PIECE_DECLARATIONS), "layout(location = 3) out") != NULL);
+    CHECK(strstr(halo_program_source(p), "#extension GL_ARB_explicit_attrib_location : require") != NULL);
+    if (halo_program_validate(p, diags) != HALO_OK) check_print_diags(diags);
+    CHECK_INT_EQ(halo_diagnostics_errors(diags), 0);
+    halo_program_destroy(p);
     /* the same under 330: located outputs */
-    p = link_pieces(halo_scene, &segmented, HALO_TARGET_GLSL330, 0);
+    p = link_pieces(halo_json, &segmented, HALO_TARGET_GLSL330, 0);
     CHECK(p != NULL);
     CHECK(strstr(halo_program_piece(p, HALO_PIECE_DECLARATIONS), "layout(location = 3) out") != NULL);
     halo_program_destroy(p);
