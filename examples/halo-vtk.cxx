@@ -24,6 +24,7 @@ extern "C" {
 #include <vtkPointData.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
+#include <vtkSmartPointer.h>
 #include <vtkVolume.h>
 #include <vtkVolumeProperty.h>
 
@@ -51,6 +52,8 @@ const char usage_text[] =
     "  --size WxH          image size (default 256x256)\n"
     "  -o FILE             output image, .png or .exr (default halo-vtk.png)\n"
     "  --no-stages         the scene's volume, camera and transfer function, VTK alone\n"
+    "  --plain-mapper      VTK's own vtkGPUVolumeRayCastMapper (one pass: per-sample stages\n"
+    "                      only) instead of halo_vtk_mapper_new's segmented one\n"
     "  --blend MODE        composite (default), mip or additive: VTK's blend mode\n"
     "  --set STAGE.PARAM=V[,V...]  after a first render, change a live parameter and\n"
     "                      render again (prints whether VTK rebuilt its shader)\n"
@@ -66,7 +69,7 @@ int usage_error(const std::string &text) {
 struct options {
     const char *scene = nullptr, *volume = nullptr, *output = "halo-vtk.png", *blend = "composite";
     double window[2] = {0, 0};
-    int have_window = 0, volume_size = 0, width = 256, height = 256, frames = 1, quiet = 0, no_stages = 0;
+    int have_window = 0, volume_size = 0, width = 256, height = 256, frames = 1, quiet = 0, no_stages = 0, plain_mapper = 0;
     std::vector<std::string> sets;
 };
 
@@ -82,6 +85,8 @@ int parse(int argc, char **argv, options *o) {
             o->quiet = 1;
         } else if (a == "--no-stages") {
             o->no_stages = 1;
+        } else if (a == "--plain-mapper") {
+            o->plain_mapper = 1;
         } else if (a == "--scene" && need()) {
             o->scene = v;
         } else if (a == "--volume" && need()) {
@@ -206,7 +211,9 @@ int main(int argc, char **argv) {
     property->ShadeOff();
     property->SetScalarOpacityUnitDistance(1.0 / size);
 
-    vtkNew<vtkGPUVolumeRayCastMapper> mapper;
+    /* libhalo-vtk's mapper: VTK's own, drawn in depth segments when the scene has halos */
+    vtkSmartPointer<vtkGPUVolumeRayCastMapper> mapper;
+    mapper.TakeReference(o.plain_mapper ? vtkGPUVolumeRayCastMapper::New() : halo_vtk_mapper_new());
     mapper->SetInputData(image);
     mapper->AutoAdjustSampleDistancesOff();
     mapper->SetSampleDistance((float)(settings->step / size));
@@ -253,10 +260,7 @@ int main(int argc, char **argv) {
         desc.window[1] = 1.0;
         desc.all_live = !o.sets.empty();
         h = halo_vtk_install(&desc, diag);
-        if (!h) {
-            halo_diagnostics_print(diag, stderr);
-            status = 1;
-        }
+        if (!h) status = 1; /* the diagnostics are printed at the end */
     }
     if (!status) {
         window->Render();

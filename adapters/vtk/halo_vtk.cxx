@@ -14,6 +14,14 @@
 #include "halo_vtk.h"
 
 #include <vtkCallbackCommand.h>
+#include <vtkCamera.h>
+#include <vtkMatrix4x4.h>
+#include <vtkObjectFactory.h>
+#include <vtkOpenGLGPUVolumeRayCastMapper.h>
+#include <vtkOpenGLState.h>
+#include <vtk_glew.h>
+
+#include <dlfcn.h>
 #include <vtkCommand.h>
 #include <vtkGPUVolumeRayCastMapper.h>
 #include <vtkImageData.h>
@@ -44,6 +52,39 @@ const char splice_point[] = "g_srcColor.rgb *= g_srcColor.a;";
 /* After VTK's base declarations: in_volume, the matrices, in_cameraPos. */
 const char declarations_tag[] = "//VTK::Shading::Dec";
 const char file_name[] = "(VTK volume shader)";
+
+/* Host contract 2 in VTK's ray loop (volumetric halos): the loop's samples are
+ * g_dataPos + i g_dirStep, i = 0, 1, ... while g_currentT (= i) < g_terminatePointMax. */
+const char extension_tag[] = "//VTK::System::Dec";
+const char extension_text[] = "//VTK::System::Dec\n#extension GL_ARB_explicit_attrib_location : require\n";
+const char begin_tag[] = "//VTK::Shading::Init";
+const char begin_text[] =
+    "//VTK::Shading::Init\n"
+    "    // ---- libhalo-vtk: this segment's samples of the ray (host contract 2) ----\n"
+    "    float halo_vtk_max = g_terminatePointMax;\n"
+    "    int halo_vtk_first = 0, halo_vtk_end = int(ceil(max(g_terminatePointMax, 0.0))) + 1;\n"
+    "    halo_segment_begin(g_dataPos, g_dirStep, 0.0, 1.0, halo_vtk_first, halo_vtk_end, g_fragColor);\n"
+    "    if (halo_vtk_first >= halo_vtk_end)\n"
+    "        g_exit = true;\n"
+    "    g_dataPos += float(halo_vtk_first) * g_dirStep;\n"
+    "    g_currentT = float(halo_vtk_first);\n"
+    "    g_terminatePointMax = min(g_terminatePointMax, float(halo_vtk_end - 1));\n";
+const char end_tag[] = "//VTK::Shading::Exit";
+const char end_text[] =
+    "//VTK::Shading::Exit\n"
+    "    // the ray has ended unless it stopped at this segment's end\n"
+    "    halo_segment_end(g_fragColor, !(g_currentT >= float(halo_vtk_end - 1) && float(halo_vtk_end - 1) < halo_vtk_max));\n";
+/* early ray termination waits while the stages read every sample (HALO_RAY_MAY_END) */
+const char termination_text[] = "(g_fragColor.a > g_opacityThreshold)";
+const char termination_guarded[] = "(HALO_RAY_MAY_END != 0 && g_fragColor.a > g_opacityThreshold)";
+/* VTK classifies only samples with opacity; the seeds of halos come from every sample
+ * (a transparent one too, as in every libhalo host): let them in while the stages read
+ * every sample */
+const char visible_test[] = "if (g_srcColor.a > 0.0)";
+const char visible_test_guarded[] = "if (g_srcColor.a > 0.0 || HALO_RAY_MAY_END == 0)";
+const char finish_point[] = "gl_FragData[0] = g_fragColor;";
+const char finish_text[] = "gl_FragData[0] = g_fragColor;\n  halo_finish();";
+const int first_unit = 20; /* libhalo's images: above the units VTK's volume mapper takes */
 
 /* Our functions: VTK's conventions to the host contract's (docs/hosts/vtk.md). */
 const char conversions[] =
@@ -116,6 +157,18 @@ struct halo_vtk {
     int last_handle = -1;
     int builds = 0;
     int took = 0;
+    /* volumetric halos: drawn in depth segments by halo_vtk_mapper (libhalo's GL runtime) */
+    int segmented = 0;
+    halo_gl *gl = nullptr;
+    halo_gl_frame *frame = nullptr;
+    int width = 0, height = 0;
+    unsigned framebuffer = 0, color = 0, blit_program = 0, blit_vao = 0;
+    int program_handle = -1;
+    unsigned host_color = 0;
+    int host_color_width = 0, host_color_height = 0;
+    const char *post_image = nullptr; /* the image the last at=post pass writes, or NULL */
+    int failed = 0;                    /* a segmented draw failed (diagnostics in diag) */
+    halo_diagnostics *diag = nullptr; /* the install's: GL errors of the segmented draws */
 };
 
 namespace {
@@ -158,14 +211,8 @@ void upload_all(halo_vtk *h, std::vector<std::string> *names) {
     while (halo_program_uniform_next(h->program, &cursor, &d)) set_uniform(u, d, names);
 }
 
-/* After the mapper's render, the ray-casting program is the one the render window's
- * shader cache bound last (VTK 9.1 sends no UpdateShaderEvent from the volume mapper):
- * note each new one and whether the stages are in it. */
-void on_render_end(vtkObject *, unsigned long, void *client, void *) {
-    halo_vtk *h = static_cast<halo_vtk *>(client);
-    vtkOpenGLRenderWindow *window =
-        h->renderer ? vtkOpenGLRenderWindow::SafeDownCast(h->renderer->GetRenderWindow()) : nullptr;
-    vtkShaderProgram *program = window ? window->GetShaderCache()->GetLastShaderBound() : nullptr;
+/* Notes the program VTK drew the volume with, and whether the stages are in it. */
+void note_program(halo_vtk *h, vtkShaderProgram *program) {
     if (!program || !program->GetFragmentShader()) return;
     if (program->GetFragmentShader()->GetSource().find("g_srcColor") == std::string::npos) return;
     int handle = program->GetHandle();
@@ -176,7 +223,269 @@ void on_render_end(vtkObject *, unsigned long, void *client, void *) {
     h->builds++;
 }
 
+/* After the mapper's render, the ray-casting program is the one the render window's
+ * shader cache bound last (VTK 9.1 sends no UpdateShaderEvent from the volume mapper). */
+void on_render_end(vtkObject *, unsigned long, void *client, void *) {
+    halo_vtk *h = static_cast<halo_vtk *>(client);
+    vtkOpenGLRenderWindow *window =
+        h->renderer ? vtkOpenGLRenderWindow::SafeDownCast(h->renderer->GetRenderWindow()) : nullptr;
+    if (window) note_program(h, window->GetShaderCache()->GetLastShaderBound());
+}
+
 } // namespace
+
+
+/* ---- Volumetric halos: VTK's mapper drawn once per depth segment ---- */
+
+namespace {
+
+void *gl_proc(const char *name) {
+    static void *(*get)(const unsigned char *) = nullptr;
+    if (!get) get = (void *(*)(const unsigned char *))dlsym(RTLD_DEFAULT, "glXGetProcAddressARB");
+    void *p = get ? get((const unsigned char *)name) : nullptr;
+    return p ? p : dlsym(RTLD_DEFAULT, name);
+}
+
+/* clip space -> volume texture space, column-major: libhalo's segment planes are in the
+ * space of the ray positions (g_dataPos) */
+void texture_from_clip(vtkRenderer *ren, vtkVolume *vol, vtkImageData *image, float out[16]) {
+    int dims[3];
+    double spacing[3], origin[3];
+    image->GetDimensions(dims);
+    image->GetSpacing(spacing);
+    image->GetOrigin(origin);
+    /* texture t in [0,1]^3 covers the cells around the points: world = origin + (t n - 1/2) spacing */
+    vtkNew<vtkMatrix4x4> t2d;
+    for (int a = 0; a < 3; a++) {
+        t2d->SetElement(a, a, dims[a] * spacing[a]);
+        t2d->SetElement(a, 3, origin[a] - 0.5 * spacing[a]);
+    }
+    vtkNew<vtkMatrix4x4> t2w, t2c, c2t;
+    vtkMatrix4x4::Multiply4x4(vol->GetMatrix(), t2d, t2w);
+    double aspect[2];
+    ren->ComputeAspect();
+    ren->GetAspect(aspect);
+    vtkMatrix4x4 *w2c = ren->GetActiveCamera()->GetCompositeProjectionTransformMatrix(aspect[0] / aspect[1], -1, 1);
+    vtkMatrix4x4::Multiply4x4(w2c, t2w, t2c);
+    vtkMatrix4x4::Invert(t2c, c2t);
+    for (int c = 0; c < 4; c++)
+        for (int r = 0; r < 4; r++) out[c * 4 + r] = (float)c2t->GetElement(r, c);
+}
+
+/* The image plane's axes (halo_host_screen_right, _up: directional halos) in the space
+ * of the adapter's view and gradient, voxel index space. */
+void set_screen_axes(vtkRenderer *ren, vtkVolume *vol, vtkImageData *image, unsigned program) {
+    double spacing[3], up[3], dop[3], right[3];
+    image->GetSpacing(spacing);
+    vtkCamera *camera = ren->GetActiveCamera();
+    camera->GetViewUp(up);
+    camera->GetDirectionOfProjection(dop);
+    right[0] = dop[1] * up[2] - dop[2] * up[1];
+    right[1] = dop[2] * up[0] - dop[0] * up[2];
+    right[2] = dop[0] * up[1] - dop[1] * up[0];
+    /* index = inverse(volume matrix * diag(spacing)) world, for directions */
+    vtkNew<vtkMatrix4x4> i2w, w2i;
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) i2w->SetElement(r, c, vol->GetMatrix()->GetElement(r, c) * spacing[c]);
+    vtkMatrix4x4::Invert(i2w, w2i);
+    const char *names[2] = {"halo_host_screen_right", "halo_host_screen_up"};
+    const double *axes[2] = {right, up};
+    GLint saved = 0;
+    glGetIntegerv(GL_CURRENT_PROGRAM, &saved);
+    glUseProgram(program);
+    for (int k = 0; k < 2; k++) {
+        double v[3], n = 0.0;
+        for (int r = 0; r < 3; r++) {
+            v[r] = w2i->GetElement(r, 0) * axes[k][0] + w2i->GetElement(r, 1) * axes[k][1] + w2i->GetElement(r, 2) * axes[k][2];
+            n += v[r] * v[r];
+        }
+        n = n > 0.0 ? 1.0 / std::sqrt(n) : 0.0;
+        GLint at = glGetUniformLocation(program, names[k]);
+        if (at >= 0) glUniform3f(at, (float)(v[0] * n), (float)(v[1] * n), (float)(v[2] * n));
+    }
+    glUseProgram((GLuint)saved);
+}
+
+GLuint compile(GLenum type, const char *text) {
+    GLuint sh = glCreateShader(type);
+    glShaderSource(sh, 1, &text, nullptr);
+    glCompileShader(sh);
+    return sh;
+}
+
+/* texture over VTK's framebuffer (premultiplied, or replacing it): one full-screen triangle */
+void blit(halo_vtk *h, unsigned texture, int blend) {
+    if (!h->blit_program) {
+        const char *vs = "#version 150\nout vec2 uv;\nvoid main() {\n"
+                         "    vec2 c = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
+                         "    uv = c; gl_Position = vec4(c * 2.0 - 1.0, 0.0, 1.0);\n}\n";
+        const char *fs = "#version 150\nin vec2 uv;\nout vec4 color;\nuniform sampler2D image;\n"
+                         "void main() { color = texture(image, uv); }\n";
+        GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
+        h->blit_program = glCreateProgram();
+        glAttachShader(h->blit_program, v);
+        glAttachShader(h->blit_program, f);
+        glBindFragDataLocation(h->blit_program, 0, "color");
+        glLinkProgram(h->blit_program);
+        glDeleteShader(v);
+        glDeleteShader(f);
+        glGenVertexArrays(1, &h->blit_vao);
+    }
+    glUseProgram(h->blit_program);
+    glActiveTexture(GL_TEXTURE0 + first_unit);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glUniform1i(glGetUniformLocation(h->blit_program, "image"), first_unit);
+    glBindVertexArray(h->blit_vao);
+    glDisable(GL_DEPTH_TEST);
+    if (blend) {
+        glEnable(GL_BLEND);
+        glBlendFuncSeparate(GL_ONE, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+    } else {
+        glDisable(GL_BLEND);
+    }
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindTexture(GL_TEXTURE_2D, 0);
+}
+
+} // namespace
+
+/* The mapper for volumetric halos (halo_vtk_mapper_new): VTK's own, drawn by libhalo's
+ * runtime once per depth segment into libhalo's frame, the passes run between, and the
+ * result composited over VTK's framebuffer. */
+class haloVTKMapper : public vtkOpenGLGPUVolumeRayCastMapper {
+public:
+    static haloVTKMapper *New();
+    vtkTypeMacro(haloVTKMapper, vtkOpenGLGPUVolumeRayCastMapper);
+    halo_vtk *halo = nullptr;
+    vtkRenderer *draw_renderer = nullptr;
+    vtkVolume *draw_volume = nullptr;
+
+protected:
+    void GPURender(vtkRenderer *ren, vtkVolume *vol) override;
+    static void draw(void *user);
+};
+vtkStandardNewMacro(haloVTKMapper);
+
+void haloVTKMapper::draw(void *user) {
+    haloVTKMapper *m = static_cast<haloVTKMapper *>(user);
+    halo_vtk *h = m->halo;
+    /* one fragment per pixel: each target written this segment starts from zero, so that
+     * VTK's blending of the volume leaves the shader's values as they are */
+    static const float zero[4] = {0, 0, 0, 0};
+    glClearBufferfv(GL_COLOR, 0, zero);
+    int state = halo_program_segment_location(h->program);
+    if (state > 0) glClearBufferfv(GL_COLOR, state, zero);
+    vtkOpenGLRenderWindow *win = vtkOpenGLRenderWindow::SafeDownCast(m->draw_renderer->GetRenderWindow());
+    win->GetState()->Reset(); /* VTK's state cache: what libhalo bound is current */
+    m->vtkOpenGLGPUVolumeRayCastMapper::GPURender(m->draw_renderer, m->draw_volume);
+    note_program(h, win->GetShaderCache()->GetLastShaderBound());
+    win->GetState()->Reset();
+}
+
+void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
+    halo_vtk *h = this->halo;
+    if (!h || !h->segmented) {
+        this->vtkOpenGLGPUVolumeRayCastMapper::GPURender(ren, vol);
+        return;
+    }
+    vtkOpenGLRenderWindow *win = vtkOpenGLRenderWindow::SafeDownCast(ren->GetRenderWindow());
+    vtkOpenGLState *ostate = win->GetState();
+    int w, h_, x0, y0;
+    ren->GetTiledSizeAndOrigin(&w, &h_, &x0, &y0);
+    if (!h->gl) {
+        halo_gl_desc gd = {gl_proc};
+        h->gl = halo_gl_create(&gd, h->diag);
+        if (!h->gl) return;
+    }
+    ostate->Push();
+    ostate->PushFramebufferBindings();
+    GLint vtk_framebuffer = 0;
+    glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &vtk_framebuffer);
+    if (!h->frame || w != h->width || h_ != h->height) {
+        halo_gl_frame_destroy(h->frame);
+        h->frame = halo_gl_frame_create(h->gl, h->program, w, h_, h->diag);
+        if (!h->color) glGenTextures(1, &h->color);
+        glBindTexture(GL_TEXTURE_2D, h->color);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA16F, w, h_, 0, GL_RGBA, GL_FLOAT, nullptr);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        if (!h->framebuffer) glGenFramebuffers(1, &h->framebuffer);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, h->framebuffer);
+        glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, h->color, 0);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)vtk_framebuffer);
+        h->width = w;
+        h->height = h_;
+    }
+    if (!h->frame) {
+        ostate->PopFramebufferBindings();
+        ostate->Pop();
+        return;
+    }
+    this->halo = h;
+    this->draw_renderer = ren;
+    this->draw_volume = vol;
+    glViewport(0, 0, w, h_);
+    if (h->program_handle < 0) {
+        /* VTK builds its shader on its first draw: one draw to learn the program */
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, h->framebuffer);
+        ostate->Reset();
+        this->vtkOpenGLGPUVolumeRayCastMapper::GPURender(ren, vol);
+        vtkShaderProgram *prog = win->GetShaderCache()->GetLastShaderBound();
+        note_program(h, prog);
+        h->program_handle = prog ? prog->GetHandle() : 0;
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)vtk_framebuffer);
+    }
+    vtkImageData *image = vtkImageData::SafeDownCast(this->GetInput());
+    float inverse[16];
+    texture_from_clip(ren, vol, image, inverse);
+    int dims[3];
+    double spacing[3];
+    image->GetDimensions(dims);
+    image->GetSpacing(spacing);
+    halo_gl_segments_desc sd = {};
+    sd.inverse_view_projection = inverse;
+    sd.step = (float)(this->GetSampleDistance() / (dims[0] * spacing[0]));
+    sd.framebuffer = h->framebuffer;
+    sd.first_unit = first_unit + 1;
+    sd.draw = &haloVTKMapper::draw;
+    sd.user = this;
+    set_screen_axes(ren, vol, image, (unsigned)h->program_handle);
+    if (halo_gl_frame_draw(h->frame, (unsigned)h->program_handle, &sd, h->diag) != HALO_OK) h->failed = 1;
+    /* the volume over VTK's framebuffer */
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)vtk_framebuffer);
+    glViewport(x0, y0, w, h_);
+    blit(h, h->color, 1);
+    if (h->post_image) {
+        /* at=post passes (outlines): on VTK's whole image, which then shows their result */
+        if (!h->host_color) glGenTextures(1, &h->host_color);
+        glActiveTexture(GL_TEXTURE0 + first_unit);
+        glBindTexture(GL_TEXTURE_2D, h->host_color);
+        if (h->host_color_width != w || h->host_color_height != h_) {
+            glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA16F, w, h_, 0, GL_RGBA, GL_FLOAT, nullptr);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            h->host_color_width = w;
+            h->host_color_height = h_;
+        }
+        GLint read_framebuffer = 0;
+        glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_framebuffer);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)vtk_framebuffer);
+        glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, x0, y0, w, h_);
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)read_framebuffer);
+        glBindTexture(GL_TEXTURE_2D, 0);
+        halo_gl_frame_post(h->frame, h->host_color);
+        unsigned result = halo_gl_frame_texture(h->frame, h->post_image);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)vtk_framebuffer);
+        glViewport(x0, y0, w, h_);
+        if (result) blit(h, result, 0);
+        else h->failed = 1;
+    }
+    ostate->PopFramebufferBindings();
+    ostate->Pop();
+}
+
+vtkGPUVolumeRayCastMapper *halo_vtk_mapper_new(void) { return haloVTKMapper::New(); }
 
 halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     if (!desc || !desc->mapper || !desc->volume || !desc->renderer || !desc->library) {
@@ -219,26 +528,50 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
                   "the mapper has a mask input: VTK's masked shading has no splice point for libhalo's stages");
         return nullptr;
     }
+    /* halo_vtk_mapper_new's mapper draws in depth segments: every stage; VTK's own, one pass */
+    haloVTKMapper *segmenting = haloVTKMapper::SafeDownCast(mapper);
+    halo_pieces_desc names = vtk_names;
+    names.segmented = segmenting != nullptr;
+    names.first_output_location = 1; /* VTK's colour is fragOutput0 */
     halo_link_desc link = {};
     link.library = desc->library;
     link.scene = desc->scene;
     link.all_live = desc->all_live;
     link.target = HALO_TARGET_GLSL150;
     link.engine_uniforms = 1;
-    link.pieces = &vtk_names;
+    link.location_extension = 1;
+    link.pieces = &names;
     halo_program *program = halo_link(&link, diag);
     if (!program) return nullptr;
-    if (halo_program_output_count(program) || halo_program_pass_count(program)) {
+    if (!segmenting && (halo_program_output_count(program) || halo_program_pass_count(program))) {
         std::string stages;
         for (size_t i = 0; i < halo_program_stage_count(program); i++)
             stages += (stages.empty() ? "" : ", ") + std::string(halo_program_stage(program, i));
         add_error(diag, HALO_MSG_HOST_SINGLE_PASS,
                   "the scene's stages (" + stages +
                       ") include some that write extra outputs or run image passes (volumetric halos, outlines, "
-                      "feature halos): VTK's single-pass ray caster cannot run them through this adapter yet "
-                      "(docs/hosts/vtk.md)");
+                      "feature halos): VTK's single-pass mapper cannot run them; create the mapper with "
+                      "halo_vtk_mapper_new(), which draws it in depth segments (docs/hosts/vtk.md)");
         halo_program_destroy(program);
         return nullptr;
+    }
+    for (size_t i = 0; i < halo_program_host_uniform_count(program); i++) {
+        const char *name = halo_program_host_uniform(program, i)->name;
+        /* a segmentation is read only for features with a label: without one, no labels needed */
+        int labels_unused = 0;
+        if (!strcmp(name, "halo_host_labels")) {
+            const halo_uniform_info *u = halo_program_find_uniform(program, "outline_feature", "label");
+            labels_unused = u && !u->live;
+            for (int k = 0; labels_unused && k < u->count; k++) labels_unused = u->value[k] < 0.0;
+        }
+        if (strcmp(name, "halo_host_screen_right") && strcmp(name, "halo_host_screen_up") && !labels_unused) {
+            add_error(diag, HALO_MSG_ENGINE_UNSUPPORTED,
+                      std::string("the scene's stages need the host uniform '") + name + "' (" +
+                          halo_program_host_uniform(program, i)->meaning +
+                          "): the VTK adapter does not provide it yet (docs/hosts/vtk.md)");
+            halo_program_destroy(program);
+            return nullptr;
+        }
     }
     if (halo_program_validate(program, diag) != HALO_OK) {
         halo_program_destroy(program);
@@ -278,6 +611,19 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
                 "g_srcColor.a = halo_vtk_correct(g_srcColor.a, halo_vtk_exponent());\n" + splice_point;
     property->AddFragmentShaderReplacement(declarations_tag, true, h->declarations, false);
     property->AddFragmentShaderReplacement(splice_point, false, h->sample, false);
+    if (segmenting) {
+        h->segmented = halo_program_output_count(program) || halo_program_pass_count(program);
+        for (size_t i = 0; i < halo_program_pass_count(program); i++)
+            if (halo_program_pass(program, i)->post) h->post_image = halo_program_pass(program, i)->output;
+        h->diag = diag;
+        segmenting->halo = h;
+        property->AddFragmentShaderReplacement(extension_tag, true, extension_text, false);
+        property->AddFragmentShaderReplacement(begin_tag, true, begin_text, false);
+        property->AddFragmentShaderReplacement(end_tag, true, end_text, false);
+        property->AddFragmentShaderReplacement(termination_text, false, termination_guarded, false);
+        property->AddFragmentShaderReplacement(finish_point, false, finish_text, false);
+        property->AddFragmentShaderReplacement(visible_test, false, visible_test_guarded, false);
+    }
     h->observer = vtkSmartPointer<vtkCallbackCommand>::New();
     h->observer->SetCallback(on_render_end);
     h->observer->SetClientData(h);
@@ -289,6 +635,17 @@ void halo_vtk_remove(halo_vtk *h) {
     if (!h) return;
     h->property->ClearFragmentShaderReplacement(declarations_tag, true);
     h->property->ClearFragmentShaderReplacement(splice_point, false);
+    if (haloVTKMapper *m = haloVTKMapper::SafeDownCast(h->mapper)) {
+        m->halo = nullptr;
+        h->property->ClearFragmentShaderReplacement(extension_tag, true);
+        h->property->ClearFragmentShaderReplacement(begin_tag, true);
+        h->property->ClearFragmentShaderReplacement(end_tag, true);
+        h->property->ClearFragmentShaderReplacement(termination_text, false);
+        h->property->ClearFragmentShaderReplacement(finish_point, false);
+        h->property->ClearFragmentShaderReplacement(visible_test, false);
+    }
+    halo_gl_frame_destroy(h->frame);
+    halo_gl_destroy(h->gl); /* GL names of the frame, the FBO and the blit go with the context */
     vtkUniforms *u = h->property->GetFragmentCustomUniforms();
     for (const std::string &name : h->uniforms) u->RemoveUniform(name.c_str());
     h->mapper->RemoveObserver(h->observer_tag);
@@ -317,6 +674,10 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag) {
     if (h->last_source.empty()) {
         add_error(diag, HALO_MSG_ENGINE_UNSUPPORTED,
                   "VTK has not built its volume shader yet (render once before halo_vtk_check)");
+        return HALO_ERROR_INPUT;
+    }
+    if (h->failed) {
+        add_error(diag, HALO_MSG_GL_LINK, "drawing the volume in depth segments failed (see the diagnostics above)");
         return HALO_ERROR_INPUT;
     }
     if (!h->took) {

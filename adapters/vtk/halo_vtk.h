@@ -35,6 +35,11 @@ typedef struct halo_vtk_desc {
  * label mask, or stages that need image passes (volumetric halos, outlines, feature
  * halos: halo_vtk_slabs, docs/hosts/vtk.md). */
 halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag);
+/* A vtkGPUVolumeRayCastMapper (VTK's OpenGL one, subclassed) that draws the volume once
+ * per depth segment with libhalo's image passes between: install a scene with volumetric
+ * halos into it. Without such a scene it renders as VTK's own. Delete() it as any VTK
+ * object. */
+vtkGPUVolumeRayCastMapper *halo_vtk_mapper_new(void);
 /* Removes the replacements and uniforms; the mapper renders as VTK's own again. */
 void halo_vtk_remove(halo_vtk *h);
 /* A live parameter's new value: a uniform update, no shader rebuild. */
