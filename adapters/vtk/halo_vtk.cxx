@@ -542,6 +542,10 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     link.location_extension = 1;
     link.pieces = &names;
     halo_program *program = halo_link(&link, diag);
+    if (!program && !segmenting && halo_diagnostics_has(diag, HALO_MSG_HOST_SINGLE_PASS))
+        halo_diagnostics_report(diag, HALO_SEVERITY_NOTE, HALO_MSG_HOST_SINGLE_PASS, nullptr, 0, 0,
+                                "in VTK: create the mapper with halo_vtk_mapper_new(), which draws VTK's volume "
+                                "in depth segments (docs/hosts/vtk.md)");
     if (!program) return nullptr;
     if (!segmenting && (halo_program_output_count(program) || halo_program_pass_count(program))) {
         std::string stages;
