@@ -76,6 +76,9 @@ static void usage(FILE *out)
           "                     feature_halo) off: the same scene and host without halos\n"
           "  --halo-scale S     halo images at 1/S of the image per side: 1 (default), 2 or 4\n"
           "                     (faster image passes; docs/performance.md)\n"
+          "  --gradient-format F  the slice and slab hosts' gradient texture: float (RGB32F),\n"
+          "                     half (RGB16F, the default) or snorm8 (RGB8_SNORM, scaled to the\n"
+          "                     volume's largest gradient); docs/performance.md\n"
           "  --max-error E      measure a sweep of configurations (slice or slab host, M, N,\n"
           "                     halo image precision and resolution, step) of this scene,\n"
           "                     volume and image against the exact reference and render with\n"
@@ -194,13 +197,14 @@ typedef struct options {
     host_kind host;
     int raw, have_raw_type, have_raw_extra;
     int halo_scale, have_halo_scale;
+    halo_gradient_format gradient_format;
     halo_raw_desc raw_desc;
 } options;
 
 static const char *const valued_options[] = {
     "--scene", "-o", "--output", "--size", "--azimuth", "--elevation", "--zoom", "--volume-size", "--volume",
     "--raw-dims", "--raw-type", "--raw-endian", "--raw-offset", "--raw-spacing", "--window", "--host", "--max-error",
-    "--labels", "--halo-scale", NULL};
+    "--labels", "--halo-scale", "--gradient-format", NULL};
 
 /* Returns 0 to go on, -1 to exit 0 (help), or an exit status. */
 static int parse_options(int argc, char **argv, options *o)
@@ -244,7 +248,12 @@ static int parse_options(int argc, char **argv, options *o)
             o->volume_path = value;
         else if (!strcmp(a, "--labels"))
             o->labels_path = value;
-        else if (!strcmp(a, "--halo-scale")) {
+        else if (!strcmp(a, "--gradient-format")) {
+            char err[128];
+            ok = halo_gradient_format_option(value, &o->gradient_format, err, sizeof err);
+            if (!ok)
+                fprintf(stderr, "halo-render: error: %s\n", err);
+        } else if (!strcmp(a, "--halo-scale")) {
             ok = o->have_halo_scale = parse_int(a, value, 1, 4, &o->halo_scale);
             if (ok && o->halo_scale == 3) {
                 fprintf(stderr, "halo-render: error: --halo-scale: 3 is not 1, 2 or 4\n");
@@ -346,6 +355,10 @@ static int parse_options(int argc, char **argv, options *o)
     }
     if (o->labels_path && o->host == HOST_RAYCAST) {
         fprintf(stderr, "halo-render: error: --labels: the raycast host has no label texture; use slice or slab\n");
+        return 2;
+    }
+    if (o->gradient_format && o->have_max_error) {
+        fprintf(stderr, "halo-render: error: --max-error chooses the gradient format: not with --gradient-format\n");
         return 2;
     }
     if (o->have_halo_scale && o->have_max_error) {
@@ -816,11 +829,12 @@ static char *budget_scene_text(const options *o, const char *scene_text)
 
 /* Runs the error budget (validate/bench_budget.c) on the scene, volume and image size
  * and applies its choice to the scene (N, step) and to *kind, *precision, *scale,
- * *interval.
+ * *interval, *gradient.
  * Returns an exit status. */
 static int apply_budget(const options *o, const char *scene_text, halo_library *lib, halo_gl *runtime,
                         const float *volume, int size, int scene_passes, halo_scene *scene, host_kind *kind,
-                        int *precision, int *scale, int *interval, halo_diagnostics *diag)
+                        int *precision, int *scale, int *interval, halo_gradient_format *gradient,
+                        halo_diagnostics *diag)
 {
     char *text = budget_scene_text(o, scene_text);
     if (!text) {
@@ -866,6 +880,8 @@ static int apply_budget(const options *o, const char *scene_text, halo_library *
     *precision = choice.precision;
     *scale = choice.scale;
     *interval = choice.interval;
+    if (choice.gradient)
+        *gradient = (halo_gradient_format)choice.gradient;
     return 0;
 }
 
@@ -1060,7 +1076,7 @@ int main(int argc, char **argv)
         int scene_passes = u && u->value ? (int)u->value[0] : 0;
         int precision = 32, scale = 1;
         status = apply_budget(&o, scene_text, lib, runtime, volume, size, scene_passes, scene, &kind, &precision,
-                              &scale, &interval, diag);
+                              &scale, &interval, &o.gradient_format, diag);
         if (status)
             goto done;
         status = 1;
@@ -1106,6 +1122,7 @@ int main(int argc, char **argv)
         }
         halo_raycast_set_camera(host.raycast, azimuth, elevation, zoom);
     } else {
+        halo_slice_set_gradient_format(host.slice, o.gradient_format);
         if (halo_slice_set_volume(host.slice, volume, size, size, size, diag) != HALO_OK ||
             halo_slice_set_render(host.slice, settings, diag) != HALO_OK) {
             status = 2;
@@ -1113,6 +1130,9 @@ int main(int argc, char **argv)
         }
         halo_slice_set_camera(host.slice, azimuth, elevation, zoom);
         halo_slice_set_interval(host.slice, interval);
+        if (!o.quiet && halo_slice_reads_gradients(host.slice))
+            fprintf(stderr, "halo-render: gradient texture: %s\n",
+                    halo_gradient_format_name(halo_slice_gradient_format(host.slice)));
         if (!labels && has_label_feature(program))
             fprintf(stderr, "halo-render: warning: the scene's label features (outline_feature label >= 0) need "
                             "--labels FILE: without it they are empty\n");
@@ -1129,6 +1149,10 @@ int main(int argc, char **argv)
     if (feature &&
         !feature_update(&feature_buffer, runtime, program, &host, volume, size, o.quiet, diag))
         goto done;
+    /* the hosts have the volume in textures and the feature buffer has its own copy:
+     * nothing reads the float copy any more (4 bytes a voxel) */
+    free(volume);
+    volume = NULL;
     if (host.raycast) {
         progress_begin(&step, o.quiet, what);
         rendered = halo_raycast_render(host.raycast, image, diag);

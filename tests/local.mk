@@ -198,7 +198,8 @@ HALO_RENDER_TESTS = \
 	tests/render/mri.sh \
 	tests/render/max_error.sh \
 	tests/render/bench.sh \
-	tests/render/features.sh
+	tests/render/features.sh \
+	tests/render/gradient_format.sh
 TESTS += $(HALO_RENDER_TESTS)
 EXTRA_DIST += $(HALO_RENDER_TESTS) tests/render/common.sh \
 	tests/data/volumes/sphere.nii tests/data/volumes/sphere.nii.gz

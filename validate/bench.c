@@ -82,8 +82,8 @@ static void bench_usage(FILE *out)
 {
     fputs("Usage: halo-validate bench [OPTIONS]\n"
           "Speed against error of the approximations of one scene (docs/performance.md): M (1..16),\n"
-          "N (1..6), halo image precision (32/16/8 bits), sampling distance, slab ray caster against\n"
-          "slices; each configuration's median frame time, measured in the same run as the renders\n"
+          "N (1..6), halo image precision (32/16/8 bits), the gradient texture (float/half/snorm8),\n"
+          "sampling distance, slab ray caster against slices; each configuration's median frame time, measured in the same run as the renders\n"
           "without halos, and its error against the exact reference (M = 1, float32, the finest\n"
           "sampling). Progress on stderr.\n"
           "  --size N         image side in pixels, 16..2048 (default 512)\n"
@@ -162,9 +162,11 @@ static void print_sweep(const bench_options *o, const halo_bench_env *env, const
     printf("# %%ref: the frame rate as a percentage of the same host's render without halos at the same step\n");
     printf("# %s\n", resolution_note);
     printf("# halo_err: max abs against M = 1 of the slice host at the same step (the halo approximations alone)\n");
-    printf("%-10s %-5s %3s %2s %4s %4s %5s %5s %6s %9s %9s %7s %10s %10s %8s %10s %s\n", "axis", "host", "M", "N",
-           "bits", "res", "step", "draws", "passes", "ms/frame", "nohalo_ms", "%ref", "max_abs", "rmse", ">1/255",
-           "halo_err", "pareto");
+    printf("# grad: the gradient texture (float RGB32F, half RGB16F, snorm8 RGB8_SNORM); grad_err: max abs against the\n"
+           "# same configuration with float gradients\n");
+    printf("%-10s %-5s %3s %2s %4s %4s %5s %6s %5s %6s %9s %9s %7s %10s %10s %8s %10s %10s %s\n", "axis", "host", "M",
+           "N", "bits", "res", "step", "grad", "draws", "passes", "ms/frame", "nohalo_ms", "%ref", "max_abs", "rmse",
+           ">1/255", "halo_err", "grad_err", "pareto");
     for (size_t i = 0; i < count; ++i) {
         const halo_bench_case *c = &cases[i];
         const halo_bench_config *k = &c->config;
@@ -175,14 +177,16 @@ static void print_sweep(const bench_options *o, const halo_bench_env *env, const
             snprintf(errors, sizeof errors, "%10s %10s %8s", "-", "-", "-");
         if (ref && c->seconds > 0.0)
             snprintf(percent, sizeof percent, "%.1f%%", 100.0 * ref->seconds / c->seconds);
-        char halo_err[16] = "-";
+        char halo_err[16] = "-", grad_err[16] = "-";
         if (k->halos && !isnan(c->halo_max_abs))
             snprintf(halo_err, sizeof halo_err, "%.3e", c->halo_max_abs);
-        printf("%-10s %-5s %3d %2d %4d %4s %5.2f %5ld %6ld %9.1f %9.1f %7s %s %10s %s%s\n", c->axis, host_name(k),
-               k->interval, k->halos ? k->passes : 0, k->halos ? k->precision : 0,
-               k->halos ? halo_bench_resolution(k) : "-", k->step, c->draws, c->pass_draws,
-               c->seconds * 1e3, ref ? ref->seconds * 1e3 : NAN, percent, errors, halo_err, c->pareto ? "*" : "",
-               c->nonfinite ? "  NONFINITE" : "");
+        if (k->halos && !isnan(c->gradient_max_abs))
+            snprintf(grad_err, sizeof grad_err, "%.3e", c->gradient_max_abs);
+        printf("%-10s %-5s %3d %2d %4d %4s %5.2f %6s %5ld %6ld %9.1f %9.1f %7s %s %10s %10s %s%s\n", c->axis,
+               host_name(k), k->interval, k->halos ? k->passes : 0, k->halos ? k->precision : 0,
+               k->halos ? halo_bench_resolution(k) : "-", k->step, k->halos ? halo_bench_gradient(k) : "-", c->draws,
+               c->pass_draws, c->seconds * 1e3, ref ? ref->seconds * 1e3 : NAN, percent, errors, halo_err, grad_err,
+               c->pareto ? "*" : "", c->nonfinite ? "  NONFINITE" : "");
     }
 }
 
@@ -194,7 +198,7 @@ static int write_csv(const char *path, const halo_bench_case *cases, size_t coun
         return 0;
     }
     fprintf(out, "axis,host,halos,M,N,precision,step,resolution,draws,passes,ms,nohalo_ms,percent_ref,max_abs,rmse,"
-                 "share_over_1_255,halo_max_abs,nonfinite,pareto\n");
+                 "share_over_1_255,halo_max_abs,nonfinite,pareto,gradient,gradient_max_abs\n");
     for (size_t i = 0; i < count; ++i) {
         const halo_bench_case *c = &cases[i];
         const halo_bench_config *k = &c->config;
@@ -207,7 +211,11 @@ static int write_csv(const char *path, const halo_bench_case *cases, size_t coun
             fprintf(out, "%.6e,%.6e,%.6f,%.6e,", c->max_abs, c->rmse, c->share_over, c->halo_max_abs);
         else
             fprintf(out, ",,,,");
-        fprintf(out, "%ld,%d\n", c->nonfinite, c->pareto);
+        fprintf(out, "%ld,%d,%s,", c->nonfinite, c->pareto, k->halos ? halo_bench_gradient(k) : "");
+        if (k->halos && !isnan(c->gradient_max_abs))
+            fprintf(out, "%.6e\n", c->gradient_max_abs);
+        else
+            fprintf(out, "\n");
     }
     int ok = fclose(out) == 0;
     if (!ok)

@@ -61,11 +61,12 @@ halo_status halo_bench_budget(const halo_bench_env *env, int scene_passes, doubl
     const halo_bench_config *k = &cases[chosen].config;
     if (report)
         fprintf(report,
-                "budget: max error %g: %s, M = %d, N = %d, %d-bit halo images at %s resolution, step %g voxel: %.1f "
+                "budget: max error %g: %s, M = %d, N = %d, %d-bit halo images at %s resolution, step %g voxel, %s "
+                "gradients: %.1f "
                 "ms/frame, max abs "
                 "error %.3e (sweep) / %.1f ms, %.3e (verified: %s); the exact reference %.1f ms\n",
                 max_error, k->slab ? "slab" : "slice", k->interval, k->passes, k->precision, halo_bench_resolution(k),
-                k->step,
+                k->step, halo_bench_gradient(k),
                 cases[chosen].seconds * 1e3, cases[chosen].max_abs, check.seconds * 1e3, check.max_abs,
                 verified ? "within" : "NOT within", cases[0].seconds * 1e3);
     *choice = *k;

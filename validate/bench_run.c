@@ -36,9 +36,15 @@ static void describe(const halo_bench_case *c, char *out, size_t size)
     else if (k->no_generation)
         snprintf(out, size, "%s, seeding and mapping only", halo_bench_host_name(k));
     else
-        snprintf(out, size, "%s, M = %d, N = %d, %d-bit, %s resolution, step %g%s", halo_bench_host_name(k),
-                 k->interval, k->passes, k->precision, halo_bench_resolution(k), k->step,
-                 k->all_live ? ", all live" : "");
+        snprintf(out, size, "%s, M = %d, N = %d, %d-bit, %s resolution, step %g, %s gradients%s",
+                 halo_bench_host_name(k), k->interval, k->passes, k->precision, halo_bench_resolution(k), k->step,
+                 halo_bench_gradient(k), k->all_live ? ", all live" : "");
+}
+
+const char *halo_bench_gradient(const halo_bench_config *k)
+{
+    const char *name = halo_gradient_format_name((halo_gradient_format)k->gradient);
+    return name ? name : halo_gradient_format_name(HALO_GRADIENT_FORMAT_DEFAULT);
 }
 
 const char *halo_bench_resolution(const halo_bench_config *k)
@@ -127,6 +133,7 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
         halo_raycast_set_segments(host->raycast, interval, 0);
     } else {
         host->slice = c->config.slab ? halo_slab_create(&desc, env->diag) : halo_slice_create(&desc, env->diag);
+        halo_slice_set_gradient_format(host->slice, (halo_gradient_format)c->config.gradient);
         if (!host->slice ||
             halo_slice_set_volume(host->slice, env->volume, env->dims[0], env->dims[1], env->dims[2], env->diag) !=
                 HALO_OK ||
@@ -255,6 +262,23 @@ void halo_bench_errors(const halo_bench_env *env, halo_bench_case *cases, size_t
             }
         }
     }
+    /* the gradient format's own error: against the same configuration with float gradients */
+    for (size_t i = 0; i < count; ++i) {
+        cases[i].gradient_max_abs = NAN;
+        const halo_bench_config *a = &cases[i].config;
+        for (size_t j = 0; j < count && cases[i].image && a->halos; ++j) {
+            const halo_bench_config *b = &cases[j].config;
+            if (cases[j].image && b->gradient == HALO_GRADIENT_FLOAT && b->halos && b->slab == a->slab &&
+                b->interval == a->interval && b->passes == a->passes && b->precision == a->precision &&
+                b->scale == a->scale && b->step == a->step && b->all_live == a->all_live &&
+                b->no_generation == a->no_generation) {
+                double rmse, share;
+                halo_bench_image_error(cases[i].image, cases[j].image, pixels, &cases[i].gradient_max_abs, &rmse,
+                                       &share);
+                break;
+            }
+        }
+    }
 }
 
 void halo_bench_pareto(halo_bench_case *cases, size_t count)
@@ -289,7 +313,8 @@ size_t halo_bench_sweep(halo_bench_case *out, size_t max, int scene_passes, doub
 {
     int n = scene_passes > 0 ? scene_passes : 4;
     double fine = finest_step > 0.0 ? finest_step : 0.25;
-    /* the base of every axis: slice host, M = 4 (the paper's choice), float32, step 0.5 */
+    /* the base of every axis: slice host, M = 4 (the paper's choice), float32, step 0.5,
+     * the hosts' default gradient texture; the reference's gradients are float */
     const halo_bench_config base = {.halos = 1, .interval = 4, .passes = n, .precision = 32, .step = 0.5};
     struct { const char *axis; halo_bench_config k; } list[48];
     size_t count = 0;
@@ -300,7 +325,7 @@ size_t halo_bench_sweep(halo_bench_case *out, size_t max, int scene_passes, doub
         list[count].axis = (AXIS);                                                                           \
         list[count++].k = k_;                                                                                \
     } while (0)
-    ADD("reference", k_.interval = 1; k_.step = fine);
+    ADD("reference", k_.interval = 1; k_.step = fine; k_.gradient = HALO_GRADIENT_FLOAT);
     static const int intervals[] = {1, 2, 4, 8, 16};
     for (int i = 0; i < 5; ++i)
         ADD("M", k_.interval = intervals[i]);
@@ -309,6 +334,8 @@ size_t halo_bench_sweep(halo_bench_case *out, size_t max, int scene_passes, doub
             ADD("N", k_.passes = p);
     ADD("precision", k_.precision = 16);
     ADD("precision", k_.precision = 8);
+    for (int g = HALO_GRADIENT_FLOAT; g < HALO_GRADIENT_FORMAT_COUNT; ++g)
+        ADD("gradient", k_.gradient = g);
     ADD("resolution", k_.scale = 2);
     ADD("resolution", k_.scale = 4);
     ADD("resolution", k_.interval = 1; k_.scale = 2);

@@ -21,6 +21,7 @@ typedef struct halo_bench_config {
     double step;       /* sampling distance in voxels; 0: the scene's */
     int all_live;      /* every parameter a uniform (halo_link_desc.all_live) */
     int no_generation; /* seeding and mapping per sample, no image pass */
+    int gradient;      /* the slice/slab hosts' gradient texture (halo_gradient_format); 0: the hosts' default */
 } halo_bench_config;
 
 typedef struct halo_bench_case {
@@ -34,6 +35,7 @@ typedef struct halo_bench_case {
     float *image;            /* width*height*4, the last frame (caller frees with halo_bench_cases_free) */
     double max_abs, rmse, share_over; /* against the reference image; NaN when not compared */
     double halo_max_abs;     /* against M = 1 of the slice host at the same step (the halo approximations alone) */
+    double gradient_max_abs; /* against the same configuration with float gradients; NaN when there is none */
     long nonfinite;          /* NaN or Inf colour values in the image */
     int pareto;              /* 1: no other halo row is both faster and more accurate */
     /* while running */
@@ -73,9 +75,11 @@ void halo_bench_cases_free(halo_bench_case *cases, size_t count);
 const char *halo_bench_host_name(const halo_bench_config *k);
 /* "full", "1/2", "1/4": the halo image resolution of a configuration. */
 const char *halo_bench_resolution(const halo_bench_config *k);
+/* "float", "half", "snorm8": the effective gradient texture format of a configuration. */
+const char *halo_bench_gradient(const halo_bench_config *k);
 
 /* The standard sweep around the scene's settings (M 1..16, N 1..6, precision 32/16/8,
- * halo image resolution full, 1/2, 1/4,
+ * halo image resolution full, 1/2, 1/4, gradient texture float, half, snorm8,
  * sampling distance finest..1, slab against slices, a few combinations), headed by the
  * exact reference (index 0: M = 1, float32, the finest sampling) and followed by the
  * renders without halos. Returns the number of cases written (at most max). */

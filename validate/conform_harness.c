@@ -7,6 +7,7 @@
 #include "gl/glfuncs.h"
 #include "gl/headless.h"
 #include "hosts/raycast.h"
+#include "hosts/slice.h"
 
 #include <errno.h>
 #include <math.h>
@@ -549,6 +550,7 @@ void emu_set_probe_volumes(const halo_program *p, halo_emu_frame *ef)
 static void conform_usage(FILE *out)
 {
     fputs("Usage: halo-validate conform [--stage NAME] [--size N] [-v] [--list] [--backend B]\n"
+          "                             [--gradient-format F]\n"
           "Renders every per-sample stage through a headless OpenGL context (EGL or OSMesa) and\n"
           "compares it with the C emulation; one row per test:\n"
           "  empty     the ray caster linked with no stage against the unlinked one (bit for bit)\n"
@@ -572,6 +574,8 @@ static void conform_usage(FILE *out)
           "  --list        print the rows (name, family, tolerance, its reason) and run none\n"
           "  --backend B   the headless context: egl, osmesa or auto (default: EGL when it has a\n"
           "                hardware renderer, else OSMesa); -v names the one used\n"
+          "  --gradient-format F   the slice and slab rows' gradient texture: float, half or snorm8\n"
+          "                (default: the hosts' default); the emulation reads the float gradients\n"
           "Exit status: 0 all pass, 1 a row failed, 2 usage or setup failure (no OpenGL context).\n",
           out);
 }
@@ -590,6 +594,14 @@ int conform_parse_command_line(conform *c, int argc, char **argv)
             c->list = 1;
         } else if (!strcmp(a, "--stage") && i + 1 < argc) {
             c->only = argv[++i];
+        } else if (!strcmp(a, "--gradient-format") && i + 1 < argc) {
+            char err[128];
+            halo_gradient_format format;
+            if (!halo_gradient_format_option(argv[++i], &format, err, sizeof err)) {
+                fprintf(stderr, "halo-validate: conform: %s\n", err);
+                return 2;
+            }
+            c->gradient_format = (int)format;
         } else if (!strcmp(a, "--size") && i + 1 < argc) {
             const char *text = argv[++i];
             char *end = NULL;

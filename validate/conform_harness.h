@@ -54,6 +54,7 @@ struct conform {
     const halo_glfuncs *gl;
     halo_diagnostics *diag;
     int size, verbose, list;
+    int gradient_format; /* the slice and slab rows' halo_gradient_format (0: the hosts' default) */
     const char *only;
     char *raycast_source, *probe_source; /* the example hosts' fragment sources */
     const conform_row *registry;         /* every row, in order (conform_rows.c) */

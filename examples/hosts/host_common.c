@@ -189,30 +189,73 @@ int halo_host_framebuffer(const halo_glfuncs *f, GLuint *framebuffer, GLuint col
     return 1;
 }
 
+/* internal_format GL_R32F, or a gradient format (RGB, data NULL: the storage only). */
 static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
-                                 GLint filter, int components, const char *what, halo_diagnostics *diag);
+                                 GLint filter, GLint internal_format, const char *what, halo_diagnostics *diag);
 
 halo_status halo_host_upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
                                     halo_diagnostics *diag)
 {
-    return upload_volume(f, texture, data, nx, ny, nz, GL_LINEAR, 1, "volume", diag);
+    return upload_volume(f, texture, data, nx, ny, nz, GL_LINEAR, GL_R32F, "volume", diag);
 }
 
 halo_status halo_host_upload_labels(const halo_glfuncs *f, GLuint texture, const float *labels, int nx, int ny, int nz,
                                     halo_diagnostics *diag)
 {
-    return upload_volume(f, texture, labels, nx, ny, nz, GL_NEAREST, 1, "label volume", diag);
+    return upload_volume(f, texture, labels, nx, ny, nz, GL_NEAREST, GL_R32F, "label volume", diag);
+}
+
+/* Calls fn on every slab of at most HALO_HOST_GRADIENT_SLAB_BYTES of gradients. */
+static int each_gradient_slab(const float *volume, const int dims[3], float *gradients, int slab,
+                              void (*fn)(const float *gradients, int z, int count, void *user), void *user)
+{
+    for (int z = 0; z < dims[2]; z += slab) {
+        int count = dims[2] - z < slab ? dims[2] - z : slab;
+        halo_volume_gradients_slab(volume, dims, z, count, gradients);
+        fn(gradients, z, count, user);
+    }
+    return 1;
+}
+
+typedef struct gradient_upload {
+    const halo_glfuncs *f;
+    int nx, ny;
+    float largest, inverse_scale;
+} gradient_upload;
+
+static void gradient_largest(const float *gradients, int z, int count, void *user)
+{
+    (void)z;
+    gradient_upload *u = user;
+    size_t n = (size_t)u->nx * (size_t)u->ny * (size_t)count * 3;
+    for (size_t i = 0; i < n; ++i)
+        u->largest = fabsf(gradients[i]) > u->largest ? fabsf(gradients[i]) : u->largest;
+}
+
+static void gradient_store(const float *gradients, int z, int count, void *user)
+{
+    gradient_upload *u = user;
+    if (u->inverse_scale != 1.0f) {
+        /* g / scale in [-1, 1]: GL converts floats to snorm as round(127 c) */
+        float *g = (float *)gradients;
+        size_t n = (size_t)u->nx * (size_t)u->ny * (size_t)count * 3;
+        for (size_t i = 0; i < n; ++i)
+            g[i] *= u->inverse_scale;
+    }
+    u->f->TexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, z, u->nx, u->ny, count, GL_RGB, GL_FLOAT, gradients);
 }
 
 halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, const float *volume, int nx, int ny,
-                                       int nz, halo_diagnostics *diag)
+                                       int nz, GLint internal_format, float *scale, halo_diagnostics *diag)
 {
-    if (!volume) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "gradient volume: no volume");
+    if (!volume || !scale ||
+        (internal_format != GL_RGB32F && internal_format != GL_RGB16F && internal_format != GL_RGB8_SNORM)) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "gradient volume: no volume, no scale or not RGB32F, RGB16F, RGB8_SNORM");
         return HALO_ERROR_INPUT;
     }
     /* the texture's storage first (no data), then slab by slab */
-    halo_status status = upload_volume(f, texture, NULL, nx, ny, nz, GL_LINEAR, 3, "gradient volume", diag);
+    halo_status status = upload_volume(f, texture, NULL, nx, ny, nz, GL_LINEAR, internal_format, "gradient volume",
+                                       diag);
     if (status != HALO_OK)
         return status;
     size_t slice_bytes = (size_t)nx * (size_t)ny * 3 * sizeof(float);
@@ -225,13 +268,20 @@ halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, co
         return HALO_ERROR_IO;
     }
     const int dims[3] = {nx, ny, nz};
+    gradient_upload u = {.f = f, .nx = nx, .ny = ny, .inverse_scale = 1.0f};
+    *scale = 1.0f;
+    if (internal_format != GL_RGB32F) {
+        /* snorm: the 8 bits span the volume's own range; half: only values beyond the
+         * contract's [0,1] (|g| > 1) are scaled, before they reach half's 65504 */
+        each_gradient_slab(volume, dims, gradients, slab, gradient_largest, &u);
+        if (u.largest > (internal_format == GL_RGB8_SNORM ? 0.0f : 1.0f) && isfinite(u.largest)) {
+            *scale = u.largest;
+            u.inverse_scale = 1.0f / u.largest;
+        }
+    }
     f->BindTexture(GL_TEXTURE_3D, texture);
     f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    for (int z = 0; z < nz; z += slab) {
-        int count = nz - z < slab ? nz - z : slab;
-        halo_volume_gradients_slab(volume, dims, z, count, gradients);
-        f->TexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, z, nx, ny, count, GL_RGB, GL_FLOAT, gradients);
-    }
+    each_gradient_slab(volume, dims, gradients, slab, gradient_store, &u);
     f->BindTexture(GL_TEXTURE_3D, 0);
     free(gradients);
     GLenum error = f->GetError();
@@ -245,9 +295,10 @@ halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, co
 
 /* data NULL: the storage only (halo_host_upload_gradients fills it slab by slab). */
 static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
-                                 GLint filter, int components, const char *what, halo_diagnostics *diag)
+                                 GLint filter, GLint internal_format, const char *what, halo_diagnostics *diag)
 {
-    if (!f || (!data && components != 3) || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
+    int rgb = internal_format != GL_R32F;
+    if (!f || (!data && !rgb) || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
         halo_diag_error(diag, USAGE, "", 0, 0, "%s of %dx%dx%d voxels: each side must be 2..2048", what, nx, ny, nz);
         return HALO_ERROR_INPUT;
     }
@@ -258,8 +309,7 @@ static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const fl
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
     f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    f->TexImage3D(GL_TEXTURE_3D, 0, components == 3 ? GL_RGB32F : GL_R32F, nx, ny, nz, 0,
-                  components == 3 ? GL_RGB : GL_RED, GL_FLOAT, data);
+    f->TexImage3D(GL_TEXTURE_3D, 0, internal_format, nx, ny, nz, 0, rgb ? GL_RGB : GL_RED, GL_FLOAT, data);
     f->BindTexture(GL_TEXTURE_3D, 0);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {

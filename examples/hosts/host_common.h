@@ -47,12 +47,17 @@ halo_status halo_host_upload_volume(const halo_glfuncs *f, GLuint texture, const
  * GL_NEAREST, so that no two labels are ever blended. */
 halo_status halo_host_upload_labels(const halo_glfuncs *f, GLuint texture, const float *labels, int nx, int ny, int nz,
                                     halo_diagnostics *diag);
-/* The gradients of the volume (nx*ny*nz floats) to texture: three floats a voxel
- * (halo_volume_gradients), RGB32F, GL_LINEAR. Built and uploaded in slabs of slices:
- * no whole-volume CPU copy, at most HALO_HOST_GRADIENT_SLAB_BYTES at a time. */
+/* The gradients of the volume (nx*ny*nz floats) to texture: the voxels' central
+ * differences (halo_volume_gradients), GL_LINEAR, stored as internal_format: GL_RGB32F,
+ * GL_RGB16F or GL_RGB8_SNORM. Built and uploaded in slabs of slices: no whole-volume CPU
+ * copy, at most HALO_HOST_GRADIENT_SLAB_BYTES of floats at a time. A signed-normalised
+ * texture holds g / *scale, *scale the largest |component| of the volume's gradients (so
+ * that the 8 bits span the volume's own range), and so does GL_RGB16F when that exceeds
+ * 1 (values beyond the contract's [0,1], whose gradients could pass half's 65504); the
+ * shader multiplies by *scale. Otherwise *scale = 1. */
 #define HALO_HOST_GRADIENT_SLAB_BYTES (4u << 20)
 halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, const float *volume, int nx, int ny,
-                                       int nz, halo_diagnostics *diag);
+                                       int nz, GLint internal_format, float *scale, halo_diagnostics *diag);
 
 /* The transfer table: control points (value, r, g, b, opacity) sorted by value,
  * linearly interpolated, constant beyond the first and last. */

@@ -65,7 +65,8 @@ typedef struct halo_raycast_state {
 halo_raycast *halo_raycast_create(const halo_host_desc *desc, halo_diagnostics *diag);
 void halo_raycast_destroy(halo_raycast *r);
 /* Uploads a volume of values already normalized to [0,1] (x fastest); the ray
- * caster keeps a reference to data for halo_raycast_get_state: keep it alive. */
+ * caster keeps a reference to data for halo_raycast_get_state (an emulation reads it
+ * there; rendering does not): keep it alive while get_state's volume is read. */
 halo_status halo_raycast_set_volume(halo_raycast *r, const float *data, int nx, int ny, int nz,
                                     halo_diagnostics *diag);
 /* Transfer function (control points linearly interpolated into a 256-texel table;

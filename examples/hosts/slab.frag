@@ -16,7 +16,8 @@
 
 uniform highp sampler3D volume_texture;
 uniform highp sampler2D transfer_texture;
-uniform highp sampler3D gradient_texture; // RGB32F: the voxels' central-difference gradients (slice.frag)
+uniform highp sampler3D gradient_texture; // the voxels' central-difference gradients / gradient_texture_scale (slice.frag)
+uniform float gradient_texture_scale;     // 1, or the texture's scale (slice.frag)
 uniform highp sampler2D ray_state;        // RGBA32F: premultiplied colour, opacity so far
 uniform mat4 inverse_view_projection;
 uniform vec3 eye;
@@ -40,7 +41,7 @@ float sample_value(vec3 p)
 // instead of six scalar ones.
 vec3 sample_gradient(vec3 p)
 {
-    return texture(gradient_texture, p).rgb;
+    return texture(gradient_texture, p).rgb * gradient_texture_scale;
 }
 
 vec4 classify(float value)

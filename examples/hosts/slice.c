@@ -6,6 +6,7 @@
 #include "diag.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -26,6 +27,8 @@ struct halo_slice {
     float step_voxels;
     float background[3];
     int interval_override;
+    halo_gradient_format gradient_format;
+    float gradient_scale; /* the texture holds gradient / gradient_scale */
     long draws, pass_draws;
     halo_slice_progress_fn progress;
     void *progress_user;
@@ -45,6 +48,7 @@ halo_slice *halo_slice_create_mode(const halo_host_desc *desc, int slab, halo_di
     s->runtime = desc->runtime;
     s->linked = desc->program;
     s->slab = slab;
+    s->gradient_scale = 1.0f;
     s->width = desc->width;
     s->height = desc->height;
     s->program = halo_host_program_build(desc, "slice.vert", slab ? "slab.frag" : "slice.frag",
@@ -183,16 +187,57 @@ int halo_slice_reads_gradients(const halo_slice *s)
     return s && s->f->GetUniformLocation(s->program, "gradient_texture") >= 0;
 }
 
+static const char *const gradient_format_names[HALO_GRADIENT_FORMAT_COUNT] = {NULL, "float", "half", "snorm8"};
+
+const char *halo_gradient_format_name(halo_gradient_format format)
+{
+    return format > HALO_GRADIENT_DEFAULT && format < HALO_GRADIENT_FORMAT_COUNT ? gradient_format_names[format] : NULL;
+}
+
+halo_gradient_format halo_gradient_format_from_name(const char *text)
+{
+    for (int k = HALO_GRADIENT_FLOAT; text && k < HALO_GRADIENT_FORMAT_COUNT; ++k)
+        if (!strcmp(text, gradient_format_names[k]))
+            return (halo_gradient_format)k;
+    return HALO_GRADIENT_FORMAT_COUNT;
+}
+
+int halo_gradient_format_option(const char *text, halo_gradient_format *format, char *err, size_t errlen)
+{
+    halo_gradient_format named = halo_gradient_format_from_name(text);
+    if (named == HALO_GRADIENT_FORMAT_COUNT) {
+        if (err && errlen)
+            snprintf(err, errlen, "--gradient-format: '%s' is not float, half or snorm8", text ? text : "");
+        return 0;
+    }
+    *format = named;
+    return 1;
+}
+
+void halo_slice_set_gradient_format(halo_slice *s, halo_gradient_format format)
+{
+    if (s)
+        s->gradient_format = format;
+}
+
+halo_gradient_format halo_slice_gradient_format(const halo_slice *s)
+{
+    halo_gradient_format format = s ? s->gradient_format : HALO_GRADIENT_DEFAULT;
+    return halo_gradient_format_name(format) ? format : HALO_GRADIENT_FORMAT_DEFAULT;
+}
+
 halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int ny, int nz, halo_diagnostics *diag)
 {
     halo_status status = halo_host_upload_volume(s ? s->f : NULL, s ? s->volume_texture : 0, data, nx, ny, nz, diag);
     if (status != HALO_OK)
         return status;
-    /* the gradients for the linked stages (slice.frag's sample_gradient), 12 bytes a voxel,
-     * only when one reads them: otherwise the driver drops the unread fetch and with it
-     * the sampler (the same image without the texture) */
+    /* the gradients for the linked stages (slice.frag's sample_gradient) only when one
+     * reads them: otherwise the driver drops the unread fetch and with it the sampler
+     * (the same image without the texture) */
     if (halo_slice_reads_gradients(s)) {
-        status = halo_host_upload_gradients(s->f, s->gradient_texture, data, nx, ny, nz, diag);
+        static const GLint internal_formats[HALO_GRADIENT_FORMAT_COUNT] = {0, GL_RGB32F, GL_RGB16F, GL_RGB8_SNORM};
+        status = halo_host_upload_gradients(s->f, s->gradient_texture, data, nx, ny, nz,
+                                            internal_formats[halo_slice_gradient_format(s)], &s->gradient_scale, diag);
         if (status != HALO_OK)
             return status;
     }
@@ -332,6 +377,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     f->BindTexture(GL_TEXTURE_3D, s->gradient_texture);
     f->ActiveTexture(GL_TEXTURE0);
     f->Uniform1i(f->GetUniformLocation(program, "gradient_texture"), HALO_SLICE_GRADIENT_UNIT);
+    f->Uniform1f(f->GetUniformLocation(program, "gradient_texture_scale"), s->gradient_scale);
     f->UniformMatrix4fv(f->GetUniformLocation(program, "inverse_view_projection"), 1, GL_FALSE,
                         s->inverse_view_projection);
     f->Uniform3fv(f->GetUniformLocation(program, "eye"), 1, s->eye);

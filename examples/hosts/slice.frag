@@ -19,7 +19,8 @@
 
 uniform highp sampler3D volume_texture;   // R32F, value normalized to [0,1]
 uniform highp sampler2D transfer_texture; // N x 1 RGBA: linear RGB and opacity per unit step
-uniform highp sampler3D gradient_texture; // RGB32F: central-difference gradient per voxel step at the voxels
+uniform highp sampler3D gradient_texture; // central-difference gradient per voxel step at the voxels, / gradient_texture_scale
+uniform float gradient_texture_scale;     // RGB8_SNORM (RGB16F beyond [0,1] values): the largest |component|; else 1
 uniform mat4 inverse_view_projection;     // clip space -> volume texture space
 uniform vec3 eye;                         // eye position in volume texture space
 uniform vec3 view_axis;                   // unit view direction (from the eye into the scene)
@@ -41,7 +42,7 @@ float sample_value(vec3 p)
 // instead of six scalar ones.
 vec3 sample_gradient(vec3 p)
 {
-    return texture(gradient_texture, p).rgb;
+    return texture(gradient_texture, p).rgb * gradient_texture_scale;
 }
 
 vec4 classify(float value)

@@ -43,9 +43,32 @@ typedef struct halo_slice_state {
 halo_slice *halo_slice_create(const halo_host_desc *desc, halo_diagnostics *diag);
 void halo_slice_destroy(halo_slice *s);
 /* As halo_raycast_set_volume / _set_render / _set_camera (same camera). set_volume
- * builds the gradient texture (12 bytes a voxel, in slabs) only when a linked stage
- * reads the gradient: halo_slice_reads_gradients. */
+ * builds the gradient texture (in slabs) only when a linked stage reads the gradient:
+ * halo_slice_reads_gradients. data is read by set_volume and handed out again by
+ * halo_slice_get_state (for an emulation): free it after set_volume when neither is
+ * called again. */
 int halo_slice_reads_gradients(const halo_slice *s);
+/* How the gradient texture stores the voxels' central differences (per voxel step of
+ * the [0,1] value, |g| <= 0.5 a component): 0 is the default, HALO_GRADIENT_FORMAT_DEFAULT. */
+typedef enum halo_gradient_format {
+    HALO_GRADIENT_DEFAULT = 0,
+    HALO_GRADIENT_FLOAT,  /* RGB32F, 12 bytes a voxel: the exact floats */
+    HALO_GRADIENT_HALF,   /* RGB16F, 6 (llvmpipe: 8) bytes a voxel, 11 significant bits (scaled when |g| > 1) */
+    HALO_GRADIENT_SNORM8, /* RGB8_SNORM, 3 (llvmpipe: 4) bytes a voxel, g / the volume's largest |component| */
+    HALO_GRADIENT_FORMAT_COUNT
+} halo_gradient_format;
+#define HALO_GRADIENT_FORMAT_DEFAULT HALO_GRADIENT_HALF
+/* "float", "half", "snorm8"; NULL for another value. */
+const char *halo_gradient_format_name(halo_gradient_format format);
+/* The format named text, HALO_GRADIENT_FORMAT_COUNT for an unknown name. */
+halo_gradient_format halo_gradient_format_from_name(const char *text);
+/* The tools' --gradient-format value: 1 with *format set, or 0 with "--gradient-format:
+ * 'TEXT' is not float, half or snorm8" in err. */
+int halo_gradient_format_option(const char *text, halo_gradient_format *format, char *err, size_t errlen);
+/* Takes effect at the next set_volume; an unknown value means the default. */
+void halo_slice_set_gradient_format(halo_slice *s, halo_gradient_format format);
+/* The effective format (never HALO_GRADIENT_DEFAULT). */
+halo_gradient_format halo_slice_gradient_format(const halo_slice *s);
 halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int ny, int nz, halo_diagnostics *diag);
 halo_status halo_slice_set_render(halo_slice *s, const halo_render_settings *settings, halo_diagnostics *diag);
 void halo_slice_set_camera(halo_slice *s, double azimuth, double elevation, double zoom);

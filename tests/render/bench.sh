@@ -22,7 +22,7 @@ fi
 if test -s "$tmp/bench.csv"; then
     rows=$(($(wc -l <"$tmp/bench.csv") - 1))
     test "$rows" -ge 30 || fail "the CSV has $rows configurations, expected the whole sweep (>= 30)"
-    for axis in reference M N precision resolution step slab combined "no halos"; do
+    for axis in reference M N precision gradient resolution step slab combined "no halos"; do
         grep -q "^$axis," "$tmp/bench.csv" || fail "no '$axis' row in the CSV"
     done
     for res in full 1/2 1/4; do
