@@ -184,7 +184,8 @@ void set_uniform(vtkUniforms *u, const halo_uniform_decl &d, std::vector<std::st
         int comps = d.components, n = d.array_size ? d.array_size : 1;
         if (!strcmp(d.glsl_type, "int")) {
             std::vector<int> v((size_t)n * comps, 0);
-            for (int k = 0; k < n * comps; k++) v[(size_t)k] = (int)d.value[k < d.count * comps ? k : d.count * comps - 1];
+            for (int k = 0; k < n * comps && d.count > 0; k++)
+                v[(size_t)k] = (int)d.value[k < d.count * comps ? k : d.count * comps - 1];
             if (d.array_size) u->SetUniform1iv(d.name, n, v.data());
             else u->SetUniformi(d.name, v[0]);
         } else {
