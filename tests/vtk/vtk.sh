@@ -37,6 +37,10 @@ if test -z "${HALO_VTK_UNDER_X:-}"; then
     exit $?
 fi
 
+# Under AddressSanitizer, Mesa's GLX driver leaks a few bytes from a module unloaded before
+# the leak check (no suppression can name it): leaks are not checked here, memory errors are.
+ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
+export ASAN_OPTIONS
 scenes="$srcdir/examples/scenes"
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/halo-vtk-test.XXXXXX") || exit 99
 trap 'rm -rf "$tmp"' EXIT
