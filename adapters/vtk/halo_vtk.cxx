@@ -85,6 +85,13 @@ const char visible_test[] = "if (g_srcColor.a > 0.0)";
 const char visible_test_guarded[] = "if (g_srcColor.a > 0.0 || HALO_RAY_MAY_END == 0)";
 const char finish_point[] = "gl_FragData[0] = g_fragColor;";
 const char finish_text[] = "gl_FragData[0] = g_fragColor;\n  halo_finish();";
+/* A piece of a distributed volume (halo_vtk_set_whole_extent): ParaView composites the
+ * pieces' partial rays (premultiplied) in floating point and converts the result to bytes
+ * without a clamp, so a partial ray brighter than its opacity (stages such as tone
+ * shading add light) must be clamped to a valid premultiplied colour here. */
+const char piece_clamp[] =
+    "if (halo_vtk_piece != 0)\n"
+    "    g_fragColor.rgb = clamp(g_fragColor.rgb, vec3(0.0), vec3(clamp(g_fragColor.a, 0.0, 1.0)));\n  ";
 const int first_unit = 20; /* libhalo's images: above the units VTK's volume mapper takes */
 
 /* Our functions: VTK's conventions to the host contract's (docs/hosts/vtk.md). */
@@ -287,6 +294,7 @@ void update_global(halo_vtk *h) {
     vtkUniforms *u = h->property->GetFragmentCustomUniforms();
     u->SetUniform3f("halo_vtk_global_scale", scale);
     u->SetUniform3f("halo_vtk_global_offset", offset);
+    u->SetUniformi("halo_vtk_piece", h->whole[1] >= h->whole[0]);
 }
 
 /* clip space -> the (whole) volume texture space, column-major: libhalo's segment planes
@@ -674,6 +682,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     update_global(h);
     h->uniforms.push_back("halo_vtk_global_scale");
     h->uniforms.push_back("halo_vtk_global_offset");
+    h->uniforms.push_back("halo_vtk_piece");
     upload_all(h, &h->uniforms);
     /* the pieces */
     h->declarations = std::string(declarations_tag) + "\n" + conversions +
@@ -694,9 +703,11 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
         property->AddFragmentShaderReplacement(begin_tag, true, begin_text, false);
         property->AddFragmentShaderReplacement(end_tag, true, end_text, false);
         property->AddFragmentShaderReplacement(termination_text, false, termination_guarded, false);
-        property->AddFragmentShaderReplacement(finish_point, false, finish_text, false);
+        property->AddFragmentShaderReplacement(finish_point, false, std::string(piece_clamp) + finish_text, false);
         property->AddFragmentShaderReplacement(visible_test, false, visible_test_guarded, false);
     }
+    if (!segmenting)
+        property->AddFragmentShaderReplacement(finish_point, false, std::string(piece_clamp) + finish_point, false);
     h->observer = vtkSmartPointer<vtkCallbackCommand>::New();
     h->observer->SetCallback(on_render_end);
     h->observer->SetClientData(h);
@@ -708,6 +719,7 @@ void halo_vtk_remove(halo_vtk *h) {
     if (!h) return;
     h->property->ClearFragmentShaderReplacement(declarations_tag, true);
     h->property->ClearFragmentShaderReplacement(splice_point, false);
+    h->property->ClearFragmentShaderReplacement(finish_point, false);
     if (haloVTKMapper *m = haloVTKMapper::SafeDownCast(h->mapper)) {
         m->halo = nullptr;
         h->property->ClearFragmentShaderReplacement(extension_tag, true);
