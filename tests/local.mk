@@ -294,3 +294,11 @@ endif
 # ---- The house: no circles between the C files of a folder (issue 12) ----
 TESTS += tests/no_circles.sh
 EXTRA_DIST += tests/no_circles.sh tests/tools/circles.py
+
+# ---- ParaView (adapters/paraview): skipped (77) without the plugin, pvbatch or mpirun ----
+TESTS += tests/paraview/paraview.sh
+EXTRA_DIST += tests/paraview/paraview.sh
+AM_TESTS_ENVIRONMENT += HALO_PVBATCH_SCRIPT='$(abs_top_srcdir)/adapters/paraview/halo_pvbatch.py'; export HALO_PVBATCH_SCRIPT;
+if HALO_HAVE_PARAVIEW
+AM_TESTS_ENVIRONMENT += HALO_PARAVIEW_PLUGIN='$(abs_top_builddir)/$(paraview_plugin)'; export HALO_PARAVIEW_PLUGIN;
+endif

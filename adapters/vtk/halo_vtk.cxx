@@ -58,8 +58,32 @@ const char file_name[] = "(VTK volume shader)";
 const char extension_tag[] = "//VTK::System::Dec";
 const char extension_text[] = "//VTK::System::Dec\n#extension GL_ARB_explicit_attrib_location : require\n";
 const char begin_tag[] = "//VTK::Shading::Init";
+/* A piece of a larger volume: VTK starts each piece's rays one step inside the piece, so
+ * the samples of the pieces are not those of the whole volume; move the first one on to
+ * the whole volume's lattice (one step inside its box, then whole steps; back by less
+ * than a step, or forward by a hair), which makes the pieces sample where one renderer of
+ * the whole volume samples. */
+#define HALO_VTK_ALIGN \
+    "    if (halo_vtk_piece != 0) {\n" \
+    "        // ---- libhalo-vtk: this piece's samples on the whole volume's lattice ----\n" \
+    "        vec3 o = halo_vtk_global(g_dataPos), d = g_dirStep * halo_vtk_global_scale;\n" \
+    "        float enter = -1e30;\n" \
+    "        for (int a = 0; a < 3; ++a)\n" \
+    "            if (abs(d[a]) > 1e-12)\n" \
+    "                enter = max(enter, min((halo_vtk_box_lo[a] - o[a]) / d[a], (halo_vtk_box_hi[a] - o[a]) / d[a]));\n" \
+    "        // the whole volume's samples are at enter + k, k = 1, 2, ... (in steps from here);\n" \
+    "        // this piece takes those after its entry (one step back), the one on its entry\n" \
+    "        // being the piece's in front\n" \
+    "        float behind = -enter, shift = floor(behind + 1e-4) - behind;\n" \
+    "        if (enter > -1e29 && shift != 0.0) {\n" \
+    "            g_dataPos += shift * g_dirStep;\n" \
+    "            g_terminatePointMax -= shift;\n" \
+    "        }\n" \
+    "    }\n"
+const char align_text[] = "//VTK::Shading::Init\n" HALO_VTK_ALIGN;
 const char begin_text[] =
     "//VTK::Shading::Init\n"
+    HALO_VTK_ALIGN
     "    // ---- libhalo-vtk: this segment's samples of the ray (host contract 2) ----\n"
     "    float halo_vtk_max = g_terminatePointMax;\n"
     "    int halo_vtk_first = 0, halo_vtk_end = int(ceil(max(g_terminatePointMax, 0.0))) + 1;\n"
@@ -295,6 +319,18 @@ void update_global(halo_vtk *h) {
     u->SetUniform3f("halo_vtk_global_scale", scale);
     u->SetUniform3f("halo_vtk_global_offset", offset);
     u->SetUniformi("halo_vtk_piece", h->whole[1] >= h->whole[0]);
+    /* the whole volume's box of points (VTK's rays start one step inside it), texture space */
+    float lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+    if (image && h->whole[1] >= h->whole[0]) {
+        int first[3], n[3];
+        texture_box(h, image, first, n);
+        for (int a = 0; a < 3; a++) {
+            lo[a] = 0.5f / (float)n[a];
+            hi[a] = 1.0f - 0.5f / (float)n[a];
+        }
+    }
+    u->SetUniform3f("halo_vtk_box_lo", lo);
+    u->SetUniform3f("halo_vtk_box_hi", hi);
 }
 
 /* clip space -> the (whole) volume texture space, column-major: libhalo's segment planes
@@ -683,6 +719,8 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     h->uniforms.push_back("halo_vtk_global_scale");
     h->uniforms.push_back("halo_vtk_global_offset");
     h->uniforms.push_back("halo_vtk_piece");
+    h->uniforms.push_back("halo_vtk_box_lo");
+    h->uniforms.push_back("halo_vtk_box_hi");
     upload_all(h, &h->uniforms);
     /* the pieces */
     h->declarations = std::string(declarations_tag) + "\n" + conversions +
@@ -706,8 +744,10 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
         property->AddFragmentShaderReplacement(finish_point, false, std::string(piece_clamp) + finish_text, false);
         property->AddFragmentShaderReplacement(visible_test, false, visible_test_guarded, false);
     }
-    if (!segmenting)
+    if (!segmenting) {
         property->AddFragmentShaderReplacement(finish_point, false, std::string(piece_clamp) + finish_point, false);
+        property->AddFragmentShaderReplacement(begin_tag, true, align_text, false);
+    }
     h->observer = vtkSmartPointer<vtkCallbackCommand>::New();
     h->observer->SetCallback(on_render_end);
     h->observer->SetClientData(h);
@@ -720,6 +760,7 @@ void halo_vtk_remove(halo_vtk *h) {
     h->property->ClearFragmentShaderReplacement(declarations_tag, true);
     h->property->ClearFragmentShaderReplacement(splice_point, false);
     h->property->ClearFragmentShaderReplacement(finish_point, false);
+    h->property->ClearFragmentShaderReplacement(begin_tag, true);
     if (haloVTKMapper *m = haloVTKMapper::SafeDownCast(h->mapper)) {
         m->halo = nullptr;
         h->property->ClearFragmentShaderReplacement(extension_tag, true);

@@ -39,6 +39,18 @@ public:
   {
     if (this->Owner)
     {
+      /* every rank samples as one renderer of the whole volume would: VTK's distance
+       * locked to the input's spacing depends on the input's extent (a brick's differs
+       * from the whole's), and the automatic one on each rank's frame time */
+      vtkImageData* image = vtkImageData::SafeDownCast(this->GetInput());
+      int whole[6];
+      this->Owner->GetWholeExtentOfPieces(whole);
+      if (image && whole[1] >= whole[0])
+      {
+        double spacing[3];
+        image->GetSpacing(spacing);
+        this->SetSampleDistance(static_cast<float>(this->SpacingAdjustedSampleDistance(spacing, whole)));
+      }
       this->ComputeRenderMode(ren, vol); /* connects the GPU mapper's input */
       this->Owner->PrepareHalo(ren, vol);
     }
@@ -59,7 +71,10 @@ protected:
   {
     this->GPUMapper->Delete();
     this->GPUMapper = halo_vtk_mapper_new();
-    this->GPUMapper->LockSampleDistanceToInputSpacingOn();
+    /* the sample distance is set for the whole volume before each render (Render) */
+    this->GPUMapper->LockSampleDistanceToInputSpacingOff();
+    this->AutoAdjustSampleDistancesOff();
+    this->InteractiveAdjustSampleDistancesOff();
   }
 };
 vtkStandardNewMacro(haloSmartVolumeMapper);
@@ -345,6 +360,12 @@ void vtkHaloVolumeRepresentation::PrepareHalo(vtkRenderer* renderer, vtkVolume* 
   if (I->Exchange && rank_count() > 1)
     halo_vtk_set_exchange(I->Halo, exchange_over_ranks, vtkMultiProcessController::GetGlobalController());
   I->Flush();
+}
+
+void vtkHaloVolumeRepresentation::GetWholeExtentOfPieces(int extent[6])
+{
+  for (int k = 0; k < 6; k++)
+    extent[k] = this->WholeExtent[k];
 }
 
 void vtkHaloVolumeRepresentation::CheckHalo()

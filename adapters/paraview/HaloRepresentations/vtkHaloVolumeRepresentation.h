@@ -34,6 +34,8 @@ public:
   /* 1 (default): volumetric halos cross the ranks' pieces; 0: each rank's own. */
   void SetHaloExchange(int exchange);
 
+  /* The whole dataset's point extent (each rank draws a piece of it). */
+  void GetWholeExtentOfPieces(int extent[6]);
   /* Called by the representation's mapper before each render of the volume. */
   void PrepareHalo(vtkRenderer* renderer, vtkVolume* volume);
   /* Called after it: after the first render of an install, halo_vtk_check. */
