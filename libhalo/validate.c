@@ -122,33 +122,50 @@ static int compare_strings(const void *a, const void *b) {
     return strcmp(*(char *const *)a, *(char *const *)b);
 }
 
-/* The compile's messages: the preprocessor's (preprocessing ends the log glslang_shader_parse
- * appends to) merged in line order with the parser's, each message once. */
-static void report_compile(const char *pre_log, const char *log, const log_map *map, halo_diagnostics *diag,
-                           int *errors) {
+/* Is a log entry a syntax error (where glslang's parser stops)? */
+static int is_syntax_error(const char *entry) { return strstr(entry, "syntax error") != NULL; }
+
+/* The compile's messages, as glslang reports them in one pass over the source (the
+ * reference, glslangValidator): the preprocessor's (its log ends the log
+ * glslang_shader_parse appends to) merged in line order with the parser's, each message
+ * once. pre_end: the last line the preprocessor wrote out (0: all of them); it stops
+ * at some errors, and the parser's messages past it are about text that never came.
+ * The preprocessor's messages past the parser's first syntax error are dropped: in one
+ * pass the parser stops there. */
+static void report_compile(const char *pre_log, const char *log, int pre_end, const log_map *map,
+                           halo_diagnostics *diag, int *errors) {
     size_t pre_len = strlen(pre_log);
     const char *parse_log = !strncmp(log, pre_log, pre_len) ? log + pre_len : log;
     char *pre = halo_strdup(pre_log), *parse = halo_strdup(parse_log);
     char **pre_lines = NULL, **parse_lines = NULL;
     int np = pre ? halo_split_lines(pre, &pre_lines) : -1, nq = parse ? halo_split_lines(parse, &parse_lines) : -1;
-    if (np < 0 || nq < 0) {
+    /* the preprocessor's messages, sorted, to drop the parser's repeats of them */
+    char **seen = np >= 0 && nq >= 0 ? malloc(((size_t)np + 1) * sizeof *seen) : NULL;
+    if (!seen) {
         report_log(log, map, diag, errors);
     } else {
-        /* the preprocessor's messages, sorted, to drop the parser's repeats of them */
-        char **seen = malloc(((size_t)np + 1) * sizeof *seen);
-        if (seen) memcpy(seen, pre_lines, (size_t)np * sizeof *seen);
-        if (seen) qsort(seen, (size_t)np, sizeof *seen, compare_strings);
+        memcpy(seen, pre_lines, (size_t)np * sizeof *seen);
+        qsort(seen, (size_t)np, sizeof *seen, compare_strings);
+        int kept = 0, stop = 0;
+        for (int j = 0; j < nq; j++) {
+            int at = log_entry_line(parse_lines[j]);
+            if (bsearch(&parse_lines[j], seen, (size_t)np, sizeof *seen, compare_strings) || (pre_end && at > pre_end))
+                continue;
+            if (!stop && at && is_syntax_error(parse_lines[j])) stop = at;
+            parse_lines[kept++] = parse_lines[j];
+        }
         int i = 0, j = 0;
-        while (i < np || j < nq) {
-            if (j < nq && seen && bsearch(&parse_lines[j], seen, (size_t)np, sizeof *seen, compare_strings)) {
-                j++;
+        while (i < np || j < kept) {
+            int at = i < np ? log_entry_line(pre_lines[i]) : 0;
+            if (i < np && stop && at > stop) {
+                i++;
                 continue;
             }
-            int take_pre = i < np && (j >= nq || log_entry_line(pre_lines[i]) <= log_entry_line(parse_lines[j]));
+            int take_pre = i < np && (j >= kept || at <= log_entry_line(parse_lines[j]));
             report_entry(take_pre ? pre_lines[i++] : parse_lines[j++], map, diag, errors);
         }
-        free(seen);
     }
+    free(seen);
     free(pre_lines);
     free(parse_lines);
     free(pre);
@@ -177,10 +194,17 @@ static halo_status glslang_run(const char *source, halo_shader_kind kind, int li
     int errors = 0;
     /* glslang's C interface parses the preprocessed text: parse it after a preprocessing
      * error too, so that the errors after it are reported as well. */
-    int ok = glslang_shader_preprocess(sh, &in);
+    int ok = glslang_shader_preprocess(sh, &in), pre_end = 0;
     char *pre_log = halo_strdup(glslang_shader_get_info_log(sh));
+    if (!ok && !map->raw) {
+        /* the preprocessor keeps the line numbers in its text, until it stops */
+        int source_lines = 0, written = 0;
+        for (const char *c = source; *c; c++) source_lines += *c == '\n';
+        for (const char *c = glslang_shader_get_preprocessed_code(sh); c && *c; c++) written += *c == '\n';
+        if (written < source_lines) pre_end = written;
+    }
     ok = glslang_shader_parse(sh, &in) && ok;
-    if (pre_log) report_compile(pre_log, glslang_shader_get_info_log(sh), map, diag, &errors);
+    if (pre_log) report_compile(pre_log, glslang_shader_get_info_log(sh), pre_end, map, diag, &errors);
     else report_log(glslang_shader_get_info_log(sh), map, diag, &errors);
     free(pre_log);
     if (ok || link_always) {

@@ -134,7 +134,7 @@ HALO_TEST_FILES = \
 	tests/data/glslang/include/include_main.frag tests/data/glslang/include/include_part.h \
 	tests/data/glslang/error_then_more.frag tests/data/glslang/compile_and_link.frag \
 	tests/data/glslang/line_directive.frag tests/data/glslang/line_file.frag \
-	tests/data/glslang/compiler_crash.vert \
+	tests/data/glslang/syntax_stops.frag tests/data/glslang/macro_stops.frag tests/data/glslang/compiler_crash.vert \
 	tests/data/hosts/no_marker.frag \
 	tests/data/hosts/marker_commented.frag \
 	tests/data/hosts/marker_es_only.frag \

@@ -3,7 +3,8 @@
 # reference, on plain shaders: one small shader per class in tests/data/glslang (its own
 # #version or none, no precision added, '#version' after comments, old-Mac line ends,
 # '#include' beside the file, errors after a preprocessing error, a link error after a
-# compile error, '#line' with and without a file name). Each gets the reference's
+# compile error, the parser stopping at a syntax error and the preprocessor at a bad
+# macro, '#line' with and without a file name). Each gets the reference's
 # verdict and its error lines (file:line), and its link errors. A file on which the
 # compiler crashes is an input error at the file, and the files after it are checked.
 . "$srcdir/tests/cli/common.sh"
