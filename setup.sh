@@ -11,7 +11,8 @@ packages="build-essential autoconf automake libtool pkg-config file
   libnifti2-dev zlib1g-dev mricron-data
   libglfw3-dev xvfb xauth
   gnuplot-nox
-  libvtk9-dev python3"
+  libvtk9-dev python3
+  glslang-tools"
 
 missing=""
 for p in $packages; do

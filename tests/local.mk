@@ -102,7 +102,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/nul_byte.sh \
 	tests/cli/directory.sh \
 	tests/cli/bom.sh \
-	tests/cli/error_limit.sh
+	tests/cli/error_limit.sh \
+	tests/cli/glslang_agree.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
@@ -127,6 +128,13 @@ HALO_TEST_FILES = \
 	tests/conform_backend.sh \
 	tests/lsan.supp \
 	tests/data/hosts/minimal.frag \
+	tests/data/glslang/own_version.frag tests/data/glslang/no_version.frag \
+	tests/data/glslang/es_missing_precision.frag tests/data/glslang/version_after_comments.frag \
+	tests/data/glslang/cr_endings.frag tests/data/glslang/cr_endings_error.frag \
+	tests/data/glslang/include/include_main.frag tests/data/glslang/include/include_part.h \
+	tests/data/glslang/error_then_more.frag tests/data/glslang/compile_and_link.frag \
+	tests/data/glslang/line_directive.frag tests/data/glslang/line_file.frag \
+	tests/data/glslang/syntax_stops.frag tests/data/glslang/macro_stops.frag tests/data/glslang/compiler_crash.vert \
 	tests/data/hosts/no_marker.frag \
 	tests/data/hosts/marker_commented.frag \
 	tests/data/hosts/marker_es_only.frag \
