@@ -1,5 +1,5 @@
 # Shared by tests/lines/*.sh: finds halo-lines and a scratch directory.
-HALO_LINES=${HALO_LINES:-${top_builddir:-.}/examples/halo-lines}
+HALO_LINES=${HALO_LINES:-${top_builddir:-.}/tools/halo-lines}
 if test ! -x "$HALO_LINES"; then
     echo "broken setup: $HALO_LINES missing" >&2
     exit 99

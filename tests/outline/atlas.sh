@@ -4,7 +4,7 @@
 # --labels. The labels must reach the shader: regions that exist draw outlines (the
 # image differs from lambda 0), label ids that no voxel has draw none (the image equals
 # lambda 0's byte for byte). A segmentation on another grid is refused.
-HALO_RENDER=${HALO_RENDER:-${top_builddir:-.}/examples/halo-render}
+HALO_RENDER=${HALO_RENDER:-${top_builddir:-.}/tools/halo-render}
 templates=${HALO_MRICRON_TEMPLATES:-/usr/share/mricron/templates}
 if test ! -r "$templates/ch2bet.nii.gz" || test ! -r "$templates/aal.nii.gz"; then
     echo "SKIP: $templates/ch2bet.nii.gz and aal.nii.gz (Debian: mricron-data) are not installed" >&2

@@ -1,5 +1,5 @@
 # Shared by tests/outline/*.sh: finds halo-outline, the scenes and a scratch directory.
-HALO_OUTLINE=${HALO_OUTLINE:-${top_builddir:-.}/examples/halo-outline}
+HALO_OUTLINE=${HALO_OUTLINE:-${top_builddir:-.}/tools/halo-outline}
 if test ! -x "$HALO_OUTLINE"; then
     echo "broken setup: $HALO_OUTLINE missing" >&2
     exit 99
