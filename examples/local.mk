@@ -19,10 +19,12 @@ noinst_LTLIBRARIES += examples/libhalo-hosts.la
 examples_libhalo_hosts_la_SOURCES = examples/hosts/raycast.c examples/hosts/raycast.h \
 	examples/hosts/host_common.c examples/hosts/host_common.h \
 	examples/hosts/slice.c examples/hosts/slice.h examples/hosts/slab.c examples/hosts/slab.h \
-	examples/volume.c examples/volume.h examples/image_write.cc examples/image_write.h
+	examples/volume.c examples/volume.h examples/image_write.cc examples/image_write.h \
+	examples/render_driver.c examples/render_driver.h examples/progress.c examples/progress.h
 nodist_examples_libhalo_hosts_la_SOURCES = examples/hosts/embedded_hosts.c
 examples_libhalo_hosts_la_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples $(OIIO_CFLAGS)
-examples_libhalo_hosts_la_LIBADD = $(OIIO_LIBS)
+examples_libhalo_hosts_la_CFLAGS = $(AM_CFLAGS) -pthread
+examples_libhalo_hosts_la_LIBADD = $(OIIO_LIBS) -lpthread
 
 # The libraries the tools and halo-validate link.
 HALO_TOOL_LIBS = examples/libhalo-hosts.la libhalo/libhalo-core.la libhalo/libhalo-headless.la -lm

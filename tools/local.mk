@@ -16,7 +16,7 @@ tools/embedded_scenes.c: $(HALO_EMBEDDED_SCENES) $(top_srcdir)/build-aux/embed.s
 # Its --max-error runs the error budget of validate/bench_budget.c.
 
 bin_PROGRAMS += tools/halo-render
-tools_halo_render_SOURCES = tools/halo-render.c examples/volume_io.c examples/volume_io.h \
+tools_halo_render_SOURCES = tools/halo-render.c tools/tool_options.c tools/tool_options.h examples/volume_io.c examples/volume_io.h \
 	examples/json_file.c examples/json_file.h \
 	validate/bench_run.c validate/bench_run.h validate/bench_budget.c validate/bench_budget.h
 nodist_tools_halo_render_SOURCES = tools/embedded_scenes.c
