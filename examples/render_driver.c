@@ -203,6 +203,9 @@ int halo_driver_create(halo_driver *d, halo_driver_host kind, const halo_host_de
 
 void halo_driver_destroy(halo_driver *d)
 {
+    if (d->post_texture)
+        halo_gl_functions(d->runtime)->DeleteTextures(1, &d->post_texture);
+    d->post_texture = 0;
     halo_feature_buffer_destroy(d->feature);
     halo_raycast_destroy(d->raycast);
     halo_slice_destroy(d->slice);
@@ -311,17 +314,21 @@ int halo_driver_update_feature(halo_driver *d, const float *volume, const int di
 /* ---- The frame ------------------------------------------------------------------------- */
 
 /* Runs the post passes on the slice host's image (rgba, over its background) and
- * replaces rgba with their result; the ray caster runs them itself. */
+ * replaces rgba with their result; the ray caster runs them itself. The colour
+ * texture stays until the driver is destroyed: the frame's inputs can be read back
+ * after the frame (halo-outline --check). */
 static halo_status run_post_passes(halo_driver *d, halo_gl_frame *frame, float *rgba, halo_diagnostics *diag)
 {
     const halo_glfuncs *f = halo_gl_functions(d->runtime);
-    unsigned texture = 0;
-    f->GenTextures(1, &texture);
-    halo_host_image_texture(f, texture, GL_RGBA32F, d->width, d->height, GL_RGBA, GL_FLOAT);
+    if (!d->post_texture) {
+        f->GenTextures(1, &d->post_texture);
+        halo_host_image_texture(f, d->post_texture, GL_RGBA32F, d->width, d->height, GL_RGBA, GL_FLOAT);
+    } else {
+        f->BindTexture(GL_TEXTURE_2D, d->post_texture);
+    }
     f->TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, d->width, d->height, GL_RGBA, GL_FLOAT, rgba);
     f->BindTexture(GL_TEXTURE_2D, 0);
-    halo_status status = halo_host_post_passes(frame, d->program, texture, d->width, d->height, rgba, diag);
-    f->DeleteTextures(1, &texture);
+    halo_status status = halo_host_post_passes(frame, d->program, d->post_texture, d->width, d->height, rgba, diag);
     if (status == HALO_OK && f->GetError() != GL_NO_ERROR)
         status = HALO_ERROR_IO;
     return status;

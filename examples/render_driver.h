@@ -61,6 +61,7 @@ typedef struct halo_driver {
     int quiet;                      /* with tool: errors only, no notes or progress */
     long pass_draws;                /* the ray caster's image passes in the last frame */
     halo_feature_buffer *feature;   /* feature_halo's halo buffer (halo_driver_update_feature) */
+    unsigned post_texture;          /* the slice host's colour, read by the post passes */
 } halo_driver;
 
 /* desc: the GL functions, runtime, program (or raw fragment source) and image size. */

@@ -16,10 +16,11 @@
 #define _POSIX_C_SOURCE 200809L
 #include "halo.h"
 #include "gl/glfuncs.h"
-#include "hosts/raycast.h"
-#include "hosts/slice.h"
 #include "image_write.h"
 #include "json_file.h"
+#include "progress.h"
+#include "render_driver.h"
+#include "tool_options.h"
 #include "volume.h"
 #include "volume_io.h"
 
@@ -101,81 +102,41 @@ typedef struct options {
     int width, height, volume_size, have_volume_size, frames, quit;
 } options;
 
-static int parse_int(const char *option, const char *text, int lo, int hi, int *out)
-{
-    char *end = NULL;
-    errno = 0;
-    long x = text ? strtol(text, &end, 10) : 0;
-    if (!text || end == text || *end != '\0' || errno == ERANGE || x < lo || x > hi) {
-        fprintf(stderr, "halo-view: error: %s: '%s' is not an integer in %d..%d\n", option, text ? text : "", lo, hi);
-        return 0;
-    }
-    *out = (int)x;
-    return 1;
-}
-
-static int parse_size(const char *text, int *width, int *height)
-{
-    const char *x = strchr(text, 'x');
-    char first[32];
-    if (!x || (size_t)(x - text) >= sizeof first || x == text) {
-        fprintf(stderr, "halo-view: error: --size: '%s' is not WxH\n", text);
-        return 0;
-    }
-    memcpy(first, text, (size_t)(x - text));
-    first[x - text] = '\0';
-    return parse_int("--size", first, 1, 8192, width) && parse_int("--size", x + 1, 1, 8192, height);
-}
-
-static const char *const valued_options[] = {"--scene", "--volume", "--volume-size", "--size", "--save-prefix",
-                                             "--keys", "--frames", "--screenshot", NULL};
+enum { OPT_QUIT, OPT_SCENE, OPT_VOLUME, OPT_VOLUME_SIZE, OPT_SIZE, OPT_SAVE_PREFIX, OPT_KEYS, OPT_FRAMES, OPT_SCREENSHOT };
+static const halo_tool_option option_table[] = {
+    [OPT_QUIT] = {"--quit", NULL, 0},           [OPT_SCENE] = {"--scene", NULL, 1},
+    [OPT_VOLUME] = {"--volume", NULL, 1},       [OPT_VOLUME_SIZE] = {"--volume-size", NULL, 1},
+    [OPT_SIZE] = {"--size", NULL, 1},           [OPT_SAVE_PREFIX] = {"--save-prefix", NULL, 1},
+    [OPT_KEYS] = {"--keys", NULL, 1},           [OPT_FRAMES] = {"--frames", NULL, 1},
+    [OPT_SCREENSHOT] = {"--screenshot", NULL, 1}, {NULL, NULL, 0}};
 
 /* Returns 0 to go on, -1 to exit 0 (help), or an exit status. */
 static int parse_options(int argc, char **argv, options *o)
 {
     *o = (options){.width = 512, .height = 512, .volume_size = HALO_VOLUME_DEFAULT_SIZE, .frames = 1,
                    .save_prefix = "halo-view-"};
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        if (!strcmp(a, "--help") || !strcmp(a, "-h")) {
-            usage(stdout);
+    halo_tool_args args = {.tool = "halo-view", .usage = usage, .argc = argc, .argv = argv, .next = 1};
+    for (int k; (k = halo_tool_args_next(&args, option_table)) != HALO_TOOL_ARGS_END;) {
+        if (k == HALO_TOOL_ARGS_HELP)
             return -1;
-        }
-        if (!strcmp(a, "--quit")) {
-            o->quit = 1;
-            continue;
-        }
-        int valued = 0;
-        for (const char *const *v = valued_options; *v; ++v)
-            valued |= !strcmp(a, *v);
-        if (!valued) {
-            fprintf(stderr, "halo-view: error: unknown argument '%s'\n", a);
-            usage(stderr);
+        if (k == HALO_TOOL_ARGS_ERROR)
             return 2;
-        }
-        const char *value = i + 1 < argc ? argv[++i] : NULL;
-        if (!value) {
-            fprintf(stderr, "halo-view: error: %s needs a value\n", a);
-            usage(stderr);
-            return 2;
-        }
+        const char *a = args.option, *value = args.value;
         int ok = 1;
-        if (!strcmp(a, "--scene"))
-            o->scene_path = value;
-        else if (!strcmp(a, "--volume"))
-            o->volume_path = value;
-        else if (!strcmp(a, "--volume-size"))
-            ok = o->have_volume_size = parse_int(a, value, HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE, &o->volume_size);
-        else if (!strcmp(a, "--size"))
-            ok = parse_size(value, &o->width, &o->height);
-        else if (!strcmp(a, "--save-prefix"))
-            o->save_prefix = value;
-        else if (!strcmp(a, "--keys"))
-            o->keys = value;
-        else if (!strcmp(a, "--frames"))
-            ok = parse_int(a, value, 1, 1000000, &o->frames);
-        else if (!strcmp(a, "--screenshot"))
-            o->screenshot = value;
+        switch (k) {
+        case OPT_QUIT: o->quit = 1; break;
+        case OPT_SCENE: o->scene_path = value; break;
+        case OPT_VOLUME: o->volume_path = value; break;
+        case OPT_VOLUME_SIZE:
+            ok = o->have_volume_size = halo_tool_int("halo-view", a, value, HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE,
+                                                     &o->volume_size);
+            break;
+        case OPT_SIZE: ok = halo_tool_size("halo-view", a, value, 8192, &o->width, &o->height); break;
+        case OPT_SAVE_PREFIX: o->save_prefix = value; break;
+        case OPT_KEYS: o->keys = value; break;
+        case OPT_FRAMES: ok = halo_tool_int("halo-view", a, value, 1, 1000000, &o->frames); break;
+        case OPT_SCREENSHOT: o->screenshot = value; break;
+        }
         if (!ok)
             return 2;
     }
@@ -255,13 +216,6 @@ static int parse_keys(const char *text, int **out)
 
 /* ---- Small helpers ---------------------------------------------------------------------- */
 
-static double seconds_now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 static const char *base_name(const char *path)
 {
     const char *slash = strrchr(path, '/');
@@ -304,22 +258,7 @@ static int signature_equal(const file_signature *a, const file_signature *b)
 
 /* ---- Hosts --------------------------------------------------------------------------------- */
 
-typedef enum host_kind { HOST_SLICE = 0, HOST_RAYCAST } host_kind;
-static const char *const host_names[] = {"slice", "raycast"};
-static const char *const host_fragments[] = {"slice.frag", "raycast.frag"};
-
-typedef struct render_host {
-    halo_raycast *raycast;
-    halo_slice *slice;
-} render_host;
-
-static void host_destroy(render_host *h)
-{
-    halo_raycast_destroy(h->raycast);
-    halo_slice_destroy(h->slice);
-    h->raycast = NULL;
-    h->slice = NULL;
-}
+/* The host and its program render through the render driver (examples/render_driver.h). */
 
 /* One change the keys made to a parameter, written into a saved scene. */
 typedef struct touched_param {
@@ -339,9 +278,9 @@ typedef struct viewer {
     halo_scene *scene;
     json_t *scene_json;   /* its text, for saving */
     char *scene_file;     /* its path, NULL for the built-in scene */
-    host_kind kind;
+    halo_driver_host kind;
     halo_program *program;
-    render_host host;
+    halo_driver host;
     size_t toggle_count;
     char *toggle_names[MAX_TOGGLE_STAGES];
     int toggle_on[MAX_TOGGLE_STAGES];
@@ -427,7 +366,7 @@ static void update_title(viewer *v)
             n += (size_t)snprintf(title + n, sizeof title - n, __VA_ARGS__);              \
     } while (0)
     APPEND("halo-view: %s [%s] %.0f ms", v->watch_path ? base_name(v->watch_path) : "default.json (built in)",
-           host_names[v->kind], v->frame_ms);
+           halo_driver_host_names[v->kind], v->frame_ms);
     for (size_t i = 0; i < v->toggle_count; ++i)
         APPEND("%s%zu%c%s", i ? " " : " | ", i + 1, v->toggle_on[i] ? '+' : '-', v->toggle_names[i]);
     const halo_uniform_info *delta = find_param(v, "halo_generate", "delta");
@@ -474,14 +413,7 @@ static int prepare_volume(viewer *v, const halo_render_settings *settings, int s
     int size;
     if (!v->have_file) {
         size = v->o.volume_size;
-        cube = halo_volume_create(size);
-        if (cube && (window[0] != 0.0 || window[1] != 1.0)) {
-            size_t n = (size_t)size * (size_t)size * (size_t)size;
-            for (size_t i = 0; i < n; ++i) {
-                double x = (cube[i] - window[0]) / (window[1] - window[0]);
-                cube[i] = (float)(x < 0.0 ? 0.0 : x > 1.0 ? 1.0 : x);
-            }
-        }
+        cube = halo_driver_builtin_volume(size, window);
     } else {
         size = v->o.have_volume_size ? v->o.volume_size : halo_volume_display_size(&v->file, HALO_VOLUME_MAX_SIZE);
         char why[512];
@@ -518,60 +450,22 @@ static void commit_volume(viewer *v, float *cube, int size, const double window[
 
 /* ---- Linking and hosts ------------------------------------------------------------------------------ */
 
-static halo_program *link_program(viewer *v, const halo_scene *scene, host_kind kind)
+static halo_program *link_program(viewer *v, const halo_scene *scene, halo_driver_host kind)
 {
-    char *source = halo_host_load(host_fragments[kind], NULL, v->diag);
-    if (!source)
-        return NULL;
-    halo_program *p = halo_link(&(halo_link_desc){.library = v->lib, .scene = scene, .host_source = source,
-                                                  .host_file = host_fragments[kind]},
-                                v->diag);
-    free(source);
-    if (p && halo_program_validate(p, v->diag) != HALO_OK) {
-        halo_program_destroy(p);
-        p = NULL;
-    }
-    return p;
-}
-
-/* halo-render's choice: the slice host when the scene has halo stages (image passes,
- * images, extra outputs or samplers), else the ray caster. */
-static halo_program *link_for_scene(viewer *v, const halo_scene *scene, host_kind *kind)
-{
-    halo_program *p = link_program(v, scene, HOST_SLICE);
-    if (!p)
-        return NULL;
-    if (halo_program_pass_count(p) || halo_program_image_count(p) || halo_program_output_count(p) ||
-        halo_program_sampler_count(p)) {
-        *kind = HOST_SLICE;
-        return p;
-    }
-    halo_program_destroy(p);
-    *kind = HOST_RAYCAST;
-    return link_program(v, scene, HOST_RAYCAST);
+    return halo_driver_link(&(halo_link_desc){.library = v->lib, .scene = scene}, kind, 1, v->diag);
 }
 
 /* Builds a host for program (the GL context is current) and uploads volume and settings. */
-static int build_host(viewer *v, host_kind kind, const halo_program *program, const halo_render_settings *settings,
-                      const float *volume, int n, render_host *out)
+static int build_host(viewer *v, halo_driver_host kind, const halo_program *program,
+                      const halo_render_settings *settings, const float *volume, int n, halo_driver *out)
 {
     const halo_host_desc desc = {.gl = v->f, .runtime = v->runtime, .program = program,
                                  .width = v->width, .height = v->height};
-    render_host h = {0};
-    if (kind == HOST_RAYCAST) {
-        h.raycast = halo_raycast_create(&desc, v->diag);
-        if (!h.raycast || halo_raycast_set_volume(h.raycast, volume, n, n, n, v->diag) != HALO_OK ||
-            halo_raycast_set_render(h.raycast, settings, v->diag) != HALO_OK) {
-            host_destroy(&h);
-            return 0;
-        }
-    } else {
-        h.slice = halo_slice_create(&desc, v->diag);
-        if (!h.slice || halo_slice_set_volume(h.slice, volume, n, n, n, v->diag) != HALO_OK ||
-            halo_slice_set_render(h.slice, settings, v->diag) != HALO_OK) {
-            host_destroy(&h);
-            return 0;
-        }
+    halo_driver h;
+    if (!halo_driver_create(&h, kind, &desc, v->diag) ||
+        halo_driver_set_volume(&h, volume, (const int[3]){n, n, n}, settings, 0, v->diag) != HALO_OK) {
+        halo_driver_destroy(&h);
+        return 0;
     }
     *out = h;
     return 1;
@@ -579,10 +473,7 @@ static int build_host(viewer *v, host_kind kind, const halo_program *program, co
 
 static void set_camera(viewer *v)
 {
-    if (v->host.raycast)
-        halo_raycast_set_camera(v->host.raycast, v->azimuth, v->elevation, v->zoom);
-    if (v->host.slice)
-        halo_slice_set_camera(v->host.slice, v->azimuth, v->elevation, v->zoom);
+    halo_driver_set_camera(&v->host, v->azimuth, v->elevation, v->zoom);
     v->dirty = 1;
 }
 
@@ -592,13 +483,13 @@ static int relink(viewer *v)
 {
     halo_diagnostics_clear(v->diag);
     halo_program *p = link_program(v, v->scene, v->kind);
-    render_host h = {0};
+    halo_driver h = {0};
     if (!p || !build_host(v, v->kind, p, halo_scene_render(v->scene), v->volume, v->volume_size, &h)) {
         report_diagnostics(v, "cannot relink the scene");
         halo_program_destroy(p);
         return 0;
     }
-    host_destroy(&v->host);
+    halo_driver_destroy(&v->host);
     halo_program_destroy(v->program);
     v->program = p;
     v->host = h;
@@ -659,15 +550,16 @@ static int load_scene(viewer *v, const char *path, int keep_camera)
         set_error(v, "%s: %s", path ? base_name(path) : "scene", json_error.text);
         return 1;
     }
-    host_kind kind = HOST_SLICE;
-    halo_program *p = link_for_scene(v, scene, &kind);
+    /* halo-render's choice: the slice host when the scene has halo stages */
+    halo_driver_host kind = halo_driver_choose_host(v->lib, scene);
+    halo_program *p = link_program(v, scene, kind);
     const halo_render_settings *settings = halo_scene_render(scene);
     int status = 1, size = v->volume_size;
     float *cube = NULL;
     double window[2] = {0.0, 1.0};
     if (p)
         status = prepare_volume(v, settings, scene_sets_window(root), &cube, &size, window);
-    render_host h = {0};
+    halo_driver h = {0};
     if (!p || status || !build_host(v, kind, p, settings, cube ? cube : v->volume, size, &h)) {
         if (!status)
             status = 1;
@@ -688,7 +580,7 @@ static int load_scene(viewer *v, const char *path, int keep_camera)
         v->elevation = settings->elevation;
         v->zoom = settings->zoom;
     }
-    host_destroy(&v->host);
+    halo_driver_destroy(&v->host);
     commit_volume(v, cube, size, window);
     halo_program_destroy(v->program);
     halo_scene_destroy(v->scene);
@@ -714,7 +606,7 @@ static int load_scene(viewer *v, const char *path, int keep_camera)
     set_camera(v);
     size_t linked = halo_program_stage_count(p);
     printf("halo-view: loaded %s (%s host, %zu stage%s%s", path ? path : DEFAULT_SCENE " (built in)",
-           host_names[kind], linked, linked == 1 ? "" : "s", linked ? ": " : "");
+           halo_driver_host_names[kind], linked, linked == 1 ? "" : "s", linked ? ": " : "");
     for (size_t i = 0; i < linked; ++i)
         printf("%s%s", i ? ", " : "", halo_program_stage(p, i));
     printf(")\n");
@@ -1197,11 +1089,10 @@ static void *get_proc_address(const char *name)
 
 static int render(viewer *v)
 {
-    double start = seconds_now();
+    double start = halo_progress_now();
     halo_diagnostics_clear(v->diag);
-    halo_status status = v->host.raycast ? halo_raycast_render(v->host.raycast, v->image, v->diag)
-                                         : halo_slice_render(v->host.slice, v->image, v->diag);
-    v->frame_ms = 1e3 * (seconds_now() - start);
+    halo_status status = halo_driver_render(&v->host, v->image, v->diag);
+    v->frame_ms = 1e3 * (halo_progress_now() - start);
     if (status != HALO_OK) {
         report_diagnostics(v, "rendering failed");
         return 0;
@@ -1373,7 +1264,7 @@ int main(int argc, char **argv)
             glfwPollEvents();
         else
             glfwWaitEventsTimeout(waiting ? 0.05 : POLL_SECONDS);
-        double now = seconds_now();
+        double now = halo_progress_now();
         poll_scene_file(v, now);
 
         /* one injected key per frame; "@reload" holds the rest until a (re)load */
@@ -1432,7 +1323,7 @@ int main(int argc, char **argv)
 done:
     if (v->window) {
         glfwMakeContextCurrent(v->window);
-        host_destroy(&v->host);
+        halo_driver_destroy(&v->host);
         if (v->f && v->display_framebuffer)
             v->f->DeleteFramebuffers(1, &v->display_framebuffer);
         if (v->f && v->display_texture)

@@ -41,7 +41,7 @@ if HALO_HAVE_GLFW
 bin_PROGRAMS += tools/halo-view
 dist_man_MANS += tools/halo-view.1
 endif
-tools_halo_view_SOURCES = tools/halo-view.c examples/volume_io.c examples/volume_io.h \
+tools_halo_view_SOURCES = tools/halo-view.c tools/tool_options.c tools/tool_options.h examples/volume_io.c examples/volume_io.h \
 	examples/json_file.c examples/json_file.h
 nodist_tools_halo_view_SOURCES = tools/embedded_scenes.c
 nodist_EXTRA_tools_halo_view_SOURCES = build-aux/force-cxx-link.cc
@@ -60,7 +60,7 @@ tools_halo_feature_LDADD = $(HALO_TOOL_LIBS) $(NIFTI_LIBS)
 
 # Outlines and depth enhancement (Svakhine et al. 2009, docs/outlines.md): halo-outline.
 bin_PROGRAMS += tools/halo-outline
-tools_halo_outline_SOURCES = tools/halo-outline.c
+tools_halo_outline_SOURCES = tools/halo-outline.c tools/tool_options.c tools/tool_options.h
 nodist_EXTRA_tools_halo_outline_SOURCES = build-aux/force-cxx-link.cc
 tools_halo_outline_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/libhalo
 tools_halo_outline_LDADD = $(HALO_TOOL_LIBS)
