@@ -263,9 +263,33 @@ halo_gl_frame *halo_driver_frame(const halo_driver *d)
     return d->slice ? halo_slice_frame(d->slice) : halo_raycast_frame(d->raycast);
 }
 
-int halo_driver_update_feature(halo_driver *d, const float *volume, const int dims[3], halo_diagnostics *diag)
+void halo_driver_eye(const halo_driver *d, double eye[3])
+{
+    if (d->raycast) {
+        halo_raycast_state state;
+        halo_raycast_get_state(d->raycast, &state);
+        memcpy(eye, state.eye, 3 * sizeof *eye);
+    } else {
+        halo_slice_state state;
+        halo_slice_get_state(d->slice, &state);
+        memcpy(eye, state.eye, 3 * sizeof *eye);
+    }
+}
+
+void halo_driver_bind_feature(halo_driver *d, const halo_feature_buffer *buffer)
 {
     const halo_glfuncs *f = halo_gl_functions(d->runtime);
+    unsigned gl_program = d->raycast ? halo_raycast_gl_program(d->raycast) : halo_slice_gl_program(d->slice);
+    f->UseProgram(gl_program);
+    f->Uniform1i(f->GetUniformLocation(gl_program, "halo_host_feature_buffer"), FEATURE_BUFFER_UNIT);
+    f->UseProgram(0);
+    f->ActiveTexture(GL_TEXTURE0 + FEATURE_BUFFER_UNIT);
+    f->BindTexture(GL_TEXTURE_3D, halo_feature_buffer_texture(buffer));
+    f->ActiveTexture(GL_TEXTURE0);
+}
+
+int halo_driver_update_feature(halo_driver *d, const float *volume, const int dims[3], halo_diagnostics *diag)
+{
     double start = halo_progress_now();
     if (!d->feature) {
         halo_feature_desc fd;
@@ -276,18 +300,7 @@ int halo_driver_update_feature(halo_driver *d, const float *volume, const int di
             return 0;
     }
     double eye[3];
-    unsigned gl_program;
-    if (d->raycast) {
-        halo_raycast_state state;
-        halo_raycast_get_state(d->raycast, &state);
-        memcpy(eye, state.eye, sizeof eye);
-        gl_program = halo_raycast_gl_program(d->raycast);
-    } else {
-        halo_slice_state state;
-        halo_slice_get_state(d->slice, &state);
-        memcpy(eye, state.eye, sizeof eye);
-        gl_program = halo_slice_gl_program(d->slice);
-    }
+    halo_driver_eye(d, eye);
     /* texture space = voxel space up to the scale for the cube the hosts render */
     double view[3] = {eye[0] - 0.5, eye[1] - 0.5, eye[2] - 0.5};
     double length = sqrt(view[0] * view[0] + view[1] * view[1] + view[2] * view[2]);
@@ -298,13 +311,8 @@ int halo_driver_update_feature(halo_driver *d, const float *volume, const int di
             fprintf(stderr, "%s: error: building the feature halo buffer failed\n", d->tool);
         return 0;
     }
-    f->UseProgram(gl_program);
-    f->Uniform1i(f->GetUniformLocation(gl_program, "halo_host_feature_buffer"), FEATURE_BUFFER_UNIT);
-    f->UseProgram(0);
-    f->ActiveTexture(GL_TEXTURE0 + FEATURE_BUFFER_UNIT);
-    f->BindTexture(GL_TEXTURE_3D, halo_feature_buffer_texture(d->feature));
-    f->ActiveTexture(GL_TEXTURE0);
-    f->Finish();
+    halo_driver_bind_feature(d, d->feature);
+    halo_gl_functions(d->runtime)->Finish();
     if (d->tool && !d->quiet)
         fprintf(stderr, "%s: feature halo buffer: %zu qualified voxels, built in %.2f s\n", d->tool,
                 halo_feature_buffer_qualified(d->feature), halo_progress_now() - start);

@@ -80,6 +80,10 @@ void halo_driver_set_interval(halo_driver *d, int interval);
 /* Builds feature_halo's halo buffer for the current view (from the volume's centre
  * towards the eye) and binds it; again after every camera change. Returns 0 on failure. */
 int halo_driver_update_feature(halo_driver *d, const float *volume, const int dims[3], halo_diagnostics *diag);
+/* The camera's eye in texture space (the volume is the unit cube). */
+void halo_driver_eye(const halo_driver *d, double eye[3]);
+/* Binds a feature halo buffer (one built by the caller, or the driver's) to the host's program. */
+void halo_driver_bind_feature(halo_driver *d, const halo_feature_buffer *buffer);
 /* Renders one frame into rgba (width*height*4, over the background), the post passes
  * included, with progress when tool is set and not quiet. */
 halo_status halo_driver_render(halo_driver *d, float *rgba, halo_diagnostics *diag);

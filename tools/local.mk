@@ -29,7 +29,7 @@ dist_man_MANS += tools/halo-render.1
 
 # halo-lines: lines with halos (Everts et al. 2009, docs/lines.md) through the line host.
 bin_PROGRAMS += tools/halo-lines
-tools_halo_lines_SOURCES = tools/halo-lines.c validate/conform_lines.c validate/conform_lines.h \
+tools_halo_lines_SOURCES = tools/halo-lines.c tools/tool_options.c tools/tool_options.h validate/conform_lines.c validate/conform_lines.h \
 	validate/conform_harness.c validate/conform_harness.h
 nodist_EXTRA_tools_halo_lines_SOURCES = build-aux/force-cxx-link.cc
 tools_halo_lines_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate
@@ -51,7 +51,7 @@ tools_halo_view_LDADD = $(HALO_TOOL_LIBS) $(NIFTI_LIBS) $(JANSSON_LIBS) $(GLFW_L
 # halo-feature: feature halos (docs/feature-halos.md): render with the halo buffer, the
 # measurements (report) and the conformance rows (conform).
 bin_PROGRAMS += tools/halo-feature
-tools_halo_feature_SOURCES = tools/halo-feature.c examples/volume_io.c examples/volume_io.h \
+tools_halo_feature_SOURCES = tools/halo-feature.c tools/tool_options.c tools/tool_options.h examples/volume_io.c examples/volume_io.h \
 	validate/conform_feature.c validate/conform_feature.h validate/feature_report.c validate/feature_report.h \
 	validate/conform_harness.c validate/conform_harness.h
 nodist_EXTRA_tools_halo_feature_SOURCES = build-aux/force-cxx-link.cc
