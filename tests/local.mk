@@ -124,7 +124,7 @@ AM_TESTS_ENVIRONMENT = \
 
 # Test data: scenes, hosts and modules, good and bad.
 HALO_TEST_FILES = \
-	tests/cli/common.sh \
+	tests/cli/common.sh tests/harness.sh \
 	tests/conform_backend.sh \
 	tests/lsan.supp \
 	tests/data/hosts/minimal.frag \

@@ -1,12 +1,10 @@
-# Shared by tests/outline/*.sh: finds halo-outline, the scenes and a scratch directory.
+# Shared by tests/outline/*.sh (tests/harness.sh): finds halo-outline, the scenes and a
+# scratch directory.
+. "${srcdir:-.}/tests/harness.sh"
 HALO_OUTLINE=${HALO_OUTLINE:-${top_builddir:-.}/tools/halo-outline}
-if test ! -x "$HALO_OUTLINE"; then
-    echo "broken setup: $HALO_OUTLINE missing" >&2
-    exit 99
-fi
+harness_program "$HALO_OUTLINE"
 scenes="${srcdir:-.}/examples/scenes"
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/halo-outline.XXXXXX") || exit 99
-trap 'rm -rf "$tmp"' EXIT
+harness_tmp halo-outline
 export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
 
 # outline NAME ARGS...: renders scene NAME small into $tmp/NAME.png (output in
@@ -26,7 +24,7 @@ outline() {
         cat "$tmp/$name.out" >&2
         exit 1
     fi
-    if test "$(od -An -tx1 -N8 "$tmp/$name.png" | tr -d ' \n')" != "89504e470d0a1a0a"; then
+    if ! is_png "$tmp/$name.png"; then
         echo "FAIL: $name.png is not a PNG" >&2
         exit 1
     fi
