@@ -38,15 +38,24 @@ int halo_tool_args_next(halo_tool_args *a, const halo_tool_option *table)
     return HALO_TOOL_ARGS_ERROR;
 }
 
+/* Whether strto* read all of text (end at its end, no overflow, and ok); else one
+ * message saying what it is not. */
+static int read_whole(const char *tool, const char *option, const char *text, const char *end, int ok,
+                      const char *what)
+{
+    if (text && end != text && *end == '\0' && errno != ERANGE && ok)
+        return 1;
+    fprintf(stderr, "%s: error: %s: '%s' is not %s\n", tool, option, text ? text : "", what);
+    return 0;
+}
+
 int halo_tool_number(const char *tool, const char *option, const char *text, double lo, double hi, double *out)
 {
     char *end = NULL;
     errno = 0;
     double x = text ? strtod(text, &end) : NAN;
-    if (!text || end == text || *end != '\0' || errno == ERANGE || !isfinite(x)) {
-        fprintf(stderr, "%s: error: %s: '%s' is not a finite number\n", tool, option, text ? text : "");
+    if (!read_whole(tool, option, text, end, isfinite(x), "a finite number"))
         return 0;
-    }
     if (x < lo || x > hi) {
         fprintf(stderr, "%s: error: %s: %g is outside %g..%g\n", tool, option, x, lo, hi);
         return 0;
@@ -60,10 +69,8 @@ int halo_tool_long(const char *tool, const char *option, const char *text, long 
     char *end = NULL;
     errno = 0;
     long x = text ? strtol(text, &end, 10) : 0;
-    if (!text || end == text || *end != '\0' || errno == ERANGE) {
-        fprintf(stderr, "%s: error: %s: '%s' is not an integer\n", tool, option, text ? text : "");
+    if (!read_whole(tool, option, text, end, 1, "an integer"))
         return 0;
-    }
     if (x < lo || x > hi) {
         fprintf(stderr, "%s: error: %s: %ld is outside %ld..%ld\n", tool, option, x, lo, hi);
         return 0;
