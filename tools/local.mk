@@ -41,7 +41,7 @@ if HALO_HAVE_GLFW
 bin_PROGRAMS += tools/halo-view
 dist_man_MANS += tools/halo-view.1
 endif
-tools_halo_view_SOURCES = tools/halo-view.c tools/tool_options.c tools/tool_options.h examples/volume_io.c examples/volume_io.h \
+tools_halo_view_SOURCES = tools/halo-view.c tools/view.h tools/view_scene.c tools/tool_options.c tools/tool_options.h examples/volume_io.c examples/volume_io.h \
 	examples/json_file.c examples/json_file.h
 nodist_tools_halo_view_SOURCES = tools/embedded_scenes.c
 nodist_EXTRA_tools_halo_view_SOURCES = build-aux/force-cxx-link.cc
