@@ -75,6 +75,25 @@ expect_no_stdout() {
     fi
 }
 
+# must_render NAME COMMAND [ARG]...: runs a render with its output in $tmp/NAME.out;
+# skips the test (77) when the command does (no headless OpenGL context), and fails it
+# at once (exit 1, the output shown) when the command fails.
+must_render() {
+    must_name=$1
+    shift
+    "$@" >"$tmp/$must_name.out" 2>&1
+    must_status=$?
+    if test $must_status -eq 77; then
+        cat "$tmp/$must_name.out" >&2
+        exit 77
+    fi
+    if test $must_status -ne 0; then
+        echo "FAIL: $(basename "$1") $must_name exited $must_status:" >&2
+        cat "$tmp/$must_name.out" >&2
+        exit 1
+    fi
+}
+
 # is_png FILE: FILE exists and starts with the PNG signature; expect_png FILE fails otherwise.
 is_png() {
     test -s "$1" && test "$(od -An -tx1 -N8 "$1" | tr -d ' \n')" = "89504e470d0a1a0a"

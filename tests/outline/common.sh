@@ -12,18 +12,7 @@ export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
 outline() {
     name=$1
     shift
-    "$HALO_OUTLINE" --scene "$scenes/$name.json" --size 48 --volume-size 32 -o "$tmp/$name.png" "$@" \
-        >"$tmp/$name.out" 2>&1
-    status=$?
-    if test $status -eq 77; then
-        cat "$tmp/$name.out" >&2
-        exit 77
-    fi
-    if test $status -ne 0; then
-        echo "FAIL: halo-outline $name exited $status:" >&2
-        cat "$tmp/$name.out" >&2
-        exit 1
-    fi
+    must_render "$name" "$HALO_OUTLINE" --scene "$scenes/$name.json" --size 48 --volume-size 32 -o "$tmp/$name.png" "$@"
     if ! is_png "$tmp/$name.png"; then
         echo "FAIL: $name.png is not a PNG" >&2
         exit 1
