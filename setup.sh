@@ -34,4 +34,4 @@ fi
 make -j"$(nproc)"
 
 # The main job: render the built-in volume with the default scene.
-LP_NUM_THREADS=${LP_NUM_THREADS:-2} ./examples/halo-render
+LP_NUM_THREADS=${LP_NUM_THREADS:-2} ./tools/halo-render

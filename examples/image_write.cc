@@ -3,6 +3,10 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -30,6 +34,45 @@ bool ends_with_nocase(const std::string &s, const char *suffix)
 }
 
 } // namespace
+
+extern "C" int halo_image_check(const char *path, char *err, size_t errlen)
+{
+    if (!path || !path[0]) {
+        set_error(err, errlen, "empty file name");
+        return -1;
+    }
+    std::string name(path);
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        set_error(err, errlen, name + ": cannot write: Is a directory");
+        return -1;
+    }
+    size_t slash = name.rfind('/');
+    std::string folder = slash == std::string::npos ? "." : slash == 0 ? "/" : name.substr(0, slash);
+    const char *why = nullptr;
+    if (stat(folder.c_str(), &st) != 0)
+        why = std::strerror(errno);
+    else if (!S_ISDIR(st.st_mode))
+        why = std::strerror(ENOTDIR);
+    else if (access(folder.c_str(), W_OK) != 0 || (access(path, F_OK) == 0 && access(path, W_OK) != 0))
+        why = std::strerror(EACCES);
+    if (why) {
+        set_error(err, errlen, name + ": cannot write: " + why);
+        return -1;
+    }
+    try {
+        auto out = OIIO::ImageOutput::create(name);
+        if (!out) {
+            OIIO::geterror(); /* clear it */
+            set_error(err, errlen, name + ": unknown image format (write .png or .exr)");
+            return -1;
+        }
+    } catch (const std::exception &e) {
+        set_error(err, errlen, name + ": " + e.what());
+        return -1;
+    }
+    return 0;
+}
 
 extern "C" int halo_image_write(const char *path, int w, int h, const float *rgba, char *err, size_t errlen)
 {

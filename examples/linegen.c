@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "diag.h"
+#include "strbuf.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -289,37 +290,15 @@ halo_status halo_polylines_parse(const char *text, const char *file, halo_polyli
 halo_status halo_polylines_load(const char *path, halo_polylines *out, halo_diagnostics *diag)
 {
     memset(out, 0, sizeof *out);
-    FILE *f = path ? fopen(path, "rb") : NULL;
-    if (!f) {
-        halo_diag_error(diag, IO_READ, path ? path : "", 0, 0, "cannot open polyline file '%s'", path ? path : "");
+    size_t len = 0;
+    char *text = path ? halo_read_file(path, &len) : NULL;
+    if (!text) {
+        int read_failed = path && (errno == EIO || errno == EISDIR || errno == ENOMEM);
+        halo_diag_error(diag, IO_READ, path ? path : "", 0, 0,
+                        read_failed ? "cannot read polyline file '%s'" : "cannot open polyline file '%s'",
+                        path ? path : "");
         return HALO_ERROR_IO;
     }
-    size_t cap = 1 << 16, len = 0;
-    char *text = malloc(cap);
-    while (text) {
-        if (len + 1 >= cap) {
-            char *grown = realloc(text, cap * 2);
-            if (!grown) {
-                free(text);
-                text = NULL;
-                break;
-            }
-            text = grown;
-            cap *= 2;
-        }
-        size_t got = fread(text + len, 1, cap - len - 1, f);
-        len += got;
-        if (got == 0)
-            break;
-    }
-    int failed = ferror(f);
-    fclose(f);
-    if (!text || failed) {
-        free(text);
-        halo_diag_error(diag, IO_READ, path, 0, 0, "cannot read polyline file '%s'", path);
-        return HALO_ERROR_IO;
-    }
-    text[len] = '\0';
     if (memchr(text, '\0', len)) {
         free(text);
         halo_diag_error(diag, SCENE_TYPE, path, 0, 0, "'%s' is not a text file (it holds NUL bytes)", path);

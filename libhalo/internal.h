@@ -238,9 +238,17 @@ extern const size_t halo_hook_struct_count;
 halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag);
 /* link.c: halo_link of host text (desc->pieces, if set, gives only first_output_location). */
 halo_program *halo_link_host(const halo_link_desc *desc, halo_diagnostics *diag);
-/* link.c: a string the program owns (freed with it), printf-style. */
+/* program.c: a string the program owns (freed with it), printf-style. */
 char *halo_program_own(halo_program *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-/* link.c: is name used (as an identifier, not a field) in the module's code? */
+/* program.c: the uniforms of the linked stages' parameters (all_live: every one a
+ * uniform); feature groups (the channels lists longer than four) and loading group g.
+ * 0, or -1 when memory runs out. */
+int halo_program_build_uniforms(halo_program *p, int all_live);
+int halo_program_set_groups(halo_program *p);
+void halo_program_load_group(halo_program *p, int g);
+/* program.c: the program's image of that name, or NULL. */
+halo_image_info *halo_program_image_named(halo_program *p, const char *name);
+/* emit.c: is name used (as an identifier, not a field) in the module's code? */
 int halo_module_uses(const halo_module *m, const char *name);
 /* segment.c: "layout(location = N) " or "" for a program whose outputs carry none. */
 const char *halo_output_layout(const halo_program *p, int location, char *buf, size_t len);

@@ -103,7 +103,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/directory.sh \
 	tests/cli/bom.sh \
 	tests/cli/error_limit.sh \
-	tests/cli/glslang_agree.sh
+	tests/cli/glslang_agree.sh \
+	tests/cli/render_output.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
@@ -113,7 +114,7 @@ AM_TESTS_ENVIRONMENT = \
 	top_srcdir='$(top_srcdir)'; export top_srcdir; \
 	top_builddir='$(top_builddir)'; export top_builddir; \
 	HALO_VALIDATE='$(abs_top_builddir)/validate/halo-validate'; export HALO_VALIDATE; \
-	HALO_RENDER='$(abs_top_builddir)/examples/halo-render'; export HALO_RENDER; \
+	HALO_RENDER='$(abs_top_builddir)/tools/halo-render'; export HALO_RENDER; \
 	HALO_LIBDIR='$(abs_top_builddir)/libhalo'; export HALO_LIBDIR; \
 	HALO_HAVE_EGL='$(HALO_HAVE_EGL)'; export HALO_HAVE_EGL; \
 	HALO_HAVE_OSMESA='$(HALO_HAVE_OSMESA)'; export HALO_HAVE_OSMESA; \
@@ -124,7 +125,7 @@ AM_TESTS_ENVIRONMENT = \
 
 # Test data: scenes, hosts and modules, good and bad.
 HALO_TEST_FILES = \
-	tests/cli/common.sh \
+	tests/cli/common.sh tests/harness.sh \
 	tests/conform_backend.sh \
 	tests/lsan.supp \
 	tests/data/hosts/minimal.frag \
@@ -226,7 +227,7 @@ tests_view_image_compare_SOURCES = tests/view/image_compare.cc
 tests_view_image_compare_CPPFLAGS = $(AM_CPPFLAGS) $(OIIO_CFLAGS)
 tests_view_image_compare_LDADD = $(OIIO_LIBS)
 if HALO_HAVE_GLFW
-AM_TESTS_ENVIRONMENT += HALO_VIEW='$(abs_top_builddir)/examples/halo-view'; export HALO_VIEW;
+AM_TESTS_ENVIRONMENT += HALO_VIEW='$(abs_top_builddir)/tools/halo-view'; export HALO_VIEW;
 endif
 AM_TESTS_ENVIRONMENT += HALO_IMAGE_COMPARE='$(abs_top_builddir)/tests/view/image_compare'; export HALO_IMAGE_COMPARE;
 
@@ -252,7 +253,7 @@ EXTRA_DIST += tests/hard/conform_rows.sh
 HALO_FEATURE_TESTS = tests/feature/conform.sh tests/feature/render.sh
 TESTS += $(HALO_FEATURE_TESTS)
 EXTRA_DIST += $(HALO_FEATURE_TESTS) glsl/feature/feature_halo.glsl
-AM_TESTS_ENVIRONMENT += HALO_FEATURE='$(abs_top_builddir)/examples/halo-feature'; export HALO_FEATURE;
+AM_TESTS_ENVIRONMENT += HALO_FEATURE='$(abs_top_builddir)/tools/halo-feature'; export HALO_FEATURE;
 
 # ---- Outlines and depth enhancement (Svakhine et al. 2009, docs/outlines.md): every
 # outline/depth scene through halo-outline (GPU post passes against their emulation),
@@ -260,7 +261,7 @@ AM_TESTS_ENVIRONMENT += HALO_FEATURE='$(abs_top_builddir)/examples/halo-feature'
 HALO_OUTLINE_TESTS = tests/outline/render.sh tests/outline/occlusion.sh tests/outline/atlas.sh
 TESTS += $(HALO_OUTLINE_TESTS)
 EXTRA_DIST += $(HALO_OUTLINE_TESTS) tests/outline/common.sh
-AM_TESTS_ENVIRONMENT += HALO_OUTLINE='$(abs_top_builddir)/examples/halo-outline'; export HALO_OUTLINE;
+AM_TESTS_ENVIRONMENT += HALO_OUTLINE='$(abs_top_builddir)/tools/halo-outline'; export HALO_OUTLINE;
 
 # ---- Host contract 2 (docs/host-contract.md, "Segmented ray casting"): the ray caster in
 # depth segments against one draw and against the slab host; the single-pass diagnostics ----

@@ -1,20 +1,16 @@
 /* Rendering and timing bench configurations (bench_run.h). */
 #include "bench_run.h"
 
-#include "hosts/raycast.h"
-#include "hosts/slab.h"
-#include "hosts/slice.h"
+#include "progress.h"
+#include "render_driver.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 double halo_bench_now(void)
 {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+    return halo_progress_now();
 }
 
 static int compare_doubles(const void *a, const void *b)
@@ -74,25 +70,6 @@ static int configure_scene(const halo_bench_env *env, halo_bench_case *c)
     return 1;
 }
 
-/* The host of a case: the slice host, the slab ray caster, or the segmented ray caster
- * (host contract 2: raycast.frag drawn by halo_gl_frame_draw). */
-typedef struct bench_host {
-    halo_slice *slice;
-    halo_raycast *raycast;
-    long pass_draws;
-} bench_host;
-
-static halo_status host_render(bench_host *h, float *rgba, halo_diagnostics *diag)
-{
-    if (h->slice)
-        return halo_slice_render(h->slice, rgba, diag);
-    halo_gl_frame *frame = halo_raycast_frame(h->raycast);
-    long before = halo_gl_frame_pass_draws(frame);
-    halo_status status = halo_raycast_render(h->raycast, rgba, diag);
-    h->pass_draws = halo_gl_frame_pass_draws(frame) - before;
-    return status;
-}
-
 static int open_case(const halo_bench_env *env, halo_bench_case *c)
 {
     const char *text = c->scene_text ? c->scene_text : env->scene_text;
@@ -100,48 +77,29 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
                     : halo_scene_load(env->scene_path, env->lib, env->diag);
     if (!c->scene || !configure_scene(env, c))
         return 0;
-    int ray = c->config.slab == HALO_BENCH_RAYCAST;
-    const char *host_file = ray ? "raycast.frag" : c->config.slab ? "slab.frag" : "slice.frag";
-    char *source = halo_host_load(host_file, NULL, env->diag);
-    if (!source)
-        return 0;
-    c->program = halo_link(&(halo_link_desc){.library = env->lib, .scene = c->scene, .host_source = source,
-                                             .host_file = host_file, .all_live = c->config.all_live,
-                                             .image_precision = c->config.precision ? c->config.precision : 32,
-                                             .image_scale = c->config.scale},
-                           env->diag);
-    free(source);
+    halo_driver_host kind = c->config.slab == HALO_BENCH_RAYCAST ? HALO_DRIVER_RAYCAST
+                            : c->config.slab                        ? HALO_DRIVER_SLAB
+                                                                    : HALO_DRIVER_SLICE;
+    c->program = halo_driver_link(&(halo_link_desc){.library = env->lib, .scene = c->scene,
+                                                    .all_live = c->config.all_live,
+                                                    .image_precision = c->config.precision ? c->config.precision : 32,
+                                                    .image_scale = c->config.scale},
+                                  kind, 0, env->diag);
     if (!c->program)
         return 0;
     halo_host_desc desc = {.gl = env->gl, .runtime = env->runtime, .program = c->program, .width = env->width,
                            .height = env->height};
-    bench_host *host = calloc(1, sizeof *host);
+    halo_driver *host = calloc(1, sizeof *host);
     c->host = host;
-    if (!host)
+    if (!host || !halo_driver_create(host, kind, &desc, env->diag))
         return 0;
     const halo_render_settings *settings = halo_scene_render(c->scene);
+    if (halo_driver_set_volume(host, env->volume, env->dims, settings, (halo_gradient_format)c->config.gradient,
+                               env->diag) != HALO_OK)
+        return 0;
+    halo_driver_set_camera(host, settings->azimuth, settings->elevation, settings->zoom);
     /* beyond the last slice: the field is never generated */
-    int interval = c->config.no_generation ? 1 << 20 : c->config.interval;
-    if (ray) {
-        host->raycast = halo_raycast_create(&desc, env->diag);
-        if (!host->raycast ||
-            halo_raycast_set_volume(host->raycast, env->volume, env->dims[0], env->dims[1], env->dims[2],
-                                    env->diag) != HALO_OK ||
-            halo_raycast_set_render(host->raycast, settings, env->diag) != HALO_OK)
-            return 0;
-        halo_raycast_set_camera(host->raycast, settings->azimuth, settings->elevation, settings->zoom);
-        halo_raycast_set_segments(host->raycast, interval, 0);
-    } else {
-        host->slice = c->config.slab ? halo_slab_create(&desc, env->diag) : halo_slice_create(&desc, env->diag);
-        halo_slice_set_gradient_format(host->slice, (halo_gradient_format)c->config.gradient);
-        if (!host->slice ||
-            halo_slice_set_volume(host->slice, env->volume, env->dims[0], env->dims[1], env->dims[2], env->diag) !=
-                HALO_OK ||
-            halo_slice_set_render(host->slice, settings, env->diag) != HALO_OK)
-            return 0;
-        halo_slice_set_camera(host->slice, settings->azimuth, settings->elevation, settings->zoom);
-        halo_slice_set_interval(host->slice, interval);
-    }
+    halo_driver_set_interval(host, c->config.no_generation ? 1 << 20 : c->config.interval);
     size_t values = (size_t)env->width * (size_t)env->height * 4;
     c->image = c->image ? c->image : malloc(values * sizeof(float));
     c->times = calloc((size_t)env->repeat, sizeof *c->times);
@@ -150,10 +108,9 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
 
 static void close_case(halo_bench_case *c)
 {
-    bench_host *host = c->host;
+    halo_driver *host = c->host;
     if (host) {
-        halo_slice_destroy(host->slice);
-        halo_raycast_destroy(host->raycast);
+        halo_driver_destroy(host);
         free(host);
     }
     halo_program_destroy(c->program);
@@ -175,7 +132,7 @@ int halo_bench_run(const halo_bench_env *env, halo_bench_case *cases, size_t cou
         if (env->progress)
             fprintf(env->progress, "bench: preparing %zu of %zu: %s\n", i + 1, count, name);
         /* one frame to warm up: shader compilation on the first draw, texture residency */
-        ok = open_case(env, &cases[i]) && host_render(cases[i].host, cases[i].image, env->diag) == HALO_OK;
+        ok = open_case(env, &cases[i]) && halo_driver_render(cases[i].host, cases[i].image, env->diag) == HALO_OK;
     }
     for (int r = 0; r < env->repeat && ok; ++r) {
         double round_start = halo_bench_now();
@@ -183,7 +140,7 @@ int halo_bench_run(const halo_bench_env *env, halo_bench_case *cases, size_t cou
             halo_bench_case *c = &cases[i];
             env->gl->Finish();
             double start = halo_bench_now();
-            ok = host_render(c->host, c->image, env->diag) == HALO_OK;
+            ok = halo_driver_render(c->host, c->image, env->diag) == HALO_OK;
             env->gl->Finish();
             c->times[r] = halo_bench_now() - start;
         }
@@ -197,18 +154,7 @@ int halo_bench_run(const halo_bench_env *env, halo_bench_case *cases, size_t cou
             int n = env->repeat;
             qsort(c->times, (size_t)n, sizeof *c->times, compare_doubles);
             c->seconds = n % 2 ? c->times[n / 2] : 0.5 * (c->times[n / 2 - 1] + c->times[n / 2]);
-            bench_host *host = c->host;
-            if (host->slice) {
-                halo_slice_state state;
-                halo_slice_get_state(host->slice, &state);
-                c->slices = state.slice_count;
-                c->draws = halo_slice_draws(host->slice);
-                c->pass_draws = halo_slice_pass_draws(host->slice);
-            } else {
-                halo_gl_frame *frame = halo_raycast_frame(host->raycast);
-                c->draws = frame ? halo_gl_frame_segment_count(frame) : 1;
-                c->pass_draws = host->pass_draws;
-            }
+            halo_driver_counts(c->host, &c->draws, &c->pass_draws, &c->slices);
             c->nonfinite = 0;
             for (size_t v = 0; v < values; ++v)
                 c->nonfinite += !isfinite(c->image[v]);

@@ -155,23 +155,40 @@ static const char point_fragment[] = "#version 330 core\n"
                                      "layout(location = 1) out vec4 out_color;\n"
                                      "void main() { out_position = probe_position; out_color = probe_color; }\n";
 
+static const char fullscreen_vertex[] = "#version 330 core\n"
+                                        "void main() {\n"
+                                        "    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
+                                        "    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n"
+                                        "}\n";
+
+/* The probe program (a vertex probe drawn as points, or a fragment probe drawn over
+ * the target) and its target; 0 after the row's error line (p destroyed). */
+static GLuint open_probe(rows *r, const char *row, halo_program *p, int vertex_probe, target *t)
+{
+    GLuint program = !p ? 0
+                     : vertex_probe ? halo_lines_build_program(&r->f, p, NULL, "line_probe.vert", NULL, point_fragment,
+                                                               "point.frag", r->diag)
+                                    : halo_lines_build_program(&r->f, NULL, fullscreen_vertex, "fullscreen.vert", p,
+                                                               NULL, "line_probe.frag", r->diag);
+    if (program && target_create(r, t))
+        return program;
+    if (program)
+        r->f.DeleteProgram(program), target_release(r, t);
+    halo_program_destroy(p);
+    lines_print_error_row(r, row);
+    return 0;
+}
+
 /* Runs n <= PROBE_SIDE^2 vertices through line_probe.vert linked with the program and
  * compares them with halo_emu_line_vertex_apply. Inputs are float-rounded first. */
 static void vertex_row(rows *r, const char *row, const char *scene_text, halo_emu_line_vertex *in, size_t n,
                        const double depth_range[2])
 {
     halo_program *p = link_probe(r, "line_probe.vert", HALO_SHADER_VERTEX, scene_text);
-    GLuint program = p ? halo_lines_build_program(&r->f, p, NULL, "line_probe.vert", NULL, point_fragment,
-                                                  "point.frag", r->diag)
-                       : 0;
     target t;
-    if (!program || !target_create(r, &t)) {
-        if (program)
-            r->f.DeleteProgram(program), target_release(r, &t);
-        halo_program_destroy(p);
-        lines_print_error_row(r, row);
+    GLuint program = open_probe(r, row, p, 1, &t);
+    if (!program)
         return;
-    }
     const halo_glfuncs *f = &r->f;
     float *attributes = malloc(n * 12 * sizeof *attributes);
     float *out0 = malloc(PROBE_SIDE * PROBE_SIDE * 4 * sizeof *out0), *out1 = malloc(PROBE_SIDE * PROBE_SIDE * 4 * sizeof *out1);
@@ -385,11 +402,6 @@ static void run_strip_degenerate_row(rows *r)
 
 /* ---- line_fragment: a probe reading its inputs from float textures ---------------------- */
 
-static const char fullscreen_vertex[] = "#version 330 core\n"
-                                        "void main() {\n"
-                                        "    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
-                                        "    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n"
-                                        "}\n";
 
 static void run_halo_row(rows *r, int profile)
 {
@@ -403,17 +415,10 @@ static void run_halo_row(rows *r, int profile)
              "{\"halo_scene\": 1, \"stages\": [{\"line_halo\": {\"core\": %g, \"d_max\": 0.07, \"profile\": %d}}]}",
              core, profile);
     halo_program *p = link_probe(r, "line_probe.frag", HALO_SHADER_FRAGMENT, scene);
-    GLuint program = p ? halo_lines_build_program(&r->f, NULL, fullscreen_vertex, "fullscreen.vert", p, NULL,
-                                                  "line_probe.frag", r->diag)
-                       : 0;
     target t;
-    if (!program || !target_create(r, &t)) {
-        if (program)
-            r->f.DeleteProgram(program), target_release(r, &t);
-        halo_program_destroy(p);
-        lines_print_error_row(r, row);
+    GLuint program = open_probe(r, row, p, 0, &t);
+    if (!program)
         return;
-    }
     const halo_glfuncs *f = &r->f;
     size_t n = PROBE_SIDE * PROBE_SIDE;
     halo_emu_line_fragment *in = calloc(n, sizeof *in);

@@ -6,7 +6,7 @@
 #include "halo.h"
 #include "diag.h"
 #include "internal.h"
-#include "hosts/raycast.h"
+#include "render_driver.h"
 #include "volume.h"
 
 #include <math.h>
@@ -21,40 +21,42 @@
  * each threshold moved by 1e-5 and the spread is allowed. */
 #define RAYCAST_THRESHOLD_MOVE 1e-5
 
-/* Renders the built-in volume with the ray caster: linked program, or raw text. */
+/* Renders the built-in volume with the ray caster (the render driver): linked program, or raw text. */
 static float *render_raycast(conform *c, const halo_program *program, const char *raw_source,
                              const halo_scene *scene, const float *volume, int volume_size,
                              halo_raycast_state *state_out, float *transfer_out)
 {
-    halo_raycast *r = halo_raycast_create(&(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = program,
-                                                           .fragment_source = program ? NULL : raw_source,
-                                                           .fragment_file = "raycast.frag",
-                                                           .width = c->size, .height = c->size},
-                                          c->diag);
-    if (!r)
+    halo_driver r;
+    if (!halo_driver_create(&r, HALO_DRIVER_RAYCAST,
+                            &(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = program,
+                                              .fragment_source = program ? NULL : raw_source,
+                                              .fragment_file = "raycast.frag", .width = c->size, .height = c->size},
+                            c->diag)) {
+        halo_driver_destroy(&r);
         return NULL;
+    }
     float *image = malloc((size_t)c->size * (size_t)c->size * 4 * sizeof *image);
     const halo_render_settings *settings = halo_scene_render(scene);
-    if (!image || halo_raycast_set_volume(r, volume, volume_size, volume_size, volume_size, c->diag) != HALO_OK ||
-        halo_raycast_set_render(r, settings, c->diag) != HALO_OK) {
+    const int dims[3] = {volume_size, volume_size, volume_size};
+    if (!image || halo_driver_set_volume(&r, volume, dims, settings, 0, c->diag) != HALO_OK) {
         if (!image)
             halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
         free(image);
-        halo_raycast_destroy(r);
+        halo_driver_destroy(&r);
         return NULL;
     }
-    halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);
-    if (halo_raycast_render(r, image, c->diag) != HALO_OK) {
+    halo_driver_set_camera(&r, settings->azimuth, settings->elevation, settings->zoom);
+    if (halo_driver_render(&r, image, c->diag) != HALO_OK) {
         free(image);
         image = NULL;
     }
     if (state_out) {
         /* the state points into the ray caster: keep a copy of its transfer table */
-        halo_raycast_get_state(r, state_out);
+        halo_raycast_get_state(r.raycast, state_out);
         memcpy(transfer_out, state_out->transfer, HALO_RAYCAST_TRANSFER_TEXELS * 4 * sizeof *transfer_out);
         state_out->transfer = transfer_out;
     }
-    halo_raycast_destroy(r);
+    halo_driver_destroy(&r);
     return image;
 }
 

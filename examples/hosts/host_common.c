@@ -47,15 +47,18 @@ int halo_host_desc_check(const halo_host_desc *desc, halo_diagnostics *diag)
     return 1;
 }
 
-static void report_log(halo_diagnostics *diag, halo_message_id id, const char *file, const char *log)
+/* Driver log lines "0:LINE(COL): error: TEXT", one diagnostic each; through the
+ * linked program's origins when there is one (an unlinked shader's lines already
+ * refer to the file itself). */
+static void report_log(halo_diagnostics *diag, halo_message_id id, const halo_program *program, const char *file,
+                       const char *log)
 {
-    /* Raw (unlinked) shaders: the driver's lines already refer to the file itself. */
     const char *p = log;
     while (p && *p) {
         const char *end = strchr(p, '\n');
         size_t n = end ? (size_t)(end - p) : strlen(p);
         int source, line = 0, column = 0, used = 0;
-        const char *text = p;
+        const char *text = p, *origin_file = file;
         if (sscanf(p, "%d:%d(%d):%n", &source, &line, &column, &used) == 3 && used > 0 && (size_t)used <= n) {
             text = p + used;
             while (*text == ' ')
@@ -64,18 +67,22 @@ static void report_log(halo_diagnostics *diag, halo_message_id id, const char *f
                 text += 6;
             while (*text == ' ')
                 ++text;
+            int origin_line = line;
+            if (program && !halo_program_map_line(program, line, &origin_file, &origin_line))
+                origin_file = file;
+            line = origin_line;
         } else {
             line = column = 0;
         }
         if (n > 0)
-            halo_diag_add(diag, HALO_SEVERITY_ERROR, id, file, line, column, NULL, "%.*s", (int)(n - (size_t)(text - p)),
-                          text);
+            halo_diag_add(diag, HALO_SEVERITY_ERROR, id, origin_file, line, column, NULL, "%.*s",
+                          (int)(n - (size_t)(text - p)), text);
         p = end ? end + 1 : NULL;
     }
 }
 
-static GLuint compile_raw(const halo_glfuncs *f, GLenum type, const char *source, const char *file, int log_style,
-                          halo_diagnostics *diag)
+static GLuint compile_raw(const halo_glfuncs *f, GLenum type, const halo_program *program, const char *source,
+                          const char *file, int log_style, halo_diagnostics *diag)
 {
     GLuint shader = f->CreateShader(type);
     f->ShaderSource(shader, 1, &source, NULL);
@@ -89,7 +96,7 @@ static GLuint compile_raw(const halo_glfuncs *f, GLenum type, const char *source
     if (log_style == HALO_HOST_LOG_LINES) {
         if (log) {
             f->GetShaderInfoLog(shader, length, NULL, log);
-            report_log(diag, HALO_MSG_GL_COMPILE, file, log);
+            report_log(diag, HALO_MSG_GL_COMPILE, program, file, log);
             free(log);
         }
         halo_diag_error(diag, GL_COMPILE, file, 0, 0, "the driver rejected '%s'", file);
@@ -107,8 +114,18 @@ GLuint halo_host_link_raw(const halo_glfuncs *f, const char *vertex_source, cons
                           const char *fragment_source, const char *fragment_file, int log_style,
                           halo_diagnostics *diag)
 {
-    GLuint vertex = compile_raw(f, GL_VERTEX_SHADER, vertex_source, vertex_file, log_style, diag);
-    GLuint fragment = compile_raw(f, GL_FRAGMENT_SHADER, fragment_source, fragment_file, log_style, diag);
+    return halo_host_link_mapped(f, NULL, vertex_source, vertex_file, NULL, fragment_source, fragment_file, log_style,
+                                 diag);
+}
+
+GLuint halo_host_link_mapped(const halo_glfuncs *f, const halo_program *vertex_program, const char *vertex_source,
+                             const char *vertex_file, const halo_program *fragment_program,
+                             const char *fragment_source, const char *fragment_file, int log_style,
+                             halo_diagnostics *diag)
+{
+    GLuint vertex = compile_raw(f, GL_VERTEX_SHADER, vertex_program, vertex_source, vertex_file, log_style, diag);
+    GLuint fragment =
+        compile_raw(f, GL_FRAGMENT_SHADER, fragment_program, fragment_source, fragment_file, log_style, diag);
     if (!vertex || !fragment) {
         if (vertex)
             f->DeleteShader(vertex);
@@ -131,7 +148,7 @@ GLuint halo_host_link_raw(const halo_glfuncs *f, const char *vertex_source, cons
         char *log = calloc((size_t)(length > 0 ? length : 1) + 1, 1);
         if (log) {
             f->GetProgramInfoLog(program, length, NULL, log);
-            report_log(diag, HALO_MSG_GL_LINK, fragment_file, log);
+            report_log(diag, HALO_MSG_GL_LINK, NULL, fragment_file, log);
             free(log);
         }
     }

@@ -21,6 +21,13 @@ GLuint halo_host_link_raw(const halo_glfuncs *f, const char *vertex_source, cons
                           const char *fragment_source, const char *fragment_file, int log_style,
                           halo_diagnostics *diag);
 
+/* The same for texts linked by halo_link: the driver's log lines are mapped through
+ * each program's origins to the module's or host's file:line (a NULL program: as raw). */
+GLuint halo_host_link_mapped(const halo_glfuncs *f, const halo_program *vertex_program, const char *vertex_source,
+                             const char *vertex_file, const halo_program *fragment_program,
+                             const char *fragment_source, const char *fragment_file, int log_style,
+                             halo_diagnostics *diag);
+
 /* The host's program: desc->program built with halo_gl_program_build, else the
  * unlinked fragment text (default: the embedded default_fragment); the vertex text
  * defaults to the embedded default_vertex. 0 with diagnostics on failure. */

@@ -93,61 +93,6 @@ halo_status halo_lines_link(const halo_library *lib, const char *scene_path, con
 
 /* ---- Programs ------------------------------------------------------------------------ */
 
-/* Driver log lines "0:LINE(COL): error: TEXT" mapped through the linked program's origins. */
-static void report_log(halo_diagnostics *diag, halo_message_id id, const halo_program *program, const char *file,
-                       const char *log)
-{
-    for (const char *p = log; p && *p;) {
-        const char *end = strchr(p, '\n');
-        size_t n = end ? (size_t)(end - p) : strlen(p);
-        int source = 0, line = 0, column = 0, used = 0;
-        const char *text = p, *origin_file = file;
-        if (sscanf(p, "%d:%d(%d):%n", &source, &line, &column, &used) == 3 && used > 0 && (size_t)used <= n) {
-            text = p + used;
-            while (*text == ' ')
-                ++text;
-            int origin_line = line;
-            if (program && !halo_program_map_line(program, line, &origin_file, &origin_line))
-                origin_file = file;
-            line = origin_line;
-        } else {
-            line = column = 0;
-        }
-        if (n > 0)
-            halo_diag_add(diag, HALO_SEVERITY_ERROR, id, origin_file, line, column, NULL, "%.*s",
-                          (int)(n - (size_t)(text - p)), text);
-        p = end ? end + 1 : NULL;
-    }
-}
-
-static GLuint compile(const halo_glfuncs *f, GLenum type, const halo_program *program, const char *source,
-                      const char *file, halo_diagnostics *diag)
-{
-    if (program)
-        source = halo_program_source(program);
-    if (!source) {
-        halo_diag_error(diag, GL_COMPILE, file, 0, 0, "no shader text for '%s'", file);
-        return 0;
-    }
-    GLuint shader = f->CreateShader(type);
-    f->ShaderSource(shader, 1, &source, NULL);
-    f->CompileShader(shader);
-    GLint ok = GL_FALSE, length = 0;
-    f->GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (ok)
-        return shader;
-    f->GetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-    char *log = calloc((size_t)(length > 0 ? length : 1) + 1, 1);
-    if (log) {
-        f->GetShaderInfoLog(shader, length, NULL, log);
-        report_log(diag, HALO_MSG_GL_COMPILE, program, file, log);
-        free(log);
-    }
-    halo_diag_error(diag, GL_COMPILE, file, 0, 0, "the driver rejected '%s'", file);
-    f->DeleteShader(shader);
-    return 0;
-}
-
 unsigned halo_lines_build_program(const halo_glfuncs *f, const halo_program *vertex_program,
                                   const char *vertex_source, const char *vertex_file,
                                   const halo_program *fragment_program, const char *fragment_source,
@@ -159,36 +104,17 @@ unsigned halo_lines_build_program(const halo_glfuncs *f, const halo_program *ver
     }
     vertex_file = vertex_file ? vertex_file : "vertex shader";
     fragment_file = fragment_file ? fragment_file : "fragment shader";
-    GLuint vertex = compile(f, GL_VERTEX_SHADER, vertex_program, vertex_source, vertex_file, diag);
-    GLuint fragment = compile(f, GL_FRAGMENT_SHADER, fragment_program, fragment_source, fragment_file, diag);
-    if (!vertex || !fragment) {
-        if (vertex)
-            f->DeleteShader(vertex);
-        if (fragment)
-            f->DeleteShader(fragment);
+    if (vertex_program)
+        vertex_source = halo_program_source(vertex_program);
+    if (fragment_program)
+        fragment_source = halo_program_source(fragment_program);
+    if (!vertex_source || !fragment_source) {
+        const char *file = vertex_source ? fragment_file : vertex_file;
+        halo_diag_error(diag, GL_COMPILE, file, 0, 0, "no shader text for '%s'", file);
         return 0;
     }
-    GLuint program = f->CreateProgram();
-    f->AttachShader(program, vertex);
-    f->AttachShader(program, fragment);
-    f->LinkProgram(program);
-    f->DeleteShader(vertex);
-    f->DeleteShader(fragment);
-    GLint ok = GL_FALSE, length = 0;
-    f->GetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (ok)
-        return program;
-    f->GetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-    char *log = calloc((size_t)(length > 0 ? length : 1) + 1, 1);
-    if (log) {
-        f->GetProgramInfoLog(program, length, NULL, log);
-        report_log(diag, HALO_MSG_GL_LINK, NULL, fragment_file, log);
-        free(log);
-    }
-    halo_diag_error(diag, GL_LINK, fragment_file, 0, 0, "the driver could not link '%s' with '%s'", vertex_file,
-                    fragment_file);
-    f->DeleteProgram(program);
-    return 0;
+    return halo_host_link_mapped(f, vertex_program, vertex_source, vertex_file, fragment_program, fragment_source,
+                                 fragment_file, HALO_HOST_LOG_LINES, diag);
 }
 
 /* ---- Strip geometry --------------------------------------------------------------------- */

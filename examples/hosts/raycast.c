@@ -11,46 +11,22 @@
 /* The library's internal diagnostics entry point is not exported; the examples add
  * their own diagnostics through this wrapper around the public list. */
 #include "diag.h"
+#include "strbuf.h"
+
+#include <errno.h>
 
 
 char *halo_host_load(const char *name, const char *override_path, halo_diagnostics *diag)
 {
     if (override_path) {
-        FILE *file = fopen(override_path, "rb");
-        if (!file) {
-            halo_diag_error(diag, IO_READ, override_path, 0, 0, "cannot open host shader '%s'", override_path);
-            return NULL;
-        }
-        size_t cap = 4096, len = 0;
-        char *text = malloc(cap);
-        while (text) {
-            if (len + 1 >= cap) {
-                char *grown = realloc(text, cap * 2);
-                if (!grown) {
-                    free(text);
-                    text = NULL;
-                    break;
-                }
-                text = grown;
-                cap *= 2;
-            }
-            size_t got = fread(text + len, 1, cap - len - 1, file);
-            len += got;
-            if (got == 0)
-                break;
-        }
-        int failed = ferror(file);
-        fclose(file);
-        if (!text) {
-            halo_diag_error(diag, OUT_OF_MEMORY, override_path, 0, 0, "out of memory reading '%s'", override_path);
-            return NULL;
-        }
-        if (failed) {
-            free(text);
-            halo_diag_error(diag, IO_READ, override_path, 0, 0, "cannot read host shader '%s'", override_path);
-            return NULL;
-        }
-        text[len] = '\0';
+        char *text = halo_read_file(override_path, NULL);
+        if (!text)
+            halo_diag_add(diag, HALO_SEVERITY_ERROR, errno == ENOMEM ? HALO_MSG_OUT_OF_MEMORY : HALO_MSG_IO_READ,
+                          override_path, 0, 0, NULL,
+                          errno == ENOMEM                   ? "out of memory reading '%s'"
+                          : errno == EIO || errno == EISDIR ? "cannot read host shader '%s'"
+                                                            : "cannot open host shader '%s'",
+                          override_path);
         return text;
     }
     const char *embedded = halo_host_embedded(name);

@@ -1,7 +1,7 @@
 /* Emulation of glsl/sample/boundary.glsl: o = clamp(o (k_gc + k_gs |grad f|^k_ge), 0, 1). */
 #include "stages.h"
 
-void halo_emu_boundary(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(boundary)
 {
     double k_gc = halo_emu_scalar(p, "k_gc");
     double k_gs = halo_emu_scalar(p, "k_gs");

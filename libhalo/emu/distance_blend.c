@@ -2,7 +2,7 @@
  * c = (1 - t) c + t c_b. */
 #include "stages.h"
 
-void halo_emu_distance_blend(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(distance_blend)
 {
     double k_ds = halo_emu_scalar(p, "k_ds");
     double k_de = halo_emu_scalar(p, "k_de");

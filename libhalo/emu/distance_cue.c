@@ -26,7 +26,7 @@ static void depth_map(const double *colors, int count, double d, double out[3])
         out[c] = halo_emu_mix(colors[3 * i + c], colors[3 * (i + 1) + c], f);
 }
 
-void halo_emu_distance_cue(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(distance_cue)
 {
     double k_cm = halo_emu_scalar(p, "k_cm");
     int count = 0;

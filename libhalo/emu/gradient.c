@@ -4,7 +4,7 @@
 
 #include "stages.h"
 
-void halo_emu_gradient(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(gradient)
 {
     (void)p;
     s->gradient_magnitude = sqrt(halo_emu_dot(s->gradient, s->gradient));

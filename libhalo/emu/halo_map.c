@@ -14,7 +14,7 @@ static void profile(const halo_emu_params *p, int h, double H, double *alpha, do
         colour[k] = halo_emu_mix(far ? far[k] : 0.0, near ? near[k] : 0.0, t);
 }
 
-void halo_emu_halo_map(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(halo_map)
 {
     double field[4], occluding[4];
     halo_emu_read_image(p, "field", s->fragcoord, field);

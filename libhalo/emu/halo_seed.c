@@ -62,7 +62,7 @@ static double position_influence(const halo_emu_params *p, int h, const double p
     return fall_off(r, r + halo_emu_channel(p, "focus_transition", h), sqrt(halo_emu_dot(d, d)));
 }
 
-void halo_emu_halo_seed(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(halo_seed)
 {
     double seed[4] = {0, 0, 0, 0};
     int channels = halo_emu_channel_count(p);

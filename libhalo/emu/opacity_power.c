@@ -1,7 +1,7 @@
 /* Emulation of glsl/sample/opacity_power.glsl: o = clamp((k_os v)^k_oe, 0, 1). */
 #include "stages.h"
 
-void halo_emu_opacity_power(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(opacity_power)
 {
     double k_os = halo_emu_scalar(p, "k_os");
     double k_oe = halo_emu_scalar(p, "k_oe");

@@ -4,7 +4,7 @@
 
 #include "stages.h"
 
-void halo_emu_orientation_fade(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(orientation_fade)
 {
     if (halo_emu_is_zero3(s->normal))
         return;

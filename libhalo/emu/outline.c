@@ -31,7 +31,7 @@ static int in_feature(const halo_emu_sample *s, const halo_emu_params *p, int k)
     return fabs(label - id) < 0.5;
 }
 
-void halo_emu_outline_feature(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(outline_feature)
 {
     int c = halo_emu_channel_count(p);
     for (int k = 0; k < 4; ++k) {

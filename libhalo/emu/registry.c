@@ -4,24 +4,19 @@
 #include "feature_internal.h"
 #include "stages.h"
 
+/* The per-sample stages with an emulation, by module name: one line per stage. */
+#define HALO_EMU_SAMPLE_STAGES(X)                                                                                 \
+    X(gradient) X(opacity_power) X(boundary) X(silhouette) X(orientation_fade) X(sketch) X(tone_shading)           \
+    X(distance_blend) X(distance_cue) X(halo_seed) X(halo_map) X(outline_feature) X(feature_halo)
+
+#define HALO_EMU_DECLARE(name) HALO_EMU_STAGE(name);
+HALO_EMU_SAMPLE_STAGES(HALO_EMU_DECLARE)
+#define HALO_EMU_ENTRY(name) {#name, halo_emu_##name},
+
 static const struct {
     const char *name;
     halo_emu_stage_fn fn;
-} halo_emu_stages[] = {
-    {"gradient", halo_emu_gradient},
-    {"opacity_power", halo_emu_opacity_power},
-    {"boundary", halo_emu_boundary},
-    {"silhouette", halo_emu_silhouette},
-    {"orientation_fade", halo_emu_orientation_fade},
-    {"sketch", halo_emu_sketch},
-    {"tone_shading", halo_emu_tone_shading},
-    {"distance_blend", halo_emu_distance_blend},
-    {"distance_cue", halo_emu_distance_cue},
-    {"halo_seed", halo_emu_halo_seed},
-    {"halo_map", halo_emu_halo_map},
-    {"outline_feature", halo_emu_outline_feature},
-    {"feature_halo", halo_emu_feature_halo},
-};
+} halo_emu_stages[] = {HALO_EMU_SAMPLE_STAGES(HALO_EMU_ENTRY)};
 
 halo_emu_stage_fn halo_emu_lookup(const char *name)
 {

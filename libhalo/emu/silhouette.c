@@ -4,7 +4,7 @@
 
 #include "stages.h"
 
-void halo_emu_silhouette(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(silhouette)
 {
     double k_sc = halo_emu_scalar(p, "k_sc");
     double k_ss = halo_emu_scalar(p, "k_ss");

@@ -4,7 +4,7 @@
 
 #include "stages.h"
 
-void halo_emu_sketch(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(sketch)
 {
     double k_ls = halo_emu_scalar(p, "k_ls");
     double k_le = halo_emu_scalar(p, "k_le");

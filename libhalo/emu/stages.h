@@ -5,17 +5,10 @@
 
 #include "emu.h"
 
-void halo_emu_gradient(halo_emu_sample *s, const halo_emu_params *p);
-void halo_emu_opacity_power(halo_emu_sample *s, const halo_emu_params *p);
-void halo_emu_boundary(halo_emu_sample *s, const halo_emu_params *p);
-void halo_emu_silhouette(halo_emu_sample *s, const halo_emu_params *p);
-void halo_emu_orientation_fade(halo_emu_sample *s, const halo_emu_params *p);
-void halo_emu_sketch(halo_emu_sample *s, const halo_emu_params *p);
-void halo_emu_tone_shading(halo_emu_sample *s, const halo_emu_params *p);
-void halo_emu_distance_blend(halo_emu_sample *s, const halo_emu_params *p);
-void halo_emu_distance_cue(halo_emu_sample *s, const halo_emu_params *p);
-void halo_emu_halo_seed(halo_emu_sample *s, const halo_emu_params *p);
-void halo_emu_halo_map(halo_emu_sample *s, const halo_emu_params *p);
+/* A per-sample stage's emulation, defined in its own file as HALO_EMU_STAGE(name) { ... }
+ * and listed once in registry.c (HALO_EMU_SAMPLE_STAGES): adding a stage touches no
+ * other place of the emulation. */
+#define HALO_EMU_STAGE(name) void halo_emu_##name(halo_emu_sample *s, const halo_emu_params *p)
 
 /* The image passes of halo_generate (emu/halo_generate.c). */
 void halo_emu_halo_generate_median(const halo_emu_pass_context *c, int x, int y, double out[4]);
@@ -24,7 +17,6 @@ void halo_emu_halo_generate_spread(const halo_emu_pass_context *c, int x, int y,
 void halo_emu_halo_generate_occlusion(const halo_emu_pass_context *c, int x, int y, double out[4]);
 
 /* Outlines (emu/outline.c): the feature buffers and the passes of glsl/outline/outline.glsl. */
-void halo_emu_outline_feature(halo_emu_sample *s, const halo_emu_params *p);
 void halo_emu_outline_blur_x(const halo_emu_pass_context *c, int x, int y, double out[4]);
 void halo_emu_outline_blur_y(const halo_emu_pass_context *c, int x, int y, double out[4]);
 void halo_emu_outline_min_x(const halo_emu_pass_context *c, int x, int y, double out[4]);

@@ -3,7 +3,7 @@
  * I_t = ((1 + n.L)/2) (k_ty, k_ty, 0) + (1 - (1 + n.L)/2) (0, 0, k_tb), L = normalize(light). */
 #include "stages.h"
 
-void halo_emu_tone_shading(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(tone_shading)
 {
     double k_ty = halo_emu_scalar(p, "k_ty");
     double k_tb = halo_emu_scalar(p, "k_tb");

@@ -26,7 +26,7 @@ expect_stderr "bad\.glsl:3:[0-9]+: error:"
 if grep -q "bad\.glsl:1:" "$tmp/err"; then fail "an error on line 1 for the byte-order mark"; fi
 
 # the renderers' own reads of the scene, and the polyline reader
-HALO_LINES=${HALO_LINES:-${top_builddir:-.}/examples/halo-lines}
+HALO_LINES=${HALO_LINES:-${top_builddir:-.}/tools/halo-lines}
 run 0 "$HALO_RENDER" --quiet --scene "$tmp/scene.json" --size 16x16 --volume-size 16 -o "$tmp/scene.png"
 if test -x "$HALO_LINES"; then
     "$HALO_LINES" --lines "$tmp/lines.txt" --size 16x16 -o "$tmp/lines.png" >"$tmp/out" 2>&1

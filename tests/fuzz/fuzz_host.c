@@ -15,10 +15,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                         : NULL;
     }
     if (!scene) return 0;
-    char *text = malloc(size + 1);
+    char *text = fuzz_text(data, size);
     if (!text) return 0;
-    memcpy(text, data, size);
-    text[size] = '\0';
     halo_diagnostics *diag = halo_diagnostics_create();
     halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = text,
                                                   .host_file = "fuzz.frag"},

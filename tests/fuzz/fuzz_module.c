@@ -18,10 +18,8 @@ static const char host[] = "#version 330 core\n#pragma halo declarations\nout ve
 static halo_library *library;
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-    char *text = malloc(size + 1);
+    char *text = fuzz_text(data, size);
     if (!text) return 0;
-    memcpy(text, data, size);
-    text[size] = '\0';
     halo_diagnostics *diag = halo_diagnostics_create();
     if (!library) library = halo_library_create(diag);
     halo_module *m = library ? halo_module_parse("fuzz.glsl", text, diag) : NULL;

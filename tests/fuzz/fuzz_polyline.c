@@ -8,10 +8,8 @@
 #include <string.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-    char *text = malloc(size + 1);
+    char *text = fuzz_text(data, size);
     if (!text) return 0;
-    memcpy(text, data, size);
-    text[size] = '\0';
     halo_diagnostics *diag = halo_diagnostics_create();
     halo_polylines lines = {0};
     if (halo_polylines_parse(text, "fuzz.txt", &lines, diag) == HALO_OK) halo_polylines_write("/dev/null", &lines);

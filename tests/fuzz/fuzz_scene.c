@@ -10,10 +10,8 @@ static halo_library *library;
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (!library) library = halo_library_create(NULL);
     if (!library) return 0;
-    char *text = malloc(size + 1);
+    char *text = fuzz_text(data, size);
     if (!text) return 0;
-    memcpy(text, data, size);
-    text[size] = '\0';
     halo_diagnostics *diag = halo_diagnostics_create();
     halo_scene *scene = halo_scene_parse(text, "fuzz.json", library, diag);
     if (scene) {

@@ -1,11 +1,8 @@
-# Shared by tests/lines/*.sh: finds halo-lines and a scratch directory.
-HALO_LINES=${HALO_LINES:-${top_builddir:-.}/examples/halo-lines}
-if test ! -x "$HALO_LINES"; then
-    echo "broken setup: $HALO_LINES missing" >&2
-    exit 99
-fi
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/halo-lines.XXXXXX") || exit 99
-trap 'rm -rf "$tmp"' EXIT
+# Shared by tests/lines/*.sh (tests/harness.sh): finds halo-lines and a scratch directory.
+. "${srcdir:-.}/tests/harness.sh"
+HALO_LINES=${HALO_LINES:-${top_builddir:-.}/tools/halo-lines}
+harness_program "$HALO_LINES"
+harness_tmp halo-lines
 export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
 
 # run_lines ARGS...: runs halo-lines, stdout+stderr in $tmp/out; skips (77) without GL.
@@ -19,7 +16,3 @@ run_lines() {
     return $status
 }
 
-# is_png FILE
-is_png() {
-    test -s "$1" && test "$(od -An -tx1 -N8 "$1" | tr -d ' \n')" = "89504e470d0a1a0a"
-}

@@ -4,15 +4,15 @@
 # --labels. The labels must reach the shader: regions that exist draw outlines (the
 # image differs from lambda 0), label ids that no voxel has draw none (the image equals
 # lambda 0's byte for byte). A segmentation on another grid is refused.
-HALO_RENDER=${HALO_RENDER:-${top_builddir:-.}/examples/halo-render}
+. "${srcdir:-.}/tests/harness.sh"
+HALO_RENDER=${HALO_RENDER:-${top_builddir:-.}/tools/halo-render}
 templates=${HALO_MRICRON_TEMPLATES:-/usr/share/mricron/templates}
 if test ! -r "$templates/ch2bet.nii.gz" || test ! -r "$templates/aal.nii.gz"; then
     echo "SKIP: $templates/ch2bet.nii.gz and aal.nii.gz (Debian: mricron-data) are not installed" >&2
     exit 77
 fi
 scenes="${srcdir:-.}/examples/scenes"
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/halo-atlas.XXXXXX") || exit 99
-trap 'rm -rf "$tmp"' EXIT
+harness_tmp halo-atlas
 export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
 
 cp "$scenes/atlas-aal.json" "$tmp/regions.json"
@@ -25,18 +25,8 @@ for name in lambda0 absent; do
     fi
 done
 for name in regions lambda0 absent; do
-    "$HALO_RENDER" --quiet --volume "$templates/ch2bet.nii.gz" --labels "$templates/aal.nii.gz" \
-        --scene "$tmp/$name.json" --size 64x64 --volume-size 48 -o "$tmp/$name.png" >"$tmp/$name.out" 2>&1
-    status=$?
-    if test $status -eq 77; then
-        cat "$tmp/$name.out" >&2
-        exit 77
-    fi
-    if test $status -ne 0; then
-        echo "FAIL: halo-render $name exited $status:" >&2
-        cat "$tmp/$name.out" >&2
-        exit 1
-    fi
+    must_render "$name" "$HALO_RENDER" --quiet --volume "$templates/ch2bet.nii.gz" --labels "$templates/aal.nii.gz" \
+        --scene "$tmp/$name.json" --size 64x64 --volume-size 48 -o "$tmp/$name.png"
 done
 if cmp -s "$tmp/regions.png" "$tmp/lambda0.png"; then
     echo "FAIL: the AAL regions draw no outline (are the labels bound?)" >&2

@@ -366,10 +366,7 @@ static int test_version_modes(void) {
 
 int main(void) {
     SETUP(halo_setup(&(halo_setup_desc){0}) == HALO_OK);
-    diags = halo_diagnostics_create();
-    SETUP(diags != NULL);
-    library = halo_library_create(diags);
-    SETUP(library != NULL);
+    library = check_library_setup(&diags);
     if (halo_library_add_source(library, "user/engine_test.glsl", user_module, diags) != HALO_OK) {
         check_print_diags(diags);
         SETUP_FAIL("cannot add the test module");

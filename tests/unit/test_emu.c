@@ -409,13 +409,7 @@ static int test_no_emulation(void) {
 }
 
 int main(void) {
-    diags = halo_diagnostics_create();
-    SETUP(diags != NULL);
-    library = halo_library_create(diags);
-    if (!library) {
-        check_print_diags(diags);
-        SETUP_FAIL("halo_library_create failed");
-    }
+    library = check_library_setup(&diags);
     RUN_TEST(test_opacity_power);
     RUN_TEST(test_gradient_and_boundary);
     RUN_TEST(test_silhouette);

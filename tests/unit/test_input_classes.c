@@ -200,13 +200,7 @@ static int test_diagnostics_limit(void) {
 }
 
 int main(void) {
-    diags = halo_diagnostics_create();
-    SETUP(diags);
-    library = halo_library_create(diags);
-    if (!library) {
-        check_print_diags(diags);
-        SETUP_FAIL("halo_library_create");
-    }
+    library = check_library_setup(&diags);
     RUN_TEST(test_param_beyond_type_range);
     RUN_TEST(test_scene_value_beyond_type_range);
     RUN_TEST(test_module_nul_byte);

@@ -980,13 +980,7 @@ static int test_compositing_mip(void) {
 
 int main(void) {
     SETUP(halo_setup(&(halo_setup_desc){0}) == HALO_OK);
-    diags = halo_diagnostics_create();
-    SETUP(diags != NULL);
-    library = halo_library_create(diags);
-    if (!library) {
-        check_print_diags(diags);
-        SETUP_FAIL("halo_library_create failed");
-    }
+    library = check_library_setup(&diags);
     for (size_t i = 0; i < sizeof user_modules / sizeof user_modules[0]; i++)
         if (halo_library_add_source(library, user_modules[i][0], user_modules[i][1], diags) != HALO_OK) {
             check_print_diags(diags);

@@ -402,13 +402,7 @@ static int test_add_file(void) {
 }
 
 int main(void) {
-    diags = halo_diagnostics_create();
-    SETUP(diags != NULL);
-    library = halo_library_create(diags);
-    if (!library) {
-        check_print_diags(diags);
-        SETUP_FAIL("halo_library_create failed");
-    }
+    library = check_library_setup(&diags);
     if (halo_diagnostics_count(diags)) {
         check_print_diags(diags);
         SETUP_FAIL("the embedded modules gave diagnostics");

@@ -370,13 +370,7 @@ static int test_load(void) {
 }
 
 int main(void) {
-    diags = halo_diagnostics_create();
-    SETUP(diags != NULL);
-    library = halo_library_create(diags);
-    if (!library) {
-        check_print_diags(diags);
-        SETUP_FAIL("halo_library_create failed");
-    }
+    library = check_library_setup(&diags);
     RUN_TEST(test_valid_scene);
     RUN_TEST(test_minimal_scenes);
     RUN_TEST(test_bad_json);

@@ -39,10 +39,7 @@ static int test_vector_too_short(void) {
 }
 
 int main(void) {
-    diags = halo_diagnostics_create();
-    SETUP(diags != NULL);
-    library = halo_library_create(diags);
-    SETUP(library != NULL);
+    library = check_library_setup(&diags);
     RUN_TEST(test_array_too_long);
     RUN_TEST(test_array_empty);
     RUN_TEST(test_vector_too_short);

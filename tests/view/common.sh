@@ -3,10 +3,8 @@
 # HALO_VIEW. The viewer needs an X display: each test runs it under xvfb-run -a (a
 # private Xvfb server), and is skipped (77) without halo-view or xvfb-run.
 
-if test -z "${srcdir:-}" || test -z "${HALO_RENDER:-}" || test -z "${HALO_IMAGE_COMPARE:-}"; then
-    echo "broken setup: run through 'make check' (srcdir, HALO_RENDER or HALO_IMAGE_COMPARE unset)" >&2
-    exit 99
-fi
+. "${srcdir:-.}/tests/harness.sh"
+harness_need srcdir HALO_RENDER HALO_IMAGE_COMPARE
 if test -z "${HALO_VIEW:-}" || test ! -x "$HALO_VIEW"; then
     echo "SKIP: halo-view is not built (configure found no GLFW 3: install libglfw3-dev)"
     exit 77
@@ -16,14 +14,7 @@ if ! command -v xvfb-run >/dev/null 2>&1; then
     exit 77
 fi
 scenes="$srcdir/examples/scenes"
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/halo-view-test.XXXXXX") || exit 99
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-
-fail() {
-    echo "FAIL: $*" >&2
-    failures=$((failures + 1))
-}
+harness_tmp halo-view-test
 
 . "$srcdir/tests/xrun.sh"
 
@@ -40,22 +31,6 @@ probe_display() {
     fi
 }
 
-# run STATUS COMMAND [ARG]...: stdout in $tmp/out, stderr in $tmp/err; checks the status.
-run() {
-    expected=$1
-    shift
-    echo "+ $* (expect exit $expected)"
-    "$@" >"$tmp/out" 2>"$tmp/err"
-    status=$?
-    sed 's/^/    stdout: /' "$tmp/out"
-    sed 's/^/    stderr: /' "$tmp/err"
-    if test "$status" -ge 128; then
-        fail "'$*' crashed (exit $status)"
-    elif test "$status" -ne "$expected"; then
-        fail "'$*' exited $status, expected $expected"
-    fi
-}
-
 # same A B [image_compare limits]: A and B match within the limits (default: exactly).
 same() {
     a=$1
@@ -67,12 +42,4 @@ same() {
 # different A B: A and B are not the same image.
 different() {
     "$HALO_IMAGE_COMPARE" "$1" "$2" --differ || fail "$1 and $2 are the same image"
-}
-
-finish() {
-    if test "$failures" -ne 0; then
-        echo "$failures failure(s)" >&2
-        exit 1
-    fi
-    exit 0
 }

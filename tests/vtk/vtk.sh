@@ -20,18 +20,15 @@
 #    effects of 0.011 to 0.037); control: VTK without the halo stages must fail it;
 #  - what VTK cannot take is diagnosed with exit 1: MIP and additive blend modes, feature
 #    halos (they need a feature buffer the adapter does not provide yet).
-if test -z "${srcdir:-}" || test -z "${HALO_RENDER:-}" || test -z "${HALO_IMAGE_COMPARE:-}"; then
-    echo "broken setup: run through 'make check' (srcdir, HALO_RENDER or HALO_IMAGE_COMPARE unset)" >&2
-    exit 99
-fi
+. "${srcdir:-.}/tests/harness.sh"
+harness_need srcdir HALO_RENDER HALO_IMAGE_COMPARE
 if test -z "${HALO_VTK:-}" || test ! -x "$HALO_VTK"; then
     echo "SKIP: halo-vtk is not built (configure found no VTK: install libvtk9-dev)"
     exit 77
 fi
 if test -z "${HALO_VTK_UNDER_X:-}"; then
     command -v xvfb-run >/dev/null 2>&1 || { echo "SKIP: xvfb-run not found (install xvfb and xauth)"; exit 77; }
-    tmp=$(mktemp -d "${TMPDIR:-/tmp}/halo-vtk-test.XXXXXX") || exit 99
-    trap 'rm -rf "$tmp"' EXIT
+    harness_tmp halo-vtk-test
     . "$srcdir/tests/xrun.sh"
     HALO_VTK_UNDER_X=1 xrun sh "$0"
     exit $?
@@ -42,13 +39,7 @@ fi
 ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 export ASAN_OPTIONS
 scenes="$srcdir/examples/scenes"
-tmp=$(mktemp -d "${TMPDIR:-/tmp}/halo-vtk-test.XXXXXX") || exit 99
-trap 'rm -rf "$tmp"' EXIT
-failures=0
-fail() {
-    echo "FAIL: $*" >&2
-    failures=$((failures + 1))
-}
+harness_tmp halo-vtk-test
 size=96x96
 vsize=64
 vtk() { # OUT SCENE [ARG]...

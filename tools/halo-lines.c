@@ -16,13 +16,13 @@
 #include "hosts/lines.h"
 #include "image_write.h"
 #include "linegen.h"
+#include "progress.h"
+#include "tool_options.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 /* The built-in scene: black lines with white halos (the paper's look). */
 static const char default_scene[] =
@@ -70,47 +70,6 @@ static void usage(FILE *out)
           "\n"
           "Exit status: 0 success, 1 the input has errors, 2 usage or I/O failure.\n",
           out);
-}
-
-static int parse_number(const char *option, const char *text, double lo, double hi, double *out)
-{
-    char *end = NULL;
-    errno = 0;
-    double x = text ? strtod(text, &end) : NAN;
-    if (!text || end == text || *end != '\0' || errno == ERANGE || !isfinite(x)) {
-        fprintf(stderr, "halo-lines: error: %s: '%s' is not a finite number\n", option, text ? text : "");
-        return 0;
-    }
-    if (x < lo || x > hi) {
-        fprintf(stderr, "halo-lines: error: %s: %g is outside %g..%g\n", option, x, lo, hi);
-        return 0;
-    }
-    *out = x;
-    return 1;
-}
-
-static int parse_size(const char *text, int *w, int *h)
-{
-    char *end = NULL;
-    long a = text ? strtol(text, &end, 10) : 0, b = 0;
-    if (text && end != text && (*end == 'x' || *end == 'X')) {
-        const char *rest = end + 1;
-        b = strtol(rest, &end, 10);
-        if (end != rest && *end == '\0' && a >= 1 && a <= 16384 && b >= 1 && b <= 16384) {
-            *w = (int)a;
-            *h = (int)b;
-            return 1;
-        }
-    }
-    fprintf(stderr, "halo-lines: error: --size: '%s' is not WxH with each side 1..16384\n", text ? text : "");
-    return 0;
-}
-
-static double seconds_now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
 typedef struct options {
@@ -199,10 +158,10 @@ static int run_bench(const options *o, const halo_glfuncs *gl, const halo_librar
     for (int frame = -1; frame < o->frames && ok; ++frame)
         for (int halos = 0; halos < 2 && ok; ++halos) {
             halo_lines_finish(l[halos]);
-            double start = seconds_now();
+            double start = halo_progress_now();
             ok = halo_lines_draw(l[halos], &view, diag) == HALO_OK;
             halo_lines_finish(l[halos]);
-            double elapsed = seconds_now() - start;
+            double elapsed = halo_progress_now() - start;
             if (frame >= 0) {
                 total[halos] += elapsed;
                 best[halos] = fmin(best[halos], elapsed);
@@ -231,73 +190,50 @@ int main(int argc, char **argv)
     options o = {.width = 800, .height = 800, .frames = 10, .output = "halo-lines.png"};
     if (!halo_headless_take_backend_option(&argc, argv, "halo-lines"))
         return 2;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i];
-        const char *value = i + 1 < argc ? argv[i + 1] : NULL;
-        int takes = 1;
-        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
-            usage(stdout);
+    enum { OPT_NO_HALOS, OPT_BENCH, OPT_CONFORM, OPT_VERBOSE, OPT_LINES, OPT_BUILTIN, OPT_SCENE, OPT_OUTPUT,
+           OPT_WRITE_LINES, OPT_ROW, OPT_SIZE, OPT_STEREO, OPT_FRAMES, OPT_AZIMUTH, OPT_ELEVATION, OPT_ZOOM };
+    static const halo_tool_option table[] = {
+        [OPT_NO_HALOS] = {"--no-halos", NULL, 0}, [OPT_BENCH] = {"--bench", NULL, 0},
+        [OPT_CONFORM] = {"--conform", NULL, 0},   [OPT_VERBOSE] = {"-v", NULL, 0},
+        [OPT_LINES] = {"--lines", NULL, 1},       [OPT_BUILTIN] = {"--builtin", NULL, 1},
+        [OPT_SCENE] = {"--scene", NULL, 1},       [OPT_OUTPUT] = {"-o", NULL, 1},
+        [OPT_WRITE_LINES] = {"--write-lines", NULL, 1}, [OPT_ROW] = {"--row", NULL, 1},
+        [OPT_SIZE] = {"--size", NULL, 1},         [OPT_STEREO] = {"--stereo", NULL, 1},
+        [OPT_FRAMES] = {"--frames", NULL, 1},     [OPT_AZIMUTH] = {"--azimuth", NULL, 1},
+        [OPT_ELEVATION] = {"--elevation", NULL, 1}, [OPT_ZOOM] = {"--zoom", NULL, 1},
+        {NULL, NULL, 0}};
+    static const char *const builtins[] = {"streamlines", "knots", NULL}, *const stereo[] = {"anaglyph", NULL};
+    halo_tool_args args = {.tool = "halo-lines", .usage = usage, .argc = argc, .argv = argv, .next = 1};
+    for (int k; (k = halo_tool_args_next(&args, table)) != HALO_TOOL_ARGS_END;) {
+        if (k == HALO_TOOL_ARGS_HELP)
             return 0;
-        } else if (strcmp(a, "--no-halos") == 0) {
-            o.no_halos = 1, takes = 0;
-        } else if (strcmp(a, "--bench") == 0) {
-            o.bench = 1, takes = 0;
-        } else if (strcmp(a, "--conform") == 0) {
-            o.conform = 1, takes = 0;
-        } else if (strcmp(a, "-v") == 0) {
-            o.verbose = 1, takes = 0;
-        } else if (!value) {
-            fprintf(stderr, "halo-lines: error: unknown or incomplete argument '%s'\n", a);
-            usage(stderr);
-            return 2;
-        } else if (strcmp(a, "--lines") == 0) {
-            o.lines_path = value;
-        } else if (strcmp(a, "--builtin") == 0) {
-            if (strcmp(value, "streamlines") != 0 && strcmp(value, "knots") != 0) {
-                fprintf(stderr, "halo-lines: error: --builtin: '%s' is not streamlines or knots\n", value);
-                return 2;
-            }
+        const char *a = args.option, *value = args.value;
+        int ok = k != HALO_TOOL_ARGS_ERROR, choice;
+        switch (k) {
+        case OPT_NO_HALOS: o.no_halos = 1; break;
+        case OPT_BENCH: o.bench = 1; break;
+        case OPT_CONFORM: o.conform = 1; break;
+        case OPT_VERBOSE: o.verbose = 1; break;
+        case OPT_LINES: o.lines_path = value; break;
+        case OPT_BUILTIN:
+            ok = halo_tool_choice("halo-lines", a, value, builtins, &choice);
             o.builtin = value;
-        } else if (strcmp(a, "--scene") == 0) {
-            o.scene_path = value;
-        } else if (strcmp(a, "-o") == 0) {
-            o.output = value;
-        } else if (strcmp(a, "--write-lines") == 0) {
-            o.write_lines = value;
-        } else if (strcmp(a, "--row") == 0) {
-            o.row = value;
-        } else if (strcmp(a, "--size") == 0) {
-            if (!parse_size(value, &o.width, &o.height))
-                return 2;
-        } else if (strcmp(a, "--stereo") == 0) {
-            if (strcmp(value, "anaglyph") != 0) {
-                fprintf(stderr, "halo-lines: error: --stereo: '%s' is not anaglyph\n", value);
-                return 2;
-            }
-            o.stereo = 1;
-        } else if (strcmp(a, "--frames") == 0) {
-            double x;
-            if (!parse_number(a, value, 1, 1000, &x))
-                return 2;
-            o.frames = (int)x;
-        } else if (strcmp(a, "--azimuth") == 0) {
-            if (!parse_number(a, value, -360, 360, &o.azimuth))
-                return 2;
-            o.has_azimuth = 1;
-        } else if (strcmp(a, "--elevation") == 0) {
-            if (!parse_number(a, value, -90, 90, &o.elevation))
-                return 2;
-            o.has_elevation = 1;
-        } else if (strcmp(a, "--zoom") == 0) {
-            if (!parse_number(a, value, 0.05, 20, &o.zoom) || o.zoom <= 0)
-                return 2;
-            o.has_zoom = 1;
-        } else {
-            fprintf(stderr, "halo-lines: error: unknown argument '%s'\n", a);
-            usage(stderr);
-            return 2;
+            break;
+        case OPT_SCENE: o.scene_path = value; break;
+        case OPT_OUTPUT: o.output = value; break;
+        case OPT_WRITE_LINES: o.write_lines = value; break;
+        case OPT_ROW: o.row = value; break;
+        case OPT_SIZE: ok = halo_tool_size("halo-lines", a, value, 16384, &o.width, &o.height); break;
+        case OPT_STEREO: ok = o.stereo = halo_tool_choice("halo-lines", a, value, stereo, &choice); break;
+        case OPT_FRAMES: ok = halo_tool_int("halo-lines", a, value, 1, 1000, &o.frames); break;
+        case OPT_AZIMUTH: ok = o.has_azimuth = halo_tool_number("halo-lines", a, value, -360, 360, &o.azimuth); break;
+        case OPT_ELEVATION:
+            ok = o.has_elevation = halo_tool_number("halo-lines", a, value, -90, 90, &o.elevation);
+            break;
+        case OPT_ZOOM: ok = o.has_zoom = halo_tool_number("halo-lines", a, value, 0.05, 20, &o.zoom); break;
         }
-        i += takes;
+        if (!ok)
+            return 2;
     }
     if (o.lines_path && o.builtin) {
         fprintf(stderr, "halo-lines: error: --lines and --builtin exclude each other\n");

@@ -13,9 +13,9 @@
 #include "halo_feature.h"
 #include "gl/glfuncs.h"
 #include "gl/headless.h"
-#include "hosts/raycast.h"
-#include "hosts/slice.h"
 #include "image_write.h"
+#include "render_driver.h"
+#include "tool_options.h"
 #include "volume.h"
 #include "volume_io.h"
 
@@ -28,8 +28,6 @@
 #include <string.h>
 #include <time.h>
 
-/* The texture unit the halo buffer is bound to: the hosts use 0..3. */
-#define FEATURE_BUFFER_UNIT 6
 
 static double now_ms(void)
 {
@@ -54,14 +52,6 @@ typedef struct render_options {
     int volume_size, size, splat, half;
     double threshold;
 } render_options;
-
-static int has_stage(const halo_scene *scene, const char *name)
-{
-    for (size_t i = 0; i < halo_scene_stage_count(scene); ++i)
-        if (!strcmp(halo_scene_stage(scene, i), name))
-            return 1;
-    return 0;
-}
 
 static float *load_volume(const render_options *o, const halo_render_settings *settings, int *size)
 {
@@ -93,34 +83,36 @@ static int render_main(int argc, char **argv)
 {
     render_options o = {.output = "halo-feature.png", .size = 512};
     int threshold_set = 0;
-    for (int i = 0; i < argc; ++i) {
-        const char *a = argv[i];
-        int has = i + 1 < argc;
-        if (!strcmp(a, "--scene") && has)
-            o.scene = argv[++i];
-        else if (!strcmp(a, "--volume") && has)
-            o.volume = argv[++i];
-        else if (!strcmp(a, "--volume-size") && has)
-            o.volume_size = atoi(argv[++i]);
-        else if (!strcmp(a, "--size") && has)
-            o.size = atoi(argv[++i]);
-        else if (!strcmp(a, "--splat") && has)
-            o.splat = atoi(argv[++i]);
-        else if (!strcmp(a, "--threshold") && has)
-            o.threshold = atof(argv[++i]), threshold_set = 1;
-        else if (!strcmp(a, "--half"))
-            o.half = 1;
-        else if (!strcmp(a, "-o") && has)
-            o.output = argv[++i];
-        else {
-            usage(stderr);
-            return 2;
+    enum { OPT_SCENE, OPT_VOLUME, OPT_VOLUME_SIZE, OPT_SIZE, OPT_SPLAT, OPT_THRESHOLD, OPT_HALF, OPT_OUTPUT };
+    static const halo_tool_option table[] = {
+        [OPT_SCENE] = {"--scene", NULL, 1}, [OPT_VOLUME] = {"--volume", NULL, 1},
+        [OPT_VOLUME_SIZE] = {"--volume-size", NULL, 1}, [OPT_SIZE] = {"--size", NULL, 1},
+        [OPT_SPLAT] = {"--splat", NULL, 1}, [OPT_THRESHOLD] = {"--threshold", NULL, 1},
+        [OPT_HALF] = {"--half", NULL, 0}, [OPT_OUTPUT] = {"-o", NULL, 1}, {NULL, NULL, 0}};
+    halo_tool_args args = {.tool = "halo-feature", .usage = usage, .argc = argc, .argv = argv, .next = 0};
+    for (int k; (k = halo_tool_args_next(&args, table)) != HALO_TOOL_ARGS_END;) {
+        if (k == HALO_TOOL_ARGS_HELP)
+            return 0;
+        const char *a = args.option, *value = args.value;
+        int ok = k != HALO_TOOL_ARGS_ERROR;
+        switch (k) {
+        case OPT_SCENE: o.scene = value; break;
+        case OPT_VOLUME: o.volume = value; break;
+        case OPT_VOLUME_SIZE: ok = halo_tool_int("halo-feature", a, value, 8, 512, &o.volume_size); break;
+        case OPT_SIZE: ok = halo_tool_int("halo-feature", a, value, 16, 4096, &o.size); break;
+        case OPT_SPLAT:
+            ok = halo_tool_int("halo-feature", a, value, 3, 9, &o.splat);
+            if (ok && o.splat % 2 == 0) {
+                fprintf(stderr, "halo-feature: error: --splat: %d is not 3, 5, 7 or 9\n", o.splat);
+                ok = 0;
+            }
+            break;
+        case OPT_THRESHOLD: ok = threshold_set = halo_tool_number("halo-feature", a, value, -1e30, 1e30, &o.threshold); break;
+        case OPT_HALF: o.half = 1; break;
+        case OPT_OUTPUT: o.output = value; break;
         }
-    }
-    if (o.size < 16 || o.size > 4096 || (o.volume_size && (o.volume_size < 8 || o.volume_size > 512)) ||
-        (o.splat && (o.splat < 3 || o.splat > 9 || o.splat % 2 == 0))) {
-        fprintf(stderr, "halo-feature: --size 16..4096, --volume-size 8..512, --splat 3, 5, 7 or 9\n");
-        return 2;
+        if (!ok)
+            return 2;
     }
     if (threshold_set && o.threshold == 0.0)
         o.threshold = -1.0; /* 0 asks for no cutoff */
@@ -132,8 +124,7 @@ static int render_main(int argc, char **argv)
     halo_program *program = NULL;
     halo_headless *context = NULL;
     halo_gl *runtime = NULL;
-    halo_raycast *raycast = NULL;
-    halo_slice *slice = NULL;
+    halo_driver host = {0};
     halo_feature_buffer *buffer = NULL;
     float *volume = NULL, *image = NULL;
     if (!lib || halo_feature_ensure_module(lib, diag) != HALO_OK)
@@ -143,7 +134,7 @@ static int render_main(int argc, char **argv)
         goto done;
     if (!o.scene && halo_scene_enable(scene, "feature_halo", 1, diag) != HALO_OK)
         goto done;
-    int feature = has_stage(scene, "feature_halo");
+    int feature = halo_driver_has_stage(scene, HALO_DRIVER_FEATURE_STAGE);
     const halo_render_settings *settings = halo_scene_render(scene);
     int size = 0;
     volume = load_volume(&o, settings, &size);
@@ -162,10 +153,8 @@ static int render_main(int argc, char **argv)
     /* feature halos through the ray caster; any other scene (volumetric halos need
      * image passes) through the slice host */
     int use_slice = !feature;
-    program = halo_link(&(halo_link_desc){.library = lib, .scene = scene,
-                                          .host_source = halo_host_embedded(use_slice ? "slice.frag" : "raycast.frag"),
-                                          .host_file = use_slice ? "slice.frag" : "raycast.frag"},
-                        diag);
+    halo_driver_host kind = use_slice ? HALO_DRIVER_SLICE : HALO_DRIVER_RAYCAST;
+    program = halo_driver_link(&(halo_link_desc){.library = lib, .scene = scene}, kind, 0, diag);
     if (!program)
         goto done;
     const halo_host_desc desc = {.gl = halo_gl_functions(runtime), .runtime = runtime, .program = program,
@@ -175,64 +164,44 @@ static int render_main(int argc, char **argv)
     if (!image)
         goto done;
     double create_ms = 0, build_ms = 0, render_ms[2] = {0, 0};
-    if (use_slice) {
-        slice = halo_slice_create(&desc, diag);
-        if (!slice || halo_slice_set_volume(slice, volume, size, size, size, diag) != HALO_OK ||
-            halo_slice_set_render(slice, settings, diag) != HALO_OK)
+    if (!halo_driver_create(&host, kind, &desc, diag) ||
+        halo_driver_set_volume(&host, volume, (const int[3]){size, size, size}, settings, 0, diag) != HALO_OK)
+        goto done;
+    halo_driver_set_camera(&host, settings->azimuth, settings->elevation, settings->zoom);
+    if (feature) {
+        /* the buffer with this tool's splat, threshold and resolution, timed step by step */
+        int dims[3] = {size, size, size};
+        halo_feature_desc fd;
+        halo_feature_desc_from_program(program, &fd);
+        if (o.splat)
+            fd.splat_size = o.splat;
+        if (threshold_set)
+            fd.threshold = o.threshold;
+        if (o.half)
+            fd.half_resolution = 1;
+        double t0 = now_ms();
+        buffer = halo_feature_buffer_create(runtime, volume, dims, &fd, diag);
+        create_ms = now_ms() - t0;
+        if (!buffer)
             goto done;
-        halo_slice_set_camera(slice, settings->azimuth, settings->elevation, settings->zoom);
-        for (int k = 0; k < 2; ++k) {
-            double t0 = now_ms();
-            if (halo_slice_render(slice, image, diag) != HALO_OK)
-                goto done;
-            render_ms[k] = now_ms() - t0;
-        }
-    } else {
-        raycast = halo_raycast_create(&desc, diag);
-        if (!raycast || halo_raycast_set_volume(raycast, volume, size, size, size, diag) != HALO_OK ||
-            halo_raycast_set_render(raycast, settings, diag) != HALO_OK)
+        /* the view: from the volume's centre towards the eye (one direction for the
+         * whole buffer; voxel space = texture space for the cube) */
+        double eye[3];
+        halo_driver_eye(&host, eye);
+        double view[3] = {eye[0] - 0.5, eye[1] - 0.5, eye[2] - 0.5};
+        f->Finish();
+        t0 = now_ms();
+        if (halo_feature_buffer_build(buffer, view) != HALO_OK)
             goto done;
-        halo_raycast_set_camera(raycast, settings->azimuth, settings->elevation, settings->zoom);
-        if (feature) {
-            int dims[3] = {size, size, size};
-            halo_feature_desc fd;
-            halo_feature_desc_from_program(program, &fd);
-            if (o.splat)
-                fd.splat_size = o.splat;
-            if (threshold_set)
-                fd.threshold = o.threshold;
-            if (o.half)
-                fd.half_resolution = 1;
-            double t0 = now_ms();
-            buffer = halo_feature_buffer_create(runtime, volume, dims, &fd, diag);
-            create_ms = now_ms() - t0;
-            if (!buffer)
-                goto done;
-            /* the view: from the volume's centre towards the eye (one direction for the
-             * whole buffer; voxel space = texture space for the cube) */
-            halo_raycast_state state;
-            halo_raycast_get_state(raycast, &state);
-            double view[3] = {state.eye[0] - 0.5, state.eye[1] - 0.5, state.eye[2] - 0.5};
-            f->Finish();
-            t0 = now_ms();
-            if (halo_feature_buffer_build(buffer, view) != HALO_OK)
-                goto done;
-            f->Finish();
-            build_ms = now_ms() - t0;
-            unsigned gl_program = halo_raycast_gl_program(raycast);
-            f->UseProgram(gl_program);
-            f->Uniform1i(f->GetUniformLocation(gl_program, "halo_host_feature_buffer"), FEATURE_BUFFER_UNIT);
-            f->UseProgram(0);
-            f->ActiveTexture(GL_TEXTURE0 + FEATURE_BUFFER_UNIT);
-            f->BindTexture(GL_TEXTURE_3D, halo_feature_buffer_texture(buffer));
-            f->ActiveTexture(GL_TEXTURE0);
-        }
-        for (int k = 0; k < 2; ++k) {
-            double t0 = now_ms();
-            if (halo_raycast_render(raycast, image, diag) != HALO_OK)
-                goto done;
-            render_ms[k] = now_ms() - t0;
-        }
+        f->Finish();
+        build_ms = now_ms() - t0;
+        halo_driver_bind_feature(&host, buffer);
+    }
+    for (int k = 0; k < 2; ++k) {
+        double t0 = now_ms();
+        if (halo_driver_render(&host, image, diag) != HALO_OK)
+            goto done;
+        render_ms[k] = now_ms() - t0;
     }
     if (halo_image_write(o.output, o.size, o.size, image, err, sizeof err) != 0) {
         fprintf(stderr, "halo-feature: %s\n", err);
@@ -249,8 +218,7 @@ done:
     if (status == 1)
         halo_diagnostics_print(diag, stderr);
     halo_feature_buffer_destroy(buffer);
-    halo_raycast_destroy(raycast);
-    halo_slice_destroy(slice);
+    halo_driver_destroy(&host);
     halo_program_destroy(program);
     halo_scene_destroy(scene);
     halo_gl_destroy(runtime);

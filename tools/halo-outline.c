@@ -10,8 +10,9 @@
  * every image the post passes write (exit 1 above 1e-3). */
 #include "gl/headless.h"
 #include "halo.h"
-#include "hosts/slice.h"
 #include "image_write.h"
+#include "render_driver.h"
+#include "tool_options.h"
 #include "volume.h"
 
 #include <math.h>
@@ -78,25 +79,47 @@ static int check_post(const halo_program *program, halo_gl_frame *frame, int siz
     return failed;
 }
 
+static void usage(FILE *out)
+{
+    fputs("usage: halo-outline --scene S [--size N] [--volume-size N] [--image NAME] [-o OUT] [--check]\n"
+          "                    [--backend egl|osmesa|auto]\n",
+          out);
+}
+
 int main(int argc, char **argv)
 {
     const char *scene_path = NULL, *output = "halo-outline.png", *image_name = "final";
     int size = 256, volume_size = 96, check = 0;
     if (!halo_headless_take_backend_option(&argc, argv, "halo-outline"))
         return 2;
-    for (int i = 1; i < argc; ++i) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        if (!strcmp(a, "--scene") && v) scene_path = v, ++i;
-        else if (!strcmp(a, "--size") && v) size = atoi(v), ++i;
-        else if (!strcmp(a, "--volume-size") && v) volume_size = atoi(v), ++i;
-        else if (!strcmp(a, "--image") && v) image_name = v, ++i;
-        else if (!strcmp(a, "-o") && v) output = v, ++i;
-        else if (!strcmp(a, "--check")) check = 1;
-        else {
-            fprintf(stderr, "usage: halo-outline --scene S [--size N] [--volume-size N] [--image NAME] [-o OUT]\n"
-                            "                    [--backend egl|osmesa|auto]\n");
-            return !strcmp(a, "--help") ? 0 : 2;
-        }
+    enum { OPT_SCENE, OPT_SIZE, OPT_VOLUME_SIZE, OPT_IMAGE, OPT_OUTPUT, OPT_CHECK };
+    static const halo_tool_option table[] = {[OPT_SCENE] = {"--scene", NULL, 1},
+                                             [OPT_SIZE] = {"--size", NULL, 1},
+                                             [OPT_VOLUME_SIZE] = {"--volume-size", NULL, 1},
+                                             [OPT_IMAGE] = {"--image", NULL, 1},
+                                             [OPT_OUTPUT] = {"-o", NULL, 1},
+                                             [OPT_CHECK] = {"--check", NULL, 0},
+                                             {NULL, NULL, 0}};
+    halo_tool_args args = {.tool = "halo-outline", .usage = usage, .argc = argc, .argv = argv, .next = 1};
+    for (int k; (k = halo_tool_args_next(&args, table)) != HALO_TOOL_ARGS_END;) {
+        if (k == HALO_TOOL_ARGS_HELP)
+            return 0;
+        int ok = k != HALO_TOOL_ARGS_ERROR;
+        if (k == OPT_SCENE)
+            scene_path = args.value;
+        else if (k == OPT_SIZE)
+            ok = halo_tool_int("halo-outline", args.option, args.value, 8, 4096, &size);
+        else if (k == OPT_VOLUME_SIZE)
+            ok = halo_tool_int("halo-outline", args.option, args.value, HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE,
+                               &volume_size);
+        else if (k == OPT_IMAGE)
+            image_name = args.value;
+        else if (k == OPT_OUTPUT)
+            output = args.value;
+        else if (k == OPT_CHECK)
+            check = 1;
+        if (!ok)
+            return 2;
     }
     if (!scene_path || size < 8 || size > 4096) {
         fprintf(stderr, "halo-outline: --scene is required; --size 8..4096\n");
@@ -108,17 +131,13 @@ int main(int argc, char **argv)
     int status = 1;
     halo_library *lib = halo_library_create(diag);
     halo_scene *scene = lib ? halo_scene_load(scene_path, lib, diag) : NULL;
-    char *host = scene ? halo_host_load("slice.frag", NULL, diag) : NULL;
-    halo_program *program = host ? halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
-                                                                .host_file = "slice.frag"},
-                                             diag)
-                                 : NULL;
+    halo_program *program =
+        scene ? halo_driver_link(&(halo_link_desc){.library = lib, .scene = scene}, HALO_DRIVER_SLICE, 1, diag) : NULL;
     halo_headless *context = NULL;
     halo_gl *runtime = NULL;
-    halo_slice *slice = NULL;
+    halo_driver slice = {0};
     float *volume = NULL, *rgba = NULL, *out = NULL;
-    unsigned texture = 0;
-    if (!program || halo_program_validate(program, diag) != HALO_OK)
+    if (!program)
         goto done;
     char err[512];
     if (!(context = halo_headless_create(size, size, err, sizeof err))) {
@@ -127,34 +146,27 @@ int main(int argc, char **argv)
         goto done;
     }
     runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, diag);
-    const halo_glfuncs *f = runtime ? halo_gl_functions(runtime) : NULL;
-    slice = runtime ? halo_slice_create(&(halo_host_desc){.gl = f, .runtime = runtime, .program = program,
-                                                          .width = size, .height = size},
-                                        diag)
-                    : NULL;
+    if (!runtime || !halo_driver_create(&slice, HALO_DRIVER_SLICE,
+                                        &(halo_host_desc){.gl = halo_gl_functions(runtime), .runtime = runtime,
+                                                          .program = program, .width = size, .height = size},
+                                        diag))
+        goto done;
     volume = halo_volume_create(volume_size);
     rgba = malloc((size_t)size * size * 4 * sizeof *rgba);
     out = malloc((size_t)size * size * 4 * sizeof *out);
-    if (!slice || !volume || !rgba || !out)
+    if (!volume || !rgba || !out)
         goto done;
     const halo_render_settings *settings = halo_scene_render(scene);
-    if (halo_slice_set_volume(slice, volume, volume_size, volume_size, volume_size, diag) != HALO_OK ||
-        halo_slice_set_render(slice, settings, diag) != HALO_OK)
+    if (halo_driver_set_volume(&slice, volume, (const int[3]){volume_size, volume_size, volume_size}, settings, 0,
+                               diag) != HALO_OK)
         goto done;
-    halo_slice_set_camera(slice, settings->azimuth, settings->elevation, settings->zoom);
-    if (halo_slice_render(slice, rgba, diag) != HALO_OK)
+    halo_driver_set_camera(&slice, settings->azimuth, settings->elevation, settings->zoom);
+    /* the post passes run on the host's colour within the frame */
+    if (halo_driver_render(&slice, rgba, diag) != HALO_OK)
         goto done;
-    halo_gl_frame *frame = halo_slice_frame(slice);
+    halo_gl_frame *frame = halo_driver_frame(&slice);
     int channels = 4;
     if (frame) {
-        /* the host's colour over its background, as the post passes read it */
-        f->GenTextures(1, &texture);
-        f->BindTexture(GL_TEXTURE_2D, texture);
-        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, size, size, 0, GL_RGBA, GL_FLOAT, rgba);
-        f->BindTexture(GL_TEXTURE_2D, 0);
-        halo_gl_frame_post(frame, texture);
         const halo_image_info *info = NULL;
         for (size_t i = 0; i < halo_program_image_count(program); ++i)
             if (!strcmp(halo_program_image(program, i)->name, image_name))
@@ -189,15 +201,12 @@ int main(int argc, char **argv)
 done:
     if (halo_diagnostics_count(diag) > 0)
         halo_diagnostics_print(diag, stderr);
-    if (texture && runtime)
-        halo_gl_functions(runtime)->DeleteTextures(1, &texture);
-    halo_slice_destroy(slice);
+    halo_driver_destroy(&slice);
     halo_gl_destroy(runtime);
     halo_headless_destroy(context);
     halo_program_destroy(program);
     halo_scene_destroy(scene);
     halo_library_destroy(lib);
-    free(host);
     free(volume);
     free(rgba);
     free(out);

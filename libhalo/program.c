@@ -1,0 +1,369 @@
+/* The linked program (halo_program): the strings it owns, its uniforms and feature
+ * groups, its destruction, and the reflection a host reads (halo.h). The linker
+ * (link.c) builds it. */
+#include "diag.h"
+#include "internal.h"
+#include "strbuf.h"
+
+#include <jansson.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char halo_generated_file[] = "<libhalo>";
+
+char *halo_program_own(halo_program *p, const char *fmt, ...) {
+    halo_strbuf b = {0};
+    va_list ap;
+    va_start(ap, fmt);
+    halo_strbuf_vprintf(&b, fmt, ap);
+    va_end(ap);
+    char *str = halo_strbuf_take(&b);
+    char **list = str ? realloc(p->strings, (p->string_count + 1) * sizeof *list) : NULL;
+    if (!list) { free(str); return NULL; }
+    p->strings = list;
+    p->strings[p->string_count++] = str;
+    return str;
+}
+
+halo_image_info *halo_program_image_named(halo_program *p, const char *name) {
+    for (size_t i = 0; i < p->image_count; i++)
+        if (!strcmp(p->images[i].name, name)) return &p->images[i];
+    return NULL;
+}
+
+int halo_program_build_uniforms(halo_program *p, int all_live) {
+    size_t n = 0;
+    for (size_t s = 0; s < p->stage_count; s++) n += p->stages[s].module->param_count;
+    p->uniforms = calloc(n + 1, sizeof *p->uniforms);
+    p->uniform_names = calloc(n + 1, sizeof *p->uniform_names);
+    if (!p->uniforms || !p->uniform_names) return -1;
+    for (size_t s = 0; s < p->stage_count; s++) {
+        halo_linked_stage *st = &p->stages[s];
+        st->first_uniform = p->uniform_count;
+        for (size_t i = 0; i < st->module->param_count; i++) {
+            halo_strbuf b = {0};
+            halo_strbuf_printf(&b, "halo_%s_%s", st->module->name, st->module->params[i].name);
+            char *name = halo_strbuf_take(&b);
+            if (!name) return -1;
+            p->uniform_names[p->uniform_count] = name;
+            halo_param_value *v = &st->values[i];
+            if (all_live) v->live = 1;
+            p->uniforms[p->uniform_count++] = (halo_uniform_info){
+                .name = name,
+                .stage = st->module->name,
+                .param = st->module->params[i].name,
+                .info = &st->module->params[i],
+                .live = v->live,
+                .count = v->count,
+                .value = v->value,
+                .count_name = st->module->params[i].array_size ? halo_program_own(p, "%s_count", name) : NULL,
+            };
+            if (st->module->params[i].array_size && !p->uniforms[p->uniform_count - 1].count_name) return -1;
+        }
+    }
+    return 0;
+}
+
+void halo_program_destroy(halo_program *p) {
+    if (!p) return;
+    for (int i = 0; i < HALO_PIECE_COUNT; i++) { /* pieces (compose.c) */
+        free(p->pieces[i]);
+        free(p->piece_origins[i]);
+    }
+    free(p->volume_sampler);
+    free(p->gradient_sampler);
+    free(p->source);
+    free(p->host_file);
+    free(p->host_storage);
+    free(p->host_lines);
+    free(p->origins);
+    for (size_t s = 0; s < p->stage_count; s++) {
+        free(p->stages[s].values);
+        free(p->stages[s].group_values);
+    }
+    free(p->stages);
+    for (size_t i = 0; i < p->uniform_count; i++) free(p->uniform_names[i]);
+    free(p->uniform_names);
+    free(p->uniforms);
+    free(p->outputs);
+    free(p->passes);
+    for (size_t i = 0; i < p->pass_count; i++) free(p->pass_origins[i]);
+    free(p->pass_origins);
+    free(p->pass_origin_counts);
+    free(p->images);
+    free(p->samplers);
+    free(p->host_uniforms);
+    for (size_t i = 0; i < p->string_count; i++) free(p->strings[i]);
+    free(p->strings);
+    free(p);
+}
+
+/* A reflection getter: refuses a NULL program with none_value. */
+#define PROGRAM_GETTER(type, name, none_value, expression)                                                        \
+    type name(const halo_program *p) {                                                                            \
+        HALO_REFUSE_NULL(NULL, p, "program", none_value);                                                         \
+        return expression;                                                                                        \
+    }
+#define PROGRAM_ITEM(type, name, count, items)                                                                    \
+    const type *name(const halo_program *p, size_t i) {                                                           \
+        HALO_REFUSE_NULL(NULL, p, "program", NULL);                                                               \
+        return i < p->count ? &p->items[i] : NULL;                                                                \
+    }
+PROGRAM_GETTER(const char *, halo_program_source, NULL, p->source)
+PROGRAM_GETTER(halo_target, halo_program_target, HALO_TARGET_COUNT, p->target)
+
+int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line) {
+    HALO_REFUSE_NULL(NULL, p, "program", 0);
+    if (line < 1 || line > p->origin_count) return 0;
+    const halo_line_origin *o = &p->origins[line - 1];
+    if (file) *file = o->file;
+    if (origin_line) *origin_line = o->line;
+    return o->file != halo_generated_file;
+}
+
+PROGRAM_GETTER(size_t, halo_program_stage_count, 0, p->stage_count)
+const char *halo_program_stage(const halo_program *p, size_t i) {
+    HALO_REFUSE_NULL(NULL, p, "program", NULL);
+    return i < p->stage_count ? p->stages[i].module->name : NULL;
+}
+PROGRAM_GETTER(size_t, halo_program_uniform_count, 0, p->uniform_count)
+PROGRAM_ITEM(halo_uniform_info, halo_program_uniform, uniform_count, uniforms)
+const halo_uniform_info *halo_program_find_uniform(const halo_program *p, const char *stage, const char *param) {
+    HALO_REFUSE_NULL(NULL, p, "program", NULL);
+    HALO_REFUSE_NULL(NULL, stage, "stage", NULL);
+    HALO_REFUSE_NULL(NULL, param, "param", NULL);
+    for (size_t i = 0; i < p->uniform_count; i++)
+        if (!strcmp(p->uniforms[i].stage, stage) && !strcmp(p->uniforms[i].param, param)) return &p->uniforms[i];
+    return NULL;
+}
+
+halo_status halo_program_set(halo_program *p, const char *stage, const char *param, const double *values, int count,
+                             halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, stage, "stage", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, param, "param", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, values, "values", HALO_ERROR_INPUT);
+    const halo_uniform_info *u = halo_program_find_uniform(p, stage, param);
+    if (!u) {
+        halo_diag_error(diag, SCENE_PARAM_UNKNOWN, "", 0, 0, "%s.%s: no such parameter in this program", stage, param);
+        return HALO_ERROR_INPUT;
+    }
+    if (!u->live) {
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "%s.%s is a compile-time constant in this program; mark it live in the scene to change it "
+                        "at run time",
+                        stage, param);
+        return HALO_ERROR_INPUT;
+    }
+    char why[256];
+    int id = halo_param_check(u->info, values, count, why, sizeof why);
+    if (id >= 0) {
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage, param, why);
+        return HALO_ERROR_INPUT;
+    }
+    /* a grouped parameter of a program with feature groups: the whole list; the current
+     * group's four become the uniform's values */
+    for (size_t s = 0; s < p->stage_count; s++) {
+        halo_linked_stage *st = &p->stages[s];
+        if (!st->group_values || strcmp(st->module->name, stage)) continue;
+        size_t i = (size_t)(u->info - st->module->params);
+        if (st->module->params[i].type != HALO_PARAM_CHANNELS) break;
+        if (count > 4 * p->group_count) {
+            halo_diag_error(diag, USAGE, "", 0, 0,
+                            "%s.%s: %d features need more than the program's %d feature groups; link the scene again",
+                            stage, param, count, p->group_count);
+            return HALO_ERROR_INPUT;
+        }
+        memcpy(st->group_values[i].value, values, (size_t)count * sizeof(double));
+        st->group_values[i].count = count;
+        halo_program_load_group(p, p->group);
+        return HALO_OK;
+    }
+    halo_uniform_info *w = &p->uniforms[u - p->uniforms];
+    memcpy((double *)w->value, values, (size_t)count * (size_t)u->info->components * sizeof(double));
+    w->count = count;
+    /* Keep the stage's value record in step. */
+    for (size_t s = 0; s < p->stage_count; s++)
+        for (size_t i = 0; i < p->stages[s].module->param_count; i++)
+            if (p->stages[s].values[i].value == w->value) p->stages[s].values[i].count = count;
+    return HALO_OK;
+}
+
+PROGRAM_GETTER(size_t, halo_program_output_count, 0, p->output_count)
+PROGRAM_ITEM(halo_output_info, halo_program_output, output_count, outputs)
+PROGRAM_GETTER(size_t, halo_program_image_count, 0, p->image_count)
+PROGRAM_ITEM(halo_image_info, halo_program_image, image_count, images)
+PROGRAM_GETTER(size_t, halo_program_sampler_count, 0, p->sampler_count)
+PROGRAM_ITEM(halo_sampler_info, halo_program_sampler, sampler_count, samplers)
+PROGRAM_GETTER(size_t, halo_program_host_uniform_count, 0, p->host_uniform_count)
+PROGRAM_ITEM(halo_host_uniform_info, halo_program_host_uniform, host_uniform_count, host_uniforms)
+PROGRAM_GETTER(int, halo_program_channel_count, 0, p->channel_count)
+PROGRAM_GETTER(int, halo_program_image_precision, 0, p->image_precision)
+PROGRAM_GETTER(int, halo_program_image_scale, 0, p->image_scale)
+PROGRAM_GETTER(int, halo_program_segment_location, 0, p->segment_location)
+PROGRAM_GETTER(int, halo_program_group_count, 0, p->group_count > 1 ? p->group_count : 1)
+
+/* Group g's values of every grouped channels parameter: values 4g .. 4g + 3 of the
+ * scene's list (the last value repeated where the list ends), padded to the channel
+ * count by repeating the group's last. */
+void halo_program_load_group(halo_program *p, int g) {
+    for (size_t s = 0; s < p->stage_count; s++) {
+        halo_linked_stage *st = &p->stages[s];
+        if (!st->group_values) continue;
+        for (size_t i = 0; i < st->module->param_count; i++) {
+            if (st->module->params[i].type != HALO_PARAM_CHANNELS) continue;
+            const halo_param_value *full = &st->group_values[i];
+            halo_param_value *v = &st->values[i];
+            int n = full->count < 1 ? 1 : full->count, c = p->channel_count < 1 ? 4 : p->channel_count;
+            for (int k = 0; k < c; k++) {
+                int from = 4 * g + k < n ? 4 * g + k : n - 1;
+                v->value[k] = full->value[from];
+            }
+            v->count = c;
+            p->uniforms[st->first_uniform + i].count = c;
+        }
+    }
+    p->group = g;
+}
+
+halo_status halo_program_select_group(halo_program *p, int group) {
+    HALO_REFUSE_NULL(NULL, p, "program", HALO_ERROR_INPUT);
+    if (group < 0 || group >= halo_program_group_count(p)) return HALO_ERROR_INPUT;
+    if (p->group_count > 1) halo_program_load_group(p, group);
+    return HALO_OK;
+}
+
+/* Feature groups: grouped stages whose channels lists are longer than four. Their lists
+ * are kept whole (group_values), their channels parameters become uniforms (switching
+ * groups is an upload), and group 0 is loaded. */
+int halo_program_set_groups(halo_program *p) {
+    int features = 0;
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        for (size_t i = 0; m->groups && i < m->param_count; i++)
+            if (m->params[i].type == HALO_PARAM_CHANNELS && p->stages[s].values[i].count > features)
+                features = p->stages[s].values[i].count;
+    }
+    p->group_count = features > 4 ? (features + 3) / 4 : 1;
+    if (p->group_count == 1) return 0;
+    for (size_t s = 0; s < p->stage_count; s++) {
+        halo_linked_stage *st = &p->stages[s];
+        if (!st->module->groups) continue;
+        st->group_values = calloc(st->module->param_count + 1, sizeof *st->group_values);
+        if (!st->group_values) return -1;
+        for (size_t i = 0; i < st->module->param_count; i++) {
+            if (st->module->params[i].type != HALO_PARAM_CHANNELS) continue;
+            st->group_values[i] = st->values[i];
+            st->values[i].live = 1;
+            st->values[i].count = 4; /* group 0 (set_channel_count sees four) */
+        }
+    }
+    return 0;
+}
+PROGRAM_GETTER(size_t, halo_program_pass_count, 0, p->pass_count)
+PROGRAM_ITEM(halo_pass_info, halo_program_pass, pass_count, passes)
+
+static json_t *number_or_null(double v) { return isfinite(v) ? json_real(v) : json_null(); }
+
+char *halo_program_reflect_json(const halo_program *p) {
+    HALO_REFUSE_NULL(NULL, p, "program", NULL);
+    json_t *root = json_object();
+    json_object_set_new(root, "contract", json_integer(HALO_CONTRACT_VERSION));
+    json_object_set_new(root, "target", json_string(halo_target_name(p->target)));
+    json_t *stages = json_array();
+    for (size_t s = 0; s < p->stage_count; s++) json_array_append_new(stages, json_string(p->stages[s].module->name));
+    json_object_set_new(root, "stages", stages);
+    json_t *uniforms = json_array(), *constants = json_array();
+    for (size_t i = 0; i < p->uniform_count; i++) {
+        const halo_uniform_info *u = &p->uniforms[i];
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(u->name));
+        json_object_set_new(o, "stage", json_string(u->stage));
+        json_object_set_new(o, "param", json_string(u->param));
+        halo_strbuf t = {0};
+        halo_strbuf_append(&t, u->info->type == HALO_PARAM_CHANNELS ? "channels" : halo_param_type_name(u->info->type));
+        if (u->info->array_size && u->info->type != HALO_PARAM_CHANNELS) halo_strbuf_printf(&t, "[%d]", u->info->array_size);
+        json_object_set_new(o, "type", json_string(t.data ? t.data : "?"));
+        halo_strbuf_free(&t);
+        json_t *val = json_array();
+        for (int k = 0; k < u->count * u->info->components; k++) json_array_append_new(val, json_real(u->value[k]));
+        json_object_set_new(o, "value", val);
+        json_object_set_new(o, "count", json_integer(u->count));
+        json_object_set_new(o, "min", number_or_null(u->info->min));
+        json_object_set_new(o, "max", number_or_null(u->info->max));
+        json_object_set_new(o, "meaning", json_string(u->info->meaning));
+        json_array_append_new(u->live ? uniforms : constants, o);
+    }
+    json_object_set_new(root, "uniforms", uniforms);
+    json_object_set_new(root, "constants", constants);
+    json_object_set_new(root, "channels", json_integer(p->channel_count));
+    json_object_set_new(root, "image_precision", json_integer(p->image_precision));
+    json_object_set_new(root, "image_scale", json_integer(p->image_scale));
+    /* host contract 2: drawn in depth segments (halo_gl_frame_draw), the ray state at this location */
+    json_object_set_new(root, "segment_state_location",
+                        p->segment_location > 0 ? json_integer(p->segment_location) : json_null());
+    json_t *samplers = json_array();
+    for (size_t i = 0; i < p->sampler_count; i++) {
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(p->samplers[i].name));
+        json_object_set_new(o, "image", json_string(p->samplers[i].image));
+        json_array_append_new(samplers, o);
+    }
+    json_object_set_new(root, "samplers", samplers);
+    json_t *host_uniforms = json_array();
+    for (size_t i = 0; i < p->host_uniform_count; i++) {
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(p->host_uniforms[i].name));
+        json_object_set_new(o, "type", json_string(p->host_uniforms[i].type));
+        json_object_set_new(o, "meaning", json_string(p->host_uniforms[i].meaning));
+        json_array_append_new(host_uniforms, o);
+    }
+    json_object_set_new(root, "host_uniforms", host_uniforms);
+    json_t *images = json_array();
+    for (size_t i = 0; i < p->image_count; i++) {
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(p->images[i].name));
+        json_object_set_new(o, "channels", json_integer(p->images[i].channels));
+        if (p->images[i].clear != 0.0) json_object_set_new(o, "clear", json_real(p->images[i].clear));
+        if (p->images[i].host) json_object_set_new(o, "host", json_true());
+        if (p->images[i].scale > 1) json_object_set_new(o, "scale", json_integer(p->images[i].scale));
+        json_object_set_new(o, "reset", json_string(p->images[i].reset == HALO_RESET_GENERATION ? "generation"
+                                                                                                   : "frame"));
+        json_array_append_new(images, o);
+    }
+    json_object_set_new(root, "images", images);
+    static const char *const blends[] = {"none", "max", "add", "min", "first"};
+    json_t *outputs = json_array();
+    for (size_t i = 0; i < p->output_count; i++) {
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(p->outputs[i].name));
+        json_object_set_new(o, "location", json_integer(p->outputs[i].location));
+        json_object_set_new(o, "components", json_integer(p->outputs[i].components));
+        json_object_set_new(o, "image", json_string(p->outputs[i].image));
+        json_object_set_new(o, "blend", json_string(blends[p->outputs[i].blend]));
+        json_array_append_new(outputs, o);
+    }
+    json_object_set_new(root, "outputs", outputs);
+    json_t *passes = json_array();
+    for (size_t i = 0; i < p->pass_count; i++) {
+        const halo_pass_info *pi = &p->passes[i];
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(pi->name));
+        json_object_set_new(o, "stage", json_string(pi->stage));
+        json_object_set_new(o, "entry", json_string(pi->entry));
+        json_t *in = json_array();
+        for (int k = 0; k < pi->input_count; k++) json_array_append_new(in, json_string(pi->inputs[k]));
+        json_object_set_new(o, "inputs", in);
+        if (pi->first) json_object_set_new(o, "first", json_string(pi->first));
+        json_object_set_new(o, "output", json_string(pi->output));
+        json_object_set_new(o, "repeat", json_integer(pi->repeat));
+        if (pi->post) json_object_set_new(o, "at", json_string("post"));
+        if (pi->channel >= 0) json_object_set_new(o, "channel", json_integer(pi->channel));
+        json_array_append_new(passes, o);
+    }
+    json_object_set_new(root, "passes", passes);
+    char *text = json_dumps(root, JSON_INDENT(2) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(9));
+    json_decref(root);
+    return text;
+}
