@@ -28,14 +28,28 @@ def main():
     p.add_argument("--settings", default="", help="stage.param=v[,v...];... over the scene's")
     p.add_argument("--exchange", type=int, default=1, help="1: halos cross the ranks' pieces; 0: each rank's own")
     p.add_argument("--frames", type=int, default=1, help="render this many frames and print the mean time")
-    p.add_argument("-o", "--output", required=True, help="the image (.png)")
+    p.add_argument("-o", "--output", help="the image (.png)")
+    p.add_argument("--jobs", help="a file of renders, one a line: OUTPUT SCENE|- [EXCHANGE [SETTINGS]] "
+                   "(one pvbatch start for many images)")
     a = p.parse_args()
+    jobs = []
+    if a.output:
+        jobs.append((a.output, a.scene, a.exchange, a.settings))
+    if a.jobs:
+        with open(a.jobs) as f:
+            for line in f:
+                w = line.split()
+                if not w or w[0].startswith("#"):
+                    continue
+                jobs.append((w[0], "" if len(w) < 2 or w[1] == "-" else w[1],
+                             int(w[2]) if len(w) > 2 else 1, w[3] if len(w) > 3 else ""))
+    if not jobs:
+        p.error("-o or --jobs is required")
 
     with open(a.view + ".json") as f:
         view_desc = json.load(f)
     n = view_desc["size"]
     LoadPlugin(a.plugin, remote=False, ns=globals())
-    LoadPlugin(a.plugin, remote=True, ns=globals())
 
     # the display cube on VTK's point grid at voxel centres: world = texture coordinates
     reader = ImageReader(FileNames=[a.view + ".raw"])
@@ -71,10 +85,7 @@ def main():
     rep.LookupTable = ctf
     rep.ScalarOpacityFunction = otf
     rep.ScalarOpacityUnitDistance = 1.0 / n
-    rep.HaloScene = a.scene
-    rep.HaloSettings = a.settings
     rep.HaloWindow = [0.0, 1.0]
-    rep.HaloExchange = a.exchange
 
     cam = view_desc["camera"]
     view.CameraPosition = cam["eye"]
@@ -83,17 +94,25 @@ def main():
     view.CameraViewAngle = cam["view_angle"]
     view.CameraParallelProjection = 0
 
-    Render(view)
-    if a.frames > 1:
-        t0 = time.time()
-        for _ in range(a.frames):
-            view.StillRender()
-        ms = (time.time() - t0) * 1000.0 / a.frames
-        ranks = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
-        print("halo_pvbatch: %.1f ms per frame (%d frames, %dx%d, %d rank%s)" %
-              (ms, a.frames, width, height, ranks, "" if ranks == 1 else "s"))
-    SaveScreenshot(a.output, view, ImageResolution=[width, height], TransparentBackground=0)
+    for output, scene, exchange, settings in jobs:
+        rep.HaloScene = scene
+        rep.HaloSettings = settings
+        rep.HaloExchange = exchange
+        render(view, output, a.frames, width, height)
     return 0
+
+
+def render(view, output, frames, width, height):
+    Render(view)
+    if frames > 1:
+        t0 = time.time()
+        for _ in range(frames):
+            view.StillRender()
+        ms = (time.time() - t0) * 1000.0 / frames
+        ranks = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
+        print("halo_pvbatch: %s: %.1f ms per frame (%d frames, %dx%d, %d rank%s)" %
+              (output, ms, frames, width, height, ranks, "" if ranks == 1 else "s"))
+    SaveScreenshot(output, view, ImageResolution=[width, height], TransparentBackground=0)
 
 
 # no sys.exit on success: pvbatch tears its render window down after the script, and an

@@ -179,8 +179,19 @@ public:
         return 0;
       }
       std::string stage = item.substr(0, dot), param = item.substr(dot + 1, eq - dot - 1);
-      if (halo_scene_set(this->Scene, stage.c_str(), param.c_str(), v.data(), static_cast<int>(v.size()), 0,
-            this->Diag) != HALO_OK)
+      const halo_module* module = halo_library_find(this->Library, stage.c_str());
+      const halo_param_info* info = module ? halo_module_find_param(module, param.c_str()) : nullptr;
+      int components = info ? info->components : 1;
+      if (v.size() % static_cast<size_t>(components))
+      {
+        halo_diagnostics_report(this->Diag, HALO_SEVERITY_ERROR, HALO_MSG_USAGE, "HaloSettings", 0, 0,
+          ("HaloSettings: " + stage + "." + param + " takes " + std::to_string(components) +
+            " values per element, not '" + item + "'")
+            .c_str());
+        return 0;
+      }
+      if (halo_scene_set(this->Scene, stage.c_str(), param.c_str(), v.data(),
+            static_cast<int>(v.size()) / components, 0, this->Diag) != HALO_OK)
         return 0;
     }
     return 1;
