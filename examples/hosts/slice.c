@@ -29,6 +29,7 @@ struct halo_slice {
     int interval_override;
     halo_gradient_format gradient_format;
     float gradient_scale; /* the texture holds gradient / gradient_scale */
+    GLint gradient_pending; /* the internal format of gradients still to build on the GPU; 0: none */
     long draws, pass_draws;
     halo_slice_progress_fn progress;
     void *progress_user;
@@ -231,15 +232,26 @@ halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int 
     halo_status status = halo_host_upload_volume(s ? s->f : NULL, s ? s->volume_texture : 0, data, nx, ny, nz, diag);
     if (status != HALO_OK)
         return status;
+    s->gradient_pending = 0;
     /* the gradients for the linked stages (slice.frag's sample_gradient) only when one
      * reads them: otherwise the driver drops the unread fetch and with it the sampler
      * (the same image without the texture) */
     if (halo_slice_reads_gradients(s)) {
         static const GLint internal_formats[HALO_GRADIENT_FORMAT_COUNT] = {0, GL_RGB32F, GL_RGB16F, GL_RGB8_SNORM};
-        status = halo_host_upload_gradients(s->f, s->gradient_texture, data, nx, ny, nz,
-                                            internal_formats[halo_slice_gradient_format(s)], &s->gradient_scale, diag);
-        if (status != HALO_OK)
-            return status;
+        GLint internal_format = internal_formats[halo_slice_gradient_format(s)];
+        if (halo_host_gradients_renderable(s->f, internal_format)) {
+            /* built on the GPU from the volume texture at the first render: by then the
+             * caller may have freed data, and the peak holds no CPU copy beside the two
+             * textures */
+            const int dims[3] = {nx, ny, nz};
+            s->gradient_scale = halo_host_gradient_scale(data, dims, internal_format);
+            s->gradient_pending = internal_format;
+        } else {
+            status = halo_host_upload_gradients(s->f, s->gradient_texture, data, nx, ny, nz, internal_format,
+                                                &s->gradient_scale, diag);
+            if (status != HALO_OK)
+                return status;
+        }
     }
     s->volume = data;
     s->dims[0] = nx;
@@ -322,6 +334,14 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
     if (!s->volume) {
         halo_diag_error(diag, USAGE, "", 0, 0, "slice host: no volume uploaded");
         return HALO_ERROR_INPUT;
+    }
+    if (s->gradient_pending) {
+        halo_status built = halo_host_build_gradients(s->f, s->gradient_texture, s->volume_texture, s->dims[0],
+                                                      s->dims[1], s->dims[2], s->gradient_pending, s->gradient_scale,
+                                                      diag);
+        if (built != HALO_OK)
+            return built;
+        s->gradient_pending = 0;
     }
     int groups = s->linked && s->frame ? halo_program_group_count(s->linked) : 1;
     if (groups == 1)
