@@ -38,6 +38,8 @@ typedef struct halo_image_decl {
     int components;      /* 0: the program's channel count; else 1..4 */
     double clear;        /* value every component is cleared to (default 0) */
     int clear_set;
+    char *read_when;     /* read_when=PARAM: the module reads the image only while some channel of
+                          * PARAM is >= 0.5 or PARAM is live (NULL: always) */
 } halo_image_decl;
 
 typedef struct halo_host_uniform_decl {
