@@ -105,11 +105,25 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
     char *source = halo_host_load(host_file, NULL, env->diag);
     if (!source)
         return 0;
-    c->program = halo_link(&(halo_link_desc){.library = env->lib, .scene = c->scene, .host_source = source,
-                                             .host_file = host_file, .all_live = c->config.all_live,
-                                             .image_precision = c->config.precision ? c->config.precision : 32,
-                                             .image_scale = c->config.scale},
-                           env->diag);
+    const halo_link_desc link = {.library = env->lib, .scene = c->scene, .host_source = source,
+                                 .host_file = host_file, .all_live = c->config.all_live,
+                                 .image_precision = c->config.precision ? c->config.precision : 32,
+                                 .image_scale = c->config.scale};
+    c->program = halo_link(&link, env->diag);
+    /* no skips: halo_map's mode live (its values kept), so that the occlusion pass is linked */
+    const halo_uniform_info *mode = c->program && c->config.no_skip && !c->config.all_live
+                                        ? halo_program_find_uniform(c->program, "halo_map", "mode")
+                                        : NULL;
+    if (mode && mode->value && !mode->live) {
+        double values[4] = {0, 0, 0, 0};
+        int count = mode->count > 0 && mode->count <= 4 ? mode->count : 1;
+        for (int k = 0; k < count; ++k)
+            values[k] = mode->value[k];
+        halo_program_destroy(c->program);
+        c->program = halo_scene_set(c->scene, "halo_map", "mode", values, count, 1, env->diag) == HALO_OK
+                         ? halo_link(&link, env->diag)
+                         : NULL;
+    }
     free(source);
     if (!c->program)
         return 0;
@@ -134,6 +148,7 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
     } else {
         host->slice = c->config.slab ? halo_slab_create(&desc, env->diag) : halo_slice_create(&desc, env->diag);
         halo_slice_set_gradient_format(host->slice, (halo_gradient_format)c->config.gradient);
+        halo_slice_set_generation_skip(host->slice, !c->config.no_skip);
         if (!host->slice ||
             halo_slice_set_volume(host->slice, env->volume, env->dims[0], env->dims[1], env->dims[2], env->diag) !=
                 HALO_OK ||
@@ -336,6 +351,7 @@ size_t halo_bench_sweep(halo_bench_case *out, size_t max, int scene_passes, doub
     ADD("precision", k_.precision = 8);
     for (int g = HALO_GRADIENT_FLOAT; g < HALO_GRADIENT_FORMAT_COUNT; ++g)
         ADD("gradient", k_.gradient = g);
+    ADD("skips", k_.no_skip = 1); /* the same image as M = 4 */
     ADD("resolution", k_.scale = 2);
     ADD("resolution", k_.scale = 4);
     ADD("resolution", k_.interval = 1; k_.scale = 2);

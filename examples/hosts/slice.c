@@ -30,6 +30,7 @@ struct halo_slice {
     halo_gradient_format gradient_format;
     float gradient_scale; /* the texture holds gradient / gradient_scale */
     GLint gradient_pending; /* the internal format of gradients still to build on the GPU; 0: none */
+    int run_every_generation; /* halo_slice_set_generation_skip(s, 0) */
     long draws, pass_draws;
     halo_slice_progress_fn progress;
     void *progress_user;
@@ -213,6 +214,12 @@ int halo_gradient_format_option(const char *text, halo_gradient_format *format, 
     }
     *format = named;
     return 1;
+}
+
+void halo_slice_set_generation_skip(halo_slice *s, int on)
+{
+    if (s)
+        s->run_every_generation = !on;
 }
 
 void halo_slice_set_gradient_format(halo_slice *s, halo_gradient_format format)
@@ -411,7 +418,7 @@ typedef struct generation_skip {
 
 static void generation_skip_start(generation_skip *g, const halo_slice *s, const halo_slice_state *st)
 {
-    g->enabled = generation_is_halo_spreading(s->linked);
+    g->enabled = !s->run_every_generation && generation_is_halo_spreading(s->linked);
     cube_distance_range(st, g->range);
     g->seeded = 0;
     g->field_zero = 1;
