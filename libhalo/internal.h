@@ -47,6 +47,10 @@ typedef struct halo_host_uniform_decl {
     int line;
 } halo_host_uniform_decl;
 
+/* A pass's when= condition that names no parameter: the program's halo images are at the
+ * frame's size (halo_link_desc.image_scale 1). */
+#define HALO_WHEN_FULL_SIZE "halo_full_size"
+
 typedef struct halo_pass_decl {
     char *name, *entry, *output, *first, *repeat, *when;
     char *inputs[HALO_MAX_PASS_INPUTS]; /* NAME*: one input per channel (expanded by the linker) */
@@ -54,6 +58,7 @@ typedef struct halo_pass_decl {
     int line;
     int post;         /* at=post: runs in halo_*_frame_post, not between slices */
     int each_channel; /* each=channel: one pass per channel; '*' names that channel's image */
+    int start;        /* start=K: repetitions K..repeat only (0: 1) */
 } halo_pass_decl;
 
 struct halo_module {

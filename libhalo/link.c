@@ -1158,12 +1158,21 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     pi->post = pd->post;
     pi->channel = channel;
     pi->repeat = pd->repeat ? param_int(st, pd->repeat) : 1;
+    pi->start = pd->start > 1 ? pd->start : 1;
     pi->vertex_source = halo_program_own(p, "%s\n%s\n", halo_target_version_line(p->target), pass_vertex_body);
     pi->fragment_source = frag_owned;
     p->pass_origins[p->pass_count] = e.origins;
     p->pass_origin_counts[p->pass_count] = e.count;
     p->pass_count++;
     return 0;
+}
+
+/* A pass's when=: a bool parameter, HALO_WHEN_FULL_SIZE, either negated by '!'. */
+static int pass_condition(const halo_program *p, const halo_linked_stage *st, const char *when) {
+    int negate = when[0] == '!';
+    const char *name = when + negate;
+    int on = !strcmp(name, HALO_WHEN_FULL_SIZE) ? p->image_scale <= 1 : param_int(st, name) != 0;
+    return negate ? !on : on;
 }
 
 /* Whether param `name` of a linked stage could be on: live, grouped (its values change per
@@ -1207,8 +1216,8 @@ static int build_passes(halo_program *p, const halo_library *lib, halo_diagnosti
         const halo_linked_stage *st = &p->stages[s];
         for (size_t i = 0; i < st->module->pass_count; i++) {
             const halo_pass_decl *pd = &st->module->passes[i];
-            if (pd->when && !param_int(st, pd->when)) continue;
-            if (pd->repeat && param_int(st, pd->repeat) < 1) continue;
+            if (pd->when && !pass_condition(p, st, pd->when)) continue;
+            if (pd->repeat && param_int(st, pd->repeat) < (pd->start > 1 ? pd->start : 1)) continue;
             if (!pd->each_channel && image_unread(p, pd->output)) continue;
             for (int c = 0; c < (pd->each_channel ? p->channel_count : 1); c++) {
                 int r = build_pass(p, lib, st, pd, pd->each_channel ? c : -1);
@@ -1873,6 +1882,7 @@ char *halo_program_reflect_json(const halo_program *p) {
         json_object_set_new(o, "name", json_string(pi->name));
         json_object_set_new(o, "stage", json_string(pi->stage));
         json_object_set_new(o, "entry", json_string(pi->entry));
+        json_object_set_new(o, "start", json_integer(pi->start));
         json_t *in = json_array();
         for (int k = 0; k < pi->input_count; k++) json_array_append_new(in, json_string(pi->inputs[k]));
         json_object_set_new(o, "inputs", in);

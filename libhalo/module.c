@@ -384,7 +384,8 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
     halo_module *m = ctx->m;
     if (w->n < 3 || !valid_name(w->w[1])) {
         ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[0],
-                    "'pass' takes NAME entry=FUNC inputs=A,B output=IMAGE [repeat=PARAM first=IMAGE] [when=PARAM]");
+                    "'pass' takes NAME entry=FUNC inputs=A,B output=IMAGE [repeat=PARAM first=IMAGE start=K] "
+                    "[when=[!]PARAM]");
         return;
     }
     halo_pass_decl pd = {0};
@@ -410,6 +411,14 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
             else if (strcmp(v, "generate"))
                 ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "at= takes generate, post or final");
             continue;
+        } else if (k == 5 && !strncmp(a, "start", 5)) {
+            char *end = NULL;
+            long start = strtol(v, &end, 10);
+            if (end == v || *end || start < 1 || start > 64)
+                ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "start= takes a repetition 1..64");
+            else
+                pd.start = (int)start;
+            continue;
         } else if (k == 4 && !strncmp(a, "each", 4)) {
             if (!strcmp(v, "channel")) pd.each_channel = 1;
             else ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "each= takes channel");
@@ -429,7 +438,7 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
             continue;
         } else {
             ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "unknown pass key '%.*s' (entry, inputs, output, "
-                        "repeat, first, when, at, each)", (int)k, a);
+                        "repeat, first, start, when, at, each)", (int)k, a);
             continue;
         }
         free(*slot);
@@ -770,7 +779,10 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
                               pd->entry);
                 ctx.errors++;
             }
-            const char *need[2] = {pd->repeat, pd->when};
+            /* when=!PARAM negates; when=halo_full_size: the halo images at the frame's size */
+            const char *when = pd->when && pd->when[0] == '!' ? pd->when + 1 : pd->when;
+            if (when && !strcmp(when, HALO_WHEN_FULL_SIZE)) when = NULL;
+            const char *need[2] = {pd->repeat, when};
             for (int k = 0; k < 2; k++) {
                 const halo_param_info *pi = need[k] ? halo_module_find_param(m, need[k]) : NULL;
                 if (need[k] && (!pi || pi->type != (k ? HALO_PARAM_BOOL : HALO_PARAM_INT) || pi->array_size)) {

@@ -740,7 +740,8 @@ static int has_pass(const halo_program *p, const char *name) {
 
 /* The occlusion pass only when a halo may be occlusive (halo_map's `image occlusion
  * read_when=mode`): not for emissive halos, for any occlusive channel or a live mode, and
- * always without halo_map (nothing says the image is unread). */
+ * always without halo_map (nothing says the image is unread). At the frame's size no
+ * gradient pass: spread_seed, then spread from repetition 2. */
 static int test_occlusion_pass_when_occlusive(void) {
     static const struct {
         const char *map;
@@ -764,7 +765,10 @@ static int test_occlusion_pass_when_occlusive(void) {
         if (has_pass(p, "occlude") != cases[k].occlude)
             CHECK_FAIL_AT("%s (all_live %d): occlude pass %s", json, cases[k].all_live,
                           cases[k].occlude ? "missing" : "linked");
-        CHECK(has_pass(p, "spread"));
+        /* full size: the gradient pass folded into the spreading (spread_seed, then spread from 2) */
+        CHECK(has_pass(p, "spread") && has_pass(p, "spread_seed") && !has_pass(p, "gradient"));
+        for (size_t i = 0; i < halo_program_pass_count(p); i++)
+            if (!strcmp(halo_program_pass(p, i)->name, "spread")) CHECK_INT_EQ(halo_program_pass(p, i)->start, 2);
         halo_program_destroy(p);
     }
     return 0;
