@@ -285,12 +285,12 @@ tests_hosts_test_hosts_LDADD = $(HALO_TOOL_LIBS)
 TESTS += tests/hosts/test_hosts
 
 # The gradient texture built on the GPU against the CPU's central differences.
-check_PROGRAMS += tests/hosts/test_gradients
-tests_hosts_test_gradients_SOURCES = tests/hosts/test_gradients.c
-tests_hosts_test_gradients_CPPFLAGS = $(tests_hosts_test_hosts_CPPFLAGS)
-nodist_EXTRA_tests_hosts_test_gradients_SOURCES = $(nodist_EXTRA_tests_hosts_test_hosts_SOURCES)
-tests_hosts_test_gradients_LDADD = $(tests_hosts_test_hosts_LDADD)
-TESTS += tests/hosts/test_gradients
+check_PROGRAMS += tests/hosts/test_exact_work
+tests_hosts_test_exact_work_SOURCES = tests/hosts/test_exact_work.c
+tests_hosts_test_exact_work_CPPFLAGS = $(tests_hosts_test_hosts_CPPFLAGS)
+nodist_EXTRA_tests_hosts_test_exact_work_SOURCES = $(nodist_EXTRA_tests_hosts_test_hosts_SOURCES)
+tests_hosts_test_exact_work_LDADD = $(tests_hosts_test_hosts_LDADD)
+TESTS += tests/hosts/test_exact_work
 
 # ---- VTK (adapters/vtk, examples/halo-vtk): skipped (77) when configure found no VTK ----
 TESTS += tests/vtk/vtk.sh

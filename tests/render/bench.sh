@@ -1,8 +1,9 @@
 #!/bin/sh
 # halo-validate bench (docs/performance.md) on a tiny image and volume: the sweep writes
 # its table, CSV (every axis, the halo image resolutions included, no non-finite
-# image, a bytes-per-voxel memory column on every row) and plot, and verifies the
-# --max-error choice; --table1 and --specialize run;
+# image, a bytes-per-voxel memory column on every row, the skips row's image equal to
+# the M = 4 row's) and plot, and verifies the --max-error choice; --table1 and
+# --specialize run;
 # halo-validate blur writes its variant and truncation rows as CSV. The times are not
 # checked (speed goals live in the benchmark's output, not in make check).
 . "$srcdir/tests/render/common.sh"
@@ -13,6 +14,8 @@ run 0 "$HALO_VALIDATE" bench --size 16 --volume-size 16 --repeat 1 --csv "$tmp/b
     --plot "$tmp/bench.png" --max-error 1 --memory-size 40
 expect_stdout "^axis +host +M +N +bits +res +step"
 expect_stdout "^# B/vox: peak resident bytes per voxel of halo-render --host slice at 40\\^3"
+# the skips (issue 16, item 1) are exact: the skips row renders the M = 4 row's image
+expect_stdout "^# skips: .*max abs between the two images 0 "
 expect_stdout "budget: max error 1: .*verified"
 if grep -q NONFINITE "$tmp/out"; then
     fail "a configuration rendered a non-finite value"

@@ -1,4 +1,6 @@
-/* The gradient texture built on the GPU (examples/hosts/gradient.frag,
+/* The slice host's savings that must leave the result exact (issue 16).
+ *
+ * 1. The gradient texture built on the GPU (examples/hosts/gradient.frag,
  * halo_host_build_gradients) against the CPU's central differences: on a volume of
  * random values in [0,1], one with values up to 40 (half's scale: |g| > 1) and one with a
  * constant face, sides 2, 5x7x3 and 33x17x9 (odd sides, one-voxel faces):
@@ -8,11 +10,19 @@
  *   - snorm8, when the GL renders into it (desktop GL need not): the same.
  * A format the GL cannot render into is reported, not failed; float and half must render
  * on a GL 3.3 context (color-renderable RGB32F/RGB16F through the layer probe), else the
- * test fails. Exit 77 without OpenGL. */
+ * test fails.
+ *
+ * 2. The skipped generations (halo_slice_set_generation_skip): a noise volume, whose seeds
+ * reach its back faces, seen along an axis (the bounding sphere's slices beyond the cube
+ * leave whole slabs empty at both ends), rendered by the slice and the slab host with
+ * the skips on and off: the same floats, and fewer pass draws with them on.
+ *
+ * Exit 77 without OpenGL. */
 #include "halo.h"
 #include "gl/glfuncs.h"
 #include "gl/headless.h"
 #include "hosts/host_common.h"
+#include "hosts/slab.h"
 #include "volume.h"
 
 #include <math.h>
@@ -137,6 +147,86 @@ static float next_random(unsigned *state)
     return (float)(*state >> 8) / 16777216.0f;
 }
 
+static const char skip_scene[] =
+    "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {\"passes\": 3}},"
+    " {\"halo_map\": {\"mode\": 0, \"color_near\": [[1, 0.9, 0.4]], \"opacity\": 0.9}}],"
+    " \"render\": {\"azimuth\": 0, \"elevation\": 0, \"zoom\": 1.2, \"step\": 0.5,"
+    " \"transfer\": [[0, 0, 0, 0, 0], [1, 1, 1, 1, 0.05]]}}";
+
+/* Renders the skip scene with host `slab`, skips on or off; NULL on failure. */
+static float *render_skips(halo_gl *runtime, const halo_program *p, const halo_render_settings *settings,
+                           const float *volume, int side, int slab, int skip, long *pass_draws, halo_diagnostics *diag)
+{
+    enum { PIXELS = 48 };
+    halo_host_desc desc = {.gl = halo_gl_functions(runtime), .runtime = runtime, .program = p, .width = PIXELS,
+                           .height = PIXELS};
+    halo_slice *s = slab ? halo_slab_create(&desc, diag) : halo_slice_create(&desc, diag);
+    float *rgba = malloc((size_t)PIXELS * PIXELS * 4 * sizeof *rgba);
+    int ok = s && rgba && halo_slice_set_volume(s, volume, side, side, side, diag) == HALO_OK &&
+             halo_slice_set_render(s, settings, diag) == HALO_OK;
+    if (ok) {
+        halo_slice_set_camera(s, settings->azimuth, settings->elevation, settings->zoom);
+        halo_slice_set_interval(s, 2);
+        halo_slice_set_generation_skip(s, skip);
+        ok = halo_slice_render(s, rgba, diag) == HALO_OK;
+        *pass_draws = halo_slice_pass_draws(s);
+    }
+    halo_slice_destroy(s);
+    if (!ok) {
+        free(rgba);
+        return NULL;
+    }
+    return rgba;
+}
+
+static int check_skips(halo_gl *runtime, unsigned *state)
+{
+    enum { SIDE = 20 };
+    int failed = 0;
+    halo_diagnostics *diag = halo_diagnostics_create();
+    halo_library *lib = halo_library_create(diag);
+    char *host[2] = {halo_host_load("slice.frag", NULL, diag), halo_host_load("slab.frag", NULL, diag)};
+    halo_scene *scene = lib ? halo_scene_parse(skip_scene, "(skip scene)", lib, diag) : NULL;
+    float *volume = malloc((size_t)SIDE * SIDE * SIDE * sizeof *volume);
+    for (size_t i = 0; volume && i < (size_t)SIDE * SIDE * SIDE; ++i)
+        volume[i] = next_random(state);
+    for (int slab = 0; slab < 2 && scene && volume; ++slab) {
+        halo_program *p = host[slab] ? halo_link(&(halo_link_desc){.library = lib, .scene = scene,
+                                                                    .host_source = host[slab],
+                                                                    .host_file = slab ? "slab.frag" : "slice.frag"},
+                                                 diag)
+                                     : NULL;
+        long draws[2] = {0, 0};
+        float *image[2] = {NULL, NULL};
+        for (int skip = 0; skip < 2 && p; ++skip)
+            image[skip] = render_skips(runtime, p, halo_scene_render(scene), volume, SIDE, slab, skip, &draws[skip],
+                                       diag);
+        size_t differing = 0, n = (size_t)48 * 48 * 4;
+        for (size_t i = 0; image[0] && image[1] && i < n; ++i)
+            differing += memcmp(&image[0][i], &image[1][i], sizeof(float)) != 0;
+        int ok = image[0] && image[1] && differing == 0 && draws[1] < draws[0];
+        printf("%s %s host: skips off %ld pass draws, on %ld; %zu of %zu floats differ\n", ok ? "ok  " : "FAIL",
+               slab ? "slab" : "slice", draws[0], draws[1], differing, n);
+        if (!image[0] || !image[1])
+            halo_diagnostics_print(diag, stdout);
+        failed += !ok;
+        free(image[0]);
+        free(image[1]);
+        halo_program_destroy(p);
+    }
+    if (!scene || !volume) {
+        halo_diagnostics_print(diag, stdout);
+        failed++;
+    }
+    free(volume);
+    halo_scene_destroy(scene);
+    free(host[0]);
+    free(host[1]);
+    halo_library_destroy(lib);
+    halo_diagnostics_destroy(diag);
+    return failed;
+}
+
 int main(void)
 {
     char err[512];
@@ -177,6 +267,7 @@ int main(void)
         }
         free(volume);
     }
+    failed += check_skips(runtime, &state);
     printf("%d failed\n", failed);
     halo_gl_destroy(runtime);
     halo_headless_destroy(headless);
