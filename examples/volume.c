@@ -124,6 +124,25 @@ void halo_volume_gradients_slab(const float *v, const int dims[3], int z_first, 
             }
 }
 
+float halo_volume_largest_gradient(const float *v, const int dims[3])
+{
+    size_t nx = (size_t)dims[0], ny = (size_t)dims[1], nz = (size_t)dims[2];
+    size_t n[3] = {nx, ny, nz}, stride[3] = {1, nx, nx * ny};
+    float largest = 0.0f;
+    for (size_t z = 0; z < nz; ++z)
+        for (size_t y = 0; y < ny; ++y)
+            for (size_t x = 0; x < nx; ++x) {
+                size_t at[3] = {x, y, z}, i = (z * ny + y) * nx + x;
+                for (int k = 0; k < 3; ++k) {
+                    size_t plus = at[k] + 1 < n[k] ? i + stride[k] : i;
+                    size_t minus = at[k] > 0 ? i - stride[k] : i;
+                    float g = fabsf((v[plus] - v[minus]) * 0.5f);
+                    largest = g > largest ? g : largest;
+                }
+            }
+    return largest;
+}
+
 float *halo_volume_gradients(const float *v, const int dims[3])
 {
     float *g = malloc((size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2] * 3 * sizeof *g);

@@ -37,6 +37,9 @@ float *halo_volume_gradients(const float *v, const int dims[3]);
  * read from v): 3 * dims[0] * dims[1] * z_count floats into out. A host builds its
  * gradient texture slab by slab with it, without a whole-volume copy. */
 void halo_volume_gradients_slab(const float *v, const int dims[3], int z_first, int z_count, float *out);
+/* The largest |component| of those gradients (0 for a constant volume), without storing
+ * them; NaN values are skipped. */
+float halo_volume_largest_gradient(const float *v, const int dims[3]);
 /* halo_volume_trilinear of a 3-component volume (out: 3 values). */
 void halo_volume_trilinear3(const float *v, const int dims[3], const double p[3], double out[3]);
 

@@ -413,6 +413,8 @@ typedef struct halo_pass_info {
                          * frame has one group), 2: once at the end of the frame (halo_gl_frame_post);
                          * 0: in halo_gl_frame_generate */
     int channel;        /* -1; else the channel of an each=channel pass (halo_pass_channel) */
+    int start;          /* the first repetition drawn (1..repeat): draws start..repeat, each with its
+                         * repetition as halo_pass_index (start=K in the module) */
 } halo_pass_info;
 
 typedef struct halo_program halo_program;

@@ -38,12 +38,18 @@ typedef struct halo_image_decl {
     int components;      /* 0: the program's channel count; else 1..4 */
     double clear;        /* value every component is cleared to (default 0) */
     int clear_set;
+    char *read_when;     /* read_when=PARAM: the module reads the image only while some channel of
+                          * PARAM is >= 0.5 or PARAM is live (NULL: always) */
 } halo_image_decl;
 
 typedef struct halo_host_uniform_decl {
     char *name, *type, *meaning;
     int line;
 } halo_host_uniform_decl;
+
+/* A pass's when= condition that names no parameter: the program's halo images are at the
+ * frame's size (halo_link_desc.image_scale 1). */
+#define HALO_WHEN_FULL_SIZE "halo_full_size"
 
 typedef struct halo_pass_decl {
     char *name, *entry, *output, *first, *repeat, *when;
@@ -52,6 +58,7 @@ typedef struct halo_pass_decl {
     int line;
     int post;         /* at=post: runs in halo_*_frame_post, not between slices */
     int each_channel; /* each=channel: one pass per channel; '*' names that channel's image */
+    int start;        /* start=K: repetitions K..repeat only (0: 1) */
 } halo_pass_decl;
 
 struct halo_module {

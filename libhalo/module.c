@@ -384,7 +384,8 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
     halo_module *m = ctx->m;
     if (w->n < 3 || !valid_name(w->w[1])) {
         ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[0],
-                    "'pass' takes NAME entry=FUNC inputs=A,B output=IMAGE [repeat=PARAM first=IMAGE] [when=PARAM]");
+                    "'pass' takes NAME entry=FUNC inputs=A,B output=IMAGE [repeat=PARAM first=IMAGE start=K] "
+                    "[when=[!]PARAM]");
         return;
     }
     halo_pass_decl pd = {0};
@@ -410,6 +411,14 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
             else if (strcmp(v, "generate"))
                 ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "at= takes generate, post or final");
             continue;
+        } else if (k == 5 && !strncmp(a, "start", 5)) {
+            char *end = NULL;
+            long start = strtol(v, &end, 10);
+            if (end == v || *end || start < 1 || start > 64)
+                ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "start= takes a repetition 1..64");
+            else
+                pd.start = (int)start;
+            continue;
         } else if (k == 4 && !strncmp(a, "each", 4)) {
             if (!strcmp(v, "channel")) pd.each_channel = 1;
             else ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "each= takes channel");
@@ -429,7 +438,7 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
             continue;
         } else {
             ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "unknown pass key '%.*s' (entry, inputs, output, "
-                        "repeat, first, when, at, each)", (int)k, a);
+                        "repeat, first, start, when, at, each)", (int)k, a);
             continue;
         }
         free(*slot);
@@ -543,10 +552,11 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
         char name[128];
         int family = 0, components = 0, clear_set = 0;
         double clear = 0.0;
+        const char *read_when = NULL;
         snprintf(name, sizeof name, "%s", w.n >= 2 ? w.w[1] : "");
         size_t len = strlen(name);
         if (len > 1 && name[len - 1] == '*') { family = 1; name[len - 1] = 0; }
-        int ok = w.n >= 2 && w.n <= 5 && valid_name(name);
+        int ok = w.n >= 2 && w.n <= 6 && valid_name(name);
         for (int i = 2; ok && i < w.n; i++) {
             char *end = NULL;
             if (!strcmp(w.w[i], "reset=generation")) reset = HALO_RESET_GENERATION;
@@ -559,17 +569,22 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
             } else if (!strncmp(w.w[i], "components=", 11)) {
                 components = (int)strtol(w.w[i] + 11, &end, 10);
                 ok = end != w.w[i] + 11 && !*end && components >= 1 && components <= 4;
+            } else if (!strncmp(w.w[i], "read_when=", 10)) {
+                read_when = w.w[i] + 10;
+                ok = valid_name(read_when);
             } else ok = 0;
         }
         if (!ok) {
             ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'image' takes a name (NAME* for one per channel) and "
-                        "optionally reset=frame, reset=generation or reset=frame-only, clear=VALUE, components=1..4");
+                        "optionally reset=frame, reset=generation or reset=frame-only, clear=VALUE, components=1..4, "
+                        "read_when=PARAM");
             return;
         }
         halo_image_decl *im = realloc(m->images, (m->image_count + 1) * sizeof *im);
         if (!im) return;
         m->images = im;
-        im[m->image_count++] = (halo_image_decl){halo_strdup(name), reset, line, family, components, clear, clear_set};
+        im[m->image_count++] = (halo_image_decl){halo_strdup(name), reset,     line,     family, components,
+                                                 clear,              clear_set, read_when ? halo_strdup(read_when) : NULL};
     } else if (!strcmp(d, "host_uniform")) {
         static const char *const ok_types[] = {"float", "vec2", "vec3", "vec4", "int", "mat4", "sampler2D",
                                                "sampler3D", NULL};
@@ -764,7 +779,10 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
                               pd->entry);
                 ctx.errors++;
             }
-            const char *need[2] = {pd->repeat, pd->when};
+            /* when=!PARAM negates; when=halo_full_size: the halo images at the frame's size */
+            const char *when = pd->when && pd->when[0] == '!' ? pd->when + 1 : pd->when;
+            if (when && !strcmp(when, HALO_WHEN_FULL_SIZE)) when = NULL;
+            const char *need[2] = {pd->repeat, when};
             for (int k = 0; k < 2; k++) {
                 const halo_param_info *pi = need[k] ? halo_module_find_param(m, need[k]) : NULL;
                 if (need[k] && (!pi || pi->type != (k ? HALO_PARAM_BOOL : HALO_PARAM_INT) || pi->array_size)) {
@@ -773,6 +791,19 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
                                   pd->name, k ? "when" : "repeat", need[k], k ? "bool" : "int");
                     ctx.errors++;
                 }
+            }
+        }
+        for (size_t i = 0; i < m->image_count; i++) {
+            const halo_image_decl *im = &m->images[i];
+            const halo_param_info *pi = im->read_when ? halo_module_find_param(m, im->read_when) : NULL;
+            if (im->read_when && (!pi || (pi->type != HALO_PARAM_CHANNELS && pi->type != HALO_PARAM_INT &&
+                                          pi->type != HALO_PARAM_BOOL && pi->type != HALO_PARAM_FLOAT) ||
+                                  (pi->array_size && pi->type != HALO_PARAM_CHANNELS))) {
+                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, im->line, 1,
+                              m->lines[im->line - 1],
+                              "image '%s': read_when=%s must name a channels, float, int or bool parameter of the module",
+                              im->name, im->read_when);
+                ctx.errors++;
             }
         }
         for (size_t i = 0; m->groups && i < m->param_count; i++)
@@ -835,7 +866,10 @@ void halo_module_free(halo_module *m) {
     halo_name_list_free(&m->per_halo);
     for (size_t i = 0; i < m->output_count; i++) free(m->outputs[i].name);
     free(m->outputs);
-    for (size_t i = 0; i < m->image_count; i++) free(m->images[i].name);
+    for (size_t i = 0; i < m->image_count; i++) {
+        free(m->images[i].name);
+        free(m->images[i].read_when);
+    }
     free(m->images);
     for (size_t i = 0; i < m->host_uniform_count; i++) {
         free(m->host_uniforms[i].name);

@@ -352,6 +352,7 @@ char *halo_program_reflect_json(const halo_program *p) {
         json_object_set_new(o, "name", json_string(pi->name));
         json_object_set_new(o, "stage", json_string(pi->stage));
         json_object_set_new(o, "entry", json_string(pi->entry));
+        json_object_set_new(o, "start", json_integer(pi->start));
         json_t *in = json_array();
         for (int k = 0; k < pi->input_count; k++) json_array_append_new(in, json_string(pi->inputs[k]));
         json_object_set_new(o, "inputs", in);

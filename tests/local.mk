@@ -293,6 +293,14 @@ nodist_EXTRA_tests_hosts_test_hosts_SOURCES = build-aux/force-cxx-link.cc
 tests_hosts_test_hosts_LDADD = $(HALO_TOOL_LIBS)
 TESTS += tests/hosts/test_hosts
 
+# The gradient texture built on the GPU against the CPU's central differences.
+check_PROGRAMS += tests/hosts/test_exact_work
+tests_hosts_test_exact_work_SOURCES = tests/hosts/test_exact_work.c
+tests_hosts_test_exact_work_CPPFLAGS = $(tests_hosts_test_hosts_CPPFLAGS)
+nodist_EXTRA_tests_hosts_test_exact_work_SOURCES = $(nodist_EXTRA_tests_hosts_test_hosts_SOURCES)
+tests_hosts_test_exact_work_LDADD = $(tests_hosts_test_hosts_LDADD)
+TESTS += tests/hosts/test_exact_work
+
 # ---- VTK (adapters/vtk, examples/halo-vtk): skipped (77) when configure found no VTK ----
 TESTS += tests/vtk/vtk.sh
 EXTRA_DIST += tests/vtk/vtk.sh tests/xrun.sh

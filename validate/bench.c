@@ -11,6 +11,7 @@
 #include "bench.h"
 
 #include "bench_budget.h"
+#include "bench_memory.h"
 #include "bench_run.h"
 #include "halo.h"
 #include "gl/headless.h"
@@ -72,6 +73,7 @@ static const char resolution_note[] =
 
 typedef struct bench_options {
     int size, volume_size, repeat;
+    int memory_size; /* the memory column's volume side; 0: no column */
     int table1, specialize;
     double max_error;
     double finest;
@@ -91,6 +93,8 @@ static void bench_usage(FILE *out)
           "  --scene FILE     a scene file instead of the built-in one-halo scene\n"
           "  --repeat R       timed frames per configuration, 1..101 (default 3)\n"
           "  --finest STEP    the reference's sampling distance in voxels, 0.05..1 (default 0.25)\n"
+          "  --memory-size N  the memory column (B/vox): peak resident bytes per voxel of halo-render\n"
+          "                   at N^3 over 32^3, per gradient format; 33..512, 0: none (default 256)\n"
           "  --csv FILE       also write the rows as CSV\n"
           "  --plot FILE.png  write FILE.gp (gnuplot script: max error against time, Pareto front)\n"
           "                   and run gnuplot on it when it is installed\n"
@@ -150,7 +154,7 @@ static void format_error(char *out, size_t size, const halo_bench_case *c)
 /* ---- The sweep ------------------------------------------------------------------------ */
 
 static void print_sweep(const bench_options *o, const halo_bench_env *env, const halo_bench_case *cases,
-                        size_t count, const char *renderer)
+                        size_t count, const char *renderer, const halo_bench_memory *memory)
 {
     const halo_bench_config *r = &cases[0].config;
     printf("# halo-validate bench: %dx%d image, %d^3 built-in volume, %s; median of %d interleaved frames; %s\n",
@@ -164,9 +168,13 @@ static void print_sweep(const bench_options *o, const halo_bench_env *env, const
     printf("# halo_err: max abs against M = 1 of the slice host at the same step (the halo approximations alone)\n");
     printf("# grad: the gradient texture (float RGB32F, half RGB16F, snorm8 RGB8_SNORM); grad_err: max abs against the\n"
            "# same configuration with float gradients\n");
-    printf("%-10s %-5s %3s %2s %4s %4s %5s %6s %5s %6s %9s %9s %7s %10s %10s %8s %10s %10s %s\n", "axis", "host", "M",
-           "N", "bits", "res", "step", "grad", "draws", "passes", "ms/frame", "nohalo_ms", "%ref", "max_abs", "rmse",
-           ">1/255", "halo_err", "grad_err", "pareto");
+    if (memory->size)
+        printf("# B/vox: peak resident bytes per voxel of halo-render --host slice at %d^3 over its 32^3 peak, the"
+               " scene with this row's gradient texture (no halos: no stages), measured (ru_maxrss)\n",
+               memory->size);
+    printf("%-10s %-5s %3s %2s %4s %4s %5s %6s %5s %6s %9s %9s %7s %10s %10s %8s %10s %10s %6s %s\n", "axis", "host",
+           "M", "N", "bits", "res", "step", "grad", "draws", "passes", "ms/frame", "nohalo_ms", "%ref", "max_abs", "rmse",
+           ">1/255", "halo_err", "grad_err", "B/vox", "pareto");
     for (size_t i = 0; i < count; ++i) {
         const halo_bench_case *c = &cases[i];
         const halo_bench_config *k = &c->config;
@@ -182,15 +190,38 @@ static void print_sweep(const bench_options *o, const halo_bench_env *env, const
             snprintf(halo_err, sizeof halo_err, "%.3e", c->halo_max_abs);
         if (k->halos && !isnan(c->gradient_max_abs))
             snprintf(grad_err, sizeof grad_err, "%.3e", c->gradient_max_abs);
-        printf("%-10s %-5s %3d %2d %4d %4s %5.2f %6s %5ld %6ld %9.1f %9.1f %7s %s %10s %10s %s%s\n", c->axis,
+        char bytes[16];
+        halo_bench_memory_cell(memory, k->halos, k->gradient, bytes, sizeof bytes);
+        printf("%-10s %-5s %3d %2d %4d %4s %5.2f %6s %5ld %6ld %9.1f %9.1f %7s %s %10s %10s %6s %s%s\n", c->axis,
                host_name(k), k->interval, k->halos ? k->passes : 0, k->halos ? k->precision : 0,
                k->halos ? halo_bench_resolution(k) : "-", k->step, k->halos ? halo_bench_gradient(k) : "-", c->draws,
                c->pass_draws, c->seconds * 1e3, ref ? ref->seconds * 1e3 : NAN, percent, errors, halo_err, grad_err,
-               c->pareto ? "*" : "", c->nonfinite ? "  NONFINITE" : "");
+               bytes, c->pareto ? "*" : "", c->nonfinite ? "  NONFINITE" : "");
     }
 }
 
-static int write_csv(const char *path, const halo_bench_case *cases, size_t count)
+/* The skips row against the M = 4 row: the same configuration with the skips on. */
+static void print_skips(const halo_bench_env *env, const halo_bench_case *cases, size_t count)
+{
+    const halo_bench_case *off = NULL, *on = NULL;
+    for (size_t i = 0; i < count; ++i) {
+        const halo_bench_config *k = &cases[i].config;
+        if (!strcmp(cases[i].axis, "skips"))
+            off = &cases[i];
+        else if (!strcmp(cases[i].axis, "M") && k->interval == 4 && !k->slab)
+            on = &cases[i];
+    }
+    if (!off || !on || !off->image || !on->image)
+        return;
+    double max_abs = 0, rmse = 0, share = 0;
+    halo_bench_image_error(off->image, on->image, (size_t)env->width * (size_t)env->height, &max_abs, &rmse, &share);
+    printf("# skips: M = 4 with every generation run and the occlusion pass linked (halo_map's mode live): %ld pass"
+           " draws, %.1f ms; with the skips (the M = 4 row): %ld, %.1f ms; max abs between the two images %.3g (the"
+           " skips are exact: 0)\n",
+           off->pass_draws, off->seconds * 1e3, on->pass_draws, on->seconds * 1e3, max_abs);
+}
+
+static int write_csv(const char *path, const halo_bench_case *cases, size_t count, const halo_bench_memory *memory)
 {
     FILE *out = fopen(path, "w");
     if (!out) {
@@ -198,7 +229,7 @@ static int write_csv(const char *path, const halo_bench_case *cases, size_t coun
         return 0;
     }
     fprintf(out, "axis,host,halos,M,N,precision,step,resolution,draws,passes,ms,nohalo_ms,percent_ref,max_abs,rmse,"
-                 "share_over_1_255,halo_max_abs,nonfinite,pareto,gradient,gradient_max_abs\n");
+                 "share_over_1_255,halo_max_abs,nonfinite,pareto,gradient,gradient_max_abs,bytes_per_voxel\n");
     for (size_t i = 0; i < count; ++i) {
         const halo_bench_case *c = &cases[i];
         const halo_bench_config *k = &c->config;
@@ -213,9 +244,10 @@ static int write_csv(const char *path, const halo_bench_case *cases, size_t coun
             fprintf(out, ",,,,");
         fprintf(out, "%ld,%d,%s,", c->nonfinite, c->pareto, k->halos ? halo_bench_gradient(k) : "");
         if (k->halos && !isnan(c->gradient_max_abs))
-            fprintf(out, "%.6e\n", c->gradient_max_abs);
-        else
-            fprintf(out, "\n");
+            fprintf(out, "%.6e", c->gradient_max_abs);
+        char bytes[16];
+        halo_bench_memory_cell(memory, k->halos, k->gradient, bytes, sizeof bytes);
+        fprintf(out, ",%s\n", strcmp(bytes, "-") ? bytes : "");
     }
     int ok = fclose(out) == 0;
     if (!ok)
@@ -337,15 +369,21 @@ static int run_sweep(const bench_options *o, halo_bench_env *env, const char *re
     }
     size_t count = halo_bench_sweep(cases, sizeof cases / sizeof cases[0], passes, o->finest);
     int status = 2;
+    /* before the timed frames, which it would disturb */
+    halo_bench_memory memory = {0};
+    if (o->memory_size)
+        halo_bench_memory_measure(o->scene, o->scene ? NULL : bench_halo_scene, o->memory_size, &memory,
+                                  env->progress);
     if (!halo_bench_run(env, cases, count)) {
         halo_diagnostics_print(env->diag, stderr);
         goto done;
     }
     halo_bench_errors(env, cases, count, 0);
     halo_bench_pareto(cases, count);
-    print_sweep(o, env, cases, count, renderer);
+    print_sweep(o, env, cases, count, renderer, &memory);
+    print_skips(env, cases, count);
     status = 0;
-    if (o->csv && !write_csv(o->csv, cases, count))
+    if (o->csv && !write_csv(o->csv, cases, count, &memory))
         status = 2;
     if (o->plot && !write_plot(o->plot, env, cases, count))
         status = 2;
@@ -573,7 +611,8 @@ static int run_specialize(const bench_options *o, halo_bench_env *env, const cha
 
 int halo_bench_main(int argc, char **argv)
 {
-    bench_options o = {.size = 512, .volume_size = 128, .repeat = 3, .max_error = -1.0, .finest = 0.25};
+    bench_options o = {.size = 512, .volume_size = 128, .repeat = 3, .memory_size = 256, .max_error = -1.0,
+                       .finest = 0.25};
     for (int i = 1; i < argc; ++i) {
         const char *a = argv[i];
         int more = i + 1 < argc;
@@ -598,6 +637,13 @@ int halo_bench_main(int argc, char **argv)
         } else if (!strcmp(a, "--repeat") && more) {
             if (!parse_int(argv[++i], 1, 101, &o.repeat)) {
                 fprintf(stderr, "halo-validate: bench: --repeat: '%s' is not an integer in 1..101\n", argv[i]);
+                return 2;
+            }
+        } else if (!strcmp(a, "--memory-size") && more) {
+            if (!parse_int(argv[++i], 0, HALO_VOLUME_MAX_SIZE, &o.memory_size) ||
+                (o.memory_size > 0 && o.memory_size <= 32)) {
+                fprintf(stderr, "halo-validate: bench: --memory-size: '%s' is not 0 or an integer in 33..%d\n",
+                        argv[i], HALO_VOLUME_MAX_SIZE);
                 return 2;
             }
         } else if (!strcmp(a, "--finest") && more) {

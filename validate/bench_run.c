@@ -80,11 +80,24 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
     halo_driver_host kind = c->config.slab == HALO_BENCH_RAYCAST ? HALO_DRIVER_RAYCAST
                             : c->config.slab                        ? HALO_DRIVER_SLAB
                                                                     : HALO_DRIVER_SLICE;
-    c->program = halo_driver_link(&(halo_link_desc){.library = env->lib, .scene = c->scene,
-                                                    .all_live = c->config.all_live,
-                                                    .image_precision = c->config.precision ? c->config.precision : 32,
-                                                    .image_scale = c->config.scale},
-                                  kind, 0, env->diag);
+    const halo_link_desc link = {.library = env->lib, .scene = c->scene, .all_live = c->config.all_live,
+                                 .image_precision = c->config.precision ? c->config.precision : 32,
+                                 .image_scale = c->config.scale};
+    c->program = halo_driver_link(&link, kind, 0, env->diag);
+    /* no skips: halo_map's mode live (its values kept), so that the occlusion pass is linked */
+    const halo_uniform_info *mode = c->program && c->config.no_skip && !c->config.all_live
+                                        ? halo_program_find_uniform(c->program, "halo_map", "mode")
+                                        : NULL;
+    if (mode && mode->value && !mode->live) {
+        double values[4] = {0, 0, 0, 0};
+        int count = mode->count > 0 && mode->count <= 4 ? mode->count : 1;
+        for (int k = 0; k < count; ++k)
+            values[k] = mode->value[k];
+        halo_program_destroy(c->program);
+        c->program = halo_scene_set(c->scene, "halo_map", "mode", values, count, 1, env->diag) == HALO_OK
+                         ? halo_driver_link(&link, kind, 0, env->diag)
+                         : NULL;
+    }
     if (!c->program)
         return 0;
     halo_host_desc desc = {.gl = env->gl, .runtime = env->runtime, .program = c->program, .width = env->width,
@@ -100,6 +113,8 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
     halo_driver_set_camera(host, settings->azimuth, settings->elevation, settings->zoom);
     /* beyond the last slice: the field is never generated */
     halo_driver_set_interval(host, c->config.no_generation ? 1 << 20 : c->config.interval);
+    if (host->slice)
+        halo_slice_set_generation_skip(host->slice, !c->config.no_skip);
     size_t values = (size_t)env->width * (size_t)env->height * 4;
     c->image = c->image ? c->image : malloc(values * sizeof(float));
     c->times = calloc((size_t)env->repeat, sizeof *c->times);
@@ -282,6 +297,7 @@ size_t halo_bench_sweep(halo_bench_case *out, size_t max, int scene_passes, doub
     ADD("precision", k_.precision = 8);
     for (int g = HALO_GRADIENT_FLOAT; g < HALO_GRADIENT_FORMAT_COUNT; ++g)
         ADD("gradient", k_.gradient = g);
+    ADD("skips", k_.no_skip = 1); /* the same image as M = 4 */
     ADD("resolution", k_.scale = 2);
     ADD("resolution", k_.scale = 4);
     ADD("resolution", k_.interval = 1; k_.scale = 2);

@@ -191,12 +191,16 @@ const conform_row conform_rows[] = {
     {"*", "frame", "every other stage with outputs, images or host uniforms: defaults and @live", "%.0e+%.0er+cond",
      SEED_ABS, SEED_REL, "a stage not in the table", conform_frame_other_rows, NULL},
 
-    PASS_ROW("pass:median", "halo_generate's median and gradient passes", 3e-7,
+    /* at the frame's size H_0 is not stored (the spreading passes read it from the seed
+     * image): with delta 0 the field is H_0 */
+    PASS_ROW("pass:median", "halo_generate's median pass and H_0 (delta 0: the field is H_0)", 3e-7,
              "the median selects an input value (exact); the gradient after it: one sqrt of a sum of squares, ~1 ulp",
-             "{\"median\": true, \"passes\": 1}", {"initial"}, 1, 1),
-    PASS_ROW("pass:gradient", "halo_generate's gradient pass", 3e-7,
-             "differences of exact seeds, sqrt of a sum of two squares: ~1 ulp of a value <= 1", "{\"passes\": 1}",
-             {"initial"}, 1, 1),
+             "{\"median\": true, \"passes\": 1, \"delta\": 0}", {"field"}, 1, 1),
+    PASS_ROW("pass:gradient", "H_0 from the seed image (delta 0: the field is H_0)", 3e-7,
+             "differences of exact seeds, sqrt of a sum of two squares: ~1 ulp of a value <= 1",
+             "{\"passes\": 1, \"delta\": 0}", {"field"}, 1, 1),
+    PASS_ROW("pass:gradient@half", "halo_generate's gradient pass on halo images at 1/2 of the frame", 3e-7,
+             "as pass:gradient, after an exact max-downsampling", "{\"passes\": 1}", {"initial"}, 1, 2),
     PASS_ROW("pass:spread@N1", "one spreading pass", 2e-6, PASS_SPREAD_WHY, "{\"passes\": 1}", {"field"}, 1, 1),
     PASS_ROW("pass:spread@N2", "two spreading passes", 2e-6, "as N1, over 2 passes", "{\"passes\": 2}", {"field"}, 1,
              1),
@@ -212,11 +216,11 @@ const conform_row conform_rows[] = {
              "max of two fields (exact) over 2 generations in one frame: the spreading's error", "{\"passes\": 4}",
              PASS_COMPARE("occlusion", "field"), 2, 1),
     PASS_ROW("pass:halos2", "two halos (vec2 images)", 2e-6, "two halos (vec2 images): as N4 per channel",
-             "{\"passes\": 4, \"delta\": [0.7, 0.95]}", PASS_COMPARE("initial", "field", "occlusion"), 1, 1),
+             "{\"passes\": 4, \"delta\": [0.7, 0.95]}", PASS_COMPARE("field", "occlusion"), 1, 1),
     PASS_ROW("pass:halos4", "four halos (vec4 images), median on", 2e-6,
              "four halos (vec4 images), median on: as N4 per channel",
              "{\"passes\": 3, \"delta\": [0, 0.5, 0.8, 1], \"median\": true}",
-             PASS_COMPARE("initial", "field", "occlusion"), 2, 1),
+             PASS_COMPARE("field", "occlusion"), 2, 1),
     /* halo images at 1/2 and 1/4 of the frame (an odd frame size gives partial blocks):
      * the first pass max-downsamples the full-size seed (exact), the rest as above */
     PASS_ROW("pass:spread@half", "spreading on halo images at 1/2 of the frame", 2e-6, "as N4 on the 1/2 images",

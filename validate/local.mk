@@ -12,7 +12,8 @@ validate_halo_validate_SOURCES = validate/halo-validate.c validate/conform.c val
 	validate/figure3.c validate/figure3.h \
 	validate/conform_slice.c validate/conform_slice.h validate/conform_segment.c validate/conform_segment.h \
 	validate/bench.c validate/bench.h \
-	validate/bench_run.c validate/bench_run.h validate/bench_budget.c validate/bench_budget.h
+	validate/bench_run.c validate/bench_run.h validate/bench_budget.c validate/bench_budget.h \
+	validate/bench_memory.c validate/bench_memory.h
 nodist_EXTRA_validate_halo_validate_SOURCES = build-aux/force-cxx-link.cc
 validate_halo_validate_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples
 validate_halo_validate_LDADD = $(HALO_TOOL_LIBS)

@@ -237,17 +237,8 @@ static int each_gradient_slab(const float *volume, const int dims[3], float *gra
 typedef struct gradient_upload {
     const halo_glfuncs *f;
     int nx, ny;
-    float largest, inverse_scale;
+    float inverse_scale;
 } gradient_upload;
-
-static void gradient_largest(const float *gradients, int z, int count, void *user)
-{
-    (void)z;
-    gradient_upload *u = user;
-    size_t n = (size_t)u->nx * (size_t)u->ny * (size_t)count * 3;
-    for (size_t i = 0; i < n; ++i)
-        u->largest = fabsf(gradients[i]) > u->largest ? fabsf(gradients[i]) : u->largest;
-}
 
 static void gradient_store(const float *gradients, int z, int count, void *user)
 {
@@ -262,17 +253,39 @@ static void gradient_store(const float *gradients, int z, int count, void *user)
     u->f->TexSubImage3D(GL_TEXTURE_3D, 0, 0, 0, z, u->nx, u->ny, count, GL_RGB, GL_FLOAT, gradients);
 }
 
+static int gradient_format_known(GLint internal_format)
+{
+    return internal_format == GL_RGB32F || internal_format == GL_RGB16F || internal_format == GL_RGB8_SNORM;
+}
+
+/* The gradient texture's storage (no data); usable 0 or an unknown format: USAGE with
+ * refusal named. */
+static halo_status gradient_storage(const halo_glfuncs *f, GLuint texture, int nx, int ny, int nz,
+                                   GLint internal_format, int usable, const char *refusal, halo_diagnostics *diag)
+{
+    if (!usable || !gradient_format_known(internal_format)) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "gradient volume: %s or not RGB32F, RGB16F, RGB8_SNORM", refusal);
+        return HALO_ERROR_INPUT;
+    }
+    return upload_volume(f, texture, NULL, nx, ny, nz, GL_LINEAR, internal_format, "gradient volume", diag);
+}
+
+float halo_host_gradient_scale(const float *volume, const int dims[3], GLint internal_format)
+{
+    if (internal_format == GL_RGB32F)
+        return 1.0f;
+    /* snorm: the 8 bits span the volume's own range; half: only values beyond the
+     * contract's [0,1] (|g| > 1) are scaled, before they reach half's 65504 */
+    float largest = halo_volume_largest_gradient(volume, dims);
+    return largest > (internal_format == GL_RGB8_SNORM ? 0.0f : 1.0f) && isfinite(largest) ? largest : 1.0f;
+}
+
 halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, const float *volume, int nx, int ny,
                                        int nz, GLint internal_format, float *scale, halo_diagnostics *diag)
 {
-    if (!volume || !scale ||
-        (internal_format != GL_RGB32F && internal_format != GL_RGB16F && internal_format != GL_RGB8_SNORM)) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "gradient volume: no volume, no scale or not RGB32F, RGB16F, RGB8_SNORM");
-        return HALO_ERROR_INPUT;
-    }
     /* the texture's storage first (no data), then slab by slab */
-    halo_status status = upload_volume(f, texture, NULL, nx, ny, nz, GL_LINEAR, internal_format, "gradient volume",
-                                       diag);
+    halo_status status = gradient_storage(f, texture, nx, ny, nz, internal_format, volume && scale,
+                                          "no volume, no scale", diag);
     if (status != HALO_OK)
         return status;
     size_t slice_bytes = (size_t)nx * (size_t)ny * 3 * sizeof(float);
@@ -285,17 +298,8 @@ halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, co
         return HALO_ERROR_IO;
     }
     const int dims[3] = {nx, ny, nz};
-    gradient_upload u = {.f = f, .nx = nx, .ny = ny, .inverse_scale = 1.0f};
-    *scale = 1.0f;
-    if (internal_format != GL_RGB32F) {
-        /* snorm: the 8 bits span the volume's own range; half: only values beyond the
-         * contract's [0,1] (|g| > 1) are scaled, before they reach half's 65504 */
-        each_gradient_slab(volume, dims, gradients, slab, gradient_largest, &u);
-        if (u.largest > (internal_format == GL_RGB8_SNORM ? 0.0f : 1.0f) && isfinite(u.largest)) {
-            *scale = u.largest;
-            u.inverse_scale = 1.0f / u.largest;
-        }
-    }
+    *scale = halo_host_gradient_scale(volume, dims, internal_format);
+    gradient_upload u = {.f = f, .nx = nx, .ny = ny, .inverse_scale = 1.0f / *scale};
     f->BindTexture(GL_TEXTURE_3D, texture);
     f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
     each_gradient_slab(volume, dims, gradients, slab, gradient_store, &u);
@@ -308,6 +312,95 @@ halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, co
         return HALO_ERROR_IO;
     }
     return HALO_OK;
+}
+
+/* A framebuffer with layer 0 of texture attached: complete or not. Leaves framebuffer 0
+ * bound and the framebuffer deleted. */
+static int layer_renderable(const halo_glfuncs *f, GLuint texture)
+{
+    GLuint framebuffer = 0;
+    f->GenFramebuffers(1, &framebuffer);
+    f->BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    f->FramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, texture, 0, 0);
+    int complete = f->CheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+    f->BindFramebuffer(GL_FRAMEBUFFER, 0);
+    f->DeleteFramebuffers(1, &framebuffer);
+    return complete;
+}
+
+int halo_host_gradients_renderable(const halo_glfuncs *f, GLint internal_format)
+{
+    if (!f || !f->FramebufferTextureLayer || !gradient_format_known(internal_format))
+        return 0;
+    /* a probe of 2^3 texels: the real texture's storage comes when it is built */
+    GLuint probe = 0;
+    f->GenTextures(1, &probe);
+    f->BindTexture(GL_TEXTURE_3D, probe);
+    f->TexImage3D(GL_TEXTURE_3D, 0, internal_format, 2, 2, 2, 0, GL_RGB, GL_FLOAT, NULL);
+    f->BindTexture(GL_TEXTURE_3D, 0);
+    int renderable = f->GetError() == GL_NO_ERROR && layer_renderable(f, probe);
+    f->DeleteTextures(1, &probe);
+    while (f->GetError() != GL_NO_ERROR)
+        ; /* an incomplete probe is an answer, not an error for the caller */
+    return renderable;
+}
+
+halo_status halo_host_build_gradients(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny,
+                                      int nz, GLint internal_format, float scale, halo_diagnostics *diag)
+{
+    halo_status status = gradient_storage(f, texture, nx, ny, nz, internal_format,
+                                          f && f->FramebufferTextureLayer && scale > 0.0f,
+                                          "on the GPU: no glFramebufferTextureLayer, no scale", diag);
+    if (status != HALO_OK)
+        return status;
+    GLuint program = halo_host_link_raw(f, halo_host_embedded("slice.vert"), "slice.vert",
+                                        halo_host_embedded("gradient.frag"), "gradient.frag", HALO_HOST_LOG_APPENDED,
+                                        diag);
+    if (!program)
+        return HALO_ERROR_IO;
+    GLuint framebuffer = 0, vertex_array = 0;
+    f->GenFramebuffers(1, &framebuffer);
+    f->GenVertexArrays(1, &vertex_array);
+    f->BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    static const GLenum draw_buffer = GL_COLOR_ATTACHMENT0;
+    f->DrawBuffers(1, &draw_buffer);
+    f->Viewport(0, 0, nx, ny);
+    f->Disable(GL_BLEND);
+    f->Disable(GL_DEPTH_TEST);
+    f->Disable(GL_SCISSOR_TEST);
+    f->UseProgram(program);
+    f->ActiveTexture(GL_TEXTURE0);
+    f->BindTexture(GL_TEXTURE_3D, volume_texture);
+    f->Uniform1i(f->GetUniformLocation(program, "volume_texture"), 0);
+    f->Uniform1f(f->GetUniformLocation(program, "inverse_scale"), 1.0f / scale);
+    f->Uniform1i(f->GetUniformLocation(program, "to_half"), internal_format == GL_RGB16F);
+    GLint layer = f->GetUniformLocation(program, "layer");
+    f->BindVertexArray(vertex_array);
+    for (int z = 0; z < nz && status == HALO_OK; ++z) {
+        f->FramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, texture, 0, z);
+        if (z == 0 && f->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            halo_diag_error(diag, GL_LINK, "", 0, 0, "the gradient texture's layers are not renderable");
+            status = HALO_ERROR_IO;
+            break;
+        }
+        f->Uniform1i(layer, z);
+        f->DrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    f->FramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0);
+    f->BindVertexArray(0);
+    f->BindTexture(GL_TEXTURE_3D, 0);
+    f->UseProgram(0);
+    f->BindFramebuffer(GL_FRAMEBUFFER, 0);
+    f->DeleteVertexArrays(1, &vertex_array);
+    f->DeleteFramebuffers(1, &framebuffer);
+    f->DeleteProgram(program);
+    GLenum error = f->GetError();
+    if (status == HALO_OK && error != GL_NO_ERROR) {
+        halo_diag_error(diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x while building the gradients of a %dx%dx%d volume",
+                        error, nx, ny, nz);
+        status = HALO_ERROR_IO;
+    }
+    return status;
 }
 
 /* data NULL: the storage only (halo_host_upload_gradients fills it slab by slab). */

@@ -66,6 +66,21 @@ halo_status halo_host_upload_labels(const halo_glfuncs *f, GLuint texture, const
 halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, const float *volume, int nx, int ny,
                                        int nz, GLint internal_format, float *scale, halo_diagnostics *diag);
 
+/* The scale halo_host_upload_gradients and halo_host_build_gradients store the volume's
+ * gradients with in internal_format (see above): 1, or the largest |component|. */
+float halo_host_gradient_scale(const float *volume, const int dims[3], GLint internal_format);
+/* Whether the GL renders into layers of a 3D texture of internal_format (a probe of 2^3
+ * texels; GL errors of the probe are cleared). */
+int halo_host_gradients_renderable(const halo_glfuncs *f, GLint internal_format);
+/* The same gradients as halo_host_upload_gradients, built on the GPU from volume_texture
+ * (the R32F volume of halo_host_upload_volume, read with texelFetch) one layer per draw
+ * (gradient.frag), stored as g / scale: no CPU copy of the volume is needed, so the host
+ * can free its own before. The floats are the CPU's (central differences in float,
+ * then the scale); only the conversion to internal_format may round differently.
+ * Leaves framebuffer 0, no program and no 3D texture on unit 0 bound. */
+halo_status halo_host_build_gradients(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny,
+                                      int nz, GLint internal_format, float scale, halo_diagnostics *diag);
+
 /* The transfer table: control points (value, r, g, b, opacity) sorted by value,
  * linearly interpolated, constant beyond the first and last. */
 void halo_host_fill_transfer(float *table, const halo_render_settings *s);

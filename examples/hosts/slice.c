@@ -29,6 +29,8 @@ struct halo_slice {
     int interval_override;
     halo_gradient_format gradient_format;
     float gradient_scale; /* the texture holds gradient / gradient_scale */
+    GLint gradient_pending; /* the internal format of gradients still to build on the GPU; 0: none */
+    int run_every_generation; /* halo_slice_set_generation_skip(s, 0) */
     long draws, pass_draws;
     halo_slice_progress_fn progress;
     void *progress_user;
@@ -214,6 +216,12 @@ int halo_gradient_format_option(const char *text, halo_gradient_format *format, 
     return 1;
 }
 
+void halo_slice_set_generation_skip(halo_slice *s, int on)
+{
+    if (s)
+        s->run_every_generation = !on;
+}
+
 void halo_slice_set_gradient_format(halo_slice *s, halo_gradient_format format)
 {
     if (s)
@@ -231,15 +239,26 @@ halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int 
     halo_status status = halo_host_upload_volume(s ? s->f : NULL, s ? s->volume_texture : 0, data, nx, ny, nz, diag);
     if (status != HALO_OK)
         return status;
+    s->gradient_pending = 0;
     /* the gradients for the linked stages (slice.frag's sample_gradient) only when one
      * reads them: otherwise the driver drops the unread fetch and with it the sampler
      * (the same image without the texture) */
     if (halo_slice_reads_gradients(s)) {
         static const GLint internal_formats[HALO_GRADIENT_FORMAT_COUNT] = {0, GL_RGB32F, GL_RGB16F, GL_RGB8_SNORM};
-        status = halo_host_upload_gradients(s->f, s->gradient_texture, data, nx, ny, nz,
-                                            internal_formats[halo_slice_gradient_format(s)], &s->gradient_scale, diag);
-        if (status != HALO_OK)
-            return status;
+        GLint internal_format = internal_formats[halo_slice_gradient_format(s)];
+        if (halo_host_gradients_renderable(s->f, internal_format)) {
+            /* built on the GPU from the volume texture at the first render: by then the
+             * caller may have freed data, and the peak holds no CPU copy beside the two
+             * textures */
+            const int dims[3] = {nx, ny, nz};
+            s->gradient_scale = halo_host_gradient_scale(data, dims, internal_format);
+            s->gradient_pending = internal_format;
+        } else {
+            status = halo_host_upload_gradients(s->f, s->gradient_texture, data, nx, ny, nz, internal_format,
+                                                &s->gradient_scale, diag);
+            if (status != HALO_OK)
+                return status;
+        }
     }
     s->volume = data;
     s->dims[0] = nx;
@@ -323,6 +342,14 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
         halo_diag_error(diag, USAGE, "", 0, 0, "slice host: no volume uploaded");
         return HALO_ERROR_INPUT;
     }
+    if (s->gradient_pending) {
+        halo_status built = halo_host_build_gradients(s->f, s->gradient_texture, s->volume_texture, s->dims[0],
+                                                      s->dims[1], s->dims[2], s->gradient_pending, s->gradient_scale,
+                                                      diag);
+        if (built != HALO_OK)
+            return built;
+        s->gradient_pending = 0;
+    }
     int groups = s->linked && s->frame ? halo_program_group_count(s->linked) : 1;
     if (groups == 1)
         return render_pass(s, rgba, -1, diag);
@@ -341,6 +368,79 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
     s->draws = draws;
     s->pass_draws = pass_draws;
     return status;
+}
+
+/* Whether the program's generation passes are halo_generate's alone: the spreading of
+ * the seed image, whose images are all zero after a generation with an empty seed image. */
+static int generation_is_halo_spreading(const halo_program *p)
+{
+    int any = 0;
+    for (size_t i = 0; p && i < halo_program_pass_count(p); ++i) {
+        const halo_pass_info *pass = halo_program_pass(p, i);
+        if (pass->post)
+            continue;
+        if (strcmp(pass->stage, "halo_generate"))
+            return 0;
+        any = 1;
+    }
+    return any;
+}
+
+/* The range of slice distances (dot(P - eye, view_axis)) at which a plane meets the unit
+ * cube, widened by a margin far below a slice step (the shader's inside test is in float). */
+static void cube_distance_range(const halo_slice_state *st, double range[2])
+{
+    range[0] = INFINITY;
+    range[1] = -INFINITY;
+    for (int corner = 0; corner < 8; ++corner) {
+        double d = 0.0;
+        for (int c = 0; c < 3; ++c)
+            d += ((corner >> c & 1) - (double)st->eye[c]) * st->view_axis[c];
+        range[0] = d < range[0] ? d : range[0];
+        range[1] = d > range[1] ? d : range[1];
+    }
+    range[0] -= 1e-3;
+    range[1] += 1e-3;
+}
+
+/* The generations a frame can skip exactly (issue 16, item 1). A slice outside the unit
+ * cube samples nothing: its samples have no gradient, and halo_seed seeds nothing
+ * without one. When every slice since the last generation is outside and the halo field
+ * is still zero (nothing seeded since the frame began, or the last generation ran on an
+ * empty seed image), the generation would write zeros over zeros and leave the
+ * occlusion image as it is (max with 0): it is skipped. */
+typedef struct generation_skip {
+    int enabled;
+    double range[2];
+    int seeded;     /* a slice since the last generation may have sampled the volume */
+    int field_zero; /* the halo images hold zeros */
+} generation_skip;
+
+static void generation_skip_start(generation_skip *g, const halo_slice *s, const halo_slice_state *st)
+{
+    g->enabled = !s->run_every_generation && generation_is_halo_spreading(s->linked);
+    cube_distance_range(st, g->range);
+    g->seeded = 0;
+    g->field_zero = 1;
+}
+
+/* Slices first .. first + count - 1 were drawn. */
+static void generation_skip_drawn(generation_skip *g, const halo_slice_state *st, int first, int count)
+{
+    double near = st->first_distance + first * (double)st->step_size;
+    double far = st->first_distance + (first + count - 1) * (double)st->step_size;
+    if (far >= g->range[0] && near <= g->range[1])
+        g->seeded = 1;
+}
+
+/* Runs the generation unless it is skippable. */
+static void generation_run(generation_skip *g, halo_gl_frame *frame)
+{
+    if (g->enabled && !g->seeded && g->field_zero)
+        return;
+    halo_gl_frame_generate(frame);
+    g->field_zero = !g->seeded;
+    g->seeded = 0;
 }
 
 /* One pass over the volume; group >= 0: feature group `group` of a grouped program. */
@@ -415,14 +515,17 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     }
     f->BindVertexArray(s->vertex_array);
     int current = 0;
+    generation_skip skip;
+    generation_skip_start(&skip, s, &st);
     if (!s->slab) {
         GLint distance_location = f->GetUniformLocation(program, "slice_distance");
         for (int k = 0; k < st.slice_count; ++k) {
             f->Uniform1f(distance_location, (float)(st.first_distance + k * st.step_size));
             f->DrawArrays(GL_TRIANGLES, 0, 3);
             s->draws++;
+            generation_skip_drawn(&skip, &st, k, 1);
             if (generate && (k + 1) % interval == 0 && k + 1 < st.slice_count)
-                halo_gl_frame_generate(s->frame);
+                generation_run(&skip, s->frame);
             if (s->progress)
                 s->progress(k + 1, st.slice_count, s->progress_user);
         }
@@ -441,9 +544,10 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
             f->Uniform1i(samples_location, samples);
             f->DrawArrays(GL_TRIANGLES, 0, 3);
             s->draws++;
+            generation_skip_drawn(&skip, &st, k, samples);
             current = 1 - current;
             if (generate && k + interval < st.slice_count)
-                halo_gl_frame_generate(s->frame);
+                generation_run(&skip, s->frame);
             if (s->progress)
                 s->progress((int)s->draws, (st.slice_count + interval - 1) / interval, s->progress_user);
         }

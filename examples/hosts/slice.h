@@ -42,11 +42,12 @@ typedef struct halo_slice_state {
  * size (GL 4.0 per-buffer blending required: GL_PROC_MISSING otherwise). */
 halo_slice *halo_slice_create(const halo_host_desc *desc, halo_diagnostics *diag);
 void halo_slice_destroy(halo_slice *s);
-/* As halo_raycast_set_volume / _set_render / _set_camera (same camera). set_volume
- * builds the gradient texture (in slabs) only when a linked stage reads the gradient:
- * halo_slice_reads_gradients. data is read by set_volume and handed out again by
- * halo_slice_get_state (for an emulation): free it after set_volume when neither is
- * called again. */
+/* As halo_raycast_set_volume / _set_render / _set_camera (same camera). The gradient
+ * texture exists only when a linked stage reads the gradient (halo_slice_reads_gradients);
+ * where the GL renders into its format it is built on the GPU from the volume texture at
+ * the next render (halo_host_build_gradients), otherwise by set_volume on the CPU in
+ * slabs. data is read by set_volume and handed out again by halo_slice_get_state (for an
+ * emulation): free it after set_volume when neither is called again. */
 int halo_slice_reads_gradients(const halo_slice *s);
 /* How the gradient texture stores the voxels' central differences (per voxel step of
  * the [0,1] value, |g| <= 0.5 a component): 0 is the default, HALO_GRADIENT_FORMAT_DEFAULT. */
@@ -65,6 +66,10 @@ halo_gradient_format halo_gradient_format_from_name(const char *text);
 /* The tools' --gradient-format value: 1 with *format set, or 0 with "--gradient-format:
  * 'TEXT' is not float, half or snorm8" in err. */
 int halo_gradient_format_option(const char *text, halo_gradient_format *format, char *err, size_t errlen);
+/* Whether a frame skips the generations it can skip exactly (on by default): when no
+ * slice since the last generation met the volume and the halo images are still zero
+ * (docs/performance.md, "Work skipped"). Off runs every generation, for measuring. */
+void halo_slice_set_generation_skip(halo_slice *s, int on);
 /* Takes effect at the next set_volume; an unknown value means the default. */
 void halo_slice_set_gradient_format(halo_slice *s, halo_gradient_format format);
 /* The effective format (never HALO_GRADIENT_DEFAULT). */

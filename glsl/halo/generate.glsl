@@ -13,8 +13,10 @@
 #pragma halo param median bool default=false "3x3 median filter on the seed image before spreading"
 #pragma halo param interval int default=4 min=1 max=64 "M: slices between two generations (read by hosts from the reflection)"
 #pragma halo pass median entry=median_pass inputs=seed output=seed when=median
-#pragma halo pass gradient entry=gradient_pass inputs=seed output=initial
-#pragma halo pass spread entry=spread_pass inputs=previous,initial output=field repeat=passes first=initial
+#pragma halo pass gradient entry=gradient_pass inputs=seed output=initial when=!halo_full_size
+#pragma halo pass spread entry=spread_pass inputs=previous,initial output=field repeat=passes first=initial when=!halo_full_size
+#pragma halo pass spread_seed entry=spread_seed_pass inputs=seed output=field when=halo_full_size
+#pragma halo pass spread entry=spread_on_pass inputs=previous,seed output=field repeat=passes start=2 when=halo_full_size
 #pragma halo pass occlude entry=occlusion_pass inputs=field,occlusion output=occlusion
 
 // Volumetric halos, step 2 (Bruckner & Groller 2007, Sec. 3.2; docs/stages/halo_generate.md):
@@ -24,6 +26,10 @@
 //   w = [1 2 1; 2 4 2; 1 2 1] / 16;  H_i = delta F_i + (1 - delta F_i) H_0;
 //   O = max(O, H_N) (occlusion image, for occlusive halos).
 // Every channel is one halo. Pixels outside the image read as 0 (halo_input).
+// At the frame's size (halo_full_size) H_0 is not stored: the first spreading pass reads
+// it at its nine taps from the seed image, the others at their pixel (the same sums:
+// the same floats, one draw fewer per generation). Halo images at 1/s of the frame keep
+// the gradient pass, which also max-downsamples the seed.
 
 // Median of nine (insertion sort; no arithmetic, so the emulation matches bit for bit).
 float median9(float v[9])
@@ -52,25 +58,70 @@ halo_channels median_pass(ivec2 pixel)
     return halo_channels_from(result);
 }
 
+// H_0 at pixel from the seed image, input k; 0 outside the image, as a stored H_0 reads there.
+halo_channels seed_gradient(int k, ivec2 pixel)
+{
+    if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, halo_image_size())))
+        return halo_channels(0.0);
+    halo_channels gx = halo_input(k, pixel + ivec2(1, 0)) - halo_input(k, pixel - ivec2(1, 0));
+    halo_channels gy = halo_input(k, pixel + ivec2(0, 1)) - halo_input(k, pixel - ivec2(0, 1));
+    return clamp(sqrt(gx * gx + gy * gy), 0.0, 1.0);
+}
+
 halo_channels gradient_pass(ivec2 pixel)
 {
-    halo_channels gx = halo_input(0, pixel + ivec2(1, 0)) - halo_input(0, pixel - ivec2(1, 0));
-    halo_channels gy = halo_input(0, pixel + ivec2(0, 1)) - halo_input(0, pixel - ivec2(0, 1));
-    return clamp(sqrt(gx * gx + gy * gy), 0.0, 1.0);
+    return seed_gradient(0, pixel);
+}
+
+// Pass i of N: 2^(N - i) frame pixels; on a 1/s image (halo_link_desc.image_scale)
+// 2^(N - i) / s of its pixels, and at least 1: the reach stays about 2^N frame pixels
+int spread_distance(int i)
+{
+    return max(1, (1 << (passes - i)) / halo_pass_scale);
+}
+
+// H_i from F_i (the nine taps' weighted sum) and H_0.
+halo_channels spread_step(halo_channels corners, halo_channels edges, halo_channels centre, halo_channels initial)
+{
+    halo_channels f = (corners + 2.0 * edges + 4.0 * centre) * (1.0 / 16.0);
+    halo_channels spread = delta * f;
+    return spread + (halo_channels(1.0) - spread) * initial;
+}
+
+// H_{i-1} (input 0) at the eight outer taps, k pixels away.
+void previous_taps(ivec2 pixel, int k, out halo_channels corners, out halo_channels edges)
+{
+    corners = halo_input(0, pixel + ivec2(-k, -k)) + halo_input(0, pixel + ivec2(k, -k)) +
+              halo_input(0, pixel + ivec2(-k, k)) + halo_input(0, pixel + ivec2(k, k));
+    edges = halo_input(0, pixel + ivec2(0, -k)) + halo_input(0, pixel + ivec2(-k, 0)) +
+            halo_input(0, pixel + ivec2(k, 0)) + halo_input(0, pixel + ivec2(0, k));
 }
 
 halo_channels spread_pass(ivec2 pixel)
 {
-    // 2^(N - i) frame pixels; on a 1/s image (halo_link_desc.image_scale) 2^(N - i) / s of
-    // its pixels, and at least 1: the reach stays about 2^N frame pixels
-    int k = max(1, (1 << (halo_pass_count - halo_pass_index)) / halo_pass_scale);
-    halo_channels corners = halo_input(0, pixel + ivec2(-k, -k)) + halo_input(0, pixel + ivec2(k, -k)) +
-                            halo_input(0, pixel + ivec2(-k, k)) + halo_input(0, pixel + ivec2(k, k));
-    halo_channels edges = halo_input(0, pixel + ivec2(0, -k)) + halo_input(0, pixel + ivec2(-k, 0)) +
-                          halo_input(0, pixel + ivec2(k, 0)) + halo_input(0, pixel + ivec2(0, k));
-    halo_channels f = (corners + 2.0 * edges + 4.0 * halo_input(0, pixel)) * (1.0 / 16.0);
-    halo_channels spread = delta * f;
-    return spread + (halo_channels(1.0) - spread) * halo_input(1, pixel);
+    halo_channels corners, edges;
+    previous_taps(pixel, spread_distance(halo_pass_index), corners, edges);
+    return spread_step(corners, edges, halo_input(0, pixel), halo_input(1, pixel));
+}
+
+// Pass 1 at the frame's size: H_0 at the nine taps from the seed image (input 0).
+halo_channels spread_seed_pass(ivec2 pixel)
+{
+    int k = spread_distance(1);
+    halo_channels corners = seed_gradient(0, pixel + ivec2(-k, -k)) + seed_gradient(0, pixel + ivec2(k, -k)) +
+                            seed_gradient(0, pixel + ivec2(-k, k)) + seed_gradient(0, pixel + ivec2(k, k));
+    halo_channels edges = seed_gradient(0, pixel + ivec2(0, -k)) + seed_gradient(0, pixel + ivec2(-k, 0)) +
+                          seed_gradient(0, pixel + ivec2(k, 0)) + seed_gradient(0, pixel + ivec2(0, k));
+    halo_channels centre = seed_gradient(0, pixel);
+    return spread_step(corners, edges, centre, centre);
+}
+
+// Passes 2..N at the frame's size: H_0 at the pixel from the seed image (input 1).
+halo_channels spread_on_pass(ivec2 pixel)
+{
+    halo_channels corners, edges;
+    previous_taps(pixel, spread_distance(halo_pass_index), corners, edges);
+    return spread_step(corners, edges, halo_input(0, pixel), seed_gradient(1, pixel));
 }
 
 halo_channels occlusion_pass(ivec2 pixel)

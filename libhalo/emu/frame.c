@@ -287,11 +287,12 @@ static halo_status run_passes(halo_emu_frame *f, int post, halo_diagnostics *dia
         int repeat = pi->repeat < 1 ? 1 : pi->repeat;
         int out_scale = image_scale(f, (size_t)out), width = image_width(f, (size_t)out),
             height = image_height(f, (size_t)out);
-        for (int r = 1; r <= repeat; r++) {
+        int start = pi->start < 1 ? 1 : pi->start;
+        for (int r = start; r <= repeat; r++) {
             halo_emu_pass_context c = {&params, width, height, f->channels, r, repeat, pi->input_count, {0},
                                        {0}, pi->channel < 0 ? 0 : pi->channel, out_scale, {0}, {0}, {0}, {0}};
             for (int k = 0; k < pi->input_count; k++) {
-                int in = !strcmp(pi->inputs[k], "previous") ? (r == 1 && pi->first ? image_index(f, pi->first) : out)
+                int in = !strcmp(pi->inputs[k], "previous") ? (r == start && pi->first ? image_index(f, pi->first) : out)
                                                             : image_index(f, pi->inputs[k]);
                 int in_scale = image_scale(f, (size_t)in);
                 c.inputs[k] = f->images[in];

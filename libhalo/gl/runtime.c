@@ -476,7 +476,7 @@ typedef struct frame_pass {
     GLint index_location, count_location;
     int inputs[HALO_MAX_PASS_INPUTS]; /* image index; -1: previous */
     int output, first;                /* first: image index for repetition 1's previous, -1: the output */
-    int repeat;
+    int repeat, start;
 } frame_pass;
 
 struct halo_gl_frame {
@@ -758,6 +758,7 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
         frame_pass *pass = &fr->passes[i];
         pass->info = info;
         pass->repeat = info->repeat < 1 ? 1 : info->repeat;
+        pass->start = info->start < 1 ? 1 : info->start;
         pass->output = frame_find_image(fr, info->output);
         pass->first = info->first ? frame_find_image(fr, info->first) : -1;
         if (pass->output < 0 || (info->first && pass->first < 0) || info->input_count > HALO_MAX_PASS_INPUTS) {
@@ -1018,10 +1019,10 @@ static void frame_run(halo_gl_frame *fr, int post)
         f->UseProgram(pass->program);
         halo_gl_program_upload(gl, fr->program, pass->program);
         f->Viewport(0, 0, out->width, out->height);
-        for (int rep = 1; rep <= pass->repeat; ++rep) {
+        for (int rep = pass->start; rep <= pass->repeat; ++rep) {
             for (int k = 0; k < pass->info->input_count; ++k) {
                 const frame_image *in = pass->inputs[k] >= 0 ? &fr->images[pass->inputs[k]]
-                                        : rep == 1 && pass->first >= 0 ? &fr->images[pass->first]
+                                        : rep == pass->start && pass->first >= 0 ? &fr->images[pass->first]
                                                                         : out;
                 f->ActiveTexture(GL_TEXTURE0 + (GLenum)k);
                 f->BindTexture(GL_TEXTURE_2D, in->texture[in->current]);

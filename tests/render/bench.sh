@@ -1,7 +1,9 @@
 #!/bin/sh
 # halo-validate bench (docs/performance.md) on a tiny image and volume: the sweep writes
 # its table, CSV (every axis, the halo image resolutions included, no non-finite
-# image) and plot, and verifies the --max-error choice; --table1 and --specialize run;
+# image, a bytes-per-voxel memory column on every row, the skips row's image equal to
+# the M = 4 row's) and plot, and verifies the --max-error choice; --table1 and
+# --specialize run;
 # halo-validate blur writes its variant and truncation rows as CSV. The times are not
 # checked (speed goals live in the benchmark's output, not in make check).
 . "$srcdir/tests/render/common.sh"
@@ -9,8 +11,11 @@ HALO_VALIDATE=${HALO_VALIDATE:-${top_builddir:-.}/validate/halo-validate}
 export LP_NUM_THREADS=${LP_NUM_THREADS:-2}
 
 run 0 "$HALO_VALIDATE" bench --size 16 --volume-size 16 --repeat 1 --csv "$tmp/bench.csv" \
-    --plot "$tmp/bench.png" --max-error 1
+    --plot "$tmp/bench.png" --max-error 1 --memory-size 40
 expect_stdout "^axis +host +M +N +bits +res +step"
+expect_stdout "^# B/vox: peak resident bytes per voxel of halo-render --host slice at 40\\^3"
+# the skips (issue 16, item 1) are exact: the skips row renders the M = 4 row's image
+expect_stdout "^# skips: .*max abs between the two images 0 "
 expect_stdout "budget: max error 1: .*verified"
 if grep -q NONFINITE "$tmp/out"; then
     fail "a configuration rendered a non-finite value"
@@ -29,6 +34,9 @@ if test -s "$tmp/bench.csv"; then
         grep -q "^resolution,slice,1,4,4,32,0.5,$res,\|^M,slice,1,4,4,32,0.5,$res," "$tmp/bench.csv" ||
             fail "no M = 4 row at halo resolution $res in the CSV"
     done
+    # the memory column: a number on every row (halo-render ran for each gradient format)
+    awk -F, 'NR > 1 && $22 !~ /^-?[0-9]+\.[0-9]$/ { bad = 1 } END { exit bad }' "$tmp/bench.csv" ||
+        fail "a row has no bytes per voxel"
     # every halo row has an error against the reference, finite and in [0, 1]
     awk -F, 'NR > 1 && $3 == 1 && !($14 >= 0 && $14 <= 1) { bad = 1 } END { exit bad }' "$tmp/bench.csv" ||
         fail "a halo row's max_abs is not in [0, 1]"
@@ -54,5 +62,6 @@ fi
 # usage errors
 run 2 "$HALO_VALIDATE" bench --size 0
 run 2 "$HALO_VALIDATE" bench --repeat nan
+run 2 "$HALO_VALIDATE" bench --memory-size 32
 run 2 "$HALO_VALIDATE" blur --kernels 4
 finish

@@ -731,6 +731,49 @@ static int test_image_scale(void) {
     return 0;
 }
 
+/* Whether the program has a pass named name. */
+static int has_pass(const halo_program *p, const char *name) {
+    for (size_t i = 0; i < halo_program_pass_count(p); i++)
+        if (!strcmp(halo_program_pass(p, i)->name, name)) return 1;
+    return 0;
+}
+
+/* The occlusion pass only when a halo may be occlusive (halo_map's `image occlusion
+ * read_when=mode`): not for emissive halos, for any occlusive channel or a live mode, and
+ * always without halo_map (nothing says the image is unread). At the frame's size no
+ * gradient pass: spread_seed, then spread from repetition 2. */
+static int test_occlusion_pass_when_occlusive(void) {
+    static const struct {
+        const char *map;
+        int all_live, occlude;
+    } cases[] = {
+        {", \"halo_map\"", 0, 0},
+        {", {\"halo_map\": {\"mode\": 1}}", 0, 1},
+        {", {\"halo_map\": {\"mode\": [0, 0, 1]}}", 0, 1},
+        {", {\"halo_map\": {\"mode\": [0, 0, 0]}}", 0, 0},
+        {", \"halo_map\"", 1, 1},
+        {"", 0, 1},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        char json[256];
+        snprintf(json, sizeof json, "{\"stages\": [\"halo_seed\", \"halo_generate\"%s]}", cases[k].map);
+        halo_scene *scene = scene_of(json);
+        halo_program *p = link_with(scene, host_source, HALO_TARGET_DEFAULT, cases[k].all_live);
+        halo_scene_destroy(scene);
+        CHECK(p != NULL);
+        if (!p) continue;
+        if (has_pass(p, "occlude") != cases[k].occlude)
+            CHECK_FAIL_AT("%s (all_live %d): occlude pass %s", json, cases[k].all_live,
+                          cases[k].occlude ? "missing" : "linked");
+        /* full size: the gradient pass folded into the spreading (spread_seed, then spread from 2) */
+        CHECK(has_pass(p, "spread") && has_pass(p, "spread_seed") && !has_pass(p, "gradient"));
+        for (size_t i = 0; i < halo_program_pass_count(p); i++)
+            if (!strcmp(halo_program_pass(p, i)->name, "spread")) CHECK_INT_EQ(halo_program_pass(p, i)->start, 2);
+        halo_program_destroy(p);
+    }
+    return 0;
+}
+
 /* Feature groups: more than four features of a grouped stage (outline_feature,
  * outlines) link in groups of four, their channels parameters live, group g's values
  * current after halo_program_select_group; other stages keep the limit of four. */
@@ -1000,6 +1043,7 @@ int main(void) {
     RUN_TEST(test_program_set);
     RUN_TEST(test_hook_mismatch);
     RUN_TEST(test_image_scale);
+    RUN_TEST(test_occlusion_pass_when_occlusive);
     RUN_TEST(test_feature_groups);
     RUN_TEST(test_compositing_mip);
     halo_library_destroy(library);

@@ -1,0 +1,277 @@
+/* The slice host's savings that must leave the result exact (issue 16).
+ *
+ * 1. The gradient texture built on the GPU (examples/hosts/gradient.frag,
+ * halo_host_build_gradients) against the CPU's central differences: on a volume of
+ * random values in [0,1], one with values up to 40 (half's scale: |g| > 1) and one with a
+ * constant face, sides 2, 5x7x3 and 33x17x9 (odd sides, one-voxel faces):
+ *   - float (RGB32F): every texel equals halo_volume_gradients' floats, bit for bit;
+ *   - half (RGB16F): every texel equals the CPU path's texture (halo_host_upload_gradients),
+ *     bit for bit, and the scales are equal;
+ *   - snorm8, when the GL renders into it (desktop GL need not): the same.
+ * A format the GL cannot render into is reported, not failed; float and half must render
+ * on a GL 3.3 context (color-renderable RGB32F/RGB16F through the layer probe), else the
+ * test fails.
+ *
+ * 2. The skipped generations (halo_slice_set_generation_skip): a noise volume, whose seeds
+ * reach its back faces, seen along an axis (the bounding sphere's slices beyond the cube
+ * leave whole slabs empty at both ends), rendered by the slice and the slab host with
+ * the skips on and off: the same floats, and fewer pass draws with them on.
+ *
+ * Exit 77 without OpenGL. */
+#include "halo.h"
+#include "gl/glfuncs.h"
+#include "gl/headless.h"
+#include "hosts/host_common.h"
+#include "hosts/slab.h"
+#include "volume.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Reads layer by layer: the RGB of every texel of a 3D texture, as floats (out: n*3). */
+static int read_texture(const halo_glfuncs *f, GLuint texture, const int dims[3], float *out)
+{
+    GLuint framebuffer = 0;
+    f->GenFramebuffers(1, &framebuffer);
+    f->BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+    size_t slice = (size_t)dims[0] * (size_t)dims[1];
+    float *rgba = malloc(slice * 4 * sizeof *rgba);
+    int ok = rgba != NULL;
+    for (int z = 0; ok && z < dims[2]; ++z) {
+        f->FramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, texture, 0, z);
+        if (f->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+            ok = 0;
+            break;
+        }
+        f->ReadBuffer(GL_COLOR_ATTACHMENT0);
+        f->PixelStorei(GL_PACK_ALIGNMENT, 4);
+        f->ReadPixels(0, 0, dims[0], dims[1], GL_RGBA, GL_FLOAT, rgba);
+        for (size_t i = 0; i < slice; ++i)
+            memcpy(&out[((size_t)z * slice + i) * 3], &rgba[i * 4], 3 * sizeof *out);
+    }
+    f->BindFramebuffer(GL_FRAMEBUFFER, 0);
+    f->DeleteFramebuffers(1, &framebuffer);
+    free(rgba);
+    return ok && f->GetError() == GL_NO_ERROR;
+}
+
+/* The texels that differ from expected, bit for bit; prints the first. */
+static size_t count_differences(const char *what, const float *got, const float *expected, size_t n)
+{
+    size_t differing = 0;
+    for (size_t i = 0; i < n; ++i)
+        if (memcmp(&got[i], &expected[i], sizeof *got) != 0 && !(got[i] == 0.0f && expected[i] == 0.0f)) {
+            if (!differing)
+                printf("  %s: component %zu (texel %zu) is %.9g, expected %.9g\n", what, i % 3, i / 3,
+                       (double)got[i], (double)expected[i]);
+            differing++;
+        }
+    return differing;
+}
+
+typedef struct format_case {
+    const char *name;
+    GLint internal_format;
+    int must_render;
+} format_case;
+
+static const format_case formats[] = {
+    {"float", GL_RGB32F, 1},
+    {"half", GL_RGB16F, 1},
+    {"snorm8", GL_RGB8_SNORM, 0},
+};
+
+static int check_volume(const halo_glfuncs *f, const char *what, const float *volume, const int dims[3])
+{
+    int failed = 0;
+    size_t n = (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2];
+    float *gpu = malloc(n * 3 * sizeof *gpu), *cpu = malloc(n * 3 * sizeof *cpu);
+    float *exact = halo_volume_gradients(volume, dims);
+    GLuint textures[3];
+    f->GenTextures(3, textures);
+    halo_diagnostics *diag = halo_diagnostics_create();
+    if (!gpu || !cpu || !exact || !diag ||
+        halo_host_upload_volume(f, textures[0], volume, dims[0], dims[1], dims[2], diag) != HALO_OK) {
+        printf("FAIL %s: setup\n", what);
+        failed = 1;
+        goto done;
+    }
+    for (size_t k = 0; k < sizeof formats / sizeof formats[0]; ++k) {
+        const format_case *fc = &formats[k];
+        if (!halo_host_gradients_renderable(f, fc->internal_format)) {
+            printf("%s %s: the GL does not render into %s%s\n", fc->must_render ? "FAIL" : "note", what, fc->name,
+                   fc->must_render ? "" : " (the CPU path builds it)");
+            failed += fc->must_render;
+            continue;
+        }
+        float gpu_scale = halo_host_gradient_scale(volume, dims, fc->internal_format), cpu_scale = 0.0f;
+        if (halo_host_build_gradients(f, textures[1], textures[0], dims[0], dims[1], dims[2], fc->internal_format,
+                                      gpu_scale, diag) != HALO_OK ||
+            halo_host_upload_gradients(f, textures[2], volume, dims[0], dims[1], dims[2], fc->internal_format,
+                                       &cpu_scale, diag) != HALO_OK ||
+            !read_texture(f, textures[1], dims, gpu) || !read_texture(f, textures[2], dims, cpu)) {
+            halo_diagnostics_print(diag, stdout);
+            printf("FAIL %s %s: build or read-back\n", what, fc->name);
+            failed++;
+            continue;
+        }
+        char label[160];
+        snprintf(label, sizeof label, "%s %s, GPU against CPU path", what, fc->name);
+        size_t differing = count_differences(label, gpu, cpu, n * 3);
+        if (fc->internal_format == GL_RGB32F) {
+            snprintf(label, sizeof label, "%s float, GPU against the central differences", what);
+            differing += count_differences(label, gpu, exact, n * 3);
+        }
+        int ok = differing == 0 && gpu_scale == cpu_scale;
+        printf("%s %s %s: %zu components differ, scale %.9g (CPU path %.9g)\n", ok ? "ok  " : "FAIL", what, fc->name,
+               differing, (double)gpu_scale, (double)cpu_scale);
+        failed += !ok;
+    }
+done:
+    f->DeleteTextures(3, textures);
+    halo_diagnostics_destroy(diag);
+    free(exact);
+    free(cpu);
+    free(gpu);
+    return failed;
+}
+
+/* xorshift: the same values on every machine */
+static float next_random(unsigned *state)
+{
+    *state ^= *state << 13;
+    *state ^= *state >> 17;
+    *state ^= *state << 5;
+    return (float)(*state >> 8) / 16777216.0f;
+}
+
+static const char skip_scene[] =
+    "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {\"passes\": 3}},"
+    " {\"halo_map\": {\"mode\": 0, \"color_near\": [[1, 0.9, 0.4]], \"opacity\": 0.9}}],"
+    " \"render\": {\"azimuth\": 0, \"elevation\": 0, \"zoom\": 1.2, \"step\": 0.5,"
+    " \"transfer\": [[0, 0, 0, 0, 0], [1, 1, 1, 1, 0.05]]}}";
+
+/* Renders the skip scene with host `slab`, skips on or off; NULL on failure. */
+static float *render_skips(halo_gl *runtime, const halo_program *p, const halo_render_settings *settings,
+                           const float *volume, int side, int slab, int skip, long *pass_draws, halo_diagnostics *diag)
+{
+    enum { PIXELS = 48 };
+    halo_host_desc desc = {.gl = halo_gl_functions(runtime), .runtime = runtime, .program = p, .width = PIXELS,
+                           .height = PIXELS};
+    halo_slice *s = slab ? halo_slab_create(&desc, diag) : halo_slice_create(&desc, diag);
+    float *rgba = malloc((size_t)PIXELS * PIXELS * 4 * sizeof *rgba);
+    int ok = s && rgba && halo_slice_set_volume(s, volume, side, side, side, diag) == HALO_OK &&
+             halo_slice_set_render(s, settings, diag) == HALO_OK;
+    if (ok) {
+        halo_slice_set_camera(s, settings->azimuth, settings->elevation, settings->zoom);
+        halo_slice_set_interval(s, 2);
+        halo_slice_set_generation_skip(s, skip);
+        ok = halo_slice_render(s, rgba, diag) == HALO_OK;
+        *pass_draws = halo_slice_pass_draws(s);
+    }
+    halo_slice_destroy(s);
+    if (!ok) {
+        free(rgba);
+        return NULL;
+    }
+    return rgba;
+}
+
+static int check_skips(halo_gl *runtime, unsigned *state)
+{
+    enum { SIDE = 20 };
+    int failed = 0;
+    halo_diagnostics *diag = halo_diagnostics_create();
+    halo_library *lib = halo_library_create(diag);
+    char *host[2] = {halo_host_load("slice.frag", NULL, diag), halo_host_load("slab.frag", NULL, diag)};
+    halo_scene *scene = lib ? halo_scene_parse(skip_scene, "(skip scene)", lib, diag) : NULL;
+    float *volume = malloc((size_t)SIDE * SIDE * SIDE * sizeof *volume);
+    for (size_t i = 0; volume && i < (size_t)SIDE * SIDE * SIDE; ++i)
+        volume[i] = next_random(state);
+    for (int slab = 0; slab < 2 && scene && volume; ++slab) {
+        halo_program *p = host[slab] ? halo_link(&(halo_link_desc){.library = lib, .scene = scene,
+                                                                    .host_source = host[slab],
+                                                                    .host_file = slab ? "slab.frag" : "slice.frag"},
+                                                 diag)
+                                     : NULL;
+        long draws[2] = {0, 0};
+        float *image[2] = {NULL, NULL};
+        for (int skip = 0; skip < 2 && p; ++skip)
+            image[skip] = render_skips(runtime, p, halo_scene_render(scene), volume, SIDE, slab, skip, &draws[skip],
+                                       diag);
+        size_t differing = 0, n = (size_t)48 * 48 * 4;
+        for (size_t i = 0; image[0] && image[1] && i < n; ++i)
+            differing += memcmp(&image[0][i], &image[1][i], sizeof(float)) != 0;
+        int ok = image[0] && image[1] && differing == 0 && draws[1] < draws[0];
+        printf("%s %s host: skips off %ld pass draws, on %ld; %zu of %zu floats differ\n", ok ? "ok  " : "FAIL",
+               slab ? "slab" : "slice", draws[0], draws[1], differing, n);
+        if (!image[0] || !image[1])
+            halo_diagnostics_print(diag, stdout);
+        failed += !ok;
+        free(image[0]);
+        free(image[1]);
+        halo_program_destroy(p);
+    }
+    if (!scene || !volume) {
+        halo_diagnostics_print(diag, stdout);
+        failed++;
+    }
+    free(volume);
+    halo_scene_destroy(scene);
+    free(host[0]);
+    free(host[1]);
+    halo_library_destroy(lib);
+    halo_diagnostics_destroy(diag);
+    return failed;
+}
+
+int main(void)
+{
+    char err[512];
+    if (halo_setup(NULL) != HALO_OK)
+        return 99;
+    halo_headless *headless = halo_headless_create(16, 16, err, sizeof err);
+    if (!headless) {
+        printf("no OpenGL context (%s): skipping\n", err);
+        halo_shutdown();
+        return 77;
+    }
+    halo_diagnostics *diag = halo_diagnostics_create();
+    halo_gl *runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, diag);
+    if (!runtime) {
+        halo_diagnostics_print(diag, stderr);
+        return 99;
+    }
+    const halo_glfuncs *f = halo_gl_functions(runtime);
+    static const int sides[][3] = {{2, 2, 2}, {5, 7, 3}, {33, 17, 9}};
+    int failed = 0;
+    unsigned state = 12345u;
+    for (size_t s = 0; s < sizeof sides / sizeof sides[0]; ++s) {
+        const int *dims = sides[s];
+        size_t n = (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2];
+        float *volume = malloc(n * sizeof *volume);
+        if (!volume)
+            return 99;
+        char what[64];
+        for (int kind = 0; kind < 3; ++kind) {
+            for (size_t i = 0; i < n; ++i) {
+                float r = next_random(&state);
+                /* 0: [0,1]; 1: up to 40 (half's scale); 2: a constant face x = 0 */
+                volume[i] = kind == 1 ? 40.0f * r * r : kind == 2 && i % (size_t)dims[0] == 0 ? 0.25f : r;
+            }
+            snprintf(what, sizeof what, "%dx%dx%d %s", dims[0], dims[1], dims[2],
+                     kind == 0 ? "[0,1]" : kind == 1 ? "[0,40]" : "constant face");
+            failed += check_volume(f, what, volume, dims);
+        }
+        free(volume);
+    }
+    failed += check_skips(runtime, &state);
+    printf("%d failed\n", failed);
+    halo_gl_destroy(runtime);
+    halo_headless_destroy(headless);
+    halo_diagnostics_destroy(diag);
+    halo_shutdown();
+    return failed ? 1 : 0;
+}
