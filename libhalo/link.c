@@ -1450,9 +1450,17 @@ static halo_program *link_with_host(const halo_link_desc *desc, host_info *h, ha
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: unknown target %d", (int)desc->target);
         return NULL;
     }
+    if (desc->scene && desc->scene->library != desc->library) {
+        /* its stages point into the other library's modules: linking would use those */
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "halo_link: the scene was read against another library than desc.library; read it against "
+                        "the library it is linked with");
+        return NULL;
+    }
     halo_program *p = calloc(1, sizeof *p);
     if (!p) goto oom;
     p->library = desc->library;
+    halo_library_retain(p->library);
     p->target = desc->target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : desc->target;
     p->kind = desc->kind;
     p->version = desc->version;
@@ -1580,6 +1588,7 @@ void halo_program_destroy(halo_program *p) {
     free(p->host_uniforms);
     for (size_t i = 0; i < p->string_count; i++) free(p->strings[i]);
     free(p->strings);
+    halo_library_release(p->library);
     free(p);
 }
 

@@ -13,7 +13,9 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_compose \
 	tests/unit/test_host_scan \
 	tests/unit/test_emu \
-	tests/unit/test_input_classes
+	tests/unit/test_input_classes \
+	tests/unit/test_lifetimes \
+	tests/unit/test_threads
 check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
 noinst_HEADERS += tests/unit/check.h
 
@@ -60,6 +62,17 @@ tests_unit_test_input_classes_SOURCES = tests/unit/test_input_classes.c
 tests_unit_test_input_classes_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
 nodist_EXTRA_tests_unit_test_input_classes_SOURCES = build-aux/force-cxx-link.cc
 tests_unit_test_input_classes_LDADD = $(HALO_TEST_CORE_LIBS)
+
+tests_unit_test_lifetimes_SOURCES = tests/unit/test_lifetimes.c
+tests_unit_test_lifetimes_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_lifetimes_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_lifetimes_LDADD = $(HALO_TEST_CORE_LIBS)
+
+# Two threads at once (halo.h, "Threads"); .ci/run also runs it under ThreadSanitizer.
+tests_unit_test_threads_SOURCES = tests/unit/test_threads.c
+tests_unit_test_threads_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_threads_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_threads_LDADD = $(HALO_TEST_CORE_LIBS) -lpthread
 
 # The public API only, through the installed-style shared library.
 tests_unit_test_public_SOURCES = tests/unit/test_public.c
