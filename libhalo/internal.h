@@ -209,8 +209,12 @@ struct halo_program {
     int piece_origin_counts[HALO_PIECE_COUNT];
     char **strings; /* owned strings the reflection points to */
     size_t string_count;
-    const halo_library *library;
+    const halo_library *library; /* a reference (halo_library_retain) */
+    /* The creator's reference, released by halo_program_destroy, and one per frame
+     * (halo_gl_frame, halo_emu_frame) made from the program; the last frees it. */
+    _Atomic long refs;
 };
+void halo_program_retain(const halo_program *p);
 
 /* Host contract 2 (segment.c): segmented ray casting and derived inputs. */
 struct halo_strbuf;

@@ -1459,6 +1459,7 @@ static halo_program *link_with_host(const halo_link_desc *desc, host_info *h, ha
     }
     halo_program *p = calloc(1, sizeof *p);
     if (!p) goto oom;
+    atomic_init(&p->refs, 1);
     p->library = desc->library;
     halo_library_retain(p->library);
     p->target = desc->target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : desc->target;
@@ -1557,8 +1558,10 @@ oom:
     return NULL;
 }
 
+void halo_program_retain(const halo_program *p) { atomic_fetch_add(&((halo_program *)p)->refs, 1); }
+
 void halo_program_destroy(halo_program *p) {
-    if (!p) return;
+    if (!p || atomic_fetch_sub(&p->refs, 1) != 1) return;
     for (int i = 0; i < HALO_PIECE_COUNT; i++) { /* pieces (compose.c) */
         free(p->pieces[i]);
         free(p->piece_origins[i]);

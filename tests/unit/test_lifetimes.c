@@ -1,13 +1,12 @@
 /* Object lifetimes (halo.h, "Lifetimes"): a scene or program keeps its library alive,
  * a scene links only with the library it was read against, a module used by a scene
  * cannot be replaced under it, and validation before halo_setup is a USAGE error, not
- * a crash inside glslang. Freed memory is filled with a pattern (glibc's M_PERTURB) so
- * that a use after free reads garbage even without AddressSanitizer. */
+ * a crash inside glslang. Freed memory is filled with a pattern (glibc's
+ * malloc.perturb tunable) so that a use after free reads garbage even without
+ * AddressSanitizer. */
 #include "check.h"
 
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
+#include <unistd.h>
 
 static const char scene_json[] = "{\"halo_scene\": 1, \"stages\": [{\"boundary\": {\"k_gs\": 10}}]}";
 
@@ -83,6 +82,32 @@ static int test_library_destroyed_first(void) {
     return 0;
 }
 
+/* An emulation frame keeps its program (and so the library) alive. */
+static int test_program_destroyed_first(void) {
+    halo_diagnostics *d;
+    halo_library *lib = check_library_setup(&d);
+    halo_scene *scene = halo_scene_parse(scene_json, "scene.json", lib, d);
+    CHECK(scene != NULL);
+    halo_program *p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = check_sample_host},
+                                d);
+    CHECK(p != NULL);
+    halo_emu_frame *f = halo_emu_frame_create(p, 4, 4, d);
+    CHECK(f != NULL);
+    halo_scene_destroy(scene);
+    halo_library_destroy(lib);
+    halo_program_destroy(p);
+    void *filler[64]; /* reuse the freed blocks, if they were freed */
+    for (int i = 0; i < 64; i++) filler[i] = malloc(64 * (size_t)(i % 8 + 1));
+    halo_emu_frame_begin(f);
+    CHECK_INT_EQ(halo_emu_frame_generate(f, d), HALO_OK);
+    CHECK_INT_EQ(halo_emu_frame_post(f, d), HALO_OK);
+    for (int i = 0; i < 64; i++) free(filler[i]);
+    halo_emu_frame_destroy(f);
+    CHECK_NO_ERRORS(d);
+    halo_diagnostics_destroy(d);
+    return 0;
+}
+
 /* A scene read against one library, linked with another: refused, not linked with the
  * first library's modules. */
 static int test_scene_of_another_library(void) {
@@ -132,13 +157,20 @@ static int test_override_in_use(void) {
     return 0;
 }
 
-int main(void) {
+int main(int argc, char **argv) {
+    (void)argc;
 #ifdef __GLIBC__
-    mallopt(M_PERTURB, 0xa5);
+    /* glibc fills freed memory only outside its per-thread cache: run again without it */
+    if (!getenv("HALO_TEST_PERTURB")) {
+        setenv("HALO_TEST_PERTURB", "1", 1);
+        setenv("GLIBC_TUNABLES", "glibc.malloc.tcache_count=0:glibc.malloc.perturb=165", 1);
+        execv("/proc/self/exe", argv);
+    }
 #endif
     RUN_TEST(test_validate_before_setup); /* first: before any halo_setup */
     SETUP(halo_setup(NULL) == HALO_OK);
     RUN_TEST(test_library_destroyed_first);
+    RUN_TEST(test_program_destroyed_first);
     RUN_TEST(test_scene_of_another_library);
     RUN_TEST(test_override_in_use);
     halo_shutdown();
