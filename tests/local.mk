@@ -132,13 +132,16 @@ AM_TESTS_ENVIRONMENT = \
 	LP_NUM_THREADS=2; export LP_NUM_THREADS; \
 	MESA_SHADER_CACHE_DISABLE=true; export MESA_SHADER_CACHE_DISABLE; \
 	LSAN_OPTIONS="suppressions=$(abs_top_srcdir)/tests/lsan.supp:print_suppressions=0$${LSAN_OPTIONS:+:$$LSAN_OPTIONS}"; \
-	export LSAN_OPTIONS;
+	export LSAN_OPTIONS; \
+	TSAN_OPTIONS="suppressions=$(abs_top_srcdir)/tests/tsan.supp:halt_on_error=1$${TSAN_OPTIONS:+:$$TSAN_OPTIONS}"; \
+	export TSAN_OPTIONS;
 
 # Test data: scenes, hosts and modules, good and bad.
 HALO_TEST_FILES = \
 	tests/cli/common.sh \
 	tests/conform_backend.sh \
 	tests/lsan.supp \
+	tests/tsan.supp \
 	tests/data/hosts/minimal.frag \
 	tests/data/hosts/no_marker.frag \
 	tests/data/hosts/marker_commented.frag \
