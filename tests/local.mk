@@ -96,6 +96,7 @@ TESTS += tests/unit/test_null_api
 HALO_SHELL_TESTS = \
 	tests/check_modules.sh \
 	tests/exports.sh \
+	tests/install_headers.sh \
 	tests/conform.sh \
 	tests/conform_egl.sh \
 	tests/render.sh \
