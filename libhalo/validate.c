@@ -29,7 +29,8 @@ static void report_log(const char *log, const halo_line_origin *origins, int ori
                        halo_diagnostics *diag, int *errors) {
     char *copy = halo_strdup(log ? log : "");
     if (!copy) return;
-    for (char *line = strtok(copy, "\n"); line; line = strtok(NULL, "\n")) {
+    char *cursor = NULL; /* strtok_r: another thread may be reading its own log */
+    for (char *line = strtok_r(copy, "\n", &cursor); line; line = strtok_r(NULL, "\n", &cursor)) {
         halo_severity sev;
         const char *rest;
         if (!strncmp(line, "ERROR: ", 7)) { sev = HALO_SEVERITY_ERROR; rest = line + 7; }

@@ -39,7 +39,7 @@ static int work(worker *w) {
         CHECK(d != NULL);
         CHECK_INT_EQ(halo_validate_shader(bad_shader, "bad.frag", HALO_SHADER_FRAGMENT, HALO_TARGET_GLSL330, d),
                      HALO_ERROR_INPUT);
-        CHECK_DIAG(d, HALO_MSG_GLSL_ERROR);
+        CHECK_DIAG_LINE(d, HALO_MSG_GLSL_ERROR, 3); /* the other thread's log never mixes in */
         CHECK(halo_scene_parse("{\"stages\": [\"no_such_stage\"]}", "bad.json", w->library, d) == NULL);
         CHECK_DIAG(d, HALO_MSG_SCENE_STAGE_UNKNOWN);
         halo_scene *scene = halo_scene_parse("{\"halo_scene\": 1, \"stages\": [\"boundary\", \"silhouette\"]}",
