@@ -17,8 +17,8 @@
  * the COUNT member for an enum (HALO_TARGET_COUNT, HALO_HOOK_COUNT; halo_source_kind_of:
  * HALO_SOURCE_SHADER) — and reports one USAGE diagnostic naming the function and the
  * argument ("halo_scene_set: scene is NULL"): into its halo_diagnostics list when it
- * takes one, and always to the setup logger (halo_setup_desc.logger), so that a void
- * function's refusal is seen too. Arguments documented as optional (a NULL file name, a
+ * takes one, and always to the calling thread's setup logger (halo_setup_desc.logger),
+ * so that a void function's refusal is seen too. Arguments documented as optional (a NULL file name, a
  * NULL desc that means the defaults, NULL out-parameters of the map_line functions) stay
  * optional. A NULL halo_diagnostics list is always valid: diagnostics are then only
  * passed to the logger, and the halo_diagnostics_* functions treat it as an empty list.
