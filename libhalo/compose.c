@@ -315,12 +315,22 @@ static int line_of(const char *text, size_t offset) {
     return n;
 }
 
+static halo_status validate_composed_held(const halo_program *p, const char *composed, const char *composed_file,
+                                         const halo_composer_piece *pieces, size_t piece_count,
+                                         halo_diagnostics *diag);
+
 halo_status halo_program_validate_composed(const halo_program *p, const char *composed, const char *composed_file,
                                            const halo_composer_piece *pieces, size_t piece_count,
                                            halo_diagnostics *diag) {
     HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, composed, "composed", HALO_ERROR_INPUT);
     if (piece_count) HALO_REFUSE_NULL(diag, pieces, "pieces (with a piece_count)", HALO_ERROR_INPUT);
+    return HALO_WITH_GLSLANG(diag, validate_composed_held(p, composed, composed_file, pieces, piece_count, diag));
+}
+
+static halo_status validate_composed_held(const halo_program *p, const char *composed, const char *composed_file,
+                                         const halo_composer_piece *pieces, size_t piece_count,
+                                         halo_diagnostics *diag) {
     if (!composed_file) composed_file = "composed shader";
     char *copy = halo_strdup(composed);
     char **lines = NULL;

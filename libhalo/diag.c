@@ -21,12 +21,28 @@ static const char *const message_names[] = {
 #undef HALO_X_NAME
 };
 
-static void (*setup_logger)(const halo_diagnostic *, void *);
-static void *setup_user_data;
+/* The setup logger is per thread (halo.h, "Threads"): a thread's halo_setup installs
+ * it for the calls that thread makes, so one thread's diagnostics never reach another
+ * thread's logger; it goes with that thread's last halo_shutdown. */
+static _Thread_local struct {
+    void (*logger)(const halo_diagnostic *, void *);
+    void *user_data;
+    long setups; /* this thread's halo_setup calls not yet paired with halo_shutdown */
+} thread_logger;
 
-void halo_diag_set_logger(void (*logger)(const halo_diagnostic *, void *), void *user_data) {
-    setup_logger = logger;
-    setup_user_data = user_data;
+void halo_diag_thread_setup(const halo_setup_desc *desc) {
+    thread_logger.setups++;
+    if (desc) {
+        thread_logger.logger = desc->logger;
+        thread_logger.user_data = desc->user_data;
+    }
+}
+
+void halo_diag_thread_shutdown(void) {
+    if (thread_logger.setups > 0 && --thread_logger.setups == 0) {
+        thread_logger.logger = NULL;
+        thread_logger.user_data = NULL;
+    }
 }
 
 const char *halo_message_name(halo_message_id id) {
@@ -119,7 +135,7 @@ void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id 
         item.source_line = s;
     }
     if (!item.text) item.text = halo_strdup(halo_message_name(id));
-    if (setup_logger) setup_logger(&item, setup_user_data);
+    if (thread_logger.logger) thread_logger.logger(&item, thread_logger.user_data);
     if (!d || !item.file || !item.text) { free_item(&item); return; }
     if (d->count == d->cap) {
         size_t cap = d->cap ? d->cap * 2 : 16;

@@ -34,7 +34,9 @@ void halo_diag_null(halo_diagnostics *d, const char *function, const char *argum
         }                                                                                             \
     } while (0)
 
-/* The setup logger (set by halo_setup). */
-void halo_diag_set_logger(void (*logger)(const halo_diagnostic *, void *), void *user_data);
+/* The calling thread's setup logger: halo_setup installs desc's (a NULL desc keeps the
+ * one installed); the thread's last halo_shutdown removes it. */
+void halo_diag_thread_setup(const halo_setup_desc *desc);
+void halo_diag_thread_shutdown(void);
 
 #endif

@@ -17,13 +17,56 @@
  * the COUNT member for an enum (HALO_TARGET_COUNT, HALO_HOOK_COUNT; halo_source_kind_of:
  * HALO_SOURCE_SHADER) — and reports one USAGE diagnostic naming the function and the
  * argument ("halo_scene_set: scene is NULL"): into its halo_diagnostics list when it
- * takes one, and always to the setup logger (halo_setup_desc.logger), so that a void
- * function's refusal is seen too. Arguments documented as optional (a NULL file name, a
+ * takes one, and always to the calling thread's setup logger (halo_setup_desc.logger),
+ * so that a void function's refusal is seen too. Arguments documented as optional (a NULL file name, a
  * NULL desc that means the defaults, NULL out-parameters of the map_line functions) stay
  * optional. A NULL halo_diagnostics list is always valid: diagnostics are then only
  * passed to the logger, and the halo_diagnostics_* functions treat it as an empty list.
  * The destroy functions take NULL and do nothing, as free() does.
  * tests/unit/test_null_api.c calls each function with each such argument NULL.
+ *
+ * Lifetimes (tests/unit/test_lifetimes.c): each object is created by its create, parse,
+ * load or link function and given back with its destroy function, once; after that the
+ * caller must not use the pointer. What an object is made from stays alive while the
+ * object lives, whatever order the caller destroys them in:
+ *   halo_diagnostics  owned by the caller; the halo_diagnostic items and their strings
+ *                     live until halo_diagnostics_clear or _destroy.
+ *   halo_library      freed when the caller has destroyed it and every scene and program
+ *                     made from it is destroyed too (reference counts). The halo_module
+ *                     and halo_param_info pointers it hands out live as long as the library.
+ *                     halo_library_override_* refuses (USAGE) to replace a module while a
+ *                     scene or program made from the library lives: they point into it.
+ *   halo_scene        keeps its library alive. It links only with that library: halo_link
+ *                     refuses (USAGE) desc.scene with another desc.library.
+ *   halo_program      keeps its library alive (not the scene: the program copies the
+ *                     scene's values). Strings and structs of its reflection (halo_program_*,
+ *                     halo_uniform_info, ...) live as long as the program; halo_program_set
+ *                     and halo_program_select_group change the values they point to.
+ *   halo_emu_frame, halo_gl_frame
+ *                     keep their program (and a GL frame its halo_gl) alive. GL objects are
+ *                     deleted in whatever GL context is current: destroy a GL frame while its
+ *                     context is current.
+ *   halo_gl           freed when destroyed and every frame made with it is destroyed.
+ * Validation (halo_program_validate, halo_validate_shader, halo_module_validate,
+ * halo_program_validate_composed) needs halo_setup: without it, HALO_ERROR_INPUT and a
+ * USAGE diagnostic. Everything else works without setup.
+ *
+ * Threads (tests/unit/test_threads.c, run under ThreadSanitizer in CI): halo_setup and
+ * halo_shutdown may be called from any thread; they count (a mutex guards the count) and
+ * glslang is finalized by the last halo_shutdown only after every validation in flight on
+ * any thread has ended. Validation may run on several threads at once. The logger of
+ * halo_setup_desc belongs to the calling thread: it receives the diagnostics of the calls
+ * that thread makes, until that thread's last halo_shutdown; another thread's calls never
+ * reach it (a thread that never called halo_setup has no logger). Objects: any number of
+ * threads may read one object at once (link scenes of one library, read one program's
+ * reflection, validate or emulate one program); a call that changes an object
+ * (halo_library_add_*, _override_*, halo_scene_enable, _set, _render_mutable,
+ * halo_program_set, _select_group, a frame's functions, halo_diagnostics_* that add or
+ * clear) needs that object to itself: no other thread may use it meanwhile. One
+ * halo_diagnostics list belongs to one thread at a time. Creating and destroying objects
+ * made from a shared library or program is safe from several threads (the reference
+ * counts are atomic). The GL runtime follows GL's rule: a context is current on one
+ * thread, and a halo_gl and its frames are used where their context is current.
  */
 #ifndef HALO_H
 #define HALO_H
@@ -158,12 +201,16 @@ HALO_API size_t halo_diagnostics_dropped(const halo_diagnostics *d);
 /* ---- Process-wide setup ---------------------------------------------------- */
 
 typedef struct halo_setup_desc {
-    /* Called for every diagnostic as it is added, besides collecting it. */
+    /* Called for every diagnostic added by a call on this thread, besides collecting it
+     * (per thread: "Threads" above). */
     void (*logger)(const halo_diagnostic *diagnostic, void *user_data);
     void *user_data;
 } halo_setup_desc;
 
-/* Initializes glslang. Safe to call more than once; pair each call with halo_shutdown. */
+/* Initializes glslang and installs desc's logger for the calling thread (a NULL desc keeps
+ * the thread's logger). Safe to call more than once and from any thread; pair each call
+ * with halo_shutdown (on any thread): the last one finalizes glslang once no validation
+ * runs. HALO_ERROR_IO when glslang cannot be initialized. */
 HALO_API halo_status halo_setup(const halo_setup_desc *desc);
 HALO_API void halo_shutdown(void);
 HALO_API const char *halo_version(void);
@@ -221,11 +268,14 @@ typedef struct halo_param_info {
 typedef struct halo_module halo_module;
 typedef struct halo_library halo_library;
 
-/* A library holds the modules embedded at build time; more may be added from files. */
+/* A library holds the modules embedded at build time; more may be added from files.
+ * halo_library_destroy gives back the caller's reference: the scenes and programs made
+ * from the library keep it until they are destroyed ("Lifetimes" above). */
 HALO_API halo_library *halo_library_create(halo_diagnostics *diag);
 HALO_API void halo_library_destroy(halo_library *lib);
 HALO_API halo_status halo_library_add_file(halo_library *lib, const char *path, halo_diagnostics *diag);
-/* Adds a module, replacing a loaded one of the same name (to try a modified built-in stage). */
+/* Adds a module, replacing a loaded one of the same name (to try a modified built-in stage).
+ * Refused (USAGE) while a scene or program made from the library lives. */
 HALO_API halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag);
 HALO_API halo_status halo_library_override_source(halo_library *lib, const char *file, const char *source,
                                                   halo_diagnostics *diag);
@@ -261,7 +311,8 @@ typedef struct halo_render_settings {
 typedef struct halo_scene halo_scene;
 
 /* Reads a scene file (docs/scene.md) and checks it against the library's modules.
- * Returns NULL when it has errors; every error is in diag with the JSON path. */
+ * Returns NULL when it has errors; every error is in diag with the JSON path. The scene
+ * keeps the library alive and links only with it. */
 HALO_API halo_scene *halo_scene_load(const char *path, const halo_library *lib, halo_diagnostics *diag);
 HALO_API halo_scene *halo_scene_parse(const char *json_text, const char *file, const halo_library *lib,
                                       halo_diagnostics *diag);

@@ -5,6 +5,8 @@
 #include "halo.h"
 #include "glsl_lex.h"
 
+#include <stdatomic.h>
+
 typedef struct halo_resource_decl {
     char *name;
     char *type; /* GLSL type of the halo_sample field */
@@ -100,7 +102,15 @@ struct halo_module {
 struct halo_library {
     halo_module **modules;
     size_t count;
+    /* References (halo.h, "Lifetimes"): the creator's, released by halo_library_destroy,
+     * and one per scene and program made from the library; the last release frees it. */
+    _Atomic long refs;
 };
+
+/* Another reference to lib, for a scene or program that keeps its modules. */
+void halo_library_retain(const halo_library *lib);
+/* Drops a reference; frees the library with the last. NULL: nothing. */
+void halo_library_release(const halo_library *lib);
 
 /* Parses a module or library file. Returns NULL on errors (reported to diag). */
 halo_module *halo_module_parse(const char *file, const char *source, halo_diagnostics *diag);
@@ -206,8 +216,12 @@ struct halo_program {
     int piece_origin_counts[HALO_PIECE_COUNT];
     char **strings; /* owned strings the reflection points to */
     size_t string_count;
-    const halo_library *library;
+    const halo_library *library; /* a reference (halo_library_retain) */
+    /* The creator's reference, released by halo_program_destroy, and one per frame
+     * (halo_gl_frame, halo_emu_frame) made from the program; the last frees it. */
+    _Atomic long refs;
 };
+void halo_program_retain(const halo_program *p);
 
 /* Host contract 2 (segment.c): segmented ray casting and derived inputs. */
 struct halo_strbuf;
@@ -260,7 +274,18 @@ int halo_module_uses(const halo_module *m, const char *name);
 /* segment.c: "layout(location = N) " or "" for a program whose outputs carry none. */
 const char *halo_output_layout(const halo_program *p, int location, char *buf, size_t len);
 
-/* glslang validation of one source with origins for mapping. */
+/* Holds glslang initialized while a public function validates (setup.c): returns 0
+ * after a USAGE diagnostic naming function when halo_setup was never called (glslang
+ * would crash), else 1 and the caller passes its status through
+ * halo_glslang_release_with. A concurrent halo_shutdown then cannot finalize glslang
+ * under the compile. */
+int halo_glslang_acquire(halo_diagnostics *diag, const char *function);
+halo_status halo_glslang_release_with(halo_status st);
+#define HALO_WITH_GLSLANG(diag, call) \
+    (halo_glslang_acquire((diag), __func__) ? halo_glslang_release_with(call) : HALO_ERROR_INPUT)
+
+/* glslang validation of one source with origins for mapping; the caller holds
+ * halo_glslang_acquire. */
 halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, halo_target target,
                                   const halo_line_origin *origins, int origin_count, const char *fallback_file,
                                   halo_diagnostics *diag);

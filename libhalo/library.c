@@ -4,6 +4,7 @@
 #include "strbuf.h"
 
 #include <errno.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -68,6 +69,16 @@ static halo_module *read_module(const char *path, halo_diagnostics *diag, halo_s
 }
 
 static halo_status replace_or_add(halo_library *lib, halo_module *m, halo_diagnostics *diag) {
+    /* A scene or program holds pointers into the module it would replace. */
+    long users = atomic_load(&lib->refs) - 1;
+    if (users > 0) {
+        halo_diag_error(diag, USAGE, m->file, 0, 0,
+                        "cannot replace module '%s': %ld scene%s or program%s made from this library still use its "
+                        "modules; override modules before reading scenes or linking (halo.h, \"Lifetimes\")",
+                        halo_module_name(m), users, users == 1 ? "" : "s", users == 1 ? "" : "s");
+        halo_module_free(m);
+        return HALO_ERROR_INPUT;
+    }
     for (size_t i = 0; i < lib->count; i++)
         if (!strcmp(halo_module_name(lib->modules[i]), halo_module_name(m))) {
             halo_module_free(lib->modules[i]);
@@ -107,6 +118,7 @@ halo_library *halo_library_create(halo_diagnostics *diag) {
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
         return NULL;
     }
+    atomic_init(&lib->refs, 1);
     for (const struct halo_embedded_file *f = halo_embedded_modules; f->name; f++) {
         if (halo_library_add_source(lib, f->name, f->text, diag) != HALO_OK) {
             halo_library_destroy(lib);
@@ -116,12 +128,17 @@ halo_library *halo_library_create(halo_diagnostics *diag) {
     return lib;
 }
 
-void halo_library_destroy(halo_library *lib) {
-    if (!lib) return;
-    for (size_t i = 0; i < lib->count; i++) halo_module_free(lib->modules[i]);
-    free(lib->modules);
-    free(lib);
+void halo_library_retain(const halo_library *lib) { atomic_fetch_add(&((halo_library *)lib)->refs, 1); }
+
+void halo_library_release(const halo_library *lib) {
+    halo_library *l = (halo_library *)lib;
+    if (!l || atomic_fetch_sub(&l->refs, 1) != 1) return;
+    for (size_t i = 0; i < l->count; i++) halo_module_free(l->modules[i]);
+    free(l->modules);
+    free(l);
 }
+
+void halo_library_destroy(halo_library *lib) { halo_library_release(lib); }
 
 size_t halo_library_module_count(const halo_library *lib) {
     HALO_REFUSE_NULL(NULL, lib, "library", 0);

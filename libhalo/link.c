@@ -679,9 +679,18 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: unknown target %d", (int)desc->target);
         return NULL;
     }
+    if (desc->scene && desc->scene->library != desc->library) {
+        /* its stages point into the other library's modules: linking would use those */
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "halo_link: the scene was read against another library than desc.library; read it against "
+                        "the library it is linked with");
+        return NULL;
+    }
     halo_program *p = calloc(1, sizeof *p);
     if (!p) goto oom;
+    atomic_init(&p->refs, 1);
     p->library = desc->library;
+    halo_library_retain(p->library);
     p->target = desc->target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : desc->target;
     p->kind = desc->kind;
     p->version = desc->version;

@@ -427,7 +427,8 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
         else if (k == 6 && !strncmp(a, "inputs", 6)) {
             char buf[256];
             snprintf(buf, sizeof buf, "%s", v);
-            for (char *tok = strtok(buf, ","); tok; tok = strtok(NULL, ",")) {
+            char *cursor = NULL; /* strtok_r: another thread may be parsing */
+            for (char *tok = strtok_r(buf, ",", &cursor); tok; tok = strtok_r(NULL, ",", &cursor)) {
                 if (pd.input_count == HALO_MAX_PASS_INPUTS) {
                     ANNOT_ERROR(ctx, PASS_INVALID, line, w->col[i], "a pass reads at most %d images",
                                 HALO_MAX_PASS_INPUTS);

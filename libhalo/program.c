@@ -65,8 +65,10 @@ int halo_program_build_uniforms(halo_program *p, int all_live) {
     return 0;
 }
 
+void halo_program_retain(const halo_program *p) { atomic_fetch_add(&((halo_program *)p)->refs, 1); }
+
 void halo_program_destroy(halo_program *p) {
-    if (!p) return;
+    if (!p || atomic_fetch_sub(&p->refs, 1) != 1) return;
     for (int i = 0; i < HALO_PIECE_COUNT; i++) { /* pieces (compose.c) */
         free(p->pieces[i]);
         free(p->piece_origins[i]);
@@ -96,6 +98,7 @@ void halo_program_destroy(halo_program *p) {
     free(p->host_uniforms);
     for (size_t i = 0; i < p->string_count; i++) free(p->strings[i]);
     free(p->strings);
+    halo_library_release(p->library);
     free(p);
 }
 

@@ -37,6 +37,7 @@ halo_scene *halo_scene_create(const halo_library *lib) {
     halo_scene *s = calloc(1, sizeof *s);
     if (!s) return NULL;
     s->library = lib;
+    halo_library_retain(lib);
     default_render(&s->render);
     return s;
 }
@@ -45,6 +46,7 @@ void halo_scene_destroy(halo_scene *s) {
     if (!s) return;
     for (size_t i = 0; i < s->count; i++) free(s->stages[i].values);
     free(s->stages);
+    halo_library_release(s->library);
     free(s);
 }
 

@@ -114,7 +114,9 @@ static void report_entry(const char *line, const log_map *map, halo_diagnostics 
 static void report_log(const char *log, const log_map *map, halo_diagnostics *diag, int *errors) {
     char *copy = halo_strdup(log ? log : "");
     if (!copy) return;
-    for (char *line = strtok(copy, "\n"); line; line = strtok(NULL, "\n")) report_entry(line, map, diag, errors);
+    char *cursor = NULL; /* strtok_r: another thread may be reading its own log */
+    for (char *line = strtok_r(copy, "\n", &cursor); line; line = strtok_r(NULL, "\n", &cursor))
+        report_entry(line, map, diag, errors);
     free(copy);
 }
 
@@ -237,8 +239,8 @@ halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, hal
     return glslang_run(source, kind, 0, &map, diag);
 }
 
-halo_status halo_program_validate(const halo_program *p, halo_diagnostics *diag) {
-    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
+/* The public validation functions hold glslang while they run (halo_glslang_acquire). */
+static halo_status program_validate_held(const halo_program *p, halo_diagnostics *diag) {
     halo_status st = halo_glslang_validate(p->source, p->kind, p->target, p->origins, p->origin_count, p->host_file,
                                            diag);
     for (size_t i = 0; i < p->pass_count; i++) {
@@ -369,14 +371,13 @@ static halo_status validate_plain(const char *source, const char *file, halo_sha
     return st;
 }
 
-halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind, halo_target target,
-                                 halo_diagnostics *diag) {
-    HALO_REFUSE_NULL(diag, source, "source", HALO_ERROR_INPUT);
+static halo_status validate_shader_held(const char *source, const char *file, halo_shader_kind kind,
+                                       halo_target target, halo_diagnostics *diag) {
     if (!file) file = "shader";
     source = halo_skip_bom(source); /* editors write it; glslang would not take it */
     if (halo_source_kind_of(source) != HALO_SOURCE_HOST) return validate_plain(source, file, kind, target, diag);
     /* A host (it has the marker): link it with no stage, which also checks the contract. */
-    halo_library empty = {0};
+    halo_library empty = {.refs = 1}; /* never freed: the link's reference goes again */
     halo_program *p = halo_link_host(&(halo_link_desc){.library = &empty, .host_source = source, .host_file = file,
                                                   .target = target, .kind = kind},
                                 diag);
@@ -397,10 +398,8 @@ static const char check_host_source[] =
     "    fragment_color = vec4(s.color, s.opacity);\n"
     "}\n";
 
-halo_status halo_module_validate(const halo_library *lib, const halo_module *m, halo_target target,
-                                 halo_diagnostics *diag) {
-    HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(diag, m, "module", HALO_ERROR_INPUT);
+static halo_status module_validate_held(const halo_library *lib, const halo_module *m, halo_target target,
+                                       halo_diagnostics *diag) {
     if (m->is_library) {
         /* Every helper, in file order, in a translation unit of its own. */
         halo_strbuf b = {0};
@@ -445,4 +444,30 @@ halo_status halo_module_validate(const halo_library *lib, const halo_module *m, 
     }
     halo_scene_destroy(scene);
     return st;
+}
+
+halo_status halo_program_validate(const halo_program *p, halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
+    return HALO_WITH_GLSLANG(diag, program_validate_held(p, diag));
+}
+
+halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind, halo_target target,
+                                 halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, source, "source", HALO_ERROR_INPUT);
+    return HALO_WITH_GLSLANG(diag, validate_shader_held(source, file, kind, target, diag));
+}
+
+halo_status halo_module_validate(const halo_library *lib, const halo_module *m, halo_target target,
+                                 halo_diagnostics *diag) {
+    HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(diag, m, "module", HALO_ERROR_INPUT);
+    size_t i = 0;
+    while (i < lib->count && lib->modules[i] != m) i++;
+    if (i == lib->count) {
+        /* the check links by name: it would validate lib's module of that name instead */
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_module_validate: module '%s' is not one of the library's",
+                        halo_module_name(m));
+        return HALO_ERROR_INPUT;
+    }
+    return HALO_WITH_GLSLANG(diag, module_validate_held(lib, m, target, diag));
 }

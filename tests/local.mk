@@ -13,7 +13,9 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_compose \
 	tests/unit/test_host_scan \
 	tests/unit/test_emu \
-	tests/unit/test_input_classes
+	tests/unit/test_input_classes \
+	tests/unit/test_lifetimes \
+	tests/unit/test_threads
 check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
 noinst_HEADERS += tests/unit/check.h
 
@@ -61,6 +63,17 @@ tests_unit_test_input_classes_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/un
 nodist_EXTRA_tests_unit_test_input_classes_SOURCES = build-aux/force-cxx-link.cc
 tests_unit_test_input_classes_LDADD = $(HALO_TEST_CORE_LIBS)
 
+tests_unit_test_lifetimes_SOURCES = tests/unit/test_lifetimes.c
+tests_unit_test_lifetimes_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_lifetimes_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_lifetimes_LDADD = $(HALO_TEST_CORE_LIBS)
+
+# Two threads at once (halo.h, "Threads"); .ci/run also runs it under ThreadSanitizer.
+tests_unit_test_threads_SOURCES = tests/unit/test_threads.c
+tests_unit_test_threads_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
+nodist_EXTRA_tests_unit_test_threads_SOURCES = build-aux/force-cxx-link.cc
+tests_unit_test_threads_LDADD = $(HALO_TEST_CORE_LIBS) -lpthread
+
 # The public API only, through the installed-style shared library.
 tests_unit_test_public_SOURCES = tests/unit/test_public.c
 tests_unit_test_public_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
@@ -83,6 +96,7 @@ TESTS += tests/unit/test_null_api
 HALO_SHELL_TESTS = \
 	tests/check_modules.sh \
 	tests/exports.sh \
+	tests/install_headers.sh \
 	tests/conform.sh \
 	tests/conform_egl.sh \
 	tests/render.sh \
@@ -121,13 +135,16 @@ AM_TESTS_ENVIRONMENT = \
 	LP_NUM_THREADS=2; export LP_NUM_THREADS; \
 	MESA_SHADER_CACHE_DISABLE=true; export MESA_SHADER_CACHE_DISABLE; \
 	LSAN_OPTIONS="suppressions=$(abs_top_srcdir)/tests/lsan.supp:print_suppressions=0$${LSAN_OPTIONS:+:$$LSAN_OPTIONS}"; \
-	export LSAN_OPTIONS;
+	export LSAN_OPTIONS; \
+	TSAN_OPTIONS="suppressions=$(abs_top_srcdir)/tests/tsan.supp:halt_on_error=1$${TSAN_OPTIONS:+:$$TSAN_OPTIONS}"; \
+	export TSAN_OPTIONS;
 
 # Test data: scenes, hosts and modules, good and bad.
 HALO_TEST_FILES = \
 	tests/cli/common.sh tests/harness.sh \
 	tests/conform_backend.sh \
 	tests/lsan.supp \
+	tests/tsan.supp \
 	tests/data/hosts/minimal.frag \
 	tests/data/glslang/own_version.frag tests/data/glslang/no_version.frag \
 	tests/data/glslang/es_missing_precision.frag tests/data/glslang/version_after_comments.frag \

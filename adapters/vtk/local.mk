@@ -6,7 +6,7 @@ EXTRA_DIST += adapters/vtk/halo_vtk.cxx adapters/vtk/halo_vtk.h examples/halo-vt
 
 if HALO_HAVE_VTK
 lib_LTLIBRARIES += adapters/vtk/libhalo-vtk.la
-include_HEADERS += adapters/vtk/halo_vtk.h
+pkginclude_HEADERS += adapters/vtk/halo_vtk.h
 adapters_vtk_libhalo_vtk_la_SOURCES = adapters/vtk/halo_vtk.cxx adapters/vtk/halo_vtk.h
 adapters_vtk_libhalo_vtk_la_CPPFLAGS = $(AM_CPPFLAGS) $(VTK_CPPFLAGS)
 # VTK's headers are not warning-clean under our flags: they are system headers here

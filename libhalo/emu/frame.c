@@ -62,6 +62,7 @@ halo_emu_frame *halo_emu_frame_create(const halo_program *p, int width, int heig
     halo_emu_frame *f = calloc(1, sizeof *f);
     if (!f) goto oom;
     f->program = p;
+    halo_program_retain(p);
     f->width = width;
     f->height = height;
     f->channels = p->channel_count < 1 ? 1 : p->channel_count;
@@ -89,6 +90,7 @@ void halo_emu_frame_destroy(halo_emu_frame *f) {
     free(f->scratch);
     free(f->host);
     free(f->volumes);
+    halo_program_destroy((halo_program *)f->program); /* the frame's reference */
     free(f);
 }
 

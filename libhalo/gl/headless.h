@@ -1,5 +1,13 @@
 /* A headless OpenGL context for tools and tests (not part of the installed libhalo).
  *
+ * Kept internal on purpose (issue 15): libhalo runs in the host's own context through
+ * the host's loader (halo_gl_desc.get_proc_address), so an application never needs
+ * this; exporting it would tie libhalo.so to libEGL and libOSMesa (which Mesa 25.1
+ * dropped) for every application, and its state is process-wide (one backend choice,
+ * the loader of the context created last) and parses the tools' argv, which is no
+ * library interface. The tools and tests link the static libhalo-headless.la; a host
+ * without a window makes an EGL surfaceless context and passes eglGetProcAddress.
+ *
  * Backends, each built when configure finds it: EGL (surfaceless, or a device of
  * EGL_EXT_platform_device: the route to GPUs and to Mesa >= 25.1, which has no
  * OSMesa) and OSMesa (OpenGL 4.5 core on llvmpipe, falling back to 3.3 core).

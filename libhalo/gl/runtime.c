@@ -14,6 +14,8 @@
 
 struct halo_gl {
     halo_glfuncs f;
+    /* The creator's reference (halo_gl_destroy) and one per frame made with it. */
+    _Atomic long refs;
 };
 
 const halo_glfuncs *halo_gl_functions(const halo_gl *gl)
@@ -40,12 +42,14 @@ halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
         free(gl);
         return NULL;
     }
+    atomic_init(&gl->refs, 1);
     return gl;
 }
 
 void halo_gl_destroy(halo_gl *gl)
 {
-    free(gl);
+    if (gl && atomic_fetch_sub(&gl->refs, 1) == 1)
+        free(gl);
 }
 
 /* ---- Driver info logs ------------------------------------------------------ */
@@ -684,6 +688,8 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
     }
     fr->gl = gl;
     fr->program = p;
+    atomic_fetch_add(&gl->refs, 1);
+    halo_program_retain(p);
     fr->width = width;
     fr->height = height;
     fr->image_count = halo_program_image_count(p);
@@ -826,6 +832,8 @@ void halo_gl_frame_destroy(halo_gl_frame *fr)
         f->DeleteVertexArrays(1, &fr->vertex_array);
     free(fr->images);
     free(fr->passes);
+    halo_program_destroy((halo_program *)fr->program); /* the frame's references */
+    halo_gl_destroy(fr->gl);
     free(fr);
 }
 

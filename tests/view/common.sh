@@ -13,6 +13,14 @@ if ! command -v xvfb-run >/dev/null 2>&1; then
     echo "SKIP: xvfb-run not found (install the Debian packages xvfb and xauth)"
     exit 77
 fi
+# Under clang's AddressSanitizer (its runtime linked into the program: __asan_init
+# defined in it), Mesa's GLX driver leaks a few blocks from modules that glfwTerminate
+# unloads before the leak check, so that no suppression can name them (GCC's shared
+# runtime does not report them): leaks are not checked there, memory errors are.
+if nm "$HALO_VIEW" 2>/dev/null | grep -q ' T __asan_init$'; then
+    ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
+    export ASAN_OPTIONS
+fi
 scenes="$srcdir/examples/scenes"
 harness_tmp halo-view-test
 
