@@ -37,7 +37,7 @@ HALO_SCENES = examples/scenes/default.json examples/scenes/plain.json examples/s
 	examples/scenes/halo-delta-0.90.json examples/scenes/halo-delta-0.95.json \
 	examples/scenes/halo-emissive.json examples/scenes/halo-occlusive.json examples/scenes/halo-directional.json \
 	examples/scenes/halo-focus.json examples/scenes/halo-multi.json examples/scenes/halo-transparent.json \
-	examples/scenes/halo-cartoon.json examples/scenes/mri-head.json examples/scenes/mri-vtk.json \
+	examples/scenes/halo-cartoon.json examples/scenes/mri-head.json examples/scenes/mri-vtk.json examples/scenes/mri-paraview.json \
 	examples/scenes/feature-halos.json examples/scenes/feature-volumetric.json
 EXTRA_DIST += $(HALO_SCENES)
 
