@@ -3,6 +3,9 @@ EXTRA_DIST += \
 	docs/accuracy.md \
 	docs/blur.md \
 	docs/composers.md \
+	docs/distributed.md \
+	docs/images/paraview-builtin-ranks.png \
+	docs/images/paraview-mri-ranks.png \
 	docs/hosts/vtk.md \
 	docs/images/mri-vtk.png \
 	docs/images/mri-vtk-alone.png \
