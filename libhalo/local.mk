@@ -1,7 +1,7 @@
 # The library. libhalo-core.la holds everything (tests link it for internal
 # symbols); libhalo.la is the installed library exporting only halo_* symbols.
 include_HEADERS += libhalo/halo.h libhalo/halo_feature.h
-noinst_HEADERS += libhalo/diag.h libhalo/strbuf.h libhalo/internal.h libhalo/glsl_lex.h libhalo/host_scan.h \
+noinst_HEADERS += libhalo/diag.h libhalo/strbuf.h libhalo/internal.h libhalo/glsl_lex.h libhalo/glsl_locate.h libhalo/host_scan.h \
 	libhalo/emu/emu.h libhalo/emu/stages.h libhalo/emu/feature_internal.h libhalo/gl/glfuncs.h libhalo/gl/headless.h
 
 BUILT_SOURCES += libhalo/embedded_modules.c
@@ -10,7 +10,7 @@ CLEANFILES += libhalo/embedded_modules.c
 noinst_LTLIBRARIES += libhalo/libhalo-core.la
 libhalo_libhalo_core_la_SOURCES = \
 	libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c \
-	libhalo/scene.c libhalo/link.c libhalo/segment.c libhalo/compose.c libhalo/contract.c libhalo/host_scan.c libhalo/validate.c libhalo/setup.c \
+	libhalo/scene.c libhalo/link.c libhalo/segment.c libhalo/compose.c libhalo/contract.c libhalo/host_scan.c libhalo/validate.c libhalo/glsl_locate.c libhalo/setup.c \
 	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c \
 	libhalo/emu/gradient.c libhalo/emu/opacity_power.c libhalo/emu/boundary.c \
 	libhalo/emu/silhouette.c libhalo/emu/orientation_fade.c libhalo/emu/sketch.c \

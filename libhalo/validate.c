@@ -1,6 +1,7 @@
 /* Validation with glslang's C interface, in process. Every error glslang reports is
  * rewritten to the origin of its line: the module's or the host's own file:line:col. */
 #include "diag.h"
+#include "glsl_locate.h"
 #include "internal.h"
 #include "strbuf.h"
 
@@ -10,25 +11,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Column of token in the original line; tries the name without a halo_<stage>_ prefix
- * when the linker renamed it. */
-static int find_column(const char *line, const char *token) {
-    if (!line || !token || !*token) return 0;
-    const char *hit = strstr(line, token);
-    if (hit) return (int)(hit - line) + 1;
-    if (!strncmp(token, "halo_", 5)) {
-        for (const char *p = token + 5; (p = strchr(p, '_')) != NULL; p++) {
-            hit = strstr(line, p + 1);
-            if (hit && p[1]) return (int)(hit - line) + 1;
-        }
-    }
-    return 0;
-}
-
-static void report_log(const char *log, const halo_line_origin *origins, int origin_count, const char *fallback,
-                       halo_diagnostics *diag, int *errors) {
+static void report_log(const char *log, const char *source, halo_glsl_spots *spots, const halo_line_origin *origins,
+                       int origin_count, const char *fallback, halo_diagnostics *diag, int *errors) {
     char *copy = halo_strdup(log ? log : "");
     if (!copy) return;
+    int last_line = 0; /* of the last error: a later one there follows from it */
+    const char *last_file = NULL;
     for (char *line = strtok(copy, "\n"); line; line = strtok(NULL, "\n")) {
         halo_severity sev;
         const char *rest;
@@ -41,16 +29,8 @@ static void report_log(const char *log, const halo_line_origin *origins, int ori
         while (*msg == ' ') msg++;
         for (size_t n = strlen(msg); n > 0 && (msg[n - 1] == ' ' || msg[n - 1] == '\r'); n--) line[msg - line + n - 1] = '\0';
         if (strstr(msg, "compilation errors.") || strstr(msg, "compilation terminated")) continue;
-        /* The message usually starts with 'token' : text. */
-        char token[256] = "";
-        const char *q = msg;
-        if (*q == '\'') {
-            const char *end = strchr(q + 1, '\'');
-            if (end && (size_t)(end - q - 1) < sizeof token) {
-                memcpy(token, q + 1, (size_t)(end - q - 1));
-                token[end - q - 1] = '\0';
-            }
-        }
+        int column = 0, at_end = 0; /* glsl_locate.c: the token, or after the one before a missing ';' */
+        halo_glsl_place(spots, msg, &out_line, &column, &at_end);
         const char *file = fallback;
         int line_no = 0, col = 0;
         const char *text = NULL;
@@ -59,14 +39,22 @@ static void report_log(const char *log, const halo_line_origin *origins, int ori
             file = o->file;
             line_no = o->line;
             text = o->text;
-            col = find_column(o->text, token);
+            col = halo_glsl_original_column(source, out_line, column, at_end, msg, o->text);
             if (o->file == halo_generated_file) {
                 file = fallback;
                 line_no = out_line;
+                text = NULL;
+                col = 0;
             }
         }
+        if (sev == HALO_SEVERITY_ERROR && *errors && line_no && line_no == last_line && file == last_file &&
+            halo_glsl_follows_earlier_error(msg))
+            continue; /* one problem, one message */
+        if (sev == HALO_SEVERITY_ERROR) last_line = line_no, last_file = file;
+        char *message = halo_glsl_message(msg, text);
         halo_diag_add(diag, sev, sev == HALO_SEVERITY_ERROR ? HALO_MSG_GLSL_ERROR : HALO_MSG_GLSL_WARNING, file,
-                      line_no, col > 0 ? col : (line_no ? 1 : 0), text, "%s", msg);
+                      line_no, col, text, "%s", message ? message : msg);
+        free(message);
         if (sev == HALO_SEVERITY_ERROR) (*errors)++;
     }
     free(copy);
@@ -84,6 +72,9 @@ halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, hal
     in.code = source;
     in.default_version = 100;
     in.default_profile = GLSLANG_NO_PROFILE;
+    /* Without cascading errors glslang stops at the first statement with an error; with
+     * them it goes on, and report_log drops the errors that follow from an earlier one on
+     * the same line (halo_glsl_follows_earlier_error): every problem once. */
     in.messages = GLSLANG_MSG_CASCADING_ERRORS_BIT;
     in.resource = glslang_default_resource();
     glslang_shader_t *sh = glslang_shader_create(&in);
@@ -94,13 +85,19 @@ halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, hal
     int errors = 0;
     int ok = glslang_shader_preprocess(sh, &in);
     if (ok) ok = glslang_shader_parse(sh, &in);
-    report_log(glslang_shader_get_info_log(sh), origins, origin_count, fallback_file, diag, &errors);
+    /* glslang 12 gives no columns: where the text has errors, compile it once more with
+     * one token per line to find them (glsl_locate.c). */
+    halo_glsl_spots spots = {0};
+    if (!ok) halo_glsl_locate(&in, &spots);
+    report_log(glslang_shader_get_info_log(sh), source, &spots, origins, origin_count, fallback_file, diag, &errors);
+    halo_glsl_spots_free(&spots);
     if (ok) {
         /* Linking catches a missing main and interface errors. */
         glslang_program_t *prog = glslang_program_create();
         glslang_program_add_shader(prog, sh);
         if (!glslang_program_link(prog, GLSLANG_MSG_CASCADING_ERRORS_BIT)) {
-            report_log(glslang_program_get_info_log(prog), origins, origin_count, fallback_file, diag, &errors);
+            report_log(glslang_program_get_info_log(prog), source, NULL, origins, origin_count, fallback_file, diag,
+                       &errors);
             if (!errors) {
                 halo_diag_error(diag, GLSL_ERROR, fallback_file, 0, 0, "glslang: link failed");
                 errors++;
@@ -220,6 +217,8 @@ halo_status halo_validate_shader(const char *source, const char *file, halo_shad
     return st;
 }
 
+static const char check_host_file[] = "<check-host>";
+
 /* %s: the output's layout (none under GLSL 150) */
 static const char check_host_source[] =
     "#pragma halo declarations\n"
@@ -231,6 +230,20 @@ static const char check_host_source[] =
     "    halo_finish();\n"
     "    fragment_color = vec4(s.color, s.opacity);\n"
     "}\n";
+
+/* The check host and the code the linker writes around the stage are no file of the
+ * module's author: an error there (an entry that does not fit libhalo's call) is the
+ * entry's, at the module's 'apply'. */
+static void point_check_host_at_entry(halo_program *p, const halo_module *m) {
+    int line = m->module_line;
+    for (size_t i = 0; i < m->declared.count; i++)
+        if (!strcmp(m->declared.items[i], "apply")) line = m->declared.lines[i];
+    for (int i = 0; i < p->origin_count; i++) {
+        halo_line_origin *o = &p->origins[i];
+        if (o->file == halo_generated_file || !strcmp(o->file, check_host_file))
+            *o = (halo_line_origin){m->file, line, line >= 1 && line <= m->line_count ? m->lines[line - 1] : NULL};
+    }
+}
 
 halo_status halo_module_validate(const halo_library *lib, const halo_module *m, halo_target target,
                                  halo_diagnostics *diag) {
@@ -272,9 +285,10 @@ halo_status halo_module_validate(const halo_library *lib, const halo_module *m, 
     snprintf(host, sizeof host, check_host_source, target == HALO_TARGET_GLSL150 ? "" : "layout(location = 0) ");
     for (int live = 0; live < 2 && st == HALO_OK; live++) {
         halo_program *p = halo_link_host(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
-                                                      .host_file = "<check-host>", .target = target,
+                                                      .host_file = check_host_file, .target = target,
                                                       .all_live = live},
                                     diag);
+        if (p) point_check_host_at_entry(p, m);
         st = p ? halo_program_validate(p, diag) : HALO_ERROR_INPUT;
         halo_program_destroy(p);
     }

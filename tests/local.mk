@@ -102,7 +102,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/nul_byte.sh \
 	tests/cli/directory.sh \
 	tests/cli/bom.sh \
-	tests/cli/error_limit.sh
+	tests/cli/error_limit.sh \
+	tests/cli/glsl_diagnostics.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh

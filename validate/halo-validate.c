@@ -51,8 +51,9 @@ static const char usage_text[] =
     "(default auto: EGL when it has a hardware renderer, else OSMesa)\n"
     "targets: 330 (GLSL 330 core), 450 (GLSL 450 core), es300 (GLSL ES 300),\n"
     "         150 (GLSL 150 core: outputs bound by name)\n"
-    "--error-limit N: show at most N errors per file and target, then how many more\n"
-    "                 there were (default 100; 0: no limit)\n"
+    "--error-limit N: show at most N errors per file, then how many more\n"
+    "                 there were (default 100; 0: no limit); an error found for several\n"
+    "                 targets prints once, naming them: [330, 450, es300]\n"
     "exit status: 0 success, 1 the input has errors, 2 usage or I/O failure\n";
 
 static int usage_error(const char *fmt, const char *arg) {
@@ -207,25 +208,16 @@ static int cmd_check(int argc, char **argv) {
                 const halo_module *m = NULL;
                 for (size_t i = 0; i < halo_library_module_count(lib); i++)
                     if (!strcmp(halo_module_file(halo_library_module(lib, i)), path)) m = halo_library_module(lib, i);
-                for (int t = 0; m && t < ntargets; t++) {
-                    if (halo_module_validate(lib, m, targets[t], d) == HALO_OK) continue;
-                    fprintf(stderr, "%s: for target %s:\n", path, halo_target_name(targets[t]));
-                    halo_diagnostics_print(d, stderr);
-                    int s = status_of(d);
-                    if (s > file_status) file_status = s;
-                    halo_diagnostics_clear(d);
+                for (int t = 0; m && t < ntargets; t++) { /* printed once below, naming the targets */
+                    halo_diagnostics_set_run(d, halo_target_name(targets[t]));
+                    halo_module_validate(lib, m, targets[t], d);
                 }
             }
         } else if (shader) {
-            for (int t = 0; t < ntargets; t++) {
-                if (halo_validate_shader(text, path, !strcmp(ext, "vert") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT,
-                                         targets[t], d) == HALO_OK)
-                    continue;
-                fprintf(stderr, "%s: for target %s:\n", path, halo_target_name(targets[t]));
-                halo_diagnostics_print(d, stderr);
-                int s = status_of(d);
-                if (s > file_status) file_status = s;
-                halo_diagnostics_clear(d);
+            for (int t = 0; t < ntargets; t++) { /* printed once below, naming the targets */
+                halo_diagnostics_set_run(d, halo_target_name(targets[t]));
+                halo_validate_shader(text, path, !strcmp(ext, "vert") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT,
+                                     targets[t], d);
             }
         } else {
             fprintf(stderr,
