@@ -98,11 +98,15 @@ size_t halo_diagnostics_dropped(const halo_diagnostics *d) {
     return d ? d->dropped[0] + d->dropped[1] + d->dropped[2] : 0;
 }
 
+int halo_diag_kept(const halo_diagnostics *d, halo_severity severity) {
+    size_t limit = halo_diagnostics_limit(d);
+    size_t kept = !d ? 0 : severity == HALO_SEVERITY_ERROR ? d->kept_errors : d->count - d->kept_errors;
+    return !d || !limit || kept < limit;
+}
+
 /* Whether the cap leaves a diagnostic of this severity out (then it is counted). */
 static int over_limit(halo_diagnostics *d, halo_severity severity) {
-    size_t limit = halo_diagnostics_limit(d);
-    size_t kept = severity == HALO_SEVERITY_ERROR ? d->kept_errors : d->count - d->kept_errors;
-    if (!limit || kept < limit) return 0;
+    if (halo_diag_kept(d, severity)) return 0;
     d->dropped[(unsigned)severity < 3 ? severity : HALO_SEVERITY_NOTE]++;
     return 1;
 }
