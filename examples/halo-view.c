@@ -381,10 +381,12 @@ typedef struct viewer {
     int save_count;
     int save_requested;
     int quit;
+    int error_printed; /* v->error's diagnostics are on stderr already */
 } viewer;
 
 static void set_error(viewer *v, const char *fmt, ...)
 {
+    v->error_printed = 0;
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(v->error, sizeof v->error, fmt, ap);
@@ -410,6 +412,7 @@ static void report_diagnostics(viewer *v, const char *fallback)
     } else {
         set_error(v, "error: %s", first->text);
     }
+    v->error_printed = first != NULL;
 }
 
 static const halo_uniform_info *find_param(const viewer *v, const char *stage, const char *param)
@@ -1354,7 +1357,8 @@ int main(int argc, char **argv)
     }
     status = load_scene(v, v->watch_path, 0);
     if (status) {
-        fprintf(stderr, "halo-view: error: %s\n", v->error);
+        if (!v->error_printed) /* each error once */
+            fprintf(stderr, "halo-view: error: %s\n", v->error);
         goto done;
     }
     update_title(v);
