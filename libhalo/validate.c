@@ -32,7 +32,7 @@ static void report_log(const char *log, const char *source, halo_glsl_spots *spo
         int column = 0, at_end = 0; /* glsl_locate.c: the token, or after the one before a missing ';' */
         halo_glsl_place(spots, msg, &out_line, &column, &at_end);
         const char *file = fallback;
-        int line_no = 0, col = 0;
+        int line_no = 0, col = 0, generated_line = 0;
         const char *text = NULL;
         if (out_line >= 1 && out_line <= origin_count) {
             const halo_line_origin *o = &origins[out_line - 1];
@@ -40,11 +40,11 @@ static void report_log(const char *log, const char *source, halo_glsl_spots *spo
             line_no = o->line;
             text = o->text;
             col = halo_glsl_original_column(source, out_line, column, at_end, msg, o->text);
-            if (o->file == halo_generated_file) {
+            if (o->file == halo_generated_file) { /* no line of the reader's file: say where it is */
                 file = fallback;
-                line_no = out_line;
+                line_no = col = 0;
                 text = NULL;
-                col = 0;
+                generated_line = out_line;
             }
         }
         if (sev == HALO_SEVERITY_ERROR && *errors && line_no && line_no == last_line && file == last_file &&
@@ -53,7 +53,8 @@ static void report_log(const char *log, const char *source, halo_glsl_spots *spo
         if (sev == HALO_SEVERITY_ERROR) last_line = line_no, last_file = file;
         char *message = halo_glsl_message(msg, text);
         halo_diag_add(diag, sev, sev == HALO_SEVERITY_ERROR ? HALO_MSG_GLSL_ERROR : HALO_MSG_GLSL_WARNING, file,
-                      line_no, col, text, "%s", message ? message : msg);
+                      line_no, col, text, generated_line ? "%s (in code libhalo wrote: line %d of the linked shader)" : "%s",
+                      message ? message : msg, generated_line);
         free(message);
         if (sev == HALO_SEVERITY_ERROR) (*errors)++;
     }
