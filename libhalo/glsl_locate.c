@@ -324,12 +324,52 @@ int halo_glsl_original_column(const char *source, int line, int column, int at_e
     return result;
 }
 
+/* glslang writes a type as ' temp mediump int': its storage (temp, global) and
+ * precision are its own bookkeeping and make one error read differently per target
+ * (check prints an error once for the targets that share its text). In place. */
+static void plain_types(char *s) {
+    static const char *const bookkeeping[] = {"temp", "global", "highp", "mediump", "lowp"};
+    char *out = s;
+    int quoted = 0;
+    for (const char *p = s; *p;) {
+        if (!quoted && p[0] == ' ' && p[1] == ' ') { /* "'=' :  cannot": one space */
+            p++;
+            continue;
+        }
+        if (p[0] != '\'' || quoted || p[1] != ' ') {
+            quoted ^= *p == '\'';
+            *out++ = *p++;
+            continue;
+        }
+        *out++ = *p++; /* an opening quote and a space: a type's words, without the bookkeeping */
+        int first = 1;
+        while (*p == ' ') {
+            const char *word = p + 1;
+            size_t n = strcspn(word, " '");
+            int drop = 0;
+            for (size_t i = 0; i < sizeof bookkeeping / sizeof bookkeeping[0]; i++)
+                drop |= strlen(bookkeeping[i]) == n && !strncmp(word, bookkeeping[i], n);
+            if (!drop) {
+                if (!first) *out++ = ' ';
+                memmove(out, word, n);
+                out += n;
+                first = 0;
+            }
+            p = word + n;
+        }
+        if (*p == '\'') *out++ = *p++; /* its closing quote */
+    }
+    *out = '\0';
+}
+
 char *halo_glsl_message(const char *message, const char *original) {
     if (!strncmp(message, "'' :", 4)) { /* an empty token says nothing */
         message += 4;
         while (*message == ' ') message++;
     }
-    return unrenamed(message, original);
+    char *text = unrenamed(message, original);
+    if (text) plain_types(text);
+    return text;
 }
 
 void halo_glsl_spots_free(halo_glsl_spots *s) {
