@@ -138,7 +138,9 @@ HALO_API void halo_diagnostics_clear(halo_diagnostics *d);
  * and column 0 when there is no place. */
 HALO_API void halo_diagnostics_report(halo_diagnostics *d, halo_severity severity, halo_message_id id,
                                       const char *file, int line, int column, const char *text);
-/* Writes `file:line:col: error: text`, then the source line and a caret. */
+/* Writes `file:line:col: error: text` (`file:line:` where the column is unknown, as
+ * GCC without columns), then the source line and a caret under the column; the gutter
+ * is as wide as the line number. */
 HALO_API void halo_diagnostics_print(const halo_diagnostics *d, FILE *out);
 HALO_API const char *halo_message_name(halo_message_id id); /* "SCENE_JSON" */
 /* A cap on what a list keeps, as clang's -ferror-limit: past `limit` errors (and
