@@ -5,13 +5,17 @@
 set -eu
 cd "$(dirname "$0")"
 
+# VTK comes with ParaView (paraview-dev carries ParaView's own VTK 9.2, which the VTK
+# adapter then builds against): Debian's libvtk9-dev cannot be installed beside
+# python3-paraview, which pvbatch needs.
 packages="build-essential autoconf automake libtool pkg-config file
   glslang-dev libosmesa6-dev libegl-dev libegl-mesa0 mesa-common-dev libopenimageio-dev libjansson-dev
   clang libclang-rt-14-dev
   libnifti2-dev zlib1g-dev mricron-data
   libglfw3-dev xvfb xauth
   gnuplot-nox
-  libvtk9-dev python3"
+  paraview paraview-dev python3-paraview openmpi-bin cmake python3
+  glslang-tools"
 
 missing=""
 for p in $packages; do

@@ -28,6 +28,7 @@ extern "C" {
 #include <vtkVolume.h>
 #include <vtkVolumeProperty.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -58,6 +59,10 @@ const char usage_text[] =
     "  --set STAGE.PARAM=V[,V...]  after a first render, change a live parameter and\n"
     "                      render again (prints whether VTK rebuilt its shader)\n"
     "  --frames N          render N frames and print the mean frame time\n"
+    "  --export PREFIX     write the display cube (PREFIX.raw: float32, N^3, x fastest) and\n"
+    "                      the scene's view (PREFIX.json: size, step, transfer function,\n"
+    "                      camera, background) for another renderer (ParaView:\n"
+    "                      docs/distributed.md), then exit; needs no display\n"
     "  --quiet             print only errors\n"
     "exit status: 0 success, 1 the input has errors, 2 usage or I/O, 77 no display\n";
 
@@ -67,7 +72,7 @@ int usage_error(const std::string &text) {
 }
 
 struct options {
-    const char *scene = nullptr, *volume = nullptr, *output = "halo-vtk.png", *blend = "composite";
+    const char *scene = nullptr, *volume = nullptr, *output = "halo-vtk.png", *blend = "composite", *export_to = nullptr;
     double window[2] = {0, 0};
     int have_window = 0, volume_size = 0, width = 256, height = 256, frames = 1, quiet = 0, no_stages = 0, plain_mapper = 0;
     std::vector<std::string> sets;
@@ -97,6 +102,8 @@ int parse(int argc, char **argv, options *o) {
             o->blend = v;
             if (strcmp(v, "composite") && strcmp(v, "mip") && strcmp(v, "additive"))
                 return usage_error(std::string("--blend takes composite, mip or additive, not '") + v + "'");
+        } else if (a == "--export" && need()) {
+            o->export_to = v;
         } else if (a == "--set" && need()) {
             o->sets.push_back(v);
         } else if (a == "--window" && need()) {
@@ -159,12 +166,52 @@ float *load_volume(const options &o, const halo_render_settings *settings, int *
     return cube;
 }
 
+/* --export: the cube and the view halo-vtk would render, for another renderer. */
+int export_view(const options &o, const halo_render_settings *settings, const float *cube, int size) {
+    std::string raw = std::string(o.export_to) + ".raw", json = std::string(o.export_to) + ".json";
+    FILE *f = fopen(raw.c_str(), "wb");
+    size_t n = (size_t)size * size * size;
+    int ok = f && fwrite(cube, sizeof(float), n, f) == n;
+    ok = (f && fclose(f) == 0) && ok;
+    if (!ok) {
+        fprintf(stderr, "halo-vtk: error: %s: %s\n", raw.c_str(), strerror(errno));
+        return 2;
+    }
+    std::vector<float> table(HALO_RAYCAST_TRANSFER_TEXELS * 4);
+    halo_host_fill_transfer(table.data(), settings);
+    halo_host_camera cam;
+    halo_host_orbit_camera(settings->azimuth, settings->elevation, settings->zoom, o.width, o.height, &cam);
+    f = fopen(json.c_str(), "w");
+    if (!f) {
+        fprintf(stderr, "halo-vtk: error: %s: %s\n", json.c_str(), strerror(errno));
+        return 2;
+    }
+    fprintf(f, "{\n  \"size\": %d,\n  \"step\": %.9g,\n  \"image\": [%d, %d],\n", size, settings->step, o.width,
+            o.height);
+    fprintf(f, "  \"background\": [%.9g, %.9g, %.9g],\n", settings->background[0], settings->background[1],
+            settings->background[2]);
+    fprintf(f, "  \"camera\": {\"eye\": [%.9g, %.9g, %.9g], \"up\": [%.9g, %.9g, %.9g], \"focus\": [0.5, 0.5, 0.5], "
+               "\"view_angle\": %.9g},\n",
+            cam.eye[0], cam.eye[1], cam.eye[2], cam.up[0], cam.up[1], cam.up[2], (double)HALO_RAYCAST_FIELD_OF_VIEW);
+    fprintf(f, "  \"transfer\": [");
+    for (int i = 0; i < HALO_RAYCAST_TRANSFER_TEXELS; i++)
+        fprintf(f, "%s\n    [%.9g, %.9g, %.9g, %.9g, %.9g]", i ? "," : "", (double)i / (HALO_RAYCAST_TRANSFER_TEXELS - 1),
+                table[i * 4], table[i * 4 + 1], table[i * 4 + 2], table[i * 4 + 3]);
+    fprintf(f, "\n  ]\n}\n");
+    if (fclose(f) != 0) {
+        fprintf(stderr, "halo-vtk: error: %s: %s\n", json.c_str(), strerror(errno));
+        return 2;
+    }
+    if (!o.quiet) printf("halo-vtk: wrote %s and %s (%d^3)\n", raw.c_str(), json.c_str(), size);
+    return 0;
+}
+
 } // namespace
 
 int main(int argc, char **argv) {
     options o;
     if (int st = parse(argc, argv, &o)) return st;
-    if (!getenv("DISPLAY")) {
+    if (!o.export_to && !getenv("DISPLAY")) {
         fprintf(stderr, "halo-vtk: VTK's renderer needs an X display (run under xvfb-run)\n");
         return 77;
     }
@@ -182,6 +229,14 @@ int main(int argc, char **argv) {
     int size = 0;
     float *cube = load_volume(o, settings, &size);
     if (!cube) return 1;
+    if (o.export_to) {
+        status = export_view(o, settings, cube, size);
+        free(cube);
+        halo_scene_destroy(scene);
+        halo_library_destroy(lib);
+        halo_diagnostics_destroy(diag);
+        return status;
+    }
 
     /* The cube in VTK: point i at (i + 0.5) / size, so that VTK's world coordinates are
      * halo-render's texture coordinates. */

@@ -156,7 +156,9 @@ int halo_glsl_locate(const glslang_input_t *in, halo_glsl_spots *out) {
     glslang_shader_t *sh = glslang_shader_create(&copy);
     int status = sh ? 0 : -1;
     if (sh) {
-        if (glslang_shader_preprocess(sh, &copy)) glslang_shader_parse(sh, &copy);
+        /* as validate.c compiles: parsed after a preprocessing error too */
+        glslang_shader_preprocess(sh, &copy);
+        glslang_shader_parse(sh, &copy);
         char *log = halo_strdup(glslang_shader_get_info_log(sh));
         for (char *line = log ? strtok(log, "\n") : NULL; line && !status; line = strtok(NULL, "\n"))
             status = add_spot(out, line, places, count);

@@ -107,7 +107,8 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(HOST_COMPOSITING, "the scene's stages mean nothing under the host's compositing (MIP)")          \
     X(HOST_SINGLE_PASS, "the scene needs image passes between slices, which this host cannot run") \
     X(ENGINE_UNSUPPORTED, "the engine's mode or input cannot take the stages (docs/hosts/)")          \
-    X(USAGE, "invalid argument")
+    X(USAGE, "invalid argument")                                                           \
+    X(GLSL_VERSION_IMPLIED, "shader has no '#version': GLSL's default version applies")
 
 typedef enum halo_message_id {
 #define HALO_X_ENUM(id, text) HALO_MSG_##id,
@@ -515,7 +516,11 @@ HALO_API halo_status halo_program_validate_composed(const halo_program *p, const
 /* Validates the linked source; glslang's errors are rewritten to the module's or the
  * host's own file:line:col. Returns HALO_OK or HALO_ERROR_INPUT. */
 HALO_API halo_status halo_program_validate(const halo_program *p, halo_diagnostics *diag);
-/* Validates a stand-alone shader (no linking). */
+/* Validates a stand-alone shader (no linking). A plain shader (no libhalo annotation) is
+ * checked as it is: for its own #version with HALO_TARGET_DEFAULT (none: GLSL ES 1.00, as
+ * GLSL says, and a GLSL_VERSION_IMPLIED note), else for the target's version whatever its
+ * #version says. '#include "name"' resolves against the working directory (glslang's C
+ * interface); halo-validate check compiles each file in a child working in its folder. */
 HALO_API halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind,
                                           halo_target target, halo_diagnostics *diag);
 /* What a shader text is, whatever its file's extension: a module (a '#pragma halo module'

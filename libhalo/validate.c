@@ -11,67 +11,174 @@
 #include <stdlib.h>
 #include <string.h>
 
-static void report_log(const char *log, const char *source, halo_glsl_spots *spots, const halo_line_origin *origins,
-                       int origin_count, const char *fallback, halo_diagnostics *diag, int *errors) {
+/* Where glslang says a message is: "N:LINE: " (N a source string number) or, after a
+ * GL_GOOGLE_cpp_style_line_directive '#line L "name"', "name:LINE: ". Returns the length
+ * of the location (0: none), the name's length in *name_len and its line in *line. */
+static size_t log_location(const char *rest, size_t *name_len, int *line) {
+    for (const char *c = strchr(rest, ':'); c; c = strchr(c + 1, ':')) {
+        if (c == rest || memchr(rest, ' ', (size_t)(c - rest))) return 0;
+        const char *d = c + 1;
+        while (isdigit((unsigned char)*d)) d++;
+        if (d > c + 1 && *d == ':') {
+            *name_len = (size_t)(c - rest);
+            *line = atoi(c + 1);
+            return (size_t)(d + 1 - rest);
+        }
+    }
+    return 0;
+}
+
+/* The line a log entry is at (0: none), for putting two logs in source order. */
+static int log_entry_line(const char *entry) {
+    const char *rest = strchr(entry, ' ');
+    size_t name_len;
+    int line = 0;
+    return rest && log_location(rest + 1, &name_len, &line) ? line : 0;
+}
+
+/* How a shader's lines map back: through origins (line N of the source is origins[N-1]),
+ * or, raw, as glslang reports them (a plain shader with '#line': its own numbering). */
+typedef struct log_map {
+    const halo_line_origin *origins;
+    int origin_count;
+    int raw;
+    const char *fallback;
+    const char *source;      /* the text compiled (glslang_run sets it) */
+    halo_glsl_spots *spots;  /* where its errors are (glsl_locate.c); NULL: none */
+    /* the last error's place: a later error there that follows from it is dropped */
+    int last_line;
+    char last_file[512];
+} log_map;
+
+static void report_entry(char *line, log_map *map, halo_diagnostics *diag, int *errors) {
+    halo_severity sev;
+    const char *rest;
+    if (!strncmp(line, "ERROR: ", 7)) { sev = HALO_SEVERITY_ERROR; rest = line + 7; }
+    else if (!strncmp(line, "WARNING: ", 9)) { sev = HALO_SEVERITY_WARNING; rest = line + 9; }
+    else return;
+    size_t name_len = 0;
+    int out_line = 0;
+    size_t consumed = log_location(rest, &name_len, &out_line);
+    char *msg = line + (rest - line) + consumed;
+    while (*msg == ' ') msg++;
+    for (size_t n = strlen(msg); n > 0 && (msg[n - 1] == ' ' || msg[n - 1] == '\r'); n--) msg[n - 1] = '\0';
+    if (strstr(msg, "compilation errors.") || strstr(msg, "compilation terminated")) return;
+    int numbered = consumed && strspn(rest, "0123456789") == name_len;
+    int column = 0, at_end = 0; /* glsl_locate.c: the token, or after the one before a missing ';' */
+    if (numbered && !map->raw) halo_glsl_place(map->spots, msg, &out_line, &column, &at_end);
+    char named[512] = "";
+    const char *file = map->fallback;
+    int line_no = 0, col = 0, generated_line = 0;
+    const char *text = NULL;
+    if (consumed && !numbered) {
+        /* '#line L "name"': the name and line the shader gave itself */
+        snprintf(named, sizeof named, "%.*s", (int)name_len, rest);
+        file = named;
+        line_no = out_line;
+    } else if (consumed && map->raw) {
+        line_no = out_line;
+    } else if (out_line >= 1 && out_line <= map->origin_count) {
+        const halo_line_origin *o = &map->origins[out_line - 1];
+        file = o->file;
+        line_no = o->line;
+        text = o->text;
+        col = halo_glsl_original_column(map->source, out_line, column, at_end, msg, o->text);
+        if (o->file == halo_generated_file) { /* no line of the reader's file: say where it is */
+            file = map->fallback;
+            line_no = col = 0;
+            text = NULL;
+            generated_line = out_line;
+        }
+    }
+    if (sev == HALO_SEVERITY_ERROR && *errors && line_no && line_no == map->last_line &&
+        !strcmp(file, map->last_file) && halo_glsl_follows_earlier_error(msg))
+        return; /* one problem, one message */
+    if (sev == HALO_SEVERITY_ERROR) {
+        map->last_line = line_no;
+        snprintf(map->last_file, sizeof map->last_file, "%s", file);
+    }
+    char *message = halo_glsl_message(msg, text);
+    halo_diag_add(diag, sev, sev == HALO_SEVERITY_ERROR ? HALO_MSG_GLSL_ERROR : HALO_MSG_GLSL_WARNING, file, line_no,
+                  col, text, generated_line ? "%s (in code libhalo wrote: line %d of the linked shader)" : "%s",
+                  message ? message : msg, generated_line);
+    free(message);
+    if (sev == HALO_SEVERITY_ERROR) (*errors)++;
+}
+
+static void report_log(const char *log, log_map *map, halo_diagnostics *diag, int *errors) {
     char *copy = halo_strdup(log ? log : "");
     if (!copy) return;
-    int last_line = 0; /* of the last error: a later one there follows from it */
-    const char *last_file = NULL;
-    for (char *line = strtok(copy, "\n"); line; line = strtok(NULL, "\n")) {
-        halo_severity sev;
-        const char *rest;
-        if (!strncmp(line, "ERROR: ", 7)) { sev = HALO_SEVERITY_ERROR; rest = line + 7; }
-        else if (!strncmp(line, "WARNING: ", 9)) { sev = HALO_SEVERITY_WARNING; rest = line + 9; }
-        else continue;
-        int string_index, out_line = 0, consumed = 0;
-        const char *msg = rest;
-        if (sscanf(rest, "%d:%d:%n", &string_index, &out_line, &consumed) == 2 && consumed > 0) msg = rest + consumed;
-        while (*msg == ' ') msg++;
-        for (size_t n = strlen(msg); n > 0 && (msg[n - 1] == ' ' || msg[n - 1] == '\r'); n--) line[msg - line + n - 1] = '\0';
-        if (strstr(msg, "compilation errors.") || strstr(msg, "compilation terminated")) continue;
-        int column = 0, at_end = 0; /* glsl_locate.c: the token, or after the one before a missing ';' */
-        halo_glsl_place(spots, msg, &out_line, &column, &at_end);
-        const char *file = fallback;
-        int line_no = 0, col = 0, generated_line = 0;
-        const char *text = NULL;
-        if (out_line >= 1 && out_line <= origin_count) {
-            const halo_line_origin *o = &origins[out_line - 1];
-            file = o->file;
-            line_no = o->line;
-            text = o->text;
-            col = halo_glsl_original_column(source, out_line, column, at_end, msg, o->text);
-            if (o->file == halo_generated_file) { /* no line of the reader's file: say where it is */
-                file = fallback;
-                line_no = col = 0;
-                text = NULL;
-                generated_line = out_line;
-            }
-        }
-        if (sev == HALO_SEVERITY_ERROR && *errors && line_no && line_no == last_line && file == last_file &&
-            halo_glsl_follows_earlier_error(msg))
-            continue; /* one problem, one message */
-        if (sev == HALO_SEVERITY_ERROR) last_line = line_no, last_file = file;
-        char *message = halo_glsl_message(msg, text);
-        halo_diag_add(diag, sev, sev == HALO_SEVERITY_ERROR ? HALO_MSG_GLSL_ERROR : HALO_MSG_GLSL_WARNING, file,
-                      line_no, col, text, generated_line ? "%s (in code libhalo wrote: line %d of the linked shader)" : "%s",
-                      message ? message : msg, generated_line);
-        free(message);
-        if (sev == HALO_SEVERITY_ERROR) (*errors)++;
-    }
+    map->last_line = 0;
+    for (char *line = strtok(copy, "\n"); line; line = strtok(NULL, "\n")) report_entry(line, map, diag, errors);
     free(copy);
 }
 
-halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, halo_target target,
-                                  const halo_line_origin *origins, int origin_count, const char *fallback_file,
-                                  halo_diagnostics *diag) {
-    (void)target; /* the #version line in the source selects the language */
+static int compare_strings(const void *a, const void *b) {
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+/* Is a log entry a syntax error (where glslang's parser stops)? */
+static int is_syntax_error(const char *entry) { return strstr(entry, "syntax error") != NULL; }
+
+/* The compile's messages, as glslang reports them in one pass over the source (the
+ * reference, glslangValidator): the preprocessor's (its log ends the log
+ * glslang_shader_parse appends to) merged in line order with the parser's, each message
+ * once. pre_end: the last line the preprocessor wrote out (0: all of them); it stops
+ * at some errors, and the parser's messages past it are about text that never came.
+ * The preprocessor's messages past the parser's first syntax error are dropped: in one
+ * pass the parser stops there. */
+static void report_compile(const char *pre_log, const char *log, int pre_end, log_map *map,
+                           halo_diagnostics *diag, int *errors) {
+    size_t pre_len = strlen(pre_log);
+    const char *parse_log = !strncmp(log, pre_log, pre_len) ? log + pre_len : log;
+    char *pre = halo_strdup(pre_log), *parse = halo_strdup(parse_log);
+    char **pre_lines = NULL, **parse_lines = NULL;
+    int np = pre ? halo_split_lines(pre, &pre_lines) : -1, nq = parse ? halo_split_lines(parse, &parse_lines) : -1;
+    /* the preprocessor's messages, sorted, to drop the parser's repeats of them */
+    char **seen = np >= 0 && nq >= 0 ? malloc(((size_t)np + 1) * sizeof *seen) : NULL;
+    if (!seen) {
+        report_log(log, map, diag, errors);
+    } else {
+        map->last_line = 0;
+        memcpy(seen, pre_lines, (size_t)np * sizeof *seen);
+        qsort(seen, (size_t)np, sizeof *seen, compare_strings);
+        int kept = 0, stop = 0;
+        for (int j = 0; j < nq; j++) {
+            int at = log_entry_line(parse_lines[j]);
+            if (bsearch(&parse_lines[j], seen, (size_t)np, sizeof *seen, compare_strings) || (pre_end && at > pre_end))
+                continue;
+            if (!stop && at && is_syntax_error(parse_lines[j])) stop = at;
+            parse_lines[kept++] = parse_lines[j];
+        }
+        int i = 0, j = 0;
+        while (i < np || j < kept) {
+            int at = i < np ? log_entry_line(pre_lines[i]) : 0;
+            if (i < np && stop && at > stop) {
+                i++;
+                continue;
+            }
+            int take_pre = i < np && (j >= kept || at <= log_entry_line(parse_lines[j]));
+            report_entry(take_pre ? pre_lines[i++] : parse_lines[j++], map, diag, errors);
+        }
+    }
+    free(seen);
+    free(pre_lines);
+    free(parse_lines);
+    free(pre);
+    free(parse);
+}
+
+/* Compiles and links one shader. link_always: link after compile errors too, as
+ * glslangValidator -l does (a missing main, interface errors). */
+static halo_status glslang_run(const char *source, halo_shader_kind kind, int link_always,
+                               const log_map *where, halo_diagnostics *diag) {
     glslang_input_t in = {0};
     in.language = GLSLANG_SOURCE_GLSL;
     in.stage = kind == HALO_SHADER_VERTEX ? GLSLANG_STAGE_VERTEX : GLSLANG_STAGE_FRAGMENT;
     in.client = GLSLANG_CLIENT_NONE;
     in.target_language = GLSLANG_TARGET_NONE;
     in.code = source;
-    in.default_version = 100;
+    in.default_version = 100; /* GLSL's version for a shader without #version, as glslangValidator reads it */
     in.default_profile = GLSLANG_NO_PROFILE;
     /* Without cascading errors glslang stops at the first statement with an error; with
      * them it goes on, and report_log drops the errors that follow from an earlier one on
@@ -80,27 +187,43 @@ halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, hal
     in.resource = glslang_default_resource();
     glslang_shader_t *sh = glslang_shader_create(&in);
     if (!sh) {
-        halo_diag_error(diag, OUT_OF_MEMORY, fallback_file, 0, 0, "glslang could not create a shader");
+        halo_diag_error(diag, OUT_OF_MEMORY, where->fallback, 0, 0, "glslang could not create a shader");
         return HALO_ERROR_IO;
     }
+    halo_glsl_spots spots = {0};
+    log_map copy = *where, *map = &copy;
+    map->source = source;
+    map->spots = &spots;
     int errors = 0;
-    int ok = glslang_shader_preprocess(sh, &in);
-    if (ok) ok = glslang_shader_parse(sh, &in);
+    /* glslang's C interface parses the preprocessed text: parse it after a preprocessing
+     * error too, so that the errors after it are reported as well. */
+    int ok = glslang_shader_preprocess(sh, &in), pre_end = 0;
+    char *pre_log = halo_strdup(glslang_shader_get_info_log(sh));
+    if (!ok && !map->raw) {
+        /* the preprocessor keeps the line numbers in its text, until it stops */
+        int source_lines = 0, written = 0;
+        for (const char *c = source; *c; c++) source_lines += *c == '\n';
+        for (const char *c = glslang_shader_get_preprocessed_code(sh); c && *c; c++) written += *c == '\n';
+        if (written < source_lines) pre_end = written;
+    }
+    ok = glslang_shader_parse(sh, &in) && ok;
     /* glslang 12 gives no columns: where the text has errors, compile it once more with
      * one token per line to find them (glsl_locate.c). */
-    halo_glsl_spots spots = {0};
     if (!ok) halo_glsl_locate(&in, &spots);
-    report_log(glslang_shader_get_info_log(sh), source, &spots, origins, origin_count, fallback_file, diag, &errors);
+    if (pre_log) report_compile(pre_log, glslang_shader_get_info_log(sh), pre_end, map, diag, &errors);
+    else report_log(glslang_shader_get_info_log(sh), map, diag, &errors);
+    free(pre_log);
     halo_glsl_spots_free(&spots);
-    if (ok) {
+    map->spots = NULL;
+    if (ok || link_always) {
         /* Linking catches a missing main and interface errors. */
         glslang_program_t *prog = glslang_program_create();
         glslang_program_add_shader(prog, sh);
         if (!glslang_program_link(prog, GLSLANG_MSG_CASCADING_ERRORS_BIT)) {
-            report_log(glslang_program_get_info_log(prog), source, NULL, origins, origin_count, fallback_file, diag,
-                       &errors);
-            if (!errors) {
-                halo_diag_error(diag, GLSL_ERROR, fallback_file, 0, 0, "glslang: link failed");
+            int before = errors;
+            report_log(glslang_program_get_info_log(prog), map, diag, &errors);
+            if (errors == before && ok) {
+                halo_diag_error(diag, GLSL_ERROR, map->fallback, 0, 0, "glslang: link failed");
                 errors++;
             }
         }
@@ -108,10 +231,18 @@ halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, hal
     }
     glslang_shader_delete(sh);
     if (!ok && !errors) {
-        halo_diag_error(diag, GLSL_ERROR, fallback_file, 0, 0, "glslang rejected the shader");
+        halo_diag_error(diag, GLSL_ERROR, map->fallback, 0, 0, "glslang rejected the shader");
         errors++;
     }
     return errors ? HALO_ERROR_INPUT : HALO_OK;
+}
+
+halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, halo_target target,
+                                  const halo_line_origin *origins, int origin_count, const char *fallback_file,
+                                  halo_diagnostics *diag) {
+    (void)target; /* the #version line in the source selects the language */
+    log_map map = {.origins = origins, .origin_count = origin_count, .fallback = fallback_file};
+    return glslang_run(source, kind, 0, &map, diag);
 }
 
 halo_status halo_program_validate(const halo_program *p, halo_diagnostics *diag) {
@@ -156,65 +287,109 @@ halo_source_kind halo_source_kind_of(const char *source) {
     return kind;
 }
 
+/* Skips blanks, line ends and comments, as the preprocessor does before a token;
+ * *line counts the line ends ("\n", "\r\n", or a lone "\r"). Stops at a line end when
+ * in_line (a directive ends there). */
+static const char *skip_blank(const char *p, int *line, int in_line) {
+    for (;;) {
+        if (*p == ' ' || *p == '\t' || *p == '\v' || *p == '\f') p++;
+        else if (!in_line && (*p == '\n' || *p == '\r')) {
+            p += p[0] == '\r' && p[1] == '\n' ? 2 : 1;
+            (*line)++;
+        } else if (p[0] == '/' && p[1] == '/') {
+            while (*p && *p != '\n' && *p != '\r') p++;
+        } else if (p[0] == '/' && p[1] == '*') {
+            const char *end = strstr(p + 2, "*/");
+            if (!end) return p + strlen(p);
+            for (p += 2; p < end; p++)
+                if (*p == '\n' || (*p == '\r' && p[1] != '\n')) (*line)++;
+            p = end + 2;
+        } else {
+            return p;
+        }
+    }
+}
+
+/* The line of the shader's '#version' (0: none): the preprocessor takes it as the first
+ * token of the text, '#' then 'version', never one in a comment or after code. */
+static int version_directive_line(const char *source) {
+    int line = 1;
+    const char *p = skip_blank(source, &line, 0);
+    if (*p != '#') return 0;
+    p = skip_blank(p + 1, &line, 1);
+    return !strncmp(p, "version", 7) && !isalnum((unsigned char)p[7]) && p[7] != '_' ? line : 0;
+}
+
+/* Does a line start with the directive '#line'? */
+static int is_line_directive(const char *l) {
+    int n = 0;
+    l = skip_blank(l, &n, 1);
+    if (*l != '#') return 0;
+    l = skip_blank(l + 1, &n, 1);
+    return !strncmp(l, "line", 4) && !isalnum((unsigned char)l[4]) && l[4] != '_';
+}
+
+/* A plain shader (no libhalo annotation): validated as is, for its own #version or,
+ * else for the target's. Lines are numbered as an editor shows them: an old-Mac
+ * "\r" ends a line. */
+static halo_status validate_plain(const char *source, const char *file, halo_shader_kind kind, halo_target target,
+                                  halo_diagnostics *diag) {
+    char *copy = halo_strdup(source), *text = NULL;
+    char **lines = NULL;
+    for (char *p = copy; p && *p; p++)
+        if (*p == '\r' && p[1] != '\n') *p = '\n';
+    int n = copy ? halo_split_lines(copy, &lines) : -1;
+    halo_line_origin *origins = n >= 0 ? calloc((size_t)n + 2, sizeof *origins) : NULL;
+    int raw = 0, version_line = version_directive_line(source), first = 0;
+    halo_strbuf b = {0};
+    if (origins && target != HALO_TARGET_DEFAULT && !version_line) {
+        /* the target's version, on a line of its own before the shader's first */
+        halo_strbuf_printf(&b, "%s\n", halo_target_version_line(target));
+        origins[first++] = (halo_line_origin){halo_generated_file, 0, NULL};
+    }
+    for (int i = 0; origins && i < n; i++) {
+        origins[first + i] = (halo_line_origin){file, i + 1, lines[i]};
+        if (is_line_directive(lines[i])) raw = 1;
+        const char *hash = strchr(lines[i], '#');
+        if (target != HALO_TARGET_DEFAULT && i + 1 == version_line && hash) {
+            /* the target's version in place of the shader's own, on the same line */
+            halo_strbuf_printf(&b, "%.*s%s\n", (int)(hash - lines[i]), lines[i], halo_target_version_line(target));
+        } else {
+            halo_strbuf_printf(&b, "%s\n", lines[i]);
+        }
+    }
+    text = halo_strbuf_take(&b);
+    halo_status st = HALO_ERROR_IO;
+    if (!text || !origins) {
+        halo_diag_error(diag, OUT_OF_MEMORY, file, 0, 0, "out of memory");
+    } else {
+        if (target == HALO_TARGET_DEFAULT && !version_line)
+            halo_diag_add(diag, HALO_SEVERITY_NOTE, HALO_MSG_GLSL_VERSION_IMPLIED, file, 0, 0, NULL,
+                          "no '#version': checked as GLSL ES 1.00, GLSL's rule for a shader without one "
+                          "(desktop OpenGL reads it as GLSL 1.10; --target chooses a version)");
+        log_map map = {.origins = origins, .origin_count = n + first, .raw = raw, .fallback = file};
+        st = glslang_run(text, kind, 1, &map, diag);
+    }
+    free(text);
+    free(origins);
+    free(lines);
+    free(copy);
+    return st;
+}
+
 halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind, halo_target target,
                                  halo_diagnostics *diag) {
     HALO_REFUSE_NULL(diag, source, "source", HALO_ERROR_INPUT);
     if (!file) file = "shader";
     source = halo_skip_bom(source); /* editors write it; glslang would not take it */
+    if (halo_source_kind_of(source) != HALO_SOURCE_HOST) return validate_plain(source, file, kind, target, diag);
     /* A host (it has the marker): link it with no stage, which also checks the contract. */
-    char *copy = halo_strdup(source);
-    char **lines = NULL;
-    int n = copy ? halo_split_lines(copy, &lines) : -1;
-    if (n < 0) {
-        free(copy);
-        halo_diag_error(diag, OUT_OF_MEMORY, file, 0, 0, "out of memory");
-        return HALO_ERROR_IO;
-    }
-    int is_host = halo_source_kind_of(source) == HALO_SOURCE_HOST, version = 0;
-    for (int i = 0; i < n; i++) {
-        const char *l = lines[i];
-        while (*l == ' ' || *l == '\t') l++;
-        if (!version && *l == '#' && strstr(l, "version")) version = i + 1;
-    }
-    halo_status st;
-    if (is_host) {
-        halo_library empty = {0};
-        halo_program *p = halo_link_host(&(halo_link_desc){.library = &empty, .host_source = source, .host_file = file,
-                                                      .target = target, .kind = kind},
-                                    diag);
-        st = p ? halo_program_validate(p, diag) : HALO_ERROR_INPUT;
-        halo_program_destroy(p);
-    } else {
-        /* A plain shader: set the target's #version and validate as is. */
-        halo_target t = target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : target;
-        halo_strbuf b = {0};
-        halo_line_origin *origins = calloc((size_t)n + 8, sizeof *origins);
-        int count = 0;
-        if (!version) {
-            halo_strbuf_printf(&b, "%s\n", halo_target_version_line(t));
-            origins[count++] = (halo_line_origin){halo_generated_file, 0, NULL};
-        }
-        for (int i = 0; i < n && origins; i++) {
-            if (i + 1 == version) {
-                halo_strbuf_printf(&b, "%s\n", halo_target_version_line(t));
-                origins[count++] = (halo_line_origin){file, i + 1, lines[i]};
-                if (t == HALO_TARGET_ES300) {
-                    halo_strbuf_append(&b, "precision highp float;\n");
-                    origins[count++] = (halo_line_origin){file, i + 1, lines[i]};
-                }
-                continue;
-            } else {
-                halo_strbuf_printf(&b, "%s\n", lines[i]);
-            }
-            origins[count++] = (halo_line_origin){file, i + 1, lines[i]};
-        }
-        char *text = halo_strbuf_take(&b);
-        st = text && origins ? halo_glslang_validate(text, kind, t, origins, count, file, diag) : HALO_ERROR_IO;
-        free(text);
-        free(origins);
-    }
-    free(lines);
-    free(copy);
+    halo_library empty = {0};
+    halo_program *p = halo_link_host(&(halo_link_desc){.library = &empty, .host_source = source, .host_file = file,
+                                                  .target = target, .kind = kind},
+                                diag);
+    halo_status st = p ? halo_program_validate(p, diag) : HALO_ERROR_INPUT;
+    halo_program_destroy(p);
     return st;
 }
 

@@ -103,7 +103,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/directory.sh \
 	tests/cli/bom.sh \
 	tests/cli/error_limit.sh \
-	tests/cli/glsl_diagnostics.sh
+	tests/cli/glsl_diagnostics.sh \
+	tests/cli/glslang_agree.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
@@ -128,6 +129,13 @@ HALO_TEST_FILES = \
 	tests/conform_backend.sh \
 	tests/lsan.supp \
 	tests/data/hosts/minimal.frag \
+	tests/data/glslang/own_version.frag tests/data/glslang/no_version.frag \
+	tests/data/glslang/es_missing_precision.frag tests/data/glslang/version_after_comments.frag \
+	tests/data/glslang/cr_endings.frag tests/data/glslang/cr_endings_error.frag \
+	tests/data/glslang/include/include_main.frag tests/data/glslang/include/include_part.h \
+	tests/data/glslang/error_then_more.frag tests/data/glslang/compile_and_link.frag \
+	tests/data/glslang/line_directive.frag tests/data/glslang/line_file.frag \
+	tests/data/glslang/syntax_stops.frag tests/data/glslang/macro_stops.frag tests/data/glslang/compiler_crash.vert \
 	tests/data/hosts/no_marker.frag \
 	tests/data/hosts/marker_commented.frag \
 	tests/data/hosts/marker_es_only.frag \
@@ -295,3 +303,11 @@ endif
 # ---- The house: no circles between the C files of a folder (issue 12) ----
 TESTS += tests/no_circles.sh
 EXTRA_DIST += tests/no_circles.sh tests/tools/circles.py
+
+# ---- ParaView (adapters/paraview): skipped (77) without the plugin, pvbatch or mpirun ----
+TESTS += tests/paraview/paraview.sh
+EXTRA_DIST += tests/paraview/paraview.sh
+AM_TESTS_ENVIRONMENT += HALO_PVBATCH_SCRIPT='$(abs_top_srcdir)/adapters/paraview/halo_pvbatch.py'; export HALO_PVBATCH_SCRIPT;
+if HALO_HAVE_PARAVIEW
+AM_TESTS_ENVIRONMENT += HALO_PARAVIEW_PLUGIN='$(abs_top_builddir)/$(paraview_plugin)'; export HALO_PARAVIEW_PLUGIN;
+endif

@@ -11,6 +11,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #define EXIT_INPUT 1
 #define EXIT_USAGE 2
@@ -22,8 +24,10 @@ static const char usage_text[] =
     "  check [--target T] [--error-limit N] FILE...\n"
     "                                 validate modules ('#pragma halo module', or .glsl),\n"
     "                                 hosts ('#pragma halo declarations': linked with no\n"
-    "                                 stage) and shaders (.frag, .vert) for each target\n"
-    "                                 (default: 330, 450 and es300)\n"
+    "                                 stage) for each target (default: 330, 450 and\n"
+    "                                 es300), and plain shaders (.frag, .vert) as they\n"
+    "                                 are: for their own #version (none: GLSL ES 1.00)\n"
+    "                                 unless --target is given\n"
     "  link --scene S --host H [--target T] [--module FILE]... [-o OUT] [--reflect]\n"
     "       [--version target|keep|none] [--engine-uniforms] [--unlocated-outputs]\n"
     "       [--error-limit N]\n"
@@ -50,7 +54,8 @@ static const char usage_text[] =
     "conform, bench and blur render headless: --backend B chooses egl, osmesa or auto\n"
     "(default auto: EGL when it has a hardware renderer, else OSMesa)\n"
     "targets: 330 (GLSL 330 core), 450 (GLSL 450 core), es300 (GLSL ES 300),\n"
-    "         150 (GLSL 150 core: outputs bound by name)\n"
+    "         150 (GLSL 150 core: outputs bound by name), all (330, 450, es300);\n"
+    "         link's default is 330\n"
     "--error-limit N: show at most N errors per file, then how many more\n"
     "                 there were (default 100; 0: no limit); an error found for several\n"
     "                 targets prints once, naming them: [330, 450, es300]\n"
@@ -149,10 +154,98 @@ static int parse_targets(const char *arg, halo_target *targets, int *count) {
     return 0;
 }
 
+/* What check is asked for: the targets, and whether --target chose them (a plain shader
+ * is otherwise checked for its own #version). */
+typedef struct check_targets {
+    halo_target list[HALO_TARGET_COUNT];
+    int count, given;
+} check_targets;
+
+/* Validates one file that read_text has read; module says it is a module, shader a host
+ * or a plain shader; workdir is the folder glslang resolves '#include' in. Returns its
+ * exit status. */
+static int check_file(const char *path, const char *text, int module, halo_library *lib, const check_targets *ct,
+                      const char *workdir, halo_diagnostics *d) {
+    int file_status, own = 0;
+    if (module) {
+        halo_status st = halo_library_override_file(lib, path, d);
+        if (st != HALO_OK) {
+            halo_diagnostics_print(d, stderr);
+            return st == HALO_ERROR_IO ? EXIT_USAGE : EXIT_INPUT;
+        }
+        const halo_module *m = NULL;
+        for (size_t i = 0; i < halo_library_module_count(lib); i++)
+            if (!strcmp(halo_module_file(halo_library_module(lib, i)), path)) m = halo_library_module(lib, i);
+        if (workdir && chdir(workdir)) return EXIT_USAGE;
+        for (int t = 0; m && t < ct->count; t++) { /* printed once below, naming the targets */
+            halo_diagnostics_set_run(d, halo_target_name(ct->list[t]));
+            halo_module_validate(lib, m, ct->list[t], d);
+        }
+    } else {
+        /* a plain shader is checked for its own #version unless --target says otherwise */
+        own = !ct->given && halo_source_kind_of(text) == HALO_SOURCE_SHADER;
+        halo_shader_kind kind = !strcmp(extension(path), "vert") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT;
+        if (workdir && chdir(workdir)) return EXIT_USAGE;
+        for (int t = 0; t < (own ? 1 : ct->count); t++) { /* printed once below, naming the targets */
+            halo_target target = own ? HALO_TARGET_DEFAULT : ct->list[t];
+            halo_diagnostics_set_run(d, own ? NULL : halo_target_name(target));
+            halo_validate_shader(text, path, kind, target, d);
+        }
+    }
+    int implied = 0;
+    for (size_t i = 0; i < halo_diagnostics_count(d); i++)
+        if (halo_diagnostics_get(d, i)->id == HALO_MSG_GLSL_VERSION_IMPLIED) implied = 1;
+    halo_diagnostics_print(d, stderr);
+    file_status = status_of(d);
+    if (!file_status && own) {
+        printf("%s: ok (%s)\n", path, implied ? "GLSL ES 1.00: no #version" : "its own #version");
+    } else if (!file_status) {
+        printf("%s: ok (", path);
+        for (int t = 0; t < ct->count; t++) printf("%s%s", t ? ", " : "", halo_target_name(ct->list[t]));
+        printf(")\n");
+    }
+    return file_status;
+}
+
+/* check_file in a child process: glslang 12 crashes on some inputs, and a validator must
+ * survive its compiler, report the file and go on with the others. The child works in
+ * the file's folder, where '#include "name"' is resolved. It checks every target in its
+ * copy of d, so an error found for several prints once, and prints them itself: what
+ * comes back is its exit status (a crash loses the file's diagnostics, not the file). */
+static int check_file_isolated(const char *path, const char *text, int module, halo_library *lib,
+                               const check_targets *ct, halo_diagnostics *d) {
+    char *dir = strdup(path);
+    char *slash = dir ? strrchr(dir, '/') : NULL;
+    if (slash) slash[slash == dir] = '\0';
+    fflush(stdout);
+    fflush(stderr);
+    pid_t pid = fork();
+    if (pid == 0) {
+        int s = check_file(path, text, module, lib, ct, slash ? dir : NULL, d);
+        fflush(stdout);
+        fflush(stderr);
+        _exit(s);
+    }
+    free(dir);
+    if (pid < 0) return check_file(path, text, module, lib, ct, NULL, d); /* no child: in process */
+    int wstatus = 0;
+    while (waitpid(pid, &wstatus, 0) < 0 && errno == EINTR) {
+    }
+    if (module) {
+        /* the parent's library takes the module too, for the files after it */
+        halo_diagnostics *ignored = halo_diagnostics_create();
+        halo_library_override_file(lib, path, ignored);
+        halo_diagnostics_destroy(ignored);
+    }
+    if (WIFEXITED(wstatus)) return WEXITSTATUS(wstatus);
+    fprintf(stderr, "%s: error: the GLSL compiler crashed on this file (%s)\n", path,
+            WIFSIGNALED(wstatus) ? strsignal(WTERMSIG(wstatus)) : "no exit status");
+    return EXIT_INPUT;
+}
+
 static int cmd_check(int argc, char **argv) {
-    halo_target targets[HALO_TARGET_COUNT];
-    int ntargets = 0;
-    parse_targets("all", targets, &ntargets);
+    check_targets ct = {.count = 0};
+    parse_targets("all", ct.list, &ct.count);
     int nfiles = 0, worst = 0;
     size_t error_limit = HALO_DIAGNOSTICS_DEFAULT_LIMIT;
     char **files = calloc((size_t)argc + 1, sizeof *files);
@@ -164,10 +257,11 @@ static int cmd_check(int argc, char **argv) {
                 return usage_error("--error-limit takes a number of errors (0: no limit)%s", "");
             }
         } else if (!strcmp(argv[i], "--target")) {
-            if (i + 1 >= argc || parse_targets(argv[++i], targets, &ntargets)) {
+            if (i + 1 >= argc || parse_targets(argv[++i], ct.list, &ct.count)) {
                 free(files);
                 return usage_error("--target takes 330, 450, es300, 150 or all", "");
             }
+            ct.given = 1;
         } else if (argv[i][0] == '-' && argv[i][1]) {
             free(files);
             return usage_error("check: unknown option '%s'", argv[i]);
@@ -200,25 +294,8 @@ static int cmd_check(int argc, char **argv) {
         int shader = !module && (kind == HALO_SOURCE_HOST || !strcmp(ext, "frag") || !strcmp(ext, "vert"));
         if (!text) {
             file_status = read_status;
-        } else if (module) {
-            halo_status st = halo_library_override_file(lib, path, d);
-            if (st != HALO_OK) {
-                file_status = st == HALO_ERROR_IO ? EXIT_USAGE : EXIT_INPUT;
-            } else {
-                const halo_module *m = NULL;
-                for (size_t i = 0; i < halo_library_module_count(lib); i++)
-                    if (!strcmp(halo_module_file(halo_library_module(lib, i)), path)) m = halo_library_module(lib, i);
-                for (int t = 0; m && t < ntargets; t++) { /* printed once below, naming the targets */
-                    halo_diagnostics_set_run(d, halo_target_name(targets[t]));
-                    halo_module_validate(lib, m, targets[t], d);
-                }
-            }
-        } else if (shader) {
-            for (int t = 0; t < ntargets; t++) { /* printed once below, naming the targets */
-                halo_diagnostics_set_run(d, halo_target_name(targets[t]));
-                halo_validate_shader(text, path, !strcmp(ext, "vert") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT,
-                                     targets[t], d);
-            }
+        } else if (module || shader) {
+            file_status = check_file_isolated(path, text, module, lib, &ct, d);
         } else {
             fprintf(stderr,
                     "%s: error: unknown file type '.%s' (.glsl module, .frag or .vert shader, or a file with "
@@ -227,14 +304,6 @@ static int cmd_check(int argc, char **argv) {
             file_status = EXIT_USAGE;
         }
         free(text);
-        halo_diagnostics_print(d, stderr);
-        int s = status_of(d);
-        if (s > file_status) file_status = s;
-        if (!file_status) {
-            printf("%s: ok (", path);
-            for (int t = 0; t < ntargets; t++) printf("%s%s", t ? ", " : "", halo_target_name(targets[t]));
-            printf(")\n");
-        }
         if (file_status > worst) worst = file_status;
     }
     halo_library_destroy(lib);

@@ -58,12 +58,37 @@ const char file_name[] = "(VTK volume shader)";
 const char extension_tag[] = "//VTK::System::Dec";
 const char extension_text[] = "//VTK::System::Dec\n#extension GL_ARB_explicit_attrib_location : require\n";
 const char begin_tag[] = "//VTK::Shading::Init";
+/* A piece of a larger volume: VTK starts each piece's rays one step inside the piece, so
+ * the samples of the pieces are not those of the whole volume; move the first one on to
+ * the whole volume's lattice (one step inside its box, then whole steps; back by less
+ * than a step, or forward by a hair), which makes the pieces sample where one renderer of
+ * the whole volume samples. */
+#define HALO_VTK_ALIGN \
+    "    if (halo_vtk_piece != 0) {\n" \
+    "        // ---- libhalo-vtk: this piece's samples on the whole volume's lattice ----\n" \
+    "        vec3 o = halo_vtk_global(g_dataPos), d = g_dirStep * halo_vtk_global_scale;\n" \
+    "        float enter = -1e30;\n" \
+    "        for (int a = 0; a < 3; ++a)\n" \
+    "            if (abs(d[a]) > 1e-12)\n" \
+    "                enter = max(enter, min((halo_vtk_box_lo[a] - o[a]) / d[a], (halo_vtk_box_hi[a] - o[a]) / d[a]));\n" \
+    "        // the whole volume's samples are at enter + k, k = 1, 2, ... (in steps from here);\n" \
+    "        // this piece takes those after its entry (one step back), the one on its entry\n" \
+    "        // being the piece's in front\n" \
+    "        float behind = -enter, shift = floor(behind + 1e-4) - behind;\n" \
+    "        if (enter > -1e29 && shift != 0.0) {\n" \
+    "            g_dataPos += shift * g_dirStep;\n" \
+    "            g_terminatePointMax -= shift;\n" \
+    "        }\n" \
+    "    }\n"
+const char align_text[] = "//VTK::Shading::Init\n" HALO_VTK_ALIGN;
 const char begin_text[] =
     "//VTK::Shading::Init\n"
+    HALO_VTK_ALIGN
     "    // ---- libhalo-vtk: this segment's samples of the ray (host contract 2) ----\n"
     "    float halo_vtk_max = g_terminatePointMax;\n"
     "    int halo_vtk_first = 0, halo_vtk_end = int(ceil(max(g_terminatePointMax, 0.0))) + 1;\n"
-    "    halo_segment_begin(g_dataPos, g_dirStep, 0.0, 1.0, halo_vtk_first, halo_vtk_end, g_fragColor);\n"
+    "    halo_segment_begin(halo_vtk_global(g_dataPos), g_dirStep * halo_vtk_global_scale, 0.0, 1.0, halo_vtk_first,\n"
+    "                       halo_vtk_end, g_fragColor);\n"
     "    if (halo_vtk_first >= halo_vtk_end)\n"
     "        g_exit = true;\n"
     "    g_dataPos += float(halo_vtk_first) * g_dirStep;\n"
@@ -84,6 +109,13 @@ const char visible_test[] = "if (g_srcColor.a > 0.0)";
 const char visible_test_guarded[] = "if (g_srcColor.a > 0.0 || HALO_RAY_MAY_END == 0)";
 const char finish_point[] = "gl_FragData[0] = g_fragColor;";
 const char finish_text[] = "gl_FragData[0] = g_fragColor;\n  halo_finish();";
+/* A piece of a distributed volume (halo_vtk_set_whole_extent): ParaView composites the
+ * pieces' partial rays (premultiplied) in floating point and converts the result to bytes
+ * without a clamp, so a partial ray brighter than its opacity (stages such as tone
+ * shading add light) must be clamped to a valid premultiplied colour here. */
+const char piece_clamp[] =
+    "if (halo_vtk_piece != 0)\n"
+    "    g_fragColor.rgb = clamp(g_fragColor.rgb, vec3(0.0), vec3(clamp(g_fragColor.a, 0.0, 1.0)));\n  ";
 const int first_unit = 20; /* libhalo's images: above the units VTK's volume mapper takes */
 
 /* Our functions: VTK's conventions to the host contract's (docs/hosts/vtk.md). */
@@ -102,10 +134,13 @@ const char conversions[] =
     "                  texture(in_volume[0], p + vec3(0.0, 0.0, voxel.z)).r - texture(in_volume[0], p - vec3(0.0, 0.0, voxel.z)).r);\n"
     "    return 0.5 * d * in_volume_scale[0].r / (halo_vtk_window.y - halo_vtk_window.x);\n"
     "}\n"
-    "// the eye in texture space\n"
+    "// the whole dataset's texture space: a piece of it (a brick of a distributed volume, ParaView)\n"
+    "// has its own texture space, which halo_vtk_global_scale and _offset map into the whole one\n"
+    "vec3 halo_vtk_global(vec3 p) { return p * halo_vtk_global_scale + halo_vtk_global_offset; }\n"
+    "// the eye in the (whole) texture space\n"
     "vec3 halo_vtk_eye() {\n"
     "    vec4 e = in_inverseTextureDatasetMatrix[0] * in_inverseVolumeMatrix[0] * vec4(in_cameraPos, 1.0);\n"
-    "    return e.xyz / e.w;\n"
+    "    return halo_vtk_global(e.xyz / e.w);\n"
     "}\n"
     "// towards the eye, along the ray (perspective and parallel), per voxel step like the gradient\n"
     "vec3 halo_vtk_view() {\n"
@@ -113,10 +148,11 @@ const char conversions[] =
     "    float l = dot(d, d);\n"
     "    return l > 0.0 ? -d * inversesqrt(l) : vec3(0.0);\n"
     "}\n"
-    "// 0 at the front of the volume's bounding sphere (texture space), 1 at its back\n"
+    "// 0 at the front of the (whole) volume's bounding sphere (texture space), 1 at its back\n"
     "float halo_vtk_depth(vec3 p) {\n"
     "    const float radius = 0.8660254037844386;\n"
     "    vec3 eye = halo_vtk_eye();\n"
+    "    p = halo_vtk_global(p);\n"
     "    return clamp((distance(eye, p) - (distance(eye, vec3(0.5)) - radius)) / (2.0 * radius), 0.0, 1.0);\n"
     "}\n"
     "// VTK's opacity is corrected for the sample distance: a = 1 - (1 - a_unit)^e\n"
@@ -127,7 +163,7 @@ const char conversions[] =
     "}\n";
 
 const halo_pieces_desc vtk_names = {
-    /* position */ "g_dataPos",
+    /* position */ "halo_vtk_global(g_dataPos)",
     /* value */ "halo_vtk_value(scalar)",
     /* gradient */ "halo_vtk_gradient(g_dataPos)",
     /* view */ "halo_vtk_view()",
@@ -169,6 +205,11 @@ struct halo_vtk {
     const char *post_image = nullptr; /* the image the last at=post pass writes, or NULL */
     int failed = 0;                    /* a segmented draw failed (diagnostics in diag) */
     halo_diagnostics *diag = nullptr; /* the install's: GL errors of the segmented draws */
+    /* a piece of a larger volume (halo_vtk_set_whole_extent): the whole point extent */
+    int whole[6] = {0, -1, 0, -1, 0, -1};
+    halo_vtk_exchange_fn exchange = nullptr; /* halo_vtk_set_exchange */
+    void *exchange_user = nullptr;
+    std::vector<float> exchange_buffer;
 };
 
 namespace {
@@ -247,19 +288,63 @@ void *gl_proc(const char *name) {
     return p ? p : dlsym(RTLD_DEFAULT, name);
 }
 
-/* clip space -> volume texture space, column-major: libhalo's segment planes are in the
- * space of the ray positions (g_dataPos) */
-void texture_from_clip(vtkRenderer *ren, vtkVolume *vol, vtkImageData *image, float out[16]) {
-    int dims[3];
+/* The box of the texture space the segments and the stages use: the input's points, or
+ * the whole dataset's (halo_vtk_set_whole_extent). A texture coordinate t in [0,1]^3
+ * covers the cells around the points: world = origin + (first + t n - 1/2) spacing. */
+void texture_box(const halo_vtk *h, vtkImageData *image, int first[3], int n[3]) {
+    int extent[6];
+    image->GetExtent(extent);
+    const int *box = h->whole[1] >= h->whole[0] ? h->whole : extent;
+    for (int a = 0; a < 3; a++) {
+        first[a] = box[2 * a];
+        n[a] = box[2 * a + 1] - box[2 * a] + 1;
+    }
+}
+
+/* The uniforms that map the input's texture space into the whole one: identity unless
+ * the input is a piece (halo_vtk_set_whole_extent). */
+void update_global(halo_vtk *h) {
+    vtkImageData *image = vtkImageData::SafeDownCast(h->mapper->GetInput());
+    float scale[3] = {1, 1, 1}, offset[3] = {0, 0, 0};
+    if (image && h->whole[1] >= h->whole[0]) {
+        int extent[6], first[3], n[3];
+        image->GetExtent(extent);
+        texture_box(h, image, first, n);
+        for (int a = 0; a < 3; a++) {
+            scale[a] = (float)(extent[2 * a + 1] - extent[2 * a] + 1) / (float)n[a];
+            offset[a] = (float)(extent[2 * a] - first[a]) / (float)n[a];
+        }
+    }
+    vtkUniforms *u = h->property->GetFragmentCustomUniforms();
+    u->SetUniform3f("halo_vtk_global_scale", scale);
+    u->SetUniform3f("halo_vtk_global_offset", offset);
+    u->SetUniformi("halo_vtk_piece", h->whole[1] >= h->whole[0]);
+    /* the whole volume's box of points (VTK's rays start one step inside it), texture space */
+    float lo[3] = {0, 0, 0}, hi[3] = {1, 1, 1};
+    if (image && h->whole[1] >= h->whole[0]) {
+        int first[3], n[3];
+        texture_box(h, image, first, n);
+        for (int a = 0; a < 3; a++) {
+            lo[a] = 0.5f / (float)n[a];
+            hi[a] = 1.0f - 0.5f / (float)n[a];
+        }
+    }
+    u->SetUniform3f("halo_vtk_box_lo", lo);
+    u->SetUniform3f("halo_vtk_box_hi", hi);
+}
+
+/* clip space -> the (whole) volume texture space, column-major: libhalo's segment planes
+ * are in the space of the ray positions the segments get (halo_vtk_global(g_dataPos)) */
+void texture_from_clip(const halo_vtk *h, vtkRenderer *ren, vtkVolume *vol, vtkImageData *image, float out[16]) {
+    int first[3], n[3];
     double spacing[3], origin[3];
-    image->GetDimensions(dims);
+    texture_box(h, image, first, n);
     image->GetSpacing(spacing);
     image->GetOrigin(origin);
-    /* texture t in [0,1]^3 covers the cells around the points: world = origin + (t n - 1/2) spacing */
     vtkNew<vtkMatrix4x4> t2d;
     for (int a = 0; a < 3; a++) {
-        t2d->SetElement(a, a, dims[a] * spacing[a]);
-        t2d->SetElement(a, 3, origin[a] - 0.5 * spacing[a]);
+        t2d->SetElement(a, a, n[a] * spacing[a]);
+        t2d->SetElement(a, 3, origin[a] + (first[a] - 0.5) * spacing[a]);
     }
     vtkNew<vtkMatrix4x4> t2w, t2c, c2t;
     vtkMatrix4x4::Multiply4x4(vol->GetMatrix(), t2d, t2w);
@@ -367,6 +452,28 @@ protected:
 };
 vtkStandardNewMacro(haloVTKMapper);
 
+/* Volumetric halos across pieces (halo_vtk_set_exchange): after a segment, each output
+ * image the pieces drew (the seeds) combined over all pieces by its blend, so that every
+ * piece spreads the same seeds; done before the passes run on them. */
+static void exchange_outputs(halo_vtk *h) {
+    for (size_t i = 0; i < halo_program_output_count(h->program); i++) {
+        const halo_output_info *o = halo_program_output(h->program, i);
+        unsigned texture = halo_gl_frame_texture(h->frame, o->image);
+        if (!texture) continue;
+        size_t count = (size_t)h->width * (size_t)h->height * 4;
+        h->exchange_buffer.resize(count);
+        GLint saved = 0;
+        glGetIntegerv(GL_TEXTURE_BINDING_2D, &saved);
+        glBindTexture(GL_TEXTURE_2D, texture);
+        glPixelStorei(GL_PACK_ALIGNMENT, 4);
+        glGetTexImage(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, h->exchange_buffer.data());
+        h->exchange(h->exchange_user, h->exchange_buffer.data(), count, o->blend);
+        glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, h->width, h->height, GL_RGBA, GL_FLOAT, h->exchange_buffer.data());
+        glBindTexture(GL_TEXTURE_2D, (GLuint)saved);
+    }
+}
+
 void haloVTKMapper::draw(void *user) {
     haloVTKMapper *m = static_cast<haloVTKMapper *>(user);
     halo_vtk *h = m->halo;
@@ -380,11 +487,13 @@ void haloVTKMapper::draw(void *user) {
     win->GetState()->Reset(); /* VTK's state cache: what libhalo bound is current */
     m->vtkOpenGLGPUVolumeRayCastMapper::GPURender(m->draw_renderer, m->draw_volume);
     note_program(h, win->GetShaderCache()->GetLastShaderBound());
+    if (h->exchange) exchange_outputs(h);
     win->GetState()->Reset();
 }
 
 void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
     halo_vtk *h = this->halo;
+    if (h) update_global(h);
     if (!h || !h->segmented) {
         this->vtkOpenGLGPUVolumeRayCastMapper::GPURender(ren, vol);
         return;
@@ -439,10 +548,10 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
     }
     vtkImageData *image = vtkImageData::SafeDownCast(this->GetInput());
     float inverse[16];
-    texture_from_clip(ren, vol, image, inverse);
-    int dims[3];
+    texture_from_clip(h, ren, vol, image, inverse);
+    int first[3], dims[3];
     double spacing[3];
-    image->GetDimensions(dims);
+    texture_box(h, image, first, dims);
     image->GetSpacing(spacing);
     halo_gl_segments_desc sd = {};
     sd.inverse_view_projection = inverse;
@@ -606,6 +715,12 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     double unit = vp ? vp->GetScalarOpacityUnitDistance() : 1.0;
     u->SetUniformf("halo_vtk_unit_distance", (float)(unit > 0.0 ? unit : 1.0));
     h->uniforms.push_back("halo_vtk_unit_distance");
+    update_global(h);
+    h->uniforms.push_back("halo_vtk_global_scale");
+    h->uniforms.push_back("halo_vtk_global_offset");
+    h->uniforms.push_back("halo_vtk_piece");
+    h->uniforms.push_back("halo_vtk_box_lo");
+    h->uniforms.push_back("halo_vtk_box_hi");
     upload_all(h, &h->uniforms);
     /* the pieces */
     h->declarations = std::string(declarations_tag) + "\n" + conversions +
@@ -626,8 +741,12 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
         property->AddFragmentShaderReplacement(begin_tag, true, begin_text, false);
         property->AddFragmentShaderReplacement(end_tag, true, end_text, false);
         property->AddFragmentShaderReplacement(termination_text, false, termination_guarded, false);
-        property->AddFragmentShaderReplacement(finish_point, false, finish_text, false);
+        property->AddFragmentShaderReplacement(finish_point, false, std::string(piece_clamp) + finish_text, false);
         property->AddFragmentShaderReplacement(visible_test, false, visible_test_guarded, false);
+    }
+    if (!segmenting) {
+        property->AddFragmentShaderReplacement(finish_point, false, std::string(piece_clamp) + finish_point, false);
+        property->AddFragmentShaderReplacement(begin_tag, true, align_text, false);
     }
     h->observer = vtkSmartPointer<vtkCallbackCommand>::New();
     h->observer->SetCallback(on_render_end);
@@ -640,6 +759,8 @@ void halo_vtk_remove(halo_vtk *h) {
     if (!h) return;
     h->property->ClearFragmentShaderReplacement(declarations_tag, true);
     h->property->ClearFragmentShaderReplacement(splice_point, false);
+    h->property->ClearFragmentShaderReplacement(finish_point, false);
+    h->property->ClearFragmentShaderReplacement(begin_tag, true);
     if (haloVTKMapper *m = haloVTKMapper::SafeDownCast(h->mapper)) {
         m->halo = nullptr;
         h->property->ClearFragmentShaderReplacement(extension_tag, true);
@@ -701,6 +822,19 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag) {
     }
     halo_composer_piece pieces[] = {{"libhalo-vtk conversions", conversions}};
     return halo_program_validate_composed(h->program, h->last_source.c_str(), file_name, pieces, 1, diag);
+}
+
+halo_status halo_vtk_set_whole_extent(halo_vtk *h, const int whole_extent[6]) {
+    if (!h || !whole_extent) return HALO_ERROR_INPUT;
+    for (int k = 0; k < 6; k++) h->whole[k] = whole_extent[k];
+    update_global(h);
+    return HALO_OK;
+}
+
+void halo_vtk_set_exchange(halo_vtk *h, halo_vtk_exchange_fn exchange, void *user) {
+    if (!h) return;
+    h->exchange = exchange;
+    h->exchange_user = user;
 }
 
 const halo_program *halo_vtk_program(const halo_vtk *h) { return h ? h->program : nullptr; }

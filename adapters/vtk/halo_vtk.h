@@ -48,6 +48,17 @@ halo_status halo_vtk_set(halo_vtk *h, const char *stage, const char *param, cons
 /* After a render: HALO_OK when the shader VTK built holds the stages (the splice took)
  * and validates; else diagnostics say why (the blend mode changed, VTK's code moved). */
 halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag);
+/* The input is a piece of a larger image (a brick of a distributed volume: ParaView):
+ * whole_extent is the whole dataset's point extent, the input's extent lies within it.
+ * Positions, depth and the segments of volumetric halos are then the whole volume's, the
+ * same on every piece (docs/distributed.md). Call again when the whole extent changes. */
+halo_status halo_vtk_set_whole_extent(halo_vtk *h, const int whole_extent[6]);
+/* Volumetric halos across pieces: after each depth segment, the adapter reads each output
+ * image (the seeds: width * height RGBA floats) and calls exchange to combine it, in
+ * place, with the other pieces' by the output's blend (max for seeds), before the passes
+ * spread it. Every piece must draw the same segments (same camera and whole extent). */
+typedef void (*halo_vtk_exchange_fn)(void *user, float *values, size_t count, halo_blend blend);
+void halo_vtk_set_exchange(halo_vtk *h, halo_vtk_exchange_fn exchange, void *user);
 /* The linked program (its pieces and reflection). */
 const halo_program *halo_vtk_program(const halo_vtk *h);
 /* Shader programs VTK built with the stages since the install (a live change adds none). */

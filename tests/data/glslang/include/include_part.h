@@ -1,0 +1,4 @@
+// included by include_main.frag, from the same folder
+float shade(float x) {
+    return x * x;
+}
