@@ -113,6 +113,7 @@ typedef struct parser {
     const char *file;
     halo_diagnostics *diag;
     int errors, header, line_number, open_line;
+    int bad_points; /* of the open polyline: reported where they are, counted as points */
     const char *source_line;
 } parser;
 
@@ -122,14 +123,15 @@ static void parse_error(parser *ps, halo_message_id id, int column, const char *
     ps->errors++;
 }
 
-/* Reports the open polyline when it has fewer than two points (at its 'line' keyword). */
+/* Reports the open polyline when it has fewer than two points (at its 'line' keyword).
+ * A malformed point counts: it has its own error, and one problem is one message. */
 static void close_line(parser *ps)
 {
     const halo_polylines *l = &ps->b.lines;
     if (l->line_count == 0)
         return;
     size_t n = l->first[l->line_count] - l->first[l->line_count - 1];
-    if (n < 2) {
+    if (n + (size_t)ps->bad_points < 2) {
         halo_diag_add(ps->diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_VALUE_COUNT, ps->file, ps->open_line, 1, NULL,
                       "line %zu has %zu point%s; a polyline needs at least 2", l->line_count, n, n == 1 ? "" : "s");
         ps->errors++;
@@ -173,11 +175,16 @@ static int parse_words(parser *ps, char **words, const int *columns, int count)
         if (count > 1)
             parse_error(ps, HALO_MSG_SCENE_VALUE_COUNT, columns[1], "'line' takes no values%s", "");
         ps->open_line = ps->line_number;
+        ps->bad_points = 0;
         return builder_begin_line(&ps->b);
     }
     if (is_keyword_like(words[0])) {
         parse_error(ps, HALO_MSG_SCENE_KEY_UNKNOWN, columns[0], "unknown keyword '%s' (expected 'line' or x y z)",
                     words[0]);
+        return 1;
+    }
+    if (ps->b.lines.line_count == 0) {
+        parse_error(ps, HALO_MSG_SCENE_KEY_UNKNOWN, columns[0], "a point before the first 'line'%s", "");
         return 1;
     }
     double xyz[3] = {0.0, 0.0, 0.0};
@@ -188,7 +195,7 @@ static int parse_words(parser *ps, char **words, const int *columns, int count)
         parse_error(ps, HALO_MSG_SCENE_VALUE_COUNT, columns[count > 3 ? 3 : 0], "a point has 3 coordinates, not %s", n);
         ok = 0;
     }
-    for (int i = 0; i < count && i < 3; ++i) {
+    for (int i = 0; ok && i < 3; ++i) { /* a point of the wrong size is one error, not more */
         char *stop = NULL;
         errno = 0;
         double x = strtod(words[i], &stop);
@@ -203,10 +210,7 @@ static int parse_words(parser *ps, char **words, const int *columns, int count)
             xyz[i] = x;
         }
     }
-    if (ps->b.lines.line_count == 0) {
-        parse_error(ps, HALO_MSG_SCENE_KEY_UNKNOWN, columns[0], "a point before the first 'line'%s", "");
-        return 1;
-    }
+    ps->bad_points += !ok;
     return !ok || builder_point(&ps->b, xyz[0], xyz[1], xyz[2]);
 }
 

@@ -2,6 +2,7 @@
 #include "strbuf.h"
 
 #include <stdarg.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,6 +14,13 @@ struct halo_diagnostics {
     size_t kept_errors;   /* errors among items */
     size_t dropped[3];    /* left out by the cap, per severity */
     unsigned char seen[HALO_MSG_COUNT]; /* ids added, kept or not */
+    /* Runs (halo_diagnostics_set_run): their names, the current one, each item's runs as
+     * bits, and a hash of the items (indices + 1, 0 empty) that finds an earlier run's. */
+    char *run_names[HALO_DIAGNOSTICS_MAX_RUNS];
+    int run_count, run;  /* run: index + 1 of the current run, 0 none */
+    uint32_t *item_runs; /* per item, parallel to items */
+    size_t *hash;
+    size_t hash_cap;
 };
 
 static const char *const message_names[] = {
@@ -60,6 +68,9 @@ static void free_item(halo_diagnostic *d) {
 void halo_diagnostics_clear(halo_diagnostics *d) {
     if (!d) return;
     for (size_t i = 0; i < d->count; i++) free_item(&d->items[i]);
+    for (int r = 0; r < d->run_count; r++) free(d->run_names[r]);
+    d->run_count = d->run = 0;
+    if (d->hash) memset(d->hash, 0, d->hash_cap * sizeof *d->hash);
     d->count = 0;
     d->kept_errors = 0;
     memset(d->dropped, 0, sizeof d->dropped);
@@ -70,6 +81,8 @@ void halo_diagnostics_destroy(halo_diagnostics *d) {
     if (!d) return;
     halo_diagnostics_clear(d);
     free(d->items);
+    free(d->item_runs);
+    free(d->hash);
     free(d);
 }
 
@@ -101,24 +114,110 @@ size_t halo_diagnostics_dropped(const halo_diagnostics *d) {
     return d ? d->dropped[0] + d->dropped[1] + d->dropped[2] : 0;
 }
 
+int halo_diag_kept(const halo_diagnostics *d, halo_severity severity) {
+    size_t limit = halo_diagnostics_limit(d);
+    size_t kept = !d ? 0 : severity == HALO_SEVERITY_ERROR ? d->kept_errors : d->count - d->kept_errors;
+    return !d || !limit || kept < limit;
+}
+
 /* Whether the cap leaves a diagnostic of this severity out (then it is counted). */
 static int over_limit(halo_diagnostics *d, halo_severity severity) {
-    size_t limit = halo_diagnostics_limit(d);
-    size_t kept = severity == HALO_SEVERITY_ERROR ? d->kept_errors : d->count - d->kept_errors;
-    if (!limit || kept < limit) return 0;
+    if (halo_diag_kept(d, severity)) return 0;
     d->dropped[(unsigned)severity < 3 ? severity : HALO_SEVERITY_NOTE]++;
+    return 1;
+}
+
+/* ---- Runs: one input checked several times (for each target) ---- */
+
+static size_t hash_text(size_t h, const char *s) {
+    for (; s && *s; s++) h = (h ^ (unsigned char)*s) * 1099511628211u;
+    return h * 1099511628211u;
+}
+
+static size_t hash_item(const halo_diagnostic *g) {
+    size_t h = 14695981039346656037u ^ (size_t)g->severity;
+    h = (h ^ (size_t)g->id) * 1099511628211u;
+    h = (h ^ (size_t)(unsigned)g->line) * 1099511628211u;
+    h = (h ^ (size_t)(unsigned)g->column) * 1099511628211u;
+    return hash_text(hash_text(h, g->file), g->text);
+}
+
+static int same_item(const halo_diagnostic *a, const halo_diagnostic *b) {
+    return a->severity == b->severity && a->id == b->id && a->line == b->line && a->column == b->column &&
+           !strcmp(a->file, b->file) && !strcmp(a->text, b->text);
+}
+
+/* The slot of g in the hash: where it is, or the empty slot where it would go. */
+static size_t *hash_slot(const halo_diagnostics *d, const halo_diagnostic *g) {
+    size_t mask = d->hash_cap - 1;
+    for (size_t i = hash_item(g) & mask;; i = (i + 1) & mask)
+        if (!d->hash[i] || same_item(&d->items[d->hash[i] - 1], g)) return &d->hash[i];
+}
+
+/* Keeps the hash at most half full; 0 when memory ran out. */
+static int hash_reserve(halo_diagnostics *d, size_t items) {
+    if (items * 2 < d->hash_cap) return 1;
+    size_t cap = d->hash_cap ? d->hash_cap * 2 : 64;
+    while (items * 2 >= cap) cap *= 2;
+    size_t *hash = calloc(cap, sizeof *hash);
+    if (!hash) return 0;
+    free(d->hash);
+    d->hash = hash;
+    d->hash_cap = cap;
+    for (size_t i = 0; i < d->count; i++) *hash_slot(d, &d->items[i]) = i + 1;
+    return 1;
+}
+
+void halo_diagnostics_set_run(halo_diagnostics *d, const char *name) {
+    if (!d) return;
+    d->run = 0;
+    if (!name) return;
+    for (int r = 0; r < d->run_count; r++)
+        if (!strcmp(d->run_names[r], name)) {
+            d->run = r + 1;
+            return;
+        }
+    if (d->run_count == HALO_DIAGNOSTICS_MAX_RUNS) return; /* past the last: untagged, kept apart */
+    char *copy = halo_strdup(name);
+    if (!copy) return;
+    d->run_names[d->run_count++] = copy;
+    d->run = d->run_count;
+}
+
+/* An item equal to g from an earlier run takes the current run too: 1 (g is not added). */
+static int merge_into_earlier_run(halo_diagnostics *d, const halo_diagnostic *g) {
+    if (!d->run || !hash_reserve(d, d->count + 1)) return 0;
+    size_t at = *hash_slot(d, g);
+    if (!at) return 0;
+    d->item_runs[at - 1] |= UINT32_C(1) << (d->run - 1);
     return 1;
 }
 
 void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id id, const char *file, int line,
                    int column, const char *source_line, const char *fmt, ...) {
     if (d && (unsigned)id < HALO_MSG_COUNT) d->seen[id] = 1;
-    if (d && over_limit(d, severity)) return; /* nothing formatted or stored: a runaway input stays cheap */
     halo_strbuf text = {0};
     va_list ap;
     va_start(ap, fmt);
-    halo_strbuf_vprintf(&text, fmt, ap);
+    if (d && d->run) halo_strbuf_vprintf(&text, fmt, ap); /* to compare with the earlier runs' */
     va_end(ap);
+    if (d && d->run) {
+        halo_diagnostic probe = {.severity = severity, .id = id, .file = file ? file : "", .line = line,
+                                 .column = column, .text = text.data ? text.data : ""};
+        if (merge_into_earlier_run(d, &probe)) {
+            halo_strbuf_free(&text);
+            return;
+        }
+    }
+    if (d && over_limit(d, severity)) { /* nothing formatted or stored: a runaway input stays cheap */
+        halo_strbuf_free(&text);
+        return;
+    }
+    if (!text.data) {
+        va_start(ap, fmt);
+        halo_strbuf_vprintf(&text, fmt, ap);
+        va_end(ap);
+    }
     halo_diagnostic item = {
         .severity = severity,
         .id = id,
@@ -142,9 +241,14 @@ void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id 
         halo_diagnostic *p = realloc(d->items, cap * sizeof *p);
         if (!p) { free_item(&item); return; }
         d->items = p;
+        uint32_t *r = realloc(d->item_runs, cap * sizeof *r);
+        if (!r) { free_item(&item); return; }
+        d->item_runs = r;
         d->cap = cap;
     }
+    d->item_runs[d->count] = d->run ? UINT32_C(1) << (d->run - 1) : 0;
     d->items[d->count++] = item;
+    if (d->hash_cap && hash_reserve(d, d->count)) *hash_slot(d, &item) = d->count;
     d->kept_errors += severity == HALO_SEVERITY_ERROR;
 }
 
@@ -152,20 +256,39 @@ void halo_diag_null(halo_diagnostics *d, const char *function, const char *argum
     halo_diag_error(d, USAGE, "", 0, 0, "%s: %s is NULL", function, argument);
 }
 
+/* " [330, 450]": the runs an item occurred in, when there were several. */
+static void print_runs(const halo_diagnostics *d, size_t i, FILE *out) {
+    if (d->run_count < 2 || !d->item_runs[i]) return;
+    const char *sep = " [";
+    for (int r = 0; r < d->run_count; r++)
+        if (d->item_runs[i] & (UINT32_C(1) << r)) {
+            fprintf(out, "%s%s", sep, d->run_names[r]);
+            sep = ", ";
+        }
+    fputs("]", out);
+}
+
 void halo_diagnostics_print(const halo_diagnostics *d, FILE *out) {
     static const char *const sev[] = {"error", "warning", "note"};
     HALO_REFUSE_NULL_VOID(NULL, out, "out");
     for (size_t i = 0; d && i < d->count; i++) {
         const halo_diagnostic *g = &d->items[i];
-        if (g->file[0] && g->line > 0)
-            fprintf(out, "%s:%d:%d: ", g->file, g->line, g->column > 0 ? g->column : 1);
+        if (g->file[0] && g->line > 0 && g->column > 0)
+            fprintf(out, "%s:%d:%d: ", g->file, g->line, g->column);
+        else if (g->file[0] && g->line > 0)
+            fprintf(out, "%s:%d: ", g->file, g->line);
         else if (g->file[0])
             fprintf(out, "%s: ", g->file);
-        fprintf(out, "%s: %s\n", sev[g->severity], g->text);
+        fprintf(out, "%s: %s", sev[g->severity], g->text);
+        print_runs(d, i, out);
+        fputc('\n', out);
         if (g->source_line) {
-            fprintf(out, " %5d | %s\n", g->line, g->source_line);
+            /* the gutter as wide as the line number (at least 5 digits, as before) */
+            int width = snprintf(NULL, 0, "%d", g->line);
+            if (width < 5) width = 5;
+            fprintf(out, " %*d | %s\n", width, g->line, g->source_line);
             if (g->column > 0) {
-                fprintf(out, "       | ");
+                fprintf(out, " %*s | ", width, "");
                 size_t n = strlen(g->source_line);
                 for (int c = 1; c < g->column; c++)
                     fputc((size_t)c <= n && g->source_line[c - 1] == '\t' ? '\t' : ' ', out);

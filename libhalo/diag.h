@@ -10,6 +10,10 @@ void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id 
                    int column, const char *source_line, const char *fmt, ...)
     __attribute__((format(printf, 8, 9)));
 
+/* Whether a diagnostic of this severity added now would be kept (not past the cap):
+ * where finding its place costs, the place is found only then. */
+int halo_diag_kept(const halo_diagnostics *d, halo_severity severity);
+
 #define halo_diag_error(d, id, file, line, col, ...) \
     halo_diag_add((d), HALO_SEVERITY_ERROR, HALO_MSG_##id, (file), (line), (col), NULL, __VA_ARGS__)
 

@@ -87,3 +87,30 @@ int halo_is_glsl_keyword(const char *s, size_t n) {
         if (strlen(words[i]) == n && memcmp(words[i], s, n) == 0) return 1;
     return 0;
 }
+
+int halo_is_glsl_reserved(const char *name) {
+    /* GLSL 4.60 and GLSL ES 3.20: keywords, type names and words reserved for future
+     * use, the lower-case ones (a libhalo name is [a-z][a-z0-9_]*). */
+    static const char *const words[] = {
+        "const", "uniform", "buffer", "shared", "attribute", "varying", "coherent", "volatile", "restrict",
+        "readonly", "writeonly", "atomic_uint", "layout", "centroid", "flat", "smooth", "noperspective", "patch",
+        "sample", "invariant", "precise", "break", "continue", "do", "for", "while", "switch", "case", "default",
+        "if", "else", "subroutine", "in", "out", "inout", "int", "void", "bool", "true", "false", "float",
+        "double", "discard", "return", "uint", "lowp", "mediump", "highp", "precision", "struct", "common",
+        "partition", "active", "asm", "class", "union", "enum", "typedef", "template", "this", "resource", "goto",
+        "inline", "noinline", "public", "static", "extern", "external", "interface", "long", "short", "half",
+        "fixed", "unsigned", "superp", "input", "output", "filter", "sizeof", "cast", "namespace", "using",
+        "demote", "terminate", NULL};
+    for (int i = 0; words[i]; i++)
+        if (!strcmp(words[i], name)) return 1;
+    /* vecN, bvecN, ivecN, uvecN, dvecN, hvecN, fvecN; matN, matNxM, dmat... */
+    const char *p = name;
+    if (strchr("bdiufh", *p) && !strncmp(p + 1, "vec", 3)) p++;
+    if (!strncmp(p, "vec", 3) && p[3] >= '2' && p[3] <= '4' && !p[4]) return 1;
+    p = name[0] == 'd' ? name + 1 : name;
+    if (!strncmp(p, "mat", 3) && p[3] >= '2' && p[3] <= '4' &&
+        (!p[4] || (p[4] == 'x' && p[5] >= '2' && p[5] <= '4' && !p[6])))
+        return 1;
+    /* the language's own prefix, and double underscores */
+    return !strncmp(name, "gl_", 3) || strstr(name, "__") != NULL;
+}

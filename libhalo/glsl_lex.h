@@ -27,5 +27,8 @@ int halo_lex(const char *src, halo_token_list *out);
 void halo_token_list_free(halo_token_list *t);
 int halo_token_is(const char *src, const halo_token *t, const char *text);
 int halo_is_glsl_keyword(const char *s, size_t n);
+/* A GLSL keyword, type name or reserved word (any GLSL version libhalo targets): no
+ * name of a libhalo parameter or field. */
+int halo_is_glsl_reserved(const char *name);
 
 #endif

@@ -182,7 +182,9 @@ HALO_API void halo_diagnostics_clear(halo_diagnostics *d);
  * and column 0 when there is no place. */
 HALO_API void halo_diagnostics_report(halo_diagnostics *d, halo_severity severity, halo_message_id id,
                                       const char *file, int line, int column, const char *text);
-/* Writes `file:line:col: error: text`, then the source line and a caret. */
+/* Writes `file:line:col: error: text` (`file:line:` where the column is unknown, as
+ * GCC without columns), then the source line and a caret under the column; the gutter
+ * is as wide as the line number. */
 HALO_API void halo_diagnostics_print(const halo_diagnostics *d, FILE *out);
 HALO_API const char *halo_message_name(halo_message_id id); /* "SCENE_JSON" */
 /* A cap on what a list keeps, as clang's -ferror-limit: past `limit` errors (and
@@ -197,6 +199,16 @@ HALO_API void halo_diagnostics_set_limit(halo_diagnostics *d, size_t limit);
 HALO_API size_t halo_diagnostics_limit(const halo_diagnostics *d);
 /* How many diagnostics the cap left out (0 when none). */
 HALO_API size_t halo_diagnostics_dropped(const halo_diagnostics *d);
+/* One input checked several times (halo-validate check: once per target). After
+ * halo_diagnostics_set_run(d, "330") every diagnostic added belongs to run "330"; one
+ * equal to a diagnostic of an earlier run (same severity, id, file, line, column and
+ * text) is not added again (nor passed to the logger, nor counted by the cap): the
+ * earlier one joins this run. With two runs or more, halo_diagnostics_print ends each
+ * diagnostic with the runs it occurred in ("[330, 450, es300]"), so a problem prints
+ * once. NULL ends run tagging; halo_diagnostics_clear forgets the runs. At most
+ * HALO_DIAGNOSTICS_MAX_RUNS names; diagnostics of further runs are kept as they are. */
+#define HALO_DIAGNOSTICS_MAX_RUNS 32
+HALO_API void halo_diagnostics_set_run(halo_diagnostics *d, const char *name);
 
 /* ---- Process-wide setup ---------------------------------------------------- */
 

@@ -188,24 +188,31 @@ int halo_param_from_json(const halo_param_info *info, void *json, double *values
 /* Splits an annotation's arguments into words: "quoted text", or runs without white
  * space outside brackets (so JSON lists with spaces stay one word). */
 typedef struct words {
-    char *w[24];
+    char *w[24]; /* MAX_WORDS */
     int col[24];
     int n;
 } words;
 
-static int split_words(const char *s, int col0, words *out, char *storage) {
+enum { MAX_WORDS = 24 };
+
+/* 0, or SPLIT_QUOTE (an unclosed quote) or SPLIT_MANY (more than MAX_WORDS words) with
+ * *at the column of the quote or of the first word too many. */
+enum { SPLIT_QUOTE = 1, SPLIT_MANY };
+
+static int split_words(const char *s, int col0, words *out, char *storage, int *at) {
     out->n = 0;
     size_t i = 0, k = 0;
     while (s[i]) {
         while (s[i] == ' ' || s[i] == '\t') i++;
         if (!s[i]) break;
-        if (out->n == 24) return -1;
+        *at = col0 + (int)i;
+        if (out->n == MAX_WORDS) return SPLIT_MANY;
         out->col[out->n] = col0 + (int)i;
         out->w[out->n++] = storage + k;
         if (s[i] == '"') {
             storage[k++] = s[i++];
             while (s[i] && s[i] != '"') storage[k++] = s[i++];
-            if (s[i] != '"') return -1;
+            if (s[i] != '"') return SPLIT_QUOTE;
             storage[k++] = s[i++];
         } else {
             int depth = 0;
@@ -241,6 +248,7 @@ typedef struct parse_ctx {
     halo_module *m;
     halo_diagnostics *diag;
     int errors;
+    int module_tried, hook_tried; /* a 'module' or 'hook' annotation was there, malformed */
 } parse_ctx;
 
 #define ANNOT_ERROR(ctx, id, line, col, ...)                                                                     \
@@ -260,6 +268,12 @@ static void parse_param(parse_ctx *ctx, words *w, int line) {
     const char *name = w->w[1], *type = w->w[2];
     if (!valid_name(name)) {
         ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[1], "parameter name '%s' must match [a-z][a-z0-9_]*", name);
+        return;
+    }
+    if (halo_is_glsl_reserved(name)) {
+        ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[1],
+                    "parameter name '%s' is a GLSL keyword, type name or reserved word: the module's code could "
+                    "not use it; choose another name", name);
         return;
     }
     for (size_t i = 0; i < m->param_count; i++)
@@ -453,14 +467,50 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
     p[m->pass_count++] = pd;
 }
 
+/* The annotation without its comments (the preprocessor drops them too): a copy with
+ * each comment outside quotes blanked, so that columns stay. Caller frees. */
+static char *without_comments(const char *rest) {
+    char *s = halo_strdup(rest);
+    for (char *p = s, *quote = NULL; p && *p; p++) {
+        if (*p == '"') quote = quote ? NULL : p;
+        if (quote) continue;
+        if (p[0] == '/' && p[1] == '/') {
+            memset(p, ' ', strlen(p));
+            break;
+        }
+        if (p[0] == '/' && p[1] == '*') {
+            char *end = strstr(p + 2, "*/");
+            size_t n = end ? (size_t)(end + 2 - p) : strlen(p);
+            memset(p, ' ', n);
+            p += n - 1;
+        }
+    }
+    return s;
+}
+
 static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int line, char *storage) {
     halo_module *m = ctx->m;
     words w;
-    if (split_words(rest, col0, &w, storage) || w.n == 0) {
-        ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, col0, "cannot split annotation into words (unclosed quote?)");
+    char *text = without_comments(rest);
+    int at = col0, split = text ? split_words(text, col0, &w, storage, &at) : SPLIT_QUOTE;
+    free(text);
+    if (split == SPLIT_QUOTE) {
+        ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, at, "the quote opened here is not closed on this line");
+        return;
+    }
+    if (split == SPLIT_MANY) {
+        ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, at,
+                    "an annotation takes at most %d words; split it over several lines of the same directive "
+                    "(needs, after and per_halo add to the list)", MAX_WORDS);
+        return;
+    }
+    if (w.n == 0) {
+        ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, col0, "'#pragma halo' without a directive");
         return;
     }
     const char *d = w.w[0];
+    if (!strcmp(d, "module") || !strcmp(d, "library")) ctx->module_tried = 1;
+    if (!strcmp(d, "hook")) ctx->hook_tried = 1;
     if (!strcmp(d, "module") || !strcmp(d, "library")) {
         int lib = d[0] == 'l';
         if (m->module_line) {
@@ -521,6 +571,11 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
         for (int i = 0; ok && ok_types[i]; i++) tok |= !strcmp(w.w[2], ok_types[i]);
         if (!ok || !tok) {
             ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'provides' takes a name and a type (float, vec3, ...)");
+            return;
+        }
+        if (halo_is_glsl_reserved(w.w[1])) {
+            ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[1], "'%s' is a GLSL keyword, type name or reserved word: "
+                        "no name for a field of halo_sample", w.w[1]);
             return;
         }
         if (halo_is_host_resource(w.w[1])) {
@@ -715,7 +770,7 @@ static void scan_code(parse_ctx *ctx) {
 halo_module *halo_module_parse(const char *file, const char *source, halo_diagnostics *diag) {
     halo_module *m = calloc(1, sizeof *m);
     if (!m) return NULL;
-    parse_ctx ctx = {m, diag, 0};
+    parse_ctx ctx = {m, diag, 0, 0, 0};
     source = halo_skip_bom(source); /* a UTF-8 byte-order mark is no part of the module */
     m->file = halo_strdup(file);
     m->source = halo_strdup(source);
@@ -753,11 +808,11 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
         parse_annotation(&ctx, m->lines[i] + col - 1, col, i + 1, storage);
     }
     free(storage);
-    if (!m->module_line) {
+    if (!m->module_line && !ctx.module_tried) {
         halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_MISSING, file, 1, 1, m->lines[0],
                       "no '#pragma halo module NAME' (or '#pragma halo library') annotation");
         ctx.errors++;
-    } else if (!m->is_library && !m->hook_line) {
+    } else if (m->module_line && !m->is_library && !m->hook_line && !ctx.hook_tried) {
         halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_MISSING, file, m->module_line, 1,
                       m->lines[m->module_line - 1], "module '%s' has no '#pragma halo hook' annotation", m->name);
         ctx.errors++;

@@ -7,6 +7,7 @@
 #include <errno.h>
 #include <jansson.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -156,13 +157,122 @@ typedef struct reader {
     const char *file;
     halo_diagnostics *diag;
     int errors;
+    const char *text; /* the JSON text, to find where a value is */
 } reader;
 
-#define READ_ERROR(r, id, ...)                                          \
-    do {                                                                \
-        halo_diag_error((r)->diag, id, (r)->file, 0, 0, __VA_ARGS__); \
-        (r)->errors++;                                                  \
-    } while (0)
+/* ---- Where a value is in the text: jansson keeps no positions, so the JSON path of a
+ * message ("stages[1].boundary.k_gs") is followed through the text again. ---- */
+
+static const char *skip_space(const char *p) {
+    while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r') p++;
+    return p;
+}
+
+static const char *skip_string(const char *p) { /* p at the opening quote */
+    for (p++; *p && *p != '"'; p++)
+        if (*p == '\\' && p[1]) p++;
+    return *p ? p + 1 : p;
+}
+
+static const char *skip_value(const char *p) {
+    p = skip_space(p);
+    if (*p == '"') return skip_string(p);
+    if (*p != '{' && *p != '[') {
+        while (*p && !strchr(",}] \t\r\n", *p)) p++;
+        return p;
+    }
+    for (int depth = 0; *p; p++) {
+        if (*p == '"') p = skip_string(p) - 1;
+        else if (*p == '{' || *p == '[') depth++;
+        else if ((*p == '}' || *p == ']') && --depth == 0) return p + 1;
+    }
+    return p;
+}
+
+/* The key `name` (n bytes) of the object at p: its opening quote, or NULL. */
+static const char *object_key(const char *p, const char *name, size_t n) {
+    p = skip_space(p);
+    if (*p++ != '{') return NULL;
+    for (;;) {
+        p = skip_space(p);
+        if (*p != '"') return NULL;
+        const char *key = p, *end = skip_string(p);
+        p = skip_space(end);
+        if (*p != ':') return NULL;
+        if ((size_t)(end - key) == n + 2 && !strncmp(key + 1, name, n)) return key;
+        p = skip_space(skip_value(p + 1));
+        if (*p++ != ',') return NULL;
+    }
+}
+
+/* Item `index` of the list at p, or NULL. */
+static const char *list_item(const char *p, size_t index) {
+    p = skip_space(p);
+    if (*p++ != '[') return NULL;
+    for (size_t i = 0;; i++) {
+        p = skip_space(p);
+        if (*p == ']' || !*p) return NULL;
+        if (i == index) return p;
+        p = skip_space(skip_value(p));
+        if (*p++ != ',') return NULL;
+    }
+}
+
+/* Where the value at path (n bytes: "a.b[2]") is in text, as far as the text follows the
+ * path; at its key instead when the path ends with one and at_key is set. */
+static const char *locate_path(const char *text, const char *path, size_t n, int at_key) {
+    const char *value = skip_space(text), *at = value;
+    for (size_t i = 0; i < n;) {
+        if (path[i] == '[') {
+            char *end;
+            unsigned long index = strtoul(path + i + 1, &end, 10);
+            const char *item = list_item(value, index);
+            if (!item || *end != ']') break;
+            at = value = item;
+            i = (size_t)(end - path) + 1;
+        } else {
+            if (path[i] == '.') i++;
+            size_t k = i;
+            while (k < n && path[k] != '.' && path[k] != '[') k++;
+            const char *key = object_key(value, path + i, k - i);
+            if (!key) break;
+            value = skip_space(skip_space(skip_string(key)) + 1);
+            at = at_key && k == n ? key : value;
+            i = k;
+        }
+    }
+    return at;
+}
+
+/* A scene error at the value its message starts with ("PATH: ..."): file:line:col and
+ * the line, as the JSON syntax errors have. */
+static void read_error(reader *r, halo_message_id id, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static void read_error(reader *r, halo_message_id id, const char *fmt, ...) {
+    halo_strbuf text = {0};
+    va_list ap;
+    va_start(ap, fmt);
+    halo_strbuf_vprintf(&text, fmt, ap);
+    va_end(ap);
+    const char *message = text.data ? text.data : "";
+    int line = 0, column = 0;
+    const char *line_start = NULL, *colon = strstr(message, ": ");
+    if (r->text && colon && halo_diag_kept(r->diag, HALO_SEVERITY_ERROR)) {
+        int at_key = id == HALO_MSG_SCENE_KEY_UNKNOWN || id == HALO_MSG_SCENE_PARAM_UNKNOWN ||
+                     id == HALO_MSG_SCENE_STAGE_DUPLICATE;
+        size_t n = !strncmp(message, "(top level)", 11) ? 0 : (size_t)(colon - message);
+        const char *at = locate_path(r->text, message, n, at_key);
+        line = 1;
+        line_start = r->text;
+        for (const char *p = r->text; p < at; p++)
+            if (*p == '\n') line++, line_start = p + 1;
+        column = (int)(at - line_start) + 1;
+    }
+    halo_diag_add(r->diag, HALO_SEVERITY_ERROR, id, r->file, line, column, line_start, "%s", message);
+    halo_strbuf_free(&text);
+    r->errors++;
+}
+
+#define READ_ERROR(r, id, ...) read_error((r), HALO_MSG_##id, __VA_ARGS__)
 
 static const char *json_type_name(const json_t *v) {
     switch (json_typeof(v)) {
@@ -193,16 +303,12 @@ static void read_param(reader *r, halo_scene_entry *e, const char *path, const c
     char why[256];
     int id = halo_param_from_json(info, v, values, &count, why, sizeof why);
     if (id >= 0) {
-        halo_diag_add(r->diag, HALO_SEVERITY_ERROR, (halo_message_id)id, r->file, 0, 0, NULL, "%s.%s: %s, got %s",
-                      path, key, why, json_type_name(v));
-        r->errors++;
+        read_error(r, (halo_message_id)id, "%s.%s: %s, got %s", path, key, why, json_type_name(v));
         return;
     }
     id = halo_param_check(info, values, count, why, sizeof why);
     if (id >= 0) {
-        halo_diag_add(r->diag, HALO_SEVERITY_ERROR, (halo_message_id)id, r->file, 0, 0, NULL, "%s.%s: %s", path, key,
-                      why);
-        r->errors++;
+        read_error(r, (halo_message_id)id, "%s.%s: %s", path, key, why);
         return;
     }
     halo_param_value *pv = &e->values[info - m->params];
@@ -393,7 +499,7 @@ halo_scene *halo_scene_parse(const char *text, const char *file, const halo_libr
         halo_diag_error(diag, OUT_OF_MEMORY, file, 0, 0, "out of memory");
         return NULL;
     }
-    reader r = {scene, file, diag, 0};
+    reader r = {scene, file, diag, 0, text};
     if (!json_is_object(root)) {
         READ_ERROR(&r, SCENE_TYPE, "(top level): expected an object, got %s", json_type_name(root));
     } else {

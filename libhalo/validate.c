@@ -1,6 +1,7 @@
 /* Validation with glslang's C interface, in process. Every error glslang reports is
  * rewritten to the origin of its line: the module's or the host's own file:line:col. */
 #include "diag.h"
+#include "glsl_locate.h"
 #include "internal.h"
 #include "strbuf.h"
 
@@ -9,21 +10,6 @@
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* Column of token in the original line; tries the name without a halo_<stage>_ prefix
- * when the linker renamed it. */
-static int find_column(const char *line, const char *token) {
-    if (!line || !token || !*token) return 0;
-    const char *hit = strstr(line, token);
-    if (hit) return (int)(hit - line) + 1;
-    if (!strncmp(token, "halo_", 5)) {
-        for (const char *p = token + 5; (p = strchr(p, '_')) != NULL; p++) {
-            hit = strstr(line, p + 1);
-            if (hit && p[1]) return (int)(hit - line) + 1;
-        }
-    }
-    return 0;
-}
 
 /* Where glslang says a message is: "N:LINE: " (N a source string number) or, after a
  * GL_GOOGLE_cpp_style_line_directive '#line L "name"', "name:LINE: ". Returns the length
@@ -57,9 +43,14 @@ typedef struct log_map {
     int origin_count;
     int raw;
     const char *fallback;
+    const char *source;      /* the text compiled (glslang_run sets it) */
+    halo_glsl_spots *spots;  /* where its errors are (glsl_locate.c); NULL: none */
+    /* the last error's place: a later error there that follows from it is dropped */
+    int last_line;
+    char last_file[512];
 } log_map;
 
-static void report_entry(const char *line, const log_map *map, halo_diagnostics *diag, int *errors) {
+static void report_entry(char *line, log_map *map, halo_diagnostics *diag, int *errors) {
     halo_severity sev;
     const char *rest;
     if (!strncmp(line, "ERROR: ", 7)) { sev = HALO_SEVERITY_ERROR; rest = line + 7; }
@@ -68,25 +59,16 @@ static void report_entry(const char *line, const log_map *map, halo_diagnostics 
     size_t name_len = 0;
     int out_line = 0;
     size_t consumed = log_location(rest, &name_len, &out_line);
-    const char *msg = rest + consumed;
+    char *msg = line + (rest - line) + consumed;
     while (*msg == ' ') msg++;
-    size_t msg_len = strlen(msg);
-    while (msg_len > 0 && (msg[msg_len - 1] == ' ' || msg[msg_len - 1] == '\r')) msg_len--;
+    for (size_t n = strlen(msg); n > 0 && (msg[n - 1] == ' ' || msg[n - 1] == '\r'); n--) msg[n - 1] = '\0';
     if (strstr(msg, "compilation errors.") || strstr(msg, "compilation terminated")) return;
-    /* The message usually starts with 'token' : text. */
-    char token[256] = "";
-    const char *q = msg;
-    if (*q == '\'') {
-        const char *end = strchr(q + 1, '\'');
-        if (end && (size_t)(end - q - 1) < sizeof token) {
-            memcpy(token, q + 1, (size_t)(end - q - 1));
-            token[end - q - 1] = '\0';
-        }
-    }
     int numbered = consumed && strspn(rest, "0123456789") == name_len;
+    int column = 0, at_end = 0; /* glsl_locate.c: the token, or after the one before a missing ';' */
+    if (numbered && !map->raw) halo_glsl_place(map->spots, msg, &out_line, &column, &at_end);
     char named[512] = "";
     const char *file = map->fallback;
-    int line_no = 0, col = 0;
+    int line_no = 0, col = 0, generated_line = 0;
     const char *text = NULL;
     if (consumed && !numbered) {
         /* '#line L "name"': the name and line the shader gave itself */
@@ -100,20 +82,33 @@ static void report_entry(const char *line, const log_map *map, halo_diagnostics 
         file = o->file;
         line_no = o->line;
         text = o->text;
-        col = find_column(o->text, token);
-        if (o->file == halo_generated_file) {
+        col = halo_glsl_original_column(map->source, out_line, column, at_end, msg, o->text);
+        if (o->file == halo_generated_file) { /* no line of the reader's file: say where it is */
             file = map->fallback;
-            line_no = out_line;
+            line_no = col = 0;
+            text = NULL;
+            generated_line = out_line;
         }
     }
+    if (sev == HALO_SEVERITY_ERROR && *errors && line_no && line_no == map->last_line &&
+        !strcmp(file, map->last_file) && halo_glsl_follows_earlier_error(msg))
+        return; /* one problem, one message */
+    if (sev == HALO_SEVERITY_ERROR) {
+        map->last_line = line_no;
+        snprintf(map->last_file, sizeof map->last_file, "%s", file);
+    }
+    char *message = halo_glsl_message(msg, text);
     halo_diag_add(diag, sev, sev == HALO_SEVERITY_ERROR ? HALO_MSG_GLSL_ERROR : HALO_MSG_GLSL_WARNING, file, line_no,
-                  col > 0 ? col : (line_no ? 1 : 0), text, "%.*s", (int)msg_len, msg);
+                  col, text, generated_line ? "%s (in code libhalo wrote: line %d of the linked shader)" : "%s",
+                  message ? message : msg, generated_line);
+    free(message);
     if (sev == HALO_SEVERITY_ERROR) (*errors)++;
 }
 
-static void report_log(const char *log, const log_map *map, halo_diagnostics *diag, int *errors) {
+static void report_log(const char *log, log_map *map, halo_diagnostics *diag, int *errors) {
     char *copy = halo_strdup(log ? log : "");
     if (!copy) return;
+    map->last_line = 0;
     char *cursor = NULL; /* strtok_r: another thread may be reading its own log */
     for (char *line = strtok_r(copy, "\n", &cursor); line; line = strtok_r(NULL, "\n", &cursor))
         report_entry(line, map, diag, errors);
@@ -134,7 +129,7 @@ static int is_syntax_error(const char *entry) { return strstr(entry, "syntax err
  * at some errors, and the parser's messages past it are about text that never came.
  * The preprocessor's messages past the parser's first syntax error are dropped: in one
  * pass the parser stops there. */
-static void report_compile(const char *pre_log, const char *log, int pre_end, const log_map *map,
+static void report_compile(const char *pre_log, const char *log, int pre_end, log_map *map,
                            halo_diagnostics *diag, int *errors) {
     size_t pre_len = strlen(pre_log);
     const char *parse_log = !strncmp(log, pre_log, pre_len) ? log + pre_len : log;
@@ -146,6 +141,7 @@ static void report_compile(const char *pre_log, const char *log, int pre_end, co
     if (!seen) {
         report_log(log, map, diag, errors);
     } else {
+        map->last_line = 0;
         memcpy(seen, pre_lines, (size_t)np * sizeof *seen);
         qsort(seen, (size_t)np, sizeof *seen, compare_strings);
         int kept = 0, stop = 0;
@@ -177,7 +173,7 @@ static void report_compile(const char *pre_log, const char *log, int pre_end, co
 /* Compiles and links one shader. link_always: link after compile errors too, as
  * glslangValidator -l does (a missing main, interface errors). */
 static halo_status glslang_run(const char *source, halo_shader_kind kind, int link_always,
-                               const log_map *map, halo_diagnostics *diag) {
+                               const log_map *where, halo_diagnostics *diag) {
     glslang_input_t in = {0};
     in.language = GLSLANG_SOURCE_GLSL;
     in.stage = kind == HALO_SHADER_VERTEX ? GLSLANG_STAGE_VERTEX : GLSLANG_STAGE_FRAGMENT;
@@ -186,13 +182,20 @@ static halo_status glslang_run(const char *source, halo_shader_kind kind, int li
     in.code = source;
     in.default_version = 100; /* GLSL's version for a shader without #version, as glslangValidator reads it */
     in.default_profile = GLSLANG_NO_PROFILE;
+    /* Without cascading errors glslang stops at the first statement with an error; with
+     * them it goes on, and report_log drops the errors that follow from an earlier one on
+     * the same line (halo_glsl_follows_earlier_error): every problem once. */
     in.messages = GLSLANG_MSG_CASCADING_ERRORS_BIT;
     in.resource = glslang_default_resource();
     glslang_shader_t *sh = glslang_shader_create(&in);
     if (!sh) {
-        halo_diag_error(diag, OUT_OF_MEMORY, map->fallback, 0, 0, "glslang could not create a shader");
+        halo_diag_error(diag, OUT_OF_MEMORY, where->fallback, 0, 0, "glslang could not create a shader");
         return HALO_ERROR_IO;
     }
+    halo_glsl_spots spots = {0};
+    log_map copy = *where, *map = &copy;
+    map->source = source;
+    map->spots = &spots;
     int errors = 0;
     /* glslang's C interface parses the preprocessed text: parse it after a preprocessing
      * error too, so that the errors after it are reported as well. */
@@ -206,9 +209,14 @@ static halo_status glslang_run(const char *source, halo_shader_kind kind, int li
         if (written < source_lines) pre_end = written;
     }
     ok = glslang_shader_parse(sh, &in) && ok;
+    /* glslang 12 gives no columns: where the text has errors, compile it once more with
+     * one token per line to find them (glsl_locate.c). */
+    if (!ok) halo_glsl_locate(&in, &spots);
     if (pre_log) report_compile(pre_log, glslang_shader_get_info_log(sh), pre_end, map, diag, &errors);
     else report_log(glslang_shader_get_info_log(sh), map, diag, &errors);
     free(pre_log);
+    halo_glsl_spots_free(&spots);
+    map->spots = NULL;
     if (ok || link_always) {
         /* Linking catches a missing main and interface errors. */
         glslang_program_t *prog = glslang_program_create();
@@ -235,7 +243,7 @@ halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, hal
                                   const halo_line_origin *origins, int origin_count, const char *fallback_file,
                                   halo_diagnostics *diag) {
     (void)target; /* the #version line in the source selects the language */
-    log_map map = {origins, origin_count, 0, fallback_file};
+    log_map map = {.origins = origins, .origin_count = origin_count, .fallback = fallback_file};
     return glslang_run(source, kind, 0, &map, diag);
 }
 
@@ -361,7 +369,7 @@ static halo_status validate_plain(const char *source, const char *file, halo_sha
             halo_diag_add(diag, HALO_SEVERITY_NOTE, HALO_MSG_GLSL_VERSION_IMPLIED, file, 0, 0, NULL,
                           "no '#version': checked as GLSL ES 1.00, GLSL's rule for a shader without one "
                           "(desktop OpenGL reads it as GLSL 1.10; --target chooses a version)");
-        log_map map = {origins, n + first, raw, file};
+        log_map map = {.origins = origins, .origin_count = n + first, .raw = raw, .fallback = file};
         st = glslang_run(text, kind, 1, &map, diag);
     }
     free(text);
@@ -386,6 +394,8 @@ static halo_status validate_shader_held(const char *source, const char *file, ha
     return st;
 }
 
+static const char check_host_file[] = "<check-host>";
+
 /* %s: the output's layout (none under GLSL 150) */
 static const char check_host_source[] =
     "#pragma halo declarations\n"
@@ -397,6 +407,20 @@ static const char check_host_source[] =
     "    halo_finish();\n"
     "    fragment_color = vec4(s.color, s.opacity);\n"
     "}\n";
+
+/* The check host and the code the linker writes around the stage are no file of the
+ * module's author: an error there (an entry that does not fit libhalo's call) is the
+ * entry's, at the module's 'apply'. */
+static void point_check_host_at_entry(halo_program *p, const halo_module *m) {
+    int line = m->module_line;
+    for (size_t i = 0; i < m->declared.count; i++)
+        if (!strcmp(m->declared.items[i], "apply")) line = m->declared.lines[i];
+    for (int i = 0; i < p->origin_count; i++) {
+        halo_line_origin *o = &p->origins[i];
+        if (o->file == halo_generated_file || !strcmp(o->file, check_host_file))
+            *o = (halo_line_origin){m->file, line, line >= 1 && line <= m->line_count ? m->lines[line - 1] : NULL};
+    }
+}
 
 static halo_status module_validate_held(const halo_library *lib, const halo_module *m, halo_target target,
                                        halo_diagnostics *diag) {
@@ -436,9 +460,10 @@ static halo_status module_validate_held(const halo_library *lib, const halo_modu
     snprintf(host, sizeof host, check_host_source, target == HALO_TARGET_GLSL150 ? "" : "layout(location = 0) ");
     for (int live = 0; live < 2 && st == HALO_OK; live++) {
         halo_program *p = halo_link_host(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
-                                                      .host_file = "<check-host>", .target = target,
+                                                      .host_file = check_host_file, .target = target,
                                                       .all_live = live},
                                     diag);
+        if (p) point_check_host_at_entry(p, m);
         st = p ? halo_program_validate(p, diag) : HALO_ERROR_INPUT;
         halo_program_destroy(p);
     }

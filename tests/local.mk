@@ -117,6 +117,7 @@ HALO_SHELL_TESTS = \
 	tests/cli/directory.sh \
 	tests/cli/bom.sh \
 	tests/cli/error_limit.sh \
+	tests/cli/glsl_diagnostics.sh \
 	tests/cli/glslang_agree.sh \
 	tests/cli/render_output.sh
 TESTS += $(HALO_SHELL_TESTS)

@@ -521,7 +521,8 @@ int main(int argc, char **argv)
     }
     status = view_load_scene(v, v->watch_path, 0);
     if (status) {
-        fprintf(stderr, "halo-view: error: %s\n", v->error);
+        if (!v->error_printed) /* each error once */
+            fprintf(stderr, "halo-view: error: %s\n", v->error);
         goto done;
     }
     view_update_title(v);

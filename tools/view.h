@@ -101,6 +101,7 @@ typedef struct viewer {
     int save_count;
     int save_requested;
     int quit;
+    int error_printed; /* error's diagnostics are on stderr already */
 } viewer;
 
 file_signature view_signature_of(const char *path);

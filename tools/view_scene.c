@@ -60,6 +60,7 @@ static int signature_equal(const file_signature *a, const file_signature *b)
 
 static void set_error(viewer *v, const char *fmt, ...)
 {
+    v->error_printed = 0;
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(v->error, sizeof v->error, fmt, ap);
@@ -85,6 +86,7 @@ void view_report_diagnostics(viewer *v, const char *fallback)
     } else {
         set_error(v, "error: %s", first->text);
     }
+    v->error_printed = first != NULL;
 }
 
 static const halo_uniform_info *find_param(const viewer *v, const char *stage, const char *param)

@@ -56,8 +56,9 @@ static const char usage_text[] =
     "targets: 330 (GLSL 330 core), 450 (GLSL 450 core), es300 (GLSL ES 300),\n"
     "         150 (GLSL 150 core: outputs bound by name), all (330, 450, es300);\n"
     "         link's default is 330\n"
-    "--error-limit N: show at most N errors per file and target, then how many more\n"
-    "                 there were (default 100; 0: no limit)\n"
+    "--error-limit N: show at most N errors per file, then how many more\n"
+    "                 there were (default 100; 0: no limit); an error found for several\n"
+    "                 targets prints once, naming them: [330, 450, es300]\n"
     "exit status: 0 success, 1 the input has errors, 2 usage or I/O failure\n";
 
 static int usage_error(const char *fmt, const char *arg) {
@@ -160,21 +161,12 @@ typedef struct check_targets {
     int count, given;
 } check_targets;
 
-/* Prints errors for one target (own: the shader's own #version, no header) and clears them. */
-static int print_target_errors(const char *path, halo_target t, int own, halo_diagnostics *d) {
-    if (!own) fprintf(stderr, "%s: for target %s:\n", path, halo_target_name(t));
-    halo_diagnostics_print(d, stderr);
-    int s = status_of(d);
-    halo_diagnostics_clear(d);
-    return s;
-}
-
 /* Validates one file that read_text has read; module says it is a module, shader a host
  * or a plain shader; workdir is the folder glslang resolves '#include' in. Returns its
  * exit status. */
 static int check_file(const char *path, const char *text, int module, halo_library *lib, const check_targets *ct,
                       const char *workdir, halo_diagnostics *d) {
-    int file_status = 0, own = 0;
+    int file_status, own = 0;
     if (module) {
         halo_status st = halo_library_override_file(lib, path, d);
         if (st != HALO_OK) {
@@ -185,29 +177,26 @@ static int check_file(const char *path, const char *text, int module, halo_libra
         for (size_t i = 0; i < halo_library_module_count(lib); i++)
             if (!strcmp(halo_module_file(halo_library_module(lib, i)), path)) m = halo_library_module(lib, i);
         if (workdir && chdir(workdir)) return EXIT_USAGE;
-        for (int t = 0; m && t < ct->count; t++) {
-            if (halo_module_validate(lib, m, ct->list[t], d) == HALO_OK) continue;
-            int s = print_target_errors(path, ct->list[t], 0, d);
-            if (s > file_status) file_status = s;
+        for (int t = 0; m && t < ct->count; t++) { /* printed once below, naming the targets */
+            halo_diagnostics_set_run(d, halo_target_name(ct->list[t]));
+            halo_module_validate(lib, m, ct->list[t], d);
         }
     } else {
         /* a plain shader is checked for its own #version unless --target says otherwise */
         own = !ct->given && halo_source_kind_of(text) == HALO_SOURCE_SHADER;
         halo_shader_kind kind = !strcmp(extension(path), "vert") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT;
         if (workdir && chdir(workdir)) return EXIT_USAGE;
-        for (int t = 0; t < (own ? 1 : ct->count); t++) {
+        for (int t = 0; t < (own ? 1 : ct->count); t++) { /* printed once below, naming the targets */
             halo_target target = own ? HALO_TARGET_DEFAULT : ct->list[t];
-            if (halo_validate_shader(text, path, kind, target, d) == HALO_OK) continue;
-            int s = print_target_errors(path, target, own, d);
-            if (s > file_status) file_status = s;
+            halo_diagnostics_set_run(d, own ? NULL : halo_target_name(target));
+            halo_validate_shader(text, path, kind, target, d);
         }
     }
     int implied = 0;
     for (size_t i = 0; i < halo_diagnostics_count(d); i++)
         if (halo_diagnostics_get(d, i)->id == HALO_MSG_GLSL_VERSION_IMPLIED) implied = 1;
     halo_diagnostics_print(d, stderr);
-    int s = status_of(d);
-    if (s > file_status) file_status = s;
+    file_status = status_of(d);
     if (!file_status && own) {
         printf("%s: ok (%s)\n", path, implied ? "GLSL ES 1.00: no #version" : "its own #version");
     } else if (!file_status) {
@@ -220,7 +209,9 @@ static int check_file(const char *path, const char *text, int module, halo_libra
 
 /* check_file in a child process: glslang 12 crashes on some inputs, and a validator must
  * survive its compiler, report the file and go on with the others. The child works in
- * the file's folder, where '#include "name"' is resolved. */
+ * the file's folder, where '#include "name"' is resolved. It checks every target in its
+ * copy of d, so an error found for several prints once, and prints them itself: what
+ * comes back is its exit status (a crash loses the file's diagnostics, not the file). */
 static int check_file_isolated(const char *path, const char *text, int module, halo_library *lib,
                                const check_targets *ct, halo_diagnostics *d) {
     char *dir = strdup(path);

@@ -19,12 +19,12 @@
 #pragma halo image reduced components=4 clear=1 reset=frame-only
 #pragma halo image final_blur_x components=4
 #pragma halo image final components=4
-#pragma halo param sigma float default=1 min=0 max=100 "sigma of the depth unsharp mask G_sigma, percent of the image diagonal (paper: about 2.5)"
+#pragma halo param sigma float default=6 min=0 max=600 "kernel size sigma of the depth unsharp mask G_sigma (the paper's: the full width of the Gaussian, 6 standard deviations), percent of the image diagonal (paper: about 2.5)"
 #pragma halo param lambda channels default=4 min=0 max=1000 "darkening strength lambda of I = lambda (dD-)^p, per feature"
 #pragma halo param depth_power channels default=1 min=0.01 max=8 "p of I = lambda (dD-)^p (p < 1 brings out small depth steps; paper: 0.6)"
 #pragma halo param normal_difference bool default=false "normal measure: screen-space central differences dN = (1 - n(x+1).n(x-1)) + (1 - n(y+1).n(y-1))"
 #pragma halo param normal_unsharp bool default=false "normal measure: unsharp mask dN = 1 - (G_sigmaN * n).n"
-#pragma halo param normal_sigma float default=2 min=0 max=100 "sigma_N of the normal unsharp mask, percent of the image diagonal"
+#pragma halo param normal_sigma float default=12 min=0 max=600 "kernel size sigma_N of the normal unsharp mask (full width, 6 standard deviations), percent of the image diagonal"
 #pragma halo param normal_min channels default=0.2 min=0 max=4 "n_min: dN below gives I_N = 0"
 #pragma halo param normal_max channels default=0.8 min=0 max=4 "n_max: dN above gives I_N = 1 (n_min = n_max: a step)"
 #pragma halo param normal_power channels default=1 min=0.01 max=8 "p_N: I_N = ((dN - n_min) / (n_max - n_min))^p_N between"
@@ -41,7 +41,7 @@
 #pragma halo param depth_cue bool default=false "depth cueing: c = lerp(c, gray, gamma)"
 #pragma halo param cue_gray float default=0.5 min=0 max=1 "the grey of depth cueing"
 #pragma halo param depth_blur bool default=false "depth blurring: Gaussian of kernel size lerp(1 px, blur_max, gamma)"
-#pragma halo param blur_max float default=3 min=0 max=100 "kernel size at gamma = 1, percent of the image diagonal (paper: 1-10)"
+#pragma halo param blur_max float default=3 min=0 max=100 "kernel size K_max at gamma = 1 (full width, 6 standard deviations, as sigma), percent of the image diagonal (paper: 1-10)"
 #pragma halo param line_fading bool default=false "line fading: I = lerp(I, 0, gamma)"
 #pragma halo pass depth_blur_x entry=blur_x_pass inputs=feature_depth output=depth_blur_x at=post
 #pragma halo pass depth_blur_y entry=blur_y_pass inputs=depth_blur_x output=depth_blur at=post
@@ -63,15 +63,24 @@
 //   gamma = 0 for d < d_start, (d - d_start)/(1 - d_start) behind              (Eq. 8)
 //   colour lerp(c, c_depth, gamma), lerp(c, gray, gamma); kernel lerp(1, K_max, gamma);
 //   I = lerp(I, 0, gamma)                                                      (Eqs. 10-14)
-// Gaussians: separable, truncated at 3 sigma, weights renormalized over the taps inside
-// the image (a constant image stays constant up to the border).
+// Gaussians: separable, truncated at 3 standard deviations, weights renormalized over the
+// taps inside the image (a constant image stays constant up to the border). Every kernel
+// is given by its size, as in the paper ("the size of the filtering kernel sigma"): the
+// full width of the truncated Gaussian, 6 standard deviations (sigma, normal_sigma and
+// blur_max alike; docs/outlines.md).
 
 const int max_radius = 1024;
 
-float sigma_pixels(float percent)
+float diagonal_pixels(float percent)
 {
     vec2 size = vec2(halo_image_size());
     return percent * 0.01 * length(size);
+}
+
+// The standard deviation, in pixels, of a kernel of this size (percent of the diagonal).
+float deviation_pixels(float kernel_size)
+{
+    return diagonal_pixels(kernel_size / 6.0);
 }
 
 // Radius of a Gaussian truncated at 3 sigma; no further than the image reaches.
@@ -139,32 +148,32 @@ vec4 min_axis(int k, ivec2 pixel, ivec2 axis, float sigma)
 
 halo_channels blur_x_pass(ivec2 pixel)
 {
-    return halo_channels_from(blur_axis(0, pixel, ivec2(1, 0), sigma_pixels(sigma)));
+    return halo_channels_from(blur_axis(0, pixel, ivec2(1, 0), deviation_pixels(sigma)));
 }
 
 halo_channels blur_y_pass(ivec2 pixel)
 {
-    return halo_channels_from(blur_axis(0, pixel, ivec2(0, 1), sigma_pixels(sigma)));
+    return halo_channels_from(blur_axis(0, pixel, ivec2(0, 1), deviation_pixels(sigma)));
 }
 
 halo_channels min_x_pass(ivec2 pixel)
 {
-    return halo_channels_from(min_axis(0, pixel, ivec2(1, 0), sigma_pixels(sigma)));
+    return halo_channels_from(min_axis(0, pixel, ivec2(1, 0), deviation_pixels(sigma)));
 }
 
 halo_channels min_y_pass(ivec2 pixel)
 {
-    return halo_channels_from(min_axis(0, pixel, ivec2(0, 1), sigma_pixels(sigma)));
+    return halo_channels_from(min_axis(0, pixel, ivec2(0, 1), deviation_pixels(sigma)));
 }
 
 vec4 normal_blur_x_pass(ivec2 pixel)
 {
-    return blur_axis(0, pixel, ivec2(1, 0), sigma_pixels(normal_sigma));
+    return blur_axis(0, pixel, ivec2(1, 0), deviation_pixels(normal_sigma));
 }
 
 vec4 normal_blur_y_pass(ivec2 pixel)
 {
-    return blur_axis(0, pixel, ivec2(0, 1), sigma_pixels(normal_sigma));
+    return blur_axis(0, pixel, ivec2(0, 1), deviation_pixels(normal_sigma));
 }
 
 // gamma(d), Eq. 8; d_start = 1 gives 0 (no division by zero).
@@ -294,8 +303,8 @@ vec4 compose_pass(ivec2 pixel)
 
 float final_sigma(ivec2 pixel)
 {
-    // kernel size (pixels, about 6 sigma) lerp(1, K_max, gamma): 1 px is no blur
-    float size = mix(1.0, sigma_pixels(blur_max), pixel_gamma(pixel));
+    // kernel size (pixels, 6 standard deviations) lerp(1, K_max, gamma): 1 px is no blur
+    float size = mix(1.0, diagonal_pixels(blur_max), pixel_gamma(pixel));
     return size <= 1.0 ? 0.0 : size / 6.0;
 }
 

@@ -1,8 +1,9 @@
 /* Emulation of glsl/outline/feature.glsl (feature buffers, per sample) and of the image
  * passes of glsl/outline/outline.glsl (unsharp masks, occlusion styles, line colour,
  * depth enhancement), with the same guards, tap order and border rule: Gaussians are
- * truncated at 3 sigma (no further than the image) and renormalized over the taps
- * inside the image. docs/outlines.md. */
+ * truncated at 3 standard deviations (no further than the image) and renormalized over
+ * the taps inside the image; every kernel is given by its size, the full width of 6
+ * standard deviations (the paper's sigma). docs/outlines.md. */
 #include <math.h>
 #include <string.h>
 
@@ -55,9 +56,15 @@ HALO_EMU_STAGE(outline_feature)
 
 /* ---- Passes ---- */
 
-static double sigma_pixels(const halo_emu_pass_context *c, double percent)
+static double diagonal_pixels(const halo_emu_pass_context *c, double percent)
 {
     return percent * 0.01 * sqrt((double)c->width * c->width + (double)c->height * c->height);
+}
+
+/* The standard deviation in pixels of a kernel of this size (percent of the diagonal). */
+static double deviation_pixels(const halo_emu_pass_context *c, const char *kernel_size)
+{
+    return diagonal_pixels(c, halo_emu_scalar(c->params, kernel_size) / 6.0);
 }
 
 static int kernel_radius(const halo_emu_pass_context *c, double sigma)
@@ -135,36 +142,36 @@ static void keep_channels(const halo_emu_pass_context *c, double out[4])
 
 void halo_emu_outline_blur_x(const halo_emu_pass_context *c, int x, int y, double out[4])
 {
-    blur_axis(c, 0, x, y, 1, 0, sigma_pixels(c, halo_emu_scalar(c->params, "sigma")), out);
+    blur_axis(c, 0, x, y, 1, 0, deviation_pixels(c, "sigma"), out);
     keep_channels(c, out);
 }
 
 void halo_emu_outline_blur_y(const halo_emu_pass_context *c, int x, int y, double out[4])
 {
-    blur_axis(c, 0, x, y, 0, 1, sigma_pixels(c, halo_emu_scalar(c->params, "sigma")), out);
+    blur_axis(c, 0, x, y, 0, 1, deviation_pixels(c, "sigma"), out);
     keep_channels(c, out);
 }
 
 void halo_emu_outline_min_x(const halo_emu_pass_context *c, int x, int y, double out[4])
 {
-    min_axis(c, 0, x, y, 1, 0, sigma_pixels(c, halo_emu_scalar(c->params, "sigma")), out);
+    min_axis(c, 0, x, y, 1, 0, deviation_pixels(c, "sigma"), out);
     keep_channels(c, out);
 }
 
 void halo_emu_outline_min_y(const halo_emu_pass_context *c, int x, int y, double out[4])
 {
-    min_axis(c, 0, x, y, 0, 1, sigma_pixels(c, halo_emu_scalar(c->params, "sigma")), out);
+    min_axis(c, 0, x, y, 0, 1, deviation_pixels(c, "sigma"), out);
     keep_channels(c, out);
 }
 
 void halo_emu_outline_normal_blur_x(const halo_emu_pass_context *c, int x, int y, double out[4])
 {
-    blur_axis(c, 0, x, y, 1, 0, sigma_pixels(c, halo_emu_scalar(c->params, "normal_sigma")), out);
+    blur_axis(c, 0, x, y, 1, 0, deviation_pixels(c, "normal_sigma"), out);
 }
 
 void halo_emu_outline_normal_blur_y(const halo_emu_pass_context *c, int x, int y, double out[4])
 {
-    blur_axis(c, 0, x, y, 0, 1, sigma_pixels(c, halo_emu_scalar(c->params, "normal_sigma")), out);
+    blur_axis(c, 0, x, y, 0, 1, deviation_pixels(c, "normal_sigma"), out);
 }
 
 static double depth_gamma(const halo_emu_params *p, double d)
@@ -307,7 +314,7 @@ void halo_emu_outline_compose(const halo_emu_pass_context *c, int x, int y, doub
 
 static double final_sigma(const halo_emu_pass_context *c, int x, int y)
 {
-    double size = halo_emu_mix(1.0, sigma_pixels(c, halo_emu_scalar(c->params, "blur_max")), pixel_gamma(c, x, y, 1));
+    double size = halo_emu_mix(1.0, diagonal_pixels(c, halo_emu_scalar(c->params, "blur_max")), pixel_gamma(c, x, y, 1));
     return size <= 1.0 ? 0.0 : size / 6.0;
 }
 

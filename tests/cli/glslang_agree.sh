@@ -16,13 +16,15 @@ command -v glslangValidator >/dev/null 2>&1 || {
 dir="$srcdir/tests/data/glslang"
 
 # ref_lines, check_lines FILE: the sorted file:line pairs and link messages of the errors in a log, the
-# reference's ("ERROR: f:N: msg", "ERROR: Linking ...") or check's ("f:N:C: error: msg").
+# reference's ("ERROR: f:N: msg", "ERROR: Linking ...") or check's ("f:N:C: error: msg", or
+# "f:N: error: msg" where it knows no column: a '#line' numbering of the shader's own).
 ref_lines() {
     sed -n -e 's/^ERROR: \([^ ]*:[0-9][0-9]*\): .*/\1/p' -e 's/^ERROR: \(Linking .*\)/\1/p' "$1" |
         sed 's/ *$//' | sort -u
 }
 check_lines() {
-    sed -n -e 's/^\([^ ]*:[0-9][0-9]*\):[0-9][0-9]*: error: .*/\1/p' -e 's/^[^ ]*: error: \(Linking .*\)/\1/p' "$1" |
+    sed -n -e 's/^\([^ ]*:[0-9][0-9]*\):[0-9][0-9]*: error: .*/\1/p' -e 's/^\([^ ]*:[0-9][0-9]*\): error: .*/\1/p' \
+        -e 's/^[^ ]*: error: \(Linking .*\)/\1/p' "$1" |
         sed 's/ *$//' | sort -u
 }
 

@@ -25,6 +25,16 @@ for where in "bad.txt:7:1: error" "bad.txt:8:3: error" "bad.txt:9:1: error" "bad
     grep -q "$where" "$tmp/out" || { echo "FAIL: no diagnostic at $where" >&2; exit 1; }
 done
 test ! -e "$tmp/bad.png" || { echo "FAIL: an image was written" >&2; exit 1; }
+# One problem, one error: a bad point (a word that is no number, or the wrong number of
+# coordinates, even with a bad word) is not also a polyline "with too few points".
+printf 'halo-polylines 1\nline\n0 0 0\n1 x 0\nline\n1 y\n3 3 3\nline\n0 0 0\n' >"$tmp/one.txt"
+run_lines --lines "$tmp/one.txt" --size 16x16 -o "$tmp/one.png"
+test $? -eq 1 || { cat "$tmp/out" >&2; echo "FAIL: one.txt should exit 1" >&2; exit 1; }
+errors=$(grep -c ": error: " "$tmp/out")
+test "$errors" -eq 3 || { cat "$tmp/out" >&2; echo "FAIL: $errors errors for the 3 problems of one.txt" >&2; exit 1; }
+for where in "one.txt:4:3: error" "one.txt:6:1: error" "one.txt:8:1: error"; do
+    grep -q "$where" "$tmp/out" || { echo "FAIL: no diagnostic at $where" >&2; exit 1; }
+done
 # a file without the header, and an empty file
 printf '0 0 0\n1 1 1\n' >"$tmp/noheader.txt"
 run_lines --lines "$tmp/noheader.txt" --size 32x32 -o "$tmp/x.png"

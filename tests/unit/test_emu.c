@@ -2,6 +2,8 @@
  * independently from the papers' equations as docs/ and the modules state them, and
  * hard cases that must stay finite. No GL, no glslang. */
 #include "check.h"
+#include "emu/stages.h"
+#include "internal.h"
 
 static halo_library *library;
 static halo_diagnostics *diags;
@@ -408,6 +410,42 @@ static int test_no_emulation(void) {
     return 0;
 }
 
+/* The outlines' kernel sizes follow Svakhine et al. 2009 ("the size of the filtering
+ * kernel sigma"): sigma, in percent of the image diagonal, is the full width of the
+ * Gaussian truncated at 3 standard deviations, so its standard deviation is sigma / 6.
+ * Measured on the blur of an impulse: sigma 6 % of a 200 x 200 diagonal (283 px) is a
+ * standard deviation of 2.83 px (the truncated Gaussian's is 0.987 of that), not 17 px. */
+static int test_outline_kernel_size(void) {
+    halo_program *p = program_of("{\"halo_scene\": 1, \"stages\": [\"outline_feature\", "
+                                 "{\"outlines\": {\"sigma\": 6, \"normal_sigma\": 6}}]}");
+    const halo_linked_stage *stage = NULL;
+    for (size_t i = 0; i < p->stage_count; i++)
+        if (!strcmp(halo_module_name(p->stages[i].module), "outlines")) stage = &p->stages[i];
+    CHECK(stage != NULL);
+    enum { side = 200 };
+    static double impulse[side * side];
+    impulse[(side / 2) * side + side / 2] = 1.0;
+    halo_emu_params params = {.program = p, .stage = stage};
+    halo_emu_pass_context c = {.params = &params, .width = side, .height = side, .channels = 1, .input_count = 1,
+                               .inputs = {impulse}, .input_components = {1}};
+    void (*const blurs[])(const halo_emu_pass_context *, int, int, double[4]) = {halo_emu_outline_blur_x,
+                                                                                 halo_emu_outline_normal_blur_x};
+    for (int b = 0; b < 2; b++) {
+        double sum = 0, moment = 0;
+        for (int x = 0; x < side; x++) {
+            double out[4] = {0};
+            blurs[b](&c, x, side / 2, out);
+            sum += out[0];
+            moment += out[0] * (x - side / 2) * (x - side / 2);
+        }
+        double deviation = sqrt(moment / sum), expected = 0.06 * sqrt(2.0) * side / 6.0;
+        CHECK_NEAR(deviation / expected, 0.987, 0.01);
+        CHECK_NEAR(sum, 1.0, 1e-12);
+    }
+    halo_program_destroy(p);
+    return 0;
+}
+
 int main(void) {
     library = check_library_setup(&diags);
     RUN_TEST(test_opacity_power);
@@ -422,6 +460,7 @@ int main(void) {
     RUN_TEST(test_hard_cases);
     RUN_TEST(test_program_set);
     RUN_TEST(test_no_emulation);
+    RUN_TEST(test_outline_kernel_size);
     halo_library_destroy(library);
     halo_diagnostics_destroy(diags);
     return check_exit_status();

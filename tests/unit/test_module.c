@@ -382,15 +382,92 @@ static int test_all_errors_reported(void) {
 }
 
 /* Columns point at the offending word. */
+/* Adds a module that must be refused: the column of its `id` error at `line`, -1 when
+ * it was taken or has no such error. */
+static int refused_at(const char *source, halo_message_id id, int line) {
+    if (add("user/refused.glsl", source) != HALO_ERROR_INPUT) return -1;
+    const halo_diagnostic *g = check_find_diag(diags, id, line);
+    return g ? g->column : -1;
+}
+
 static int test_columns(void) {
-    CHECK_INT_EQ(add("user/col.glsl", "#pragma halo module columns\n"
-                                      "#pragma halo hook sample\n"
-                                      "#pragma halo param k vec5 default=1\n"
-                                      "void apply(inout halo_sample s) {}\n"),
+    CHECK_INT_EQ(refused_at("#pragma halo module columns\n"
+                            "#pragma halo hook sample\n"
+                            "#pragma halo param k vec5 default=1\n"
+                            "void apply(inout halo_sample s) {}\n",
+                            HALO_MSG_PARAM_TYPE_UNKNOWN, 3),
+                 22); /* "vec5" */
+    return 0;
+}
+
+/* A parameter named after a GLSL keyword, type or reserved word is refused at its
+ * annotation (the module's code could not use it), not later in the shader. */
+static int test_reserved_param_names(void) {
+    static const char *const names[] = {"float", "sample", "vec3", "dvec2", "mat2x3", "output", "filter", "gl_x",
+                                        "a__b"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+        char source[512];
+        snprintf(source, sizeof source,
+                 "#pragma halo module reserved_param\n"
+                 "#pragma halo hook sample\n"
+                 "#pragma halo param %s float default=1\n"
+                 "void apply(inout halo_sample s) {}\n",
+                 names[i]);
+        if (refused_at(source, HALO_MSG_ANNOTATION_SYNTAX, 3) != 20)
+            CHECK_FAIL_AT("no ANNOTATION_SYNTAX at line 3, column 20 for the parameter name '%s'", names[i]);
+        CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
+    }
+    /* a built-in function's name is no keyword: the linker renames parameters */
+    CHECK_INT_EQ(add("user/reserved.glsl", "#pragma halo module builtin_name\n"
+                                           "#pragma halo hook sample\n"
+                                           "#pragma halo param texture float default=1\n"
+                                           "void apply(inout halo_sample s) { s.opacity *= texture; }\n"),
+                 HALO_OK);
+    return 0;
+}
+
+/* The real reason, at its place: 25 words are too many (at the 25th), not "unclosed
+ * quote?" at the directive; an unclosed quote at the quote. */
+static int test_annotation_words(void) {
+    CHECK_INT_EQ(refused_at("#pragma halo module many_words\n"
+                            "#pragma halo hook sample\n"
+                            "#pragma halo needs a b c d e f g h i j k l m n o p q r s t u v w x y\n"
+                            "void apply(inout halo_sample s) {}\n",
+                            HALO_MSG_ANNOTATION_SYNTAX, 3),
+                 66); /* "y", the 25th word */
+    CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
+    CHECK_INT_EQ(refused_at("#pragma halo module unclosed\n"
+                            "#pragma halo hook sample\n"
+                            "#pragma halo summary \"no end\n"
+                            "void apply(inout halo_sample s) {}\n",
+                            HALO_MSG_ANNOTATION_SYNTAX, 3),
+                 22); /* the quote */
+    return 0;
+}
+
+/* Comments after an annotation are no part of it (the preprocessor drops them), and a
+ * malformed 'module' or 'hook' annotation is one error, not also "no module". */
+static int test_annotation_comments(void) {
+    CHECK_INT_EQ(add("user/comments.glsl", "#pragma halo module commented // the module\n"
+                                           "#pragma halo hook sample /* per sample */\n"
+                                           "#pragma halo summary \"a // in quotes stays\" // a comment\n"
+                                           "#pragma halo param k float default=1 \"k\" // its meaning\n"
+                                           "void apply(inout halo_sample s) { s.opacity *= k; }\n"),
+                 HALO_OK);
+    CHECK_INT_EQ(halo_diagnostics_count(diags), 0);
+    const halo_module *m = halo_library_find(library, "commented");
+    CHECK(m != NULL);
+    CHECK(!strcmp(halo_module_summary(m), "a // in quotes stays"));
+    CHECK_INT_EQ(add("user/comments.glsl", "#pragma halo module Bad-Name\n"
+                                           "#pragma halo hook sample\n"
+                                           "void apply(inout halo_sample s) {}\n"),
                  HALO_ERROR_INPUT);
-    const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_PARAM_TYPE_UNKNOWN, 3);
-    CHECK(g != NULL);
-    CHECK_INT_EQ(g->column, 22); /* "vec5" */
+    CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
+    CHECK_INT_EQ(add("user/comments.glsl", "#pragma halo module bad_hook\n"
+                                           "#pragma halo hook sample per sample\n"
+                                           "void apply(inout halo_sample s) {}\n"),
+                 HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
     return 0;
 }
 
@@ -420,6 +497,9 @@ int main(void) {
     RUN_TEST(test_reserved_name);
     RUN_TEST(test_all_errors_reported);
     RUN_TEST(test_columns);
+    RUN_TEST(test_reserved_param_names);
+    RUN_TEST(test_annotation_words);
+    RUN_TEST(test_annotation_comments);
     RUN_TEST(test_add_file);
     halo_library_destroy(library);
     halo_diagnostics_destroy(diags);

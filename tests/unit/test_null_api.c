@@ -160,6 +160,7 @@ CASE(halo_diagnostics_print) {
 CASE(halo_diagnostics_set_limit) { ACCEPTS(DONE(halo_diagnostics_set_limit(NULL, 5))); return 0; }
 CASE(halo_diagnostics_limit) { ACCEPTS(halo_diagnostics_limit(NULL) == HALO_DIAGNOSTICS_DEFAULT_LIMIT); return 0; }
 CASE(halo_diagnostics_dropped) { ACCEPTS(halo_diagnostics_dropped(NULL) == 0); return 0; }
+CASE(halo_diagnostics_set_run) { ACCEPTS(DONE(halo_diagnostics_set_run(NULL, "330"))); return 0; }
 
 CASE(halo_setup) {
     /* NULL: no logger change, default settings */
@@ -580,6 +581,7 @@ static const api_case cases[] = {
     ROW(halo_diagnostics_set_limit),
     ROW(halo_diagnostics_limit),
     ROW(halo_diagnostics_dropped),
+    ROW(halo_diagnostics_set_run),
     ROW(halo_setup),
     NO_POINTER(halo_shutdown),
     NO_POINTER(halo_version),

@@ -369,9 +369,47 @@ static int test_load(void) {
     return 0;
 }
 
+/* Each semantic error at the line and column of the value (or, for an unknown key, of
+ * the key) besides its JSON path, with the line shown. */
+static int test_error_places(void) {
+    CHECK(parse("{\n"
+                "  \"halo_scene\": 1,\n"
+                "  \"stages\": [\n"
+                "    {\"boundary\": {\"k_gs\": -1, \"bogus\": 1}},\n"
+                "    \"nosuch\"\n"
+                "  ],\n"
+                "  \"render\": {\"elevation\": 200, \"background\": [0, 2, 0], \"what\": 1}\n"
+                "}\n") == NULL);
+    static const struct {
+        halo_message_id id;
+        int line, column;
+    } places[] = {
+        {HALO_MSG_SCENE_VALUE_BELOW_MIN, 4, 27},  /* -1 */
+        {HALO_MSG_SCENE_PARAM_UNKNOWN, 4, 31},    /* "bogus" */
+        {HALO_MSG_SCENE_STAGE_UNKNOWN, 5, 5},     /* "nosuch" */
+        {HALO_MSG_SCENE_VALUE_ABOVE_MAX, 7, 27},  /* 200 */
+        {HALO_MSG_SCENE_KEY_UNKNOWN, 7, 57},      /* "what" */
+    };
+    for (size_t i = 0; i < sizeof places / sizeof places[0]; i++) {
+        const halo_diagnostic *g = check_find_diag(diags, places[i].id, places[i].line);
+        if (!g) CHECK_FAIL_AT("no %s at line %d", halo_message_name(places[i].id), places[i].line);
+        CHECK_INT_EQ(g->column, places[i].column);
+        CHECK(g->source_line != NULL);
+    }
+    /* background[1] = 2, after the elevation's error on the same line */
+    int found = 0;
+    for (size_t i = 0; i < halo_diagnostics_count(diags); i++) {
+        const halo_diagnostic *g = halo_diagnostics_get(diags, i);
+        found |= g->id == HALO_MSG_SCENE_VALUE_ABOVE_MAX && g->line == 7 && g->column == 50;
+    }
+    CHECK(found);
+    return 0;
+}
+
 int main(void) {
     library = check_library_setup(&diags);
     RUN_TEST(test_valid_scene);
+    RUN_TEST(test_error_places);
     RUN_TEST(test_minimal_scenes);
     RUN_TEST(test_bad_json);
     RUN_TEST(test_top_level);

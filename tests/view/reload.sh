@@ -47,6 +47,12 @@ test "$(grep -c "s.json changed: reloading" "$tmp/view.out")" -eq 2 || fail "exp
 grep -q "stages\[.*\]\.halo_generate\.delta.*above the maximum" "$tmp/view.err" || fail "no diagnostic for delta 7"
 grep -q "the window shows: .*s.json.*delta" "$tmp/view.out" || fail "the window does not show the diagnostic"
 grep -q "keeping the last good scene" "$tmp/view.err" || fail "no 'keeping the last good scene'"
+test "$(grep -c "above the maximum" "$tmp/view.err")" -eq 1 || fail "the reload's error is not on stderr once"
+
+# A broken scene at start: the viewer exits 1 and says each error once.
+cp "$tmp/s.json" "$tmp/broken-start.json"
+run 1 xrun "$HALO_VIEW" --scene "$tmp/broken-start.json" --size 16x16 --volume-size 8 --frames 1 --quit
+test "$(grep -c "above the maximum" "$tmp/err")" -eq 1 || fail "a scene error at start is printed $(grep -c "above the maximum" "$tmp/err") times"
 
 different "$tmp/shot-001.png" "$tmp/shot-002.png"
 same "$tmp/shot-002.png" "$tmp/shot-003.png"
