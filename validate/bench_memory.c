@@ -13,7 +13,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-/* halo-render beside this program (installed), or in the build tree's examples/. */
+/* halo-render beside this program (installed), or in the build tree's tools/. */
 static int find_halo_render(char *path, size_t size)
 {
     char self[PATH_MAX];
@@ -25,7 +25,7 @@ static int find_halo_render(char *path, size_t size)
     if (!slash)
         return 0;
     *slash = 0;
-    static const char *const places[] = {"%s/halo-render", "%s/../examples/halo-render"};
+    static const char *const places[] = {"%s/halo-render", "%s/../tools/halo-render"};
     for (size_t k = 0; k < sizeof places / sizeof places[0]; ++k) {
         snprintf(path, size, places[k], self);
         if (access(path, X_OK) == 0)
