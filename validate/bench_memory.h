@@ -14,7 +14,7 @@ typedef struct halo_bench_memory {
     double bytes_per_voxel[2][HALO_GRADIENT_FORMAT_COUNT];
 } halo_bench_memory;
 
-/* Runs halo-render (the binary beside this program's, or ../examples/halo-render in the
+/* Runs halo-render (the binary beside this program's, or ../tools/halo-render in the
  * build tree) with --host slice --size 64x64 --quiet on the built-in volume at size^3
  * and at 32^3, and takes (peak(size) - peak(32)) / (size^3 - 32^3) from the children's
  * ru_maxrss: once without stages, once for the scene (scene_path, or scene_text written
