@@ -39,37 +39,38 @@ export OMPI_ALLOW_RUN_AS_ROOT OMPI_ALLOW_RUN_AS_ROOT_CONFIRM
 "$HALO_VTK" --quiet --scene "$scenes/default.json" --volume-size 64 --size 96x96 --export "$tmp/volume" ||
     { echo "FAIL: halo-vtk --export exited $?"; exit 1; }
 
-# pv NAME RANKS JOBS: renders the jobs (OUTPUT SCENE|- [EXCHANGE [SETTINGS]] a line) in one
-# pvbatch run. A new X connection is sometimes refused right after the server starts
-# ("bad X server connection"), and a rank without one leaves the others waiting: the
-# run is then tried again (at most 3 times, each at most 5 minutes).
-pv() {
+# pvrun NAME RANKS ARG...: one pvbatch run of halo_pvbatch.py, its output in $tmp/NAME.log;
+# returns its exit status. A new X connection is sometimes refused ("bad X server
+# connection"; seen right after the server starts and now and then later), and a rank
+# without one can leave the others waiting: the run is then tried again (at most 4
+# times, each at most 5 minutes).
+pvrun() {
     p_name=$1 p_ranks=$2 p_try=1
-    printf '%s\n' "$3" >"$tmp/$p_name.jobs"
+    shift 2
     while :; do
         timeout 300 mpirun --oversubscribe -np "$p_ranks" pvbatch "$HALO_PVBATCH_SCRIPT" \
-            --plugin "$HALO_PARAVIEW_PLUGIN" --view "$tmp/volume" --jobs "$tmp/$p_name.jobs" >"$tmp/$p_name.log" 2>&1
+            --plugin "$HALO_PARAVIEW_PLUGIN" --view "$tmp/volume" "$@" >"$tmp/$p_name.log" 2>&1
         p_status=$?
-        if test $p_status -eq 0; then
-            # a scene the plugin could not install is an error on stderr, not an exit status
-            if grep -q "HaloVolume" "$tmp/$p_name.log"; then
-                fail "pvbatch on $p_ranks rank(s) ($p_name): the plugin reported errors"
-                grep -v "No plugin loaded yet" "$tmp/$p_name.log" | sed 's/^/    /' | head -20 >&2
-                return 1
-            fi
-            return 0
-        fi
-        if test $p_try -lt 3 &&
+        if test $p_try -lt 4 &&
             { test $p_status -eq 124 || grep -E -q "bad X server connection|remote rendering which" "$tmp/$p_name.log"; }; then
             echo "    (pvbatch on $p_ranks ranks: no X connection on a rank; trying again)"
             p_try=$((p_try + 1))
             sleep 1
             continue
         fi
-        fail "pvbatch on $p_ranks rank(s) ($p_name) exited $p_status"
-        grep -v "No plugin loaded yet" "$tmp/$p_name.log" | sed 's/^/    /' | head -20 >&2
-        return 1
+        return $p_status
     done
+}
+# pv NAME RANKS JOBS: renders the jobs (OUTPUT SCENE|- [EXCHANGE [SETTINGS]] a line) in one
+# pvbatch run; any error, the plugin's included, fails the test.
+pv() {
+    printf '%s\n' "$3" >"$tmp/$1.jobs"
+    if pvrun "$1" "$2" --jobs "$tmp/$1.jobs" && ! grep -q "HaloVolume" "$tmp/$1.log"; then
+        return 0
+    fi
+    fail "pvbatch on $2 rank(s) ($1) failed or the plugin reported errors"
+    grep -v "No plugin loaded yet" "$tmp/$1.log" | sed 's/^/    /' | head -20 >&2
+    return 1
 }
 # metrics A B: "MEAN SHARE" (mean abs; percent of pixels over 1/255)
 metrics() {
@@ -121,8 +122,7 @@ echo "control, each rank's own seeds: mean abs $1, $2 % over 1/255"
 test $# -eq 2 && within "$1" "$2" $halo_mean $halo_share && fail "control: the naive halos passed the halo tolerance"
 
 # outlines need the composited image: refused on 2 ranks, with the reason
-mpirun --oversubscribe -np 2 pvbatch "$HALO_PVBATCH_SCRIPT" --plugin "$HALO_PARAVIEW_PLUGIN" --view "$tmp/volume" \
-    --scene "$scenes/outline-depth.json" -o "$tmp/outline.png" >"$tmp/outline.log" 2>&1
+pvrun outline 2 --scene "$scenes/outline-depth.json" -o "$tmp/outline.png"
 grep -q "finished image (outlines)" "$tmp/outline.log" ||
     { fail "outlines on 2 ranks: no diagnostic"; sed 's/^/    /' "$tmp/outline.log" | head -20 >&2; }
 finish
