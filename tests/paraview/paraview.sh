@@ -14,7 +14,7 @@
 . "${srcdir:-.}/tests/harness.sh"
 harness_need srcdir HALO_IMAGE_COMPARE HALO_PVBATCH_SCRIPT
 if test -z "${HALO_PARAVIEW_PLUGIN:-}" || test ! -f "$HALO_PARAVIEW_PLUGIN"; then
-    echo "SKIP: the ParaView plugin is not built (configure found no ParaView: install paraview-dev)"
+    echo "SKIP: the ParaView plugin is not built (configure found no ParaView, or this is a sanitizer build: pvbatch is not instrumented)"
     exit 77
 fi
 if test -z "${HALO_VTK:-}" || test ! -x "$HALO_VTK"; then
