@@ -160,7 +160,9 @@ int halo_glsl_locate(const glslang_input_t *in, halo_glsl_spots *out) {
         glslang_shader_preprocess(sh, &copy);
         glslang_shader_parse(sh, &copy);
         char *log = halo_strdup(glslang_shader_get_info_log(sh));
-        for (char *line = log ? strtok(log, "\n") : NULL; line && !status; line = strtok(NULL, "\n"))
+        char *cursor = NULL; /* strtok_r: another thread may be reading its own log */
+        for (char *line = log ? strtok_r(log, "\n", &cursor) : NULL; line && !status;
+             line = strtok_r(NULL, "\n", &cursor))
             status = add_spot(out, line, places, count);
         if (!log) status = -1;
         free(log);
