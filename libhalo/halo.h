@@ -478,7 +478,15 @@ typedef struct halo_pass_info {
     int channel;        /* -1; else the channel of an each=channel pass (halo_pass_channel) */
     int start;          /* the first repetition drawn (1..repeat): draws start..repeat, each with its
                          * repetition as halo_pass_index (start=K in the module) */
+    int reach;          /* -1: undeclared, the pass may write anywhere; else repetition i writes a nonzero
+                         * pixel only within halo_pass_reach(pass, i) pixels (per axis) of a nonzero pixel
+                         * of its inputs (reach= in the module) */
+    int reach_exponent; /* -1; else the value of PARAM in reach=2^(PARAM-i)+K (reach holds K) */
 } halo_pass_info;
+
+/* Pixels (per axis) repetition i of a pass reaches: reach + 2^max(0, reach_exponent - i) when
+ * it has an exponent; -1 when the pass declares no reach. */
+HALO_API int halo_pass_reach(const halo_pass_info *pass, int repetition);
 
 typedef struct halo_program halo_program;
 
@@ -720,6 +728,20 @@ HALO_API unsigned halo_gl_frame_texture(const halo_gl_frame *f, const char *imag
 HALO_API halo_status halo_gl_frame_read(halo_gl_frame *f, const char *image, float *out);
 /* Passes drawn by halo_gl_frame_generate since creation (for benchmarks). */
 HALO_API long halo_gl_frame_pass_draws(const halo_gl_frame *f);
+/* The host's promise for its draws since the last halo_gl_frame_generate (or _begin):
+ * they changed the frame's images (the program's outputs) only inside the pixels
+ * [x0, x1) x [y0, y1) (calls add up; an empty box: nowhere). The next generation then
+ * draws each pass only where its result can be nonzero: the inputs' nonzero pixels grown
+ * by the pass's reach (reach= in the module), when every generation pass declares one;
+ * the images are the same as without. Without a call the host may have drawn anywhere.
+ * A texture taken with halo_gl_frame_texture counts as written anywhere. */
+HALO_API void halo_gl_frame_drawn_region(halo_gl_frame *f, int x0, int y0, int x1, int y1);
+/* on: before each generation that can be scissored (every pass declares its reach), read
+ * the program's outputs back and take their nonzero pixels' box, when the host declared
+ * no region: exact for any host, at the cost of a read-back that waits for the draws.
+ * Default: on for a software renderer (llvmpipe, softpipe, SwiftShader), which waits
+ * between passes anyway; off for a GPU. */
+HALO_API void halo_gl_frame_set_readback_bounds(halo_gl_frame *f, int on);
 
 /* ---- Host contract 2: segmented ray casting (docs/host-contract.md) ---- */
 

@@ -61,6 +61,8 @@ typedef struct halo_pass_decl {
     int post;         /* at=post: runs in halo_*_frame_post, not between slices */
     int each_channel; /* each=channel: one pass per channel; '*' names that channel's image */
     int start;        /* start=K: repetitions K..repeat only (0: 1) */
+    int reach;        /* reach=: -1 undeclared; else K of reach=K or reach=2^(PARAM-i)+K */
+    char *reach_param; /* PARAM of reach=2^(PARAM-i)[+K]; NULL for reach=K */
 } halo_pass_decl;
 
 struct halo_module {

@@ -520,6 +520,8 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     pi->channel = channel;
     pi->repeat = pd->repeat ? param_int(st, pd->repeat) : 1;
     pi->start = pd->start > 1 ? pd->start : 1;
+    pi->reach = pd->reach;
+    pi->reach_exponent = pd->reach >= 0 && pd->reach_param ? param_int(st, pd->reach_param) : -1;
     pi->vertex_source = halo_program_own(p, "%s\n%s\n", halo_target_version_line(p->target), pass_vertex_body);
     pi->fragment_source = frag_owned;
     p->pass_origins[p->pass_count] = e.origins;

@@ -394,15 +394,53 @@ static void parse_param(parse_ctx *ctx, words *w, int line) {
     free((char *)info.meaning);
 }
 
+/* reach=K or reach=2^(PARAM-i)[+K] (docs/modules.md): fills pd->reach and pd->reach_param;
+ * -1 on a syntax error. */
+static int parse_reach(const char *v, halo_pass_decl *pd) {
+    const char *p = v;
+    char *name = NULL;
+    if (!strncmp(p, "2^(", 3)) {
+        const char *start = p + 3, *minus = strstr(start, "-i)");
+        if (!minus || minus == start) return -1;
+        name = strndup(start, (size_t)(minus - start));
+        if (!name || !valid_name(name)) {
+            free(name);
+            return -1;
+        }
+        p = minus + 3;
+        if (!*p) {
+            free(pd->reach_param);
+            pd->reach_param = name;
+            pd->reach = 0;
+            return 0;
+        }
+        if (*p++ != '+') {
+            free(name);
+            return -1;
+        }
+    }
+    char *end = NULL;
+    long k = isdigit((unsigned char)*p) ? strtol(p, &end, 10) : -1;
+    if (k < 0 || k > 4096 || !end || *end) {
+        free(name);
+        return -1;
+    }
+    free(pd->reach_param);
+    pd->reach_param = name;
+    pd->reach = (int)k;
+    return 0;
+}
+
 static void parse_pass(parse_ctx *ctx, words *w, int line) {
     halo_module *m = ctx->m;
     if (w->n < 3 || !valid_name(w->w[1])) {
         ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[0],
                     "'pass' takes NAME entry=FUNC inputs=A,B output=IMAGE [repeat=PARAM first=IMAGE start=K] "
-                    "[when=[!]PARAM]");
+                    "[when=[!]PARAM] [reach=K | reach=2^(PARAM-i)[+K]]");
         return;
     }
     halo_pass_decl pd = {0};
+    pd.reach = -1;
     pd.name = halo_strdup(w->w[1]);
     pd.line = line;
     for (int i = 2; i < w->n; i++) {
@@ -432,6 +470,12 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
                 ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "start= takes a repetition 1..64");
             else
                 pd.start = (int)start;
+            continue;
+        } else if (k == 5 && !strncmp(a, "reach", 5)) {
+            if (parse_reach(v, &pd) < 0)
+                ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i],
+                            "reach= takes pixels K (0..4096) or 2^(PARAM-i)+K: how far from the nonzero pixels "
+                            "of its inputs repetition i can write a nonzero pixel");
             continue;
         } else if (k == 4 && !strncmp(a, "each", 4)) {
             if (!strcmp(v, "channel")) pd.each_channel = 1;
@@ -838,13 +882,14 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
             /* when=!PARAM negates; when=halo_full_size: the halo images at the frame's size */
             const char *when = pd->when && pd->when[0] == '!' ? pd->when + 1 : pd->when;
             if (when && !strcmp(when, HALO_WHEN_FULL_SIZE)) when = NULL;
-            const char *need[2] = {pd->repeat, when};
-            for (int k = 0; k < 2; k++) {
+            const char *need[3] = {pd->repeat, when, pd->reach_param};
+            static const char *const key[3] = {"repeat", "when", "reach"};
+            for (int k = 0; k < 3; k++) {
                 const halo_param_info *pi = need[k] ? halo_module_find_param(m, need[k]) : NULL;
-                if (need[k] && (!pi || pi->type != (k ? HALO_PARAM_BOOL : HALO_PARAM_INT) || pi->array_size)) {
+                if (need[k] && (!pi || pi->type != (k == 1 ? HALO_PARAM_BOOL : HALO_PARAM_INT) || pi->array_size)) {
                     halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1,
                                   m->lines[pd->line - 1], "pass '%s': %s=%s must name an %s parameter of the module",
-                                  pd->name, k ? "when" : "repeat", need[k], k ? "bool" : "int");
+                                  pd->name, key[k], need[k], k == 1 ? "bool" : "int");
                     ctx.errors++;
                 }
             }
@@ -935,7 +980,7 @@ void halo_module_free(halo_module *m) {
     free(m->host_uniforms);
     for (size_t i = 0; i < m->pass_count; i++) {
         halo_pass_decl *pd = &m->passes[i];
-        free(pd->name); free(pd->entry); free(pd->output); free(pd->first); free(pd->repeat); free(pd->when);
+        free(pd->name); free(pd->entry); free(pd->output); free(pd->first); free(pd->repeat); free(pd->when); free(pd->reach_param);
         for (int k = 0; k < pd->input_count; k++) free(pd->inputs[k]);
     }
     free(m->passes);

@@ -267,6 +267,14 @@ int halo_program_set_groups(halo_program *p) {
 PROGRAM_GETTER(size_t, halo_program_pass_count, 0, p->pass_count)
 PROGRAM_ITEM(halo_pass_info, halo_program_pass, pass_count, passes)
 
+int halo_pass_reach(const halo_pass_info *pass, int repetition) {
+    HALO_REFUSE_NULL(NULL, pass, "pass", -1);
+    if (pass->reach < 0) return -1;
+    if (pass->reach_exponent < 0) return pass->reach;
+    int e = pass->reach_exponent - repetition;
+    return pass->reach + (1 << (e < 0 ? 0 : e > 30 ? 30 : e));
+}
+
 static json_t *number_or_null(double v) { return isfinite(v) ? json_real(v) : json_null(); }
 
 char *halo_program_reflect_json(const halo_program *p) {

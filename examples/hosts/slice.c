@@ -218,8 +218,12 @@ int halo_gradient_format_option(const char *text, halo_gradient_format *format, 
 
 void halo_slice_set_generation_skip(halo_slice *s, int on)
 {
-    if (s)
-        s->run_every_generation = !on;
+    if (!s)
+        return;
+    s->run_every_generation = !on;
+    /* off: every pass over the whole image as well (on: the frame's default) */
+    if (!on && s->frame)
+        halo_gl_frame_set_readback_bounds(s->frame, 0);
 }
 
 void halo_slice_set_gradient_format(halo_slice *s, halo_gradient_format format)

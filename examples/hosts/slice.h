@@ -66,9 +66,11 @@ halo_gradient_format halo_gradient_format_from_name(const char *text);
 /* The tools' --gradient-format value: 1 with *format set, or 0 with "--gradient-format:
  * 'TEXT' is not float, half or snorm8" in err. */
 int halo_gradient_format_option(const char *text, halo_gradient_format *format, char *err, size_t errlen);
-/* Whether a frame skips the generations it can skip exactly (on by default): when no
- * slice since the last generation met the volume and the halo images are still zero
- * (docs/performance.md, "Work skipped"). Off runs every generation, for measuring. */
+/* Whether a frame skips the work it can skip exactly (on by default): generations when no
+ * slice since the last one met the volume and the halo images are still zero, and, on a
+ * software renderer, the pixels of each pass that stay zero (the seeds' box grown by the
+ * passes' reach: halo_gl_frame_set_readback_bounds). docs/performance.md, "Work skipped".
+ * Off runs every generation over the whole image, for measuring. */
 void halo_slice_set_generation_skip(halo_slice *s, int on);
 /* Takes effect at the next set_volume; an unknown value means the default. */
 void halo_slice_set_gradient_format(halo_slice *s, halo_gradient_format format);

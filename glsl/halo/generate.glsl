@@ -12,12 +12,12 @@
 #pragma halo param delta channels default=0.8 min=0 max=1 "spreading amount (0: the seed gradient only; paper's Fig. 4: 0.70..0.95)"
 #pragma halo param median bool default=false "3x3 median filter on the seed image before spreading"
 #pragma halo param interval int default=4 min=1 max=64 "M: slices between two generations (read by hosts from the reflection)"
-#pragma halo pass median entry=median_pass inputs=seed output=seed when=median
-#pragma halo pass gradient entry=gradient_pass inputs=seed output=initial when=!halo_full_size
-#pragma halo pass spread entry=spread_pass inputs=previous,initial output=field repeat=passes first=initial when=!halo_full_size
-#pragma halo pass spread_seed entry=spread_seed_pass inputs=seed output=field when=halo_full_size
-#pragma halo pass spread entry=spread_on_pass inputs=previous,seed output=field repeat=passes start=2 when=halo_full_size
-#pragma halo pass occlude entry=occlusion_pass inputs=field,occlusion output=occlusion
+#pragma halo pass median entry=median_pass inputs=seed output=seed when=median reach=1
+#pragma halo pass gradient entry=gradient_pass inputs=seed output=initial when=!halo_full_size reach=1
+#pragma halo pass spread entry=spread_pass inputs=previous,initial output=field repeat=passes first=initial when=!halo_full_size reach=2^(passes-i)
+#pragma halo pass spread_seed entry=spread_seed_pass inputs=seed output=field when=halo_full_size reach=2^(passes-i)+1
+#pragma halo pass spread entry=spread_on_pass inputs=previous,seed output=field repeat=passes start=2 when=halo_full_size reach=2^(passes-i)
+#pragma halo pass occlude entry=occlusion_pass inputs=field,occlusion output=occlusion reach=0
 
 // Volumetric halos, step 2 (Bruckner & Groller 2007, Sec. 3.2; docs/stages/halo_generate.md):
 //   H_0 = |grad S| (central differences, not halved, clamped to [0, 1]);

@@ -1,4 +1,4 @@
-/* runtime.c's accessors of a halo_gl_frame, for the segmented drawing in segments.c
+/* frame.c's accessors of a halo_gl_frame, for the segmented drawing in segments.c
  * (which draws a host through the frame's images and passes). Internal. */
 #ifndef HALO_GL_FRAME_H
 #define HALO_GL_FRAME_H

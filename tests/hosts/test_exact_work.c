@@ -12,10 +12,13 @@
  * on a GL 3.3 context (color-renderable RGB32F/RGB16F through the layer probe), else the
  * test fails.
  *
- * 2. The skipped generations (halo_slice_set_generation_skip): a noise volume, whose seeds
- * reach its back faces, seen along an axis (the bounding sphere's slices beyond the cube
- * leave whole slabs empty at both ends), rendered by the slice and the slab host with
- * the skips on and off: the same floats, and fewer pass draws with them on.
+ * 2. The skipped work (halo_slice_set_generation_skip): the skipped generations and the
+ * scissored passes (the seeds' box grown by each pass's reach). Two volumes: noise, whose
+ * seeds reach its back faces, seen along an axis (the bounding sphere's slices beyond
+ * the cube leave whole slabs empty at both ends), and a small ball off the centre (the
+ * seeds' box far smaller than the image, so that the reach decides), rendered by the
+ * slice and the slab host with the skips on and off: the same floats, and fewer pass
+ * draws with them on.
  *
  * Exit 77 without OpenGL. */
 #include "halo.h"
@@ -188,31 +191,36 @@ static int check_skips(halo_gl *runtime, unsigned *state)
     char *host[2] = {halo_host_load("slice.frag", NULL, diag), halo_host_load("slab.frag", NULL, diag)};
     halo_scene *scene = lib ? halo_scene_parse(skip_scene, "(skip scene)", lib, diag) : NULL;
     float *volume = malloc((size_t)SIDE * SIDE * SIDE * sizeof *volume);
-    for (size_t i = 0; volume && i < (size_t)SIDE * SIDE * SIDE; ++i)
-        volume[i] = next_random(state);
-    for (int slab = 0; slab < 2 && scene && volume; ++slab) {
-        halo_program *p = host[slab] ? halo_link(&(halo_link_desc){.library = lib, .scene = scene,
-                                                                    .host_source = host[slab],
-                                                                    .host_file = slab ? "slab.frag" : "slice.frag"},
-                                                 diag)
-                                     : NULL;
-        long draws[2] = {0, 0};
-        float *image[2] = {NULL, NULL};
-        for (int skip = 0; skip < 2 && p; ++skip)
-            image[skip] = render_skips(runtime, p, halo_scene_render(scene), volume, SIDE, slab, skip, &draws[skip],
-                                       diag);
-        size_t differing = 0, n = (size_t)48 * 48 * 4;
-        for (size_t i = 0; image[0] && image[1] && i < n; ++i)
-            differing += memcmp(&image[0][i], &image[1][i], sizeof(float)) != 0;
-        int ok = image[0] && image[1] && differing == 0 && draws[1] < draws[0];
-        printf("%s %s host: skips off %ld pass draws, on %ld; %zu of %zu floats differ\n", ok ? "ok  " : "FAIL",
-               slab ? "slab" : "slice", draws[0], draws[1], differing, n);
-        if (!image[0] || !image[1])
-            halo_diagnostics_print(diag, stdout);
-        failed += !ok;
-        free(image[0]);
-        free(image[1]);
-        halo_program_destroy(p);
+    for (int ball = 0; ball < 2; ++ball) {
+        for (size_t i = 0; volume && i < (size_t)SIDE * SIDE * SIDE; ++i) {
+            int x = (int)(i % SIDE), y = (int)(i / SIDE % SIDE), z = (int)(i / SIDE / SIDE);
+            double r2 = (x - 13.5) * (x - 13.5) + (y - 6.5) * (y - 6.5) + (z - 9.5) * (z - 9.5);
+            volume[i] = ball ? (r2 < 9.0 ? 0.9f : 0.0f) : next_random(state);
+        }
+        for (int slab = 0; slab < 2 && scene && volume; ++slab) {
+            halo_program *p = host[slab] ? halo_link(&(halo_link_desc){.library = lib, .scene = scene,
+                                                                        .host_source = host[slab],
+                                                                        .host_file = slab ? "slab.frag" : "slice.frag"},
+                                                     diag)
+                                         : NULL;
+            long draws[2] = {0, 0};
+            float *image[2] = {NULL, NULL};
+            for (int skip = 0; skip < 2 && p; ++skip)
+                image[skip] = render_skips(runtime, p, halo_scene_render(scene), volume, SIDE, slab, skip, &draws[skip],
+                                           diag);
+            size_t differing = 0, n = (size_t)48 * 48 * 4;
+            for (size_t i = 0; image[0] && image[1] && i < n; ++i)
+                differing += memcmp(&image[0][i], &image[1][i], sizeof(float)) != 0;
+            int ok = image[0] && image[1] && differing == 0 && draws[1] < draws[0];
+            printf("%s %s host, %s: skips off %ld pass draws, on %ld; %zu of %zu floats differ\n", ok ? "ok  " : "FAIL",
+                   slab ? "slab" : "slice", ball ? "ball" : "noise", draws[0], draws[1], differing, n);
+            if (!image[0] || !image[1])
+                halo_diagnostics_print(diag, stdout);
+            failed += !ok;
+            free(image[0]);
+            free(image[1]);
+            halo_program_destroy(p);
+        }
     }
     if (!scene || !volume) {
         halo_diagnostics_print(diag, stdout);

@@ -774,6 +774,36 @@ static int test_occlusion_pass_when_occlusive(void) {
     return 0;
 }
 
+/* reach= (docs/modules.md): how far a pass's repetition writes beyond its inputs' nonzero
+ * pixels, with the parameter's value: halo_generate at N = 3 reaches 4 + 1 (the seed
+ * gradient's taps), then 2 and 1; its occlusion pass 0. */
+static int test_pass_reach(void) {
+    halo_scene *scene = scene_of("{\"stages\": [\"halo_seed\", {\"halo_generate\": {\"passes\": 3}},"
+                                 " {\"halo_map\": {\"mode\": 1}}]}");
+    halo_program *p = link_with(scene, host_source, HALO_TARGET_DEFAULT, 0);
+    halo_scene_destroy(scene);
+    CHECK(p != NULL);
+    if (!p) return 0;
+    int seen = 0;
+    for (size_t i = 0; i < halo_program_pass_count(p); i++) {
+        const halo_pass_info *pass = halo_program_pass(p, i);
+        if (!strcmp(pass->name, "spread_seed")) {
+            CHECK_INT_EQ(halo_pass_reach(pass, 1), 5);
+            seen++;
+        } else if (!strcmp(pass->name, "spread")) {
+            CHECK_INT_EQ(halo_pass_reach(pass, 2), 2);
+            CHECK_INT_EQ(halo_pass_reach(pass, 3), 1);
+            seen++;
+        } else if (!strcmp(pass->name, "occlude")) {
+            CHECK_INT_EQ(halo_pass_reach(pass, 1), 0);
+            seen++;
+        }
+    }
+    CHECK_INT_EQ(seen, 3);
+    halo_program_destroy(p);
+    return 0;
+}
+
 /* Feature groups: more than four features of a grouped stage (outline_feature,
  * outlines) link in groups of four, their channels parameters live, group g's values
  * current after halo_program_select_group; other stages keep the limit of four. */
@@ -1044,6 +1074,7 @@ int main(void) {
     RUN_TEST(test_hook_mismatch);
     RUN_TEST(test_image_scale);
     RUN_TEST(test_occlusion_pass_when_occlusive);
+    RUN_TEST(test_pass_reach);
     RUN_TEST(test_feature_groups);
     RUN_TEST(test_compositing_mip);
     halo_library_destroy(library);

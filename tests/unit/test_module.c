@@ -400,6 +400,42 @@ static int test_columns(void) {
     return 0;
 }
 
+/* reach= of a pass: K, or 2^(PARAM-i)+K with PARAM an int parameter; anything else at the word. */
+static int test_pass_reach_syntax(void) {
+    static const struct {
+        const char *reach;
+        halo_message_id id;
+    } bad[] = {{"x", HALO_MSG_ANNOTATION_SYNTAX},           {"2^(n-j)", HALO_MSG_ANNOTATION_SYNTAX},
+               {"2^(n-i)+", HALO_MSG_ANNOTATION_SYNTAX},    {"-1", HALO_MSG_ANNOTATION_SYNTAX},
+               {"2^(n-i)*2", HALO_MSG_ANNOTATION_SYNTAX},   {"5000", HALO_MSG_ANNOTATION_SYNTAX},
+               {"2^(nope-i)", HALO_MSG_PASS_INVALID},       {"2^(on-i)", HALO_MSG_PASS_INVALID}};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char source[512];
+        snprintf(source, sizeof source,
+                 "#pragma halo module reach_syntax\n"
+                 "#pragma halo hook image\n"
+                 "#pragma halo param n int default=2 min=1 max=4\n"
+                 "#pragma halo param on bool default=true\n"
+                 "#pragma halo image a\n"
+                 "#pragma halo pass p entry=f inputs=a output=a reach=%s\n"
+                 "halo_channels f(ivec2 pixel) { return halo_input(0, pixel); }\n",
+                 bad[i].reach);
+        int column = refused_at(source, bad[i].id, 6);
+        if (column != (bad[i].id == HALO_MSG_ANNOTATION_SYNTAX ? 47 : 1))
+            CHECK_FAIL_AT("reach=%s: no error at line 6 (column %d)", bad[i].reach, column);
+        CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
+    }
+    CHECK_INT_EQ(add("user/reach.glsl", "#pragma halo module reach_ok\n"
+                                        "#pragma halo hook image\n"
+                                        "#pragma halo param n int default=2 min=1 max=4\n"
+                                        "#pragma halo image a\n"
+                                        "#pragma halo pass p entry=f inputs=a output=a reach=2^(n-i)+1\n"
+                                        "#pragma halo pass q entry=f inputs=a output=a reach=0\n"
+                                        "halo_channels f(ivec2 pixel) { return halo_input(0, pixel); }\n"),
+                 HALO_OK);
+    return 0;
+}
+
 /* A parameter named after a GLSL keyword, type or reserved word is refused at its
  * annotation (the module's code could not use it), not later in the shader. */
 static int test_reserved_param_names(void) {
@@ -498,6 +534,7 @@ int main(void) {
     RUN_TEST(test_all_errors_reported);
     RUN_TEST(test_columns);
     RUN_TEST(test_reserved_param_names);
+    RUN_TEST(test_pass_reach_syntax);
     RUN_TEST(test_annotation_words);
     RUN_TEST(test_annotation_comments);
     RUN_TEST(test_add_file);

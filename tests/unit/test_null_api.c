@@ -300,6 +300,7 @@ CASE(halo_program_output_count) { REFUSES(halo_program_output_count(NULL) == 0, 
 CASE(halo_program_output) { REFUSES(halo_program_output(NULL, 0) == NULL, "program"); return 0; }
 CASE(halo_program_pass_count) { REFUSES(halo_program_pass_count(NULL) == 0, "program"); return 0; }
 CASE(halo_program_pass) { REFUSES(halo_program_pass(NULL, 0) == NULL, "program"); return 0; }
+CASE(halo_pass_reach) { REFUSES(halo_pass_reach(NULL, 1) == -1, "pass"); return 0; }
 CASE(halo_program_image_count) { REFUSES(halo_program_image_count(NULL) == 0, "program"); return 0; }
 CASE(halo_program_image) { REFUSES(halo_program_image(NULL, 0) == NULL, "program"); return 0; }
 CASE(halo_program_sampler_count) { REFUSES(halo_program_sampler_count(NULL) == 0, "program"); return 0; }
@@ -432,6 +433,8 @@ CASE(halo_gl_frame_end_group) { REFUSES(DONE(halo_gl_frame_end_group(NULL)), "fr
 CASE(halo_gl_frame_attach) { REFUSES(DONE(halo_gl_frame_attach(NULL, 0)), "frame"); return 0; }
 CASE(halo_gl_frame_bind) { REFUSES(DONE(halo_gl_frame_bind(NULL, 1, 0)), "frame"); return 0; }
 CASE(halo_gl_frame_generate) { REFUSES(DONE(halo_gl_frame_generate(NULL)), "frame"); return 0; }
+CASE(halo_gl_frame_drawn_region) { REFUSES(DONE(halo_gl_frame_drawn_region(NULL, 0, 0, 1, 1)), "frame"); return 0; }
+CASE(halo_gl_frame_set_readback_bounds) { REFUSES(DONE(halo_gl_frame_set_readback_bounds(NULL, 1)), "frame"); return 0; }
 CASE(halo_gl_frame_post) { REFUSES(DONE(halo_gl_frame_post(NULL, 0)), "frame"); return 0; }
 CASE(halo_gl_frame_texture) {
     REFUSES(halo_gl_frame_texture(NULL, "final") == 0, "frame");
@@ -632,6 +635,7 @@ static const api_case cases[] = {
     ROW(halo_program_output),
     ROW(halo_program_pass_count),
     ROW(halo_program_pass),
+    ROW(halo_pass_reach),
     ROW(halo_program_image_count),
     ROW(halo_program_image),
     ROW(halo_program_sampler_count),
@@ -677,6 +681,8 @@ static const api_case cases[] = {
     ROW(halo_gl_frame_attach),
     ROW(halo_gl_frame_bind),
     ROW(halo_gl_frame_generate),
+    ROW(halo_gl_frame_drawn_region),
+    ROW(halo_gl_frame_set_readback_bounds),
     ROW(halo_gl_frame_post),
     ROW(halo_gl_frame_texture),
     ROW(halo_gl_frame_read),

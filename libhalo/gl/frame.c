@@ -1,0 +1,830 @@
+/* Frames: a linked program's images, its image passes and their schedule between the
+ * host's draws (docs/image-passes.md). Built on the runtime (runtime.c) in the host's
+ * context; the host draws through halo_gl_frame_attach / _bind. */
+#include "halo.h"
+#include "internal.h"
+#include "diag.h"
+#include "gl/frame.h"
+#include "gl/glfuncs.h"
+#include "gl/runtime.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define FRAME_MAX_BUFFERS 8 /* draw buffers whose blend enable is saved */
+
+/* A box of pixels [x0, x1) x [y0, y1); empty when x0 >= x1 or y0 >= y1. */
+typedef struct frame_box {
+    int x0, y0, x1, y1;
+} frame_box;
+
+static int box_empty(frame_box b) { return b.x0 >= b.x1 || b.y0 >= b.y1; }
+
+static frame_box box_union(frame_box a, frame_box b)
+{
+    if (box_empty(a))
+        return b;
+    if (box_empty(b))
+        return a;
+    return (frame_box){a.x0 < b.x0 ? a.x0 : b.x0, a.y0 < b.y0 ? a.y0 : b.y0, a.x1 > b.x1 ? a.x1 : b.x1,
+                       a.y1 > b.y1 ? a.y1 : b.y1};
+}
+
+/* b grown by r pixels on each side, within a width x height image. */
+static frame_box box_grow(frame_box b, int r, int width, int height)
+{
+    if (box_empty(b))
+        return b;
+    b.x0 = b.x0 - r < 0 ? 0 : b.x0 - r;
+    b.y0 = b.y0 - r < 0 ? 0 : b.y0 - r;
+    b.x1 = b.x1 + r > width ? width : b.x1 + r;
+    b.y1 = b.y1 + r > height ? height : b.y1 + r;
+    return b;
+}
+
+typedef struct frame_image {
+    const char *name;
+    int channels;
+    halo_image_reset reset;
+    GLfloat clear;
+    int host;          /* host_color: texture[0] is the host's, set by halo_gl_frame_post */
+    int width, height; /* ceil(frame / scale) */
+    GLuint texture[2]; /* double-buffered: a pass reads texture[current], writes the other */
+    int current;
+    /* Outside support[k], texture[k] holds 0 (kept where generations are scissored:
+     * frame_scissored); the whole image while unknown. */
+    frame_box support[2];
+} frame_image;
+
+typedef struct frame_pass {
+    const halo_pass_info *info;
+    GLuint program;
+    GLint index_location, count_location;
+    int inputs[HALO_MAX_PASS_INPUTS]; /* image index; -1: previous */
+    int output, first;                /* first: image index for repetition 1's previous, -1: the output */
+    int repeat, start;
+} frame_pass;
+
+struct halo_gl_frame {
+    halo_gl *gl;
+    const halo_program *program;
+    int width, height;
+    frame_image *images;
+    size_t image_count;
+    frame_pass *passes;
+    size_t pass_count;
+    int max_inputs;
+    GLuint framebuffer, vertex_array;
+    long pass_draws;
+    int groups_ended; /* halo_gl_frame_end_group calls since halo_gl_frame_begin */
+    int attached;  /* outputs attached to attached_framebuffer by halo_gl_frame_attach */
+    GLuint attached_framebuffer;
+    int bound;     /* samplers bound by halo_gl_frame_bind from bound_first_unit */
+    int bound_first_unit;
+    GLuint state[2];   /* host contract 2: the rays' state between segments (RGBA32F), ping-ponged */
+    int state_current; /* state[state_current] holds the state after the last segment drawn */
+    int segments_drawn;
+    /* The union of halo_gl_frame_drawn_region calls since the host's draws were last taken
+     * into the images' support (frame_take_host_draws); without a call (drawn_known 0)
+     * the host may have drawn anywhere. */
+    int drawn_known;
+    frame_box drawn;
+    /* Before a scissored generation without a declared region, the host's outputs are
+     * read back and their nonzero pixels' box taken (halo_gl_frame_set_readback_bounds). */
+    int readback_bounds;
+    float *readback;
+};
+
+/* For segments.c: the runtime, program, size and ray-state textures of a frame. */
+halo_gl *halo_gl_frame_runtime(const halo_gl_frame *fr) { return fr->gl; }
+const halo_program *halo_gl_frame_program(const halo_gl_frame *fr) { return fr->program; }
+void halo_gl_frame_size(const halo_gl_frame *fr, int *width, int *height)
+{
+    *width = fr->width;
+    *height = fr->height;
+}
+unsigned halo_gl_frame_state(halo_gl_frame *fr, int next)
+{
+    return fr->state[next ? 1 - fr->state_current : fr->state_current];
+}
+void halo_gl_frame_state_flip(halo_gl_frame *fr)
+{
+    fr->state_current = 1 - fr->state_current;
+    fr->segments_drawn++;
+}
+void halo_gl_frame_segments_reset(halo_gl_frame *fr)
+{
+    fr->segments_drawn = 0;
+}
+int halo_gl_frame_segment_count(const halo_gl_frame *fr)
+{
+    HALO_REFUSE_NULL(NULL, fr, "frame", 0);
+    return fr->segments_drawn;
+}
+
+static int frame_find_image(const halo_gl_frame *f, const char *name)
+{
+    for (size_t i = 0; name && i < f->image_count; ++i)
+        if (strcmp(f->images[i].name, name) == 0)
+            return (int)i;
+    return -1;
+}
+
+static void image_formats(int channels, int precision, GLint *internal, GLenum *format)
+{
+    static const GLint f32[4] = {GL_R32F, GL_RG32F, GL_RGBA32F, GL_RGBA32F};
+    static const GLint f16[4] = {GL_R16F, GL_RG16F, GL_RGBA16F, GL_RGBA16F};
+    static const GLint u8[4] = {GL_R8, GL_RG8, GL_RGBA8, GL_RGBA8};
+    static const GLenum formats[4] = {GL_RED, GL_RG, GL_RGBA, GL_RGBA};
+    int c = channels < 1 ? 1 : channels > 4 ? 4 : channels;
+    *internal = precision == 16 ? f16[c - 1] : precision == 8 ? u8[c - 1] : f32[c - 1];
+    *format = formats[c - 1];
+}
+
+/* The GL state the frame functions change, saved and restored around them. */
+typedef struct frame_saved {
+    GLint draw_framebuffer, read_framebuffer, viewport[4], program, vertex_array, active_texture;
+    GLboolean scissor, blend[FRAME_MAX_BUFFERS];
+    GLint scissor_box[4];
+    int blend_count;
+    int first_unit, unit_count;
+    GLint textures[HALO_MAX_PASS_INPUTS];
+} frame_saved;
+
+static void frame_save(const halo_glfuncs *f, frame_saved *s, int units)
+{
+    memset(s, 0, sizeof *s);
+    f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &s->draw_framebuffer);
+    f->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &s->read_framebuffer);
+    f->GetIntegerv(GL_VIEWPORT, s->viewport);
+    f->GetIntegerv(GL_CURRENT_PROGRAM, &s->program);
+    f->GetIntegerv(GL_VERTEX_ARRAY_BINDING, &s->vertex_array);
+    f->GetIntegerv(GL_ACTIVE_TEXTURE, &s->active_texture);
+    if (f->IsEnabled)
+        s->scissor = f->IsEnabled(GL_SCISSOR_TEST);
+    f->GetIntegerv(GL_SCISSOR_BOX, s->scissor_box);
+    GLint max_buffers = 1;
+    f->GetIntegerv(GL_MAX_DRAW_BUFFERS, &max_buffers);
+    s->blend_count = max_buffers < 1 ? 1 : max_buffers > FRAME_MAX_BUFFERS ? FRAME_MAX_BUFFERS : max_buffers;
+    for (int i = 0; i < s->blend_count; ++i)
+        s->blend[i] = f->IsEnabledi ? f->IsEnabledi(GL_BLEND, (GLuint)i) : f->IsEnabled ? f->IsEnabled(GL_BLEND) : 0;
+    s->unit_count = units > HALO_MAX_PASS_INPUTS ? HALO_MAX_PASS_INPUTS : units;
+    for (int u = 0; u < s->unit_count; ++u) {
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        f->GetIntegerv(GL_TEXTURE_BINDING_2D, &s->textures[u]);
+    }
+}
+
+static void frame_restore(const halo_glfuncs *f, const frame_saved *s)
+{
+    for (int u = 0; u < s->unit_count; ++u) {
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)u);
+        f->BindTexture(GL_TEXTURE_2D, (GLuint)s->textures[u]);
+    }
+    f->ActiveTexture((GLenum)s->active_texture);
+    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)s->draw_framebuffer);
+    f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)s->read_framebuffer);
+    f->Viewport(s->viewport[0], s->viewport[1], s->viewport[2], s->viewport[3]);
+    f->UseProgram((GLuint)s->program);
+    f->BindVertexArray((GLuint)s->vertex_array);
+    f->Scissor(s->scissor_box[0], s->scissor_box[1], s->scissor_box[2], s->scissor_box[3]);
+    if (s->scissor)
+        f->Enable(GL_SCISSOR_TEST);
+    for (int i = 0; i < s->blend_count; ++i) {
+        if (f->Enablei && f->Disablei)
+            (s->blend[i] ? f->Enablei : f->Disablei)(GL_BLEND, (GLuint)i);
+        else if (i == 0)
+            (s->blend[0] ? f->Enable : f->Disable)(GL_BLEND);
+    }
+}
+
+/* Clears the current texture of image i through the frame's framebuffer (bound as draw). */
+static void frame_clear_image(halo_gl_frame *fr, int i)
+{
+    const halo_glfuncs *f = &fr->gl->f;
+    frame_image *image = &fr->images[i];
+    if (image->host)
+        return;
+    const GLfloat value[4] = {image->clear, image->clear, image->clear, image->clear};
+    f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+                            image->texture[image->current], 0);
+    f->ClearBufferfv(GL_COLOR, 0, value);
+    image->support[image->current] = (frame_box){0, 0, 0, 0};
+}
+
+static frame_box image_full(const frame_image *im) { return (frame_box){0, 0, im->width, im->height}; }
+
+/* The box of the pixels of image im's current texture that differ from 0 (NaN included),
+ * read back through the frame's framebuffer (bound as GL_FRAMEBUFFER); the whole image
+ * when the scratch memory is missing. */
+static frame_box image_nonzero_box(halo_gl_frame *fr, frame_image *im)
+{
+    const halo_glfuncs *f = &fr->gl->f;
+    if (!fr->readback)
+        fr->readback = malloc((size_t)fr->width * (size_t)fr->height * 4 * sizeof(float));
+    if (!fr->readback)
+        return image_full(im);
+    static const GLenum formats[4] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
+    GLint pack = 4;
+    f->GetIntegerv(GL_PACK_ALIGNMENT, &pack);
+    f->PixelStorei(GL_PACK_ALIGNMENT, 4);
+    f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, im->texture[im->current], 0);
+    f->ReadBuffer(GL_COLOR_ATTACHMENT0);
+    f->ReadPixels(0, 0, im->width, im->height, formats[im->channels - 1], GL_FLOAT, fr->readback);
+    f->PixelStorei(GL_PACK_ALIGNMENT, pack);
+    frame_box b = {im->width, im->height, 0, 0};
+    size_t row = (size_t)im->width * (size_t)im->channels;
+    for (int y = 0; y < im->height; ++y) {
+        const float *line = fr->readback + (size_t)y * row;
+        size_t first = 0, last = row;
+        while (first < row && line[first] == 0.0f)
+            ++first;
+        if (first == row)
+            continue;
+        while (line[last - 1] == 0.0f)
+            --last;
+        int x0 = (int)(first / (size_t)im->channels), x1 = (int)((last - 1) / (size_t)im->channels) + 1;
+        b.x0 = x0 < b.x0 ? x0 : b.x0;
+        b.x1 = x1 > b.x1 ? x1 : b.x1;
+        b.y0 = y < b.y0 ? y : b.y0;
+        b.y1 = y + 1;
+    }
+    return box_empty(b) ? (frame_box){0, 0, 0, 0} : b;
+}
+
+/* The host's draws since the last call are in the images it writes (the program's
+ * outputs): their current textures' support is read back (exact), or grows by the
+ * region the host declared, or becomes the whole image. */
+static void frame_take_host_draws(halo_gl_frame *fr, int read_back)
+{
+    size_t n = halo_program_output_count(fr->program);
+    for (size_t i = 0; i < n; ++i) {
+        int k = frame_find_image(fr, halo_program_output(fr->program, i)->image);
+        if (k < 0 || fr->images[k].host)
+            continue;
+        frame_image *im = &fr->images[k];
+        frame_box *support = &im->support[im->current];
+        if (read_back)
+            *support = image_nonzero_box(fr, im);
+        else
+            *support = fr->drawn_known ? box_union(*support, box_grow(fr->drawn, 0, im->width, im->height))
+                                       : image_full(im);
+    }
+    fr->drawn_known = 0;
+}
+
+/* Whether the generation passes may be scissored to where their outputs can be nonzero:
+ * each declares its reach, and every image they touch is at the frame's size with clear
+ * value 0 (a reach counts frame pixels from nonzero ones). */
+static int frame_scissored(const halo_gl_frame *fr)
+{
+    int any = 0;
+    for (size_t i = 0; i < fr->pass_count; ++i) {
+        const frame_pass *pass = &fr->passes[i];
+        if (pass->info->post)
+            continue;
+        if (pass->info->reach < 0)
+            return 0;
+        any = 1;
+        int images[HALO_MAX_PASS_INPUTS + 2], n = 0;
+        images[n++] = pass->output;
+        if (pass->first >= 0)
+            images[n++] = pass->first;
+        for (int k = 0; k < pass->info->input_count; ++k)
+            if (pass->inputs[k] >= 0)
+                images[n++] = pass->inputs[k];
+        for (int k = 0; k < n; ++k) {
+            const frame_image *im = &fr->images[images[k]];
+            if (im->host || im->clear != 0.0f || im->width != fr->width || im->height != fr->height)
+                return 0;
+        }
+    }
+    return any;
+}
+
+/* Where repetition rep of a pass can write a nonzero pixel: its inputs' support grown by
+ * its reach. */
+static frame_box pass_reach_box(const halo_gl_frame *fr, const frame_pass *pass, int rep, const frame_image *out)
+{
+    int reach = halo_pass_reach(pass->info, rep);
+    if (reach < 0)
+        return image_full(out);
+    frame_box in = {0, 0, 0, 0};
+    for (int k = 0; k < pass->info->input_count; ++k) {
+        const frame_image *im = pass->inputs[k] >= 0 ? &fr->images[pass->inputs[k]]
+                                : rep == pass->start && pass->first >= 0 ? &fr->images[pass->first]
+                                                                : out;
+        in = box_union(in, im->support[im->current]);
+    }
+    return box_grow(in, reach, out->width, out->height);
+}
+
+static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, size_t index, halo_diagnostics *diag)
+{
+    const halo_pass_info *pass = halo_program_pass(p, index);
+    char file[256];
+    snprintf(file, sizeof file, "(image pass '%s' of %s)", pass->name ? pass->name : "?",
+             pass->stage ? pass->stage : "?");
+    const halo_line_origin *origins = p->pass_origins ? p->pass_origins[index] : NULL;
+    int origin_count = origins && p->pass_origin_counts ? p->pass_origin_counts[index] : 0;
+    GLuint vertex = halo_gl_compile_mapped(f, GL_VERTEX_SHADER, pass->vertex_source, NULL, NULL, 0, file, diag);
+    GLuint fragment = halo_gl_compile_mapped(f, GL_FRAGMENT_SHADER, pass->fragment_source, NULL, origins,
+                                             origin_count, file, diag);
+    GLuint program = halo_gl_program_attach(f, vertex, fragment, file, diag);
+    if (!program)
+        return 0;
+    if (p->unlocated_outputs || p->target == HALO_TARGET_GLSL150)
+        f->BindFragDataLocation(program, 0, "halo_pass_output");
+    return halo_gl_link_attached(f, program, vertex, fragment, file, "the driver could not link the image pass", diag);
+}
+
+halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int width, int height,
+                                    halo_diagnostics *diag)
+{
+    HALO_REFUSE_NULL(diag, gl, "gl", NULL);
+    HALO_REFUSE_NULL(diag, p, "program", NULL);
+    if (width < 1 || height < 1 || width > 16384 || height > 16384) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_frame_create: a size in 1..16384 is required");
+        return NULL;
+    }
+    const halo_glfuncs *f = &gl->f;
+    if (halo_program_output_count(p) > 0) {
+        GLint major = 0;
+        f->GetIntegerv(GL_MAJOR_VERSION, &major);
+        if (major < 4 || !f->Enablei || !f->Disablei || !f->BlendEquationi || !f->BlendFunci || !f->IsEnabledi) {
+            halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
+                            "the program writes extra outputs, which need per-draw-buffer blending "
+                            "(glBlendFunci, glBlendEquationi: OpenGL 4.0); this context is OpenGL %d.x", major);
+            return NULL;
+        }
+    }
+    halo_gl_frame *fr = calloc(1, sizeof *fr);
+    if (!fr) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory creating a frame");
+        return NULL;
+    }
+    fr->gl = gl;
+    fr->program = p;
+    atomic_fetch_add(&gl->refs, 1);
+    halo_program_retain(p);
+    fr->width = width;
+    fr->height = height;
+    fr->image_count = halo_program_image_count(p);
+    fr->pass_count = halo_program_pass_count(p);
+    fr->images = calloc(fr->image_count ? fr->image_count : 1, sizeof *fr->images);
+    fr->passes = calloc(fr->pass_count ? fr->pass_count : 1, sizeof *fr->passes);
+    if (!fr->images || !fr->passes) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory creating a frame");
+        halo_gl_frame_destroy(fr);
+        return NULL;
+    }
+    frame_saved saved;
+    frame_save(f, &saved, 1);
+    f->ActiveTexture(GL_TEXTURE0);
+    int precision = halo_program_image_precision(p);
+    int failed = 0;
+    f->GenFramebuffers(1, &fr->framebuffer);
+    f->GenVertexArrays(1, &fr->vertex_array);
+    f->BindFramebuffer(GL_FRAMEBUFFER, fr->framebuffer);
+    GLenum attachment0 = GL_COLOR_ATTACHMENT0;
+    f->DrawBuffers(1, &attachment0);
+    f->ReadBuffer(GL_COLOR_ATTACHMENT0);
+    for (size_t i = 0; i < fr->image_count && !failed; ++i) {
+        const halo_image_info *info = halo_program_image(p, i);
+        frame_image *image = &fr->images[i];
+        image->name = info->name;
+        image->channels = info->channels;
+        image->reset = info->reset;
+        image->clear = (GLfloat)info->clear;
+        image->host = info->host;
+        int scale = info->scale > 1 ? info->scale : 1;
+        image->width = (width + scale - 1) / scale;
+        image->height = (height + scale - 1) / scale;
+        image->support[0] = image->support[1] = image_full(image); /* not initialised */
+        if (image->host)
+            continue;
+        GLint internal;
+        GLenum format;
+        image_formats(image->channels, precision, &internal, &format);
+        f->GenTextures(2, image->texture);
+        for (int k = 0; k < 2; ++k) {
+            f->BindTexture(GL_TEXTURE_2D, image->texture[k]);
+            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+            f->TexImage2D(GL_TEXTURE_2D, 0, internal, image->width, image->height, 0, format, GL_FLOAT, NULL);
+            f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, image->texture[k], 0);
+            GLenum status = f->CheckFramebufferStatus(GL_FRAMEBUFFER);
+            if (status != GL_FRAMEBUFFER_COMPLETE) {
+                halo_diag_error(diag, GL_LINK, "", 0, 0,
+                                "image '%s': a %dx%d texture of %d channels at precision %d cannot be rendered to "
+                                "(framebuffer status 0x%x)", image->name, image->width, image->height, image->channels, precision,
+                                status);
+                failed = 1;
+                break;
+            }
+        }
+    }
+    if (!failed && halo_program_segment_location(p) > 0) {
+        f->GenTextures(2, fr->state);
+        for (int k = 0; k < 2; ++k) {
+            f->BindTexture(GL_TEXTURE_2D, fr->state[k]);
+            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, NULL);
+        }
+    }
+    f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    f->BindTexture(GL_TEXTURE_2D, 0);
+    for (size_t i = 0; i < fr->pass_count && !failed; ++i) {
+        const halo_pass_info *info = halo_program_pass(p, i);
+        frame_pass *pass = &fr->passes[i];
+        pass->info = info;
+        pass->repeat = info->repeat < 1 ? 1 : info->repeat;
+        pass->start = info->start < 1 ? 1 : info->start;
+        pass->output = frame_find_image(fr, info->output);
+        pass->first = info->first ? frame_find_image(fr, info->first) : -1;
+        if (pass->output < 0 || (info->first && pass->first < 0) || info->input_count > HALO_MAX_PASS_INPUTS) {
+            halo_diag_error(diag, PASS_INVALID, "", 0, 0, "image pass '%s': unknown output or first image",
+                            info->name ? info->name : "?");
+            failed = 1;
+            break;
+        }
+        for (int k = 0; k < info->input_count; ++k) {
+            pass->inputs[k] = strcmp(info->inputs[k], "previous") == 0 ? -1 : frame_find_image(fr, info->inputs[k]);
+            if (pass->inputs[k] < 0 && strcmp(info->inputs[k], "previous") != 0) {
+                halo_diag_error(diag, PASS_INVALID, "", 0, 0, "image pass '%s': unknown input image '%s'",
+                                info->name ? info->name : "?", info->inputs[k]);
+                failed = 1;
+            }
+        }
+        if (info->input_count > fr->max_inputs)
+            fr->max_inputs = info->input_count;
+        if (failed)
+            break;
+        pass->program = frame_build_pass(f, p, i, diag);
+        if (!pass->program) {
+            failed = 1;
+            break;
+        }
+        f->UseProgram(pass->program);
+        for (int k = 0; k < info->input_count; ++k) {
+            char name[32];
+            snprintf(name, sizeof name, "halo_input_%d", k);
+            f->Uniform1i(f->GetUniformLocation(pass->program, name), k);
+        }
+        pass->index_location = f->GetUniformLocation(pass->program, "halo_pass_index");
+        pass->count_location = f->GetUniformLocation(pass->program, "halo_pass_count");
+    }
+    frame_restore(f, &saved);
+    GLenum error = f->GetError();
+    if (!failed && error != GL_NO_ERROR) {
+        halo_diag_error(diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x creating the frame's images and passes", error);
+        failed = 1;
+    }
+    if (failed) {
+        halo_gl_frame_destroy(fr);
+        return NULL;
+    }
+    /* A software renderer waits for each pass's draw before the next reads it: reading
+     * the seeds back costs about a copy, and the scissor then spares most of the work. */
+    const char *renderer = (const char *)f->GetString(GL_RENDERER);
+    fr->readback_bounds = renderer && (strstr(renderer, "llvmpipe") || strstr(renderer, "softpipe") ||
+                                       strstr(renderer, "SwiftShader"));
+    halo_gl_frame_begin(fr);
+    return fr;
+}
+
+void halo_gl_frame_destroy(halo_gl_frame *fr)
+{
+    if (!fr)
+        return;
+    const halo_glfuncs *f = &fr->gl->f;
+    for (size_t i = 0; fr->images && i < fr->image_count; ++i)
+        if (fr->images[i].texture[0] && !fr->images[i].host)
+            f->DeleteTextures(2, fr->images[i].texture);
+    for (size_t i = 0; fr->passes && i < fr->pass_count; ++i)
+        if (fr->passes[i].program)
+            f->DeleteProgram(fr->passes[i].program);
+    if (fr->state[0])
+        f->DeleteTextures(2, fr->state);
+    if (fr->framebuffer)
+        f->DeleteFramebuffers(1, &fr->framebuffer);
+    if (fr->vertex_array)
+        f->DeleteVertexArrays(1, &fr->vertex_array);
+    free(fr->images);
+    free(fr->passes);
+    free(fr->readback);
+    halo_program_destroy((halo_program *)fr->program); /* the frame's references */
+    halo_gl_destroy(fr->gl);
+    free(fr);
+}
+
+static void frame_clear(halo_gl_frame *fr, int group);
+static void frame_run(halo_gl_frame *fr, int post);
+
+void halo_gl_frame_begin(halo_gl_frame *fr)
+{
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
+    fr->groups_ended = 0;
+    frame_clear(fr, 0);
+}
+
+void halo_gl_frame_begin_group(halo_gl_frame *fr)
+{
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
+    frame_clear(fr, 1);
+}
+
+void halo_gl_frame_end_group(halo_gl_frame *fr)
+{
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
+    frame_run(fr, 1);
+    fr->groups_ended++;
+}
+
+/* Clears every image (group: all but the frame's accumulators, reset=frame-only). */
+static void frame_clear(halo_gl_frame *fr, int group)
+{
+    if (!fr || fr->image_count == 0)
+        return;
+    const halo_glfuncs *f = &fr->gl->f;
+    GLint draw_framebuffer = 0;
+    GLboolean scissor = f->IsEnabled ? f->IsEnabled(GL_SCISSOR_TEST) : GL_FALSE;
+    frame_take_host_draws(fr, 0); /* for the images not cleared */
+    f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_framebuffer);
+    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, fr->framebuffer);
+    if (scissor)
+        f->Disable(GL_SCISSOR_TEST);
+    for (size_t i = 0; i < fr->image_count; ++i)
+        if (!group || fr->images[i].reset != HALO_RESET_FRAME_ONLY)
+            frame_clear_image(fr, (int)i);
+    f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    if (scissor)
+        f->Enable(GL_SCISSOR_TEST);
+
+    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)draw_framebuffer);
+}
+
+/* Attaches the outputs' current textures to the framebuffer bound as GL_DRAW_FRAMEBUFFER. */
+static void frame_attach_textures(halo_gl_frame *fr)
+{
+    const halo_glfuncs *f = &fr->gl->f;
+    size_t n = halo_program_output_count(fr->program);
+    for (size_t i = 0; i < n; ++i) {
+        const halo_output_info *o = halo_program_output(fr->program, i);
+        int image = frame_find_image(fr, o->image);
+        if (image < 0 || o->location < 1)
+            continue;
+        const frame_image *im = &fr->images[image];
+        f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)o->location, GL_TEXTURE_2D,
+                                im->texture[im->current], 0);
+    }
+}
+
+void halo_gl_frame_attach(halo_gl_frame *fr, unsigned host_framebuffer)
+{
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
+    size_t n = halo_program_output_count(fr->program);
+    if (n == 0)
+        return;
+    const halo_glfuncs *f = &fr->gl->f;
+    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, host_framebuffer);
+    frame_attach_textures(fr);
+    GLenum buffers[FRAME_MAX_BUFFERS * 4];
+    int max_location = 0;
+    for (size_t i = 0; i < n; ++i) {
+        int location = halo_program_output(fr->program, i)->location;
+        if (location > max_location && location < (int)(sizeof buffers / sizeof buffers[0]))
+            max_location = location;
+    }
+    buffers[0] = GL_COLOR_ATTACHMENT0;
+    for (int k = 1; k <= max_location; ++k)
+        buffers[k] = GL_NONE;
+    for (size_t i = 0; i < n; ++i) {
+        const halo_output_info *o = halo_program_output(fr->program, i);
+        if (o->location < 1 || o->location > max_location)
+            continue;
+        buffers[o->location] = GL_COLOR_ATTACHMENT0 + (GLenum)o->location;
+        if (!f->Enablei || !f->BlendEquationi || !f->BlendFunci)
+            continue; /* reported by halo_gl_frame_create */
+        if (o->blend == HALO_BLEND_NONE) {
+            f->Disablei(GL_BLEND, (GLuint)o->location);
+            continue;
+        }
+        f->Enablei(GL_BLEND, (GLuint)o->location);
+        f->BlendEquationi((GLuint)o->location, o->blend == HALO_BLEND_MAX   ? GL_MAX
+                                               : o->blend == HALO_BLEND_MIN ? GL_MIN
+                                                                            : GL_FUNC_ADD);
+        if (o->blend == HALO_BLEND_FIRST) /* front to back by coverage: the first hit stays */
+            f->BlendFunci((GLuint)o->location, GL_ONE_MINUS_DST_ALPHA, GL_ONE);
+        else
+            f->BlendFunci((GLuint)o->location, GL_ONE, GL_ONE);
+    }
+    f->DrawBuffers(max_location + 1, buffers);
+    fr->attached = 1;
+    fr->attached_framebuffer = host_framebuffer;
+}
+
+/* Binds the samplers' current textures to their units (from first_unit on). */
+static void frame_bind_textures(halo_gl_frame *fr, int first_unit)
+{
+    const halo_glfuncs *f = &fr->gl->f;
+    size_t n = halo_program_sampler_count(fr->program);
+    for (size_t i = 0; i < n; ++i) {
+        int image = frame_find_image(fr, halo_program_sampler(fr->program, i)->image);
+        if (image < 0)
+            continue;
+        const frame_image *im = &fr->images[image];
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)(first_unit + (int)i));
+        f->BindTexture(GL_TEXTURE_2D, im->texture[im->current]);
+    }
+}
+
+void halo_gl_frame_bind(halo_gl_frame *fr, unsigned gl_program, int first_unit)
+{
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
+    if (first_unit < 0)
+        return;
+    size_t n = halo_program_sampler_count(fr->program);
+    if (n == 0)
+        return;
+    const halo_glfuncs *f = &fr->gl->f;
+    GLint active = GL_TEXTURE0;
+    f->GetIntegerv(GL_ACTIVE_TEXTURE, &active);
+    frame_bind_textures(fr, first_unit);
+    for (size_t i = 0; i < n; ++i)
+        f->Uniform1i(f->GetUniformLocation(gl_program, halo_program_sampler(fr->program, i)->name),
+                     first_unit + (GLint)i);
+    f->ActiveTexture((GLenum)active);
+    fr->bound = 1;
+    fr->bound_first_unit = first_unit;
+}
+
+static void frame_run(halo_gl_frame *fr, int post);
+
+void halo_gl_frame_generate(halo_gl_frame *fr)
+{
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
+    frame_run(fr, 0);
+}
+
+void halo_gl_frame_post(halo_gl_frame *fr, unsigned host_color_texture)
+{
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
+    for (size_t i = 0; i < fr->image_count; ++i)
+        if (fr->images[i].host) {
+            fr->images[i].texture[0] = fr->images[i].texture[1] = host_color_texture;
+            fr->images[i].current = 0;
+        }
+    if (!fr->groups_ended)
+        frame_run(fr, 1);
+    frame_run(fr, 2);
+}
+
+unsigned halo_gl_frame_texture(const halo_gl_frame *fr, const char *image)
+{
+    HALO_REFUSE_NULL(NULL, fr, "frame", 0);
+    HALO_REFUSE_NULL(NULL, image, "image", 0);
+    int i = frame_find_image(fr, image);
+    if (i < 0)
+        return 0;
+    /* The caller may write the texture (as the VTK adapter's exchange of seeds does): its
+     * support becomes unknown. The frame was created non-const (halo_gl_frame_create). */
+    frame_image *im = &((halo_gl_frame *)fr)->images[i];
+    im->support[im->current] = image_full(im);
+    return im->texture[im->current];
+}
+
+void halo_gl_frame_set_readback_bounds(halo_gl_frame *fr, int on)
+{
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
+    fr->readback_bounds = on != 0;
+}
+
+void halo_gl_frame_drawn_region(halo_gl_frame *fr, int x0, int y0, int x1, int y1)
+{
+    HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
+    frame_box b = {x0, y0, x1, y1};
+    if (box_empty(b))
+        b = (frame_box){0, 0, 0, 0};
+    fr->drawn = fr->drawn_known ? box_union(fr->drawn, b) : b;
+    fr->drawn_known = 1;
+}
+
+static void frame_run(halo_gl_frame *fr, int post)
+{
+    if (!fr || (fr->pass_count == 0 && fr->image_count == 0))
+        return;
+    halo_gl *gl = fr->gl;
+    const halo_glfuncs *f = &gl->f;
+    frame_saved saved;
+    frame_save(f, &saved, fr->max_inputs);
+    f->BindFramebuffer(GL_FRAMEBUFFER, fr->framebuffer);
+    f->Viewport(0, 0, fr->width, fr->height);
+    f->Disable(GL_BLEND);
+    f->Disable(GL_SCISSOR_TEST);
+    f->BindVertexArray(fr->vertex_array);
+    int scissored = !post && frame_scissored(fr);
+    frame_take_host_draws(fr, scissored && fr->readback_bounds && !fr->drawn_known);
+    for (size_t i = 0; i < fr->pass_count; ++i) {
+        frame_pass *pass = &fr->passes[i];
+        frame_image *out = &fr->images[pass->output];
+        if (pass->info->post != post || out->host)
+            continue;
+        f->UseProgram(pass->program);
+        halo_gl_program_upload(gl, fr->program, pass->program);
+        f->Viewport(0, 0, out->width, out->height);
+        for (int rep = pass->start; rep <= pass->repeat; ++rep) {
+            for (int k = 0; k < pass->info->input_count; ++k) {
+                const frame_image *in = pass->inputs[k] >= 0 ? &fr->images[pass->inputs[k]]
+                                        : rep == pass->start && pass->first >= 0 ? &fr->images[pass->first]
+                                                                        : out;
+                f->ActiveTexture(GL_TEXTURE0 + (GLenum)k);
+                f->BindTexture(GL_TEXTURE_2D, in->texture[in->current]);
+            }
+            if (pass->index_location >= 0)
+                f->Uniform1i(pass->index_location, rep);
+            if (pass->count_location >= 0)
+                f->Uniform1i(pass->count_location, pass->repeat);
+            /* Scissored: the pixels that can be nonzero, and those the target texture
+             * holds nonzero from before (they become the pass's zeros); none: no draw. */
+            frame_box *target = &out->support[1 - out->current];
+            frame_box reach = scissored ? pass_reach_box(fr, pass, rep, out) : image_full(out);
+            frame_box write = box_union(reach, *target);
+            if (!box_empty(write)) {
+                f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+                                        out->texture[1 - out->current], 0);
+                if (scissored) {
+                    f->Enable(GL_SCISSOR_TEST);
+                    f->Scissor(write.x0, write.y0, write.x1 - write.x0, write.y1 - write.y0);
+                }
+                f->DrawArrays(GL_TRIANGLES, 0, 3);
+                fr->pass_draws++;
+            }
+            *target = reach;
+            out->current = 1 - out->current;
+        }
+    }
+    for (size_t i = 0; i < fr->image_count && !post; ++i) {
+        frame_image *im = &fr->images[i];
+        if (im->reset != HALO_RESET_GENERATION)
+            continue;
+        frame_box b = scissored ? im->support[im->current] : image_full(im);
+        if (box_empty(b))
+            continue;
+        if (scissored) {
+            f->Enable(GL_SCISSOR_TEST);
+            f->Scissor(b.x0, b.y0, b.x1 - b.x0, b.y1 - b.y0);
+        }
+        frame_clear_image(fr, (int)i);
+    }
+    f->Disable(GL_SCISSOR_TEST);
+    f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    frame_restore(f, &saved);
+    /* Passes flip images: the host framebuffer and the samplers get the new current textures. */
+    if (fr->attached) {
+        GLint draw_framebuffer = 0;
+        f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_framebuffer);
+        f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, fr->attached_framebuffer);
+        frame_attach_textures(fr);
+        f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)draw_framebuffer);
+    }
+    if (fr->bound) {
+        frame_bind_textures(fr, fr->bound_first_unit);
+        f->ActiveTexture((GLenum)saved.active_texture);
+    }
+}
+
+halo_status halo_gl_frame_read(halo_gl_frame *fr, const char *name, float *out)
+{
+    HALO_REFUSE_NULL(NULL, fr, "frame", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, name, "image", HALO_ERROR_INPUT);
+    HALO_REFUSE_NULL(NULL, out, "out", HALO_ERROR_INPUT);
+    int index = frame_find_image(fr, name);
+    if (index < 0)
+        return HALO_ERROR_INPUT;
+    const halo_glfuncs *f = &fr->gl->f;
+    const frame_image *im = &fr->images[index];
+    GLint read_framebuffer = 0, pack = 4;
+    f->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_framebuffer);
+    f->GetIntegerv(GL_PACK_ALIGNMENT, &pack);
+    f->BindFramebuffer(GL_READ_FRAMEBUFFER, fr->framebuffer);
+    f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, im->texture[im->current], 0);
+    f->ReadBuffer(GL_COLOR_ATTACHMENT0);
+    f->PixelStorei(GL_PACK_ALIGNMENT, 4);
+    static const GLenum formats[4] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
+    f->ReadPixels(0, 0, im->width, im->height, formats[im->channels - 1], GL_FLOAT, out);
+    f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    f->PixelStorei(GL_PACK_ALIGNMENT, pack);
+    f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)read_framebuffer);
+    return f->GetError() == GL_NO_ERROR ? HALO_OK : HALO_ERROR_IO;
+}
+
+long halo_gl_frame_pass_draws(const halo_gl_frame *fr)
+{
+    HALO_REFUSE_NULL(NULL, fr, "frame", 0);
+    return fr->pass_draws;
+}

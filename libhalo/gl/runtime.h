@@ -1,0 +1,35 @@
+/* What the GL runtime (runtime.c) shares with frames (frame.c): the runtime object and
+ * the compile / log helpers that map the driver's messages back to module lines. Internal. */
+#ifndef HALO_GL_RUNTIME_H
+#define HALO_GL_RUNTIME_H
+
+#include "halo.h"
+#include "internal.h"
+#include "gl/glfuncs.h"
+
+struct halo_gl {
+    halo_glfuncs f;
+    /* The creator's reference (halo_gl_destroy) and one per frame made with it. */
+    _Atomic long refs;
+};
+
+/* Compiles one shader; returns its name or 0 after reporting the driver's messages.
+ * Lines are mapped through p's line map, or through origins (an image pass). */
+GLuint halo_gl_compile_mapped(const halo_glfuncs *f, GLenum type, const char *source, const halo_program *p,
+                              const halo_line_origin *origins, int origin_count, const char *file,
+                              halo_diagnostics *diag);
+/* A program with both shaders attached; 0 (the shaders deleted) when either is 0 or the
+ * program cannot be created (reported). */
+GLuint halo_gl_program_attach(const halo_glfuncs *f, GLuint vertex, GLuint fragment, const char *file,
+                              halo_diagnostics *diag);
+/* Links program with the two shaders attached (then detached and deleted); returns it,
+ * or 0 after reporting the driver's log at file ("what" when the log says nothing). */
+GLuint halo_gl_link_attached(const halo_glfuncs *f, GLuint program, GLuint vertex, GLuint fragment, const char *file,
+                             const char *what, halo_diagnostics *diag);
+/* The program's info log (caller frees; NULL when out of memory). */
+char *halo_gl_program_log(const halo_glfuncs *f, GLuint program);
+/* Reports each message of a driver log (log is modified) as a diagnostic of id. */
+void halo_gl_report_log(halo_diagnostics *diag, halo_message_id id, char *log, const halo_program *p,
+                        const char *source, const char *file);
+
+#endif
