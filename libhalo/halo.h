@@ -686,6 +686,13 @@ HALO_API void halo_gl_destroy(halo_gl *gl);
  * links them; driver messages are mapped to file:line. Returns the GL program name or 0. */
 HALO_API unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *vertex_source,
                                         const char *vertex_file, halo_diagnostics *diag);
+/* As halo_gl_program_build, with `defines` (e.g. "#define HOST_VARIANT 1\n": lines of
+ * preprocessor directives) inserted into the fragment shader after its #version line: a
+ * compile-time variant of the host shader, without linking again. The driver's messages
+ * keep the linked source's line numbers. NULL or "" defines: halo_gl_program_build. */
+HALO_API unsigned halo_gl_program_build_defines(halo_gl *gl, const halo_program *p, const char *vertex_source,
+                                                const char *vertex_file, const char *defines,
+                                                halo_diagnostics *diag);
 /* Uploads the live parameters' current values to the GL program (which must be current). */
 HALO_API void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_program);
 /* Sets a host uniform (reflection: host_uniforms) of the bound GL program by its short

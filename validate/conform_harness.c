@@ -574,7 +574,8 @@ static void conform_usage(FILE *out)
           "  --list        print the rows (name, family, tolerance, its reason) and run none\n"
           "  --backend B   the headless context: egl, osmesa or auto (default: EGL when it has a\n"
           "                hardware renderer, else OSMesa); -v names the one used\n"
-          "  --gradient-format F   the slice and slab rows' gradient texture: float, half or snorm8\n"
+          "  --gradient-format F   the slice and slab rows' gradient texture: float, half,\n"
+          "                        snorm8, packed16 or packed32\n"
           "                (default: the hosts' default); the emulation reads the float gradients\n"
           "Exit status: 0 all pass, 1 a row failed, 2 usage or setup failure (no OpenGL context).\n",
           out);

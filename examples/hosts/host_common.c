@@ -258,13 +258,20 @@ static int gradient_format_known(GLint internal_format)
     return internal_format == GL_RGB32F || internal_format == GL_RGB16F || internal_format == GL_RGB8_SNORM;
 }
 
+/* The packed formats (halo_host_build_packed): the value and the gradient in one texture. */
+static int packed_format(GLint internal_format)
+{
+    return internal_format == GL_RGBA16 || internal_format == GL_RGBA32F;
+}
+
 /* The gradient texture's storage (no data); usable 0 or an unknown format: USAGE with
  * refusal named. */
 static halo_status gradient_storage(const halo_glfuncs *f, GLuint texture, int nx, int ny, int nz,
                                    GLint internal_format, int usable, const char *refusal, halo_diagnostics *diag)
 {
-    if (!usable || !gradient_format_known(internal_format)) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "gradient volume: %s or not RGB32F, RGB16F, RGB8_SNORM", refusal);
+    if (!usable || !(gradient_format_known(internal_format) || packed_format(internal_format))) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "gradient volume: %s or not RGB32F, RGB16F, RGB8_SNORM, RGBA16, RGBA32F",
+                        refusal);
         return HALO_ERROR_INPUT;
     }
     return upload_volume(f, texture, NULL, nx, ny, nz, GL_LINEAR, internal_format, "gradient volume", diag);
@@ -272,12 +279,13 @@ static halo_status gradient_storage(const halo_glfuncs *f, GLuint texture, int n
 
 float halo_host_gradient_scale(const float *volume, const int dims[3], GLint internal_format)
 {
-    if (internal_format == GL_RGB32F)
+    if (internal_format == GL_RGB32F || internal_format == GL_RGBA32F)
         return 1.0f;
     /* snorm: the 8 bits span the volume's own range; half: only values beyond the
      * contract's [0,1] (|g| > 1) are scaled, before they reach half's 65504 */
     float largest = halo_volume_largest_gradient(volume, dims);
-    return largest > (internal_format == GL_RGB8_SNORM ? 0.0f : 1.0f) && isfinite(largest) ? largest : 1.0f;
+    int normalised = internal_format == GL_RGB8_SNORM || internal_format == GL_RGBA16;
+    return largest > (normalised ? 0.0f : 1.0f) && isfinite(largest) ? largest : 1.0f;
 }
 
 halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, const float *volume, int nx, int ny,
@@ -330,7 +338,7 @@ static int layer_renderable(const halo_glfuncs *f, GLuint texture)
 
 int halo_host_gradients_renderable(const halo_glfuncs *f, GLint internal_format)
 {
-    if (!f || !f->FramebufferTextureLayer || !gradient_format_known(internal_format))
+    if (!f || !f->FramebufferTextureLayer || !(gradient_format_known(internal_format) || packed_format(internal_format)))
         return 0;
     /* a probe of 2^3 texels: the real texture's storage comes when it is built */
     GLuint probe = 0;
@@ -345,8 +353,48 @@ int halo_host_gradients_renderable(const halo_glfuncs *f, GLint internal_format)
     return renderable;
 }
 
+static halo_status build_on_gpu(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny, int nz,
+                                GLint internal_format, float scale, const float value_encode[2],
+                                halo_diagnostics *diag);
+
 halo_status halo_host_build_gradients(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny,
                                       int nz, GLint internal_format, float scale, halo_diagnostics *diag)
+{
+    if (packed_format(internal_format)) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "gradient volume: RGBA holds the value too: halo_host_build_packed");
+        return HALO_ERROR_INPUT;
+    }
+    return build_on_gpu(f, texture, volume_texture, nx, ny, nz, internal_format, scale, NULL, diag);
+}
+
+void halo_host_value_range(const float *volume, const int dims[3], float range[2])
+{
+    float lo = INFINITY, hi = -INFINITY;
+    size_t n = (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2];
+    for (size_t i = 0; volume && i < n; ++i)
+        if (isfinite(volume[i])) {
+            lo = volume[i] < lo ? volume[i] : lo;
+            hi = volume[i] > hi ? volume[i] : hi;
+        }
+    range[0] = lo <= hi ? lo : 0.0f;
+    range[1] = lo < hi && isfinite(hi - lo) ? hi - lo : 1.0f;
+}
+
+halo_status halo_host_build_packed(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny,
+                                   int nz, GLint internal_format, float scale, const float value_range[2],
+                                   halo_diagnostics *diag)
+{
+    if (!packed_format(internal_format)) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "packed volume: RGBA16 or RGBA32F");
+        return HALO_ERROR_INPUT;
+    }
+    const float encode[2] = {value_range[0], 1.0f / value_range[1]};
+    return build_on_gpu(f, texture, volume_texture, nx, ny, nz, internal_format, scale, encode, diag);
+}
+
+static halo_status build_on_gpu(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny, int nz,
+                                GLint internal_format, float scale, const float value_encode[2],
+                                halo_diagnostics *diag)
 {
     halo_status status = gradient_storage(f, texture, nx, ny, nz, internal_format,
                                           f && f->FramebufferTextureLayer && scale > 0.0f,
@@ -374,6 +422,9 @@ halo_status halo_host_build_gradients(const halo_glfuncs *f, GLuint texture, GLu
     f->Uniform1i(f->GetUniformLocation(program, "volume_texture"), 0);
     f->Uniform1f(f->GetUniformLocation(program, "inverse_scale"), 1.0f / scale);
     f->Uniform1i(f->GetUniformLocation(program, "to_half"), internal_format == GL_RGB16F);
+    f->Uniform1i(f->GetUniformLocation(program, "pack_value"), value_encode != NULL);
+    if (value_encode)
+        f->Uniform2f(f->GetUniformLocation(program, "value_encode"), value_encode[0], value_encode[1]);
     GLint layer = f->GetUniformLocation(program, "layer");
     f->BindVertexArray(vertex_array);
     for (int z = 0; z < nz && status == HALO_OK; ++z) {
@@ -407,7 +458,7 @@ halo_status halo_host_build_gradients(const halo_glfuncs *f, GLuint texture, GLu
 static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
                                  GLint filter, GLint internal_format, const char *what, halo_diagnostics *diag)
 {
-    int rgb = internal_format != GL_R32F;
+    int rgb = internal_format != GL_R32F, rgba = internal_format == GL_RGBA16 || internal_format == GL_RGBA32F;
     if (!f || (!data && !rgb) || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
         halo_diag_error(diag, USAGE, "", 0, 0, "%s of %dx%dx%d voxels: each side must be 2..2048", what, nx, ny, nz);
         return HALO_ERROR_INPUT;
@@ -419,7 +470,8 @@ static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const fl
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
     f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    f->TexImage3D(GL_TEXTURE_3D, 0, internal_format, nx, ny, nz, 0, rgb ? GL_RGB : GL_RED, GL_FLOAT, data);
+    f->TexImage3D(GL_TEXTURE_3D, 0, internal_format, nx, ny, nz, 0, rgba ? GL_RGBA : rgb ? GL_RGB : GL_RED, GL_FLOAT,
+                  data);
     f->BindTexture(GL_TEXTURE_3D, 0);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {

@@ -81,6 +81,20 @@ int halo_host_gradients_renderable(const halo_glfuncs *f, GLint internal_format)
 halo_status halo_host_build_gradients(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny,
                                       int nz, GLint internal_format, float scale, halo_diagnostics *diag);
 
+/* The packed formats: one texture for the value and the gradient (one fetch for both).
+ * R holds (value - range[0]) / range[1], GBA g / scale * 0.5 + 0.5; internal_format
+ * GL_RGBA16 (packed16: 16 bits each, 8 bytes a voxel; scale the largest |component|, so
+ * that GBA stays in [0, 1]) or GL_RGBA32F (packed32: floats, 16 bytes a voxel; scale 1).
+ * Built on the GPU from volume_texture as halo_host_build_gradients is; the shader
+ * decodes range[0] + R range[1] and (GBA * 2 - 1) scale, affine maps of the filtered
+ * texels. */
+halo_status halo_host_build_packed(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny,
+                                   int nz, GLint internal_format, float scale, const float range[2],
+                                   halo_diagnostics *diag);
+/* The volume's finite values' range for halo_host_build_packed: range[0] the least,
+ * range[1] the span (1 when they are all equal or there are none). */
+void halo_host_value_range(const float *volume, const int dims[3], float range[2]);
+
 /* The transfer table: control points (value, r, g, b, opacity) sorted by value,
  * linearly interpolated, constant beyond the first and last. */
 void halo_host_fill_transfer(float *table, const halo_render_settings *s);

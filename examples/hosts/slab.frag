@@ -30,6 +30,22 @@ uniform float unit_step;
 in vec2 ndc;
 layout(location = 0) out vec4 frag_state;
 
+#ifdef SLICE_PACKED_VOLUME
+// The slice host's packed16 gradient format: one RGBA16 texture on volume_texture's unit,
+// R the value as (value - packed_value.x) / packed_value.y, GBA the gradient / scale
+// mapped to [0,1]. The two reads are the same texture read: the compiler keeps one fetch.
+uniform vec2 packed_value;
+
+float sample_value(vec3 p)
+{
+    return packed_value.x + texture(volume_texture, p).r * packed_value.y;
+}
+
+vec3 sample_gradient(vec3 p)
+{
+    return (texture(volume_texture, p).gba * 2.0 - 1.0) * gradient_texture_scale;
+}
+#else
 float sample_value(vec3 p)
 {
     return texture(volume_texture, p).r;
@@ -43,6 +59,7 @@ vec3 sample_gradient(vec3 p)
 {
     return texture(gradient_texture, p).rgb * gradient_texture_scale;
 }
+#endif
 
 vec4 classify(float value)
 {

@@ -30,6 +30,14 @@ struct halo_slice {
     halo_gradient_format gradient_format;
     float gradient_scale; /* the texture holds gradient / gradient_scale */
     GLint gradient_pending; /* the internal format of gradients still to build on the GPU; 0: none */
+    int reads_gradients;    /* the linked stages read the gradient (slice.frag's sample_gradient) */
+    /* packed16/32 (halo_host_build_packed): gradient_texture holds the value too and program
+     * is the SLICE_PACKED_VOLUME variant of the host shader, built by set_volume */
+    int packed;
+    float value_range[2];
+    GLuint plain_program; /* the host shader as linked, while program is the packed variant */
+    char *vertex_source;  /* for building the variant */
+    halo_gl *runtime_for_variant;
     int run_every_generation; /* halo_slice_set_generation_skip(s, 0) */
     long draws, pass_draws;
     halo_slice_progress_fn progress;
@@ -57,6 +65,12 @@ halo_slice *halo_slice_create_mode(const halo_host_desc *desc, int slab, halo_di
                                          HALO_HOST_LOG_APPENDED, diag);
     if (!s->program)
         goto fail;
+    s->reads_gradients = f->GetUniformLocation(s->program, "gradient_texture") >= 0;
+    if (desc->program && s->reads_gradients) {
+        const char *vertex = desc->vertex_source ? desc->vertex_source : halo_host_embedded("slice.vert");
+        s->vertex_source = vertex ? strdup(vertex) : NULL;
+        s->runtime_for_variant = desc->runtime;
+    }
     f->GenVertexArrays(1, &s->vertex_array);
     f->GenTextures(2, s->textures);
     for (int k = 0; k < (slab ? 2 : 1); ++k)
@@ -112,6 +126,9 @@ void halo_slice_destroy(halo_slice *s)
         f->DeleteVertexArrays(1, &s->vertex_array);
     if (s->program)
         f->DeleteProgram(s->program);
+    if (s->plain_program)
+        f->DeleteProgram(s->plain_program);
+    free(s->vertex_source);
     free(s);
 }
 
@@ -186,10 +203,11 @@ halo_status halo_slice_set_labels(halo_slice *s, const float *labels, int nx, in
 
 int halo_slice_reads_gradients(const halo_slice *s)
 {
-    return s && s->f->GetUniformLocation(s->program, "gradient_texture") >= 0;
+    return s && s->reads_gradients;
 }
 
-static const char *const gradient_format_names[HALO_GRADIENT_FORMAT_COUNT] = {NULL, "float", "half", "snorm8"};
+static const char *const gradient_format_names[HALO_GRADIENT_FORMAT_COUNT] = {NULL,   "float",    "half",
+                                                                              "snorm8", "packed16", "packed32"};
 
 const char *halo_gradient_format_name(halo_gradient_format format)
 {
@@ -209,7 +227,7 @@ int halo_gradient_format_option(const char *text, halo_gradient_format *format, 
     halo_gradient_format named = halo_gradient_format_from_name(text);
     if (named == HALO_GRADIENT_FORMAT_COUNT) {
         if (err && errlen)
-            snprintf(err, errlen, "--gradient-format: '%s' is not float, half or snorm8", text ? text : "");
+            snprintf(err, errlen, "--gradient-format: '%s' is not float, half, snorm8, packed16 or packed32", text ? text : "");
         return 0;
     }
     *format = named;
@@ -238,18 +256,44 @@ halo_gradient_format halo_slice_gradient_format(const halo_slice *s)
     return halo_gradient_format_name(format) ? format : HALO_GRADIENT_FORMAT_DEFAULT;
 }
 
+/* Switches the host shader to its SLICE_PACKED_VOLUME variant (built once) or back. */
+static halo_status use_packed(halo_slice *s, int packed, halo_diagnostics *diag)
+{
+    if (packed && !s->plain_program) {
+        GLuint variant = s->vertex_source ? halo_gl_program_build_defines(s->runtime_for_variant, s->linked,
+                                                                          s->vertex_source, "slice.vert",
+                                                                          "#define SLICE_PACKED_VOLUME 1\n", diag)
+                                          : 0;
+        if (!variant)
+            return HALO_ERROR_IO;
+        s->plain_program = s->program;
+        s->program = variant;
+    } else if (!packed && s->plain_program) {
+        s->f->DeleteProgram(s->program);
+        s->program = s->plain_program;
+        s->plain_program = 0;
+    }
+    s->packed = packed;
+    return HALO_OK;
+}
+
 halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int ny, int nz, halo_diagnostics *diag)
 {
     halo_status status = halo_host_upload_volume(s ? s->f : NULL, s ? s->volume_texture : 0, data, nx, ny, nz, diag);
     if (status != HALO_OK)
         return status;
     s->gradient_pending = 0;
+    halo_gradient_format format = halo_slice_gradient_format(s);
+    int packed = format == HALO_GRADIENT_PACKED16 || format == HALO_GRADIENT_PACKED32;
+    if (use_packed(s, packed && halo_slice_reads_gradients(s), diag) != HALO_OK)
+        return HALO_ERROR_IO;
     /* the gradients for the linked stages (slice.frag's sample_gradient) only when one
      * reads them: otherwise the driver drops the unread fetch and with it the sampler
      * (the same image without the texture) */
     if (halo_slice_reads_gradients(s)) {
-        static const GLint internal_formats[HALO_GRADIENT_FORMAT_COUNT] = {0, GL_RGB32F, GL_RGB16F, GL_RGB8_SNORM};
-        GLint internal_format = internal_formats[halo_slice_gradient_format(s)];
+        static const GLint internal_formats[HALO_GRADIENT_FORMAT_COUNT] = {0,         GL_RGB32F, GL_RGB16F,
+                                                                           GL_RGB8_SNORM, GL_RGBA16, GL_RGBA32F};
+        GLint internal_format = internal_formats[format];
         if (halo_host_gradients_renderable(s->f, internal_format)) {
             /* built on the GPU from the volume texture at the first render: by then the
              * caller may have freed data, and the peak holds no CPU copy beside the two
@@ -257,6 +301,12 @@ halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int 
             const int dims[3] = {nx, ny, nz};
             s->gradient_scale = halo_host_gradient_scale(data, dims, internal_format);
             s->gradient_pending = internal_format;
+            if (s->packed)
+                halo_host_value_range(data, dims, s->value_range);
+        } else if (s->packed) {
+            halo_diag_error(diag, GL_LINK, "", 0, 0, "slice host: this GL cannot render into the 3D textures of "
+                                                     "gradient format %s", halo_gradient_format_name(format));
+            return HALO_ERROR_IO;
         } else {
             status = halo_host_upload_gradients(s->f, s->gradient_texture, data, nx, ny, nz, internal_format,
                                                 &s->gradient_scale, diag);
@@ -347,12 +397,20 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
         return HALO_ERROR_INPUT;
     }
     if (s->gradient_pending) {
-        halo_status built = halo_host_build_gradients(s->f, s->gradient_texture, s->volume_texture, s->dims[0],
-                                                      s->dims[1], s->dims[2], s->gradient_pending, s->gradient_scale,
-                                                      diag);
+        halo_status built =
+            s->packed ? halo_host_build_packed(s->f, s->gradient_texture, s->volume_texture, s->dims[0], s->dims[1],
+                                               s->dims[2], s->gradient_pending, s->gradient_scale, s->value_range,
+                                               diag)
+                      : halo_host_build_gradients(s->f, s->gradient_texture, s->volume_texture, s->dims[0], s->dims[1],
+                                                  s->dims[2], s->gradient_pending, s->gradient_scale, diag);
         if (built != HALO_OK)
             return built;
         s->gradient_pending = 0;
+        if (s->packed) { /* the packed texture holds the values: the R32F volume's memory goes */
+            s->f->BindTexture(GL_TEXTURE_3D, s->volume_texture);
+            s->f->TexImage3D(GL_TEXTURE_3D, 0, GL_R32F, 1, 1, 1, 0, GL_RED, GL_FLOAT, NULL);
+            s->f->BindTexture(GL_TEXTURE_3D, 0);
+        }
     }
     int groups = s->linked && s->frame ? halo_program_group_count(s->linked) : 1;
     if (groups == 1)
@@ -470,7 +528,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     if (s->linked)
         halo_gl_program_upload(s->runtime, s->linked, program);
     f->ActiveTexture(GL_TEXTURE0);
-    f->BindTexture(GL_TEXTURE_3D, s->volume_texture);
+    f->BindTexture(GL_TEXTURE_3D, s->packed ? s->gradient_texture : s->volume_texture);
     f->ActiveTexture(GL_TEXTURE1);
     f->BindTexture(GL_TEXTURE_2D, s->transfer_texture);
     f->ActiveTexture(GL_TEXTURE0);
@@ -482,6 +540,8 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     f->ActiveTexture(GL_TEXTURE0);
     f->Uniform1i(f->GetUniformLocation(program, "gradient_texture"), HALO_SLICE_GRADIENT_UNIT);
     f->Uniform1f(f->GetUniformLocation(program, "gradient_texture_scale"), s->gradient_scale);
+    if (s->packed)
+        f->Uniform2fv(f->GetUniformLocation(program, "packed_value"), 1, s->value_range);
     f->UniformMatrix4fv(f->GetUniformLocation(program, "inverse_view_projection"), 1, GL_FALSE,
                         s->inverse_view_projection);
     f->Uniform3fv(f->GetUniformLocation(program, "eye"), 1, s->eye);

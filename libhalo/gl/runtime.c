@@ -301,8 +301,31 @@ static GLuint compile(const halo_glfuncs *f, GLenum type, const char *source, co
     return halo_gl_compile_mapped(f, type, source, p, NULL, 0, file, diag);
 }
 
+/* The linked source with `defines` after its #version line (the linker writes it first,
+ * or none) and a #line that gives the next line its own number again (GLSL 3.30 on:
+ * #line L numbers the next line L); NULL when out of memory. */
+static char *source_with_defines(const char *source, const char *defines)
+{
+    const char *at = source + strspn(source, " \t");
+    const char *end = strchr(at, '\n');
+    int versioned = !strncmp(at, "#version", 8) && end;
+    at = versioned ? end + 1 : source;
+    size_t head = (size_t)(at - source), n = head + strlen(defines) + 32 + strlen(at);
+    char *text = malloc(n);
+    if (text)
+        snprintf(text, n, "%.*s%s%s#line %d\n%s", (int)head, source, defines,
+                 defines[strlen(defines) - 1] != '\n' ? "\n" : "", versioned ? 2 : 1, at);
+    return text;
+}
+
 unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *vertex_source,
                                const char *vertex_file, halo_diagnostics *diag)
+{
+    return halo_gl_program_build_defines(gl, p, vertex_source, vertex_file, NULL, diag);
+}
+
+unsigned halo_gl_program_build_defines(halo_gl *gl, const halo_program *p, const char *vertex_source,
+                                       const char *vertex_file, const char *defines, halo_diagnostics *diag)
 {
     HALO_REFUSE_NULL(diag, gl, "gl", 0);
     HALO_REFUSE_NULL(diag, p, "program", 0);
@@ -311,9 +334,16 @@ unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *v
     if (!vertex_file)
         vertex_file = "vertex";
     const char *fragment_source = halo_program_source(p);
+    char *variant = fragment_source && defines && *defines ? source_with_defines(fragment_source, defines) : NULL;
+    if (fragment_source && defines && *defines && !variant) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory building a variant of the program");
+        return 0;
+    }
     GLuint vertex = compile(f, GL_VERTEX_SHADER, vertex_source, NULL, vertex_file, diag);
-    GLuint fragment = fragment_source ? compile(f, GL_FRAGMENT_SHADER, fragment_source, p, "(linked source)", diag)
+    GLuint fragment = fragment_source ? compile(f, GL_FRAGMENT_SHADER, variant ? variant : fragment_source, p,
+                                                "(linked source)", diag)
                                       : 0;
+    free(variant);
     if (!fragment_source)
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_program_build: the program has no source");
     GLuint program = halo_gl_program_attach(f, vertex, fragment, "", diag);

@@ -7,7 +7,10 @@
  *   - float (RGB32F): every texel equals halo_volume_gradients' floats, bit for bit;
  *   - half (RGB16F): every texel equals the CPU path's texture (halo_host_upload_gradients),
  *     bit for bit, and the scales are equal;
- *   - snorm8, when the GL renders into it (desktop GL need not): the same.
+ *   - snorm8, when the GL renders into it (desktop GL need not): the same;
+ *   - packed16 and packed32 (RGBA16, RGBA32F, halo_host_build_packed: the value and the
+ *     gradient in one texture, GPU only): every component within 0.75 units of 1/65535,
+ *     4 units of 2^-24, of the encoded value and central differences computed in double.
  * A format the GL cannot render into is reported, not failed; float and half must render
  * on a GL 3.3 context (color-renderable RGB32F/RGB16F through the layer probe), else the
  * test fails.
@@ -33,8 +36,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Reads layer by layer: the RGB of every texel of a 3D texture, as floats (out: n*3). */
-static int read_texture(const halo_glfuncs *f, GLuint texture, const int dims[3], float *out)
+/* Reads layer by layer: the first `components` (3: RGB, 4: RGBA) of every texel of a 3D
+ * texture, as floats (out: n * components). */
+static int read_components(const halo_glfuncs *f, GLuint texture, const int dims[3], int components, float *out)
 {
     GLuint framebuffer = 0;
     f->GenFramebuffers(1, &framebuffer);
@@ -52,12 +56,61 @@ static int read_texture(const halo_glfuncs *f, GLuint texture, const int dims[3]
         f->PixelStorei(GL_PACK_ALIGNMENT, 4);
         f->ReadPixels(0, 0, dims[0], dims[1], GL_RGBA, GL_FLOAT, rgba);
         for (size_t i = 0; i < slice; ++i)
-            memcpy(&out[((size_t)z * slice + i) * 3], &rgba[i * 4], 3 * sizeof *out);
+            memcpy(&out[((size_t)z * slice + i) * (size_t)components], &rgba[i * 4],
+                   (size_t)components * sizeof *out);
     }
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
     f->DeleteFramebuffers(1, &framebuffer);
     free(rgba);
     return ok && f->GetError() == GL_NO_ERROR;
+}
+
+static int read_texture(const halo_glfuncs *f, GLuint texture, const int dims[3], float *out)
+{
+    return read_components(f, texture, dims, 3, out);
+}
+
+/* The packed formats (halo_host_build_packed): every texel against the encoding of the
+ * value and the central differences computed here in double: packed16 within 0.75 units
+ * of 1/65535 (rounding: half a unit, and the GPU's float arithmetic a little more),
+ * packed32 within 4 units of float's 2^-24 (relative beyond 1) of the encoded value. */
+static int check_packed(const halo_glfuncs *f, const char *what, const float *volume, const int dims[3],
+                        const float *exact, GLuint volume_texture, GLuint texture, halo_diagnostics *diag)
+{
+    size_t n = (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2];
+    float *gpu = malloc(n * 4 * sizeof *gpu), range[2];
+    int failed = 0;
+    halo_host_value_range(volume, dims, range);
+    for (int wide = 0; wide < 2 && gpu; ++wide) {
+        GLint internal_format = wide ? GL_RGBA32F : GL_RGBA16;
+        const char *name = wide ? "packed32" : "packed16";
+        float scale = halo_host_gradient_scale(volume, dims, internal_format);
+        if (halo_host_build_packed(f, texture, volume_texture, dims[0], dims[1], dims[2], internal_format, scale,
+                                   range, diag) != HALO_OK ||
+            !read_components(f, texture, dims, 4, gpu)) {
+            halo_diagnostics_print(diag, stdout);
+            printf("FAIL %s %s: build or read-back\n", what, name);
+            failed++;
+            continue;
+        }
+        double worst = 0.0, unit = wide ? 1.0 / 16777216.0 : 1.0 / 65535.0, limit = wide ? 4.0 : 0.75;
+        for (size_t i = 0; i < n; ++i)
+            for (int c = 0; c < 4; ++c) {
+                double expected = c == 0 ? ((double)volume[i] - range[0]) / range[1]
+                                         : (double)exact[i * 3 + (size_t)c - 1] / scale * 0.5 + 0.5;
+                double magnitude = wide && fabs(expected) > 1.0 ? fabs(expected) : 1.0; /* float: relative */
+                double units = fabs((double)gpu[i * 4 + (size_t)c] - expected) / (unit * magnitude);
+                worst = units > worst ? units : worst;
+            }
+        int ok = worst <= limit;
+        printf("%s %s %s: largest difference %.3f units (at most %g), scale %.9g, value range %g + %g\n",
+               ok ? "ok  " : "FAIL", what, name, worst, limit, (double)scale, (double)range[0], (double)range[1]);
+        failed += !ok;
+    }
+    if (!gpu)
+        failed++;
+    free(gpu);
+    return failed;
 }
 
 /* The texels that differ from expected, bit for bit; prints the first. */
@@ -132,6 +185,7 @@ static int check_volume(const halo_glfuncs *f, const char *what, const float *vo
                differing, (double)gpu_scale, (double)cpu_scale);
         failed += !ok;
     }
+    failed += check_packed(f, what, volume, dims, exact, textures[0], textures[1], diag);
 done:
     f->DeleteTextures(3, textures);
     halo_diagnostics_destroy(diag);

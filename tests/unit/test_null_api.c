@@ -403,6 +403,14 @@ CASE(halo_gl_program_build) {
     REFUSES_D(halo_gl_program_build(gl, program, NULL, "v.vert", d) == 0, "vertex_source");
     return 0;
 }
+CASE(halo_gl_program_build_defines) {
+    REFUSES_D(halo_gl_program_build_defines(NULL, program, vertex_source, "v.vert", "#define X 1\n", d) == 0, "gl");
+    halo_gl *gl = fixture_gl();
+    if (!gl) return 0;
+    REFUSES_D(halo_gl_program_build_defines(gl, NULL, vertex_source, "v.vert", NULL, d) == 0, "program");
+    REFUSES_D(halo_gl_program_build_defines(gl, program, NULL, "v.vert", NULL, d) == 0, "vertex_source");
+    return 0;
+}
 CASE(halo_gl_program_upload) {
     REFUSES(DONE(halo_gl_program_upload(NULL, program, 1)), "gl");
     halo_gl *gl = fixture_gl();
@@ -671,6 +679,7 @@ static const api_case cases[] = {
     ROW(halo_gl_create),
     ROW(halo_gl_destroy),
     ROW(halo_gl_program_build),
+    ROW(halo_gl_program_build_defines),
     ROW(halo_gl_program_upload),
     ROW(halo_gl_set_host_uniform),
     ROW(halo_gl_frame_create),
