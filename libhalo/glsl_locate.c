@@ -4,6 +4,7 @@
 #include "glsl_locate.h"
 
 #include "glsl_lex.h"
+#include "glslang_parse.h"
 #include "internal.h"
 #include "strbuf.h"
 
@@ -90,30 +91,57 @@ static int split_text(const char *src, halo_strbuf *out, unit_place **places, in
     return 0;
 }
 
-/* glslang's log line "ERROR: 0:12: 'x' : text": severity (0 error, 1 warning; -1 not a
- * message), line (0 when none) and the message after the location. */
-static int log_line(const char *line, int *out_line, const char **message) {
+/* ":LINE:" at p: its length (0: none there), the line in *line. */
+static size_t line_number_at(const char *p, int *line) {
+    if (*p != ':') return 0;
+    const char *d = p + 1;
+    while (isdigit((unsigned char)*d)) d++;
+    if (d == p + 1 || *d != ':') return 0;
+    *line = atoi(p + 1);
+    return (size_t)(d + 1 - p);
+}
+
+size_t halo_glsl_log_location(const char *rest, const char *file, size_t *name_len, int *line, int *numbered) {
+    size_t n = file ? strlen(file) : 0, len;
+    *numbered = 0;
+    if (n && !strncmp(rest, file, n) && (len = line_number_at(rest + n, line))) {
+        *name_len = n; /* the text's own name, whatever characters it has */
+        *numbered = 1;
+        return n + len;
+    }
+    for (const char *c = strchr(rest, ':'); c; c = strchr(c + 1, ':')) {
+        if (c == rest || memchr(rest, ' ', (size_t)(c - rest))) return 0;
+        if ((len = line_number_at(c, line))) {
+            *name_len = (size_t)(c - rest);
+            *numbered = strspn(rest, "0123456789") == *name_len;
+            return *name_len + len;
+        }
+    }
+    return 0;
+}
+
+/* glslang's log line "ERROR: file:12: 'x' : text": severity (0 error, 1 warning; -1 not
+ * a message), line (0 when none or in another file) and the message after the location. */
+static int log_line(const char *line, const char *file, int *out_line, const char **message) {
     int severity;
     const char *rest;
     if (!strncmp(line, "ERROR: ", 7)) { severity = 0; rest = line + 7; }
     else if (!strncmp(line, "WARNING: ", 9)) { severity = 1; rest = line + 9; }
     else return -1;
-    int string_index, at = 0, consumed = 0;
-    *out_line = 0;
-    if (sscanf(rest, "%d:%d:%n", &string_index, &at, &consumed) == 2 && consumed > 0) {
-        rest += consumed;
-        *out_line = at;
-    }
+    size_t name_len;
+    int at = 0, numbered;
+    rest += halo_glsl_log_location(rest, file, &name_len, &at, &numbered);
+    *out_line = numbered ? at : 0;
     while (*rest == ' ') rest++;
     *message = rest;
     return severity;
 }
 
 /* Adds the spot of one log line of the split compile. */
-static int add_spot(halo_glsl_spots *out, const char *line, const unit_place *places, int count) {
+static int add_spot(halo_glsl_spots *out, const char *line, const char *file, const unit_place *places, int count) {
     int at;
     const char *message;
-    if (log_line(line, &at, &message) < 0) return 0;
+    if (log_line(line, file, &at, &message) < 0) return 0;
     halo_glsl_spot spot = {0};
     if (at >= 1 && at <= count) {
         const unit_place *u = &places[at - 1];
@@ -141,32 +169,23 @@ static int add_spot(halo_glsl_spots *out, const char *line, const unit_place *pl
     return 0;
 }
 
-int halo_glsl_locate(const glslang_input_t *in, halo_glsl_spots *out) {
+int halo_glsl_locate(const char *source, int vertex, const char *file, halo_glsl_spots *out) {
     out->items = NULL;
     out->count = 0;
     halo_strbuf text = {0};
     unit_place *places = NULL;
-    int count = 0, split = split_text(in->code, &text, &places, &count);
+    int count = 0, split = split_text(source, &text, &places, &count);
     if (split) {
         halo_strbuf_free(&text);
         return split < 0 ? -1 : 0;
     }
-    glslang_input_t copy = *in;
-    copy.code = text.data ? text.data : "";
-    glslang_shader_t *sh = glslang_shader_create(&copy);
-    int status = sh ? 0 : -1;
-    if (sh) {
-        /* as validate.c compiles: parsed after a preprocessing error too */
-        glslang_shader_preprocess(sh, &copy);
-        glslang_shader_parse(sh, &copy);
-        char *log = halo_strdup(glslang_shader_get_info_log(sh));
+    halo_glslang_result r; /* compiled as validate.c compiles it */
+    int status = halo_glslang_compile(text.data ? text.data : "", vertex, file, HALO_GLSLANG_NO_LINK, &r);
+    if (!status) {
         char *cursor = NULL; /* strtok_r: another thread may be reading its own log */
-        for (char *line = log ? strtok_r(log, "\n", &cursor) : NULL; line && !status;
-             line = strtok_r(NULL, "\n", &cursor))
-            status = add_spot(out, line, places, count);
-        if (!log) status = -1;
-        free(log);
-        glslang_shader_delete(sh);
+        for (char *line = strtok_r(r.log, "\n", &cursor); line && !status; line = strtok_r(NULL, "\n", &cursor))
+            status = add_spot(out, line, file, places, count);
+        halo_glslang_result_free(&r);
     }
     free(places);
     halo_strbuf_free(&text);

@@ -4,7 +4,8 @@
 # #version or none, no precision added, '#version' after comments, old-Mac line ends,
 # '#include' beside the file, errors after a preprocessing error, a link error after a
 # compile error, the parser stopping at a syntax error and the preprocessor at a bad
-# macro, '#line' with and without a file name). Each gets the reference's
+# macro, '#line' with and without a file name, string escapes the parser reads as
+# written, '__FILE__' as the file's name). Each gets the reference's
 # verdict and its error lines (file:line), and its link errors. A file on which the
 # compiler crashes is an input error at the file, and the files after it are checked.
 . "$srcdir/tests/cli/common.sh"
