@@ -86,7 +86,7 @@ int compile(const char *source, int vertex, const char *file, halo_glslang_link 
     const EShLanguage stage = vertex ? EShLangVertex : EShLangFragment;
     const int default_version = 100; // GLSL's version for a shader without #version, as glslangValidator reads it
     const EShMessages messages = EShMsgCascadingErrors;
-    folder_includer includer(".");
+    folder_includer includer(file ? folder_of(file) : std::string("."));
     glslang::TShader shader(stage);
     const char *name = file && *file ? file : nullptr;
     if (name) shader.setStringsWithLengthsAndNames(&source, nullptr, &name, 1);

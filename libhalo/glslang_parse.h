@@ -30,8 +30,9 @@ typedef struct halo_glslang_result {
  * earlier error), glslang's default resource limits, no client and no target language.
  * The text is compiled under the name file, as glslangValidator names it after its file:
  * the log says "file:LINE:" (NULL or "": "0:LINE:") and '__FILE__' is the name.
- * '#include "name"' is looked up in the working directory, then in the folder of each
- * file that includes it. The caller holds glslang (HALO_WITH_GLSLANG). Returns 0 and
+ * '#include "name"' is looked up in the folder of the file that includes it, then in
+ * those of the files that include that one: the shader's own is file's folder (the
+ * working directory for a name without '/'), whatever the working directory is. The caller holds glslang (HALO_WITH_GLSLANG). Returns 0 and
  * fills *out (halo_glslang_result_free), or -1 when memory ran out or glslang failed. */
 int halo_glslang_compile(const char *source, int vertex, const char *file, halo_glslang_link link,
                          halo_glslang_result *out);

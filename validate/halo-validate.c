@@ -162,10 +162,9 @@ typedef struct check_targets {
 } check_targets;
 
 /* Validates one file that read_text has read; module says it is a module, shader a host
- * or a plain shader; workdir is the folder glslang resolves '#include' in. Returns its
- * exit status. */
+ * or a plain shader ('#include' is resolved against its folder). Returns its exit status. */
 static int check_file(const char *path, const char *text, int module, halo_library *lib, const check_targets *ct,
-                      const char *workdir, halo_diagnostics *d) {
+                      halo_diagnostics *d) {
     int file_status, own = 0;
     if (module) {
         halo_status st = halo_library_override_file(lib, path, d);
@@ -176,7 +175,6 @@ static int check_file(const char *path, const char *text, int module, halo_libra
         const halo_module *m = NULL;
         for (size_t i = 0; i < halo_library_module_count(lib); i++)
             if (!strcmp(halo_module_file(halo_library_module(lib, i)), path)) m = halo_library_module(lib, i);
-        if (workdir && chdir(workdir)) return EXIT_USAGE;
         for (int t = 0; m && t < ct->count; t++) { /* printed once below, naming the targets */
             halo_diagnostics_set_run(d, halo_target_name(ct->list[t]));
             halo_module_validate(lib, m, ct->list[t], d);
@@ -185,7 +183,6 @@ static int check_file(const char *path, const char *text, int module, halo_libra
         /* a plain shader is checked for its own #version unless --target says otherwise */
         own = !ct->given && halo_source_kind_of(text) == HALO_SOURCE_SHADER;
         halo_shader_kind kind = !strcmp(extension(path), "vert") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT;
-        if (workdir && chdir(workdir)) return EXIT_USAGE;
         for (int t = 0; t < (own ? 1 : ct->count); t++) { /* printed once below, naming the targets */
             halo_target target = own ? HALO_TARGET_DEFAULT : ct->list[t];
             halo_diagnostics_set_run(d, own ? NULL : halo_target_name(target));
@@ -208,26 +205,22 @@ static int check_file(const char *path, const char *text, int module, halo_libra
 }
 
 /* check_file in a child process: glslang 12 crashes on some inputs, and a validator must
- * survive its compiler, report the file and go on with the others. The child works in
- * the file's folder, where '#include "name"' is resolved. It checks every target in its
- * copy of d, so an error found for several prints once, and prints them itself: what
- * comes back is its exit status (a crash loses the file's diagnostics, not the file). */
+ * survive its compiler, report the file and go on with the others. The child checks
+ * every target in its copy of d, so an error found for several prints once, and prints
+ * them itself: what comes back is its exit status (a crash loses the file's
+ * diagnostics, not the file). */
 static int check_file_isolated(const char *path, const char *text, int module, halo_library *lib,
                                const check_targets *ct, halo_diagnostics *d) {
-    char *dir = strdup(path);
-    char *slash = dir ? strrchr(dir, '/') : NULL;
-    if (slash) slash[slash == dir] = '\0';
     fflush(stdout);
     fflush(stderr);
     pid_t pid = fork();
     if (pid == 0) {
-        int s = check_file(path, text, module, lib, ct, slash ? dir : NULL, d);
+        int s = check_file(path, text, module, lib, ct, d);
         fflush(stdout);
         fflush(stderr);
         _exit(s);
     }
-    free(dir);
-    if (pid < 0) return check_file(path, text, module, lib, ct, NULL, d); /* no child: in process */
+    if (pid < 0) return check_file(path, text, module, lib, ct, d); /* no child: in process */
     int wstatus = 0;
     while (waitpid(pid, &wstatus, 0) < 0 && errno == EINTR) {
     }
