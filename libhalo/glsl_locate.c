@@ -12,10 +12,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Where a line of the split text came from: a token (line, column, length) or a
- * directive (column 0). */
+/* Where a line of the split text came from: a token (line, column, length, and its
+ * offset in the text) or a directive (column 0). */
 typedef struct unit_place {
     int line, column, length;
+    size_t offset;
 } unit_place;
 
 /* Length of the operator at p: GLSL's two- and three-character ones stay together. */
@@ -77,7 +78,7 @@ static int split_text(const char *src, halo_strbuf *out, unit_place **places, in
         for (size_t k = start; k < end; k++) /* a directive's continuations become spaces */
             halo_strbuf_append_n(out, src[k] == '\n' || src[k] == '\r' || (src[k] == '\\' && directive) ? " " : src + k, 1);
         halo_strbuf_append(out, "\n");
-        p[n++] = (unit_place){t->line, directive ? 0 : t->column, directive ? 0 : (int)(end - start)};
+        p[n++] = (unit_place){t->line, directive ? 0 : t->column, directive ? 0 : (int)(end - start), start};
         skip_to = end;
     }
     halo_token_list_free(&tokens);
@@ -137,8 +138,71 @@ static int log_line(const char *line, const char *file, int *out_line, const cha
     return severity;
 }
 
+/* The token a message names ('x' : ...), or "". */
+static void named_token(const char *message, char *token, size_t size) {
+    token[0] = '\0';
+    const char *end = *message == '\'' ? strchr(message + 1, '\'') : NULL;
+    if (end && (size_t)(end - message - 1) < size) {
+        memcpy(token, message + 1, (size_t)(end - message - 1));
+        token[end - message - 1] = '\0';
+    }
+}
+
+/* Is unit u the token text? */
+static int unit_is(const char *src, const unit_place *u, const char *text, size_t n) {
+    return u->column && (size_t)u->length == n && !strncmp(src + u->offset, text, n);
+}
+
+/* Does the text define name (n bytes) as a function-like macro ('#define name(')? */
+static int defines_function_macro(const char *src, const char *name, size_t n) {
+    for (const char *p = src; p; p = strchr(p, '\n'), p = p ? p + 1 : NULL) {
+        const char *q = p + strspn(p, " \t");
+        if (*q != '#') continue;
+        q += 1 + strspn(q + 1, " \t");
+        if (strncmp(q, "define", 6) || (q[6] != ' ' && q[6] != '\t')) continue;
+        q += 6 + strspn(q + 6, " \t");
+        if (!strncmp(q, name, n) && q[n] == '(') return 1;
+    }
+    return 0;
+}
+
+/* The name of the call (or macro use) whose ')' is unit `end`: the identifier before its
+ * '(' (-1: none, or a directive within). */
+static int call_name(const char *src, const unit_place *places, int end) {
+    int depth = 0;
+    for (int i = end; i >= 0 && places[i].column; i--) {
+        if (unit_is(src, &places[i], ")", 1)) depth++;
+        else if (unit_is(src, &places[i], "(", 1) && --depth == 0)
+            return i > 0 && places[i - 1].column &&
+                           (isalpha((unsigned char)src[places[i - 1].offset]) || src[places[i - 1].offset] == '_')
+                       ? i - 1
+                       : -1;
+    }
+    return -1;
+}
+
+/* glslang reports an error in a call or a macro use at its last token, the ')'. Where the
+ * message names the call and the call starts on an earlier line, the error is at its
+ * name, as clang puts it; where the message names no token of the use of a function-like
+ * macro (the token came from the macro's body), at the macro's name. Returns the unit
+ * (-1: unit `at` stays). */
+static int call_unit(const char *src, const unit_place *places, int at, const char *message) {
+    char token[256];
+    named_token(message, token, sizeof token);
+    size_t n = strlen(token);
+    if (!n || !unit_is(src, &places[at], ")", 1)) return -1;
+    int name = call_name(src, places, at);
+    if (name < 0) return -1;
+    const unit_place *u = &places[name];
+    if (unit_is(src, u, token, n)) return u->line != places[at].line ? name : -1;
+    for (int i = name; i <= at; i++)
+        if (unit_is(src, &places[i], token, n)) return -1;
+    return defines_function_macro(src, src + u->offset, (size_t)u->length) ? name : -1;
+}
+
 /* Adds the spot of one log line of the split compile. */
-static int add_spot(halo_glsl_spots *out, const char *line, const char *file, const unit_place *places, int count) {
+static int add_spot(halo_glsl_spots *out, const char *line, const char *file, const char *src,
+                    const unit_place *places, int count) {
     int at;
     const char *message;
     if (log_line(line, file, &at, &message) < 0) return 0;
@@ -153,6 +217,11 @@ static int add_spot(halo_glsl_spots *out, const char *line, const char *file, co
             spot.line = places[at - 2].line;
             spot.column = places[at - 2].column + places[at - 2].length;
             spot.moved = 1;
+        }
+        int name = spot.moved ? -1 : call_unit(src, places, at - 1, message);
+        if (name >= 0) {
+            spot.line = places[name].line;
+            spot.column = places[name].column;
         }
     }
     spot.message = halo_strdup(message);
@@ -184,7 +253,7 @@ int halo_glsl_locate(const char *source, int vertex, const char *file, halo_glsl
     if (!status) {
         char *cursor = NULL; /* strtok_r: another thread may be reading its own log */
         for (char *line = strtok_r(r.log, "\n", &cursor); line && !status; line = strtok_r(NULL, "\n", &cursor))
-            status = add_spot(out, line, file, places, count);
+            status = add_spot(out, line, file, source, places, count);
         halo_glslang_result_free(&r);
     }
     free(places);
@@ -306,16 +375,6 @@ static int named_token_column(const char *source, int line, const char *token, i
  * one problem, one message, as clang. Another undeclared name is another problem. */
 int halo_glsl_follows_earlier_error(const char *message) { return !strstr(message, "undeclared identifier"); }
 
-
-/* The token a message names ('x' : ...), or "". */
-static void named_token(const char *message, char *token, size_t size) {
-    token[0] = '\0';
-    const char *end = *message == '\'' ? strchr(message + 1, '\'') : NULL;
-    if (end && (size_t)(end - message - 1) < size) {
-        memcpy(token, message + 1, (size_t)(end - message - 1));
-        token[end - message - 1] = '\0';
-    }
-}
 
 void halo_glsl_place(halo_glsl_spots *spots, const char *message, int *line, int *column, int *at_end) {
     *column = *at_end = 0;
