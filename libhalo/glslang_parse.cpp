@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <new>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -54,10 +54,12 @@ class folder_includer : public glslang::TShader::Includer {
             std::replace(path.begin(), path.end(), '\\', '/'); // "inc\\name.h" as glslangValidator reads it
             std::vector<char> text;
             if (!read_file(path, text)) continue;
-            char *data = new char[text.size() + 1];
-            if (!text.empty()) std::memcpy(data, text.data(), text.size());
+            std::unique_ptr<char[]> data(new char[text.size() + 1]);
+            if (!text.empty()) std::memcpy(data.get(), text.data(), text.size());
             folders_.push_back(folder_of(path));
-            return new IncludeResult(path, data, text.size(), data);
+            IncludeResult *result = new IncludeResult(path, data.get(), text.size(), data.get());
+            data.release(); // releaseInclude frees it
+            return result;
         }
         return nullptr;
     }
