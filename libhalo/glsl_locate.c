@@ -4,6 +4,7 @@
 #include "glsl_locate.h"
 
 #include "glsl_lex.h"
+#include "glslang_parse.h"
 #include "internal.h"
 #include "strbuf.h"
 
@@ -11,10 +12,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Where a line of the split text came from: a token (line, column, length) or a
- * directive (column 0). */
+/* Where a line of the split text came from: a token (line, column, length, and its
+ * offset in the text) or a directive (column 0). */
 typedef struct unit_place {
     int line, column, length;
+    size_t offset;
 } unit_place;
 
 /* Length of the operator at p: GLSL's two- and three-character ones stay together. */
@@ -76,7 +78,7 @@ static int split_text(const char *src, halo_strbuf *out, unit_place **places, in
         for (size_t k = start; k < end; k++) /* a directive's continuations become spaces */
             halo_strbuf_append_n(out, src[k] == '\n' || src[k] == '\r' || (src[k] == '\\' && directive) ? " " : src + k, 1);
         halo_strbuf_append(out, "\n");
-        p[n++] = (unit_place){t->line, directive ? 0 : t->column, directive ? 0 : (int)(end - start)};
+        p[n++] = (unit_place){t->line, directive ? 0 : t->column, directive ? 0 : (int)(end - start), start};
         skip_to = end;
     }
     halo_token_list_free(&tokens);
@@ -90,30 +92,120 @@ static int split_text(const char *src, halo_strbuf *out, unit_place **places, in
     return 0;
 }
 
-/* glslang's log line "ERROR: 0:12: 'x' : text": severity (0 error, 1 warning; -1 not a
- * message), line (0 when none) and the message after the location. */
-static int log_line(const char *line, int *out_line, const char **message) {
+/* ":LINE:" at p: its length (0: none there), the line in *line. */
+static size_t line_number_at(const char *p, int *line) {
+    if (*p != ':') return 0;
+    const char *d = p + 1;
+    while (isdigit((unsigned char)*d)) d++;
+    if (d == p + 1 || *d != ':') return 0;
+    *line = atoi(p + 1);
+    return (size_t)(d + 1 - p);
+}
+
+size_t halo_glsl_log_location(const char *rest, const char *file, size_t *name_len, int *line, int *numbered) {
+    size_t n = file ? strlen(file) : 0, len;
+    *numbered = 0;
+    if (n && !strncmp(rest, file, n) && (len = line_number_at(rest + n, line))) {
+        *name_len = n; /* the text's own name, whatever characters it has */
+        *numbered = 1;
+        return n + len;
+    }
+    for (const char *c = strchr(rest, ':'); c; c = strchr(c + 1, ':')) {
+        if (c == rest || memchr(rest, ' ', (size_t)(c - rest))) return 0;
+        if ((len = line_number_at(c, line))) {
+            *name_len = (size_t)(c - rest);
+            *numbered = strspn(rest, "0123456789") == *name_len;
+            return *name_len + len;
+        }
+    }
+    return 0;
+}
+
+/* glslang's log line "ERROR: file:12: 'x' : text": severity (0 error, 1 warning; -1 not
+ * a message), line (0 when none or in another file) and the message after the location. */
+static int log_line(const char *line, const char *file, int *out_line, const char **message) {
     int severity;
     const char *rest;
     if (!strncmp(line, "ERROR: ", 7)) { severity = 0; rest = line + 7; }
     else if (!strncmp(line, "WARNING: ", 9)) { severity = 1; rest = line + 9; }
     else return -1;
-    int string_index, at = 0, consumed = 0;
-    *out_line = 0;
-    if (sscanf(rest, "%d:%d:%n", &string_index, &at, &consumed) == 2 && consumed > 0) {
-        rest += consumed;
-        *out_line = at;
-    }
+    size_t name_len;
+    int at = 0, numbered;
+    rest += halo_glsl_log_location(rest, file, &name_len, &at, &numbered);
+    *out_line = numbered ? at : 0;
     while (*rest == ' ') rest++;
     *message = rest;
     return severity;
 }
 
+/* The token a message names ('x' : ...), or "". */
+static void named_token(const char *message, char *token, size_t size) {
+    token[0] = '\0';
+    const char *end = *message == '\'' ? strchr(message + 1, '\'') : NULL;
+    if (end && (size_t)(end - message - 1) < size) {
+        memcpy(token, message + 1, (size_t)(end - message - 1));
+        token[end - message - 1] = '\0';
+    }
+}
+
+/* Is unit u the token text? */
+static int unit_is(const char *src, const unit_place *u, const char *text, size_t n) {
+    return u->column && (size_t)u->length == n && !strncmp(src + u->offset, text, n);
+}
+
+/* Does the text define name (n bytes) as a function-like macro ('#define name(')? */
+static int defines_function_macro(const char *src, const char *name, size_t n) {
+    for (const char *p = src; p; p = strchr(p, '\n'), p = p ? p + 1 : NULL) {
+        const char *q = p + strspn(p, " \t");
+        if (*q != '#') continue;
+        q += 1 + strspn(q + 1, " \t");
+        if (strncmp(q, "define", 6) || (q[6] != ' ' && q[6] != '\t')) continue;
+        q += 6 + strspn(q + 6, " \t");
+        if (!strncmp(q, name, n) && q[n] == '(') return 1;
+    }
+    return 0;
+}
+
+/* The name of the call (or macro use) whose ')' is unit `end`: the identifier before its
+ * '(' (-1: none, or a directive within). */
+static int call_name(const char *src, const unit_place *places, int end) {
+    int depth = 0;
+    for (int i = end; i >= 0 && places[i].column; i--) {
+        if (unit_is(src, &places[i], ")", 1)) depth++;
+        else if (unit_is(src, &places[i], "(", 1) && --depth == 0)
+            return i > 0 && places[i - 1].column &&
+                           (isalpha((unsigned char)src[places[i - 1].offset]) || src[places[i - 1].offset] == '_')
+                       ? i - 1
+                       : -1;
+    }
+    return -1;
+}
+
+/* glslang reports an error in a call or a macro use at its last token, the ')'. Where the
+ * message names the call and the call starts on an earlier line, the error is at its
+ * name, as clang puts it; where the message names no token of the use of a function-like
+ * macro (the token came from the macro's body), at the macro's name. Returns the unit
+ * (-1: unit `at` stays). */
+static int call_unit(const char *src, const unit_place *places, int at, const char *message) {
+    char token[256];
+    named_token(message, token, sizeof token);
+    size_t n = strlen(token);
+    if (!n || !unit_is(src, &places[at], ")", 1)) return -1;
+    int name = call_name(src, places, at);
+    if (name < 0) return -1;
+    const unit_place *u = &places[name];
+    if (unit_is(src, u, token, n)) return u->line != places[at].line ? name : -1;
+    for (int i = name; i <= at; i++)
+        if (unit_is(src, &places[i], token, n)) return -1;
+    return defines_function_macro(src, src + u->offset, (size_t)u->length) ? name : -1;
+}
+
 /* Adds the spot of one log line of the split compile. */
-static int add_spot(halo_glsl_spots *out, const char *line, const unit_place *places, int count) {
+static int add_spot(halo_glsl_spots *out, const char *line, const char *file, const char *src,
+                    const unit_place *places, int count) {
     int at;
     const char *message;
-    if (log_line(line, &at, &message) < 0) return 0;
+    if (log_line(line, file, &at, &message) < 0) return 0;
     halo_glsl_spot spot = {0};
     if (at >= 1 && at <= count) {
         const unit_place *u = &places[at - 1];
@@ -125,6 +217,11 @@ static int add_spot(halo_glsl_spots *out, const char *line, const unit_place *pl
             spot.line = places[at - 2].line;
             spot.column = places[at - 2].column + places[at - 2].length;
             spot.moved = 1;
+        }
+        int name = spot.moved ? -1 : call_unit(src, places, at - 1, message);
+        if (name >= 0) {
+            spot.line = places[name].line;
+            spot.column = places[name].column;
         }
     }
     spot.message = halo_strdup(message);
@@ -141,32 +238,23 @@ static int add_spot(halo_glsl_spots *out, const char *line, const unit_place *pl
     return 0;
 }
 
-int halo_glsl_locate(const glslang_input_t *in, halo_glsl_spots *out) {
+int halo_glsl_locate(const char *source, int vertex, const char *file, halo_glsl_spots *out) {
     out->items = NULL;
     out->count = 0;
     halo_strbuf text = {0};
     unit_place *places = NULL;
-    int count = 0, split = split_text(in->code, &text, &places, &count);
+    int count = 0, split = split_text(source, &text, &places, &count);
     if (split) {
         halo_strbuf_free(&text);
         return split < 0 ? -1 : 0;
     }
-    glslang_input_t copy = *in;
-    copy.code = text.data ? text.data : "";
-    glslang_shader_t *sh = glslang_shader_create(&copy);
-    int status = sh ? 0 : -1;
-    if (sh) {
-        /* as validate.c compiles: parsed after a preprocessing error too */
-        glslang_shader_preprocess(sh, &copy);
-        glslang_shader_parse(sh, &copy);
-        char *log = halo_strdup(glslang_shader_get_info_log(sh));
+    halo_glslang_result r; /* compiled as validate.c compiles it */
+    int status = halo_glslang_compile(text.data ? text.data : "", vertex, file, HALO_GLSLANG_NO_LINK, &r);
+    if (!status) {
         char *cursor = NULL; /* strtok_r: another thread may be reading its own log */
-        for (char *line = log ? strtok_r(log, "\n", &cursor) : NULL; line && !status;
-             line = strtok_r(NULL, "\n", &cursor))
-            status = add_spot(out, line, places, count);
-        if (!log) status = -1;
-        free(log);
-        glslang_shader_delete(sh);
+        for (char *line = strtok_r(r.log, "\n", &cursor); line && !status; line = strtok_r(NULL, "\n", &cursor))
+            status = add_spot(out, line, file, source, places, count);
+        halo_glslang_result_free(&r);
     }
     free(places);
     halo_strbuf_free(&text);
@@ -287,16 +375,6 @@ static int named_token_column(const char *source, int line, const char *token, i
  * one problem, one message, as clang. Another undeclared name is another problem. */
 int halo_glsl_follows_earlier_error(const char *message) { return !strstr(message, "undeclared identifier"); }
 
-
-/* The token a message names ('x' : ...), or "". */
-static void named_token(const char *message, char *token, size_t size) {
-    token[0] = '\0';
-    const char *end = *message == '\'' ? strchr(message + 1, '\'') : NULL;
-    if (end && (size_t)(end - message - 1) < size) {
-        memcpy(token, message + 1, (size_t)(end - message - 1));
-        token[end - message - 1] = '\0';
-    }
-}
 
 void halo_glsl_place(halo_glsl_spots *spots, const char *message, int *line, int *column, int *at_end) {
     *column = *at_end = 0;

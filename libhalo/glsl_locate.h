@@ -3,7 +3,7 @@
 #ifndef HALO_GLSL_LOCATE_H
 #define HALO_GLSL_LOCATE_H
 
-#include <glslang/Include/glslang_c_interface.h>
+#include <stddef.h>
 
 typedef struct halo_glsl_spot {
     int reported_line; /* the compiled line of the token glslang stopped at */
@@ -18,10 +18,18 @@ typedef struct halo_glsl_spots {
     int count;
 } halo_glsl_spots;
 
-/* The messages of `in` compiled with one token per line. Directives keep their lines;
- * a text using __LINE__ or #line is not split (no spots). Returns 0, -1 when memory ran
- * out or glslang failed. */
-int halo_glsl_locate(const glslang_input_t *in, halo_glsl_spots *out);
+/* The messages of source compiled with one token per line, as halo_glslang_compile
+ * compiles it (vertex, file). Directives keep their lines; a text using __LINE__ or #line
+ * is not split (no spots). Returns 0, -1 when memory ran out or glslang failed. */
+int halo_glsl_locate(const char *source, int vertex, const char *file, halo_glsl_spots *out);
+
+/* Where glslang says a message is, in rest (a log line after "ERROR: "): "FILE:LINE: "
+ * (file: the name the text was compiled under), "N:LINE: " (N a source string number),
+ * or, after a GL_GOOGLE_cpp_style_line_directive '#line L "name"', "name:LINE: ".
+ * Returns the length of the location (0: none), the name's length in *name_len, its line
+ * in *line, and in *numbered whether it is a line of the text itself (not a '#line' name
+ * or an included file). */
+size_t halo_glsl_log_location(const char *rest, const char *file, size_t *name_len, int *line, int *numbered);
 
 /* Where a message glslang reported at compiled line *line is: the spot with the same
  * message and line, not taken before. *line moves to the line before for a missing ';';

@@ -580,8 +580,10 @@ HALO_API halo_status halo_program_validate(const halo_program *p, halo_diagnosti
 /* Validates a stand-alone shader (no linking). A plain shader (no libhalo annotation) is
  * checked as it is: for its own #version with HALO_TARGET_DEFAULT (none: GLSL ES 1.00, as
  * GLSL says, and a GLSL_VERSION_IMPLIED note), else for the target's version whatever its
- * #version says. '#include "name"' resolves against the working directory (glslang's C
- * interface); halo-validate check compiles each file in a child working in its folder. */
+ * #version says. '#include "name"' resolves as glslangValidator resolves it: against the
+ * folder of the including file (for the shader itself, file's folder; file is a path as
+ * fopen takes it, and a name without '/' is in the working directory), then those of
+ * the files including that one. The working directory is not changed. */
 HALO_API halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind,
                                           halo_target target, halo_diagnostics *diag);
 /* What a shader text is, whatever its file's extension: a module (a '#pragma halo module'

@@ -3,7 +3,7 @@
 # Installed as <libhalo/halo.h> ($(includedir)/libhalo: no clash with another halo.h);
 # libhalo.pc also puts that folder on the path, so #include <halo.h> keeps working.
 pkginclude_HEADERS += libhalo/halo.h libhalo/halo_feature.h
-noinst_HEADERS += libhalo/diag.h libhalo/strbuf.h libhalo/internal.h libhalo/glsl_lex.h libhalo/glsl_locate.h libhalo/host_scan.h libhalo/host_check.h libhalo/emit.h \
+noinst_HEADERS += libhalo/diag.h libhalo/strbuf.h libhalo/internal.h libhalo/glsl_lex.h libhalo/glsl_locate.h libhalo/glslang_parse.h libhalo/host_scan.h libhalo/host_check.h libhalo/emit.h \
 	libhalo/emu/emu.h libhalo/emu/stages.h libhalo/emu/feature_internal.h libhalo/gl/glfuncs.h libhalo/gl/headless.h
 
 BUILT_SOURCES += libhalo/embedded_modules.c
@@ -13,6 +13,7 @@ noinst_LTLIBRARIES += libhalo/libhalo-core.la
 libhalo_libhalo_core_la_SOURCES = \
 	libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c \
 	libhalo/scene.c libhalo/link.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c libhalo/compose.c libhalo/contract.c libhalo/host_scan.c libhalo/validate.c libhalo/glsl_locate.c libhalo/setup.c \
+	libhalo/glslang_parse.cpp \
 	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c \
 	libhalo/emu/gradient.c libhalo/emu/opacity_power.c libhalo/emu/boundary.c \
 	libhalo/emu/silhouette.c libhalo/emu/orientation_fade.c libhalo/emu/sketch.c \
@@ -26,6 +27,9 @@ nodist_libhalo_libhalo_core_la_SOURCES = libhalo/embedded_modules.c
 libhalo_libhalo_core_la_SOURCES += libhalo/budget.c
 libhalo_libhalo_core_la_CPPFLAGS = $(AM_CPPFLAGS) -DHALO_BUILDING $(JANSSON_CFLAGS) $(GLSLANG_CFLAGS)
 libhalo_libhalo_core_la_CFLAGS = $(AM_CFLAGS) -fvisibility=hidden
+# glslang_parse.cpp: glslang's TShader is C++ only. No RTTI, as glslang is built: with it
+# UBSan's vptr check would refer to glslang's type information, which its library lacks.
+libhalo_libhalo_core_la_CXXFLAGS = $(AM_CXXFLAGS) -fvisibility=hidden -fno-rtti
 libhalo_libhalo_core_la_LIBADD = $(JANSSON_LIBS) $(GLSLANG_LIBS)
 
 lib_LTLIBRARIES += libhalo/libhalo.la

@@ -1,40 +1,14 @@
-/* Validation with glslang's C interface, in process. Every error glslang reports is
+/* Validation with glslang, in process (glslang_parse.cpp). Every error glslang reports is
  * rewritten to the origin of its line: the module's or the host's own file:line:col. */
 #include "diag.h"
 #include "glsl_locate.h"
+#include "glslang_parse.h"
 #include "internal.h"
 #include "strbuf.h"
 
-#include <glslang/Include/glslang_c_interface.h>
-#include <glslang/Public/resource_limits_c.h>
 #include <ctype.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* Where glslang says a message is: "N:LINE: " (N a source string number) or, after a
- * GL_GOOGLE_cpp_style_line_directive '#line L "name"', "name:LINE: ". Returns the length
- * of the location (0: none), the name's length in *name_len and its line in *line. */
-static size_t log_location(const char *rest, size_t *name_len, int *line) {
-    for (const char *c = strchr(rest, ':'); c; c = strchr(c + 1, ':')) {
-        if (c == rest || memchr(rest, ' ', (size_t)(c - rest))) return 0;
-        const char *d = c + 1;
-        while (isdigit((unsigned char)*d)) d++;
-        if (d > c + 1 && *d == ':') {
-            *name_len = (size_t)(c - rest);
-            *line = atoi(c + 1);
-            return (size_t)(d + 1 - rest);
-        }
-    }
-    return 0;
-}
-
-/* The line a log entry is at (0: none), for putting two logs in source order. */
-static int log_entry_line(const char *entry) {
-    const char *rest = strchr(entry, ' ');
-    size_t name_len;
-    int line = 0;
-    return rest && log_location(rest + 1, &name_len, &line) ? line : 0;
-}
 
 /* How a shader's lines map back: through origins (line N of the source is origins[N-1]),
  * or, raw, as glslang reports them (a plain shader with '#line': its own numbering). */
@@ -42,7 +16,7 @@ typedef struct log_map {
     const halo_line_origin *origins;
     int origin_count;
     int raw;
-    const char *fallback;
+    const char *fallback;    /* the file, and the name glslang is given for the text */
     const char *source;      /* the text compiled (glslang_run sets it) */
     halo_glsl_spots *spots;  /* where its errors are (glsl_locate.c); NULL: none */
     /* the last error's place: a later error there that follows from it is dropped */
@@ -57,13 +31,12 @@ static void report_entry(char *line, log_map *map, halo_diagnostics *diag, int *
     else if (!strncmp(line, "WARNING: ", 9)) { sev = HALO_SEVERITY_WARNING; rest = line + 9; }
     else return;
     size_t name_len = 0;
-    int out_line = 0;
-    size_t consumed = log_location(rest, &name_len, &out_line);
+    int out_line = 0, numbered = 0;
+    size_t consumed = halo_glsl_log_location(rest, map->fallback, &name_len, &out_line, &numbered);
     char *msg = line + (rest - line) + consumed;
     while (*msg == ' ') msg++;
     for (size_t n = strlen(msg); n > 0 && (msg[n - 1] == ' ' || msg[n - 1] == '\r'); n--) msg[n - 1] = '\0';
     if (strstr(msg, "compilation errors.") || strstr(msg, "compilation terminated")) return;
-    int numbered = consumed && strspn(rest, "0123456789") == name_len;
     int column = 0, at_end = 0; /* glsl_locate.c: the token, or after the one before a missing ';' */
     if (numbered && !map->raw) halo_glsl_place(map->spots, msg, &out_line, &column, &at_end);
     char named[512] = "";
@@ -115,81 +88,20 @@ static void report_log(const char *log, log_map *map, halo_diagnostics *diag, in
     free(copy);
 }
 
-static int compare_strings(const void *a, const void *b) {
-    return strcmp(*(char *const *)a, *(char *const *)b);
-}
-
-/* Is a log entry a syntax error (where glslang's parser stops)? */
-static int is_syntax_error(const char *entry) { return strstr(entry, "syntax error") != NULL; }
-
-/* The compile's messages, as glslang reports them in one pass over the source (the
- * reference, glslangValidator): the preprocessor's (its log ends the log
- * glslang_shader_parse appends to) merged in line order with the parser's, each message
- * once. pre_end: the last line the preprocessor wrote out (0: all of them); it stops
- * at some errors, and the parser's messages past it are about text that never came.
- * The preprocessor's messages past the parser's first syntax error are dropped: in one
- * pass the parser stops there. */
-static void report_compile(const char *pre_log, const char *log, int pre_end, log_map *map,
-                           halo_diagnostics *diag, int *errors) {
-    size_t pre_len = strlen(pre_log);
-    const char *parse_log = !strncmp(log, pre_log, pre_len) ? log + pre_len : log;
-    char *pre = halo_strdup(pre_log), *parse = halo_strdup(parse_log);
-    char **pre_lines = NULL, **parse_lines = NULL;
-    int np = pre ? halo_split_lines(pre, &pre_lines) : -1, nq = parse ? halo_split_lines(parse, &parse_lines) : -1;
-    /* the preprocessor's messages, sorted, to drop the parser's repeats of them */
-    char **seen = np >= 0 && nq >= 0 ? malloc(((size_t)np + 1) * sizeof *seen) : NULL;
-    if (!seen) {
-        report_log(log, map, diag, errors);
-    } else {
-        map->last_line = 0;
-        memcpy(seen, pre_lines, (size_t)np * sizeof *seen);
-        qsort(seen, (size_t)np, sizeof *seen, compare_strings);
-        int kept = 0, stop = 0;
-        for (int j = 0; j < nq; j++) {
-            int at = log_entry_line(parse_lines[j]);
-            if (bsearch(&parse_lines[j], seen, (size_t)np, sizeof *seen, compare_strings) || (pre_end && at > pre_end))
-                continue;
-            if (!stop && at && is_syntax_error(parse_lines[j])) stop = at;
-            parse_lines[kept++] = parse_lines[j];
-        }
-        int i = 0, j = 0;
-        while (i < np || j < kept) {
-            int at = i < np ? log_entry_line(pre_lines[i]) : 0;
-            if (i < np && stop && at > stop) {
-                i++;
-                continue;
-            }
-            int take_pre = i < np && (j >= kept || at <= log_entry_line(parse_lines[j]));
-            report_entry(take_pre ? pre_lines[i++] : parse_lines[j++], map, diag, errors);
-        }
-    }
-    free(seen);
-    free(pre_lines);
-    free(parse_lines);
-    free(pre);
-    free(parse);
-}
-
 /* Compiles and links one shader. link_always: link after compile errors too, as
  * glslangValidator -l does (a missing main, interface errors). */
 static halo_status glslang_run(const char *source, halo_shader_kind kind, int link_always,
                                const log_map *where, halo_diagnostics *diag) {
-    glslang_input_t in = {0};
-    in.language = GLSLANG_SOURCE_GLSL;
-    in.stage = kind == HALO_SHADER_VERTEX ? GLSLANG_STAGE_VERTEX : GLSLANG_STAGE_FRAGMENT;
-    in.client = GLSLANG_CLIENT_NONE;
-    in.target_language = GLSLANG_TARGET_NONE;
-    in.code = source;
-    in.default_version = 100; /* GLSL's version for a shader without #version, as glslangValidator reads it */
-    in.default_profile = GLSLANG_NO_PROFILE;
+    int vertex = kind == HALO_SHADER_VERTEX;
+    halo_glslang_result r;
     /* Without cascading errors glslang stops at the first statement with an error; with
      * them it goes on, and report_log drops the errors that follow from an earlier one on
-     * the same line (halo_glsl_follows_earlier_error): every problem once. */
-    in.messages = GLSLANG_MSG_CASCADING_ERRORS_BIT;
-    in.resource = glslang_default_resource();
-    glslang_shader_t *sh = glslang_shader_create(&in);
-    if (!sh) {
-        halo_diag_error(diag, OUT_OF_MEMORY, where->fallback, 0, 0, "glslang could not create a shader");
+     * the same line (halo_glsl_follows_earlier_error): every problem once. One parse of
+     * the source, the preprocessor inside it, gives the messages in glslangValidator's
+     * order: the preprocessor's and the parser's merged, none after where it stops. */
+    if (halo_glslang_compile(source, vertex, where->fallback, link_always ? HALO_GLSLANG_LINK_ALWAYS : HALO_GLSLANG_LINK_IF_COMPILED,
+                             &r)) {
+        halo_diag_error(diag, OUT_OF_MEMORY, where->fallback, 0, 0, "glslang could not compile the shader");
         return HALO_ERROR_IO;
     }
     halo_glsl_spots spots = {0};
@@ -197,42 +109,23 @@ static halo_status glslang_run(const char *source, halo_shader_kind kind, int li
     map->source = source;
     map->spots = &spots;
     int errors = 0;
-    /* glslang's C interface parses the preprocessed text: parse it after a preprocessing
-     * error too, so that the errors after it are reported as well. */
-    int ok = glslang_shader_preprocess(sh, &in), pre_end = 0;
-    char *pre_log = halo_strdup(glslang_shader_get_info_log(sh));
-    if (!ok && !map->raw) {
-        /* the preprocessor keeps the line numbers in its text, until it stops */
-        int source_lines = 0, written = 0;
-        for (const char *c = source; *c; c++) source_lines += *c == '\n';
-        for (const char *c = glslang_shader_get_preprocessed_code(sh); c && *c; c++) written += *c == '\n';
-        if (written < source_lines) pre_end = written;
-    }
-    ok = glslang_shader_parse(sh, &in) && ok;
     /* glslang 12 gives no columns: where the text has errors, compile it once more with
      * one token per line to find them (glsl_locate.c). */
-    if (!ok) halo_glsl_locate(&in, &spots);
-    if (pre_log) report_compile(pre_log, glslang_shader_get_info_log(sh), pre_end, map, diag, &errors);
-    else report_log(glslang_shader_get_info_log(sh), map, diag, &errors);
-    free(pre_log);
+    if (!r.compiled) halo_glsl_locate(source, vertex, where->fallback, &spots);
+    report_log(r.log, map, diag, &errors);
     halo_glsl_spots_free(&spots);
     map->spots = NULL;
-    if (ok || link_always) {
+    if (!r.linked) {
         /* Linking catches a missing main and interface errors. */
-        glslang_program_t *prog = glslang_program_create();
-        glslang_program_add_shader(prog, sh);
-        if (!glslang_program_link(prog, GLSLANG_MSG_CASCADING_ERRORS_BIT)) {
-            int before = errors;
-            report_log(glslang_program_get_info_log(prog), map, diag, &errors);
-            if (errors == before && ok) {
-                halo_diag_error(diag, GLSL_ERROR, map->fallback, 0, 0, "glslang: link failed");
-                errors++;
-            }
+        int before = errors;
+        report_log(r.link_log, map, diag, &errors);
+        if (errors == before && r.compiled) {
+            halo_diag_error(diag, GLSL_ERROR, map->fallback, 0, 0, "glslang: link failed");
+            errors++;
         }
-        glslang_program_delete(prog);
     }
-    glslang_shader_delete(sh);
-    if (!ok && !errors) {
+    halo_glslang_result_free(&r);
+    if (!r.compiled && !errors) {
         halo_diag_error(diag, GLSL_ERROR, map->fallback, 0, 0, "glslang rejected the shader");
         errors++;
     }

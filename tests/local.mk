@@ -154,6 +154,7 @@ HALO_TEST_FILES = \
 	tests/data/glslang/error_then_more.frag tests/data/glslang/compile_and_link.frag \
 	tests/data/glslang/line_directive.frag tests/data/glslang/line_file.frag \
 	tests/data/glslang/syntax_stops.frag tests/data/glslang/macro_stops.frag tests/data/glslang/compiler_crash.vert \
+	tests/data/glslang/printf_escapes.frag tests/data/glslang/line_file_sum.frag \
 	tests/data/hosts/no_marker.frag \
 	tests/data/hosts/marker_commented.frag \
 	tests/data/hosts/marker_es_only.frag \

@@ -161,11 +161,28 @@ typedef struct check_targets {
     int count, given;
 } check_targets;
 
+/* Is a file checked for its own #version (a plain shader, no --target): one compile, not
+ * one per target? */
+static int checks_own_version(const char *text, int module, const check_targets *ct) {
+    return !module && !ct->given && halo_source_kind_of(text) == HALO_SOURCE_SHADER;
+}
+
+/* What the signal that ended a compile says (0: no exit status). */
+static const char *crash_reason(int sig) { return sig ? strsignal(sig) : "no exit status"; }
+
+/* The error for a file on which the compiler crashed: an input error at the file. */
+static void report_crash(halo_diagnostics *d, const char *path, int sig) {
+    char text[256];
+    snprintf(text, sizeof text, "the GLSL compiler crashed on this file (%s)", crash_reason(sig));
+    halo_diagnostics_report(d, HALO_SEVERITY_ERROR, HALO_MSG_GLSL_ERROR, path, 0, 0, text);
+}
+
 /* Validates one file that read_text has read; module says it is a module, shader a host
- * or a plain shader; workdir is the folder glslang resolves '#include' in. Returns its
- * exit status. */
+ * or a plain shader ('#include' is resolved against its folder). crashed (NULL: none):
+ * the targets on which the compiler crashed, by index in ct (signal number + 1), reported
+ * as such in place of a check. Returns its exit status. */
 static int check_file(const char *path, const char *text, int module, halo_library *lib, const check_targets *ct,
-                      const char *workdir, halo_diagnostics *d) {
+                      const int *crashed, halo_diagnostics *d) {
     int file_status, own = 0;
     if (module) {
         halo_status st = halo_library_override_file(lib, path, d);
@@ -176,20 +193,20 @@ static int check_file(const char *path, const char *text, int module, halo_libra
         const halo_module *m = NULL;
         for (size_t i = 0; i < halo_library_module_count(lib); i++)
             if (!strcmp(halo_module_file(halo_library_module(lib, i)), path)) m = halo_library_module(lib, i);
-        if (workdir && chdir(workdir)) return EXIT_USAGE;
         for (int t = 0; m && t < ct->count; t++) { /* printed once below, naming the targets */
             halo_diagnostics_set_run(d, halo_target_name(ct->list[t]));
-            halo_module_validate(lib, m, ct->list[t], d);
+            if (crashed && crashed[t]) report_crash(d, path, crashed[t] - 1);
+            else halo_module_validate(lib, m, ct->list[t], d);
         }
     } else {
         /* a plain shader is checked for its own #version unless --target says otherwise */
-        own = !ct->given && halo_source_kind_of(text) == HALO_SOURCE_SHADER;
+        own = checks_own_version(text, module, ct);
         halo_shader_kind kind = !strcmp(extension(path), "vert") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT;
-        if (workdir && chdir(workdir)) return EXIT_USAGE;
         for (int t = 0; t < (own ? 1 : ct->count); t++) { /* printed once below, naming the targets */
             halo_target target = own ? HALO_TARGET_DEFAULT : ct->list[t];
             halo_diagnostics_set_run(d, own ? NULL : halo_target_name(target));
-            halo_validate_shader(text, path, kind, target, d);
+            if (crashed && crashed[t]) report_crash(d, path, crashed[t] - 1);
+            else halo_validate_shader(text, path, kind, target, d);
         }
     }
     int implied = 0;
@@ -207,29 +224,48 @@ static int check_file(const char *path, const char *text, int module, halo_libra
     return file_status;
 }
 
-/* check_file in a child process: glslang 12 crashes on some inputs, and a validator must
- * survive its compiler, report the file and go on with the others. The child works in
- * the file's folder, where '#include "name"' is resolved. It checks every target in its
- * copy of d, so an error found for several prints once, and prints them itself: what
- * comes back is its exit status (a crash loses the file's diagnostics, not the file). */
-static int check_file_isolated(const char *path, const char *text, int module, halo_library *lib,
-                               const check_targets *ct, halo_diagnostics *d) {
-    char *dir = strdup(path);
-    char *slash = dir ? strrchr(dir, '/') : NULL;
-    if (slash) slash[slash == dir] = '\0';
+/* check_file in a child process, quiet: printing nothing. Returns the child's exit status,
+ * or -1 when it died, with the signal in *sig (0: none). */
+static int check_in_child(const char *path, const char *text, int module, halo_library *lib,
+                          const check_targets *ct, const int *crashed, int quiet, halo_diagnostics *d, int *sig) {
     fflush(stdout);
     fflush(stderr);
     pid_t pid = fork();
     if (pid == 0) {
-        int s = check_file(path, text, module, lib, ct, slash ? dir : NULL, d);
+        if (quiet && (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr))) _exit(EXIT_USAGE);
+        int s = check_file(path, text, module, lib, ct, crashed, d);
         fflush(stdout);
         fflush(stderr);
         _exit(s);
     }
-    free(dir);
-    if (pid < 0) return check_file(path, text, module, lib, ct, NULL, d); /* no child: in process */
+    if (pid < 0) return quiet ? 0 : check_file(path, text, module, lib, ct, crashed, d); /* no child: in process */
     int wstatus = 0;
     while (waitpid(pid, &wstatus, 0) < 0 && errno == EINTR) {
+    }
+    if (WIFEXITED(wstatus)) return WEXITSTATUS(wstatus);
+    *sig = WIFSIGNALED(wstatus) ? WTERMSIG(wstatus) : 0;
+    return -1;
+}
+
+/* check_file in a child process: glslang 12 crashes on some inputs, and a validator must
+ * survive its compiler, report the file and go on with the others. The child checks
+ * every target in its copy of d, so an error found for several prints once, and prints
+ * them itself: what comes back is its exit status. When it crashes on one of several
+ * targets, each target is checked again alone (printing nothing) to find the ones that
+ * crash, then the others are checked and printed with a crash error for those: the
+ * errors of the targets that compile are not lost. */
+static int check_file_isolated(const char *path, const char *text, int module, halo_library *lib,
+                               const check_targets *ct, halo_diagnostics *d) {
+    int sig = 0, status = check_in_child(path, text, module, lib, ct, NULL, 0, d, &sig);
+    if (status < 0 && ct->count > 1 && !checks_own_version(text, module, ct)) {
+        int crashed[HALO_TARGET_COUNT] = {0}, compiled = 0;
+        for (int t = 0; t < ct->count; t++) {
+            check_targets one = {.list = {ct->list[t]}, .count = 1, .given = ct->given};
+            int s = 0;
+            if (check_in_child(path, text, module, lib, &one, NULL, 1, d, &s) < 0) crashed[t] = s + 1;
+            else compiled = 1;
+        }
+        if (compiled) status = check_in_child(path, text, module, lib, ct, crashed, 0, d, &sig);
     }
     if (module) {
         /* the parent's library takes the module too, for the files after it */
@@ -237,9 +273,8 @@ static int check_file_isolated(const char *path, const char *text, int module, h
         halo_library_override_file(lib, path, ignored);
         halo_diagnostics_destroy(ignored);
     }
-    if (WIFEXITED(wstatus)) return WEXITSTATUS(wstatus);
-    fprintf(stderr, "%s: error: the GLSL compiler crashed on this file (%s)\n", path,
-            WIFSIGNALED(wstatus) ? strsignal(WTERMSIG(wstatus)) : "no exit status");
+    if (status >= 0) return status;
+    fprintf(stderr, "%s: error: the GLSL compiler crashed on this file (%s)\n", path, crash_reason(sig));
     return EXIT_INPUT;
 }
 

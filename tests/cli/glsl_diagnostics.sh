@@ -1,9 +1,11 @@
 #!/bin/sh
 # GLSL errors as GCC and clang print them: file:line:col at the token the message is
 # about (not the first substring match, not column 1 for an empty token), a missing ';'
-# at the end of the token before it, no names of libhalo's own (renamed helpers, the
-# check host), one message per problem (no cascade), an error found for several targets
-# printed once naming them, and the caret gutter aligned past line 99 999.
+# at the end of the token before it, an error in a macro's expansion at the macro's use
+# and one in a call split over lines at the call's name, no names of libhalo's own
+# (renamed helpers, the check host), one message per problem (no cascade), an error
+# found for several targets printed once naming them, and the caret gutter aligned past
+# line 99 999.
 . "$srcdir/tests/cli/common.sh"
 
 # count_errors: the number of "error:" lines of the last command
@@ -38,6 +40,24 @@ if grep -q "'' :" "$tmp/err"; then fail "an empty token ('') in a message"; fi
 # the caret under column 23 of line 6
 grep -A2 "columns\.frag:6:23:" "$tmp/err" | tail -1 | grep -q '^       |                       \^$' ||
     fail "the caret of line 6 is not under column 23"
+
+# An error inside a macro's expansion is at the macro's use, not at its ')'; an error in
+# a call split over lines is at the call's name (glslang reports the call's last line).
+cat >"$tmp/spans.frag" <<'EOF'
+#version 330 core
+#define SCALE(x) ((x) * undefined_factor)
+out vec4 color;
+float pair(float a, float b) { return a + b; }
+void main() {
+    float v = SCALE(2.0);
+    float u = pair(1.0,
+                   vec2(2.0));
+    color = vec4(v + u);
+}
+EOF
+run 1 "$HALO_VALIDATE" check --target 330 "$tmp/spans.frag"
+expect_stderr "spans\.frag:6:15: error: 'undefined_factor' : undeclared identifier"
+expect_stderr "spans\.frag:7:15: error: 'pair' : no matching overloaded function found"
 
 # One problem, one message: the failed call's placeholder result and the syntax error
 # after an unknown type name are not errors of their own.

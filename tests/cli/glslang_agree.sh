@@ -4,9 +4,11 @@
 # #version or none, no precision added, '#version' after comments, old-Mac line ends,
 # '#include' beside the file, errors after a preprocessing error, a link error after a
 # compile error, the parser stopping at a syntax error and the preprocessor at a bad
-# macro, '#line' with and without a file name). Each gets the reference's
+# macro, '#line' with and without a file name, string escapes the parser reads as
+# written, '__FILE__' as the file's name). Each gets the reference's
 # verdict and its error lines (file:line), and its link errors. A file on which the
-# compiler crashes is an input error at the file, and the files after it are checked.
+# compiler crashes is an input error at the file, and the files after it are checked; a
+# crash on one of several targets keeps the other targets' errors.
 . "$srcdir/tests/cli/common.sh"
 
 command -v glslangValidator >/dev/null 2>&1 || {
@@ -65,4 +67,9 @@ export ASAN_OPTIONS
 run 1 "$HALO_VALIDATE" check "$dir/compiler_crash.vert" "$dir/own_version.frag"
 expect_stderr "compiler_crash\.vert(:[0-9]+:[0-9]+)?: error: "
 grep -q "own_version\.frag: ok" "$tmp/out" || fail "the file after a compiler crash was not checked"
+# a crash on one target of several (450 here) keeps the errors of the others, before and
+# after it, and names the target that crashed
+run 1 "$HALO_VALIDATE" check --target all "$dir/compiler_crash.vert"
+expect_stderr "compiler_crash\.vert:5:[0-9]+: error: 'atomicMax' .*\[330, es300\]"
+expect_stderr "compiler_crash\.vert: error: the GLSL compiler crashed on this file \(.*\) \[450\]"
 finish
