@@ -57,14 +57,41 @@ void print_row(conform *c, const char *row, const row_stats *s, const char *tole
 }
 
 /* A row that could not run (link or compile error): the diagnostics say why. */
+void print_error_row_line(const char *row, int tolerance_width, halo_diagnostics *diag)
+{
+    printf("%-26s %10s %10s %8s %9s %*s FAIL\n", row, "-", "-", "-", "-", tolerance_width, "-");
+    halo_diagnostics_print(diag, stderr);
+    halo_diagnostics_clear(diag);
+    fflush(stdout);
+}
+
 void print_error_row(conform *c, const char *row)
 {
-    printf("%-26s %10s %10s %8s %9s %12s FAIL\n", row, "-", "-", "-", "-", "-");
-    halo_diagnostics_print(c->diag, stderr);
-    halo_diagnostics_clear(c->diag);
-    fflush(stdout);
+    print_error_row_line(row, 12, c->diag);
     c->rows++;
     c->failures++;
+}
+
+halo_gl *conform_gl_current_or_headless(halo_headless **context, halo_diagnostics *diag, char *err, size_t size)
+{
+    *context = NULL;
+    halo_gl *runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, NULL);
+    if (runtime && halo_gl_functions(runtime)->GetString(GL_VERSION))
+        return runtime;
+    halo_gl_destroy(runtime);
+    *context = halo_headless_create(64, 64, err, size);
+    return *context ? halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, diag) : NULL;
+}
+
+int row_stats_note(row_stats *s, size_t index, double error)
+{
+    s->sum_squares += error * error;
+    s->values++;
+    if (!(error > s->max_abs))
+        return 0;
+    s->max_abs = error;
+    s->worst = index;
+    return 1;
 }
 
 int row_stats_add(row_stats *s, size_t index, const double *gpu, const double *emu, const double *condition, int n,
@@ -78,10 +105,7 @@ int row_stats_add(row_stats *s, size_t index, const double *gpu, const double *e
         }
         double error = fabs(gpu[k] - emu[k]);
         double allowed = tolerance_abs + tolerance_rel * fabs(emu[k]) + (condition ? condition[k] : 0.0);
-        s->sum_squares += error * error;
-        s->values++;
-        if (error > s->max_abs)
-            s->max_abs = error, s->worst = index;
+        row_stats_note(s, index, error);
         if (error > allowed)
             over = 1;
     }

@@ -71,12 +71,18 @@ int conform_open(conform *c);
 void conform_close(conform *c);
 /* Whether the registry holds a row of this name (a stage with rows of its own). */
 int conform_has_row(const conform *c, const char *name);
+/* A GL runtime on the context current in this thread, or else on a new 64x64 headless
+ * one (*context, NULL when none was needed). NULL on failure: without a context *context
+ * stays NULL and err says why; else the diagnostics do. */
+halo_gl *conform_gl_current_or_headless(halo_headless **context, halo_diagnostics *diag, char *err, size_t size);
 
 /* Adds sample index's n values to s: each passes within tolerance_abs + tolerance_rel
  * |emu| + condition[k] (condition may be NULL); a non-finite value counts once per
  * sample in nonfinite and not in the error. Returns 1 when a value is over. */
 int row_stats_add(row_stats *s, size_t index, const double *gpu, const double *emu, const double *condition, int n,
                   double tolerance_abs, double tolerance_rel);
+/* Adds one finite error of sample index to s; returns 1 when it is the largest so far. */
+int row_stats_note(row_stats *s, size_t index, double error);
 int row_selected(const conform *c, const char *row, const char *stage);
 void print_header(void);
 /* A row's line (stage max_abs rmse over_tol nonfinite tolerance PASS|FAIL) on stdout;
@@ -85,6 +91,9 @@ void print_row_line(const char *row, const row_stats *s, const char *tolerance, 
 void print_row(conform *c, const char *row, const row_stats *s, const char *tolerance, int pass);
 /* A row that could not run (link or compile error): the diagnostics say why. */
 void print_error_row(conform *c, const char *row);
+/* Its line (dashes, FAIL; the tolerance column tolerance_width wide) and the diagnostics,
+ * then cleared; counts nothing (for the families that keep their own counts). */
+void print_error_row_line(const char *row, int tolerance_width, halo_diagnostics *diag);
 /* A row without numbers (figure3): dashes, the tolerance text, the result. */
 void print_plain_row(conform *c, const char *row, const char *tolerance, int pass);
 

@@ -136,10 +136,8 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
                         continue;
                     }
                     double error = fabs(gv - ev);
-                    stats.sum_squares += error * error;
-                    stats.values++;
-                    if (error > stats.max_abs)
-                        stats.max_abs = error, stats.worst = i, worst_case = which;
+                    if (row_stats_note(&stats, i, error))
+                        worst_case = which;
                     if (error > row->tolerance_abs)
                         over = 1;
                 }
