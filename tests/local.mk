@@ -75,6 +75,7 @@ HALO_SHELL_TESTS = \
 	tests/cli/nonfinite.sh \
 	tests/cli/usage.sh \
 	tests/cli/conform_list.sh \
+	tests/cli/accuracy_doc.sh \
 	tests/tree_clean.sh \
 	tests/cli/nul_byte.sh \
 	tests/cli/directory.sh \
