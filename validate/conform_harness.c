@@ -404,19 +404,13 @@ const float *probe_label_volume(void)
 void frame_probe_release(frame_probe *fp)
 {
     const halo_glfuncs *f = fp->f;
-    if (f) {
-        if (fp->framebuffer)
-            f->DeleteFramebuffers(1, &fp->framebuffer);
-        if (fp->color)
-            f->DeleteTextures(1, &fp->color);
-        if (fp->inputs[0])
-            f->DeleteTextures(4, fp->inputs);
-        if (fp->vertex_array)
-            f->DeleteVertexArrays(1, &fp->vertex_array);
-        if (fp->host_textures[0])
-            f->DeleteTextures(2, fp->host_textures);
-        if (fp->program)
-            f->DeleteProgram(fp->program);
+    if (f) { /* glDelete* passes over the names never made (0) */
+        f->DeleteFramebuffers(1, &fp->framebuffer);
+        f->DeleteTextures(1, &fp->color);
+        f->DeleteTextures(4, fp->inputs);
+        f->DeleteVertexArrays(1, &fp->vertex_array);
+        f->DeleteTextures(2, fp->host_textures);
+        f->DeleteProgram(fp->program);
     }
     free(fp->staging);
     memset(fp, 0, sizeof *fp);

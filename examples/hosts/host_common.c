@@ -189,6 +189,14 @@ void halo_host_image_texture(const halo_glfuncs *f, GLuint texture, GLint intern
     f->TexImage2D(GL_TEXTURE_2D, 0, internal_format, width, height, 0, format, type, NULL);
 }
 
+void *halo_host_calloc(size_t size, halo_diagnostics *diag)
+{
+    void *p = calloc(1, size);
+    if (!p)
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    return p;
+}
+
 halo_status halo_host_gl_check(const halo_glfuncs *f, halo_message_id id, const char *failed, halo_diagnostics *diag)
 {
     GLenum error = f->GetError();

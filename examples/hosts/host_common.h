@@ -41,6 +41,9 @@ GLuint halo_host_program_build(const halo_host_desc *desc, const char *default_v
 void halo_host_image_texture(const halo_glfuncs *f, GLuint texture, GLint internal_format, int width, int height,
                              GLenum format, GLenum type);
 
+/* size zeroed bytes; NULL with an OUT_OF_MEMORY diagnostic. */
+void *halo_host_calloc(size_t size, halo_diagnostics *diag);
+
 /* HALO_OK when GL reports no error; else a diagnostic id "FAILED (GL error 0x...)" and
  * HALO_ERROR_IO. */
 halo_status halo_host_gl_check(const halo_glfuncs *f, halo_message_id id, const char *failed, halo_diagnostics *diag);

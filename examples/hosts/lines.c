@@ -190,11 +190,9 @@ halo_lines *halo_lines_create(const halo_lines_desc *desc, halo_diagnostics *dia
         halo_diag_error(diag, USAGE, "", 0, 0, "lines: gl and a size in 1..16384 are required");
         return NULL;
     }
-    halo_lines *l = calloc(1, sizeof *l);
-    if (!l) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    halo_lines *l = halo_host_calloc(sizeof *l, diag);
+    if (!l)
         return NULL;
-    }
     const halo_glfuncs *f = desc->gl;
     l->f = f;
     l->width = desc->width;
@@ -240,20 +238,15 @@ void halo_lines_destroy(halo_lines *l)
     if (!l)
         return;
     const halo_glfuncs *f = l->f;
-    if (l->framebuffer)
+    if (f) { /* glDelete* passes over the names never made (0) */
         f->DeleteFramebuffers(1, &l->framebuffer);
-    if (l->depth_buffer)
         f->DeleteRenderbuffers(1, &l->depth_buffer);
-    if (l->color_texture)
         f->DeleteTextures(1, &l->color_texture);
-    if (l->buffer)
-        f->DeleteBuffers(1, &l->buffer);
-    if (l->index_buffer)
-        f->DeleteBuffers(1, &l->index_buffer);
-    if (l->vertex_array)
+        const GLuint buffers[2] = {l->buffer, l->index_buffer};
+        f->DeleteBuffers(2, buffers);
         f->DeleteVertexArrays(1, &l->vertex_array);
-    if (l->program)
         f->DeleteProgram(l->program);
+    }
     free(l);
 }
 

@@ -96,14 +96,11 @@ static void host_target_release(host_target *t)
     const halo_glfuncs *f = t->f;
     if (!f)
         return;
-    if (t->framebuffer)
-        f->DeleteFramebuffers(1, &t->framebuffer);
-    if (t->color_texture)
-        f->DeleteTextures(1, &t->color_texture);
-    if (t->vertex_array)
-        f->DeleteVertexArrays(1, &t->vertex_array);
-    if (t->program)
-        f->DeleteProgram(t->program);
+    /* glDelete* passes over the names never made (0) */
+    f->DeleteFramebuffers(1, &t->framebuffer);
+    f->DeleteTextures(1, &t->color_texture);
+    f->DeleteVertexArrays(1, &t->vertex_array);
+    f->DeleteProgram(t->program);
     memset(t, 0, sizeof *t);
 }
 
@@ -159,11 +156,9 @@ static halo_status host_target_read(host_target *t, float *rgba, halo_diagnostic
 static void *host_create(size_t size, const halo_host_desc *desc, const char *default_fragment,
                          halo_diagnostics *diag)
 {
-    host_target *t = calloc(1, size);
-    if (!t) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    host_target *t = halo_host_calloc(size, diag);
+    if (!t)
         return NULL;
-    }
     if (!host_target_init(t, desc, default_fragment, diag)) {
         host_target_release(t);
         free(t);
