@@ -17,7 +17,7 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_lifetimes \
 	tests/unit/test_threads
 check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
-noinst_HEADERS += tests/unit/check.h
+noinst_HEADERS += tests/unit/check.h tests/gl_fixture.h
 
 HALO_TEST_CORE_LIBS = libhalo/libhalo-core.la -lm
 

@@ -12,12 +12,9 @@
  * The segmented ray caster against its emulation is the conformance family "segments"
  * (validate/conform_segment.c, halo-validate conform --stage segments).
  * Exit 77 without OpenGL. */
-#include "halo.h"
-#include "gl/glfuncs.h"
-#include "gl/headless.h"
+#include "../gl_fixture.h"
 #include "hosts/raycast.h"
 #include "hosts/slab.h"
-#include "volume.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -90,18 +87,20 @@ static halo_program *link_scene(env *e, const char *scene_text, const char *host
     return p;
 }
 
-/* Renders with the ray caster in `segments` segments (0: as the program needs) of M planes. */
-static float *render_ray(env *e, const char *scene_text, int force, int interval, int segments, int *drawn)
+/* Renders with the ray caster (slab 0) in `segments` segments (0: as the program needs),
+ * or with the slab host (slab 1), of M = interval planes. */
+static float *render_host(env *e, const char *scene_text, int slab, int force, int interval, int segments,
+                          int *drawn)
 {
     halo_scene *scene = NULL;
-    halo_program *p = link_scene(e, scene_text, e->raycast, "raycast.frag", force, &scene);
+    halo_program *p = link_scene(e, scene_text, slab ? e->slab : e->raycast, slab ? "slab.frag" : "raycast.frag",
+                                 force, &scene);
     float *rgba = malloc((size_t)SIZE * SIZE * 4 * sizeof *rgba);
-    halo_raycast *r = p ? halo_raycast_create(&(halo_host_desc){.gl = e->gl, .runtime = e->runtime, .program = p,
-                                                                .width = SIZE, .height = SIZE},
-                                              e->diag)
-                        : NULL;
-    int ok = r && rgba;
-    if (ok) {
+    const halo_host_desc desc = {.gl = e->gl, .runtime = e->runtime, .program = p, .width = SIZE, .height = SIZE};
+    halo_raycast *r = p && !slab ? halo_raycast_create(&desc, e->diag) : NULL;
+    halo_slab *s = p && slab ? halo_slab_create(&desc, e->diag) : NULL;
+    int ok = (r || s) && rgba;
+    if (ok && r) {
         const halo_render_settings *settings = halo_scene_render(scene);
         ok = halo_raycast_set_volume(r, e->volume, VOLUME, VOLUME, VOLUME, e->diag) == HALO_OK &&
              halo_raycast_set_render(r, settings, e->diag) == HALO_OK;
@@ -111,30 +110,7 @@ static float *render_ray(env *e, const char *scene_text, int force, int interval
         ok = ok && halo_raycast_render(r, rgba, e->diag) == HALO_OK;
         if (drawn)
             *drawn = halo_raycast_frame(r) ? halo_gl_frame_segment_count(halo_raycast_frame(r)) : 1;
-    }
-    if (!ok) {
-        halo_diagnostics_print(e->diag, stdout);
-        free(rgba);
-        rgba = NULL;
-    }
-    halo_raycast_destroy(r);
-    halo_program_destroy(p);
-    halo_scene_destroy(scene);
-    halo_diagnostics_clear(e->diag);
-    return rgba;
-}
-
-static float *render_slab(env *e, const char *scene_text, int interval)
-{
-    halo_scene *scene = NULL;
-    halo_program *p = link_scene(e, scene_text, e->slab, "slab.frag", 0, &scene);
-    float *rgba = malloc((size_t)SIZE * SIZE * 4 * sizeof *rgba);
-    halo_slab *s = p ? halo_slab_create(&(halo_host_desc){.gl = e->gl, .runtime = e->runtime, .program = p,
-                                                          .width = SIZE, .height = SIZE},
-                                        e->diag)
-                     : NULL;
-    int ok = s && rgba;
-    if (ok) {
+    } else if (ok) {
         const halo_render_settings *settings = halo_scene_render(scene);
         ok = halo_slice_set_volume(s, e->volume, VOLUME, VOLUME, VOLUME, e->diag) == HALO_OK &&
              halo_slice_set_render(s, settings, e->diag) == HALO_OK;
@@ -147,11 +123,22 @@ static float *render_slab(env *e, const char *scene_text, int interval)
         free(rgba);
         rgba = NULL;
     }
+    halo_raycast_destroy(r);
     halo_slice_destroy(s);
     halo_program_destroy(p);
     halo_scene_destroy(scene);
     halo_diagnostics_clear(e->diag);
     return rgba;
+}
+
+static float *render_ray(env *e, const char *scene_text, int force, int interval, int segments, int *drawn)
+{
+    return render_host(e, scene_text, 0, force, interval, segments, drawn);
+}
+
+static float *render_slab(env *e, const char *scene_text, int interval)
+{
+    return render_host(e, scene_text, 1, 0, interval, 0, NULL);
 }
 
 static void difference(const float *a, const float *b, double *max_abs, double *rmse)
@@ -282,28 +269,17 @@ static void test_diagnostics(env *e)
 
 int main(void)
 {
-    char err[512];
-    env e = {0};
-    e.diag = halo_diagnostics_create();
-    if (!e.diag || halo_setup(NULL) != HALO_OK)
-        return 99;
-    halo_headless *context = halo_headless_create(SIZE, SIZE, err, sizeof err);
-    if (!context) {
-        printf("no OpenGL context (%s): skipping\n", err);
-        halo_shutdown();
-        halo_diagnostics_destroy(e.diag);
-        return 77;
-    }
-    e.lib = halo_library_create(e.diag);
-    e.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, e.diag);
-    e.volume = halo_volume_create(VOLUME);
+    gl_fixture g;
+    int status = gl_fixture_open(&g, SIZE, VOLUME);
+    if (status)
+        return status;
+    env e = {.lib = g.lib, .runtime = g.runtime, .gl = g.gl, .diag = g.diag, .volume = g.volume};
     e.raycast = halo_host_load("raycast.frag", NULL, e.diag);
     e.slab = halo_host_load("slab.frag", NULL, e.diag);
-    if (!e.lib || !e.runtime || !e.volume || !e.raycast || !e.slab) {
+    if (!e.raycast || !e.slab) {
         halo_diagnostics_print(e.diag, stderr);
         return 99;
     }
-    e.gl = halo_gl_functions(e.runtime);
     test_segments_change_nothing(&e);
     test_halos_match_slab(&e);
     test_diagnostics(&e);
@@ -312,11 +288,6 @@ int main(void)
     printf("%d failed\n", failures);
     free(e.raycast);
     free(e.slab);
-    free(e.volume);
-    halo_gl_destroy(e.runtime);
-    halo_library_destroy(e.lib);
-    halo_headless_destroy(context);
-    halo_diagnostics_destroy(e.diag);
-    halo_shutdown();
+    gl_fixture_close(&g);
     return failures ? 1 : 0;
 }
