@@ -49,11 +49,7 @@ static const char halos_scene[] =
 static const char no_halo_scene[] = "{\"halo_scene\": 1, \"stages\": [], " HALO_RENDER "}";
 
 typedef struct env {
-    halo_library *lib;
-    halo_gl *runtime;
-    const halo_glfuncs *gl;
-    halo_diagnostics *diag;
-    float *volume;
+    gl_fixture g; /* the context, library, runtime, diagnostics and the built-in volume */
     char *raycast, *slab;
 } env;
 
@@ -73,13 +69,13 @@ static int orthographic; /* the camera of the next renders */
 static halo_program *link_scene(env *e, const char *scene_text, const char *host, const char *file, int force,
                                 halo_scene **scene_out)
 {
-    halo_scene *scene = halo_scene_parse(scene_text, "(test scene)", e->lib, e->diag);
-    halo_program *p = scene ? halo_link(&(halo_link_desc){.library = e->lib, .scene = scene, .host_source = host,
+    halo_scene *scene = halo_scene_parse(scene_text, "(test scene)", e->g.lib, e->g.diag);
+    halo_program *p = scene ? halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = host,
                                                           .host_file = file, .force_segments = force},
-                                        e->diag)
+                                        e->g.diag)
                             : NULL;
     if (!p) {
-        halo_diagnostics_print(e->diag, stdout);
+        halo_diagnostics_print(e->g.diag, stdout);
         halo_scene_destroy(scene);
         return NULL;
     }
@@ -96,30 +92,30 @@ static float *render_host(env *e, const char *scene_text, int slab, int force, i
     halo_program *p = link_scene(e, scene_text, slab ? e->slab : e->raycast, slab ? "slab.frag" : "raycast.frag",
                                  force, &scene);
     float *rgba = malloc((size_t)SIZE * SIZE * 4 * sizeof *rgba);
-    const halo_host_desc desc = {.gl = e->gl, .runtime = e->runtime, .program = p, .width = SIZE, .height = SIZE};
-    halo_raycast *r = p && !slab ? halo_raycast_create(&desc, e->diag) : NULL;
-    halo_slab *s = p && slab ? halo_slab_create(&desc, e->diag) : NULL;
+    const halo_host_desc desc = {.gl = e->g.gl, .runtime = e->g.runtime, .program = p, .width = SIZE, .height = SIZE};
+    halo_raycast *r = p && !slab ? halo_raycast_create(&desc, e->g.diag) : NULL;
+    halo_slab *s = p && slab ? halo_slab_create(&desc, e->g.diag) : NULL;
     int ok = (r || s) && rgba;
     if (ok && r) {
         const halo_render_settings *settings = halo_scene_render(scene);
-        ok = halo_raycast_set_volume(r, e->volume, VOLUME, VOLUME, VOLUME, e->diag) == HALO_OK &&
-             halo_raycast_set_render(r, settings, e->diag) == HALO_OK;
+        ok = halo_raycast_set_volume(r, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag) == HALO_OK &&
+             halo_raycast_set_render(r, settings, e->g.diag) == HALO_OK;
         halo_raycast_set_orthographic(r, orthographic);
         halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);
         halo_raycast_set_segments(r, interval, segments);
-        ok = ok && halo_raycast_render(r, rgba, e->diag) == HALO_OK;
+        ok = ok && halo_raycast_render(r, rgba, e->g.diag) == HALO_OK;
         if (drawn)
             *drawn = halo_raycast_frame(r) ? halo_gl_frame_segment_count(halo_raycast_frame(r)) : 1;
     } else if (ok) {
         const halo_render_settings *settings = halo_scene_render(scene);
-        ok = halo_slice_set_volume(s, e->volume, VOLUME, VOLUME, VOLUME, e->diag) == HALO_OK &&
-             halo_slice_set_render(s, settings, e->diag) == HALO_OK;
+        ok = halo_slice_set_volume(s, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag) == HALO_OK &&
+             halo_slice_set_render(s, settings, e->g.diag) == HALO_OK;
         halo_slice_set_camera(s, settings->azimuth, settings->elevation, settings->zoom);
         halo_slice_set_interval(s, interval);
-        ok = ok && halo_slice_render(s, rgba, e->diag) == HALO_OK;
+        ok = ok && halo_slice_render(s, rgba, e->g.diag) == HALO_OK;
     }
     if (!ok) {
-        halo_diagnostics_print(e->diag, stdout);
+        halo_diagnostics_print(e->g.diag, stdout);
         free(rgba);
         rgba = NULL;
     }
@@ -127,7 +123,7 @@ static float *render_host(env *e, const char *scene_text, int slab, int force, i
     halo_slice_destroy(s);
     halo_program_destroy(p);
     halo_scene_destroy(scene);
-    halo_diagnostics_clear(e->diag);
+    halo_diagnostics_clear(e->g.diag);
     return rgba;
 }
 
@@ -233,35 +229,35 @@ static void test_diagnostics(env *e)
         "#endif\n"
         "    color = sum;\n"
         "}\n";
-    halo_scene *scene = halo_scene_parse(halos_scene, "(test scene)", e->lib, e->diag);
-    halo_program *p = halo_link(&(halo_link_desc){.library = e->lib, .scene = scene, .host_source = single_pass,
+    halo_scene *scene = halo_scene_parse(halos_scene, "(test scene)", e->g.lib, e->g.diag);
+    halo_program *p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = single_pass,
                                                   .host_file = "single.frag"},
-                                e->diag);
-    const halo_diagnostic *d = halo_diagnostics_count(e->diag) ? halo_diagnostics_get(e->diag, 0) : NULL;
-    CHECK(!p && halo_diagnostics_has(e->diag, HALO_MSG_HOST_SINGLE_PASS),
+                                e->g.diag);
+    const halo_diagnostic *d = halo_diagnostics_count(e->g.diag) ? halo_diagnostics_get(e->g.diag, 0) : NULL;
+    CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_HOST_SINGLE_PASS),
           "a halo scene in a single-pass ray caster is refused with HOST_SINGLE_PASS");
     CHECK(d && !strcmp(d->file, "single.frag") && d->line == 2, "at the host's marker (single.frag:2): %s:%d",
           d ? d->file : "-", d ? d->line : 0);
     CHECK(d && strstr(d->text, "halo_generate"), "the message names the stage with passes");
     halo_program_destroy(p);
-    halo_diagnostics_clear(e->diag);
-    p = halo_link(&(halo_link_desc){.library = e->lib, .scene = NULL, .host_source = single_pass,
+    halo_diagnostics_clear(e->g.diag);
+    p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = NULL, .host_source = single_pass,
                                     .host_file = "single.frag", .force_segments = 1},
-                  e->diag);
-    CHECK(!p && halo_diagnostics_has(e->diag, HALO_MSG_HOST_SINGLE_PASS),
+                  e->g.diag);
+    CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_HOST_SINGLE_PASS),
           "force_segments without halo_segment_begin is refused");
     halo_program_destroy(p);
-    halo_diagnostics_clear(e->diag);
+    halo_diagnostics_clear(e->g.diag);
     /* the same host, declared a slice host that runs the passes itself, links */
     char *slices = malloc(sizeof single_pass + 32);
     if (slices) {
         snprintf(slices, sizeof single_pass + 32, "#pragma halo slices\n%s", single_pass);
-        p = halo_link(&(halo_link_desc){.library = e->lib, .scene = scene, .host_source = slices,
+        p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = slices,
                                         .host_file = "slices.frag"},
-                      e->diag);
+                      e->g.diag);
         CHECK(p != NULL, "with '#pragma halo slices' the host links");
         halo_program_destroy(p);
-        halo_diagnostics_clear(e->diag);
+        halo_diagnostics_clear(e->g.diag);
         free(slices);
     }
     halo_scene_destroy(scene);
@@ -269,15 +265,14 @@ static void test_diagnostics(env *e)
 
 int main(void)
 {
-    gl_fixture g;
-    int status = gl_fixture_open(&g, SIZE, VOLUME);
+    env e = {0};
+    int status = gl_fixture_open(&e.g, SIZE, VOLUME);
     if (status)
         return status;
-    env e = {.lib = g.lib, .runtime = g.runtime, .gl = g.gl, .diag = g.diag, .volume = g.volume};
-    e.raycast = halo_host_load("raycast.frag", NULL, e.diag);
-    e.slab = halo_host_load("slab.frag", NULL, e.diag);
+    e.raycast = halo_host_load("raycast.frag", NULL, e.g.diag);
+    e.slab = halo_host_load("slab.frag", NULL, e.g.diag);
     if (!e.raycast || !e.slab) {
-        halo_diagnostics_print(e.diag, stderr);
+        halo_diagnostics_print(e.g.diag, stderr);
         return 99;
     }
     test_segments_change_nothing(&e);
@@ -288,6 +283,6 @@ int main(void)
     printf("%d failed\n", failures);
     free(e.raycast);
     free(e.slab);
-    gl_fixture_close(&g);
+    gl_fixture_close(&e.g);
     return failures ? 1 : 0;
 }
