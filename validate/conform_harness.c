@@ -333,6 +333,24 @@ halo_emu_frame *conform_host_frame(const halo_program *p, int width, int height,
     return frame;
 }
 
+void *conform_host_frame_rays(const halo_program *p, int width, int height, const double screen_right[3],
+                              const double screen_up[3], size_t ray_size, halo_emu_frame **frame,
+                              halo_diagnostics *diag)
+{
+    void *rays = malloc((size_t)width * (size_t)height * ray_size);
+    if (!rays) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        return NULL;
+    }
+    int framed = 1;
+    *frame = conform_host_frame(p, width, height, screen_right, screen_up, &framed, diag);
+    if (!framed) {
+        free(rays);
+        return NULL;
+    }
+    return rays;
+}
+
 void conform_print_sample(const char *label, const halo_emu_sample *s, const float *gpu, const double *emu)
 {
     fprintf(stderr,

@@ -137,6 +137,12 @@ void conform_pixel_ray(const double inverse_view_projection[16], int width, int 
 halo_emu_frame *conform_host_frame(const halo_program *p, int width, int height, const double screen_right[3],
                                    const double screen_up[3], int *ok, halo_diagnostics *diag);
 
+/* conform_host_frame (*frame) and an array of width x height rays of ray_size bytes
+ * (uninitialized) for a whole-render emulation; NULL on failure (diagnostics in diag). */
+void *conform_host_frame_rays(const halo_program *p, int width, int height, const double screen_right[3],
+                              const double screen_up[3], size_t ray_size, halo_emu_frame **frame,
+                              halo_diagnostics *diag);
+
 /* ---- The frame probe ---- */
 
 /* Sampler host uniforms of the frame rows (e.g. outline_feature's "labels"): a small
