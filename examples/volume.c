@@ -160,9 +160,12 @@ float *halo_volume_gradients(const float *v, const int dims[3])
     return g;
 }
 
-/* Texel indices and weights of GL_LINEAR with GL_CLAMP_TO_EDGE at p. */
-static void trilinear_taps(const int dims[3], const double p[3], int i0[3], int i1[3], double f[3])
+/* The eight texels of GL_LINEAR with GL_CLAMP_TO_EDGE at p: their voxel indices (x
+ * fastest) and weights. */
+static void trilinear_taps(const int dims[3], const double p[3], size_t voxel[8], double weight[8])
 {
+    int i0[3], i1[3];
+    double f[3];
     for (int k = 0; k < 3; ++k) {
         double u = p[k] * dims[k] - 0.5;
         double base = floor(u);
@@ -171,35 +174,32 @@ static void trilinear_taps(const int dims[3], const double p[3], int i0[3], int 
         i0[k] = b < 0 ? 0 : b > dims[k] - 1 ? dims[k] - 1 : b;
         i1[k] = b + 1 < 0 ? 0 : b + 1 > dims[k] - 1 ? dims[k] - 1 : b + 1;
     }
+    for (int corner = 0; corner < 8; ++corner) {
+        int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
+        weight[corner] = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
+                         (corner & 4 ? f[2] : 1.0 - f[2]);
+        voxel[corner] = ((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] + (size_t)x;
+    }
 }
 
 void halo_volume_trilinear3(const float *v, const int dims[3], const double p[3], double out[3])
 {
-    int i0[3], i1[3];
-    double f[3];
-    trilinear_taps(dims, p, i0, i1, f);
+    size_t voxel[8];
+    double weight[8];
+    trilinear_taps(dims, p, voxel, weight);
     out[0] = out[1] = out[2] = 0.0;
-    for (int corner = 0; corner < 8; ++corner) {
-        int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
-        double w = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
-                   (corner & 4 ? f[2] : 1.0 - f[2]);
-        const float *t = v + ((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] * 3 + (size_t)x * 3;
+    for (int corner = 0; corner < 8; ++corner)
         for (int c = 0; c < 3; ++c)
-            out[c] += w * t[c];
-    }
+            out[c] += weight[corner] * v[voxel[corner] * 3 + (size_t)c];
 }
 
 double halo_volume_trilinear(const float *v, const int dims[3], const double p[3])
 {
-    int i0[3], i1[3];
-    double f[3];
-    trilinear_taps(dims, p, i0, i1, f);
+    size_t voxel[8];
+    double weight[8];
+    trilinear_taps(dims, p, voxel, weight);
     double result = 0.0;
-    for (int corner = 0; corner < 8; ++corner) {
-        int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
-        double w = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
-                   (corner & 4 ? f[2] : 1.0 - f[2]);
-        result += w * v[((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] + (size_t)x];
-    }
+    for (int corner = 0; corner < 8; ++corner)
+        result += weight[corner] * v[voxel[corner]];
     return result;
 }
