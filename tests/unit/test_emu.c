@@ -447,21 +447,12 @@ static int test_outline_kernel_size(void) {
 }
 
 int main(void) {
-    library = check_library_setup(&diags);
-    RUN_TEST(test_opacity_power);
-    RUN_TEST(test_gradient_and_boundary);
-    RUN_TEST(test_silhouette);
-    RUN_TEST(test_tone_shading);
-    RUN_TEST(test_distance_blend);
-    RUN_TEST(test_distance_cue);
-    RUN_TEST(test_orientation_fade);
-    RUN_TEST(test_sketch);
-    RUN_TEST(test_chain);
-    RUN_TEST(test_hard_cases);
-    RUN_TEST(test_program_set);
-    RUN_TEST(test_no_emulation);
-    RUN_TEST(test_outline_kernel_size);
-    halo_library_destroy(library);
-    halo_diagnostics_destroy(diags);
-    return check_exit_status();
+    static const check_test tests[] = {
+        CHECK_TEST(test_opacity_power), CHECK_TEST(test_gradient_and_boundary), CHECK_TEST(test_silhouette),
+        CHECK_TEST(test_tone_shading), CHECK_TEST(test_distance_blend), CHECK_TEST(test_distance_cue),
+        CHECK_TEST(test_orientation_fade), CHECK_TEST(test_sketch), CHECK_TEST(test_chain),
+        CHECK_TEST(test_hard_cases), CHECK_TEST(test_program_set), CHECK_TEST(test_no_emulation),
+        CHECK_TEST(test_outline_kernel_size)
+    };
+    return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);
 }
