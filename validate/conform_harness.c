@@ -431,7 +431,19 @@ void frame_probe_release(frame_probe *fp)
         f->DeleteProgram(fp->program);
     }
     free(fp->staging);
+    halo_gl_frame_destroy(fp->gl_frame);
+    halo_emu_frame_destroy(fp->emu_frame);
     memset(fp, 0, sizeof *fp);
+}
+
+int frame_probe_open(conform *c, const halo_program *p, int size, frame_probe *fp)
+{
+    halo_gl_frame *gl_frame = halo_gl_frame_create(c->runtime, p, size, size, c->diag);
+    halo_emu_frame *emu_frame = halo_emu_frame_create(p, size, size, c->diag);
+    int ok = gl_frame && emu_frame && frame_probe_init(c, p, fp);
+    fp->gl_frame = gl_frame;
+    fp->emu_frame = emu_frame;
+    return ok;
 }
 
 int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp)

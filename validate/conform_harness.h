@@ -157,10 +157,16 @@ typedef struct frame_probe {
     GLuint host_textures[2]; /* sampler3D, sampler2D host uniforms */
     int size;
     float *staging;
+    halo_gl_frame *gl_frame; /* the frames of frame_probe_open (NULL after frame_probe_init) */
+    halo_emu_frame *emu_frame;
 } frame_probe;
 
 /* The probe host (probe.frag) linked with p, c->size square. */
 int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp);
+/* frame_probe_init after the GL and emulated frames of p, size x size (fp->gl_frame,
+ * fp->emu_frame); 0 on failure, fp still to release (from a zeroed fp). */
+int frame_probe_open(conform *c, const halo_program *p, int size, frame_probe *fp);
+/* Releases the probe and the frames of frame_probe_open. */
 void frame_probe_release(frame_probe *fp);
 /* Draws one fragment per pixel from samples (c->size^2, row 0 at the bottom) with the
  * frame's outputs attached (blended into its images); rgba (may be NULL): colour read back. */
