@@ -420,6 +420,18 @@ static void normalize3(double v[3])
         v[0] /= n, v[1] /= n, v[2] /= n;
 }
 
+/* The unit tangent at point k of n on the closed knot: the central difference over
+ * half a step on either side. */
+static void knot_tangent(int p, int q, int k, int n, double tangent[3])
+{
+    double before[3], after[3];
+    knot_point(p, q, 2.0 * M_PI * (k - 0.5) / (n - 1), before);
+    knot_point(p, q, 2.0 * M_PI * (k + 0.5) / (n - 1), after);
+    for (int i = 0; i < 3; ++i)
+        tangent[i] = after[i] - before[i];
+    normalize3(tangent);
+}
+
 halo_status halo_linegen_knot(int p, int q, int tube_lines, int points_per_line, double tube_radius,
                               halo_polylines *out, halo_diagnostics *diag)
 {
@@ -441,12 +453,8 @@ halo_status halo_linegen_knot(int p, int q, int tube_lines, int points_per_line,
         for (int k = 0; k < n; ++k)
             knot_point(p, q, 2.0 * M_PI * k / (n - 1), &centre[3 * k]);
         for (int k = 0; k < n; ++k) {
-            double before[3], after[3], tangent[3];
-            knot_point(p, q, 2.0 * M_PI * (k - 0.5) / (n - 1), before);
-            knot_point(p, q, 2.0 * M_PI * (k + 0.5) / (n - 1), after);
-            for (int i = 0; i < 3; ++i)
-                tangent[i] = after[i] - before[i];
-            normalize3(tangent);
+            double tangent[3];
+            knot_tangent(p, q, k, n, tangent);
             double *nk = &normal[3 * k];
             if (k == 0) {
                 double z[3] = {0.0, 0.0, 1.0};
@@ -463,24 +471,16 @@ halo_status halo_linegen_knot(int p, int q, int tube_lines, int points_per_line,
         /* The transported frame does not close on the closed curve: spread the twist
          * between the last and the first normal over the line, so that the tube's lines
          * meet themselves. */
-        double t0[3], before[3], after[3];
-        knot_point(p, q, -0.5 * 2.0 * M_PI / (n - 1), before);
-        knot_point(p, q, 0.5 * 2.0 * M_PI / (n - 1), after);
-        for (int i = 0; i < 3; ++i)
-            t0[i] = after[i] - before[i];
-        normalize3(t0);
+        double t0[3];
+        knot_tangent(p, q, 0, n, t0);
         const double *n0 = &normal[0], *nl = &normal[3 * (n - 1)];
         double b0[3] = {t0[1] * n0[2] - t0[2] * n0[1], t0[2] * n0[0] - t0[0] * n0[2], t0[0] * n0[1] - t0[1] * n0[0]};
         double twist = atan2(nl[0] * b0[0] + nl[1] * b0[1] + nl[2] * b0[2], nl[0] * n0[0] + nl[1] * n0[1] + nl[2] * n0[2]);
         for (int line = 0; line < tube_lines && builder_begin_line(&b); ++line) {
             double angle0 = 2.0 * M_PI * line / tube_lines;
             for (int k = 0; k < n; ++k) {
-                double tangent[3], before[3], after[3];
-                knot_point(p, q, 2.0 * M_PI * (k - 0.5) / (n - 1), before);
-                knot_point(p, q, 2.0 * M_PI * (k + 0.5) / (n - 1), after);
-                for (int i = 0; i < 3; ++i)
-                    tangent[i] = after[i] - before[i];
-                normalize3(tangent);
+                double tangent[3];
+                knot_tangent(p, q, k, n, tangent);
                 const double *nk = &normal[3 * k];
                 double binormal[3] = {tangent[1] * nk[2] - tangent[2] * nk[1], tangent[2] * nk[0] - tangent[0] * nk[2],
                                       tangent[0] * nk[1] - tangent[1] * nk[0]};

@@ -25,6 +25,17 @@ static float maxf(float a, float b)
     return a > b ? a : b;
 }
 
+/* The voxels lo..hi (per axis, inclusive) of the box from (int)p - reach to
+ * (int)p + reach + 1 around the point p that lie inside the border. */
+static void box_inside(double px, double py, double pz, int reach, int border, int size, int lo[3], int hi[3])
+{
+    const double p[3] = {px, py, pz};
+    for (int k = 0; k < 3; ++k) {
+        lo[k] = (int)p[k] - reach > border ? (int)p[k] - reach : border;
+        hi[k] = (int)p[k] + reach + 1 < size - border - 1 ? (int)p[k] + reach + 1 : size - border - 1;
+    }
+}
+
 float *halo_volume_create(int size)
 {
     if (size < HALO_VOLUME_MIN_SIZE || size > HALO_VOLUME_MAX_SIZE)
@@ -66,12 +77,11 @@ float *halo_volume_create(int size)
         double px = c + knot_scale * (sin(t) + 2.0 * sin(2.0 * t));
         double py = c + knot_scale * (cos(t) - 2.0 * cos(2.0 * t));
         double pz = c - knot_scale * 1.2 * sin(3.0 * t);
-        for (int z = (int)pz - reach; z <= (int)pz + reach + 1; ++z)
-            for (int y = (int)py - reach; y <= (int)py + reach + 1; ++y)
-                for (int x = (int)px - reach; x <= (int)px + reach + 1; ++x) {
-                    if (x < border || y < border || z < border || x >= size - border || y >= size - border ||
-                        z >= size - border)
-                        continue;
+        int lo[3], hi[3];
+        box_inside(px, py, pz, reach, border, size, lo, hi);
+        for (int z = lo[2]; z <= hi[2]; ++z)
+            for (int y = lo[1]; y <= hi[1]; ++y)
+                for (int x = lo[0]; x <= hi[0]; ++x) {
                     double d = sqrt((x - px) * (x - px) + (y - py) * (y - py) + (z - pz) * (z - pz));
                     float value = (float)(HALO_VOLUME_TUBE * soft_inside(d - tube_radius, edge));
                     float *dst = &v[((size_t)z * n + (size_t)y) * n + (size_t)x];
@@ -91,12 +101,11 @@ float *halo_volume_create(int size)
         double bx = c + blobs[b][0] * c, by = c + blobs[b][1] * c, bz = c + blobs[b][2] * c;
         double sigma = blobs[b][3] * scale;
         int blob_reach = (int)ceil(3.5 * sigma) + 1;
-        for (int z = (int)bz - blob_reach; z <= (int)bz + blob_reach + 1; ++z)
-            for (int y = (int)by - blob_reach; y <= (int)by + blob_reach + 1; ++y)
-                for (int x = (int)bx - blob_reach; x <= (int)bx + blob_reach + 1; ++x) {
-                    if (x < border || y < border || z < border || x >= size - border || y >= size - border ||
-                        z >= size - border)
-                        continue;
+        int lo[3], hi[3];
+        box_inside(bx, by, bz, blob_reach, border, size, lo, hi);
+        for (int z = lo[2]; z <= hi[2]; ++z)
+            for (int y = lo[1]; y <= hi[1]; ++y)
+                for (int x = lo[0]; x <= hi[0]; ++x) {
                     double d2 = (x - bx) * (x - bx) + (y - by) * (y - by) + (z - bz) * (z - bz);
                     float value = (float)(HALO_VOLUME_BLOB * exp(-d2 / (2.0 * sigma * sigma)));
                     float *dst = &v[((size_t)z * n + (size_t)y) * n + (size_t)x];
@@ -151,9 +160,12 @@ float *halo_volume_gradients(const float *v, const int dims[3])
     return g;
 }
 
-/* Texel indices and weights of GL_LINEAR with GL_CLAMP_TO_EDGE at p. */
-static void trilinear_taps(const int dims[3], const double p[3], int i0[3], int i1[3], double f[3])
+/* The eight texels of GL_LINEAR with GL_CLAMP_TO_EDGE at p: their voxel indices (x
+ * fastest) and weights. */
+static void trilinear_taps(const int dims[3], const double p[3], size_t voxel[8], double weight[8])
 {
+    int i0[3], i1[3];
+    double f[3];
     for (int k = 0; k < 3; ++k) {
         double u = p[k] * dims[k] - 0.5;
         double base = floor(u);
@@ -162,35 +174,32 @@ static void trilinear_taps(const int dims[3], const double p[3], int i0[3], int 
         i0[k] = b < 0 ? 0 : b > dims[k] - 1 ? dims[k] - 1 : b;
         i1[k] = b + 1 < 0 ? 0 : b + 1 > dims[k] - 1 ? dims[k] - 1 : b + 1;
     }
+    for (int corner = 0; corner < 8; ++corner) {
+        int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
+        weight[corner] = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
+                         (corner & 4 ? f[2] : 1.0 - f[2]);
+        voxel[corner] = ((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] + (size_t)x;
+    }
 }
 
 void halo_volume_trilinear3(const float *v, const int dims[3], const double p[3], double out[3])
 {
-    int i0[3], i1[3];
-    double f[3];
-    trilinear_taps(dims, p, i0, i1, f);
+    size_t voxel[8];
+    double weight[8];
+    trilinear_taps(dims, p, voxel, weight);
     out[0] = out[1] = out[2] = 0.0;
-    for (int corner = 0; corner < 8; ++corner) {
-        int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
-        double w = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
-                   (corner & 4 ? f[2] : 1.0 - f[2]);
-        const float *t = v + ((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] * 3 + (size_t)x * 3;
+    for (int corner = 0; corner < 8; ++corner)
         for (int c = 0; c < 3; ++c)
-            out[c] += w * t[c];
-    }
+            out[c] += weight[corner] * v[voxel[corner] * 3 + (size_t)c];
 }
 
 double halo_volume_trilinear(const float *v, const int dims[3], const double p[3])
 {
-    int i0[3], i1[3];
-    double f[3];
-    trilinear_taps(dims, p, i0, i1, f);
+    size_t voxel[8];
+    double weight[8];
+    trilinear_taps(dims, p, voxel, weight);
     double result = 0.0;
-    for (int corner = 0; corner < 8; ++corner) {
-        int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
-        double w = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
-                   (corner & 4 ? f[2] : 1.0 - f[2]);
-        result += w * v[((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] + (size_t)x];
-    }
+    for (int corner = 0; corner < 8; ++corner)
+        result += weight[corner] * v[voxel[corner]];
     return result;
 }

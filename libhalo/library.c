@@ -88,12 +88,18 @@ static halo_status replace_or_add(halo_library *lib, halo_module *m, halo_diagno
     return add_module(lib, m, diag);
 }
 
+/* Reads the module at path and puts it into lib with put (add_module or replace_or_add). */
+static halo_status put_file(halo_library *lib, const char *path, halo_diagnostics *diag,
+                            halo_status (*put)(halo_library *, halo_module *, halo_diagnostics *)) {
+    halo_status st;
+    halo_module *m = read_module(path, diag, &st);
+    return m ? put(lib, m, diag) : st;
+}
+
 halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
     HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, path, "path", HALO_ERROR_INPUT);
-    halo_status st;
-    halo_module *m = read_module(path, diag, &st);
-    return m ? replace_or_add(lib, m, diag) : st;
+    return put_file(lib, path, diag, replace_or_add);
 }
 
 halo_status halo_library_override_source(halo_library *lib, const char *file, const char *source,
@@ -107,9 +113,7 @@ halo_status halo_library_override_source(halo_library *lib, const char *file, co
 halo_status halo_library_add_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
     HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, path, "path", HALO_ERROR_INPUT);
-    halo_status st;
-    halo_module *m = read_module(path, diag, &st);
-    return m ? add_module(lib, m, diag) : st;
+    return put_file(lib, path, diag, add_module);
 }
 
 halo_library *halo_library_create(halo_diagnostics *diag) {

@@ -315,20 +315,15 @@ char *halo_program_reflect_json(const halo_program *p) {
     json_object_set_new(root, "segment_state_location",
                         p->segment_location > 0 ? json_integer(p->segment_location) : json_null());
     json_t *samplers = json_array();
-    for (size_t i = 0; i < p->sampler_count; i++) {
-        json_t *o = json_object();
-        json_object_set_new(o, "name", json_string(p->samplers[i].name));
-        json_object_set_new(o, "image", json_string(p->samplers[i].image));
-        json_array_append_new(samplers, o);
-    }
+    for (size_t i = 0; i < p->sampler_count; i++)
+        json_array_append_new(samplers,
+                              json_pack("{s:s, s:s}", "name", p->samplers[i].name, "image", p->samplers[i].image));
     json_object_set_new(root, "samplers", samplers);
     json_t *host_uniforms = json_array();
     for (size_t i = 0; i < p->host_uniform_count; i++) {
-        json_t *o = json_object();
-        json_object_set_new(o, "name", json_string(p->host_uniforms[i].name));
-        json_object_set_new(o, "type", json_string(p->host_uniforms[i].type));
-        json_object_set_new(o, "meaning", json_string(p->host_uniforms[i].meaning));
-        json_array_append_new(host_uniforms, o);
+        const halo_host_uniform_info *h = &p->host_uniforms[i];
+        json_array_append_new(host_uniforms, json_pack("{s:s, s:s, s:s}", "name", h->name, "type", h->type, "meaning",
+                                                       h->meaning));
     }
     json_object_set_new(root, "host_uniforms", host_uniforms);
     json_t *images = json_array();
@@ -347,13 +342,10 @@ char *halo_program_reflect_json(const halo_program *p) {
     static const char *const blends[] = {"none", "max", "add", "min", "first"};
     json_t *outputs = json_array();
     for (size_t i = 0; i < p->output_count; i++) {
-        json_t *o = json_object();
-        json_object_set_new(o, "name", json_string(p->outputs[i].name));
-        json_object_set_new(o, "location", json_integer(p->outputs[i].location));
-        json_object_set_new(o, "components", json_integer(p->outputs[i].components));
-        json_object_set_new(o, "image", json_string(p->outputs[i].image));
-        json_object_set_new(o, "blend", json_string(blends[p->outputs[i].blend]));
-        json_array_append_new(outputs, o);
+        const halo_output_info *o = &p->outputs[i];
+        json_array_append_new(outputs, json_pack("{s:s, s:i, s:i, s:s, s:s}", "name", o->name, "location", o->location,
+                                                 "components", o->components, "image", o->image, "blend",
+                                                 blends[o->blend]));
     }
     json_object_set_new(root, "outputs", outputs);
     json_t *passes = json_array();

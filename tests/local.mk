@@ -17,67 +17,32 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_lifetimes \
 	tests/unit/test_threads
 check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
-noinst_HEADERS += tests/unit/check.h
+noinst_HEADERS += tests/unit/check.h tests/gl_fixture.h
 
 HALO_TEST_CORE_LIBS = libhalo/libhalo-core.la -lm
 
-# Per-program CPPFLAGS give each its own force-cxx-link object: automake refuses one
-# object built both with libtool (libhalo.la) and without.
-tests_unit_test_module_SOURCES = tests/unit/test_module.c
-tests_unit_test_module_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
-nodist_EXTRA_tests_unit_test_module_SOURCES = build-aux/force-cxx-link.cc
-tests_unit_test_module_LDADD = $(HALO_TEST_CORE_LIBS)
-
-tests_unit_test_scene_SOURCES = tests/unit/test_scene.c
-tests_unit_test_scene_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
-nodist_EXTRA_tests_unit_test_scene_SOURCES = build-aux/force-cxx-link.cc
-tests_unit_test_scene_LDADD = $(HALO_TEST_CORE_LIBS)
-
-tests_unit_test_scene_counts_SOURCES = tests/unit/test_scene_counts.c
-tests_unit_test_scene_counts_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
-nodist_EXTRA_tests_unit_test_scene_counts_SOURCES = build-aux/force-cxx-link.cc
-tests_unit_test_scene_counts_LDADD = $(HALO_TEST_CORE_LIBS)
-
-tests_unit_test_compose_SOURCES = tests/unit/test_compose.c
-tests_unit_test_compose_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
-nodist_EXTRA_tests_unit_test_compose_SOURCES = build-aux/force-cxx-link.cc
-tests_unit_test_compose_LDADD = $(HALO_TEST_CORE_LIBS)
-
-tests_unit_test_link_SOURCES = tests/unit/test_link.c
-tests_unit_test_link_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
-nodist_EXTRA_tests_unit_test_link_SOURCES = build-aux/force-cxx-link.cc
-tests_unit_test_link_LDADD = $(HALO_TEST_CORE_LIBS)
-
-tests_unit_test_host_scan_SOURCES = tests/unit/test_host_scan.c
-tests_unit_test_host_scan_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
-nodist_EXTRA_tests_unit_test_host_scan_SOURCES = build-aux/force-cxx-link.cc
-tests_unit_test_host_scan_LDADD = $(HALO_TEST_CORE_LIBS)
-
-tests_unit_test_emu_SOURCES = tests/unit/test_emu.c
-tests_unit_test_emu_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
-nodist_EXTRA_tests_unit_test_emu_SOURCES = build-aux/force-cxx-link.cc
-tests_unit_test_emu_LDADD = $(HALO_TEST_CORE_LIBS)
-
-tests_unit_test_input_classes_SOURCES = tests/unit/test_input_classes.c
-tests_unit_test_input_classes_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
-nodist_EXTRA_tests_unit_test_input_classes_SOURCES = build-aux/force-cxx-link.cc
-tests_unit_test_input_classes_LDADD = $(HALO_TEST_CORE_LIBS)
-
-tests_unit_test_lifetimes_SOURCES = tests/unit/test_lifetimes.c
-tests_unit_test_lifetimes_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
-nodist_EXTRA_tests_unit_test_lifetimes_SOURCES = build-aux/force-cxx-link.cc
-tests_unit_test_lifetimes_LDADD = $(HALO_TEST_CORE_LIBS)
-
+# A test program is its own .c file (automake's default sources), linked with the core
+# library unless it says otherwise (LDADD, the default of every program without its own;
+# the tools and libraries all set theirs) and by the C++ linker, glslang in the core being
+# C++: HALO_TEST_CXX_LINK names a C++ source that is never built. (Not the libraries'
+# build-aux/force-cxx-link.cc: automake refuses one object built both with libtool and
+# without.)
+LDADD = $(HALO_TEST_CORE_LIBS)
+HALO_TEST_CXX_LINK = tests/cxx-link.cc
+nodist_EXTRA_tests_unit_test_module_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_scene_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_scene_counts_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_compose_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_link_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_host_scan_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_emu_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_input_classes_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_lifetimes_SOURCES = $(HALO_TEST_CXX_LINK)
 # Two threads at once (halo.h, "Threads"); .ci/run also runs it under ThreadSanitizer.
-tests_unit_test_threads_SOURCES = tests/unit/test_threads.c
-tests_unit_test_threads_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
-nodist_EXTRA_tests_unit_test_threads_SOURCES = build-aux/force-cxx-link.cc
+nodist_EXTRA_tests_unit_test_threads_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_unit_test_threads_LDADD = $(HALO_TEST_CORE_LIBS) -lpthread
-
 # The public API only, through the installed-style shared library.
-tests_unit_test_public_SOURCES = tests/unit/test_public.c
-tests_unit_test_public_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
-nodist_EXTRA_tests_unit_test_public_SOURCES = build-aux/force-cxx-link.cc
+nodist_EXTRA_tests_unit_test_public_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_unit_test_public_LDADD = libhalo/libhalo.la
 
 TESTS += $(HALO_UNIT_TESTS) tests/unit/test_public
@@ -86,9 +51,7 @@ TESTS += $(HALO_UNIT_TESTS) tests/unit/test_public
 # function; the rows are checked against the headers). The GL calls with a valid
 # runtime need a headless context.
 check_PROGRAMS += tests/unit/test_null_api
-tests_unit_test_null_api_SOURCES = tests/unit/test_null_api.c
-tests_unit_test_null_api_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit -I$(top_srcdir)/libhalo
-nodist_EXTRA_tests_unit_test_null_api_SOURCES = build-aux/force-cxx-link.cc
+nodist_EXTRA_tests_unit_test_null_api_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_unit_test_null_api_LDADD = $(HALO_TEST_CORE_LIBS) libhalo/libhalo-headless.la
 TESTS += tests/unit/test_null_api
 
@@ -112,6 +75,7 @@ HALO_SHELL_TESTS = \
 	tests/cli/nonfinite.sh \
 	tests/cli/usage.sh \
 	tests/cli/conform_list.sh \
+	tests/cli/accuracy_doc.sh \
 	tests/tree_clean.sh \
 	tests/cli/nul_byte.sh \
 	tests/cli/directory.sh \
@@ -183,24 +147,17 @@ HALO_FUZZ_TARGETS = tests/fuzz/fuzz_module tests/fuzz/fuzz_scene tests/fuzz/fuzz
 check_PROGRAMS += $(HALO_FUZZ_TARGETS)
 noinst_HEADERS += tests/fuzz/fuzz.h
 tests_fuzz_fuzz_module_SOURCES = tests/fuzz/fuzz_module.c tests/fuzz/driver.c
-tests_fuzz_fuzz_module_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/fuzz
-nodist_EXTRA_tests_fuzz_fuzz_module_SOURCES = build-aux/force-cxx-link.cc
-tests_fuzz_fuzz_module_LDADD = $(HALO_TEST_CORE_LIBS)
+nodist_EXTRA_tests_fuzz_fuzz_module_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_fuzz_fuzz_scene_SOURCES = tests/fuzz/fuzz_scene.c tests/fuzz/driver.c
-tests_fuzz_fuzz_scene_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/fuzz
-nodist_EXTRA_tests_fuzz_fuzz_scene_SOURCES = build-aux/force-cxx-link.cc
-tests_fuzz_fuzz_scene_LDADD = $(HALO_TEST_CORE_LIBS)
+nodist_EXTRA_tests_fuzz_fuzz_scene_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_fuzz_fuzz_host_SOURCES = tests/fuzz/fuzz_host.c tests/fuzz/driver.c
-tests_fuzz_fuzz_host_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/fuzz
-nodist_EXTRA_tests_fuzz_fuzz_host_SOURCES = build-aux/force-cxx-link.cc
-tests_fuzz_fuzz_host_LDADD = $(HALO_TEST_CORE_LIBS)
+nodist_EXTRA_tests_fuzz_fuzz_host_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_fuzz_fuzz_volume_SOURCES = tests/fuzz/fuzz_volume.c tests/fuzz/driver.c examples/volume_io.c
 tests_fuzz_fuzz_volume_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/fuzz -I$(top_srcdir)/examples $(NIFTI_CFLAGS)
 tests_fuzz_fuzz_volume_LDADD = $(NIFTI_LIBS)
 tests_fuzz_fuzz_polyline_SOURCES = tests/fuzz/fuzz_polyline.c tests/fuzz/driver.c examples/linegen.c
-tests_fuzz_fuzz_polyline_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/fuzz -I$(top_srcdir)/examples
-nodist_EXTRA_tests_fuzz_fuzz_polyline_SOURCES = build-aux/force-cxx-link.cc
-tests_fuzz_fuzz_polyline_LDADD = $(HALO_TEST_CORE_LIBS)
+tests_fuzz_fuzz_polyline_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples
+nodist_EXTRA_tests_fuzz_fuzz_polyline_SOURCES = $(HALO_TEST_CXX_LINK)
 TESTS += tests/fuzz/replay.sh
 EXTRA_DIST += tests/fuzz/replay.sh tests/fuzz/run-libfuzzer.sh tests/fuzz/corpus
 
@@ -254,16 +211,16 @@ AM_TESTS_ENVIRONMENT += HALO_IMAGE_COMPARE='$(abs_top_builddir)/tests/view/image
 # ray caster) against the emulation on fragile inputs, and the conformance rows that
 # already hold per-stage hard inputs ----
 check_PROGRAMS += tests/hard/test_hard_render
+# The programs that drive the example hosts: examples/ and validate/ headers, the tools'
+# libraries.
+HALO_TEST_HOST_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate
 tests_hard_test_hard_render_SOURCES = tests/hard/test_hard_render.c validate/conform_slice.c \
 	validate/conform_harness.c
-tests_hard_test_hard_render_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate
-nodist_EXTRA_tests_hard_test_hard_render_SOURCES = build-aux/force-cxx-link.cc
+tests_hard_test_hard_render_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
+nodist_EXTRA_tests_hard_test_hard_render_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_hard_test_hard_render_LDADD = $(HALO_TOOL_LIBS)
 check_PROGRAMS += tests/hard/test_budget
-tests_hard_test_budget_SOURCES = tests/hard/test_budget.c
-tests_hard_test_budget_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/tests/unit
-nodist_EXTRA_tests_hard_test_budget_SOURCES = build-aux/force-cxx-link.cc
-tests_hard_test_budget_LDADD = $(HALO_TEST_CORE_LIBS)
+nodist_EXTRA_tests_hard_test_budget_SOURCES = $(HALO_TEST_CXX_LINK)
 TESTS += tests/hard/test_hard_render tests/hard/test_budget tests/hard/conform_rows.sh
 EXTRA_DIST += tests/hard/conform_rows.sh
 
@@ -285,10 +242,8 @@ AM_TESTS_ENVIRONMENT += HALO_OUTLINE='$(abs_top_builddir)/tools/halo-outline'; e
 # ---- Host contract 2 (docs/host-contract.md, "Segmented ray casting"): the ray caster in
 # depth segments against one draw and against the slab host; the single-pass diagnostics ----
 check_PROGRAMS += tests/segments/test_segments
-tests_segments_test_segments_SOURCES = tests/segments/test_segments.c
-tests_segments_test_segments_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate \
-	-I$(top_srcdir)/libhalo
-nodist_EXTRA_tests_segments_test_segments_SOURCES = build-aux/force-cxx-link.cc
+tests_segments_test_segments_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
+nodist_EXTRA_tests_segments_test_segments_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_segments_test_segments_LDADD = $(HALO_TOOL_LIBS)
 TESTS += tests/segments/test_segments
 TESTS += tests/segments/link_cli.sh
@@ -306,18 +261,16 @@ AM_TESTS_ENVIRONMENT += HALO_BUILD_OUTPUTS='$(bin_PROGRAMS) $(check_PROGRAMS) $(
 # forced segments against one draw, the exit-point caster against the ray caster, and the
 # MIP variant's refusal of stages (HOST_COMPOSITING) ----
 check_PROGRAMS += tests/hosts/test_hosts
-tests_hosts_test_hosts_SOURCES = tests/hosts/test_hosts.c
-tests_hosts_test_hosts_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/libhalo
-nodist_EXTRA_tests_hosts_test_hosts_SOURCES = build-aux/force-cxx-link.cc
+tests_hosts_test_hosts_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
+nodist_EXTRA_tests_hosts_test_hosts_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_hosts_test_hosts_LDADD = $(HALO_TOOL_LIBS)
 TESTS += tests/hosts/test_hosts
 
 # The gradient texture built on the GPU against the CPU's central differences.
 check_PROGRAMS += tests/hosts/test_exact_work
-tests_hosts_test_exact_work_SOURCES = tests/hosts/test_exact_work.c
-tests_hosts_test_exact_work_CPPFLAGS = $(tests_hosts_test_hosts_CPPFLAGS)
-nodist_EXTRA_tests_hosts_test_exact_work_SOURCES = $(nodist_EXTRA_tests_hosts_test_hosts_SOURCES)
-tests_hosts_test_exact_work_LDADD = $(tests_hosts_test_hosts_LDADD)
+tests_hosts_test_exact_work_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
+nodist_EXTRA_tests_hosts_test_exact_work_SOURCES = $(HALO_TEST_CXX_LINK)
+tests_hosts_test_exact_work_LDADD = $(HALO_TOOL_LIBS)
 TESTS += tests/hosts/test_exact_work
 
 # ---- VTK (adapters/vtk, examples/halo-vtk): skipped (77) when configure found no VTK ----

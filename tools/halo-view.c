@@ -17,6 +17,7 @@
 #include "view.h"
 #include "halo.h"
 #include "gl/glfuncs.h"
+#include "hosts/host_common.h"
 #include "image_write.h"
 #include "json_file.h"
 #include "progress.h"
@@ -424,12 +425,7 @@ static int create_display(viewer *v)
     f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, v->width, v->height, 0, GL_RGBA, GL_FLOAT, NULL);
     f->BindTexture(GL_TEXTURE_2D, 0);
-    f->GenFramebuffers(1, &v->display_framebuffer);
-    f->BindFramebuffer(GL_FRAMEBUFFER, v->display_framebuffer);
-    f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, v->display_texture, 0);
-    GLenum status = f->CheckFramebufferStatus(GL_FRAMEBUFFER);
-    f->BindFramebuffer(GL_FRAMEBUFFER, 0);
-    return status == GL_FRAMEBUFFER_COMPLETE && f->GetError() == GL_NO_ERROR;
+    return halo_host_framebuffer(f, &v->display_framebuffer, v->display_texture, v->width, v->height, NULL);
 }
 
 /* ---- Main ------------------------------------------------------------------------------------------------- */

@@ -49,6 +49,19 @@ static int read_whole(const char *tool, const char *option, const char *text, co
     return 0;
 }
 
+/* In a parser of x (its number type's printf FORMAT): stores x in *out and returns 1 when
+ * it lies in lo..hi, else says so and returns 0. */
+#define STORE_IN_RANGE(FORMAT)                                                                               \
+    do {                                                                                                     \
+        if (x < lo || x > hi) {                                                                              \
+            fprintf(stderr, "%s: error: %s: " FORMAT " is outside " FORMAT ".." FORMAT "\n", tool, option, x, \
+                    lo, hi);                                                                                 \
+            return 0;                                                                                        \
+        }                                                                                                    \
+        *out = x;                                                                                            \
+        return 1;                                                                                            \
+    } while (0)
+
 int halo_tool_number(const char *tool, const char *option, const char *text, double lo, double hi, double *out)
 {
     char *end = NULL;
@@ -56,12 +69,7 @@ int halo_tool_number(const char *tool, const char *option, const char *text, dou
     double x = text ? strtod(text, &end) : NAN;
     if (!read_whole(tool, option, text, end, isfinite(x), "a finite number"))
         return 0;
-    if (x < lo || x > hi) {
-        fprintf(stderr, "%s: error: %s: %g is outside %g..%g\n", tool, option, x, lo, hi);
-        return 0;
-    }
-    *out = x;
-    return 1;
+    STORE_IN_RANGE("%g");
 }
 
 int halo_tool_long(const char *tool, const char *option, const char *text, long lo, long hi, long *out)
@@ -71,12 +79,7 @@ int halo_tool_long(const char *tool, const char *option, const char *text, long 
     long x = text ? strtol(text, &end, 10) : 0;
     if (!read_whole(tool, option, text, end, 1, "an integer"))
         return 0;
-    if (x < lo || x > hi) {
-        fprintf(stderr, "%s: error: %s: %ld is outside %ld..%ld\n", tool, option, x, lo, hi);
-        return 0;
-    }
-    *out = x;
-    return 1;
+    STORE_IN_RANGE("%ld");
 }
 
 int halo_tool_int(const char *tool, const char *option, const char *text, int lo, int hi, int *out)

@@ -85,32 +85,44 @@ static void make_image(int n, float *rgba)
             }
 }
 
-/* Reference: direct 2D in double, renormalized over the inside taps. */
+/* The direct 2D blur of in (n x n RGBA), renormalized over the inside taps, with the
+ * one-sided weights w[0..r], summed in the precision REAL: double for the reference,
+ * float for the CPU's direct row. One body for both, so that they differ in precision
+ * only. */
+#define DEFINE_DIRECT_BLUR(NAME, REAL)                                                                       \
+    static void NAME(int n, int r, const REAL *w, const float *in, REAL *out)                              \
+    {                                                                                                      \
+        for (int y = 0; y < n; ++y)                                                                        \
+            for (int x = 0; x < n; ++x) {                                                                  \
+                REAL sum[4] = {0, 0, 0, 0}, total = 0;                                                     \
+                for (int j = -r; j <= r; ++j) {                                                            \
+                    int py = y + j;                                                                        \
+                    if (py < 0 || py >= n)                                                                 \
+                        continue;                                                                          \
+                    for (int i = -r; i <= r; ++i) {                                                        \
+                        int px = x + i;                                                                    \
+                        if (px < 0 || px >= n)                                                             \
+                            continue;                                                                      \
+                        REAL wt = w[abs(i)] * w[abs(j)];                                                   \
+                        const float *v = &in[((size_t)py * n + px) * 4];                                   \
+                        for (int c = 0; c < 4; ++c)                                                        \
+                            sum[c] += wt * v[c];                                                           \
+                        total += wt;                                                                       \
+                    }                                                                                      \
+                }                                                                                          \
+                for (int c = 0; c < 4; ++c)                                                                \
+                    out[((size_t)y * n + x) * 4 + c] = sum[c] / total;                                     \
+            }                                                                                              \
+    }
+DEFINE_DIRECT_BLUR(direct_blur_double, double)
+DEFINE_DIRECT_BLUR(direct_blur_float, float)
+
+/* Reference: direct 2D in double. */
 static void reference(int n, int r, const float *in, double *out)
 {
     double w[MAX_RADIUS + 1];
     gauss_weights(r, w);
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
-            double sum[4] = {0, 0, 0, 0}, total = 0.0;
-            for (int j = -r; j <= r; ++j) {
-                int py = y + j;
-                if (py < 0 || py >= n)
-                    continue;
-                for (int i = -r; i <= r; ++i) {
-                    int px = x + i;
-                    if (px < 0 || px >= n)
-                        continue;
-                    double wt = w[abs(i)] * w[abs(j)];
-                    const float *v = &in[((size_t)py * n + px) * 4];
-                    for (int c = 0; c < 4; ++c)
-                        sum[c] += wt * v[c];
-                    total += wt;
-                }
-            }
-            for (int c = 0; c < 4; ++c)
-                out[((size_t)y * n + x) * 4 + c] = sum[c] / total;
-        }
+    direct_blur_double(n, r, w, in, out);
 }
 
 static void cpu_direct(int n, int r, const float *in, float *out)
@@ -120,27 +132,7 @@ static void cpu_direct(int n, int r, const float *in, float *out)
     gauss_weights(r, wd);
     for (int i = 0; i <= r; ++i)
         w[i] = (float)wd[i];
-    for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
-            float sum[4] = {0, 0, 0, 0}, total = 0.0f;
-            for (int j = -r; j <= r; ++j) {
-                int py = y + j;
-                if (py < 0 || py >= n)
-                    continue;
-                for (int i = -r; i <= r; ++i) {
-                    int px = x + i;
-                    if (px < 0 || px >= n)
-                        continue;
-                    float wt = w[abs(i)] * w[abs(j)];
-                    const float *v = &in[((size_t)py * n + px) * 4];
-                    for (int c = 0; c < 4; ++c)
-                        sum[c] += wt * v[c];
-                    total += wt;
-                }
-            }
-            for (int c = 0; c < 4; ++c)
-                out[((size_t)y * n + x) * 4 + c] = sum[c] / total;
-        }
+    direct_blur_float(n, r, w, in, out);
 }
 
 static void cpu_axis(int n, int r, const float *w, const float *in, float *out, int dx, int dy)
@@ -181,14 +173,19 @@ static const char vertex_source[] = "#version 330 core\n"
                                     "    gl_Position = vec4(p, 0.0, 1.0);\n"
                                     "}\n";
 
+/* The blur shaders' interface: the image, the one-sided weights[0..radius] and the
+ * axis of a separable pass. */
+#define BLUR_SHADER_INTERFACE           \
+    "#version 330 core\n"               \
+    "uniform sampler2D image;\n"        \
+    "uniform int radius;\n"             \
+    "uniform float weights[65];\n"      \
+    "uniform ivec2 axis;\n"             \
+    "out vec4 color;\n"
+
 /* Direct 2D and one separable axis (axis = (0, 0): direct). */
 static const char taps_source[] =
-    "#version 330 core\n"
-    "uniform sampler2D image;\n"
-    "uniform int radius;\n"
-    "uniform float weights[65];\n"
-    "uniform ivec2 axis;\n"
-    "out vec4 color;\n"
+    BLUR_SHADER_INTERFACE
     "void main() {\n"
     "    ivec2 size = textureSize(image, 0), p = ivec2(gl_FragCoord.xy);\n"
     "    vec4 sum = vec4(0.0);\n"
@@ -218,12 +215,7 @@ static const char taps_source[] =
  * merged into one bilinear fetch; a pair with its outer texel outside (or a lone last
  * tap) fetches the inner texel alone. */
 static const char linear_source[] =
-    "#version 330 core\n"
-    "uniform sampler2D image;\n"
-    "uniform int radius;\n"
-    "uniform float weights[65];\n"
-    "uniform ivec2 axis;\n"
-    "out vec4 color;\n"
+    BLUR_SHADER_INTERFACE
     "bool inside(int q, int n) { return q >= 0 && q < n; }\n"
     "void main() {\n"
     "    ivec2 size = textureSize(image, 0), p = ivec2(gl_FragCoord.xy);\n"

@@ -76,10 +76,7 @@ static void feature_print_row(feature_context *c, const char *row, const stats *
 
 static void print_error(feature_context *c, const char *row)
 {
-    printf("%-26s %10s %10s %8s %9s %17s FAIL\n", row, "-", "-", "-", "-", "-");
-    halo_diagnostics_print(c->diag, stderr);
-    halo_diagnostics_clear(c->diag);
-    fflush(stdout);
+    print_error_row_line(row, 17, c->diag);
     c->rows++;
     c->failed++;
 }
@@ -373,17 +370,10 @@ static int run_rows(const char *only, int verbose, int *failed)
     c.diag = halo_diagnostics_create();
     halo_setup(NULL);
     c.lib = halo_library_create(c.diag);
-    c.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, NULL);
-    if (!c.runtime || !halo_gl_functions(c.runtime)->GetString(GL_VERSION)) {
-        halo_gl_destroy(c.runtime);
-        c.runtime = NULL;
-        char err[512];
-        context = halo_headless_create(64, 64, err, sizeof err);
-        if (context)
-            c.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, c.diag);
-        else
-            fprintf(stderr, "halo-validate: conform: %s\n", err);
-    }
+    char err[512];
+    c.runtime = conform_gl_current_or_headless(&context, c.diag, err, sizeof err);
+    if (!c.runtime && !context)
+        fprintf(stderr, "halo-validate: conform: %s\n", err);
     static const char *const rows[] = {"feature_splat", "feature_splat@n3", "feature_splat@n9",
                                        "feature_splat@half", "feature_splat@weighted", "feature_splat@nocutoff", "feature_splat@constant",
                                        "feature_splat@voxel", "feature_splat@edge", "feature_splat@edge_half",

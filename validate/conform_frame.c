@@ -246,10 +246,10 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
         goto error;
     }
     conform_fill_samples(samples, c->size, c->size);
-    gframe = halo_gl_frame_create(c->runtime, program, c->size, c->size, c->diag);
-    eframe = halo_emu_frame_create(program, c->size, c->size, c->diag);
-    if (!gframe || !eframe || !frame_probe_init(c, program, &fp))
+    if (!frame_probe_open(c, program, c->size, &fp))
         goto error;
+    gframe = fp.gl_frame;
+    eframe = fp.emu_frame;
     emu_set_axes(eframe);
     emu_set_probe_volumes(program, eframe);
     halo_gl_frame_begin(gframe);
@@ -317,9 +317,7 @@ error:
     print_error_row(c, row);
 done:
     halo_diagnostics_clear(c->diag);
-    frame_probe_release(&fp);
-    halo_gl_frame_destroy(gframe);
-    halo_emu_frame_destroy(eframe);
+    frame_probe_release(&fp); /* and the frames */
     free(samples);
     free(gpu);
     free(gpu_seed);

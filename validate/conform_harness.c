@@ -57,14 +57,41 @@ void print_row(conform *c, const char *row, const row_stats *s, const char *tole
 }
 
 /* A row that could not run (link or compile error): the diagnostics say why. */
+void print_error_row_line(const char *row, int tolerance_width, halo_diagnostics *diag)
+{
+    printf("%-26s %10s %10s %8s %9s %*s FAIL\n", row, "-", "-", "-", "-", tolerance_width, "-");
+    halo_diagnostics_print(diag, stderr);
+    halo_diagnostics_clear(diag);
+    fflush(stdout);
+}
+
 void print_error_row(conform *c, const char *row)
 {
-    printf("%-26s %10s %10s %8s %9s %12s FAIL\n", row, "-", "-", "-", "-", "-");
-    halo_diagnostics_print(c->diag, stderr);
-    halo_diagnostics_clear(c->diag);
-    fflush(stdout);
+    print_error_row_line(row, 12, c->diag);
     c->rows++;
     c->failures++;
+}
+
+halo_gl *conform_gl_current_or_headless(halo_headless **context, halo_diagnostics *diag, char *err, size_t size)
+{
+    *context = NULL;
+    halo_gl *runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, NULL);
+    if (runtime && halo_gl_functions(runtime)->GetString(GL_VERSION))
+        return runtime;
+    halo_gl_destroy(runtime);
+    *context = halo_headless_create(64, 64, err, size);
+    return *context ? halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, diag) : NULL;
+}
+
+int row_stats_note(row_stats *s, size_t index, double error)
+{
+    s->sum_squares += error * error;
+    s->values++;
+    if (!(error > s->max_abs))
+        return 0;
+    s->max_abs = error;
+    s->worst = index;
+    return 1;
 }
 
 int row_stats_add(row_stats *s, size_t index, const double *gpu, const double *emu, const double *condition, int n,
@@ -78,10 +105,7 @@ int row_stats_add(row_stats *s, size_t index, const double *gpu, const double *e
         }
         double error = fabs(gpu[k] - emu[k]);
         double allowed = tolerance_abs + tolerance_rel * fabs(emu[k]) + (condition ? condition[k] : 0.0);
-        s->sum_squares += error * error;
-        s->values++;
-        if (error > s->max_abs)
-            s->max_abs = error, s->worst = index;
+        row_stats_note(s, index, error);
         if (error > allowed)
             over = 1;
     }
@@ -309,6 +333,24 @@ halo_emu_frame *conform_host_frame(const halo_program *p, int width, int height,
     return frame;
 }
 
+void *conform_host_frame_rays(const halo_program *p, int width, int height, const double screen_right[3],
+                              const double screen_up[3], size_t ray_size, halo_emu_frame **frame,
+                              halo_diagnostics *diag)
+{
+    void *rays = malloc((size_t)width * (size_t)height * ray_size);
+    if (!rays) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        return NULL;
+    }
+    int framed = 1;
+    *frame = conform_host_frame(p, width, height, screen_right, screen_up, &framed, diag);
+    if (!framed) {
+        free(rays);
+        return NULL;
+    }
+    return rays;
+}
+
 void conform_print_sample(const char *label, const halo_emu_sample *s, const float *gpu, const double *emu)
 {
     fprintf(stderr,
@@ -380,22 +422,28 @@ const float *probe_label_volume(void)
 void frame_probe_release(frame_probe *fp)
 {
     const halo_glfuncs *f = fp->f;
-    if (f) {
-        if (fp->framebuffer)
-            f->DeleteFramebuffers(1, &fp->framebuffer);
-        if (fp->color)
-            f->DeleteTextures(1, &fp->color);
-        if (fp->inputs[0])
-            f->DeleteTextures(4, fp->inputs);
-        if (fp->vertex_array)
-            f->DeleteVertexArrays(1, &fp->vertex_array);
-        if (fp->host_textures[0])
-            f->DeleteTextures(2, fp->host_textures);
-        if (fp->program)
-            f->DeleteProgram(fp->program);
+    if (f) { /* glDelete* passes over the names never made (0) */
+        f->DeleteFramebuffers(1, &fp->framebuffer);
+        f->DeleteTextures(1, &fp->color);
+        f->DeleteTextures(4, fp->inputs);
+        f->DeleteVertexArrays(1, &fp->vertex_array);
+        f->DeleteTextures(2, fp->host_textures);
+        f->DeleteProgram(fp->program);
     }
     free(fp->staging);
+    halo_gl_frame_destroy(fp->gl_frame);
+    halo_emu_frame_destroy(fp->emu_frame);
     memset(fp, 0, sizeof *fp);
+}
+
+int frame_probe_open(conform *c, const halo_program *p, int size, frame_probe *fp)
+{
+    halo_gl_frame *gl_frame = halo_gl_frame_create(c->runtime, p, size, size, c->diag);
+    halo_emu_frame *emu_frame = halo_emu_frame_create(p, size, size, c->diag);
+    int ok = gl_frame && emu_frame && frame_probe_init(c, p, fp);
+    fp->gl_frame = gl_frame;
+    fp->emu_frame = emu_frame;
+    return ok;
 }
 
 int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp)

@@ -71,12 +71,18 @@ int conform_open(conform *c);
 void conform_close(conform *c);
 /* Whether the registry holds a row of this name (a stage with rows of its own). */
 int conform_has_row(const conform *c, const char *name);
+/* A GL runtime on the context current in this thread, or else on a new 64x64 headless
+ * one (*context, NULL when none was needed). NULL on failure: without a context *context
+ * stays NULL and err says why; else the diagnostics do. */
+halo_gl *conform_gl_current_or_headless(halo_headless **context, halo_diagnostics *diag, char *err, size_t size);
 
 /* Adds sample index's n values to s: each passes within tolerance_abs + tolerance_rel
  * |emu| + condition[k] (condition may be NULL); a non-finite value counts once per
  * sample in nonfinite and not in the error. Returns 1 when a value is over. */
 int row_stats_add(row_stats *s, size_t index, const double *gpu, const double *emu, const double *condition, int n,
                   double tolerance_abs, double tolerance_rel);
+/* Adds one finite error of sample index to s; returns 1 when it is the largest so far. */
+int row_stats_note(row_stats *s, size_t index, double error);
 int row_selected(const conform *c, const char *row, const char *stage);
 void print_header(void);
 /* A row's line (stage max_abs rmse over_tol nonfinite tolerance PASS|FAIL) on stdout;
@@ -85,6 +91,9 @@ void print_row_line(const char *row, const row_stats *s, const char *tolerance, 
 void print_row(conform *c, const char *row, const row_stats *s, const char *tolerance, int pass);
 /* A row that could not run (link or compile error): the diagnostics say why. */
 void print_error_row(conform *c, const char *row);
+/* Its line (dashes, FAIL; the tolerance column tolerance_width wide) and the diagnostics,
+ * then cleared; counts nothing (for the families that keep their own counts). */
+void print_error_row_line(const char *row, int tolerance_width, halo_diagnostics *diag);
 /* A row without numbers (figure3): dashes, the tolerance text, the result. */
 void print_plain_row(conform *c, const char *row, const char *tolerance, int pass);
 
@@ -128,6 +137,12 @@ void conform_pixel_ray(const double inverse_view_projection[16], int width, int 
 halo_emu_frame *conform_host_frame(const halo_program *p, int width, int height, const double screen_right[3],
                                    const double screen_up[3], int *ok, halo_diagnostics *diag);
 
+/* conform_host_frame (*frame) and an array of width x height rays of ray_size bytes
+ * (uninitialized) for a whole-render emulation; NULL on failure (diagnostics in diag). */
+void *conform_host_frame_rays(const halo_program *p, int width, int height, const double screen_right[3],
+                              const double screen_up[3], size_t ray_size, halo_emu_frame **frame,
+                              halo_diagnostics *diag);
+
 /* ---- The frame probe ---- */
 
 /* Sampler host uniforms of the frame rows (e.g. outline_feature's "labels"): a small
@@ -142,10 +157,16 @@ typedef struct frame_probe {
     GLuint host_textures[2]; /* sampler3D, sampler2D host uniforms */
     int size;
     float *staging;
+    halo_gl_frame *gl_frame; /* the frames of frame_probe_open (NULL after frame_probe_init) */
+    halo_emu_frame *emu_frame;
 } frame_probe;
 
 /* The probe host (probe.frag) linked with p, c->size square. */
 int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp);
+/* frame_probe_init after the GL and emulated frames of p, size x size (fp->gl_frame,
+ * fp->emu_frame); 0 on failure, fp still to release (from a zeroed fp). */
+int frame_probe_open(conform *c, const halo_program *p, int size, frame_probe *fp);
+/* Releases the probe and the frames of frame_probe_open. */
 void frame_probe_release(frame_probe *fp);
 /* Draws one fragment per pixel from samples (c->size^2, row 0 at the bottom) with the
  * frame's outputs attached (blended into its images); rgba (may be NULL): colour read back. */

@@ -161,22 +161,39 @@ static const char fullscreen_vertex[] = "#version 330 core\n"
                                         "    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n"
                                         "}\n";
 
-/* The probe program (a vertex probe drawn as points, or a fragment probe drawn over
- * the target) and its target; 0 after the row's error line (p destroyed). */
-static GLuint open_probe(rows *r, const char *row, halo_program *p, int vertex_probe, target *t)
+/* A probe: the probe host linked with the row's scene, its GL program and its target. */
+typedef struct probe {
+    halo_program *linked;
+    GLuint program;
+    target t;
+} probe;
+
+/* Opens the probe (a vertex probe drawn as points, or a fragment probe drawn over the
+ * target) of the scene; 0 after the row's error line. */
+static int open_probe(rows *r, const char *row, int vertex_probe, const char *scene_text, probe *pr)
 {
+    halo_program *p = vertex_probe ? link_probe(r, "line_probe.vert", HALO_SHADER_VERTEX, scene_text)
+                                   : link_probe(r, "line_probe.frag", HALO_SHADER_FRAGMENT, scene_text);
     GLuint program = !p ? 0
                      : vertex_probe ? halo_lines_build_program(&r->f, p, NULL, "line_probe.vert", NULL, point_fragment,
                                                                "point.frag", r->diag)
                                     : halo_lines_build_program(&r->f, NULL, fullscreen_vertex, "fullscreen.vert", p,
                                                                NULL, "line_probe.frag", r->diag);
-    if (program && target_create(r, t))
-        return program;
+    *pr = (probe){.linked = p, .program = program};
+    if (program && target_create(r, &pr->t))
+        return 1;
     if (program)
-        r->f.DeleteProgram(program), target_release(r, t);
+        r->f.DeleteProgram(program), target_release(r, &pr->t);
     halo_program_destroy(p);
     lines_print_error_row(r, row);
     return 0;
+}
+
+static void close_probe(rows *r, probe *pr)
+{
+    r->f.DeleteProgram(pr->program);
+    target_release(r, &pr->t);
+    halo_program_destroy(pr->linked);
 }
 
 /* Runs n <= PROBE_SIDE^2 vertices through line_probe.vert linked with the program and
@@ -184,19 +201,15 @@ static GLuint open_probe(rows *r, const char *row, halo_program *p, int vertex_p
 static void vertex_row(rows *r, const char *row, const char *scene_text, halo_emu_line_vertex *in, size_t n,
                        const double depth_range[2])
 {
-    halo_program *p = link_probe(r, "line_probe.vert", HALO_SHADER_VERTEX, scene_text);
-    target t;
-    GLuint program = open_probe(r, row, p, 1, &t);
-    if (!program)
+    probe pr;
+    if (!open_probe(r, row, 1, scene_text, &pr))
         return;
     const halo_glfuncs *f = &r->f;
     float *attributes = malloc(n * 12 * sizeof *attributes);
     float *out0 = malloc(PROBE_SIDE * PROBE_SIDE * 4 * sizeof *out0), *out1 = malloc(PROBE_SIDE * PROBE_SIDE * 4 * sizeof *out1);
     if (!attributes || !out0 || !out1) {
         free(attributes), free(out0), free(out1);
-        f->DeleteProgram(program);
-        target_release(r, &t);
-        halo_program_destroy(p);
+        close_probe(r, &pr);
         lines_print_error_row(r, row);
         return;
     }
@@ -231,28 +244,28 @@ static void vertex_row(rows *r, const char *row, const char *scene_text, halo_em
         f->VertexAttribPointer(k, sizes[k], GL_FLOAT, GL_FALSE, 12 * sizeof(float),
                                (const void *)(offsets[k] * sizeof(float)));
     }
-    f->BindFramebuffer(GL_FRAMEBUFFER, t.framebuffer);
+    f->BindFramebuffer(GL_FRAMEBUFFER, pr.t.framebuffer);
     f->Viewport(0, 0, PROBE_SIDE, PROBE_SIDE);
     const float nan_fill[4] = {NAN, NAN, NAN, NAN};
     f->ClearBufferfv(GL_COLOR, 0, nan_fill);
     f->ClearBufferfv(GL_COLOR, 1, nan_fill);
     f->Disable(GL_DEPTH_TEST);
     f->Disable(GL_BLEND);
-    f->UseProgram(program);
-    f->Uniform2i(f->GetUniformLocation(program, "target_size"), PROBE_SIDE, PROBE_SIDE);
-    f->Uniform2f(f->GetUniformLocation(program, "halo_host_depth_range"), (float)depth_range[0],
+    f->UseProgram(pr.program);
+    f->Uniform2i(f->GetUniformLocation(pr.program, "target_size"), PROBE_SIDE, PROBE_SIDE);
+    f->Uniform2f(f->GetUniformLocation(pr.program, "halo_host_depth_range"), (float)depth_range[0],
                  (float)depth_range[1]);
     f->DrawArrays(GL_POINTS, 0, (GLsizei)n);
     f->UseProgram(0);
     f->BindVertexArray(0);
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
-    target_read(r, &t, out0, out1);
+    target_read(r, &pr.t, out0, out1);
     double range[2] = {f32(depth_range[0]), f32(depth_range[1])};
     stats s = {0};
     int emu_failed = 0;
     for (size_t i = 0; i < n; ++i) {
         halo_emu_line_vertex v = in[i];
-        if (halo_emu_line_vertex_apply(p, range, &v, r->diag) != HALO_OK) {
+        if (halo_emu_line_vertex_apply(pr.linked, range, &v, r->diag) != HALO_OK) {
             emu_failed = 1;
             break;
         }
@@ -277,10 +290,8 @@ static void vertex_row(rows *r, const char *row, const char *scene_text, halo_em
     }
     f->DeleteBuffers(1, &buffer);
     f->DeleteVertexArrays(1, &vao);
-    f->DeleteProgram(program);
-    target_release(r, &t);
     free(attributes), free(out0), free(out1);
-    halo_program_destroy(p);
+    close_probe(r, &pr);
     if (emu_failed)
         lines_print_error_row(r, row);
     else
@@ -414,10 +425,8 @@ static void run_halo_row(rows *r, int profile)
     snprintf(scene, sizeof scene,
              "{\"halo_scene\": 1, \"stages\": [{\"line_halo\": {\"core\": %g, \"d_max\": 0.07, \"profile\": %d}}]}",
              core, profile);
-    halo_program *p = link_probe(r, "line_probe.frag", HALO_SHADER_FRAGMENT, scene);
-    target t;
-    GLuint program = open_probe(r, row, p, 0, &t);
-    if (!program)
+    probe pr;
+    if (!open_probe(r, row, 0, scene, &pr))
         return;
     const halo_glfuncs *f = &r->f;
     size_t n = PROBE_SIDE * PROBE_SIDE;
@@ -447,7 +456,7 @@ static void run_halo_row(rows *r, int profile)
         }
         static const char *const samplers[3] = {"uv_depth", "color_opacity", "background_color"};
         f->GenTextures(3, textures);
-        f->UseProgram(program);
+        f->UseProgram(pr.program);
         for (int k = 0; k < 3; ++k) {
             f->ActiveTexture(GL_TEXTURE0 + (GLenum)k);
             f->BindTexture(GL_TEXTURE_2D, textures[k]);
@@ -455,12 +464,12 @@ static void run_halo_row(rows *r, int profile)
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
             f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
             f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, PROBE_SIDE, PROBE_SIDE, 0, GL_RGBA, GL_FLOAT, &inputs[k * n * 4]);
-            f->Uniform1i(f->GetUniformLocation(program, samplers[k]), k);
+            f->Uniform1i(f->GetUniformLocation(pr.program, samplers[k]), k);
         }
         GLuint vao = 0;
         f->GenVertexArrays(1, &vao);
         f->BindVertexArray(vao);
-        f->BindFramebuffer(GL_FRAMEBUFFER, t.framebuffer);
+        f->BindFramebuffer(GL_FRAMEBUFFER, pr.t.framebuffer);
         f->Viewport(0, 0, PROBE_SIDE, PROBE_SIDE);
         f->Disable(GL_DEPTH_TEST);
         f->Disable(GL_BLEND);
@@ -473,7 +482,7 @@ static void run_halo_row(rows *r, int profile)
             f->BindTexture(GL_TEXTURE_2D, 0);
         }
         f->UseProgram(0);
-        target_read(r, &t, out0, out1);
+        target_read(r, &pr.t, out0, out1);
         stats s = {0};
         size_t excluded = 0;
         int emu_failed = 0;
@@ -486,7 +495,7 @@ static void run_halo_row(rows *r, int profile)
                 continue;
             }
             halo_emu_line_fragment e = in[i];
-            if (halo_emu_line_fragment_apply(p, &e, r->diag) != HALO_OK) {
+            if (halo_emu_line_fragment_apply(pr.linked, &e, r->diag) != HALO_OK) {
                 emu_failed = 1;
                 break;
             }
@@ -513,9 +522,7 @@ static void run_halo_row(rows *r, int profile)
     if (textures[0])
         f->DeleteTextures(3, textures);
     free(in), free(inputs), free(out0), free(out1);
-    f->DeleteProgram(program);
-    target_release(r, &t);
-    halo_program_destroy(p);
+    close_probe(r, &pr);
 }
 
 /* ---- Images through the line host ---------------------------------------------------------- */

@@ -240,10 +240,10 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
         halo_diagnostics_errors(c->diag) > 0)
         goto error;
     int channels = halo_program_channel_count(program);
-    gframe = halo_gl_frame_create(c->runtime, program, size, size, c->diag);
-    eframe = halo_emu_frame_create(program, size, size, c->diag);
-    if (!gframe || !eframe || !frame_probe_init(c, program, &fp))
+    if (!frame_probe_open(c, program, size, &fp))
         goto error;
+    gframe = fp.gl_frame;
+    eframe = fp.emu_frame;
     emu_set_axes(eframe);
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {
@@ -389,9 +389,7 @@ done:
     halo_diagnostics_clear(c->diag);
     if (host_texture)
         c->gl->DeleteTextures(1, &host_texture);
-    frame_probe_release(&fp);
-    halo_gl_frame_destroy(gframe);
-    halo_emu_frame_destroy(eframe);
+    frame_probe_release(&fp); /* and the frames */
     halo_program_destroy(program);
     halo_scene_destroy(scene);
     free(samples);

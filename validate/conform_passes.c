@@ -87,10 +87,10 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
     if (!program || halo_diagnostics_errors(c->diag) > 0)
         goto error;
     int channels = halo_program_channel_count(program);
-    gframe = halo_gl_frame_create(c->runtime, program, c->size, c->size, c->diag);
-    eframe = halo_emu_frame_create(program, c->size, c->size, c->diag);
-    if (!gframe || !eframe || !frame_probe_init(c, program, &fp))
+    if (!frame_probe_open(c, program, c->size, &fp))
         goto error;
+    gframe = fp.gl_frame;
+    eframe = fp.emu_frame;
     row_stats stats = {0};
     int worst_case = -1;
     for (int which = 0; which < SEED_CASES; ++which) {
@@ -136,10 +136,8 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
                         continue;
                     }
                     double error = fabs(gv - ev);
-                    stats.sum_squares += error * error;
-                    stats.values++;
-                    if (error > stats.max_abs)
-                        stats.max_abs = error, stats.worst = i, worst_case = which;
+                    if (row_stats_note(&stats, i, error))
+                        worst_case = which;
                     if (error > row->tolerance_abs)
                         over = 1;
                 }
@@ -158,9 +156,7 @@ error:
     print_error_row(c, row->name);
 done:
     halo_diagnostics_clear(c->diag);
-    frame_probe_release(&fp);
-    halo_gl_frame_destroy(gframe);
-    halo_emu_frame_destroy(eframe);
+    frame_probe_release(&fp); /* and the frames */
     free(samples);
     free(image);
     halo_program_destroy(program);

@@ -92,11 +92,7 @@ void conform_empty_row(conform *c, const conform_row *row)
                 nonfinite = 1;
                 continue;
             }
-            double error = fabs(a - b);
-            stats.sum_squares += error * error;
-            stats.values++;
-            if (error > stats.max_abs)
-                stats.max_abs = error;
+            row_stats_note(&stats, i, fabs(a - b));
         }
         stats.over += (size_t)differs;
         stats.nonfinite += (size_t)nonfinite;

@@ -274,18 +274,11 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
     if (!m.host)
         m.host = &conform_segment_raycast;
     size_t pixels = (size_t)s->width * (size_t)s->height;
-    segment_ray *rays = malloc(pixels * sizeof *rays);
     halo_emu_frame *frame = NULL;
-    if (!rays) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    segment_ray *rays =
+        conform_host_frame_rays(p, s->width, s->height, s->screen_right, s->screen_up, sizeof *rays, &frame, diag);
+    if (!rays)
         return 0;
-    }
-    int framed = 1;
-    frame = conform_host_frame(p, s->width, s->height, s->screen_right, s->screen_up, &framed, diag);
-    if (!framed) {
-        free(rays);
-        return 0;
-    }
     for (int y = 0; y < s->height; ++y)
         for (int x = 0; x < s->width; ++x)
             make_ray(s, plan, &m, MAX_STEPS, x, y, &rays[(size_t)y * (size_t)s->width + (size_t)x]);

@@ -65,16 +65,11 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
                                halo_diagnostics *diag)
 {
     size_t pixels = (size_t)s->width * (size_t)s->height;
-    pixel_ray *rays = malloc(pixels * sizeof *rays);
     halo_emu_frame *frame = NULL;
+    pixel_ray *rays =
+        conform_host_frame_rays(p, s->width, s->height, s->screen_right, s->screen_up, sizeof *rays, &frame, diag);
     if (!rays)
         return 0;
-    int framed = 1;
-    frame = conform_host_frame(p, s->width, s->height, s->screen_right, s->screen_up, &framed, diag);
-    if (!framed) {
-        free(rays);
-        return 0;
-    }
     for (int y = 0; y < s->height; ++y)
         for (int x = 0; x < s->width; ++x) {
             pixel_ray *r = &rays[(size_t)y * (size_t)s->width + (size_t)x];

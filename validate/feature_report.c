@@ -2,6 +2,7 @@
 #include "feature_report.h"
 
 #include "conform_feature.h"
+#include "conform_harness.h"
 #include "halo_feature.h"
 #include "gl/glfuncs.h"
 #include "gl/headless.h"
@@ -211,19 +212,13 @@ int halo_feature_report_main(int argc, char **argv)
     r.diag = halo_diagnostics_create();
     halo_setup(NULL);
     halo_headless *context = NULL;
-    r.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, NULL);
-    if (!r.runtime || !halo_gl_functions(r.runtime)->GetString(GL_VERSION)) {
-        halo_gl_destroy(r.runtime);
-        r.runtime = NULL;
-        char err[512];
-        context = halo_headless_create(64, 64, err, sizeof err);
-        if (!context) {
-            fprintf(stderr, "feature report: %s\n", err);
-            halo_diagnostics_destroy(r.diag);
-            halo_shutdown();
-            return 77;
-        }
-        r.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, r.diag);
+    char context_err[512];
+    r.runtime = conform_gl_current_or_headless(&context, r.diag, context_err, sizeof context_err);
+    if (!r.runtime && !context) {
+        fprintf(stderr, "feature report: %s\n", context_err);
+        halo_diagnostics_destroy(r.diag);
+        halo_shutdown();
+        return 77;
     }
     int status = 1;
     float *builtin = NULL, *head = NULL;

@@ -189,6 +189,23 @@ void halo_host_image_texture(const halo_glfuncs *f, GLuint texture, GLint intern
     f->TexImage2D(GL_TEXTURE_2D, 0, internal_format, width, height, 0, format, type, NULL);
 }
 
+void *halo_host_calloc(size_t size, halo_diagnostics *diag)
+{
+    void *p = calloc(1, size);
+    if (!p)
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    return p;
+}
+
+halo_status halo_host_gl_check(const halo_glfuncs *f, halo_message_id id, const char *failed, halo_diagnostics *diag)
+{
+    GLenum error = f->GetError();
+    if (error == GL_NO_ERROR)
+        return HALO_OK;
+    halo_diag_add(diag, HALO_SEVERITY_ERROR, id, "", 0, 0, NULL, "%s (GL error 0x%x)", failed, error);
+    return HALO_ERROR_IO;
+}
+
 int halo_host_framebuffer(const halo_glfuncs *f, GLuint *framebuffer, GLuint color_texture, int width, int height,
                           halo_diagnostics *diag)
 {
@@ -473,12 +490,9 @@ static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const fl
     f->TexImage3D(GL_TEXTURE_3D, 0, internal_format, nx, ny, nz, 0, rgba ? GL_RGBA : rgb ? GL_RGB : GL_RED, GL_FLOAT,
                   data);
     f->BindTexture(GL_TEXTURE_3D, 0);
-    GLenum error = f->GetError();
-    if (error != GL_NO_ERROR) {
-        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload a %dx%dx%d %s (GL error 0x%x)", nx, ny, nz, what, error);
-        return HALO_ERROR_IO;
-    }
-    return HALO_OK;
+    char failed[96];
+    snprintf(failed, sizeof failed, "cannot upload a %dx%dx%d %s", nx, ny, nz, what);
+    return halo_host_gl_check(f, HALO_MSG_IO_READ, failed, diag);
 }
 
 void halo_host_fill_transfer(float *table, const halo_render_settings *s)
@@ -526,12 +540,7 @@ halo_status halo_host_upload_transfer(const halo_glfuncs *f, GLuint texture, flo
     *step_voxels = (float)step;
     for (int c = 0; c < 3; ++c)
         background[c] = settings ? (float)settings->background[c] : 0.0f;
-    GLenum error = f->GetError();
-    if (error != GL_NO_ERROR) {
-        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload the transfer function (GL error 0x%x)", error);
-        return HALO_ERROR_IO;
-    }
-    return HALO_OK;
+    return halo_host_gl_check(f, HALO_MSG_IO_READ, "cannot upload the transfer function", diag);
 }
 
 int halo_host_max_dimension(const int dims[3])
@@ -558,6 +567,18 @@ void halo_host_matrix_multiply(const double a[16], const double b[16], double ou
 int halo_host_matrix_invert(const double m[16], double out[16])
 {
     return halo_mat4_invert(m, out);
+}
+
+void halo_host_perspective(double half_fov, double aspect, double near_plane, double far_plane, double out[16])
+{
+    double t = tan(half_fov);
+    /* The field of view spans the smaller image side. */
+    double sx = aspect >= 1.0 ? 1.0 / (t * aspect) : 1.0 / t;
+    double sy = aspect >= 1.0 ? 1.0 / t : aspect / t;
+    double projection[16] = {sx, 0.0, 0.0, 0.0, 0.0, sy, 0.0, 0.0,
+                             0.0, 0.0, -(far_plane + near_plane) / (far_plane - near_plane), -1.0,
+                             0.0, 0.0, -2.0 * far_plane * near_plane / (far_plane - near_plane), 0.0};
+    memcpy(out, projection, sizeof projection);
 }
 
 int halo_host_orbit_camera(double azimuth, double elevation, double zoom, int width, int height,
@@ -600,13 +621,8 @@ int halo_host_orbit_camera_projection(double azimuth, double elevation, double z
     double aspect = (double)width / height;
     double near_plane = distance - radius > 0.01 ? distance - radius : 0.01;
     double far_plane = distance + radius + 1.0;
-    double t = tan(half_fov);
-    /* The field of view spans the smaller image side. */
-    double sx = aspect >= 1.0 ? 1.0 / (t * aspect) : 1.0 / t;
-    double sy = aspect >= 1.0 ? 1.0 / t : aspect / t;
-    double projection[16] = {sx, 0.0, 0.0, 0.0, 0.0, sy, 0.0, 0.0,
-                             0.0, 0.0, -(far_plane + near_plane) / (far_plane - near_plane), -1.0,
-                             0.0, 0.0, -2.0 * far_plane * near_plane / (far_plane - near_plane), 0.0};
+    double projection[16];
+    halo_host_perspective(half_fov, aspect, near_plane, far_plane, projection);
     if (orthographic) {
         /* the same view of the bounding sphere: half the smaller side spans its radius / zoom */
         double half = radius / zoom;

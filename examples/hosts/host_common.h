@@ -41,6 +41,13 @@ GLuint halo_host_program_build(const halo_host_desc *desc, const char *default_v
 void halo_host_image_texture(const halo_glfuncs *f, GLuint texture, GLint internal_format, int width, int height,
                              GLenum format, GLenum type);
 
+/* size zeroed bytes; NULL with an OUT_OF_MEMORY diagnostic. */
+void *halo_host_calloc(size_t size, halo_diagnostics *diag);
+
+/* HALO_OK when GL reports no error; else a diagnostic id "FAILED (GL error 0x...)" and
+ * HALO_ERROR_IO. */
+halo_status halo_host_gl_check(const halo_glfuncs *f, halo_message_id id, const char *failed, halo_diagnostics *diag);
+
 /* Generates *framebuffer with color_texture as colour attachment 0 and checks it;
  * 0 with a GL_LINK diagnostic for an incomplete target or a GL error. */
 int halo_host_framebuffer(const halo_glfuncs *f, GLuint *framebuffer, GLuint color_texture, int width, int height,
@@ -124,6 +131,9 @@ typedef struct halo_host_camera {
 
 /* Degrees; non-finite angles count as 0 and zoom as 1. Returns 0 (camera partly
  * filled) when the view-projection matrix is singular. */
+/* The perspective projection (column-major) of the example hosts: a field of view of
+ * 2 half_fov radians across the smaller image side (aspect = width / height). */
+void halo_host_perspective(double half_fov, double aspect, double near_plane, double far_plane, double out[16]);
 int halo_host_orbit_camera(double azimuth, double elevation, double zoom, int width, int height,
                            halo_host_camera *camera);
 /* The same with an orthographic projection when orthographic is 1 (the eye stays where the

@@ -190,11 +190,9 @@ halo_lines *halo_lines_create(const halo_lines_desc *desc, halo_diagnostics *dia
         halo_diag_error(diag, USAGE, "", 0, 0, "lines: gl and a size in 1..16384 are required");
         return NULL;
     }
-    halo_lines *l = calloc(1, sizeof *l);
-    if (!l) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    halo_lines *l = halo_host_calloc(sizeof *l, diag);
+    if (!l)
         return NULL;
-    }
     const halo_glfuncs *f = desc->gl;
     l->f = f;
     l->width = desc->width;
@@ -240,20 +238,15 @@ void halo_lines_destroy(halo_lines *l)
     if (!l)
         return;
     const halo_glfuncs *f = l->f;
-    if (l->framebuffer)
+    if (f) { /* glDelete* passes over the names never made (0) */
         f->DeleteFramebuffers(1, &l->framebuffer);
-    if (l->depth_buffer)
         f->DeleteRenderbuffers(1, &l->depth_buffer);
-    if (l->color_texture)
         f->DeleteTextures(1, &l->color_texture);
-    if (l->buffer)
-        f->DeleteBuffers(1, &l->buffer);
-    if (l->index_buffer)
-        f->DeleteBuffers(1, &l->index_buffer);
-    if (l->vertex_array)
+        const GLuint buffers[2] = {l->buffer, l->index_buffer};
+        f->DeleteBuffers(2, buffers);
         f->DeleteVertexArrays(1, &l->vertex_array);
-    if (l->program)
         f->DeleteProgram(l->program);
+    }
     free(l);
 }
 
@@ -402,12 +395,8 @@ void halo_lines_get_state(const halo_lines *l, const halo_lines_view *view, halo
     double aspect = (double)l->width / l->height;
     double reach = distance + radius * 1.5;
     double near_plane = fmax(distance - radius * 1.5, distance * 1e-3);
-    double t = tan(half_fov);
-    double sx = aspect >= 1.0 ? 1.0 / (t * aspect) : 1.0 / t;
-    double sy = aspect >= 1.0 ? 1.0 / t : aspect / t;
-    double projection[16] = {sx, 0.0, 0.0, 0.0, 0.0, sy, 0.0, 0.0,
-                             0.0, 0.0, -(reach + near_plane) / (reach - near_plane), -1.0,
-                             0.0, 0.0, -2.0 * reach * near_plane / (reach - near_plane), 0.0};
+    double projection[16];
+    halo_host_perspective(half_fov, aspect, near_plane, reach, projection);
     halo_host_matrix_multiply(projection, viewm, s->view_projection);
     for (int i = 0; i < 16; ++i)
         s->view_projection[i] = f32(s->view_projection[i]);
@@ -491,12 +480,7 @@ halo_status halo_lines_draw(halo_lines *l, const halo_lines_view *view, halo_dia
     f->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
     f->Disable(GL_DEPTH_TEST);
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
-    GLenum error = f->GetError();
-    if (error != GL_NO_ERROR) {
-        halo_diag_error(diag, GL_LINK, "", 0, 0, "drawing the lines failed (GL error 0x%x)", error);
-        return HALO_ERROR_IO;
-    }
-    return HALO_OK;
+    return halo_host_gl_check(f, HALO_MSG_GL_LINK, "drawing the lines failed", diag);
 }
 
 void halo_lines_finish(halo_lines *l)
@@ -515,10 +499,5 @@ halo_status halo_lines_read(halo_lines *l, float *rgba, halo_diagnostics *diag)
     f->PixelStorei(GL_PACK_ALIGNMENT, 4);
     f->ReadPixels(0, 0, l->width, l->height, GL_RGBA, GL_FLOAT, rgba);
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
-    GLenum error = f->GetError();
-    if (error != GL_NO_ERROR) {
-        halo_diag_error(diag, IO_READ, "", 0, 0, "reading the line image failed (GL error 0x%x)", error);
-        return HALO_ERROR_IO;
-    }
-    return HALO_OK;
+    return halo_host_gl_check(f, HALO_MSG_IO_READ, "reading the line image failed", diag);
 }

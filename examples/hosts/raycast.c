@@ -96,14 +96,11 @@ static void host_target_release(host_target *t)
     const halo_glfuncs *f = t->f;
     if (!f)
         return;
-    if (t->framebuffer)
-        f->DeleteFramebuffers(1, &t->framebuffer);
-    if (t->color_texture)
-        f->DeleteTextures(1, &t->color_texture);
-    if (t->vertex_array)
-        f->DeleteVertexArrays(1, &t->vertex_array);
-    if (t->program)
-        f->DeleteProgram(t->program);
+    /* glDelete* passes over the names never made (0) */
+    f->DeleteFramebuffers(1, &t->framebuffer);
+    f->DeleteTextures(1, &t->color_texture);
+    f->DeleteVertexArrays(1, &t->vertex_array);
+    f->DeleteProgram(t->program);
     memset(t, 0, sizeof *t);
 }
 
@@ -154,6 +151,22 @@ static halo_status host_target_read(host_target *t, float *rgba, halo_diagnostic
 
 /* ---- The ray caster ------------------------------------------------------------------ */
 
+/* A host of size bytes (a struct whose first member is its host_target), zeroed, with
+ * its target set up for default_fragment; NULL (diagnostics in diag) on failure. */
+static void *host_create(size_t size, const halo_host_desc *desc, const char *default_fragment,
+                         halo_diagnostics *diag)
+{
+    host_target *t = halo_host_calloc(size, diag);
+    if (!t)
+        return NULL;
+    if (!host_target_init(t, desc, default_fragment, diag)) {
+        host_target_release(t);
+        free(t);
+        return NULL;
+    }
+    return t;
+}
+
 struct halo_raycast {
     host_target target;
     GLuint volume_texture, transfer_texture;
@@ -182,16 +195,9 @@ static void draw_proxy(void *user)
 
 halo_raycast *halo_raycast_create(const halo_host_desc *desc, halo_diagnostics *diag)
 {
-    halo_raycast *r = calloc(1, sizeof *r);
-    if (!r) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    halo_raycast *r = host_create(sizeof *r, desc, "raycast.frag", diag);
+    if (!r)
         return NULL;
-    }
-    if (!host_target_init(&r->target, desc, "raycast.frag", diag)) {
-        host_target_release(&r->target);
-        free(r);
-        return NULL;
-    }
     const halo_glfuncs *f = r->target.f;
     const halo_program *p = desc->program;
     if (p && (halo_program_image_count(p) || halo_program_output_count(p) || halo_program_sampler_count(p) ||
@@ -447,16 +453,9 @@ struct halo_probe {
 
 halo_probe *halo_probe_create(const halo_host_desc *desc, halo_diagnostics *diag)
 {
-    halo_probe *p = calloc(1, sizeof *p);
-    if (!p) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    halo_probe *p = host_create(sizeof *p, desc, "probe.frag", diag);
+    if (!p)
         return NULL;
-    }
-    if (!host_target_init(&p->target, desc, "probe.frag", diag)) {
-        host_target_release(&p->target);
-        free(p);
-        return NULL;
-    }
     p->staging = malloc((size_t)p->target.width * (size_t)p->target.height * 4 * sizeof(float));
     if (!p->staging) {
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");

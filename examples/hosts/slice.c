@@ -48,11 +48,9 @@ halo_slice *halo_slice_create_mode(const halo_host_desc *desc, int slab, halo_di
 {
     if (!halo_host_desc_check(desc, diag))
         return NULL;
-    halo_slice *s = calloc(1, sizeof *s);
-    if (!s) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    halo_slice *s = halo_host_calloc(sizeof *s, diag);
+    if (!s)
         return NULL;
-    }
     const halo_glfuncs *f = desc->gl;
     s->f = f;
     s->runtime = desc->runtime;
@@ -110,24 +108,15 @@ void halo_slice_destroy(halo_slice *s)
         return;
     const halo_glfuncs *f = s->f;
     halo_gl_frame_destroy(s->frame);
-    if (s->framebuffer)
+    if (f) { /* glDelete* passes over the names never made (0) */
         f->DeleteFramebuffers(1, &s->framebuffer);
-    if (s->textures[0])
-        f->DeleteTextures(2, s->textures);
-    if (s->volume_texture)
-        f->DeleteTextures(1, &s->volume_texture);
-    if (s->transfer_texture)
-        f->DeleteTextures(1, &s->transfer_texture);
-    if (s->labels_texture)
-        f->DeleteTextures(1, &s->labels_texture);
-    if (s->gradient_texture)
-        f->DeleteTextures(1, &s->gradient_texture);
-    if (s->vertex_array)
+        const GLuint textures[6] = {s->textures[0],    s->textures[1],  s->volume_texture,
+                                    s->transfer_texture, s->labels_texture, s->gradient_texture};
+        f->DeleteTextures(6, textures);
         f->DeleteVertexArrays(1, &s->vertex_array);
-    if (s->program)
         f->DeleteProgram(s->program);
-    if (s->plain_program)
         f->DeleteProgram(s->plain_program);
+    }
     free(s->vertex_source);
     free(s);
 }

@@ -228,46 +228,18 @@ static void scatter(const double *gradients, const int bd[3], int radius, double
             }
 }
 
-halo_status halo_feature_reference(const float *values, const int dims[3], const halo_feature_desc *desc,
-                                   const double view[3], double *out)
+/* The two buffers share their inputs and their splatting: the reference (full
+ * resolution, every splat's whole extent, scaled by 1 - |grad f| per voxel) and the
+ * emulation of the GPU's buffer (its resolution, radius, threshold and weight sum). */
+static halo_status feature_buffer(const float *values, const int dims[3], const halo_feature_desc *desc,
+                                  const double view[3], int reference, double *out)
 {
-    HALO_REFUSE_NULL(NULL, values, "values", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(NULL, dims, "dims", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(NULL, view, "view", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(NULL, out, "out", HALO_ERROR_INPUT);
     if (!dims_ok(dims))
         return HALO_ERROR_INPUT;
     halo_feature_desc d;
     halo_feature_desc_effective(desc, &d);
-    d.half_resolution = 0;
-    size_t count = voxel_count(dims);
-    double *gradients = malloc(count * 3 * sizeof *gradients);
-    if (!gradients)
-        return HALO_ERROR_IO;
-    halo_feature_buffer_gradients(values, dims, &d, gradients);
-    double v[3];
-    unit_view(view, v);
-    memset(out, 0, count * sizeof *out);
-    scatter(gradients, dims, (d.splat_size - 1) / 2, 1e-10, v, d.k_hpe, d.k_hse, d.gradient_weighted, 1.0, out);
-    for (size_t i = 0; i < count; ++i) {
-        const double *g = &gradients[i * 3];
-        out[i] *= halo_emu_saturate(1.0 - sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]));
-    }
-    free(gradients);
-    return HALO_OK;
-}
-
-halo_status halo_feature_emu_buffer(const float *values, const int dims[3], const halo_feature_desc *desc,
-                                    const double view[3], double *out)
-{
-    HALO_REFUSE_NULL(NULL, values, "values", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(NULL, dims, "dims", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(NULL, view, "view", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(NULL, out, "out", HALO_ERROR_INPUT);
-    if (!dims_ok(dims))
-        return HALO_ERROR_INPUT;
-    halo_feature_desc d;
-    halo_feature_desc_effective(desc, &d);
+    if (reference)
+        d.half_resolution = 0;
     int bd[3];
     halo_feature_buffer_dims(dims, &d, bd);
     size_t count = voxel_count(bd);
@@ -277,13 +249,44 @@ halo_status halo_feature_emu_buffer(const float *values, const int dims[3], cons
     halo_feature_buffer_gradients(values, dims, &d, gradients);
     double v[3];
     unit_view(view, v);
-    int radius = halo_feature_splat_radius(&d);
-    double cutoff = d.threshold < 0.0 ? 1e-10 : d.threshold;
     memset(out, 0, count * sizeof *out);
-    scatter(gradients, bd, radius, cutoff, v, d.k_hpe, d.k_hse, d.gradient_weighted,
-            1.0 / halo_feature_splat_weight_sum(2 * radius + 1), out);
+    if (reference) {
+        scatter(gradients, bd, (d.splat_size - 1) / 2, 1e-10, v, d.k_hpe, d.k_hse, d.gradient_weighted, 1.0, out);
+        for (size_t i = 0; i < count; ++i) {
+            const double *g = &gradients[i * 3];
+            out[i] *= halo_emu_saturate(1.0 - sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]));
+        }
+    } else {
+        int radius = halo_feature_splat_radius(&d);
+        double cutoff = d.threshold < 0.0 ? 1e-10 : d.threshold;
+        scatter(gradients, bd, radius, cutoff, v, d.k_hpe, d.k_hse, d.gradient_weighted,
+                1.0 / halo_feature_splat_weight_sum(2 * radius + 1), out);
+    }
     free(gradients);
     return HALO_OK;
+}
+
+/* In the public function itself, so that a refusal names it. */
+#define REFUSE_NULL_BUFFER_ARGUMENTS()                                                                       \
+    do {                                                                                                     \
+        HALO_REFUSE_NULL(NULL, values, "values", HALO_ERROR_INPUT);                                          \
+        HALO_REFUSE_NULL(NULL, dims, "dims", HALO_ERROR_INPUT);                                              \
+        HALO_REFUSE_NULL(NULL, view, "view", HALO_ERROR_INPUT);                                              \
+        HALO_REFUSE_NULL(NULL, out, "out", HALO_ERROR_INPUT);                                                \
+    } while (0)
+
+halo_status halo_feature_reference(const float *values, const int dims[3], const halo_feature_desc *desc,
+                                   const double view[3], double *out)
+{
+    REFUSE_NULL_BUFFER_ARGUMENTS();
+    return feature_buffer(values, dims, desc, view, 1, out);
+}
+
+halo_status halo_feature_emu_buffer(const float *values, const int dims[3], const halo_feature_desc *desc,
+                                    const double view[3], double *out)
+{
+    REFUSE_NULL_BUFFER_ARGUMENTS();
+    return feature_buffer(values, dims, desc, view, 0, out);
 }
 
 double halo_feature_buffer_lookup(const double *buffer, const int dims[3], const double position[3])

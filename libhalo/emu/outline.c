@@ -140,39 +140,22 @@ static void keep_channels(const halo_emu_pass_context *c, double out[4])
         out[j] = 0.0;
 }
 
-void halo_emu_outline_blur_x(const halo_emu_pass_context *c, int x, int y, double out[4])
-{
-    blur_axis(c, 0, x, y, 1, 0, deviation_pixels(c, "sigma"), out);
-    keep_channels(c, out);
-}
-
-void halo_emu_outline_blur_y(const halo_emu_pass_context *c, int x, int y, double out[4])
-{
-    blur_axis(c, 0, x, y, 0, 1, deviation_pixels(c, "sigma"), out);
-    keep_channels(c, out);
-}
-
-void halo_emu_outline_min_x(const halo_emu_pass_context *c, int x, int y, double out[4])
-{
-    min_axis(c, 0, x, y, 1, 0, deviation_pixels(c, "sigma"), out);
-    keep_channels(c, out);
-}
-
-void halo_emu_outline_min_y(const halo_emu_pass_context *c, int x, int y, double out[4])
-{
-    min_axis(c, 0, x, y, 0, 1, deviation_pixels(c, "sigma"), out);
-    keep_channels(c, out);
-}
-
-void halo_emu_outline_normal_blur_x(const halo_emu_pass_context *c, int x, int y, double out[4])
-{
-    blur_axis(c, 0, x, y, 1, 0, deviation_pixels(c, "normal_sigma"), out);
-}
-
-void halo_emu_outline_normal_blur_y(const halo_emu_pass_context *c, int x, int y, double out[4])
-{
-    blur_axis(c, 0, x, y, 0, 1, deviation_pixels(c, "normal_sigma"), out);
-}
+/* The separable passes: one axis (ax, ay) of a blur or a minimum over the kernel of a
+ * size parameter; the depth passes clear the channels beyond the features'. One row a
+ * pass (the registry, registry.c, names them). */
+#define AXIS_PASS(NAME, AXIS_FUNCTION, AX, AY, SIZE_PARAMETER, CLEAR_UNUSED)                                  \
+    void NAME(const halo_emu_pass_context *c, int x, int y, double out[4])                                 \
+    {                                                                                                      \
+        AXIS_FUNCTION(c, 0, x, y, AX, AY, deviation_pixels(c, SIZE_PARAMETER), out);                       \
+        if (CLEAR_UNUSED)                                                                                  \
+            keep_channels(c, out);                                                                         \
+    }
+AXIS_PASS(halo_emu_outline_blur_x, blur_axis, 1, 0, "sigma", 1)
+AXIS_PASS(halo_emu_outline_blur_y, blur_axis, 0, 1, "sigma", 1)
+AXIS_PASS(halo_emu_outline_min_x, min_axis, 1, 0, "sigma", 1)
+AXIS_PASS(halo_emu_outline_min_y, min_axis, 0, 1, "sigma", 1)
+AXIS_PASS(halo_emu_outline_normal_blur_x, blur_axis, 1, 0, "normal_sigma", 0)
+AXIS_PASS(halo_emu_outline_normal_blur_y, blur_axis, 0, 1, "normal_sigma", 0)
 
 static double depth_gamma(const halo_emu_params *p, double d)
 {

@@ -309,18 +309,14 @@ void halo_feature_buffer_destroy(halo_feature_buffer *b)
     if (!b)
         return;
     const halo_glfuncs *f = b->f;
-    if (b->texture)
-        f->DeleteTextures(1, &b->texture);
-    if (b->splat_texture)
-        f->DeleteTextures(1, &b->splat_texture);
-    if (b->framebuffer)
+    if (f) { /* glDelete* passes over the names never made (0) */
+        const GLuint textures[2] = {b->texture, b->splat_texture};
+        f->DeleteTextures(2, textures);
         f->DeleteFramebuffers(1, &b->framebuffer);
-    if (b->program)
         f->DeleteProgram(b->program);
-    if (b->vertex_array)
         f->DeleteVertexArrays(1, &b->vertex_array);
-    if (b->vertex_buffer)
         f->DeleteBuffers(1, &b->vertex_buffer);
+    }
     free(b->layer_first);
     free(b);
 }

@@ -8,9 +8,9 @@ expect_no_stdout
 # Not even text.
 printf '\000\001\002' >"$tmp/binary.json"
 run 1 "$HALO_VALIDATE" link --scene "$tmp/binary.json" --host "$data/hosts/minimal.frag"
-expect_stderr "binary\.json(:[0-9]+:[0-9]+)?: error:"
+expect_error_in binary.json
 # Empty.
 : >"$tmp/empty.json"
 run 1 "$HALO_VALIDATE" link --scene "$tmp/empty.json" --host "$data/hosts/minimal.frag"
-expect_stderr "empty\.json(:[0-9]+:[0-9]+)?: error:"
+expect_error_in empty.json
 finish

@@ -10,3 +10,9 @@ harness_tmp halo-test
 re_file() {
     printf '%s' "$1" | sed 's/[.[\*^$]/\\&/g'
 }
+
+# expect_error_in NAME: the last command's stderr has an error in the file NAME
+# ("NAME: error:" or "NAME:LINE:COLUMN: error:").
+expect_error_in() {
+    expect_stderr "$(re_file "$1")(:[0-9]+:[0-9]+)?: error:"
+}

@@ -3,7 +3,7 @@
 . "$srcdir/tests/cli/common.sh"
 
 run 1 "$HALO_VALIDATE" link --scene "$data/scenes/out_of_range.json" --host "$data/hosts/minimal.frag"
-expect_stderr "out_of_range\.json(:[0-9]+:[0-9]+)?: error:"
+expect_error_in out_of_range.json
 expect_stderr "stages\[1\]\.boundary\.k_gs"
 expect_no_stdout
 finish

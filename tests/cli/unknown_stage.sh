@@ -3,7 +3,7 @@
 . "$srcdir/tests/cli/common.sh"
 
 run 1 "$HALO_VALIDATE" link --scene "$data/scenes/unknown_stage.json" --host "$data/hosts/minimal.frag"
-expect_stderr "unknown_stage\.json(:[0-9]+:[0-9]+)?: error:"
+expect_error_in unknown_stage.json
 expect_stderr "stages\[1\]"
 expect_stderr "no_such_stage"
 expect_no_stdout

@@ -11,7 +11,7 @@ run 2 "$HALO_VALIDATE" check --bogus "$srcdir/glsl/sample/boundary.glsl"
 expect_stderr "bogus"
 run 2 "$HALO_VALIDATE" check --target 999 "$srcdir/glsl/sample/boundary.glsl"
 run 2 "$HALO_VALIDATE" check "$data/scenes/good.json"
-expect_stderr "good\.json(:[0-9]+:[0-9]+)?: error:"
+expect_error_in good.json
 run 2 "$HALO_VALIDATE" link --bogus
 expect_stderr "bogus"
 run 2 "$HALO_VALIDATE" link --scene "$data/scenes/good.json"

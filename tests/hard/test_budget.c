@@ -1,6 +1,6 @@
 /* halo_budget_choose: the cheapest row within the error bound, and its edge cases
  * (no row fits, NaN and infinite rows, ties, a bound of 0, invalid arguments). */
-#include "check.h"
+#include "../unit/check.h"
 
 static int test_cheapest_within(void)
 {

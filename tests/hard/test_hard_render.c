@@ -7,9 +7,7 @@
  * images, the smallest volume (2^3; 1^3 is refused with a diagnostic), depth cues at
  * depth 0 and 1. Every result must be finite; where the inputs are finite, within
  * the conformance tolerance of the emulation. Exit 77 without OpenGL. */
-#include "halo.h"
-#include "gl/glfuncs.h"
-#include "gl/headless.h"
+#include "../gl_fixture.h"
 #include "hosts/slab.h"
 #include "hosts/slice.h"
 
@@ -247,24 +245,14 @@ static int one_voxel(halo_library *lib, halo_gl *runtime, const halo_glfuncs *gl
 
 int main(void)
 {
-    char err[512];
-    halo_diagnostics *diag = halo_diagnostics_create();
-    if (!diag || halo_setup(NULL) != HALO_OK)
-        return 99;
-    halo_headless *context = halo_headless_create(SIZE, SIZE, err, sizeof err);
-    if (!context) {
-        printf("no OpenGL context (%s): skipping\n", err);
-        halo_shutdown();
-        halo_diagnostics_destroy(diag);
-        return 77;
-    }
-    halo_library *lib = halo_library_create(diag);
-    halo_gl *runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, diag);
-    if (!lib || !runtime) {
-        halo_diagnostics_print(diag, stderr);
-        return 99;
-    }
-    const halo_glfuncs *gl = halo_gl_functions(runtime);
+    gl_fixture g;
+    int status = gl_fixture_open(&g, SIZE, 0);
+    if (status)
+        return status;
+    halo_library *lib = g.lib;
+    halo_gl *runtime = g.runtime;
+    const halo_glfuncs *gl = g.gl;
+    halo_diagnostics *diag = g.diag;
     int failed = 0;
     const char *only = getenv("HALO_HARD_CASE");
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i)
@@ -272,10 +260,6 @@ int main(void)
             failed += !run_case(lib, runtime, gl, diag, &cases[i]);
     failed += !one_voxel(lib, runtime, gl, diag);
     printf("%d failed\n", failed);
-    halo_gl_destroy(runtime);
-    halo_library_destroy(lib);
-    halo_headless_destroy(context);
-    halo_diagnostics_destroy(diag);
-    halo_shutdown();
+    gl_fixture_close(&g);
     return failed ? 1 : 0;
 }

@@ -13,12 +13,9 @@
  * exit-point caster renders the example ray caster's image (same sampling, exit from the
  * texture); the MIP variant refuses any stage (HOST_COMPOSITING at its pragma's line)
  * and renders without one. HALO_HOSTS_ONLY=webgl runs one host. Exit 77 without OpenGL. */
-#include "halo.h"
+#include "../gl_fixture.h"
 #include "halo_feature.h"
-#include "gl/glfuncs.h"
-#include "gl/headless.h"
 #include "hosts/raycast.h"
-#include "volume.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -444,27 +441,12 @@ static int mip_variant_checks(const context *c, const char *iso_source)
 
 int main(void)
 {
-    char err[512];
-    context c = {0};
+    gl_fixture g;
+    int status = gl_fixture_open(&g, SIZE, VOLUME);
+    if (status)
+        return status;
+    context c = {.lib = g.lib, .runtime = g.runtime, .gl = g.gl, .diag = g.diag, .volume = g.volume};
     c.srcdir = getenv("top_srcdir") ? getenv("top_srcdir") : getenv("srcdir") ? getenv("srcdir") : ".";
-    c.diag = halo_diagnostics_create();
-    if (!c.diag || halo_setup(NULL) != HALO_OK)
-        return 99;
-    halo_headless *headless = halo_headless_create(SIZE, SIZE, err, sizeof err);
-    if (!headless) {
-        printf("no OpenGL context (%s): skipping\n", err);
-        halo_shutdown();
-        halo_diagnostics_destroy(c.diag);
-        return 77;
-    }
-    c.lib = halo_library_create(c.diag);
-    c.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, c.diag);
-    c.volume = halo_volume_create(VOLUME);
-    if (!c.lib || !c.runtime || !c.volume) {
-        halo_diagnostics_print(c.diag, stderr);
-        return 99;
-    }
-    c.gl = halo_gl_functions(c.runtime);
     int failed = 0;
     const char *only = getenv("HALO_HOSTS_ONLY");
     for (size_t i = 0; i < sizeof hosts / sizeof hosts[0]; ++i) {
@@ -489,11 +471,6 @@ int main(void)
         free(source);
     }
     printf("%d failed\n", failed);
-    free(c.volume);
-    halo_gl_destroy(c.runtime);
-    halo_library_destroy(c.lib);
-    halo_headless_destroy(headless);
-    halo_diagnostics_destroy(c.diag);
-    halo_shutdown();
+    gl_fixture_close(&g);
     return failed ? 1 : 0;
 }

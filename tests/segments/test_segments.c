@@ -12,12 +12,9 @@
  * The segmented ray caster against its emulation is the conformance family "segments"
  * (validate/conform_segment.c, halo-validate conform --stage segments).
  * Exit 77 without OpenGL. */
-#include "halo.h"
-#include "gl/glfuncs.h"
-#include "gl/headless.h"
+#include "../gl_fixture.h"
 #include "hosts/raycast.h"
 #include "hosts/slab.h"
-#include "volume.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -52,11 +49,7 @@ static const char halos_scene[] =
 static const char no_halo_scene[] = "{\"halo_scene\": 1, \"stages\": [], " HALO_RENDER "}";
 
 typedef struct env {
-    halo_library *lib;
-    halo_gl *runtime;
-    const halo_glfuncs *gl;
-    halo_diagnostics *diag;
-    float *volume;
+    gl_fixture g; /* the context, library, runtime, diagnostics and the built-in volume */
     char *raycast, *slab;
 } env;
 
@@ -76,13 +69,13 @@ static int orthographic; /* the camera of the next renders */
 static halo_program *link_scene(env *e, const char *scene_text, const char *host, const char *file, int force,
                                 halo_scene **scene_out)
 {
-    halo_scene *scene = halo_scene_parse(scene_text, "(test scene)", e->lib, e->diag);
-    halo_program *p = scene ? halo_link(&(halo_link_desc){.library = e->lib, .scene = scene, .host_source = host,
+    halo_scene *scene = halo_scene_parse(scene_text, "(test scene)", e->g.lib, e->g.diag);
+    halo_program *p = scene ? halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = host,
                                                           .host_file = file, .force_segments = force},
-                                        e->diag)
+                                        e->g.diag)
                             : NULL;
     if (!p) {
-        halo_diagnostics_print(e->diag, stdout);
+        halo_diagnostics_print(e->g.diag, stdout);
         halo_scene_destroy(scene);
         return NULL;
     }
@@ -90,68 +83,58 @@ static halo_program *link_scene(env *e, const char *scene_text, const char *host
     return p;
 }
 
-/* Renders with the ray caster in `segments` segments (0: as the program needs) of M planes. */
-static float *render_ray(env *e, const char *scene_text, int force, int interval, int segments, int *drawn)
+/* Renders with the ray caster (slab 0) in `segments` segments (0: as the program needs),
+ * or with the slab host (slab 1), of M = interval planes. */
+static float *render_host(env *e, const char *scene_text, int slab, int force, int interval, int segments,
+                          int *drawn)
 {
     halo_scene *scene = NULL;
-    halo_program *p = link_scene(e, scene_text, e->raycast, "raycast.frag", force, &scene);
+    halo_program *p = link_scene(e, scene_text, slab ? e->slab : e->raycast, slab ? "slab.frag" : "raycast.frag",
+                                 force, &scene);
     float *rgba = malloc((size_t)SIZE * SIZE * 4 * sizeof *rgba);
-    halo_raycast *r = p ? halo_raycast_create(&(halo_host_desc){.gl = e->gl, .runtime = e->runtime, .program = p,
-                                                                .width = SIZE, .height = SIZE},
-                                              e->diag)
-                        : NULL;
-    int ok = r && rgba;
-    if (ok) {
+    const halo_host_desc desc = {.gl = e->g.gl, .runtime = e->g.runtime, .program = p, .width = SIZE, .height = SIZE};
+    halo_raycast *r = p && !slab ? halo_raycast_create(&desc, e->g.diag) : NULL;
+    halo_slab *s = p && slab ? halo_slab_create(&desc, e->g.diag) : NULL;
+    int ok = (r || s) && rgba;
+    if (ok && r) {
         const halo_render_settings *settings = halo_scene_render(scene);
-        ok = halo_raycast_set_volume(r, e->volume, VOLUME, VOLUME, VOLUME, e->diag) == HALO_OK &&
-             halo_raycast_set_render(r, settings, e->diag) == HALO_OK;
+        ok = halo_raycast_set_volume(r, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag) == HALO_OK &&
+             halo_raycast_set_render(r, settings, e->g.diag) == HALO_OK;
         halo_raycast_set_orthographic(r, orthographic);
         halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);
         halo_raycast_set_segments(r, interval, segments);
-        ok = ok && halo_raycast_render(r, rgba, e->diag) == HALO_OK;
+        ok = ok && halo_raycast_render(r, rgba, e->g.diag) == HALO_OK;
         if (drawn)
             *drawn = halo_raycast_frame(r) ? halo_gl_frame_segment_count(halo_raycast_frame(r)) : 1;
+    } else if (ok) {
+        const halo_render_settings *settings = halo_scene_render(scene);
+        ok = halo_slice_set_volume(s, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag) == HALO_OK &&
+             halo_slice_set_render(s, settings, e->g.diag) == HALO_OK;
+        halo_slice_set_camera(s, settings->azimuth, settings->elevation, settings->zoom);
+        halo_slice_set_interval(s, interval);
+        ok = ok && halo_slice_render(s, rgba, e->g.diag) == HALO_OK;
     }
     if (!ok) {
-        halo_diagnostics_print(e->diag, stdout);
+        halo_diagnostics_print(e->g.diag, stdout);
         free(rgba);
         rgba = NULL;
     }
     halo_raycast_destroy(r);
+    halo_slice_destroy(s);
     halo_program_destroy(p);
     halo_scene_destroy(scene);
-    halo_diagnostics_clear(e->diag);
+    halo_diagnostics_clear(e->g.diag);
     return rgba;
+}
+
+static float *render_ray(env *e, const char *scene_text, int force, int interval, int segments, int *drawn)
+{
+    return render_host(e, scene_text, 0, force, interval, segments, drawn);
 }
 
 static float *render_slab(env *e, const char *scene_text, int interval)
 {
-    halo_scene *scene = NULL;
-    halo_program *p = link_scene(e, scene_text, e->slab, "slab.frag", 0, &scene);
-    float *rgba = malloc((size_t)SIZE * SIZE * 4 * sizeof *rgba);
-    halo_slab *s = p ? halo_slab_create(&(halo_host_desc){.gl = e->gl, .runtime = e->runtime, .program = p,
-                                                          .width = SIZE, .height = SIZE},
-                                        e->diag)
-                     : NULL;
-    int ok = s && rgba;
-    if (ok) {
-        const halo_render_settings *settings = halo_scene_render(scene);
-        ok = halo_slice_set_volume(s, e->volume, VOLUME, VOLUME, VOLUME, e->diag) == HALO_OK &&
-             halo_slice_set_render(s, settings, e->diag) == HALO_OK;
-        halo_slice_set_camera(s, settings->azimuth, settings->elevation, settings->zoom);
-        halo_slice_set_interval(s, interval);
-        ok = ok && halo_slice_render(s, rgba, e->diag) == HALO_OK;
-    }
-    if (!ok) {
-        halo_diagnostics_print(e->diag, stdout);
-        free(rgba);
-        rgba = NULL;
-    }
-    halo_slice_destroy(s);
-    halo_program_destroy(p);
-    halo_scene_destroy(scene);
-    halo_diagnostics_clear(e->diag);
-    return rgba;
+    return render_host(e, scene_text, 1, 0, interval, 0, NULL);
 }
 
 static void difference(const float *a, const float *b, double *max_abs, double *rmse)
@@ -246,35 +229,35 @@ static void test_diagnostics(env *e)
         "#endif\n"
         "    color = sum;\n"
         "}\n";
-    halo_scene *scene = halo_scene_parse(halos_scene, "(test scene)", e->lib, e->diag);
-    halo_program *p = halo_link(&(halo_link_desc){.library = e->lib, .scene = scene, .host_source = single_pass,
+    halo_scene *scene = halo_scene_parse(halos_scene, "(test scene)", e->g.lib, e->g.diag);
+    halo_program *p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = single_pass,
                                                   .host_file = "single.frag"},
-                                e->diag);
-    const halo_diagnostic *d = halo_diagnostics_count(e->diag) ? halo_diagnostics_get(e->diag, 0) : NULL;
-    CHECK(!p && halo_diagnostics_has(e->diag, HALO_MSG_HOST_SINGLE_PASS),
+                                e->g.diag);
+    const halo_diagnostic *d = halo_diagnostics_count(e->g.diag) ? halo_diagnostics_get(e->g.diag, 0) : NULL;
+    CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_HOST_SINGLE_PASS),
           "a halo scene in a single-pass ray caster is refused with HOST_SINGLE_PASS");
     CHECK(d && !strcmp(d->file, "single.frag") && d->line == 2, "at the host's marker (single.frag:2): %s:%d",
           d ? d->file : "-", d ? d->line : 0);
     CHECK(d && strstr(d->text, "halo_generate"), "the message names the stage with passes");
     halo_program_destroy(p);
-    halo_diagnostics_clear(e->diag);
-    p = halo_link(&(halo_link_desc){.library = e->lib, .scene = NULL, .host_source = single_pass,
+    halo_diagnostics_clear(e->g.diag);
+    p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = NULL, .host_source = single_pass,
                                     .host_file = "single.frag", .force_segments = 1},
-                  e->diag);
-    CHECK(!p && halo_diagnostics_has(e->diag, HALO_MSG_HOST_SINGLE_PASS),
+                  e->g.diag);
+    CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_HOST_SINGLE_PASS),
           "force_segments without halo_segment_begin is refused");
     halo_program_destroy(p);
-    halo_diagnostics_clear(e->diag);
+    halo_diagnostics_clear(e->g.diag);
     /* the same host, declared a slice host that runs the passes itself, links */
     char *slices = malloc(sizeof single_pass + 32);
     if (slices) {
         snprintf(slices, sizeof single_pass + 32, "#pragma halo slices\n%s", single_pass);
-        p = halo_link(&(halo_link_desc){.library = e->lib, .scene = scene, .host_source = slices,
+        p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = slices,
                                         .host_file = "slices.frag"},
-                      e->diag);
+                      e->g.diag);
         CHECK(p != NULL, "with '#pragma halo slices' the host links");
         halo_program_destroy(p);
-        halo_diagnostics_clear(e->diag);
+        halo_diagnostics_clear(e->g.diag);
         free(slices);
     }
     halo_scene_destroy(scene);
@@ -282,28 +265,16 @@ static void test_diagnostics(env *e)
 
 int main(void)
 {
-    char err[512];
     env e = {0};
-    e.diag = halo_diagnostics_create();
-    if (!e.diag || halo_setup(NULL) != HALO_OK)
-        return 99;
-    halo_headless *context = halo_headless_create(SIZE, SIZE, err, sizeof err);
-    if (!context) {
-        printf("no OpenGL context (%s): skipping\n", err);
-        halo_shutdown();
-        halo_diagnostics_destroy(e.diag);
-        return 77;
-    }
-    e.lib = halo_library_create(e.diag);
-    e.runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, e.diag);
-    e.volume = halo_volume_create(VOLUME);
-    e.raycast = halo_host_load("raycast.frag", NULL, e.diag);
-    e.slab = halo_host_load("slab.frag", NULL, e.diag);
-    if (!e.lib || !e.runtime || !e.volume || !e.raycast || !e.slab) {
-        halo_diagnostics_print(e.diag, stderr);
+    int status = gl_fixture_open(&e.g, SIZE, VOLUME);
+    if (status)
+        return status;
+    e.raycast = halo_host_load("raycast.frag", NULL, e.g.diag);
+    e.slab = halo_host_load("slab.frag", NULL, e.g.diag);
+    if (!e.raycast || !e.slab) {
+        halo_diagnostics_print(e.g.diag, stderr);
         return 99;
     }
-    e.gl = halo_gl_functions(e.runtime);
     test_segments_change_nothing(&e);
     test_halos_match_slab(&e);
     test_diagnostics(&e);
@@ -312,11 +283,6 @@ int main(void)
     printf("%d failed\n", failures);
     free(e.raycast);
     free(e.slab);
-    free(e.volume);
-    halo_gl_destroy(e.runtime);
-    halo_library_destroy(e.lib);
-    halo_headless_destroy(context);
-    halo_diagnostics_destroy(e.diag);
-    halo_shutdown();
+    gl_fixture_close(&e.g);
     return failures ? 1 : 0;
 }

@@ -190,17 +190,38 @@ static inline halo_library *check_library_setup(halo_diagnostics **diags) {
     return library;
 }
 
-#define RUN_TEST(fn)                                                                                              \
-    do {                                                                                                          \
-        int check_r_ = fn();                                                                                      \
-        printf("%s %s\n", check_r_ ? "FAIL" : "ok  ", #fn);                                                       \
-        fflush(stdout);                                                                                           \
-        if (check_r_) check_failed_tests++;                                                                       \
-    } while (0)
+/* Runs one test: "ok   NAME" or "FAIL NAME" on stdout, the failure counted. */
+static inline void check_run(const char *name, int (*test)(void)) {
+    int check_r_ = test();
+    printf("%s %s\n", check_r_ ? "FAIL" : "ok  ", name);
+    fflush(stdout);
+    if (check_r_) check_failed_tests++;
+}
+
+#define RUN_TEST(fn) check_run(#fn, fn)
+
+/* A test of a table run by check_main_with_library. */
+typedef struct check_test {
+    const char *name;
+    int (*run)(void);
+} check_test;
+#define CHECK_TEST(fn) {#fn, fn}
 
 static inline int check_exit_status(void) {
     if (check_failed_tests) fprintf(stderr, "%d test%s failed\n", check_failed_tests, check_failed_tests == 1 ? "" : "s");
     return check_failed_tests ? 1 : 0;
+}
+
+/* The main of a test program over the built-in library: *library and *diags made
+ * (check_library_setup), each test run in order as RUN_TEST runs it, both freed;
+ * returns check_exit_status(). */
+static inline int check_main_with_library(halo_library **library, halo_diagnostics **diags, const check_test *tests,
+                                          size_t count) {
+    *library = check_library_setup(diags);
+    for (size_t i = 0; i < count; i++) check_run(tests[i].name, tests[i].run);
+    halo_library_destroy(*library);
+    halo_diagnostics_destroy(*diags);
+    return check_exit_status();
 }
 
 #endif

@@ -255,11 +255,30 @@ static int test_hard_cases(void) {
     CHECK_NEAR(s.opacity, 0.4 * 0.5, TOLERANCE);
     halo_program_destroy(p);
 
-    p = program_of("{\"stages\": [\"sketch\"]}");
-    s = sample(0.5, 0, 0, 0, 0.5, 0.4);
-    if (apply(p, &s)) return 1;
-    CHECK_NEAR(s.opacity, 0, 0);
-    halo_program_destroy(p);
+    /* Opacities the guards define: one scene, one sample each. */
+    static const struct {
+        const char *scene;
+        double value, gradient, opacity; /* the sample: gradient (g, g, g), depth 0.5 */
+        double expected, tolerance;
+    } guarded[] = {
+        /* zero gradient: no line */
+        {"{\"stages\": [\"sketch\"]}", 0.5, 0, 0.4, 0, 0},
+        /* zero gradient under boundary: 0^k_ge is 0, and 1 when k_ge = 0 */
+        {"{\"stages\": [{\"boundary\": {\"k_gc\": 0.5, \"k_gs\": 0.25, \"k_ge\": 2}}]}", 0.5, 0, 0.4,
+         0.4 * 0.5, TOLERANCE},
+        {"{\"stages\": [{\"boundary\": {\"k_gc\": 0.5, \"k_gs\": 0.25, \"k_ge\": 0}}]}", 0.5, 0, 0.4,
+         0.4 * 0.75, TOLERANCE},
+        /* opacity_power at value 0: 0^0 = 1 */
+        {"{\"stages\": [{\"opacity_power\": {\"k_oe\": 0}}]}", 0, 0.1, 0.5, 1, 0},
+    };
+    for (size_t i = 0; i < sizeof guarded / sizeof guarded[0]; i++) {
+        p = program_of(guarded[i].scene);
+        double g = guarded[i].gradient;
+        s = sample(guarded[i].value, g, g, g, 0.5, guarded[i].opacity);
+        if (apply(p, &s)) return 1;
+        CHECK_NEAR(s.opacity, guarded[i].expected, guarded[i].tolerance);
+        halo_program_destroy(p);
+    }
 
     p = program_of("{\"stages\": [\"orientation_fade\"]}");
     s = sample(0.5, 0, 0, 0, 0.5, 0.4);
@@ -276,18 +295,6 @@ static int test_hard_cases(void) {
     /* n.L = 0 for both lights (no normal; a zero light has no direction): half warm, half cool */
     CHECK_NEAR(s.color[0], 0.8 + 2 * 0.5 * 0.2, TOLERANCE);
     CHECK_NEAR(s.color[2], 0.2 + 2 * 0.5 * 0.4, TOLERANCE);
-    halo_program_destroy(p);
-
-    /* Zero gradient under boundary: 0^k_ge is 0, and 1 when k_ge = 0. */
-    p = program_of("{\"stages\": [{\"boundary\": {\"k_gc\": 0.5, \"k_gs\": 0.25, \"k_ge\": 2}}]}");
-    s = sample(0.5, 0, 0, 0, 0.5, 0.4);
-    if (apply(p, &s)) return 1;
-    CHECK_NEAR(s.opacity, 0.4 * 0.5, TOLERANCE);
-    halo_program_destroy(p);
-    p = program_of("{\"stages\": [{\"boundary\": {\"k_gc\": 0.5, \"k_gs\": 0.25, \"k_ge\": 0}}]}");
-    s = sample(0.5, 0, 0, 0, 0.5, 0.4);
-    if (apply(p, &s)) return 1;
-    CHECK_NEAR(s.opacity, 0.4 * 0.75, TOLERANCE);
     halo_program_destroy(p);
 
     /* n.V rounding past +-1: the normal along a view vector a hair longer than 1. */
@@ -365,12 +372,6 @@ static int test_hard_cases(void) {
     if (apply(p, &s)) return 1;
     CHECK_NEAR(s.color[0], 0, TOLERANCE);
     halo_program_destroy(p);
-    /* opacity_power at value 0: 0^0 = 1, 0^64 = 0. */
-    p = program_of("{\"stages\": [{\"opacity_power\": {\"k_oe\": 0}}]}");
-    s = sample(0, 0.1, 0.1, 0.1, 0.5, 0.5);
-    if (apply(p, &s)) return 1;
-    CHECK_NEAR(s.opacity, 1, 0);
-    halo_program_destroy(p);
     return 0;
 }
 
@@ -447,21 +448,12 @@ static int test_outline_kernel_size(void) {
 }
 
 int main(void) {
-    library = check_library_setup(&diags);
-    RUN_TEST(test_opacity_power);
-    RUN_TEST(test_gradient_and_boundary);
-    RUN_TEST(test_silhouette);
-    RUN_TEST(test_tone_shading);
-    RUN_TEST(test_distance_blend);
-    RUN_TEST(test_distance_cue);
-    RUN_TEST(test_orientation_fade);
-    RUN_TEST(test_sketch);
-    RUN_TEST(test_chain);
-    RUN_TEST(test_hard_cases);
-    RUN_TEST(test_program_set);
-    RUN_TEST(test_no_emulation);
-    RUN_TEST(test_outline_kernel_size);
-    halo_library_destroy(library);
-    halo_diagnostics_destroy(diags);
-    return check_exit_status();
+    static const check_test tests[] = {
+        CHECK_TEST(test_opacity_power), CHECK_TEST(test_gradient_and_boundary), CHECK_TEST(test_silhouette),
+        CHECK_TEST(test_tone_shading), CHECK_TEST(test_distance_blend), CHECK_TEST(test_distance_cue),
+        CHECK_TEST(test_orientation_fade), CHECK_TEST(test_sketch), CHECK_TEST(test_chain),
+        CHECK_TEST(test_hard_cases), CHECK_TEST(test_program_set), CHECK_TEST(test_no_emulation),
+        CHECK_TEST(test_outline_kernel_size)
+    };
+    return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);
 }

@@ -200,12 +200,9 @@ static int test_diagnostics_limit(void) {
 }
 
 int main(void) {
-    library = check_library_setup(&diags);
-    RUN_TEST(test_param_beyond_type_range);
-    RUN_TEST(test_scene_value_beyond_type_range);
-    RUN_TEST(test_module_nul_byte);
-    RUN_TEST(test_diagnostics_limit);
-    halo_library_destroy(library);
-    halo_diagnostics_destroy(diags);
-    return check_exit_status();
+    static const check_test tests[] = {
+        CHECK_TEST(test_param_beyond_type_range), CHECK_TEST(test_scene_value_beyond_type_range),
+        CHECK_TEST(test_module_nul_byte), CHECK_TEST(test_diagnostics_limit)
+    };
+    return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);
 }

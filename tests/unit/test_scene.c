@@ -407,23 +407,12 @@ static int test_error_places(void) {
 }
 
 int main(void) {
-    library = check_library_setup(&diags);
-    RUN_TEST(test_valid_scene);
-    RUN_TEST(test_error_places);
-    RUN_TEST(test_minimal_scenes);
-    RUN_TEST(test_bad_json);
-    RUN_TEST(test_top_level);
-    RUN_TEST(test_stage_errors);
-    RUN_TEST(test_wrong_types);
-    RUN_TEST(test_range);
-    RUN_TEST(test_nonfinite);
-    RUN_TEST(test_counts);
-    RUN_TEST(test_render_errors);
-    RUN_TEST(test_live_lists);
-    RUN_TEST(test_all_errors_reported);
-    RUN_TEST(test_api);
-    RUN_TEST(test_load);
-    halo_library_destroy(library);
-    halo_diagnostics_destroy(diags);
-    return check_exit_status();
+    static const check_test tests[] = {
+        CHECK_TEST(test_valid_scene), CHECK_TEST(test_error_places), CHECK_TEST(test_minimal_scenes),
+        CHECK_TEST(test_bad_json), CHECK_TEST(test_top_level), CHECK_TEST(test_stage_errors),
+        CHECK_TEST(test_wrong_types), CHECK_TEST(test_range), CHECK_TEST(test_nonfinite), CHECK_TEST(test_counts),
+        CHECK_TEST(test_render_errors), CHECK_TEST(test_live_lists), CHECK_TEST(test_all_errors_reported),
+        CHECK_TEST(test_api), CHECK_TEST(test_load)
+    };
+    return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);
 }

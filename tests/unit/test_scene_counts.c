@@ -39,11 +39,8 @@ static int test_vector_too_short(void) {
 }
 
 int main(void) {
-    library = check_library_setup(&diags);
-    RUN_TEST(test_array_too_long);
-    RUN_TEST(test_array_empty);
-    RUN_TEST(test_vector_too_short);
-    halo_library_destroy(library);
-    halo_diagnostics_destroy(diags);
-    return check_exit_status();
+    static const check_test tests[] = {
+        CHECK_TEST(test_array_too_long), CHECK_TEST(test_array_empty), CHECK_TEST(test_vector_too_short)
+    };
+    return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);
 }

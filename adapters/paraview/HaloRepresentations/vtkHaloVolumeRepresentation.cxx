@@ -224,24 +224,35 @@ vtkHaloVolumeRepresentation::~vtkHaloVolumeRepresentation()
   halo_shutdown();
 }
 
+namespace
+{
+/* A string property set from ParaView (NULL: empty); true when it changed. */
+bool ChangeString(std::string& property, const char* value)
+{
+  std::string v = value ? value : "";
+  if (v == property)
+    return false;
+  property = v;
+  return true;
+}
+}
+
 void vtkHaloVolumeRepresentation::SetHaloScene(const char* path)
 {
-  std::string p = path ? path : "";
-  if (p == this->Internals->ScenePath)
-    return;
-  this->Internals->ScenePath = p;
-  this->Internals->Dirty = 1;
-  this->Modified();
+  if (ChangeString(this->Internals->ScenePath, path))
+  {
+    this->Internals->Dirty = 1;
+    this->Modified();
+  }
 }
 
 void vtkHaloVolumeRepresentation::SetHaloSettings(const char* settings)
 {
-  std::string s = settings ? settings : "";
-  if (s == this->Internals->Settings)
-    return;
-  this->Internals->Settings = s;
-  this->Internals->Dirty = 1;
-  this->Modified();
+  if (ChangeString(this->Internals->Settings, settings))
+  {
+    this->Internals->Dirty = 1;
+    this->Modified();
+  }
 }
 
 void vtkHaloVolumeRepresentation::SetHaloWindow(double low, double high)
