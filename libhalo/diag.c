@@ -308,3 +308,11 @@ void halo_diagnostics_report(halo_diagnostics *d, halo_severity severity, halo_m
     if ((unsigned)id >= HALO_MSG_COUNT) id = HALO_MSG_USAGE;
     halo_diag_add(d, severity, id, file ? file : "", line, column, NULL, "%s", text ? text : "");
 }
+
+void *halo_diag_calloc(halo_diagnostics *d, size_t size, const char *what)
+{
+    void *p = calloc(1, size);
+    if (!p)
+        halo_diag_error(d, OUT_OF_MEMORY, "", 0, 0, "out of memory creating %s", what);
+    return p;
+}

@@ -38,6 +38,9 @@ void halo_diag_null(halo_diagnostics *d, const char *function, const char *argum
         }                                                                                             \
     } while (0)
 
+/* calloc(1, size), or NULL after OUT_OF_MEMORY "out of memory creating WHAT" in d. */
+void *halo_diag_calloc(halo_diagnostics *d, size_t size, const char *what);
+
 /* The calling thread's setup logger: halo_setup installs desc's (a NULL desc keeps the
  * one installed); the thread's last halo_shutdown removes it. */
 void halo_diag_thread_setup(const halo_setup_desc *desc);

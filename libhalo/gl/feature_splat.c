@@ -247,11 +247,9 @@ halo_feature_buffer *halo_feature_buffer_create(halo_gl *gl, const float *values
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_feature_buffer_create: dims in 1..8192 are required");
         return NULL;
     }
-    halo_feature_buffer *b = calloc(1, sizeof *b);
-    if (!b) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    halo_feature_buffer *b = halo_diag_calloc(diag, sizeof *b, "a feature buffer");
+    if (!b)
         return NULL;
-    }
     b->gl = gl;
     b->f = halo_gl_functions(gl);
     b->diag = diag;

@@ -359,11 +359,9 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
             return NULL;
         }
     }
-    halo_gl_frame *fr = calloc(1, sizeof *fr);
-    if (!fr) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory creating a frame");
+    halo_gl_frame *fr = halo_diag_calloc(diag, sizeof *fr, "a frame");
+    if (!fr)
         return NULL;
-    }
     fr->gl = gl;
     fr->program = p;
     atomic_fetch_add(&gl->refs, 1);

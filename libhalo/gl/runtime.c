@@ -23,11 +23,9 @@ halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_create: desc.get_proc_address is required");
         return NULL;
     }
-    halo_gl *gl = calloc(1, sizeof *gl);
-    if (!gl) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory creating the GL runtime");
+    halo_gl *gl = halo_diag_calloc(diag, sizeof *gl, "the GL runtime");
+    if (!gl)
         return NULL;
-    }
     const char *missing = NULL;
     if (!halo_glfuncs_load(&gl->f, desc->get_proc_address, &missing)) {
         halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
@@ -201,28 +199,27 @@ void halo_gl_report_log(halo_diagnostics *diag, halo_message_id id, char *log, c
     report_log_mapped(diag, id, log, p, NULL, 0, source, file);
 }
 
-static char *shader_log(const halo_glfuncs *f, GLuint shader)
+/* A shader's or program's info log (the two GL queries have the same shapes). */
+static char *info_log(GLuint name, PFNGLGETSHADERIVPROC get_iv, PFNGLGETSHADERINFOLOGPROC get_log)
 {
     GLint length = 0;
-    f->GetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    get_iv(name, GL_INFO_LOG_LENGTH, &length);
     if (length < 1)
         length = 1;
     char *log = calloc((size_t)length + 1, 1);
     if (log)
-        f->GetShaderInfoLog(shader, length, NULL, log);
+        get_log(name, length, NULL, log);
     return log;
+}
+
+static char *shader_log(const halo_glfuncs *f, GLuint shader)
+{
+    return info_log(shader, f->GetShaderiv, f->GetShaderInfoLog);
 }
 
 char *halo_gl_program_log(const halo_glfuncs *f, GLuint program)
 {
-    GLint length = 0;
-    f->GetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-    if (length < 1)
-        length = 1;
-    char *log = calloc((size_t)length + 1, 1);
-    if (log)
-        f->GetProgramInfoLog(program, length, NULL, log);
-    return log;
+    return info_log(program, f->GetProgramiv, f->GetProgramInfoLog);
 }
 
 GLuint halo_gl_program_attach(const halo_glfuncs *f, GLuint vertex, GLuint fragment, const char *file,
