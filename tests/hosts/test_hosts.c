@@ -439,6 +439,60 @@ static int mip_variant_checks(const context *c, const char *iso_source)
     return failed;
 }
 
+/* halo_gl_program_build_defines: a host's own compile-time variant. The host gets a
+ * block that only compiles wrong under TEST_VARIANT_BROKEN, before its main: built with
+ * that define the driver's error is at the block's line of the host file (the inserted
+ * lines and #line keep the numbering); without it, or with another define, it builds. */
+static int build_defines_checks(const context *c, const char *file, const char *source)
+{
+    static const char block[] = "#ifdef TEST_VARIANT_BROKEN\nfloat test_variant_broken = ;\n#endif\n";
+    const char *at = strstr(source, "void main()");
+    if (!at)
+        return 1;
+    size_t head = (size_t)(at - source);
+    char *text = malloc(strlen(source) + sizeof block);
+    if (!text)
+        return 1;
+    memcpy(text, source, head);
+    memcpy(text + head, block, sizeof block - 1);
+    strcpy(text + head + sizeof block - 1, at);
+    int line = 2; /* the broken line: one after the #ifdef */
+    for (const char *p = text; p < text + head; ++p)
+        line += *p == '\n';
+    int failed = 0;
+    halo_scene *scene = halo_scene_parse(per_sample_scene, "(per-sample scene)", c->lib, c->diag);
+    halo_program *p = scene ? link_host(c, file, text, scene, HALO_TARGET_GLSL330, 0) : NULL;
+    const char *vertex = halo_host_embedded("raycast.vert");
+    for (int k = 0; k < 3 && p && vertex; ++k) {
+        static const char *const defines[3] = {NULL, "#define SOMETHING_ELSE 1\n", "#define TEST_VARIANT_BROKEN 1"};
+        halo_diagnostics_clear(c->diag);
+        unsigned program = halo_gl_program_build_defines(c->runtime, p, vertex, "raycast.vert", defines[k], c->diag);
+        int ok;
+        if (k < 2) {
+            ok = program != 0 && halo_diagnostics_errors(c->diag) == 0;
+        } else {
+            const halo_diagnostic *d = halo_diagnostics_count(c->diag) ? halo_diagnostics_get(c->diag, 0) : NULL;
+            ok = program == 0 && d && d->file && strstr(d->file, file) && d->line == line;
+            if (!ok && d)
+                printf("  got %s:%d, expected %s:%d\n", d->file ? d->file : "?", d->line, file, line);
+        }
+        if (program)
+            c->gl->DeleteProgram(program);
+        printf("%-60s %s\n", k == 0 ? "build_defines: none builds" : k == 1 ? "build_defines: another builds"
+                                                                            : "build_defines: error at the host's line",
+               ok ? "PASS" : "FAIL");
+        if (!ok)
+            halo_diagnostics_print(c->diag, stdout);
+        failed += !ok;
+    }
+    halo_diagnostics_clear(c->diag);
+    failed += !p || !vertex;
+    halo_program_destroy(p);
+    halo_scene_destroy(scene);
+    free(text);
+    return failed;
+}
+
 int main(void)
 {
     gl_fixture g;
@@ -468,6 +522,8 @@ int main(void)
             failed += exit_points_match(&c, source);
         if (!strcmp(h->file, "mip_iso_caster.frag"))
             failed += mip_variant_checks(&c, source);
+        if (i == 0)
+            failed += build_defines_checks(&c, h->file, source);
         free(source);
     }
     printf("%d failed\n", failed);

@@ -42,14 +42,24 @@ export OMPI_ALLOW_RUN_AS_ROOT OMPI_ALLOW_RUN_AS_ROOT_CONFIRM
 # pvrun NAME RANKS ARG...: one pvbatch run of halo_pvbatch.py, its output in $tmp/NAME.log;
 # returns its exit status. A new X connection is sometimes refused ("bad X server
 # connection"; seen right after the server starts and now and then later), and a rank
-# without one can leave the others waiting: the run is then tried again (at most 4
-# times, each at most 5 minutes).
+# without one can leave the others waiting: the run is stopped as soon as its output
+# says so, and tried again (at most 4 times, each at most 5 minutes).
 pvrun() {
     p_name=$1 p_ranks=$2 p_try=1
     shift 2
     while :; do
         timeout 300 mpirun --oversubscribe -np "$p_ranks" pvbatch "$HALO_PVBATCH_SCRIPT" \
-            --plugin "$HALO_PARAVIEW_PLUGIN" --view "$tmp/volume" "$@" >"$tmp/$p_name.log" 2>&1
+            --plugin "$HALO_PARAVIEW_PLUGIN" --view "$tmp/volume" "$@" >"$tmp/$p_name.log" 2>&1 &
+        p_pid=$!
+        # a refused connection is known at once: the run stops then, not at the timeout
+        while kill -0 "$p_pid" 2>/dev/null; do
+            if grep -E -q "bad X server connection|remote rendering which" "$tmp/$p_name.log"; then
+                kill "$p_pid" 2>/dev/null
+                break
+            fi
+            sleep 1
+        done
+        wait "$p_pid"
         p_status=$?
         if test $p_try -lt 4 &&
             { test $p_status -eq 124 || grep -E -q "bad X server connection|remote rendering which" "$tmp/$p_name.log"; }; then
