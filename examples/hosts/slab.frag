@@ -31,9 +31,10 @@ in vec2 ndc;
 layout(location = 0) out vec4 frag_state;
 
 #ifdef SLICE_PACKED_VOLUME
-// The slice host's packed16 gradient format: one RGBA16 texture on volume_texture's unit,
-// R the value as (value - packed_value.x) / packed_value.y, GBA the gradient / scale
-// mapped to [0,1]. The two reads are the same texture read: the compiler keeps one fetch.
+// The slice host's packed gradient formats (packed16: RGBA16, packed32: RGBA32F): one
+// texture on volume_texture's unit, R the value as (value - packed_value.x) /
+// packed_value.y, GBA the gradient / gradient_texture_scale mapped as g * 0.5 + 0.5. The
+// two reads are the same texture read: the compiler keeps one fetch.
 uniform vec2 packed_value;
 
 float sample_value(vec3 p)
