@@ -215,7 +215,8 @@ static void print_skips(const halo_bench_env *env, const halo_bench_case *cases,
         return;
     double max_abs = 0, rmse = 0, share = 0;
     halo_bench_image_error(off->image, on->image, (size_t)env->width * (size_t)env->height, &max_abs, &rmse, &share);
-    printf("# skips: M = 4 with every generation run and the occlusion pass linked (halo_map's mode live): %ld pass"
+    printf("# skips: M = 4 with every generation run over the whole image and the occlusion pass linked (halo_map's"
+           " mode live): %ld pass"
            " draws, %.1f ms; with the skips (the M = 4 row): %ld, %.1f ms; max abs between the two images %.3g (the"
            " skips are exact: 0)\n",
            off->pass_draws, off->seconds * 1e3, on->pass_draws, on->seconds * 1e3, max_abs);
