@@ -751,6 +751,12 @@ HALO_API void halo_gl_frame_drawn_region(halo_gl_frame *f, int x0, int y0, int x
  * Default: on for a software renderer (llvmpipe, softpipe, SwiftShader), which waits
  * between passes anyway; off for a GPU. */
 HALO_API void halo_gl_frame_set_readback_bounds(halo_gl_frame *f, int on);
+/* Where the images the linked shader reads (its samplers, e.g. halo_map's field) can be
+ * nonzero now: box = {x0, y0, x1, y1}, frame pixels [x0, x1) x [y0, y1); returns 0 when
+ * they hold 0 everywhere. Known after scissored generations (see drawn_region); otherwise
+ * the whole frame. A host that skips fragments whose sample is empty (e.g. outside the
+ * volume's footprint) must still draw this box: halos land outside the volume. */
+HALO_API int halo_gl_frame_read_region(const halo_gl_frame *f, int box[4]);
 
 /* ---- Host contract 2: segmented ray casting (docs/host-contract.md) ---- */
 

@@ -215,7 +215,8 @@ static void print_skips(const halo_bench_env *env, const halo_bench_case *cases,
         return;
     double max_abs = 0, rmse = 0, share = 0;
     halo_bench_image_error(off->image, on->image, (size_t)env->width * (size_t)env->height, &max_abs, &rmse, &share);
-    printf("# skips: M = 4 with every generation run over the whole image and the occlusion pass linked (halo_map's"
+    printf("# skips: M = 4 with every generation and every slice drawn over the whole image and the occlusion pass"
+           " linked (halo_map's"
            " mode live): %ld pass"
            " draws, %.1f ms; with the skips (the M = 4 row): %ld, %.1f ms; max abs between the two images %.3g (the"
            " skips are exact: 0)\n",
@@ -462,6 +463,9 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
     ROW("reference", NULL, cases[n].config.halos = 0; cases[n].config.slab = HALO_BENCH_RAYCAST);
     for (int k = 0; k < 4; ++k)
         ROW("halo", NULL, cases[n].config.slab = HALO_BENCH_RAYCAST; cases[n].config.interval = paper_m[k]);
+    /* the slice host's reference with its slices drawn whole (no clipping to the volume's
+     * section): the reference issue 16's goal was set against */
+    ROW("ref-full", NULL, cases[n].config.halos = 0; cases[n].config.interval = 1; cases[n].config.no_skip = 1);
 #undef ROW
     env->scene_text = bench_halo_scene;
     if (!halo_bench_run(env, cases, n)) {
@@ -510,9 +514,14 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
                c->config.no_generation ? "-" : interval, c->draws, c->pass_draws, c->seconds * 1e3, 1.0 / c->seconds,
                100.0 * own / c->seconds, paper, errors);
     }
-    /* issue 16's goal: the slice host's M = 4 row (default gradients, full-size 32-bit images) */
-    printf("# goal (issue 16): the slice host's M = 4 halo frame rate >= 45 %% of the reference: %.1f %%; %s\n",
-           100.0 * reference / cases[6].seconds, 100.0 * reference / cases[6].seconds >= 45.0 ? "MET" : "NOT MET");
+    /* issue 16's goal: the slice host's M = 4 row (default gradients, full-size 32-bit images),
+     * against the reference it was set with (slices drawn whole) and the clipped one */
+    double full_reference = cases[n - 1].seconds;
+    printf("# goal (issue 16): the slice host's M = 4 halo frame rate >= 45 %% of the reference with whole slices"
+           " (ref-full, as when the goal was set): %.1f %%; %s; of the reference with slices clipped to the volume"
+           " (reference): %.1f %%; clipping makes the reference %.2fx as fast\n",
+           100.0 * full_reference / cases[6].seconds, 100.0 * full_reference / cases[6].seconds >= 45.0 ? "MET" : "NOT MET",
+           100.0 * reference / cases[6].seconds, full_reference / reference);
     printf("# paper (GeForce 8800 GTX, 256^3, 512^2, sample distance 0.5): reference 29.34 fps;"
            " M = 1, 2, 4, 8: 15.85, 26.31, 34.97, 42.91 %% of it\n");
     /* where the time goes, per frame, against the reference */

@@ -23,7 +23,8 @@ typedef struct halo_bench_config {
     int no_generation; /* seeding and mapping per sample, no image pass */
     int gradient;      /* the slice/slab hosts' gradient texture (halo_gradient_format); 0: the hosts' default */
     int no_skip;       /* the work a frame does not need, done anyway (issue 16, item 1): every generation
-                        * (halo_slice_set_generation_skip 0), and the occlusion pass (halo_map's mode live) */
+                        * and every slice over the whole image (halo_slice_set_generation_skip 0), and the
+                        * occlusion pass (halo_map's mode live) */
 } halo_bench_config;
 
 typedef struct halo_bench_case {

@@ -637,8 +637,10 @@ int halo_host_orbit_camera_projection(double azimuth, double elevation, double z
     halo_host_matrix_multiply(projection, view, view_projection);
     if (!halo_host_matrix_invert(view_projection, inverse))
         return 0;
-    for (int i = 0; i < 16; ++i)
+    for (int i = 0; i < 16; ++i) {
         camera->inverse_view_projection[i] = (float)inverse[i];
+        camera->view_projection[i] = view_projection[i];
+    }
     return 1;
 }
 

@@ -127,6 +127,7 @@ typedef struct halo_host_camera {
     double back[3]; /* from the centre to the eye */
     double right[3], up[3];
     float inverse_view_projection[16];
+    double view_projection[16]; /* column-major, volume texture space -> clip space */
 } halo_host_camera;
 
 /* Degrees; non-finite angles count as 0 and zoom as 1. Returns 0 (camera partly

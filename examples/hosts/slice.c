@@ -23,6 +23,7 @@ struct halo_slice {
     int dims[3];
     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4];
     float inverse_view_projection[16];
+    double view_projection[16]; /* volume texture space -> clip space */
     float eye[3], view_axis[3], screen_right[3], screen_up[3];
     float step_voxels;
     float background[3];
@@ -325,8 +326,10 @@ void halo_slice_set_camera(halo_slice *s, double azimuth, double elevation, doub
     halo_host_camera camera;
     if (!halo_host_orbit_camera(azimuth, elevation, zoom, s->width, s->height, &camera))
         return;
-    for (int i = 0; i < 16; ++i)
+    for (int i = 0; i < 16; ++i) {
         s->inverse_view_projection[i] = camera.inverse_view_projection[i];
+        s->view_projection[i] = camera.view_projection[i];
+    }
     for (int c = 0; c < 3; ++c) {
         s->eye[c] = (float)camera.eye[c];
         s->view_axis[c] = (float)-camera.back[c];
@@ -494,6 +497,108 @@ static void generation_run(generation_skip *g, halo_gl_frame *frame)
     g->seeded = 0;
 }
 
+/* Slices clipped to the volume (issue 16, item 1). Outside the unit cube slice.frag's
+ * sample is empty: value, colour, opacity and gradient 0. The stages below leave such a
+ * sample empty and write 0 to their outputs when the images they read are 0 there:
+ * gradient only derives the gradient's length and direction,
+ * halo_seed seeds nothing without a gradient, halo_map adds nothing where its field and
+ * occlusion are 0, boundary scales an opacity of 0. With only these stages linked (or
+ * none), a slice's pixels outside its plane's section of the cube and outside the
+ * images' nonzero box (halo_gl_frame_read_region) add nothing to any buffer: the slice
+ * is scissored to the rest, or not drawn when that is empty. Other stages may make an
+ * empty sample visible (opacity_power's pow(0, 0), distance cues...): their slices are
+ * drawn whole. */
+static int slices_clippable(const halo_slice *s)
+{
+    static const char *const empty_keeping[] = {"gradient", "halo_seed", "halo_map", "halo_generate", "boundary"};
+    if (s->slab || s->run_every_generation)
+        return 0;
+    for (size_t i = 0; s->linked && i < halo_program_stage_count(s->linked); ++i) {
+        const char *stage = halo_program_stage(s->linked, i);
+        int known = 0;
+        for (size_t k = 0; k < sizeof empty_keeping / sizeof *empty_keeping; ++k)
+            known |= !strcmp(stage, empty_keeping[k]);
+        if (!known)
+            return 0;
+    }
+    return 1;
+}
+
+/* The pixels slice.frag may sample the cube in on the plane dot(P - eye, view_axis) =
+ * distance: the window box of the plane's section of the cube grown by 1e-3 (the shader's
+ * float inside test), plus a pixel each side; the whole image when a point of it is not
+ * in front of the eye. Returns 0 when the plane misses the cube. */
+static int slice_section_box(const halo_slice *s, double distance, int box[4])
+{
+    const double lo = -1e-3, hi = 1.0 + 1e-3;
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    int points = 0;
+    for (int edge = 0; edge < 12; ++edge) {
+        int axis = edge / 4; /* the edge runs along axis; the other two coordinates at lo or hi */
+        double a[3], b[3];
+        for (int c = 0, bit = 0; c < 3; ++c) {
+            if (c == axis) {
+                a[c] = lo;
+                b[c] = hi;
+            } else {
+                a[c] = b[c] = (edge >> bit++ & 1) ? hi : lo;
+            }
+        }
+        double da = -distance, db = -distance;
+        for (int c = 0; c < 3; ++c) {
+            da += (a[c] - s->eye[c]) * s->view_axis[c];
+            db += (b[c] - s->eye[c]) * s->view_axis[c];
+        }
+        if ((da > 0.0 && db > 0.0) || (da < 0.0 && db < 0.0) || da == db)
+            continue;
+        double t = da / (da - db), clip[4];
+        for (int r = 0; r < 4; ++r) {
+            clip[r] = s->view_projection[12 + r];
+            for (int c = 0; c < 3; ++c)
+                clip[r] += s->view_projection[4 * c + r] * (a[c] + t * (b[c] - a[c]));
+        }
+        if (!(clip[3] > 1e-9)) {
+            box[0] = box[1] = 0;
+            box[2] = s->width;
+            box[3] = s->height;
+            return 1;
+        }
+        double x = (clip[0] / clip[3] + 1.0) * 0.5 * s->width, y = (clip[1] / clip[3] + 1.0) * 0.5 * s->height;
+        x0 = x < x0 ? x : x0;
+        x1 = x > x1 ? x : x1;
+        y0 = y < y0 ? y : y0;
+        y1 = y > y1 ? y : y1;
+        points++;
+    }
+    if (!points)
+        return 0;
+    box[0] = x0 - 1.0 > 0.0 ? (int)floor(x0) - 1 : 0;
+    box[1] = y0 - 1.0 > 0.0 ? (int)floor(y0) - 1 : 0;
+    box[2] = x1 + 1.0 < s->width ? (int)ceil(x1) + 1 : s->width;
+    box[3] = y1 + 1.0 < s->height ? (int)ceil(y1) + 1 : s->height;
+    return box[0] < box[2] && box[1] < box[3];
+}
+
+/* Scissors the next slice to where it can add something (slices_clippable); returns 0
+ * when that is nowhere. */
+static int slice_clip(const halo_slice *s, double distance)
+{
+    int box[4], read[4];
+    int any = slice_section_box(s, distance, box);
+    if (s->frame && halo_gl_frame_read_region(s->frame, read)) {
+        if (!any)
+            memcpy(box, read, sizeof box);
+        for (int c = 0; c < 2 && any; ++c) {
+            box[c] = read[c] < box[c] ? read[c] : box[c];
+            box[c + 2] = read[c + 2] > box[c + 2] ? read[c + 2] : box[c + 2];
+        }
+        any = 1;
+    }
+    if (any)
+        s->f->Scissor(box[0], box[1], box[2] - box[0], box[3] - box[1]);
+    return any;
+}
+
 /* One pass over the volume; group >= 0: feature group `group` of a grouped program. */
 static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagnostics *diag)
 {
@@ -572,10 +677,16 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     generation_skip_start(&skip, s, &st);
     if (!s->slab) {
         GLint distance_location = f->GetUniformLocation(program, "slice_distance");
+        int clip = slices_clippable(s);
         for (int k = 0; k < st.slice_count; ++k) {
-            f->Uniform1f(distance_location, (float)(st.first_distance + k * st.step_size));
-            f->DrawArrays(GL_TRIANGLES, 0, 3);
-            s->draws++;
+            float distance = (float)(st.first_distance + k * st.step_size);
+            if (clip)
+                f->Enable(GL_SCISSOR_TEST); /* a generation leaves it off */
+            if (!clip || slice_clip(s, distance)) {
+                f->Uniform1f(distance_location, distance);
+                f->DrawArrays(GL_TRIANGLES, 0, 3);
+                s->draws++;
+            }
             generation_skip_drawn(&skip, &st, k, 1);
             if (generate && (k + 1) % interval == 0 && k + 1 < st.slice_count)
                 generation_run(&skip, s->frame);
@@ -583,6 +694,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
                 s->progress(k + 1, st.slice_count, s->progress_user);
         }
         f->Disable(GL_BLEND);
+        f->Disable(GL_SCISSOR_TEST);
     } else {
         GLint first_location = f->GetUniformLocation(program, "first_distance");
         GLint samples_location = f->GetUniformLocation(program, "slab_samples");

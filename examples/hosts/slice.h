@@ -72,8 +72,12 @@ int halo_gradient_format_option(const char *text, halo_gradient_format *format, 
 /* Whether a frame skips the work it can skip exactly (on by default): generations when no
  * slice since the last one met the volume and the halo images are still zero, and, on a
  * software renderer, the pixels of each pass that stay zero (the seeds' box grown by the
- * passes' reach: halo_gl_frame_set_readback_bounds). docs/performance.md, "Work skipped".
- * Off runs every generation over the whole image, for measuring. */
+ * passes' reach: halo_gl_frame_set_readback_bounds), and the slice host's pixels whose
+ * samples are empty: each slice is scissored to its plane's section of the volume (with
+ * the box where the halo images read can be nonzero, halo_gl_frame_read_region) when
+ * every linked per-sample stage leaves an empty sample empty. docs/performance.md,
+ * "Work skipped". Off runs every generation and draws every slice and pass over the
+ * whole image, for measuring. */
 void halo_slice_set_generation_skip(halo_slice *s, int on);
 /* Takes effect at the next set_volume; an unknown value means the default. */
 void halo_slice_set_gradient_format(halo_slice *s, halo_gradient_format format);

@@ -712,6 +712,34 @@ void halo_gl_frame_drawn_region(halo_gl_frame *fr, int x0, int y0, int x1, int y
     fr->drawn_known = 1;
 }
 
+int halo_gl_frame_read_region(const halo_gl_frame *fr, int box[4])
+{
+    HALO_REFUSE_NULL(NULL, fr, "frame", 0);
+    HALO_REFUSE_NULL(NULL, box, "box", 0);
+    frame_box all = {0, 0, fr->width, fr->height}, region = {0, 0, 0, 0};
+    for (size_t i = 0; i < halo_program_sampler_count(fr->program); ++i) {
+        int k = frame_find_image(fr, halo_program_sampler(fr->program, i)->image);
+        const frame_image *im = k >= 0 ? &fr->images[k] : NULL;
+        if (!im || im->host || im->clear != 0.0f) { /* support holds for images cleared to 0 */
+            region = all;
+            break;
+        }
+        frame_box b = im->support[im->current];
+        if (box_empty(b))
+            continue;
+        /* a 1/s image is read bilinearly between the texel centres around a pixel: texel t
+         * reaches the frame pixels [(t - 1) s, (t + 2) s) */
+        int s = (fr->width + im->width - 1) / im->width;
+        b = (frame_box){(b.x0 - 1) * s, (b.y0 - 1) * s, (b.x1 + 1) * s, (b.y1 + 1) * s};
+        region = box_union(region, box_grow(b, 0, fr->width, fr->height));
+    }
+    box[0] = region.x0;
+    box[1] = region.y0;
+    box[2] = region.x1;
+    box[3] = region.y1;
+    return !box_empty(region);
+}
+
 static void frame_run(halo_gl_frame *fr, int post)
 {
     if (!fr || (fr->pass_count == 0 && fr->image_count == 0))

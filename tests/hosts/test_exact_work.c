@@ -210,9 +210,15 @@ static const char skip_scene[] =
     " \"render\": {\"azimuth\": 0, \"elevation\": 0, \"zoom\": 1.2, \"step\": 0.5,"
     " \"transfer\": [[0, 0, 0, 0, 0], [1, 1, 1, 1, 0.05]]}}";
 
-/* Renders the skip scene with host `slab`, skips on or off; NULL on failure. */
+/* The cameras of the skip checks: face on, filling the image; oblique, with the cube
+ * small in it (slices clipped to a fraction of the image, some missing the cube). */
+static const double skip_cameras[2][3] = {{0.0, 0.0, 1.2}, {30.0, 20.0, 0.6}};
+
+/* Renders the skip scene with host `slab` (program p, or none), skips on or off, from
+ * camera `camera`; NULL on failure. draws: {slices or slabs drawn, pass draws}. */
 static float *render_skips(halo_gl *runtime, const halo_program *p, const halo_render_settings *settings,
-                           const float *volume, int side, int slab, int skip, long *pass_draws, halo_diagnostics *diag)
+                           const float *volume, int side, int slab, int skip, int camera, long draws[2],
+                           halo_diagnostics *diag)
 {
     enum { PIXELS = 48 };
     halo_host_desc desc = {.gl = halo_gl_functions(runtime), .runtime = runtime, .program = p, .width = PIXELS,
@@ -222,11 +228,13 @@ static float *render_skips(halo_gl *runtime, const halo_program *p, const halo_r
     int ok = s && rgba && halo_slice_set_volume(s, volume, side, side, side, diag) == HALO_OK &&
              halo_slice_set_render(s, settings, diag) == HALO_OK;
     if (ok) {
-        halo_slice_set_camera(s, settings->azimuth, settings->elevation, settings->zoom);
+        const double *view = skip_cameras[camera];
+        halo_slice_set_camera(s, view[0], view[1], view[2]);
         halo_slice_set_interval(s, 2);
         halo_slice_set_generation_skip(s, skip);
         ok = halo_slice_render(s, rgba, diag) == HALO_OK;
-        *pass_draws = halo_slice_pass_draws(s);
+        draws[0] = halo_slice_draws(s);
+        draws[1] = halo_slice_pass_draws(s);
     }
     halo_slice_destroy(s);
     if (!ok) {
@@ -234,6 +242,33 @@ static float *render_skips(halo_gl *runtime, const halo_program *p, const halo_r
         return NULL;
     }
     return rgba;
+}
+
+/* Skips on against off, every float: the halo scene on the slice and slab hosts and the
+ * slice host with no stages (its slices clipped alone), for each camera. A check fails
+ * unless the skips spared work: fewer pass draws (halo scene) or fewer slices drawn
+ * (no stages; at the oblique camera, where slices miss the cube). */
+static int check_skip_case(halo_gl *runtime, const halo_program *p, const halo_scene *scene, const float *volume,
+                           int side, int slab, int camera, const char *what, halo_diagnostics *diag)
+{
+    long draws[2][2] = {{0, 0}, {0, 0}};
+    float *image[2] = {NULL, NULL};
+    for (int skip = 0; skip < 2; ++skip)
+        image[skip] = render_skips(runtime, p, halo_scene_render(scene), volume, side, slab, skip, camera,
+                                   draws[skip], diag);
+    size_t differing = 0, n = (size_t)48 * 48 * 4;
+    for (size_t i = 0; image[0] && image[1] && i < n; ++i)
+        differing += memcmp(&image[0][i], &image[1][i], sizeof(float)) != 0;
+    int spared = p ? draws[1][1] < draws[0][1] : camera == 0 || draws[1][0] < draws[0][0];
+    int ok = image[0] && image[1] && differing == 0 && spared;
+    printf("%s %s host, %s, camera %d: skips off %ld slices and %ld pass draws, on %ld and %ld; %zu of %zu floats"
+           " differ\n", ok ? "ok  " : "FAIL", slab ? "slab" : "slice", what, camera, draws[0][0], draws[0][1],
+           draws[1][0], draws[1][1], differing, n);
+    if (!image[0] || !image[1])
+        halo_diagnostics_print(diag, stdout);
+    free(image[0]);
+    free(image[1]);
+    return !ok;
 }
 
 static int check_skips(halo_gl *runtime, unsigned *state)
@@ -251,28 +286,19 @@ static int check_skips(halo_gl *runtime, unsigned *state)
             double r2 = (x - 13.5) * (x - 13.5) + (y - 6.5) * (y - 6.5) + (z - 9.5) * (z - 9.5);
             volume[i] = ball ? (r2 < 9.0 ? 0.9f : 0.0f) : next_random(state);
         }
+        const char *what = ball ? "ball" : "noise";
         for (int slab = 0; slab < 2 && scene && volume; ++slab) {
             halo_program *p = host[slab] ? halo_link(&(halo_link_desc){.library = lib, .scene = scene,
                                                                         .host_source = host[slab],
                                                                         .host_file = slab ? "slab.frag" : "slice.frag"},
                                                      diag)
                                          : NULL;
-            long draws[2] = {0, 0};
-            float *image[2] = {NULL, NULL};
-            for (int skip = 0; skip < 2 && p; ++skip)
-                image[skip] = render_skips(runtime, p, halo_scene_render(scene), volume, SIDE, slab, skip, &draws[skip],
-                                           diag);
-            size_t differing = 0, n = (size_t)48 * 48 * 4;
-            for (size_t i = 0; image[0] && image[1] && i < n; ++i)
-                differing += memcmp(&image[0][i], &image[1][i], sizeof(float)) != 0;
-            int ok = image[0] && image[1] && differing == 0 && draws[1] < draws[0];
-            printf("%s %s host, %s: skips off %ld pass draws, on %ld; %zu of %zu floats differ\n", ok ? "ok  " : "FAIL",
-                   slab ? "slab" : "slice", ball ? "ball" : "noise", draws[0], draws[1], differing, n);
-            if (!image[0] || !image[1])
-                halo_diagnostics_print(diag, stdout);
-            failed += !ok;
-            free(image[0]);
-            free(image[1]);
+            for (int camera = 0; camera < 2; ++camera) {
+                failed += p ? check_skip_case(runtime, p, scene, volume, SIDE, slab, camera, what, diag) : 1;
+                if (!slab)
+                    failed += check_skip_case(runtime, NULL, scene, volume, SIDE, 0, camera,
+                                              ball ? "ball, no stages" : "noise, no stages", diag);
+            }
             halo_program_destroy(p);
         }
     }

@@ -442,6 +442,13 @@ CASE(halo_gl_frame_attach) { REFUSES(DONE(halo_gl_frame_attach(NULL, 0)), "frame
 CASE(halo_gl_frame_bind) { REFUSES(DONE(halo_gl_frame_bind(NULL, 1, 0)), "frame"); return 0; }
 CASE(halo_gl_frame_generate) { REFUSES(DONE(halo_gl_frame_generate(NULL)), "frame"); return 0; }
 CASE(halo_gl_frame_drawn_region) { REFUSES(DONE(halo_gl_frame_drawn_region(NULL, 0, 0, 1, 1)), "frame"); return 0; }
+CASE(halo_gl_frame_read_region) {
+    int box[4];
+    REFUSES(halo_gl_frame_read_region(NULL, box) == 0, "frame");
+    if (!fixture_gl()) return 0;
+    REFUSES(halo_gl_frame_read_region(gl_fixture.frame, NULL) == 0, "box");
+    return 0;
+}
 CASE(halo_gl_frame_set_readback_bounds) { REFUSES(DONE(halo_gl_frame_set_readback_bounds(NULL, 1)), "frame"); return 0; }
 CASE(halo_gl_frame_post) { REFUSES(DONE(halo_gl_frame_post(NULL, 0)), "frame"); return 0; }
 CASE(halo_gl_frame_texture) {
@@ -691,6 +698,7 @@ static const api_case cases[] = {
     ROW(halo_gl_frame_bind),
     ROW(halo_gl_frame_generate),
     ROW(halo_gl_frame_drawn_region),
+    ROW(halo_gl_frame_read_region),
     ROW(halo_gl_frame_set_readback_bounds),
     ROW(halo_gl_frame_post),
     ROW(halo_gl_frame_texture),
