@@ -746,8 +746,9 @@ HALO_API long halo_gl_frame_pass_draws(const halo_gl_frame *f);
  * A texture taken with halo_gl_frame_texture counts as written anywhere. */
 HALO_API void halo_gl_frame_drawn_region(halo_gl_frame *f, int x0, int y0, int x1, int y1);
 /* on: before each generation that can be scissored (every pass declares its reach), read
- * the program's outputs back and take their nonzero pixels' box, when the host declared
- * no region: exact for any host, at the cost of a read-back that waits for the draws.
+ * the program's outputs back and take their nonzero pixels' box (inside the region the
+ * host declared, when it did): exact for any host, at the cost of a read-back that waits
+ * for the draws.
  * Default: on for a software renderer (llvmpipe, softpipe, SwiftShader), which waits
  * between passes anyway; off for a GPU. */
 HALO_API void halo_gl_frame_set_readback_bounds(halo_gl_frame *f, int on);

@@ -579,9 +579,9 @@ static int slice_section_box(const halo_slice *s, double distance, int box[4])
     return box[0] < box[2] && box[1] < box[3];
 }
 
-/* Scissors the next slice to where it can add something (slices_clippable); returns 0
- * when that is nowhere. */
-static int slice_clip(const halo_slice *s, double distance)
+/* Scissors the next slice to where it can add something (slices_clippable) and adds that
+ * box to drawn (x0, y0, x1, y1; empty: x0 >= x1); returns 0 when it is nowhere. */
+static int slice_clip(const halo_slice *s, double distance, int drawn[4])
 {
     int box[4], read[4];
     int any = slice_section_box(s, distance, box);
@@ -594,9 +594,18 @@ static int slice_clip(const halo_slice *s, double distance)
         }
         any = 1;
     }
-    if (any)
-        s->f->Scissor(box[0], box[1], box[2] - box[0], box[3] - box[1]);
-    return any;
+    if (!any)
+        return 0;
+    s->f->Scissor(box[0], box[1], box[2] - box[0], box[3] - box[1]);
+    if (drawn[0] >= drawn[2]) {
+        memcpy(drawn, box, sizeof box);
+    } else {
+        for (int c = 0; c < 2; ++c) {
+            drawn[c] = box[c] < drawn[c] ? box[c] : drawn[c];
+            drawn[c + 2] = box[c + 2] > drawn[c + 2] ? box[c + 2] : drawn[c + 2];
+        }
+    }
+    return 1;
 }
 
 /* One pass over the volume; group >= 0: feature group `group` of a grouped program. */
@@ -678,18 +687,24 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     if (!s->slab) {
         GLint distance_location = f->GetUniformLocation(program, "slice_distance");
         int clip = slices_clippable(s);
+        int drawn[4] = {0, 0, 0, 0}; /* clipped: the box the slices since the last generation drew in */
         for (int k = 0; k < st.slice_count; ++k) {
             float distance = (float)(st.first_distance + k * st.step_size);
             if (clip)
                 f->Enable(GL_SCISSOR_TEST); /* a generation leaves it off */
-            if (!clip || slice_clip(s, distance)) {
+            if (!clip || slice_clip(s, distance, drawn)) {
                 f->Uniform1f(distance_location, distance);
                 f->DrawArrays(GL_TRIANGLES, 0, 3);
                 s->draws++;
             }
             generation_skip_drawn(&skip, &st, k, 1);
-            if (generate && (k + 1) % interval == 0 && k + 1 < st.slice_count)
+            if (generate && (k + 1) % interval == 0 && k + 1 < st.slice_count) {
+                if (clip) { /* the seeds are inside (read back there on a software renderer) */
+                    halo_gl_frame_drawn_region(s->frame, drawn[0], drawn[1], drawn[2], drawn[3]);
+                    memset(drawn, 0, sizeof drawn);
+                }
                 generation_run(&skip, s->frame);
+            }
             if (s->progress)
                 s->progress(k + 1, st.slice_count, s->progress_user);
         }

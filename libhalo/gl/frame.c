@@ -91,7 +91,8 @@ struct halo_gl_frame {
     int drawn_known;
     frame_box drawn;
     /* Before a scissored generation without a declared region, the host's outputs are
-     * read back and their nonzero pixels' box taken (halo_gl_frame_set_readback_bounds). */
+     * read back (inside the declared region, if any) and their nonzero pixels' box taken
+     * (halo_gl_frame_set_readback_bounds). */
     int readback_bounds;
     float *readback;
 };
@@ -215,27 +216,31 @@ static void frame_clear_image(halo_gl_frame *fr, int i)
 
 static frame_box image_full(const frame_image *im) { return (frame_box){0, 0, im->width, im->height}; }
 
-/* The box of the pixels of image im's current texture that differ from 0 (NaN included),
- * read back through the frame's framebuffer (bound as GL_FRAMEBUFFER); the whole image
- * when the scratch memory is missing. */
-static frame_box image_nonzero_box(halo_gl_frame *fr, frame_image *im)
+/* The box of the pixels of image im's current texture inside `within` that differ from 0
+ * (NaN included), read back through the frame's framebuffer (bound as GL_FRAMEBUFFER);
+ * `within` when the scratch memory is missing. */
+static frame_box image_nonzero_box(halo_gl_frame *fr, frame_image *im, frame_box within)
 {
     const halo_glfuncs *f = &fr->gl->f;
+    within = box_grow(within, 0, im->width, im->height);
+    if (box_empty(within))
+        return (frame_box){0, 0, 0, 0};
     if (!fr->readback)
         fr->readback = malloc((size_t)fr->width * (size_t)fr->height * 4 * sizeof(float));
     if (!fr->readback)
-        return image_full(im);
+        return within;
     static const GLenum formats[4] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
+    int width = within.x1 - within.x0, height = within.y1 - within.y0;
     GLint pack = 4;
     f->GetIntegerv(GL_PACK_ALIGNMENT, &pack);
     f->PixelStorei(GL_PACK_ALIGNMENT, 4);
     f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, im->texture[im->current], 0);
     f->ReadBuffer(GL_COLOR_ATTACHMENT0);
-    f->ReadPixels(0, 0, im->width, im->height, formats[im->channels - 1], GL_FLOAT, fr->readback);
+    f->ReadPixels(within.x0, within.y0, width, height, formats[im->channels - 1], GL_FLOAT, fr->readback);
     f->PixelStorei(GL_PACK_ALIGNMENT, pack);
     frame_box b = {im->width, im->height, 0, 0};
-    size_t row = (size_t)im->width * (size_t)im->channels;
-    for (int y = 0; y < im->height; ++y) {
+    size_t row = (size_t)width * (size_t)im->channels;
+    for (int y = 0; y < height; ++y) {
         const float *line = fr->readback + (size_t)y * row;
         size_t first = 0, last = row;
         while (first < row && line[first] == 0.0f)
@@ -244,18 +249,20 @@ static frame_box image_nonzero_box(halo_gl_frame *fr, frame_image *im)
             continue;
         while (line[last - 1] == 0.0f)
             --last;
-        int x0 = (int)(first / (size_t)im->channels), x1 = (int)((last - 1) / (size_t)im->channels) + 1;
+        int x0 = within.x0 + (int)(first / (size_t)im->channels);
+        int x1 = within.x0 + (int)((last - 1) / (size_t)im->channels) + 1;
         b.x0 = x0 < b.x0 ? x0 : b.x0;
         b.x1 = x1 > b.x1 ? x1 : b.x1;
-        b.y0 = y < b.y0 ? y : b.y0;
-        b.y1 = y + 1;
+        b.y0 = within.y0 + y < b.y0 ? within.y0 + y : b.y0;
+        b.y1 = within.y0 + y + 1;
     }
     return box_empty(b) ? (frame_box){0, 0, 0, 0} : b;
 }
 
 /* The host's draws since the last call are in the images it writes (the program's
- * outputs): their current textures' support is read back (exact), or grows by the
- * region the host declared, or becomes the whole image. */
+ * outputs): their current textures' support grows by the region the host declared, or
+ * becomes the whole image; read_back: by the nonzero pixels read back inside that region,
+ * or of the whole image (exact). */
 static void frame_take_host_draws(halo_gl_frame *fr, int read_back)
 {
     size_t n = halo_program_output_count(fr->program);
@@ -265,8 +272,10 @@ static void frame_take_host_draws(halo_gl_frame *fr, int read_back)
             continue;
         frame_image *im = &fr->images[k];
         frame_box *support = &im->support[im->current];
-        if (read_back)
-            *support = image_nonzero_box(fr, im);
+        if (read_back && fr->drawn_known)
+            *support = box_union(*support, image_nonzero_box(fr, im, fr->drawn));
+        else if (read_back)
+            *support = image_nonzero_box(fr, im, image_full(im));
         else
             *support = fr->drawn_known ? box_union(*support, box_grow(fr->drawn, 0, im->width, im->height))
                                        : image_full(im);
@@ -754,7 +763,7 @@ static void frame_run(halo_gl_frame *fr, int post)
     f->Disable(GL_SCISSOR_TEST);
     f->BindVertexArray(fr->vertex_array);
     int scissored = !post && frame_scissored(fr);
-    frame_take_host_draws(fr, scissored && fr->readback_bounds && !fr->drawn_known);
+    frame_take_host_draws(fr, scissored && fr->readback_bounds);
     for (size_t i = 0; i < fr->pass_count; ++i) {
         frame_pass *pass = &fr->passes[i];
         frame_image *out = &fr->images[pass->output];

@@ -214,7 +214,8 @@ static const char skip_scene[] =
  * small in it (slices clipped to a fraction of the image, some missing the cube). */
 static const double skip_cameras[2][3] = {{0.0, 0.0, 1.2}, {30.0, 20.0, 0.6}};
 
-/* Renders the skip scene with host `slab` (program p, or none), skips on or off, from
+/* Renders the skip scene with host `slab` (program p, or none), skips off (0), on (1) or on
+ * without read-backs (2: the slice host's declared regions alone), from
  * camera `camera`; NULL on failure. draws: {slices or slabs drawn, pass draws}. */
 static float *render_skips(halo_gl *runtime, const halo_program *p, const halo_render_settings *settings,
                            const float *volume, int side, int slab, int skip, int camera, long draws[2],
@@ -231,7 +232,9 @@ static float *render_skips(halo_gl *runtime, const halo_program *p, const halo_r
         const double *view = skip_cameras[camera];
         halo_slice_set_camera(s, view[0], view[1], view[2]);
         halo_slice_set_interval(s, 2);
-        halo_slice_set_generation_skip(s, skip);
+        halo_slice_set_generation_skip(s, skip != 0);
+        if (skip == 2 && halo_slice_frame(s)) /* as on a GPU: the boxes the host declares, no read-back */
+            halo_gl_frame_set_readback_bounds(halo_slice_frame(s), 0);
         ok = halo_slice_render(s, rgba, diag) == HALO_OK;
         draws[0] = halo_slice_draws(s);
         draws[1] = halo_slice_pass_draws(s);
@@ -251,23 +254,27 @@ static float *render_skips(halo_gl *runtime, const halo_program *p, const halo_r
 static int check_skip_case(halo_gl *runtime, const halo_program *p, const halo_scene *scene, const float *volume,
                            int side, int slab, int camera, const char *what, halo_diagnostics *diag)
 {
-    long draws[2][2] = {{0, 0}, {0, 0}};
-    float *image[2] = {NULL, NULL};
-    for (int skip = 0; skip < 2; ++skip)
+    long draws[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+    float *image[3] = {NULL, NULL, NULL};
+    int variants = p && !slab ? 3 : 2;
+    for (int skip = 0; skip < variants; ++skip)
         image[skip] = render_skips(runtime, p, halo_scene_render(scene), volume, side, slab, skip, camera,
                                    draws[skip], diag);
     size_t differing = 0, n = (size_t)48 * 48 * 4;
-    for (size_t i = 0; image[0] && image[1] && i < n; ++i)
-        differing += memcmp(&image[0][i], &image[1][i], sizeof(float)) != 0;
+    for (int v = 1; v < variants; ++v)
+        for (size_t i = 0; image[0] && image[v] && i < n; ++i)
+            differing += memcmp(&image[0][i], &image[v][i], sizeof(float)) != 0;
     int spared = p ? draws[1][1] < draws[0][1] : camera == 0 || draws[1][0] < draws[0][0];
-    int ok = image[0] && image[1] && differing == 0 && spared;
-    printf("%s %s host, %s, camera %d: skips off %ld slices and %ld pass draws, on %ld and %ld; %zu of %zu floats"
-           " differ\n", ok ? "ok  " : "FAIL", slab ? "slab" : "slice", what, camera, draws[0][0], draws[0][1],
-           draws[1][0], draws[1][1], differing, n);
-    if (!image[0] || !image[1])
+    int ok = image[0] && image[1] && (variants < 3 || image[2]) && differing == 0 && spared;
+    printf("%s %s host, %s, camera %d: skips off %ld slices and %ld pass draws, on %ld and %ld", ok ? "ok  " : "FAIL",
+           slab ? "slab" : "slice", what, camera, draws[0][0], draws[0][1], draws[1][0], draws[1][1]);
+    if (variants == 3)
+        printf(", on without read-backs %ld and %ld", draws[2][0], draws[2][1]);
+    printf("; %zu of %zu floats differ\n", differing, n * (size_t)(variants - 1));
+    if (!image[0] || !image[1] || (variants == 3 && !image[2]))
         halo_diagnostics_print(diag, stdout);
-    free(image[0]);
-    free(image[1]);
+    for (int v = 0; v < variants; ++v)
+        free(image[v]);
     return !ok;
 }
 
