@@ -379,7 +379,9 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
 /* A program with feature groups (halo_program_group_count > 1, e.g. more than four
  * outline features) renders the volume once per group: the group's values uploaded,
  * its feature images cleared before and reduced after (halo_gl_frame_begin_group,
- * _end_group); the colour is the same every time. */
+ * _end_group); the colour is the same every time, so the slice host writes it in the
+ * first group only (glColorMaski off for buffer 0 after it: the driver may then skip the
+ * colour's blending, and llvmpipe the shader work that only feeds it). */
 halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag)
 {
     if (!s || !rgba)
@@ -608,6 +610,16 @@ static int slice_clip(const halo_slice *s, double distance, int drawn[4])
     return 1;
 }
 
+/* Colour buffer 0 written (on) or not while the slices are drawn, when `masking`. The
+ * frame's passes (generation, a group's reduction) draw into buffer 0 of their own
+ * framebuffer, under the same mask: it is on around them. */
+static void colour_mask(const halo_slice *s, int masking, int on)
+{
+    if (masking)
+        s->f->ColorMaski(0, on ? GL_TRUE : GL_FALSE, on ? GL_TRUE : GL_FALSE, on ? GL_TRUE : GL_FALSE,
+                         on ? GL_TRUE : GL_FALSE);
+}
+
 /* One pass over the volume; group >= 0: feature group `group` of a grouped program. */
 static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagnostics *diag)
 {
@@ -618,6 +630,8 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     static const GLfloat zero[4] = {0, 0, 0, 0};
     long pass_draws_before = halo_gl_frame_pass_draws(s->frame);
     s->draws = 0;
+    /* a group after the first: rgba and colour buffer 0 hold the colour already */
+    int colour_written = group > 0 && !s->slab && !s->run_every_generation && f->ColorMaski;
 
     f->BindFramebuffer(GL_FRAMEBUFFER, s->framebuffer);
     f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->textures[0], 0);
@@ -626,7 +640,8 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     f->Viewport(0, 0, s->width, s->height);
     f->Disable(GL_DEPTH_TEST);
     f->Disable(GL_SCISSOR_TEST);
-    f->ClearBufferfv(GL_COLOR, 0, zero);
+    if (!colour_written)
+        f->ClearBufferfv(GL_COLOR, 0, zero);
     f->UseProgram(program);
     if (s->linked)
         halo_gl_program_upload(s->runtime, s->linked, program);
@@ -681,6 +696,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
         halo_gl_frame_bind(s->frame, program, 3);
     }
     f->BindVertexArray(s->vertex_array);
+    colour_mask(s, colour_written, 0);
     int current = 0;
     generation_skip skip;
     generation_skip_start(&skip, s, &st);
@@ -703,7 +719,9 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
                     halo_gl_frame_drawn_region(s->frame, drawn[0], drawn[1], drawn[2], drawn[3]);
                     memset(drawn, 0, sizeof drawn);
                 }
+                colour_mask(s, colour_written, 1);
                 generation_run(&skip, s->frame);
+                colour_mask(s, colour_written, 0);
             }
             if (s->progress)
                 s->progress(k + 1, st.slice_count, s->progress_user);
@@ -737,12 +755,15 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
         f->BindFramebuffer(GL_FRAMEBUFFER, s->framebuffer);
         f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->textures[current], 0);
     }
+    colour_mask(s, colour_written, 1); /* the frame's passes draw into their buffer 0 */
     if (group >= 0)
         halo_gl_frame_end_group(s->frame);
-    f->BindFramebuffer(GL_READ_FRAMEBUFFER, s->framebuffer);
-    f->ReadBuffer(GL_COLOR_ATTACHMENT0);
-    f->PixelStorei(GL_PACK_ALIGNMENT, 4);
-    f->ReadPixels(0, 0, s->width, s->height, GL_RGBA, GL_FLOAT, rgba);
+    if (!colour_written) {
+        f->BindFramebuffer(GL_READ_FRAMEBUFFER, s->framebuffer);
+        f->ReadBuffer(GL_COLOR_ATTACHMENT0);
+        f->PixelStorei(GL_PACK_ALIGNMENT, 4);
+        f->ReadPixels(0, 0, s->width, s->height, GL_RGBA, GL_FLOAT, rgba);
+    }
     f->DrawBuffers(1, &buffer);
     f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->textures[0], 0);
     f->BindVertexArray(0);
@@ -765,7 +786,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
         return HALO_ERROR_IO;
     }
     /* the background, behind what the slices left transparent */
-    size_t pixels = (size_t)s->width * (size_t)s->height;
+    size_t pixels = colour_written ? 0 : (size_t)s->width * (size_t)s->height;
     for (size_t i = 0; i < pixels; ++i) {
         float *px = &rgba[i * 4];
         float a = px[3];

@@ -125,7 +125,8 @@
     X(PFNGLBLENDEQUATIONIPROC, BlendEquationi)                            \
     X(PFNGLBLENDFUNCIPROC, BlendFunci)                                    \
     X(PFNGLBLENDEQUATIONSEPARATEIPROC, BlendEquationSeparatei)            \
-    X(PFNGLBLENDFUNCSEPARATEIPROC, BlendFuncSeparatei)
+    X(PFNGLBLENDFUNCSEPARATEIPROC, BlendFuncSeparatei)                    \
+    X(PFNGLCOLORMASKIPROC, ColorMaski)
 
 typedef struct halo_glfuncs {
 #define HALO_X_GLFUNC_MEMBER(type, name) type name;

@@ -322,6 +322,87 @@ static int check_skips(halo_gl *runtime, unsigned *state)
     return failed;
 }
 
+/* Six outline features: two feature groups, the volume drawn once per group. */
+static const char group_scene[] =
+    "{\"halo_scene\": 1, \"stages\": [{\"tone_shading\": {}},"
+    " {\"outline_feature\": {\"value_min\": [0, 0.15, 0.3, 0.5, 0.65, 0.85], \"value_max\": [0.1, 0.25, 0.4, 0.6, 0.75, 1]}},"
+    " {\"outlines\": {}}],"
+    " \"render\": {\"azimuth\": 30, \"elevation\": 20, \"zoom\": 1.2, \"step\": 0.5,"
+    " \"transfer\": [[0, 0, 0, 0, 0], [0.05, 0.8, 0.6, 0.4, 0.1], [1, 1, 1, 1, 0.3]]}}";
+
+/* The slice host with feature groups writes the colour in the first group only: the
+ * colour and every output image the same floats as with every group writing it
+ * (skips off). */
+static int check_groups(halo_gl *runtime)
+{
+    enum { SIDE = 20, PIXELS = 48 };
+    int failed = 0;
+    halo_diagnostics *diag = halo_diagnostics_create();
+    halo_library *lib = halo_library_create(diag);
+    char *host = halo_host_load("slice.frag", NULL, diag);
+    halo_scene *scene = lib ? halo_scene_parse(group_scene, "(group scene)", lib, diag) : NULL;
+    halo_program *p = scene && host ? halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
+                                                                   .host_file = "slice.frag"},
+                                                diag)
+                                    : NULL;
+    float *volume = malloc((size_t)SIDE * SIDE * SIDE * sizeof *volume);
+    for (size_t i = 0; volume && i < (size_t)SIDE * SIDE * SIDE; ++i) {
+        double x = (double)(i % SIDE) - 9.5, y = (double)(i / SIDE % SIDE) - 9.5, z = (double)(i / SIDE / SIDE) - 9.5;
+        volume[i] = (float)(1.0 - sqrt(x * x + y * y + z * z) / 16.5); /* 1 at the centre, 0 at the corners */
+    }
+    size_t pixels = (size_t)PIXELS * PIXELS, floats = 0, differing = 0;
+    float *out[2] = {NULL, NULL};
+    int groups = p ? halo_program_group_count(p) : 0;
+    for (int skip = 0; skip < 2 && p && volume && groups == 2; ++skip) {
+        size_t outputs = halo_program_output_count(p);
+        out[skip] = malloc(pixels * 4 * (outputs + 1) * sizeof(float));
+        halo_host_desc desc = {.gl = halo_gl_functions(runtime), .runtime = runtime, .program = p, .width = PIXELS,
+                               .height = PIXELS};
+        halo_slice *s = halo_slice_create(&desc, diag);
+        const halo_render_settings *settings = halo_scene_render(scene);
+        int ok = s && out[skip] && halo_slice_set_volume(s, volume, SIDE, SIDE, SIDE, diag) == HALO_OK &&
+                 halo_slice_set_render(s, settings, diag) == HALO_OK;
+        if (ok) {
+            halo_slice_set_camera(s, settings->azimuth, settings->elevation, settings->zoom);
+            halo_slice_set_generation_skip(s, skip);
+            ok = halo_slice_render(s, out[skip], diag) == HALO_OK;
+        }
+        floats = pixels * 4;
+        for (size_t o = 0; ok && o < outputs; ++o) { /* each image after the colour, 4 floats a pixel at most */
+            const char *image = halo_program_output(p, o)->image;
+            const halo_image_info *info = NULL;
+            for (size_t k = 0; k < halo_program_image_count(p); ++k)
+                if (!strcmp(halo_program_image(p, k)->name, image))
+                    info = halo_program_image(p, k);
+            ok = info && halo_gl_frame_read(halo_slice_frame(s), image, out[skip] + floats) == HALO_OK;
+            floats += ok ? pixels * (size_t)info->channels : 0;
+        }
+        halo_slice_destroy(s);
+        if (!ok) {
+            free(out[skip]);
+            out[skip] = NULL;
+        }
+    }
+    for (size_t i = 0; out[0] && out[1] && i < floats; ++i)
+        differing += memcmp(&out[0][i], &out[1][i], sizeof(float)) != 0;
+    int ok = out[0] && out[1] && differing == 0;
+    printf("%s slice host, %d feature groups: colour written once against every group; %zu of %zu floats (colour and"
+           " %zu images) differ\n", ok ? "ok  " : "FAIL", groups, differing, floats,
+           p ? halo_program_output_count(p) : 0);
+    if (!ok)
+        halo_diagnostics_print(diag, stdout);
+    failed += !ok;
+    free(out[0]);
+    free(out[1]);
+    free(volume);
+    halo_program_destroy(p);
+    halo_scene_destroy(scene);
+    free(host);
+    halo_library_destroy(lib);
+    halo_diagnostics_destroy(diag);
+    return failed;
+}
+
 int main(void)
 {
     char err[512];
@@ -363,6 +444,7 @@ int main(void)
         free(volume);
     }
     failed += check_skips(runtime, &state);
+    failed += check_groups(runtime);
     printf("%d failed\n", failed);
     halo_gl_destroy(runtime);
     halo_headless_destroy(headless);
