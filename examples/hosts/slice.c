@@ -37,6 +37,7 @@ struct halo_slice {
     int packed;
     float value_range[2];
     GLuint plain_program; /* the host shader as linked, while program is the packed variant */
+    GLuint outside_program; /* the SLICE_OUTSIDE variant (built at the first clipped render with images) */
     char *vertex_source;  /* for building the variant */
     halo_gl *runtime_for_variant;
     int run_every_generation; /* halo_slice_set_generation_skip(s, 0) */
@@ -65,7 +66,7 @@ halo_slice *halo_slice_create_mode(const halo_host_desc *desc, int slab, halo_di
     if (!s->program)
         goto fail;
     s->reads_gradients = f->GetUniformLocation(s->program, "gradient_texture") >= 0;
-    if (desc->program && s->reads_gradients) {
+    if (desc->program) { /* for the variants */
         const char *vertex = desc->vertex_source ? desc->vertex_source : halo_host_embedded("slice.vert");
         s->vertex_source = vertex ? strdup(vertex) : NULL;
         s->runtime_for_variant = desc->runtime;
@@ -117,6 +118,7 @@ void halo_slice_destroy(halo_slice *s)
         f->DeleteVertexArrays(1, &s->vertex_array);
         f->DeleteProgram(s->program);
         f->DeleteProgram(s->plain_program);
+        f->DeleteProgram(s->outside_program);
     }
     free(s->vertex_source);
     free(s);
@@ -581,33 +583,75 @@ static int slice_section_box(const halo_slice *s, double distance, int box[4])
     return box[0] < box[2] && box[1] < box[3];
 }
 
-/* Scissors the next slice to where it can add something (slices_clippable) and adds that
- * box to drawn (x0, y0, x1, y1; empty: x0 >= x1); returns 0 when it is nowhere. */
-static int slice_clip(const halo_slice *s, double distance, int drawn[4])
+/* Pixel boxes {x0, y0, x1, y1}, [x0, x1) x [y0, y1); empty when x0 >= x1 or y0 >= y1. */
+static int box_empty(const int b[4]) { return b[0] >= b[2] || b[1] >= b[3]; }
+
+/* drawn becomes the box around drawn and b. */
+static void box_add(int drawn[4], const int b[4])
 {
-    int box[4], read[4];
-    int any = slice_section_box(s, distance, box);
-    if (s->frame && halo_gl_frame_read_region(s->frame, read)) {
-        if (!any)
-            memcpy(box, read, sizeof box);
-        for (int c = 0; c < 2 && any; ++c) {
-            box[c] = read[c] < box[c] ? read[c] : box[c];
-            box[c + 2] = read[c + 2] > box[c + 2] ? read[c + 2] : box[c + 2];
-        }
-        any = 1;
+    if (box_empty(b))
+        return;
+    if (box_empty(drawn)) {
+        memcpy(drawn, b, 4 * sizeof *b);
+        return;
     }
-    if (!any)
-        return 0;
-    s->f->Scissor(box[0], box[1], box[2] - box[0], box[3] - box[1]);
-    if (drawn[0] >= drawn[2]) {
-        memcpy(drawn, box, sizeof box);
-    } else {
-        for (int c = 0; c < 2; ++c) {
-            drawn[c] = box[c] < drawn[c] ? box[c] : drawn[c];
-            drawn[c + 2] = box[c + 2] > drawn[c + 2] ? box[c + 2] : drawn[c + 2];
-        }
+    for (int c = 0; c < 2; ++c) {
+        drawn[c] = b[c] < drawn[c] ? b[c] : drawn[c];
+        drawn[c + 2] = b[c + 2] > drawn[c + 2] ? b[c + 2] : drawn[c + 2];
     }
-    return 1;
+}
+
+/* r less b as at most four boxes (above, below, left, right of b); returns their count. */
+static int box_subtract(const int r[4], const int b[4], int pieces[4][4])
+{
+    int lo = r[1] > b[1] ? r[1] : b[1], hi = r[3] < b[3] ? r[3] : b[3];
+    const int candidates[4][4] = {{r[0], r[1], r[2], b[1] < r[3] ? b[1] : r[3]},
+                                  {r[0], b[3] > r[1] ? b[3] : r[1], r[2], r[3]},
+                                  {r[0], lo, b[0] < r[2] ? b[0] : r[2], hi},
+                                  {b[2] > r[0] ? b[2] : r[0], lo, r[2], hi}};
+    int n = 0;
+    for (int k = 0; k < 4; ++k)
+        if (!box_empty(candidates[k]))
+            memcpy(pieces[n++], candidates[k], sizeof candidates[k]);
+    return n;
+}
+
+/* Draws a clipped slice (slices_clippable) at `distance`: `program` over its section's box,
+ * and the rest of the box where the images read can be nonzero with `outside` (the
+ * SLICE_OUTSIDE variant; 0: program takes the box around both). at: the programs'
+ * slice_distance locations. What it draws is added to drawn; program is left in use.
+ * Returns 0 when it draws nothing. */
+static int draw_clipped_slice(const halo_slice *s, GLuint program, GLuint outside, const GLint at[2], float distance,
+                              int drawn[4])
+{
+    const halo_glfuncs *f = s->f;
+    int section[4] = {0, 0, 0, 0}, read[4] = {0, 0, 0, 0}, pieces[4][4];
+    slice_section_box(s, distance, section);
+    if (s->frame)
+        halo_gl_frame_read_region(s->frame, read);
+    if (!outside) { /* one box around both */
+        box_add(section, read);
+        memset(read, 0, sizeof read);
+    }
+    int n = box_empty(read) ? 0 : box_empty(section) ? (memcpy(pieces[0], read, sizeof read), 1)
+                                                     : box_subtract(read, section, pieces);
+    if (!box_empty(section)) {
+        f->Uniform1f(at[0], distance);
+        f->Scissor(section[0], section[1], section[2] - section[0], section[3] - section[1]);
+        f->DrawArrays(GL_TRIANGLES, 0, 3);
+        box_add(drawn, section);
+    }
+    if (n) {
+        f->UseProgram(outside);
+        f->Uniform1f(at[1], distance);
+        for (int k = 0; k < n; ++k) {
+            f->Scissor(pieces[k][0], pieces[k][1], pieces[k][2] - pieces[k][0], pieces[k][3] - pieces[k][1]);
+            f->DrawArrays(GL_TRIANGLES, 0, 3);
+            box_add(drawn, pieces[k]);
+        }
+        f->UseProgram(program);
+    }
+    return !box_empty(section) || n > 0;
 }
 
 /* Colour buffer 0 written (on) or not while the slices are drawn, when `masking`. The
@@ -620,28 +664,12 @@ static void colour_mask(const halo_slice *s, int masking, int on)
                          on ? GL_TRUE : GL_FALSE);
 }
 
-/* One pass over the volume; group >= 0: feature group `group` of a grouped program. */
-static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagnostics *diag)
+/* The state of program (the host shader or a variant) for this frame: its live
+ * parameters, textures and uniforms; it is left in use. */
+static void program_state(halo_slice *s, GLuint program, const halo_slice_state *st_in)
 {
-    halo_slice_state st;
-    halo_slice_get_state(s, &st);
     const halo_glfuncs *f = s->f;
-    GLuint program = s->program;
-    static const GLfloat zero[4] = {0, 0, 0, 0};
-    long pass_draws_before = halo_gl_frame_pass_draws(s->frame);
-    s->draws = 0;
-    /* a group after the first: rgba and colour buffer 0 hold the colour already */
-    int colour_written = group > 0 && !s->slab && !s->run_every_generation && f->ColorMaski;
-
-    f->BindFramebuffer(GL_FRAMEBUFFER, s->framebuffer);
-    f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->textures[0], 0);
-    GLenum buffer = GL_COLOR_ATTACHMENT0;
-    f->DrawBuffers(1, &buffer);
-    f->Viewport(0, 0, s->width, s->height);
-    f->Disable(GL_DEPTH_TEST);
-    f->Disable(GL_SCISSOR_TEST);
-    if (!colour_written)
-        f->ClearBufferfv(GL_COLOR, 0, zero);
+    const halo_slice_state st = *st_in;
     f->UseProgram(program);
     if (s->linked)
         halo_gl_program_upload(s->runtime, s->linked, program);
@@ -677,6 +705,49 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
             halo_gl_set_host_uniform(s->runtime, program, "labels", &(float){HALO_SLICE_LABEL_UNIT}, 1);
         }
     }
+}
+
+/* The SLICE_OUTSIDE variant of the host shader (slice.frag), built once: 0 with a
+ * diagnostic when it cannot be built. */
+static GLuint outside_variant(halo_slice *s, halo_diagnostics *diag)
+{
+    if (!s->outside_program && s->vertex_source)
+        s->outside_program = halo_gl_program_build_defines(s->runtime_for_variant, s->linked, s->vertex_source,
+                                                           "slice.vert", "#define SLICE_OUTSIDE 1\n", diag);
+    return s->outside_program;
+}
+
+/* One pass over the volume; group >= 0: feature group `group` of a grouped program. */
+static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagnostics *diag)
+{
+    halo_slice_state st;
+    halo_slice_get_state(s, &st);
+    const halo_glfuncs *f = s->f;
+    GLuint program = s->program;
+    static const GLfloat zero[4] = {0, 0, 0, 0};
+    long pass_draws_before = halo_gl_frame_pass_draws(s->frame);
+    s->draws = 0;
+    /* a group after the first: rgba and colour buffer 0 hold the colour already */
+    int colour_written = group > 0 && !s->slab && !s->run_every_generation && f->ColorMaski;
+
+    f->BindFramebuffer(GL_FRAMEBUFFER, s->framebuffer);
+    f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->textures[0], 0);
+    GLenum buffer = GL_COLOR_ATTACHMENT0;
+    f->DrawBuffers(1, &buffer);
+    f->Viewport(0, 0, s->width, s->height);
+    f->Disable(GL_DEPTH_TEST);
+    f->Disable(GL_SCISSOR_TEST);
+    if (!colour_written)
+        f->ClearBufferfv(GL_COLOR, 0, zero);
+    /* clipped slices with halo images: the pixels outside the section get the variant */
+    GLuint outside = 0;
+    if (slices_clippable(s) && s->frame && halo_program_sampler_count(s->linked) > 0) {
+        outside = outside_variant(s, diag);
+        if (!outside)
+            return HALO_ERROR_IO;
+        program_state(s, outside, &st);
+    }
+    program_state(s, program, &st);
     if (s->slab) {
         f->Disable(GL_BLEND);
     } else {
@@ -693,6 +764,11 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
         if (group >= 0)
             halo_gl_frame_begin_group(s->frame);
         halo_gl_frame_attach(s->frame, s->framebuffer); /* buffer 0 keeps the blend set above */
+        if (outside) { /* sampler uniforms are set on the program in use */
+            f->UseProgram(outside);
+            halo_gl_frame_bind(s->frame, outside, 3);
+            f->UseProgram(program);
+        }
         halo_gl_frame_bind(s->frame, program, 3);
     }
     f->BindVertexArray(s->vertex_array);
@@ -701,15 +777,17 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     generation_skip skip;
     generation_skip_start(&skip, s, &st);
     if (!s->slab) {
-        GLint distance_location = f->GetUniformLocation(program, "slice_distance");
+        const GLint at[2] = {f->GetUniformLocation(program, "slice_distance"),
+                             outside ? f->GetUniformLocation(outside, "slice_distance") : -1};
         int clip = slices_clippable(s);
         int drawn[4] = {0, 0, 0, 0}; /* clipped: the box the slices since the last generation drew in */
         for (int k = 0; k < st.slice_count; ++k) {
             float distance = (float)(st.first_distance + k * st.step_size);
-            if (clip)
+            if (clip) {
                 f->Enable(GL_SCISSOR_TEST); /* a generation leaves it off */
-            if (!clip || slice_clip(s, distance, drawn)) {
-                f->Uniform1f(distance_location, distance);
+                s->draws += draw_clipped_slice(s, program, outside, at, distance, drawn);
+            } else {
+                f->Uniform1f(at[0], distance);
                 f->DrawArrays(GL_TRIANGLES, 0, 3);
                 s->draws++;
             }
