@@ -333,15 +333,28 @@ halo_emu_frame *conform_host_frame(const halo_program *p, int width, int height,
     return frame;
 }
 
-void *conform_host_frame_rays(const halo_program *p, int width, int height, const double screen_right[3],
-                              const double screen_up[3], size_t ray_size, halo_emu_frame **frame,
-                              halo_diagnostics *diag)
+void conform_over_background(double *rgba, size_t pixels, const double background[3])
 {
-    void *rays = malloc((size_t)width * (size_t)height * ray_size);
+    for (size_t i = 0; i < pixels; ++i) {
+        double *px = &rgba[i * 4];
+        for (int c = 0; c < 3; ++c)
+            px[c] += (1.0 - px[3]) * background[c];
+        px[3] = 1.0;
+    }
+}
+
+void *conform_host_frame_rays(const halo_program *p, int width, int height, const double screen_right[3],
+                              const double screen_up[3], size_t ray_size, conform_ray_init *init, void *context,
+                              halo_emu_frame **frame, halo_diagnostics *diag)
+{
+    unsigned char *rays = malloc((size_t)width * (size_t)height * ray_size);
     if (!rays) {
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
         return NULL;
     }
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            init(context, x, y, rays + ((size_t)y * (size_t)width + (size_t)x) * ray_size);
     int framed = 1;
     *frame = conform_host_frame(p, width, height, screen_right, screen_up, &framed, diag);
     if (!framed) {

@@ -137,11 +137,16 @@ void conform_pixel_ray(const double inverse_view_projection[16], int width, int 
 halo_emu_frame *conform_host_frame(const halo_program *p, int width, int height, const double screen_right[3],
                                    const double screen_up[3], int *ok, halo_diagnostics *diag);
 
-/* conform_host_frame (*frame) and an array of width x height rays of ray_size bytes
- * (uninitialized) for a whole-render emulation; NULL on failure (diagnostics in diag). */
+/* Premultiplied rgba (pixels x 4) over the background, as the hosts end a frame: alpha 1. */
+void conform_over_background(double *rgba, size_t pixels, const double background[3]);
+/* Fills in one pixel's ray of a whole-render emulation (x, y: the pixel; context: the caller's). */
+typedef void conform_ray_init(void *context, int x, int y, void *ray);
+/* conform_host_frame (*frame) and an array of width x height rays of ray_size bytes (x
+ * fastest), each filled in by init, for a whole-render emulation; NULL on failure
+ * (diagnostics in diag). */
 void *conform_host_frame_rays(const halo_program *p, int width, int height, const double screen_right[3],
-                              const double screen_up[3], size_t ray_size, halo_emu_frame **frame,
-                              halo_diagnostics *diag);
+                              const double screen_up[3], size_t ray_size, conform_ray_init *init, void *context,
+                              halo_emu_frame **frame, halo_diagnostics *diag);
 
 /* ---- The frame probe ---- */
 

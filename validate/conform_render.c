@@ -203,9 +203,8 @@ static int emulate_pixel(const halo_raycast_state *s, const halo_program *p, int
                 break;
         }
     }
-    for (int k = 0; k < 3; ++k)
-        out[k] = accumulated[k] + (1.0 - accumulated[3]) * s->background[k];
-    out[3] = 1.0;
+    memcpy(out, accumulated, sizeof accumulated);
+    conform_over_background(out, 1, s->background);
     return 1;
 }
 

@@ -61,25 +61,28 @@ typedef struct pixel_ray {
  * one emulation serves both. out: width*height*4, over the background. */
 int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p, int interval, double *out,
                                halo_diagnostics *diag);
+/* conform_ray_init: the ray of pixel (x, y), with its cosine to and distance along the view axis. */
+static void init_pixel_ray(void *context, int x, int y, void *ray)
+{
+    const halo_slice_state *s = context;
+    pixel_ray *r = ray;
+    conform_pixel_ray(s->inverse_view_projection, s->width, s->height, x, y, r->origin, r->direction);
+    r->cosine = r->origin_distance = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        r->cosine += r->direction[k] * s->view_axis[k];
+        r->origin_distance += (r->origin[k] - s->eye[k]) * s->view_axis[k];
+    }
+}
+
 int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p, int interval, double *out,
                                halo_diagnostics *diag)
 {
     size_t pixels = (size_t)s->width * (size_t)s->height;
     halo_emu_frame *frame = NULL;
-    pixel_ray *rays =
-        conform_host_frame_rays(p, s->width, s->height, s->screen_right, s->screen_up, sizeof *rays, &frame, diag);
+    pixel_ray *rays = conform_host_frame_rays(p, s->width, s->height, s->screen_right, s->screen_up, sizeof *rays,
+                                              init_pixel_ray, (void *)s, &frame, diag);
     if (!rays)
         return 0;
-    for (int y = 0; y < s->height; ++y)
-        for (int x = 0; x < s->width; ++x) {
-            pixel_ray *r = &rays[(size_t)y * (size_t)s->width + (size_t)x];
-            conform_pixel_ray(s->inverse_view_projection, s->width, s->height, x, y, r->origin, r->direction);
-            r->cosine = r->origin_distance = 0.0;
-            for (int k = 0; k < 3; ++k) {
-                r->cosine += r->direction[k] * s->view_axis[k];
-                r->origin_distance += (r->origin[k] - s->eye[k]) * s->view_axis[k];
-            }
-        }
     for (size_t i = 0; i < pixels * 4; ++i)
         out[i] = 0.0;
     const double radius = 0.8660254037844386;
@@ -143,12 +146,7 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
         if (ok && frame && halo_program_pass_count(p) > 0 && (k + 1) % interval == 0 && k + 1 < s->slice_count)
             ok = halo_emu_frame_generate(frame, diag) == HALO_OK;
     }
-    for (size_t i = 0; i < pixels; ++i) {
-        double *px = &out[i * 4];
-        for (int c = 0; c < 3; ++c)
-            px[c] += (1.0 - px[3]) * s->background[c];
-        px[3] = 1.0;
-    }
+    conform_over_background(out, pixels, s->background);
     halo_emu_frame_destroy(frame);
     free(rays);
     free(gradients);
