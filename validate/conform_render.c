@@ -84,12 +84,10 @@ static int raycast_input_open(conform *c, halo_scene *scene, raycast_input *in)
     return in->program != NULL;
 }
 
-/* Ends the row: its error row unless it printed its own, then frees the input. */
+/* Ends the row (conform_row_end), then frees the input. */
 static void raycast_input_close(conform *c, const conform_row *row, raycast_input *in, int printed)
 {
-    if (!printed)
-        print_error_row(c, row->name);
-    halo_diagnostics_clear(c->diag);
+    conform_row_end(c, row->name, printed);
     free(in->volume);
     halo_program_destroy(in->program);
     halo_scene_destroy(in->scene);

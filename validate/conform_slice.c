@@ -166,41 +166,42 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
     double *reference = NULL;
     size_t pixels = (size_t)c->size * (size_t)c->size;
     char *source = NULL;
+    int printed = 0; /* the row printed its line; else conform_row_end prints an error row */
     if (!scene)
-        goto error;
+        goto done;
     source = halo_host_load(slab ? "slab.frag" : "slice.frag", NULL, c->diag);
     if (!source)
-        goto error;
+        goto done;
     program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = source,
                                           .host_file = slab ? "slab.frag" : "slice.frag",
                                           .target = HALO_TARGET_GLSL330, .image_scale = scale},
                         c->diag);
     if (!program)
-        goto error;
+        goto done;
     halo_host_desc desc = {.gl = c->gl, .runtime = c->runtime, .program = program, .width = c->size,
                            .height = c->size};
     host = slab ? halo_slab_create(&desc, c->diag) : halo_slice_create(&desc, c->diag);
     if (!host)
-        goto error;
+        goto done;
     halo_slice_set_gradient_format(host, (halo_gradient_format)c->gradient_format);
     const halo_render_settings *settings = halo_scene_render(scene);
     if (halo_slice_set_volume(host, volume, volume_size, volume_size, volume_size, c->diag) != HALO_OK ||
         halo_slice_set_render(host, settings, c->diag) != HALO_OK)
-        goto error;
+        goto done;
     halo_slice_set_camera(host, settings->azimuth, settings->elevation, settings->zoom);
     halo_slice_set_interval(host, interval);
     gpu = malloc(pixels * 4 * sizeof *gpu);
     reference = malloc(pixels * 4 * sizeof *reference);
     if (!gpu || !reference) {
         halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
-        goto error;
+        goto done;
     }
     if (halo_slice_render(host, gpu, c->diag) != HALO_OK)
-        goto error;
+        goto done;
     halo_slice_state state;
     halo_slice_get_state(host, &state);
     if (!halo_conform_slice_emulate(&state, program, state.interval, reference, c->diag))
-        goto error;
+        goto done;
     row_stats stats = {0};
     for (size_t i = 0; i < pixels; ++i) {
         const double g[4] = {gpu[i * 4], gpu[i * 4 + 1], gpu[i * 4 + 2], gpu[i * 4 + 3]};
@@ -216,11 +217,9 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
                 w % (size_t)c->size, w / (size_t)c->size, gpu[w * 4], gpu[w * 4 + 1], gpu[w * 4 + 2],
                 reference[w * 4], reference[w * 4 + 1], reference[w * 4 + 2], reason);
     }
-    goto done;
-error:
-    print_error_row(c, row);
+    printed = 1;
 done:
-    halo_diagnostics_clear(c->diag);
+    conform_row_end(c, row, printed);
     halo_slice_destroy(host);
     free(gpu);
     free(reference);
