@@ -316,14 +316,12 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
     }
     printed = 1;
 done:
-    conform_row_end(c, row, printed);
     frame_probe_release(&fp); /* and the frames */
     free(samples);
     free(gpu);
     free(gpu_seed);
     free(image);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
+    conform_row_end(c, row, printed, program, scene);
 }
 
 /* The stage of a row: its name up to '@'. */

@@ -72,11 +72,13 @@ void print_error_row(conform *c, const char *row)
     c->failures++;
 }
 
-void conform_row_end(conform *c, const char *row, int printed)
+void conform_row_end(conform *c, const char *row, int printed, halo_program *program, halo_scene *scene)
 {
     if (!printed)
         print_error_row(c, row);
     halo_diagnostics_clear(c->diag);
+    halo_program_destroy(program);
+    halo_scene_destroy(scene);
 }
 
 halo_gl *conform_gl_current_or_headless(halo_headless **context, halo_diagnostics *diag, char *err, size_t size)

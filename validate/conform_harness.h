@@ -91,9 +91,10 @@ void print_row_line(const char *row, const row_stats *s, const char *tolerance, 
 void print_row(conform *c, const char *row, const row_stats *s, const char *tolerance, int pass);
 /* A row that could not run (link or compile error): the diagnostics say why. */
 void print_error_row(conform *c, const char *row);
-/* Ends a row: its error row (print_error_row) unless it printed its own line, then clears
- * the diagnostics. */
-void conform_row_end(conform *c, const char *row, int printed);
+/* Ends a row, after it freed the rest of what it made: its error row (print_error_row)
+ * unless it printed its own line, the diagnostics cleared, its program and scene (either
+ * may be NULL) destroyed. */
+void conform_row_end(conform *c, const char *row, int printed, halo_program *program, halo_scene *scene);
 /* Its line (dashes, FAIL; the tolerance column tolerance_width wide) and the diagnostics,
  * then cleared; counts nothing (for the families that keep their own counts). */
 void print_error_row_line(const char *row, int tolerance_width, halo_diagnostics *diag);

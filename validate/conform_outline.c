@@ -385,17 +385,15 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
     }
     printed = 1;
 done:
-    conform_row_end(c, oc->name, printed);
     if (host_texture)
         c->gl->DeleteTextures(1, &host_texture);
     frame_probe_release(&fp); /* and the frames */
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
     free(samples);
     free(host);
     free(gl_image);
     free(importance);
     free(final);
+    conform_row_end(c, oc->name, printed, program, scene);
 }
 
 /* The importance in the occluder band of the rows outline:hidden, :dashed and :front of

@@ -154,12 +154,10 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
                 stats.worst, seed_case_names[worst_case], row->why);
     printed = 1;
 done:
-    conform_row_end(c, row->name, printed);
     frame_probe_release(&fp); /* and the frames */
     free(samples);
     free(image);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
+    conform_row_end(c, row->name, printed, program, scene);
 }
 
 

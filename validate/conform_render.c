@@ -84,13 +84,11 @@ static int raycast_input_open(conform *c, halo_scene *scene, raycast_input *in)
     return in->program != NULL;
 }
 
-/* Ends the row (conform_row_end), then frees the input. */
+/* Frees the input and ends the row (conform_row_end). */
 static void raycast_input_close(conform *c, const conform_row *row, raycast_input *in, int printed)
 {
-    conform_row_end(c, row->name, printed);
     free(in->volume);
-    halo_program_destroy(in->program);
-    halo_scene_destroy(in->scene);
+    conform_row_end(c, row->name, printed, in->program, in->scene);
 }
 
 void conform_empty_row(conform *c, const conform_row *row)

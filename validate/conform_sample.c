@@ -197,12 +197,10 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
     }
     printed = 1;
 done:
-    conform_row_end(c, row, printed);
     free(samples);
     free(gpu);
     halo_probe_destroy(probe);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
+    conform_row_end(c, row, printed, program, scene);
 }
 
 /* Whether the stage's module can run at all: an error row when it has no emulation

@@ -219,13 +219,11 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
     }
     printed = 1;
 done:
-    conform_row_end(c, row, printed);
     halo_slice_destroy(host);
     free(gpu);
     free(reference);
     free(source);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
+    conform_row_end(c, row, printed, program, scene);
 }
 
 void conform_slice_row(conform *c, const conform_row *row)
