@@ -6,6 +6,7 @@
 #include "internal.h"
 #include "gl/glfuncs.h"
 #include "gl/headless.h"
+#include "hosts/host_common.h"
 #include "hosts/raycast.h"
 #include "hosts/slice.h"
 
@@ -482,12 +483,9 @@ int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp)
     f->GenVertexArrays(1, &fp->vertex_array);
     f->GenTextures(4, fp->inputs);
     f->GenTextures(1, &fp->color);
-    for (int i = 0; i < 5; ++i) {
-        f->BindTexture(GL_TEXTURE_2D, i < 4 ? fp->inputs[i] : fp->color);
-        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, c->size, c->size, 0, GL_RGBA, GL_FLOAT, NULL);
-    }
+    for (int i = 0; i < 5; ++i)
+        halo_host_image_texture(f, i < 4 ? fp->inputs[i] : fp->color, GL_RGBA32F, c->size, c->size, GL_RGBA,
+                                GL_FLOAT);
     f->BindTexture(GL_TEXTURE_2D, 0);
     f->GenTextures(2, fp->host_textures);
     f->BindTexture(GL_TEXTURE_3D, fp->host_textures[0]);
