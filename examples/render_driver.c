@@ -205,13 +205,20 @@ void halo_driver_destroy(halo_driver *d)
 {
     if (d->post_texture)
         halo_gl_functions(d->runtime)->DeleteTextures(1, &d->post_texture);
-    d->post_texture = 0;
     halo_feature_buffer_destroy(d->feature);
     halo_raycast_destroy(d->raycast);
     halo_slice_destroy(d->slice);
-    d->feature = NULL;
-    d->raycast = NULL;
-    d->slice = NULL;
+    memset(d, 0, sizeof *d);
+}
+
+void halo_driver_release(halo_driver *d, halo_program **program, halo_scene **scene)
+{
+    if (d)
+        halo_driver_destroy(d);
+    halo_program_destroy(*program);
+    halo_scene_destroy(*scene);
+    *program = NULL;
+    *scene = NULL;
 }
 
 halo_status halo_driver_set_volume(halo_driver *d, const float *volume, const int dims[3],

@@ -66,7 +66,11 @@ typedef struct halo_driver {
 
 /* desc: the GL functions, runtime, program (or raw fragment source) and image size. */
 int halo_driver_create(halo_driver *d, halo_driver_host kind, const halo_host_desc *desc, halo_diagnostics *diag);
+/* Destroys the host and the driver's feature buffer; d is empty afterwards (zeroed). */
 void halo_driver_destroy(halo_driver *d);
+/* At the end of a render: halo_driver_destroy (d may be NULL), then the program and the
+ * scene it rendered (each may be NULL), which are set to NULL. */
+void halo_driver_release(halo_driver *d, halo_program **program, halo_scene **scene);
 /* The volume (x fastest, values in [0,1]) and the scene's render settings; gradient:
  * the slice and slab hosts' gradient texture (0: their default). */
 halo_status halo_driver_set_volume(halo_driver *d, const float *volume, const int dims[3],

@@ -218,9 +218,7 @@ done:
     if (status == 1)
         halo_diagnostics_print(diag, stderr);
     halo_feature_buffer_destroy(buffer);
-    halo_driver_destroy(&host);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
+    halo_driver_release(&host, &program, &scene);
     halo_gl_destroy(runtime);
     halo_headless_destroy(context);
     halo_library_destroy(lib);

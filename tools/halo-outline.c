@@ -201,11 +201,9 @@ int main(int argc, char **argv)
 done:
     if (halo_diagnostics_count(diag) > 0)
         halo_diagnostics_print(diag, stderr);
-    halo_driver_destroy(&slice);
+    halo_driver_release(&slice, &program, &scene);
     halo_gl_destroy(runtime);
     halo_headless_destroy(context);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
     halo_library_destroy(lib);
     free(volume);
     free(rgba);

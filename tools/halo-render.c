@@ -727,11 +727,9 @@ done:
     } else if (status == 0 && halo_diagnostics_count(diag) > 0) {
         halo_diagnostics_print(diag, stderr); /* warnings */
     }
-    halo_driver_destroy(&host);
+    halo_driver_release(&host, &program, &scene);
     halo_gl_destroy(runtime);
     halo_headless_destroy(context);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
     halo_library_destroy(lib);
     free(is_halo);
     free(volume);

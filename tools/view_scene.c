@@ -318,10 +318,8 @@ int view_load_scene(viewer *v, const char *path, int keep_camera)
         v->elevation = settings->elevation;
         v->zoom = settings->zoom;
     }
-    halo_driver_destroy(&v->host);
+    halo_driver_release(&v->host, &v->program, &v->scene);
     commit_volume(v, cube, size, window);
-    halo_program_destroy(v->program);
-    halo_scene_destroy(v->scene);
     json_decref(v->scene_json);
     free(v->scene_file);
     v->host = h;

@@ -123,17 +123,10 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
 
 static void close_case(halo_bench_case *c)
 {
-    halo_driver *host = c->host;
-    if (host) {
-        halo_driver_destroy(host);
-        free(host);
-    }
-    halo_program_destroy(c->program);
-    halo_scene_destroy(c->scene);
+    halo_driver_release(c->host, &c->program, &c->scene);
+    free(c->host);
     free(c->times);
     c->host = NULL;
-    c->program = NULL;
-    c->scene = NULL;
     c->times = NULL;
 }
 

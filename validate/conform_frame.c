@@ -221,21 +221,22 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
     halo_emu_sample *samples = NULL;
     float *gpu = NULL, *gpu_seed = NULL, *image = NULL;
     size_t count = (size_t)c->size * (size_t)c->size;
+    int printed = 0; /* the row printed its line; else conform_row_end prints an error row */
     if (scene_json)
         scene = halo_scene_parse(scene_json, "(conformance frame scene)", c->lib, c->diag);
     else if ((scene = halo_scene_create(c->lib)) && halo_scene_enable(scene, stage, 1, c->diag) != HALO_OK)
-        goto error;
+        goto done;
     if (!scene)
-        goto error;
+        goto done;
     program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = c->probe_source,
                                           .host_file = "probe.frag", .all_live = live},
                         c->diag);
     if (!program)
-        goto error;
+        goto done;
     if (live)
         conform_set_live_arrays(program, m, c->diag);
     if (halo_diagnostics_errors(c->diag) > 0)
-        goto error;
+        goto done;
     int channels = halo_program_channel_count(program);
     samples = malloc(count * sizeof *samples);
     gpu = malloc(count * 4 * sizeof *gpu);
@@ -243,11 +244,11 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
     image = malloc(count * 4 * sizeof *image);
     if (!samples || !gpu || !gpu_seed || !image) {
         halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
-        goto error;
+        goto done;
     }
     conform_fill_samples(samples, c->size, c->size);
     if (!frame_probe_open(c, program, c->size, &fp))
-        goto error;
+        goto done;
     gframe = fp.gl_frame;
     eframe = fp.emu_frame;
     emu_set_axes(eframe);
@@ -255,11 +256,12 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
     halo_gl_frame_begin(gframe);
     halo_emu_frame_begin(eframe);
     if (frame_probe_draw(c, &fp, program, gframe, samples, gpu) != HALO_OK)
-        goto error;
+        goto done;
     if (!is_map && !program_has_image(program, "seed")) {
         /* outputs other than seed (outline_feature): compare every output image */
         if (!compare_output_images(c, row, program, gframe, eframe, samples, gpu, tol_abs, tol_rel, tolerance_text))
-            goto error;
+            goto done;
+        printed = 1;
         goto done;
     }
     if (is_map) {
@@ -268,15 +270,15 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
         for (size_t i = 0; i < halo_program_image_count(program); ++i) {
             const char *name = halo_program_image(program, i)->name;
             if (halo_gl_frame_read(gframe, name, image) != HALO_OK)
-                goto error;
+                goto done;
             double *e = halo_emu_frame_image(eframe, name);
             for (size_t k = 0; k < count * (size_t)channels; ++k)
                 e[k] = image[k];
         }
         if (frame_probe_draw(c, &fp, program, gframe, samples, gpu) != HALO_OK)
-            goto error;
+            goto done;
     } else if (halo_gl_frame_read(gframe, "seed", gpu_seed) != HALO_OK) {
-        goto error;
+        goto done;
     }
     row_stats stats = {0};
     size_t worst_over = SIZE_MAX;
@@ -286,7 +288,7 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
         double emu[8], condition[8] = {0};
         if (!emulate_frame_sample(program, eframe, &s, emu)) {
             halo_diag_error(c->diag, EMU_MISSING, "", 0, 0, "a stage of row %s has no emulation", row);
-            goto error;
+            goto done;
         }
         for (int field = 0; field < 6; ++field)
             for (int sign = -1; sign <= 1; sign += 2) {
@@ -312,18 +314,14 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
                     channels > 2 ? gpu_seed[shown * (size_t)channels + 2] : 0.0,
                     channels > 3 ? gpu_seed[shown * (size_t)channels + 3] : 0.0, emu[4], emu[5], emu[6], emu[7]);
     }
-    goto done;
-error:
-    print_error_row(c, row);
+    printed = 1;
 done:
-    halo_diagnostics_clear(c->diag);
     frame_probe_release(&fp); /* and the frames */
     free(samples);
     free(gpu);
     free(gpu_seed);
     free(image);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
+    conform_row_end(c, row, printed, program, scene);
 }
 
 /* The stage of a row: its name up to '@'. */

@@ -6,6 +6,7 @@
 #include "internal.h"
 #include "gl/glfuncs.h"
 #include "gl/headless.h"
+#include "hosts/host_common.h"
 #include "hosts/raycast.h"
 #include "hosts/slice.h"
 
@@ -70,6 +71,15 @@ void print_error_row(conform *c, const char *row)
     print_error_row_line(row, 12, c->diag);
     c->rows++;
     c->failures++;
+}
+
+void conform_row_end(conform *c, const char *row, int printed, halo_program *program, halo_scene *scene)
+{
+    if (!printed)
+        print_error_row(c, row);
+    halo_diagnostics_clear(c->diag);
+    halo_program_destroy(program);
+    halo_scene_destroy(scene);
 }
 
 halo_gl *conform_gl_current_or_headless(halo_headless **context, halo_diagnostics *diag, char *err, size_t size)
@@ -333,15 +343,28 @@ halo_emu_frame *conform_host_frame(const halo_program *p, int width, int height,
     return frame;
 }
 
-void *conform_host_frame_rays(const halo_program *p, int width, int height, const double screen_right[3],
-                              const double screen_up[3], size_t ray_size, halo_emu_frame **frame,
-                              halo_diagnostics *diag)
+void conform_over_background(double *rgba, size_t pixels, const double background[3])
 {
-    void *rays = malloc((size_t)width * (size_t)height * ray_size);
+    for (size_t i = 0; i < pixels; ++i) {
+        double *px = &rgba[i * 4];
+        for (int c = 0; c < 3; ++c)
+            px[c] += (1.0 - px[3]) * background[c];
+        px[3] = 1.0;
+    }
+}
+
+void *conform_host_frame_rays(const halo_program *p, int width, int height, const double screen_right[3],
+                              const double screen_up[3], size_t ray_size, conform_ray_init *init, void *context,
+                              halo_emu_frame **frame, halo_diagnostics *diag)
+{
+    unsigned char *rays = malloc((size_t)width * (size_t)height * ray_size);
     if (!rays) {
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
         return NULL;
     }
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x)
+            init(context, x, y, rays + ((size_t)y * (size_t)width + (size_t)x) * ray_size);
     int framed = 1;
     *frame = conform_host_frame(p, width, height, screen_right, screen_up, &framed, diag);
     if (!framed) {
@@ -460,12 +483,9 @@ int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp)
     f->GenVertexArrays(1, &fp->vertex_array);
     f->GenTextures(4, fp->inputs);
     f->GenTextures(1, &fp->color);
-    for (int i = 0; i < 5; ++i) {
-        f->BindTexture(GL_TEXTURE_2D, i < 4 ? fp->inputs[i] : fp->color);
-        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, c->size, c->size, 0, GL_RGBA, GL_FLOAT, NULL);
-    }
+    for (int i = 0; i < 5; ++i)
+        halo_host_image_texture(f, i < 4 ? fp->inputs[i] : fp->color, GL_RGBA32F, c->size, c->size, GL_RGBA,
+                                GL_FLOAT);
     f->BindTexture(GL_TEXTURE_2D, 0);
     f->GenTextures(2, fp->host_textures);
     f->BindTexture(GL_TEXTURE_3D, fp->host_textures[0]);

@@ -91,6 +91,10 @@ void print_row_line(const char *row, const row_stats *s, const char *tolerance, 
 void print_row(conform *c, const char *row, const row_stats *s, const char *tolerance, int pass);
 /* A row that could not run (link or compile error): the diagnostics say why. */
 void print_error_row(conform *c, const char *row);
+/* Ends a row, after it freed the rest of what it made: its error row (print_error_row)
+ * unless it printed its own line, the diagnostics cleared, its program and scene (either
+ * may be NULL) destroyed. */
+void conform_row_end(conform *c, const char *row, int printed, halo_program *program, halo_scene *scene);
 /* Its line (dashes, FAIL; the tolerance column tolerance_width wide) and the diagnostics,
  * then cleared; counts nothing (for the families that keep their own counts). */
 void print_error_row_line(const char *row, int tolerance_width, halo_diagnostics *diag);
@@ -137,11 +141,16 @@ void conform_pixel_ray(const double inverse_view_projection[16], int width, int 
 halo_emu_frame *conform_host_frame(const halo_program *p, int width, int height, const double screen_right[3],
                                    const double screen_up[3], int *ok, halo_diagnostics *diag);
 
-/* conform_host_frame (*frame) and an array of width x height rays of ray_size bytes
- * (uninitialized) for a whole-render emulation; NULL on failure (diagnostics in diag). */
+/* Premultiplied rgba (pixels x 4) over the background, as the hosts end a frame: alpha 1. */
+void conform_over_background(double *rgba, size_t pixels, const double background[3]);
+/* Fills in one pixel's ray of a whole-render emulation (x, y: the pixel; context: the caller's). */
+typedef void conform_ray_init(void *context, int x, int y, void *ray);
+/* conform_host_frame (*frame) and an array of width x height rays of ray_size bytes (x
+ * fastest), each filled in by init, for a whole-render emulation; NULL on failure
+ * (diagnostics in diag). */
 void *conform_host_frame_rays(const halo_program *p, int width, int height, const double screen_right[3],
-                              const double screen_up[3], size_t ray_size, halo_emu_frame **frame,
-                              halo_diagnostics *diag);
+                              const double screen_up[3], size_t ray_size, conform_ray_init *init, void *context,
+                              halo_emu_frame **frame, halo_diagnostics *diag);
 
 /* ---- The frame probe ---- */
 

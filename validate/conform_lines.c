@@ -10,6 +10,7 @@
 #include "halo.h"
 #include "gl/glfuncs.h"
 #include "gl/headless.h"
+#include "hosts/host_common.h"
 #include "hosts/lines.h"
 #include "hosts/raycast.h"
 
@@ -90,12 +91,8 @@ static int target_create(rows *r, target *t)
     const halo_glfuncs *f = &r->f;
     memset(t, 0, sizeof *t);
     f->GenTextures(2, t->textures);
-    for (int i = 0; i < 2; ++i) {
-        f->BindTexture(GL_TEXTURE_2D, t->textures[i]);
-        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, PROBE_SIDE, PROBE_SIDE, 0, GL_RGBA, GL_FLOAT, NULL);
-    }
+    for (int i = 0; i < 2; ++i)
+        halo_host_image_texture(f, t->textures[i], GL_RGBA32F, PROBE_SIDE, PROBE_SIDE, GL_RGBA, GL_FLOAT);
     f->BindTexture(GL_TEXTURE_2D, 0);
     f->GenFramebuffers(1, &t->framebuffer);
     f->BindFramebuffer(GL_FRAMEBUFFER, t->framebuffer);

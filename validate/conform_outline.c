@@ -236,12 +236,13 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
     float *host = malloc(count * 4 * sizeof *host), *gl_image = malloc(count * 4 * sizeof *gl_image);
     float *importance = malloc(count * 4 * sizeof *importance), *final = malloc(count * 4 * sizeof *final);
     unsigned host_texture = 0;
+    int printed = 0; /* the row printed its line; else conform_row_end prints an error row */
     if (!program || !samples || !host || !gl_image || !importance || !final ||
         halo_diagnostics_errors(c->diag) > 0)
-        goto error;
+        goto done;
     int channels = halo_program_channel_count(program);
     if (!frame_probe_open(c, program, size, &fp))
-        goto error;
+        goto done;
     gframe = fp.gl_frame;
     eframe = fp.emu_frame;
     emu_set_axes(eframe);
@@ -258,34 +259,34 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
         /* feature groups: the volume (here: the probe's samples) once per group */
         if (groups > 1) {
             if (halo_program_select_group(program, g) != HALO_OK)
-                goto error;
+                goto done;
             halo_gl_frame_begin_group(gframe);
             halo_emu_frame_begin_group(eframe);
         }
         for (int d = 0; d < draws; ++d) {
             if (frame_probe_draw(c, &fp, program, gframe, samples + (size_t)d * count, NULL) != HALO_OK)
-                goto error;
+                goto done;
             for (size_t i = 0; i < count; ++i) {
                 halo_emu_sample s = samples[(size_t)d * count + i];
                 if (halo_emu_apply_frame(program, eframe, &s, c->diag) != HALO_OK)
-                    goto error;
+                    goto done;
                 halo_emu_frame_finish(eframe, &s);
             }
         }
         if (groups > 1) {
             halo_gl_frame_end_group(gframe);
             if (halo_emu_frame_end_group(eframe, c->diag) != HALO_OK)
-                goto error;
+                goto done;
         }
     }
     if (six && groups != 2) {
         halo_diag_error(c->diag, USAGE, "", 0, 0, "six features linked into %d feature groups, not 2", groups);
-        goto error;
+        goto done;
     }
     /* the host colour, in both */
     double *ehost = halo_emu_frame_image(eframe, "host_color");
     if (!ehost)
-        goto error;
+        goto done;
     for (int y = 0; y < size; ++y)
         for (int x = 0; x < size; ++x) {
             size_t i = (size_t)y * size + (size_t)x;
@@ -305,10 +306,10 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
     GLenum gl_error = f->GetError();
     if (gl_error != GL_NO_ERROR) {
         halo_diag_error(c->diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x in the post passes", gl_error);
-        goto error;
+        goto done;
     }
     if (halo_emu_frame_post(eframe, c->diag) != HALO_OK)
-        goto error;
+        goto done;
     row_stats stats = {0};
     const char *worst_image = "";
     size_t worst_over = SIZE_MAX;
@@ -319,7 +320,7 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
         if (!post_written(program, info->name))
             continue;
         if (halo_gl_frame_read(gframe, info->name, gl_image) != HALO_OK)
-            goto error;
+            goto done;
         const double *e = halo_emu_frame_image(eframe, info->name);
         size_t n = count * (size_t)info->channels;
         for (size_t i = 0; i < n; ++i) {
@@ -344,11 +345,11 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
     const halo_image_info *imp = image_named(program, "importance");
     if (!imp || halo_gl_frame_read(gframe, "importance", importance) != HALO_OK ||
         halo_gl_frame_read(gframe, "final", final) != HALO_OK)
-        goto error;
+        goto done;
     const char *broken = check_case(oc, size, importance, imp->channels, final, host);
     if (six) { /* every feature outlined in the frame's reduced image, whichever group it was in */
         if (halo_gl_frame_read(gframe, "reduced", gl_image) != HALO_OK)
-            goto error;
+            goto done;
         for (int k = 0; k < 6 && !broken; ++k) {
             double line = 0.0;
             int cx = (int)(six_centres[k][0] * size), cy = (int)(six_centres[k][1] * size), r = (int)(size * 0.12) + 3;
@@ -382,21 +383,17 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
                 worst_over != SIZE_MAX ? "over tolerance" : "largest error", w % (size_t)size, w / (size_t)size,
                 worst_over != SIZE_MAX ? worst_over_image : worst_image, oc->reason, channels);
     }
-    goto done;
-error:
-    print_error_row(c, oc->name);
+    printed = 1;
 done:
-    halo_diagnostics_clear(c->diag);
     if (host_texture)
         c->gl->DeleteTextures(1, &host_texture);
     frame_probe_release(&fp); /* and the frames */
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
     free(samples);
     free(host);
     free(gl_image);
     free(importance);
     free(final);
+    conform_row_end(c, oc->name, printed, program, scene);
 }
 
 /* The importance in the occluder band of the rows outline:hidden, :dashed and :front of

@@ -79,16 +79,17 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
     size_t count = (size_t)c->size * (size_t)c->size;
     halo_emu_sample *samples = calloc(count, sizeof *samples);
     float *image = malloc(count * 4 * sizeof *image);
+    int printed = 0; /* the row printed its line; else conform_row_end prints an error row */
     if (!scene || !samples || !image)
-        goto error;
+        goto done;
     program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = c->probe_source,
                                           .host_file = "probe.frag", .image_scale = r->scale},
                         c->diag);
     if (!program || halo_diagnostics_errors(c->diag) > 0)
-        goto error;
+        goto done;
     int channels = halo_program_channel_count(program);
     if (!frame_probe_open(c, program, c->size, &fp))
-        goto error;
+        goto done;
     gframe = fp.gl_frame;
     eframe = fp.emu_frame;
     row_stats stats = {0};
@@ -113,14 +114,14 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
                         seed[i * (size_t)channels + (size_t)h] = v[h];
                 }
             if (frame_probe_draw(c, &fp, program, gframe, samples, NULL) != HALO_OK)
-                goto error;
+                goto done;
             halo_gl_frame_generate(gframe);
             if (halo_emu_frame_generate(eframe, c->diag) != HALO_OK)
-                goto error;
+                goto done;
         }
         for (int k = 0; k < 3 && r->compare[k]; ++k) {
             if (halo_gl_frame_read(gframe, r->compare[k], image) != HALO_OK)
-                goto error;
+                goto done;
             const double *e = halo_emu_frame_image(eframe, r->compare[k]);
             int scale = 1;
             for (size_t m = 0; m < halo_program_image_count(program); ++m)
@@ -151,16 +152,12 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
     if ((c->verbose || !pass) && worst_case >= 0)
         fprintf(stderr, "  largest error at texel %zu (row-major in its image) of seed case '%s'; tolerance: %s\n",
                 stats.worst, seed_case_names[worst_case], row->why);
-    goto done;
-error:
-    print_error_row(c, row->name);
+    printed = 1;
 done:
-    halo_diagnostics_clear(c->diag);
     frame_probe_release(&fp); /* and the frames */
     free(samples);
     free(image);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
+    conform_row_end(c, row->name, printed, program, scene);
 }
 
 

@@ -60,56 +60,73 @@ static float *render_raycast(conform *c, const halo_program *program, const char
     return image;
 }
 
+/* What both rows render: the built-in volume of side RAYCAST_VOLUME_SIZE and the row's
+ * scene linked into the example ray caster. */
+#define RAYCAST_VOLUME_SIZE 32
+typedef struct raycast_input {
+    halo_scene *scene;
+    halo_program *program;
+    float *volume;
+} raycast_input;
+
+/* Takes the scene over (NULL: its failure is reported already), makes the volume and
+ * links the program. Returns 0 on failure; raycast_input_close either way. */
+static int raycast_input_open(conform *c, halo_scene *scene, raycast_input *in)
+{
+    *in = (raycast_input){.scene = scene, .volume = halo_volume_create(RAYCAST_VOLUME_SIZE)};
+    if (!in->volume)
+        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    if (!in->scene || !in->volume)
+        return 0;
+    in->program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = c->raycast_source,
+                                              .host_file = "raycast.frag"},
+                            c->diag);
+    return in->program != NULL;
+}
+
+/* Frees the input and ends the row (conform_row_end). */
+static void raycast_input_close(conform *c, const conform_row *row, raycast_input *in, int printed)
+{
+    free(in->volume);
+    conform_row_end(c, row->name, printed, in->program, in->scene);
+}
+
 void conform_empty_row(conform *c, const conform_row *row)
 {
     if (!row_selected(c, row->name, NULL))
         return;
-    const char *host_source = c->raycast_source;
-    const int volume_size = 32;
-    halo_scene *scene = halo_scene_create(c->lib);
-    halo_program *program = NULL;
-    float *raw = NULL, *linked = NULL, *volume = halo_volume_create(volume_size);
-    if (!volume)
-        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
-    if (!scene || !volume)
-        goto error;
-    program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = host_source,
-                                          .host_file = "raycast.frag"},
-                        c->diag);
-    if (!program)
-        goto error;
-    raw = render_raycast(c, NULL, host_source, scene, volume, volume_size, NULL, NULL);
-    linked = raw ? render_raycast(c, program, NULL, scene, volume, volume_size, NULL, NULL) : NULL;
-    if (!raw || !linked)
-        goto error;
-    size_t pixels = (size_t)c->size * (size_t)c->size;
-    row_stats stats = {0};
-    for (size_t i = 0; i < pixels; ++i) {
-        int differs = memcmp(&raw[i * 4], &linked[i * 4], 4 * sizeof(float)) != 0, nonfinite = 0;
-        for (int k = 0; k < 4; ++k) {
-            double a = raw[i * 4 + (size_t)k], b = linked[i * 4 + (size_t)k];
-            if (!isfinite(a) || !isfinite(b)) {
-                nonfinite = 1;
-                continue;
-            }
-            row_stats_note(&stats, i, fabs(a - b));
-        }
-        stats.over += (size_t)differs;
-        stats.nonfinite += (size_t)nonfinite;
+    raycast_input in;
+    float *raw = NULL, *linked = NULL;
+    int printed = 0;
+    if (raycast_input_open(c, halo_scene_create(c->lib), &in)) {
+        raw = render_raycast(c, NULL, c->raycast_source, in.scene, in.volume, RAYCAST_VOLUME_SIZE, NULL, NULL);
+        linked = raw ? render_raycast(c, in.program, NULL, in.scene, in.volume, RAYCAST_VOLUME_SIZE, NULL, NULL)
+                     : NULL;
     }
-    char tolerance_text[32];
-    conform_tolerance_text(row, tolerance_text, sizeof tolerance_text);
-    print_row(c, row->name, &stats, tolerance_text, stats.over == 0 && stats.nonfinite == 0);
-    goto done;
-error:
-    print_error_row(c, row->name);
-done:
-    halo_diagnostics_clear(c->diag);
-    free(volume);
+    if (raw && linked) {
+        size_t pixels = (size_t)c->size * (size_t)c->size;
+        row_stats stats = {0};
+        for (size_t i = 0; i < pixels; ++i) {
+            int differs = memcmp(&raw[i * 4], &linked[i * 4], 4 * sizeof(float)) != 0, nonfinite = 0;
+            for (int k = 0; k < 4; ++k) {
+                double a = raw[i * 4 + (size_t)k], b = linked[i * 4 + (size_t)k];
+                if (!isfinite(a) || !isfinite(b)) {
+                    nonfinite = 1;
+                    continue;
+                }
+                row_stats_note(&stats, i, fabs(a - b));
+            }
+            stats.over += (size_t)differs;
+            stats.nonfinite += (size_t)nonfinite;
+        }
+        char tolerance_text[32];
+        conform_tolerance_text(row, tolerance_text, sizeof tolerance_text);
+        print_row(c, row->name, &stats, tolerance_text, stats.over == 0 && stats.nonfinite == 0);
+        printed = 1;
+    }
+    raycast_input_close(c, row, &in, printed);
     free(raw);
     free(linked);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
 }
 
 /* One pixel of raycast.frag, in double, with halo_emu_apply per sample. The two
@@ -182,9 +199,8 @@ static int emulate_pixel(const halo_raycast_state *s, const halo_program *p, int
                 break;
         }
     }
-    for (int k = 0; k < 3; ++k)
-        out[k] = accumulated[k] + (1.0 - accumulated[3]) * s->background[k];
-    out[3] = 1.0;
+    memcpy(out, accumulated, sizeof accumulated);
+    conform_over_background(out, 1, s->background);
     return 1;
 }
 
@@ -199,37 +215,26 @@ void conform_raycast_row(conform *c, const conform_row *row)
 {
     if (!row_selected(c, row->name, NULL))
         return;
-    const char *host_source = c->raycast_source;
-    const int volume_size = 32;
-    halo_scene *scene = NULL;
-    halo_program *program = NULL;
-    float *volume = NULL, *gpu = NULL;
+    raycast_input in;
+    float *gpu = NULL;
     double *reference = NULL, *allowed = NULL;
-    volume = halo_volume_create(volume_size);
-    if (!volume) {
-        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
-        goto error;
-    }
-    scene = halo_scene_parse(raycast_scene, "(conformance ray cast scene)", c->lib, c->diag);
-    if (!scene)
-        goto error;
-    program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = host_source,
-                                          .host_file = "raycast.frag"},
-                        c->diag);
-    if (!program)
-        goto error;
+    int printed = 0;
+    if (!raycast_input_open(c, halo_scene_parse(raycast_scene, "(conformance ray cast scene)", c->lib, c->diag),
+                            &in))
+        goto done;
+    const halo_program *program = in.program;
     halo_raycast_state state;
     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4];
-    gpu = render_raycast(c, program, NULL, scene, volume, volume_size, &state, transfer);
+    gpu = render_raycast(c, program, NULL, in.scene, in.volume, RAYCAST_VOLUME_SIZE, &state, transfer);
     if (!gpu)
-        goto error;
-    state.volume = volume;
+        goto done;
+    state.volume = in.volume;
     size_t pixels = (size_t)c->size * (size_t)c->size;
     reference = malloc(pixels * 4 * sizeof *reference);
     allowed = malloc(pixels * 4 * sizeof *allowed);
     if (!reference || !allowed) {
         halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
-        goto error;
+        goto done;
     }
     static const double moves[][2] = {{-RAYCAST_THRESHOLD_MOVE, 0.0}, {RAYCAST_THRESHOLD_MOVE, 0.0},
                                       {0.0, -RAYCAST_THRESHOLD_MOVE}, {0.0, RAYCAST_THRESHOLD_MOVE}};
@@ -239,7 +244,7 @@ void conform_raycast_row(conform *c, const conform_row *row)
             double *r = &reference[i * 4];
             if (!emulate_pixel(&state, program, x, y, 0.99, 0.0, r)) {
                 halo_diag_error(c->diag, EMU_MISSING, "", 0, 0, "the ray cast scene has a stage without emulation");
-                goto error;
+                goto done;
             }
             double spread[4] = {0, 0, 0, 0};
             for (size_t m = 0; m < sizeof moves / sizeof moves[0]; ++m) {
@@ -267,16 +272,11 @@ void conform_raycast_row(conform *c, const conform_row *row)
                 w % (size_t)c->size, w / (size_t)c->size, gpu[w * 4], gpu[w * 4 + 1], gpu[w * 4 + 2], gpu[w * 4 + 3],
                 reference[w * 4], reference[w * 4 + 1], reference[w * 4 + 2], reference[w * 4 + 3]);
     }
-    goto done;
-error:
-    print_error_row(c, row->name);
+    printed = 1;
 done:
-    halo_diagnostics_clear(c->diag);
-    free(volume);
+    raycast_input_close(c, row, &in, printed);
     free(gpu);
     free(reference);
     free(allowed);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
 }
 

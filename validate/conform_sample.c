@@ -99,25 +99,26 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
     halo_probe *probe = NULL;
     halo_emu_sample *samples = NULL;
     float *gpu = NULL;
+    int printed = 0; /* the row printed its line; else conform_row_end prints an error row */
     if (!scene || halo_scene_enable(scene, stage, 1, c->diag) != HALO_OK)
-        goto error;
+        goto done;
     if (variant == VARIANT_EXPONENT_0 || variant == VARIANT_EXPONENT_64) {
         double exponent = variant == VARIANT_EXPONENT_0 ? 0.0 : 64.0;
         for (size_t i = 0; i < halo_module_param_count(m); ++i) {
             const halo_param_info *info = halo_module_param(m, i);
             if (is_exponent(info) && halo_scene_set(scene, stage, info->name, &exponent, 1, 0, c->diag) != HALO_OK)
-                goto error;
+                goto done;
         }
     }
     program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = c->probe_source,
                                           .host_file = "probe.frag", .all_live = variant == VARIANT_LIVE},
                         c->diag);
     if (!program)
-        goto error;
+        goto done;
     if (variant == VARIANT_LIVE)
         conform_set_live_arrays(program, m, c->diag);
     if (halo_diagnostics_errors(c->diag) > 0)
-        goto error;
+        goto done;
     probe = halo_probe_create(&(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = program,
                                                 .width = c->size, .height = c->size},
                               c->diag);
@@ -127,11 +128,11 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
     if (!probe || !samples || !gpu) {
         if (!samples || !gpu)
             halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
-        goto error;
+        goto done;
     }
     conform_fill_samples(samples, c->size, c->size);
     if (halo_probe_run(probe, samples, gpu, c->diag) != HALO_OK)
-        goto error;
+        goto done;
 
     row_stats stats = {0};
     size_t worst_over = SIZE_MAX;
@@ -139,7 +140,7 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
     for (size_t i = 0; i < count; ++i) {
         halo_emu_sample s = samples[i];
         if (halo_emu_apply(program, &s, c->diag) != HALO_OK)
-            goto error;
+            goto done;
         double emu[4], condition[4] = {0, 0, 0, 0};
         emulated_output(&s, emu);
         for (int field = 0; field < 6; ++field)
@@ -194,16 +195,12 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
         if (c->verbose)
             fprintf(stderr, "  largest error / allowed: %.3g; tolerance: %s\n", worst_ratio, tol->why);
     }
-    goto done;
-error:
-    print_error_row(c, row);
+    printed = 1;
 done:
-    halo_diagnostics_clear(c->diag);
     free(samples);
     free(gpu);
     halo_probe_destroy(probe);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
+    conform_row_end(c, row, printed, program, scene);
 }
 
 /* Whether the stage's module can run at all: an error row when it has no emulation

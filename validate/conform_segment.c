@@ -75,6 +75,8 @@ static double pixel_hash(int x, int y)
     return (double)(h >> 8) * (1.0 / 16777216.0);
 }
 
+enum { MAX_STEPS = 4096 }; /* the ray caster's loop bound */
+
 static void make_ray(const halo_raycast_state *s, const halo_segment_plan *plan, const conform_segment_model *m,
                      int max_steps, int x, int y, segment_ray *r)
 {
@@ -105,6 +107,19 @@ static void make_ray(const halo_raycast_state *s, const halo_segment_plan *plan,
     r->phi0 = phi0;
     r->dphi = dphi * (float)s->step_size;
     r->ended = 0;
+}
+
+/* What make_ray needs besides the pixel, for conform_host_frame_rays. */
+typedef struct ray_context {
+    const halo_raycast_state *s;
+    const halo_segment_plan *plan;
+    const conform_segment_model *m;
+} ray_context;
+
+static void init_segment_ray(void *context, int x, int y, void *ray)
+{
+    const ray_context *c = context;
+    make_ray(c->s, c->plan, c->m, MAX_STEPS, x, y, ray);
 }
 
 /* The shader's halo_segment_index: the first sample at or behind the plane phi = bound. */
@@ -269,19 +284,16 @@ static void emulate_mip(const halo_raycast_state *s, const segment_ray *rays, do
 int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program *p, const halo_segment_plan *plan,
                                  const conform_segment_model *model, double *out, halo_diagnostics *diag)
 {
-    enum { MAX_STEPS = 4096 };
     conform_segment_model m = *model;
     if (!m.host)
         m.host = &conform_segment_raycast;
     size_t pixels = (size_t)s->width * (size_t)s->height;
     halo_emu_frame *frame = NULL;
-    segment_ray *rays =
-        conform_host_frame_rays(p, s->width, s->height, s->screen_right, s->screen_up, sizeof *rays, &frame, diag);
+    ray_context context = {s, plan, &m};
+    segment_ray *rays = conform_host_frame_rays(p, s->width, s->height, s->screen_right, s->screen_up, sizeof *rays,
+                                                init_segment_ray, &context, &frame, diag);
     if (!rays)
         return 0;
-    for (int y = 0; y < s->height; ++y)
-        for (int x = 0; x < s->width; ++x)
-            make_ray(s, plan, &m, MAX_STEPS, x, y, &rays[(size_t)y * (size_t)s->width + (size_t)x]);
     if (m.host->shading == CONFORM_SHADE_MIP) {
         emulate_mip(s, rays, out);
         halo_emu_frame_destroy(frame);
@@ -358,12 +370,7 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
         if (ok && frame && !tail && generation)
             ok = halo_emu_frame_generate(frame, diag) == HALO_OK;
     }
-    for (size_t i = 0; i < pixels; ++i) {
-        double *px = &out[i * 4];
-        for (int c = 0; c < 3; ++c)
-            px[c] += (1.0 - px[3]) * s->background[c];
-        px[3] = 1.0;
-    }
+    conform_over_background(out, pixels, s->background);
     const halo_image_info *post = halo_host_post_image(p);
     if (ok && frame && post) /* the host's colour through the at=post passes, as halo_host_post_passes */
         ok = post_passes(frame, post, pixels, out, diag);

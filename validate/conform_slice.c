@@ -61,25 +61,28 @@ typedef struct pixel_ray {
  * one emulation serves both. out: width*height*4, over the background. */
 int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p, int interval, double *out,
                                halo_diagnostics *diag);
+/* conform_ray_init: the ray of pixel (x, y), with its cosine to and distance along the view axis. */
+static void init_pixel_ray(void *context, int x, int y, void *ray)
+{
+    const halo_slice_state *s = context;
+    pixel_ray *r = ray;
+    conform_pixel_ray(s->inverse_view_projection, s->width, s->height, x, y, r->origin, r->direction);
+    r->cosine = r->origin_distance = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        r->cosine += r->direction[k] * s->view_axis[k];
+        r->origin_distance += (r->origin[k] - s->eye[k]) * s->view_axis[k];
+    }
+}
+
 int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p, int interval, double *out,
                                halo_diagnostics *diag)
 {
     size_t pixels = (size_t)s->width * (size_t)s->height;
     halo_emu_frame *frame = NULL;
-    pixel_ray *rays =
-        conform_host_frame_rays(p, s->width, s->height, s->screen_right, s->screen_up, sizeof *rays, &frame, diag);
+    pixel_ray *rays = conform_host_frame_rays(p, s->width, s->height, s->screen_right, s->screen_up, sizeof *rays,
+                                              init_pixel_ray, (void *)s, &frame, diag);
     if (!rays)
         return 0;
-    for (int y = 0; y < s->height; ++y)
-        for (int x = 0; x < s->width; ++x) {
-            pixel_ray *r = &rays[(size_t)y * (size_t)s->width + (size_t)x];
-            conform_pixel_ray(s->inverse_view_projection, s->width, s->height, x, y, r->origin, r->direction);
-            r->cosine = r->origin_distance = 0.0;
-            for (int k = 0; k < 3; ++k) {
-                r->cosine += r->direction[k] * s->view_axis[k];
-                r->origin_distance += (r->origin[k] - s->eye[k]) * s->view_axis[k];
-            }
-        }
     for (size_t i = 0; i < pixels * 4; ++i)
         out[i] = 0.0;
     const double radius = 0.8660254037844386;
@@ -143,12 +146,7 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
         if (ok && frame && halo_program_pass_count(p) > 0 && (k + 1) % interval == 0 && k + 1 < s->slice_count)
             ok = halo_emu_frame_generate(frame, diag) == HALO_OK;
     }
-    for (size_t i = 0; i < pixels; ++i) {
-        double *px = &out[i * 4];
-        for (int c = 0; c < 3; ++c)
-            px[c] += (1.0 - px[3]) * s->background[c];
-        px[3] = 1.0;
-    }
+    conform_over_background(out, pixels, s->background);
     halo_emu_frame_destroy(frame);
     free(rays);
     free(gradients);
@@ -168,41 +166,42 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
     double *reference = NULL;
     size_t pixels = (size_t)c->size * (size_t)c->size;
     char *source = NULL;
+    int printed = 0; /* the row printed its line; else conform_row_end prints an error row */
     if (!scene)
-        goto error;
+        goto done;
     source = halo_host_load(slab ? "slab.frag" : "slice.frag", NULL, c->diag);
     if (!source)
-        goto error;
+        goto done;
     program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = source,
                                           .host_file = slab ? "slab.frag" : "slice.frag",
                                           .target = HALO_TARGET_GLSL330, .image_scale = scale},
                         c->diag);
     if (!program)
-        goto error;
+        goto done;
     halo_host_desc desc = {.gl = c->gl, .runtime = c->runtime, .program = program, .width = c->size,
                            .height = c->size};
     host = slab ? halo_slab_create(&desc, c->diag) : halo_slice_create(&desc, c->diag);
     if (!host)
-        goto error;
+        goto done;
     halo_slice_set_gradient_format(host, (halo_gradient_format)c->gradient_format);
     const halo_render_settings *settings = halo_scene_render(scene);
     if (halo_slice_set_volume(host, volume, volume_size, volume_size, volume_size, c->diag) != HALO_OK ||
         halo_slice_set_render(host, settings, c->diag) != HALO_OK)
-        goto error;
+        goto done;
     halo_slice_set_camera(host, settings->azimuth, settings->elevation, settings->zoom);
     halo_slice_set_interval(host, interval);
     gpu = malloc(pixels * 4 * sizeof *gpu);
     reference = malloc(pixels * 4 * sizeof *reference);
     if (!gpu || !reference) {
         halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
-        goto error;
+        goto done;
     }
     if (halo_slice_render(host, gpu, c->diag) != HALO_OK)
-        goto error;
+        goto done;
     halo_slice_state state;
     halo_slice_get_state(host, &state);
     if (!halo_conform_slice_emulate(&state, program, state.interval, reference, c->diag))
-        goto error;
+        goto done;
     row_stats stats = {0};
     for (size_t i = 0; i < pixels; ++i) {
         const double g[4] = {gpu[i * 4], gpu[i * 4 + 1], gpu[i * 4 + 2], gpu[i * 4 + 3]};
@@ -218,17 +217,13 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
                 w % (size_t)c->size, w / (size_t)c->size, gpu[w * 4], gpu[w * 4 + 1], gpu[w * 4 + 2],
                 reference[w * 4], reference[w * 4 + 1], reference[w * 4 + 2], reason);
     }
-    goto done;
-error:
-    print_error_row(c, row);
+    printed = 1;
 done:
-    halo_diagnostics_clear(c->diag);
     halo_slice_destroy(host);
     free(gpu);
     free(reference);
     free(source);
-    halo_program_destroy(program);
-    halo_scene_destroy(scene);
+    conform_row_end(c, row, printed, program, scene);
 }
 
 void conform_slice_row(conform *c, const conform_row *row)

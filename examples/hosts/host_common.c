@@ -644,6 +644,18 @@ int halo_host_orbit_camera_projection(double azimuth, double elevation, double z
     return 1;
 }
 
+void halo_host_camera_keep(const halo_host_camera *camera, float inverse_view_projection[16], float eye[3],
+                           float screen_right[3], float screen_up[3])
+{
+    for (int i = 0; i < 16; ++i)
+        inverse_view_projection[i] = camera->inverse_view_projection[i];
+    for (int c = 0; c < 3; ++c) {
+        eye[c] = (float)camera->eye[c];
+        screen_right[c] = (float)camera->right[c];
+        screen_up[c] = (float)camera->up[c];
+    }
+}
+
 /* ---- Post passes ------------------------------------------------------------------------ */
 
 const halo_image_info *halo_host_post_image(const halo_program *p)

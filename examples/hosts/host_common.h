@@ -141,5 +141,9 @@ int halo_host_orbit_camera(double azimuth, double elevation, double zoom, int wi
  * perspective one is: hosts that take a view vector from it see nearly parallel rays). */
 int halo_host_orbit_camera_projection(double azimuth, double elevation, double zoom, int width, int height,
                                       int orthographic, halo_host_camera *camera);
+/* The camera in the float fields that the hosts keep and upload: the inverse
+ * view-projection, the eye and the image-plane axes. */
+void halo_host_camera_keep(const halo_host_camera *camera, float inverse_view_projection[16], float eye[3],
+                           float screen_right[3], float screen_up[3]);
 
 #endif

@@ -269,13 +269,7 @@ void halo_raycast_set_camera(halo_raycast *r, double azimuth, double elevation, 
     if (!halo_host_orbit_camera_projection(azimuth, elevation, zoom, r->target.width, r->target.height,
                                            r->orthographic, &camera))
         return;
-    for (int i = 0; i < 16; ++i)
-        r->inverse_view_projection[i] = camera.inverse_view_projection[i];
-    for (int c = 0; c < 3; ++c) {
-        r->eye[c] = (float)camera.eye[c];
-        r->screen_right[c] = (float)camera.right[c];
-        r->screen_up[c] = (float)camera.up[c];
-    }
+    halo_host_camera_keep(&camera, r->inverse_view_projection, r->eye, r->screen_right, r->screen_up);
 }
 
 halo_gl_frame *halo_raycast_frame(const halo_raycast *r)

@@ -328,16 +328,10 @@ void halo_slice_set_camera(halo_slice *s, double azimuth, double elevation, doub
     halo_host_camera camera;
     if (!halo_host_orbit_camera(azimuth, elevation, zoom, s->width, s->height, &camera))
         return;
-    for (int i = 0; i < 16; ++i) {
-        s->inverse_view_projection[i] = camera.inverse_view_projection[i];
-        s->view_projection[i] = camera.view_projection[i];
-    }
-    for (int c = 0; c < 3; ++c) {
-        s->eye[c] = (float)camera.eye[c];
+    halo_host_camera_keep(&camera, s->inverse_view_projection, s->eye, s->screen_right, s->screen_up);
+    memcpy(s->view_projection, camera.view_projection, sizeof s->view_projection);
+    for (int c = 0; c < 3; ++c)
         s->view_axis[c] = (float)-camera.back[c];
-        s->screen_right[c] = (float)camera.right[c];
-        s->screen_up[c] = (float)camera.up[c];
-    }
 }
 
 void halo_slice_get_state(const halo_slice *s, halo_slice_state *st)

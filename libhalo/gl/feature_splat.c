@@ -10,6 +10,7 @@
  * new view only redraws. Every GL call goes through the runtime's function table. */
 #include "diag.h"
 #include "gl/glfuncs.h"
+#include "gl/runtime.h"
 #include "halo_feature.h"
 #include "emu/feature_internal.h"
 
@@ -319,60 +320,43 @@ void halo_feature_buffer_destroy(halo_feature_buffer *b)
     free(b);
 }
 
+/* The capabilities the build switches, and the blend function and equations it sets. */
+static const GLenum switched_caps[] = {GL_BLEND, GL_DEPTH_TEST, GL_SCISSOR_TEST, GL_PROGRAM_POINT_SIZE, GL_CULL_FACE};
+enum { SRC_RGB, DST_RGB, SRC_ALPHA, DST_ALPHA, EQUATION_RGB, EQUATION_ALPHA, BLEND_QUERIES };
+static const GLenum blend_queries[BLEND_QUERIES] = {
+    [SRC_RGB] = GL_BLEND_SRC_RGB,         [DST_RGB] = GL_BLEND_DST_RGB,
+    [SRC_ALPHA] = GL_BLEND_SRC_ALPHA,     [DST_ALPHA] = GL_BLEND_DST_ALPHA,
+    [EQUATION_RGB] = GL_BLEND_EQUATION_RGB, [EQUATION_ALPHA] = GL_BLEND_EQUATION_ALPHA,
+};
+#define SWITCHED_CAPS (sizeof switched_caps / sizeof switched_caps[0])
+
 typedef struct saved_state {
-    GLint draw_framebuffer, read_framebuffer, viewport[4], program, vertex_array, active_texture, texture_3d;
-    GLint blend, blend_src_rgb, blend_dst_rgb, blend_src_alpha, blend_dst_alpha, blend_equation_rgb,
-        blend_equation_alpha, depth_test, scissor_test, point_size, cull_face;
+    halo_gl_bindings bindings;
+    GLint texture_3d;
+    GLint enabled[SWITCHED_CAPS];
+    GLint blend[BLEND_QUERIES];
 } saved_state;
 
 static void save_state(const halo_glfuncs *f, saved_state *s)
 {
-    f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &s->draw_framebuffer);
-    f->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &s->read_framebuffer);
-    f->GetIntegerv(GL_VIEWPORT, s->viewport);
-    f->GetIntegerv(GL_CURRENT_PROGRAM, &s->program);
-    f->GetIntegerv(GL_VERTEX_ARRAY_BINDING, &s->vertex_array);
-    f->GetIntegerv(GL_ACTIVE_TEXTURE, &s->active_texture);
+    halo_gl_bindings_save(f, &s->bindings);
     f->ActiveTexture(GL_TEXTURE0);
     f->GetIntegerv(GL_TEXTURE_BINDING_3D, &s->texture_3d);
-    f->GetIntegerv(GL_BLEND, &s->blend);
-    f->GetIntegerv(GL_BLEND_SRC_RGB, &s->blend_src_rgb);
-    f->GetIntegerv(GL_BLEND_DST_RGB, &s->blend_dst_rgb);
-    f->GetIntegerv(GL_BLEND_SRC_ALPHA, &s->blend_src_alpha);
-    f->GetIntegerv(GL_BLEND_DST_ALPHA, &s->blend_dst_alpha);
-    f->GetIntegerv(GL_BLEND_EQUATION_RGB, &s->blend_equation_rgb);
-    f->GetIntegerv(GL_BLEND_EQUATION_ALPHA, &s->blend_equation_alpha);
-    f->GetIntegerv(GL_DEPTH_TEST, &s->depth_test);
-    f->GetIntegerv(GL_SCISSOR_TEST, &s->scissor_test);
-    f->GetIntegerv(GL_PROGRAM_POINT_SIZE, &s->point_size);
-    f->GetIntegerv(GL_CULL_FACE, &s->cull_face);
-}
-
-static void set_enabled(const halo_glfuncs *f, GLenum cap, GLint on)
-{
-    if (on)
-        f->Enable(cap);
-    else
-        f->Disable(cap);
+    for (size_t i = 0; i < SWITCHED_CAPS; ++i)
+        f->GetIntegerv(switched_caps[i], &s->enabled[i]);
+    for (int i = 0; i < BLEND_QUERIES; ++i)
+        f->GetIntegerv(blend_queries[i], &s->blend[i]);
 }
 
 static void restore_state(const halo_glfuncs *f, const saved_state *s)
 {
-    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)s->draw_framebuffer);
-    f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)s->read_framebuffer);
-    f->Viewport(s->viewport[0], s->viewport[1], s->viewport[2], s->viewport[3]);
-    f->UseProgram((GLuint)s->program);
-    f->BindVertexArray((GLuint)s->vertex_array);
-    f->BindTexture(GL_TEXTURE_3D, (GLuint)s->texture_3d);
-    f->ActiveTexture((GLenum)s->active_texture);
-    f->BlendFuncSeparate((GLenum)s->blend_src_rgb, (GLenum)s->blend_dst_rgb, (GLenum)s->blend_src_alpha,
-                         (GLenum)s->blend_dst_alpha);
-    f->BlendEquation((GLenum)s->blend_equation_rgb);
-    set_enabled(f, GL_BLEND, s->blend);
-    set_enabled(f, GL_DEPTH_TEST, s->depth_test);
-    set_enabled(f, GL_SCISSOR_TEST, s->scissor_test);
-    set_enabled(f, GL_PROGRAM_POINT_SIZE, s->point_size);
-    set_enabled(f, GL_CULL_FACE, s->cull_face);
+    f->BindTexture(GL_TEXTURE_3D, (GLuint)s->texture_3d); /* on unit 0, before the saved unit is restored */
+    halo_gl_bindings_restore(f, &s->bindings);
+    f->BlendFuncSeparate((GLenum)s->blend[SRC_RGB], (GLenum)s->blend[DST_RGB], (GLenum)s->blend[SRC_ALPHA],
+                         (GLenum)s->blend[DST_ALPHA]);
+    f->BlendEquation((GLenum)s->blend[EQUATION_RGB]);
+    for (size_t i = 0; i < SWITCHED_CAPS; ++i)
+        (s->enabled[i] ? f->Enable : f->Disable)(switched_caps[i]);
 }
 
 halo_status halo_feature_buffer_build(halo_feature_buffer *b, const double view[3])

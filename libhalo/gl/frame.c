@@ -145,7 +145,7 @@ static void image_formats(int channels, int precision, GLint *internal, GLenum *
 
 /* The GL state the frame functions change, saved and restored around them. */
 typedef struct frame_saved {
-    GLint draw_framebuffer, read_framebuffer, viewport[4], program, vertex_array, active_texture;
+    halo_gl_bindings bindings;
     GLboolean scissor, blend[FRAME_MAX_BUFFERS];
     GLint scissor_box[4];
     int blend_count;
@@ -156,12 +156,7 @@ typedef struct frame_saved {
 static void frame_save(const halo_glfuncs *f, frame_saved *s, int units)
 {
     memset(s, 0, sizeof *s);
-    f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &s->draw_framebuffer);
-    f->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &s->read_framebuffer);
-    f->GetIntegerv(GL_VIEWPORT, s->viewport);
-    f->GetIntegerv(GL_CURRENT_PROGRAM, &s->program);
-    f->GetIntegerv(GL_VERTEX_ARRAY_BINDING, &s->vertex_array);
-    f->GetIntegerv(GL_ACTIVE_TEXTURE, &s->active_texture);
+    halo_gl_bindings_save(f, &s->bindings);
     if (f->IsEnabled)
         s->scissor = f->IsEnabled(GL_SCISSOR_TEST);
     f->GetIntegerv(GL_SCISSOR_BOX, s->scissor_box);
@@ -183,12 +178,7 @@ static void frame_restore(const halo_glfuncs *f, const frame_saved *s)
         f->ActiveTexture(GL_TEXTURE0 + (GLenum)u);
         f->BindTexture(GL_TEXTURE_2D, (GLuint)s->textures[u]);
     }
-    f->ActiveTexture((GLenum)s->active_texture);
-    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)s->draw_framebuffer);
-    f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)s->read_framebuffer);
-    f->Viewport(s->viewport[0], s->viewport[1], s->viewport[2], s->viewport[3]);
-    f->UseProgram((GLuint)s->program);
-    f->BindVertexArray((GLuint)s->vertex_array);
+    halo_gl_bindings_restore(f, &s->bindings);
     f->Scissor(s->scissor_box[0], s->scissor_box[1], s->scissor_box[2], s->scissor_box[3]);
     if (s->scissor)
         f->Enable(GL_SCISSOR_TEST);
@@ -829,7 +819,7 @@ static void frame_run(halo_gl_frame *fr, int post)
     }
     if (fr->bound) {
         frame_bind_textures(fr, fr->bound_first_unit);
-        f->ActiveTexture((GLenum)saved.active_texture);
+        f->ActiveTexture((GLenum)saved.bindings.active_texture);
     }
 }
 

@@ -17,6 +17,26 @@ const halo_glfuncs *halo_gl_functions(const halo_gl *gl)
     return gl ? &gl->f : NULL;
 }
 
+void halo_gl_bindings_save(const halo_glfuncs *f, halo_gl_bindings *b)
+{
+    f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &b->draw_framebuffer);
+    f->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &b->read_framebuffer);
+    f->GetIntegerv(GL_VIEWPORT, b->viewport);
+    f->GetIntegerv(GL_CURRENT_PROGRAM, &b->program);
+    f->GetIntegerv(GL_VERTEX_ARRAY_BINDING, &b->vertex_array);
+    f->GetIntegerv(GL_ACTIVE_TEXTURE, &b->active_texture);
+}
+
+void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b)
+{
+    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)b->draw_framebuffer);
+    f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)b->read_framebuffer);
+    f->Viewport(b->viewport[0], b->viewport[1], b->viewport[2], b->viewport[3]);
+    f->UseProgram((GLuint)b->program);
+    f->BindVertexArray((GLuint)b->vertex_array);
+    f->ActiveTexture((GLenum)b->active_texture);
+}
+
 halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
 {
     if (!desc || !desc->get_proc_address) {

@@ -1,5 +1,6 @@
-/* What the GL runtime (runtime.c) shares with frames (frame.c): the runtime object and
- * the compile / log helpers that map the driver's messages back to module lines. Internal. */
+/* What the GL runtime (runtime.c) shares with frames (frame.c) and the feature halo
+ * buffer (feature_splat.c): the runtime object, the compile / log helpers that map the
+ * driver's messages back to module lines, and the saved bindings. Internal. */
 #ifndef HALO_GL_RUNTIME_H
 #define HALO_GL_RUNTIME_H
 
@@ -31,5 +32,14 @@ char *halo_gl_program_log(const halo_glfuncs *f, GLuint program);
 /* Reports each message of a driver log (log is modified) as a diagnostic of id. */
 void halo_gl_report_log(halo_diagnostics *diag, halo_message_id id, char *log, const halo_program *p,
                         const char *source, const char *file);
+
+/* The host's bindings that libhalo's own draws change (framebuffers, viewport, program,
+ * vertex array, active texture unit), saved before and restored after them; the caller
+ * saves and restores whatever else it changes. */
+typedef struct halo_gl_bindings {
+    GLint draw_framebuffer, read_framebuffer, viewport[4], program, vertex_array, active_texture;
+} halo_gl_bindings;
+void halo_gl_bindings_save(const halo_glfuncs *f, halo_gl_bindings *b);
+void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b);
 
 #endif

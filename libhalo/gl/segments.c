@@ -116,6 +116,18 @@ static int desc_valid(const halo_gl_segments_desc *d, const char *function, halo
     return 0;
 }
 
+/* The checks of the public entry points: the object (named object_name) and the desc are
+ * not NULL and the desc is valid; reported as function's. */
+static int arguments_valid(const void *object, const char *object_name, const halo_gl_segments_desc *d,
+                           const char *function, halo_diagnostics *diag)
+{
+    if (!object || !d) {
+        halo_diag_null(diag, function, object ? "desc" : object_name);
+        return 0;
+    }
+    return desc_valid(d, function, diag);
+}
+
 static void set_camera(const halo_glfuncs *f, GLuint program, const halo_segment_plan *c)
 {
     f->Uniform4f(f->GetUniformLocation(program, "halo_camera_eye"), (float)c->eye[0], (float)c->eye[1],
@@ -128,9 +140,7 @@ static void set_camera(const halo_glfuncs *f, GLuint program, const halo_segment
 halo_status halo_gl_set_camera(halo_gl *gl, unsigned gl_program, const halo_gl_segments_desc *desc,
                                halo_diagnostics *diag)
 {
-    HALO_REFUSE_NULL(diag, gl, "gl", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(diag, desc, "desc", HALO_ERROR_INPUT);
-    if (!desc_valid(desc, "halo_gl_set_camera", diag))
+    if (!arguments_valid(gl, "gl", desc, "halo_gl_set_camera", diag))
         return HALO_ERROR_INPUT;
     halo_segment_plan camera;
     if (!segment_camera(desc, &camera)) {
@@ -215,9 +225,7 @@ int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p
 halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
                                halo_diagnostics *diag)
 {
-    HALO_REFUSE_NULL(diag, fr, "frame", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(diag, d, "desc", HALO_ERROR_INPUT);
-    if (!desc_valid(d, "halo_gl_frame_draw", diag))
+    if (!arguments_valid(fr, "frame", d, "halo_gl_frame_draw", diag))
         return HALO_ERROR_INPUT;
     if (!d->draw) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_frame_draw: desc.draw is required");

@@ -17,6 +17,26 @@ static const char other_boundary[] =
     "#pragma halo param k_gs float default=7 min=0 max=100 \"a stand-in\"\n"
     "void apply(inout halo_sample s) { s.opacity *= k_gs; }\n";
 
+/* check_library_setup, then scene_json read against that library. */
+static halo_scene *scene_setup(halo_library **lib, halo_diagnostics **d) {
+    *lib = check_library_setup(d);
+    halo_scene *scene = halo_scene_parse(scene_json, "scene.json", *lib, *d);
+    if (!scene) {
+        check_print_diags(*d);
+        SETUP_FAIL("scene_json rejected");
+    }
+    return scene;
+}
+
+/* Blocks of the sizes just freed, allocated so that a use after free reads them. */
+enum { FILLER_BLOCKS = 64 };
+static void filler_take(void *filler[FILLER_BLOCKS]) {
+    for (int i = 0; i < FILLER_BLOCKS; i++) filler[i] = malloc(64 * (size_t)(i % 8 + 1));
+}
+static void filler_free(void *filler[FILLER_BLOCKS]) {
+    for (int i = 0; i < FILLER_BLOCKS; i++) free(filler[i]);
+}
+
 static int test_validate_before_setup(void) {
     halo_diagnostics *d = halo_diagnostics_create();
     CHECK(d != NULL);
@@ -53,15 +73,14 @@ static int test_validate_before_setup(void) {
  * them frees it (ASan and the leak check see a use after free or a leak). */
 static int test_library_destroyed_first(void) {
     halo_diagnostics *d;
-    halo_library *lib = check_library_setup(&d);
-    halo_scene *scene = halo_scene_parse(scene_json, "scene.json", lib, d);
-    CHECK(scene != NULL);
+    halo_library *lib;
+    halo_scene *scene = scene_setup(&lib, &d);
     halo_program *p = halo_link(
         &(halo_link_desc){.library = lib, .scene = scene, .host_source = check_sample_host, .all_live = 1}, d);
     CHECK(p != NULL);
     halo_library_destroy(lib);
-    void *filler[64]; /* reuse the freed blocks, if they were freed */
-    for (int i = 0; i < 64; i++) filler[i] = malloc(64 * (size_t)(i % 8 + 1));
+    void *filler[FILLER_BLOCKS]; /* reuse the freed blocks, if they were freed */
+    filler_take(filler);
     CHECK_INT_EQ(halo_scene_enable(scene, "silhouette", 1, d), HALO_OK);
     CHECK_INT_EQ(halo_scene_set(scene, "boundary", "k_gs", (const double[]){12}, 1, 0, d), HALO_OK);
     CHECK_STR_EQ(halo_scene_stage(scene, 1), "silhouette");
@@ -73,7 +92,7 @@ static int test_library_destroyed_first(void) {
                          .color = {0.8, 0.6, 0.4}, .opacity = 0.5};
     CHECK_INT_EQ(halo_emu_apply(p, &s, d), HALO_OK);
     CHECK_FINITE(s.opacity);
-    for (int i = 0; i < 64; i++) free(filler[i]);
+    filler_free(filler);
     halo_scene_destroy(scene);
     CHECK_STR_EQ(halo_program_stage(p, 0), "gradient"); /* the program still holds the library */
     halo_program_destroy(p);
@@ -85,9 +104,8 @@ static int test_library_destroyed_first(void) {
 /* An emulation frame keeps its program (and so the library) alive. */
 static int test_program_destroyed_first(void) {
     halo_diagnostics *d;
-    halo_library *lib = check_library_setup(&d);
-    halo_scene *scene = halo_scene_parse(scene_json, "scene.json", lib, d);
-    CHECK(scene != NULL);
+    halo_library *lib;
+    halo_scene *scene = scene_setup(&lib, &d);
     halo_program *p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = check_sample_host},
                                 d);
     CHECK(p != NULL);
@@ -96,12 +114,12 @@ static int test_program_destroyed_first(void) {
     halo_scene_destroy(scene);
     halo_library_destroy(lib);
     halo_program_destroy(p);
-    void *filler[64]; /* reuse the freed blocks, if they were freed */
-    for (int i = 0; i < 64; i++) filler[i] = malloc(64 * (size_t)(i % 8 + 1));
+    void *filler[FILLER_BLOCKS]; /* reuse the freed blocks, if they were freed */
+    filler_take(filler);
     halo_emu_frame_begin(f);
     CHECK_INT_EQ(halo_emu_frame_generate(f, d), HALO_OK);
     CHECK_INT_EQ(halo_emu_frame_post(f, d), HALO_OK);
-    for (int i = 0; i < 64; i++) free(filler[i]);
+    filler_free(filler);
     halo_emu_frame_destroy(f);
     CHECK_NO_ERRORS(d);
     halo_diagnostics_destroy(d);
@@ -142,9 +160,8 @@ static int test_scene_of_another_library(void) {
 /* Replacing a module that a scene or program points into is refused while they live. */
 static int test_override_in_use(void) {
     halo_diagnostics *d;
-    halo_library *lib = check_library_setup(&d);
-    halo_scene *scene = halo_scene_parse(scene_json, "scene.json", lib, d);
-    CHECK(scene != NULL);
+    halo_library *lib;
+    halo_scene *scene = scene_setup(&lib, &d);
     CHECK_INT_EQ(halo_library_override_source(lib, "other_boundary.glsl", other_boundary, d), HALO_ERROR_INPUT);
     CHECK_DIAG(d, HALO_MSG_USAGE);
     CHECK_INT_EQ(halo_scene_set(scene, "boundary", "k_gs", (const double[]){50}, 1, 0, d), HALO_OK);

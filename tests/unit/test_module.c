@@ -148,6 +148,22 @@ static int test_builtin_modules(void) {
         CHECK_INT_EQ(halo_library_module_count(library), count_before_);                                          \
     } while (0)
 
+/* Each of the lines, put into a sample module after head (so at line `line`), is refused
+ * with id at that line. */
+static int check_each_line_refused(const char *file, const char *head, const char *const *lines, size_t count,
+                                   halo_message_id id, int line) {
+    for (size_t i = 0; i < count; i++) {
+        char source[512];
+        snprintf(source, sizeof source, "%s%svoid apply(inout halo_sample s) {}\n", head, lines[i]);
+        CHECK_INT_EQ(add(file, source), HALO_ERROR_INPUT);
+        if (!check_find_diag(diags, id, line)) {
+            check_print_diags(diags);
+            CHECK_FAIL_AT("no %s at line %d for: %s", halo_message_name(id), line, lines[i]);
+        }
+    }
+    return 0;
+}
+
 static int test_unknown_directive(void) {
     CHECK_ONE_ERROR("user/unknown.glsl",
                     "#pragma halo module unknown_directive\n"
@@ -177,19 +193,12 @@ static int test_malformed_param(void) {
         "#pragma halo param k_x float default=1 min=2 max=1\n",       /* min above max */
         "#pragma halo param k_x float default=1 \"unclosed meaning\n", /* unclosed quote */
     };
-    for (size_t i = 0; i < sizeof bad_lines / sizeof bad_lines[0]; i++) {
-        char source[512];
-        snprintf(source, sizeof source,
-                 "#pragma halo module malformed\n"
-                 "#pragma halo hook sample\n"
-                 "// the next line is malformed\n"
-                 "%s"
-                 "void apply(inout halo_sample s) {}\n",
-                 bad_lines[i]);
-        CHECK_INT_EQ(add("user/malformed.glsl", source), HALO_ERROR_INPUT);
-        if (!check_find_diag(diags, HALO_MSG_ANNOTATION_SYNTAX, 4))
-            CHECK_FAIL_AT("no ANNOTATION_SYNTAX at line 4 for: %s", bad_lines[i]);
-    }
+    if (check_each_line_refused("user/malformed.glsl",
+                                "#pragma halo module malformed\n"
+                                "#pragma halo hook sample\n"
+                                "// the next line is malformed\n",
+                                bad_lines, sizeof bad_lines / sizeof bad_lines[0], HALO_MSG_ANNOTATION_SYNTAX, 4))
+        return 1;
     /* A parameter without default= is missing a required part. */
     CHECK_INT_EQ(add("user/malformed.glsl", "#pragma halo module no_default\n"
                                             "#pragma halo hook sample\n"
@@ -237,21 +246,10 @@ static int test_default_invalid(void) {
         "#pragma halo param k bool default=2\n",                    /* a bool is 0 or 1 */
         "#pragma halo param k float[2] default=[1,2,3]\n",          /* too many elements */
     };
-    for (size_t i = 0; i < sizeof bad_lines / sizeof bad_lines[0]; i++) {
-        char source[512];
-        snprintf(source, sizeof source,
-                 "#pragma halo module bad_default\n"
-                 "#pragma halo hook sample\n"
-                 "%s"
-                 "void apply(inout halo_sample s) {}\n",
-                 bad_lines[i]);
-        CHECK_INT_EQ(add("user/default.glsl", source), HALO_ERROR_INPUT);
-        if (!check_find_diag(diags, HALO_MSG_PARAM_DEFAULT_INVALID, 3)) {
-            check_print_diags(diags);
-            CHECK_FAIL_AT("no PARAM_DEFAULT_INVALID at line 3 for: %s", bad_lines[i]);
-        }
-    }
-    return 0;
+    return check_each_line_refused("user/default.glsl",
+                                   "#pragma halo module bad_default\n"
+                                   "#pragma halo hook sample\n",
+                                   bad_lines, sizeof bad_lines / sizeof bad_lines[0], HALO_MSG_PARAM_DEFAULT_INVALID, 3);
 }
 
 static int test_duplicate_param(void) {
