@@ -723,7 +723,8 @@ HALO_API void halo_gl_frame_attach(halo_gl_frame *f, unsigned host_framebuffer);
  * first_unit on. The host program must be current. */
 HALO_API void halo_gl_frame_bind(halo_gl_frame *f, unsigned gl_program, int first_unit);
 /* Runs the image passes and clears the reset=generation images; restores the GL state
- * it changes (framebuffer, viewport, program, blend, textures of the units it used). */
+ * it changes (framebuffer, viewport, program, blend, textures of the units it used, the
+ * colour write mask of draw buffer 0: the passes write whatever the host's mask). */
 HALO_API void halo_gl_frame_generate(halo_gl_frame *f);
 /* End of frame: binds the host's final colour (an RGBA texture of the frame's size, over
  * its background) as the image "host_color" and runs the at=post passes; the result

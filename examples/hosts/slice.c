@@ -648,9 +648,8 @@ static int draw_clipped_slice(const halo_slice *s, GLuint program, GLuint outsid
     return !box_empty(section) || n > 0;
 }
 
-/* Colour buffer 0 written (on) or not while the slices are drawn, when `masking`. The
- * frame's passes (generation, a group's reduction) draw into buffer 0 of their own
- * framebuffer, under the same mask: it is on around them. */
+/* Colour buffer 0 written (on) or not while the slices are drawn, when `masking` (the
+ * frame's passes and clears write their images whatever the host's mask). */
 static void colour_mask(const halo_slice *s, int masking, int on)
 {
     if (masking)
@@ -791,9 +790,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
                     halo_gl_frame_drawn_region(s->frame, drawn[0], drawn[1], drawn[2], drawn[3]);
                     memset(drawn, 0, sizeof drawn);
                 }
-                colour_mask(s, colour_written, 1);
                 generation_run(&skip, s->frame);
-                colour_mask(s, colour_written, 0);
             }
             if (s->progress)
                 s->progress(k + 1, st.slice_count, s->progress_user);
@@ -827,7 +824,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
         f->BindFramebuffer(GL_FRAMEBUFFER, s->framebuffer);
         f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->textures[current], 0);
     }
-    colour_mask(s, colour_written, 1); /* the frame's passes draw into their buffer 0 */
+    colour_mask(s, colour_written, 1);
     if (group >= 0)
         halo_gl_frame_end_group(s->frame);
     if (!colour_written) {

@@ -143,9 +143,27 @@ static void image_formats(int channels, int precision, GLint *internal, GLenum *
     *format = formats[c - 1];
 }
 
+/* The write mask of draw buffer 0, where the frame's passes and clears draw: the host's
+ * saved in mask and all channels on (a host may mask its colour while it draws). */
+static void frame_mask_open(const halo_glfuncs *f, GLboolean mask[4])
+{
+    mask[0] = mask[1] = mask[2] = mask[3] = GL_TRUE;
+    if (!f->ColorMaski || !f->GetBooleanv)
+        return;
+    f->GetBooleanv(GL_COLOR_WRITEMASK, mask);
+    f->ColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+static void frame_mask_close(const halo_glfuncs *f, const GLboolean mask[4])
+{
+    if (f->ColorMaski && f->GetBooleanv)
+        f->ColorMaski(0, mask[0], mask[1], mask[2], mask[3]);
+}
+
 /* The GL state the frame functions change, saved and restored around them. */
 typedef struct frame_saved {
     halo_gl_bindings bindings;
+    GLboolean mask[4];
     GLboolean scissor, blend[FRAME_MAX_BUFFERS];
     GLint scissor_box[4];
     int blend_count;
@@ -157,6 +175,7 @@ static void frame_save(const halo_glfuncs *f, frame_saved *s, int units)
 {
     memset(s, 0, sizeof *s);
     halo_gl_bindings_save(f, &s->bindings);
+    frame_mask_open(f, s->mask);
     if (f->IsEnabled)
         s->scissor = f->IsEnabled(GL_SCISSOR_TEST);
     f->GetIntegerv(GL_SCISSOR_BOX, s->scissor_box);
@@ -179,6 +198,7 @@ static void frame_restore(const halo_glfuncs *f, const frame_saved *s)
         f->BindTexture(GL_TEXTURE_2D, (GLuint)s->textures[u]);
     }
     halo_gl_bindings_restore(f, &s->bindings);
+    frame_mask_close(f, s->mask);
     f->Scissor(s->scissor_box[0], s->scissor_box[1], s->scissor_box[2], s->scissor_box[3]);
     if (s->scissor)
         f->Enable(GL_SCISSOR_TEST);
@@ -551,6 +571,8 @@ static void frame_clear(halo_gl_frame *fr, int group)
     GLint draw_framebuffer = 0;
     GLboolean scissor = f->IsEnabled ? f->IsEnabled(GL_SCISSOR_TEST) : GL_FALSE;
     frame_take_host_draws(fr, 0); /* for the images not cleared */
+    GLboolean mask[4];
+    frame_mask_open(f, mask);
     f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_framebuffer);
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, fr->framebuffer);
     if (scissor)
@@ -561,7 +583,7 @@ static void frame_clear(halo_gl_frame *fr, int group)
     f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
     if (scissor)
         f->Enable(GL_SCISSOR_TEST);
-
+    frame_mask_close(f, mask);
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)draw_framebuffer);
 }
 

@@ -126,7 +126,8 @@
     X(PFNGLBLENDFUNCIPROC, BlendFunci)                                    \
     X(PFNGLBLENDEQUATIONSEPARATEIPROC, BlendEquationSeparatei)            \
     X(PFNGLBLENDFUNCSEPARATEIPROC, BlendFuncSeparatei)                    \
-    X(PFNGLCOLORMASKIPROC, ColorMaski)
+    X(PFNGLCOLORMASKIPROC, ColorMaski)                                    \
+    X(PFNGLGETBOOLEANVPROC, GetBooleanv)
 
 typedef struct halo_glfuncs {
 #define HALO_X_GLFUNC_MEMBER(type, name) type name;
