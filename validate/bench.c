@@ -165,6 +165,8 @@ static void print_sweep(const bench_options *o, const halo_bench_env *env, const
            host_name(r), r->interval, r->passes, r->step);
     printf("# %%ref: the frame rate as a percentage of the same host's render without halos at the same step\n");
     printf("# %s\n", resolution_note);
+    printf("# wide: halo_generate's approximation wide, N passes of 49 taps reaching 4^N - 1 px (as exact 2N passes):"
+           " wide N = 2 against the M = 4 row (exact N = %d), wide N = 1 against N = 2\n", r->passes);
     printf("# halo_err: max abs against M = 1 of the slice host at the same step (the halo approximations alone)\n");
     printf("# grad: the gradient texture (float RGB32F, half RGB16F, snorm8 RGB8_SNORM); grad_err: max abs against the\n"
            "# same configuration with float gradients\n");
@@ -453,6 +455,7 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
     ROW("halo-p32", NULL, cases[n].config.gradient = HALO_GRADIENT_PACKED32);
     ROW("halo1/2", NULL, cases[n].config.scale = 2);
     ROW("halo1/4", NULL, cases[n].config.scale = 4);
+    ROW("halo-wide", NULL, cases[n].config.passes = 2; cases[n].config.wide = 1);
     ROW("reference", NULL, cases[n].config.halos = 0; cases[n].config.slab = 1; cases[n].config.interval = 8);
     for (int k = 0; k < 4; ++k)
         ROW("halo", NULL, cases[n].config.slab = 1; cases[n].config.interval = paper_m[k]);
@@ -492,7 +495,9 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
            " seed image instead; seed+map: + mapping (M = -: no generation); halo16: M = 4 with 16-bit halo images (error"
            " against 32-bit M = 4); halo1/2, halo1/4: M = 4 with halo images at 1/2, 1/4 of the frame per side (error"
            " against M = 1 at full size); halo-p32: M = 4 with the packed32 gradient format (value and gradient in"
-           " one RGBA32F texture, one fetch; error against M = 1 with the default, %s)\n",
+           " one RGBA32F texture, one fetch; error against M = 1 with the default, %s); halo-wide: M = 4 with"
+           " halo_generate's approximation wide at N = 2 (2 passes of 49 taps, reach 15 px as N = 4; error against"
+           " M = 1, exact N = 4)\n",
            halo_gradient_format_name(HALO_GRADIENT_FORMAT_DEFAULT));
     printf("%-9s %-5s %3s %6s %7s %10s %8s %9s %7s %10s %10s %8s\n", "row", "host", "M", "draws", "passes",
            "ms/frame", "fps", "%ref", "paper%", "max_abs", "rmse", ">1/255");
