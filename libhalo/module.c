@@ -240,7 +240,7 @@ int halo_when_next(const char **cursor, char *name, size_t cap, int *negate) {
     *negate = *p == '!';
     p += *negate;
     size_t n = strcspn(p, ",");
-    if (!n || cap == 0) return -1;
+    if (!n || n >= cap) return -1; /* empty, or longer than a name can be here */
     snprintf(name, cap, "%.*s", (int)n, p);
     *cursor = p[n] ? p + n + 1 : p + n;
     if (p[n] && !p[n + 1]) return -1; /* a trailing comma */
