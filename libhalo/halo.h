@@ -481,11 +481,14 @@ typedef struct halo_pass_info {
     int reach;          /* -1: undeclared, the pass may write anywhere; else repetition i writes a nonzero
                          * pixel only within halo_pass_reach(pass, i) pixels (per axis) of a nonzero pixel
                          * of its inputs (reach= in the module) */
-    int reach_exponent; /* -1; else the value of PARAM in reach=2^(PARAM-i)+K (reach holds K) */
+    int reach_exponent; /* -1; else the value of PARAM in reach=[M*]B^(PARAM-i)+K (reach holds K) */
+    int reach_factor;   /* M of reach=M*B^(PARAM-i)+K (1 without M*) */
+    int reach_base;     /* B of reach=M*B^(PARAM-i)+K: 2 or 4 */
 } halo_pass_info;
 
-/* Pixels (per axis) repetition i of a pass reaches: reach + 2^max(0, reach_exponent - i) when
- * it has an exponent; -1 when the pass declares no reach. */
+/* Pixels (per axis) repetition i of a pass reaches: reach + reach_factor *
+ * reach_base^max(0, reach_exponent - i) when it has an exponent (at most 2^30); -1 when the
+ * pass declares no reach. */
 HALO_API int halo_pass_reach(const halo_pass_info *pass, int repetition);
 
 typedef struct halo_program halo_program;

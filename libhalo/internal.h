@@ -53,6 +53,11 @@ typedef struct halo_host_uniform_decl {
  * frame's size (halo_link_desc.image_scale 1). */
 #define HALO_WHEN_FULL_SIZE "halo_full_size"
 
+/* The next term [!]NAME of a when= list A,!B,... (all must hold) from *cursor: 1 with the
+ * name (truncated to cap) and *negate, *cursor past it; 0 at the end; -1 on an empty term
+ * or a name that is not lower_case. */
+int halo_when_next(const char **cursor, char *name, size_t cap, int *negate);
+
 typedef struct halo_pass_decl {
     char *name, *entry, *output, *first, *repeat, *when;
     char *inputs[HALO_MAX_PASS_INPUTS]; /* NAME*: one input per channel (expanded by the linker) */
@@ -61,8 +66,9 @@ typedef struct halo_pass_decl {
     int post;         /* at=post: runs in halo_*_frame_post, not between slices */
     int each_channel; /* each=channel: one pass per channel; '*' names that channel's image */
     int start;        /* start=K: repetitions K..repeat only (0: 1) */
-    int reach;        /* reach=: -1 undeclared; else K of reach=K or reach=2^(PARAM-i)+K */
-    char *reach_param; /* PARAM of reach=2^(PARAM-i)[+K]; NULL for reach=K */
+    int reach;        /* reach=: -1 undeclared; else K of reach=K or reach=[M*]B^(PARAM-i)+K */
+    char *reach_param; /* PARAM of reach=[M*]B^(PARAM-i)[+K]; NULL for reach=K */
+    int reach_factor, reach_base; /* M (1) and B (2 or 4) of reach=[M*]B^(PARAM-i)[+K] */
 } halo_pass_decl;
 
 struct halo_module {

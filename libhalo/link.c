@@ -522,6 +522,8 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     pi->start = pd->start > 1 ? pd->start : 1;
     pi->reach = pd->reach;
     pi->reach_exponent = pd->reach >= 0 && pd->reach_param ? param_int(st, pd->reach_param) : -1;
+    pi->reach_factor = pd->reach_factor > 0 ? pd->reach_factor : 1;
+    pi->reach_base = pd->reach_base == 4 ? 4 : 2;
     pi->vertex_source = halo_program_own(p, "%s\n%s\n", halo_target_version_line(p->target), pass_vertex_body);
     pi->fragment_source = frag_owned;
     p->pass_origins[p->pass_count] = e.origins;
@@ -530,12 +532,16 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     return 0;
 }
 
-/* A pass's when=: a bool parameter, HALO_WHEN_FULL_SIZE, either negated by '!'. */
+/* A pass's when=: a list of conditions that must all hold, each a bool parameter or
+ * HALO_WHEN_FULL_SIZE, either negated by '!'. */
 static int pass_condition(const halo_program *p, const halo_linked_stage *st, const char *when) {
-    int negate = when[0] == '!';
-    const char *name = when + negate;
-    int on = !strcmp(name, HALO_WHEN_FULL_SIZE) ? p->image_scale <= 1 : param_int(st, name) != 0;
-    return negate ? !on : on;
+    char name[64];
+    int negate;
+    while (halo_when_next(&when, name, sizeof name, &negate) > 0) {
+        int on = !strcmp(name, HALO_WHEN_FULL_SIZE) ? p->image_scale <= 1 : param_int(st, name) != 0;
+        if (on == negate) return 0;
+    }
+    return 1;
 }
 
 /* Whether param `name` of a linked stage could be on: live, grouped (its values change per

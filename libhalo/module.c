@@ -234,6 +234,19 @@ static int valid_name(const char *s) {
     return 1;
 }
 
+int halo_when_next(const char **cursor, char *name, size_t cap, int *negate) {
+    const char *p = *cursor;
+    if (!*p) return 0;
+    *negate = *p == '!';
+    p += *negate;
+    size_t n = strcspn(p, ",");
+    if (!n || n >= cap) return -1; /* empty, or longer than a name can be here */
+    snprintf(name, cap, "%.*s", (int)n, p);
+    *cursor = p[n] ? p + n + 1 : p + n;
+    if (p[n] && !p[n + 1]) return -1; /* a trailing comma */
+    return valid_name(name) ? 1 : -1;
+}
+
 static char *unquote(const char *w) {
     size_t n = strlen(w);
     if (n >= 2 && w[0] == '"' && w[n - 1] == '"') {
@@ -394,12 +407,21 @@ static void parse_param(parse_ctx *ctx, words *w, int line) {
     free((char *)info.meaning);
 }
 
-/* reach=K or reach=2^(PARAM-i)[+K] (docs/modules.md): fills pd->reach and pd->reach_param;
- * -1 on a syntax error. */
+/* reach=K or reach=[M*]B^(PARAM-i)[+K], B 2 or 4 (docs/image-passes.md): fills pd->reach,
+ * reach_param, reach_factor and reach_base; -1 on a syntax error. */
 static int parse_reach(const char *v, halo_pass_decl *pd) {
     const char *p = v;
-    char *name = NULL;
-    if (!strncmp(p, "2^(", 3)) {
+    char *name = NULL, *end = NULL;
+    long factor = 1;
+    if (isdigit((unsigned char)*p) && (factor = strtol(p, &end, 10), *end == '*')) {
+        if (factor < 1 || factor > 4096) return -1;
+        p = end + 1;
+    } else {
+        factor = 1;
+    }
+    int base = (p[0] == '2' || p[0] == '4') && p[1] == '^' && p[2] == '(' ? p[0] - '0' : 0;
+    if (!base && p != v) return -1; /* M* without a power */
+    if (base) {
         const char *start = p + 3, *minus = strstr(start, "-i)");
         if (!minus || minus == start) return -1;
         name = strndup(start, (size_t)(minus - start));
@@ -408,26 +430,20 @@ static int parse_reach(const char *v, halo_pass_decl *pd) {
             return -1;
         }
         p = minus + 3;
-        if (!*p) {
-            free(pd->reach_param);
-            pd->reach_param = name;
-            pd->reach = 0;
-            return 0;
-        }
-        if (*p++ != '+') {
-            free(name);
-            return -1;
-        }
     }
-    char *end = NULL;
-    long k = isdigit((unsigned char)*p) ? strtol(p, &end, 10) : -1;
-    if (k < 0 || k > 4096 || !end || *end) {
+    long k = 0; /* K: the whole value, or after the power's '+' */
+    end = NULL;
+    if (base && *p && *p++ != '+') k = -1;
+    else if (!base || p[-1] == '+') k = isdigit((unsigned char)*p) ? strtol(p, &end, 10) : -1;
+    if (k < 0 || k > 4096 || (end && *end)) {
         free(name);
         return -1;
     }
     free(pd->reach_param);
     pd->reach_param = name;
     pd->reach = (int)k;
+    pd->reach_factor = (int)factor;
+    pd->reach_base = base ? base : 2;
     return 0;
 }
 
@@ -436,7 +452,7 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
     if (w->n < 3 || !valid_name(w->w[1])) {
         ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[0],
                     "'pass' takes NAME entry=FUNC inputs=A,B output=IMAGE [repeat=PARAM first=IMAGE start=K] "
-                    "[when=[!]PARAM] [reach=K | reach=2^(PARAM-i)[+K]]");
+                    "[when=[!]PARAM,...] [reach=K | reach=[M*]B^(PARAM-i)[+K]]");
         return;
     }
     halo_pass_decl pd = {0};
@@ -456,7 +472,17 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
         else if (k == 6 && !strncmp(a, "output", 6)) slot = &pd.output;
         else if (k == 5 && !strncmp(a, "first", 5)) slot = &pd.first;
         else if (k == 6 && !strncmp(a, "repeat", 6)) slot = &pd.repeat;
-        else if (k == 4 && !strncmp(a, "when", 4)) slot = &pd.when;
+        else if (k == 4 && !strncmp(a, "when", 4)) {
+            char name[64];
+            int negate, r;
+            for (const char *c = v; (r = halo_when_next(&c, name, sizeof name, &negate)) > 0;) {}
+            if (r < 0) {
+                ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i],
+                            "when= takes [!]PARAM,[!]PARAM...: bool parameters (or halo_full_size), all must hold");
+                continue;
+            }
+            slot = &pd.when;
+        }
         else if (k == 2 && !strncmp(a, "at", 2)) {
             if (!strcmp(v, "post")) pd.post = 1;
             else if (!strcmp(v, "final")) pd.post = 2;
@@ -474,7 +500,8 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
         } else if (k == 5 && !strncmp(a, "reach", 5)) {
             if (parse_reach(v, &pd) < 0)
                 ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i],
-                            "reach= takes pixels K (0..4096) or 2^(PARAM-i)+K: how far from the nonzero pixels "
+                            "reach= takes pixels K (0..4096) or [M*]B^(PARAM-i)[+K] (M 1..4096, B 2 or 4): how far from "
+                            "the nonzero pixels "
                             "of its inputs repetition i can write a nonzero pixel");
             continue;
         } else if (k == 4 && !strncmp(a, "each", 4)) {
@@ -811,6 +838,18 @@ static void scan_code(parse_ctx *ctx) {
     }
 }
 
+/* 1 (and an error at the pass's line) when key=name of a pass names no int (is_bool: bool)
+ * scalar parameter of the module; 0 when it does or name is NULL. */
+static int pass_param_invalid(const halo_module *m, halo_diagnostics *diag, const char *file,
+                              const halo_pass_decl *pd, const char *key, const char *name, int is_bool) {
+    const halo_param_info *pi = name ? halo_module_find_param(m, name) : NULL;
+    if (!name || (pi && pi->type == (is_bool ? HALO_PARAM_BOOL : HALO_PARAM_INT) && !pi->array_size)) return 0;
+    halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1, m->lines[pd->line - 1],
+                  "pass '%s': %s=%s must name an %s parameter of the module", pd->name, key, name,
+                  is_bool ? "bool" : "int");
+    return 1;
+}
+
 halo_module *halo_module_parse(const char *file, const char *source, halo_diagnostics *diag) {
     halo_module *m = calloc(1, sizeof *m);
     if (!m) return NULL;
@@ -879,20 +918,14 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
                               pd->entry);
                 ctx.errors++;
             }
+            const char *need[2] = {pd->repeat, pd->reach_param};
+            static const char *const key[2] = {"repeat", "reach"};
+            for (int k = 0; k < 2; k++) ctx.errors += pass_param_invalid(m, diag, file, pd, key[k], need[k], 0);
             /* when=!PARAM negates; when=halo_full_size: the halo images at the frame's size */
-            const char *when = pd->when && pd->when[0] == '!' ? pd->when + 1 : pd->when;
-            if (when && !strcmp(when, HALO_WHEN_FULL_SIZE)) when = NULL;
-            const char *need[3] = {pd->repeat, when, pd->reach_param};
-            static const char *const key[3] = {"repeat", "when", "reach"};
-            for (int k = 0; k < 3; k++) {
-                const halo_param_info *pi = need[k] ? halo_module_find_param(m, need[k]) : NULL;
-                if (need[k] && (!pi || pi->type != (k == 1 ? HALO_PARAM_BOOL : HALO_PARAM_INT) || pi->array_size)) {
-                    halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1,
-                                  m->lines[pd->line - 1], "pass '%s': %s=%s must name an %s parameter of the module",
-                                  pd->name, key[k], need[k], k == 1 ? "bool" : "int");
-                    ctx.errors++;
-                }
-            }
+            char when[64];
+            int negate;
+            for (const char *c = pd->when ? pd->when : ""; halo_when_next(&c, when, sizeof when, &negate) > 0;)
+                if (strcmp(when, HALO_WHEN_FULL_SIZE)) ctx.errors += pass_param_invalid(m, diag, file, pd, "when", when, 1);
         }
         for (size_t i = 0; i < m->image_count; i++) {
             const halo_image_decl *im = &m->images[i];

@@ -271,8 +271,10 @@ int halo_pass_reach(const halo_pass_info *pass, int repetition) {
     HALO_REFUSE_NULL(NULL, pass, "pass", -1);
     if (pass->reach < 0) return -1;
     if (pass->reach_exponent < 0) return pass->reach;
-    int e = pass->reach_exponent - repetition;
-    return pass->reach + (1 << (e < 0 ? 0 : e > 30 ? 30 : e));
+    int e = pass->reach_exponent - repetition, bits = pass->reach_base == 4 ? 2 : 1;
+    long long power = 1LL << (e < 0 ? 0 : e * bits > 30 ? 30 : e * bits);
+    long long reach = pass->reach + (pass->reach_factor > 1 ? pass->reach_factor : 1) * power;
+    return reach > (1 << 30) ? 1 << 30 : (int)reach;
 }
 
 static json_t *number_or_null(double v) { return isfinite(v) ? json_real(v) : json_null(); }

@@ -165,6 +165,8 @@ static void print_sweep(const bench_options *o, const halo_bench_env *env, const
            host_name(r), r->interval, r->passes, r->step);
     printf("# %%ref: the frame rate as a percentage of the same host's render without halos at the same step\n");
     printf("# %s\n", resolution_note);
+    printf("# wide: halo_generate's approximation wide, N passes of 49 taps reaching 4^N - 1 px (as exact 2N passes);"
+           " the lines under the table compare each with the exact row of 2N passes\n");
     printf("# halo_err: max abs against M = 1 of the slice host at the same step (the halo approximations alone)\n");
     printf("# grad: the gradient texture (float RGB32F, half RGB16F, snorm8 RGB8_SNORM); grad_err: max abs against the\n"
            "# same configuration with float gradients\n");
@@ -221,6 +223,30 @@ static void print_skips(const halo_bench_env *env, const halo_bench_case *cases,
            " draws, %.1f ms; with the skips (the M = 4 row): %ld, %.1f ms; max abs between the two images %.3g (the"
            " skips are exact: 0)\n",
            off->pass_draws, off->seconds * 1e3, on->pass_draws, on->seconds * 1e3, max_abs);
+}
+
+/* Each wide row against the exact row of the same configuration with twice its passes
+ * (the same reach): the approximation's own error and the two times. */
+static void print_wide(const halo_bench_env *env, const halo_bench_case *cases, size_t count)
+{
+    for (size_t i = 0; i < count; ++i) {
+        const halo_bench_config *w = &cases[i].config;
+        for (size_t j = 0; j < count && strcmp(cases[i].axis, "wide") == 0 && cases[i].image; ++j) {
+            const halo_bench_config *k = &cases[j].config;
+            if (k->wide || !k->halos || k->slab != w->slab || k->interval != w->interval ||
+                k->passes != 2 * w->passes || k->precision != w->precision || k->scale != w->scale ||
+                k->step != w->step || k->gradient != w->gradient || k->no_skip || !cases[j].image)
+                continue;
+            double max_abs = 0, rmse = 0, share = 0;
+            halo_bench_image_error(cases[i].image, cases[j].image, (size_t)env->width * (size_t)env->height,
+                                   &max_abs, &rmse, &share);
+            printf("# wide: M = %d, wide N = %d against exact N = %d (the same reach, %d px): max abs %.3e, rmse %.3e;"
+                   " %ld against %ld pass draws, %.1f against %.1f ms\n",
+                   w->interval, w->passes, k->passes, (1 << k->passes) - 1, max_abs, rmse, cases[i].pass_draws,
+                   cases[j].pass_draws, cases[i].seconds * 1e3, cases[j].seconds * 1e3);
+            break;
+        }
+    }
 }
 
 static int write_csv(const char *path, const halo_bench_case *cases, size_t count, const halo_bench_memory *memory)
@@ -384,6 +410,7 @@ static int run_sweep(const bench_options *o, halo_bench_env *env, const char *re
     halo_bench_pareto(cases, count);
     print_sweep(o, env, cases, count, renderer, &memory);
     print_skips(env, cases, count);
+    print_wide(env, cases, count);
     status = 0;
     if (o->csv && !write_csv(o->csv, cases, count, &memory))
         status = 2;
@@ -453,6 +480,7 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
     ROW("halo-p32", NULL, cases[n].config.gradient = HALO_GRADIENT_PACKED32);
     ROW("halo1/2", NULL, cases[n].config.scale = 2);
     ROW("halo1/4", NULL, cases[n].config.scale = 4);
+    ROW("halo-wide", NULL, cases[n].config.passes = 2; cases[n].config.wide = 1);
     ROW("reference", NULL, cases[n].config.halos = 0; cases[n].config.slab = 1; cases[n].config.interval = 8);
     for (int k = 0; k < 4; ++k)
         ROW("halo", NULL, cases[n].config.slab = 1; cases[n].config.interval = paper_m[k]);
@@ -492,7 +520,9 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
            " seed image instead; seed+map: + mapping (M = -: no generation); halo16: M = 4 with 16-bit halo images (error"
            " against 32-bit M = 4); halo1/2, halo1/4: M = 4 with halo images at 1/2, 1/4 of the frame per side (error"
            " against M = 1 at full size); halo-p32: M = 4 with the packed32 gradient format (value and gradient in"
-           " one RGBA32F texture, one fetch; error against M = 1 with the default, %s)\n",
+           " one RGBA32F texture, one fetch; error against M = 1 with the default, %s); halo-wide: M = 4 with"
+           " halo_generate's approximation wide at N = 2 (2 passes of 49 taps, reach 15 px as N = 4; error against"
+           " M = 1, exact N = 4)\n",
            halo_gradient_format_name(HALO_GRADIENT_FORMAT_DEFAULT));
     printf("%-9s %-5s %3s %6s %7s %10s %8s %9s %7s %10s %10s %8s\n", "row", "host", "M", "draws", "passes",
            "ms/frame", "fps", "%ref", "paper%", "max_abs", "rmse", ">1/255");

@@ -32,8 +32,9 @@ static void describe(const halo_bench_case *c, char *out, size_t size)
     else if (k->no_generation)
         snprintf(out, size, "%s, seeding and mapping only", halo_bench_host_name(k));
     else
-        snprintf(out, size, "%s, M = %d, N = %d, %d-bit, %s resolution, step %g, %s gradients%s",
-                 halo_bench_host_name(k), k->interval, k->passes, k->precision, halo_bench_resolution(k), k->step,
+        snprintf(out, size, "%s, M = %d, N = %d%s, %d-bit, %s resolution, step %g, %s gradients%s",
+                 halo_bench_host_name(k), k->interval, k->passes, k->wide ? " wide" : "", k->precision,
+                 halo_bench_resolution(k), k->step,
                  halo_bench_gradient(k), k->all_live ? ", all live" : "");
 }
 
@@ -61,8 +62,11 @@ static int configure_scene(const halo_bench_env *env, halo_bench_case *c)
         int has_generate = 0;
         for (size_t i = 0; i < halo_scene_stage_count(scene); ++i)
             has_generate |= strcmp(halo_scene_stage(scene, i), "halo_generate") == 0;
-        double passes = c->config.passes;
+        double passes = c->config.passes, wide = 1.0;
         if (has_generate && halo_scene_set(scene, "halo_generate", "passes", &passes, 1, 0, env->diag) != HALO_OK)
+            return 0;
+        if (has_generate && c->config.wide &&
+            halo_scene_set(scene, "halo_generate", "wide", &wide, 1, 0, env->diag) != HALO_OK)
             return 0;
     }
     if (c->config.step > 0.0)
@@ -208,7 +212,7 @@ void halo_bench_errors(const halo_bench_env *env, halo_bench_case *cases, size_t
         for (size_t j = 0; j < count && cases[i].image && cases[i].config.halos; ++j) {
             const halo_bench_config *k = &cases[j].config;
             if (k->halos && !k->slab && k->interval == 1 && k->passes == r->passes && k->precision == r->precision &&
-                k->scale <= 1 &&
+                k->scale <= 1 && !k->wide &&
                 k->step == cases[i].config.step && !k->all_live && !k->no_generation && cases[j].image) {
                 double rmse, share;
                 halo_bench_image_error(cases[i].image, cases[j].image, pixels, &cases[i].halo_max_abs, &rmse, &share);
@@ -223,7 +227,7 @@ void halo_bench_errors(const halo_bench_env *env, halo_bench_case *cases, size_t
         for (size_t j = 0; j < count && cases[i].image && a->halos; ++j) {
             const halo_bench_config *b = &cases[j].config;
             if (cases[j].image && b->gradient == HALO_GRADIENT_FLOAT && b->halos && b->slab == a->slab &&
-                b->interval == a->interval && b->passes == a->passes && b->precision == a->precision &&
+                b->interval == a->interval && b->passes == a->passes && b->wide == a->wide && b->precision == a->precision &&
                 b->scale == a->scale && b->step == a->step && b->all_live == a->all_live &&
                 b->no_generation == a->no_generation) {
                 double rmse, share;
@@ -286,6 +290,8 @@ size_t halo_bench_sweep(halo_bench_case *out, size_t max, int scene_passes, doub
     for (int p = 1; p <= 6; ++p)
         if (p != n)
             ADD("N", k_.passes = p);
+    for (int p = 1; p <= 2; ++p) /* wide N = p reaches as far as exact N = 2p */
+        ADD("wide", k_.passes = p; k_.wide = 1);
     ADD("precision", k_.precision = 16);
     ADD("precision", k_.precision = 8);
     for (int g = HALO_GRADIENT_FLOAT; g < HALO_GRADIENT_FORMAT_COUNT; ++g)

@@ -12,11 +12,14 @@
 #pragma halo param delta channels default=0.8 min=0 max=1 "spreading amount (0: the seed gradient only; paper's Fig. 4: 0.70..0.95)"
 #pragma halo param median bool default=false "3x3 median filter on the seed image before spreading"
 #pragma halo param interval int default=4 min=1 max=64 "M: slices between two generations (read by hosts from the reflection)"
+#pragma halo param wide bool default=false "approximation: each spreading pass does two of the paper's steps at once (49 taps at spacing 4^(N-i), one H_0 blend): N passes reach 4^N - 1 pixels, like 2N exact ones"
 #pragma halo pass median entry=median_pass inputs=seed output=seed when=median reach=1
 #pragma halo pass gradient entry=gradient_pass inputs=seed output=initial when=!halo_full_size reach=1
-#pragma halo pass spread entry=spread_pass inputs=previous,initial output=field repeat=passes first=initial when=!halo_full_size reach=2^(passes-i)
-#pragma halo pass spread_seed entry=spread_seed_pass inputs=seed output=field when=halo_full_size reach=2^(passes-i)+1
-#pragma halo pass spread entry=spread_on_pass inputs=previous,seed output=field repeat=passes start=2 when=halo_full_size reach=2^(passes-i)
+#pragma halo pass gradient entry=gradient_pass inputs=seed output=initial when=halo_full_size,wide reach=1
+#pragma halo pass spread entry=spread_pass inputs=previous,initial output=field repeat=passes first=initial when=!halo_full_size,!wide reach=2^(passes-i)
+#pragma halo pass spread_seed entry=spread_seed_pass inputs=seed output=field when=halo_full_size,!wide reach=2^(passes-i)+1
+#pragma halo pass spread entry=spread_on_pass inputs=previous,seed output=field repeat=passes start=2 when=halo_full_size,!wide reach=2^(passes-i)
+#pragma halo pass spread_wide entry=spread_wide_pass inputs=previous,initial output=field repeat=passes first=initial when=wide reach=3*4^(passes-i)
 #pragma halo pass occlude entry=occlusion_pass inputs=field,occlusion output=occlusion reach=0
 
 // Volumetric halos, step 2 (Bruckner & Groller 2007, Sec. 3.2; docs/stages/halo_generate.md):
@@ -25,6 +28,9 @@
 //   (max(1, 2^(N - i) / s) on images at 1/s of the frame: docs/image-passes.md),
 //   w = [1 2 1; 2 4 2; 1 2 1] / 16;  H_i = delta F_i + (1 - delta F_i) H_0;
 //   O = max(O, H_N) (occlusion image, for occlusive halos).
+// wide (an approximation): pass i applies the kernels at spacing 2s and s at once, s = 4^(N - i)
+//   (max(1, 4^(N - i) / s_frame) on images at 1/s_frame): separable, per axis [1 2 3 4 3 2 1]/16
+//   at -3s..3s (49 taps), then H_i = delta F_i + (1 - delta F_i) H_0 once (H_0 stored).
 // Every channel is one halo. Pixels outside the image read as 0 (halo_input).
 // At the frame's size (halo_full_size) H_0 is not stored: the first spreading pass reads
 // it at its nine taps from the seed image, the others at their pixel (the same sums:
@@ -122,6 +128,23 @@ halo_channels spread_on_pass(ivec2 pixel)
     halo_channels corners, edges;
     previous_taps(pixel, spread_distance(halo_pass_index), corners, edges);
     return spread_step(corners, edges, halo_input(0, pixel), seed_gradient(1, pixel));
+}
+
+// wide: pass i of N, the two kernels at spacing 2s and s convolved (49 taps of H_{i-1}, input 0),
+// s = 4^(N - i) frame pixels; H_0 from input 1.
+halo_channels spread_wide_pass(ivec2 pixel)
+{
+    int s = max(1, (1 << (2 * (passes - halo_pass_index))) / halo_pass_scale);
+    const float weights[7] = float[7](1.0, 2.0, 3.0, 4.0, 3.0, 2.0, 1.0);
+    halo_channels sum = halo_channels(0.0);
+    for (int v = 0; v < 7; ++v) {
+        halo_channels row = halo_channels(0.0);
+        for (int u = 0; u < 7; ++u)
+            row += weights[u] * halo_input(0, pixel + s * ivec2(u - 3, v - 3));
+        sum += weights[v] * row;
+    }
+    halo_channels spread = delta * (sum * (1.0 / 256.0));
+    return spread + (halo_channels(1.0) - spread) * halo_input(1, pixel);
 }
 
 halo_channels occlusion_pass(ivec2 pixel)

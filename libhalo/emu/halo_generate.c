@@ -3,7 +3,8 @@
  * central differences not halved), spread_pass (H_i = delta F_i + (1 - delta F_i) H_0,
  * F_i the 3x3 Gaussian [1 2 1; 2 4 2; 1 2 1]/16 at distance k = 2^(N - i)) and
  * occlusion_pass (O = max(H, O)); at the frame's size spread_seed_pass and spread_on_pass,
- * the same with H_0 taken from the seed image where it is read. Outside the image every
+ * the same with H_0 taken from the seed image where it is read; spread_wide_pass (the
+ * approximation `wide`: two steps' kernels convolved, 49 taps). Outside the image every
  * input reads 0. */
 #include <math.h>
 
@@ -91,6 +92,28 @@ void halo_emu_halo_generate_spread_seed(const halo_emu_pass_context *c, int x, i
 void halo_emu_halo_generate_spread_on(const halo_emu_pass_context *c, int x, int y, double out[4])
 {
     spread(c, x, y, 0, 1, 1, out);
+}
+
+/* wide: pass i of N, per axis [1 2 3 4 3 2 1]/16 at spacing s = 4^(N - i) (max(1, s / scale)
+ * on images at 1/scale) over H_{i-1} (input 0), H_0 from input 1. */
+void halo_emu_halo_generate_spread_wide(const halo_emu_pass_context *c, int x, int y, double out[4])
+{
+    static const double weights[7] = {1, 2, 3, 4, 3, 2, 1};
+    int shift = 2 * ((int)halo_emu_scalar(c->params, "passes") - c->pass_index);
+    int s = shift >= 0 && shift < 30 ? (1 << shift) / (c->scale > 1 ? c->scale : 1) : 1;
+    if (s < 1)
+        s = 1;
+    for (int ch = 0; ch < c->channels; ++ch) {
+        double sum = 0.0;
+        for (int v = 0; v < 7; ++v) {
+            double row = 0.0;
+            for (int u = 0; u < 7; ++u)
+                row += weights[u] * halo_emu_input(c, 0, x + s * (u - 3), y + s * (v - 3), ch);
+            sum += weights[v] * row;
+        }
+        double amount = halo_emu_channel(c->params, "delta", ch) * sum / 256.0;
+        out[ch] = amount + (1.0 - amount) * halo_emu_input(c, 1, x, y, ch);
+    }
 }
 
 void halo_emu_halo_generate_occlusion(const halo_emu_pass_context *c, int x, int y, double out[4])

@@ -38,6 +38,7 @@ static const struct {
     {"halo_generate", "spread_pass", halo_emu_halo_generate_spread},
     {"halo_generate", "spread_seed_pass", halo_emu_halo_generate_spread_seed},
     {"halo_generate", "spread_on_pass", halo_emu_halo_generate_spread_on},
+    {"halo_generate", "spread_wide_pass", halo_emu_halo_generate_spread_wide},
     {"halo_generate", "occlusion_pass", halo_emu_halo_generate_occlusion},
     {"outlines", "blur_x_pass", halo_emu_outline_blur_x},
     {"outlines", "blur_y_pass", halo_emu_outline_blur_y},

@@ -16,6 +16,7 @@ void halo_emu_halo_generate_gradient(const halo_emu_pass_context *c, int x, int 
 void halo_emu_halo_generate_spread(const halo_emu_pass_context *c, int x, int y, double out[4]);
 void halo_emu_halo_generate_spread_seed(const halo_emu_pass_context *c, int x, int y, double out[4]);
 void halo_emu_halo_generate_spread_on(const halo_emu_pass_context *c, int x, int y, double out[4]);
+void halo_emu_halo_generate_spread_wide(const halo_emu_pass_context *c, int x, int y, double out[4]);
 void halo_emu_halo_generate_occlusion(const halo_emu_pass_context *c, int x, int y, double out[4]);
 
 /* Outlines (emu/outline.c): the feature buffers and the passes of glsl/outline/outline.glsl. */

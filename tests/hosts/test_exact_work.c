@@ -21,7 +21,8 @@
  * the cube leave whole slabs empty at both ends), and a small ball off the centre (the
  * seeds' box far smaller than the image, so that the reach decides), rendered by the
  * slice and the slab host with the skips on and off: the same floats, and fewer pass
- * draws with them on.
+ * draws with them on; the same again with halo_generate's approximation wide (its reach
+ * 3 * 4^(N-i) per pass).
  *
  * Exit 77 without OpenGL. */
 #include "halo.h"
@@ -204,8 +205,9 @@ static float next_random(unsigned *state)
     return (float)(*state >> 8) / 16777216.0f;
 }
 
+/* %s: halo_generate's parameters (exact N = 3, or the approximation wide at N = 2) */
 static const char skip_scene[] =
-    "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {\"passes\": 3}},"
+    "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {%s}},"
     " {\"halo_map\": {\"mode\": 0, \"color_near\": [[1, 0.9, 0.4]], \"opacity\": 0.9}}],"
     " \"render\": {\"azimuth\": 0, \"elevation\": 0, \"zoom\": 1.2, \"step\": 0.5,"
     " \"transfer\": [[0, 0, 0, 0, 0], [1, 1, 1, 1, 0.05]]}}";
@@ -278,14 +280,16 @@ static int check_skip_case(halo_gl *runtime, const halo_program *p, const halo_s
     return !ok;
 }
 
-static int check_skips(halo_gl *runtime, unsigned *state)
+static int check_skips(halo_gl *runtime, unsigned *state, int wide)
 {
     enum { SIDE = 20 };
     int failed = 0;
     halo_diagnostics *diag = halo_diagnostics_create();
     halo_library *lib = halo_library_create(diag);
     char *host[2] = {halo_host_load("slice.frag", NULL, diag), halo_host_load("slab.frag", NULL, diag)};
-    halo_scene *scene = lib ? halo_scene_parse(skip_scene, "(skip scene)", lib, diag) : NULL;
+    char json[sizeof skip_scene + 64];
+    snprintf(json, sizeof json, skip_scene, wide ? "\"passes\": 2, \"wide\": true" : "\"passes\": 3");
+    halo_scene *scene = lib ? halo_scene_parse(json, "(skip scene)", lib, diag) : NULL;
     float *volume = malloc((size_t)SIDE * SIDE * SIDE * sizeof *volume);
     for (int ball = 0; ball < 2; ++ball) {
         for (size_t i = 0; volume && i < (size_t)SIDE * SIDE * SIDE; ++i) {
@@ -293,7 +297,7 @@ static int check_skips(halo_gl *runtime, unsigned *state)
             double r2 = (x - 13.5) * (x - 13.5) + (y - 6.5) * (y - 6.5) + (z - 9.5) * (z - 9.5);
             volume[i] = ball ? (r2 < 9.0 ? 0.9f : 0.0f) : next_random(state);
         }
-        const char *what = ball ? "ball" : "noise";
+        const char *what = wide ? (ball ? "ball, wide" : "noise, wide") : ball ? "ball" : "noise";
         for (int slab = 0; slab < 2 && scene && volume; ++slab) {
             halo_program *p = host[slab] ? halo_link(&(halo_link_desc){.library = lib, .scene = scene,
                                                                         .host_source = host[slab],
@@ -302,7 +306,7 @@ static int check_skips(halo_gl *runtime, unsigned *state)
                                          : NULL;
             for (int camera = 0; camera < 2; ++camera) {
                 failed += p ? check_skip_case(runtime, p, scene, volume, SIDE, slab, camera, what, diag) : 1;
-                if (!slab)
+                if (!slab && !wide)
                     failed += check_skip_case(runtime, NULL, scene, volume, SIDE, 0, camera,
                                               ball ? "ball, no stages" : "noise, no stages", diag);
             }
@@ -443,7 +447,8 @@ int main(void)
         }
         free(volume);
     }
-    failed += check_skips(runtime, &state);
+    failed += check_skips(runtime, &state, 0);
+    failed += check_skips(runtime, &state, 1);
     failed += check_groups(runtime);
     printf("%d failed\n", failed);
     halo_gl_destroy(runtime);

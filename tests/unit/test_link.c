@@ -774,6 +774,29 @@ static int test_occlusion_pass_when_occlusive(void) {
     return 0;
 }
 
+/* halo_generate's approximation wide at N = 2: the gradient pass stores H_0 (reach 1), then
+ * spread_wide twice, reaching 3 * 4^(N - i): 12 and 3; none of the exact spreading passes. */
+static int test_pass_reach_wide(void) {
+    halo_program *p = link_valid("{\"stages\": [\"halo_seed\", {\"halo_generate\": {\"passes\": 2, \"wide\": true}},"
+                                 " \"halo_map\"]}");
+    CHECK(p != NULL);
+    char names[256] = "";
+    if (!p) return 0;
+    for (size_t i = 0; i < halo_program_pass_count(p); i++) {
+        const halo_pass_info *pass = halo_program_pass(p, i);
+        snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? "," : "", pass->name);
+        if (!strcmp(pass->name, "gradient")) CHECK_INT_EQ(halo_pass_reach(pass, 1), 1);
+        if (!strcmp(pass->name, "spread_wide")) {
+            CHECK_INT_EQ(pass->repeat, 2);
+            CHECK_INT_EQ(halo_pass_reach(pass, 1), 12);
+            CHECK_INT_EQ(halo_pass_reach(pass, 2), 3);
+        }
+    }
+    CHECK_STR_EQ(names, "gradient,spread_wide");
+    halo_program_destroy(p);
+    return 0;
+}
+
 /* reach= (docs/modules.md): how far a pass's repetition writes beyond its inputs' nonzero
  * pixels, with the parameter's value: halo_generate at N = 3 reaches 4 + 1 (the seed
  * gradient's taps), then 2 and 1; its occlusion pass 0. */
@@ -1075,6 +1098,7 @@ int main(void) {
     RUN_TEST(test_image_scale);
     RUN_TEST(test_occlusion_pass_when_occlusive);
     RUN_TEST(test_pass_reach);
+    RUN_TEST(test_pass_reach_wide);
     RUN_TEST(test_feature_groups);
     RUN_TEST(test_compositing_mip);
     halo_library_destroy(library);

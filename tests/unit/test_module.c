@@ -398,15 +398,23 @@ static int test_columns(void) {
     return 0;
 }
 
-/* reach= of a pass: K, or 2^(PARAM-i)+K with PARAM an int parameter; anything else at the word. */
+/* reach= of a pass: K, or [M*]B^(PARAM-i)[+K] with PARAM an int parameter and B 2 or 4;
+ * when= a list [!]PARAM,... of bool parameters; anything else at the word. */
 static int test_pass_reach_syntax(void) {
     static const struct {
-        const char *reach;
+        const char *word;
         halo_message_id id;
-    } bad[] = {{"x", HALO_MSG_ANNOTATION_SYNTAX},           {"2^(n-j)", HALO_MSG_ANNOTATION_SYNTAX},
-               {"2^(n-i)+", HALO_MSG_ANNOTATION_SYNTAX},    {"-1", HALO_MSG_ANNOTATION_SYNTAX},
-               {"2^(n-i)*2", HALO_MSG_ANNOTATION_SYNTAX},   {"5000", HALO_MSG_ANNOTATION_SYNTAX},
-               {"2^(nope-i)", HALO_MSG_PASS_INVALID},       {"2^(on-i)", HALO_MSG_PASS_INVALID}};
+    } bad[] = {{"reach=x", HALO_MSG_ANNOTATION_SYNTAX},           {"reach=2^(n-j)", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=2^(n-i)+", HALO_MSG_ANNOTATION_SYNTAX},    {"reach=-1", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=2^(n-i)*2", HALO_MSG_ANNOTATION_SYNTAX},   {"reach=5000", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=3^(n-i)", HALO_MSG_ANNOTATION_SYNTAX},     {"reach=3*4", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=0*4^(n-i)", HALO_MSG_ANNOTATION_SYNTAX},   {"reach=*4^(n-i)", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=5000*2^(n-i)", HALO_MSG_ANNOTATION_SYNTAX}, {"reach=3*4^(n-i)+", HALO_MSG_ANNOTATION_SYNTAX},
+               {"when=on,", HALO_MSG_ANNOTATION_SYNTAX},          {"when=,on", HALO_MSG_ANNOTATION_SYNTAX},
+               {"when=on,,on", HALO_MSG_ANNOTATION_SYNTAX},       {"when=on,!", HALO_MSG_ANNOTATION_SYNTAX},
+               {"when=On", HALO_MSG_ANNOTATION_SYNTAX},           {"when=on,nope", HALO_MSG_PASS_INVALID},
+               {"when=!on,n", HALO_MSG_PASS_INVALID},             {"reach=2^(nope-i)", HALO_MSG_PASS_INVALID},
+               {"reach=2^(on-i)", HALO_MSG_PASS_INVALID},         {"reach=3*4^(on-i)+1", HALO_MSG_PASS_INVALID}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char source[512];
         snprintf(source, sizeof source,
@@ -415,20 +423,24 @@ static int test_pass_reach_syntax(void) {
                  "#pragma halo param n int default=2 min=1 max=4\n"
                  "#pragma halo param on bool default=true\n"
                  "#pragma halo image a\n"
-                 "#pragma halo pass p entry=f inputs=a output=a reach=%s\n"
+                 "#pragma halo pass p entry=f inputs=a output=a %s\n"
                  "halo_channels f(ivec2 pixel) { return halo_input(0, pixel); }\n",
-                 bad[i].reach);
+                 bad[i].word);
         int column = refused_at(source, bad[i].id, 6);
         if (column != (bad[i].id == HALO_MSG_ANNOTATION_SYNTAX ? 47 : 1))
-            CHECK_FAIL_AT("reach=%s: no error at line 6 (column %d)", bad[i].reach, column);
+            CHECK_FAIL_AT("%s: no error at line 6 (column %d)", bad[i].word, column);
         CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
     }
     CHECK_INT_EQ(add("user/reach.glsl", "#pragma halo module reach_ok\n"
                                         "#pragma halo hook image\n"
                                         "#pragma halo param n int default=2 min=1 max=4\n"
+                                        "#pragma halo param on bool default=true\n"
                                         "#pragma halo image a\n"
                                         "#pragma halo pass p entry=f inputs=a output=a reach=2^(n-i)+1\n"
                                         "#pragma halo pass q entry=f inputs=a output=a reach=0\n"
+                                        "#pragma halo pass r entry=f inputs=a output=a reach=3*4^(n-i)+1 when=on\n"
+                                        "#pragma halo pass s entry=f inputs=a output=a reach=4^(n-i) "
+                                        "when=!on,halo_full_size\n"
                                         "halo_channels f(ivec2 pixel) { return halo_input(0, pixel); }\n"),
                  HALO_OK);
     return 0;
