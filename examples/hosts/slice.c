@@ -570,6 +570,10 @@ static int slice_section_box(const halo_slice *s, double distance, int box[4])
     }
     if (!points)
         return 0;
+    /* within a few pixels of the image before converting (a point just in front of the
+     * eye lands far outside it) */
+    x0 = fmax(x0, -2.0), y0 = fmax(y0, -2.0);
+    x1 = fmin(x1, s->width + 2.0), y1 = fmin(y1, s->height + 2.0);
     box[0] = x0 - 1.0 > 0.0 ? (int)floor(x0) - 1 : 0;
     box[1] = y0 - 1.0 > 0.0 ? (int)floor(y0) - 1 : 0;
     box[2] = x1 + 1.0 < s->width ? (int)ceil(x1) + 1 : s->width;
@@ -704,7 +708,11 @@ static void program_state(halo_slice *s, GLuint program, const halo_slice_state 
  * diagnostic when it cannot be built. */
 static GLuint outside_variant(halo_slice *s, halo_diagnostics *diag)
 {
-    if (!s->outside_program && s->vertex_source)
+    if (!s->vertex_source) {
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "slice host: out of memory for its shader's variant");
+        return 0;
+    }
+    if (!s->outside_program)
         s->outside_program = halo_gl_program_build_defines(s->runtime_for_variant, s->linked, s->vertex_source,
                                                            "slice.vert", "#define SLICE_OUTSIDE 1\n", diag);
     return s->outside_program;
@@ -722,6 +730,11 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     s->draws = 0;
     /* a group after the first: rgba and colour buffer 0 hold the colour already */
     int colour_written = group > 0 && !s->slab && !s->run_every_generation && f->ColorMaski;
+    /* clipped slices with halo images: the pixels outside the section get the variant */
+    GLuint outside = 0;
+    if (slices_clippable(s) && s->frame && halo_program_sampler_count(s->linked) > 0 &&
+        !(outside = outside_variant(s, diag)))
+        return HALO_ERROR_IO;
 
     f->BindFramebuffer(GL_FRAMEBUFFER, s->framebuffer);
     f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->textures[0], 0);
@@ -732,14 +745,8 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     f->Disable(GL_SCISSOR_TEST);
     if (!colour_written)
         f->ClearBufferfv(GL_COLOR, 0, zero);
-    /* clipped slices with halo images: the pixels outside the section get the variant */
-    GLuint outside = 0;
-    if (slices_clippable(s) && s->frame && halo_program_sampler_count(s->linked) > 0) {
-        outside = outside_variant(s, diag);
-        if (!outside)
-            return HALO_ERROR_IO;
+    if (outside)
         program_state(s, outside, &st);
-    }
     program_state(s, program, &st);
     if (s->slab) {
         f->Disable(GL_BLEND);

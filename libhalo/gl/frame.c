@@ -49,6 +49,7 @@ typedef struct frame_image {
     halo_image_reset reset;
     GLfloat clear;
     int host;          /* host_color: texture[0] is the host's, set by halo_gl_frame_post */
+    int scale;         /* halo_image_info.scale: 1, or 1/scale of the frame per side */
     int width, height; /* ceil(frame / scale) */
     GLuint texture[2]; /* double-buffered: a pass reads texture[current], writes the other */
     int current;
@@ -90,8 +91,8 @@ struct halo_gl_frame {
      * the host may have drawn anywhere. */
     int drawn_known;
     frame_box drawn;
-    /* Before a scissored generation without a declared region, the host's outputs are
-     * read back (inside the declared region, if any) and their nonzero pixels' box taken
+    /* Before a scissored generation, the host's outputs are read back (inside the
+     * declared region, if any) and their nonzero pixels' box taken
      * (halo_gl_frame_set_readback_bounds). */
     int readback_bounds;
     float *readback;
@@ -416,6 +417,7 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
         image->clear = (GLfloat)info->clear;
         image->host = info->host;
         int scale = info->scale > 1 ? info->scale : 1;
+        image->scale = scale;
         image->width = (width + scale - 1) / scale;
         image->height = (height + scale - 1) / scale;
         image->support[0] = image->support[1] = image_full(image); /* not initialised */
@@ -750,7 +752,7 @@ int halo_gl_frame_read_region(const halo_gl_frame *fr, int box[4])
             continue;
         /* a 1/s image is read bilinearly between the texel centres around a pixel: texel t
          * reaches the frame pixels [(t - 1) s, (t + 2) s) */
-        int s = (fr->width + im->width - 1) / im->width;
+        int s = im->scale;
         b = (frame_box){(b.x0 - 1) * s, (b.y0 - 1) * s, (b.x1 + 1) * s, (b.y1 + 1) * s};
         region = box_union(region, box_grow(b, 0, fr->width, fr->height));
     }

@@ -266,7 +266,10 @@ static int check_skip_case(halo_gl *runtime, const halo_program *p, const halo_s
     for (int v = 1; v < variants; ++v)
         for (size_t i = 0; image[0] && image[v] && i < n; ++i)
             differing += memcmp(&image[0][i], &image[v][i], sizeof(float)) != 0;
-    int spared = p ? draws[1][1] < draws[0][1] : camera == 0 || draws[1][0] < draws[0][0];
+    /* the halo scene: fewer pass draws, and on the slice host fewer slices (clipped); no
+     * stages: fewer slices at the oblique camera, where some miss the cube */
+    int spared = p ? draws[1][1] < draws[0][1] && (slab || draws[1][0] < draws[0][0])
+                   : camera == 0 || draws[1][0] < draws[0][0];
     int ok = image[0] && image[1] && (variants < 3 || image[2]) && differing == 0 && spared;
     printf("%s %s host, %s, camera %d: skips off %ld slices and %ld pass draws, on %ld and %ld", ok ? "ok  " : "FAIL",
            slab ? "slab" : "slice", what, camera, draws[0][0], draws[0][1], draws[1][0], draws[1][1]);
@@ -341,6 +344,10 @@ static int check_groups(halo_gl *runtime)
 {
     enum { SIDE = 20, PIXELS = 48 };
     int failed = 0;
+    if (!halo_gl_functions(runtime)->ColorMaski) {
+        printf("skip slice host, feature groups: no glColorMaski, every group writes the colour\n");
+        return 0;
+    }
     halo_diagnostics *diag = halo_diagnostics_create();
     halo_library *lib = halo_library_create(diag);
     char *host = halo_host_load("slice.frag", NULL, diag);
@@ -407,6 +414,43 @@ static int check_groups(halo_gl *runtime)
     return failed;
 }
 
+/* halo_gl_frame_read_region of halo images at 1/4 of a narrow frame (9 x 100: 3 x 25
+ * texels): after a generation over the whole image (not scissored at 1/4) the images may
+ * be nonzero anywhere, and the region is the whole frame in both directions. */
+static int check_read_region(halo_gl *runtime)
+{
+    halo_diagnostics *diag = halo_diagnostics_create();
+    halo_library *lib = halo_library_create(diag);
+    char *host = halo_host_load("slice.frag", NULL, diag);
+    char json[sizeof skip_scene + 64];
+    snprintf(json, sizeof json, skip_scene, "\"passes\": 2");
+    halo_scene *scene = lib ? halo_scene_parse(json, "(skip scene)", lib, diag) : NULL;
+    halo_program *p = scene && host ? halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
+                                                                   .host_file = "slice.frag", .image_scale = 4},
+                                                diag)
+                                    : NULL;
+    halo_gl_frame *frame = p ? halo_gl_frame_create(runtime, p, 9, 100, diag) : NULL;
+    int before[4] = {-1, -1, -1, -1}, after[4] = {-1, -1, -1, -1}, any[2] = {-1, -1};
+    if (frame) {
+        halo_gl_frame_begin(frame);
+        any[0] = halo_gl_frame_read_region(frame, before);
+        halo_gl_frame_generate(frame);
+        any[1] = halo_gl_frame_read_region(frame, after);
+    }
+    int ok = frame && any[0] == 0 && any[1] == 1 && after[0] == 0 && after[1] == 0 && after[2] == 9 && after[3] == 100;
+    printf("%s read region, halo images at 1/4 of 9 x 100: %d after the frame's clear, %d after a generation: {%d, %d,"
+           " %d, %d} (the whole frame)\n", ok ? "ok  " : "FAIL", any[0], any[1], after[0], after[1], after[2], after[3]);
+    if (!frame)
+        halo_diagnostics_print(diag, stdout);
+    halo_gl_frame_destroy(frame);
+    halo_program_destroy(p);
+    halo_scene_destroy(scene);
+    free(host);
+    halo_library_destroy(lib);
+    halo_diagnostics_destroy(diag);
+    return !ok;
+}
+
 int main(void)
 {
     char err[512];
@@ -450,6 +494,7 @@ int main(void)
     failed += check_skips(runtime, &state, 0);
     failed += check_skips(runtime, &state, 1);
     failed += check_groups(runtime);
+    failed += check_read_region(runtime);
     printf("%d failed\n", failed);
     halo_gl_destroy(runtime);
     halo_headless_destroy(headless);
