@@ -329,6 +329,38 @@ static int check_skips(halo_gl *runtime, unsigned *state, int wide)
     return failed;
 }
 
+/* A scene linked into slice.frag, with what it was made from; program NULL (and the
+ * reason in diag) when any step failed. */
+typedef struct slice_link {
+    halo_diagnostics *diag;
+    halo_library *lib;
+    char *host;
+    halo_scene *scene;
+    halo_program *program;
+} slice_link;
+
+static void slice_link_open(slice_link *l, const char *json, int image_scale)
+{
+    l->diag = halo_diagnostics_create();
+    l->lib = halo_library_create(l->diag);
+    l->host = halo_host_load("slice.frag", NULL, l->diag);
+    l->scene = l->lib ? halo_scene_parse(json, "(scene)", l->lib, l->diag) : NULL;
+    l->program = l->scene && l->host ? halo_link(&(halo_link_desc){.library = l->lib, .scene = l->scene,
+                                                                    .host_source = l->host, .host_file = "slice.frag",
+                                                                    .image_scale = image_scale},
+                                                 l->diag)
+                                     : NULL;
+}
+
+static void slice_link_close(slice_link *l)
+{
+    halo_program_destroy(l->program);
+    halo_scene_destroy(l->scene);
+    free(l->host);
+    halo_library_destroy(l->lib);
+    halo_diagnostics_destroy(l->diag);
+}
+
 /* Six outline features: two feature groups, the volume drawn once per group. */
 static const char group_scene[] =
     "{\"halo_scene\": 1, \"stages\": [{\"tone_shading\": {}},"
@@ -348,14 +380,11 @@ static int check_groups(halo_gl *runtime)
         printf("skip slice host, feature groups: no glColorMaski, every group writes the colour\n");
         return 0;
     }
-    halo_diagnostics *diag = halo_diagnostics_create();
-    halo_library *lib = halo_library_create(diag);
-    char *host = halo_host_load("slice.frag", NULL, diag);
-    halo_scene *scene = lib ? halo_scene_parse(group_scene, "(group scene)", lib, diag) : NULL;
-    halo_program *p = scene && host ? halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
-                                                                   .host_file = "slice.frag"},
-                                                diag)
-                                    : NULL;
+    slice_link link;
+    slice_link_open(&link, group_scene, 1);
+    halo_diagnostics *diag = link.diag;
+    const halo_scene *scene = link.scene;
+    const halo_program *p = link.program;
     float *volume = malloc((size_t)SIDE * SIDE * SIDE * sizeof *volume);
     for (size_t i = 0; volume && i < (size_t)SIDE * SIDE * SIDE; ++i) {
         double x = (double)(i % SIDE) - 9.5, y = (double)(i / SIDE % SIDE) - 9.5, z = (double)(i / SIDE / SIDE) - 9.5;
@@ -406,11 +435,7 @@ static int check_groups(halo_gl *runtime)
     free(out[0]);
     free(out[1]);
     free(volume);
-    halo_program_destroy(p);
-    halo_scene_destroy(scene);
-    free(host);
-    halo_library_destroy(lib);
-    halo_diagnostics_destroy(diag);
+    slice_link_close(&link);
     return failed;
 }
 
@@ -419,17 +444,11 @@ static int check_groups(halo_gl *runtime)
  * be nonzero anywhere, and the region is the whole frame in both directions. */
 static int check_read_region(halo_gl *runtime)
 {
-    halo_diagnostics *diag = halo_diagnostics_create();
-    halo_library *lib = halo_library_create(diag);
-    char *host = halo_host_load("slice.frag", NULL, diag);
     char json[sizeof skip_scene + 64];
     snprintf(json, sizeof json, skip_scene, "\"passes\": 2");
-    halo_scene *scene = lib ? halo_scene_parse(json, "(skip scene)", lib, diag) : NULL;
-    halo_program *p = scene && host ? halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = host,
-                                                                   .host_file = "slice.frag", .image_scale = 4},
-                                                diag)
-                                    : NULL;
-    halo_gl_frame *frame = p ? halo_gl_frame_create(runtime, p, 9, 100, diag) : NULL;
+    slice_link link;
+    slice_link_open(&link, json, 4);
+    halo_gl_frame *frame = link.program ? halo_gl_frame_create(runtime, link.program, 9, 100, link.diag) : NULL;
     int before[4] = {-1, -1, -1, -1}, after[4] = {-1, -1, -1, -1}, any[2] = {-1, -1};
     if (frame) {
         halo_gl_frame_begin(frame);
@@ -441,13 +460,9 @@ static int check_read_region(halo_gl *runtime)
     printf("%s read region, halo images at 1/4 of 9 x 100: %d after the frame's clear, %d after a generation: {%d, %d,"
            " %d, %d} (the whole frame)\n", ok ? "ok  " : "FAIL", any[0], any[1], after[0], after[1], after[2], after[3]);
     if (!frame)
-        halo_diagnostics_print(diag, stdout);
+        halo_diagnostics_print(link.diag, stdout);
     halo_gl_frame_destroy(frame);
-    halo_program_destroy(p);
-    halo_scene_destroy(scene);
-    free(host);
-    halo_library_destroy(lib);
-    halo_diagnostics_destroy(diag);
+    slice_link_close(&link);
     return !ok;
 }
 
