@@ -32,8 +32,9 @@ static void describe(const halo_bench_case *c, char *out, size_t size)
     else if (k->no_generation)
         snprintf(out, size, "%s, seeding and mapping only", halo_bench_host_name(k));
     else
-        snprintf(out, size, "%s, M = %d, N = %d%s, %d-bit, %s resolution, step %g, %s gradients%s",
-                 halo_bench_host_name(k), k->interval, k->passes, k->wide ? " wide" : "", k->precision,
+        snprintf(out, size, "%s, M = %d, N = %d%s%s, %d-bit, %s resolution, step %g, %s gradients%s",
+                 halo_bench_host_name(k), k->interval, k->passes, k->wide ? " wide" : "", k->fold ? " fold" : "",
+                 k->precision,
                  halo_bench_resolution(k), k->step,
                  halo_bench_gradient(k), k->all_live ? ", all live" : "");
 }
@@ -62,11 +63,14 @@ static int configure_scene(const halo_bench_env *env, halo_bench_case *c)
         int has_generate = 0;
         for (size_t i = 0; i < halo_scene_stage_count(scene); ++i)
             has_generate |= strcmp(halo_scene_stage(scene, i), "halo_generate") == 0;
-        double passes = c->config.passes, wide = 1.0;
+        double passes = c->config.passes, on = 1.0;
         if (has_generate && halo_scene_set(scene, "halo_generate", "passes", &passes, 1, 0, env->diag) != HALO_OK)
             return 0;
         if (has_generate && c->config.wide &&
-            halo_scene_set(scene, "halo_generate", "wide", &wide, 1, 0, env->diag) != HALO_OK)
+            halo_scene_set(scene, "halo_generate", "wide", &on, 1, 0, env->diag) != HALO_OK)
+            return 0;
+        if (has_generate && c->config.fold &&
+            halo_scene_set(scene, "halo_generate", "fold", &on, 1, 0, env->diag) != HALO_OK)
             return 0;
     }
     if (c->config.step > 0.0)
@@ -227,7 +231,8 @@ void halo_bench_errors(const halo_bench_env *env, halo_bench_case *cases, size_t
         for (size_t j = 0; j < count && cases[i].image && a->halos; ++j) {
             const halo_bench_config *b = &cases[j].config;
             if (cases[j].image && b->gradient == HALO_GRADIENT_FLOAT && b->halos && b->slab == a->slab &&
-                b->interval == a->interval && b->passes == a->passes && b->wide == a->wide && b->precision == a->precision &&
+                b->interval == a->interval && b->passes == a->passes && b->wide == a->wide && b->fold == a->fold &&
+                b->precision == a->precision &&
                 b->scale == a->scale && b->step == a->step && b->all_live == a->all_live &&
                 b->no_generation == a->no_generation) {
                 double rmse, share;

@@ -191,8 +191,8 @@ const conform_row conform_rows[] = {
     {"*", "frame", "every other stage with outputs, images or host uniforms: defaults and @live", "%.0e+%.0er+cond",
      SEED_ABS, SEED_REL, "a stage not in the table", conform_frame_other_rows, NULL},
 
-    /* at the frame's size H_0 is not stored (the spreading passes read it from the seed
-     * image): with delta 0 the field is H_0 */
+    /* with delta 0 the field is H_0; @fold: at the frame's size H_0 not stored, the
+     * spreading passes read it from the seed image (halo_generate's fold) */
     PASS_ROW("pass:median", "halo_generate's median pass and H_0 (delta 0: the field is H_0)", 3e-7,
              "the median selects an input value (exact); the gradient after it: one sqrt of a sum of squares, ~1 ulp",
              "{\"median\": true, \"passes\": 1, \"delta\": 0}", {"field"}, 1, 1),
@@ -212,6 +212,11 @@ const conform_row conform_rows[] = {
              "{\"passes\": 4, \"delta\": 0}", {"field"}, 1, 1),
     PASS_ROW("pass:spread@delta1", "four spreading passes with delta 1", 2e-6, "as N4",
              "{\"passes\": 4, \"delta\": 1}", {"field"}, 1, 1),
+    PASS_ROW("pass:spread@fold", "four spreading passes, H_0 folded into them (fold: no gradient pass)", 2e-6,
+             "as N4", "{\"passes\": 4, \"fold\": true}", {"field"}, 1, 1),
+    PASS_ROW("pass:halos4@fold", "four halos, median on, H_0 folded into the spreading (fold)", 2e-6, "as halos4",
+             "{\"passes\": 3, \"delta\": [0, 0.5, 0.8, 1], \"median\": true, \"fold\": true}",
+             PASS_COMPARE("field", "occlusion"), 2, 1),
     PASS_ROW("pass:spread@wide2", "the approximation wide: two passes of 49 taps (spacing 4 and 1)", 2e-6,
              "as N1: 49 products per pass in float, values <= 1", "{\"passes\": 2, \"wide\": true}",
              PASS_COMPARE("initial", "field"), 1, 1),

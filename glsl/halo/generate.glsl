@@ -13,12 +13,15 @@
 #pragma halo param median bool default=false "3x3 median filter on the seed image before spreading"
 #pragma halo param interval int default=4 min=1 max=64 "M: slices between two generations (read by hosts from the reflection)"
 #pragma halo param wide bool default=false "approximation: each spreading pass does two of the paper's steps at once (49 taps at spacing 4^(N-i), one H_0 blend): N passes reach 4^N - 1 pixels, like 2N exact ones"
+#pragma halo param fold bool default=false "at the frame's size, H_0 computed at the first spreading pass's nine taps instead of stored by a pass of its own: one draw fewer a generation, 27 more fetches a pixel (the same floats; slower on llvmpipe at 256^2: docs/performance.md)"
 #pragma halo pass median entry=median_pass inputs=seed output=seed when=median reach=1
 #pragma halo pass gradient entry=gradient_pass inputs=seed output=initial when=!halo_full_size reach=1
-#pragma halo pass gradient entry=gradient_pass inputs=seed output=initial when=halo_full_size,wide reach=1
+#pragma halo pass gradient entry=gradient_pass inputs=seed output=initial when=halo_full_size,!fold reach=1
+#pragma halo pass gradient entry=gradient_pass inputs=seed output=initial when=halo_full_size,fold,wide reach=1
 #pragma halo pass spread entry=spread_pass inputs=previous,initial output=field repeat=passes first=initial when=!halo_full_size,!wide reach=2^(passes-i)
-#pragma halo pass spread_seed entry=spread_seed_pass inputs=seed output=field when=halo_full_size,!wide reach=2^(passes-i)+1
-#pragma halo pass spread entry=spread_on_pass inputs=previous,seed output=field repeat=passes start=2 when=halo_full_size,!wide reach=2^(passes-i)
+#pragma halo pass spread entry=spread_pass inputs=previous,initial output=field repeat=passes first=initial when=halo_full_size,!fold,!wide reach=2^(passes-i)
+#pragma halo pass spread_seed entry=spread_seed_pass inputs=seed output=field when=halo_full_size,fold,!wide reach=2^(passes-i)+1
+#pragma halo pass spread entry=spread_on_pass inputs=previous,seed output=field repeat=passes start=2 when=halo_full_size,fold,!wide reach=2^(passes-i)
 #pragma halo pass spread_wide entry=spread_wide_pass inputs=previous,initial output=field repeat=passes first=initial when=wide reach=3*4^(passes-i)
 #pragma halo pass occlude entry=occlusion_pass inputs=field,occlusion output=occlusion reach=0
 
@@ -32,10 +35,10 @@
 //   (max(1, 4^(N - i) / s_frame) on images at 1/s_frame): separable, per axis [1 2 3 4 3 2 1]/16
 //   at -3s..3s (49 taps), then H_i = delta F_i + (1 - delta F_i) H_0 once (H_0 stored).
 // Every channel is one halo. Pixels outside the image read as 0 (halo_input).
-// At the frame's size (halo_full_size) H_0 is not stored: the first spreading pass reads
-// it at its nine taps from the seed image, the others at their pixel (the same sums:
-// the same floats, one draw fewer per generation). Halo images at 1/s of the frame keep
-// the gradient pass, which also max-downsamples the seed.
+// fold, at the frame's size (halo_full_size): H_0 is not stored; the first spreading pass
+// reads it at its nine taps from the seed image, the others at their pixel (the same sums:
+// the same floats, one draw fewer per generation, 27 more fetches a pixel). Halo images at
+// 1/s of the frame keep the gradient pass, which also max-downsamples the seed.
 
 // Median of nine (insertion sort; no arithmetic, so the emulation matches bit for bit).
 float median9(float v[9])

@@ -2,7 +2,7 @@
  * median_pass (3x3 median per channel), gradient_pass (H_0 = clamp(|grad S|, 0, 1),
  * central differences not halved), spread_pass (H_i = delta F_i + (1 - delta F_i) H_0,
  * F_i the 3x3 Gaussian [1 2 1; 2 4 2; 1 2 1]/16 at distance k = 2^(N - i)) and
- * occlusion_pass (O = max(H, O)); at the frame's size spread_seed_pass and spread_on_pass,
+ * occlusion_pass (O = max(H, O)); with `fold` at the frame's size spread_seed_pass and spread_on_pass,
  * the same with H_0 taken from the seed image where it is read; spread_wide_pass (the
  * approximation `wide`: two steps' kernels convolved, 49 taps). Outside the image every
  * input reads 0. */

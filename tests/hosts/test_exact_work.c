@@ -22,7 +22,8 @@
  * seeds' box far smaller than the image, so that the reach decides), rendered by the
  * slice and the slab host with the skips on and off: the same floats, and fewer pass
  * draws with them on; the same again with halo_generate's approximation wide (its reach
- * 3 * 4^(N-i) per pass).
+ * 3 * 4^(N-i) per pass) and with its fold (H_0 at the first spreading pass's taps: reach
+ * 2^(N-1) + 1).
  *
  * Exit 77 without OpenGL. */
 #include "halo.h"
@@ -205,7 +206,7 @@ static float next_random(unsigned *state)
     return (float)(*state >> 8) / 16777216.0f;
 }
 
-/* %s: halo_generate's parameters (exact N = 3, or the approximation wide at N = 2) */
+/* %s: halo_generate's parameters (skip_variants) */
 static const char skip_scene[] =
     "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {%s}},"
     " {\"halo_map\": {\"mode\": 0, \"color_near\": [[1, 0.9, 0.4]], \"opacity\": 0.9}}],"
@@ -283,7 +284,17 @@ static int check_skip_case(halo_gl *runtime, const halo_program *p, const halo_s
     return !ok;
 }
 
-static int check_skips(halo_gl *runtime, unsigned *state, int wide)
+/* halo_generate's passes in check_skips: exact N = 3 (the gradient pass stores H_0), the
+ * approximation wide at N = 2, exact N = 3 with fold */
+static const struct {
+    const char *params, *name;
+} skip_variants[] = {
+    {"\"passes\": 3", ""},
+    {"\"passes\": 2, \"wide\": true", ", wide"},
+    {"\"passes\": 3, \"fold\": true", ", fold"},
+};
+
+static int check_skips(halo_gl *runtime, unsigned *state, int variant)
 {
     enum { SIDE = 20 };
     int failed = 0;
@@ -291,7 +302,7 @@ static int check_skips(halo_gl *runtime, unsigned *state, int wide)
     halo_library *lib = halo_library_create(diag);
     char *host[2] = {halo_host_load("slice.frag", NULL, diag), halo_host_load("slab.frag", NULL, diag)};
     char json[sizeof skip_scene + 64];
-    snprintf(json, sizeof json, skip_scene, wide ? "\"passes\": 2, \"wide\": true" : "\"passes\": 3");
+    snprintf(json, sizeof json, skip_scene, skip_variants[variant].params);
     halo_scene *scene = lib ? halo_scene_parse(json, "(skip scene)", lib, diag) : NULL;
     float *volume = malloc((size_t)SIDE * SIDE * SIDE * sizeof *volume);
     for (int ball = 0; ball < 2; ++ball) {
@@ -300,7 +311,8 @@ static int check_skips(halo_gl *runtime, unsigned *state, int wide)
             double r2 = (x - 13.5) * (x - 13.5) + (y - 6.5) * (y - 6.5) + (z - 9.5) * (z - 9.5);
             volume[i] = ball ? (r2 < 9.0 ? 0.9f : 0.0f) : next_random(state);
         }
-        const char *what = wide ? (ball ? "ball, wide" : "noise, wide") : ball ? "ball" : "noise";
+        char what[32];
+        snprintf(what, sizeof what, "%s%s", ball ? "ball" : "noise", skip_variants[variant].name);
         for (int slab = 0; slab < 2 && scene && volume; ++slab) {
             halo_program *p = host[slab] ? halo_link(&(halo_link_desc){.library = lib, .scene = scene,
                                                                         .host_source = host[slab],
@@ -309,7 +321,7 @@ static int check_skips(halo_gl *runtime, unsigned *state, int wide)
                                          : NULL;
             for (int camera = 0; camera < 2; ++camera) {
                 failed += p ? check_skip_case(runtime, p, scene, volume, SIDE, slab, camera, what, diag) : 1;
-                if (!slab && !wide)
+                if (!slab && variant == 0)
                     failed += check_skip_case(runtime, NULL, scene, volume, SIDE, 0, camera,
                                               ball ? "ball, no stages" : "noise, no stages", diag);
             }
@@ -506,8 +518,8 @@ int main(void)
         }
         free(volume);
     }
-    failed += check_skips(runtime, &state, 0);
-    failed += check_skips(runtime, &state, 1);
+    for (int variant = 0; variant < (int)(sizeof skip_variants / sizeof skip_variants[0]); ++variant)
+        failed += check_skips(runtime, &state, variant);
     failed += check_groups(runtime);
     failed += check_read_region(runtime);
     printf("%d failed\n", failed);

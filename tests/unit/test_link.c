@@ -740,8 +740,8 @@ static int has_pass(const halo_program *p, const char *name) {
 
 /* The occlusion pass only when a halo may be occlusive (halo_map's `image occlusion
  * read_when=mode`): not for emissive halos, for any occlusive channel or a live mode, and
- * always without halo_map (nothing says the image is unread). At the frame's size no
- * gradient pass: spread_seed, then spread from repetition 2. */
+ * always without halo_map (nothing says the image is unread). At the frame's size the
+ * gradient pass stores H_0, then spread from repetition 1 (halo_generate's fold off). */
 static int test_occlusion_pass_when_occlusive(void) {
     static const struct {
         const char *map;
@@ -765,10 +765,10 @@ static int test_occlusion_pass_when_occlusive(void) {
         if (has_pass(p, "occlude") != cases[k].occlude)
             CHECK_FAIL_AT("%s (all_live %d): occlude pass %s", json, cases[k].all_live,
                           cases[k].occlude ? "missing" : "linked");
-        /* full size: the gradient pass folded into the spreading (spread_seed, then spread from 2) */
-        CHECK(has_pass(p, "spread") && has_pass(p, "spread_seed") && !has_pass(p, "gradient"));
+        /* full size, fold off: the gradient pass, then spread from 1 */
+        CHECK(has_pass(p, "spread") && !has_pass(p, "spread_seed") && has_pass(p, "gradient"));
         for (size_t i = 0; i < halo_program_pass_count(p); i++)
-            if (!strcmp(halo_program_pass(p, i)->name, "spread")) CHECK_INT_EQ(halo_program_pass(p, i)->start, 2);
+            if (!strcmp(halo_program_pass(p, i)->name, "spread")) CHECK_INT_EQ(halo_program_pass(p, i)->start, 1);
         halo_program_destroy(p);
     }
     return 0;
@@ -798,32 +798,39 @@ static int test_pass_reach_wide(void) {
 }
 
 /* reach= (docs/modules.md): how far a pass's repetition writes beyond its inputs' nonzero
- * pixels, with the parameter's value: halo_generate at N = 3 reaches 4 + 1 (the seed
+ * pixels, with the parameter's value: halo_generate at N = 3 stores H_0 (reach 1), then
+ * spreads 4, 2 and 1; with fold, its first spreading pass reaches 4 + 1 (the seed
  * gradient's taps), then 2 and 1; its occlusion pass 0. */
 static int test_pass_reach(void) {
-    halo_scene *scene = scene_of("{\"stages\": [\"halo_seed\", {\"halo_generate\": {\"passes\": 3}},"
-                                 " {\"halo_map\": {\"mode\": 1}}]}");
-    halo_program *p = link_with(scene, host_source, HALO_TARGET_DEFAULT, 0);
-    halo_scene_destroy(scene);
-    CHECK(p != NULL);
-    if (!p) return 0;
-    int seen = 0;
-    for (size_t i = 0; i < halo_program_pass_count(p); i++) {
-        const halo_pass_info *pass = halo_program_pass(p, i);
-        if (!strcmp(pass->name, "spread_seed")) {
-            CHECK_INT_EQ(halo_pass_reach(pass, 1), 5);
-            seen++;
-        } else if (!strcmp(pass->name, "spread")) {
-            CHECK_INT_EQ(halo_pass_reach(pass, 2), 2);
-            CHECK_INT_EQ(halo_pass_reach(pass, 3), 1);
-            seen++;
-        } else if (!strcmp(pass->name, "occlude")) {
-            CHECK_INT_EQ(halo_pass_reach(pass, 1), 0);
-            seen++;
+    for (int fold = 0; fold <= 1; fold++) {
+        char json[256];
+        snprintf(json, sizeof json, "{\"stages\": [\"halo_seed\", {\"halo_generate\": {\"passes\": 3, \"fold\": %s}},"
+                 " {\"halo_map\": {\"mode\": 1}}]}", fold ? "true" : "false");
+        halo_scene *scene = scene_of(json);
+        halo_program *p = link_with(scene, host_source, HALO_TARGET_DEFAULT, 0);
+        halo_scene_destroy(scene);
+        CHECK(p != NULL);
+        if (!p) return 0;
+        char names[256] = "";
+        for (size_t i = 0; i < halo_program_pass_count(p); i++) {
+            const halo_pass_info *pass = halo_program_pass(p, i);
+            snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? "," : "", pass->name);
+            if (!strcmp(pass->name, "gradient")) {
+                CHECK_INT_EQ(halo_pass_reach(pass, 1), 1);
+            } else if (!strcmp(pass->name, "spread_seed")) {
+                CHECK_INT_EQ(halo_pass_reach(pass, 1), 5);
+            } else if (!strcmp(pass->name, "spread")) {
+                CHECK_INT_EQ(pass->start, fold ? 2 : 1);
+                if (!fold) CHECK_INT_EQ(halo_pass_reach(pass, 1), 4);
+                CHECK_INT_EQ(halo_pass_reach(pass, 2), 2);
+                CHECK_INT_EQ(halo_pass_reach(pass, 3), 1);
+            } else if (!strcmp(pass->name, "occlude")) {
+                CHECK_INT_EQ(halo_pass_reach(pass, 1), 0);
+            }
         }
+        CHECK_STR_EQ(names, fold ? "spread_seed,spread,occlude" : "gradient,spread,occlude");
+        halo_program_destroy(p);
     }
-    CHECK_INT_EQ(seen, 3);
-    halo_program_destroy(p);
     return 0;
 }
 
