@@ -295,8 +295,8 @@ static void frame_take_host_draws(halo_gl_frame *fr, int read_back)
 }
 
 /* Whether the generation passes may be scissored to where their outputs can be nonzero:
- * each declares its reach, and every image they touch is at the frame's size with clear
- * value 0 (a reach counts frame pixels from nonzero ones). */
+ * each declares its reach, and every image they touch is the frame's or 1/s of it
+ * (halo_pass_reach_scaled) with clear value 0. */
 static int frame_scissored(const halo_gl_frame *fr)
 {
     int any = 0;
@@ -316,18 +316,35 @@ static int frame_scissored(const halo_gl_frame *fr)
                 images[n++] = pass->inputs[k];
         for (int k = 0; k < n; ++k) {
             const frame_image *im = &fr->images[images[k]];
-            if (im->host || im->clear != 0.0f || im->width != fr->width || im->height != fr->height)
+            if (im->host || im->clear != 0.0f || im->scale < 1 || im->width != (fr->width + im->scale - 1) / im->scale ||
+                im->height != (fr->height + im->scale - 1) / im->scale)
                 return 0;
         }
     }
     return any;
 }
 
-/* Where repetition rep of a pass can write a nonzero pixel: its inputs' support grown by
- * its reach. */
+/* Box b of an image at 1/from of the frame in the pixels of one at 1/to, as a pass reads
+ * it (link.c, halo_input4): a larger input is max-reduced over the to/from blocks, so an
+ * output pixel is nonzero where its block meets b; a smaller one is read at pixel /
+ * (from/to). */
+static frame_box box_to_scale(frame_box b, int from, int to)
+{
+    if (box_empty(b) || from == to)
+        return b;
+    if (to > from) {
+        int d = to / from;
+        return (frame_box){b.x0 / d, b.y0 / d, (b.x1 + d - 1) / d, (b.y1 + d - 1) / d};
+    }
+    int u = from / to;
+    return (frame_box){b.x0 * u, b.y0 * u, b.x1 * u, b.y1 * u};
+}
+
+/* Where repetition rep of a pass can write a nonzero pixel: its inputs' support, in the
+ * output's pixels, grown by its reach at the output's scale. */
 static frame_box pass_reach_box(const halo_gl_frame *fr, const frame_pass *pass, int rep, const frame_image *out)
 {
-    int reach = halo_pass_reach(pass->info, rep);
+    int reach = halo_pass_reach_scaled(pass->info, rep, out->scale);
     if (reach < 0)
         return image_full(out);
     frame_box in = {0, 0, 0, 0};
@@ -335,7 +352,7 @@ static frame_box pass_reach_box(const halo_gl_frame *fr, const frame_pass *pass,
         const frame_image *im = pass->inputs[k] >= 0 ? &fr->images[pass->inputs[k]]
                                 : rep == pass->start && pass->first >= 0 ? &fr->images[pass->first]
                                                                 : out;
-        in = box_union(in, im->support[im->current]);
+        in = box_union(in, box_to_scale(im->support[im->current], im->scale, out->scale));
     }
     return box_grow(in, reach, out->width, out->height);
 }

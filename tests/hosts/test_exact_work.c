@@ -23,7 +23,8 @@
  * slice and the slab host with the skips on and off: the same floats, and fewer pass
  * draws with them on; the same again with halo_generate's approximation wide (its reach
  * 3 * 4^(N-i) per pass) and with its fold (H_0 at the first spreading pass's taps: reach
- * 2^(N-1) + 1).
+ * 2^(N-1) + 1), and with halo images at 1/2 and 1/4 of the frame (reach max(1, B^(N-i) / s)
+ * of their pixels, the seeds' box max-reduced into them).
  *
  * Exit 77 without OpenGL. */
 #include "halo.h"
@@ -285,13 +286,17 @@ static int check_skip_case(halo_gl *runtime, const halo_program *p, const halo_s
 }
 
 /* halo_generate's passes in check_skips: exact N = 3 (the gradient pass stores H_0), the
- * approximation wide at N = 2, exact N = 3 with fold */
+ * approximation wide at N = 2, exact N = 3 with fold; halo images at 1/2 (with the median
+ * pass) and 1/4 (wide): their reach in the images' pixels, boxes between scales */
 static const struct {
     const char *params, *name;
+    int image_scale;
 } skip_variants[] = {
-    {"\"passes\": 3", ""},
-    {"\"passes\": 2, \"wide\": true", ", wide"},
-    {"\"passes\": 3, \"fold\": true", ", fold"},
+    {"\"passes\": 3", "", 1},
+    {"\"passes\": 2, \"wide\": true", ", wide", 1},
+    {"\"passes\": 3, \"fold\": true", ", fold", 1},
+    {"\"passes\": 3, \"median\": true", ", median, 1/2", 2},
+    {"\"passes\": 2, \"wide\": true", ", wide, 1/4", 4},
 };
 
 static int check_skips(halo_gl *runtime, unsigned *state, int variant)
@@ -315,6 +320,7 @@ static int check_skips(halo_gl *runtime, unsigned *state, int variant)
         snprintf(what, sizeof what, "%s%s", ball ? "ball" : "noise", skip_variants[variant].name);
         for (int slab = 0; slab < 2 && scene && volume; ++slab) {
             halo_program *p = host[slab] ? halo_link(&(halo_link_desc){.library = lib, .scene = scene,
+                                                                        .image_scale = skip_variants[variant].image_scale,
                                                                         .host_source = host[slab],
                                                                         .host_file = slab ? "slab.frag" : "slice.frag"},
                                                      diag)
@@ -452,8 +458,9 @@ static int check_groups(halo_gl *runtime)
 }
 
 /* halo_gl_frame_read_region of halo images at 1/4 of a narrow frame (9 x 100: 3 x 25
- * texels): after a generation over the whole image (not scissored at 1/4) the images may
- * be nonzero anywhere, and the region is the whole frame in both directions. */
+ * texels): after a generation with no read-back and no declared region (the seeds may be
+ * anywhere) the images may be nonzero anywhere, and the region is the whole frame in both
+ * directions. */
 static int check_read_region(halo_gl *runtime)
 {
     char json[sizeof skip_scene + 64];
@@ -463,6 +470,9 @@ static int check_read_region(halo_gl *runtime)
     halo_gl_frame *frame = link.program ? halo_gl_frame_create(runtime, link.program, 9, 100, link.diag) : NULL;
     int before[4] = {-1, -1, -1, -1}, after[4] = {-1, -1, -1, -1}, any[2] = {-1, -1};
     if (frame) {
+        /* no read-back and no declared region: the host may have drawn seeds anywhere, so
+         * the generation's images may be nonzero everywhere */
+        halo_gl_frame_set_readback_bounds(frame, 0);
         halo_gl_frame_begin(frame);
         any[0] = halo_gl_frame_read_region(frame, before);
         halo_gl_frame_generate(frame);
