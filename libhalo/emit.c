@@ -322,7 +322,7 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
             HALO_GEN(e, "halo_channels halo_read_%s(vec2 fragcoord) {\n"
                    "    ivec2 size = textureSize(%s, 0);\n"
                    "    ivec2 pixel = ivec2(fragcoord);\n"
-                   "    if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, size * %d)))\n"
+                   "    if (any(greaterThanEqual(uvec2(pixel), uvec2(size * %d)))) // also pixel < 0\n"
                    "        return halo_channels(0.0);\n"
                    "    vec2 at = fragcoord * (1.0 / %d.0) - 0.5;\n"
                    "    vec2 corner = floor(at);\n"
@@ -335,7 +335,7 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
         else
             HALO_GEN(e, "halo_channels halo_read_%s(vec2 fragcoord) {\n"
                    "    ivec2 pixel = ivec2(fragcoord);\n"
-                   "    if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, textureSize(%s, 0))))\n"
+                   "    if (any(greaterThanEqual(uvec2(pixel), uvec2(textureSize(%s, 0))))) // also pixel < 0\n"
                    "        return halo_channels(0.0);\n"
                    "    return halo_channels_from(texelFetch(%s, pixel, 0));\n}",
                 sm->image, sm->name, sm->name);

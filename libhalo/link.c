@@ -448,7 +448,7 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
         down[k] = in_scale < out_scale ? out_scale / in_scale : 1;
         up[k] = in_scale > out_scale ? in_scale / out_scale : 1;
         HALO_GEN(&e, "vec4 halo_fetch_%d(ivec2 pixel) {\n"
-                "    if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, textureSize(halo_input_%d, 0))))\n"
+                "    if (any(greaterThanEqual(uvec2(pixel), uvec2(textureSize(halo_input_%d, 0))))) // also pixel < 0\n"
                 "        return vec4(0.0);\n"
                 "    return texelFetch(halo_input_%d, pixel, 0);\n}", k, k, k);
     }

@@ -70,7 +70,7 @@ halo_channels median_pass(ivec2 pixel)
 // H_0 at pixel from the seed image, input k; 0 outside the image, as a stored H_0 reads there.
 halo_channels seed_gradient(int k, ivec2 pixel)
 {
-    if (any(lessThan(pixel, ivec2(0))) || any(greaterThanEqual(pixel, halo_image_size())))
+    if (any(greaterThanEqual(uvec2(pixel), uvec2(halo_image_size())))) // also pixel < 0
         return halo_channels(0.0);
     halo_channels gx = halo_input(k, pixel + ivec2(1, 0)) - halo_input(k, pixel - ivec2(1, 0));
     halo_channels gy = halo_input(k, pixel + ivec2(0, 1)) - halo_input(k, pixel - ivec2(0, 1));
