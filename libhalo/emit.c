@@ -316,11 +316,16 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
         HALO_GEN(e, "uniform highp sampler2D %s;", sm->name);
         const halo_image_info *im = halo_program_image_named((halo_program *)p, sm->image);
         int scale = im ? im->scale : 1;
+        /* HALO_IMAGES_ZERO (a host's variant for pixels outside halo_gl_frame_read_region,
+         * where every image read holds 0): no fetch, the same value */
+        HALO_GEN(e, "halo_channels halo_read_%s(vec2 fragcoord) {\n"
+               "#ifdef HALO_IMAGES_ZERO\n"
+               "    return halo_channels(0.0);\n"
+               "#else", sm->image);
         if (scale > 1)
             /* a 1/scale image: bilinear between its four nearest pixel centres (clamped to
              * the image), written out so that the emulation can match it */
-            HALO_GEN(e, "halo_channels halo_read_%s(vec2 fragcoord) {\n"
-                   "    ivec2 size = textureSize(%s, 0);\n"
+            HALO_GEN(e, "    ivec2 size = textureSize(%s, 0);\n"
                    "    ivec2 pixel = ivec2(fragcoord);\n"
                    "    if (any(greaterThanEqual(uvec2(pixel), uvec2(size * %d)))) // also pixel < 0\n"
                    "        return halo_channels(0.0);\n"
@@ -330,15 +335,15 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
                    "    ivec2 p0 = clamp(ivec2(corner), ivec2(0), size - 1), p1 = clamp(ivec2(corner) + 1, ivec2(0), size - 1);\n"
                    "    vec4 bottom = mix(texelFetch(%s, p0, 0), texelFetch(%s, ivec2(p1.x, p0.y), 0), t.x);\n"
                    "    vec4 top = mix(texelFetch(%s, ivec2(p0.x, p1.y), 0), texelFetch(%s, p1, 0), t.x);\n"
-                   "    return halo_channels_from(mix(bottom, top, t.y));\n}",
-                sm->image, sm->name, scale, scale, sm->name, sm->name, sm->name, sm->name);
+                   "    return halo_channels_from(mix(bottom, top, t.y));",
+                sm->name, scale, scale, sm->name, sm->name, sm->name, sm->name);
         else
-            HALO_GEN(e, "halo_channels halo_read_%s(vec2 fragcoord) {\n"
-                   "    ivec2 pixel = ivec2(fragcoord);\n"
+            HALO_GEN(e, "    ivec2 pixel = ivec2(fragcoord);\n"
                    "    if (any(greaterThanEqual(uvec2(pixel), uvec2(textureSize(%s, 0))))) // also pixel < 0\n"
                    "        return halo_channels(0.0);\n"
-                   "    return halo_channels_from(texelFetch(%s, pixel, 0));\n}",
-                sm->image, sm->name, sm->name);
+                   "    return halo_channels_from(texelFetch(%s, pixel, 0));",
+                sm->name, sm->name);
+        HALO_GEN(e, "#endif\n}");
     }
     for (size_t i = 0; i < p->host_uniform_count; i++)
         HALO_GEN(e, "uniform %s%s %s;", strncmp(p->host_uniforms[i].type, "sampler", 7) ? "" : "highp ",

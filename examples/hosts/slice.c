@@ -38,6 +38,8 @@ struct halo_slice {
     float value_range[2];
     GLuint plain_program; /* the host shader as linked, while program is the packed variant */
     GLuint outside_program; /* the SLICE_OUTSIDE variant (built at the first clipped render with images) */
+    GLuint zero_program;    /* the HALO_IMAGES_ZERO variant (of the packed one when packed): the section's
+                             * pixels outside the read region */
     char *vertex_source;  /* for building the variant */
     halo_gl *runtime_for_variant;
     int run_every_generation; /* halo_slice_set_generation_skip(s, 0) */
@@ -119,6 +121,7 @@ void halo_slice_destroy(halo_slice *s)
         f->DeleteProgram(s->program);
         f->DeleteProgram(s->plain_program);
         f->DeleteProgram(s->outside_program);
+        f->DeleteProgram(s->zero_program);
     }
     free(s->vertex_source);
     free(s);
@@ -264,6 +267,10 @@ static halo_status use_packed(halo_slice *s, int packed, halo_diagnostics *diag)
         s->f->DeleteProgram(s->program);
         s->program = s->plain_program;
         s->plain_program = 0;
+    }
+    if (packed != s->packed && s->zero_program) { /* built for the other volume texture */
+        s->f->DeleteProgram(s->zero_program);
+        s->zero_program = 0;
     }
     s->packed = packed;
     return HALO_OK;
@@ -614,42 +621,59 @@ static int box_subtract(const int r[4], const int b[4], int pieces[4][4])
     return n;
 }
 
-/* Draws a clipped slice (slices_clippable) at `distance`: `program` over its section's box,
- * and the rest of the box where the images read can be nonzero with `outside` (the
- * SLICE_OUTSIDE variant; 0: program takes the box around both). at: the programs'
- * slice_distance locations. What it draws is added to drawn; program is left in use.
- * Returns 0 when it draws nothing. */
-static int draw_clipped_slice(const halo_slice *s, GLuint program, GLuint outside, const GLint at[2], float distance,
-                              int drawn[4])
+/* The box where a and b overlap (empty when they do not). */
+static void box_intersect(const int a[4], const int b[4], int out[4])
+{
+    for (int c = 0; c < 2; ++c) {
+        out[c] = a[c] > b[c] ? a[c] : b[c];
+        out[c + 2] = a[c + 2] < b[c + 2] ? a[c + 2] : b[c + 2];
+    }
+}
+
+/* Draws a clipped slice (slices_clippable) at `distance`. programs: the host shader and,
+ * when it reads images, its HALO_IMAGES_ZERO and SLICE_OUTSIDE variants (else 0); at:
+ * their slice_distance locations. The shader draws its plane's section of the cube where
+ * the images read can be nonzero (halo_gl_frame_read_region), the zero variant the rest
+ * of the section (the same values: those reads are 0 there, and it fetches none), the
+ * outside variant the rest of the read region. The pieces do not overlap, so their order
+ * does not matter: they start with the program in use (*current), and *current is left
+ * the last one used. What it draws is added to drawn. Returns 0 when it draws nothing. */
+static int draw_clipped_slice(const halo_slice *s, const GLuint programs[3], const GLint at[3], GLuint *current,
+                              float distance, int drawn[4])
 {
     const halo_glfuncs *f = s->f;
-    int section[4] = {0, 0, 0, 0}, read[4] = {0, 0, 0, 0}, pieces[4][4];
+    int section[4] = {0, 0, 0, 0}, read[4] = {0, 0, 0, 0}, inside[4], pieces[3][4][4], counts[3] = {0, 0, 0};
     slice_section_box(s, distance, section);
-    if (s->frame)
+    int images = programs[1] && programs[2];
+    if (images && s->frame)
         halo_gl_frame_read_region(s->frame, read);
-    if (!outside) { /* one box around both */
-        box_add(section, read);
-        memset(read, 0, sizeof read);
-    }
-    int n = box_empty(read) ? 0 : box_empty(section) ? (memcpy(pieces[0], read, sizeof read), 1)
-                                                     : box_subtract(read, section, pieces);
-    if (!box_empty(section)) {
-        f->Uniform1f(at[0], distance);
-        f->Scissor(section[0], section[1], section[2] - section[0], section[3] - section[1]);
-        f->DrawArrays(GL_TRIANGLES, 0, 3);
-        box_add(drawn, section);
-    }
-    if (n) {
-        f->UseProgram(outside);
-        f->Uniform1f(at[1], distance);
-        for (int k = 0; k < n; ++k) {
-            f->Scissor(pieces[k][0], pieces[k][1], pieces[k][2] - pieces[k][0], pieces[k][3] - pieces[k][1]);
+    box_intersect(section, read, inside);
+    if (!images || box_empty(read)) /* the shader over the section, where no image read is nonzero */
+        memcpy(inside, section, sizeof inside);
+    if (!box_empty(inside))
+        memcpy(pieces[0][counts[0]++], inside, sizeof inside);
+    if (images && !box_empty(section) && !box_empty(read))
+        counts[1] = box_subtract(section, inside, pieces[1]);
+    if (images && !box_empty(read))
+        counts[2] = box_empty(section) ? (memcpy(pieces[2][0], read, sizeof read), 1)
+                                       : box_subtract(read, section, pieces[2]);
+    int first = programs[1] == *current ? 1 : programs[2] == *current ? 2 : 0, any = 0;
+    for (int i = 0; i < 3; ++i) {
+        int g = (first + i) % 3;
+        if (!counts[g])
+            continue;
+        if (programs[g] != *current)
+            f->UseProgram(*current = programs[g]);
+        f->Uniform1f(at[g], distance);
+        for (int k = 0; k < counts[g]; ++k) {
+            f->Scissor(pieces[g][k][0], pieces[g][k][1], pieces[g][k][2] - pieces[g][k][0],
+                       pieces[g][k][3] - pieces[g][k][1]);
             f->DrawArrays(GL_TRIANGLES, 0, 3);
-            box_add(drawn, pieces[k]);
+            box_add(drawn, pieces[g][k]);
         }
-        f->UseProgram(program);
+        any = 1;
     }
-    return !box_empty(section) || n > 0;
+    return any;
 }
 
 /* Colour buffer 0 written (on) or not while the slices are drawn, when `masking` (the
@@ -704,18 +728,18 @@ static void program_state(halo_slice *s, GLuint program, const halo_slice_state 
     }
 }
 
-/* The SLICE_OUTSIDE variant of the host shader (slice.frag), built once: 0 with a
- * diagnostic when it cannot be built. */
-static GLuint outside_variant(halo_slice *s, halo_diagnostics *diag)
+/* A variant of the host shader (slice.frag) with `defines`, built once into *program: 0
+ * with a diagnostic when it cannot be built. */
+static GLuint shader_variant(halo_slice *s, GLuint *program, const char *defines, halo_diagnostics *diag)
 {
     if (!s->vertex_source) {
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "slice host: out of memory for its shader's variant");
         return 0;
     }
-    if (!s->outside_program)
-        s->outside_program = halo_gl_program_build_defines(s->runtime_for_variant, s->linked, s->vertex_source,
-                                                           "slice.vert", "#define SLICE_OUTSIDE 1\n", diag);
-    return s->outside_program;
+    if (!*program)
+        *program = halo_gl_program_build_defines(s->runtime_for_variant, s->linked, s->vertex_source, "slice.vert",
+                                                 defines, diag);
+    return *program;
 }
 
 /* One pass over the volume; group >= 0: feature group `group` of a grouped program. */
@@ -730,10 +754,15 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     s->draws = 0;
     /* a group after the first: rgba and colour buffer 0 hold the colour already */
     int colour_written = group > 0 && !s->slab && !s->run_every_generation && f->ColorMaski;
-    /* clipped slices with halo images: the pixels outside the section get the variant */
-    GLuint outside = 0;
+    /* clipped slices with halo images: the pixels of the section where the images read
+     * are 0 and those outside the section get variants */
+    GLuint outside = 0, zero_variant = 0;
     if (slices_clippable(s) && s->frame && halo_program_sampler_count(s->linked) > 0 &&
-        !(outside = outside_variant(s, diag)))
+        (!(outside = shader_variant(s, &s->outside_program, "#define SLICE_OUTSIDE 1\n", diag)) ||
+         !(zero_variant = shader_variant(s, &s->zero_program,
+                                         s->packed ? "#define HALO_IMAGES_ZERO 1\n#define SLICE_PACKED_VOLUME 1\n"
+                                                   : "#define HALO_IMAGES_ZERO 1\n",
+                                         diag))))
         return HALO_ERROR_IO;
 
     f->BindFramebuffer(GL_FRAMEBUFFER, s->framebuffer);
@@ -745,8 +774,10 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     f->Disable(GL_SCISSOR_TEST);
     if (!colour_written)
         f->ClearBufferfv(GL_COLOR, 0, zero);
-    if (outside)
+    if (outside) {
         program_state(s, outside, &st);
+        program_state(s, zero_variant, &st);
+    }
     program_state(s, program, &st);
     if (s->slab) {
         f->Disable(GL_BLEND);
@@ -767,6 +798,8 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
         if (outside) { /* sampler uniforms are set on the program in use */
             f->UseProgram(outside);
             halo_gl_frame_bind(s->frame, outside, 3);
+            f->UseProgram(zero_variant);
+            halo_gl_frame_bind(s->frame, zero_variant, 3);
             f->UseProgram(program);
         }
         halo_gl_frame_bind(s->frame, program, 3);
@@ -777,15 +810,18 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     generation_skip skip;
     generation_skip_start(&skip, s, &st);
     if (!s->slab) {
-        const GLint at[2] = {f->GetUniformLocation(program, "slice_distance"),
+        const GLuint programs[3] = {program, zero_variant, outside};
+        const GLint at[3] = {f->GetUniformLocation(program, "slice_distance"),
+                             zero_variant ? f->GetUniformLocation(zero_variant, "slice_distance") : -1,
                              outside ? f->GetUniformLocation(outside, "slice_distance") : -1};
+        GLuint current = program;
         int clip = slices_clippable(s);
         int drawn[4] = {0, 0, 0, 0}; /* clipped: the box the slices since the last generation drew in */
         for (int k = 0; k < st.slice_count; ++k) {
             float distance = (float)(st.first_distance + k * st.step_size);
             if (clip) {
                 f->Enable(GL_SCISSOR_TEST); /* a generation leaves it off */
-                s->draws += draw_clipped_slice(s, program, outside, at, distance, drawn);
+                s->draws += draw_clipped_slice(s, programs, at, &current, distance, drawn);
             } else {
                 f->Uniform1f(at[0], distance);
                 f->DrawArrays(GL_TRIANGLES, 0, 3);

@@ -218,6 +218,9 @@ static const char skip_scene[] =
  * small in it (slices clipped to a fraction of the image, some missing the cube). */
 static const double skip_cameras[2][3] = {{0.0, 0.0, 1.2}, {30.0, 20.0, 0.6}};
 
+/* The gradient format of the skip checks' hosts (skip_variants) */
+static halo_gradient_format skip_gradient = HALO_GRADIENT_FORMAT_DEFAULT;
+
 /* Renders the skip scene with host `slab` (program p, or none), skips off (0), on (1) or on
  * without read-backs (2: the slice host's declared regions alone), from
  * camera `camera`; NULL on failure. draws: {slices or slabs drawn, pass draws}. */
@@ -230,6 +233,8 @@ static float *render_skips(halo_gl *runtime, const halo_program *p, const halo_r
                            .height = PIXELS};
     halo_slice *s = slab ? halo_slab_create(&desc, diag) : halo_slice_create(&desc, diag);
     float *rgba = malloc((size_t)PIXELS * PIXELS * 4 * sizeof *rgba);
+    if (s)
+        halo_slice_set_gradient_format(s, skip_gradient);
     int ok = s && rgba && halo_slice_set_volume(s, volume, side, side, side, diag) == HALO_OK &&
              halo_slice_set_render(s, settings, diag) == HALO_OK;
     if (ok) {
@@ -291,12 +296,14 @@ static int check_skip_case(halo_gl *runtime, const halo_program *p, const halo_s
 static const struct {
     const char *params, *name;
     int image_scale;
+    halo_gradient_format gradient;
 } skip_variants[] = {
-    {"\"passes\": 3", "", 1},
-    {"\"passes\": 2, \"wide\": true", ", wide", 1},
-    {"\"passes\": 3, \"fold\": true", ", fold", 1},
-    {"\"passes\": 3, \"median\": true", ", median, 1/2", 2},
-    {"\"passes\": 2, \"wide\": true", ", wide, 1/4", 4},
+    {"\"passes\": 3", "", 1, HALO_GRADIENT_FORMAT_DEFAULT},
+    {"\"passes\": 2, \"wide\": true", ", wide", 1, HALO_GRADIENT_FORMAT_DEFAULT},
+    {"\"passes\": 3, \"fold\": true", ", fold", 1, HALO_GRADIENT_FORMAT_DEFAULT},
+    {"\"passes\": 3, \"median\": true", ", median, 1/2", 2, HALO_GRADIENT_FORMAT_DEFAULT},
+    {"\"passes\": 2, \"wide\": true", ", wide, 1/4", 4, HALO_GRADIENT_FORMAT_DEFAULT},
+    {"\"passes\": 3", ", packed32", 1, HALO_GRADIENT_PACKED32}, /* the shader variants of the packed volume */
 };
 
 static int check_skips(halo_gl *runtime, unsigned *state, int variant)
@@ -308,6 +315,7 @@ static int check_skips(halo_gl *runtime, unsigned *state, int variant)
     char *host[2] = {halo_host_load("slice.frag", NULL, diag), halo_host_load("slab.frag", NULL, diag)};
     char json[sizeof skip_scene + 64];
     snprintf(json, sizeof json, skip_scene, skip_variants[variant].params);
+    skip_gradient = skip_variants[variant].gradient;
     halo_scene *scene = lib ? halo_scene_parse(json, "(skip scene)", lib, diag) : NULL;
     float *volume = malloc((size_t)SIDE * SIDE * SIDE * sizeof *volume);
     for (int ball = 0; ball < 2; ++ball) {
