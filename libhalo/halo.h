@@ -488,8 +488,8 @@ typedef struct halo_pass_info {
 
 /* Pixels (per axis) repetition i of a pass reaches: reach + reach_factor *
  * reach_base^max(0, reach_exponent - i) when it has an exponent (at most 2^30); -1 when the
- * pass declares no reach. At the frame's size; on images at 1/s of it the exponent's term
- * is max(1, reach_base^(reach_exponent - i) / s) (docs/image-passes.md). */
+ * pass declares no reach. Pixels of the pass's output image, on images at 1/s of the
+ * frame too (docs/image-passes.md). */
 HALO_API int halo_pass_reach(const halo_pass_info *pass, int repetition);
 
 typedef struct halo_program halo_program;

@@ -237,10 +237,6 @@ int halo_host_uses(const char *host, const char *name);
 void halo_segment_emit(struct halo_strbuf *b, const halo_program *p);
 void halo_segment_emit_tail(struct halo_strbuf *b, const halo_program *p);
 int halo_program_has_generation_passes(const halo_program *p);
-/* halo_pass_reach in the pixels of an output image at 1/scale of the frame: the term
- * B^(PARAM-i) counts frame pixels, max(1, B^(PARAM-i) / scale) of the image's (integer
- * division, as halo_generate's spacing); K and M count the image's pixels. */
-int halo_pass_reach_scaled(const halo_pass_info *pass, int repetition, int scale);
 /* gl/segments.c: a 4x4 column-major inverse; 0 if m is singular. */
 int halo_mat4_invert(const double m[16], double out[16]);
 /* gl/segments.c: how halo_gl_frame_draw draws a host (the emulation of a segmented host

@@ -464,6 +464,7 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
                     "        return m;\n"
                     "    }", k, k, down[k], down[k] * down[k], k, down[k], down[k], down[k]);
         else if (up[k] > 1)
+            /* pixel < 0 tested first: pixel / u rounds toward 0 (-1 / 2 would read pixel 0) */
             HALO_GEN(&e, "    if (k == %d) return any(lessThan(pixel, ivec2(0))) ? vec4(0.0) : halo_fetch_%d(pixel / %d);",
                 k, k, up[k]);
         else

@@ -269,16 +269,10 @@ PROGRAM_ITEM(halo_pass_info, halo_program_pass, pass_count, passes)
 
 int halo_pass_reach(const halo_pass_info *pass, int repetition) {
     HALO_REFUSE_NULL(NULL, pass, "pass", -1);
-    return halo_pass_reach_scaled(pass, repetition, 1);
-}
-
-int halo_pass_reach_scaled(const halo_pass_info *pass, int repetition, int scale) {
     if (pass->reach < 0) return -1;
     if (pass->reach_exponent < 0) return pass->reach;
     int e = pass->reach_exponent - repetition, bits = pass->reach_base == 4 ? 2 : 1;
     long long power = 1LL << (e < 0 ? 0 : e * bits > 30 ? 30 : e * bits);
-    if (scale > 1) /* B^(PARAM-i) frame pixels: max(1, B^(PARAM-i) / s) of a 1/s image's */
-        power = power / scale < 1 ? 1 : power / scale;
     long long reach = pass->reach + (pass->reach_factor > 1 ? pass->reach_factor : 1) * power;
     return reach > (1 << 30) ? 1 << 30 : (int)reach;
 }

@@ -647,13 +647,15 @@ static int draw_clipped_slice(const halo_slice *s, const GLuint programs[3], con
     int images = programs[1] && programs[2];
     if (images && s->frame)
         halo_gl_frame_read_region(s->frame, read);
-    box_intersect(section, read, inside);
-    if (!images || box_empty(read)) /* the shader over the section, where no image read is nonzero */
+    if (!images) /* the shader over the section */
         memcpy(inside, section, sizeof inside);
+    else
+        box_intersect(section, read, inside);
     if (!box_empty(inside))
         memcpy(pieces[0][counts[0]++], inside, sizeof inside);
-    if (images && !box_empty(section) && !box_empty(read))
-        counts[1] = box_subtract(section, inside, pieces[1]);
+    if (images && !box_empty(section)) /* the rest of the section (all of it when no image can be nonzero) */
+        counts[1] = box_empty(inside) ? (memcpy(pieces[1][0], section, sizeof section), 1)
+                                      : box_subtract(section, inside, pieces[1]);
     if (images && !box_empty(read))
         counts[2] = box_empty(section) ? (memcpy(pieces[2][0], read, sizeof read), 1)
                                        : box_subtract(read, section, pieces[2]);

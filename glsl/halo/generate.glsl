@@ -13,7 +13,7 @@
 #pragma halo param median bool default=false "3x3 median filter on the seed image before spreading"
 #pragma halo param interval int default=4 min=1 max=64 "M: slices between two generations (read by hosts from the reflection)"
 #pragma halo param wide bool default=false "approximation: each spreading pass does two of the paper's steps at once (49 taps at spacing 4^(N-i), one H_0 blend): N passes reach 4^N - 1 pixels, like 2N exact ones"
-#pragma halo param fold bool default=false "at the frame's size, H_0 computed at the first spreading pass's nine taps instead of stored by a pass of its own: one draw fewer a generation, 27 more fetches a pixel (the same floats; slower on llvmpipe at 256^2: docs/performance.md)"
+#pragma halo param fold bool default=false "at the frame's size, H_0 computed at the first spreading pass's nine taps instead of stored by a pass of its own: one draw fewer a generation; pass 1 reads 36 seed texels a pixel instead of 10, later passes 13 instead of 10 (the same floats; slower on llvmpipe at 256^2: docs/performance.md)"
 #pragma halo pass median entry=median_pass inputs=seed output=seed when=median reach=1
 #pragma halo pass gradient entry=gradient_pass inputs=seed output=initial when=!halo_full_size reach=1
 #pragma halo pass gradient entry=gradient_pass inputs=seed output=initial when=halo_full_size,!fold reach=1
@@ -37,7 +37,8 @@
 // Every channel is one halo. Pixels outside the image read as 0 (halo_input).
 // fold, at the frame's size (halo_full_size): H_0 is not stored; the first spreading pass
 // reads it at its nine taps from the seed image, the others at their pixel (the same sums:
-// the same floats, one draw fewer per generation, 27 more fetches a pixel). Halo images at
+// the same floats, one draw fewer per generation, 36 texel reads a pixel instead of 10 in
+// pass 1 and 13 instead of 10 in the others, against the gradient pass's 4). Halo images at
 // 1/s of the frame keep the gradient pass, which also max-downsamples the seed.
 
 // Median of nine (insertion sort; no arithmetic, so the emulation matches bit for bit).

@@ -295,8 +295,8 @@ static void frame_take_host_draws(halo_gl_frame *fr, int read_back)
 }
 
 /* Whether the generation passes may be scissored to where their outputs can be nonzero:
- * each declares its reach, and every image they touch is the frame's or 1/s of it
- * (halo_pass_reach_scaled) with clear value 0. */
+ * each declares its reach (in its output image's pixels, at 1/s of the frame too), and
+ * every image they touch is cleared to 0. */
 static int frame_scissored(const halo_gl_frame *fr)
 {
     int any = 0;
@@ -316,8 +316,7 @@ static int frame_scissored(const halo_gl_frame *fr)
                 images[n++] = pass->inputs[k];
         for (int k = 0; k < n; ++k) {
             const frame_image *im = &fr->images[images[k]];
-            if (im->host || im->clear != 0.0f || im->scale < 1 || im->width != (fr->width + im->scale - 1) / im->scale ||
-                im->height != (fr->height + im->scale - 1) / im->scale)
+            if (im->host || im->clear != 0.0f)
                 return 0;
         }
     }
@@ -341,10 +340,12 @@ static frame_box box_to_scale(frame_box b, int from, int to)
 }
 
 /* Where repetition rep of a pass can write a nonzero pixel: its inputs' support, in the
- * output's pixels, grown by its reach at the output's scale. */
+ * output's pixels, grown by its reach (pixels of the output image, whatever its scale: a
+ * module stepping B^(PARAM-i) of its own pixels stays within it, halo_generate's
+ * max(1, 2^(N-i) / s) on a 1/s image too). */
 static frame_box pass_reach_box(const halo_gl_frame *fr, const frame_pass *pass, int rep, const frame_image *out)
 {
-    int reach = halo_pass_reach_scaled(pass->info, rep, out->scale);
+    int reach = halo_pass_reach(pass->info, rep);
     if (reach < 0)
         return image_full(out);
     frame_box in = {0, 0, 0, 0};

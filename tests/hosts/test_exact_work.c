@@ -23,8 +23,8 @@
  * slice and the slab host with the skips on and off: the same floats, and fewer pass
  * draws with them on; the same again with halo_generate's approximation wide (its reach
  * 3 * 4^(N-i) per pass) and with its fold (H_0 at the first spreading pass's taps: reach
- * 2^(N-1) + 1), and with halo images at 1/2 and 1/4 of the frame (reach max(1, B^(N-i) / s)
- * of their pixels, the seeds' box max-reduced into them).
+ * 2^(N-1) + 1), and with halo images at 1/2 and 1/4 of the frame (the reach in their
+ * pixels, the seeds' box max-reduced into them).
  *
  * Exit 77 without OpenGL. */
 #include "halo.h"

@@ -797,6 +797,46 @@ static int test_pass_reach_wide(void) {
     return 0;
 }
 
+/* halo_generate's passes for each combination of fold, wide and the halo image size:
+ * exactly one gradient pass (none only with fold at full size without wide) and one
+ * family of spreading passes. */
+static int test_generate_pass_lines(void) {
+    static const struct {
+        const char *params;
+        int scale;
+        const char *names;
+    } cases[] = {
+        {"", 1, "gradient,spread"},
+        {"\"fold\": true", 1, "spread_seed,spread"},
+        {"\"wide\": true", 1, "gradient,spread_wide"},
+        {"\"fold\": true, \"wide\": true", 1, "gradient,spread_wide"},
+        {"", 2, "gradient,spread"},
+        {"\"fold\": true", 2, "gradient,spread"},
+        {"\"wide\": true", 4, "gradient,spread_wide"},
+        {"\"fold\": true, \"wide\": true", 4, "gradient,spread_wide"},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        char json[256], names[256] = "";
+        snprintf(json, sizeof json, "{\"stages\": [\"halo_seed\", {\"halo_generate\": {%s}}, \"halo_map\"]}",
+                 cases[k].params);
+        halo_scene *scene = scene_of(json);
+        halo_diagnostics_clear(diags);
+        halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host_source,
+                                                      .host_file = "test.frag", .image_scale = cases[k].scale},
+                                    diags);
+        halo_scene_destroy(scene);
+        CHECK(p != NULL);
+        if (!p) continue;
+        for (size_t i = 0; i < halo_program_pass_count(p); i++)
+            snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? "," : "",
+                     halo_program_pass(p, i)->name);
+        if (strcmp(names, cases[k].names))
+            CHECK_FAIL_AT("%s at 1/%d: passes %s, expected %s", json, cases[k].scale, names, cases[k].names);
+        halo_program_destroy(p);
+    }
+    return 0;
+}
+
 /* reach= (docs/modules.md): how far a pass's repetition writes beyond its inputs' nonzero
  * pixels, with the parameter's value: halo_generate at N = 3 stores H_0 (reach 1), then
  * spreads 4, 2 and 1; with fold, its first spreading pass reaches 4 + 1 (the seed
@@ -1106,6 +1146,7 @@ int main(void) {
     RUN_TEST(test_occlusion_pass_when_occlusive);
     RUN_TEST(test_pass_reach);
     RUN_TEST(test_pass_reach_wide);
+    RUN_TEST(test_generate_pass_lines);
     RUN_TEST(test_feature_groups);
     RUN_TEST(test_compositing_mip);
     halo_library_destroy(library);
