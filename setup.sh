@@ -14,8 +14,8 @@ packages="build-essential autoconf automake libtool pkg-config file
   libnifti2-dev zlib1g-dev mricron-data
   libglfw3-dev xvfb xauth
   gnuplot-nox
-  paraview paraview-dev python3-paraview openmpi-bin cmake python3
-  glslang-tools"
+  paraview paraview-dev python3-paraview openmpi-bin libopenmpi-dev libglew-dev cmake python3
+  glslang-tools git"
 
 missing=""
 for p in $packages; do
