@@ -311,9 +311,23 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
         HALO_GEN(e, "%sout %s %s;", halo_output_layout(p, out->location, layout, sizeof layout), type, out->name);
         HALO_GEN(e, "%s halo_accum_%s = %s(%s);", type, out->image, type, out->blend == HALO_BLEND_MIN ? "1.0" : "0.0");
     }
+    if (p->one_draw)
+        /* host contract 3 (gl/field.c): the stack of the depth segments' images; segment j
+         * reads layer j - 1, what the generation after segment j - 1 made (segment 0: zero) */
+        HALO_GEN(e, "uniform vec4 halo_stack_plane;  // phi(P) = dot(xyz, P) + w: the segments' axis\n"
+               "uniform vec3 halo_stack_slabs;  // x: phi where segment 0 begins, y: 1 / a segment's length, z: segments\n"
+               "int halo_stack_layer = -1;      // the layer the current sample reads (halo_apply sets it)\n"
+               "int halo_stack_layer_at(vec3 position) {\n"
+               "    float k = floor((dot(halo_stack_plane.xyz, position) + halo_stack_plane.w - halo_stack_slabs.x) * halo_stack_slabs.y);\n"
+               "    return k >= 1.0 ? int(min(k, halo_stack_slabs.z - 1.0)) - 1 : -1; // also NaN: -1\n"
+               "}");
     for (size_t i = 0; i < p->sampler_count; i++) {
         const halo_sampler_info *sm = &p->samplers[i];
-        HALO_GEN(e, "uniform highp sampler2D %s;", sm->name);
+        int stacked = halo_prepass_image(p, sm->image);
+        HALO_GEN(e, "uniform highp %s %s;", stacked ? "sampler2DArray" : "sampler2D", sm->name);
+        /* a texel of the sampler: in the stack, of the sample's layer */
+        const char *n = sm->name, *at = stacked ? "ivec3" : "", *layer = stacked ? ", halo_stack_layer" : "",
+                   *xy = stacked ? ".xy" : "";
         const halo_image_info *im = halo_program_image_named((halo_program *)p, sm->image);
         int scale = im ? im->scale : 1;
         /* HALO_IMAGES_ZERO (a host's variant for pixels outside halo_gl_frame_read_region,
@@ -322,10 +336,13 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
                "#ifdef HALO_IMAGES_ZERO\n"
                "    return halo_channels(0.0);\n"
                "#else", sm->image);
+        if (stacked)
+            HALO_GEN(e, "    if (halo_stack_layer < 0) // the first segment: no generation before it\n"
+                   "        return halo_channels(0.0);");
         if (scale > 1)
             /* a 1/scale image: bilinear between its four nearest pixel centres (clamped to
              * the image), written out so that the emulation can match it */
-            HALO_GEN(e, "    ivec2 size = textureSize(%s, 0);\n"
+            HALO_GEN(e, "    ivec2 size = textureSize(%s, 0)%s;\n"
                    "    ivec2 pixel = ivec2(fragcoord);\n"
                    "    if (any(greaterThanEqual(uvec2(pixel), uvec2(size * %d)))) // also pixel < 0\n"
                    "        return halo_channels(0.0);\n"
@@ -333,16 +350,16 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
                    "    vec2 corner = floor(at);\n"
                    "    vec2 t = at - corner;\n"
                    "    ivec2 p0 = clamp(ivec2(corner), ivec2(0), size - 1), p1 = clamp(ivec2(corner) + 1, ivec2(0), size - 1);\n"
-                   "    vec4 bottom = mix(texelFetch(%s, p0, 0), texelFetch(%s, ivec2(p1.x, p0.y), 0), t.x);\n"
-                   "    vec4 top = mix(texelFetch(%s, ivec2(p0.x, p1.y), 0), texelFetch(%s, p1, 0), t.x);\n"
+                   "    vec4 bottom = mix(texelFetch(%s, %s(p0%s), 0), texelFetch(%s, %s(ivec2(p1.x, p0.y)%s), 0), t.x);\n"
+                   "    vec4 top = mix(texelFetch(%s, %s(ivec2(p0.x, p1.y)%s), 0), texelFetch(%s, %s(p1%s), 0), t.x);\n"
                    "    return halo_channels_from(mix(bottom, top, t.y));",
-                sm->name, scale, scale, sm->name, sm->name, sm->name, sm->name);
+                n, xy, scale, scale, n, at, layer, n, at, layer, n, at, layer, n, at, layer);
         else
             HALO_GEN(e, "    ivec2 pixel = ivec2(fragcoord);\n"
-                   "    if (any(greaterThanEqual(uvec2(pixel), uvec2(textureSize(%s, 0))))) // also pixel < 0\n"
+                   "    if (any(greaterThanEqual(uvec2(pixel), uvec2(textureSize(%s, 0)%s)))) // also pixel < 0\n"
                    "        return halo_channels(0.0);\n"
-                   "    return halo_channels_from(texelFetch(%s, pixel, 0));",
-                sm->name, sm->name);
+                   "    return halo_channels_from(texelFetch(%s, %s(pixel%s), 0));",
+                n, xy, n, at, layer);
         HALO_GEN(e, "#endif\n}");
     }
     for (size_t i = 0; i < p->host_uniform_count; i++)
@@ -399,9 +416,15 @@ int halo_emit_program(halo_program *p, const char *host_source, char **host_line
             const halo_hook_struct *hs = &halo_hook_structs[h];
             if (!hook_needed(p, hs, host_source)) continue;
             HALO_GEN(&e, "void halo_apply(inout %s %s) {", hs->type, hs->var);
-            for (size_t s = 0; s < p->stage_count; s++)
-                if (p->stages[s].module->hook == hs->hook)
-                    HALO_GEN(&e, "    halo_%s_apply(%s);", p->stages[s].module->name, hs->var);
+            if (p->one_draw && hs->hook == HALO_HOOK_SAMPLE)
+                HALO_GEN(&e, "    halo_stack_layer = halo_stack_layer_at(%s.position);", hs->var);
+            for (size_t s = 0; s < p->stage_count; s++) {
+                const halo_linked_stage *st = &p->stages[s];
+                /* host contract 3: the seeding stages run in libhalo's march, and only they */
+                if (st->module->hook == hs->hook && !(p->one_draw && st->prepass == 2) &&
+                    !(p->prepass_only && !st->prepass))
+                    HALO_GEN(&e, "    halo_%s_apply(%s);", st->module->name, hs->var);
+            }
             for (size_t o = 0; o < p->output_count && hs->hook == HALO_HOOK_SAMPLE; o++) {
                 const halo_output_info *out = &p->outputs[o];
                 const char *img = out->image;

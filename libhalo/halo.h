@@ -391,6 +391,12 @@ typedef struct halo_link_desc {
     int force_segments;          /* host contract 2: a host that calls halo_segment_begin is drawn in segments
                                   * only when the program has passes between slices; 1 links the segment code
                                   * anyway (halo_gl_segments_desc.segments then forces a count) */
+    int one_draw;                /* host contract 3: the images that passes between slices make (volumetric
+                                  * halos' field and occlusion) are computed by libhalo's own march over the
+                                  * host's volume before the host draws, for every depth segment; each sample
+                                  * reads its segment's layer. The host is drawn once (halo_gl_frame_draw with
+                                  * halo_gl_segments_desc.volume_texture), early ray termination kept; its
+                                  * halo_segment_begin/_end calls, if any, do nothing (docs/host-contract.md) */
     /* ---- For shader composers (docs/composers.md) ---- */
     halo_version_mode version;   /* the #version line: the target's (default), the host's own, or none */
     int engine_uniforms;         /* 1: live parameters are not declared: the engine declares them from the
@@ -780,6 +786,9 @@ typedef struct halo_gl_segments_desc {
     int first_unit;        /* libhalo's textures from this unit on; 0: unit 8 */
     void (*draw)(void *user); /* draws the host's proxy geometry once; the host's program is current */
     void *user;
+    unsigned volume_texture; /* host contract 3 (a one_draw program): the host's volume (GL_TEXTURE_3D, the
+                              * value halo_make_sample gets in its red channel, at that position) that
+                              * libhalo's march samples for the seeds; required there */
 } halo_gl_segments_desc;
 
 /* Sets the camera uniforms of halo_view_at and halo_depth_at (the program must be current).

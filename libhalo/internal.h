@@ -176,6 +176,8 @@ typedef struct halo_program_stage {
     size_t first_uniform; /* index into uniforms */
     halo_param_value *group_values; /* a grouped stage of a program with feature groups: the scene's
                                      * whole lists (values holds the selected group's four) */
+    int prepass; /* host contract 3 (field.c): 2, its outputs feed generation passes (halo_seed); 1, it
+                  * provides what such a stage needs; 0, neither */
 } halo_linked_stage;
 
 struct halo_program {
@@ -212,6 +214,13 @@ struct halo_program {
     /* host contract 2 (libhalo/segment.c) */
     int v2_host;            /* the host calls halo_segment_begin, halo_view_at or halo_depth_at, or names a volume */
     int segment_location;   /* > 0: drawn in segments; the location of the ray state output */
+    /* host contract 3 (gl/field.c): one_draw, the images of generation passes are computed by
+     * libhalo's own march before the host draws (prepass: that march, linked from the same
+     * scene) and read per sample from a stack of depth-segment layers; prepass_only: this is
+     * such a march (only the stages with prepass != 0 run) */
+    int one_draw;
+    int prepass_only;
+    struct halo_program *prepass;
     char *volume_sampler;   /* #pragma halo volume NAME: the gradient is derived from this sampler3D */
     char *gradient_sampler; /* #pragma halo gradient NAME: ... or read from this one (RGB, per voxel step) */
     /* for shader composers (compose.c) */
@@ -267,6 +276,18 @@ extern const size_t halo_hook_struct_count;
 halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag);
 /* link.c: halo_link of host text (desc->pieces, if set, gives only first_output_location). */
 halo_program *halo_link_host(const halo_link_desc *desc, halo_diagnostics *diag);
+/* Host contract 3 (prepass.c): the march of a one_draw program, linked from desc's scene. */
+halo_program *halo_link_prepass(const halo_link_desc *desc, halo_diagnostics *diag);
+extern const char halo_march_file[];
+/* Marks the stages whose outputs feed generation passes (prepass 2) and what they need
+ * (1); returns whether there is one. */
+int halo_prepass_mark(halo_program *p);
+/* Drops the outputs that feed generation passes (the march writes them). */
+void halo_prepass_drop_outputs(halo_program *p);
+/* Links p->prepass. */
+int halo_prepass_link(halo_program *p, const halo_link_desc *desc, halo_diagnostics *diag);
+/* Is image written by generation passes of a one_draw program (read from the stack)? */
+int halo_prepass_image(const halo_program *p, const char *image);
 /* program.c: a string the program owns (freed with it), printf-style. */
 char *halo_program_own(halo_program *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* program.c: the uniforms of the linked stages' parameters (all_live: every one a

@@ -618,7 +618,8 @@ static int plan_segments(halo_program *p, const halo_link_desc *desc, const halo
     int segmenting = halo_host_uses(host, "halo_segment_begin");
     p->v2_host = segmenting || h->volume || h->gradient || halo_host_uses(host, "halo_view_at") ||
                  halo_host_uses(host, "halo_depth_at");
-    int generation = halo_program_has_generation_passes(p);
+    /* host contract 3: libhalo computes what the passes between slices make before the host draws */
+    int generation = halo_program_has_generation_passes(p) && !desc->one_draw;
     if (h->compositing_mip && p->stage_count) {
         /* a MIP host composites no samples: every stage would be silently meaningless */
         halo_strbuf names = {0};
@@ -670,16 +671,25 @@ static int plan_segments(halo_program *p, const halo_link_desc *desc, const halo
     return 0;
 }
 
-static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *h, halo_diagnostics *diag);
+static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *h, int prepass_only,
+                                    halo_diagnostics *diag);
 
 halo_program *halo_link_host(const halo_link_desc *desc, halo_diagnostics *diag) {
     halo_host_info h = {0};
-    halo_program *p = link_with_host(desc, &h, diag);
+    halo_program *p = link_with_host(desc, &h, 0, diag);
     halo_host_scan_free(&h.scan);
     return p;
 }
 
-static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *h, halo_diagnostics *diag) {
+halo_program *halo_link_prepass(const halo_link_desc *desc, halo_diagnostics *diag) {
+    halo_host_info h = {0};
+    halo_program *p = link_with_host(desc, &h, 1, diag);
+    halo_host_scan_free(&h.scan);
+    return p;
+}
+
+static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *h, int prepass_only,
+                                    halo_diagnostics *diag) {
     if (!desc || !desc->library || !desc->host_source) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: library and host_source are required");
         return NULL;
@@ -772,6 +782,18 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
     if (resources || host_errors) {
         halo_program_destroy(p);
         return NULL;
+    }
+    /* host contract 3: the stages that seed the generation passes run in libhalo's march */
+    if ((desc->one_draw || prepass_only) && halo_prepass_mark(p) && p->kind == HALO_SHADER_FRAGMENT) {
+        p->prepass_only = prepass_only;
+        if (!prepass_only && halo_program_has_generation_passes(p)) {
+            p->one_draw = 1;
+            halo_prepass_drop_outputs(p);
+            if (halo_prepass_link(p, desc, diag)) {
+                halo_program_destroy(p);
+                return NULL;
+            }
+        }
     }
     set_image_scales(p);
     if (p->group_count > 1) halo_program_load_group(p, 0);

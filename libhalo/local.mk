@@ -12,7 +12,7 @@ CLEANFILES += libhalo/embedded_modules.c
 noinst_LTLIBRARIES += libhalo/libhalo-core.la
 libhalo_libhalo_core_la_SOURCES = \
 	libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c \
-	libhalo/scene.c libhalo/link.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c libhalo/compose.c libhalo/contract.c libhalo/host_scan.c libhalo/validate.c libhalo/glsl_locate.c libhalo/setup.c \
+	libhalo/scene.c libhalo/link.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c libhalo/prepass.c libhalo/compose.c libhalo/contract.c libhalo/host_scan.c libhalo/validate.c libhalo/glsl_locate.c libhalo/setup.c \
 	libhalo/glslang_parse.cpp \
 	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c \
 	libhalo/emu/gradient.c libhalo/emu/opacity_power.c libhalo/emu/boundary.c \
@@ -20,7 +20,7 @@ libhalo_libhalo_core_la_SOURCES = \
 	libhalo/emu/tone_shading.c libhalo/emu/distance_blend.c libhalo/emu/distance_cue.c \
 	libhalo/emu/lines.c \
 	libhalo/emu/halo_seed.c libhalo/emu/halo_generate.c libhalo/emu/halo_map.c libhalo/emu/frame.c libhalo/emu/outline.c \
-	libhalo/gl/glfuncs.c libhalo/gl/runtime.c libhalo/gl/runtime.h libhalo/gl/frame.c libhalo/gl/segments.c libhalo/gl/frame.h \
+	libhalo/gl/glfuncs.c libhalo/gl/runtime.c libhalo/gl/runtime.h libhalo/gl/frame.c libhalo/gl/segments.c libhalo/gl/field.c libhalo/gl/frame.h \
 	libhalo/emu/feature_halo.c libhalo/gl/feature_splat.c
 nodist_libhalo_libhalo_core_la_SOURCES = libhalo/embedded_modules.c
 # The error budget (halo_budget_choose): halo-validate bench --max-error.

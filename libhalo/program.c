@@ -69,6 +69,7 @@ void halo_program_retain(const halo_program *p) { atomic_fetch_add(&((halo_progr
 
 void halo_program_destroy(halo_program *p) {
     if (!p || atomic_fetch_sub(&p->refs, 1) != 1) return;
+    halo_program_destroy(p->prepass);
     for (int i = 0; i < HALO_PIECE_COUNT; i++) { /* pieces (compose.c) */
         free(p->pieces[i]);
         free(p->piece_origins[i]);
@@ -190,6 +191,9 @@ halo_status halo_program_set(halo_program *p, const char *stage, const char *par
     for (size_t s = 0; s < p->stage_count; s++)
         for (size_t i = 0; i < p->stages[s].module->param_count; i++)
             if (p->stages[s].values[i].value == w->value) p->stages[s].values[i].count = count;
+    /* host contract 3: the march, linked from the same scene, has the same live parameters */
+    if (p->prepass)
+        halo_program_set(p->prepass, stage, param, values, count, diag);
     return HALO_OK;
 }
 

@@ -459,7 +459,7 @@ done:
 static int run_table1(const bench_options *o, halo_bench_env *env, const char *renderer)
 {
     const halo_bench_config halo = {.halos = 1, .interval = 4, .passes = 4, .precision = 32, .step = 0.5};
-    halo_bench_case cases[32];
+    halo_bench_case cases[48];
     memset(cases, 0, sizeof cases);
     size_t n = 0;
 #define ROW(AXIS, SCENE, ...)                                                                                 \
@@ -492,6 +492,12 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
     ROW("reference", NULL, cases[n].config.halos = 0; cases[n].config.slab = HALO_BENCH_RAYCAST);
     for (int k = 0; k < 4; ++k)
         ROW("halo", NULL, cases[n].config.slab = HALO_BENCH_RAYCAST; cases[n].config.interval = paper_m[k]);
+    /* host contract 3: the same ray caster drawn once over the field of every segment */
+    for (int k = 0; k < 4; ++k)
+        ROW("one-draw", NULL, cases[n].config.slab = HALO_BENCH_RAYCAST; cases[n].config.one_draw = 1;
+            cases[n].config.interval = paper_m[k]);
+    ROW("one-draw1/2", NULL, cases[n].config.slab = HALO_BENCH_RAYCAST; cases[n].config.one_draw = 1;
+        cases[n].config.scale = 2);
     /* the slice host's reference with its slices drawn whole (no clipping to the volume's
      * section): the reference issue 16's goal was set against */
     ROW("ref-full", NULL, cases[n].config.halos = 0; cases[n].config.interval = 1; cases[n].config.no_skip = 1);
@@ -506,7 +512,9 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
     size_t pixels = (size_t)env->width * (size_t)env->height;
     for (size_t i = 0; i < n; ++i) {
         cases[i].max_abs = NAN;
-        for (size_t j = 0; j < n && strncmp(cases[i].axis, "halo", 4) == 0 && strcmp(cases[i].axis, "halo16"); ++j)
+        int measured = (strncmp(cases[i].axis, "halo", 4) == 0 && strcmp(cases[i].axis, "halo16")) ||
+                       cases[i].config.one_draw;
+        for (size_t j = 0; j < n && measured; ++j)
             if (!strcmp(cases[j].axis, "halo") && cases[j].config.interval == 1 && cases[j].config.slab == cases[i].config.slab)
                 halo_bench_image_error(cases[i].image, cases[j].image, pixels, &cases[i].max_abs, &cases[i].rmse,
                                        &cases[i].share_over);

@@ -90,7 +90,7 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
                                                                     : HALO_DRIVER_SLICE;
     const halo_link_desc link = {.library = env->lib, .scene = c->scene, .all_live = c->config.all_live,
                                  .image_precision = c->config.precision ? c->config.precision : 32,
-                                 .image_scale = c->config.scale};
+                                 .image_scale = c->config.scale, .one_draw = c->config.one_draw};
     c->program = halo_driver_link(&link, kind, 0, env->diag);
     /* no skips: halo_map's mode live (its values kept), so that the occlusion pass is linked */
     const halo_uniform_info *mode = c->program && c->config.no_skip && !c->config.all_live

@@ -405,6 +405,7 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
                                       .interval = r->interval,
                                       .segments = r->segments,
                                       .framebuffer = r->target.framebuffer,
+                                      .volume_texture = r->volume_texture,
                                       .draw = draw_proxy,
                                       .user = r};
     if (r->frame) {

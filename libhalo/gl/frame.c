@@ -81,6 +81,8 @@ struct halo_gl_frame {
     int groups_ended; /* halo_gl_frame_end_group calls since halo_gl_frame_begin */
     int attached;  /* outputs attached to attached_framebuffer by halo_gl_frame_attach */
     GLuint attached_framebuffer;
+    const halo_program *attached_program; /* whose outputs: the program's, or its march's (field.c) */
+    halo_gl_field *field; /* host contract 3: the stacks of a one_draw program (field.c) */
     int bound;     /* samplers bound by halo_gl_frame_bind from bound_first_unit */
     int bound_first_unit;
     GLuint state[2];   /* host contract 2: the rays' state between segments (RGBA32F), ping-ponged */
@@ -276,9 +278,11 @@ static frame_box image_nonzero_box(halo_gl_frame *fr, frame_image *im, frame_box
  * or of the whole image (exact). */
 static void frame_take_host_draws(halo_gl_frame *fr, int read_back)
 {
-    size_t n = halo_program_output_count(fr->program);
-    for (size_t i = 0; i < n; ++i) {
-        int k = frame_find_image(fr, halo_program_output(fr->program, i)->image);
+    /* with host contract 3, libhalo's march (the program's prepass) writes the seeds */
+    const halo_program *writers[2] = {fr->program, fr->program->prepass};
+    for (int w = 0; w < 2 && writers[w]; ++w)
+    for (size_t i = 0, n = halo_program_output_count(writers[w]); i < n; ++i) {
+        int k = frame_find_image(fr, halo_program_output(writers[w], i)->image);
         if (k < 0 || fr->images[k].host)
             continue;
         frame_image *im = &fr->images[k];
@@ -387,7 +391,7 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
         return NULL;
     }
     const halo_glfuncs *f = &gl->f;
-    if (halo_program_output_count(p) > 0) {
+    if (halo_program_output_count(p) > 0 || p->prepass) {
         GLint major = 0;
         f->GetIntegerv(GL_MAJOR_VERSION, &major);
         if (major < 4 || !f->Enablei || !f->Disablei || !f->BlendEquationi || !f->BlendFunci || !f->IsEnabledi) {
@@ -530,6 +534,10 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
     const char *renderer = (const char *)f->GetString(GL_RENDERER);
     fr->readback_bounds = renderer && (strstr(renderer, "llvmpipe") || strstr(renderer, "softpipe") ||
                                        strstr(renderer, "SwiftShader"));
+    if (p->one_draw && !(fr->field = halo_gl_field_create(fr, diag))) {
+        halo_gl_frame_destroy(fr);
+        return NULL;
+    }
     halo_gl_frame_begin(fr);
     return fr;
 }
@@ -539,6 +547,7 @@ void halo_gl_frame_destroy(halo_gl_frame *fr)
     if (!fr)
         return;
     const halo_glfuncs *f = &fr->gl->f;
+    halo_gl_field_destroy(fr, fr->field);
     for (size_t i = 0; fr->images && i < fr->image_count; ++i)
         if (fr->images[i].texture[0] && !fr->images[i].host)
             f->DeleteTextures(2, fr->images[i].texture);
@@ -611,9 +620,10 @@ static void frame_clear(halo_gl_frame *fr, int group)
 static void frame_attach_textures(halo_gl_frame *fr)
 {
     const halo_glfuncs *f = &fr->gl->f;
-    size_t n = halo_program_output_count(fr->program);
+    const halo_program *p = fr->attached_program ? fr->attached_program : fr->program;
+    size_t n = halo_program_output_count(p);
     for (size_t i = 0; i < n; ++i) {
-        const halo_output_info *o = halo_program_output(fr->program, i);
+        const halo_output_info *o = halo_program_output(p, i);
         int image = frame_find_image(fr, o->image);
         if (image < 0 || o->location < 1)
             continue;
@@ -626,24 +636,30 @@ static void frame_attach_textures(halo_gl_frame *fr)
 void halo_gl_frame_attach(halo_gl_frame *fr, unsigned host_framebuffer)
 {
     HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
-    size_t n = halo_program_output_count(fr->program);
+    halo_gl_frame_attach_outputs(fr, fr->program, host_framebuffer, 1);
+}
+
+void halo_gl_frame_attach_outputs(halo_gl_frame *fr, const halo_program *p, unsigned host_framebuffer, int colour)
+{
+    size_t n = halo_program_output_count(p);
     if (n == 0)
         return;
     const halo_glfuncs *f = &fr->gl->f;
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, host_framebuffer);
+    fr->attached_program = p;
     frame_attach_textures(fr);
     GLenum buffers[FRAME_MAX_BUFFERS * 4];
     int max_location = 0;
     for (size_t i = 0; i < n; ++i) {
-        int location = halo_program_output(fr->program, i)->location;
+        int location = halo_program_output(p, i)->location;
         if (location > max_location && location < (int)(sizeof buffers / sizeof buffers[0]))
             max_location = location;
     }
-    buffers[0] = GL_COLOR_ATTACHMENT0;
+    buffers[0] = colour ? GL_COLOR_ATTACHMENT0 : GL_NONE;
     for (int k = 1; k <= max_location; ++k)
         buffers[k] = GL_NONE;
     for (size_t i = 0; i < n; ++i) {
-        const halo_output_info *o = halo_program_output(fr->program, i);
+        const halo_output_info *o = halo_program_output(p, i);
         if (o->location < 1 || o->location > max_location)
             continue;
         buffers[o->location] = GL_COLOR_ATTACHMENT0 + (GLenum)o->location;
@@ -673,12 +689,16 @@ static void frame_bind_textures(halo_gl_frame *fr, int first_unit)
     const halo_glfuncs *f = &fr->gl->f;
     size_t n = halo_program_sampler_count(fr->program);
     for (size_t i = 0; i < n; ++i) {
-        int image = frame_find_image(fr, halo_program_sampler(fr->program, i)->image);
+        const char *name = halo_program_sampler(fr->program, i)->image;
+        int image = frame_find_image(fr, name);
         if (image < 0)
             continue;
         const frame_image *im = &fr->images[image];
         f->ActiveTexture(GL_TEXTURE0 + (GLenum)(first_unit + (int)i));
-        f->BindTexture(GL_TEXTURE_2D, im->texture[im->current]);
+        if (halo_prepass_image(fr->program, name)) /* host contract 3: the image's stack */
+            f->BindTexture(GL_TEXTURE_2D_ARRAY, halo_gl_field_stack(fr->field, name));
+        else
+            f->BindTexture(GL_TEXTURE_2D, im->texture[im->current]);
     }
 }
 
@@ -895,3 +915,24 @@ long halo_gl_frame_pass_draws(const halo_gl_frame *fr)
     HALO_REFUSE_NULL(NULL, fr, "frame", 0);
     return fr->pass_draws;
 }
+
+/* For field.c (host contract 3). */
+int halo_gl_frame_image_view(const halo_gl_frame *fr, const char *name, halo_gl_frame_image *view)
+{
+    int i = frame_find_image(fr, name);
+    if (i < 0 || fr->images[i].host)
+        return 0;
+    const frame_image *im = &fr->images[i];
+    GLenum format;
+    image_formats(im->channels, halo_program_image_precision(fr->program), &view->internal_format, &format);
+    view->texture = im->texture[im->current];
+    view->width = im->width;
+    view->height = im->height;
+    view->box[0] = im->support[im->current].x0;
+    view->box[1] = im->support[im->current].y0;
+    view->box[2] = im->support[im->current].x1;
+    view->box[3] = im->support[im->current].y1;
+    return 1;
+}
+
+halo_gl_field *halo_gl_frame_field(const halo_gl_frame *fr) { return fr->field; }

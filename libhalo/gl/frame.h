@@ -4,6 +4,8 @@
 #define HALO_GL_FRAME_H
 
 #include "halo.h"
+#include "internal.h"
+#include "gl/glfuncs.h"
 
 halo_gl *halo_gl_frame_runtime(const halo_gl_frame *fr);
 const halo_program *halo_gl_frame_program(const halo_gl_frame *fr);
@@ -12,5 +14,30 @@ void halo_gl_frame_size(const halo_gl_frame *fr, int *width, int *height);
 unsigned halo_gl_frame_state(halo_gl_frame *fr, int next);
 void halo_gl_frame_state_flip(halo_gl_frame *fr);
 void halo_gl_frame_segments_reset(halo_gl_frame *fr);
+
+/* Host contract 3 (field.c): a one_draw program's stacks of the depth segments' images. */
+typedef struct halo_gl_field halo_gl_field;
+typedef struct halo_gl_frame_image {
+    unsigned texture;    /* the current texture */
+    int internal_format; /* its GL internal format */
+    int width, height;
+    int box[4];          /* x0, y0, x1, y1: outside it the texture holds 0 */
+} halo_gl_frame_image;
+/* The current texture of an image, without taking it from the frame's bookkeeping (unlike
+ * halo_gl_frame_texture); 0 for an unknown or host image. */
+int halo_gl_frame_image_view(const halo_gl_frame *fr, const char *name, halo_gl_frame_image *view);
+halo_gl_field *halo_gl_frame_field(const halo_gl_frame *fr);
+/* halo_gl_frame_attach for the outputs of program p (the frame's, or its march); colour 0:
+ * draw buffer 0 is GL_NONE. */
+void halo_gl_frame_attach_outputs(halo_gl_frame *fr, const halo_program *p, unsigned framebuffer, int colour);
+halo_gl_field *halo_gl_field_create(halo_gl_frame *fr, halo_diagnostics *diag);
+void halo_gl_field_destroy(halo_gl_frame *fr, halo_gl_field *field);
+/* The texture (GL_TEXTURE_2D_ARRAY) of image's stack, 0 if none. */
+unsigned halo_gl_field_stack(const halo_gl_field *field, const char *image);
+/* segments.c: the camera uniforms of halo_view_at and halo_depth_at, from a plan. */
+void halo_segment_camera_set(const halo_glfuncs *f, unsigned program, const halo_segment_plan *plan);
+/* One frame: the field before the host draws, then the host drawn once (halo_gl_frame_draw). */
+halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
+                               halo_diagnostics *diag);
 
 #endif

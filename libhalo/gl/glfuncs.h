@@ -83,6 +83,7 @@
     X(PFNGLTEXIMAGE3DPROC, TexImage3D)                                    \
     X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                              \
     X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                              \
+    X(PFNGLCOPYTEXSUBIMAGE3DPROC, CopyTexSubImage3D)                      \
     X(PFNGLTEXPARAMETERIPROC, TexParameteri)                              \
     X(PFNGLTEXPARAMETERFVPROC, TexParameterfv)                            \
     X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap)                            \

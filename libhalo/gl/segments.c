@@ -128,7 +128,7 @@ static int arguments_valid(const void *object, const char *object_name, const ha
     return desc_valid(d, function, diag);
 }
 
-static void set_camera(const halo_glfuncs *f, GLuint program, const halo_segment_plan *c)
+void halo_segment_camera_set(const halo_glfuncs *f, unsigned program, const halo_segment_plan *c)
 {
     f->Uniform4f(f->GetUniformLocation(program, "halo_camera_eye"), (float)c->eye[0], (float)c->eye[1],
                  (float)c->eye[2], (float)c->eye[3]);
@@ -147,7 +147,7 @@ halo_status halo_gl_set_camera(halo_gl *gl, unsigned gl_program, const halo_gl_s
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_set_camera: inverse_view_projection is not invertible");
         return HALO_ERROR_INPUT;
     }
-    set_camera(halo_gl_functions(gl), gl_program, &camera);
+    halo_segment_camera_set(halo_gl_functions(gl), gl_program, &camera);
     return HALO_OK;
 }
 
@@ -191,7 +191,7 @@ int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p
     if (!p || !desc_valid(d, "halo_gl_frame_draw", diag))
         return 0;
     int location = halo_program_segment_location(p);
-    if (d->segments > 0 && location <= 0) {
+    if (d->segments > 0 && location <= 0 && !p->one_draw) {
         halo_diag_error(diag, USAGE, "", 0, 0,
                         "halo_gl_frame_draw: segments = %d needs a program linked with force_segments from a host "
                         "that calls halo_segment_begin", d->segments);
@@ -208,7 +208,7 @@ int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p
     plan->segments = 1;
     plan->start = plan->front - 0.5 * d->step;
     plan->length = span + d->step;
-    if (location > 0) {
+    if (location > 0 || p->one_draw) { /* host contract 3: segments of the field, one host draw */
         if (d->segments > 0) {
             plan->segments = d->segments;
             plan->length = planes * d->step / d->segments;
@@ -234,6 +234,8 @@ halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const hal
     halo_gl *gl = halo_gl_frame_runtime(fr);
     const halo_glfuncs *f = halo_gl_functions(gl);
     const halo_program *p = halo_gl_frame_program(fr);
+    if (p->one_draw)
+        return halo_gl_field_draw(fr, gl_program, d, diag);
     int location = halo_program_segment_location(p);
     if (halo_program_group_count(p) > 1) {
         halo_diag_error(diag, USAGE, "", 0, 0,
@@ -260,7 +262,7 @@ halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const hal
     f->GetIntegerv(GL_TEXTURE_BINDING_2D, &saved_texture);
 
     f->UseProgram(gl_program);
-    set_camera(f, gl_program, &plan);
+    halo_segment_camera_set(f, gl_program, &plan);
     halo_gl_frame_begin(fr);
     halo_gl_frame_segments_reset(fr);
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, d->framebuffer);

@@ -1,0 +1,430 @@
+/* Host contract 3 in the GL runtime (docs/host-contract.md, "Host contract 3"): for a
+ * program linked with one_draw, the images that generation passes make (volumetric halos'
+ * field and occlusion) are computed for every depth segment before the host draws, and
+ * the host is drawn once.
+ *
+ * Per segment j, front to back: libhalo's march (the program's prepass, linked from the
+ * same scene; prepass.c) draws the seeds of the segment's planes into the frame's seed
+ * image, scissored to the segment's footprint; halo_gl_frame_generate runs the passes
+ * (scissored to where seeds can reach, as for a slice host); the images the samples read
+ * are copied into layer j of their stack (a GL_TEXTURE_2D_ARRAY), inside the box where
+ * either the new or the layer's old content can be nonzero. A sample of segment j reads
+ * layer j - 1 (halo_stack_layer_at in the linked shader). The segments and the planes are
+ * the slice host's and the segmented ray caster's (segments.c), so at equal M the field is
+ * theirs; the occlusion image's running maximum is kept by the front-to-back order. */
+#include "halo.h"
+#include "internal.h"
+#include "diag.h"
+#include "gl/frame.h"
+#include "gl/glfuncs.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define FIELD_MAX_STACKS 4
+#define FIELD_DEFAULT_FIRST_UNIT 8
+
+typedef struct field_stack {
+    const char *image;
+    GLuint texture;
+    GLint internal_format;
+    int width, height;
+    int (*boxes)[4]; /* per layer: outside it the layer holds 0 */
+} field_stack;
+
+struct halo_gl_field {
+    GLuint march, framebuffer, vertex_array;
+    GLint volume, matrix, viewport, box_min, box_max, plane, planes, range;
+    field_stack stacks[FIELD_MAX_STACKS];
+    int stack_count;
+    int layers; /* allocated in each stack */
+};
+
+static const char march_vertex_330[] =
+    "#version 330 core\n"
+    "void main() {\n"
+    "    gl_Position = vec4(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0, 0.0, 1.0);\n"
+    "}\n";
+static const char march_vertex_es300[] =
+    "#version 300 es\n"
+    "void main() {\n"
+    "    gl_Position = vec4(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0, 0.0, 1.0);\n"
+    "}\n";
+
+halo_gl_field *halo_gl_field_create(halo_gl_frame *fr, halo_diagnostics *diag)
+{
+    halo_gl *gl = halo_gl_frame_runtime(fr);
+    const halo_glfuncs *f = halo_gl_functions(gl);
+    const halo_program *p = halo_gl_frame_program(fr);
+    halo_gl_field *field = halo_diag_calloc(diag, sizeof *field, "the field of a one-draw frame");
+    if (!field)
+        return NULL;
+    for (size_t i = 0; i < halo_program_sampler_count(p); ++i) {
+        const char *image = halo_program_sampler(p, i)->image;
+        halo_gl_frame_image view;
+        if (!halo_prepass_image(p, image) || !halo_gl_frame_image_view(fr, image, &view))
+            continue;
+        if (field->stack_count == FIELD_MAX_STACKS) {
+            halo_diag_error(diag, USAGE, "", 0, 0, "a one-draw program reads more than %d images of generation passes",
+                            FIELD_MAX_STACKS);
+            halo_gl_field_destroy(fr, field);
+            return NULL;
+        }
+        field->stacks[field->stack_count++] =
+            (field_stack){image, 0, view.internal_format, view.width, view.height, NULL};
+    }
+    GLint program = 0;
+    f->GetIntegerv(GL_CURRENT_PROGRAM, &program);
+    field->march = halo_gl_program_build(gl, p->prepass,
+                                         halo_program_target(p->prepass) == HALO_TARGET_ES300 ? march_vertex_es300
+                                                                                              : march_vertex_330,
+                                         "(libhalo's march, vertex shader)", diag);
+    if (!field->march) {
+        halo_gl_field_destroy(fr, field);
+        return NULL;
+    }
+    field->volume = f->GetUniformLocation(field->march, "march_volume");
+    field->matrix = f->GetUniformLocation(field->march, "march_inverse_view_projection");
+    field->viewport = f->GetUniformLocation(field->march, "march_viewport");
+    field->box_min = f->GetUniformLocation(field->march, "march_box_min");
+    field->box_max = f->GetUniformLocation(field->march, "march_box_max");
+    field->plane = f->GetUniformLocation(field->march, "march_plane");
+    field->planes = f->GetUniformLocation(field->march, "march_planes");
+    field->range = f->GetUniformLocation(field->march, "march_range");
+    f->GenFramebuffers(1, &field->framebuffer);
+    f->GenVertexArrays(1, &field->vertex_array);
+    f->UseProgram((GLuint)program);
+    return field;
+}
+
+void halo_gl_field_destroy(halo_gl_frame *fr, halo_gl_field *field)
+{
+    if (!field)
+        return;
+    const halo_glfuncs *f = halo_gl_functions(halo_gl_frame_runtime(fr));
+    for (int s = 0; s < field->stack_count; ++s) {
+        f->DeleteTextures(1, &field->stacks[s].texture);
+        free(field->stacks[s].boxes);
+    }
+    f->DeleteProgram(field->march);
+    f->DeleteFramebuffers(1, &field->framebuffer);
+    f->DeleteVertexArrays(1, &field->vertex_array);
+    free(field);
+}
+
+unsigned halo_gl_field_stack(const halo_gl_field *field, const char *image)
+{
+    for (int s = 0; field && s < field->stack_count; ++s)
+        if (!strcmp(field->stacks[s].image, image))
+            return field->stacks[s].texture;
+    return 0;
+}
+
+/* The format and type glTexImage3D takes with an internal format of the frame's images. */
+static void upload_format(GLint internal, GLenum *format, GLenum *type)
+{
+    switch (internal) {
+    case GL_R32F: case GL_R16F: *format = GL_RED; *type = GL_FLOAT; break;
+    case GL_RG32F: case GL_RG16F: *format = GL_RG; *type = GL_FLOAT; break;
+    case GL_R8: *format = GL_RED; *type = GL_UNSIGNED_BYTE; break;
+    case GL_RG8: *format = GL_RG; *type = GL_UNSIGNED_BYTE; break;
+    case GL_RGBA8: *format = GL_RGBA; *type = GL_UNSIGNED_BYTE; break;
+    default: *format = GL_RGBA; *type = GL_FLOAT; break;
+    }
+}
+
+/* At least `layers` layers in every stack (a quarter more, so that a moving camera does not
+ * reallocate every frame); a new layer's content is unknown: its box is the whole image. */
+static int field_reserve(const halo_glfuncs *f, halo_gl_field *field, int layers, halo_diagnostics *diag)
+{
+    if (layers <= field->layers)
+        return 1;
+    int count = layers + layers / 4;
+    for (int s = 0; s < field->stack_count; ++s) {
+        field_stack *st = &field->stacks[s];
+        int(*boxes)[4] = realloc(st->boxes, (size_t)count * sizeof *boxes);
+        if (!boxes) {
+            halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory for the stack of image '%s'", st->image);
+            return 0;
+        }
+        st->boxes = boxes;
+        for (int k = 0; k < count; ++k) {
+            boxes[k][0] = boxes[k][1] = 0;
+            boxes[k][2] = st->width;
+            boxes[k][3] = st->height;
+        }
+        GLenum format, type;
+        upload_format(st->internal_format, &format, &type);
+        if (!st->texture)
+            f->GenTextures(1, &st->texture);
+        f->BindTexture(GL_TEXTURE_2D_ARRAY, st->texture);
+        f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        f->TexImage3D(GL_TEXTURE_2D_ARRAY, 0, st->internal_format, st->width, st->height, count, 0, format, type,
+                      NULL);
+    }
+    if (f->GetError() != GL_NO_ERROR) {
+        halo_diag_error(diag, GL_LINK, "", 0, 0, "the stacks of %d depth segments (%dx%d) could not be allocated",
+                        count, field->stack_count ? field->stacks[0].width : 0,
+                        field->stack_count ? field->stacks[0].height : 0);
+        return 0;
+    }
+    field->layers = count;
+    return 1;
+}
+
+/* The pixels (x0, y0, x1, y1) where the box's part with lo <= phi <= hi projects, grown by
+ * one pixel; the whole frame when a point lies behind the eye; empty (0) when the part is. */
+static int segment_footprint(const double view_projection[16], const halo_segment_plan *plan, const double low[3],
+                             const double high[3], double lo, double hi, int width, int height, int box[4])
+{
+    double corners[8][3], phi[8];
+    for (int c = 0; c < 8; ++c) {
+        phi[c] = plan->plane[3];
+        for (int k = 0; k < 3; ++k) {
+            corners[c][k] = (c >> k) & 1 ? high[k] : low[k];
+            phi[c] += plan->plane[k] * corners[c][k];
+        }
+    }
+    double points[8 + 24][3];
+    int n = 0;
+    for (int c = 0; c < 8; ++c) {
+        if (phi[c] >= lo && phi[c] <= hi)
+            memcpy(points[n++], corners[c], sizeof points[0]);
+        for (int k = 0; k < 3; ++k) { /* the edge from c along axis k */
+            int d = c | (1 << k);
+            if (d == c)
+                continue;
+            const double bounds[2] = {lo, hi};
+            for (int b = 0; b < 2; ++b)
+                if ((phi[c] - bounds[b]) * (phi[d] - bounds[b]) < 0.0) {
+                    double t = (bounds[b] - phi[c]) / (phi[d] - phi[c]);
+                    for (int a = 0; a < 3; ++a)
+                        points[n][a] = corners[c][a] + t * (corners[d][a] - corners[c][a]);
+                    ++n;
+                }
+        }
+    }
+    if (n == 0)
+        return 0;
+    double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+    for (int i = 0; i < n; ++i) {
+        double clip[4];
+        for (int r = 0; r < 4; ++r)
+            clip[r] = view_projection[r] * points[i][0] + view_projection[4 + r] * points[i][1] +
+                      view_projection[8 + r] * points[i][2] + view_projection[12 + r];
+        if (!(clip[3] > 1e-12)) {
+            box[0] = box[1] = 0;
+            box[2] = width;
+            box[3] = height;
+            return 1;
+        }
+        double x = (clip[0] / clip[3] * 0.5 + 0.5) * width, y = (clip[1] / clip[3] * 0.5 + 0.5) * height;
+        x0 = x < x0 ? x : x0;
+        x1 = x > x1 ? x : x1;
+        y0 = y < y0 ? y : y0;
+        y1 = y > y1 ? y : y1;
+    }
+    x0 = floor(x0) - 1.0, y0 = floor(y0) - 1.0, x1 = ceil(x1) + 1.0, y1 = ceil(y1) + 1.0;
+    box[0] = x0 < 0.0 ? 0 : x0 > width ? width : (int)x0;
+    box[1] = y0 < 0.0 ? 0 : y0 > height ? height : (int)y0;
+    box[2] = x1 < 0.0 ? 0 : x1 > width ? width : (int)x1;
+    box[3] = y1 < 0.0 ? 0 : y1 > height ? height : (int)y1;
+    return box[0] < box[2] && box[1] < box[3];
+}
+
+/* The images the samples read, after segment j's generation, into layer j of their stacks. */
+static void field_store(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field *field, int layer)
+{
+    for (int s = 0; s < field->stack_count; ++s) {
+        field_stack *st = &field->stacks[s];
+        halo_gl_frame_image view;
+        if (!halo_gl_frame_image_view(fr, st->image, &view))
+            continue;
+        int *old = st->boxes[layer], copy[4];
+        int fresh = view.box[0] < view.box[2] && view.box[1] < view.box[3];
+        int stale = old[0] < old[2] && old[1] < old[3];
+        if (!fresh && !stale)
+            continue;
+        for (int k = 0; k < 4; ++k)
+            copy[k] = !stale ? view.box[k] : !fresh ? old[k] : k < 2 ? (view.box[k] < old[k] ? view.box[k] : old[k])
+                                                                     : (view.box[k] > old[k] ? view.box[k] : old[k]);
+        f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, view.texture, 0);
+        f->ReadBuffer(GL_COLOR_ATTACHMENT0);
+        f->BindTexture(GL_TEXTURE_2D_ARRAY, st->texture);
+        f->CopyTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, copy[0], copy[1], layer, copy[0], copy[1], copy[2] - copy[0],
+                             copy[3] - copy[1]);
+        memcpy(old, view.box, sizeof view.box);
+    }
+    f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+}
+
+/* The GL state field_compute and the host's draw change, saved and restored. */
+typedef struct field_saved {
+    GLint program, draw_framebuffer, read_framebuffer, active, vertex_array, viewport[4], scissor_box[4];
+    GLint texture_3d, texture_array;
+    GLboolean scissor, cull, depth, stencil;
+} field_saved;
+
+static void field_save(const halo_glfuncs *f, field_saved *s, int unit)
+{
+    f->GetIntegerv(GL_CURRENT_PROGRAM, &s->program);
+    f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &s->draw_framebuffer);
+    f->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &s->read_framebuffer);
+    f->GetIntegerv(GL_ACTIVE_TEXTURE, &s->active);
+    f->GetIntegerv(GL_VERTEX_ARRAY_BINDING, &s->vertex_array);
+    f->GetIntegerv(GL_VIEWPORT, s->viewport);
+    f->GetIntegerv(GL_SCISSOR_BOX, s->scissor_box);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+    f->GetIntegerv(GL_TEXTURE_BINDING_3D, &s->texture_3d);
+    f->GetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &s->texture_array);
+    s->scissor = f->IsEnabled(GL_SCISSOR_TEST);
+    s->cull = f->IsEnabled(GL_CULL_FACE);
+    s->depth = f->IsEnabled(GL_DEPTH_TEST);
+    s->stencil = f->IsEnabled(GL_STENCIL_TEST);
+}
+
+static void field_restore(const halo_glfuncs *f, const field_saved *s, int unit)
+{
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+    f->BindTexture(GL_TEXTURE_3D, (GLuint)s->texture_3d);
+    f->BindTexture(GL_TEXTURE_2D_ARRAY, (GLuint)s->texture_array);
+    f->ActiveTexture((GLenum)s->active);
+    f->BindVertexArray((GLuint)s->vertex_array);
+    f->Viewport(s->viewport[0], s->viewport[1], s->viewport[2], s->viewport[3]);
+    f->Scissor(s->scissor_box[0], s->scissor_box[1], s->scissor_box[2], s->scissor_box[3]);
+    (s->scissor ? f->Enable : f->Disable)(GL_SCISSOR_TEST);
+    (s->cull ? f->Enable : f->Disable)(GL_CULL_FACE);
+    (s->depth ? f->Enable : f->Disable)(GL_DEPTH_TEST);
+    (s->stencil ? f->Enable : f->Disable)(GL_STENCIL_TEST);
+    f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)s->read_framebuffer);
+    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)s->draw_framebuffer);
+    f->UseProgram((GLuint)s->program);
+}
+
+/* The planes of segment j: [first, end) of the plan's planes front + k step. */
+static void segment_planes(const halo_segment_plan *plan, double step, int j, int planes, int *first, int *end)
+{
+    /* segment j holds the planes with phi in [start + j length, start + (j + 1) length),
+     * start = front - step / 2 (segments.c) */
+    double a = ceil(j * plan->length / step - 0.5 - 1e-9), b = ceil((j + 1) * plan->length / step - 0.5 - 1e-9);
+    *first = a < 0.0 ? 0 : a > planes ? planes : (int)a;
+    *end = b < 0.0 ? 0 : b > planes ? planes : (int)b;
+}
+
+/* Seeds, generation and the stacks for every segment but the last (whose field no sample reads). */
+static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc *d, const halo_segment_plan *plan,
+                                 int unit, halo_diagnostics *diag)
+{
+    halo_gl *gl = halo_gl_frame_runtime(fr);
+    const halo_glfuncs *f = halo_gl_functions(gl);
+    const halo_program *p = halo_gl_frame_program(fr);
+    halo_gl_field *field = halo_gl_frame_field(fr);
+    int width, height;
+    halo_gl_frame_size(fr, &width, &height);
+    int planes = (int)floor((plan->back - plan->front) / d->step) + 1;
+    if (!field_reserve(f, field, plan->segments > 1 ? plan->segments - 1 : 1, diag))
+        return HALO_ERROR_IO;
+    double inverse[16], view_projection[16], low[3] = {0, 0, 0}, high[3] = {1, 1, 1};
+    for (int i = 0; i < 16; ++i)
+        inverse[i] = d->inverse_view_projection[i];
+    if (!halo_mat4_invert(inverse, view_projection))
+        return HALO_ERROR_INPUT; /* reported by the plan */
+    int unit_cube = 1;
+    for (int k = 0; k < 3; ++k)
+        unit_cube &= d->box_min[k] == 0.0f && d->box_max[k] == 0.0f;
+    for (int k = 0; k < 3 && !unit_cube; ++k) {
+        low[k] = d->box_min[k];
+        high[k] = d->box_max[k];
+    }
+
+    halo_gl_frame_begin(fr);
+    f->UseProgram(field->march);
+    halo_gl_program_upload(gl, p->prepass, field->march);
+    halo_segment_camera_set(f, field->march, plan);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+    f->BindTexture(GL_TEXTURE_3D, d->volume_texture);
+    f->Uniform1i(field->volume, unit);
+    f->UniformMatrix4fv(field->matrix, 1, GL_FALSE, d->inverse_view_projection);
+    f->Uniform2f(field->viewport, (float)width, (float)height);
+    f->Uniform3f(field->box_min, (float)low[0], (float)low[1], (float)low[2]);
+    f->Uniform3f(field->box_max, (float)high[0], (float)high[1], (float)high[2]);
+    f->Uniform4f(field->plane, (float)plan->plane[0], (float)plan->plane[1], (float)plan->plane[2],
+                 (float)plan->plane[3]);
+    f->Uniform2f(field->planes, (float)plan->front, d->step);
+    halo_gl_frame_attach_outputs(fr, p->prepass, field->framebuffer, 0);
+    f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
+    f->Viewport(0, 0, width, height);
+    f->Disable(GL_CULL_FACE);
+    f->Disable(GL_DEPTH_TEST);
+    f->Disable(GL_STENCIL_TEST);
+    f->BindVertexArray(field->vertex_array);
+    for (int j = 0; j + 1 < plan->segments; ++j) {
+        int first, end, box[4] = {0, 0, 0, 0};
+        segment_planes(plan, d->step, j, planes, &first, &end);
+        double lo = plan->front + first * (double)d->step, hi = plan->front + (end - 1) * (double)d->step;
+        double slack = 1e-6 * (plan->back - plan->front);
+        if (end > first &&
+            segment_footprint(view_projection, plan, low, high, lo - slack, hi + slack, width, height, box)) {
+            f->UseProgram(field->march);
+            f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, field->framebuffer);
+            f->Enable(GL_SCISSOR_TEST);
+            f->Scissor(box[0], box[1], box[2] - box[0], box[3] - box[1]);
+            f->Uniform2i(field->range, first, end);
+            f->DrawArrays(GL_TRIANGLES, 0, 3);
+            f->Disable(GL_SCISSOR_TEST);
+        }
+        halo_gl_frame_drawn_region(fr, box[0], box[1], box[2], box[3]);
+        halo_gl_frame_generate(fr);
+        f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
+        field_store(f, fr, field, j);
+    }
+    return HALO_OK;
+}
+
+halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
+                               halo_diagnostics *diag)
+{
+    halo_gl *gl = halo_gl_frame_runtime(fr);
+    const halo_glfuncs *f = halo_gl_functions(gl);
+    const halo_program *p = halo_gl_frame_program(fr);
+    if (!d->volume_texture) {
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "halo_gl_frame_draw: a program linked with one_draw needs desc.volume_texture (the host's "
+                        "volume, which libhalo's march samples for the seeds of every depth segment)");
+        return HALO_ERROR_INPUT;
+    }
+    halo_segment_plan plan;
+    if (!halo_segment_plan_make(d, p, &plan, diag))
+        return HALO_ERROR_INPUT;
+    int first_unit = d->first_unit > 0 ? d->first_unit : FIELD_DEFAULT_FIRST_UNIT;
+    int march_unit = first_unit + (int)halo_program_sampler_count(p);
+    field_saved saved;
+    field_save(f, &saved, march_unit);
+    halo_status status = field_compute(fr, d, &plan, march_unit, diag);
+    field_restore(f, &saved, march_unit); /* the host draws with its own state */
+    if (status == HALO_OK) {
+        f->UseProgram(gl_program);
+        halo_segment_camera_set(f, gl_program, &plan);
+        f->Uniform4f(f->GetUniformLocation(gl_program, "halo_stack_plane"), (float)plan.plane[0],
+                     (float)plan.plane[1], (float)plan.plane[2], (float)plan.plane[3]);
+        f->Uniform3f(f->GetUniformLocation(gl_program, "halo_stack_slabs"), (float)plan.start,
+                     (float)(1.0 / plan.length), (float)plan.segments);
+        f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, d->framebuffer);
+        halo_gl_frame_attach(fr, d->framebuffer);
+        halo_gl_frame_bind(fr, gl_program, first_unit);
+        halo_gl_frame_segments_reset(fr);
+        d->draw(d->user);
+        halo_gl_frame_state_flip(fr); /* counts the one draw */
+        f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)saved.draw_framebuffer);
+        f->UseProgram((GLuint)saved.program);
+    }
+    GLenum error = f->GetError();
+    if (status == HALO_OK && error != GL_NO_ERROR) {
+        halo_diag_error(diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x computing the field of %d depth segments", error,
+                        plan.segments);
+        return HALO_ERROR_IO;
+    }
+    return status;
+}

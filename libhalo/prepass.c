@@ -1,0 +1,152 @@
+/* Host contract 3 in the linker (docs/host-contract.md, "Host contract 3"): a program
+ * linked with halo_link_desc.one_draw leaves the stages whose outputs feed generation
+ * passes (halo_seed's seeds) to libhalo's own march, which the linker links here from the
+ * same scene (the program's prepass); the GL runtime (gl/field.c) runs that march and the
+ * generation passes for every depth segment before the host draws, and the host's samples
+ * read their segment's layer of the result.
+ *
+ * Why this is the same algorithm (docs/stages/halo_generate.md): the seed image is reset
+ * at every generation and the field is rebuilt from it, so the field a segment reads
+ * depends on the previous segment's seeds alone; the seeds depend on the volume, the view
+ * and the seed parameters, not on the host's classification or compositing. Only the
+ * occlusion image carries over (a running maximum), which the runtime keeps by running
+ * the segments front to back. */
+#include "internal.h"
+#include "diag.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* The march: for each pixel, the samples where its ray meets planes [range.x, range.y)
+ * of the frame's segment planes (phi = planes.x + k planes.y, the slice host's), inside
+ * the volume's box; value from the host's volume, gradient, view and depth derived as
+ * host contract 2 derives them. Written in the common subset of GLSL 330 and ES 300. */
+static const char march_host[] =
+    "#version 330 core\n"
+    "// libhalo's march for host contract 3 (libhalo/gl/field.c): the seeds of one depth\n"
+    "// segment, from samples on its planes.\n"
+    "#pragma halo declarations\n"
+    "#pragma halo volume march_volume\n"
+    "uniform highp sampler3D march_volume;\n"
+    "uniform mat4 march_inverse_view_projection; // clip space -> volume texture space\n"
+    "uniform vec2 march_viewport;                // the frame's size in pixels\n"
+    "uniform vec3 march_box_min;\n"
+    "uniform vec3 march_box_max;\n"
+    "uniform vec4 march_plane;                  // phi(P) = dot(xyz, P) + w: the segments' axis\n"
+    "uniform vec2 march_planes;                  // phi of plane 0, the planes' spacing\n"
+    "uniform ivec2 march_range;                  // this segment's planes [x, y)\n"
+    "layout(location = 0) out vec4 march_color;  // not drawn (draw buffer 0 is GL_NONE)\n"
+    "void main()\n"
+    "{\n"
+    "    vec2 ndc = gl_FragCoord.xy / march_viewport * 2.0 - 1.0;\n"
+    "    vec4 near_point = march_inverse_view_projection * vec4(ndc, -1.0, 1.0);\n"
+    "    vec4 far_point = march_inverse_view_projection * vec4(ndc, 1.0, 1.0);\n"
+    "    vec3 origin = near_point.xyz / near_point.w;\n"
+    "    vec3 direction = far_point.xyz / far_point.w - origin;\n"
+    "    float phi_origin = dot(march_plane.xyz, origin) + march_plane.w;\n"
+    "    float phi_rate = dot(march_plane.xyz, direction);\n"
+    "#ifdef HALO_LINKED\n"
+    "    if (abs(phi_rate) > 1e-30) {\n"
+    "        for (int k = march_range.x; k < march_range.y; ++k) {\n"
+    "            float t = (march_planes.x + float(k) * march_planes.y - phi_origin) / phi_rate;\n"
+    "            vec3 P = origin + t * direction;\n"
+    "            if (any(lessThan(P, march_box_min)) || any(greaterThan(P, march_box_max)))\n"
+    "                continue;\n"
+    "            halo_sample s = halo_make_sample(P, texture(march_volume, P).r, vec3(0.0), 0.0);\n"
+    "            halo_apply(s);\n"
+    "        }\n"
+    "    }\n"
+    "    halo_finish();\n"
+    "#endif\n"
+    "    march_color = vec4(0.0);\n"
+    "}\n";
+
+const char halo_march_file[] = "(libhalo's march, host contract 3)";
+
+/* Does a generation pass (at=generate) of a linked stage read image? */
+static int generation_reads(const halo_program *p, const char *image)
+{
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        for (size_t k = 0; k < m->pass_count; k++)
+            for (int i = 0; i < m->passes[k].input_count && !m->passes[k].post; i++)
+                if (!strcmp(m->passes[k].inputs[i], image))
+                    return 1;
+    }
+    return 0;
+}
+
+static int provides_needed(const halo_module *t, const halo_module *m)
+{
+    for (size_t r = 0; r < t->provides_count; r++)
+        if (halo_name_list_has(&m->needs, t->provides[r].name))
+            return 1;
+    return 0;
+}
+
+int halo_prepass_mark(halo_program *p)
+{
+    int any = 0;
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        int all = m->hook == HALO_HOOK_SAMPLE && m->output_count > 0;
+        for (size_t o = 0; o < m->output_count && all; o++)
+            all = generation_reads(p, m->outputs[o].name);
+        p->stages[s].prepass = all ? 2 : 0;
+        any |= all;
+    }
+    /* what the march's stages need, transitively (halo_seed: the normal, from gradient) */
+    for (int changed = any; changed;) {
+        changed = 0;
+        for (size_t t = 0; t < p->stage_count; t++) {
+            if (p->stages[t].prepass || p->stages[t].module->hook != HALO_HOOK_SAMPLE)
+                continue;
+            for (size_t s = 0; s < p->stage_count && !p->stages[t].prepass; s++)
+                if (p->stages[s].prepass && provides_needed(p->stages[t].module, p->stages[s].module))
+                    p->stages[t].prepass = changed = 1;
+        }
+    }
+    return any;
+}
+
+int halo_prepass_image(const halo_program *p, const char *image)
+{
+    if (!p->one_draw)
+        return 0;
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        for (size_t k = 0; k < m->pass_count; k++)
+            if (!m->passes[k].post && m->passes[k].output && !strcmp(m->passes[k].output, image))
+                return 1;
+    }
+    return 0;
+}
+
+void halo_prepass_drop_outputs(halo_program *p)
+{
+    size_t kept = 0;
+    for (size_t o = 0; o < p->output_count; o++)
+        if (!generation_reads(p, p->outputs[o].image))
+            p->outputs[kept++] = p->outputs[o];
+    p->output_count = kept;
+}
+
+int halo_prepass_link(halo_program *p, const halo_link_desc *desc, halo_diagnostics *diag)
+{
+    halo_link_desc inner = {
+        .library = desc->library,
+        .scene = desc->scene,
+        .host_source = march_host,
+        .host_file = halo_march_file,
+        .target = p->target == HALO_TARGET_ES300 ? HALO_TARGET_ES300 : HALO_TARGET_GLSL330,
+        .all_live = desc->all_live,
+        .image_precision = desc->image_precision,
+        .image_scale = desc->image_scale,
+        .one_draw = 1, /* a march: no segments */
+    };
+    p->prepass = halo_link_prepass(&inner, diag);
+    if (!p->prepass)
+        return -1;
+    /* the march and the host share the parameters' values: halo_program_set changes both */
+    return 0;
+}
