@@ -14,7 +14,7 @@ packages="build-essential autoconf automake libtool pkg-config file
   libnifti2-dev zlib1g-dev mricron-data
   libglfw3-dev xvfb xauth
   gnuplot-nox
-  paraview paraview-dev python3-paraview openmpi-bin libopenmpi-dev libglew-dev cmake python3
+  paraview paraview-dev python3-paraview openmpi-bin libopenmpi-dev libglew-dev libfreetype-dev cmake python3
   glslang-tools git"
 
 missing=""
