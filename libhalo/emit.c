@@ -332,13 +332,15 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
         int scale = im ? im->scale : 1;
         /* HALO_IMAGES_ZERO (a host's variant for pixels outside halo_gl_frame_read_region,
          * where every image read holds 0): no fetch, the same value */
-        HALO_GEN(e, "halo_channels halo_read_%s(vec2 fragcoord) {\n"
-               "#ifdef HALO_IMAGES_ZERO\n"
-               "    return halo_channels(0.0);\n"
-               "#else", sm->image);
         if (stacked)
-            HALO_GEN(e, "    if (halo_stack_layer < 0) // the first segment: no generation before it\n"
-                   "        return halo_channels(0.0);");
+            HALO_GEN(e, "int halo_stack_%s_layer = -1;\nvec2 halo_stack_%s_at = vec2(-1.0);\n"
+                   "halo_channels halo_stack_%s_value = halo_channels(0.0);\n"
+                   "halo_channels halo_read_%s_texel(vec2 fragcoord) {", sm->image, sm->image, sm->image, sm->image);
+        else
+            HALO_GEN(e, "halo_channels halo_read_%s(vec2 fragcoord) {\n"
+                   "#ifdef HALO_IMAGES_ZERO\n"
+                   "    return halo_channels(0.0);\n"
+                   "#else", sm->image);
         if (scale > 1)
             /* a 1/scale image: bilinear between its four nearest pixel centres (clamped to
              * the image), written out so that the emulation can match it */
@@ -360,7 +362,25 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
                    "        return halo_channels(0.0);\n"
                    "    return halo_channels_from(texelFetch(%s, %s(pixel%s), 0));",
                 n, xy, n, at, layer);
-        HALO_GEN(e, "#endif\n}");
+        if (stacked) {
+            HALO_GEN(e, "}\nhalo_channels halo_read_%s(vec2 fragcoord) {\n"
+                   "#ifdef HALO_IMAGES_ZERO\n"
+                   "    return halo_channels(0.0);\n"
+                   "#else", sm->image);
+            /* a ray's samples in one segment read one texel: fetched once (the samples of
+             * a fragment share its fragcoord in a ray caster, but need not in every host) */
+            HALO_GEN(e, "    if (halo_stack_layer < 0) // the first segment: no generation before it\n"
+                   "        return halo_channels(0.0);\n"
+                   "    if (halo_stack_layer != halo_stack_%s_layer || fragcoord != halo_stack_%s_at) {\n"
+                   "        halo_stack_%s_layer = halo_stack_layer;\n"
+                   "        halo_stack_%s_at = fragcoord;\n"
+                   "        halo_stack_%s_value = halo_read_%s_texel(fragcoord);\n"
+                   "    }\n"
+                   "    return halo_stack_%s_value;\n"
+                   "#endif\n}",
+                sm->image, sm->image, sm->image, sm->image, sm->image, sm->image, sm->image);
+        } else
+            HALO_GEN(e, "#endif\n}");
     }
     for (size_t i = 0; i < p->host_uniform_count; i++)
         HALO_GEN(e, "uniform %s%s %s;", strncmp(p->host_uniforms[i].type, "sampler", 7) ? "" : "highp ",

@@ -789,6 +789,11 @@ typedef struct halo_gl_segments_desc {
     unsigned volume_texture; /* host contract 3 (a one_draw program): the host's volume (GL_TEXTURE_3D, the
                               * value halo_make_sample gets in its red channel, at that position) that
                               * libhalo's march samples for the seeds; required there */
+    unsigned gradient_texture; /* ... and its gradient (GL_TEXTURE_3D, RGB: the contract's gradient, per voxel
+                                * step) if the host has one; 0: libhalo derives one from volume_texture
+                                * (RGBA16F, 8 bytes a voxel) and keeps it while volume_texture, its size
+                                * and volume_version stay the same */
+    int volume_version;      /* change it when the volume texture's contents change */
 } halo_gl_segments_desc;
 
 /* Sets the camera uniforms of halo_view_at and halo_depth_at (the program must be current).

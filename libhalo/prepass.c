@@ -19,15 +19,18 @@
 
 /* The march: for each pixel, the samples where its ray meets planes [range.x, range.y)
  * of the frame's segment planes (phi = planes.x + k planes.y, the slice host's), inside
- * the volume's box; value from the host's volume, gradient, view and depth derived as
- * host contract 2 derives them. Written in the common subset of GLSL 330 and ES 300. */
+ * the volume's box; value from the host's volume, gradient from a gradient texture (the
+ * host's, or the runtime's central differences of the volume: per voxel step, as host
+ * contract 2 derives it), view and depth derived. Written in the common subset of GLSL
+ * 330 and ES 300. */
 static const char march_host[] =
     "#version 330 core\n"
     "// libhalo's march for host contract 3 (libhalo/gl/field.c): the seeds of one depth\n"
     "// segment, from samples on its planes.\n"
     "#pragma halo declarations\n"
-    "#pragma halo volume march_volume\n"
+    "#pragma halo gradient march_gradient\n"
     "uniform highp sampler3D march_volume;\n"
+    "uniform highp sampler3D march_gradient;         // the contract's gradient (per voxel step)\n"
     "uniform mat4 march_inverse_view_projection; // clip space -> volume texture space\n"
     "uniform vec2 march_viewport;                // the frame's size in pixels\n"
     "uniform vec3 march_box_min;\n"

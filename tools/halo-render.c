@@ -65,6 +65,8 @@ static void usage(FILE *out)
           "                     halo stages, else raycast\n"
           "  --no-halos         switch the halo stages (image passes, images, extra outputs,\n"
           "                     feature_halo) off: the same scene and host without halos\n"
+          "  --one-draw         with --host raycast: host contract 3, volumetric halos computed\n"
+          "                     by libhalo before the ray caster is drawn once (docs/host-contract.md)\n"
           "  --halo-scale S     halo images at 1/S of the image per side: 1 (default), 2 or 4\n"
           "                     (faster image passes; docs/performance.md)\n"
           "  --gradient-format F  the slice and slab hosts' gradient texture: float (RGB32F),\n"
@@ -118,7 +120,7 @@ typedef struct options {
     double azimuth, elevation, zoom, window[2], max_error;
     halo_driver_host host;
     int raw, have_raw_type, have_raw_extra;
-    int halo_scale, have_halo_scale;
+    int halo_scale, have_halo_scale, one_draw;
     halo_gradient_format gradient_format;
     halo_raw_desc raw_desc;
 } options;
@@ -126,7 +128,7 @@ typedef struct options {
 enum {
     OPT_NO_HALOS, OPT_QUIET, OPT_SCENE, OPT_OUTPUT, OPT_SIZE, OPT_AZIMUTH, OPT_ELEVATION, OPT_ZOOM,
     OPT_VOLUME_SIZE, OPT_VOLUME, OPT_RAW_DIMS, OPT_RAW_TYPE, OPT_RAW_ENDIAN, OPT_RAW_OFFSET, OPT_RAW_SPACING,
-    OPT_WINDOW, OPT_HOST, OPT_MAX_ERROR, OPT_LABELS, OPT_HALO_SCALE, OPT_GRADIENT_FORMAT
+    OPT_WINDOW, OPT_HOST, OPT_MAX_ERROR, OPT_LABELS, OPT_HALO_SCALE, OPT_GRADIENT_FORMAT, OPT_ONE_DRAW
 };
 static const halo_tool_option option_table[] = {
     [OPT_NO_HALOS] = {"--no-halos", NULL, 0}, [OPT_QUIET] = {"--quiet", "-q", 0},
@@ -139,6 +141,7 @@ static const halo_tool_option option_table[] = {
     [OPT_WINDOW] = {"--window", NULL, 1}, [OPT_HOST] = {"--host", NULL, 1},
     [OPT_MAX_ERROR] = {"--max-error", NULL, 1}, [OPT_LABELS] = {"--labels", NULL, 1},
     [OPT_HALO_SCALE] = {"--halo-scale", NULL, 1}, [OPT_GRADIENT_FORMAT] = {"--gradient-format", NULL, 1},
+    [OPT_ONE_DRAW] = {"--one-draw", NULL, 0},
     {NULL, NULL, 0}};
 
 /* One option's value into o. Returns 0 after a message. */
@@ -149,6 +152,7 @@ static int take_option(options *o, int option, const char *a, const char *value)
     int ok = 1, host;
     switch (option) {
     case OPT_NO_HALOS: o->no_halos = 1; break;
+    case OPT_ONE_DRAW: o->one_draw = 1; break;
     case OPT_QUIET: o->quiet = 1; break;
     case OPT_SCENE: o->scene_path = value; break;
     case OPT_OUTPUT: o->output = value; break;
@@ -249,6 +253,8 @@ static int check_options(const options *o)
         why = "--max-error chooses the host (slice or slab): not with --host";
     else if (o->labels_path && !o->volume_path)
         why = "--labels needs --volume FILE (the labels are on that volume's grid)";
+    else if (o->one_draw && o->host != HALO_DRIVER_RAYCAST)
+        why = "--one-draw is a way to draw the ray caster (host contract 3): it needs --host raycast";
     else if (o->labels_path && o->host == HALO_DRIVER_RAYCAST)
         why = "--labels: the raycast host has no label texture; use slice or slab";
     else if (o->gradient_format && o->have_max_error)
@@ -532,10 +538,10 @@ static int failure_status(const halo_diagnostics *d)
 
 /* Links the scene for the host (the program validated). */
 static halo_program *link_scene(halo_library *lib, halo_scene *scene, halo_driver_host kind, int precision,
-                                int scale, halo_diagnostics *diag)
+                                int scale, int one_draw, halo_diagnostics *diag)
 {
     return halo_driver_link(&(halo_link_desc){.library = lib, .scene = scene, .image_precision = precision,
-                                              .image_scale = scale},
+                                              .image_scale = scale, .one_draw = one_draw},
                             kind, 1, diag);
 }
 
@@ -635,7 +641,7 @@ int main(int argc, char **argv)
         feature = 0;
     }
 
-    program = link_scene(lib, scene, kind, 0, o.halo_scale, diag);
+    program = link_scene(lib, scene, kind, 0, o.halo_scale, o.one_draw, diag);
     if (!program)
         goto done;
 
@@ -671,7 +677,7 @@ int main(int argc, char **argv)
         status = 1;
         /* the program again, for the chosen host, N and precision */
         halo_program_destroy(program);
-        program = link_scene(lib, scene, kind, precision, scale, diag);
+        program = link_scene(lib, scene, kind, precision, scale, 0, diag);
         if (!program)
             goto done;
         settings = halo_scene_render(scene);

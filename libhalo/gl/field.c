@@ -17,10 +17,15 @@
 #include "diag.h"
 #include "gl/frame.h"
 #include "gl/glfuncs.h"
+#include "gl/runtime.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <stdio.h>
+#include <time.h>
+static double field_now(void){struct timespec t;clock_gettime(CLOCK_MONOTONIC,&t);return t.tv_sec+1e-9*t.tv_nsec;}
+static double field_t[4];
 
 #define FIELD_MAX_STACKS 4
 #define FIELD_DEFAULT_FIRST_UNIT 8
@@ -33,9 +38,21 @@ typedef struct field_stack {
     int (*boxes)[4]; /* per layer: outside it the layer holds 0 */
 } field_stack;
 
+/* The gradient the march reads when the host gives none: central differences of the
+ * host's volume (halved, per voxel step: the contract's), kept while the volume is. */
+typedef struct field_gradient {
+    GLuint texture, program;
+    GLint volume, layer;
+    unsigned of;  /* the volume texture it was derived from */
+    int size[3];
+    int version;  /* halo_gl_segments_desc.volume_version it was derived at */
+    int valid;
+} field_gradient;
+
 struct halo_gl_field {
     GLuint march, framebuffer, vertex_array;
-    GLint volume, matrix, viewport, box_min, box_max, plane, planes, range;
+    GLint volume, gradient_sampler, matrix, viewport, box_min, box_max, plane, planes, range;
+    field_gradient gradient;
     field_stack stacks[FIELD_MAX_STACKS];
     int stack_count;
     int layers; /* allocated in each stack */
@@ -50,6 +67,21 @@ static const char march_vertex_es300[] =
     "#version 300 es\n"
     "void main() {\n"
     "    gl_Position = vec4(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0, 0.0, 1.0);\n"
+    "}\n";
+/* One layer of the gradient: central differences of the voxel values, clamped at the
+ * borders as the volume sampler's CLAMP_TO_EDGE reads them, halved. Trilinear filtering
+ * commutes with the shift by one voxel, so that inside the volume the gradient at a
+ * position is the one host contract 2 derives there (segment.c). */
+static const char gradient_fragment_body[] =
+    "uniform highp sampler3D volume;\n"
+    "uniform int layer;\n"
+    "layout(location = 0) out vec4 gradient;\n"
+    "float value_at(ivec3 p) { return texelFetch(volume, clamp(p, ivec3(0), textureSize(volume, 0) - 1), 0).r; }\n"
+    "void main() {\n"
+    "    ivec3 p = ivec3(ivec2(gl_FragCoord.xy), layer);\n"
+    "    gradient = vec4(0.5 * vec3(value_at(p + ivec3(1, 0, 0)) - value_at(p - ivec3(1, 0, 0)),\n"
+    "                               value_at(p + ivec3(0, 1, 0)) - value_at(p - ivec3(0, 1, 0)),\n"
+    "                               value_at(p + ivec3(0, 0, 1)) - value_at(p - ivec3(0, 0, 1))), 0.0);\n"
     "}\n";
 
 halo_gl_field *halo_gl_field_create(halo_gl_frame *fr, halo_diagnostics *diag)
@@ -76,6 +108,7 @@ halo_gl_field *halo_gl_field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     }
     GLint program = 0;
     f->GetIntegerv(GL_CURRENT_PROGRAM, &program);
+    if (getenv("HALO_DUMP_MARCH")) { fprintf(stderr, "%s\n=====HOST\n%s\n", halo_program_source(p->prepass), halo_program_source(p)); }
     field->march = halo_gl_program_build(gl, p->prepass,
                                          halo_program_target(p->prepass) == HALO_TARGET_ES300 ? march_vertex_es300
                                                                                               : march_vertex_330,
@@ -85,6 +118,7 @@ halo_gl_field *halo_gl_field_create(halo_gl_frame *fr, halo_diagnostics *diag)
         return NULL;
     }
     field->volume = f->GetUniformLocation(field->march, "march_volume");
+    field->gradient_sampler = f->GetUniformLocation(field->march, "march_gradient");
     field->matrix = f->GetUniformLocation(field->march, "march_inverse_view_projection");
     field->viewport = f->GetUniformLocation(field->march, "march_viewport");
     field->box_min = f->GetUniformLocation(field->march, "march_box_min");
@@ -108,6 +142,8 @@ void halo_gl_field_destroy(halo_gl_frame *fr, halo_gl_field *field)
         free(field->stacks[s].boxes);
     }
     f->DeleteProgram(field->march);
+    f->DeleteProgram(field->gradient.program);
+    f->DeleteTextures(1, &field->gradient.texture);
     f->DeleteFramebuffers(1, &field->framebuffer);
     f->DeleteVertexArrays(1, &field->vertex_array);
     free(field);
@@ -234,6 +270,80 @@ static int segment_footprint(const double view_projection[16], const halo_segmen
     return box[0] < box[2] && box[1] < box[3];
 }
 
+/* The gradient texture the march reads: the host's, or one derived from its volume (bound
+ * at unit); 0 after a diagnostic. */
+static GLuint field_gradient_texture(const halo_glfuncs *f, halo_gl_field *field, const halo_program *march,
+                                     const halo_gl_segments_desc *d, int unit, halo_diagnostics *diag)
+{
+    if (d->gradient_texture)
+        return d->gradient_texture;
+    field_gradient *g = &field->gradient;
+    int size[3] = {0, 0, 0};
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+    f->BindTexture(GL_TEXTURE_3D, d->volume_texture);
+    if (f->GetTexLevelParameteriv) {
+        f->GetTexLevelParameteriv(GL_TEXTURE_3D, 0, GL_TEXTURE_WIDTH, &size[0]);
+        f->GetTexLevelParameteriv(GL_TEXTURE_3D, 0, GL_TEXTURE_HEIGHT, &size[1]);
+        f->GetTexLevelParameteriv(GL_TEXTURE_3D, 0, GL_TEXTURE_DEPTH, &size[2]);
+    }
+    if (size[0] < 1 || size[1] < 1 || size[2] < 1) {
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "halo_gl_frame_draw: the size of desc.volume_texture cannot be queried on this context "
+                        "(glGetTexLevelParameteriv: OpenGL ES 3.1): give desc.gradient_texture");
+        return 0;
+    }
+    if (g->valid && g->of == d->volume_texture && g->version == d->volume_version && !memcmp(g->size, size, sizeof size))
+        return g->texture;
+    if (!g->program) {
+        int es = halo_program_target(march) == HALO_TARGET_ES300;
+        char source[2048];
+        snprintf(source, sizeof source, "%s%s", es ? "#version 300 es\nprecision highp float;\nprecision highp int;\n"
+                                               : "#version 330 core\n", gradient_fragment_body);
+        const char *file = "(libhalo's gradient of the host's volume)";
+        GLuint vertex = halo_gl_compile_mapped(f, GL_VERTEX_SHADER, es ? march_vertex_es300 : march_vertex_330, NULL,
+                                               NULL, 0, file, diag);
+        GLuint fragment = halo_gl_compile_mapped(f, GL_FRAGMENT_SHADER, source, NULL, NULL, 0, file, diag);
+        GLuint program = halo_gl_program_attach(f, vertex, fragment, file, diag);
+        g->program = program ? halo_gl_link_attached(f, program, vertex, fragment, file,
+                                                     "the driver could not link the gradient program", diag)
+                             : 0;
+        if (!g->program)
+            return 0;
+        g->volume = f->GetUniformLocation(g->program, "volume");
+        g->layer = f->GetUniformLocation(g->program, "layer");
+    }
+    if (!g->texture || memcmp(g->size, size, sizeof size)) {
+        if (!g->texture)
+            f->GenTextures(1, &g->texture);
+        f->BindTexture(GL_TEXTURE_3D, g->texture);
+        f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+        f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+        f->TexImage3D(GL_TEXTURE_3D, 0, GL_RGBA16F, size[0], size[1], size[2], 0, GL_RGBA, GL_FLOAT, NULL);
+        f->BindTexture(GL_TEXTURE_3D, d->volume_texture);
+    }
+    f->UseProgram(g->program);
+    f->Uniform1i(g->volume, unit);
+    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, field->framebuffer);
+    GLenum buffer = GL_COLOR_ATTACHMENT0;
+    f->DrawBuffers(1, &buffer);
+    f->Viewport(0, 0, size[0], size[1]);
+    f->BindVertexArray(field->vertex_array);
+    for (int z = 0; z < size[2]; ++z) {
+        f->FramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, g->texture, 0, z);
+        f->Uniform1i(g->layer, z);
+        f->DrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    f->FramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0);
+    g->of = d->volume_texture;
+    g->version = d->volume_version;
+    memcpy(g->size, size, sizeof size);
+    g->valid = 1;
+    return g->texture;
+}
+
 /* The images the samples read, after segment j's generation, into layer j of their stacks. */
 static void field_store(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field *field, int layer)
 {
@@ -263,7 +373,7 @@ static void field_store(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field 
 /* The GL state field_compute and the host's draw change, saved and restored. */
 typedef struct field_saved {
     GLint program, draw_framebuffer, read_framebuffer, active, vertex_array, viewport[4], scissor_box[4];
-    GLint texture_3d, texture_array;
+    GLint texture_3d, texture_array, texture_gradient;
     GLboolean scissor, cull, depth, stencil;
 } field_saved;
 
@@ -279,6 +389,8 @@ static void field_save(const halo_glfuncs *f, field_saved *s, int unit)
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
     f->GetIntegerv(GL_TEXTURE_BINDING_3D, &s->texture_3d);
     f->GetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &s->texture_array);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 1);
+    f->GetIntegerv(GL_TEXTURE_BINDING_3D, &s->texture_gradient);
     s->scissor = f->IsEnabled(GL_SCISSOR_TEST);
     s->cull = f->IsEnabled(GL_CULL_FACE);
     s->depth = f->IsEnabled(GL_DEPTH_TEST);
@@ -290,6 +402,8 @@ static void field_restore(const halo_glfuncs *f, const field_saved *s, int unit)
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
     f->BindTexture(GL_TEXTURE_3D, (GLuint)s->texture_3d);
     f->BindTexture(GL_TEXTURE_2D_ARRAY, (GLuint)s->texture_array);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 1);
+    f->BindTexture(GL_TEXTURE_3D, (GLuint)s->texture_gradient);
     f->ActiveTexture((GLenum)s->active);
     f->BindVertexArray((GLuint)s->vertex_array);
     f->Viewport(s->viewport[0], s->viewport[1], s->viewport[2], s->viewport[3]);
@@ -339,6 +453,13 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
         high[k] = d->box_max[k];
     }
 
+    f->Disable(GL_SCISSOR_TEST);
+    f->Disable(GL_CULL_FACE);
+    f->Disable(GL_DEPTH_TEST);
+    f->Disable(GL_STENCIL_TEST);
+    GLuint gradient = field_gradient_texture(f, field, p->prepass, d, unit, diag);
+    if (!gradient)
+        return HALO_ERROR_INPUT;
     halo_gl_frame_begin(fr);
     f->UseProgram(field->march);
     halo_gl_program_upload(gl, p->prepass, field->march);
@@ -346,6 +467,9 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
     f->BindTexture(GL_TEXTURE_3D, d->volume_texture);
     f->Uniform1i(field->volume, unit);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 1);
+    f->BindTexture(GL_TEXTURE_3D, gradient);
+    f->Uniform1i(field->gradient_sampler, unit + 1);
     f->UniformMatrix4fv(field->matrix, 1, GL_FALSE, d->inverse_view_projection);
     f->Uniform2f(field->viewport, (float)width, (float)height);
     f->Uniform3f(field->box_min, (float)low[0], (float)low[1], (float)low[2]);
@@ -356,9 +480,6 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     halo_gl_frame_attach_outputs(fr, p->prepass, field->framebuffer, 0);
     f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
     f->Viewport(0, 0, width, height);
-    f->Disable(GL_CULL_FACE);
-    f->Disable(GL_DEPTH_TEST);
-    f->Disable(GL_STENCIL_TEST);
     f->BindVertexArray(field->vertex_array);
     for (int j = 0; j + 1 < plan->segments; ++j) {
         int first, end, box[4] = {0, 0, 0, 0};
@@ -372,13 +493,19 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
             f->Enable(GL_SCISSOR_TEST);
             f->Scissor(box[0], box[1], box[2] - box[0], box[3] - box[1]);
             f->Uniform2i(field->range, first, end);
+            double t0 = field_now();
             f->DrawArrays(GL_TRIANGLES, 0, 3);
+            if (getenv("HALO_FIELD_PROFILE")) { f->Finish(); field_t[0] += field_now() - t0; }
             f->Disable(GL_SCISSOR_TEST);
         }
         halo_gl_frame_drawn_region(fr, box[0], box[1], box[2], box[3]);
+        double t1 = field_now();
         halo_gl_frame_generate(fr);
+        if (getenv("HALO_FIELD_PROFILE")) { f->Finish(); field_t[1] += field_now() - t1; }
+        t1 = field_now();
         f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
         field_store(f, fr, field, j);
+        if (getenv("HALO_FIELD_PROFILE")) { f->Finish(); field_t[2] += field_now() - t1; }
     }
     return HALO_OK;
 }
@@ -415,7 +542,10 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         halo_gl_frame_attach(fr, d->framebuffer);
         halo_gl_frame_bind(fr, gl_program, first_unit);
         halo_gl_frame_segments_reset(fr);
+        double t3 = field_now();
         d->draw(d->user);
+        if (getenv("HALO_FIELD_PROFILE")) { f->Finish(); field_t[3] += field_now() - t3;
+            fprintf(stderr, "field: march %.1f ms, generate %.1f ms, store %.1f ms, host %.1f ms (%d segments)\n", field_t[0]*1e3, field_t[1]*1e3, field_t[2]*1e3, field_t[3]*1e3, plan.segments); memset(field_t, 0, sizeof field_t); }
         halo_gl_frame_state_flip(fr); /* counts the one draw */
         f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)saved.draw_framebuffer);
         f->UseProgram((GLuint)saved.program);

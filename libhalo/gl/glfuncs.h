@@ -128,7 +128,8 @@
     X(PFNGLBLENDEQUATIONSEPARATEIPROC, BlendEquationSeparatei)            \
     X(PFNGLBLENDFUNCSEPARATEIPROC, BlendFuncSeparatei)                    \
     X(PFNGLCOLORMASKIPROC, ColorMaski)                                    \
-    X(PFNGLGETBOOLEANVPROC, GetBooleanv)
+    X(PFNGLGETBOOLEANVPROC, GetBooleanv)                                  \
+    X(PFNGLGETTEXLEVELPARAMETERIVPROC, GetTexLevelParameteriv)
 
 typedef struct halo_glfuncs {
 #define HALO_X_GLFUNC_MEMBER(type, name) type name;

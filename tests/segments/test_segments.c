@@ -8,6 +8,10 @@
  *      halos themselves change the image far more than that.
  *   3. The diagnostics: a scene with passes in a single-pass ray caster, force_segments
  *      without halo_segment_begin.
+ *   4. Host contract 3 (one_draw): the same ray caster drawn once over the field libhalo
+ *      computes before the draw agrees with the slab host at equal M as the segmented one
+ *      does, emissive and occlusive; it is drawn once, keeps early ray termination, links
+ *      a single-pass host without segment calls, and says what it needs.
  *   1 again with an orthographic camera (segments of the clip z planes).
  * The segmented ray caster against its emulation is the conformance family "segments"
  * (validate/conform_segment.c, halo-validate conform --stage segments).
@@ -46,6 +50,12 @@ static const char halos_scene[] =
     " {\"halo_generate\": {\"passes\": 5, \"delta\": 0.9, \"interval\": 4}},"
     " {\"halo_map\": {\"mode\": 0, \"color_near\": [[0, 0, 0]], \"color_far\": [[0, 0, 0]], \"opacity\": 1,"
     " \"full_at\": 0.25}}], " HALO_RENDER "}";
+static const char occlusive_scene[] =
+    "{\"halo_scene\": 1, \"stages\": ["
+    " {\"halo_seed\": {\"alpha\": 2, \"gradient_scale\": 6, \"value_0\": [[0.55, 0], [0.62, 1], [0.8, 1], [0.9, 0]]}},"
+    " {\"halo_generate\": {\"passes\": 5, \"delta\": 0.9, \"interval\": 4}},"
+    " {\"halo_map\": {\"mode\": 1, \"color_near\": [[0, 0, 0]], \"color_far\": [[0, 0, 0]], \"opacity\": 1,"
+    " \"full_at\": 0.25}}], " HALO_RENDER "}";
 static const char no_halo_scene[] = "{\"halo_scene\": 1, \"stages\": [], " HALO_RENDER "}";
 
 typedef struct env {
@@ -66,12 +76,17 @@ static int orthographic; /* the camera of the next renders */
         }                                                                                                    \
     } while (0)
 
+static int one_draw; /* host contract 3 for the next ray caster renders */
+/* the ray caster's and the slab host's difference without halos, perspective (RMSE) */
+static double plain_difference;
+
 static halo_program *link_scene(env *e, const char *scene_text, const char *host, const char *file, int force,
                                 halo_scene **scene_out)
 {
     halo_scene *scene = halo_scene_parse(scene_text, "(test scene)", e->g.lib, e->g.diag);
     halo_program *p = scene ? halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = host,
-                                                          .host_file = file, .force_segments = force},
+                                                          .host_file = file, .force_segments = force,
+                                                          .one_draw = one_draw},
                                         e->g.diag)
                             : NULL;
     if (!p) {
@@ -205,6 +220,50 @@ static void test_halos_match_slab(env *e)
     free(slab_plain);
 }
 
+/* Host contract 3: at equal M the one-draw ray caster's halos are the slab host's as the
+ * segmented ray caster's are (the same tolerance), and it is drawn once. */
+static void test_one_draw_matches(env *e, const char *scene_text, const char *what)
+{
+    int drawn = 0, segmented_drawn = 0;
+    one_draw = 1;
+    float *ray = render_ray(e, scene_text, 0, 4, 0, &drawn);
+    one_draw = 0;
+    float *segmented = render_ray(e, scene_text, 0, 4, 0, &segmented_drawn);
+    float *slab = render_slab(e, scene_text, 4);
+    float *ray_plain = render_ray(e, no_halo_scene, 0, 0, 0, NULL);
+    float *slab_plain = render_slab(e, no_halo_scene, 4);
+    CHECK(ray && segmented && slab && ray_plain && slab_plain, "%s: the five renders", what);
+    if (ray && segmented && slab && ray_plain && slab_plain) {
+        double m_halo, r_halo, m_plain, r_plain, m_seg, r_seg, m_effect, r_effect;
+        difference(ray, slab, &m_halo, &r_halo);
+        difference(ray_plain, slab_plain, &m_plain, &r_plain);
+        difference(ray, segmented, &m_seg, &r_seg);
+        difference(ray, ray_plain, &m_effect, &r_effect);
+        if (!orthographic)
+            plain_difference = r_plain;
+        double tolerance = 2.0 * plain_difference + 2e-3;
+        printf("%s halos at M = 4, one draw (%d drawn; segmented: %d): against the slab host RMSE %.3g (max %.3g),"
+               " tolerance %.3g; against the segmented ray caster RMSE %.3g (max %.3g); the halos' own effect RMSE"
+               " %.3g\n",
+               what, drawn, segmented_drawn, r_halo, m_halo, tolerance, r_seg, m_seg, r_effect);
+        /* the slab host has no orthographic camera: there the segmented ray caster is the reference */
+        CHECK(orthographic || r_halo <= tolerance, "%s: one draw against slab host: RMSE %.3g > %.3g", what, r_halo,
+              tolerance);
+        CHECK(r_seg <= tolerance, "%s: one draw against segments: RMSE %.3g > %.3g", what, r_seg, tolerance);
+        double r_reference = orthographic ? r_seg : r_halo;
+        CHECK(r_effect > 5.0 * r_reference, "%s: the halos change the image (RMSE %.3g) not far more than the hosts"
+              " differ (%.3g)", what, r_effect, r_reference);
+        CHECK(drawn == 1, "%s: one draw of the host (%d)", what, drawn);
+    }
+    free(ray);
+    free(segmented);
+    free(slab);
+    free(ray_plain);
+    free(slab_plain);
+}
+
+static void draw_nothing(void *user) { (void)user; }
+
 static void test_diagnostics(env *e)
 {
     static const char single_pass[] =
@@ -260,6 +319,31 @@ static void test_diagnostics(env *e)
         halo_diagnostics_clear(e->g.diag);
         free(slices);
     }
+    /* host contract 3: the single-pass host links, rays may end, no seed output is left */
+    p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = single_pass,
+                                    .host_file = "single.frag", .one_draw = 1},
+                  e->g.diag);
+    CHECK(p != NULL, "with one_draw the single-pass host links");
+    CHECK(p && strstr(halo_program_source(p), "#define HALO_RAY_MAY_END 1"), "one_draw: early ray termination kept");
+    CHECK(p && halo_program_output_count(p) == 0, "one_draw: the seeds are libhalo's march's, not the host's outputs");
+    /* ... and a frame drawn without the volume the march needs is refused */
+    halo_gl_frame *frame = p ? halo_gl_frame_create(e->g.runtime, p, SIZE, SIZE, e->g.diag) : NULL;
+    CHECK(frame != NULL, "one_draw: a frame");
+    static const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    CHECK(frame && halo_gl_frame_draw(frame, 0, &(halo_gl_segments_desc){.inverse_view_projection = identity,
+                                                                          .step = 0.01f, .draw = NULL},
+                                      e->g.diag) == HALO_ERROR_INPUT,
+          "halo_gl_frame_draw refuses a desc without draw");
+    halo_diagnostics_clear(e->g.diag);
+    CHECK(frame && halo_gl_frame_draw(frame, 0, &(halo_gl_segments_desc){.inverse_view_projection = identity,
+                                                                          .step = 0.01f, .draw = draw_nothing},
+                                      e->g.diag) == HALO_ERROR_INPUT &&
+              halo_diagnostics_count(e->g.diag) == 1 &&
+              strstr(halo_diagnostics_get(e->g.diag, 0)->text, "volume_texture"),
+          "one_draw: halo_gl_frame_draw without desc.volume_texture says so");
+    halo_gl_frame_destroy(frame);
+    halo_program_destroy(p);
+    halo_diagnostics_clear(e->g.diag);
     halo_scene_destroy(scene);
 }
 
@@ -278,8 +362,11 @@ int main(void)
     test_segments_change_nothing(&e);
     test_halos_match_slab(&e);
     test_diagnostics(&e);
+    test_one_draw_matches(&e, halos_scene, "emissive");
+    test_one_draw_matches(&e, occlusive_scene, "occlusive");
     orthographic = 1;
     test_segments_change_nothing(&e);
+    test_one_draw_matches(&e, halos_scene, "orthographic");
     printf("%d failed\n", failures);
     free(e.raycast);
     free(e.slab);
