@@ -1,6 +1,7 @@
 #include "diag.h"
 #include "strbuf.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -307,6 +308,18 @@ void halo_diagnostics_report(halo_diagnostics *d, halo_severity severity, halo_m
                              int line, int column, const char *text) {
     if ((unsigned)id >= HALO_MSG_COUNT) id = HALO_MSG_USAGE;
     halo_diag_add(d, severity, id, file ? file : "", line, column, NULL, "%s", text ? text : "");
+}
+
+void halo_diag_read_failed(halo_diagnostics *d, const char *path, const char *what) {
+    int e = errno;
+    if (e == EFBIG)
+        halo_diag_error(d, INPUT_TOO_LARGE, path, 0, 0,
+                        "cannot read %s: the file is larger than the %zu MiB that libhalo reads (HALO_MAX_FILE_BYTES)",
+                        what, HALO_MAX_FILE_BYTES >> 20);
+    else if (e == ENOMEM)
+        halo_diag_error(d, OUT_OF_MEMORY, path, 0, 0, "cannot read %s: out of memory", what);
+    else
+        halo_diag_error(d, IO_READ, path, 0, 0, "cannot read %s: %s", what, strerror(e));
 }
 
 void *halo_diag_calloc(halo_diagnostics *d, size_t size, const char *what)

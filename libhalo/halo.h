@@ -151,7 +151,8 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(HOST_SINGLE_PASS, "the scene needs image passes between slices, which this host cannot run") \
     X(ENGINE_UNSUPPORTED, "the engine's mode or input cannot take the stages (docs/hosts/)")          \
     X(USAGE, "invalid argument")                                                           \
-    X(GLSL_VERSION_IMPLIED, "shader has no '#version': GLSL's default version applies")
+    X(GLSL_VERSION_IMPLIED, "shader has no '#version': GLSL's default version applies")          \
+    X(INPUT_TOO_LARGE, "the file is larger than libhalo reads (HALO_MAX_FILE_BYTES)")
 
 typedef enum halo_message_id {
 #define HALO_X_ENUM(id, text) HALO_MSG_##id,
@@ -279,6 +280,13 @@ typedef struct halo_param_info {
 
 typedef struct halo_module halo_module;
 typedef struct halo_library halo_library;
+
+/* The largest text file libhalo reads (a module, scene, host or composed shader, a
+ * polyline file): 64 MiB. A larger file, or a stream that does not end (/dev/zero), is
+ * refused with INPUT_TOO_LARGE naming the file, after at most this many bytes were read
+ * (a regular file's size is checked before reading); HALO_ERROR_IO. A read that runs out
+ * of memory stops at once (OUT_OF_MEMORY). */
+#define HALO_MAX_FILE_BYTES ((size_t)64 << 20)
 
 /* A library holds the modules embedded at build time; more may be added from files.
  * halo_library_destroy gives back the caller's reference: the scenes and programs made

@@ -19,7 +19,9 @@ void halo_strbuf_vprintf(halo_strbuf *b, const char *fmt, va_list ap);
 char *halo_strbuf_take(halo_strbuf *b);
 void halo_strbuf_free(halo_strbuf *b);
 
-/* Reads a whole file; NULL on failure (errno set). */
+/* Reads a whole file of at most HALO_MAX_FILE_BYTES; NULL on failure with errno set:
+ * EFBIG past the maximum (a regular file's size is checked first; a stream is read to
+ * one byte past it), ENOMEM when memory ran out (reading stops then), EISDIR, EIO. */
 char *halo_read_file(const char *path, size_t *len);
 char *halo_strdup(const char *s);
 

@@ -525,7 +525,7 @@ static int apply_budget(const options *o, const char *scene_text, halo_library *
 static int failure_status(const halo_diagnostics *d)
 {
     if (halo_diagnostics_has(d, HALO_MSG_IO_READ) || halo_diagnostics_has(d, HALO_MSG_IO_WRITE) ||
-        halo_diagnostics_has(d, HALO_MSG_OUT_OF_MEMORY))
+        halo_diagnostics_has(d, HALO_MSG_OUT_OF_MEMORY) || halo_diagnostics_has(d, HALO_MSG_INPUT_TOO_LARGE))
         return 2;
     return 1;
 }

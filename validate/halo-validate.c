@@ -5,6 +5,7 @@
 #include "conform.h"
 #include "halo.h"
 #include "gl/headless.h"
+#include "strbuf.h"
 
 #include <errno.h>
 #include <stdint.h>
@@ -74,7 +75,9 @@ static int status_of(const halo_diagnostics *d) {
     for (size_t i = 0; i < halo_diagnostics_count(d); i++) {
         const halo_diagnostic *g = halo_diagnostics_get(d, i);
         if (g->severity != HALO_SEVERITY_ERROR) continue;
-        if (g->id == HALO_MSG_IO_READ || g->id == HALO_MSG_IO_WRITE || g->id == HALO_MSG_OUT_OF_MEMORY) return EXIT_USAGE;
+        if (g->id == HALO_MSG_IO_READ || g->id == HALO_MSG_IO_WRITE || g->id == HALO_MSG_OUT_OF_MEMORY ||
+            g->id == HALO_MSG_INPUT_TOO_LARGE)
+            return EXIT_USAGE;
         status = EXIT_INPUT;
     }
     return status;
@@ -100,36 +103,18 @@ static const char *extension(const char *path) {
  * EXIT_INPUT when it is no text (a NUL byte: an error in the input, at its place). */
 static char *read_text(const char *path, int *status) {
     *status = EXIT_USAGE;
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        fprintf(stderr, "%s: error: cannot read: %s\n", path, strerror(errno));
+    size_t len = 0;
+    char *buf = halo_read_file(path, &len);
+    if (!buf) {
+        if (errno == EFBIG)
+            fprintf(stderr, "%s: error: cannot read: the file is larger than the %zu MiB that libhalo reads "
+                            "(HALO_MAX_FILE_BYTES)\n", path, HALO_MAX_FILE_BYTES >> 20);
+        else
+            fprintf(stderr, "%s: error: cannot read: %s\n", path, errno == ENOMEM ? "out of memory" : strerror(errno));
         return NULL;
     }
-    size_t cap = 65536, len = 0;
-    char *buf = malloc(cap);
-    for (size_t n; buf && (n = fread(buf + len, 1, cap - len - 1, f)) > 0;) {
-        len += n;
-        if (len + 1 == cap) {
-            char *p = realloc(buf, cap *= 2);
-            if (!p) { free(buf); buf = NULL; }
-            else buf = p;
-        }
-    }
-    int err = ferror(f) ? (errno ? errno : EIO) : 0;
-    fclose(f);
-    if (!buf || err) {
-        fprintf(stderr, "%s: error: cannot read: %s\n", path, err ? strerror(err) : "out of memory");
-        free(buf);
-        return NULL;
-    }
-    buf[len] = '\0';
-    const char *nul = memchr(buf, '\0', len);
-    if (nul) {
-        int line = 1, column = 1;
-        for (const char *p = buf; p < nul; p++) {
-            if (*p == '\n') { line++; column = 1; }
-            else column++;
-        }
+    int line, column;
+    if (halo_find_nul(buf, len, &line, &column)) {
         fprintf(stderr, "%s:%d:%d: error: the file contains a NUL byte; not a text shader\n", path, line, column);
         free(buf);
         *status = EXIT_INPUT;
