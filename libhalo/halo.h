@@ -167,8 +167,15 @@ typedef struct halo_diagnostic {
     const char *file;        /* origin: module, host or scene file ("" when none) */
     int line, column;        /* 1-based; 0 when unknown */
     const char *text;        /* the full message, naming the offending field */
-    const char *source_line; /* the line it points at, or NULL */
+    /* The line it points at, or NULL. A line longer than HALO_DIAGNOSTIC_SOURCE_MAX bytes
+     * is kept as a window of that many bytes around the column, "..." marking each cut
+     * (as clang does), so that a long one-line input costs each diagnostic a screen line,
+     * not the whole line. */
+    const char *source_line;
+    int source_column;       /* the column of source_line that column points at (1-based; 0
+                              * when column is): column itself unless the line was cut */
 } halo_diagnostic;
+#define HALO_DIAGNOSTIC_SOURCE_MAX 120
 
 typedef struct halo_diagnostics halo_diagnostics;
 

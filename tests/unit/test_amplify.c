@@ -60,12 +60,61 @@ static int test_regular_file_too_large(void) {
     return 0;
 }
 
+/* A one-line scene of 20 000 unknown stages (about 300 KB): the default cap keeps 100
+ * errors, and each keeps and prints a window of the line, the caret under the same
+ * character as in the whole line. Before, every error echoed the whole line: 30 MB. */
+static int test_long_line_echo(void) {
+    enum { STAGES = 20000 };
+    size_t cap = (size_t)STAGES * 24 + 64, len = 0;
+    char *text = malloc(cap);
+    SETUP(text != NULL);
+    len += (size_t)snprintf(text + len, cap - len, "{\"halo_scene\": 1, \"stages\": [");
+    for (int i = 0; i < STAGES; i++)
+        len += (size_t)snprintf(text + len, cap - len, "%s\"nosuch%d\"", i ? ", " : "", i);
+    len += (size_t)snprintf(text + len, cap - len, "]}");
+    halo_diagnostics_clear(diags);
+    CHECK(halo_scene_parse(text, "long.json", library, diags) == NULL);
+    CHECK_INT_EQ(halo_diagnostics_count(diags), HALO_DIAGNOSTICS_DEFAULT_LIMIT);
+    for (size_t i = 0; i < halo_diagnostics_count(diags); i++) {
+        const halo_diagnostic *g = halo_diagnostics_get(diags, i);
+        CHECK(g->source_line != NULL);
+        CHECK_INT_EQ(g->line, 1);
+        CHECK(strlen(g->source_line) <= HALO_DIAGNOSTIC_SOURCE_MAX + 6);
+        CHECK(g->source_column > 0 && (size_t)g->source_column <= strlen(g->source_line));
+        /* the caret's character is the column's */
+        CHECK_INT_EQ(g->source_line[g->source_column - 1], text[g->column - 1]);
+        if (g->column > HALO_DIAGNOSTIC_SOURCE_MAX) CHECK(!strncmp(g->source_line, "...", 3));
+        CHECK_STR_CONTAINS(g->source_line + strlen(g->source_line) - 3, "...");
+    }
+    FILE *out = tmpfile();
+    SETUP(out != NULL);
+    halo_diagnostics_print(diags, out);
+    long bytes = ftell(out);
+    fclose(out);
+    free(text);
+    if (bytes > 64 * 1024) CHECK_FAIL_AT("100 errors printed %ld bytes (the line is %zu bytes)", bytes, len);
+    return 0;
+}
+
+/* A short line is kept whole, its caret where the column says. */
+static int test_short_line_echo(void) {
+    halo_diagnostics_clear(diags);
+    CHECK(halo_scene_parse("{\"halo_scene\": 1, \"stages\": [\"nosuch\"]}", "short.json", library, diags) == NULL);
+    const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_SCENE_STAGE_UNKNOWN, 1);
+    CHECK(g != NULL);
+    CHECK_STR_EQ(g->source_line, "{\"halo_scene\": 1, \"stages\": [\"nosuch\"]}");
+    CHECK_INT_EQ(g->source_column, g->column);
+    return 0;
+}
+
 int main(void) {
     signal(SIGALRM, on_alarm);
     alarm(60);
     static const check_test tests[] = {
         CHECK_TEST(test_stream_without_end),
         CHECK_TEST(test_regular_file_too_large),
+        CHECK_TEST(test_long_line_echo),
+        CHECK_TEST(test_short_line_echo),
     };
     return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);
 }
