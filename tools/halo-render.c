@@ -619,6 +619,13 @@ int main(int argc, char **argv)
     size_t halo_stages = halo_driver_find_halo_stages(lib, scene, is_halo);
     int feature = halo_driver_has_stage(scene, HALO_DRIVER_FEATURE_STAGE);
     halo_driver_host kind = o.host != HALO_DRIVER_AUTO ? o.host : halo_stages ? HALO_DRIVER_SLICE : HALO_DRIVER_RAYCAST;
+    if (o.gradient_format && kind == HALO_DRIVER_RAYCAST) { /* given or chosen: an option that cannot apply */
+        fprintf(stderr, TOOL ": error: --gradient-format: the raycast host%s has no gradient texture (it takes "
+                        "central differences); use --host slice or slab\n",
+                o.host == HALO_DRIVER_AUTO ? " (this scene's, having no halo stages)" : "");
+        status = 2;
+        goto done;
+    }
     if (o.have_max_error && feature) {
         fprintf(stderr, TOOL ": error: --max-error: the sweep cannot render feature_halo (no halo buffer); "
                         "render this scene without --max-error\n");

@@ -379,6 +379,7 @@ static int print_pieces(const halo_program *p, const char *dir) {
 
 static int cmd_link(int argc, char **argv) {
     const char *scene_path = NULL, *host_path = NULL, *out_path = NULL, *composed_path = NULL, *pieces_dir = NULL;
+    const char *pieces_option = NULL; /* the last option that only pieces take */
     int reflect = 0, nmodules = 0, pieces = 0;
     size_t error_limit = HALO_DIAGNOSTICS_DEFAULT_LIMIT;
     halo_pieces_desc pd = {0};
@@ -397,15 +398,17 @@ static int cmd_link(int argc, char **argv) {
         else if (!strcmp(a, "--pieces")) pieces = 1;
         else if (!strcmp(a, "--pieces-dir") && has_value) pieces = 1, pieces_dir = argv[++i];
         else if (!strcmp(a, "--composed") && has_value) pieces = 1, composed_path = argv[++i];
-        else if (!strcmp(a, "--segmented")) pd.segmented = 1;
+        else if (!strcmp(a, "--segmented")) pd.segmented = 1, pieces_option = a;
         else if (!strcmp(a, "--engine-uniforms")) desc.engine_uniforms = 1;
         else if (!strcmp(a, "--unlocated-outputs")) desc.unlocated_outputs = 1;
         else if (!strcmp(a, "--first-output-location") && has_value) {
+            pieces_option = a;
             char *end;
             long v = strtol(argv[++i], &end, 10);
             if (*end || v < 1 || v > 15) bad = usage_error("--first-output-location takes 1..15, not '%s'", argv[i]);
             pd.first_output_location = (int)v;
         } else if (!strcmp(a, "--sample") && has_value) {
+            pieces_option = a;
             if (set_piece_expression(&pd, argv[++i]))
                 bad = usage_error("--sample takes NAME=EXPR with NAME position, value, gradient, view, depth, "
                                   "fragcoord, color, volume or gradient-texture, not '%s'", argv[i]);
@@ -428,6 +431,9 @@ static int cmd_link(int argc, char **argv) {
     }
     if (!bad && !host_path && !pieces) bad = usage_error("link needs --host FILE, or --pieces%s", "");
     if (!bad && host_path && pieces) bad = usage_error("link takes --host FILE or --pieces, not both%s", "");
+    if (!bad && host_path && pieces_option)
+        bad = usage_error("%s applies to --pieces only: a host shader's own text says it (not with --host)",
+                          pieces_option);
     if (bad) {
         free(modules);
         return bad;
