@@ -74,6 +74,17 @@ char *halo_strdup(const char *s) {
     return p;
 }
 
+char *halo_strndup(const char *s, size_t n) {
+    char *p = malloc(n + 1);
+    if (p) { memcpy(p, s, n); p[n] = '\0'; }
+    return p;
+}
+
+void halo_strbuf_set_n(halo_strbuf *b, const char *s, size_t n) {
+    b->len = 0;
+    halo_strbuf_append_n(b, s, n);
+}
+
 char *halo_read_file(const char *path, size_t *len) {
     FILE *f = fopen(path, "rb");
     if (!f) return NULL;

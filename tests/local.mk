@@ -16,7 +16,8 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_input_classes \
 	tests/unit/test_lifetimes \
 	tests/unit/test_threads \
-	tests/unit/test_amplify
+	tests/unit/test_amplify \
+	tests/unit/test_api_bounds
 check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
 noinst_HEADERS += tests/unit/check.h tests/gl_fixture.h
 
@@ -40,6 +41,7 @@ nodist_EXTRA_tests_unit_test_emu_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_unit_test_input_classes_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_unit_test_lifetimes_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_unit_test_amplify_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_api_bounds_SOURCES = $(HALO_TEST_CXX_LINK)
 # Two threads at once (halo.h, "Threads"); .ci/run also runs it under ThreadSanitizer.
 nodist_EXTRA_tests_unit_test_threads_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_unit_test_threads_LDADD = $(HALO_TEST_CORE_LIBS) -lpthread
