@@ -297,10 +297,10 @@ halo_status halo_polylines_load(const char *path, halo_polylines *out, halo_diag
     size_t len = 0;
     char *text = path ? halo_read_file(path, &len) : NULL;
     if (!text) {
-        int read_failed = path && (errno == EIO || errno == EISDIR || errno == ENOMEM);
-        halo_diag_error(diag, IO_READ, path ? path : "", 0, 0,
-                        read_failed ? "cannot read polyline file '%s'" : "cannot open polyline file '%s'",
-                        path ? path : "");
+        if (path)
+            halo_diag_read_failed(diag, path, "polyline file");
+        else
+            halo_diag_error(diag, IO_READ, "", 0, 0, "cannot open polyline file: no path");
         return HALO_ERROR_IO;
     }
     if (memchr(text, '\0', len)) {

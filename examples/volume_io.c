@@ -306,6 +306,9 @@ typedef struct nifti_raw_header {
     long long dim[8];
     double pixdim[8];
     double vox_offset;
+    char magic[4];        /* as in the file: "n+1", "ni1", "n+2", "ni2", anything else */
+    int datatype, bitpix;
+    double scl_slope, scl_inter;
 } nifti_raw_header;
 
 static uint64_t field_bits(const unsigned char *p, int size, int swap)
@@ -383,6 +386,11 @@ static void nifti_read_raw_header(const char *path, nifti_raw_header *h)
         }
         h->vox_offset = field_real(b + 108, 4, swap);
         h->single_file = !memcmp(b + 344, "n+1", 4);
+        memcpy(h->magic, b + 344, 4);
+        h->datatype = (int)field_int(b + 70, 2, swap);
+        h->bitpix = (int)field_int(b + 72, 2, swap);
+        h->scl_slope = field_real(b + 112, 4, swap);
+        h->scl_inter = field_real(b + 116, 4, swap);
     } else {
         for (int i = 0; i < 8; ++i) {
             h->dim[i] = field_int(b + 16 + 8 * i, 8, swap);
@@ -390,6 +398,11 @@ static void nifti_read_raw_header(const char *path, nifti_raw_header *h)
         }
         h->vox_offset = (double)field_int(b + 168, 8, swap);
         h->single_file = !memcmp(b + 4, "n+2", 4);
+        memcpy(h->magic, b + 4, 4);
+        h->datatype = (int)field_int(b + 12, 2, swap);
+        h->bitpix = (int)field_int(b + 14, 2, swap);
+        h->scl_slope = field_real(b + 176, 8, swap);
+        h->scl_inter = field_real(b + 184, 8, swap);
     }
 }
 
@@ -402,6 +415,34 @@ static halo_volume_status nifti_check_header(const char *path, const nifti_raw_h
     if (!h->version)
         return HALO_VOLUME_OK;
     const double header_size = h->version == 1 ? 348.0 : 540.0;
+    /* the magic says NIfTI (n+1 one file, ni1 a .hdr/.img pair); a pair may also be plain
+     * ANALYZE 7.5 (no magic): anything else is not read as NIfTI-1 regardless */
+    const char *one = h->version == 1 ? "n+1" : "n+2", *pair = h->version == 1 ? "ni1" : "ni2";
+    static const char none[4] = {0, 0, 0, 0};
+    int is_pair = ends_with(path, ".hdr") || ends_with(path, ".img") || ends_with(path, ".hdr.gz") ||
+                  ends_with(path, ".img.gz");
+    if (memcmp(h->magic, one, 4) && memcmp(h->magic, pair, 4) && !(is_pair && h->version == 1 && !memcmp(h->magic, none, 4))) {
+        char shown[17] = "";
+        for (int i = 0; i < 4; ++i)
+            snprintf(shown + strlen(shown), sizeof shown - strlen(shown),
+                     h->magic[i] >= 32 && h->magic[i] < 127 ? "%c" : "\\x%02x", (unsigned char)h->magic[i]);
+        return fail(HALO_VOLUME_INVALID, err, err_size,
+                    "%s: header field magic is '%s': a NIfTI-%d file has '%s' (one file) or '%s' (.hdr/.img)", path,
+                    shown, h->version, one, pair);
+    }
+    int nbyper = 0, swapsize = 0;
+    nifti_datatype_sizes(h->datatype, &nbyper, &swapsize);
+    if (nbyper > 0 && h->bitpix != 8 * nbyper)
+        return fail(HALO_VOLUME_INVALID, err, err_size,
+                    "%s: header field bitpix is %d, but datatype %d (%s) has %d bits per voxel", path, h->bitpix,
+                    h->datatype, nifti_datatype_string(h->datatype), 8 * nbyper);
+    /* libnifti replaces a non-finite scale silently (slope by 1, intercept by 0) */
+    if (!isfinite(h->scl_slope))
+        return fail(HALO_VOLUME_INVALID, err, err_size,
+                    "%s: header field scl_slope is %g: the voxel scale must be finite (0 for none)", path, h->scl_slope);
+    if (!isfinite(h->scl_inter))
+        return fail(HALO_VOLUME_INVALID, err, err_size,
+                    "%s: header field scl_inter is %g: the voxel offset must be finite", path, h->scl_inter);
     if (!isfinite(h->vox_offset) || h->vox_offset < 0.0 || h->vox_offset != floor(h->vox_offset) ||
         h->vox_offset > 9007199254740992.0)
         return fail(HALO_VOLUME_INVALID, err, err_size,

@@ -1,6 +1,7 @@
 #include "diag.h"
 #include "strbuf.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -193,6 +194,28 @@ static int merge_into_earlier_run(halo_diagnostics *d, const halo_diagnostic *g)
     return 1;
 }
 
+/* The line at source_line (up to its end of line), or a window of it of at most
+ * HALO_DIAGNOSTIC_SOURCE_MAX bytes around column with "..." at each cut, the cuts moved
+ * off UTF-8 continuation bytes; *caret gets column's place in the result. */
+static char *source_window(const char *source_line, int column, int *caret) {
+    const size_t max = HALO_DIAGNOSTIC_SOURCE_MAX;
+    size_t n = strcspn(source_line, "\r\n"), start = 0, end = n;
+    size_t at = column > 0 ? (size_t)column - 1 : 0;
+    if (n > max) {
+        start = at > max / 2 ? at - max / 2 : 0;
+        if (start > n - max) start = n - max;
+        end = start + max;
+        while (start > 0 && ((unsigned char)source_line[start] & 0xC0) == 0x80) start--;
+        while (end < n && ((unsigned char)source_line[end] & 0xC0) == 0x80) end++;
+    }
+    halo_strbuf b = {0};
+    if (start > 0) halo_strbuf_append(&b, "...");
+    halo_strbuf_append_n(&b, source_line + start, end - start);
+    if (end < n) halo_strbuf_append(&b, "...");
+    *caret = column > 0 ? (int)(at - start + (start > 0 ? 3 : 0)) + 1 : 0;
+    return halo_strbuf_take(&b);
+}
+
 void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id id, const char *file, int line,
                    int column, const char *source_line, const char *fmt, ...) {
     if (d && (unsigned)id < HALO_MSG_COUNT) d->seen[id] = 1;
@@ -227,12 +250,7 @@ void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id 
         .text = halo_strbuf_take(&text),
         .source_line = NULL,
     };
-    if (source_line) {
-        size_t n = strcspn(source_line, "\r\n");
-        char *s = malloc(n + 1);
-        if (s) { memcpy(s, source_line, n); s[n] = '\0'; }
-        item.source_line = s;
-    }
+    if (source_line) item.source_line = source_window(source_line, column, &item.source_column);
     if (!item.text) item.text = halo_strdup(halo_message_name(id));
     if (thread_logger.logger) thread_logger.logger(&item, thread_logger.user_data);
     if (!d || !item.file || !item.text) { free_item(&item); return; }
@@ -287,10 +305,10 @@ void halo_diagnostics_print(const halo_diagnostics *d, FILE *out) {
             int width = snprintf(NULL, 0, "%d", g->line);
             if (width < 5) width = 5;
             fprintf(out, " %*d | %s\n", width, g->line, g->source_line);
-            if (g->column > 0) {
+            if (g->source_column > 0) {
                 fprintf(out, " %*s | ", width, "");
                 size_t n = strlen(g->source_line);
-                for (int c = 1; c < g->column; c++)
+                for (int c = 1; c < g->source_column; c++)
                     fputc((size_t)c <= n && g->source_line[c - 1] == '\t' ? '\t' : ' ', out);
                 fputs("^\n", out);
             }
@@ -307,6 +325,18 @@ void halo_diagnostics_report(halo_diagnostics *d, halo_severity severity, halo_m
                              int line, int column, const char *text) {
     if ((unsigned)id >= HALO_MSG_COUNT) id = HALO_MSG_USAGE;
     halo_diag_add(d, severity, id, file ? file : "", line, column, NULL, "%s", text ? text : "");
+}
+
+void halo_diag_read_failed(halo_diagnostics *d, const char *path, const char *what) {
+    int e = errno;
+    if (e == EFBIG)
+        halo_diag_error(d, INPUT_TOO_LARGE, path, 0, 0,
+                        "cannot read %s: the file is larger than the %zu MiB that libhalo reads (HALO_MAX_FILE_BYTES)",
+                        what, HALO_MAX_FILE_BYTES >> 20);
+    else if (e == ENOMEM)
+        halo_diag_error(d, OUT_OF_MEMORY, path, 0, 0, "cannot read %s: out of memory", what);
+    else
+        halo_diag_error(d, IO_READ, path, 0, 0, "cannot read %s: %s", what, strerror(e));
 }
 
 void *halo_diag_calloc(halo_diagnostics *d, size_t size, const char *what)

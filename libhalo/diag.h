@@ -38,6 +38,11 @@ void halo_diag_null(halo_diagnostics *d, const char *function, const char *argum
         }                                                                                             \
     } while (0)
 
+/* After halo_read_file(path) failed: one diagnostic naming the file and why, from errno
+ * (EFBIG: INPUT_TOO_LARGE naming HALO_MAX_FILE_BYTES; ENOMEM: OUT_OF_MEMORY; else
+ * IO_READ "cannot read WHAT: reason"). what: "scene", "module", "polyline file". */
+void halo_diag_read_failed(halo_diagnostics *d, const char *path, const char *what);
+
 /* calloc(1, size), or NULL after OUT_OF_MEMORY "out of memory creating WHAT" in d. */
 void *halo_diag_calloc(halo_diagnostics *d, size_t size, const char *what);
 

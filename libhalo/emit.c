@@ -92,9 +92,12 @@ void halo_emit_params(halo_emitter *e, const halo_program *p, const halo_linked_
     for (size_t i = 0; i < m->param_count; i++) {
         const halo_param_info *info = &m->params[i];
         const halo_uniform_info *u = &p->uniforms[st->first_uniform + i];
-        char count_name[160];
-        snprintf(count_name, sizeof count_name, "%s_count", info->name);
-        int used = halo_module_uses(m, info->name), count_used = info->array_size && halo_module_uses(m, count_name);
+        halo_strbuf count_name = {0};
+        if (info->array_size) halo_strbuf_printf(&count_name, "%s_count", info->name);
+        int used = halo_module_uses(m, info->name);
+        int count_used = info->array_size && count_name.data && halo_module_uses(m, count_name.data);
+        if (count_name.failed) e->failed = 1;
+        halo_strbuf_free(&count_name);
         if (!used && !count_used) continue;
         const char *type = halo_param_type_name(info->type);
         int line = m->param_lines[i];
@@ -153,6 +156,7 @@ void halo_emit_params(halo_emitter *e, const halo_program *p, const halo_linked_
 void halo_emit_module_lines(halo_emitter *e, const halo_module *m, int first, int last, int rename,
                               const halo_program *engine) {
     size_t t = 0;
+    halo_strbuf ident = {0};
     for (int li = first; li <= last && li <= m->line_count; li++) {
         if (m->is_annotation[li - 1]) continue;
         const char *line = m->lines[li - 1];
@@ -167,17 +171,16 @@ void halo_emit_module_lines(halo_emitter *e, const halo_module *m, int first, in
             const halo_token *k = &m->tokens.items[t];
             if (!rename || k->kind != HALO_TOK_IDENT) continue;
             if (t > 0 && halo_token_is(m->source, &m->tokens.items[t - 1], ".")) continue;
-            char name[160];
-            size_t n = k->length < sizeof name - 8 ? k->length : sizeof name - 8;
-            memcpy(name, m->source + k->offset, n);
-            name[n] = '\0';
-            const char *base = name;
+            /* the identifier whole, whatever its length (a truncated one would keep its name) */
+            size_t n = k->length;
+            halo_strbuf_set_n(&ident, m->source + k->offset, n);
+            if (ident.failed) { e->failed = 1; break; }
+            const char *name = ident.data, *base = name;
             int is_count = 0;
             if (n > 6 && !strcmp(name + n - 6, "_count")) {
-                char stem[160];
-                memcpy(stem, name, n - 6);
-                stem[n - 6] = '\0';
-                const halo_param_info *pi = halo_module_find_param(m, stem);
+                ident.data[n - 6] = '\0'; /* the stem, for a moment */
+                const halo_param_info *pi = halo_module_find_param(m, ident.data);
+                ident.data[n - 6] = '_';
                 is_count = pi && pi->array_size;
             }
             if (!is_count && !halo_name_list_has(&m->declared, base) && !halo_module_find_param(m, base)) continue;
@@ -200,6 +203,7 @@ void halo_emit_module_lines(halo_emitter *e, const halo_module *m, int first, in
         }
         halo_strbuf_free(&b);
     }
+    halo_strbuf_free(&ident);
 }
 
 void halo_emit_helpers(halo_emitter *e, const halo_library *lib, const halo_program *p) {
@@ -448,9 +452,11 @@ int halo_emit_program(halo_program *p, const char *host_source, char **host_line
             for (size_t o = 0; o < p->output_count && hs->hook == HALO_HOOK_SAMPLE; o++) {
                 const halo_output_info *out = &p->outputs[o];
                 const char *img = out->image;
-                char field[160];
-                if (out->channel >= 0) snprintf(field, sizeof field, "s.%s[%d]", out->field, out->channel);
-                else snprintf(field, sizeof field, "s.%s", out->field);
+                halo_strbuf field_text = {0};
+                if (out->channel >= 0) halo_strbuf_printf(&field_text, "s.%s[%d]", out->field, out->channel);
+                else halo_strbuf_printf(&field_text, "s.%s", out->field);
+                const char *field = field_text.data ? field_text.data : "";
+                if (field_text.failed) e.failed = 1;
                 if (out->blend == HALO_BLEND_MAX)
                     HALO_GEN(&e, "    halo_accum_%s = max(halo_accum_%s, %s);", img, img, field);
                 else if (out->blend == HALO_BLEND_MIN)
@@ -459,6 +465,7 @@ int halo_emit_program(halo_program *p, const char *host_source, char **host_line
                     HALO_GEN(&e, "    if (halo_accum_%s.a <= 0.0) halo_accum_%s = %s;", img, img, field);
                 else
                     HALO_GEN(&e, "    halo_accum_%s += %s;", img, field);
+                halo_strbuf_free(&field_text);
             }
             HALO_GEN(&e, "}");
         }

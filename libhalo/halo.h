@@ -151,7 +151,8 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(HOST_SINGLE_PASS, "the scene needs image passes between slices, which this host cannot run") \
     X(ENGINE_UNSUPPORTED, "the engine's mode or input cannot take the stages (docs/hosts/)")          \
     X(USAGE, "invalid argument")                                                           \
-    X(GLSL_VERSION_IMPLIED, "shader has no '#version': GLSL's default version applies")
+    X(GLSL_VERSION_IMPLIED, "shader has no '#version': GLSL's default version applies")          \
+    X(INPUT_TOO_LARGE, "the file is larger than libhalo reads (HALO_MAX_FILE_BYTES)")
 
 typedef enum halo_message_id {
 #define HALO_X_ENUM(id, text) HALO_MSG_##id,
@@ -166,8 +167,15 @@ typedef struct halo_diagnostic {
     const char *file;        /* origin: module, host or scene file ("" when none) */
     int line, column;        /* 1-based; 0 when unknown */
     const char *text;        /* the full message, naming the offending field */
-    const char *source_line; /* the line it points at, or NULL */
+    /* The line it points at, or NULL. A line longer than HALO_DIAGNOSTIC_SOURCE_MAX bytes
+     * is kept as a window of that many bytes around the column, "..." marking each cut
+     * (as clang does), so that a long one-line input costs each diagnostic a screen line,
+     * not the whole line. */
+    const char *source_line;
+    int source_column;       /* the column of source_line that column points at (1-based; 0
+                              * when column is): column itself unless the line was cut */
 } halo_diagnostic;
+#define HALO_DIAGNOSTIC_SOURCE_MAX 120
 
 typedef struct halo_diagnostics halo_diagnostics;
 
@@ -280,6 +288,13 @@ typedef struct halo_param_info {
 typedef struct halo_module halo_module;
 typedef struct halo_library halo_library;
 
+/* The largest text file libhalo reads (a module, scene, host or composed shader, a
+ * polyline file): 64 MiB. A larger file, or a stream that does not end (/dev/zero), is
+ * refused with INPUT_TOO_LARGE naming the file, after at most this many bytes were read
+ * (a regular file's size is checked before reading); HALO_ERROR_IO. A read that runs out
+ * of memory stops at once (OUT_OF_MEMORY). */
+#define HALO_MAX_FILE_BYTES ((size_t)64 << 20)
+
 /* A library holds the modules embedded at build time; more may be added from files.
  * halo_library_destroy gives back the caller's reference: the scenes and programs made
  * from the library keep it until they are destroyed ("Lifetimes" above). */
@@ -366,8 +381,10 @@ typedef struct halo_pieces_desc {
     const char *gradient_texture; /* or a sampler3D with the gradient in RGB, per voxel step */
     int segmented;         /* 1: the composer calls halo_segment_begin/halo_segment_end in its ray
                             * loop (host contract 2); the program then runs its image passes */
-    int first_output_location; /* the extra outputs' first location; 0: 1 (after the engine's colour) */
+    int first_output_location; /* the extra outputs' first location, 1..HALO_MAX_OUTPUT_LOCATION; 0: 1
+                                * (after the engine's colour); another value: USAGE, no program */
 } halo_pieces_desc;
+#define HALO_MAX_OUTPUT_LOCATION 15
 
 /* The pieces of a program linked from a halo_pieces_desc. */
 typedef enum halo_piece {
@@ -475,7 +492,7 @@ typedef struct halo_pass_info {
     const char *inputs[HALO_MAX_PASS_INPUTS]; /* image names; "previous" = the output before the pass */
     const char *first;  /* for "previous" in the first repetition; NULL = the output itself */
     const char *output;
-    int repeat;         /* >= 1 */
+    int repeat;         /* 1..HALO_MAX_PASS_REPEAT: a repeat=PARAM parameter must declare max <= it */
     const char *vertex_source;
     const char *fragment_source;
     int post;           /* 1: at the end of each feature group (halo_gl_frame_end_group, or _post when the
@@ -487,10 +504,12 @@ typedef struct halo_pass_info {
     int reach;          /* -1: undeclared, the pass may write anywhere; else repetition i writes a nonzero
                          * pixel only within halo_pass_reach(pass, i) pixels (per axis) of a nonzero pixel
                          * of its inputs (reach= in the module) */
-    int reach_exponent; /* -1; else the value of PARAM in reach=[M*]B^(PARAM-i)+K (reach holds K) */
+    int reach_exponent; /* -1: none; else max(0, PARAM) of reach=[M*]B^(PARAM-i)+K (reach holds K): a
+                         * negative PARAM gives B^0, as B^(PARAM-i) is 1 for i >= PARAM */
     int reach_factor;   /* M of reach=M*B^(PARAM-i)+K (1 without M*) */
     int reach_base;     /* B of reach=M*B^(PARAM-i)+K: 2 or 4 */
 } halo_pass_info;
+#define HALO_MAX_PASS_REPEAT 1024
 
 /* Pixels (per axis) repetition i of a pass reaches: reach + reach_factor *
  * reach_base^max(0, reach_exponent - i) when it has an exponent (at most 2^30); -1 when the
@@ -641,6 +660,8 @@ HALO_API halo_status halo_emu_apply(const halo_program *p, halo_emu_sample *s, h
  * precision: the reference for the GL runtime's frame (docs/image-passes.md). */
 typedef struct halo_emu_frame halo_emu_frame;
 
+/* width and height 1..HALO_MAX_FRAME_SIDE (as halo_gl_frame_create); otherwise USAGE and NULL. */
+#define HALO_MAX_FRAME_SIDE 16384
 HALO_API halo_emu_frame *halo_emu_frame_create(const halo_program *p, int width, int height, halo_diagnostics *diag);
 HALO_API void halo_emu_frame_destroy(halo_emu_frame *f);
 /* The image's current data: width * height * channels doubles, row 0 at the bottom (GL order);

@@ -124,6 +124,8 @@ void halo_library_release(const halo_library *lib);
 halo_module *halo_module_parse(const char *file, const char *source, halo_diagnostics *diag);
 void halo_module_free(halo_module *m);
 int halo_name_list_has(const halo_name_list *l, const char *name);
+/* As halo_name_list_has for the n bytes at name (a token in the source: no copy, no limit). */
+int halo_name_list_has_n(const halo_name_list *l, const char *name, size_t n);
 int halo_name_list_add(halo_name_list *l, const char *name, size_t n, int line);
 void halo_name_list_free(halo_name_list *l);
 /* The fields the host fills; never need a provider. */

@@ -47,7 +47,7 @@ static halo_module *read_module(const char *path, halo_diagnostics *diag, halo_s
     size_t len = 0;
     char *text = halo_read_file(path, &len);
     if (!text) {
-        halo_diag_error(diag, IO_READ, path, 0, 0, "cannot read module: %s", strerror(errno));
+        halo_diag_read_failed(diag, path, "module");
         *status = HALO_ERROR_IO;
         return NULL;
     }

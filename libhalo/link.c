@@ -230,9 +230,8 @@ static int add_image(halo_program *p, const char *name, halo_image_reset reset, 
 static int add_image_decl(halo_program *p, const halo_image_decl *d) {
     if (!d->family) return add_image(p, d->name, d->reset, d->components, d->clear, d->clear_set);
     for (int k = 0; k < p->channel_count; k++) {
-        char name[160];
-        snprintf(name, sizeof name, "%s_%d", d->name, k);
-        if (add_image(p, name, d->reset, d->components, d->clear, d->clear_set)) return -1;
+        const char *name = halo_program_own(p, "%s_%d", d->name, k); /* any length */
+        if (!name || add_image(p, name, d->reset, d->components, d->clear, d->clear_set)) return -1;
     }
     return 0;
 }
@@ -257,8 +256,8 @@ static int first_free_location(const char *host) {
     for (size_t i = 0; i + 2 < t.count; i++)
         if (halo_token_is(host, &t.items[i], "location") && halo_token_is(host, &t.items[i + 1], "=") &&
             t.items[i + 2].kind == HALO_TOK_NUMBER) {
-            int loc = atoi(host + t.items[i + 2].offset);
-            if (loc > max) max = loc;
+            long loc = strtol(host + t.items[i + 2].offset, NULL, 10);
+            if (loc > max) max = loc > HALO_MAX_OUTPUT_LOCATION ? HALO_MAX_OUTPUT_LOCATION : (int)loc; /* no overflow */
         }
     halo_token_list_free(&t);
     return max + 1;
@@ -341,10 +340,9 @@ static int collect_resources(halo_program *p, const char *host, halo_diagnostics
             int n = 2;
             for (int k = 0; k < pd->input_count; k++) names[n++] = pd->inputs[k];
             for (int k = 0; k < n; k++) {
-                char expanded[160];
                 if (names[k] && names[k][0] && names[k][strlen(names[k]) - 1] == '*') {
-                    snprintf(expanded, sizeof expanded, "%.*s_0", (int)strlen(names[k]) - 1, names[k]);
-                    names[k] = expanded;
+                    names[k] = halo_program_own(p, "%.*s_0", (int)strlen(names[k]) - 1, names[k]);
+                    if (!names[k]) return -1;
                 }
                 if (names[k] && strcmp(names[k], "previous") && !halo_program_image_named(p, names[k])) {
                     halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, m->file, pd->line, 1,
@@ -522,7 +520,9 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     pi->repeat = pd->repeat ? param_int(st, pd->repeat) : 1;
     pi->start = pd->start > 1 ? pd->start : 1;
     pi->reach = pd->reach;
-    pi->reach_exponent = pd->reach >= 0 && pd->reach_param ? param_int(st, pd->reach_param) : -1;
+    /* -1 is "no exponent": a negative PARAM is B^0, the same as exponent 0 */
+    int exponent = pd->reach >= 0 && pd->reach_param ? param_int(st, pd->reach_param) : -1;
+    pi->reach_exponent = pd->reach >= 0 && pd->reach_param ? (exponent < 0 ? 0 : exponent) : -1;
     pi->reach_factor = pd->reach_factor > 0 ? pd->reach_factor : 1;
     pi->reach_base = pd->reach_base == 4 ? 4 : 2;
     pi->vertex_source = halo_program_own(p, "%s\n%s\n", halo_target_version_line(p->target), pass_vertex_body);
@@ -703,6 +703,13 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
         halo_diag_error(diag, USAGE, "", 0, 0,
                         "halo_link: the scene was read against another library than desc.library; read it against "
                         "the library it is linked with");
+        return NULL;
+    }
+    if (desc->pieces && (desc->pieces->first_output_location < 0 ||
+                         desc->pieces->first_output_location > HALO_MAX_OUTPUT_LOCATION)) {
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "halo_link: pieces.first_output_location is %d: 0 (after the engine's colour) or 1..%d",
+                        desc->pieces->first_output_location, HALO_MAX_OUTPUT_LOCATION);
         return NULL;
     }
     halo_program *p = calloc(1, sizeof *p);

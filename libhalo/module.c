@@ -19,6 +19,12 @@ int halo_name_list_has(const halo_name_list *l, const char *name) {
     return 0;
 }
 
+int halo_name_list_has_n(const halo_name_list *l, const char *name, size_t n) {
+    for (size_t i = 0; i < l->count; i++)
+        if (!strncmp(l->items[i], name, n) && l->items[i][n] == '\0') return 1;
+    return 0;
+}
+
 int halo_name_list_add(halo_name_list *l, const char *name, size_t n, int line) {
     char **items = realloc(l->items, (l->count + 1) * sizeof *items);
     if (!items) return -1;
@@ -676,11 +682,11 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
         o[m->output_count++] = (halo_output_decl){halo_strdup(w.w[1]), blend, line};
     } else if (!strcmp(d, "image")) {
         halo_image_reset reset = HALO_RESET_FRAME;
-        char name[128];
+        char *name = halo_strdup(w.n >= 2 ? w.w[1] : ""); /* whole: no length limit */
+        if (!name) return;
         int family = 0, components = 0, clear_set = 0;
         double clear = 0.0;
         const char *read_when = NULL;
-        snprintf(name, sizeof name, "%s", w.n >= 2 ? w.w[1] : "");
         size_t len = strlen(name);
         if (len > 1 && name[len - 1] == '*') { family = 1; name[len - 1] = 0; }
         int ok = w.n >= 2 && w.n <= 6 && valid_name(name);
@@ -705,12 +711,13 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
             ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'image' takes a name (NAME* for one per channel) and "
                         "optionally reset=frame, reset=generation or reset=frame-only, clear=VALUE, components=1..4, "
                         "read_when=PARAM");
+            free(name);
             return;
         }
         halo_image_decl *im = realloc(m->images, (m->image_count + 1) * sizeof *im);
-        if (!im) return;
+        if (!im) { free(name); return; }
         m->images = im;
-        im[m->image_count++] = (halo_image_decl){halo_strdup(name), reset,     line,     family, components,
+        im[m->image_count++] = (halo_image_decl){name, reset,     line,     family, components,
                                                  clear,              clear_set, read_when ? halo_strdup(read_when) : NULL};
     } else if (!strcmp(d, "host_uniform")) {
         static const char *const ok_types[] = {"float", "vec2", "vec3", "vec4", "int", "mat4", "sampler2D",
@@ -774,14 +781,9 @@ static void scan_code(parse_ctx *ctx) {
         if (t[i].kind != HALO_TOK_IDENT) continue;
         const char *s = src + t[i].offset;
         size_t len = t[i].length;
-        if (len > 5 && !strncmp(s, "halo_", 5) && !(i > 0 && halo_token_is(src, &t[i - 1], "."))) {
-            char name[128];
-            size_t k = len < sizeof name - 1 ? len : sizeof name - 1;
-            memcpy(name, s, k);
-            name[k] = '\0';
-            if (strcmp(name, "halo_sample") && !halo_name_list_has(&m->calls, name))
-                halo_name_list_add(&m->calls, name, k, t[i].line);
-        }
+        if (len > 5 && !strncmp(s, "halo_", 5) && !(i > 0 && halo_token_is(src, &t[i - 1], ".")) &&
+            !halo_token_is(src, &t[i], "halo_sample") && !halo_name_list_has_n(&m->calls, s, len))
+            halo_name_list_add(&m->calls, s, len, t[i].line);
         if (t[i].depth != 0 || halo_is_glsl_keyword(s, len)) continue;
         int declared = 0;
         if (i > 0 && (t[i - 1].kind == HALO_TOK_IDENT || halo_token_is(src, &t[i - 1], "]")) && i + 1 < n) {
@@ -791,20 +793,18 @@ static void scan_code(parse_ctx *ctx) {
             if (i > 1 && halo_token_is(src, &t[i - 2], "#")) declared = halo_token_is(src, &t[i - 1], "define");
         }
         if (!declared) continue;
-        char name[128];
-        size_t k = len < sizeof name - 1 ? len : sizeof name - 1;
-        memcpy(name, s, k);
-        name[k] = '\0';
-        if (halo_name_list_has(&m->declared, name)) continue;
-        if (!m->is_library && !strncmp(name, "halo_", 5)) {
+        /* names of any length, compared and kept whole (a truncated one would not be renamed) */
+        if (halo_name_list_has_n(&m->declared, s, len)) continue;
+        if (!m->is_library && !strncmp(s, "halo_", 5)) {
             halo_diag_add(ctx->diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_RESERVED_NAME, m->file, t[i].line,
                           t[i].column, m->lines[t[i].line - 1],
-                          "module declares '%s': names starting with 'halo_' are reserved for the library", name);
+                          "module declares '%.*s': names starting with 'halo_' are reserved for the library",
+                          (int)len, s);
             ctx->errors++;
             continue;
         }
-        if (!strcmp(name, "apply") && halo_token_is(src, &t[i + 1], "(")) m->has_entry = 1;
-        halo_name_list_add(&m->declared, name, k, t[i].line);
+        if (halo_token_is(src, &t[i], "apply") && halo_token_is(src, &t[i + 1], "(")) m->has_entry = 1;
+        halo_name_list_add(&m->declared, s, len, t[i].line);
         if (m->is_library && halo_token_is(src, &t[i + 1], "(")) {
             /* A helper function: its chunk runs from after the previous chunk to its closing brace. */
             size_t j = i + 1;
@@ -819,19 +819,15 @@ static void scan_code(parse_ctx *ctx) {
             m->chunks = c;
             halo_chunk *ch = &c[m->chunk_count++];
             memset(ch, 0, sizeof *ch);
-            ch->name = halo_strdup(name);
+            ch->name = halo_strndup(s, len);
             ch->first_line = m->chunk_count > 1 ? c[m->chunk_count - 2].last_line + 1 : 1;
             ch->last_line = t[j].line;
             for (size_t q = i + 1; q < j; q++) {
                 const char *qs = src + t[q].offset;
-                if (t[q].kind == HALO_TOK_IDENT && t[q].length > 5 && !strncmp(qs, "halo_", 5)) {
-                    char cn[128];
-                    size_t ck = t[q].length < sizeof cn - 1 ? t[q].length : sizeof cn - 1;
-                    memcpy(cn, qs, ck);
-                    cn[ck] = '\0';
-                    if (strcmp(cn, name) && !halo_name_list_has(&ch->calls, cn))
-                        halo_name_list_add(&ch->calls, cn, ck, t[q].line);
-                }
+                size_t ck = t[q].length;
+                if (t[q].kind == HALO_TOK_IDENT && ck > 5 && !strncmp(qs, "halo_", 5) &&
+                    !(ck == len && !memcmp(qs, s, len)) && !halo_name_list_has_n(&ch->calls, qs, ck))
+                    halo_name_list_add(&ch->calls, qs, ck, t[q].line);
             }
             i = j;
         }
@@ -921,6 +917,16 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
             const char *need[2] = {pd->repeat, pd->reach_param};
             static const char *const key[2] = {"repeat", "reach"};
             for (int k = 0; k < 2; k++) ctx.errors += pass_param_invalid(m, diag, file, pd, key[k], need[k], 0);
+            const halo_param_info *rp = pd->repeat ? halo_module_find_param(m, pd->repeat) : NULL;
+            if (rp && rp->type == HALO_PARAM_INT && !rp->array_size && !(rp->max <= HALO_MAX_PASS_REPEAT)) {
+                /* each repetition is a draw a generation: a scene may not ask for 2^31 of them */
+                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1,
+                              m->lines[pd->line - 1],
+                              "pass '%s': repeat=%s: the parameter's max is %g; declare max=N with N at most %d "
+                              "(HALO_MAX_PASS_REPEAT)",
+                              pd->name, pd->repeat, rp->max, HALO_MAX_PASS_REPEAT);
+                ctx.errors++;
+            }
             /* when=!PARAM negates; when=halo_full_size: the halo images at the frame's size */
             char when[64];
             int negate;

@@ -275,9 +275,11 @@ int halo_pass_reach(const halo_pass_info *pass, int repetition) {
     HALO_REFUSE_NULL(NULL, pass, "pass", -1);
     if (pass->reach < 0) return -1;
     if (pass->reach_exponent < 0) return pass->reach;
-    int e = pass->reach_exponent - repetition, bits = pass->reach_base == 4 ? 2 : 1;
-    long long power = 1LL << (e < 0 ? 0 : e * bits > 30 ? 30 : e * bits);
-    long long reach = pass->reach + (pass->reach_factor > 1 ? pass->reach_factor : 1) * power;
+    /* in long long and clamped before shifting: no int overflow for any exponent or repetition */
+    long long e = (long long)pass->reach_exponent - repetition, bits = pass->reach_base == 4 ? 2 : 1;
+    long long shift = e < 0 ? 0 : e > 30 ? 30 : e * bits > 30 ? 30 : e * bits;
+    long long factor = pass->reach_factor > 1 ? pass->reach_factor : 1;
+    long long reach = (long long)pass->reach + (factor > (1 << 30) ? 1 << 30 : factor) * (1LL << shift);
     return reach > (1 << 30) ? 1 << 30 : (int)reach;
 }
 

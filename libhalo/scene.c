@@ -541,7 +541,7 @@ halo_scene *halo_scene_load(const char *path, const halo_library *lib, halo_diag
     size_t len = 0;
     char *text = halo_read_file(path, &len);
     if (!text) {
-        halo_diag_error(diag, IO_READ, path, 0, 0, "cannot read scene: %s", strerror(errno));
+        halo_diag_read_failed(diag, path, "scene");
         return NULL;
     }
     if (strlen(text) != len) {

@@ -1,9 +1,12 @@
 #include "strbuf.h"
 
+#include "halo.h"
+
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static int reserve(halo_strbuf *b, size_t extra) {
     if (b->failed) return 0;
@@ -71,17 +74,42 @@ char *halo_strdup(const char *s) {
     return p;
 }
 
+char *halo_strndup(const char *s, size_t n) {
+    char *p = malloc(n + 1);
+    if (p) { memcpy(p, s, n); p[n] = '\0'; }
+    return p;
+}
+
+void halo_strbuf_set_n(halo_strbuf *b, const char *s, size_t n) {
+    b->len = 0;
+    halo_strbuf_append_n(b, s, n);
+}
+
 char *halo_read_file(const char *path, size_t *len) {
     FILE *f = fopen(path, "rb");
     if (!f) return NULL;
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode) && (unsigned long long)st.st_size > HALO_MAX_FILE_BYTES) {
+        fclose(f);
+        errno = EFBIG;
+        return NULL;
+    }
     halo_strbuf b = {0};
     char chunk[65536];
-    size_t n;
-    while ((n = fread(chunk, 1, sizeof chunk, f)) > 0) halo_strbuf_append_n(&b, chunk, n);
-    int err = ferror(f) ? errno : 0;
+    size_t n, want = sizeof chunk;
+    /* one byte past the maximum tells a file at the maximum from a longer one */
+    while (!b.failed && b.len <= HALO_MAX_FILE_BYTES && (n = fread(chunk, 1, want, f)) > 0) {
+        halo_strbuf_append_n(&b, chunk, n);
+        if (HALO_MAX_FILE_BYTES + 1 - b.len < want) want = HALO_MAX_FILE_BYTES + 1 - b.len;
+    }
+    int err = b.failed ? ENOMEM : b.len > HALO_MAX_FILE_BYTES ? EFBIG : ferror(f) ? errno : 0;
     fclose(f);
     /* keep the reason: EISDIR ("Is a directory") for a folder, not a bare EIO */
-    if (err) { halo_strbuf_free(&b); errno = err == EISDIR ? EISDIR : EIO; return NULL; }
+    if (err) {
+        halo_strbuf_free(&b);
+        errno = err == EISDIR || err == ENOMEM || err == EFBIG ? err : EIO;
+        return NULL;
+    }
     size_t l = b.len;
     char *s = halo_strbuf_take(&b);
     if (!s) { errno = ENOMEM; return NULL; }

@@ -19,9 +19,15 @@ void halo_strbuf_vprintf(halo_strbuf *b, const char *fmt, va_list ap);
 char *halo_strbuf_take(halo_strbuf *b);
 void halo_strbuf_free(halo_strbuf *b);
 
-/* Reads a whole file; NULL on failure (errno set). */
+/* Reads a whole file of at most HALO_MAX_FILE_BYTES; NULL on failure with errno set:
+ * EFBIG past the maximum (a regular file's size is checked first; a stream is read to
+ * one byte past it), ENOMEM when memory ran out (reading stops then), EISDIR, EIO. */
 char *halo_read_file(const char *path, size_t *len);
 char *halo_strdup(const char *s);
+/* The first n bytes of s as a string (caller frees); NULL when memory ran out. */
+char *halo_strndup(const char *s, size_t n);
+/* Makes b hold exactly the n bytes at s (b reused: no allocation once it is large enough). */
+void halo_strbuf_set_n(halo_strbuf *b, const char *s, size_t n);
 
 /* s past a UTF-8 byte-order mark, if it starts with one (editors write it; it is no
  * part of the text, and skipping it keeps line 1's columns right). */

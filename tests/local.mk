@@ -15,7 +15,9 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_emu \
 	tests/unit/test_input_classes \
 	tests/unit/test_lifetimes \
-	tests/unit/test_threads
+	tests/unit/test_threads \
+	tests/unit/test_amplify \
+	tests/unit/test_api_bounds
 check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
 noinst_HEADERS += tests/unit/check.h tests/gl_fixture.h
 
@@ -38,6 +40,8 @@ nodist_EXTRA_tests_unit_test_host_scan_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_unit_test_emu_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_unit_test_input_classes_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_unit_test_lifetimes_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_amplify_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_api_bounds_SOURCES = $(HALO_TEST_CXX_LINK)
 # Two threads at once (halo.h, "Threads"); .ci/run also runs it under ThreadSanitizer.
 nodist_EXTRA_tests_unit_test_threads_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_unit_test_threads_LDADD = $(HALO_TEST_CORE_LIBS) -lpthread
@@ -83,7 +87,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/error_limit.sh \
 	tests/cli/glsl_diagnostics.sh \
 	tests/cli/glslang_agree.sh \
-	tests/cli/render_output.sh
+	tests/cli/render_output.sh \
+	tests/cli/file_bounds.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh

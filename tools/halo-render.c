@@ -531,7 +531,7 @@ static int apply_budget(const options *o, const char *scene_text, halo_library *
 static int failure_status(const halo_diagnostics *d)
 {
     if (halo_diagnostics_has(d, HALO_MSG_IO_READ) || halo_diagnostics_has(d, HALO_MSG_IO_WRITE) ||
-        halo_diagnostics_has(d, HALO_MSG_OUT_OF_MEMORY))
+        halo_diagnostics_has(d, HALO_MSG_OUT_OF_MEMORY) || halo_diagnostics_has(d, HALO_MSG_INPUT_TOO_LARGE))
         return 2;
     return 1;
 }
@@ -625,6 +625,13 @@ int main(int argc, char **argv)
     size_t halo_stages = halo_driver_find_halo_stages(lib, scene, is_halo);
     int feature = halo_driver_has_stage(scene, HALO_DRIVER_FEATURE_STAGE);
     halo_driver_host kind = o.host != HALO_DRIVER_AUTO ? o.host : halo_stages ? HALO_DRIVER_SLICE : HALO_DRIVER_RAYCAST;
+    if (o.gradient_format && kind == HALO_DRIVER_RAYCAST) { /* given or chosen: an option that cannot apply */
+        fprintf(stderr, TOOL ": error: --gradient-format: the raycast host%s has no gradient texture (it takes "
+                        "central differences); use --host slice or slab\n",
+                o.host == HALO_DRIVER_AUTO ? " (this scene's, having no halo stages)" : "");
+        status = 2;
+        goto done;
+    }
     if (o.have_max_error && feature) {
         fprintf(stderr, TOOL ": error: --max-error: the sweep cannot render feature_halo (no halo buffer); "
                         "render this scene without --max-error\n");

@@ -279,7 +279,9 @@ int view_load_scene(viewer *v, const char *path, int keep_camera)
                              : halo_scene_parse(text, DEFAULT_SCENE " (built in)", v->lib, v->diag);
     if (!scene) {
         view_report_diagnostics(v, "cannot read the scene");
-        return halo_diagnostics_has(v->diag, HALO_MSG_IO_READ) ? 2 : 1;
+        return halo_diagnostics_has(v->diag, HALO_MSG_IO_READ) || halo_diagnostics_has(v->diag, HALO_MSG_INPUT_TOO_LARGE)
+                   ? 2
+                   : 1;
     }
     json_error_t json_error;
     json_t *root = path ? halo_json_load_file(path, 0, &json_error) : json_loads(text, 0, &json_error);

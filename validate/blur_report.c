@@ -347,10 +347,17 @@ int halo_blur_report_main(int argc, char **argv)
         else if (!strcmp(argv[i], "--repeat") && i + 1 < argc)
             repeat = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--kernels") && i + 1 < argc) {
+            /* every size given is run: an empty list, a stray comma or a ninth size is an error */
+            const char *list = argv[++i];
+            char *end = NULL;
             size_count = 0;
-            for (char *s = argv[++i], *end; *s && size_count < 8; s = *end ? end + 1 : end) {
-                sizes[size_count++] = (int)strtol(s, &end, 10);
-                if (end == s)
+            for (const char *s = list;; s = end + 1) {
+                long k = strtol(s, &end, 10);
+                if (end == s || (*end && *end != ',') || size_count == 8)
+                    return fprintf(stderr, "halo-validate blur: --kernels takes 1 to 8 odd sizes K1,K2,... (3..%d), "
+                                           "not '%s'\n", 2 * MAX_RADIUS + 1, list), 2;
+                sizes[size_count++] = k < 0 || k > 1 << 20 ? 0 : (int)k;
+                if (!*end)
                     break;
             }
         } else if (!strcmp(argv[i], "--help")) {

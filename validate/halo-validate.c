@@ -5,6 +5,7 @@
 #include "conform.h"
 #include "halo.h"
 #include "gl/headless.h"
+#include "strbuf.h"
 
 #include <errno.h>
 #include <stdint.h>
@@ -74,7 +75,9 @@ static int status_of(const halo_diagnostics *d) {
     for (size_t i = 0; i < halo_diagnostics_count(d); i++) {
         const halo_diagnostic *g = halo_diagnostics_get(d, i);
         if (g->severity != HALO_SEVERITY_ERROR) continue;
-        if (g->id == HALO_MSG_IO_READ || g->id == HALO_MSG_IO_WRITE || g->id == HALO_MSG_OUT_OF_MEMORY) return EXIT_USAGE;
+        if (g->id == HALO_MSG_IO_READ || g->id == HALO_MSG_IO_WRITE || g->id == HALO_MSG_OUT_OF_MEMORY ||
+            g->id == HALO_MSG_INPUT_TOO_LARGE)
+            return EXIT_USAGE;
         status = EXIT_INPUT;
     }
     return status;
@@ -100,36 +103,18 @@ static const char *extension(const char *path) {
  * EXIT_INPUT when it is no text (a NUL byte: an error in the input, at its place). */
 static char *read_text(const char *path, int *status) {
     *status = EXIT_USAGE;
-    FILE *f = fopen(path, "rb");
-    if (!f) {
-        fprintf(stderr, "%s: error: cannot read: %s\n", path, strerror(errno));
+    size_t len = 0;
+    char *buf = halo_read_file(path, &len);
+    if (!buf) {
+        if (errno == EFBIG)
+            fprintf(stderr, "%s: error: cannot read: the file is larger than the %zu MiB that libhalo reads "
+                            "(HALO_MAX_FILE_BYTES)\n", path, HALO_MAX_FILE_BYTES >> 20);
+        else
+            fprintf(stderr, "%s: error: cannot read: %s\n", path, errno == ENOMEM ? "out of memory" : strerror(errno));
         return NULL;
     }
-    size_t cap = 65536, len = 0;
-    char *buf = malloc(cap);
-    for (size_t n; buf && (n = fread(buf + len, 1, cap - len - 1, f)) > 0;) {
-        len += n;
-        if (len + 1 == cap) {
-            char *p = realloc(buf, cap *= 2);
-            if (!p) { free(buf); buf = NULL; }
-            else buf = p;
-        }
-    }
-    int err = ferror(f) ? (errno ? errno : EIO) : 0;
-    fclose(f);
-    if (!buf || err) {
-        fprintf(stderr, "%s: error: cannot read: %s\n", path, err ? strerror(err) : "out of memory");
-        free(buf);
-        return NULL;
-    }
-    buf[len] = '\0';
-    const char *nul = memchr(buf, '\0', len);
-    if (nul) {
-        int line = 1, column = 1;
-        for (const char *p = buf; p < nul; p++) {
-            if (*p == '\n') { line++; column = 1; }
-            else column++;
-        }
+    int line, column;
+    if (halo_find_nul(buf, len, &line, &column)) {
         fprintf(stderr, "%s:%d:%d: error: the file contains a NUL byte; not a text shader\n", path, line, column);
         free(buf);
         *status = EXIT_INPUT;
@@ -394,6 +379,7 @@ static int print_pieces(const halo_program *p, const char *dir) {
 
 static int cmd_link(int argc, char **argv) {
     const char *scene_path = NULL, *host_path = NULL, *out_path = NULL, *composed_path = NULL, *pieces_dir = NULL;
+    const char *pieces_option = NULL; /* the last option that only pieces take */
     int reflect = 0, nmodules = 0, pieces = 0;
     size_t error_limit = HALO_DIAGNOSTICS_DEFAULT_LIMIT;
     halo_pieces_desc pd = {0};
@@ -412,15 +398,17 @@ static int cmd_link(int argc, char **argv) {
         else if (!strcmp(a, "--pieces")) pieces = 1;
         else if (!strcmp(a, "--pieces-dir") && has_value) pieces = 1, pieces_dir = argv[++i];
         else if (!strcmp(a, "--composed") && has_value) pieces = 1, composed_path = argv[++i];
-        else if (!strcmp(a, "--segmented")) pd.segmented = 1;
+        else if (!strcmp(a, "--segmented")) pd.segmented = 1, pieces_option = a;
         else if (!strcmp(a, "--engine-uniforms")) desc.engine_uniforms = 1;
         else if (!strcmp(a, "--unlocated-outputs")) desc.unlocated_outputs = 1;
         else if (!strcmp(a, "--first-output-location") && has_value) {
+            pieces_option = a;
             char *end;
             long v = strtol(argv[++i], &end, 10);
             if (*end || v < 1 || v > 15) bad = usage_error("--first-output-location takes 1..15, not '%s'", argv[i]);
             pd.first_output_location = (int)v;
         } else if (!strcmp(a, "--sample") && has_value) {
+            pieces_option = a;
             if (set_piece_expression(&pd, argv[++i]))
                 bad = usage_error("--sample takes NAME=EXPR with NAME position, value, gradient, view, depth, "
                                   "fragcoord, color, volume or gradient-texture, not '%s'", argv[i]);
@@ -443,6 +431,9 @@ static int cmd_link(int argc, char **argv) {
     }
     if (!bad && !host_path && !pieces) bad = usage_error("link needs --host FILE, or --pieces%s", "");
     if (!bad && host_path && pieces) bad = usage_error("link takes --host FILE or --pieces, not both%s", "");
+    if (!bad && host_path && pieces_option)
+        bad = usage_error("%s applies to --pieces only: a host shader's own text says it (not with --host)",
+                          pieces_option);
     if (bad) {
         free(modules);
         return bad;

@@ -55,8 +55,10 @@ static void clear_image(halo_emu_frame *f, size_t i) {
 
 halo_emu_frame *halo_emu_frame_create(const halo_program *p, int width, int height, halo_diagnostics *diag) {
     HALO_REFUSE_NULL(diag, p, "program", NULL);
-    if (width < 1 || height < 1) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_emu_frame_create: a program and a positive size are required");
+    if (width < 1 || height < 1 || width > HALO_MAX_FRAME_SIDE || height > HALO_MAX_FRAME_SIDE) {
+        /* within it, width * height * 4 fits an int and every index the stages compute */
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_emu_frame_create: the size %dx%d is not within 1..%d per side",
+                        width, height, HALO_MAX_FRAME_SIDE);
         return NULL;
     }
     halo_emu_frame *f = calloc(1, sizeof *f);

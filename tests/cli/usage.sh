@@ -27,6 +27,16 @@ run 2 "$HALO_VALIDATE" check --backend egl "$srcdir/glsl/sample/boundary.glsl"
 expect_stderr "unknown option '--backend'"
 run 2 env HALO_HEADLESS=vulkan "$HALO_VALIDATE" conform --stage empty
 expect_stderr "no headless OpenGL context: HALO_HEADLESS: 'vulkan' is not egl, osmesa or auto"
+# An option the user gave that cannot apply is a usage error, never ignored (issue 26):
+# the composer-piece options with a host shader, an empty or malformed --kernels list.
+for opt in "--segmented" "--sample value=v" "--first-output-location 2"; do
+    run 2 "$HALO_VALIDATE" link --host "$data/hosts/minimal.frag" $opt
+    expect_stderr "${opt%% *} applies to --pieces only"
+done
+for kernels in "" "5," "5,,7" "x" "3,5,7,9,11,13,15,17,19"; do
+    run 2 "$HALO_VALIDATE" blur --kernels "$kernels"
+    expect_stderr "blur: --kernels takes 1 to 8 odd sizes"
+done
 if test -n "${HALO_RENDER:-}" && test -x "$HALO_RENDER"; then
     run 2 "$HALO_RENDER" --backend=software
     expect_stderr "halo-render: error: --backend: 'software'"

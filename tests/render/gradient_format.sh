@@ -25,6 +25,12 @@ expect_stderr "error: --gradient-format: 'snorm16' is not float, half, snorm8, p
 test ! -e "$tmp/bad.png" || fail "an image was written after a usage error"
 run 2 "$HALO_RENDER" --gradient-format half --max-error 0.1 -o "$tmp/bad.png"
 expect_stderr "not with --gradient-format"
+# the raycast host has no gradient texture: asked for, or the scene's choice, an error
+run 2 "$HALO_RENDER" --gradient-format float --host raycast -o "$tmp/bad.png"
+expect_stderr "error: --gradient-format: the raycast host has no gradient texture"
+run 2 "$HALO_RENDER" --gradient-format float --scene "$scenes/plain.json" -o "$tmp/bad.png"
+expect_stderr "error: --gradient-format: the raycast host \(this scene's"
+test ! -e "$tmp/bad.png" || fail "an image was written after a usage error"
 run 2 "$HALO_VALIDATE" conform --stage slice --gradient-format ""
 expect_stderr "conform: --gradient-format: '' is not float, half, snorm8, packed16 or packed32"
 finish

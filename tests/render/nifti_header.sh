@@ -1,7 +1,7 @@
 #!/bin/sh
 # NIfTI header fields that libnifti repairs silently or trusts: vox_offset (negative,
 # NaN, huge, inside the header, beyond the file), dim[0] against dim[1..3], pixdim
-# (zero, negative, NaN). Each is refused with exit 1 and a message naming the field,
+# (zero, negative, NaN), magic, bitpix against datatype, scl_slope/scl_inter NaN or inf. Each is refused with exit 1 and a message naming the field,
 # before any voxel is read; libnifti's own messages never reach the terminal. The
 # header is sphere.nii's (NIfTI-1, little-endian, 16^3 uint8, vox_offset 352).
 . "$srcdir/tests/render/common.sh"
@@ -47,6 +47,18 @@ refused pixdim-negative "pixdim\\[3\\]"
 patched pixdim-nan 76 '\000\000\300\177'         # pixdim[0] (qfac) may be anything...
 patched pixdim-nan 80 '\000\000\300\177'         # ...pixdim[1] may not be NaN
 refused pixdim-nan "pixdim\\[1\\]"
+# magic, bitpix against datatype, a non-finite scale (libnifti read a bad magic as
+# NIfTI-1, trusted bitpix and replaced NaN/inf scl_slope and scl_inter silently)
+patched magic-bad 344 'XYZ\000'
+refused magic-bad magic
+patched bitpix-16 72 '\020\000'                  # uint8 (datatype 2) with bitpix 16
+refused bitpix-16 bitpix
+patched slope-nan 112 '\000\000\300\177'
+refused slope-nan scl_slope
+patched slope-inf 112 '\000\000\200\177'
+refused slope-inf scl_slope
+patched inter-inf 116 '\000\000\200\377'        # -inf
+refused inter-inf scl_inter
 # gzip-compressed: the same checks
 patched gz-offset 108 '\000\000\240\300'
 gzip -c "$tmp/gz-offset.nii" >"$tmp/gz-offset.nii.gz"
