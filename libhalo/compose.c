@@ -239,6 +239,7 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
                         "volume's sampler to derive it from (volume) or a gradient texture (gradient_texture)");
         return NULL;
     }
+    if (halo_pieces_check_expressions(d, desc->target, diag)) return NULL;
     char *host = pieces_host(d, desc);
     /* the marker's line in the pieces host: after its #extension line, if any */
     int marker_line = 1;

@@ -265,6 +265,9 @@ extern const size_t halo_hook_struct_count;
 
 /* compose.c: a program linked from pieces (halo_link_desc.pieces, host_source NULL). */
 halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag);
+/* piece_expression.c: each expression of d is one GLSL expression of its field's kind
+ * (PIECE_EXPRESSION at "NAME=EXPR":1:column otherwise); returns the error count. */
+int halo_pieces_check_expressions(const halo_pieces_desc *d, halo_target target, halo_diagnostics *diag);
 /* link.c: halo_link of host text (desc->pieces, if set, gives only first_output_location). */
 halo_program *halo_link_host(const halo_link_desc *desc, halo_diagnostics *diag);
 /* program.c: a string the program owns (freed with it), printf-style. */

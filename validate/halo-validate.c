@@ -353,10 +353,11 @@ static int set_piece_expression(halo_pieces_desc *d, char *arg) {
     if (!eq || eq == arg || !eq[1]) return -1;
     *eq = '\0';
     const char *v = eq + 1;
+    /* gradient_texture: the field's own name, as the diagnostics of an expression call it */
     static const char *const names[] = {"position", "value", "gradient", "view", "depth", "fragcoord", "color",
-                                        "volume", "gradient-texture"};
+                                        "volume", "gradient-texture", "gradient_texture"};
     const char **fields[] = {&d->position, &d->value, &d->gradient, &d->view, &d->depth, &d->fragcoord, &d->color,
-                             &d->volume, &d->gradient_texture};
+                             &d->volume, &d->gradient_texture, &d->gradient_texture};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (!strcmp(arg, names[i])) {
             *fields[i] = v;
