@@ -83,7 +83,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/error_limit.sh \
 	tests/cli/glsl_diagnostics.sh \
 	tests/cli/glslang_agree.sh \
-	tests/cli/render_output.sh
+	tests/cli/render_output.sh \
+	tests/cli/pieces_composed.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
@@ -137,7 +138,9 @@ HALO_TEST_FILES = \
 	tests/data/scenes/bad_json.json \
 	tests/data/scenes/out_of_range.json \
 	tests/data/scenes/nan.json \
-	tests/data/scenes/huge.json
+	tests/data/scenes/huge.json \
+	tests/data/scenes/halo_pieces.json \
+	tests/data/composer/template.frag tests/data/composer/compose.awk
 EXTRA_DIST += $(HALO_SHELL_TESTS) $(HALO_TEST_FILES)
 
 # ---- Fuzz targets (tests/fuzz): make check replays the seed corpus and a fixed set of
