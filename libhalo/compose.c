@@ -185,8 +185,16 @@ static int declare_engine_uniforms(halo_program *p) {
         if (u.count_name) halo_strbuf_printf(&b, "uniform int %s;\n", u.count_name), added++;
     }
     if (!added) return 0;
+    /* after the #version line and the precision statements (GLSL ES: a float uniform
+     * before them has no precision) */
     const char *nl = strchr(p->source, '\n');
     size_t head = nl ? (size_t)(nl - p->source) + 1 : 0;
+    int first = nl ? 1 : 0;
+    while (nl && (!strncmp(p->source + head, "precision ", 10) || !strncmp(p->source + head, "#extension ", 11))) {
+        nl = strchr(p->source + head, '\n');
+        head = nl ? (size_t)(nl - p->source) + 1 : strlen(p->source);
+        first++;
+    }
     halo_strbuf text = {0};
     halo_strbuf_append_n(&text, p->source, head);
     halo_strbuf_append(&text, b.data ? b.data : "");
@@ -199,7 +207,6 @@ static int declare_engine_uniforms(halo_program *p) {
         free(source);
         return -1;
     }
-    int first = nl ? 1 : 0;
     memcpy(origins, p->origins, (size_t)first * sizeof *origins);
     for (int i = 0; i < added; i++) origins[first + i] = (halo_line_origin){halo_generated_file, 0, NULL};
     memcpy(origins + first + added, p->origins + first, (size_t)(p->origin_count - first) * sizeof *origins);
@@ -347,7 +354,7 @@ static int no_marker(const char *line) {
 
 /* The composed shader keeps the contract as a host does: it calls halo_apply (the sample
  * piece), halo_finish (the finish piece) and the segment calls where the program needs
- * them, and its own outputs have locations beside libhalo's. Returns the error count. */
+ * them. Returns the error count. */
 static int check_composed_contract(const halo_program *p, const char *text, const char *file, char **lines,
                                    halo_diagnostics *diag) {
     /* the engine's text alone: the declarations piece (which defines those functions) blanked */
@@ -360,7 +367,8 @@ static int check_composed_contract(const halo_program *p, const char *text, cons
     int errors = -1;
     if (engine && !halo_host_scan_run(&(halo_host_scan_desc){engine, p->target, p->kind, no_marker}, &h.scan)) {
         halo_host_text t = {engine, file, lines, "composed shader"};
-        errors = halo_host_check_calls_in(p, &h, &t, diag) + halo_host_check_outputs_in(p, &h, &t, diag);
+        /* not its outputs' locations: an engine binds its own (VTK: glBindFragDataLocation) */
+        errors = halo_host_check_calls_in(p, &h, &t, diag);
     }
     halo_host_scan_free(&h.scan);
     free(engine);
@@ -452,12 +460,15 @@ int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_unifor
         out->value = u->value;
         if (info->type == HALO_PARAM_BOOL) out->glsl_type = "int";
         else if (info->type == HALO_PARAM_CHANNELS) {
+            /* halo_channels, the type the stages read: one float or vector of the program's
+             * channels (its values a list of up to 4 in the module, no array in GLSL) */
             out->glsl_type = channel_types[p->channel_count];
             out->components = p->channel_count;
             out->count = 1; /* one value per channel; fewer set: the last repeats */
             for (int k = 0; k < p->channel_count && u->count > 0; k++)
                 out->storage[k] = u->value[k < u->count ? k : u->count - 1];
             out->value = out->storage;
+            return 1;
         } else out->glsl_type = halo_param_type_name(info->type);
         if (info->array_size) {
             out->array_size = used ? info->array_size : 0;

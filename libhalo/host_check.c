@@ -274,12 +274,7 @@ int halo_host_check_calls_in(const halo_program *p, const halo_host_info *h, con
 /* The host's outputs need explicit locations when libhalo adds outputs of its own: the
  * compiler would place an output without one anywhere, possibly on libhalo's. */
 int halo_host_check_outputs(const halo_program *p, const halo_host_info *h, const char *host, halo_diagnostics *diag) {
-    halo_host_text t = {host, p->host_file, p->host_lines, "host"};
-    return halo_host_check_outputs_in(p, h, &t, diag);
-}
-
-int halo_host_check_outputs_in(const halo_program *p, const halo_host_info *h, const halo_host_text *t,
-                               halo_diagnostics *diag) {
+    const halo_host_text text = {host, p->host_file, p->host_lines, "host"}, *t = &text;
     if ((!p->output_count && !p->segment_location) || p->kind != HALO_SHADER_FRAGMENT) return 0;
     if (p->unlocated_outputs) return 0; /* every output is bound by name before linking */
     halo_host_hit at[16];

@@ -37,8 +37,6 @@ typedef struct halo_host_text {
 } halo_host_text;
 int halo_host_check_calls_in(const halo_program *p, const halo_host_info *h, const halo_host_text *t,
                              halo_diagnostics *diag);
-int halo_host_check_outputs_in(const halo_program *p, const halo_host_info *h, const halo_host_text *t,
-                               halo_diagnostics *diag);
 int halo_host_check_macros(const halo_program *p, const halo_host_info *h, halo_diagnostics *diag);
 /* The host's #line directives: out of the compiled text, into the line map. 0, or -1 (memory). */
 int halo_host_hide_line_directives(halo_program *p, const halo_host_info *h);

@@ -84,7 +84,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/glsl_diagnostics.sh \
 	tests/cli/glslang_agree.sh \
 	tests/cli/render_output.sh \
-	tests/cli/pieces_composed.sh
+	tests/cli/pieces_composed.sh \
+	tests/cli/pieces_versions.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
