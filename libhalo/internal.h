@@ -237,6 +237,16 @@ int halo_host_uses(const char *host, const char *name);
 void halo_segment_emit(struct halo_strbuf *b, const halo_program *p);
 void halo_segment_emit_tail(struct halo_strbuf *b, const halo_program *p);
 int halo_program_has_generation_passes(const halo_program *p);
+/* The uniforms the segment code declares (the camera, the segment): set by the runtime
+ * (set_by names the function), or by a host that draws itself; the reflection lists
+ * those a program declares among its host_uniforms. */
+typedef struct halo_runtime_uniform {
+    const char *name, *type, *meaning, *set_by;
+    int segmented; /* 1: declared only when the program is drawn in segments */
+} halo_runtime_uniform;
+extern const halo_runtime_uniform halo_runtime_uniforms[];
+extern const size_t halo_runtime_uniform_count;
+int halo_program_declares_runtime_uniform(const halo_program *p, const halo_runtime_uniform *u);
 /* gl/segments.c: a 4x4 column-major inverse; 0 if m is singular. */
 int halo_mat4_invert(const double m[16], double out[16]);
 /* gl/segments.c: how halo_gl_frame_draw draws a host (the emulation of a segmented host

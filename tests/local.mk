@@ -85,7 +85,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/glslang_agree.sh \
 	tests/cli/render_output.sh \
 	tests/cli/pieces_composed.sh \
-	tests/cli/pieces_versions.sh
+	tests/cli/pieces_versions.sh \
+	tests/cli/pieces_reflect.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
