@@ -174,6 +174,10 @@ int halo_host_check(const char *file, const char *source, char **lines, int coun
                   "#version (docs/host-contract.md)");
         errors++;
     }
+    /* the names of every contract version (contract_names), as the message lists them */
+    halo_strbuf allowed_list = {0};
+    for (int c = 0; contract_names[c]; c++)
+        halo_strbuf_printf(&allowed_list, "%s%s", c ? (contract_names[c + 1] ? ", " : " and ") : "", contract_names[c]);
     for (size_t t = 0; t < toks.count; t++) {
         const halo_token *k = &toks.items[t];
         if (k->kind != HALO_TOK_IDENT || k->length < 5) continue;
@@ -184,11 +188,11 @@ int halo_host_check(const char *file, const char *source, char **lines, int coun
         for (int c = 0; contract_names[c]; c++) allowed |= halo_token_is(source, k, contract_names[c]);
         if (allowed) continue;
         host_diag(h, diag, HALO_MSG_HOST_RESERVED_NAME, file, lines, k->line, k->column,
-                  "'%.*s' is reserved: names starting with halo_ or HALO_ belong to libhalo (the host may use "
-                  "halo_sample, halo_make_sample, halo_apply, halo_finish, HALO_LINKED and HALO_CONTRACT_VERSION)",
-                  (int)k->length, s);
+                  "'%.*s' is reserved: names starting with halo_ or HALO_ belong to libhalo (the host may use %s)",
+                  (int)k->length, s, allowed_list.data ? allowed_list.data : "the contract's names");
         errors++;
     }
+    halo_strbuf_free(&allowed_list);
     halo_token_list_free(&toks);
     return errors;
 }
@@ -257,12 +261,15 @@ int halo_host_check_calls_in(const halo_program *p, const halo_host_info *h, con
         errors += require_call(p, h, t, "halo_finish", HALO_MSG_HOST_FINISH_MISSING,
                                why.data ? why.data : "call it", diag);
     }
-    if (p->segment_location > 0) {
+    halo_host_hit unused;
+    int begins = halo_host_scan_find_call(&h->scan, "halo_segment_begin", &unused),
+        ends = halo_host_scan_find_call(&h->scan, "halo_segment_end", &unused);
+    if (p->segment_location > 0 || begins || ends) {
         /* drawn in segments: each draw clips its rays to its segment and carries their state on */
         static const char why_segments[] =
-            "the program is drawn in depth segments (its stages run image passes between them), so the ray loop "
-            "must start with halo_segment_begin and end with halo_segment_end (docs/host-contract.md, "
-            "\"Segmented ray casting\")";
+            "a ray loop drawn in depth segments (the program's image passes run between them, or the text calls "
+            "one of the two) starts with halo_segment_begin and ends with halo_segment_end, which stores the "
+            "ray's state for the next segment (docs/host-contract.md, \"Segmented ray casting\")";
         errors += require_call(p, h, t, "halo_segment_begin", HALO_MSG_HOST_SEGMENT_CALLS, why_segments, diag);
         errors += require_call(p, h, t, "halo_segment_end", HALO_MSG_HOST_SEGMENT_CALLS, why_segments, diag);
     }

@@ -86,7 +86,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/render_output.sh \
 	tests/cli/pieces_composed.sh \
 	tests/cli/pieces_versions.sh \
-	tests/cli/pieces_reflect.sh
+	tests/cli/pieces_reflect.sh \
+	tests/cli/host_contract_rules.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
