@@ -12,6 +12,7 @@
  * result by the origins of its lines. The sample snippet is written twice: with this
  * host's names for the program, with the composer's expressions for the piece. */
 #include "diag.h"
+#include "host_check.h"
 #include "internal.h"
 #include "strbuf.h"
 
@@ -184,8 +185,16 @@ static int declare_engine_uniforms(halo_program *p) {
         if (u.count_name) halo_strbuf_printf(&b, "uniform int %s;\n", u.count_name), added++;
     }
     if (!added) return 0;
+    /* after the #version line and the precision statements (GLSL ES: a float uniform
+     * before them has no precision) */
     const char *nl = strchr(p->source, '\n');
     size_t head = nl ? (size_t)(nl - p->source) + 1 : 0;
+    int first = nl ? 1 : 0;
+    while (nl && (!strncmp(p->source + head, "precision ", 10) || !strncmp(p->source + head, "#extension ", 11))) {
+        nl = strchr(p->source + head, '\n');
+        head = nl ? (size_t)(nl - p->source) + 1 : strlen(p->source);
+        first++;
+    }
     halo_strbuf text = {0};
     halo_strbuf_append_n(&text, p->source, head);
     halo_strbuf_append(&text, b.data ? b.data : "");
@@ -198,7 +207,6 @@ static int declare_engine_uniforms(halo_program *p) {
         free(source);
         return -1;
     }
-    int first = nl ? 1 : 0;
     memcpy(origins, p->origins, (size_t)first * sizeof *origins);
     for (int i = 0; i < added; i++) origins[first + i] = (halo_line_origin){halo_generated_file, 0, NULL};
     memcpy(origins + first + added, p->origins + first, (size_t)(p->origin_count - first) * sizeof *origins);
@@ -239,6 +247,7 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
                         "volume's sampler to derive it from (volume) or a gradient texture (gradient_texture)");
         return NULL;
     }
+    if (halo_pieces_check_expressions(d, desc->target, diag)) return NULL;
     char *host = pieces_host(d, desc);
     /* the marker's line in the pieces host: after its #extension line, if any */
     int marker_line = 1;
@@ -328,53 +337,100 @@ halo_status halo_program_validate_composed(const halo_program *p, const char *co
     return HALO_WITH_GLSLANG(diag, validate_composed_held(p, composed, composed_file, pieces, piece_count, diag));
 }
 
+/* text with its CRLF line ends as LF (an engine on Windows, a file saved there): the
+ * pieces are found, and lines counted, the same either way. */
+static char *without_carriage_returns(const char *text) {
+    char *out = halo_strdup(text), *w = out;
+    for (const char *r = text; out && *r; r++)
+        if (!(r[0] == '\r' && r[1] == '\n')) *w++ = *r;
+    if (out) *w = '\0';
+    return out;
+}
+
+static int no_marker(const char *line) {
+    (void)line;
+    return 0;
+}
+
+/* The composed shader keeps the contract as a host does: it calls halo_apply (the sample
+ * piece), halo_finish (the finish piece) and the segment calls where the program needs
+ * them. Returns the error count. */
+static int check_composed_contract(const halo_program *p, const char *text, const char *file, char **lines,
+                                   halo_diagnostics *diag) {
+    /* the engine's text alone: the declarations piece (which defines those functions) blanked */
+    char *engine = halo_strdup(text);
+    const char *decl = p->pieces[HALO_PIECE_DECLARATIONS];
+    char *at = engine && decl && *decl ? strstr(engine, decl) : NULL;
+    for (size_t i = 0; at && i < strlen(decl); i++)
+        if (at[i] != '\n') at[i] = ' ';
+    halo_host_info h = {0};
+    int errors = -1;
+    if (engine && !halo_host_scan_run(&(halo_host_scan_desc){engine, p->target, p->kind, no_marker}, &h.scan)) {
+        halo_host_text t = {engine, file, lines, "composed shader"};
+        /* not its outputs' locations: an engine binds its own (VTK: glBindFragDataLocation) */
+        errors = halo_host_check_calls_in(p, &h, &t, diag);
+    }
+    halo_host_scan_free(&h.scan);
+    free(engine);
+    return errors;
+}
+
 static halo_status validate_composed_held(const halo_program *p, const char *composed, const char *composed_file,
                                          const halo_composer_piece *pieces, size_t piece_count,
                                          halo_diagnostics *diag) {
     if (!composed_file) composed_file = "composed shader";
-    char *copy = halo_strdup(composed);
+    char *text = without_carriage_returns(halo_skip_bom(composed));
+    char *copy = text ? halo_strdup(text) : NULL;
     char **lines = NULL;
     int count = copy ? halo_split_lines(copy, &lines) : -1;
     halo_line_origin *origins = count >= 0 ? calloc((size_t)count + 1, sizeof *origins) : NULL;
     if (!origins) {
         free(lines);
         free(copy);
+        free(text);
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
         return HALO_ERROR_IO;
     }
     for (int i = 0; i < count; i++) origins[i] = (halo_line_origin){composed_file, i + 1, lines[i]};
     /* the composer's pieces, then libhalo's (which may sit inside a composer piece) */
     for (size_t k = 0; k < piece_count; k++) {
-        const char *at = pieces[k].text && *pieces[k].text ? strstr(composed, pieces[k].text) : NULL;
-        if (!at) continue;
-        int first = line_of(composed, (size_t)(at - composed)), n = count_lines(pieces[k].text);
+        char *piece = pieces[k].text && *pieces[k].text ? without_carriage_returns(pieces[k].text) : NULL;
+        const char *at = piece ? strstr(text, piece) : NULL;
+        int first = at ? line_of(text, (size_t)(at - text)) : 0, n = at ? count_lines(piece) : 0;
         for (int i = 0; i < n && first + i < count; i++)
             origins[first + i] = (halo_line_origin){pieces[k].name ? pieces[k].name : "composer piece", i + 1,
                                                     lines[first + i]};
+        free(piece);
     }
     int missing = 0;
     for (int k = 0; k < HALO_PIECE_COUNT; k++) {
-        const char *text = p->pieces[k];
-        if (!text) continue;
-        const char *at = strstr(composed, text);
+        const char *piece = p->pieces[k];
+        if (!piece) continue;
+        const char *at = strstr(text, piece);
         if (!at) {
             missing += k == HALO_PIECE_DECLARATIONS;
             continue;
         }
-        int first = line_of(composed, (size_t)(at - composed));
+        /* a module's line keeps its origin; a line libhalo wrote stays the composed shader's own */
+        int first = line_of(text, (size_t)(at - text));
         for (int i = 0; i < p->piece_origin_counts[k] && first + i < count; i++) {
             halo_line_origin o = p->piece_origins[k][i];
-            origins[first + i] = o.file == pieces_file ? (halo_line_origin){halo_generated_file, 0, NULL} : o;
+            if (o.file != pieces_file && o.file != halo_generated_file && o.line) origins[first + i] = o;
         }
     }
     if (missing)
         halo_diag_add(diag, HALO_SEVERITY_WARNING, HALO_MSG_USAGE, composed_file, 0, 0, NULL,
                       "the program's declarations piece is not in the composed shader (or was changed): its "
                       "errors are reported at the composed shader's lines");
-    halo_status st = halo_glslang_validate(composed, p->kind, p->target, origins, count, composed_file, diag);
+    int contract = check_composed_contract(p, text, composed_file, lines, diag);
+    halo_status st = contract < 0 ? HALO_ERROR_IO
+                                  : halo_glslang_validate(text, p->kind, p->target, origins, count, composed_file, diag);
+    if (contract < 0) halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    else if (contract > 0 && st == HALO_OK) st = HALO_ERROR_INPUT;
     free(origins);
     free(lines);
     free(copy);
+    free(text);
     return st;
 }
 
@@ -404,12 +460,15 @@ int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_unifor
         out->value = u->value;
         if (info->type == HALO_PARAM_BOOL) out->glsl_type = "int";
         else if (info->type == HALO_PARAM_CHANNELS) {
+            /* halo_channels, the type the stages read: one float or vector of the program's
+             * channels (its values a list of up to 4 in the module, no array in GLSL) */
             out->glsl_type = channel_types[p->channel_count];
             out->components = p->channel_count;
             out->count = 1; /* one value per channel; fewer set: the last repeats */
             for (int k = 0; k < p->channel_count && u->count > 0; k++)
                 out->storage[k] = u->value[k < u->count ? k : u->count - 1];
             out->value = out->storage;
+            return 1;
         } else out->glsl_type = halo_param_type_name(info->type);
         if (info->array_size) {
             out->array_size = used ? info->array_size : 0;

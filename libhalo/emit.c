@@ -409,8 +409,9 @@ int halo_emit_program(halo_program *p, const char *host_source, char **host_line
                                 ? "precision highp float;\nprecision highp int;\nprecision highp sampler2D;\n"
                                   "precision highp sampler3D;"
                                 : "precision highp float;\nprecision highp int;";
-    if (!h->version_line && p->version == HALO_VERSION_TARGET) {
-        HALO_GEN(&e, "%s", ver);
+    if (!h->version_line) {
+        /* GLSL ES needs the precisions whoever writes the #version (KEEP, NONE: the engine) */
+        if (p->version == HALO_VERSION_TARGET) HALO_GEN(&e, "%s", ver);
         if (es) HALO_GEN(&e, "%s", precision);
     }
     for (int i = 0; i < host_count; i++) {

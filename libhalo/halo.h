@@ -152,7 +152,9 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(ENGINE_UNSUPPORTED, "the engine's mode or input cannot take the stages (docs/hosts/)")          \
     X(USAGE, "invalid argument")                                                           \
     X(GLSL_VERSION_IMPLIED, "shader has no '#version': GLSL's default version applies")          \
-    X(INPUT_TOO_LARGE, "the file is larger than libhalo reads (HALO_MAX_FILE_BYTES)")
+    X(INPUT_TOO_LARGE, "the file is larger than libhalo reads (HALO_MAX_FILE_BYTES)")          \
+    X(PIECE_EXPRESSION, "a composer expression (halo_pieces_desc) is not one GLSL expression of the kind its field needs") \
+    X(HOST_SEGMENT_CALLS, "the ray loop is not bracketed by halo_segment_begin and halo_segment_end")
 
 typedef enum halo_message_id {
 #define HALO_X_ENUM(id, text) HALO_MSG_##id,

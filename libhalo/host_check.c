@@ -174,6 +174,10 @@ int halo_host_check(const char *file, const char *source, char **lines, int coun
                   "#version (docs/host-contract.md)");
         errors++;
     }
+    /* the names of every contract version (contract_names), as the message lists them */
+    halo_strbuf allowed_list = {0};
+    for (int c = 0; contract_names[c]; c++)
+        halo_strbuf_printf(&allowed_list, "%s%s", c ? (contract_names[c + 1] ? ", " : " and ") : "", contract_names[c]);
     for (size_t t = 0; t < toks.count; t++) {
         const halo_token *k = &toks.items[t];
         if (k->kind != HALO_TOK_IDENT || k->length < 5) continue;
@@ -184,11 +188,11 @@ int halo_host_check(const char *file, const char *source, char **lines, int coun
         for (int c = 0; contract_names[c]; c++) allowed |= halo_token_is(source, k, contract_names[c]);
         if (allowed) continue;
         host_diag(h, diag, HALO_MSG_HOST_RESERVED_NAME, file, lines, k->line, k->column,
-                  "'%.*s' is reserved: names starting with halo_ or HALO_ belong to libhalo (the host may use "
-                  "halo_sample, halo_make_sample, halo_apply, halo_finish, HALO_LINKED and HALO_CONTRACT_VERSION)",
-                  (int)k->length, s);
+                  "'%.*s' is reserved: names starting with halo_ or HALO_ belong to libhalo (the host may use %s)",
+                  (int)k->length, s, allowed_list.data ? allowed_list.data : "the contract's names");
         errors++;
     }
+    halo_strbuf_free(&allowed_list);
     halo_token_list_free(&toks);
     return errors;
 }
@@ -206,7 +210,7 @@ static halo_host_hit host_main(const halo_host_info *h, const char *host) {
 }
 
 /* A call the program needs: on a compiled line, not in a comment or a branch not taken. */
-static int require_call(const halo_program *p, const halo_host_info *h, const char *host, const char *name,
+static int require_call(const halo_program *p, const halo_host_info *h, const halo_host_text *t, const char *name,
                         halo_message_id id, const char *why, halo_diagnostics *diag) {
     halo_host_hit unused;
     if (halo_host_scan_find_call(&h->scan, name, &unused)) return 0;
@@ -214,23 +218,29 @@ static int require_call(const halo_program *p, const halo_host_info *h, const ch
         const halo_host_line_info *l = &h->scan.lines[unused.line - 1];
         const char *cfile;
         int cline;
-        halo_host_scan_origin(&h->scan, p->host_file, l->condition_line, &cfile, &cline);
+        halo_host_scan_origin(&h->scan, t->file, l->condition_line, &cfile, &cline);
         if (unused.in_comment)
-            host_diag(h, diag, id, p->host_file, p->host_lines, unused.line, unused.column,
+            host_diag(h, diag, id, t->file, t->lines, unused.line, unused.column,
                       "this call of %s is commented out, and no other is compiled; %s", name, why);
         else
-            host_diag(h, diag, id, p->host_file, p->host_lines, unused.line, unused.column,
+            host_diag(h, diag, id, t->file, t->lines, unused.line, unused.column,
                       "this call of %s is in a preprocessor branch not taken for target %s (the condition at "
                       "%s:%d), and no other is compiled; %s",
                       name, halo_target_name(p->target), cfile, cline, why);
         return 1;
     }
-    halo_host_hit at = host_main(h, host);
-    host_diag(h, diag, id, p->host_file, p->host_lines, at.line, at.column, "the host never calls %s; %s", name, why);
+    halo_host_hit at = host_main(h, t->source);
+    host_diag(h, diag, id, t->file, t->lines, at.line, at.column, "the %s never calls %s; %s", t->what, name, why);
     return 1;
 }
 
 int halo_host_check_calls(const halo_program *p, const halo_host_info *h, const char *host, halo_diagnostics *diag) {
+    halo_host_text t = {host, p->host_file, p->host_lines, "host"};
+    return halo_host_check_calls_in(p, h, &t, diag);
+}
+
+int halo_host_check_calls_in(const halo_program *p, const halo_host_info *h, const halo_host_text *t,
+                             halo_diagnostics *diag) {
     int errors = 0;
     halo_strbuf stages = {0}, why = {0};
     for (size_t s = 0; s < p->stage_count; s++)
@@ -240,7 +250,7 @@ int halo_host_check_calls(const halo_program *p, const halo_host_info *h, const 
         halo_strbuf_printf(&why, "the scene links the stages %s, which run only inside halo_apply: call it once per "
                                  "sample (docs/host-contract.md)",
                            stages.data);
-        errors += require_call(p, h, host, "halo_apply", HALO_MSG_HOST_APPLY_MISSING,
+        errors += require_call(p, h, t, "halo_apply", HALO_MSG_HOST_APPLY_MISSING,
                                why.data ? why.data : "call it", diag);
     }
     if (p->output_count) {
@@ -248,8 +258,20 @@ int halo_host_check_calls(const halo_program *p, const halo_host_info *h, const 
         halo_strbuf_printf(&why, "the linked stages write extra outputs (%s...), so the host must call "
                                  "halo_finish() once per fragment before it returns (docs/image-passes.md)",
                            p->outputs[0].name);
-        errors += require_call(p, h, host, "halo_finish", HALO_MSG_HOST_FINISH_MISSING,
+        errors += require_call(p, h, t, "halo_finish", HALO_MSG_HOST_FINISH_MISSING,
                                why.data ? why.data : "call it", diag);
+    }
+    halo_host_hit unused;
+    int begins = halo_host_scan_find_call(&h->scan, "halo_segment_begin", &unused),
+        ends = halo_host_scan_find_call(&h->scan, "halo_segment_end", &unused);
+    if (p->segment_location > 0 || begins || ends) {
+        /* drawn in segments: each draw clips its rays to its segment and carries their state on */
+        static const char why_segments[] =
+            "a ray loop drawn in depth segments (the program's image passes run between them, or the text calls "
+            "one of the two) starts with halo_segment_begin and ends with halo_segment_end, which stores the "
+            "ray's state for the next segment (docs/host-contract.md, \"Segmented ray casting\")";
+        errors += require_call(p, h, t, "halo_segment_begin", HALO_MSG_HOST_SEGMENT_CALLS, why_segments, diag);
+        errors += require_call(p, h, t, "halo_segment_end", HALO_MSG_HOST_SEGMENT_CALLS, why_segments, diag);
     }
     halo_strbuf_free(&stages);
     halo_strbuf_free(&why);
@@ -259,12 +281,13 @@ int halo_host_check_calls(const halo_program *p, const halo_host_info *h, const 
 /* The host's outputs need explicit locations when libhalo adds outputs of its own: the
  * compiler would place an output without one anywhere, possibly on libhalo's. */
 int halo_host_check_outputs(const halo_program *p, const halo_host_info *h, const char *host, halo_diagnostics *diag) {
+    const halo_host_text text = {host, p->host_file, p->host_lines, "host"}, *t = &text;
     if ((!p->output_count && !p->segment_location) || p->kind != HALO_SHADER_FRAGMENT) return 0;
     if (p->unlocated_outputs) return 0; /* every output is bound by name before linking */
     halo_host_hit at[16];
-    size_t n = halo_host_scan_unlocated_outputs(&h->scan, host, at, sizeof at / sizeof at[0]);
+    size_t n = halo_host_scan_unlocated_outputs(&h->scan, t->source, at, sizeof at / sizeof at[0]);
     for (size_t i = 0; i < n && i < sizeof at / sizeof at[0]; i++)
-        host_diag(h, diag, HALO_MSG_HOST_OUTPUT_LOCATION, p->host_file, p->host_lines, at[i].line, at[i].column,
+        host_diag(h, diag, HALO_MSG_HOST_OUTPUT_LOCATION, t->file, t->lines, at[i].line, at[i].column,
                   "this output has no layout(location), but the program adds outputs of its own at location %d "
                   "and up (libhalo takes the first locations after the highest the host declares); declare it "
                   "'layout(location = 0) out ...' (each host output at its own location)",

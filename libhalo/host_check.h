@@ -26,6 +26,17 @@ int halo_host_check(const char *file, const char *source, char **lines, int coun
  * locations, macros that would rewrite the declarations. Each returns its error count. */
 int halo_host_check_calls(const halo_program *p, const halo_host_info *h, const char *host, halo_diagnostics *diag);
 int halo_host_check_outputs(const halo_program *p, const halo_host_info *h, const char *host, halo_diagnostics *diag);
+/* The same checks of another text than the program's host (the shader a composer made of
+ * the pieces, compose.c): its source, the file its diagnostics name, its lines, and what
+ * the messages call it ("host", "composed shader"). */
+typedef struct halo_host_text {
+    const char *source;
+    const char *file;
+    char **lines;
+    const char *what;
+} halo_host_text;
+int halo_host_check_calls_in(const halo_program *p, const halo_host_info *h, const halo_host_text *t,
+                             halo_diagnostics *diag);
 int halo_host_check_macros(const halo_program *p, const halo_host_info *h, halo_diagnostics *diag);
 /* The host's #line directives: out of the compiled text, into the line map. 0, or -1 (memory). */
 int halo_host_hide_line_directives(halo_program *p, const halo_host_info *h);

@@ -248,6 +248,16 @@ int halo_host_uses(const char *host, const char *name);
 void halo_segment_emit(struct halo_strbuf *b, const halo_program *p);
 void halo_segment_emit_tail(struct halo_strbuf *b, const halo_program *p);
 int halo_program_has_generation_passes(const halo_program *p);
+/* The uniforms the segment code declares (the camera, the segment): set by the runtime
+ * (set_by names the function), or by a host that draws itself; the reflection lists
+ * those a program declares among its host_uniforms. */
+typedef struct halo_runtime_uniform {
+    const char *name, *type, *meaning, *set_by;
+    int segmented; /* 1: declared only when the program is drawn in segments */
+} halo_runtime_uniform;
+extern const halo_runtime_uniform halo_runtime_uniforms[];
+extern const size_t halo_runtime_uniform_count;
+int halo_program_declares_runtime_uniform(const halo_program *p, const halo_runtime_uniform *u);
 /* gl/segments.c: a 4x4 column-major inverse; 0 if m is singular. */
 int halo_mat4_invert(const double m[16], double out[16]);
 /* gl/segments.c: how halo_gl_frame_draw draws a host (the emulation of a segmented host
@@ -276,6 +286,9 @@ extern const size_t halo_hook_struct_count;
 
 /* compose.c: a program linked from pieces (halo_link_desc.pieces, host_source NULL). */
 halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag);
+/* piece_expression.c: each expression of d is one GLSL expression of its field's kind
+ * (PIECE_EXPRESSION at "NAME=EXPR":1:column otherwise); returns the error count. */
+int halo_pieces_check_expressions(const halo_pieces_desc *d, halo_target target, halo_diagnostics *diag);
 /* link.c: halo_link of host text (desc->pieces, if set, gives only first_output_location). */
 halo_program *halo_link_host(const halo_link_desc *desc, halo_diagnostics *diag);
 /* Host contract 3 (prepass.c): the march of a one_draw program, linked from desc's scene. */

@@ -330,8 +330,15 @@ char *halo_program_reflect_json(const halo_program *p) {
     json_t *host_uniforms = json_array();
     for (size_t i = 0; i < p->host_uniform_count; i++) {
         const halo_host_uniform_info *h = &p->host_uniforms[i];
-        json_array_append_new(host_uniforms, json_pack("{s:s, s:s, s:s}", "name", h->name, "type", h->type, "meaning",
-                                                       h->meaning));
+        json_array_append_new(host_uniforms, json_pack("{s:s, s:s, s:s, s:s}", "name", h->name, "type", h->type,
+                                                       "meaning", h->meaning, "set_by", "host"));
+    }
+    /* the camera and segment uniforms: a host that draws without halo_gl_frame_draw sets them */
+    for (size_t i = 0; i < halo_runtime_uniform_count; i++) {
+        const halo_runtime_uniform *u = &halo_runtime_uniforms[i];
+        if (halo_program_declares_runtime_uniform(p, u))
+            json_array_append_new(host_uniforms, json_pack("{s:s, s:s, s:s, s:s}", "name", u->name, "type", u->type,
+                                                           "meaning", u->meaning, "set_by", u->set_by));
     }
     json_object_set_new(root, "host_uniforms", host_uniforms);
     json_t *images = json_array();

@@ -84,6 +84,26 @@ static const char segment_glsl[] =
     "    halo_segment_state_out = vec4(state.rgb, ended || halo_segment_ended ? state.a + 2.0 : state.a);\n"
     "}";
 
+/* The uniforms of camera_glsl and segment_glsl, for the reflection: a host that draws
+ * itself sets them (halo_gl_set_camera; halo_gl_frame_draw sets them all per segment). */
+const halo_runtime_uniform halo_runtime_uniforms[] = {
+    {"halo_camera_eye", "vec4", "xyz: the eye (w = 1), or the unit direction towards the viewer (w = 0: "
+                                "orthographic), in the space of the host's ray positions", "halo_gl_set_camera", 0},
+    {"halo_camera_plane", "vec4", "phi(P) = dot(xyz, P) + w: distance along the view axis", "halo_gl_set_camera", 0},
+    {"halo_camera_depth_range", "vec2", "phi at the front and back of the volume's bounding sphere",
+     "halo_gl_set_camera", 0},
+    {"halo_segment_state", "sampler2D", "the rays' state after the previous segment", "halo_gl_frame_draw", 1},
+    {"halo_segment_bounds", "vec2", "samples with bounds.x <= phi < bounds.y are this segment's",
+     "halo_gl_frame_draw", 1},
+    {"halo_segment_flags", "int", "1: the first segment, 2: the last", "halo_gl_frame_draw", 1},
+};
+const size_t halo_runtime_uniform_count = sizeof halo_runtime_uniforms / sizeof halo_runtime_uniforms[0];
+
+int halo_program_declares_runtime_uniform(const halo_program *p, const halo_runtime_uniform *u)
+{
+    return p->v2_host && (!u->segmented || p->segment_location > 0);
+}
+
 /* One draw: the whole ray, as a v1 host. */
 static const char single_glsl[] =
     "void halo_segment_begin(vec3 origin, vec3 direction, float t_first, float t_step,\n"

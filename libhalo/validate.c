@@ -132,12 +132,37 @@ static halo_status glslang_run(const char *source, halo_shader_kind kind, int li
     return errors ? HALO_ERROR_INPUT : HALO_OK;
 }
 
+static int version_directive_line(const char *source);
+
 halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, halo_target target,
                                   const halo_line_origin *origins, int origin_count, const char *fallback_file,
                                   halo_diagnostics *diag) {
-    (void)target; /* the #version line in the source selects the language */
     log_map map = {.origins = origins, .origin_count = origin_count, .fallback = fallback_file};
-    return glslang_run(source, kind, 0, &map, diag);
+    /* The #version line in the source selects the language. A text without one (linked
+     * with HALO_VERSION_NONE, or KEEP from a host without one, or composed by an engine
+     * that adds its own at compile time, as three.js does) is checked as the target it was
+     * linked for: the version the engine adds, not GLSL ES 1.00, which no host of libhalo's
+     * targets is. */
+    if (version_directive_line(source) || target == HALO_TARGET_DEFAULT || (unsigned)target >= HALO_TARGET_COUNT)
+        return glslang_run(source, kind, 0, &map, diag);
+    halo_strbuf b = {0};
+    halo_strbuf_printf(&b, "%s\n%s", halo_target_version_line(target), source);
+    char *text = halo_strbuf_take(&b);
+    halo_line_origin *shifted = calloc((size_t)origin_count + 1, sizeof *shifted);
+    if (!text || !shifted) {
+        free(text);
+        free(shifted);
+        halo_diag_error(diag, OUT_OF_MEMORY, fallback_file, 0, 0, "out of memory");
+        return HALO_ERROR_IO;
+    }
+    shifted[0] = (halo_line_origin){halo_generated_file, 0, NULL};
+    if (origin_count) memcpy(shifted + 1, origins, (size_t)origin_count * sizeof *shifted);
+    map.origins = shifted;
+    map.origin_count = origin_count + 1;
+    halo_status st = glslang_run(text, kind, 0, &map, diag);
+    free(shifted);
+    free(text);
+    return st;
 }
 
 /* The public validation functions hold glslang while they run (halo_glslang_acquire). */

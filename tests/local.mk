@@ -88,7 +88,11 @@ HALO_SHELL_TESTS = \
 	tests/cli/glsl_diagnostics.sh \
 	tests/cli/glslang_agree.sh \
 	tests/cli/render_output.sh \
-	tests/cli/file_bounds.sh
+	tests/cli/file_bounds.sh \
+	tests/cli/pieces_composed.sh \
+	tests/cli/pieces_versions.sh \
+	tests/cli/pieces_reflect.sh \
+	tests/cli/host_contract_rules.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
@@ -142,7 +146,9 @@ HALO_TEST_FILES = \
 	tests/data/scenes/bad_json.json \
 	tests/data/scenes/out_of_range.json \
 	tests/data/scenes/nan.json \
-	tests/data/scenes/huge.json
+	tests/data/scenes/huge.json \
+	tests/data/scenes/halo_pieces.json \
+	tests/data/composer/template.frag tests/data/composer/compose.awk
 EXTRA_DIST += $(HALO_SHELL_TESTS) $(HALO_TEST_FILES)
 
 # ---- Fuzz targets (tests/fuzz): make check replays the seed corpus and a fixed set of

@@ -38,7 +38,8 @@ static const char usage_text[] =
     "       [--pieces-dir DIR] [--composed FILE] [options of link]\n"
     "                                 link without host text, for shader composers\n"
     "                                 (docs/composers.md): print the declarations,\n"
-    "                                 sample and finish pieces (or write DIR/NAME.glsl);\n"
+    "                                 sample and finish pieces (to -o FILE, or write\n"
+    "                                 DIR/NAME.glsl); each EXPR is one GLSL expression;\n"
     "                                 --composed validates the shader an engine composed\n"
     "  list                           list the stages with their parameters\n"
     "  conform [--stage NAME] [--size N] [-v]\n"
@@ -338,10 +339,11 @@ static int set_piece_expression(halo_pieces_desc *d, char *arg) {
     if (!eq || eq == arg || !eq[1]) return -1;
     *eq = '\0';
     const char *v = eq + 1;
+    /* gradient_texture: the field's own name, as the diagnostics of an expression call it */
     static const char *const names[] = {"position", "value", "gradient", "view", "depth", "fragcoord", "color",
-                                        "volume", "gradient-texture"};
+                                        "volume", "gradient-texture", "gradient_texture"};
     const char **fields[] = {&d->position, &d->value, &d->gradient, &d->view, &d->depth, &d->fragcoord, &d->color,
-                             &d->volume, &d->gradient_texture};
+                             &d->volume, &d->gradient_texture, &d->gradient_texture};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (!strcmp(arg, names[i])) {
             *fields[i] = v;
@@ -360,15 +362,23 @@ static int write_text(const char *path, const char *text) {
     return 0;
 }
 
-/* link --pieces: the pieces, to stdout with a header each, or into DIR. */
-static int print_pieces(const halo_program *p, const char *dir) {
+/* link --pieces: the pieces, with a header each, to stdout or to the file -o names, or
+ * into DIR. */
+static int print_pieces(const halo_program *p, const char *dir, const char *out_path) {
     static const char *const names[HALO_PIECE_COUNT] = {"declarations", "sample", "finish"};
+    if (!dir) {
+        FILE *out = out_path ? fopen(out_path, "w") : stdout;
+        int bad = !out;
+        for (int k = 0; out && k < HALO_PIECE_COUNT; k++) {
+            const char *text = halo_program_piece(p, (halo_piece)k);
+            bad |= fprintf(out, "// ==== libhalo piece: %s ====\n%s", names[k], text ? text : "") < 0;
+        }
+        if (out && out != stdout) bad |= fclose(out) != 0;
+        if (bad) fprintf(stderr, "%s: error: cannot write: %s\n", out_path ? out_path : "<stdout>", strerror(errno));
+        return bad ? EXIT_USAGE : 0;
+    }
     for (int k = 0; k < HALO_PIECE_COUNT; k++) {
         const char *text = halo_program_piece(p, (halo_piece)k);
-        if (!dir) {
-            printf("// ==== libhalo piece: %s ====\n%s", names[k], text ? text : "");
-            continue;
-        }
         char path[4096];
         snprintf(path, sizeof path, "%s/%s.glsl", dir, names[k]);
         int st = write_text(path, text ? text : "");
@@ -465,7 +475,7 @@ static int cmd_link(int argc, char **argv) {
     if (!p || halo_program_validate(p, d) != HALO_OK) goto done;
     if (composed && halo_program_validate_composed(p, composed, composed_path, NULL, 0, d) != HALO_OK) goto done;
     if (pieces && (pieces_dir || !reflect)) {
-        status = print_pieces(p, pieces_dir);
+        status = print_pieces(p, pieces_dir, out_path);
         if (status) goto done;
     } else if (out_path) {
         status = write_text(out_path, halo_program_source(p));

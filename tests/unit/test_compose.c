@@ -364,6 +364,110 @@ static int test_version_modes(void) {
     return 0;
 }
 
+
+/* Issue 26: each composer expression is one GLSL expression of its field's kind, or the
+ * link fails with PIECE_EXPRESSION at "NAME=EXPR", line 1, the offending token's column
+ * (before, every one of these linked and gave pieces that cannot compile or do something
+ * else). */
+static int test_piece_expressions(void) {
+    static const struct {
+        const char *field, *text;
+        int column; /* in "field=text" */
+    } bad[] = {
+        {"position", "p //", 12},               /* comments out the rest of libhalo's line */
+        {"position", "p); discard; (p", 12},     /* statements */
+        {"color", "vec4(1.0)", 7},               /* color is written back: an lvalue */
+        {"position", "(p", 10},                  /* unbalanced */
+        {"position", "p)", 11},
+        {"value", "; uniform float evil", 7},
+        {"value", "x #define evil", 9},
+        {"value", "a = 1.0", 9},                 /* state changes: evaluated more than once */
+        {"value", "x++", 8},
+        {"value", "a, b", 8},                    /* two arguments */
+        {"value", "discard", 7},
+        {"position", "p.xy", 10},                /* a vec2 where a vec3 goes */
+        {"value", "vec3(1.0)", 7},
+        {"volume", "texture(v, p)", 8},          /* no sampler designator */
+        {"value", "", 7},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        halo_pieces_desc names = engine_names;
+        const char **slot = !strcmp(bad[i].field, "position") ? &names.position
+                            : !strcmp(bad[i].field, "value")  ? &names.value
+                            : !strcmp(bad[i].field, "color")  ? &names.color
+                                                              : &names.volume;
+        *slot = bad[i].text;
+        halo_program *p = link_pieces(per_sample_scene, &names, HALO_TARGET_GLSL150, 0);
+        if (p) CHECK_FAIL_AT("%s=%s linked", bad[i].field, bad[i].text);
+        const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_PIECE_EXPRESSION, 1);
+        if (!g) CHECK_FAIL_AT("%s=%s: no PIECE_EXPRESSION", bad[i].field, bad[i].text);
+        char file[128];
+        snprintf(file, sizeof file, "%s=%s", bad[i].field, bad[i].text);
+        CHECK_STR_EQ(g->file, file);
+        CHECK_INT_EQ(g->column, bad[i].column);
+    }
+    static const halo_pieces_desc good = {.position = "a[i].xyz * 0.5 + vec3(0.25)",
+                                          .value = "clamp(texture(volume_textures[0], ray_position).r, 0.0, 1.0)",
+                                          .view = "-normalize(eye - (ray_position))",
+                                          .depth = "x > 0.5 ? 1.0 : f(x, (y, z))",
+                                          .color = "colors[1]",
+                                          .volume = "volume_textures[0]"};
+    halo_program *p = link_pieces(per_sample_scene, &good, HALO_TARGET_GLSL150, 0);
+    CHECK(p != NULL);
+    halo_program_destroy(p);
+    return 0;
+}
+
+/* Issue 26: a live channels parameter (halo_generate.delta, halo_seed.alpha) is declared by
+ * the engine as the program's halo_channels (vec2 for two halos), not as an array, so
+ * seed.glsl and map.glsl compile (before: "vec2 NAME[4]", and halo_channel() had no
+ * overload); under GLSL ES the engine's uniforms come after the precision statements. */
+static int test_engine_channels(void) {
+    static const char scene_json[] =
+        "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": [32, 16], \"live\": [\"alpha\"]}},"
+        " {\"halo_generate\": {\"delta\": [0.9, 0.8], \"live\": [\"delta\"]}}, {\"halo_map\": {}}]}";
+    static const halo_target targets[] = {HALO_TARGET_GLSL150, HALO_TARGET_GLSL330, HALO_TARGET_ES300};
+    halo_diagnostics_clear(diags);
+    halo_scene *scene = halo_scene_parse(scene_json, "channels.json", library, diags);
+    CHECK(scene != NULL);
+    halo_pieces_desc names = engine_names;
+    names.segmented = 1;
+    for (size_t t = 0; t < sizeof targets / sizeof targets[0]; t++)
+        for (int all_live = 0; all_live <= 1; all_live++) {
+            halo_diagnostics_clear(diags);
+            halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .pieces = &names,
+                                                          .target = targets[t], .engine_uniforms = 1,
+                                                          .all_live = all_live},
+                                        diags);
+            CHECK(p != NULL);
+            size_t cursor = 0;
+            halo_uniform_decl u;
+            int delta = 0;
+            while (halo_program_uniform_next(p, &cursor, &u))
+                if (u.name && strstr(u.name, "halo_generate_delta")) {
+                    delta = 1;
+                    CHECK_STR_EQ(u.glsl_type, "vec2");
+                    CHECK_INT_EQ(u.array_size, 0);
+                    CHECK_INT_EQ(u.components, 2);
+                    CHECK(u.count_name == NULL);
+                }
+            CHECK(delta);
+            if (halo_program_validate(p, diags) != HALO_OK) {
+                check_print_diags(diags);
+                CHECK_FAIL_AT("target %s, all_live %d: the pieces do not validate", halo_target_name(targets[t]),
+                              all_live);
+            }
+            if (targets[t] == HALO_TARGET_ES300) {
+                const char *src = halo_program_source(p), *precision = strstr(src, "precision highp float;");
+                const char *uniform = strstr(src, "uniform vec2 halo_halo_generate_delta;");
+                CHECK(precision && uniform && precision < uniform);
+            }
+            halo_program_destroy(p);
+        }
+    halo_scene_destroy(scene);
+    return 0;
+}
+
 int main(void) {
     SETUP(halo_setup(&(halo_setup_desc){0}) == HALO_OK);
     library = check_library_setup(&diags);
@@ -376,6 +480,8 @@ int main(void) {
     RUN_TEST(test_engine_uniforms);
     RUN_TEST(test_pieces_outputs);
     RUN_TEST(test_version_modes);
+    RUN_TEST(test_piece_expressions);
+    RUN_TEST(test_engine_channels);
     halo_library_destroy(library);
     halo_diagnostics_destroy(diags);
     halo_shutdown();

@@ -1,0 +1,22 @@
+#!/bin/sh
+# Issue 26: every rule the host contract states is a diagnostic. A ray loop with
+# halo_segment_begin but no halo_segment_end (or the reverse) linked with exit 0; the
+# reserved-name message listed only contract 1's names.
+. "$srcdir/tests/cli/common.sh"
+
+host="$srcdir/examples/hosts/raycast.frag"
+scene="$data/scenes/good.json"
+run 0 "$HALO_VALIDATE" link --scene "$scene" --host "$host" -o "$tmp/ok.frag"
+main_line=$(grep -n '^void main' "$host" | cut -d: -f1)
+sed '/halo_segment_end(/d' "$host" >"$tmp/no_end.frag"
+run 1 "$HALO_VALIDATE" link --scene "$scene" --host "$tmp/no_end.frag" -o "$tmp/x.frag"
+expect_stderr "no_end\.frag:$main_line:6: error: the host never calls halo_segment_end"
+sed 's|^\( *\)\(halo_segment_end(.*\)$|\1// \2|' "$host" >"$tmp/end_commented.frag"
+run 1 "$HALO_VALIDATE" link --scene "$scene" --host "$tmp/end_commented.frag" -o "$tmp/x.frag"
+expect_stderr "end_commented\.frag:[0-9]+:[0-9]+: error: this call of halo_segment_end is commented out"
+
+printf '#version 330 core\n#pragma halo declarations\nuniform float halo_mine;\nout vec4 c;\nvoid main() { c = vec4(halo_mine); }\n' \
+    >"$tmp/reserved.frag"
+run 1 "$HALO_VALIDATE" link --host "$tmp/reserved.frag" -o "$tmp/x.frag"
+expect_stderr "reserved\.frag:3:15: error: 'halo_mine' is reserved: .*halo_segment_begin, halo_segment_end, halo_view_at, halo_depth_at, halo_gradient_at and HALO_RAY_MAY_END\)"
+finish
