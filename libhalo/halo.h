@@ -817,6 +817,10 @@ typedef struct halo_gl_segments_desc {
                                 * (RGBA16F, 8 bytes a voxel) and keeps it while volume_texture, its size
                                 * and volume_version stay the same */
     int volume_version;      /* change it when the volume texture's contents change */
+    int volume_size[3];      /* its voxels per axis; 0: queried (a context without glGetTexLevelParameteriv,
+                              * such as OpenGL ES 3.0, needs them) */
+    float seed_epsilon;      /* the march skips the 4^3-voxel bricks where no seed can exceed this (0: only
+                              * where the gradient is zero: exact; the error it allows: docs/host-contract.md) */
 } halo_gl_segments_desc;
 
 /* Sets the camera uniforms of halo_view_at and halo_depth_at (the program must be current).

@@ -182,6 +182,7 @@ struct halo_raycast {
     int interval, segments;
     int orthographic;
     float jitter; /* the uniform `jitter` of hosts that jitter their first sample */
+    float seed_epsilon; /* host contract 3: halo_gl_segments_desc.seed_epsilon */
     GLuint exit_program, exit_texture, exit_framebuffer; /* halo_raycast_set_exit_points */
 };
 
@@ -289,6 +290,12 @@ void halo_raycast_set_segments(halo_raycast *r, int interval, int segments)
         r->interval = interval > 0 ? interval : 0;
         r->segments = segments > 0 ? segments : 0;
     }
+}
+
+void halo_raycast_set_seed_epsilon(halo_raycast *r, float epsilon)
+{
+    if (r)
+        r->seed_epsilon = epsilon > 0.0f ? epsilon : 0.0f;
 }
 
 void halo_raycast_set_jitter(halo_raycast *r, float jitter)
@@ -406,6 +413,8 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
                                       .segments = r->segments,
                                       .framebuffer = r->target.framebuffer,
                                       .volume_texture = r->volume_texture,
+                                      .volume_size = {r->dims[0], r->dims[1], r->dims[2]},
+                                      .seed_epsilon = r->seed_epsilon,
                                       .draw = draw_proxy,
                                       .user = r};
     if (r->frame) {

@@ -97,6 +97,9 @@ halo_gl_frame *halo_raycast_frame(const halo_raycast *r);
 void halo_raycast_set_segments(halo_raycast *r, int interval, int segments);
 /* An orthographic camera for the next halo_raycast_set_camera (default: perspective). */
 void halo_raycast_set_orthographic(halo_raycast *r, int orthographic);
+/* Host contract 3 (a program linked with one_draw): the march's empty-space bound
+ * (halo_gl_segments_desc.seed_epsilon; default 0, exact). */
+void halo_raycast_set_seed_epsilon(halo_raycast *r, float epsilon);
 /* The uniform `jitter` of a host that jitters its first sample (webgl_caster.frag; default 0). */
 void halo_raycast_set_jitter(halo_raycast *r, float jitter);
 /* Two-pass hosts (exit_point_caster.frag): from now on each render first draws the

@@ -21,11 +21,8 @@
 
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
 #include <stdio.h>
-#include <time.h>
-static double field_now(void){struct timespec t;clock_gettime(CLOCK_MONOTONIC,&t);return t.tv_sec+1e-9*t.tv_nsec;}
-static double field_t[4];
+#include <string.h>
 
 #define FIELD_MAX_STACKS 4
 #define FIELD_DEFAULT_FIRST_UNIT 8
@@ -43,6 +40,12 @@ typedef struct field_stack {
 typedef struct field_gradient {
     GLuint texture, program;
     GLint volume, layer;
+    /* the empty-space skip: per brick of 4^3 voxels, the largest |gradient| a sample in it
+     * interpolates (voxels 4b - 1 .. 4b + 4 per axis), of the gradient texture in use */
+    GLuint bricks, brick_program;
+    GLint brick_gradient, brick_layer;
+    unsigned bricks_of;
+    int bricks_version, bricks_valid, brick_size[3];
     unsigned of;  /* the volume texture it was derived from */
     int size[3];
     int version;  /* halo_gl_segments_desc.volume_version it was derived at */
@@ -51,7 +54,7 @@ typedef struct field_gradient {
 
 struct halo_gl_field {
     GLuint march, framebuffer, vertex_array;
-    GLint volume, gradient_sampler, matrix, viewport, box_min, box_max, plane, planes, range;
+    GLint volume, gradient_sampler, bricks_sampler, skip, matrix, viewport, box_min, box_max, plane, planes, range;
     field_gradient gradient;
     field_stack stacks[FIELD_MAX_STACKS];
     int stack_count;
@@ -67,6 +70,21 @@ static const char march_vertex_es300[] =
     "#version 300 es\n"
     "void main() {\n"
     "    gl_Position = vec4(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0, 0.0, 1.0);\n"
+    "}\n";
+/* One layer of the bricks: the largest |gradient| among the voxels whose values a
+ * trilinear sample inside the brick reads (the brick's 4 and one more on each side). */
+static const char brick_fragment_body[] =
+    "uniform highp sampler3D gradient;\n"
+    "uniform int layer;\n"
+    "layout(location = 0) out vec4 largest;\n"
+    "void main() {\n"
+    "    ivec3 size = textureSize(gradient, 0), b = ivec3(ivec2(gl_FragCoord.xy), layer) * 4;\n"
+    "    float m = 0.0;\n"
+    "    for (int z = -1; z <= 4; ++z)\n"
+    "        for (int y = -1; y <= 4; ++y)\n"
+    "            for (int x = -1; x <= 4; ++x)\n"
+    "                m = max(m, length(texelFetch(gradient, clamp(b + ivec3(x, y, z), ivec3(0), size - 1), 0).rgb));\n"
+    "    largest = vec4(m, 0.0, 0.0, 0.0);\n"
     "}\n";
 /* One layer of the gradient: central differences of the voxel values, clamped at the
  * borders as the volume sampler's CLAMP_TO_EDGE reads them, halved. Trilinear filtering
@@ -108,7 +126,6 @@ halo_gl_field *halo_gl_field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     }
     GLint program = 0;
     f->GetIntegerv(GL_CURRENT_PROGRAM, &program);
-    if (getenv("HALO_DUMP_MARCH")) { fprintf(stderr, "%s\n=====HOST\n%s\n", halo_program_source(p->prepass), halo_program_source(p)); }
     field->march = halo_gl_program_build(gl, p->prepass,
                                          halo_program_target(p->prepass) == HALO_TARGET_ES300 ? march_vertex_es300
                                                                                               : march_vertex_330,
@@ -119,6 +136,8 @@ halo_gl_field *halo_gl_field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     }
     field->volume = f->GetUniformLocation(field->march, "march_volume");
     field->gradient_sampler = f->GetUniformLocation(field->march, "march_gradient");
+    field->bricks_sampler = f->GetUniformLocation(field->march, "march_bricks");
+    field->skip = f->GetUniformLocation(field->march, "march_skip");
     field->matrix = f->GetUniformLocation(field->march, "march_inverse_view_projection");
     field->viewport = f->GetUniformLocation(field->march, "march_viewport");
     field->box_min = f->GetUniformLocation(field->march, "march_box_min");
@@ -144,6 +163,8 @@ void halo_gl_field_destroy(halo_gl_frame *fr, halo_gl_field *field)
     f->DeleteProgram(field->march);
     f->DeleteProgram(field->gradient.program);
     f->DeleteTextures(1, &field->gradient.texture);
+    f->DeleteProgram(field->gradient.brick_program);
+    f->DeleteTextures(1, &field->gradient.bricks);
     f->DeleteFramebuffers(1, &field->framebuffer);
     f->DeleteVertexArrays(1, &field->vertex_array);
     free(field);
@@ -270,78 +291,164 @@ static int segment_footprint(const double view_projection[16], const halo_segmen
     return box[0] < box[2] && box[1] < box[3];
 }
 
-/* The gradient texture the march reads: the host's, or one derived from its volume (bound
- * at unit); 0 after a diagnostic. */
-static GLuint field_gradient_texture(const halo_glfuncs *f, halo_gl_field *field, const halo_program *march,
-                                     const halo_gl_segments_desc *d, int unit, halo_diagnostics *diag)
+/* A program of libhalo's full-screen vertex shader and a fragment body (its version line
+ * that of the march); 0 after a diagnostic. */
+static GLuint field_program(const halo_glfuncs *f, const halo_program *march, const char *body, const char *file,
+                            halo_diagnostics *diag)
 {
-    if (d->gradient_texture)
-        return d->gradient_texture;
-    field_gradient *g = &field->gradient;
-    int size[3] = {0, 0, 0};
-    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
-    f->BindTexture(GL_TEXTURE_3D, d->volume_texture);
-    if (f->GetTexLevelParameteriv) {
-        f->GetTexLevelParameteriv(GL_TEXTURE_3D, 0, GL_TEXTURE_WIDTH, &size[0]);
-        f->GetTexLevelParameteriv(GL_TEXTURE_3D, 0, GL_TEXTURE_HEIGHT, &size[1]);
-        f->GetTexLevelParameteriv(GL_TEXTURE_3D, 0, GL_TEXTURE_DEPTH, &size[2]);
-    }
-    if (size[0] < 1 || size[1] < 1 || size[2] < 1) {
-        halo_diag_error(diag, USAGE, "", 0, 0,
-                        "halo_gl_frame_draw: the size of desc.volume_texture cannot be queried on this context "
-                        "(glGetTexLevelParameteriv: OpenGL ES 3.1): give desc.gradient_texture");
-        return 0;
-    }
-    if (g->valid && g->of == d->volume_texture && g->version == d->volume_version && !memcmp(g->size, size, sizeof size))
-        return g->texture;
-    if (!g->program) {
-        int es = halo_program_target(march) == HALO_TARGET_ES300;
-        char source[2048];
-        snprintf(source, sizeof source, "%s%s", es ? "#version 300 es\nprecision highp float;\nprecision highp int;\n"
-                                               : "#version 330 core\n", gradient_fragment_body);
-        const char *file = "(libhalo's gradient of the host's volume)";
-        GLuint vertex = halo_gl_compile_mapped(f, GL_VERTEX_SHADER, es ? march_vertex_es300 : march_vertex_330, NULL,
-                                               NULL, 0, file, diag);
-        GLuint fragment = halo_gl_compile_mapped(f, GL_FRAGMENT_SHADER, source, NULL, NULL, 0, file, diag);
-        GLuint program = halo_gl_program_attach(f, vertex, fragment, file, diag);
-        g->program = program ? halo_gl_link_attached(f, program, vertex, fragment, file,
-                                                     "the driver could not link the gradient program", diag)
-                             : 0;
-        if (!g->program)
-            return 0;
-        g->volume = f->GetUniformLocation(g->program, "volume");
-        g->layer = f->GetUniformLocation(g->program, "layer");
-    }
-    if (!g->texture || memcmp(g->size, size, sizeof size)) {
-        if (!g->texture)
-            f->GenTextures(1, &g->texture);
-        f->BindTexture(GL_TEXTURE_3D, g->texture);
-        f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    int es = halo_program_target(march) == HALO_TARGET_ES300;
+    char source[2048];
+    snprintf(source, sizeof source, "%s%s",
+             es ? "#version 300 es\nprecision highp float;\nprecision highp int;\nprecision highp sampler3D;\n"
+                : "#version 330 core\n",
+             body);
+    GLuint vertex = halo_gl_compile_mapped(f, GL_VERTEX_SHADER, es ? march_vertex_es300 : march_vertex_330, NULL, NULL,
+                                           0, file, diag);
+    GLuint fragment = halo_gl_compile_mapped(f, GL_FRAGMENT_SHADER, source, NULL, NULL, 0, file, diag);
+    GLuint program = halo_gl_program_attach(f, vertex, fragment, file, diag);
+    return program ? halo_gl_link_attached(f, program, vertex, fragment, file, "the driver could not link it", diag) : 0;
+}
+
+/* A 3D texture of size[3] (internal format, linear or nearest) written layer by layer by
+ * program, whose uniform `layer` (at layer_location) says which. */
+static void field_draw_layers(const halo_glfuncs *f, halo_gl_field *field, GLuint *texture, GLint internal,
+                              GLenum filter, const int size[3], int allocate, GLuint program, GLint layer_location)
+{
+    if (allocate) {
+        if (!*texture)
+            f->GenTextures(1, texture);
+        f->BindTexture(GL_TEXTURE_3D, *texture);
+        f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, (GLint)filter);
+        f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, (GLint)filter);
         f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
         f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
         f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-        f->TexImage3D(GL_TEXTURE_3D, 0, GL_RGBA16F, size[0], size[1], size[2], 0, GL_RGBA, GL_FLOAT, NULL);
-        f->BindTexture(GL_TEXTURE_3D, d->volume_texture);
+        f->TexImage3D(GL_TEXTURE_3D, 0, internal, size[0], size[1], size[2], 0, internal == GL_R32F ? GL_RED : GL_RGBA,
+                      GL_FLOAT, NULL);
     }
-    f->UseProgram(g->program);
-    f->Uniform1i(g->volume, unit);
+    f->UseProgram(program);
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, field->framebuffer);
     GLenum buffer = GL_COLOR_ATTACHMENT0;
     f->DrawBuffers(1, &buffer);
     f->Viewport(0, 0, size[0], size[1]);
     f->BindVertexArray(field->vertex_array);
     for (int z = 0; z < size[2]; ++z) {
-        f->FramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, g->texture, 0, z);
-        f->Uniform1i(g->layer, z);
+        f->FramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, *texture, 0, z);
+        f->Uniform1i(layer_location, z);
         f->DrawArrays(GL_TRIANGLES, 0, 3);
     }
     f->FramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0);
+}
+
+/* The bricks of gradient (bound to unit + 1 as march_gradient is), kept while it is. */
+static GLuint field_bricks(const halo_glfuncs *f, halo_gl_field *field, const halo_program *march, GLuint gradient,
+                           const int size[3], int version, int unit, halo_diagnostics *diag)
+{
+    field_gradient *g = &field->gradient;
+    int bricks[3] = {(size[0] + 3) / 4, (size[1] + 3) / 4, (size[2] + 3) / 4};
+    if (g->bricks_valid && g->bricks_of == gradient && g->bricks_version == version &&
+        !memcmp(g->brick_size, bricks, sizeof bricks))
+        return g->bricks;
+    if (!g->brick_program) {
+        g->brick_program = field_program(f, march, brick_fragment_body, "(libhalo's empty-space bricks)", diag);
+        if (!g->brick_program)
+            return 0;
+        g->brick_gradient = f->GetUniformLocation(g->brick_program, "gradient");
+        g->brick_layer = f->GetUniformLocation(g->brick_program, "layer");
+    }
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 1);
+    f->BindTexture(GL_TEXTURE_3D, gradient);
+    f->UseProgram(g->brick_program);
+    f->Uniform1i(g->brick_gradient, unit + 1);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 2);
+    field_draw_layers(f, field, &g->bricks, GL_R32F, GL_NEAREST, bricks, !g->bricks || memcmp(g->brick_size, bricks,
+                                                                                          sizeof bricks),
+                      g->brick_program, g->brick_layer);
+    g->bricks_of = gradient;
+    g->bricks_version = version;
+    memcpy(g->brick_size, bricks, sizeof bricks);
+    g->bricks_valid = 1;
+    return g->bricks;
+}
+
+/* The gradient texture the march reads: the host's, or one derived from its volume (bound
+ * at unit); 0 after a diagnostic. */
+/* The volume's voxels per axis: the desc's, or queried; 0 after a diagnostic. */
+static int field_volume_size(const halo_glfuncs *f, const halo_gl_segments_desc *d, int unit, int size[3],
+                             halo_diagnostics *diag)
+{
+    memcpy(size, d->volume_size, 3 * sizeof *size);
+    if (size[0] < 1 || size[1] < 1 || size[2] < 1) {
+        size[0] = size[1] = size[2] = 0;
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+        f->BindTexture(GL_TEXTURE_3D, d->volume_texture);
+        if (f->GetTexLevelParameteriv) {
+            f->GetTexLevelParameteriv(GL_TEXTURE_3D, 0, GL_TEXTURE_WIDTH, &size[0]);
+            f->GetTexLevelParameteriv(GL_TEXTURE_3D, 0, GL_TEXTURE_HEIGHT, &size[1]);
+            f->GetTexLevelParameteriv(GL_TEXTURE_3D, 0, GL_TEXTURE_DEPTH, &size[2]);
+        }
+    }
+    if (size[0] >= 1 && size[1] >= 1 && size[2] >= 1 && size[0] <= 16384 && size[1] <= 16384 && size[2] <= 16384)
+        return 1;
+    halo_diag_error(diag, USAGE, "", 0, 0,
+                    "halo_gl_frame_draw: the size of desc.volume_texture is unknown (%dx%dx%d): give "
+                    "desc.volume_size (a context without glGetTexLevelParameteriv, such as OpenGL ES 3.0)",
+                    size[0], size[1], size[2]);
+    return 0;
+}
+
+static GLuint field_gradient_texture(const halo_glfuncs *f, halo_gl_field *field, const halo_program *march,
+                                     const halo_gl_segments_desc *d, const int size[3], int unit,
+                                     halo_diagnostics *diag)
+{
+    if (d->gradient_texture)
+        return d->gradient_texture;
+    field_gradient *g = &field->gradient;
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+    f->BindTexture(GL_TEXTURE_3D, d->volume_texture);
+    if (g->valid && g->of == d->volume_texture && g->version == d->volume_version && !memcmp(g->size, size, sizeof g->size))
+        return g->texture;
+    if (!g->program) {
+        g->program = field_program(f, march, gradient_fragment_body, "(libhalo's gradient of the host's volume)", diag);
+        if (!g->program)
+            return 0;
+        g->volume = f->GetUniformLocation(g->program, "volume");
+        g->layer = f->GetUniformLocation(g->program, "layer");
+    }
+    f->UseProgram(g->program);
+    f->Uniform1i(g->volume, unit);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 1);
+    field_draw_layers(f, field, &g->texture, GL_RGBA16F, GL_LINEAR, size, !g->texture || memcmp(g->size, size, sizeof g->size),
+                      g->program, g->layer);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
     g->of = d->volume_texture;
     g->version = d->volume_version;
-    memcpy(g->size, size, sizeof size);
+    memcpy(g->size, size, sizeof g->size);
     g->valid = 1;
     return g->texture;
+}
+
+/* The largest |gradient| below which a sample's seed is at most epsilon in every channel:
+ * s <= min(1, g gradient_scale)^alpha (h_v, h_d, h_p and the contour term are at most 1,
+ * docs/stages/halo_seed.md), so g <= epsilon^(1/alpha) / gradient_scale; with epsilon 0,
+ * the gradient stage's own zero (|gradient| <= 1e-10: no normal, no seed), exact. */
+static float field_skip_bound(const halo_program *march, float epsilon)
+{
+    const double exact = 1e-10;
+    if (!(epsilon > 0.0f) || !isfinite(epsilon))
+        return (float)exact;
+    const halo_uniform_info *alpha = halo_program_find_uniform(march, "halo_seed", "alpha");
+    const halo_uniform_info *scale = halo_program_find_uniform(march, "halo_seed", "gradient_scale");
+    if (!alpha || !scale || !alpha->value || !scale->value)
+        return (float)exact;
+    double bound = INFINITY;
+    for (int h = 0; h < halo_program_channel_count(march); ++h) {
+        double a = alpha->value[h < alpha->count ? h : alpha->count - 1];
+        double k = scale->value[h < scale->count ? h : scale->count - 1];
+        double g = !(a > 0.0) ? exact : !(k > 0.0) ? INFINITY : pow((double)epsilon, 1.0 / a) / k;
+        bound = g < bound ? g : bound;
+    }
+    return (float)(bound > exact ? bound : exact);
 }
 
 /* The images the samples read, after segment j's generation, into layer j of their stacks. */
@@ -457,8 +564,15 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     f->Disable(GL_CULL_FACE);
     f->Disable(GL_DEPTH_TEST);
     f->Disable(GL_STENCIL_TEST);
-    GLuint gradient = field_gradient_texture(f, field, p->prepass, d, unit, diag);
-    if (!gradient)
+    int voxels[3];
+    GLuint gradient = field_volume_size(f, d, unit, voxels, diag)
+                          ? field_gradient_texture(f, field, p->prepass, d, voxels, unit, diag)
+                          : 0;
+    GLuint bricks = gradient ? field_bricks(f, field, p->prepass, gradient, voxels,
+                                            d->gradient_texture ? d->volume_version : field->gradient.version, unit,
+                                            diag)
+                             : 0;
+    if (!bricks)
         return HALO_ERROR_INPUT;
     halo_gl_frame_begin(fr);
     f->UseProgram(field->march);
@@ -470,6 +584,10 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 1);
     f->BindTexture(GL_TEXTURE_3D, gradient);
     f->Uniform1i(field->gradient_sampler, unit + 1);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 2);
+    f->BindTexture(GL_TEXTURE_3D, bricks);
+    f->Uniform1i(field->bricks_sampler, unit + 2);
+    f->Uniform1f(field->skip, field_skip_bound(p->prepass, d->seed_epsilon));
     f->UniformMatrix4fv(field->matrix, 1, GL_FALSE, d->inverse_view_projection);
     f->Uniform2f(field->viewport, (float)width, (float)height);
     f->Uniform3f(field->box_min, (float)low[0], (float)low[1], (float)low[2]);
@@ -493,19 +611,13 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
             f->Enable(GL_SCISSOR_TEST);
             f->Scissor(box[0], box[1], box[2] - box[0], box[3] - box[1]);
             f->Uniform2i(field->range, first, end);
-            double t0 = field_now();
             f->DrawArrays(GL_TRIANGLES, 0, 3);
-            if (getenv("HALO_FIELD_PROFILE")) { f->Finish(); field_t[0] += field_now() - t0; }
             f->Disable(GL_SCISSOR_TEST);
         }
         halo_gl_frame_drawn_region(fr, box[0], box[1], box[2], box[3]);
-        double t1 = field_now();
         halo_gl_frame_generate(fr);
-        if (getenv("HALO_FIELD_PROFILE")) { f->Finish(); field_t[1] += field_now() - t1; }
-        t1 = field_now();
         f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
         field_store(f, fr, field, j);
-        if (getenv("HALO_FIELD_PROFILE")) { f->Finish(); field_t[2] += field_now() - t1; }
     }
     return HALO_OK;
 }
@@ -542,10 +654,7 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         halo_gl_frame_attach(fr, d->framebuffer);
         halo_gl_frame_bind(fr, gl_program, first_unit);
         halo_gl_frame_segments_reset(fr);
-        double t3 = field_now();
         d->draw(d->user);
-        if (getenv("HALO_FIELD_PROFILE")) { f->Finish(); field_t[3] += field_now() - t3;
-            fprintf(stderr, "field: march %.1f ms, generate %.1f ms, store %.1f ms, host %.1f ms (%d segments)\n", field_t[0]*1e3, field_t[1]*1e3, field_t[2]*1e3, field_t[3]*1e3, plan.segments); memset(field_t, 0, sizeof field_t); }
         halo_gl_frame_state_flip(fr); /* counts the one draw */
         f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)saved.draw_framebuffer);
         f->UseProgram((GLuint)saved.program);
