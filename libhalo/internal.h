@@ -253,7 +253,7 @@ int halo_program_has_generation_passes(const halo_program *p);
  * those a program declares among its host_uniforms. */
 typedef struct halo_runtime_uniform {
     const char *name, *type, *meaning, *set_by;
-    int segmented; /* 1: declared only when the program is drawn in segments */
+    int segmented; /* 1: declared only when the program is drawn in segments; 2: only with one_draw */
 } halo_runtime_uniform;
 extern const halo_runtime_uniform halo_runtime_uniforms[];
 extern const size_t halo_runtime_uniform_count;

@@ -96,11 +96,17 @@ const halo_runtime_uniform halo_runtime_uniforms[] = {
     {"halo_segment_bounds", "vec2", "samples with bounds.x <= phi < bounds.y are this segment's",
      "halo_gl_frame_draw", 1},
     {"halo_segment_flags", "int", "1: the first segment, 2: the last", "halo_gl_frame_draw", 1},
+    /* host contract 3 (emit.c): the stack of the segments' field layers */
+    {"halo_stack_plane", "vec4", "phi(P) = dot(xyz, P) + w: the depth segments' axis", "halo_gl_frame_draw", 2},
+    {"halo_stack_slabs", "vec3", "x: phi where segment 0 begins, y: 1 / a segment's length, z: segments",
+     "halo_gl_frame_draw", 2},
 };
 const size_t halo_runtime_uniform_count = sizeof halo_runtime_uniforms / sizeof halo_runtime_uniforms[0];
 
 int halo_program_declares_runtime_uniform(const halo_program *p, const halo_runtime_uniform *u)
 {
+    if (u->segmented == 2)
+        return p->one_draw;
     return p->v2_host && (!u->segmented || p->segment_location > 0);
 }
 
