@@ -299,8 +299,8 @@ extern const char halo_march_file[];
 int halo_prepass_mark(halo_program *p);
 /* Drops the outputs that feed generation passes (the march writes them). */
 void halo_prepass_drop_outputs(halo_program *p);
-/* Links p->prepass. */
-int halo_prepass_link(halo_program *p, const halo_link_desc *desc, halo_diagnostics *diag);
+/* The desc of p's march (halo_link_prepass): desc's scene over libhalo's march host. */
+halo_link_desc halo_prepass_desc(const halo_program *p, const halo_link_desc *desc);
 /* Is image written by generation passes of a one_draw program (read from the stack)? */
 int halo_prepass_image(const halo_program *p, const char *image);
 /* program.c: a string the program owns (freed with it), printf-style. */

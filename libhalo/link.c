@@ -796,7 +796,9 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
         if (!prepass_only && halo_program_has_generation_passes(p)) {
             p->one_draw = 1;
             halo_prepass_drop_outputs(p);
-            if (halo_prepass_link(p, desc, diag)) {
+            /* the march and the host share the parameters' values: halo_program_set changes both */
+            halo_link_desc march = halo_prepass_desc(p, desc);
+            if (!(p->prepass = halo_link_prepass(&march, diag))) {
                 halo_program_destroy(p);
                 return NULL;
             }

@@ -20,7 +20,7 @@ libhalo_libhalo_core_la_SOURCES = \
 	libhalo/emu/tone_shading.c libhalo/emu/distance_blend.c libhalo/emu/distance_cue.c \
 	libhalo/emu/lines.c \
 	libhalo/emu/halo_seed.c libhalo/emu/halo_generate.c libhalo/emu/halo_map.c libhalo/emu/frame.c libhalo/emu/outline.c \
-	libhalo/gl/glfuncs.c libhalo/gl/runtime.c libhalo/gl/runtime.h libhalo/gl/frame.c libhalo/gl/segments.c libhalo/gl/field.c libhalo/gl/frame.h \
+	libhalo/gl/glfuncs.c libhalo/gl/runtime.c libhalo/gl/runtime.h libhalo/gl/frame.c libhalo/gl/camera.c libhalo/gl/segments.c libhalo/gl/field.c libhalo/gl/frame.h \
 	libhalo/emu/feature_halo.c libhalo/gl/feature_splat.c
 nodist_libhalo_libhalo_core_la_SOURCES = libhalo/embedded_modules.c
 # The error budget (halo_budget_choose): halo-validate bench --max-error.

@@ -141,9 +141,9 @@ void halo_prepass_drop_outputs(halo_program *p)
     p->output_count = kept;
 }
 
-int halo_prepass_link(halo_program *p, const halo_link_desc *desc, halo_diagnostics *diag)
+halo_link_desc halo_prepass_desc(const halo_program *p, const halo_link_desc *desc)
 {
-    halo_link_desc inner = {
+    return (halo_link_desc){
         .library = desc->library,
         .scene = desc->scene,
         .host_source = march_host,
@@ -154,9 +154,4 @@ int halo_prepass_link(halo_program *p, const halo_link_desc *desc, halo_diagnost
         .image_scale = desc->image_scale,
         .one_draw = 1, /* a march: no segments */
     };
-    p->prepass = halo_link_prepass(&inner, diag);
-    if (!p->prepass)
-        return -1;
-    /* the march and the host share the parameters' values: halo_program_set changes both */
-    return 0;
 }

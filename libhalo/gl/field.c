@@ -102,7 +102,10 @@ static const char gradient_fragment_body[] =
     "                               value_at(p + ivec3(0, 0, 1)) - value_at(p - ivec3(0, 0, 1))), 0.0);\n"
     "}\n";
 
-halo_gl_field *halo_gl_field_create(halo_gl_frame *fr, halo_diagnostics *diag)
+static void field_destroy(halo_gl_frame *fr, halo_gl_field *field);
+
+/* The field of a one_draw frame: its stacks and libhalo's march; NULL after a diagnostic. */
+static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
 {
     halo_gl *gl = halo_gl_frame_runtime(fr);
     const halo_glfuncs *f = halo_gl_functions(gl);
@@ -118,7 +121,7 @@ halo_gl_field *halo_gl_field_create(halo_gl_frame *fr, halo_diagnostics *diag)
         if (field->stack_count == FIELD_MAX_STACKS) {
             halo_diag_error(diag, USAGE, "", 0, 0, "a one-draw program reads more than %d images of generation passes",
                             FIELD_MAX_STACKS);
-            halo_gl_field_destroy(fr, field);
+            field_destroy(fr, field);
             return NULL;
         }
         field->stacks[field->stack_count++] =
@@ -131,7 +134,7 @@ halo_gl_field *halo_gl_field_create(halo_gl_frame *fr, halo_diagnostics *diag)
                                                                                               : march_vertex_330,
                                          "(libhalo's march, vertex shader)", diag);
     if (!field->march) {
-        halo_gl_field_destroy(fr, field);
+        field_destroy(fr, field);
         return NULL;
     }
     field->volume = f->GetUniformLocation(field->march, "march_volume");
@@ -151,7 +154,7 @@ halo_gl_field *halo_gl_field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     return field;
 }
 
-void halo_gl_field_destroy(halo_gl_frame *fr, halo_gl_field *field)
+static void field_destroy(halo_gl_frame *fr, halo_gl_field *field)
 {
     if (!field)
         return;
@@ -170,12 +173,16 @@ void halo_gl_field_destroy(halo_gl_frame *fr, halo_gl_field *field)
     free(field);
 }
 
-unsigned halo_gl_field_stack(const halo_gl_field *field, const char *image)
+/* Binds the stacks to the host program's samplers of their images, from first_unit on as
+ * halo_gl_frame_bind binds the others. */
+static void field_bind(const halo_glfuncs *f, const halo_program *p, const halo_gl_field *field, int first_unit)
 {
-    for (int s = 0; field && s < field->stack_count; ++s)
-        if (!strcmp(field->stacks[s].image, image))
-            return field->stacks[s].texture;
-    return 0;
+    for (size_t i = 0; i < halo_program_sampler_count(p); ++i)
+        for (int s = 0; s < field->stack_count; ++s)
+            if (!strcmp(field->stacks[s].image, halo_program_sampler(p, i)->image)) {
+                f->ActiveTexture(GL_TEXTURE0 + (GLenum)(first_unit + (int)i));
+                f->BindTexture(GL_TEXTURE_2D_ARRAY, field->stacks[s].texture);
+            }
 }
 
 /* The format and type glTexImage3D takes with an internal format of the frame's images. */
@@ -547,18 +554,12 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     int planes = (int)floor((plan->back - plan->front) / d->step) + 1;
     if (!field_reserve(f, field, plan->segments > 1 ? plan->segments - 1 : 1, diag))
         return HALO_ERROR_IO;
-    double inverse[16], view_projection[16], low[3] = {0, 0, 0}, high[3] = {1, 1, 1};
+    double inverse[16], view_projection[16], low[3], high[3];
     for (int i = 0; i < 16; ++i)
         inverse[i] = d->inverse_view_projection[i];
     if (!halo_mat4_invert(inverse, view_projection))
         return HALO_ERROR_INPUT; /* reported by the plan */
-    int unit_cube = 1;
-    for (int k = 0; k < 3; ++k)
-        unit_cube &= d->box_min[k] == 0.0f && d->box_max[k] == 0.0f;
-    for (int k = 0; k < 3 && !unit_cube; ++k) {
-        low[k] = d->box_min[k];
-        high[k] = d->box_max[k];
-    }
+    halo_segments_box(d, low, high);
 
     f->Disable(GL_SCISSOR_TEST);
     f->Disable(GL_CULL_FACE);
@@ -637,6 +638,12 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
     halo_segment_plan plan;
     if (!halo_segment_plan_make(d, p, &plan, diag))
         return HALO_ERROR_INPUT;
+    if (!halo_gl_frame_field(fr)) {
+        halo_gl_field *made = field_create(fr, diag);
+        if (!made)
+            return HALO_ERROR_IO;
+        halo_gl_frame_set_field(fr, made, field_destroy);
+    }
     int first_unit = d->first_unit > 0 ? d->first_unit : FIELD_DEFAULT_FIRST_UNIT;
     int march_unit = first_unit + (int)halo_program_sampler_count(p);
     field_saved saved;
@@ -653,6 +660,10 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, d->framebuffer);
         halo_gl_frame_attach(fr, d->framebuffer);
         halo_gl_frame_bind(fr, gl_program, first_unit);
+        GLint active = GL_TEXTURE0;
+        f->GetIntegerv(GL_ACTIVE_TEXTURE, &active);
+        field_bind(f, p, halo_gl_frame_field(fr), first_unit);
+        f->ActiveTexture((GLenum)active);
         halo_gl_frame_segments_reset(fr);
         d->draw(d->user);
         halo_gl_frame_state_flip(fr); /* counts the one draw */

@@ -82,7 +82,9 @@ struct halo_gl_frame {
     int attached;  /* outputs attached to attached_framebuffer by halo_gl_frame_attach */
     GLuint attached_framebuffer;
     const halo_program *attached_program; /* whose outputs: the program's, or its march's (field.c) */
-    halo_gl_field *field; /* host contract 3: the stacks of a one_draw program (field.c) */
+    /* host contract 3: the stacks of a one_draw program, made by field.c at its first draw */
+    halo_gl_field *field;
+    void (*field_destroy)(halo_gl_frame *fr, halo_gl_field *field);
     int bound;     /* samplers bound by halo_gl_frame_bind from bound_first_unit */
     int bound_first_unit;
     GLuint state[2];   /* host contract 2: the rays' state between segments (RGBA32F), ping-ponged */
@@ -534,10 +536,6 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
     const char *renderer = (const char *)f->GetString(GL_RENDERER);
     fr->readback_bounds = renderer && (strstr(renderer, "llvmpipe") || strstr(renderer, "softpipe") ||
                                        strstr(renderer, "SwiftShader"));
-    if (p->one_draw && !(fr->field = halo_gl_field_create(fr, diag))) {
-        halo_gl_frame_destroy(fr);
-        return NULL;
-    }
     halo_gl_frame_begin(fr);
     return fr;
 }
@@ -547,7 +545,8 @@ void halo_gl_frame_destroy(halo_gl_frame *fr)
     if (!fr)
         return;
     const halo_glfuncs *f = &fr->gl->f;
-    halo_gl_field_destroy(fr, fr->field);
+    if (fr->field && fr->field_destroy)
+        fr->field_destroy(fr, fr->field);
     for (size_t i = 0; fr->images && i < fr->image_count; ++i)
         if (fr->images[i].texture[0] && !fr->images[i].host)
             f->DeleteTextures(2, fr->images[i].texture);
@@ -695,9 +694,7 @@ static void frame_bind_textures(halo_gl_frame *fr, int first_unit)
             continue;
         const frame_image *im = &fr->images[image];
         f->ActiveTexture(GL_TEXTURE0 + (GLenum)(first_unit + (int)i));
-        if (halo_prepass_image(fr->program, name)) /* host contract 3: the image's stack */
-            f->BindTexture(GL_TEXTURE_2D_ARRAY, halo_gl_field_stack(fr->field, name));
-        else
+        if (!halo_prepass_image(fr->program, name)) /* host contract 3: field.c binds the image's stack */
             f->BindTexture(GL_TEXTURE_2D, im->texture[im->current]);
     }
 }
@@ -936,3 +933,10 @@ int halo_gl_frame_image_view(const halo_gl_frame *fr, const char *name, halo_gl_
 }
 
 halo_gl_field *halo_gl_frame_field(const halo_gl_frame *fr) { return fr->field; }
+
+void halo_gl_frame_set_field(halo_gl_frame *fr, halo_gl_field *field,
+                             void (*destroy)(halo_gl_frame *fr, halo_gl_field *field))
+{
+    fr->field = field;
+    fr->field_destroy = destroy;
+}

@@ -1,5 +1,6 @@
-/* frame.c's accessors of a halo_gl_frame, for the segmented drawing in segments.c
- * (which draws a host through the frame's images and passes). Internal. */
+/* frame.c's accessors of a halo_gl_frame, for the segmented drawing in segments.c and the
+ * one-draw field in field.c (which draw a host through the frame's images and passes), and
+ * camera.c's plans. Internal. */
 #ifndef HALO_GL_FRAME_H
 #define HALO_GL_FRAME_H
 
@@ -27,14 +28,19 @@ typedef struct halo_gl_frame_image {
  * halo_gl_frame_texture); 0 for an unknown or host image. */
 int halo_gl_frame_image_view(const halo_gl_frame *fr, const char *name, halo_gl_frame_image *view);
 halo_gl_field *halo_gl_frame_field(const halo_gl_frame *fr);
+/* The frame keeps field (field.c makes it at the first draw) and destroys it with destroy. */
+void halo_gl_frame_set_field(halo_gl_frame *fr, halo_gl_field *field,
+                             void (*destroy)(halo_gl_frame *fr, halo_gl_field *field));
 /* halo_gl_frame_attach for the outputs of program p (the frame's, or its march); colour 0:
  * draw buffer 0 is GL_NONE. */
 void halo_gl_frame_attach_outputs(halo_gl_frame *fr, const halo_program *p, unsigned framebuffer, int colour);
-halo_gl_field *halo_gl_field_create(halo_gl_frame *fr, halo_diagnostics *diag);
-void halo_gl_field_destroy(halo_gl_frame *fr, halo_gl_field *field);
-/* The texture (GL_TEXTURE_2D_ARRAY) of image's stack, 0 if none. */
-unsigned halo_gl_field_stack(const halo_gl_field *field, const char *image);
-/* segments.c: the camera uniforms of halo_view_at and halo_depth_at, from a plan. */
+/* camera.c: the volume's box of a segments desc (all zero: the unit cube). */
+void halo_segments_box(const halo_gl_segments_desc *d, double low[3], double high[3]);
+/* camera.c: the checks of a segments desc (USAGE in diag, as function's). */
+int halo_segments_desc_valid(const halo_gl_segments_desc *d, const char *function, halo_diagnostics *diag);
+int halo_segments_arguments_valid(const void *object, const char *object_name, const halo_gl_segments_desc *d,
+                                  const char *function, halo_diagnostics *diag);
+/* camera.c: the camera uniforms of halo_view_at and halo_depth_at, from a plan. */
 void halo_segment_camera_set(const halo_glfuncs *f, unsigned program, const halo_segment_plan *plan);
 /* One frame: the field before the host draws, then the host drawn once (halo_gl_frame_draw). */
 halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
