@@ -3,7 +3,7 @@
 # libhalo-vtk); halo_pvbatch.py renders with it under pvbatch on any number of MPI ranks.
 # ParaView plugins are built with ParaView's CMake package: make runs CMake in
 # adapters/paraview/build when configure found it (setup.sh installs paraview-dev).
-paraview_sources = adapters/paraview/CMakeLists.txt adapters/paraview/Plugin/CMakeLists.txt \
+paraview_sources = adapters/paraview/CMakeLists.txt adapters/paraview/uses.cmake adapters/paraview/Plugin/CMakeLists.txt \
 	adapters/paraview/Plugin/paraview.plugin adapters/paraview/HaloRepresentations/CMakeLists.txt \
 	adapters/paraview/HaloRepresentations/vtk.module adapters/paraview/HaloRepresentations/HaloVolume.xml \
 	adapters/paraview/HaloRepresentations/vtkHaloVolumeRepresentation.h \
