@@ -7,14 +7,18 @@ cd "$(dirname "$0")"
 
 # VTK comes with ParaView (paraview-dev carries ParaView's own VTK 9.2, which the VTK
 # adapter then builds against): Debian's libvtk9-dev cannot be installed beside
-# python3-paraview, which pvbatch needs.
+# python3-paraview, which pvbatch needs. ParaView's CMake package needs development
+# files that paraview-dev does not depend on: libopenmpi-dev (MPI::MPI_C's include
+# folder), libfreetype-dev (VTK::freetype links Freetype::Freetype), libglew-dev (VTK's
+# GLEW, for the VTK adapter too).
+# tests/setup_deps.sh reads this list: keep it one packages="..." of plain names.
 packages="build-essential autoconf automake libtool pkg-config file
   glslang-dev libosmesa6-dev libegl-dev libegl-mesa0 mesa-common-dev libopenimageio-dev libjansson-dev
   clang libclang-rt-14-dev
   libnifti2-dev zlib1g-dev mricron-data
   libglfw3-dev xvfb xauth
   gnuplot-nox
-  paraview paraview-dev python3-paraview openmpi-bin libopenmpi-dev libglew-dev cmake python3
+  paraview paraview-dev python3-paraview openmpi-bin libopenmpi-dev libglew-dev libfreetype-dev cmake python3
   glslang-tools git"
 
 missing=""
