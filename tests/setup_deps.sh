@@ -5,8 +5,8 @@
 # a package that only the developer's machine has is caught here. Read from the build:
 #   - configure's results: the Makefile's *_LIBS, *_CFLAGS, *_CPPFLAGS, *_CXXFLAGS and
 #     *_LDFLAGS values (-l found on their -L folders and the compiler's search path;
-#     -I, -isystem and -L folders); those of a component configure left out (HALO_HAVE_X
-#     no) are not checked;
+#     -I, -isystem and -L folders); those of a component configure left out (its
+#     conditional HALO_HAVE_X false in config.status) are not checked;
 #   - every header the objects included (automake's .deps, CMake's .o.d files);
 #   - the ParaView plugin's CMake build, when there is one: the package folders in
 #     CMakeCache.txt, the imported targets its targets reach with their include folders
@@ -66,13 +66,14 @@ flags() {
         }
     }'
 }
-# configure's results; a component left out is HALO_HAVE_X = no or HALO_HAVE_X_TRUE = #
-awk '/^HALO_HAVE_[A-Z0-9]*_TRUE = #/ { c = $1; sub(/^HALO_HAVE_/, "", c); sub(/_TRUE$/, "", c); off[c] = 1 }
-    /^HALO_HAVE_[A-Z0-9]* = no/ { c = $1; sub(/^HALO_HAVE_/, "", c); off[c] = 1 }
+# configure's results; config.status says which components it left out (the conditional
+# HALO_HAVE_X false: the X_* values are not used)
+test -f "$build/config.status" || { echo "SKIP: no config.status in $build"; exit 77; }
+sed -n 's/^S\["HALO_HAVE_\([A-Z0-9]*\)_TRUE"\]="#"$/\1/p' "$build/config.status" >"$tmp/off"
+awk 'FILENAME == ARGV[1] { off[$1] = 1; next }
     /^[A-Z][A-Z0-9_]* = / && $1 ~ /(^|_)(LIBS|CFLAGS|CPPFLAGS|CXXFLAGS|LDFLAGS)$/ && $0 !~ /\$[({]/ {
-        v = $0; sub(/^[^=]*= */, "", v); value[$1] = v }
-    END { for (name in value) { c = name; sub(/_[A-Z]*$/, "", c); if (!(c in off)) print name "\t" value[name] } }' \
-    "$build/Makefile" | flags >"$tmp/flags"
+        c = $1; sub(/_[A-Z]*$/, "", c); if (c in off) next
+        v = $0; sub(/^[^=]*= */, "", v); print $1 "\t" v }' "$tmp/off" "$build/Makefile" | flags >"$tmp/flags"
 pv="$build/adapters/paraview/build"
 if test -f "$pv/CMakeCache.txt"; then
     # the package folders CMake found (ParaView_DIR, VTK_DIR, ...), the imported targets
