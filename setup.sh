@@ -1,7 +1,8 @@
 #!/bin/sh
 # libhalo set-up: installs the Debian packages that are missing, builds, and runs the
 # main job (halo-render with no arguments). Safe to run again.
-#   HALO_CONFIGURE_FLAGS  extra flags for ./configure (e.g. --enable-sanitizers)
+#   HALO_CONFIGURE_FLAGS  extra flags for ./configure (e.g. --enable-sanitizers); they
+#                         come last and win (--without-paraview builds without the plugin)
 set -eu
 cd "$(dirname "$0")"
 
@@ -33,8 +34,11 @@ if [ -n "$missing" ]; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends $missing
 fi
 
+# Every optional component whose packages are installed above is required: one that
+# does not build then fails configure, instead of being left out without notice.
+components="--with-egl --with-osmesa --with-glfw --with-vtk --with-paraview"
 [ -x configure ] || autoreconf -fi
-[ -f Makefile ] || ./configure ${HALO_CONFIGURE_FLAGS:-}
+[ -f Makefile ] || ./configure $components ${HALO_CONFIGURE_FLAGS:-}
 make -j"$(nproc)"
 
 # The main job: render the built-in volume with the default scene.
