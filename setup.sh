@@ -1,13 +1,18 @@
 #!/bin/sh
 # libhalo set-up: installs the Debian packages that are missing, builds, and runs the
 # main job (halo-render with no arguments). Safe to run again.
-#   HALO_CONFIGURE_FLAGS  extra flags for ./configure (e.g. --enable-sanitizers)
+#   HALO_CONFIGURE_FLAGS  extra flags for ./configure (e.g. --enable-sanitizers); they
+#                         come last and win (--without-paraview builds without the plugin)
 set -eu
 cd "$(dirname "$0")"
 
 # VTK comes with ParaView (paraview-dev carries ParaView's own VTK 9.2, which the VTK
 # adapter then builds against): Debian's libvtk9-dev cannot be installed beside
-# python3-paraview, which pvbatch needs.
+# python3-paraview, which pvbatch needs. ParaView's CMake package needs development
+# files that paraview-dev does not depend on: libopenmpi-dev (MPI::MPI_C's include
+# folder), libfreetype-dev (VTK::freetype links Freetype::Freetype), libglew-dev (VTK's
+# GLEW, for the VTK adapter too).
+# tests/setup_deps.sh reads this list: keep it one packages="..." of plain names.
 packages="build-essential autoconf automake libtool pkg-config file
   glslang-dev libosmesa6-dev libegl-dev libegl-mesa0 mesa-common-dev libopenimageio-dev libjansson-dev
   clang libclang-rt-14-dev
@@ -29,8 +34,11 @@ if [ -n "$missing" ]; then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends $missing
 fi
 
+# Every optional component whose packages are installed above is required: one that
+# does not build then fails configure, instead of being left out without notice.
+components="--with-egl --with-osmesa --with-glfw --with-vtk --with-paraview"
 [ -x configure ] || autoreconf -fi
-[ -f Makefile ] || ./configure ${HALO_CONFIGURE_FLAGS:-}
+[ -f Makefile ] || ./configure $components ${HALO_CONFIGURE_FLAGS:-}
 make -j"$(nproc)"
 
 # The main job: render the built-in volume with the default scene.

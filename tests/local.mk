@@ -302,3 +302,9 @@ AM_TESTS_ENVIRONMENT += HALO_PVBATCH_SCRIPT='$(abs_top_srcdir)/adapters/paraview
 if HALO_HAVE_PARAVIEW
 AM_TESTS_ENVIRONMENT += HALO_PARAVIEW_PLUGIN='$(abs_top_builddir)/$(paraview_plugin)'; export HALO_PARAVIEW_PLUGIN;
 endif
+
+# ---- setup.sh installs everything the build uses (issue 24): each library linked and
+# header included, by configure's, CMake's and ldd's account, is in a package setup.sh
+# installs or one of those depends on; skipped (77) without dpkg and apt ----
+TESTS += tests/setup_deps.sh
+EXTRA_DIST += tests/setup_deps.sh
