@@ -45,7 +45,7 @@ if test -n "${HALO_RENDER:-}" && test -x "$HALO_RENDER"; then
     run 2 "$HALO_RENDER" --size
     # host contract 3 is a way to draw the ray caster: not with another host
     run 2 "$HALO_RENDER" --one-draw --host slab
-    expect_stderr "--one-draw is a way to draw the ray caster (host contract 3): it needs --host raycast"
+    expect_stderr "one-draw is a way to draw the ray caster .host contract 3.: it needs --host raycast"
     run 2 "$HALO_RENDER" --one-draw
 fi
 finish
