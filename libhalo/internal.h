@@ -299,6 +299,9 @@ extern const char halo_march_file[];
 int halo_prepass_mark(halo_program *p);
 /* Drops the outputs that feed generation passes (the march writes them). */
 void halo_prepass_drop_outputs(halo_program *p);
+/* Whether the march reads only the host uniforms gl/field.c sets (the image-plane axes);
+ * USAGE in diag otherwise. */
+int halo_prepass_host_uniforms_known(const halo_program *march, halo_diagnostics *diag);
 /* The desc of p's march (halo_link_prepass): desc's scene over libhalo's march host. */
 halo_link_desc halo_prepass_desc(const halo_program *p, const halo_link_desc *desc);
 /* Is image written by generation passes of a one_draw program (read from the stack)? */

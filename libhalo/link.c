@@ -790,21 +790,33 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
         halo_program_destroy(p);
         return NULL;
     }
-    /* host contract 3: the stages that seed the generation passes run in libhalo's march */
-    if ((desc->one_draw || prepass_only) && halo_prepass_mark(p) && p->kind == HALO_SHADER_FRAGMENT) {
-        p->prepass_only = prepass_only;
-        if (!prepass_only && halo_program_has_generation_passes(p)) {
-            p->one_draw = 1;
-            halo_prepass_drop_outputs(p);
-            /* the march and the host share the parameters' values: halo_program_set changes both */
-            halo_link_desc march = halo_prepass_desc(p, desc);
-            if (!(p->prepass = halo_link_prepass(&march, diag))) {
-                halo_program_destroy(p);
-                return NULL;
-            }
-        }
-    }
+    /* the images' sizes while the seeds are still an output (full size, as the march's) */
     set_image_scales(p);
+    /* host contract 3: the stages that seed the generation passes run in libhalo's march */
+    if (desc->one_draw && !prepass_only && halo_program_has_generation_passes(p)) {
+        const char *why = desc->force_segments ? "force_segments draws the host in segments"
+                          : h->slices          ? "a slice or slab host ('#pragma halo slices') runs the passes itself"
+                          : p->kind != HALO_SHADER_FRAGMENT ? "it is for fragment shaders"
+                          : !halo_prepass_mark(p) ? "no stage seeds the passes from its samples"
+                                                  : NULL;
+        if (why) {
+            halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: one_draw (host contract 3) cannot take this program: %s",
+                            why);
+            halo_program_destroy(p);
+            return NULL;
+        }
+        p->one_draw = 1;
+        halo_prepass_drop_outputs(p);
+        /* the march and the host share the parameters' values: halo_program_set changes both */
+        halo_link_desc march = halo_prepass_desc(p, desc);
+        if (!(p->prepass = halo_link_prepass(&march, diag)) || !halo_prepass_host_uniforms_known(p->prepass, diag)) {
+            halo_program_destroy(p);
+            return NULL;
+        }
+    } else if (prepass_only) {
+        halo_prepass_mark(p);
+        p->prepass_only = 1;
+    }
     if (p->group_count > 1) halo_program_load_group(p, 0);
     /* 5. Emit. */
     if (halo_host_hide_line_directives(p, h)) goto oom;

@@ -56,6 +56,8 @@ static const char march_host[] =
     "    if (abs(phi_rate) > 1e-30) {\n"
     "        for (int k = march_range.x; k < march_range.y; ++k) {\n"
     "            float t = (march_planes.x + float(k) * march_planes.y - phi_origin) / phi_rate;\n"
+    "            if (t < 0.0 || t > 1.0)\n"
+    "                continue; // before the near plane or past the far one: no sample of the host's\n"
     "            vec3 P = origin + t * direction;\n"
     "            if (any(lessThan(P, march_box_min)) || any(greaterThan(P, march_box_max)))\n"
     "                continue;\n"
@@ -152,6 +154,21 @@ halo_link_desc halo_prepass_desc(const halo_program *p, const halo_link_desc *de
         .all_live = desc->all_live,
         .image_precision = desc->image_precision,
         .image_scale = desc->image_scale,
-        .one_draw = 1, /* a march: no segments */
+        .one_draw = 1, /* a march: no segments, no HOST_SINGLE_PASS */
     };
+}
+
+int halo_prepass_host_uniforms_known(const halo_program *march, halo_diagnostics *diag)
+{
+    /* gl/field.c derives these from the camera; nothing else can reach the march */
+    for (size_t i = 0; i < march->host_uniform_count; i++) {
+        const char *name = march->host_uniforms[i].name;
+        if (strcmp(name, "halo_host_screen_right") && strcmp(name, "halo_host_screen_up")) {
+            halo_diag_error(diag, USAGE, "", 0, 0,
+                            "halo_link: one_draw (host contract 3): a seeding stage reads the host uniform '%s', which "
+                            "libhalo's march cannot get from the host", name);
+            return 0;
+        }
+    }
+    return 1;
 }

@@ -192,8 +192,8 @@ halo_status halo_program_set(halo_program *p, const char *stage, const char *par
         for (size_t i = 0; i < p->stages[s].module->param_count; i++)
             if (p->stages[s].values[i].value == w->value) p->stages[s].values[i].count = count;
     /* host contract 3: the march, linked from the same scene, has the same live parameters */
-    if (p->prepass)
-        halo_program_set(p->prepass, stage, param, values, count, diag);
+    if (p->prepass) /* the same stages and parameters: checked above */
+        halo_program_set(p->prepass, stage, param, values, count, NULL);
     return HALO_OK;
 }
 

@@ -200,11 +200,11 @@ static void upload_format(GLint internal, GLenum *format, GLenum *type)
 
 /* At least `layers` layers in every stack (a quarter more, so that a moving camera does not
  * reallocate every frame); a new layer's content is unknown: its box is the whole image. */
-static int field_reserve(const halo_glfuncs *f, halo_gl_field *field, int layers, halo_diagnostics *diag)
+static int field_reserve(const halo_glfuncs *f, halo_gl_field *field, int layers, int cap, halo_diagnostics *diag)
 {
     if (layers <= field->layers)
         return 1;
-    int count = layers + layers / 4;
+    int count = cap > 0 ? cap : layers + layers / 4;
     for (int s = 0; s < field->stack_count; ++s) {
         field_stack *st = &field->stacks[s];
         int(*boxes)[4] = realloc(st->boxes, (size_t)count * sizeof *boxes);
@@ -446,7 +446,7 @@ static float field_skip_bound(const halo_program *march, float epsilon)
         return (float)exact;
     const halo_uniform_info *alpha = halo_program_find_uniform(march, "halo_seed", "alpha");
     const halo_uniform_info *scale = halo_program_find_uniform(march, "halo_seed", "gradient_scale");
-    if (!alpha || !scale || !alpha->value || !scale->value)
+    if (!alpha || !scale || !alpha->value || !scale->value || alpha->count < 1 || scale->count < 1)
         return (float)exact;
     double bound = INFINITY;
     for (int h = 0; h < halo_program_channel_count(march); ++h) {
@@ -456,6 +456,26 @@ static float field_skip_bound(const halo_program *march, float epsilon)
         bound = g < bound ? g : bound;
     }
     return (float)(bound > exact ? bound : exact);
+}
+
+/* The march's host uniforms. The seeding stages no longer run in the host's program, so
+ * what the host set there (halo_gl_set_host_uniform) is gone with them: the image-plane
+ * axes the contract defines (halo_host_screen_right, _up: unit, in the space of the
+ * positions) are derived from the camera, the directions clip +x and +y map to; a march
+ * with another host uniform is refused at link time (prepass.c). */
+static void field_host_uniforms(const halo_glfuncs *f, const halo_gl_segments_desc *d, GLuint march)
+{
+    static const char *const axes[2] = {"halo_host_screen_right", "halo_host_screen_up"};
+    for (int a = 0; a < 2; ++a) {
+        double v[3], length = 0.0;
+        for (int k = 0; k < 3; ++k) { /* column a of the inverse: clip (1, 0, 0, 0) or (0, 1, 0, 0) */
+            v[k] = d->inverse_view_projection[4 * a + k];
+            length += v[k] * v[k];
+        }
+        length = length > 0.0 ? sqrt(length) : 1.0;
+        f->Uniform3f(f->GetUniformLocation(march, axes[a]), (float)(v[0] / length), (float)(v[1] / length),
+                     (float)(v[2] / length));
+    }
 }
 
 /* The images the samples read, after segment j's generation, into layer j of their stacks. */
@@ -485,11 +505,26 @@ static void field_store(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field 
 }
 
 /* The GL state field_compute and the host's draw change, saved and restored. */
+#define FIELD_SAVED_BUFFERS 8 /* draw buffers whose blend state and colour mask are kept */
+
+/* One draw buffer's blending and colour mask (the march's seed output and the gradient
+ * and brick passes' buffer 0 change them). Without glGetIntegeri_v/glGetBooleani_v
+ * (OpenGL ES 3.0) only the enable bit is kept. */
+typedef struct field_buffer {
+    GLboolean blend, mask[4];
+    GLint equation[2], function[4];
+} field_buffer;
+
 typedef struct field_saved {
     GLint program, draw_framebuffer, read_framebuffer, active, vertex_array, viewport[4], scissor_box[4];
-    GLint texture_3d, texture_array, texture_gradient;
-    GLboolean scissor, cull, depth, stencil;
+    GLint texture_3d[3], texture_array, unpack_buffer;
+    GLboolean scissor, cull, depth, stencil, blend;
+    field_buffer buffers[FIELD_SAVED_BUFFERS];
+    int buffer_count;
 } field_saved;
+
+static const GLenum buffer_queries[6] = {GL_BLEND_EQUATION_RGB, GL_BLEND_EQUATION_ALPHA, GL_BLEND_SRC_RGB,
+                                         GL_BLEND_DST_RGB,      GL_BLEND_SRC_ALPHA,      GL_BLEND_DST_ALPHA};
 
 static void field_save(const halo_glfuncs *f, field_saved *s, int unit)
 {
@@ -500,25 +535,69 @@ static void field_save(const halo_glfuncs *f, field_saved *s, int unit)
     f->GetIntegerv(GL_VERTEX_ARRAY_BINDING, &s->vertex_array);
     f->GetIntegerv(GL_VIEWPORT, s->viewport);
     f->GetIntegerv(GL_SCISSOR_BOX, s->scissor_box);
+    f->GetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &s->unpack_buffer);
+    for (int k = 0; k < 3; ++k) {
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)(unit + k));
+        f->GetIntegerv(GL_TEXTURE_BINDING_3D, &s->texture_3d[k]);
+    }
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
-    f->GetIntegerv(GL_TEXTURE_BINDING_3D, &s->texture_3d);
     f->GetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &s->texture_array);
-    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 1);
-    f->GetIntegerv(GL_TEXTURE_BINDING_3D, &s->texture_gradient);
     s->scissor = f->IsEnabled(GL_SCISSOR_TEST);
     s->cull = f->IsEnabled(GL_CULL_FACE);
     s->depth = f->IsEnabled(GL_DEPTH_TEST);
     s->stencil = f->IsEnabled(GL_STENCIL_TEST);
+    s->blend = f->IsEnabled(GL_BLEND);
+    GLint buffers = 1;
+    f->GetIntegerv(GL_MAX_DRAW_BUFFERS, &buffers);
+    s->buffer_count = buffers < 1 ? 1 : buffers > FIELD_SAVED_BUFFERS ? FIELD_SAVED_BUFFERS : buffers;
+    for (int i = 0; i < s->buffer_count && f->IsEnabledi; ++i) {
+        field_buffer *b = &s->buffers[i];
+        b->blend = f->IsEnabledi(GL_BLEND, (GLuint)i);
+        for (int q = 0; q < 6 && f->GetIntegeri_v; ++q)
+            f->GetIntegeri_v(buffer_queries[q], (GLuint)i, q < 2 ? &b->equation[q] : &b->function[q - 2]);
+        if (f->GetBooleani_v)
+            f->GetBooleani_v(GL_COLOR_WRITEMASK, (GLuint)i, b->mask);
+    }
+}
+
+/* What our draws need: no blending but the seed output's (set by the attach), every
+ * colour written, no culling, depth or stencil test, no pixel unpack buffer. */
+static void field_neutral(const halo_glfuncs *f, const field_saved *s)
+{
+    f->Disable(GL_BLEND);
+    f->Disable(GL_SCISSOR_TEST);
+    f->Disable(GL_CULL_FACE);
+    f->Disable(GL_DEPTH_TEST);
+    f->Disable(GL_STENCIL_TEST);
+    f->BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
+    for (int i = 0; i < s->buffer_count && f->ColorMaski; ++i)
+        f->ColorMaski((GLuint)i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    if (!f->ColorMaski)
+        f->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
 }
 
 static void field_restore(const halo_glfuncs *f, const field_saved *s, int unit)
 {
+    for (int k = 0; k < 3; ++k) {
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)(unit + k));
+        f->BindTexture(GL_TEXTURE_3D, (GLuint)s->texture_3d[k]);
+    }
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
-    f->BindTexture(GL_TEXTURE_3D, (GLuint)s->texture_3d);
     f->BindTexture(GL_TEXTURE_2D_ARRAY, (GLuint)s->texture_array);
-    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 1);
-    f->BindTexture(GL_TEXTURE_3D, (GLuint)s->texture_gradient);
     f->ActiveTexture((GLenum)s->active);
+    f->BindBuffer(GL_PIXEL_UNPACK_BUFFER, (GLuint)s->unpack_buffer);
+    (s->blend ? f->Enable : f->Disable)(GL_BLEND);
+    for (int i = 0; i < s->buffer_count && f->Enablei && f->Disablei; ++i) {
+        const field_buffer *b = &s->buffers[i];
+        (b->blend ? f->Enablei : f->Disablei)(GL_BLEND, (GLuint)i);
+        if (f->GetIntegeri_v && f->BlendEquationSeparatei && f->BlendFuncSeparatei) {
+            f->BlendEquationSeparatei((GLuint)i, (GLenum)b->equation[0], (GLenum)b->equation[1]);
+            f->BlendFuncSeparatei((GLuint)i, (GLenum)b->function[0], (GLenum)b->function[1], (GLenum)b->function[2],
+                                  (GLenum)b->function[3]);
+        }
+        if (f->GetBooleani_v && f->ColorMaski)
+            f->ColorMaski((GLuint)i, b->mask[0], b->mask[1], b->mask[2], b->mask[3]);
+    }
     f->BindVertexArray((GLuint)s->vertex_array);
     f->Viewport(s->viewport[0], s->viewport[1], s->viewport[2], s->viewport[3]);
     f->Scissor(s->scissor_box[0], s->scissor_box[1], s->scissor_box[2], s->scissor_box[3]);
@@ -551,8 +630,20 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     halo_gl_field *field = halo_gl_frame_field(fr);
     int width, height;
     halo_gl_frame_size(fr, &width, &height);
-    int planes = (int)floor((plan->back - plan->front) / d->step) + 1;
-    if (!field_reserve(f, field, plan->segments > 1 ? plan->segments - 1 : 1, diag))
+    double span = floor((plan->back - plan->front) / d->step) + 1.0;
+    GLint max_layers = 256;
+    f->GetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+    if (!(span <= 1 << 20) || plan->segments - 1 > max_layers) {
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "halo_gl_frame_draw: %.0f planes in %d depth segments (step %g): the field of more than %d "
+                        "segments (GL_MAX_ARRAY_TEXTURE_LAYERS) or 2^20 planes is not kept; a larger step or "
+                        "halo_generate.interval", span, plan->segments, (double)d->step, (int)max_layers);
+        return HALO_ERROR_INPUT;
+    }
+    int planes = (int)span;
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit); /* the stacks are bound there to be made and filled */
+    int layers = plan->segments > 1 ? plan->segments - 1 : 1;
+    if (!field_reserve(f, field, layers, layers > max_layers - max_layers / 5 ? max_layers : 0, diag))
         return HALO_ERROR_IO;
     double inverse[16], view_projection[16], low[3], high[3];
     for (int i = 0; i < 16; ++i)
@@ -561,10 +652,6 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
         return HALO_ERROR_INPUT; /* reported by the plan */
     halo_segments_box(d, low, high);
 
-    f->Disable(GL_SCISSOR_TEST);
-    f->Disable(GL_CULL_FACE);
-    f->Disable(GL_DEPTH_TEST);
-    f->Disable(GL_STENCIL_TEST);
     int voxels[3];
     GLuint gradient = field_volume_size(f, d, unit, voxels, diag)
                           ? field_gradient_texture(f, field, p->prepass, d, voxels, unit, diag)
@@ -589,6 +676,7 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     f->BindTexture(GL_TEXTURE_3D, bricks);
     f->Uniform1i(field->bricks_sampler, unit + 2);
     f->Uniform1f(field->skip, field_skip_bound(p->prepass, d->seed_epsilon));
+    field_host_uniforms(f, d, field->march);
     f->UniformMatrix4fv(field->matrix, 1, GL_FALSE, d->inverse_view_projection);
     f->Uniform2f(field->viewport, (float)width, (float)height);
     f->Uniform3f(field->box_min, (float)low[0], (float)low[1], (float)low[2]);
@@ -618,6 +706,7 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
         halo_gl_frame_drawn_region(fr, box[0], box[1], box[2], box[3]);
         halo_gl_frame_generate(fr);
         f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
         field_store(f, fr, field, j);
     }
     return HALO_OK;
@@ -648,6 +737,7 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
     int march_unit = first_unit + (int)halo_program_sampler_count(p);
     field_saved saved;
     field_save(f, &saved, march_unit);
+    field_neutral(f, &saved);
     halo_status status = field_compute(fr, d, &plan, march_unit, diag);
     field_restore(f, &saved, march_unit); /* the host draws with its own state */
     if (status == HALO_OK) {

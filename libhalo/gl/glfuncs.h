@@ -129,7 +129,9 @@
     X(PFNGLBLENDFUNCSEPARATEIPROC, BlendFuncSeparatei)                    \
     X(PFNGLCOLORMASKIPROC, ColorMaski)                                    \
     X(PFNGLGETBOOLEANVPROC, GetBooleanv)                                  \
-    X(PFNGLGETTEXLEVELPARAMETERIVPROC, GetTexLevelParameteriv)
+    X(PFNGLGETTEXLEVELPARAMETERIVPROC, GetTexLevelParameteriv)            \
+    X(PFNGLGETINTEGERI_VPROC, GetIntegeri_v)                              \
+    X(PFNGLGETBOOLEANI_VPROC, GetBooleani_v)
 
 typedef struct halo_glfuncs {
 #define HALO_X_GLFUNC_MEMBER(type, name) type name;

@@ -52,8 +52,6 @@ halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const hal
     halo_gl *gl = halo_gl_frame_runtime(fr);
     const halo_glfuncs *f = halo_gl_functions(gl);
     const halo_program *p = halo_gl_frame_program(fr);
-    if (p->one_draw)
-        return halo_gl_field_draw(fr, gl_program, d, diag);
     int location = halo_program_segment_location(p);
     if (halo_program_group_count(p) > 1) {
         halo_diag_error(diag, USAGE, "", 0, 0,
@@ -62,6 +60,8 @@ halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const hal
                         halo_program_group_count(p));
         return HALO_ERROR_INPUT;
     }
+    if (p->one_draw) /* host contract 3 */
+        return halo_gl_field_draw(fr, gl_program, d, diag);
     halo_segment_plan plan;
     if (!halo_segment_plan_make(d, p, &plan, diag))
         return HALO_ERROR_INPUT;

@@ -10,8 +10,9 @@
  *      without halo_segment_begin.
  *   4. Host contract 3 (one_draw): the same ray caster drawn once over the field libhalo
  *      computes before the draw agrees with the slab host at equal M as the segmented one
- *      does, emissive and occlusive; it is drawn once, keeps early ray termination, links
- *      a single-pass host without segment calls, and says what it needs.
+ *      does, emissive, occlusive, directional and with halo images at 1/2; it is drawn
+ *      once, keeps early ray termination, links a single-pass host without segment calls,
+ *      refuses force_segments and slab hosts, and says what it needs.
  *   1 again with an orthographic camera (segments of the clip z planes).
  * The segmented ray caster against its emulation is the conformance family "segments"
  * (validate/conform_segment.c, halo-validate conform --stage segments).
@@ -56,6 +57,14 @@ static const char occlusive_scene[] =
     " {\"halo_generate\": {\"passes\": 5, \"delta\": 0.9, \"interval\": 4}},"
     " {\"halo_map\": {\"mode\": 1, \"color_near\": [[0, 0, 0]], \"color_far\": [[0, 0, 0]], \"opacity\": 1,"
     " \"full_at\": 0.25}}], " HALO_RENDER "}";
+/* directional: halo_seed's image-plane axes matter (derived from the camera in one draw) */
+static const char directional_scene[] =
+    "{\"halo_scene\": 1, \"stages\": ["
+    " {\"halo_seed\": {\"alpha\": 2, \"gradient_scale\": 6, \"direction_center\": 45, \"direction_width\": 120,"
+    " \"value_0\": [[0.55, 0], [0.62, 1], [0.8, 1], [0.9, 0]]}},"
+    " {\"halo_generate\": {\"passes\": 5, \"delta\": 0.9, \"interval\": 4}},"
+    " {\"halo_map\": {\"mode\": 0, \"color_near\": [[0, 0, 0]], \"color_far\": [[0, 0, 0]], \"opacity\": 1,"
+    " \"full_at\": 0.25}}], " HALO_RENDER "}";
 static const char no_halo_scene[] = "{\"halo_scene\": 1, \"stages\": [], " HALO_RENDER "}";
 
 typedef struct env {
@@ -76,7 +85,8 @@ static int orthographic; /* the camera of the next renders */
         }                                                                                                    \
     } while (0)
 
-static int one_draw; /* host contract 3 for the next ray caster renders */
+static int one_draw;    /* host contract 3 for the next ray caster renders */
+static int image_scale; /* halo_link_desc.image_scale of the next renders */
 /* the ray caster's and the slab host's difference without halos, perspective (RMSE) */
 static double plain_difference;
 
@@ -86,7 +96,7 @@ static halo_program *link_scene(env *e, const char *scene_text, const char *host
     halo_scene *scene = halo_scene_parse(scene_text, "(test scene)", e->g.lib, e->g.diag);
     halo_program *p = scene ? halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = host,
                                                           .host_file = file, .force_segments = force,
-                                                          .one_draw = one_draw},
+                                                          .one_draw = one_draw, .image_scale = image_scale},
                                         e->g.diag)
                             : NULL;
     if (!p) {
@@ -319,6 +329,19 @@ static void test_diagnostics(env *e)
         halo_diagnostics_clear(e->g.diag);
         free(slices);
     }
+    /* host contract 3 refuses what it cannot draw once */
+    p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = e->raycast,
+                                    .host_file = "raycast.frag", .one_draw = 1, .force_segments = 1},
+                  e->g.diag);
+    CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_USAGE), "one_draw with force_segments is refused");
+    halo_program_destroy(p);
+    halo_diagnostics_clear(e->g.diag);
+    p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = e->slab,
+                                    .host_file = "slab.frag", .one_draw = 1},
+                  e->g.diag);
+    CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_USAGE), "one_draw with a slab host is refused");
+    halo_program_destroy(p);
+    halo_diagnostics_clear(e->g.diag);
     /* host contract 3: the single-pass host links, rays may end, no seed output is left */
     p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = single_pass,
                                     .host_file = "single.frag", .one_draw = 1},
@@ -364,6 +387,10 @@ int main(void)
     test_diagnostics(&e);
     test_one_draw_matches(&e, halos_scene, "emissive");
     test_one_draw_matches(&e, occlusive_scene, "occlusive");
+    test_one_draw_matches(&e, directional_scene, "directional");
+    image_scale = 2;
+    test_one_draw_matches(&e, halos_scene, "1/2 scale");
+    image_scale = 0;
     orthographic = 1;
     test_segments_change_nothing(&e);
     test_one_draw_matches(&e, halos_scene, "orthographic");
