@@ -656,10 +656,7 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     GLuint gradient = field_volume_size(f, d, unit, voxels, diag)
                           ? field_gradient_texture(f, field, p->prepass, d, voxels, unit, diag)
                           : 0;
-    GLuint bricks = gradient ? field_bricks(f, field, p->prepass, gradient, voxels,
-                                            d->gradient_texture ? d->volume_version : field->gradient.version, unit,
-                                            diag)
-                             : 0;
+    GLuint bricks = gradient ? field_bricks(f, field, p->prepass, gradient, voxels, d->volume_version, unit, diag) : 0;
     if (!bricks)
         return HALO_ERROR_INPUT;
     halo_gl_frame_begin(fr);
