@@ -123,6 +123,8 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
     halo_driver_set_interval(host, c->config.no_generation ? 1 << 20 : c->config.interval);
     if (host->slice)
         halo_slice_set_generation_skip(host->slice, !c->config.no_skip);
+    if (host->raycast)
+        halo_raycast_set_seed_epsilon(host->raycast, (float)c->config.seed_epsilon);
     size_t values = (size_t)env->width * (size_t)env->height * 4;
     c->image = c->image ? c->image : malloc(values * sizeof(float));
     c->times = calloc((size_t)env->repeat, sizeof *c->times);

@@ -19,6 +19,7 @@ typedef struct halo_bench_config {
     int wide;          /* halo_generate's approximation wide: N passes of 49 taps, reach 4^N - 1 */
     int fold;          /* halo_generate's fold: H_0 computed by the first spreading pass, no gradient pass */
     int one_draw;      /* the ray caster linked with one_draw: the field before one host draw (host contract 3) */
+    double seed_epsilon; /* with one_draw: the march's empty-space bound (halo_gl_segments_desc.seed_epsilon) */
     int precision;     /* halo image precision: 32, 16 or 8 (halo_link_desc.image_precision) */
     int scale;         /* halo image resolution 1/scale of the frame: 1 (0), 2 or 4 (halo_link_desc.image_scale) */
     double step;       /* sampling distance in voxels; 0: the scene's */
