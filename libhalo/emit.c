@@ -329,6 +329,11 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
         const halo_sampler_info *sm = &p->samplers[i];
         int stacked = halo_prepass_image(p, sm->image);
         HALO_GEN(e, "uniform highp %s %s;", stacked ? "sampler2DArray" : "sampler2D", sm->name);
+        if (halo_program_image_unread(p, sm->image)) {
+            /* no pass writes it: it holds 0, read without a fetch */
+            HALO_GEN(e, "halo_channels halo_read_%s(vec2 fragcoord) { return halo_channels(0.0); }", sm->image);
+            continue;
+        }
         /* a texel of the sampler: in the stack, of the sample's layer */
         const char *n = sm->name, *at = stacked ? "ivec3" : "", *layer = stacked ? ", halo_stack_layer" : "",
                    *xy = stacked ? ".xy" : "";

@@ -316,6 +316,10 @@ int halo_program_set_groups(halo_program *p);
 void halo_program_load_group(halo_program *p, int g);
 /* program.c: the program's image of that name, or NULL. */
 halo_image_info *halo_program_image_named(halo_program *p, const char *name);
+/* Does no sample stage read image, and no pass of another image? (Its readers all declare
+ * `image NAME read_when=PARAM` with the parameter off: e.g. the occlusion image of a scene
+ * without occlusive halos.) Its passes are not built and its reads are zero. */
+int halo_program_image_unread(const halo_program *p, const char *image);
 /* emit.c: is name used (as an identifier, not a field) in the module's code? */
 int halo_module_uses(const halo_module *m, const char *name);
 /* segment.c: "layout(location = N) " or "" for a program whose outputs carry none. */

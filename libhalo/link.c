@@ -545,42 +545,6 @@ static int pass_condition(const halo_program *p, const halo_linked_stage *st, co
     return 1;
 }
 
-/* Whether param `name` of a linked stage could be on: live, grouped (its values change per
- * group), or some element >= 0.5. */
-static int param_may_be_on(const halo_linked_stage *st, const char *name) {
-    for (size_t i = 0; i < st->module->param_count; i++) {
-        if (strcmp(st->module->params[i].name, name)) continue;
-        const halo_param_value *v = &st->values[i];
-        if (v->live || st->group_values) return 1;
-        for (int c = 0; c < (v->count > 0 ? v->count : 1) && c < HALO_MAX_COMPONENTS; c++)
-            if (v->value[c] >= 0.5) return 1;
-        return 0;
-    }
-    return 1;
-}
-
-/* An image that only conditional readers declare (`image NAME read_when=PARAM`), each with
- * its condition off, and that no pass of another image reads: the passes writing it are
- * dead work (e.g. the occlusion image of a scene without occlusive halos). */
-static int image_unread(const halo_program *p, const char *image) {
-    int conditional = 0;
-    for (size_t s = 0; s < p->stage_count; s++) {
-        const halo_linked_stage *st = &p->stages[s];
-        const halo_module *m = st->module;
-        for (size_t i = 0; i < m->pass_count; i++)
-            for (int k = 0; k < m->passes[i].input_count; k++)
-                if (!strcmp(m->passes[i].inputs[k], image) && strcmp(m->passes[i].output, image)) return 0;
-        if (m->hook != HALO_HOOK_SAMPLE) continue;
-        for (size_t i = 0; i < m->image_count; i++) {
-            const halo_image_decl *im = &m->images[i];
-            if (strcmp(im->name, image)) continue;
-            if (im->family || !im->read_when || param_may_be_on(st, im->read_when)) return 0;
-            conditional = 1;
-        }
-    }
-    return conditional;
-}
-
 static int build_passes(halo_program *p, const halo_library *lib, halo_diagnostics *diag) {
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_linked_stage *st = &p->stages[s];
@@ -588,7 +552,7 @@ static int build_passes(halo_program *p, const halo_library *lib, halo_diagnosti
             const halo_pass_decl *pd = &st->module->passes[i];
             if (pd->when && !pass_condition(p, st, pd->when)) continue;
             if (pd->repeat && param_int(st, pd->repeat) < (pd->start > 1 ? pd->start : 1)) continue;
-            if (!pd->each_channel && image_unread(p, pd->output)) continue;
+            if (!pd->each_channel && halo_program_image_unread(p, pd->output)) continue;
             for (int c = 0; c < (pd->each_channel ? p->channel_count : 1); c++) {
                 int r = build_pass(p, lib, st, pd, pd->each_channel ? c : -1);
                 if (r == -2) {

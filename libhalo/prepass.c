@@ -123,8 +123,8 @@ int halo_prepass_mark(halo_program *p)
 
 int halo_prepass_image(const halo_program *p, const char *image)
 {
-    if (!p->one_draw)
-        return 0;
+    if (!p->one_draw || halo_program_image_unread(p, image))
+        return 0; /* an unread image (read as zero) needs no stack */
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_module *m = p->stages[s].module;
         for (size_t k = 0; k < m->pass_count; k++)
