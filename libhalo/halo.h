@@ -715,8 +715,13 @@ typedef struct halo_gl_desc {
     void *(*get_proc_address)(const char *name); /* required: the host's loader */
 } halo_gl_desc;
 
+/* The context current at creation must be OpenGL 3.3 core or later, or OpenGL ES 3.0 or
+ * later (the WebGL 2 feature set; docs/host-contract.md, "OpenGL ES"). */
 HALO_API halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag);
 HALO_API void halo_gl_destroy(halo_gl *gl);
+/* 30, 31 or 32 when the runtime's context is OpenGL ES 3.0, 3.1 or 3.2 (link its programs
+ * with target HALO_TARGET_ES300), 0 for desktop OpenGL; 0 for NULL. */
+HALO_API int halo_gl_es_version(const halo_gl *gl);
 /* Compiles the linked fragment program with the host's vertex shader (plain text) and
  * links them; driver messages are mapped to file:line. Returns the GL program name or 0. */
 HALO_API unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *vertex_source,

@@ -195,7 +195,8 @@ HALO_RENDER_TESTS = \
 	tests/render/max_error.sh \
 	tests/render/bench.sh \
 	tests/render/features.sh \
-	tests/render/gradient_format.sh
+	tests/render/gradient_format.sh \
+	tests/render/es.sh
 TESTS += $(HALO_RENDER_TESTS)
 EXTRA_DIST += $(HALO_RENDER_TESTS) tests/render/common.sh \
 	tests/data/volumes/sphere.nii tests/data/volumes/sphere.nii.gz

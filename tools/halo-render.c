@@ -102,7 +102,9 @@ static void usage(FILE *out)
           "  --size WxH         image size in pixels, 1..8192 each; default 512x512\n"
           "  -o OUT             .png (8-bit, clamped) or .exr (float); default halo-render.png\n"
           "  --backend B        headless OpenGL: egl, osmesa or auto (default: EGL when it\n"
-          "                     has a hardware renderer, else OSMesa)\n"
+          "                     has a hardware renderer, else OSMesa); egl-es3.0 or\n"
+          "                     egl-es3.2: an OpenGL ES context, for the raycast host\n"
+          "                     (halo scenes: drawn once, --one-draw, unless --host raycast)\n"
           "  --quiet            no progress or volume notes on stderr\n"
           "  --help             show this help\n"
           "\n"
@@ -265,6 +267,12 @@ static int check_options(const options *o)
         why = "--max-error sweeps halo scenes without labels: not with --labels";
     else if (o->raw && !o->volume_path)
         why = "--raw-dims needs --volume FILE";
+    else if (halo_headless_choice_es() && (o->host == HALO_DRIVER_SLICE || o->host == HALO_DRIVER_SLAB))
+        why = "an OpenGL ES context (--backend egl-es3.0, egl-es3.2) draws the raycast host: the slice and slab "
+              "hosts are written for desktop OpenGL";
+    else if (halo_headless_choice_es() && o->have_max_error)
+        why = "--max-error sweeps the slice and slab hosts, which need desktop OpenGL: not with an OpenGL ES "
+              "--backend";
     if (why)
         fprintf(stderr, TOOL ": error: %s\n", why);
     return why == NULL;
@@ -538,10 +546,10 @@ static int failure_status(const halo_diagnostics *d)
 
 /* Links the scene for the host (the program validated). */
 static halo_program *link_scene(halo_library *lib, halo_scene *scene, halo_driver_host kind, int precision,
-                                int scale, int one_draw, halo_diagnostics *diag)
+                                int scale, int one_draw, halo_target target, halo_diagnostics *diag)
 {
     return halo_driver_link(&(halo_link_desc){.library = lib, .scene = scene, .image_precision = precision,
-                                              .image_scale = scale, .one_draw = one_draw},
+                                              .image_scale = scale, .one_draw = one_draw, .target = target},
                             kind, 1, diag);
 }
 
@@ -576,6 +584,7 @@ static int set_up_host(const options *o, halo_driver *host, const halo_render_se
 int main(int argc, char **argv)
 {
     options o;
+    halo_headless_allow_es(1); /* the raycast host runs on OpenGL ES */
     if (!halo_headless_take_backend_option(&argc, argv, TOOL))
         return 2;
     int status = parse_options(argc, argv, &o);
@@ -624,7 +633,15 @@ int main(int argc, char **argv)
     }
     size_t halo_stages = halo_driver_find_halo_stages(lib, scene, is_halo);
     int feature = halo_driver_has_stage(scene, HALO_DRIVER_FEATURE_STAGE);
-    halo_driver_host kind = o.host != HALO_DRIVER_AUTO ? o.host : halo_stages ? HALO_DRIVER_SLICE : HALO_DRIVER_RAYCAST;
+    halo_driver_host kind = o.host != HALO_DRIVER_AUTO                   ? o.host
+                            : halo_stages && !halo_headless_choice_es() ? HALO_DRIVER_SLICE
+                                                                        : HALO_DRIVER_RAYCAST;
+    if (o.host == HALO_DRIVER_AUTO && halo_stages && halo_headless_choice_es() && !o.one_draw) {
+        /* volumetric halos on OpenGL ES 3.0 need host contract 3 (docs/host-contract.md) */
+        o.one_draw = 1;
+        if (!o.quiet)
+            fprintf(stderr, TOOL ": note: OpenGL ES: the raycast host, drawn once over the halo field (--one-draw)\n");
+    }
     if (o.gradient_format && kind == HALO_DRIVER_RAYCAST) { /* given or chosen: an option that cannot apply */
         fprintf(stderr, TOOL ": error: --gradient-format: the raycast host%s has no gradient texture (it takes "
                         "central differences); use --host slice or slab\n",
@@ -648,7 +665,7 @@ int main(int argc, char **argv)
         feature = 0;
     }
 
-    program = link_scene(lib, scene, kind, 0, o.halo_scale, o.one_draw, diag);
+    program = link_scene(lib, scene, kind, 0, o.halo_scale, o.one_draw, HALO_TARGET_DEFAULT, diag);
     if (!program)
         goto done;
 
@@ -671,6 +688,14 @@ int main(int argc, char **argv)
         status = 2;
         goto done;
     }
+    /* an OpenGL ES context (--backend egl-es3.0, egl-es3.2): the shaders in GLSL ES 3.00 */
+    halo_target target = halo_gl_es_version(runtime) ? HALO_TARGET_ES300 : HALO_TARGET_DEFAULT;
+    if (target != HALO_TARGET_DEFAULT) {
+        halo_program_destroy(program);
+        program = link_scene(lib, scene, kind, 0, o.halo_scale, o.one_draw, target, diag);
+        if (!program)
+            goto done;
+    }
     int interval = 0;
     if (o.have_max_error) {
         /* the scene's N heads the sweep */
@@ -684,7 +709,7 @@ int main(int argc, char **argv)
         status = 1;
         /* the program again, for the chosen host, N and precision */
         halo_program_destroy(program);
-        program = link_scene(lib, scene, kind, precision, scale, 0, diag);
+        program = link_scene(lib, scene, kind, precision, scale, 0, target, diag);
         if (!program)
             goto done;
         settings = halo_scene_render(scene);

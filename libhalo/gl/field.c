@@ -508,8 +508,8 @@ static void field_store(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field 
 #define FIELD_SAVED_BUFFERS 8 /* draw buffers whose blend state and colour mask are kept */
 
 /* One draw buffer's blending and colour mask (the march's seed output and the gradient
- * and brick passes' buffer 0 change them). Without glGetIntegeri_v/glGetBooleani_v
- * (OpenGL ES 3.0) only the enable bit is kept. */
+ * and brick passes' buffer 0 change them). Without per-buffer state (OpenGL ES 3.0) the
+ * one blend state of all buffers is kept in buffers[0]. */
 typedef struct field_buffer {
     GLboolean blend, mask[4];
     GLint equation[2], function[4];
@@ -550,6 +550,9 @@ static void field_save(const halo_glfuncs *f, field_saved *s, int unit)
     GLint buffers = 1;
     f->GetIntegerv(GL_MAX_DRAW_BUFFERS, &buffers);
     s->buffer_count = buffers < 1 ? 1 : buffers > FIELD_SAVED_BUFFERS ? FIELD_SAVED_BUFFERS : buffers;
+    if (!f->IsEnabledi) /* one blend state for every buffer (OpenGL ES 3.0), kept in buffers[0] */
+        for (int q = 0; q < 6; ++q)
+            f->GetIntegerv(buffer_queries[q], q < 2 ? &s->buffers[0].equation[q] : &s->buffers[0].function[q - 2]);
     for (int i = 0; i < s->buffer_count && f->IsEnabledi; ++i) {
         field_buffer *b = &s->buffers[i];
         b->blend = f->IsEnabledi(GL_BLEND, (GLuint)i);
@@ -587,6 +590,12 @@ static void field_restore(const halo_glfuncs *f, const field_saved *s, int unit)
     f->ActiveTexture((GLenum)s->active);
     f->BindBuffer(GL_PIXEL_UNPACK_BUFFER, (GLuint)s->unpack_buffer);
     (s->blend ? f->Enable : f->Disable)(GL_BLEND);
+    if (!f->Enablei) {
+        const field_buffer *b = &s->buffers[0];
+        f->BlendEquationSeparate((GLenum)b->equation[0], (GLenum)b->equation[1]);
+        f->BlendFuncSeparate((GLenum)b->function[0], (GLenum)b->function[1], (GLenum)b->function[2],
+                             (GLenum)b->function[3]);
+    }
     for (int i = 0; i < s->buffer_count && f->Enablei && f->Disablei; ++i) {
         const field_buffer *b = &s->buffers[i];
         (b->blend ? f->Enablei : f->Disablei)(GL_BLEND, (GLuint)i);

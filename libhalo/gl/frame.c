@@ -244,15 +244,16 @@ static frame_box image_nonzero_box(halo_gl_frame *fr, frame_image *im, frame_box
         fr->readback = malloc((size_t)fr->width * (size_t)fr->height * 4 * sizeof(float));
     if (!fr->readback)
         return within;
-    static const GLenum formats[4] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
     int width = within.x1 - within.x0, height = within.y1 - within.y0;
     GLint pack = 4;
     f->GetIntegerv(GL_PACK_ALIGNMENT, &pack);
     f->PixelStorei(GL_PACK_ALIGNMENT, 4);
     f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, im->texture[im->current], 0);
     f->ReadBuffer(GL_COLOR_ATTACHMENT0);
-    f->ReadPixels(within.x0, within.y0, width, height, formats[im->channels - 1], GL_FLOAT, fr->readback);
+    int read = halo_gl_read_floats(fr->gl, within.x0, within.y0, width, height, im->channels, fr->readback);
     f->PixelStorei(GL_PACK_ALIGNMENT, pack);
+    if (!read)
+        return within;
     frame_box b = {im->width, im->height, 0, 0};
     size_t row = (size_t)width * (size_t)im->channels;
     for (int y = 0; y < height; ++y) {
@@ -378,9 +379,48 @@ static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, siz
     GLuint program = halo_gl_program_attach(f, vertex, fragment, file, diag);
     if (!program)
         return 0;
-    if (p->unlocated_outputs || p->target == HALO_TARGET_GLSL150)
+    if ((p->unlocated_outputs || p->target == HALO_TARGET_GLSL150) && f->BindFragDataLocation)
         f->BindFragDataLocation(program, 0, "halo_pass_output");
     return halo_gl_link_attached(f, program, vertex, fragment, file, "the driver could not link the image pass", diag);
+}
+
+/* Has the context what the program's images and outputs need? The host's extra outputs
+ * blend per draw buffer (OpenGL 4.0, ES 3.2); libhalo's own march for host contract 3
+ * writes only seeds, with one blend for all its buffers (OpenGL ES 3.0 too). On ES the
+ * images must be colour-renderable floats (EXT_color_buffer_float before 3.2), and
+ * blending into 32-bit ones needs EXT_float_blend. */
+static int frame_context_fits(halo_gl *gl, const halo_program *p, halo_diagnostics *diag)
+{
+    const halo_glfuncs *f = &gl->f;
+    size_t outputs = halo_program_output_count(p);
+    if (outputs > 0 && !(f->Enablei && f->Disablei && f->BlendEquationi && f->BlendFunci && f->IsEnabledi)) {
+        const char *version = (const char *)f->GetString(GL_VERSION);
+        halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
+                        "the program writes extra outputs (%s%s), which need per-draw-buffer blending "
+                        "(glBlendFunci, glBlendEquationi: OpenGL 4.0 or OpenGL ES 3.2); this context is %s%s",
+                        halo_program_output(p, 0)->image, outputs > 1 ? ", ..." : "", version ? version : "older",
+                        !f->BlendFunci && !p->prepass
+                            ? ": volumetric halos on OpenGL ES 3.0 (WebGL 2) are drawn with host contract 3 "
+                              "(halo_link_desc.one_draw), where only libhalo's own march writes outputs"
+                            : "");
+        return 0;
+    }
+    if (!gl->es || halo_program_image_count(p) == 0)
+        return 1;
+    if (gl->es < 32 && !halo_gl_has_extension(gl, "GL_EXT_color_buffer_float")) {
+        halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
+                        "the program's images are float textures drawn to, which OpenGL ES %d.%d allows with "
+                        "GL_EXT_color_buffer_float; this context lacks it", gl->es / 10, gl->es % 10);
+        return 0;
+    }
+    size_t blended = outputs + (p->prepass ? halo_program_output_count(p->prepass) : 0);
+    if (blended > 0 && halo_program_image_precision(p) == 32 && !halo_gl_has_extension(gl, "GL_EXT_float_blend")) {
+        halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
+                        "the program's outputs blend into 32-bit float images, which OpenGL ES needs "
+                        "GL_EXT_float_blend for; this context lacks it: link with image_precision 16");
+        return 0;
+    }
+    return 1;
 }
 
 halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int width, int height,
@@ -393,16 +433,8 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
         return NULL;
     }
     const halo_glfuncs *f = &gl->f;
-    if (halo_program_output_count(p) > 0 || p->prepass) {
-        GLint major = 0;
-        f->GetIntegerv(GL_MAJOR_VERSION, &major);
-        if (major < 4 || !f->Enablei || !f->Disablei || !f->BlendEquationi || !f->BlendFunci || !f->IsEnabledi) {
-            halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
-                            "the program writes extra outputs, which need per-draw-buffer blending "
-                            "(glBlendFunci, glBlendEquationi: OpenGL 4.0); this context is OpenGL %d.x", major);
-            return NULL;
-        }
-    }
+    if (!frame_context_fits(gl, p, diag))
+        return NULL;
     halo_gl_frame *fr = halo_diag_calloc(diag, sizeof *fr, "a frame");
     if (!fr)
         return NULL;
@@ -662,20 +694,27 @@ void halo_gl_frame_attach_outputs(halo_gl_frame *fr, const halo_program *p, unsi
         if (o->location < 1 || o->location > max_location)
             continue;
         buffers[o->location] = GL_COLOR_ATTACHMENT0 + (GLenum)o->location;
-        if (!f->Enablei || !f->BlendEquationi || !f->BlendFunci)
-            continue; /* reported by halo_gl_frame_create */
+        GLenum equation = o->blend == HALO_BLEND_MAX ? GL_MAX : o->blend == HALO_BLEND_MIN ? GL_MIN : GL_FUNC_ADD;
+        /* first: front to back by coverage, the first hit stays */
+        GLenum source = o->blend == HALO_BLEND_FIRST ? GL_ONE_MINUS_DST_ALPHA : GL_ONE;
+        if (!f->Enablei || !f->BlendEquationi || !f->BlendFunci) {
+            /* one blend for every buffer (OpenGL ES 3.0): only libhalo's march, whose
+             * buffer 0 is not drawn and whose outputs are seeds (halo_gl_frame_create
+             * refuses the host's outputs there) */
+            if (!colour) {
+                (o->blend == HALO_BLEND_NONE ? f->Disable : f->Enable)(GL_BLEND);
+                f->BlendEquation(equation);
+                f->BlendFunc(source, GL_ONE);
+            }
+            continue;
+        }
         if (o->blend == HALO_BLEND_NONE) {
             f->Disablei(GL_BLEND, (GLuint)o->location);
             continue;
         }
         f->Enablei(GL_BLEND, (GLuint)o->location);
-        f->BlendEquationi((GLuint)o->location, o->blend == HALO_BLEND_MAX   ? GL_MAX
-                                               : o->blend == HALO_BLEND_MIN ? GL_MIN
-                                                                            : GL_FUNC_ADD);
-        if (o->blend == HALO_BLEND_FIRST) /* front to back by coverage: the first hit stays */
-            f->BlendFunci((GLuint)o->location, GL_ONE_MINUS_DST_ALPHA, GL_ONE);
-        else
-            f->BlendFunci((GLuint)o->location, GL_ONE, GL_ONE);
+        f->BlendEquationi((GLuint)o->location, equation);
+        f->BlendFunci((GLuint)o->location, source, GL_ONE);
     }
     f->DrawBuffers(max_location + 1, buffers);
     fr->attached = 1;
@@ -899,12 +938,11 @@ halo_status halo_gl_frame_read(halo_gl_frame *fr, const char *name, float *out)
     f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, im->texture[im->current], 0);
     f->ReadBuffer(GL_COLOR_ATTACHMENT0);
     f->PixelStorei(GL_PACK_ALIGNMENT, 4);
-    static const GLenum formats[4] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
-    f->ReadPixels(0, 0, im->width, im->height, formats[im->channels - 1], GL_FLOAT, out);
+    int read = halo_gl_read_floats(fr->gl, 0, 0, im->width, im->height, im->channels, out);
     f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
     f->PixelStorei(GL_PACK_ALIGNMENT, pack);
     f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)read_framebuffer);
-    return f->GetError() == GL_NO_ERROR ? HALO_OK : HALO_ERROR_IO;
+    return f->GetError() == GL_NO_ERROR && read ? HALO_OK : HALO_ERROR_IO;
 }
 
 long halo_gl_frame_pass_draws(const halo_gl_frame *fr)

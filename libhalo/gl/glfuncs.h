@@ -21,6 +21,7 @@
     X(PFNGLBLENDFUNCPROC, BlendFunc)                                      \
     X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)                      \
     X(PFNGLBLENDEQUATIONPROC, BlendEquation)                              \
+    X(PFNGLBLENDEQUATIONSEPARATEPROC, BlendEquationSeparate)              \
     X(PFNGLDEPTHFUNCPROC, DepthFunc)                                      \
     X(PFNGLDEPTHMASKPROC, DepthMask)                                      \
     X(PFNGLCOLORMASKPROC, ColorMask)                                      \
@@ -46,7 +47,6 @@
     X(PFNGLATTACHSHADERPROC, AttachShader)                                \
     X(PFNGLDETACHSHADERPROC, DetachShader)                                \
     X(PFNGLBINDATTRIBLOCATIONPROC, BindAttribLocation)                    \
-    X(PFNGLBINDFRAGDATALOCATIONPROC, BindFragDataLocation)                \
     X(PFNGLLINKPROGRAMPROC, LinkProgram)                                  \
     X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                                \
     X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                      \
@@ -115,9 +115,11 @@
     X(PFNGLDRAWARRAYSPROC, DrawArrays)                                    \
     X(PFNGLDRAWELEMENTSPROC, DrawElements)
 
-/* Entry points beyond OpenGL 3.3 core: loaded when present, NULL otherwise (no failure).
- * Per-draw-buffer blending (OpenGL 4.0 / ARB_draw_buffers_blend) is what the extra
- * outputs of image-pass programs need (halo_gl_frame_attach). */
+/* Entry points beyond OpenGL 3.3 core and OpenGL ES 3.0, or of one of them only: loaded
+ * when present, NULL otherwise (no failure); halo_gl_create also sets to NULL those the
+ * context's version lacks (a loader may return stubs). Per-draw-buffer blending (OpenGL
+ * 4.0, OpenGL ES 3.2) is what the extra outputs of image-pass programs need
+ * (halo_gl_frame_attach). */
 #define HALO_GL_FUNCTIONS_OPTIONAL(X)                                     \
     X(PFNGLENABLEIPROC, Enablei)                                          \
     X(PFNGLDISABLEIPROC, Disablei)                                        \
@@ -131,7 +133,8 @@
     X(PFNGLGETBOOLEANVPROC, GetBooleanv)                                  \
     X(PFNGLGETTEXLEVELPARAMETERIVPROC, GetTexLevelParameteriv)            \
     X(PFNGLGETINTEGERI_VPROC, GetIntegeri_v)                              \
-    X(PFNGLGETBOOLEANI_VPROC, GetBooleani_v)
+    X(PFNGLGETBOOLEANI_VPROC, GetBooleani_v)                              \
+    X(PFNGLBINDFRAGDATALOCATIONPROC, BindFragDataLocation)
 
 typedef struct halo_glfuncs {
 #define HALO_X_GLFUNC_MEMBER(type, name) type name;

@@ -30,6 +30,7 @@ struct halo_headless {
     EGLDisplay egl_display;
     EGLContext egl_context;
 #endif
+    int es; /* 30, 32: an OpenGL ES context */
     char renderer[256];
 };
 
@@ -78,6 +79,10 @@ int halo_headless_parse_choice(const char *text, halo_headless_choice *choice)
         *choice = HALO_HEADLESS_EGL;
     else if (!strcmp(text, "osmesa"))
         *choice = HALO_HEADLESS_OSMESA;
+    else if (!strcmp(text, "egl-es3.0"))
+        *choice = HALO_HEADLESS_EGL_ES30;
+    else if (!strcmp(text, "egl-es3.2"))
+        *choice = HALO_HEADLESS_EGL_ES32;
     else
         return 0;
     return 1;
@@ -93,13 +98,26 @@ static int choice_built(halo_headless_choice choice)
 #ifdef HALO_HAVE_OSMESA
     osmesa = 1;
 #endif
-    return choice == HALO_HEADLESS_EGL ? egl : choice == HALO_HEADLESS_OSMESA ? osmesa : 1;
+    return choice == HALO_HEADLESS_OSMESA ? osmesa : choice == HALO_HEADLESS_AUTO ? 1 : egl;
+}
+
+/* Whether the tool draws on OpenGL ES (halo_headless_allow_es). */
+static int es_allowed;
+
+void halo_headless_allow_es(int allowed)
+{
+    es_allowed = allowed != 0;
 }
 
 static int check_choice(const char *where, const char *text, halo_headless_choice *choice, char *err, size_t errlen)
 {
     if (!halo_headless_parse_choice(text, choice)) {
-        set_error(err, errlen, "%s: '%s' is not egl, osmesa or auto", where, text);
+        set_error(err, errlen, "%s: '%s' is not egl, osmesa, auto, egl-es3.0 or egl-es3.2", where, text);
+        return 0;
+    }
+    if (!es_allowed && (*choice == HALO_HEADLESS_EGL_ES30 || *choice == HALO_HEADLESS_EGL_ES32)) {
+        set_error(err, errlen, "%s: '%s': this tool draws with desktop OpenGL only (on OpenGL ES: halo-render)",
+                  where, text);
         return 0;
     }
     if (!choice_built(*choice)) {
@@ -118,7 +136,7 @@ int halo_headless_backend_option(int *argc, char **argv, char *err, size_t errle
         const char *value = NULL;
         if (!strcmp(a, "--backend")) {
             if (i + 1 >= *argc) {
-                set_error(err, errlen, "--backend needs a value (egl, osmesa or auto)");
+                set_error(err, errlen, "--backend needs a value (egl, osmesa, auto, egl-es3.0 or egl-es3.2)");
                 return 0;
             }
             value = argv[++i];
@@ -265,31 +283,40 @@ static void destroy_egl(halo_headless *h)
     h->egl_context = EGL_NO_CONTEXT;
 }
 
-/* An OpenGL 4.5 (else 3.3) core context on an initialized display, made current
- * without a surface. */
+/* An OpenGL 4.5 (else 3.3) core context on an initialized display, or (h->es) an OpenGL
+ * ES 3.0 or 3.2 one, made current without a surface. */
 static int create_egl_context(halo_headless *h, char *err, size_t errlen)
 {
     static const int versions[][2] = {{4, 5}, {3, 3}};
-    if (!eglBindAPI(EGL_OPENGL_API)) {
-        set_error(err, errlen, "EGL cannot bind the OpenGL API");
+    const char *api = h->es ? "OpenGL ES" : "OpenGL";
+    if (!eglBindAPI(h->es ? EGL_OPENGL_ES_API : EGL_OPENGL_API)) {
+        set_error(err, errlen, "EGL cannot bind the %s API", api);
         return 0;
     }
-    const EGLint config_attributes[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_PBUFFER_BIT,
-                                        EGL_NONE};
+    const EGLint config_attributes[] = {EGL_RENDERABLE_TYPE, h->es ? EGL_OPENGL_ES3_BIT : EGL_OPENGL_BIT,
+                                        EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_NONE};
     EGLConfig config;
     EGLint config_count = 0;
     if (!eglChooseConfig(h->egl_display, config_attributes, &config, 1, &config_count) || config_count < 1) {
-        set_error(err, errlen, "EGL has no OpenGL config");
+        set_error(err, errlen, "EGL has no %s%s config", api, h->es ? " 3" : "");
         return 0;
     }
-    for (size_t i = 0; i < sizeof versions / sizeof versions[0] && h->egl_context == EGL_NO_CONTEXT; ++i) {
+    if (h->es) {
+        const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, h->es % 10,
+                                             EGL_NONE};
+        h->egl_context = eglCreateContext(h->egl_display, config, EGL_NO_CONTEXT, context_attributes);
+    }
+    for (size_t i = 0; i < sizeof versions / sizeof versions[0] && h->egl_context == EGL_NO_CONTEXT && !h->es; ++i) {
         const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, versions[i][0], EGL_CONTEXT_MINOR_VERSION,
                                              versions[i][1], EGL_CONTEXT_OPENGL_PROFILE_MASK,
                                              EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
         h->egl_context = eglCreateContext(h->egl_display, config, EGL_NO_CONTEXT, context_attributes);
     }
     if (h->egl_context == EGL_NO_CONTEXT) {
-        set_error(err, errlen, "EGL could not create an OpenGL 4.5 or 3.3 core context");
+        if (h->es)
+            set_error(err, errlen, "EGL could not create an OpenGL ES 3.%d context", h->es % 10);
+        else
+            set_error(err, errlen, "EGL could not create an OpenGL 4.5 or 3.3 core context");
         return 0;
     }
     if (!eglMakeCurrent(h->egl_display, EGL_NO_SURFACE, EGL_NO_SURFACE, h->egl_context)) {
@@ -397,6 +424,14 @@ static int effective_choice(halo_headless_choice *choice, char *err, size_t errl
     return check_choice("HALO_HEADLESS", environment, choice, err, errlen);
 }
 
+int halo_headless_choice_es(void)
+{
+    halo_headless_choice choice;
+    if (!effective_choice(&choice, NULL, 0))
+        return 0;
+    return choice == HALO_HEADLESS_EGL_ES30 ? 30 : choice == HALO_HEADLESS_EGL_ES32 ? 32 : 0;
+}
+
 halo_headless *halo_headless_create(int width, int height, char *err, size_t errlen)
 {
     if (width < 1 || height < 1 || width > 16384 || height > 16384) {
@@ -419,12 +454,19 @@ halo_headless *halo_headless_create(int width, int height, char *err, size_t err
 #ifdef HALO_HAVE_EGL
     h->egl_display = EGL_NO_DISPLAY;
     h->egl_context = EGL_NO_CONTEXT;
+    h->es = choice == HALO_HEADLESS_EGL_ES30 ? 30 : choice == HALO_HEADLESS_EGL_ES32 ? 32 : 0;
+    if (h->es == 30)
+        /* Mesa gives an ES 3.2 context for 3.0 (EGL allows a compatible later version), which
+         * would hide what ES 3.0 lacks; this makes it report 3.0, as WebGL 2's contexts do
+         * (the runtime then leaves out what 3.2 added). Read when the display is initialized;
+         * the tools are single-threaded here. */
+        setenv("MESA_GLES_VERSION_OVERRIDE", "3.0", 0);
     /* auto: a GPU first (a hardware renderer), then OSMesa, then EGL's software renderer */
     if (choice != HALO_HEADLESS_OSMESA)
         ok = create_egl(h, choice == HALO_HEADLESS_AUTO, egl_error, sizeof egl_error);
 #endif
 #ifdef HALO_HAVE_OSMESA
-    if (!ok && choice != HALO_HEADLESS_EGL) {
+    if (!ok && (choice == HALO_HEADLESS_AUTO || choice == HALO_HEADLESS_OSMESA)) {
         ok = create_osmesa(h, width, height, osmesa_error, sizeof osmesa_error);
         if (ok) {
             current_backend = BACKEND_OSMESA;
@@ -439,7 +481,7 @@ halo_headless *halo_headless_create(int width, int height, char *err, size_t err
         ok = create_egl(h, 0, egl_error, sizeof egl_error);
 #endif
     if (!ok) {
-        if (choice == HALO_HEADLESS_EGL)
+        if (choice != HALO_HEADLESS_AUTO && choice != HALO_HEADLESS_OSMESA)
             set_error(err, errlen, "no headless OpenGL context: EGL: %s", egl_error);
         else if (choice == HALO_HEADLESS_OSMESA)
             set_error(err, errlen, "no headless OpenGL context: OSMesa: %s", osmesa_error);
@@ -464,6 +506,11 @@ void halo_headless_destroy(halo_headless *h)
         destroy_egl(h);
 #endif
     free(h);
+}
+
+int halo_headless_es(const halo_headless *h)
+{
+    return h ? h->es : 0;
 }
 
 const char *halo_headless_renderer(halo_headless *h)

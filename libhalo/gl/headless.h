@@ -19,6 +19,9 @@
  *   auto    EGL when one of its devices reports a hardware renderer (not llvmpipe,
  *           softpipe or another software rasterizer), else OSMesa, else EGL's
  *           software renderer (surfaceless, then the devices)
+ *   egl-es3.0, egl-es3.2
+ *           EGL with an OpenGL ES 3.0 or 3.2 context (the WebGL 2 feature set is ES
+ *           3.0): the tools link their shaders for GLSL ES 3.00 (halo_headless_es)
  * The context has no default framebuffer worth drawing to: render into framebuffer
  * objects.
  *
@@ -34,11 +37,17 @@ typedef struct halo_headless halo_headless;
 typedef enum halo_headless_choice {
     HALO_HEADLESS_AUTO,
     HALO_HEADLESS_EGL,
-    HALO_HEADLESS_OSMESA
+    HALO_HEADLESS_OSMESA,
+    HALO_HEADLESS_EGL_ES30,
+    HALO_HEADLESS_EGL_ES32
 } halo_headless_choice;
 
-/* "egl", "osmesa" or "auto" to *choice; 0 for any other text. */
+/* "egl", "osmesa", "auto", "egl-es3.0" or "egl-es3.2" to *choice; 0 for any other text. */
 int halo_headless_parse_choice(const char *text, halo_headless_choice *choice);
+
+/* A tool whose hosts draw on OpenGL ES calls this with 1 before taking --backend: the
+ * egl-es3.0 and egl-es3.2 choices are refused otherwise (with a message). */
+void halo_headless_allow_es(int allowed);
 
 /* The tools' --backend option, one implementation for all of them: removes every
  * "--backend B" and "--backend=B" from argv (updating *argc) and makes B the
@@ -65,5 +74,10 @@ void *halo_headless_get_proc_address(const char *name);
 const char *halo_headless_renderer(halo_headless *h);
 /* "osmesa" or "egl". */
 const char *halo_headless_backend(halo_headless *h);
+/* 30 or 32 when the process's choice (--backend, HALO_HEADLESS) is an OpenGL ES 3.0 or
+ * 3.2 context, else 0: what a tool needs to know before it creates the context. */
+int halo_headless_choice_es(void);
+/* 30 or 32 for an OpenGL ES 3.0 or 3.2 context, 0 for desktop OpenGL. */
+int halo_headless_es(const halo_headless *h);
 
 #endif

@@ -37,6 +37,48 @@ void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b)
     f->ActiveTexture((GLenum)b->active_texture);
 }
 
+/* The context's kind, and its entry points made to say what it has: a loader such as
+ * Mesa's returns a stub for every name it knows, so the per-draw-buffer blending of OpenGL
+ * 4.0 and ES 3.2 (and the indexed queries of its state), glGetTexLevelParameteriv (ES
+ * 3.1) and glBindFragDataLocation (desktop only) are set to NULL where the version lacks
+ * them, and every caller tests them. 0 after a diagnostic (OpenGL ES 2). */
+static int runtime_context(halo_gl *gl, halo_diagnostics *diag)
+{
+    halo_glfuncs *f = &gl->f;
+    const char *version = (const char *)f->GetString(GL_VERSION);
+    int major = 0, minor = 0;
+    if (version && !strncmp(version, "OpenGL ES ", 10) && sscanf(version + 10, "%d.%d", &major, &minor) == 2) {
+        if (major < 3) {
+            halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
+                            "the current context is %s: libhalo needs OpenGL ES 3.0 or later (or OpenGL 3.3 core)",
+                            version);
+            return 0;
+        }
+        gl->es = major * 10 + (minor > 9 ? 9 : minor);
+    } else {
+        f->GetIntegerv(GL_MAJOR_VERSION, &major);
+    }
+    int per_buffer = gl->es ? gl->es >= 32 : major >= 4;
+    if (!per_buffer) {
+        f->Enablei = NULL;
+        f->Disablei = NULL;
+        f->IsEnabledi = NULL;
+        f->BlendEquationi = NULL;
+        f->BlendFunci = NULL;
+        f->BlendEquationSeparatei = NULL;
+        f->BlendFuncSeparatei = NULL;
+        f->ColorMaski = NULL;
+        f->GetIntegeri_v = NULL; /* used for the indexed blend state only */
+        f->GetBooleani_v = NULL;
+    }
+    if (gl->es) {
+        f->BindFragDataLocation = NULL;
+        if (gl->es < 31)
+            f->GetTexLevelParameteriv = NULL;
+    }
+    return 1;
+}
+
 halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
 {
     if (!desc || !desc->get_proc_address) {
@@ -49,13 +91,53 @@ halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
     const char *missing = NULL;
     if (!halo_glfuncs_load(&gl->f, desc->get_proc_address, &missing)) {
         halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
-                        "OpenGL entry point '%s' not found: an OpenGL 3.3 core context must be current",
+                        "OpenGL entry point '%s' not found: an OpenGL 3.3 core or OpenGL ES 3.0 context must be current",
                         missing ? missing : "?");
+        free(gl);
+        return NULL;
+    }
+    if (!runtime_context(gl, diag)) {
         free(gl);
         return NULL;
     }
     atomic_init(&gl->refs, 1);
     return gl;
+}
+
+int halo_gl_es_version(const halo_gl *gl)
+{
+    return gl ? gl->es : 0;
+}
+
+int halo_gl_read_floats(const halo_gl *gl, int x, int y, int width, int height, int channels, float *out)
+{
+    static const GLenum formats[4] = {GL_RED, GL_RG, GL_RGB, GL_RGBA};
+    if (!gl->es || channels == 4) {
+        gl->f.ReadPixels(x, y, width, height, formats[channels - 1], GL_FLOAT, out);
+        return 1;
+    }
+    size_t pixels = (size_t)width * (size_t)height;
+    float *rgba = malloc(pixels * 4 * sizeof *rgba);
+    if (!rgba)
+        return 0;
+    gl->f.ReadPixels(x, y, width, height, GL_RGBA, GL_FLOAT, rgba);
+    for (size_t i = 0; i < pixels; ++i)
+        for (int c = 0; c < channels; ++c)
+            out[i * (size_t)channels + (size_t)c] = rgba[i * 4 + (size_t)c];
+    free(rgba);
+    return 1;
+}
+
+int halo_gl_has_extension(const halo_gl *gl, const char *name)
+{
+    GLint count = 0;
+    gl->f.GetIntegerv(GL_NUM_EXTENSIONS, &count);
+    for (GLint i = 0; i < count; ++i) {
+        const char *e = (const char *)gl->f.GetStringi(GL_EXTENSIONS, (GLuint)i);
+        if (e && !strcmp(e, name))
+            return 1;
+    }
+    return 0;
 }
 
 void halo_gl_destroy(halo_gl *gl)
@@ -366,7 +448,7 @@ unsigned halo_gl_program_build_defines(halo_gl *gl, const halo_program *p, const
     GLuint program = halo_gl_program_attach(f, vertex, fragment, "", diag);
     if (!program)
         return 0;
-    if (p->unlocated_outputs) { /* GLSL 150: the outputs are bound by name */
+    if (p->unlocated_outputs && f->BindFragDataLocation) { /* GLSL 150: the outputs are bound by name */
         for (size_t o = 0; o < p->output_count; o++)
             f->BindFragDataLocation(program, (GLuint)p->outputs[o].location, p->outputs[o].name);
         if (p->segment_location > 0)

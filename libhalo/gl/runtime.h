@@ -9,10 +9,18 @@
 #include "gl/glfuncs.h"
 
 struct halo_gl {
-    halo_glfuncs f;
+    halo_glfuncs f; /* entry points the context lacks are NULL (halo_gl_create) */
+    int es;         /* 30, 31, 32: OpenGL ES 3.x; 0: desktop OpenGL */
     /* The creator's reference (halo_gl_destroy) and one per frame made with it. */
     _Atomic long refs;
 };
+
+/* Reads width x height pixels of the read framebuffer's read buffer as channels floats
+ * each (1..4, pack alignment 4); OpenGL ES reads them as RGBA, the one float format it
+ * must support, through scratch memory. 0 when that cannot be allocated. */
+int halo_gl_read_floats(const halo_gl *gl, int x, int y, int width, int height, int channels, float *out);
+/* Does the context have the extension (GL_EXT_float_blend)? */
+int halo_gl_has_extension(const halo_gl *gl, const char *name);
 
 /* Compiles one shader; returns its name or 0 after reporting the driver's messages.
  * Lines are mapped through p's line map, or through origins (an image pass). */

@@ -20,13 +20,16 @@ run 2 "$HALO_VALIDATE" link --scene "$data/scenes/good.json" --host "$data/hosts
 expect_stderr "es310"
 # the headless backend (--backend, HALO_HEADLESS): checked before anything renders
 run 2 "$HALO_VALIDATE" conform --backend vulkan --stage empty
-expect_stderr "--backend: 'vulkan' is not egl, osmesa or auto"
+expect_stderr "--backend: 'vulkan' is not egl, osmesa, auto, egl-es3.0 or egl-es3.2"
+# OpenGL ES: halo-render's raycast host only (tests/render/es.sh)
+run 2 "$HALO_VALIDATE" conform --backend egl-es3.0 --stage empty
+expect_stderr "'egl-es3.0': this tool draws with desktop OpenGL only \\(on OpenGL ES: halo-render\\)"
 run 2 "$HALO_VALIDATE" bench --backend
 expect_stderr "--backend needs a value"
 run 2 "$HALO_VALIDATE" check --backend egl "$srcdir/glsl/sample/boundary.glsl"
 expect_stderr "unknown option '--backend'"
 run 2 env HALO_HEADLESS=vulkan "$HALO_VALIDATE" conform --stage empty
-expect_stderr "no headless OpenGL context: HALO_HEADLESS: 'vulkan' is not egl, osmesa or auto"
+expect_stderr "no headless OpenGL context: HALO_HEADLESS: 'vulkan' is not egl, osmesa, auto, egl-es3.0 or egl-es3.2"
 # An option the user gave that cannot apply is a usage error, never ignored (issue 26):
 # the composer-piece options with a host shader, an empty or malformed --kernels list.
 for opt in "--segmented" "--sample value=v" "--first-output-location 2"; do

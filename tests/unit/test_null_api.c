@@ -395,6 +395,7 @@ CASE(halo_gl_create) {
     return 0;
 }
 CASE(halo_gl_destroy) { ACCEPTS(DONE(halo_gl_destroy(NULL))); return 0; }
+CASE(halo_gl_es_version) { ACCEPTS(halo_gl_es_version(NULL) == 0); return 0; }
 CASE(halo_gl_program_build) {
     REFUSES_D(halo_gl_program_build(NULL, program, vertex_source, "v.vert", d) == 0, "gl");
     halo_gl *gl = fixture_gl();
@@ -685,6 +686,7 @@ static const api_case cases[] = {
     ROW(halo_budget_choose),
     ROW(halo_gl_create),
     ROW(halo_gl_destroy),
+    ROW(halo_gl_es_version),
     ROW(halo_gl_program_build),
     ROW(halo_gl_program_build_defines),
     ROW(halo_gl_program_upload),
