@@ -166,6 +166,20 @@ GLuint halo_host_program_build(const halo_host_desc *desc, const char *default_v
         halo_diag_error(diag, IO_READ, default_vertex, 0, 0, "no vertex shader: %s is not embedded", default_vertex);
         return 0;
     }
+    if (desc->program && halo_program_target(desc->program) == HALO_TARGET_ES300 &&
+        !strncmp(vertex_source, "#version 330 core\n", 18)) {
+        /* the example vertex shaders are in the common subset of GLSL 330 and ES 300 */
+        size_t length = strlen(vertex_source) + 64;
+        char *es = malloc(length);
+        if (!es) {
+            halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+            return 0;
+        }
+        snprintf(es, length, "#version 300 es\nprecision highp float;\n%s", vertex_source + 18);
+        GLuint program = halo_gl_program_build(desc->runtime, desc->program, es, vertex_file, diag);
+        free(es);
+        return program;
+    }
     if (desc->program)
         return halo_gl_program_build(desc->runtime, desc->program, vertex_source, vertex_file, diag);
     const char *fragment_source = desc->fragment_source ? desc->fragment_source : halo_host_embedded(default_fragment);
