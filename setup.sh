@@ -20,23 +20,39 @@ packages="build-essential autoconf automake libtool pkg-config file
   libglfw3-dev xvfb xauth
   gnuplot-nox
   paraview paraview-dev python3-paraview openmpi-bin libopenmpi-dev libglew-dev libfreetype-dev cmake python3
-  glslang-tools git"
+  glslang-tools git
+  emscripten nodejs"
+
+# The web package builds jansson for WebAssembly from Debian's source package
+# (adapters/web/deps.sh: apt-get source), which needs a deb-src entry for Debian's archive.
+src_list=/etc/apt/sources.list.d/libhalo-src.sources
+need_src=""
+if ! grep -rqs "^Types:.*deb-src\|^deb-src " /etc/apt/sources.list /etc/apt/sources.list.d/; then
+  need_src=yes
+fi
 
 missing=""
 for p in $packages; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
 done
+sudo=""
+[ "$(id -u)" -eq 0 ] || sudo=sudo
+if [ -n "$need_src" ]; then
+  echo "setup: adding Debian's source packages ($src_list, for apt-get source jansson)"
+  printf 'Types: deb-src\nURIs: http://deb.debian.org/debian\nSuites: bookworm\nComponents: main\nSigned-By: /usr/share/keyrings/debian-archive-keyring.gpg\n' |
+    $sudo tee "$src_list" >/dev/null
+fi
+if [ -n "$missing" ] || [ -n "$need_src" ]; then
+  $sudo apt-get update -q
+fi
 if [ -n "$missing" ]; then
   echo "setup: installing:$missing"
-  sudo=""
-  [ "$(id -u)" -eq 0 ] || sudo=sudo
-  $sudo apt-get update -q
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -q --no-install-recommends $missing
 fi
 
 # Every optional component whose packages are installed above is required: one that
 # does not build then fails configure, instead of being left out without notice.
-components="--with-egl --with-osmesa --with-glfw --with-vtk --with-paraview"
+components="--with-egl --with-osmesa --with-glfw --with-vtk --with-paraview --with-web"
 [ -x configure ] || autoreconf -fi
 [ -f Makefile ] || ./configure $components ${HALO_CONFIGURE_FLAGS:-}
 make -j"$(nproc)"

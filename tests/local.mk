@@ -309,3 +309,12 @@ endif
 # installs or one of those depends on; skipped (77) without dpkg and apt ----
 TESTS += tests/setup_deps.sh
 EXTRA_DIST += tests/setup_deps.sh
+
+# ---- The web package (adapters/web): its JavaScript API under node against the native
+# linker (skipped when configure left the web package out) ----
+HALO_WEB_TESTS = tests/web/api.sh
+TESTS += $(HALO_WEB_TESTS)
+EXTRA_DIST += $(HALO_WEB_TESTS) tests/web/api.test.mjs
+AM_TESTS_ENVIRONMENT += HALO_HAVE_WEB='$(HALO_HAVE_WEB)'; export HALO_HAVE_WEB; \
+	HALO_WEB_PACKAGE='$(abs_top_builddir)/adapters/web/package'; export HALO_WEB_PACKAGE; \
+	NODE='$(NODE)'; export NODE;

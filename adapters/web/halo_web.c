@@ -1,0 +1,239 @@
+/* The C side of libhalo's JavaScript package (adapters/web/libhalo.mjs): the linker, the
+ * modules (embedded), scenes, reflection, live parameters and the line map, built by
+ * emscripten from the same sources as the native library, behind a few functions that
+ * take and return strings (JSON) and handles. glslang is not in this build: the
+ * browser's WebGL compiler checks the shaders, and libhalo maps its log (halo_web_map_line).
+ *
+ * Every function that can fail leaves its diagnostics for halo_web_diagnostics (a JSON
+ * array of {severity, id, file, line, column, message, source}), cleared by the next call. */
+#include <halo.h>
+
+#include <jansson.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef __EMSCRIPTEN__
+#include <emscripten.h>
+#define WEB_API EMSCRIPTEN_KEEPALIVE
+#else
+#define WEB_API
+#endif
+
+static halo_diagnostics *diagnostics;
+static halo_library *library;
+static char *last_text; /* the string the last call returned, kept until the next */
+
+static const char *keep(char *text)
+{
+    free(last_text);
+    last_text = text;
+    return text ? text : "";
+}
+
+static void usage(halo_diagnostics *d, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void usage(halo_diagnostics *d, const char *fmt, ...)
+{
+    char text[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    halo_diagnostics_report(d, HALO_SEVERITY_ERROR, HALO_MSG_USAGE, "", 0, 0, text);
+}
+
+static halo_diagnostics *fresh(void)
+{
+    if (!diagnostics)
+        diagnostics = halo_diagnostics_create();
+    halo_diagnostics_clear(diagnostics);
+    return diagnostics;
+}
+
+/* The library of the embedded modules, made once; 0 after a diagnostic. */
+WEB_API int halo_web_init(void)
+{
+    halo_diagnostics *d = fresh();
+    if (!library)
+        library = halo_library_create(d);
+    return library != NULL;
+}
+
+WEB_API const char *halo_web_version(void)
+{
+    return halo_version();
+}
+
+WEB_API const char *halo_web_diagnostics(void)
+{
+    json_t *list = json_array();
+    size_t n = diagnostics ? halo_diagnostics_count(diagnostics) : 0;
+    for (size_t i = 0; i < n && list; ++i) {
+        const halo_diagnostic *g = halo_diagnostics_get(diagnostics, i);
+        json_array_append_new(list, json_pack("{s:s, s:s, s:s, s:i, s:i, s:s, s:s?}", "severity",
+                                              g->severity == HALO_SEVERITY_ERROR ? "error" : "warning", "id",
+                                              halo_message_name(g->id), "file", g->file ? g->file : "", "line",
+                                              g->line, "column", g->column, "message", g->text ? g->text : "",
+                                              "source", g->source_line));
+    }
+    char *text = list ? json_dumps(list, JSON_COMPACT) : NULL;
+    json_decref(list);
+    return keep(text);
+}
+
+/* The modules and their parameters, as halo-validate list prints them, in JSON. */
+WEB_API const char *halo_web_modules(void)
+{
+    if (!halo_web_init())
+        return "[]";
+    json_t *list = json_array();
+    for (size_t i = 0; i < halo_library_module_count(library) && list; ++i) {
+        const halo_module *m = halo_library_module(library, i);
+        json_array_append_new(list, json_pack("{s:s, s:s, s:s}", "name", halo_module_name(m), "file",
+                                              halo_module_file(m), "summary", halo_module_summary(m)));
+    }
+    char *text = list ? json_dumps(list, JSON_COMPACT) : NULL;
+    json_decref(list);
+    return keep(text);
+}
+
+static const char *string_field(json_t *o, const char *key)
+{
+    json_t *v = json_object_get(o, key);
+    return json_is_string(v) ? json_string_value(v) : NULL;
+}
+
+static int int_field(json_t *o, const char *key, int fallback)
+{
+    json_t *v = json_object_get(o, key);
+    return json_is_integer(v) ? (int)json_integer_value(v) : json_is_true(v) ? 1 : json_is_false(v) ? 0 : fallback;
+}
+
+/* Links a scene (JSON text) into a host shader or, with pieces, into pieces for an
+ * engine's composer. options (JSON): {scene, scene_file, host, host_file, target ("330",
+ * "450", "es300", "150"), kind ("fragment", "vertex"), one_draw, all_live,
+ * image_precision, image_scale, version ("target", "keep", "none"), engine_uniforms,
+ * pieces: {position, value, gradient, view, depth, fragcoord, color, volume,
+ * gradient_texture, segmented, first_output_location}}. Returns the program, or NULL
+ * after diagnostics. */
+WEB_API halo_program *halo_web_link(const char *options_text)
+{
+    if (!halo_web_init())
+        return NULL;
+    halo_diagnostics *d = fresh();
+    json_error_t error;
+    json_t *o = json_loads(options_text ? options_text : "", 0, &error);
+    if (!json_is_object(o)) {
+        usage(d, "link: the options are not a JSON object (%s)", error.text);
+        json_decref(o);
+        return NULL;
+    }
+    halo_program *p = NULL;
+    halo_scene *scene = NULL;
+    const char *scene_text = string_field(o, "scene"), *target_name = string_field(o, "target");
+    const char *version = string_field(o, "version"), *kind = string_field(o, "kind");
+    halo_target target = target_name ? halo_target_from_name(target_name) : HALO_TARGET_ES300;
+    if (target == HALO_TARGET_COUNT) {
+        usage(d, "link: target '%s' is not 330, 450, es300 or 150", target_name);
+        goto done;
+    }
+    if (version && strcmp(version, "target") && strcmp(version, "keep") && strcmp(version, "none")) {
+        usage(d, "link: version '%s' is not target, keep or none", version);
+        goto done;
+    }
+    if (kind && strcmp(kind, "fragment") && strcmp(kind, "vertex")) {
+        usage(d, "link: kind '%s' is not fragment or vertex", kind);
+        goto done;
+    }
+    if (scene_text) {
+        const char *file = string_field(o, "scene_file");
+        scene = halo_scene_parse(scene_text, file ? file : "scene.json", library, d);
+        if (!scene)
+            goto done;
+    }
+    json_t *pieces = json_object_get(o, "pieces");
+    halo_pieces_desc pd = {0};
+    if (json_is_object(pieces)) {
+        pd = (halo_pieces_desc){
+            .position = string_field(pieces, "position"),
+            .value = string_field(pieces, "value"),
+            .gradient = string_field(pieces, "gradient"),
+            .view = string_field(pieces, "view"),
+            .depth = string_field(pieces, "depth"),
+            .fragcoord = string_field(pieces, "fragcoord"),
+            .color = string_field(pieces, "color"),
+            .volume = string_field(pieces, "volume"),
+            .gradient_texture = string_field(pieces, "gradient_texture"),
+            .segmented = int_field(pieces, "segmented", 0),
+            .first_output_location = int_field(pieces, "first_output_location", 0),
+        };
+    }
+    const char *host = string_field(o, "host"), *host_file = string_field(o, "host_file");
+    p = halo_link(&(halo_link_desc){
+                      .library = library,
+                      .scene = scene,
+                      .host_source = json_is_object(pieces) ? NULL : host,
+                      .host_file = host_file,
+                      .target = target,
+                      .kind = kind && !strcmp(kind, "vertex") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT,
+                      .all_live = int_field(o, "all_live", 0),
+                      .image_precision = int_field(o, "image_precision", 0),
+                      .image_scale = int_field(o, "image_scale", 0),
+                      .one_draw = int_field(o, "one_draw", 0),
+                      .version = !version || !strcmp(version, "target") ? HALO_VERSION_TARGET
+                                 : !strcmp(version, "keep")              ? HALO_VERSION_KEEP
+                                                                         : HALO_VERSION_NONE,
+                      .engine_uniforms = int_field(o, "engine_uniforms", 0),
+                      .pieces = json_is_object(pieces) ? &pd : NULL,
+                  },
+                  d);
+done:
+    halo_scene_destroy(scene);
+    json_decref(o);
+    return p;
+}
+
+WEB_API void halo_web_program_destroy(halo_program *p)
+{
+    halo_program_destroy(p);
+}
+
+WEB_API const char *halo_web_program_source(const halo_program *p)
+{
+    const char *s = halo_program_source(p);
+    return s ? s : "";
+}
+
+/* piece: 0 declarations, 1 sample, 2 finish ("" when the program has none). */
+WEB_API const char *halo_web_program_piece(const halo_program *p, int piece)
+{
+    const char *s = piece >= 0 && piece < HALO_PIECE_COUNT ? halo_program_piece(p, (halo_piece)piece) : NULL;
+    return s ? s : "";
+}
+
+WEB_API const char *halo_web_program_reflect(const halo_program *p)
+{
+    return keep(halo_program_reflect_json(p));
+}
+
+/* Sets a live parameter (count values from values); 1, or 0 after diagnostics. */
+WEB_API int halo_web_program_set(halo_program *p, const char *stage, const char *param, const double *values,
+                                 int count)
+{
+    return halo_program_set(p, stage, param, values, count, fresh()) == HALO_OK;
+}
+
+/* Line `line` of the linked source (piece: -1; or of a piece) as {"file", "line"}: the
+ * module, host or "<libhalo>" text it came from. */
+WEB_API const char *halo_web_map_line(const halo_program *p, int piece, int line)
+{
+    const char *file = NULL;
+    int origin = 0;
+    int ok = piece < 0 ? halo_program_map_line(p, line, &file, &origin)
+                       : halo_program_piece_map_line(p, (halo_piece)piece, line, &file, &origin);
+    json_t *o = json_pack("{s:s, s:i}", "file", ok && file ? file : "", "line", ok ? origin : 0);
+    char *text = o ? json_dumps(o, JSON_COMPACT) : NULL;
+    json_decref(o);
+    return keep(text);
+}

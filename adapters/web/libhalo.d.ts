@@ -1,0 +1,63 @@
+// Type declarations of libhalo's JavaScript API (libhalo.mjs; docs/hosts/web.md).
+
+export interface HaloDiagnostic {
+  severity: 'error' | 'warning';
+  id: string;        // "SCENE_JSON", "LINK_MISSING_PROVIDER", ...
+  file: string;      // module, host or scene file ("" when none)
+  line: number;      // 1-based; 0 when unknown
+  column: number;    // 1-based; 0 when unknown
+  message: string;
+  source?: string;   // the line it points at
+}
+
+export class HaloError extends Error {
+  diagnostics: HaloDiagnostic[];
+  file?: string;
+  line?: number;
+  column?: number;
+  id?: string;
+  static format(d: HaloDiagnostic): string;
+}
+
+// Expressions of the composer's shader for the sample piece (docs/composers.md).
+export interface HaloPieces {
+  position?: string; value?: string; gradient?: string; view?: string; depth?: string;
+  fragcoord?: string; color?: string; volume?: string; gradient_texture?: string;
+  segmented?: boolean | number; first_output_location?: number;
+}
+
+export interface LinkOptions {
+  scene?: string | object;   // a scene file's JSON (docs/scenes.md); none: no stage
+  sceneFile?: string;        // its name in diagnostics
+  host?: string;             // the host shader's text, or pieces:
+  pieces?: HaloPieces;
+  hostFile?: string;
+  target?: '330' | '450' | 'es300' | '150'; // default 'es300' (WebGL 2)
+  kind?: 'fragment' | 'vertex';
+  oneDraw?: boolean;         // host contract 3
+  allLive?: boolean;         // every parameter a uniform
+  imagePrecision?: 32 | 16 | 8;
+  imageScale?: 1 | 2 | 4;
+  version?: 'target' | 'keep' | 'none'; // 'none': the engine writes #version (three.js ShaderMaterial)
+  engineUniforms?: boolean;
+}
+
+export interface Program {
+  readonly source: string;                 // the linked shader ("" for pieces)
+  readonly pieces: { declarations?: string; sample?: string; finish?: string };
+  readonly reflection: any;                // halo_program_reflect_json: uniforms, constants, samplers, ...
+  set(name: string, value: number | boolean | number[] | number[][]): void;      // "stage.param"
+  set(stage: string, param: string, value: number | boolean | number[] | number[][]): void;
+  upload(gl: WebGL2RenderingContext, program: WebGLProgram): void;
+  mapLine(line: number, piece?: 'declarations' | 'sample' | 'finish'): { file: string; line: number };
+  mapLog(log: string, piece?: 'declarations' | 'sample' | 'finish'): string;
+  destroy(): void;
+}
+
+export interface Halo {
+  readonly version: string;
+  modules(): { name: string; file: string; summary: string }[];
+  link(options: LinkOptions): Program;
+}
+
+export default function libhalo(options?: object): Promise<Halo>;

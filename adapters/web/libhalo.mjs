@@ -1,0 +1,230 @@
+// libhalo for the web: the linker, modules, scenes, reflection, live parameters and line
+// map of the C library, in WebAssembly (dist/libhalo-core.mjs, built by emscripten from
+// the same sources). docs/hosts/web.md.
+//
+//   import libhalo from '@libhalo/web';
+//   const halo = await libhalo();
+//   const program = halo.link({ scene: sceneJson, host: fragmentSource });   // GLSL ES 3.00
+//   gl.shaderSource(shader, program.source);
+//   program.set('tone_shading.k_ta', 0.4);      // a live parameter
+//   program.upload(gl, glProgram);              // the live parameters' uniforms
+//
+// Errors are HaloError exceptions: message "file:line:col: text", with .diagnostics (every
+// one, as {severity, id, file, line, column, message, source}).
+import haloCore from './dist/libhalo-core.mjs';
+
+export class HaloError extends Error {
+  constructor(diagnostics, fallback) {
+    const errors = diagnostics.filter((d) => d.severity === 'error');
+    const first = errors[0] || diagnostics[0];
+    super(first ? HaloError.format(first) : fallback);
+    this.name = 'HaloError';
+    this.diagnostics = diagnostics;
+    if (first) {
+      this.file = first.file;
+      this.line = first.line;
+      this.column = first.column;
+      this.id = first.id;
+    }
+  }
+
+  // "file:line:col: message" (as the C library prints it), "file:line:", or the message alone.
+  static format(d) {
+    const where = d.file ? `${d.file}:${d.line ? `${d.line}:${d.column ? `${d.column}:` : ''}` : ''} ` : '';
+    return `${where}${d.message}`;
+  }
+}
+
+const PIECES = { declarations: 0, sample: 1, finish: 2 };
+
+class Program {
+  constructor(halo, handle) {
+    this._halo = halo;
+    this._handle = handle;
+    const core = halo._core;
+    this.source = core.UTF8ToString(core._halo_web_program_source(handle));
+    this.reflection = JSON.parse(core.UTF8ToString(core._halo_web_program_reflect(handle)));
+    this.pieces = {};
+    for (const [name, index] of Object.entries(PIECES)) {
+      const text = core.UTF8ToString(core._halo_web_program_piece(handle, index));
+      if (text) this.pieces[name] = text;
+    }
+    this._values = new Map(); // "stage.param" -> values set since the last upload
+  }
+
+  _live() {
+    if (!this._handle) throw new HaloError([], 'the program was destroyed');
+  }
+
+  // Sets a live parameter ("stage.param", or stage and param): a number, a boolean or an
+  // array of numbers (vectors, arrays). Refused parameters throw a HaloError.
+  set(name, a, b) {
+    this._live();
+    let stage, param, value;
+    if (b === undefined) {
+      const dot = String(name).indexOf('.');
+      if (dot < 0) throw new HaloError([], `set: '${name}' is not stage.param`);
+      stage = name.slice(0, dot);
+      param = name.slice(dot + 1);
+      value = a;
+    } else {
+      [stage, param, value] = [name, a, b];
+    }
+    const values = (Array.isArray(value) ? value.flat(2) : [value]).map((v) => (typeof v === 'boolean' ? +v : v));
+    if (!values.every((v) => typeof v === 'number')) throw new HaloError([], `set ${stage}.${param}: values must be numbers`);
+    // the C side counts elements (a vec3 is one): the components from the reflection
+    const entry = [...(this.reflection.uniforms || []), ...(this.reflection.constants || [])]
+      .find((u) => u.stage === stage && u.param === param);
+    const components = entry ? componentsOf(entry.type.replace(/\[\d+\]$/, '')) : 1;
+    if (values.length % components)
+      throw new HaloError([], `set ${stage}.${param}: ${values.length} numbers are not whole ${entry.type} elements`);
+    const core = this._halo._core;
+    const pointer = core._malloc(Math.max(values.length, 1) * 8);
+    try {
+      core.HEAPF64.set(values, pointer / 8);
+      const count = values.length / components;
+      const ok = this._halo._withStrings([stage, param], ([s, p]) => core._halo_web_program_set(this._handle, s, p, pointer, count));
+      if (!ok) throw this._halo._error(`set ${stage}.${param} failed`);
+    } finally {
+      core._free(pointer);
+    }
+    this._values.set(`${stage}.${param}`, values);
+  }
+
+  // The uniforms of the live parameters set (all of them on the first call) into the
+  // WebGL program, which must be in use: gl.uniform* by the reflection's types.
+  upload(gl, glProgram) {
+    this._live();
+    for (const u of this.reflection.uniforms || []) { // the live parameters
+      const key = `${u.stage}.${u.param}`;
+      const values = this._values.get(key) || (this._uploaded ? null : u.value);
+      if (!values) continue;
+      const array = /^(\w+)\[\d+\]$/.exec(u.type);
+      const type = array ? array[1] : u.type;
+      const location = gl.getUniformLocation(glProgram, u.name);
+      if (location !== null) uploadUniform(gl, location, type, values);
+      if (array) { // an array parameter's element count: NAME_count
+        const count = gl.getUniformLocation(glProgram, `${u.name}_count`);
+        if (count !== null) gl.uniform1i(count, Math.floor(values.length / componentsOf(type)));
+      }
+    }
+    this._values.clear();
+    this._uploaded = true;
+  }
+
+  // The origin of a line of the linked source (or of a piece: 'declarations', 'sample',
+  // 'finish'): {file, line}, the module, host or '<libhalo>' text it came from.
+  mapLine(line, piece) {
+    this._live();
+    const core = this._halo._core;
+    const index = piece === undefined ? -1 : PIECES[piece];
+    if (index === undefined) throw new HaloError([], `mapLine: '${piece}' is not declarations, sample or finish`);
+    return JSON.parse(core.UTF8ToString(core._halo_web_map_line(this._handle, index, line)));
+  }
+
+  // A WebGL compile log ("ERROR: 0:147: ...") with each line number mapped to its
+  // origin: "ERROR: glsl/halo/map.glsl:31: ...".
+  mapLog(log, piece) {
+    return String(log).replace(/(ERROR|WARNING): (\d+):(\d+):/g, (whole, kind, source, line) => {
+      const origin = this.mapLine(Number(line), piece);
+      return origin.file ? `${kind}: ${origin.file}:${origin.line}:` : whole;
+    });
+  }
+
+  destroy() {
+    if (this._handle) this._halo._core._halo_web_program_destroy(this._handle);
+    this._handle = 0;
+  }
+}
+
+function componentsOf(type) {
+  const m = /^(?:vec|ivec|bvec)(\d)$/.exec(type);
+  return m ? Number(m[1]) : type === 'mat4' ? 16 : 1;
+}
+
+function uploadUniform(gl, location, type, values) {
+  const v = Float32Array.from(values);
+  switch (type) {
+    case 'float': gl.uniform1fv(location, v); break;
+    case 'vec2': gl.uniform2fv(location, v); break;
+    case 'vec3': gl.uniform3fv(location, v); break;
+    case 'vec4': gl.uniform4fv(location, v); break;
+    case 'int': case 'bool': gl.uniform1iv(location, Int32Array.from(values, Math.round)); break;
+    case 'mat4': gl.uniformMatrix4fv(location, false, v); break;
+    default: throw new HaloError([], `upload: uniform type '${type}' is not handled`);
+  }
+}
+
+class Halo {
+  constructor(core) {
+    this._core = core;
+    if (!core._halo_web_init()) throw this._error('libhalo could not load its modules');
+    this.version = core.UTF8ToString(core._halo_web_version());
+  }
+
+  _diagnostics() {
+    return JSON.parse(this._core.UTF8ToString(this._core._halo_web_diagnostics()));
+  }
+
+  _error(fallback) {
+    return new HaloError(this._diagnostics(), fallback);
+  }
+
+  // Calls fn with the strings copied into WebAssembly memory (null stays 0), then frees them.
+  _withStrings(strings, fn) {
+    const core = this._core;
+    const pointers = strings.map((s) => {
+      if (s === null || s === undefined) return 0;
+      const size = core.lengthBytesUTF8(s) + 1;
+      const p = core._malloc(size);
+      core.stringToUTF8(s, p, size);
+      return p;
+    });
+    try {
+      return fn(pointers);
+    } finally {
+      pointers.forEach((p) => p && core._free(p));
+    }
+  }
+
+  // The modules: [{name, file, summary}].
+  modules() {
+    return JSON.parse(this._core.UTF8ToString(this._core._halo_web_modules()));
+  }
+
+  // Links a scene (JSON text or object) into a host shader (host: its text) or, with
+  // pieces ({position, value, color, ...}, docs/composers.md), into pieces for an engine's
+  // composer. options: scene, sceneFile, host, hostFile, target ('es300' by default: WebGL
+  // 2), kind ('fragment'), oneDraw, allLive, imagePrecision, imageScale, version ('target',
+  // 'keep', 'none'), engineUniforms. Returns a Program; throws a HaloError.
+  link(options = {}) {
+    const known = ['scene', 'sceneFile', 'host', 'hostFile', 'target', 'kind', 'oneDraw', 'allLive',
+      'imagePrecision', 'imageScale', 'version', 'engineUniforms', 'pieces'];
+    for (const key of Object.keys(options))
+      if (!known.includes(key)) throw new HaloError([], `link: unknown option '${key}' (known: ${known.join(', ')})`);
+    if (options.host === undefined && options.pieces === undefined)
+      throw new HaloError([], 'link: give host (the shader text) or pieces (for a composer)');
+    const scene = options.scene === undefined || typeof options.scene === 'string' ? options.scene : JSON.stringify(options.scene);
+    const desc = {
+      scene, scene_file: options.sceneFile, host: options.host, host_file: options.hostFile,
+      target: options.target || 'es300', kind: options.kind, one_draw: options.oneDraw ? 1 : 0,
+      all_live: options.allLive ? 1 : 0, image_precision: options.imagePrecision, image_scale: options.imageScale,
+      version: options.version, engine_uniforms: options.engineUniforms ? 1 : 0, pieces: options.pieces,
+    };
+    const handle = this._withStrings([JSON.stringify(desc)], ([text]) => this._core._halo_web_link(text));
+    if (!handle) throw this._error('link failed');
+    return new Program(this, handle);
+  }
+}
+
+// Loads the WebAssembly module; options go to emscripten's loader (e.g. locateFile,
+// wasmBinary). In a browser it fetches dist/libhalo-core.wasm beside this file; under
+// node (tests, build tools) it reads that file.
+export default async function libhalo(options = {}) {
+  const settings = { ...options };
+  if (!settings.wasmBinary && typeof process === 'object' && process.versions && process.versions.node) {
+    const { readFile } = await import('node:fs/promises');
+    settings.wasmBinary = await readFile(new URL('./dist/libhalo-core.wasm', import.meta.url));
+  }
+  return new Halo(await haloCore(settings));
+}

@@ -1,0 +1,59 @@
+# The web package (docs/hosts/web.md): libhalo's linker, modules, scenes, reflection,
+# live parameters, line map and emulation in WebAssembly (emscripten, from the same
+# sources as the native library, without glslang: the browser's WebGL compiler checks the
+# shaders), and its JavaScript API. jansson is built for WebAssembly from Debian's source
+# package (adapters/web/deps.sh). The package is assembled in $(WEB_PACKAGE): npm pack
+# there makes the installable tarball.
+web_package_files = adapters/web/halo_web.c adapters/web/libhalo.mjs adapters/web/libhalo.d.ts \
+	adapters/web/package.json adapters/web/README.md
+EXTRA_DIST += $(web_package_files) adapters/web/deps.sh adapters/web/local.mk
+
+if HALO_HAVE_WEB
+WEB_PACKAGE = adapters/web/package
+# libhalo-core's sources that need no glslang and no desktop GL
+web_core_files = \
+	libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c \
+	libhalo/scene.c libhalo/link.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c \
+	libhalo/prepass.c libhalo/compose.c libhalo/piece_expression.c libhalo/contract.c libhalo/host_scan.c \
+	libhalo/target.c libhalo/budget.c \
+	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c \
+	libhalo/emu/gradient.c libhalo/emu/opacity_power.c libhalo/emu/boundary.c \
+	libhalo/emu/silhouette.c libhalo/emu/orientation_fade.c libhalo/emu/sketch.c \
+	libhalo/emu/tone_shading.c libhalo/emu/distance_blend.c libhalo/emu/distance_cue.c \
+	libhalo/emu/lines.c libhalo/emu/halo_seed.c libhalo/emu/halo_generate.c libhalo/emu/halo_map.c \
+	libhalo/emu/frame.c libhalo/emu/outline.c libhalo/emu/feature_halo.c
+WEB_DEPS = adapters/web/deps
+# emscripten's tools run on node and need Debian's node-acorn, which a node of another
+# origin does not find by itself
+WEB_EMCC = NODE_PATH=/usr/share/nodejs$${NODE_PATH:+:$$NODE_PATH} $(EMCC)
+WEB_EXPORTS = _malloc _free _halo_web_init _halo_web_version _halo_web_diagnostics _halo_web_modules _halo_web_link _halo_web_program_destroy _halo_web_program_source _halo_web_program_piece _halo_web_program_reflect _halo_web_program_set _halo_web_map_line
+web_comma = ,
+web_empty =
+web_space = $(web_empty) $(web_empty)
+
+$(WEB_DEPS)/lib/libjansson.a: $(srcdir)/adapters/web/deps.sh
+	$(AM_V_GEN)EMCC="$(EMCC)" NODE="$(NODE)" $(SHELL) $(srcdir)/adapters/web/deps.sh $(WEB_DEPS)
+
+$(WEB_PACKAGE)/dist/libhalo-core.mjs: $(web_core_files) adapters/web/halo_web.c libhalo/embedded_modules.c \
+		$(WEB_DEPS)/lib/libjansson.a libhalo/halo.h libhalo/internal.h $(srcdir)/adapters/web/local.mk
+	@mkdir -p $(WEB_PACKAGE)/dist
+	$(AM_V_GEN)$(WEB_EMCC) -O2 -std=gnu11 -DHALO_BUILDING -DPACKAGE_VERSION=\"$(PACKAGE_VERSION)\" \
+		-I$(srcdir)/libhalo -Ilibhalo -I$(srcdir) -I$(WEB_DEPS)/include \
+		$(addprefix $(srcdir)/,$(web_core_files) adapters/web/halo_web.c) libhalo/embedded_modules.c \
+		$(WEB_DEPS)/lib/libjansson.a -o $@ -sMODULARIZE=1 -sEXPORT_ES6=1 -sEXPORT_NAME=haloCore \
+		-sALLOW_MEMORY_GROWTH=1 -sENVIRONMENT=web,worker -sEXPORTED_FUNCTIONS=$(subst $(web_space),$(web_comma),$(WEB_EXPORTS)) \
+		-sEXPORTED_RUNTIME_METHODS=UTF8ToString,stringToUTF8,lengthBytesUTF8
+
+# the package's own files, copied beside the WebAssembly
+$(WEB_PACKAGE)/stamp: $(srcdir)/adapters/web/libhalo.mjs $(srcdir)/adapters/web/libhalo.d.ts \
+		$(srcdir)/adapters/web/package.json $(srcdir)/adapters/web/README.md
+	@mkdir -p $(WEB_PACKAGE)
+	$(AM_V_GEN)cp $(srcdir)/adapters/web/libhalo.mjs $(srcdir)/adapters/web/libhalo.d.ts \
+		$(srcdir)/adapters/web/package.json $(srcdir)/adapters/web/README.md $(WEB_PACKAGE)/ && touch $@
+
+all-local: $(WEB_PACKAGE)/dist/libhalo-core.mjs $(WEB_PACKAGE)/stamp
+clean-local: clean-web
+clean-web:
+	rm -rf $(WEB_PACKAGE) $(WEB_DEPS)
+.PHONY: clean-web
+endif
