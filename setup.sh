@@ -21,7 +21,7 @@ packages="build-essential autoconf automake libtool pkg-config file
   gnuplot-nox
   paraview paraview-dev python3-paraview openmpi-bin libopenmpi-dev libglew-dev libfreetype-dev cmake python3
   glslang-tools git
-  emscripten nodejs"
+  emscripten nodejs npm chromium"
 
 # The web package builds jansson for WebAssembly from Debian's source package
 # (adapters/web/deps.sh: apt-get source), which needs a deb-src entry for Debian's archive.
@@ -56,6 +56,12 @@ components="--with-egl --with-osmesa --with-glfw --with-vtk --with-paraview --wi
 [ -x configure ] || autoreconf -fi
 [ -f Makefile ] || ./configure $components ${HALO_CONFIGURE_FLAGS:-}
 make -j"$(nproc)"
+
+# The browser tests' driver (tests/web/browser.sh): puppeteer-core, from the lock file
+# into tests/web/node_modules (it drives Debian's chromium; it downloads no browser).
+if [ ! -d tests/web/node_modules/puppeteer-core ]; then
+  (cd tests/web && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
+fi
 
 # The main job: render the built-in volume with the default scene.
 LP_NUM_THREADS=${LP_NUM_THREADS:-2} ./tools/halo-render

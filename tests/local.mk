@@ -311,10 +311,12 @@ TESTS += tests/setup_deps.sh
 EXTRA_DIST += tests/setup_deps.sh
 
 # ---- The web package (adapters/web): its JavaScript API under node against the native
-# linker (skipped when configure left the web package out) ----
-HALO_WEB_TESTS = tests/web/api.sh
+# linker, and the example ray caster in headless Chromium against halo-render (skipped
+# when configure left the web package out, or without chromium or puppeteer-core) ----
+HALO_WEB_TESTS = tests/web/api.sh tests/web/browser.sh
 TESTS += $(HALO_WEB_TESTS)
-EXTRA_DIST += $(HALO_WEB_TESTS) tests/web/api.test.mjs
+EXTRA_DIST += $(HALO_WEB_TESTS) tests/web/api.test.mjs tests/web/browser.mjs tests/web/raycast.html \
+	tests/web/package.json tests/web/package-lock.json
 AM_TESTS_ENVIRONMENT += HALO_HAVE_WEB='$(HALO_HAVE_WEB)'; export HALO_HAVE_WEB; \
 	HALO_WEB_PACKAGE='$(abs_top_builddir)/adapters/web/package'; export HALO_WEB_PACKAGE; \
 	NODE='$(NODE)'; export NODE;

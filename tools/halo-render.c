@@ -29,6 +29,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <errno.h>
 
 #define TOOL "halo-render"
 
@@ -105,6 +106,9 @@ static void usage(FILE *out)
           "                     has a hardware renderer, else OSMesa); egl-es3.0 or\n"
           "                     egl-es3.2: an OpenGL ES context, for the raycast host\n"
           "                     (halo scenes: drawn once, --one-draw, unless --host raycast)\n"
+          "  --export-host DIR  with --host raycast: write what the ray caster draws with into\n"
+          "                     DIR (host.json: uniforms and sizes; volume.f32, transfer.f32:\n"
+          "                     its textures; image.f32: the RGBA image), for another renderer\n"
           "  --quiet            no progress or volume notes on stderr\n"
           "  --help             show this help\n"
           "\n"
@@ -123,6 +127,7 @@ typedef struct options {
     halo_driver_host host;
     int raw, have_raw_type, have_raw_extra;
     int halo_scale, have_halo_scale, one_draw;
+    const char *export_dir;
     halo_gradient_format gradient_format;
     halo_raw_desc raw_desc;
 } options;
@@ -130,7 +135,8 @@ typedef struct options {
 enum {
     OPT_NO_HALOS, OPT_QUIET, OPT_SCENE, OPT_OUTPUT, OPT_SIZE, OPT_AZIMUTH, OPT_ELEVATION, OPT_ZOOM,
     OPT_VOLUME_SIZE, OPT_VOLUME, OPT_RAW_DIMS, OPT_RAW_TYPE, OPT_RAW_ENDIAN, OPT_RAW_OFFSET, OPT_RAW_SPACING,
-    OPT_WINDOW, OPT_HOST, OPT_MAX_ERROR, OPT_LABELS, OPT_HALO_SCALE, OPT_GRADIENT_FORMAT, OPT_ONE_DRAW
+    OPT_WINDOW, OPT_HOST, OPT_MAX_ERROR, OPT_LABELS, OPT_HALO_SCALE, OPT_GRADIENT_FORMAT, OPT_ONE_DRAW,
+    OPT_EXPORT_HOST
 };
 static const halo_tool_option option_table[] = {
     [OPT_NO_HALOS] = {"--no-halos", NULL, 0}, [OPT_QUIET] = {"--quiet", "-q", 0},
@@ -143,7 +149,7 @@ static const halo_tool_option option_table[] = {
     [OPT_WINDOW] = {"--window", NULL, 1}, [OPT_HOST] = {"--host", NULL, 1},
     [OPT_MAX_ERROR] = {"--max-error", NULL, 1}, [OPT_LABELS] = {"--labels", NULL, 1},
     [OPT_HALO_SCALE] = {"--halo-scale", NULL, 1}, [OPT_GRADIENT_FORMAT] = {"--gradient-format", NULL, 1},
-    [OPT_ONE_DRAW] = {"--one-draw", NULL, 0},
+    [OPT_ONE_DRAW] = {"--one-draw", NULL, 0}, [OPT_EXPORT_HOST] = {"--export-host", NULL, 1},
     {NULL, NULL, 0}};
 
 /* One option's value into o. Returns 0 after a message. */
@@ -155,6 +161,7 @@ static int take_option(options *o, int option, const char *a, const char *value)
     switch (option) {
     case OPT_NO_HALOS: o->no_halos = 1; break;
     case OPT_ONE_DRAW: o->one_draw = 1; break;
+    case OPT_EXPORT_HOST: o->export_dir = value; break;
     case OPT_QUIET: o->quiet = 1; break;
     case OPT_SCENE: o->scene_path = value; break;
     case OPT_OUTPUT: o->output = value; break;
@@ -255,6 +262,8 @@ static int check_options(const options *o)
         why = "--max-error chooses the host (slice or slab): not with --host";
     else if (o->labels_path && !o->volume_path)
         why = "--labels needs --volume FILE (the labels are on that volume's grid)";
+    else if (o->export_dir && o->host != HALO_DRIVER_RAYCAST)
+        why = "--export-host writes the raycast host's inputs: it needs --host raycast";
     else if (o->one_draw && o->host != HALO_DRIVER_RAYCAST)
         why = "--one-draw is a way to draw the ray caster (host contract 3): it needs --host raycast";
     else if (o->labels_path && o->host == HALO_DRIVER_RAYCAST)
@@ -553,6 +562,62 @@ static halo_program *link_scene(halo_library *lib, halo_scene *scene, halo_drive
                             kind, 1, diag);
 }
 
+/* ---- --export-host: the raycast host's inputs and image, for another renderer ---------- */
+
+/* DIR/NAME from count floats (little-endian, as this machine writes them); 0 after a message. */
+static int export_floats(const char *dir, const char *name, const float *data, size_t count)
+{
+    char path[4096];
+    snprintf(path, sizeof path, "%s/%s", dir, name);
+    FILE *out = fopen(path, "wb");
+    int ok = out && fwrite(data, sizeof *data, count, out) == count;
+    if (out && fclose(out) != 0)
+        ok = 0;
+    if (!ok)
+        fprintf(stderr, TOOL ": error: --export-host: cannot write %s: %s\n", path, strerror(errno));
+    return ok;
+}
+
+static void export_vector(FILE *out, const char *name, const double *v, int n, const char *end)
+{
+    fprintf(out, "  \"%s\": [", name);
+    for (int i = 0; i < n; ++i)
+        fprintf(out, "%s%.17g", i ? ", " : "", v[i]);
+    fprintf(out, "]%s\n", end);
+}
+
+/* What the raycast host draws with (docs/halo-render.md, --export-host): DIR/host.json
+ * (image size, the uniforms of examples/hosts/raycast.frag, the volume's size),
+ * DIR/volume.f32 and DIR/transfer.f32 (the textures' floats, x fastest; RGBA texels). */
+static int export_host_inputs(const char *dir, const halo_driver *host)
+{
+    halo_raycast_state s;
+    halo_raycast_get_state(host->raycast, &s);
+    char path[4096];
+    snprintf(path, sizeof path, "%s/host.json", dir);
+    FILE *out = fopen(path, "w");
+    if (!out) {
+        fprintf(stderr, TOOL ": error: --export-host: cannot write %s: %s\n", path, strerror(errno));
+        return 0;
+    }
+    fprintf(out, "{\n  \"width\": %d,\n  \"height\": %d,\n", s.width, s.height);
+    export_vector(out, "inverse_view_projection", s.inverse_view_projection, 16, ",");
+    export_vector(out, "eye", s.eye, 3, ",");
+    export_vector(out, "screen_right", s.screen_right, 3, ",");
+    export_vector(out, "screen_up", s.screen_up, 3, ",");
+    export_vector(out, "background", s.background, 3, ",");
+    fprintf(out, "  \"step_size\": %.17g,\n  \"unit_step\": %.17g,\n  \"transfer_texels\": %d,\n", s.step_size,
+            s.unit_step, s.transfer_texels);
+    fprintf(out, "  \"dims\": [%d, %d, %d]\n}\n", s.dims[0], s.dims[1], s.dims[2]);
+    if (fclose(out) != 0) {
+        fprintf(stderr, TOOL ": error: --export-host: cannot write %s\n", path);
+        return 0;
+    }
+    size_t voxels = (size_t)s.dims[0] * (size_t)s.dims[1] * (size_t)s.dims[2];
+    return export_floats(dir, "volume.f32", s.volume, voxels) &&
+           export_floats(dir, "transfer.f32", s.transfer, (size_t)s.transfer_texels * 4);
+}
+
 /* The volume and labels into the host, the camera, and the notes on them. Returns an exit status. */
 static int set_up_host(const options *o, halo_driver *host, const halo_render_settings *settings,
                        const float *volume, const float *labels, int size, int interval, halo_diagnostics *diag)
@@ -730,6 +795,10 @@ int main(int argc, char **argv)
     if (status)
         goto done;
     status = 1;
+    if (o.export_dir && !export_host_inputs(o.export_dir, &host)) {
+        status = 2;
+        goto done;
+    }
     /* the feature halo buffer, for this view (rebuilt after every camera change) */
     if (feature && !halo_driver_update_feature(&host, volume, (const int[3]){size, size, size}, diag))
         goto done;
@@ -738,6 +807,10 @@ int main(int argc, char **argv)
     free(volume);
     volume = NULL;
     if (halo_driver_render(&host, image, diag) != HALO_OK) {
+        status = 2;
+        goto done;
+    }
+    if (o.export_dir && !export_floats(o.export_dir, "image.f32", image, (size_t)o.width * (size_t)o.height * 4)) {
         status = 2;
         goto done;
     }

@@ -1,0 +1,32 @@
+#!/bin/sh
+# The web package in headless Chromium (tests/web/browser.mjs): examples/hosts/raycast.frag
+# with a scene's per-sample stages, linked in the page by the WebAssembly linker and drawn
+# in WebGL 2, against halo-render --host raycast with the same inputs (--export-host).
+# Skipped (77) without the web package, Chromium, or puppeteer-core (setup.sh installs
+# them: Debian's chromium, npm ci in tests/web from its lock file).
+. "$srcdir/tests/render/common.sh"
+if test "${HALO_HAVE_WEB:-}" != yes; then
+    echo "the web package is not built (configure --with-web): skipping"
+    exit 77
+fi
+HALO_CHROMIUM=${HALO_CHROMIUM:-$(command -v chromium || true)}
+if test -z "$HALO_CHROMIUM"; then
+    echo "no chromium (the Debian package chromium): skipping"
+    exit 77
+fi
+HALO_WEB_MODULES=${HALO_WEB_MODULES:-$srcdir/tests/web/node_modules}
+if test ! -d "$HALO_WEB_MODULES/puppeteer-core"; then
+    echo "no puppeteer-core in $HALO_WEB_MODULES (setup.sh: npm ci --prefix tests/web): skipping"
+    exit 77
+fi
+export HALO_CHROMIUM HALO_WEB_MODULES srcdir HALO_WEB_PACKAGE
+set --
+for scene in boundary-silhouette.json distance.json orientation.json; do
+    mkdir -p "$tmp/$scene"
+    run 0 "$HALO_RENDER" --host raycast --scene "$srcdir/examples/scenes/$scene" --size 64x64 --volume-size 32 \
+        --quiet --export-host "$tmp/$scene" -o "$tmp/$scene/reference.png"
+    set -- "$@" "$tmp/$scene" "$scene"
+done
+echo "+ node browser.mjs $*"
+"$NODE" "$srcdir/tests/web/browser.mjs" "$@" || fail "the pages' images (above)"
+finish
