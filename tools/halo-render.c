@@ -72,7 +72,7 @@ static void usage(FILE *out)
           "                     (faster image passes; docs/performance.md)\n"
           "  --gradient-format F  the slice and slab hosts' gradient texture: float (RGB32F),\n"
           "                     half (RGB16F, the default), snorm8 (RGB8_SNORM, scaled to the\n"
-          "                     volume's largest gradient), packed16 or packed32 (RGBA16,\n"
+          "                     volume's largest gradient), packed16 or packed32 (RGBA16_SNORM,\n"
           "                     RGBA32F: value and gradient in one texture, one fetch);\n"
           "                     docs/performance.md\n"
           "  --max-error E      measure a sweep of configurations (slice or slab host, M, N,\n"

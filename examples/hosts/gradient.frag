@@ -10,7 +10,7 @@ uniform highp sampler3D volume_texture;
 uniform int layer;
 uniform float inverse_scale;
 uniform bool to_half; // the texture is half floats: round here, to the nearest (ties to even)
-uniform bool pack_value; // RGBA16 (halo_host_build_packed): R the value, (value - x) * y, GBA g * 0.5 + 0.5
+uniform bool pack_value; // RGBA16_SNORM, RGBA32F (halo_host_build_packed): R the value, (value - x) * y, GBA g
 uniform vec2 value_encode;
 
 layout(location = 0) out vec4 gradient;
@@ -46,5 +46,5 @@ void main()
     g *= inverse_scale;
     if (to_half)
         g = vec3(nearest_half(g.x), nearest_half(g.y), nearest_half(g.z));
-    gradient = pack_value ? vec4((voxel(at) - value_encode.x) * value_encode.y, g * 0.5 + 0.5) : vec4(g, 0.0);
+    gradient = pack_value ? vec4((voxel(at) - value_encode.x) * value_encode.y, g) : vec4(g, 0.0);
 }

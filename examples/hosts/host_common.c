@@ -292,7 +292,7 @@ static int gradient_format_known(GLint internal_format)
 /* The packed formats (halo_host_build_packed): the value and the gradient in one texture. */
 static int packed_format(GLint internal_format)
 {
-    return internal_format == GL_RGBA16 || internal_format == GL_RGBA32F;
+    return internal_format == GL_RGBA16_SNORM || internal_format == GL_RGBA32F;
 }
 
 /* The gradient texture's storage (no data); usable 0 or an unknown format: USAGE with
@@ -301,7 +301,7 @@ static halo_status gradient_storage(const halo_glfuncs *f, GLuint texture, int n
                                    GLint internal_format, int usable, const char *refusal, halo_diagnostics *diag)
 {
     if (!usable || !(gradient_format_known(internal_format) || packed_format(internal_format))) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "gradient volume: %s or not RGB32F, RGB16F, RGB8_SNORM, RGBA16, RGBA32F",
+        halo_diag_error(diag, USAGE, "", 0, 0, "gradient volume: %s or not RGB32F, RGB16F, RGB8_SNORM, RGBA16_SNORM, RGBA32F",
                         refusal);
         return HALO_ERROR_INPUT;
     }
@@ -315,7 +315,7 @@ float halo_host_gradient_scale(const float *volume, const int dims[3], GLint int
     /* snorm: the 8 bits span the volume's own range; half: only values beyond the
      * contract's [0,1] (|g| > 1) are scaled, before they reach half's 65504 */
     float largest = halo_volume_largest_gradient(volume, dims);
-    int normalised = internal_format == GL_RGB8_SNORM || internal_format == GL_RGBA16;
+    int normalised = internal_format == GL_RGB8_SNORM || internal_format == GL_RGBA16_SNORM;
     return largest > (normalised ? 0.0f : 1.0f) && isfinite(largest) ? largest : 1.0f;
 }
 
@@ -416,7 +416,7 @@ halo_status halo_host_build_packed(const halo_glfuncs *f, GLuint texture, GLuint
                                    halo_diagnostics *diag)
 {
     if (!packed_format(internal_format)) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "packed volume: RGBA16 or RGBA32F");
+        halo_diag_error(diag, USAGE, "", 0, 0, "packed volume: RGBA16_SNORM or RGBA32F");
         return HALO_ERROR_INPUT;
     }
     const float encode[2] = {value_range[0], 1.0f / value_range[1]};
@@ -489,7 +489,7 @@ static halo_status build_on_gpu(const halo_glfuncs *f, GLuint texture, GLuint vo
 static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
                                  GLint filter, GLint internal_format, const char *what, halo_diagnostics *diag)
 {
-    int rgb = internal_format != GL_R32F, rgba = internal_format == GL_RGBA16 || internal_format == GL_RGBA32F;
+    int rgb = internal_format != GL_R32F, rgba = internal_format == GL_RGBA16_SNORM || internal_format == GL_RGBA32F;
     if (!f || (!data && !rgb) || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
         halo_diag_error(diag, USAGE, "", 0, 0, "%s of %dx%dx%d voxels: each side must be 2..2048", what, nx, ny, nz);
         return HALO_ERROR_INPUT;

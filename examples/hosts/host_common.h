@@ -89,11 +89,11 @@ halo_status halo_host_build_gradients(const halo_glfuncs *f, GLuint texture, GLu
                                       int nz, GLint internal_format, float scale, halo_diagnostics *diag);
 
 /* The packed formats: one texture for the value and the gradient (one fetch for both).
- * R holds (value - range[0]) / range[1], GBA g / scale * 0.5 + 0.5; internal_format
- * GL_RGBA16 (packed16: 16 bits each, 8 bytes a voxel; scale the largest |component|, so
- * that GBA stays in [0, 1]) or GL_RGBA32F (packed32: floats, 16 bytes a voxel; scale 1).
+ * R holds (value - range[0]) / range[1], GBA g / scale; internal_format
+ * GL_RGBA16_SNORM (packed16: 16 bits each, 8 bytes a voxel; scale the largest |component|,
+ * so that GBA stays in [-1, 1]; a zero gradient is code 0, exactly 0 when read) or GL_RGBA32F (packed32: floats, 16 bytes a voxel; scale 1).
  * Built on the GPU from volume_texture as halo_host_build_gradients is; the shader
- * decodes range[0] + R range[1] and (GBA * 2 - 1) scale, affine maps of the filtered
+ * decodes range[0] + R range[1] and GBA scale, linear maps of the filtered
  * texels. */
 halo_status halo_host_build_packed(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny,
                                    int nz, GLint internal_format, float scale, const float range[2],

@@ -31,9 +31,10 @@ in vec2 ndc;
 layout(location = 0) out vec4 frag_state;
 
 #ifdef SLICE_PACKED_VOLUME
-// The slice host's packed gradient formats (packed16: RGBA16, packed32: RGBA32F): one
-// texture on volume_texture's unit, R the value as (value - packed_value.x) /
-// packed_value.y, GBA the gradient / gradient_texture_scale mapped as g * 0.5 + 0.5. The
+// The slice host's packed gradient formats (packed16: RGBA16_SNORM, packed32: RGBA32F):
+// one texture on volume_texture's unit, R the value as (value - packed_value.x) /
+// packed_value.y, GBA the gradient / gradient_texture_scale (snorm: a zero gradient is
+// code 0, read as exactly 0, so a homogeneous region has no normal in any format). The
 // two reads are the same texture read: the compiler keeps one fetch.
 uniform vec2 packed_value;
 
@@ -44,7 +45,7 @@ float sample_value(vec3 p)
 
 vec3 sample_gradient(vec3 p)
 {
-    return (texture(volume_texture, p).gba * 2.0 - 1.0) * gradient_texture_scale;
+    return texture(volume_texture, p).gba * gradient_texture_scale;
 }
 #else
 float sample_value(vec3 p)

@@ -291,7 +291,7 @@ halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int 
      * (the same image without the texture) */
     if (halo_slice_reads_gradients(s)) {
         static const GLint internal_formats[HALO_GRADIENT_FORMAT_COUNT] = {0,         GL_RGB32F, GL_RGB16F,
-                                                                           GL_RGB8_SNORM, GL_RGBA16, GL_RGBA32F};
+                                                                           GL_RGB8_SNORM, GL_RGBA16_SNORM, GL_RGBA32F};
         GLint internal_format = internal_formats[format];
         if (halo_host_gradients_renderable(s->f, internal_format)) {
             /* built on the GPU from the volume texture at the first render: by then the

@@ -56,7 +56,7 @@ typedef enum halo_gradient_format {
     HALO_GRADIENT_FLOAT,  /* RGB32F, 12 bytes a voxel: the exact floats */
     HALO_GRADIENT_HALF,   /* RGB16F, 6 (llvmpipe: 8) bytes a voxel, 11 significant bits (scaled when |g| > 1) */
     HALO_GRADIENT_SNORM8, /* RGB8_SNORM, 3 (llvmpipe: 4) bytes a voxel, g / the volume's largest |component| */
-    HALO_GRADIENT_PACKED16, /* RGBA16 holding the value too (the volume texture is dropped): 8 bytes a voxel for
+    HALO_GRADIENT_PACKED16, /* RGBA16_SNORM holding the value too (the volume texture is dropped): 8 bytes a voxel for
                              * both, 16 bits each, one fetch for value and gradient (halo_host_build_packed) */
     HALO_GRADIENT_PACKED32, /* RGBA32F holding the value too: 16 bytes a voxel for both, floats, one fetch */
     HALO_GRADIENT_FORMAT_COUNT

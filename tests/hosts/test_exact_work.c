@@ -8,8 +8,8 @@
  *   - half (RGB16F): every texel equals the CPU path's texture (halo_host_upload_gradients),
  *     bit for bit, and the scales are equal;
  *   - snorm8, when the GL renders into it (desktop GL need not): the same;
- *   - packed16 and packed32 (RGBA16, RGBA32F, halo_host_build_packed: the value and the
- *     gradient in one texture, GPU only): every component within 0.75 units of 1/65535,
+ *   - packed16 and packed32 (RGBA16_SNORM, RGBA32F, halo_host_build_packed: the value and the
+ *     gradient in one texture, GPU only): every component within 0.75 units of 1/32767,
  *     4 units of 2^-24, of the encoded value and central differences computed in double.
  * A format the GL cannot render into is reported, not failed; float and half must render
  * on a GL 3.3 context (color-renderable RGB32F/RGB16F through the layer probe), else the
@@ -40,9 +40,14 @@
 #include <string.h>
 
 /* Reads layer by layer: the first `components` (3: RGB, 4: RGBA) of every texel of a 3D
- * texture, as floats (out: n * components). */
-static int read_components(const halo_glfuncs *f, GLuint texture, const int dims[3], int components, float *out)
+ * texture, as floats (out: n * components). An snorm texture is read with
+ * GL_CLAMP_READ_COLOR off: by default a read clamps a fixed-point buffer to [0, 1]. */
+static int read_components_as(const halo_glfuncs *f, GLuint texture, const int dims[3], int components, int snorm,
+                              float *out)
 {
+    PFNGLCLAMPCOLORPROC clamp_color = NULL;
+    void *address = halo_headless_get_proc_address("glClampColor");
+    memcpy(&clamp_color, &address, sizeof clamp_color);
     GLuint framebuffer = 0;
     f->GenFramebuffers(1, &framebuffer);
     f->BindFramebuffer(GL_FRAMEBUFFER, framebuffer);
@@ -57,7 +62,11 @@ static int read_components(const halo_glfuncs *f, GLuint texture, const int dims
         }
         f->ReadBuffer(GL_COLOR_ATTACHMENT0);
         f->PixelStorei(GL_PACK_ALIGNMENT, 4);
+        if (snorm && clamp_color)
+            clamp_color(GL_CLAMP_READ_COLOR, GL_FALSE);
         f->ReadPixels(0, 0, dims[0], dims[1], GL_RGBA, GL_FLOAT, rgba);
+        if (snorm && clamp_color)
+            clamp_color(GL_CLAMP_READ_COLOR, GL_FIXED_ONLY);
         for (size_t i = 0; i < slice; ++i)
             memcpy(&out[((size_t)z * slice + i) * (size_t)components], &rgba[i * 4],
                    (size_t)components * sizeof *out);
@@ -68,14 +77,20 @@ static int read_components(const halo_glfuncs *f, GLuint texture, const int dims
     return ok && f->GetError() == GL_NO_ERROR;
 }
 
+static int read_components(const halo_glfuncs *f, GLuint texture, const int dims[3], int components, float *out)
+{
+    return read_components_as(f, texture, dims, components, 0, out);
+}
+
 static int read_texture(const halo_glfuncs *f, GLuint texture, const int dims[3], float *out)
 {
     return read_components(f, texture, dims, 3, out);
 }
 
 /* The packed formats (halo_host_build_packed): every texel against the encoding of the
- * value and the central differences computed here in double: packed16 within 0.75 units
- * of 1/65535 (rounding: half a unit, and the GPU's float arithmetic a little more),
+ * value and the central differences computed here in double: packed16 (snorm) within 0.75
+ * units of 1/32767 (rounding: half a unit, and the GPU's float arithmetic a little more),
+ * and a zero difference stored as exactly 0 (code 0: a homogeneous region has no normal);
  * packed32 within 4 units of float's 2^-24 (relative beyond 1) of the encoded value. */
 static int check_packed(const halo_glfuncs *f, const char *what, const float *volume, const int dims[3],
                         const float *exact, GLuint volume_texture, GLuint texture, halo_diagnostics *diag)
@@ -85,29 +100,35 @@ static int check_packed(const halo_glfuncs *f, const char *what, const float *vo
     int failed = 0;
     halo_host_value_range(volume, dims, range);
     for (int wide = 0; wide < 2 && gpu; ++wide) {
-        GLint internal_format = wide ? GL_RGBA32F : GL_RGBA16;
+        GLint internal_format = wide ? GL_RGBA32F : GL_RGBA16_SNORM;
         const char *name = wide ? "packed32" : "packed16";
         float scale = halo_host_gradient_scale(volume, dims, internal_format);
         if (halo_host_build_packed(f, texture, volume_texture, dims[0], dims[1], dims[2], internal_format, scale,
                                    range, diag) != HALO_OK ||
-            !read_components(f, texture, dims, 4, gpu)) {
+            !read_components_as(f, texture, dims, 4, !wide, gpu)) {
             halo_diagnostics_print(diag, stdout);
             printf("FAIL %s %s: build or read-back\n", what, name);
             failed++;
             continue;
         }
-        double worst = 0.0, unit = wide ? 1.0 / 16777216.0 : 1.0 / 65535.0, limit = wide ? 4.0 : 0.75;
+        double worst = 0.0, unit = wide ? 1.0 / 16777216.0 : 1.0 / 32767.0, limit = wide ? 4.0 : 0.75;
+        size_t zeros = 0, nonzero_zeros = 0;
         for (size_t i = 0; i < n; ++i)
             for (int c = 0; c < 4; ++c) {
                 double expected = c == 0 ? ((double)volume[i] - range[0]) / range[1]
-                                         : (double)exact[i * 3 + (size_t)c - 1] / scale * 0.5 + 0.5;
+                                         : (double)exact[i * 3 + (size_t)c - 1] / scale;
+                if (c > 0 && expected == 0.0) {
+                    zeros++;
+                    nonzero_zeros += gpu[i * 4 + (size_t)c] != 0.0f;
+                }
                 double magnitude = wide && fabs(expected) > 1.0 ? fabs(expected) : 1.0; /* float: relative */
                 double units = fabs((double)gpu[i * 4 + (size_t)c] - expected) / (unit * magnitude);
                 worst = units > worst ? units : worst;
             }
-        int ok = worst <= limit;
-        printf("%s %s %s: largest difference %.3f units (at most %g), scale %.9g, value range %g + %g\n",
-               ok ? "ok  " : "FAIL", what, name, worst, limit, (double)scale, (double)range[0], (double)range[1]);
+        int ok = worst <= limit && nonzero_zeros == 0;
+        printf("%s %s %s: largest difference %.3f units (at most %g), %zu of %zu zero components not 0, scale %.9g, "
+               "value range %g + %g\n", ok ? "ok  " : "FAIL", what, name, worst, limit, nonzero_zeros, zeros,
+               (double)scale, (double)range[0], (double)range[1]);
         failed += !ok;
     }
     if (!gpu)
