@@ -184,14 +184,42 @@ struct halo_raycast {
     float jitter; /* the uniform `jitter` of hosts that jitter their first sample */
     float seed_epsilon; /* host contract 3: halo_gl_segments_desc.seed_epsilon */
     GLuint exit_program, exit_texture, exit_framebuffer; /* halo_raycast_set_exit_points */
+    void (*untidy)(void *user, int before_draw); /* halo_raycast_set_untidy */
+    void *untidy_user;
 };
+
+/* The state the host's draw needs, set before it draws (an untidy host left other). */
+static void host_draw_state(const halo_glfuncs *f)
+{
+    f->Disable(GL_CULL_FACE);
+    f->Disable(GL_DEPTH_TEST);
+    f->Disable(GL_STENCIL_TEST);
+    f->Disable(GL_BLEND);
+    f->Disable(GL_SCISSOR_TEST);
+    f->Disable(GL_RASTERIZER_DISCARD);
+    f->Disable(GL_FRAMEBUFFER_SRGB);
+    if (f->PolygonMode)
+        f->PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    f->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    f->PixelStorei(GL_PACK_ALIGNMENT, 4);
+    f->PixelStorei(GL_PACK_ROW_LENGTH, 0);
+    f->PixelStorei(GL_PACK_SKIP_ROWS, 0);
+    f->PixelStorei(GL_PACK_SKIP_PIXELS, 0);
+}
 
 /* The proxy geometry: one full-screen triangle (halo_gl_segments_desc.draw). */
 static void draw_proxy(void *user)
 {
     halo_raycast *r = user;
+    if (r->untidy) {
+        r->untidy(r->untidy_user, 1);
+        host_draw_state(r->target.f);
+        r->target.f->Viewport(0, 0, r->target.width, r->target.height);
+    }
     r->target.f->BindVertexArray(r->target.vertex_array);
     r->target.f->DrawArrays(GL_TRIANGLES, 0, 3);
+    if (r->untidy)
+        r->untidy(r->untidy_user, 0);
 }
 
 halo_raycast *halo_raycast_create(const halo_host_desc *desc, halo_diagnostics *diag)
@@ -290,6 +318,14 @@ void halo_raycast_set_segments(halo_raycast *r, int interval, int segments)
         r->interval = interval > 0 ? interval : 0;
         r->segments = segments > 0 ? segments : 0;
     }
+}
+
+void halo_raycast_set_untidy(halo_raycast *r, void (*untidy)(void *user, int before_draw), void *user)
+{
+    if (!r)
+        return;
+    r->untidy = untidy;
+    r->untidy_user = user;
 }
 
 void halo_raycast_set_seed_epsilon(halo_raycast *r, float epsilon)
@@ -421,7 +457,13 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
         /* host contract 2: libhalo draws the proxy, once or once per depth segment */
         halo_gl_set_host_uniform(r->target.runtime, program, "screen_right", r->screen_right, 3);
         halo_gl_set_host_uniform(r->target.runtime, program, "screen_up", r->screen_up, 3);
+        if (r->untidy) /* the state an untidy host leaves for libhalo's first call */
+            r->untidy(r->untidy_user, 0);
         status = halo_gl_frame_draw(r->frame, program, &segments, diag);
+        if (r->untidy) {
+            r->untidy(r->untidy_user, 2);
+            host_draw_state(f);
+        }
         if (status == HALO_OK)
             status = host_target_read(&r->target, rgba, diag);
         if (status == HALO_OK)

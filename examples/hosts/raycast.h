@@ -100,6 +100,14 @@ void halo_raycast_set_orthographic(halo_raycast *r, int orthographic);
 /* Host contract 3 (a program linked with one_draw): the march's empty-space bound
  * (halo_gl_segments_desc.seed_epsilon; default 0, exact). */
 void halo_raycast_set_seed_epsilon(halo_raycast *r, float epsilon);
+/* A host that leaves its GL state untidy (tests/segments/test_segments, issue 26): with
+ * untidy set, the host's draw sets the state it needs itself (no culling, depth, stencil,
+ * blending, scissor or rasterizer discard, filled polygons, every colour written) and
+ * afterwards calls untidy(user, 0), which may leave any state for the libhalo calls that
+ * follow; before each of its draws it calls untidy(user, 1) (where the switches can be
+ * checked: libhalo binds the host's program, framebuffer and textures for the draw), and
+ * when halo_gl_frame_draw has returned untidy(user, 2) (all of it given back). NULL: off. */
+void halo_raycast_set_untidy(halo_raycast *r, void (*untidy)(void *user, int before_draw), void *user);
 /* The uniform `jitter` of a host that jitters its first sample (webgl_caster.frag; default 0). */
 void halo_raycast_set_jitter(halo_raycast *r, float jitter);
 /* Two-pass hosts (exit_point_caster.frag): from now on each render first draws the

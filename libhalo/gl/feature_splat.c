@@ -340,6 +340,7 @@ typedef struct saved_state {
 static void save_state(const halo_glfuncs *f, saved_state *s)
 {
     halo_gl_bindings_save(f, &s->bindings);
+    halo_gl_bindings_neutral(f, &s->bindings);
     f->ActiveTexture(GL_TEXTURE0);
     f->GetIntegerv(GL_TEXTURE_BINDING_3D, &s->texture_3d);
     for (size_t i = 0; i < SWITCHED_CAPS; ++i)
@@ -354,7 +355,7 @@ static void restore_state(const halo_glfuncs *f, const saved_state *s)
     halo_gl_bindings_restore(f, &s->bindings);
     f->BlendFuncSeparate((GLenum)s->blend[SRC_RGB], (GLenum)s->blend[DST_RGB], (GLenum)s->blend[SRC_ALPHA],
                          (GLenum)s->blend[DST_ALPHA]);
-    f->BlendEquation((GLenum)s->blend[EQUATION_RGB]);
+    f->BlendEquationSeparate((GLenum)s->blend[EQUATION_RGB], (GLenum)s->blend[EQUATION_ALPHA]);
     for (size_t i = 0; i < SWITCHED_CAPS; ++i)
         (s->enabled[i] ? f->Enable : f->Disable)(switched_caps[i]);
 }

@@ -516,6 +516,7 @@ typedef struct field_buffer {
 } field_buffer;
 
 typedef struct field_saved {
+    halo_gl_bindings switches; /* cull, depth, stencil, discard, sRGB, polygon mode, packing */
     GLint program, draw_framebuffer, read_framebuffer, active, vertex_array, viewport[4], scissor_box[4];
     GLint texture_3d[3], texture_array, unpack_buffer;
     GLboolean scissor, cull, depth, stencil, blend;
@@ -528,6 +529,7 @@ static const GLenum buffer_queries[6] = {GL_BLEND_EQUATION_RGB, GL_BLEND_EQUATIO
 
 static void field_save(const halo_glfuncs *f, field_saved *s, int unit)
 {
+    halo_gl_bindings_save(f, &s->switches);
     f->GetIntegerv(GL_CURRENT_PROGRAM, &s->program);
     f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &s->draw_framebuffer);
     f->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &s->read_framebuffer);
@@ -567,6 +569,7 @@ static void field_save(const halo_glfuncs *f, field_saved *s, int unit)
  * colour written, no culling, depth or stencil test, no pixel unpack buffer. */
 static void field_neutral(const halo_glfuncs *f, const field_saved *s)
 {
+    halo_gl_bindings_neutral(f, &s->switches);
     f->Disable(GL_BLEND);
     f->Disable(GL_SCISSOR_TEST);
     f->Disable(GL_CULL_FACE);
@@ -581,6 +584,7 @@ static void field_neutral(const halo_glfuncs *f, const field_saved *s)
 
 static void field_restore(const halo_glfuncs *f, const field_saved *s, int unit)
 {
+    halo_gl_bindings_restore(f, &s->switches); /* the bindings again below, in their order */
     for (int k = 0; k < 3; ++k) {
         f->ActiveTexture(GL_TEXTURE0 + (GLenum)(unit + k));
         f->BindTexture(GL_TEXTURE_3D, (GLuint)s->texture_3d[k]);

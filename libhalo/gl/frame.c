@@ -180,6 +180,7 @@ static void frame_save(const halo_glfuncs *f, frame_saved *s, int units)
 {
     memset(s, 0, sizeof *s);
     halo_gl_bindings_save(f, &s->bindings);
+    halo_gl_bindings_neutral(f, &s->bindings);
     frame_mask_open(f, s->mask);
     if (f->IsEnabled)
         s->scissor = f->IsEnabled(GL_SCISSOR_TEST);
@@ -931,17 +932,15 @@ halo_status halo_gl_frame_read(halo_gl_frame *fr, const char *name, float *out)
         return HALO_ERROR_INPUT;
     const halo_glfuncs *f = &fr->gl->f;
     const frame_image *im = &fr->images[index];
-    GLint read_framebuffer = 0, pack = 4;
-    f->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_framebuffer);
-    f->GetIntegerv(GL_PACK_ALIGNMENT, &pack);
+    halo_gl_bindings saved;
+    halo_gl_bindings_save(f, &saved);
+    halo_gl_bindings_neutral(f, &saved); /* tight packing */
     f->BindFramebuffer(GL_READ_FRAMEBUFFER, fr->framebuffer);
     f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, im->texture[im->current], 0);
     f->ReadBuffer(GL_COLOR_ATTACHMENT0);
-    f->PixelStorei(GL_PACK_ALIGNMENT, 4);
     int read = halo_gl_read_floats(fr->gl, 0, 0, im->width, im->height, im->channels, out);
     f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
-    f->PixelStorei(GL_PACK_ALIGNMENT, pack);
-    f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)read_framebuffer);
+    halo_gl_bindings_restore(f, &saved);
     return f->GetError() == GL_NO_ERROR && read ? HALO_OK : HALO_ERROR_IO;
 }
 

@@ -134,7 +134,8 @@
     X(PFNGLGETTEXLEVELPARAMETERIVPROC, GetTexLevelParameteriv)            \
     X(PFNGLGETINTEGERI_VPROC, GetIntegeri_v)                              \
     X(PFNGLGETBOOLEANI_VPROC, GetBooleani_v)                              \
-    X(PFNGLBINDFRAGDATALOCATIONPROC, BindFragDataLocation)
+    X(PFNGLBINDFRAGDATALOCATIONPROC, BindFragDataLocation)                \
+    X(PFNGLPOLYGONMODEPROC, PolygonMode)
 
 typedef struct halo_glfuncs {
 #define HALO_X_GLFUNC_MEMBER(type, name) type name;

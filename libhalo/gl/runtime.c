@@ -17,6 +17,11 @@ const halo_glfuncs *halo_gl_functions(const halo_gl *gl)
     return gl ? &gl->f : NULL;
 }
 
+static const GLenum pack_names[4] = {GL_PACK_ALIGNMENT, GL_PACK_ROW_LENGTH, GL_PACK_SKIP_ROWS, GL_PACK_SKIP_PIXELS};
+/* The switches libhalo's draws need off (GL_FRAMEBUFFER_SRGB last: desktop GL only). */
+static const GLenum halo_gl_switches[5] = {GL_CULL_FACE, GL_DEPTH_TEST, GL_STENCIL_TEST, GL_RASTERIZER_DISCARD,
+                                           GL_FRAMEBUFFER_SRGB};
+
 void halo_gl_bindings_save(const halo_glfuncs *f, halo_gl_bindings *b)
 {
     f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &b->draw_framebuffer);
@@ -25,6 +30,28 @@ void halo_gl_bindings_save(const halo_glfuncs *f, halo_gl_bindings *b)
     f->GetIntegerv(GL_CURRENT_PROGRAM, &b->program);
     f->GetIntegerv(GL_VERTEX_ARRAY_BINDING, &b->vertex_array);
     f->GetIntegerv(GL_ACTIVE_TEXTURE, &b->active_texture);
+    int desktop = f->PolygonMode != NULL; /* NULL on OpenGL ES (halo_gl_create) */
+    for (int i = 0; i < 5; ++i)
+        b->switched_on[i] = f->IsEnabled && (desktop || i < 4) && f->IsEnabled(halo_gl_switches[i]);
+    GLint modes[2] = {0, 0};
+    if (desktop)
+        f->GetIntegerv(GL_POLYGON_MODE, modes);
+    b->polygon_mode = modes[0];
+    for (int i = 0; i < 4; ++i)
+        f->GetIntegerv(pack_names[i], &b->pack[i]);
+}
+
+void halo_gl_bindings_neutral(const halo_glfuncs *f, const halo_gl_bindings *b)
+{
+    static const GLint tight[4] = {4, 0, 0, 0};
+    for (int i = 0; i < 5; ++i)
+        if (b->switched_on[i])
+            f->Disable(halo_gl_switches[i]);
+    if (b->polygon_mode && b->polygon_mode != GL_FILL)
+        f->PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    for (int i = 0; i < 4; ++i)
+        if (b->pack[i] != tight[i])
+            f->PixelStorei(pack_names[i], tight[i]);
 }
 
 void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b)
@@ -35,6 +62,13 @@ void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b)
     f->UseProgram((GLuint)b->program);
     f->BindVertexArray((GLuint)b->vertex_array);
     f->ActiveTexture((GLenum)b->active_texture);
+    for (int i = 0; i < 5; ++i)
+        if (b->switched_on[i])
+            f->Enable(halo_gl_switches[i]);
+    if (b->polygon_mode && b->polygon_mode != GL_FILL)
+        f->PolygonMode(GL_FRONT_AND_BACK, (GLenum)b->polygon_mode);
+    for (int i = 0; i < 4; ++i)
+        f->PixelStorei(pack_names[i], b->pack[i]);
 }
 
 /* The context's kind, and its entry points made to say what it has: a loader such as
@@ -73,6 +107,7 @@ static int runtime_context(halo_gl *gl, halo_diagnostics *diag)
     }
     if (gl->es) {
         f->BindFragDataLocation = NULL;
+        f->PolygonMode = NULL;
         if (gl->es < 31)
             f->GetTexLevelParameteriv = NULL;
     }

@@ -44,10 +44,19 @@ void halo_gl_report_log(halo_diagnostics *diag, halo_message_id id, char *log, c
 /* The host's bindings that libhalo's own draws change (framebuffers, viewport, program,
  * vertex array, active texture unit), saved before and restored after them; the caller
  * saves and restores whatever else it changes. */
+/* The host's state that libhalo's own draws, clears and read-backs set and give back:
+ * bindings, and the switches a host may leave in any position (issue 26: a culled or
+ * depth-tested full-screen pass draws nothing). */
 typedef struct halo_gl_bindings {
     GLint draw_framebuffer, read_framebuffer, viewport[4], program, vertex_array, active_texture;
+    GLboolean switched_on[5];                      /* halo_gl_switches: culling ... sRGB (desktop GL) */
+    GLint polygon_mode;                            /* desktop GL only; 0: not queried */
+    GLint pack[4];                                 /* alignment, row length, skip rows, skip pixels */
 } halo_gl_bindings;
 void halo_gl_bindings_save(const halo_glfuncs *f, halo_gl_bindings *b);
+/* What libhalo's draws need of those switches: no culling, depth or stencil test, no
+ * rasterizer discard, no sRGB conversion, filled polygons, tight pixel packing. */
+void halo_gl_bindings_neutral(const halo_glfuncs *f, const halo_gl_bindings *b);
 void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b);
 
 #endif

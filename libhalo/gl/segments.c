@@ -95,6 +95,10 @@ halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const hal
     }
     for (int j = 0; j < segments; ++j) {
         int last = j == segments - 1;
+        /* the host's draw may have left another program or framebuffer bound (what the
+         * generation gives back is the host's state after its draw) */
+        f->UseProgram(gl_program);
+        f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, d->framebuffer);
         if (location > 0) {
             f->Uniform1i(flags_location, (j == 0 ? 1 : 0) | (last ? 2 : 0));
             f->Uniform2f(bounds_location, (float)(plan.start + j * plan.length),

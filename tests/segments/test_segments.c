@@ -13,6 +13,12 @@
  *      does, emissive, occlusive, directional and with halo images at 1/2; it is drawn
  *      once, keeps early ray termination, links a single-pass host without segment calls,
  *      refuses force_segments and slab hosts, and says what it needs.
+ *   5. A host that leaves hostile GL state between its draws (issue 26: culling, depth and
+ *      stencil tests that pass nothing, blending to zero, a one-pixel scissor and
+ *      viewport, colour writes off, lines, rasterizer discard, sRGB, odd packing and
+ *      bindings) gets the tidy host's floats in segments and in one draw, and libhalo
+ *      gives all of that state back (before the fixes: a GL error in segments, 0.56 max
+ *      abs in one draw).
  *   1 again with an orthographic camera (segments of the clip z planes).
  * The segmented ray caster against its emulation is the conformance family "segments"
  * (validate/conform_segment.c, halo-validate conform --stage segments).
@@ -86,9 +92,116 @@ static int orthographic; /* the camera of the next renders */
     } while (0)
 
 static int one_draw;    /* host contract 3 for the next ray caster renders */
+static int untidy;      /* the next ray caster renders leave hostile GL state (hostile_state) */
 static int image_scale; /* halo_link_desc.image_scale of the next renders */
 /* the ray caster's and the slab host's difference without halos, perspective (RMSE) */
 static double plain_difference;
+
+/* ---- A host that leaves hostile GL state between its draws (issue 26) ---- */
+
+typedef void (*stencil_func_proc)(GLenum, GLint, GLuint);
+typedef void (*cull_face_proc)(GLenum);
+static GLuint hostile_vertex_array;
+static int hostile_checks, hostile_mismatches;
+
+/* The state a careless host leaves: every switch that would make libhalo's full-screen
+ * passes draw nothing or something else, and odd bindings and packing. */
+static void hostile_set(const halo_glfuncs *f)
+{
+    stencil_func_proc stencil_func = NULL;
+    void *address = halo_headless_get_proc_address("glStencilFunc");
+    memcpy(&stencil_func, &address, sizeof stencil_func);
+    cull_face_proc cull_face = NULL;
+    address = halo_headless_get_proc_address("glCullFace");
+    memcpy(&cull_face, &address, sizeof cull_face);
+    if (!hostile_vertex_array)
+        f->GenVertexArrays(1, &hostile_vertex_array);
+    f->Enable(GL_CULL_FACE);
+    if (cull_face)
+        cull_face(GL_FRONT_AND_BACK);
+    f->Enable(GL_DEPTH_TEST);
+    f->DepthFunc(GL_NEVER);
+    f->DepthMask(GL_FALSE);
+    f->Enable(GL_STENCIL_TEST);
+    if (stencil_func)
+        stencil_func(GL_NEVER, 1, 0xFF);
+    f->Enable(GL_BLEND);
+    f->BlendFunc(GL_ZERO, GL_ZERO);
+    f->BlendEquation(GL_FUNC_REVERSE_SUBTRACT);
+    f->Enable(GL_SCISSOR_TEST);
+    f->Scissor(0, 0, 1, 1);
+    f->ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    if (f->PolygonMode)
+        f->PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    f->Enable(GL_RASTERIZER_DISCARD);
+    f->Enable(GL_FRAMEBUFFER_SRGB);
+    f->PixelStorei(GL_PACK_ALIGNMENT, 8);
+    f->PixelStorei(GL_PACK_ROW_LENGTH, 3);
+    f->Viewport(0, 0, 1, 1);
+    f->ActiveTexture(GL_TEXTURE7);
+    f->BindVertexArray(hostile_vertex_array);
+    f->UseProgram(0);
+}
+
+/* Is the state still what hostile_set left? Names what libhalo did not give back; with
+ * bindings 0 (before the host's draw, for which libhalo binds its program and textures),
+ * only the switches, masks and packing. */
+static void hostile_check(const halo_glfuncs *f, int bindings)
+{
+    struct { const char *name; GLenum cap; } caps[] = {
+        {"GL_CULL_FACE", GL_CULL_FACE}, {"GL_DEPTH_TEST", GL_DEPTH_TEST}, {"GL_STENCIL_TEST", GL_STENCIL_TEST},
+        {"GL_BLEND", GL_BLEND}, {"GL_SCISSOR_TEST", GL_SCISSOR_TEST}, {"GL_RASTERIZER_DISCARD", GL_RASTERIZER_DISCARD},
+        {"GL_FRAMEBUFFER_SRGB", GL_FRAMEBUFFER_SRGB}};
+    hostile_checks++;
+    for (size_t i = 0; i < sizeof caps / sizeof caps[0]; ++i)
+        if (!f->IsEnabled(caps[i].cap)) {
+            printf("  %s was switched off\n", caps[i].name);
+            hostile_mismatches++;
+        }
+    struct { const char *name; GLenum query; GLint expected; } values[] = {
+        {"GL_CULL_FACE_MODE", GL_CULL_FACE_MODE, GL_FRONT_AND_BACK}, {"GL_DEPTH_FUNC", GL_DEPTH_FUNC, GL_NEVER},
+        {"GL_STENCIL_FUNC", GL_STENCIL_FUNC, GL_NEVER}, {"GL_BLEND_SRC_RGB", GL_BLEND_SRC_RGB, GL_ZERO},
+        {"GL_BLEND_DST_ALPHA", GL_BLEND_DST_ALPHA, GL_ZERO},
+        {"GL_BLEND_EQUATION_RGB", GL_BLEND_EQUATION_RGB, GL_FUNC_REVERSE_SUBTRACT},
+        {"GL_BLEND_EQUATION_ALPHA", GL_BLEND_EQUATION_ALPHA, GL_FUNC_REVERSE_SUBTRACT},
+        {"GL_PACK_ALIGNMENT", GL_PACK_ALIGNMENT, 8}, {"GL_PACK_ROW_LENGTH", GL_PACK_ROW_LENGTH, 3},
+        {"GL_ACTIVE_TEXTURE", GL_ACTIVE_TEXTURE, GL_TEXTURE7},
+        {"GL_VERTEX_ARRAY_BINDING", GL_VERTEX_ARRAY_BINDING, (GLint)hostile_vertex_array},
+        {"GL_CURRENT_PROGRAM", GL_CURRENT_PROGRAM, 0}, {"GL_POLYGON_MODE", GL_POLYGON_MODE, GL_LINE}};
+    for (size_t i = 0; i < sizeof values / sizeof values[0]; ++i) {
+        if (!bindings && (values[i].query == GL_ACTIVE_TEXTURE || values[i].query == GL_VERTEX_ARRAY_BINDING ||
+                          values[i].query == GL_CURRENT_PROGRAM))
+            continue;
+        GLint v[4] = {0, 0, 0, 0};
+        f->GetIntegerv(values[i].query, v);
+        if (v[0] != values[i].expected) {
+            printf("  %s is 0x%x, the host left 0x%x\n", values[i].name, (unsigned)v[0], (unsigned)values[i].expected);
+            hostile_mismatches++;
+        }
+    }
+    GLint box[4], viewport[4];
+    GLboolean mask[4] = {1, 1, 1, 1}, depth_mask = 1;
+    f->GetIntegerv(GL_SCISSOR_BOX, box);
+    f->GetIntegerv(GL_VIEWPORT, viewport);
+    f->GetBooleanv(GL_COLOR_WRITEMASK, mask);
+    f->GetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask);
+    if (box[2] != 1 || box[3] != 1 || (bindings && (viewport[2] != 1 || viewport[3] != 1)) || mask[0] || mask[1] ||
+        mask[2] || mask[3] || depth_mask) {
+        printf("  the scissor box, viewport or write masks were changed\n");
+        hostile_mismatches++;
+    }
+}
+
+/* The ray caster's untidy hook: after each of its draws the host leaves hostile state;
+ * before each (and when halo_gl_frame_draw returns) libhalo must have given it back. */
+static void hostile_state(void *user, int before_draw)
+{
+    env *e = user;
+    if (before_draw)
+        hostile_check(e->g.gl, before_draw == 2);
+    else
+        hostile_set(e->g.gl);
+}
 
 static halo_program *link_scene(env *e, const char *scene_text, const char *host, const char *file, int force,
                                 halo_scene **scene_out)
@@ -128,6 +241,8 @@ static float *render_host(env *e, const char *scene_text, int slab, int force, i
         halo_raycast_set_orthographic(r, orthographic);
         halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);
         halo_raycast_set_segments(r, interval, segments);
+        if (untidy)
+            halo_raycast_set_untidy(r, hostile_state, e);
         ok = ok && halo_raycast_render(r, rgba, e->g.diag) == HALO_OK;
         if (drawn)
             *drawn = halo_raycast_frame(r) ? halo_gl_frame_segment_count(halo_raycast_frame(r)) : 1;
@@ -272,6 +387,42 @@ static void test_one_draw_matches(env *e, const char *scene_text, const char *wh
     free(slab_plain);
 }
 
+/* A host that leaves hostile state between its draws (culling, depth and stencil tests
+ * that pass nothing, blending to zero, a one-pixel scissor and viewport, colour writes off,
+ * lines, rasterizer discard, sRGB, odd packing and bindings: hostile_set) gets the same
+ * floats as a tidy one, in segments (contract 2: libhalo's generation passes between its
+ * draws) and in one draw (contract 3: libhalo's march and passes before it), with
+ * emissive and occlusive halos; and libhalo gives every piece of that state back. */
+static void test_hostile_state(env *e)
+{
+    const char *scenes[2] = {halos_scene, occlusive_scene};
+    for (int s = 0; s < 2; ++s)
+        for (int draw_once = 0; draw_once < 2; ++draw_once) {
+            one_draw = draw_once;
+            float *tidy = render_ray(e, scenes[s], 0, 4, 0, NULL);
+            hostile_checks = hostile_mismatches = 0;
+            untidy = 1;
+            float *hostile = render_ray(e, scenes[s], 0, 4, 0, NULL);
+            untidy = 0;
+            one_draw = 0;
+            const char *what = draw_once ? "one draw" : "segments";
+            CHECK(tidy && hostile, "%s, %s: both renders", s ? "occlusive halos" : "emissive halos", what);
+            if (tidy && hostile) {
+                double max_abs, rmse;
+                difference(tidy, hostile, &max_abs, &rmse);
+                printf("hostile host state, %s, %s: against a tidy host max abs %.3g; %d checks of the state libhalo "
+                       "gives back, %d changes\n", s ? "occlusive halos" : "emissive halos", what, max_abs, hostile_checks,
+                       hostile_mismatches);
+                CHECK(max_abs == 0.0, "%s, %s: a host's hostile state changes the image by %.3g", s ? "occlusive halos" : "emissive halos",
+                      what, max_abs);
+                CHECK(hostile_checks > 0 && hostile_mismatches == 0, "%s, %s: libhalo changed %d pieces of the host's "
+                      "state", s ? "occlusive halos" : "emissive halos", what, hostile_mismatches);
+            }
+            free(tidy);
+            free(hostile);
+        }
+}
+
 static void draw_nothing(void *user) { (void)user; }
 
 static void test_diagnostics(env *e)
@@ -385,6 +536,7 @@ int main(void)
     test_segments_change_nothing(&e);
     test_halos_match_slab(&e);
     test_diagnostics(&e);
+    test_hostile_state(&e);
     test_one_draw_matches(&e, halos_scene, "emissive");
     test_one_draw_matches(&e, occlusive_scene, "occlusive");
     test_one_draw_matches(&e, directional_scene, "directional");
