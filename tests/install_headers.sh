@@ -27,5 +27,41 @@ ${CC:-cc} -fsyntax-only $cflags "$tmp/old.c" ||
 # shellcheck disable=SC2086
 ${CC:-cc} -fsyntax-only $cflags "$tmp/new.c" ||
     { echo "FAIL: #include <libhalo/halo.h> with libhalo.pc's Cflags ($cflags)" >&2; status=1; }
+# libhalo-vtk (built with VTK): docs/hosts/vtk.md's snippet compiles with libhalo-vtk.pc's
+# Cflags alone (VTK's include folder with them)
+vtk_pc=$(find "$tmp" -name libhalo-vtk.pc)
+if test -n "$vtk_pc"; then
+    cat >"$tmp/vtk.cxx" <<'CXX'
+#include <libhalo/halo_vtk.h>
+#include <vtkVolume.h>
+#include <vtkRenderer.h>
+int main()
+{
+    halo_setup(nullptr);
+    halo_diagnostics *diag = halo_diagnostics_create();
+    halo_library *lib = halo_library_create(diag);
+    halo_scene *scene = halo_scene_load("scene.json", lib, diag);
+    vtkGPUVolumeRayCastMapper *mapper = halo_vtk_mapper_new();
+    vtkVolume *volume = vtkVolume::New();
+    vtkRenderer *renderer = vtkRenderer::New();
+    halo_vtk_desc desc = {};
+    desc.mapper = mapper;
+    desc.volume = volume;
+    desc.renderer = renderer;
+    desc.library = lib;
+    desc.scene = scene;
+    halo_vtk *h = halo_vtk_install(&desc, diag);
+    halo_vtk_check(h, diag);
+    halo_vtk_remove(h);
+    return 0;
+}
+CXX
+    vtk_cflags=$(PKG_CONFIG_PATH=$(dirname "$pc") pkg-config --define-variable=prefix="$tmp$prefix" --cflags "$vtk_pc") ||
+        { echo "FAIL: pkg-config --cflags libhalo-vtk" >&2; status=1; }
+    # shellcheck disable=SC2086
+    ${CXX:-c++} -fsyntax-only $vtk_cflags "$tmp/vtk.cxx" ||
+        { echo "FAIL: docs/hosts/vtk.md's snippet with libhalo-vtk.pc's Cflags ($vtk_cflags)" >&2; status=1; }
+    test "$status" -eq 0 && echo "libhalo-vtk.pc: the VTK snippet compiles"
+fi
 test "$status" -eq 0 && echo "headers installed in $prefix/include/libhalo; both include paths compile"
 exit $status

@@ -33,7 +33,8 @@ typedef struct halo_vtk_desc {
 /* Installs the scene. Returns NULL, with the reason in diag, when the mapper or the
  * scene cannot take it: a blend mode other than composite, more than one component, a
  * label mask, or stages that need image passes (volumetric halos, outlines, feature
- * halos: halo_vtk_slabs, docs/hosts/vtk.md). */
+ * halos: with VTK's own mapper; the adapter's, halo_vtk_mapper_new, takes them;
+ * docs/hosts/vtk.md). */
 halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag);
 /* A vtkGPUVolumeRayCastMapper (VTK's OpenGL one, subclassed) that draws the volume once
  * per depth segment with libhalo's image passes between: install a scene with volumetric

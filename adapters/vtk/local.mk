@@ -2,9 +2,11 @@
 # scene into vtkGPUVolumeRayCastMapper through shader replacements and custom uniforms;
 # examples/halo-vtk renders with it; tests/vtk/ checks it under xvfb-run. Built only when
 # configure finds VTK (setup.sh installs Debian's libvtk9-dev).
-EXTRA_DIST += adapters/vtk/halo_vtk.cxx adapters/vtk/halo_vtk.h examples/halo-vtk.cxx
+EXTRA_DIST += adapters/vtk/halo_vtk.cxx adapters/vtk/halo_vtk.h examples/halo-vtk.cxx adapters/vtk/libhalo-vtk.pc.in
 
 if HALO_HAVE_VTK
+# compile and link a VTK program with `pkg-config --cflags --libs libhalo-vtk`
+pkgconfig_DATA += adapters/vtk/libhalo-vtk.pc
 lib_LTLIBRARIES += adapters/vtk/libhalo-vtk.la
 pkginclude_HEADERS += adapters/vtk/halo_vtk.h
 adapters_vtk_libhalo_vtk_la_SOURCES = adapters/vtk/halo_vtk.cxx adapters/vtk/halo_vtk.h
