@@ -802,6 +802,10 @@ HALO_API int halo_gl_frame_read_region(const halo_gl_frame *f, int box[4]);
 
 /* How a single-pass ray caster is drawn: its camera, its sampling, and a callback that
  * draws its proxy geometry once. */
+/* The most depth segments a frame is drawn in (halo_gl_segments_desc.segments; the
+ * automatic count is capped there too). */
+#define HALO_SEGMENTS_MAX 65536
+
 typedef struct halo_gl_segments_desc {
     const float *inverse_view_projection; /* required: column-major, clip space -> the space of the host's
                                            * ray positions (the halo_sample position: volume texture space) */
@@ -809,7 +813,8 @@ typedef struct halo_gl_segments_desc {
                             * planes are this far apart, as the slice host's slices */
     float box_min[3], box_max[3]; /* the volume's box in that space; all zero: the unit cube */
     int interval;          /* M, planes per segment; 0: the program's halo_generate.interval, or 4 */
-    int segments;          /* > 0: exactly this many segments (a program linked with force_segments) */
+    int segments;          /* > 0: exactly this many segments (a program linked with force_segments),
+                            * at most HALO_SEGMENTS_MAX (more: USAGE) */
     unsigned framebuffer;  /* the host's framebuffer: its colour attachment 0 gets the host's output */
     int first_unit;        /* libhalo's textures from this unit on; 0: unit 8 */
     void (*draw)(void *user); /* draws the host's proxy geometry once; the host's program is current */

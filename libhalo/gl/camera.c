@@ -175,6 +175,12 @@ int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p
                         "that calls halo_segment_begin", d->segments);
         return 0;
     }
+    if (d->segments > HALO_SEGMENTS_MAX) {
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "halo_gl_frame_draw: segments = %d: at most %d (each is a draw of the host and, with "
+                        "volumetric halos, a generation)", d->segments, HALO_SEGMENTS_MAX);
+        return 0;
+    }
     if (!segment_camera(d, plan)) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_frame_draw: inverse_view_projection is not invertible");
         return 0;
@@ -193,8 +199,8 @@ int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p
         } else {
             int interval = segment_interval(p, d);
             double count = ceil(planes / interval);
-            plan->segments = count < 1.0 ? 1 : count > 65536.0 ? 65536 : (int)count;
-            plan->length = count > 65536.0 ? planes * d->step / 65536.0 : interval * (double)d->step;
+            plan->segments = count < 1.0 ? 1 : count > HALO_SEGMENTS_MAX ? HALO_SEGMENTS_MAX : (int)count;
+            plan->length = count > HALO_SEGMENTS_MAX ? planes * d->step / HALO_SEGMENTS_MAX : interval * (double)d->step;
         }
     }
     return 1;

@@ -466,6 +466,13 @@ static void test_diagnostics(env *e)
                   e->g.diag);
     CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_HOST_SINGLE_PASS),
           "force_segments without halo_segment_begin is refused");
+    /* issue 26: segments = 1e8 ran for minutes; past HALO_SEGMENTS_MAX it is refused at once */
+    float *many = render_ray(e, sample_scene, 1, 0, 100000000, NULL);
+    CHECK(many == NULL, "segments = 1e8 is refused (USAGE), not drawn");
+    free(many);
+    float *most = render_ray(e, sample_scene, 1, 0, 3, NULL);
+    CHECK(most != NULL, "segments = 3 draws");
+    free(most);
     halo_program_destroy(p);
     halo_diagnostics_clear(e->g.diag);
     /* the same host, declared a slice host that runs the passes itself, links */
