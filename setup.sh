@@ -31,8 +31,11 @@ if ! grep -rqs "^Types:.*deb-src\|^deb-src " /etc/apt/sources.list /etc/apt/sour
   need_src=yes
 fi
 
+# A machine whose Node.js is not Debian's (NodeSource's nodejs bundles npm and conflicts
+# with Debian's npm package) already has what npm gives: an npm command counts as it.
 missing=""
 for p in $packages; do
+  case $p in npm) command -v npm >/dev/null 2>&1 && continue ;; esac
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
 done
 sudo=""
