@@ -54,7 +54,9 @@ const char usage_text[] =
     "  -o FILE             output image, .png or .exr (default halo-vtk.png)\n"
     "  --no-stages         the scene's volume, camera and transfer function, VTK alone\n"
     "  --plain-mapper      VTK's own vtkGPUVolumeRayCastMapper (one pass: per-sample stages\n"
-    "                      only) instead of halo_vtk_mapper_new's segmented one\n"
+    "                      only) instead of halo_vtk_mapper_new's\n"
+    "  --segments          halo_vtk_mapper_new's mapper draws VTK's volume once per depth\n"
+    "                      segment (host contract 2) instead of once over the halo field\n"
     "  --blend MODE        composite (default), mip or additive: VTK's blend mode\n"
     "  --set STAGE.PARAM=V[,V...]  after a first render, change a live parameter and\n"
     "                      render again (prints whether VTK rebuilt its shader)\n"
@@ -75,6 +77,7 @@ struct options {
     const char *scene = nullptr, *volume = nullptr, *output = "halo-vtk.png", *blend = "composite", *export_to = nullptr;
     double window[2] = {0, 0};
     int have_window = 0, volume_size = 0, width = 256, height = 256, frames = 1, quiet = 0, no_stages = 0, plain_mapper = 0;
+    int segments = 0;
     std::vector<std::string> sets;
 };
 
@@ -92,6 +95,8 @@ int parse(int argc, char **argv, options *o) {
             o->no_stages = 1;
         } else if (a == "--plain-mapper") {
             o->plain_mapper = 1;
+        } else if (a == "--segments") {
+            o->segments = 1;
         } else if (a == "--scene" && need()) {
             o->scene = v;
         } else if (a == "--volume" && need()) {
@@ -314,6 +319,7 @@ int main(int argc, char **argv) {
         desc.window[0] = 0.0;
         desc.window[1] = 1.0;
         desc.all_live = !o.sets.empty();
+        desc.segments = o.segments;
         h = halo_vtk_install(&desc, diag);
         if (!h) status = 1; /* the diagnostics are printed at the end */
     }

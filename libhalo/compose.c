@@ -265,7 +265,7 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
     halo_program *p = halo_link_host(&inner, diag);
     free(host);
     if (!p) return NULL;
-    if (!d->segmented && halo_program_has_generation_passes(p)) {
+    if (!d->segmented && !p->one_draw && halo_program_has_generation_passes(p)) {
         halo_strbuf stages = {0};
         for (size_t s = 0; s < p->stage_count; s++)
             for (size_t k = 0; k < p->stages[s].module->pass_count; k++)
@@ -275,8 +275,9 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
                 }
         halo_diag_error(diag, HOST_SINGLE_PASS, "", 0, 0,
                         "the scene's stages %s run image passes between depth segments, but the pieces were "
-                        "linked for a single pass: set halo_pieces_desc.segmented and call halo_segment_begin / "
-                        "halo_segment_end in the ray loop (docs/host-contract.md, segmented ray casting)",
+                        "linked for a single pass: link with one_draw (host contract 3: libhalo computes the halo field "
+                        "before the engine draws once) or set halo_pieces_desc.segmented and call halo_segment_begin "
+                        "/ halo_segment_end in the ray loop (docs/host-contract.md)",
                         stages.data ? stages.data : "?");
         halo_strbuf_free(&stages);
         halo_program_destroy(p);

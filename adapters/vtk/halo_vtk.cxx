@@ -23,6 +23,7 @@
 
 #include <dlfcn.h>
 #include <vtkCommand.h>
+#include <vtkDataArray.h>
 #include <vtkGPUVolumeRayCastMapper.h>
 #include <vtkImageData.h>
 #include <vtkOpenGLRenderWindow.h>
@@ -37,6 +38,7 @@
 #include <vtkVolume.h>
 #include <vtkVolumeProperty.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -107,6 +109,9 @@ const char termination_guarded[] = "(HALO_RAY_MAY_END != 0 && g_fragColor.a > g_
  * every sample */
 const char visible_test[] = "if (g_srcColor.a > 0.0)";
 const char visible_test_guarded[] = "if (g_srcColor.a > 0.0 || HALO_RAY_MAY_END == 0)";
+/* ... and while they read images made by passes (the halo field, drawn once: host contract
+ * 3): a transparent sample where the field is nonzero becomes the halo */
+const char visible_test_images[] = "if (g_srcColor.a > 0.0 || HALO_RAY_MAY_END == 0 || halo_vtk_reads_images)";
 const char finish_point[] = "gl_FragData[0] = g_fragColor;";
 const char finish_text[] = "gl_FragData[0] = g_fragColor;\n  halo_finish();";
 /* A piece of a distributed volume (halo_vtk_set_whole_extent): ParaView composites the
@@ -117,6 +122,7 @@ const char piece_clamp[] =
     "if (halo_vtk_piece != 0)\n"
     "    g_fragColor.rgb = clamp(g_fragColor.rgb, vec3(0.0), vec3(clamp(g_fragColor.a, 0.0, 1.0)));\n  ";
 const int first_unit = 20; /* libhalo's images: above the units VTK's volume mapper takes */
+const int gradient_unit = first_unit - 1; /* the adapter's gradient texture */
 
 /* Our functions: VTK's conventions to the host contract's (docs/hosts/vtk.md). */
 const char conversions[] =
@@ -204,6 +210,14 @@ struct halo_vtk {
     int host_color_width = 0, host_color_height = 0;
     const char *post_image = nullptr; /* the image the last at=post pass writes, or NULL */
     int failed = 0;                    /* a segmented draw failed (diagnostics in diag) */
+    /* host contract 3 (a one_draw program): libhalo's march reads its own copy of the volume,
+     * the value over the window in [0, 1] (R32F), remade when the input changes */
+    int one_draw = 0;
+    int own_textures = 0; /* the stages read the adapter's gradient texture (a one_draw link) */
+    double window_data[2] = {0, 1};    /* the window in the input's units */
+    unsigned value_texture = 0, gradient_texture = 0; /* the gradient: RGBA16F, also the stages' in VTK */
+    vtkMTimeType value_time = 0;
+    int value_version = 0, value_size[3] = {0, 0, 0};
     halo_diagnostics *diag = nullptr; /* the install's: GL errors of the segmented draws */
     /* a piece of a larger volume (halo_vtk_set_whole_extent): the whole point extent */
     int whole[6] = {0, -1, 0, -1, 0, -1};
@@ -435,6 +449,68 @@ void blit(halo_vtk *h, unsigned texture, int blend) {
 
 } // namespace
 
+/* Host contract 3: the volume libhalo's march samples, the contract's value (the input's
+ * scalar over the window) at each point, one texel per point as VTK's own texture; remade
+ * when the input or its scalars change. 0 after a diagnostic. */
+static unsigned volume_textures(halo_vtk *h, vtkImageData *image) {
+    vtkDataArray *scalars = image->GetPointData() ? image->GetPointData()->GetScalars() : nullptr;
+    if (!scalars) {
+        add_error(h->diag, HALO_MSG_USAGE, "libhalo-vtk: the mapper's input has no point scalars");
+        return 0;
+    }
+    vtkMTimeType t = std::max(image->GetMTime(), scalars->GetMTime());
+    int dims[3];
+    image->GetDimensions(dims);
+    if (h->value_texture && t == h->value_time && !memcmp(dims, h->value_size, sizeof dims)) return h->value_texture;
+    GLint max3d = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
+    if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1 || dims[0] > max3d || dims[1] > max3d || dims[2] > max3d) {
+        add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
+                  "libhalo-vtk: the volume's " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
+                      std::to_string(dims[2]) + " points exceed this context's 3D texture size (" +
+                      std::to_string(max3d) + ") for the halo field's march");
+        return 0;
+    }
+    size_t n = (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2];
+    std::vector<float> values(n);
+    double w0 = h->window_data[0], scale = 1.0 / (h->window_data[1] - h->window_data[0]);
+    for (size_t i = 0; i < n; i++) values[i] = (float)((scalars->GetComponent((vtkIdType)i, 0) - w0) * scale);
+    /* the contract's gradient at the points: central differences, clamped at the borders as
+     * a CLAMP_TO_EDGE read of the values, halved (what halo_vtk_gradient reads at a point) */
+    std::vector<float> gradient(4 * n);
+    const size_t stride[3] = {1, (size_t)dims[0], (size_t)dims[0] * (size_t)dims[1]};
+    size_t i = 0;
+    for (int z = 0; z < dims[2]; z++)
+        for (int y = 0; y < dims[1]; y++)
+            for (int x = 0; x < dims[0]; x++, i++) {
+                const int at[3] = {x, y, z};
+                for (int a = 0; a < 3; a++) {
+                    size_t up = at[a] + 1 < dims[a] ? i + stride[a] : i, down = at[a] > 0 ? i - stride[a] : i;
+                    gradient[4 * i + (size_t)a] = 0.5f * (values[up] - values[down]);
+                }
+                gradient[4 * i + 3] = 0.0f;
+            }
+    if (!h->value_texture) glGenTextures(1, &h->value_texture);
+    if (!h->gradient_texture) glGenTextures(1, &h->gradient_texture);
+    GLint saved = 0;
+    glGetIntegerv(GL_TEXTURE_BINDING_3D, &saved);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    for (int k = 0; k < 2; k++) {
+        glBindTexture(GL_TEXTURE_3D, k ? h->gradient_texture : h->value_texture);
+        if (k) glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA16F, dims[0], dims[1], dims[2], 0, GL_RGBA, GL_FLOAT, gradient.data());
+        else glTexImage3D(GL_TEXTURE_3D, 0, GL_R32F, dims[0], dims[1], dims[2], 0, GL_RED, GL_FLOAT, values.data());
+        glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+            glTexParameteri(GL_TEXTURE_3D, wrap, GL_CLAMP_TO_EDGE);
+    }
+    glBindTexture(GL_TEXTURE_3D, (GLuint)saved);
+    h->value_time = t;
+    memcpy(h->value_size, dims, sizeof dims);
+    h->value_version++;
+    return h->value_texture;
+}
+
 /* The mapper for volumetric halos (halo_vtk_mapper_new): VTK's own, drawn by libhalo's
  * runtime once per depth segment into libhalo's frame, the passes run between, and the
  * result composited over VTK's framebuffer. */
@@ -484,6 +560,11 @@ void haloVTKMapper::draw(void *user) {
     int state = halo_program_segment_location(h->program);
     if (state > 0) glClearBufferfv(GL_COLOR, state, zero);
     vtkOpenGLRenderWindow *win = vtkOpenGLRenderWindow::SafeDownCast(m->draw_renderer->GetRenderWindow());
+    if (h->gradient_texture) { /* the stages' gradient (host contract 3) */
+        glActiveTexture(GL_TEXTURE0 + gradient_unit);
+        glBindTexture(GL_TEXTURE_3D, h->gradient_texture);
+        glUniform1i(glGetUniformLocation((GLuint)h->program_handle, "halo_vtk_gradient_texture"), gradient_unit);
+    }
     win->GetState()->Reset(); /* VTK's state cache: what libhalo bound is current */
     m->vtkOpenGLGPUVolumeRayCastMapper::GPURender(m->draw_renderer, m->draw_volume);
     note_program(h, win->GetShaderCache()->GetLastShaderBound());
@@ -537,10 +618,18 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
     this->draw_volume = vol;
     glViewport(0, 0, w, h_);
     if (h->program_handle < 0) {
-        /* VTK builds its shader on its first draw: one draw to learn the program */
+        /* VTK builds its shader on its first draw: one draw to learn the program, its image
+         * discarded. libhalo's samplers are not set yet (all on unit 0: the field's
+         * sampler2DArray beside sampler2D images is an invalid draw, which VTK would report
+         * as a warning); halo_gl_frame_draw sets them before every draw that counts. */
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, h->framebuffer);
         ostate->Reset();
+        int warnings = vtkObject::GetGlobalWarningDisplay();
+        if (h->one_draw) vtkObject::GlobalWarningDisplayOff();
         this->vtkOpenGLGPUVolumeRayCastMapper::GPURender(ren, vol);
+        vtkObject::SetGlobalWarningDisplay(warnings);
+        while (glGetError() != GL_NO_ERROR) {
+        }
         vtkShaderProgram *prog = win->GetShaderCache()->GetLastShaderBound();
         note_program(h, prog);
         h->program_handle = prog ? prog->GetHandle() : 0;
@@ -560,6 +649,29 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
     sd.first_unit = first_unit + 1;
     sd.draw = &haloVTKMapper::draw;
     sd.user = this;
+    if (h->own_textures) {
+        int extent[6];
+        image->GetExtent(extent);
+        for (int a = 0; a < 3 && !h->failed; a++)
+            if (extent[2 * a] != first[a] || extent[2 * a + 1] - extent[2 * a] + 1 != dims[a]) {
+                add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
+                          "libhalo-vtk: image passes drawn once (host contract 3) over a piece of a larger "
+                          "volume: each piece's march would see only its own seeds; install with "
+                          "halo_vtk_desc.segments = 1 and halo_vtk_set_exchange (docs/distributed.md)");
+                h->failed = 1;
+            }
+        unsigned made = h->failed ? 0 : volume_textures(h, image);
+        if (!made) {
+            h->failed = 1;
+            ostate->PopFramebufferBindings();
+            ostate->Pop();
+            return;
+        }
+        sd.volume_texture = h->one_draw ? made : 0;
+        sd.gradient_texture = h->gradient_texture;
+        sd.volume_version = h->value_version;
+        memcpy(sd.volume_size, h->value_size, sizeof sd.volume_size);
+    }
     set_screen_axes(ren, vol, image, (unsigned)h->program_handle);
     if (halo_gl_frame_draw(h->frame, (unsigned)h->program_handle, &sd, h->diag) != HALO_OK) h->failed = 1;
     /* the volume over VTK's framebuffer */
@@ -641,7 +753,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     /* halo_vtk_mapper_new's mapper draws in depth segments: every stage; VTK's own, one pass */
     haloVTKMapper *segmenting = haloVTKMapper::SafeDownCast(mapper);
     halo_pieces_desc names = vtk_names;
-    names.segmented = segmenting != nullptr;
+    names.segmented = segmenting && desc->segments;
     names.first_output_location = 1; /* VTK's colour is fragOutput0 */
     halo_link_desc link = {};
     link.library = desc->library;
@@ -650,8 +762,23 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     link.target = HALO_TARGET_GLSL150;
     link.engine_uniforms = 1;
     link.location_extension = 1;
-    link.pieces = &names;
+    link.pieces = &names; /* (names may change below: the link reads it) */
+    link.one_draw = segmenting && !desc->segments;
+    if (link.one_draw) {
+        /* the adapter's gradient texture (one fetch a sample instead of six), which the march
+         * reads too; the adapter binds it before VTK draws */
+        names.gradient = nullptr;
+        names.gradient_texture = "halo_vtk_gradient_texture";
+    }
     halo_program *program = halo_link(&link, diag);
+    if (program && names.gradient_texture && !halo_program_output_count(program) && !halo_program_pass_count(program)) {
+        /* VTK draws this one alone (no passes): the stages derive their gradient in VTK's shader */
+        halo_program_destroy(program);
+        names = vtk_names;
+        names.first_output_location = 1;
+        link.one_draw = 0;
+        program = halo_link(&link, diag);
+    }
     if (!program && !segmenting && halo_diagnostics_has(diag, HALO_MSG_HOST_SINGLE_PASS))
         halo_diagnostics_report(diag, HALO_SEVERITY_NOTE, HALO_MSG_HOST_SINGLE_PASS, nullptr, 0, 0,
                                 "in VTK: create the mapper with halo_vtk_mapper_new(), which draws VTK's volume "
@@ -705,6 +832,8 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
         w0 = range[0];
         w1 = range[1];
     }
+    h->window_data[0] = w0;
+    h->window_data[1] = w1 != w0 ? w1 : w0 + 1.0;
     double span = range[1] > range[0] ? range[1] - range[0] : 1.0;
     float window[2] = {(float)((w0 - range[0]) / span), (float)((w1 - range[0]) / span)};
     if (window[1] == window[0]) window[1] = window[0] + 1.0f;
@@ -724,6 +853,9 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     upload_all(h, &h->uniforms);
     /* the pieces */
     h->declarations = std::string(declarations_tag) + "\n" + conversions +
+                      (names.gradient_texture ? "uniform sampler3D halo_vtk_gradient_texture;\n" : "") +
+                      "const bool halo_vtk_reads_images = " +
+                      (halo_program_sampler_count(program) ? "true" : "false") + ";\n" +
                       halo_program_piece(program, HALO_PIECE_DECLARATIONS);
     h->sample = std::string("// ---- libhalo-vtk: the stages, on the opacity per unit distance ----\n"
                             "g_srcColor.a = halo_vtk_correct(g_srcColor.a, 1.0 / halo_vtk_exponent());\n") +
@@ -733,16 +865,26 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     property->AddFragmentShaderReplacement(splice_point, false, h->sample, false);
     if (segmenting) {
         h->segmented = halo_program_output_count(program) || halo_program_pass_count(program);
+        h->own_textures = names.gradient_texture != nullptr;
+        for (size_t i = 0; i < halo_program_pass_count(program) && link.one_draw; i++)
+            h->one_draw |= !halo_program_pass(program, i)->post; /* passes between slices: the field */
         for (size_t i = 0; i < halo_program_pass_count(program); i++)
             if (halo_program_pass(program, i)->post) h->post_image = halo_program_pass(program, i)->output;
         h->diag = diag;
         segmenting->halo = h;
         property->AddFragmentShaderReplacement(extension_tag, true, extension_text, false);
-        property->AddFragmentShaderReplacement(begin_tag, true, begin_text, false);
-        property->AddFragmentShaderReplacement(end_tag, true, end_text, false);
+        if (names.segmented) {
+            property->AddFragmentShaderReplacement(begin_tag, true, begin_text, false);
+            property->AddFragmentShaderReplacement(end_tag, true, end_text, false);
+        } else {
+            property->AddFragmentShaderReplacement(begin_tag, true, align_text, false);
+        }
         property->AddFragmentShaderReplacement(termination_text, false, termination_guarded, false);
         property->AddFragmentShaderReplacement(finish_point, false, std::string(piece_clamp) + finish_text, false);
-        property->AddFragmentShaderReplacement(visible_test, false, visible_test_guarded, false);
+        property->AddFragmentShaderReplacement(visible_test, false,
+                                               halo_program_sampler_count(program) ? visible_test_images
+                                                                                   : visible_test_guarded,
+                                               false);
     }
     if (!segmenting) {
         property->AddFragmentShaderReplacement(finish_point, false, std::string(piece_clamp) + finish_point, false);
@@ -770,6 +912,8 @@ void halo_vtk_remove(halo_vtk *h) {
         h->property->ClearFragmentShaderReplacement(finish_point, false);
         h->property->ClearFragmentShaderReplacement(visible_test, false);
     }
+    if (h->value_texture) glDeleteTextures(1, &h->value_texture);
+    if (h->gradient_texture) glDeleteTextures(1, &h->gradient_texture);
     halo_gl_frame_destroy(h->frame);
     halo_gl_destroy(h->gl); /* GL names of the frame, the FBO and the blit go with the context */
     vtkUniforms *u = h->property->GetFragmentCustomUniforms();

@@ -28,6 +28,10 @@ typedef struct halo_vtk_desc {
     double window[2];                  /* the data values mapped to 0 and 1 (the contract's value);
                                         * {0, 0}: the input's scalar range */
     int all_live;                      /* every parameter a uniform (halo_vtk_set on any of them) */
+    int segments;                      /* halo_vtk_mapper_new's mapper with volumetric halos: 0 (default):
+                                        * VTK draws once, over the halo field libhalo computes first
+                                        * (host contract 3); 1: once per depth segment (host contract 2:
+                                        * the pieces of a distributed volume, halo_vtk_set_exchange) */
 } halo_vtk_desc;
 
 /* Installs the scene. Returns NULL, with the reason in diag, when the mapper or the
@@ -36,10 +40,12 @@ typedef struct halo_vtk_desc {
  * halos: with VTK's own mapper; the adapter's, halo_vtk_mapper_new, takes them;
  * docs/hosts/vtk.md). */
 halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag);
-/* A vtkGPUVolumeRayCastMapper (VTK's OpenGL one, subclassed) that draws the volume once
- * per depth segment with libhalo's image passes between: install a scene with volumetric
- * halos into it. Without such a scene it renders as VTK's own. Delete() it as any VTK
- * object. */
+/* A vtkGPUVolumeRayCastMapper (VTK's OpenGL one, subclassed) for scenes with image
+ * passes: libhalo computes the frame's halo field from its own copy of the volume (the
+ * value over the window, 4 bytes a voxel, and a derived gradient, 8), VTK draws once with
+ * early ray termination, and the at=post passes (outlines) run on VTK's image; or, with
+ * halo_vtk_desc.segments, VTK's ray caster is drawn once per depth segment with the passes
+ * between. Without such a scene it renders as VTK's own. Delete() it as any VTK object. */
 vtkGPUVolumeRayCastMapper *halo_vtk_mapper_new(void);
 /* Removes the replacements and uniforms; the mapper renders as VTK's own again. */
 void halo_vtk_remove(halo_vtk *h);
@@ -54,7 +60,8 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag);
  * Positions, depth and the segments of volumetric halos are then the whole volume's, the
  * same on every piece (docs/distributed.md). Call again when the whole extent changes. */
 halo_status halo_vtk_set_whole_extent(halo_vtk *h, const int whole_extent[6]);
-/* Volumetric halos across pieces: after each depth segment, the adapter reads each output
+/* Volumetric halos across pieces (installed with segments = 1; a one-draw install of a
+ * piece fails its draw with a diagnostic): after each depth segment, the adapter reads each output
  * image (the seeds: width * height RGBA floats) and calls exchange to combine it, in
  * place, with the other pieces' by the output's blend (max for seeds), before the passes
  * spread it. Every piece must draw the same segments (same camera and whole extent). */
