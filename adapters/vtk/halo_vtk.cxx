@@ -58,7 +58,12 @@ const char file_name[] = "(VTK volume shader)";
 /* Host contract 2 in VTK's ray loop (volumetric halos): the loop's samples are
  * g_dataPos + i g_dirStep, i = 0, 1, ... while g_currentT (= i) < g_terminatePointMax. */
 const char extension_tag[] = "//VTK::System::Dec";
-const char extension_text[] = "//VTK::System::Dec\n#extension GL_ARB_explicit_attrib_location : require\n";
+/* the adapter's gradient texture has a fixed unit (layout(binding), GLSL 4.20's, an extension
+ * in VTK's GLSL 150): VTK builds and binds its program itself, libhalo-vtk cannot set a
+ * sampler there before VTK's first draw */
+const char extension_text[] = "//VTK::System::Dec\n#extension GL_ARB_shading_language_420pack : require\n";
+const char extension_segmented_text[] = "//VTK::System::Dec\n#extension GL_ARB_shading_language_420pack : require\n"
+                                        "#extension GL_ARB_explicit_attrib_location : require\n";
 const char begin_tag[] = "//VTK::Shading::Init";
 /* A piece of a larger volume: VTK starts each piece's rays one step inside the piece, so
  * the samples of the pieces are not those of the whole volume; move the first one on to
@@ -122,7 +127,7 @@ const char piece_clamp[] =
     "if (halo_vtk_piece != 0)\n"
     "    g_fragColor.rgb = clamp(g_fragColor.rgb, vec3(0.0), vec3(clamp(g_fragColor.a, 0.0, 1.0)));\n  ";
 const int first_unit = 20; /* libhalo's images: above the units VTK's volume mapper takes */
-const int gradient_unit = first_unit - 1; /* the adapter's gradient texture */
+const int gradient_unit = 19; /* the adapter's gradient texture: the binding in conversions */
 
 /* Our functions: VTK's conventions to the host contract's (docs/hosts/vtk.md). */
 const char conversions[] =
@@ -132,14 +137,10 @@ const char conversions[] =
     "float halo_vtk_value(vec4 scalar) {\n"
     "    return (scalar.r - halo_vtk_window.x) / (halo_vtk_window.y - halo_vtk_window.x);\n"
     "}\n"
-    "// the contract's gradient: central differences over +-1 voxel, halved, of the value\n"
-    "vec3 halo_vtk_gradient(vec3 p) {\n"
-    "    vec3 voxel = 1.0 / vec3(textureSize(in_volume[0], 0));\n"
-    "    vec3 d = vec3(texture(in_volume[0], p + vec3(voxel.x, 0.0, 0.0)).r - texture(in_volume[0], p - vec3(voxel.x, 0.0, 0.0)).r,\n"
-    "                  texture(in_volume[0], p + vec3(0.0, voxel.y, 0.0)).r - texture(in_volume[0], p - vec3(0.0, voxel.y, 0.0)).r,\n"
-    "                  texture(in_volume[0], p + vec3(0.0, 0.0, voxel.z)).r - texture(in_volume[0], p - vec3(0.0, 0.0, voxel.z)).r);\n"
-    "    return 0.5 * d * in_volume_scale[0].r / (halo_vtk_window.y - halo_vtk_window.x);\n"
-    "}\n"
+    "// the contract's gradient: central differences over +-1 voxel, halved, of the value, at\n"
+    "// the points (the adapter computes them once a volume), filtered as VTK's volume\n"
+    "layout(binding = 19) uniform sampler3D halo_vtk_gradient_texture;\n"
+    "vec3 halo_vtk_gradient(vec3 p) { return texture(halo_vtk_gradient_texture, p).rgb; }\n"
     "// the whole dataset's texture space: a piece of it (a brick of a distributed volume, ParaView)\n"
     "// has its own texture space, which halo_vtk_global_scale and _offset map into the whole one\n"
     "vec3 halo_vtk_global(vec3 p) { return p * halo_vtk_global_scale + halo_vtk_global_offset; }\n"
@@ -195,6 +196,9 @@ struct halo_vtk {
     std::vector<std::string> uniforms;
     vtkSmartPointer<vtkCallbackCommand> observer;
     unsigned long observer_tag = 0;
+    vtkSmartPointer<vtkCallbackCommand> start_observer; /* binds the gradient texture */
+    unsigned long start_observer_tag = 0;
+    int saved_gradient_binding = 0;
     std::string last_source; /* the fragment shader VTK built last */
     int last_handle = -1;
     int builds = 0;
@@ -213,7 +217,6 @@ struct halo_vtk {
     /* host contract 3 (a one_draw program): libhalo's march reads its own copy of the volume,
      * the value over the window in [0, 1] (R32F), remade when the input changes */
     int one_draw = 0;
-    int own_textures = 0; /* the stages read the adapter's gradient texture (a one_draw link) */
     double window_data[2] = {0, 1};    /* the window in the input's units */
     unsigned value_texture = 0, gradient_texture = 0; /* the gradient: RGBA16F, also the stages' in VTK */
     vtkMTimeType value_time = 0;
@@ -279,10 +282,96 @@ void note_program(halo_vtk *h, vtkShaderProgram *program) {
     h->builds++;
 }
 
+/* The adapter's textures of the input, one texel per point as VTK's own volume texture,
+ * remade when the input or its scalars change: the contract's gradient (RGBA16F, what the
+ * stages read in VTK's shader and libhalo's march) and, with value (host contract 3), the
+ * contract's value (the input's scalar over the window: R32F), which the march samples.
+ * The gradient's name, or 0 after a diagnostic. */
+unsigned volume_textures(halo_vtk *h, vtkImageData *image, int value) {
+    vtkDataArray *scalars = image->GetPointData() ? image->GetPointData()->GetScalars() : nullptr;
+    if (!scalars) {
+        add_error(h->diag, HALO_MSG_USAGE, "libhalo-vtk: the mapper's input has no point scalars");
+        return 0;
+    }
+    vtkMTimeType t = std::max(image->GetMTime(), scalars->GetMTime());
+    int dims[3];
+    image->GetDimensions(dims);
+    if (h->gradient_texture && (h->value_texture || !value) && t == h->value_time &&
+        !memcmp(dims, h->value_size, sizeof dims))
+        return h->gradient_texture;
+    GLint max3d = 0;
+    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
+    if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1 || dims[0] > max3d || dims[1] > max3d || dims[2] > max3d) {
+        add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
+                  "libhalo-vtk: the volume's " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
+                      std::to_string(dims[2]) + " points exceed this context's 3D texture size (" +
+                      std::to_string(max3d) + ") for the halo field's march");
+        return 0;
+    }
+    size_t n = (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2];
+    std::vector<float> values(n);
+    double w0 = h->window_data[0], scale = 1.0 / (h->window_data[1] - h->window_data[0]);
+    for (size_t i = 0; i < n; i++) values[i] = (float)((scalars->GetComponent((vtkIdType)i, 0) - w0) * scale);
+    /* the contract's gradient at the points: central differences, clamped at the borders as
+     * a CLAMP_TO_EDGE read of the values, halved (what halo_vtk_gradient reads at a point) */
+    std::vector<float> gradient(4 * n);
+    const size_t stride[3] = {1, (size_t)dims[0], (size_t)dims[0] * (size_t)dims[1]};
+    size_t i = 0;
+    for (int z = 0; z < dims[2]; z++)
+        for (int y = 0; y < dims[1]; y++)
+            for (int x = 0; x < dims[0]; x++, i++) {
+                const int at[3] = {x, y, z};
+                for (int a = 0; a < 3; a++) {
+                    size_t up = at[a] + 1 < dims[a] ? i + stride[a] : i, down = at[a] > 0 ? i - stride[a] : i;
+                    gradient[4 * i + (size_t)a] = 0.5f * (values[up] - values[down]);
+                }
+                gradient[4 * i + 3] = 0.0f;
+            }
+    if (!h->value_texture && value) glGenTextures(1, &h->value_texture);
+    if (!h->gradient_texture) glGenTextures(1, &h->gradient_texture);
+    GLint saved = 0;
+    glGetIntegerv(GL_TEXTURE_BINDING_3D, &saved);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    for (int k = h->value_texture ? 0 : 1; k < 2; k++) {
+        glBindTexture(GL_TEXTURE_3D, k ? h->gradient_texture : h->value_texture);
+        if (k) glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA16F, dims[0], dims[1], dims[2], 0, GL_RGBA, GL_FLOAT, gradient.data());
+        else glTexImage3D(GL_TEXTURE_3D, 0, GL_R32F, dims[0], dims[1], dims[2], 0, GL_RED, GL_FLOAT, values.data());
+        glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+        glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+        for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
+            glTexParameteri(GL_TEXTURE_3D, wrap, GL_CLAMP_TO_EDGE);
+    }
+    glBindTexture(GL_TEXTURE_3D, (GLuint)saved);
+    h->value_time = t;
+    memcpy(h->value_size, dims, sizeof dims);
+    h->value_version++;
+    return h->gradient_texture;
+}
+
+/* Before VTK's mapper renders (every path: VTK alone, one draw, segments): the gradient
+ * texture on its unit, made or remade first; the unit's binding is restored after. */
+void on_render_start(vtkObject *, unsigned long, void *client, void *) {
+    halo_vtk *h = static_cast<halo_vtk *>(client);
+    vtkImageData *image = vtkImageData::SafeDownCast(h->mapper->GetInput());
+    GLint active = GL_TEXTURE0;
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
+    unsigned gradient = image ? volume_textures(h, image, h->one_draw) : 0;
+    if (!gradient) h->failed = 1;
+    glActiveTexture(GL_TEXTURE0 + gradient_unit);
+    glGetIntegerv(GL_TEXTURE_BINDING_3D, &h->saved_gradient_binding);
+    glBindTexture(GL_TEXTURE_3D, gradient);
+    glActiveTexture((GLenum)active);
+}
+
 /* After the mapper's render, the ray-casting program is the one the render window's
  * shader cache bound last (VTK 9.1 sends no UpdateShaderEvent from the volume mapper). */
 void on_render_end(vtkObject *, unsigned long, void *client, void *) {
     halo_vtk *h = static_cast<halo_vtk *>(client);
+    GLint active = GL_TEXTURE0;
+    glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
+    glActiveTexture(GL_TEXTURE0 + gradient_unit);
+    glBindTexture(GL_TEXTURE_3D, (GLuint)h->saved_gradient_binding);
+    glActiveTexture((GLenum)active);
     vtkOpenGLRenderWindow *window =
         h->renderer ? vtkOpenGLRenderWindow::SafeDownCast(h->renderer->GetRenderWindow()) : nullptr;
     if (window) note_program(h, window->GetShaderCache()->GetLastShaderBound());
@@ -449,68 +538,6 @@ void blit(halo_vtk *h, unsigned texture, int blend) {
 
 } // namespace
 
-/* Host contract 3: the volume libhalo's march samples, the contract's value (the input's
- * scalar over the window) at each point, one texel per point as VTK's own texture; remade
- * when the input or its scalars change. 0 after a diagnostic. */
-static unsigned volume_textures(halo_vtk *h, vtkImageData *image) {
-    vtkDataArray *scalars = image->GetPointData() ? image->GetPointData()->GetScalars() : nullptr;
-    if (!scalars) {
-        add_error(h->diag, HALO_MSG_USAGE, "libhalo-vtk: the mapper's input has no point scalars");
-        return 0;
-    }
-    vtkMTimeType t = std::max(image->GetMTime(), scalars->GetMTime());
-    int dims[3];
-    image->GetDimensions(dims);
-    if (h->value_texture && t == h->value_time && !memcmp(dims, h->value_size, sizeof dims)) return h->value_texture;
-    GLint max3d = 0;
-    glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &max3d);
-    if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1 || dims[0] > max3d || dims[1] > max3d || dims[2] > max3d) {
-        add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
-                  "libhalo-vtk: the volume's " + std::to_string(dims[0]) + "x" + std::to_string(dims[1]) + "x" +
-                      std::to_string(dims[2]) + " points exceed this context's 3D texture size (" +
-                      std::to_string(max3d) + ") for the halo field's march");
-        return 0;
-    }
-    size_t n = (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2];
-    std::vector<float> values(n);
-    double w0 = h->window_data[0], scale = 1.0 / (h->window_data[1] - h->window_data[0]);
-    for (size_t i = 0; i < n; i++) values[i] = (float)((scalars->GetComponent((vtkIdType)i, 0) - w0) * scale);
-    /* the contract's gradient at the points: central differences, clamped at the borders as
-     * a CLAMP_TO_EDGE read of the values, halved (what halo_vtk_gradient reads at a point) */
-    std::vector<float> gradient(4 * n);
-    const size_t stride[3] = {1, (size_t)dims[0], (size_t)dims[0] * (size_t)dims[1]};
-    size_t i = 0;
-    for (int z = 0; z < dims[2]; z++)
-        for (int y = 0; y < dims[1]; y++)
-            for (int x = 0; x < dims[0]; x++, i++) {
-                const int at[3] = {x, y, z};
-                for (int a = 0; a < 3; a++) {
-                    size_t up = at[a] + 1 < dims[a] ? i + stride[a] : i, down = at[a] > 0 ? i - stride[a] : i;
-                    gradient[4 * i + (size_t)a] = 0.5f * (values[up] - values[down]);
-                }
-                gradient[4 * i + 3] = 0.0f;
-            }
-    if (!h->value_texture) glGenTextures(1, &h->value_texture);
-    if (!h->gradient_texture) glGenTextures(1, &h->gradient_texture);
-    GLint saved = 0;
-    glGetIntegerv(GL_TEXTURE_BINDING_3D, &saved);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    for (int k = 0; k < 2; k++) {
-        glBindTexture(GL_TEXTURE_3D, k ? h->gradient_texture : h->value_texture);
-        if (k) glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA16F, dims[0], dims[1], dims[2], 0, GL_RGBA, GL_FLOAT, gradient.data());
-        else glTexImage3D(GL_TEXTURE_3D, 0, GL_R32F, dims[0], dims[1], dims[2], 0, GL_RED, GL_FLOAT, values.data());
-        glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-        glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-        for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
-            glTexParameteri(GL_TEXTURE_3D, wrap, GL_CLAMP_TO_EDGE);
-    }
-    glBindTexture(GL_TEXTURE_3D, (GLuint)saved);
-    h->value_time = t;
-    memcpy(h->value_size, dims, sizeof dims);
-    h->value_version++;
-    return h->value_texture;
-}
-
 /* The mapper for volumetric halos (halo_vtk_mapper_new): VTK's own, drawn by libhalo's
  * runtime once per depth segment into libhalo's frame, the passes run between, and the
  * result composited over VTK's framebuffer. */
@@ -560,11 +587,6 @@ void haloVTKMapper::draw(void *user) {
     int state = halo_program_segment_location(h->program);
     if (state > 0) glClearBufferfv(GL_COLOR, state, zero);
     vtkOpenGLRenderWindow *win = vtkOpenGLRenderWindow::SafeDownCast(m->draw_renderer->GetRenderWindow());
-    if (h->gradient_texture) { /* the stages' gradient (host contract 3) */
-        glActiveTexture(GL_TEXTURE0 + gradient_unit);
-        glBindTexture(GL_TEXTURE_3D, h->gradient_texture);
-        glUniform1i(glGetUniformLocation((GLuint)h->program_handle, "halo_vtk_gradient_texture"), gradient_unit);
-    }
     win->GetState()->Reset(); /* VTK's state cache: what libhalo bound is current */
     m->vtkOpenGLGPUVolumeRayCastMapper::GPURender(m->draw_renderer, m->draw_volume);
     note_program(h, win->GetShaderCache()->GetLastShaderBound());
@@ -649,7 +671,7 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
     sd.first_unit = first_unit + 1;
     sd.draw = &haloVTKMapper::draw;
     sd.user = this;
-    if (h->own_textures) {
+    if (h->one_draw) {
         int extent[6];
         image->GetExtent(extent);
         for (int a = 0; a < 3 && !h->failed; a++)
@@ -660,14 +682,14 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
                           "halo_vtk_desc.segments = 1 and halo_vtk_set_exchange (docs/distributed.md)");
                 h->failed = 1;
             }
-        unsigned made = h->failed ? 0 : volume_textures(h, image);
-        if (!made) {
+        unsigned made = h->failed ? 0 : volume_textures(h, image, 1);
+        if (!made || !h->value_texture) {
             h->failed = 1;
             ostate->PopFramebufferBindings();
             ostate->Pop();
             return;
         }
-        sd.volume_texture = h->one_draw ? made : 0;
+        sd.volume_texture = h->value_texture;
         sd.gradient_texture = h->gradient_texture;
         sd.volume_version = h->value_version;
         memcpy(sd.volume_size, h->value_size, sizeof sd.volume_size);
@@ -762,23 +784,9 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     link.target = HALO_TARGET_GLSL150;
     link.engine_uniforms = 1;
     link.location_extension = 1;
-    link.pieces = &names; /* (names may change below: the link reads it) */
+    link.pieces = &names;
     link.one_draw = segmenting && !desc->segments;
-    if (link.one_draw) {
-        /* the adapter's gradient texture (one fetch a sample instead of six), which the march
-         * reads too; the adapter binds it before VTK draws */
-        names.gradient = nullptr;
-        names.gradient_texture = "halo_vtk_gradient_texture";
-    }
     halo_program *program = halo_link(&link, diag);
-    if (program && names.gradient_texture && !halo_program_output_count(program) && !halo_program_pass_count(program)) {
-        /* VTK draws this one alone (no passes): the stages derive their gradient in VTK's shader */
-        halo_program_destroy(program);
-        names = vtk_names;
-        names.first_output_location = 1;
-        link.one_draw = 0;
-        program = halo_link(&link, diag);
-    }
     if (!program && !segmenting && halo_diagnostics_has(diag, HALO_MSG_HOST_SINGLE_PASS))
         halo_diagnostics_report(diag, HALO_SEVERITY_NOTE, HALO_MSG_HOST_SINGLE_PASS, nullptr, 0, 0,
                                 "in VTK: create the mapper with halo_vtk_mapper_new(), which draws VTK's volume "
@@ -824,6 +832,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     h->renderer = desc->renderer;
     h->property = property;
     h->program = program;
+    h->diag = diag; /* the draws' diagnostics (GL errors, the adapter's textures) */
     /* the value window, in VTK's normalisation over the input's range */
     double range[2];
     input->GetScalarRange(range);
@@ -853,7 +862,6 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     upload_all(h, &h->uniforms);
     /* the pieces */
     h->declarations = std::string(declarations_tag) + "\n" + conversions +
-                      (names.gradient_texture ? "uniform sampler3D halo_vtk_gradient_texture;\n" : "") +
                       "const bool halo_vtk_reads_images = " +
                       (halo_program_sampler_count(program) ? "true" : "false") + ";\n" +
                       halo_program_piece(program, HALO_PIECE_DECLARATIONS);
@@ -865,14 +873,12 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     property->AddFragmentShaderReplacement(splice_point, false, h->sample, false);
     if (segmenting) {
         h->segmented = halo_program_output_count(program) || halo_program_pass_count(program);
-        h->own_textures = names.gradient_texture != nullptr;
         for (size_t i = 0; i < halo_program_pass_count(program) && link.one_draw; i++)
             h->one_draw |= !halo_program_pass(program, i)->post; /* passes between slices: the field */
         for (size_t i = 0; i < halo_program_pass_count(program); i++)
             if (halo_program_pass(program, i)->post) h->post_image = halo_program_pass(program, i)->output;
-        h->diag = diag;
         segmenting->halo = h;
-        property->AddFragmentShaderReplacement(extension_tag, true, extension_text, false);
+        property->AddFragmentShaderReplacement(extension_tag, true, extension_segmented_text, false);
         if (names.segmented) {
             property->AddFragmentShaderReplacement(begin_tag, true, begin_text, false);
             property->AddFragmentShaderReplacement(end_tag, true, end_text, false);
@@ -887,6 +893,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
                                                false);
     }
     if (!segmenting) {
+        property->AddFragmentShaderReplacement(extension_tag, true, extension_text, false);
         property->AddFragmentShaderReplacement(finish_point, false, std::string(piece_clamp) + finish_point, false);
         property->AddFragmentShaderReplacement(begin_tag, true, align_text, false);
     }
@@ -894,6 +901,10 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     h->observer->SetCallback(on_render_end);
     h->observer->SetClientData(h);
     h->observer_tag = mapper->AddObserver(vtkCommand::VolumeMapperRenderEndEvent, h->observer);
+    h->start_observer = vtkSmartPointer<vtkCallbackCommand>::New();
+    h->start_observer->SetCallback(on_render_start);
+    h->start_observer->SetClientData(h);
+    h->start_observer_tag = mapper->AddObserver(vtkCommand::VolumeMapperRenderStartEvent, h->start_observer);
     return h;
 }
 
@@ -919,6 +930,7 @@ void halo_vtk_remove(halo_vtk *h) {
     vtkUniforms *u = h->property->GetFragmentCustomUniforms();
     for (const std::string &name : h->uniforms) u->RemoveUniform(name.c_str());
     h->mapper->RemoveObserver(h->observer_tag);
+    h->mapper->RemoveObserver(h->start_observer_tag);
     halo_program_destroy(h->program);
     delete h;
 }

@@ -13,8 +13,9 @@
 #  - a control that must fail that: tone shading with the light negated;
 #  - live parameters: --set changes the image to exactly a fresh render with the new
 #    values, with no shader rebuild;
-#  - volumetric halos and outlines through halo_vtk_mapper_new (VTK's mapper drawn in
-#    depth segments, libhalo's passes between): against halo-render's slab host at the
+#  - volumetric halos and outlines through halo_vtk_mapper_new (VTK's mapper drawn once
+#    over the halo field libhalo computes first, and drawn in depth segments with
+#    libhalo's passes between): against halo-render's slab host at the
 #    same M, mean abs at most 5e-3 and at most half what the halos change in
 #    halo-render's ray caster (measured at 128x128, 64^3: 2.7e-3 to 3.9e-3 against
 #    effects of 0.011 to 0.037); control: VTK without the halo stages must fail it;
@@ -125,10 +126,18 @@ status=$?
 test $status -eq 1 && grep -q "halo_vtk_mapper_new" "$tmp/h.err" ||
     { fail "halos in VTK's one-pass mapper: exit $status, expected 1 naming halo_vtk_mapper_new"; cat "$tmp/h.err" >&2; }
 
-# volumetric halos and outlines in depth segments, against the slab host at the same M
+# volumetric halos and outlines, VTK drawn once over the halo field (host contract 3) and,
+# for the first scenes, in depth segments (halo_vtk_desc.segments), against the slab host
+# at the same M
 size=128x128
-for scene in default halo-directional halo-multi halo-occlusive outline-depth; do
-    vtk "$scene-halos" "$scenes/$scene.json"
+for scene in default halo-directional halo-multi halo-occlusive outline-depth default:--segments \
+    halo-multi:--segments; do
+    mode=${scene#*:}
+    test "$mode" = "$scene" && mode=
+    scene=${scene%%:*}
+    how="drawn once"
+    test -n "$mode" && how="in segments"
+    vtk "$scene-halos" "$scenes/$scene.json" $mode
     grep -q "validated" "$tmp/$scene-halos.log" || fail "$scene: the stages are not in VTK's shader, or it did not validate"
     "$HALO_RENDER" --scene "$scenes/$scene.json" --host slab --size $size --volume-size $vsize --quiet \
         -o "$tmp/$scene-slab.exr" >/dev/null 2>&1 || fail "halo-render --host slab $scene"
@@ -138,7 +147,7 @@ for scene in default halo-directional halo-multi halo-occlusive outline-depth; d
         --no-halos -o "$tmp/$scene-plain.exr" >/dev/null 2>&1 || fail "halo-render --no-halos $scene"
     between=$(mean_abs "$scene-halos" "$scene-slab")
     effect=$(mean_abs "$scene-ray" "$scene-plain")
-    echo "$scene: VTK in segments against the slab host $between (mean abs); the halos' effect $effect"
+    echo "$scene: VTK $how against the slab host $between (mean abs); the halos' effect $effect"
     awk -v b="$between" -v e="$effect" 'BEGIN { exit !(b != "" && e != "" && e > 0.005 && b <= 0.005 && b <= e / 2) }' ||
         fail "$scene: VTK and the slab host differ by $between: over 5e-3 or half the halos' effect $effect"
 done

@@ -351,6 +351,10 @@ void vtkHaloVolumeRepresentation::PrepareHalo(vtkRenderer* renderer, vtkVolume* 
   int window = I->Window[1] != I->Window[0];
   desc.window[0] = window ? I->Window[0] : I->Range[0];
   desc.window[1] = window ? I->Window[1] : I->Range[1];
+  /* one rank: VTK's volume drawn once over the halo field (host contract 3); more: each
+   * rank's brick in depth segments, the seeds combined over the ranks after each segment
+   * (one collective a frame: not yet, docs/distributed.md) */
+  desc.segments = rank_count() > 1;
   I->Halo = halo_vtk_install(&desc, I->Diag);
   if (I->Halo && rank_count() > 1)
   {
