@@ -824,8 +824,12 @@ typedef struct halo_gl_segments_desc {
                               * libhalo's march samples for the seeds; required there */
     unsigned gradient_texture; /* ... and its gradient (GL_TEXTURE_3D, RGB: the contract's gradient, per voxel
                                 * step) if the host has one; 0: libhalo derives one from volume_texture
-                                * (RGBA16F, 8 bytes a voxel) and keeps it while volume_texture, its size
-                                * and volume_version stay the same */
+                                * and keeps it while volume_texture, its size, volume_version and
+                                * gradient_precision stay the same */
+    int gradient_precision;  /* the derived gradient: 32 (RGBA32F, 16 bytes a voxel: exact to float), 16
+                              * (RGBA16F, 8 bytes a voxel: the seeds' error in docs/accuracy.md, rows
+                              * ray@one_draw_half), 0: 32 where float textures filter linearly (OpenGL, ES
+                              * with OES_texture_float_linear), else 16 */
     int volume_version;      /* change it when the volume texture's contents change */
     int volume_size[3];      /* its voxels per axis; 0: queried (a context without glGetTexLevelParameteriv,
                               * such as OpenGL ES 3.0, needs them) */

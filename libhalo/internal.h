@@ -297,8 +297,9 @@ extern const char halo_march_file[];
 /* Marks the stages whose outputs feed generation passes (prepass 2) and what they need
  * (1); returns whether there is one. */
 int halo_prepass_mark(halo_program *p);
-/* Drops the outputs that feed generation passes (the march writes them). */
-void halo_prepass_drop_outputs(halo_program *p);
+/* Drops the outputs that feed generation passes (seeds 1: the host's program, whose
+ * seeds the march writes), or the others (seeds 0: the march, which writes only those). */
+void halo_prepass_drop_outputs(halo_program *p, int seeds);
 /* Whether the march reads only the host uniforms gl/field.c sets (the image-plane axes);
  * USAGE in diag otherwise. */
 int halo_prepass_host_uniforms_known(const halo_program *march, halo_diagnostics *diag);

@@ -770,7 +770,7 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
             return NULL;
         }
         p->one_draw = 1;
-        halo_prepass_drop_outputs(p);
+        halo_prepass_drop_outputs(p, 1);
         /* the march and the host share the parameters' values: halo_program_set changes both */
         halo_link_desc march = halo_prepass_desc(p, desc);
         if (!(p->prepass = halo_link_prepass(&march, diag)) || !halo_prepass_host_uniforms_known(p->prepass, diag)) {
@@ -779,6 +779,9 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
         }
     } else if (prepass_only) {
         halo_prepass_mark(p);
+        /* the march writes the seeds only: the host's samples write the other outputs
+         * (outline features), which the march's draws would otherwise overwrite */
+        halo_prepass_drop_outputs(p, 0);
         p->prepass_only = 1;
     }
     if (p->group_count > 1) halo_program_load_group(p, 0);

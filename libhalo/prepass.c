@@ -134,11 +134,11 @@ int halo_prepass_image(const halo_program *p, const char *image)
     return 0;
 }
 
-void halo_prepass_drop_outputs(halo_program *p)
+void halo_prepass_drop_outputs(halo_program *p, int seeds)
 {
     size_t kept = 0;
     for (size_t o = 0; o < p->output_count; o++)
-        if (!generation_reads(p, p->outputs[o].image))
+        if (generation_reads(p, p->outputs[o].image) != seeds)
             p->outputs[kept++] = p->outputs[o];
     p->output_count = kept;
 }
@@ -160,14 +160,18 @@ halo_link_desc halo_prepass_desc(const halo_program *p, const halo_link_desc *de
 
 int halo_prepass_host_uniforms_known(const halo_program *march, halo_diagnostics *diag)
 {
-    /* gl/field.c derives these from the camera; nothing else can reach the march */
-    for (size_t i = 0; i < march->host_uniform_count; i++) {
-        const char *name = march->host_uniforms[i].name;
-        if (strcmp(name, "halo_host_screen_right") && strcmp(name, "halo_host_screen_up")) {
-            halo_diag_error(diag, USAGE, "", 0, 0,
-                            "halo_link: one_draw (host contract 3): a seeding stage reads the host uniform '%s', which "
-                            "libhalo's march cannot get from the host", name);
-            return 0;
+    /* gl/field.c derives these from the camera; nothing else can reach the march. Only the
+     * stages the march runs count (the others are linked but not called there). */
+    for (size_t s = 0; s < march->stage_count; s++) {
+        const halo_module *m = march->stages[s].module;
+        for (size_t i = 0; i < m->host_uniform_count && march->stages[s].prepass; i++) {
+            const char *name = m->host_uniforms[i].name;
+            if (strcmp(name, "screen_right") && strcmp(name, "screen_up")) {
+                halo_diag_error(diag, USAGE, "", 0, 0,
+                                "halo_link: one_draw (host contract 3): the seeding stage %s reads the host uniform "
+                                "'halo_host_%s', which libhalo's march cannot get from the host", m->name, name);
+                return 0;
+            }
         }
     }
     return 1;

@@ -281,6 +281,192 @@ static void emulate_mip(const halo_raycast_state *s, const segment_ray *rays, do
     }
 }
 
+/* ---- Host contract 3: the halo field computed before the one host draw ---------------------- */
+
+/* The images the one-draw host's samples read (its samplers), one stack layer per depth
+ * segment but the last: what the samples of segment j + 1 read (gl/field.c). */
+typedef struct field_stacks {
+    int count, layers, width, height;
+    const char *images[HALO_MAX_OUTPUT_LOCATION + 1];
+    int channels[HALO_MAX_OUTPUT_LOCATION + 1];
+    double *layer_data[HALO_MAX_OUTPUT_LOCATION + 1]; /* layers * width * height * channels */
+} field_stacks;
+
+static void field_stacks_free(field_stacks *st)
+{
+    for (int i = 0; i < st->count; ++i)
+        free(st->layer_data[i]);
+}
+
+/* Is image one of the march's seeds (an output of the march the host program does not
+ * write itself)? The march program holds the scene's other stages too (outline features:
+ * the host's samples write those). */
+static int feeds_generation(const halo_program *p, const char *image)
+{
+    for (size_t o = 0; o < halo_program_output_count(p); ++o)
+        if (!strcmp(halo_program_output(p, o)->image, image))
+            return 0;
+    return 1;
+}
+
+/* The march of gl/field.c and prepass.c in double: for segment j, front to back, each
+ * pixel's ray meets the segment's planes (phi = front + k step, k in the segment's range,
+ * ray parameter in [0, 1] between the near and far planes, inside the unit box); there a
+ * sample of the march program (value and the contract's gradient from the volume, view
+ * and depth derived, colour and opacity 0) seeds the march frame's outputs; they go into
+ * the host frame's images of the same names, which generate; the images the host reads
+ * are kept as layer j. */
+static int field_emulate(const halo_raycast_state *s, const halo_program *p, const halo_segment_plan *plan,
+                         halo_emu_frame *host, field_stacks *st, halo_diagnostics *diag)
+{
+    const halo_program *march = p->prepass;
+    memset(st, 0, sizeof *st);
+    st->width = s->width;
+    st->height = s->height;
+    st->layers = plan->segments > 1 ? plan->segments - 1 : 1;
+    size_t pixels = (size_t)s->width * (size_t)s->height;
+    for (size_t i = 0; i < halo_program_sampler_count(p) && st->count <= HALO_MAX_OUTPUT_LOCATION; ++i) {
+        const char *name = halo_program_sampler(p, i)->image;
+        for (size_t k = 0; k < halo_program_image_count(p); ++k)
+            if (!strcmp(halo_program_image(p, k)->name, name)) {
+                if (halo_program_image(p, k)->scale != 1) {
+                    halo_diag_error(diag, USAGE, "", 0, 0, "the one-draw emulation takes full-size images only");
+                    return 0;
+                }
+                st->images[st->count] = name;
+                st->channels[st->count] = halo_program_image(p, k)->channels;
+                st->layer_data[st->count] = calloc((size_t)st->layers * pixels * (size_t)st->channels[st->count],
+                                                   sizeof(double));
+                if (!st->layer_data[st->count++]) {
+                    halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+                    return 0;
+                }
+            }
+    }
+    int framed = 1;
+    halo_emu_frame *seeds = march ? conform_host_frame(march, s->width, s->height, s->screen_right, s->screen_up,
+                                                       &framed, diag)
+                                  : NULL;
+    if (!seeds) {
+        if (framed)
+            halo_diag_error(diag, USAGE, "", 0, 0, "the one-draw program has no march to emulate");
+        return 0;
+    }
+    double step = s->step_size, voxel[3] = {1.0 / s->dims[0], 1.0 / s->dims[1], 1.0 / s->dims[2]};
+    int planes = (int)(floor((plan->back - plan->front) / step) + 1.0);
+    int ok = 1;
+    for (int j = 0; j + 1 < plan->segments && ok; ++j) {
+        /* the segment's planes, as gl/field.c's segment_planes */
+        double a = ceil(j * plan->length / step - 0.5 - 1e-9), b = ceil((j + 1) * plan->length / step - 0.5 - 1e-9);
+        int first = a < 0.0 ? 0 : a > planes ? planes : (int)a, end = b < 0.0 ? 0 : b > planes ? planes : (int)b;
+        /* the march frame's seeds start as the host frame's images (cleared by the last generation) */
+        for (size_t o = 0; o < halo_program_output_count(march); ++o) {
+            const halo_output_info *out = halo_program_output(march, o);
+            if (!feeds_generation(p, out->image))
+                continue;
+            double *from = halo_emu_frame_image(host, out->image), *to = halo_emu_frame_image(seeds, out->image);
+            for (size_t k = 0; from && to && k < halo_program_image_count(march); ++k)
+                if (!strcmp(halo_program_image(march, k)->name, out->image))
+                    memcpy(to, from, pixels * (size_t)halo_program_image(march, k)->channels * sizeof *to);
+        }
+        for (int y = 0; y < s->height && ok; ++y)
+            for (int x = 0; x < s->width && ok; ++x) {
+                double ndc[2] = {(x + 0.5) / s->width * 2.0 - 1.0, (y + 0.5) / s->height * 2.0 - 1.0};
+                double near_point[4], far_point[4], origin[3], direction[3];
+                conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
+                conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
+                double phi_origin = plan->plane[3], phi_rate = 0.0;
+                for (int c = 0; c < 3; ++c) {
+                    origin[c] = near_point[c] / near_point[3];
+                    direction[c] = far_point[c] / far_point[3] - origin[c];
+                    phi_origin += plan->plane[c] * origin[c];
+                    phi_rate += plan->plane[c] * direction[c];
+                }
+                halo_emu_sample fragment;
+                memset(&fragment, 0, sizeof fragment);
+                fragment.fragcoord[0] = x + 0.5;
+                fragment.fragcoord[1] = y + 0.5;
+                for (int k = first; k < end && fabs(phi_rate) > 1e-30 && ok; ++k) {
+                    double t = (plan->front + k * step - phi_origin) / phi_rate, P[3];
+                    if (t < 0.0 || t > 1.0)
+                        continue;
+                    int inside = 1;
+                    for (int c = 0; c < 3; ++c) {
+                        P[c] = origin[c] + t * direction[c];
+                        inside &= P[c] >= 0.0 && P[c] <= 1.0;
+                    }
+                    if (!inside)
+                        continue;
+                    halo_emu_sample sample;
+                    memset(&sample, 0, sizeof sample);
+                    memcpy(sample.position, P, sizeof P);
+                    memcpy(sample.fragcoord, fragment.fragcoord, sizeof sample.fragcoord);
+                    sample.value = halo_volume_trilinear(s->volume, s->dims, P);
+                    double v[3], length2 = 0.0;
+                    for (int c = 0; c < 3; ++c) {
+                        double plus[3] = {P[0], P[1], P[2]}, minus[3] = {P[0], P[1], P[2]};
+                        plus[c] += voxel[c];
+                        minus[c] -= voxel[c];
+                        sample.gradient[c] = (halo_volume_trilinear(s->volume, s->dims, plus) -
+                                              halo_volume_trilinear(s->volume, s->dims, minus)) * 0.5;
+                        v[c] = plan->eye[c] - P[c] * plan->eye[3]; /* halo_view_at */
+                        length2 += v[c] * v[c];
+                    }
+                    for (int c = 0; c < 3; ++c)
+                        sample.view[c] = length2 > 1e-30 ? v[c] / sqrt(length2) : 0.0;
+                    double span = fmax(plan->back - plan->front, 1e-30), phi = phi_origin + t * phi_rate;
+                    double depth = (phi - plan->front) / span; /* halo_depth_at */
+                    sample.depth = depth < 0.0 ? 0.0 : depth > 1.0 ? 1.0 : depth;
+                    memcpy(sample.output_accum, fragment.output_accum, sizeof sample.output_accum);
+                    memcpy(sample.output_accum_next, fragment.output_accum_next, sizeof sample.output_accum_next);
+                    ok = halo_emu_apply_frame(march, seeds, &sample, diag) == HALO_OK;
+                    memcpy(fragment.output_accum, sample.output_accum, sizeof sample.output_accum);
+                    memcpy(fragment.output_accum_next, sample.output_accum_next, sizeof sample.output_accum_next);
+                }
+                halo_emu_frame_finish(seeds, &fragment);
+            }
+        for (size_t o = 0; ok && o < halo_program_output_count(march); ++o) {
+            const halo_output_info *out = halo_program_output(march, o);
+            if (!feeds_generation(p, out->image))
+                continue;
+            double *from = halo_emu_frame_image(seeds, out->image), *to = halo_emu_frame_image(host, out->image);
+            for (size_t k = 0; from && to && k < halo_program_image_count(march); ++k)
+                if (!strcmp(halo_program_image(march, k)->name, out->image))
+                    memcpy(to, from, pixels * (size_t)halo_program_image(march, k)->channels * sizeof *to);
+        }
+        ok = ok && halo_emu_frame_generate(host, diag) == HALO_OK;
+        for (int i = 0; ok && i < st->count; ++i) {
+            const double *image = halo_emu_frame_image(host, st->images[i]);
+            size_t n = pixels * (size_t)st->channels[i];
+            if (image)
+                memcpy(st->layer_data[i] + (size_t)j * n, image, n * sizeof *image);
+        }
+    }
+    halo_emu_frame_destroy(seeds);
+    return ok;
+}
+
+/* Before a host sample at P of pixel i: the frame's images at the pixel hold the layer
+ * of P's segment (halo_stack_layer_at: the segment k of phi(P), moved by m->layer_move,
+ * reads layer k - 1; the first segment reads zero). */
+static void field_at_sample(const field_stacks *st, const halo_segment_plan *plan, const conform_segment_model *m,
+                            halo_emu_frame *host, const double P[3], size_t i)
+{
+    double phi = plan->plane[0] * P[0] + plan->plane[1] * P[1] + plan->plane[2] * P[2] + plan->plane[3];
+    double k = floor((phi + m->layer_move - plan->start) / plan->length);
+    int layer = k >= 1.0 ? (int)fmin(k, plan->segments - 1.0) - 1 : -1;
+    if (layer >= st->layers)
+        layer = st->layers - 1;
+    size_t pixels = (size_t)st->width * (size_t)st->height;
+    for (int s = 0; s < st->count; ++s) {
+        double *image = halo_emu_frame_image(host, st->images[s]);
+        int n = st->channels[s];
+        for (int c = 0; image && c < n; ++c)
+            image[i * (size_t)n + (size_t)c] =
+                layer < 0 ? 0.0 : st->layer_data[s][((size_t)layer * pixels + i) * (size_t)n + (size_t)c];
+    }
+}
+
 int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program *p, const halo_segment_plan *plan,
                                  const conform_segment_model *model, double *out, halo_diagnostics *diag)
 {
@@ -309,8 +495,14 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
     int ok = 1, generation = 0;
     for (size_t i = 0; i < halo_program_pass_count(p); ++i)
         generation |= halo_program_pass(p, i)->post == 0;
-    for (int j = 0; j < plan->segments && ok; ++j) {
-        int head = j == 0, tail = j == plan->segments - 1;
+    /* host contract 3: the field of every segment first, then the host in one draw */
+    field_stacks stacks = {0};
+    int one_draw = p->one_draw;
+    if (one_draw)
+        ok = frame && field_emulate(s, p, plan, frame, &stacks, diag);
+    int segments = one_draw ? 1 : plan->segments;
+    for (int j = 0; j < segments && ok; ++j) {
+        int head = j == 0, tail = j == segments - 1;
         float low_bound = (float)(plan->start + j * plan->length), high_bound =
                                                                        (float)(plan->start + (j + 1) * plan->length);
         for (size_t i = 0; i < pixels && ok; ++i) {
@@ -345,6 +537,8 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
                     P[c] = r->origin[c] + t * r->direction[c];
                 host_sample(s, plan, &m, P, &sample);
                 memcpy(sample.fragcoord, fragment.fragcoord, sizeof sample.fragcoord);
+                if (one_draw)
+                    field_at_sample(&stacks, plan, &m, frame, P, i);
                 memcpy(sample.output_accum, fragment.output_accum, sizeof sample.output_accum);
                 memcpy(sample.output_accum_next, fragment.output_accum_next, sizeof sample.output_accum_next);
                 ok = (frame ? halo_emu_apply_frame(p, frame, &sample, diag) : halo_emu_apply(p, &sample, diag)) ==
@@ -370,6 +564,7 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
         if (ok && frame && !tail && generation)
             ok = halo_emu_frame_generate(frame, diag) == HALO_OK;
     }
+    field_stacks_free(&stacks);
     conform_over_background(out, pixels, s->background);
     const halo_image_info *post = halo_host_post_image(p);
     if (ok && frame && post) /* the host's colour through the at=post passes, as halo_host_post_passes */
@@ -403,6 +598,7 @@ static float *render(conform *c, const halo_program *p, const halo_render_settin
         halo_raycast_set_orthographic(r, params->orthographic);
         halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);
         halo_raycast_set_segments(r, 0, segments > 0 ? segments : 0);
+        halo_raycast_set_gradient_precision(r, params->one_draw);
         ok = halo_raycast_render(r, gpu, c->diag) == HALO_OK;
         halo_raycast_get_state(r, state);
         memcpy(transfer, state->transfer, sizeof(float) * HALO_RAYCAST_TRANSFER_TEXELS * 4);
@@ -423,10 +619,11 @@ static float *render(conform *c, const halo_program *p, const halo_render_settin
 }
 
 static halo_program *link_host(conform *c, const halo_scene *scene, const conform_segment_host *host,
-                               const char *source, int force)
+                               const char *source, int force, int one_draw)
 {
     return halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = source,
-                                       .host_file = host->file, .target = host->target, .force_segments = force},
+                                       .host_file = host->file, .target = host->target, .force_segments = force,
+                                       .one_draw = one_draw},
                      c->diag);
 }
 
@@ -465,7 +662,7 @@ void conform_segment_row(conform *c, const conform_row *row)
     halo_raycast_state state;
     halo_segment_plan plan;
     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4];
-    int ok = source && scene && (program = link_host(c, scene, host, source, params->segments > 0)) != NULL;
+    int ok = source && scene && (program = link_host(c, scene, host, source, params->segments > 0, params->one_draw)) != NULL;
     const halo_render_settings *settings = ok ? halo_scene_render(scene) : NULL;
     ok = ok && (gpu = render(c, program, settings, volume, volume_size, params, params->segments, &state, transfer,
                              &plan)) != NULL;
@@ -473,7 +670,7 @@ void conform_segment_row(conform *c, const conform_row *row)
     if (ok && params->segments > 0) {
         /* the same host in one draw: the segments alone must change nothing */
         halo_segment_plan once;
-        ok = (plain = link_host(c, scene, host, source, 0)) != NULL &&
+        ok = (plain = link_host(c, scene, host, source, 0, 0)) != NULL &&
              (single = render(c, plain, settings, volume, volume_size, params, 0, &state, transfer, &once)) != NULL;
         for (size_t i = 0; ok && i < values / 4; ++i) {
             const double g[4] = {gpu[i * 4], gpu[i * 4 + 1], gpu[i * 4 + 2], gpu[i * 4 + 3]};
@@ -483,9 +680,11 @@ void conform_segment_row(conform *c, const conform_row *row)
     } else if (ok) {
         /* against the emulation; the decisions on the opacity threshold, the ray's exit and
          * the isosurface's value bracketed */
-        static const double moves[][3] = {{-1e-5, 0.0, 0.0}, {1e-5, 0.0, 0.0}, {0.0, -1e-5, 0.0},
-                                          {0.0, 1e-5, 0.0},  {0.0, 0.0, -1e-5}, {0.0, 0.0, 1e-5}};
-        size_t move_count = host->shading == CONFORM_SHADE_ISO ? 6 : 4;
+        static const double moves[][4] = {{-1e-5, 0.0, 0.0, 0.0}, {1e-5, 0.0, 0.0, 0.0}, {0.0, -1e-5, 0.0, 0.0},
+                                          {0.0, 1e-5, 0.0, 0.0},  {0.0, 0.0, 0.0, -1e-5}, {0.0, 0.0, 0.0, 1e-5},
+                                          {0.0, 0.0, -1e-5, 0.0}, {0.0, 0.0, 1e-5, 0.0}};
+        /* the stack layer a sample reads (one_draw): a decision on phi, bracketed as the exits */
+        size_t move_count = host->shading == CONFORM_SHADE_ISO ? 8 : params->one_draw ? 6 : 4;
         reference = malloc(values * sizeof *reference);
         moved = malloc(values * sizeof *moved);
         allowed = calloc(values, sizeof *allowed);
@@ -495,7 +694,8 @@ void conform_segment_row(conform *c, const conform_row *row)
              halo_conform_segment_emulate(&state, program, &plan, &model, reference, c->diag);
         for (size_t m = 0; ok && m < move_count; ++m) {
             conform_segment_model bracket = {.host = host, .jitter = params->jitter, .threshold_move = moves[m][0],
-                                             .exit_move = moves[m][1], .iso_move = moves[m][2]};
+                                             .exit_move = moves[m][1], .iso_move = moves[m][2],
+                                             .layer_move = moves[m][3]};
             ok = halo_conform_segment_emulate(&state, program, &plan, &bracket, moved, c->diag);
             for (size_t i = 0; ok && i < values; ++i)
                 allowed[i] = fmax(allowed[i], fabs(moved[i] - reference[i]));

@@ -43,6 +43,7 @@ typedef struct conform_segment_model {
     const conform_segment_host *host; /* NULL: raycast.frag */
     double jitter;                    /* the uniform `jitter` (webgl_caster.frag) */
     double threshold_move, exit_move, iso_move;
+    double layer_move; /* a one_draw program: the phi a sample's stack layer is chosen by */
 } conform_segment_model;
 
 /* The frame of the model's host drawn by the plan (halo_segment_plan_make with the state's
@@ -59,6 +60,8 @@ typedef struct conform_segment_params {
     int segments, orthographic;
     const conform_segment_host *host;
     float jitter;
+    int one_draw; /* linked with one_draw (host contract 3): the field before the one draw, its march's
+                   * gradient of this precision (32 or 16: halo_gl_segments_desc.gradient_precision) */
 } conform_segment_params;
 void conform_segment_row(conform *c, const conform_row *row);
 

@@ -183,6 +183,7 @@ struct halo_raycast {
     int orthographic;
     float jitter; /* the uniform `jitter` of hosts that jitter their first sample */
     float seed_epsilon; /* host contract 3: halo_gl_segments_desc.seed_epsilon */
+    int gradient_precision; /* ... and .gradient_precision */
     GLuint exit_program, exit_texture, exit_framebuffer; /* halo_raycast_set_exit_points */
     void (*untidy)(void *user, int before_draw); /* halo_raycast_set_untidy */
     void *untidy_user;
@@ -328,6 +329,12 @@ void halo_raycast_set_untidy(halo_raycast *r, void (*untidy)(void *user, int bef
     r->untidy_user = user;
 }
 
+void halo_raycast_set_gradient_precision(halo_raycast *r, int bits)
+{
+    if (r)
+        r->gradient_precision = bits;
+}
+
 void halo_raycast_set_seed_epsilon(halo_raycast *r, float epsilon)
 {
     if (r)
@@ -451,6 +458,7 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
                                       .volume_texture = r->volume_texture,
                                       .volume_size = {r->dims[0], r->dims[1], r->dims[2]},
                                       .seed_epsilon = r->seed_epsilon,
+                                      .gradient_precision = r->gradient_precision,
                                       .draw = draw_proxy,
                                       .user = r};
     if (r->frame) {

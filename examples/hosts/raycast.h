@@ -100,6 +100,9 @@ void halo_raycast_set_orthographic(halo_raycast *r, int orthographic);
 /* Host contract 3 (a program linked with one_draw): the march's empty-space bound
  * (halo_gl_segments_desc.seed_epsilon; default 0, exact). */
 void halo_raycast_set_seed_epsilon(halo_raycast *r, float epsilon);
+/* ... and the precision of the gradient libhalo derives for its march
+ * (halo_gl_segments_desc.gradient_precision: 32, 16, or 0, the default). */
+void halo_raycast_set_gradient_precision(halo_raycast *r, int bits);
 /* A host that leaves its GL state untidy (tests/segments/test_segments, issue 26): with
  * untidy set, the host's draw sets the state it needs itself (no culling, depth, stencil,
  * blending, scissor or rasterizer discard, filled polygons, every colour written) and

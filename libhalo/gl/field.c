@@ -47,6 +47,7 @@ typedef struct field_gradient {
     unsigned bricks_of;
     int bricks_version, bricks_valid, brick_size[3];
     unsigned of;  /* the volume texture it was derived from */
+    GLint internal_format; /* GL_RGBA32F or GL_RGBA16F: halo_gl_segments_desc.gradient_precision */
     int size[3];
     int version;  /* halo_gl_segments_desc.volume_version it was derived at */
     int valid;
@@ -405,7 +406,7 @@ static int field_volume_size(const halo_glfuncs *f, const halo_gl_segments_desc 
 }
 
 static GLuint field_gradient_texture(const halo_glfuncs *f, halo_gl_field *field, const halo_program *march,
-                                     const halo_gl_segments_desc *d, const int size[3], int unit,
+                                     const halo_gl_segments_desc *d, const int size[3], int unit, GLint internal,
                                      halo_diagnostics *diag)
 {
     if (d->gradient_texture)
@@ -413,7 +414,8 @@ static GLuint field_gradient_texture(const halo_glfuncs *f, halo_gl_field *field
     field_gradient *g = &field->gradient;
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
     f->BindTexture(GL_TEXTURE_3D, d->volume_texture);
-    if (g->valid && g->of == d->volume_texture && g->version == d->volume_version && !memcmp(g->size, size, sizeof g->size))
+    if (g->valid && g->of == d->volume_texture && g->version == d->volume_version &&
+        g->internal_format == internal && !memcmp(g->size, size, sizeof g->size))
         return g->texture;
     if (!g->program) {
         g->program = field_program(f, march, gradient_fragment_body, "(libhalo's gradient of the host's volume)", diag);
@@ -425,8 +427,11 @@ static GLuint field_gradient_texture(const halo_glfuncs *f, halo_gl_field *field
     f->UseProgram(g->program);
     f->Uniform1i(g->volume, unit);
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 1);
-    field_draw_layers(f, field, &g->texture, GL_RGBA16F, GL_LINEAR, size, !g->texture || memcmp(g->size, size, sizeof g->size),
+    field_draw_layers(f, field, &g->texture, internal, GL_LINEAR, size,
+                      !g->texture || g->internal_format != internal || memcmp(g->size, size, sizeof g->size),
                       g->program, g->layer);
+    g->internal_format = internal;
+    g->bricks_valid = 0; /* the skip's bricks are of the gradient in use */
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
     g->of = d->volume_texture;
     g->version = d->volume_version;
@@ -666,8 +671,24 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     halo_segments_box(d, low, high);
 
     int voxels[3];
+    /* the derived gradient: float (exact) where float textures filter linearly (OpenGL; OpenGL
+     * ES with OES_texture_float_linear), else or when asked, half */
+    int es = halo_gl_es_version(gl) > 0;
+    int float_linear = !es || halo_gl_has_extension(gl, "GL_OES_texture_float_linear");
+    if (d->gradient_precision != 0 && d->gradient_precision != 16 && d->gradient_precision != 32) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_frame_draw: gradient_precision is 16, 32 or 0, not %d",
+                        d->gradient_precision);
+        return HALO_ERROR_INPUT;
+    }
+    if (d->gradient_precision == 32 && !float_linear) {
+        halo_diag_error(diag, GL_LINK, "", 0, 0,
+                        "halo_gl_frame_draw: gradient_precision 32 needs linear filtering of float textures, which "
+                        "this OpenGL ES context lacks (GL_OES_texture_float_linear); 16 or 0 (half here)");
+        return HALO_ERROR_INPUT;
+    }
+    GLint internal = d->gradient_precision == 16 || !float_linear ? GL_RGBA16F : GL_RGBA32F;
     GLuint gradient = field_volume_size(f, d, unit, voxels, diag)
-                          ? field_gradient_texture(f, field, p->prepass, d, voxels, unit, diag)
+                          ? field_gradient_texture(f, field, p->prepass, d, voxels, unit, internal, diag)
                           : 0;
     GLuint bricks = gradient ? field_bricks(f, field, p->prepass, gradient, voxels, d->volume_version, unit, diag) : 0;
     if (!bricks)
