@@ -6,6 +6,8 @@
 #include "halo.h"
 #include "halo_vtk.h"
 #include "image_write.h"
+
+#include <vtkWindowToImageFilter.h>
 extern "C" {
 #include "hosts/host_common.h"
 #include "hosts/raycast.h"
@@ -61,6 +63,8 @@ const char usage_text[] =
     "  --set STAGE.PARAM=V[,V...]  after a first render, change a live parameter and\n"
     "                      render again (prints whether VTK rebuilt its shader)\n"
     "  --frames N          render N frames and print the mean frame time\n"
+    "  --tile-scale N      write the image N times the size, rendered by VTK in N x N tiles\n"
+    "                      (vtkWindowToImageFilter, as a screenshot larger than the window)\n"
     "  --export PREFIX     write the display cube (PREFIX.raw: float32, N^3, x fastest) and\n"
     "                      the scene's view (PREFIX.json: size, step, transfer function,\n"
     "                      camera, background) for another renderer (ParaView:\n"
@@ -77,7 +81,7 @@ struct options {
     const char *scene = nullptr, *volume = nullptr, *output = "halo-vtk.png", *blend = "composite", *export_to = nullptr;
     double window[2] = {0, 0};
     int have_window = 0, volume_size = 0, width = 256, height = 256, frames = 1, quiet = 0, no_stages = 0, plain_mapper = 0;
-    int segments = 0;
+    int segments = 0, tile_scale = 1;
     std::vector<std::string> sets;
 };
 
@@ -121,6 +125,11 @@ int parse(int argc, char **argv, options *o) {
             if (*end || n < HALO_VOLUME_MIN_SIZE || n > HALO_VOLUME_MAX_SIZE)
                 return usage_error(std::string("--volume-size takes 8..512, not '") + v + "'");
             o->volume_size = (int)n;
+        } else if (a == "--tile-scale" && need()) {
+            char *end;
+            long n = strtol(v, &end, 10);
+            if (*end || n < 1 || n > 8) return usage_error(std::string("--tile-scale takes 1..8, not '") + v + "'");
+            o->tile_scale = (int)n;
         } else if (a == "--frames" && need()) {
             char *end;
             long n = strtol(v, &end, 10);
@@ -371,13 +380,35 @@ int main(int argc, char **argv) {
         double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         printf("halo-vtk: %.2f ms per frame (%d frames, %dx%d)\n", ms / o.frames, o.frames, o.width, o.height);
     }
-    if (!status) {
+    std::vector<float> rgba;
+    int out_width = o.width, out_height = o.height;
+    if (!status && o.tile_scale > 1) {
+        /* VTK renders the larger image tile by tile (its window's TileScale and TileViewport) */
+        vtkNew<vtkWindowToImageFilter> grab;
+        grab->SetInput(window);
+        grab->SetScale(o.tile_scale);
+        grab->SetInputBufferTypeToRGBA();
+        grab->ReadFrontBufferOff();
+        grab->Update();
+        if (h && halo_vtk_check(h, diag) != HALO_OK) {
+            status = 1;
+        } else {
+            vtkDataArray *bytes = grab->GetOutput()->GetPointData()->GetScalars();
+            out_width = o.width * o.tile_scale;
+            out_height = o.height * o.tile_scale;
+            rgba.resize((size_t)out_width * (size_t)out_height * 4);
+            for (size_t i = 0; bytes && i < rgba.size(); i++)
+                rgba[i] = (float)(bytes->GetComponent((vtkIdType)(i / 4), (int)(i % 4)) / 255.0);
+        }
+    } else if (!status) {
         vtkNew<vtkFloatArray> pixels;
         window->GetRGBAPixelData(0, 0, o.width - 1, o.height - 1, 0, pixels, 0);
-        std::vector<float> rgba(pixels->GetPointer(0), pixels->GetPointer(0) + (size_t)o.width * o.height * 4);
+        rgba.assign(pixels->GetPointer(0), pixels->GetPointer(0) + (size_t)o.width * o.height * 4);
+    }
+    if (!status) {
         for (size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 1.0f; /* over the opaque background, as halo-render */
         char err[512];
-        if (halo_image_write(o.output, o.width, o.height, rgba.data(), err, sizeof err)) {
+        if (halo_image_write(o.output, out_width, out_height, rgba.data(), err, sizeof err)) {
             fprintf(stderr, "halo-vtk: error: %s\n", err);
             status = 2;
         } else if (!o.quiet) {

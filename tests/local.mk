@@ -288,8 +288,16 @@ TESTS += tests/hosts/test_exact_work
 # ---- VTK (adapters/vtk, examples/halo-vtk): skipped (77) when configure found no VTK ----
 TESTS += tests/vtk/vtk.sh
 EXTRA_DIST += tests/vtk/vtk.sh tests/xrun.sh
+EXTRA_DIST += tests/vtk/test_vtk_lifetimes.cxx
 if HALO_HAVE_VTK
 AM_TESTS_ENVIRONMENT += HALO_VTK='$(abs_top_builddir)/examples/halo-vtk'; export HALO_VTK;
+# the adapter's lifetimes and misuse, run by tests/vtk/vtk.sh on its X server
+check_PROGRAMS += tests/vtk/test_vtk_lifetimes
+tests_vtk_test_vtk_lifetimes_SOURCES = tests/vtk/test_vtk_lifetimes.cxx adapters/vtk/halo_vtk.cxx
+tests_vtk_test_vtk_lifetimes_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/adapters/vtk $(VTK_CPPFLAGS)
+tests_vtk_test_vtk_lifetimes_CXXFLAGS = $(AM_CXXFLAGS) -Wno-deprecated-copy -Wno-extra-semi
+tests_vtk_test_vtk_lifetimes_LDADD = $(HALO_TOOL_LIBS) $(VTK_LIBS)
+AM_TESTS_ENVIRONMENT += HALO_VTK_LIFETIMES='$(abs_top_builddir)/tests/vtk/test_vtk_lifetimes'; export HALO_VTK_LIFETIMES;
 endif
 
 # ---- The house: no circles between the C files of a folder (issue 12) ----

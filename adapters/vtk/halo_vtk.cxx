@@ -186,10 +186,11 @@ const halo_pieces_desc vtk_names = {
 } // namespace
 
 struct halo_vtk {
-    vtkGPUVolumeRayCastMapper *mapper = nullptr;
-    vtkVolume *volume = nullptr;
-    vtkOpenGLShaderProperty *property = nullptr;
-    vtkRenderer *renderer = nullptr;
+    /* held until halo_vtk_remove: the application may delete its own references first */
+    vtkSmartPointer<vtkGPUVolumeRayCastMapper> mapper;
+    vtkSmartPointer<vtkVolume> volume;
+    vtkSmartPointer<vtkOpenGLShaderProperty> property;
+    vtkSmartPointer<vtkRenderer> renderer;
     halo_program *program = nullptr;
     std::string sample;       /* the replacement at the splice point */
     std::string declarations; /* the replacement at the declarations tag */
@@ -230,6 +231,12 @@ struct halo_vtk {
 };
 
 namespace {
+
+/* The live installs (a second one on the same mapper or volume is refused). */
+std::vector<halo_vtk *> &installs() {
+    static std::vector<halo_vtk *> list;
+    return list;
+}
 
 void add_error(halo_diagnostics *diag, halo_message_id id, const std::string &text) {
     halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, id, nullptr, 0, 0, text.c_str());
@@ -605,6 +612,20 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
     vtkOpenGLState *ostate = win->GetState();
     int w, h_, x0, y0;
     ren->GetTiledSizeAndOrigin(&w, &h_, &x0, &y0);
+    const int *tile = win->GetTileScale();
+    if (tile[0] > 1 || tile[1] > 1) {
+        /* an image larger than the window, drawn in tiles (vtkWindowToImageFilter's scale, a
+         * ParaView screenshot above the view's size): the image passes of one tile would see
+         * nothing beyond its edge (seams at the tiles' borders); the volume is not drawn */
+        if (!h->failed)
+            add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
+                      "libhalo-vtk: VTK is rendering in " + std::to_string(tile[0]) + "x" + std::to_string(tile[1]) +
+                          " tiles (an image larger than the window); the scene's image passes (volumetric halos, "
+                          "outlines) need the whole image: render the window at the size wanted instead "
+                          "(docs/hosts/vtk.md)");
+        h->failed = 1;
+        return;
+    }
     if (!h->gl) {
         halo_gl_desc gd = {gl_proc};
         h->gl = halo_gl_create(&gd, h->diag);
@@ -737,6 +758,13 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
         return nullptr;
     }
     vtkGPUVolumeRayCastMapper *mapper = desc->mapper;
+    for (const halo_vtk *other : installs()) /* one install's replacements would clear the other's */
+        if (other->mapper == mapper || other->volume == desc->volume) {
+            add_error(diag, HALO_MSG_USAGE,
+                      std::string("halo_vtk_install: this ") + (other->mapper == mapper ? "mapper" : "volume") +
+                          " already has an install: halo_vtk_remove it first");
+            return nullptr;
+        }
     vtkOpenGLShaderProperty *property = vtkOpenGLShaderProperty::SafeDownCast(desc->volume->GetShaderProperty());
     if (!property) {
         add_error(diag, HALO_MSG_USAGE, "halo_vtk_install: the volume has no OpenGL shader property (VTK's OpenGL2 "
@@ -901,6 +929,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     h->observer->SetCallback(on_render_end);
     h->observer->SetClientData(h);
     h->observer_tag = mapper->AddObserver(vtkCommand::VolumeMapperRenderEndEvent, h->observer);
+    installs().push_back(h);
     h->start_observer = vtkSmartPointer<vtkCallbackCommand>::New();
     h->start_observer->SetCallback(on_render_start);
     h->start_observer->SetClientData(h);
@@ -932,6 +961,9 @@ void halo_vtk_remove(halo_vtk *h) {
     h->mapper->RemoveObserver(h->observer_tag);
     h->mapper->RemoveObserver(h->start_observer_tag);
     halo_program_destroy(h->program);
+    std::vector<halo_vtk *> &list = installs();
+    for (size_t i = 0; i < list.size(); i++)
+        if (list[i] == h) list.erase(list.begin() + (long)i);
     delete h;
 }
 
@@ -959,7 +991,7 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag) {
         return HALO_ERROR_INPUT;
     }
     if (h->failed) {
-        add_error(diag, HALO_MSG_GL_LINK, "drawing the volume in depth segments failed (see the diagnostics above)");
+        add_error(diag, HALO_MSG_GL_LINK, "drawing the volume with libhalo's image passes failed (see the diagnostics above)");
         return HALO_ERROR_INPUT;
     }
     if (!h->took) {

@@ -19,6 +19,8 @@
 #    same M, mean abs at most 5e-3 and at most half what the halos change in
 #    halo-render's ray caster (measured at 128x128, 64^3: 2.7e-3 to 3.9e-3 against
 #    effects of 0.011 to 0.037); control: VTK without the halo stages must fail it;
+#  - the adapter's lifetimes and misuse (test_vtk_lifetimes); tiled rendering: image
+#    passes refused with exit 1, per-sample stages within 2/255 of a direct render (bytes);
 #  - what VTK cannot take is diagnosed with exit 1: MIP and additive blend modes, feature
 #    halos (they need a feature buffer the adapter does not provide yet).
 . "${srcdir:-.}/tests/harness.sh"
@@ -66,6 +68,28 @@ if ! "$HALO_VTK" --size 8x8 --volume-size 8 -o "$tmp/probe.png" >"$tmp/probe.log
     sed 's/^/    /' "$tmp/probe.log"
     exit 77
 fi
+
+# the adapter's lifetimes and misuse (tests/vtk/test_vtk_lifetimes.cxx)
+if test -n "${HALO_VTK_LIFETIMES:-}"; then
+    "$HALO_VTK_LIFETIMES" >"$tmp/lifetimes.log" 2>&1 || { fail "test_vtk_lifetimes exited $?"; cat "$tmp/lifetimes.log" >&2; }
+fi
+
+# tiled rendering (an image larger than the window): image passes refused with a message,
+# per-sample stages the same as a direct render at the larger size
+"$HALO_VTK" --scene "$scenes/default.json" --size 48x48 --volume-size 16 --tile-scale 2 -o "$tmp/tiled.exr" \
+    >"$tmp/tiled.log" 2>&1
+status=$?
+test $status -eq 1 && grep -q "tiles" "$tmp/tiled.log" ||
+    { fail "halos in VTK's tiles: exit $status, expected 1 with a message on the tiles"; cat "$tmp/tiled.log" >&2; }
+vtk tiled-tone "$scenes/tone.json" --plain-mapper --tile-scale 2
+v_size=$size
+size=$(echo "$size" | awk -Fx '{ print 2 * $1 "x" 2 * $2 }')
+vtk direct-tone "$scenes/tone.json" --plain-mapper
+size=$v_size
+d=$(max_abs tiled-tone direct-tone)
+echo "per-sample stages in 2x2 tiles against one render at twice the size: max abs $d"
+# (vtkWindowToImageFilter reads bytes: 1/255 measured, the limit 2/255)
+awk -v d="$d" 'BEGIN { exit !(d != "" && d <= 2.0 / 255) }' || fail "tiled per-sample stages: max abs $d > 2/255"
 
 # an empty scene installed against VTK alone
 vtk empty "$scenes/plain.json"
