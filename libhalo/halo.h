@@ -835,6 +835,18 @@ typedef struct halo_gl_segments_desc {
                               * such as OpenGL ES 3.0, needs them) */
     float seed_epsilon;      /* the march skips the 4^3-voxel bricks where no seed can exceed this (0: only
                               * where the gradient is zero: exact; the error it allows: docs/host-contract.md) */
+    /* Host contract 3 across the pieces of a distributed volume (docs/distributed.md): this
+     * renderer holds one piece, and every piece draws the same frame (camera, box, step) */
+    float piece_min[3], piece_max[3]; /* the part of the ray positions' space that volume_texture
+                                       * covers (its texels' outer faces); all zero: the whole volume, at
+                                       * texture coordinates = positions. Pieces share their boundary
+                                       * points (VTK's extents do): the march samples a piece from its
+                                       * first point's centre to its last's, out to the box at its faces */
+    void (*exchange)(void *user, float *values, size_t count, halo_blend blend);
+                             /* with a piece: called once a frame with the seeds of every depth segment
+                              * (layers x height x width x 4 floats, for each seed image), to combine
+                              * in place with the other pieces' by blend (max); then the passes run */
+    void *exchange_user;
 } halo_gl_segments_desc;
 
 /* Sets the camera uniforms of halo_view_at and halo_depth_at (the program must be current).

@@ -184,6 +184,11 @@ struct halo_raycast {
     float jitter; /* the uniform `jitter` of hosts that jitter their first sample */
     float seed_epsilon; /* host contract 3: halo_gl_segments_desc.seed_epsilon */
     int gradient_precision; /* ... and .gradient_precision */
+    GLuint piece_texture;   /* ... and a piece (halo_raycast_set_piece), 0: none */
+    int piece_dims[3];
+    float piece_min[3], piece_max[3];
+    void (*exchange)(void *user, float *values, size_t count, halo_blend blend);
+    void *exchange_user;
     GLuint exit_program, exit_texture, exit_framebuffer; /* halo_raycast_set_exit_points */
     void (*untidy)(void *user, int before_draw); /* halo_raycast_set_untidy */
     void *untidy_user;
@@ -254,6 +259,8 @@ void halo_raycast_destroy(halo_raycast *r)
     if (f) {
         f->DeleteTextures(1, &r->volume_texture);
         f->DeleteTextures(1, &r->transfer_texture);
+        if (r->piece_texture)
+            f->DeleteTextures(1, &r->piece_texture);
         f->DeleteProgram(r->exit_program);
         f->DeleteTextures(1, &r->exit_texture);
         f->DeleteFramebuffers(1, &r->exit_framebuffer);
@@ -327,6 +334,34 @@ void halo_raycast_set_untidy(halo_raycast *r, void (*untidy)(void *user, int bef
         return;
     r->untidy = untidy;
     r->untidy_user = user;
+}
+
+halo_status halo_raycast_set_piece(halo_raycast *r, const float *data, int nx, int ny, int nz,
+                                   const float piece_min[3], const float piece_max[3],
+                                   void (*exchange)(void *user, float *values, size_t count, halo_blend blend),
+                                   void *user, halo_diagnostics *diag)
+{
+    if (!r)
+        return HALO_ERROR_INPUT;
+    if (!data) {
+        r->exchange = NULL;
+        memset(r->piece_min, 0, sizeof r->piece_min);
+        memset(r->piece_max, 0, sizeof r->piece_max);
+        return HALO_OK;
+    }
+    if (!r->piece_texture)
+        r->target.f->GenTextures(1, &r->piece_texture);
+    halo_status status = halo_host_upload_volume(r->target.f, r->piece_texture, data, nx, ny, nz, diag);
+    if (status != HALO_OK)
+        return status;
+    r->piece_dims[0] = nx;
+    r->piece_dims[1] = ny;
+    r->piece_dims[2] = nz;
+    memcpy(r->piece_min, piece_min, sizeof r->piece_min);
+    memcpy(r->piece_max, piece_max, sizeof r->piece_max);
+    r->exchange = exchange;
+    r->exchange_user = user;
+    return HALO_OK;
 }
 
 void halo_raycast_set_gradient_precision(halo_raycast *r, int bits)
@@ -455,8 +490,14 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
                                       .interval = r->interval,
                                       .segments = r->segments,
                                       .framebuffer = r->target.framebuffer,
-                                      .volume_texture = r->volume_texture,
-                                      .volume_size = {r->dims[0], r->dims[1], r->dims[2]},
+                                      .volume_texture = r->exchange ? r->piece_texture : r->volume_texture,
+                                      .volume_size = {r->exchange ? r->piece_dims[0] : r->dims[0],
+                                                      r->exchange ? r->piece_dims[1] : r->dims[1],
+                                                      r->exchange ? r->piece_dims[2] : r->dims[2]},
+                                      .piece_min = {r->piece_min[0], r->piece_min[1], r->piece_min[2]},
+                                      .piece_max = {r->piece_max[0], r->piece_max[1], r->piece_max[2]},
+                                      .exchange = r->exchange,
+                                      .exchange_user = r->exchange_user,
                                       .seed_epsilon = r->seed_epsilon,
                                       .gradient_precision = r->gradient_precision,
                                       .draw = draw_proxy,

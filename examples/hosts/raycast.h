@@ -103,6 +103,15 @@ void halo_raycast_set_seed_epsilon(halo_raycast *r, float epsilon);
 /* ... and the precision of the gradient libhalo derives for its march
  * (halo_gl_segments_desc.gradient_precision: 32, 16, or 0, the default). */
 void halo_raycast_set_gradient_precision(halo_raycast *r, int bits);
+/* ... and a piece of a distributed volume (halo_gl_segments_desc.piece_min, _max,
+ * exchange): the march reads this piece (nx * ny * nz values, x fastest; copied to a
+ * texture) covering piece_min..piece_max of the volume's texture space, while the host
+ * still draws the whole volume of halo_raycast_set_volume; exchange is called once a frame
+ * with the seeds. data NULL: no piece. */
+halo_status halo_raycast_set_piece(halo_raycast *r, const float *data, int nx, int ny, int nz,
+                                   const float piece_min[3], const float piece_max[3],
+                                   void (*exchange)(void *user, float *values, size_t count, halo_blend blend),
+                                   void *user, halo_diagnostics *diag);
 /* A host that leaves its GL state untidy (tests/segments/test_segments, issue 26): with
  * untidy set, the host's draw sets the state it needs itself (no culling, depth, stencil,
  * blending, scissor or rasterizer discard, filled polygons, every colour written) and

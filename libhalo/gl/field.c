@@ -56,10 +56,17 @@ typedef struct field_gradient {
 struct halo_gl_field {
     GLuint march, framebuffer, vertex_array;
     GLint volume, gradient_sampler, bricks_sampler, skip, matrix, viewport, box_min, box_max, plane, planes, range;
+    GLint piece_min, piece_scale;
     field_gradient gradient;
     field_stack stacks[FIELD_MAX_STACKS];
     int stack_count;
     int layers; /* allocated in each stack */
+    /* a piece of a distributed volume (halo_gl_segments_desc.exchange): the seeds of every
+     * segment, kept to be combined across the pieces once a frame */
+    GLuint seed_stacks[FIELD_MAX_STACKS];
+    int seed_layers;
+    float *exchange_buffer;
+    size_t exchange_size;
 };
 
 static const char march_vertex_330[] =
@@ -149,6 +156,8 @@ static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     field->plane = f->GetUniformLocation(field->march, "march_plane");
     field->planes = f->GetUniformLocation(field->march, "march_planes");
     field->range = f->GetUniformLocation(field->march, "march_range");
+    field->piece_min = f->GetUniformLocation(field->march, "march_piece_min");
+    field->piece_scale = f->GetUniformLocation(field->march, "march_piece_scale");
     f->GenFramebuffers(1, &field->framebuffer);
     f->GenVertexArrays(1, &field->vertex_array);
     f->UseProgram((GLuint)program);
@@ -164,6 +173,10 @@ static void field_destroy(halo_gl_frame *fr, halo_gl_field *field)
         f->DeleteTextures(1, &field->stacks[s].texture);
         free(field->stacks[s].boxes);
     }
+    for (int s = 0; s < FIELD_MAX_STACKS; ++s)
+        if (field->seed_stacks[s])
+            f->DeleteTextures(1, &field->seed_stacks[s]);
+    free(field->exchange_buffer);
     f->DeleteProgram(field->march);
     f->DeleteProgram(field->gradient.program);
     f->DeleteTextures(1, &field->gradient.texture);
@@ -638,6 +651,133 @@ static void segment_planes(const halo_segment_plan *plan, double step, int j, in
     *end = b < 0.0 ? 0 : b > planes ? planes : (int)b;
 }
 
+/* The piece's part of the box (halo_gl_segments_desc.piece_min, _max): the map from ray
+ * positions to its volume texture, and where its march samples: from its first point's
+ * centre to its last's, out to the box where the piece reaches the box's face (pieces
+ * share their boundary points, so the pieces' samples cover the box; a sample two pieces
+ * take seeds the same value in both, which the max keeps). 0 with USAGE for a bad box. */
+static int field_piece(const halo_gl_segments_desc *d, const double low[3], const double high[3],
+                       const int voxels[3], double sample_low[3], double sample_high[3], float piece_min[3],
+                       float piece_scale[3], halo_diagnostics *diag)
+{
+    int piece = 0;
+    for (int k = 0; k < 3; ++k)
+        piece |= d->piece_min[k] != 0.0f || d->piece_max[k] != 0.0f;
+    for (int k = 0; k < 3; ++k) {
+        piece_min[k] = 0.0f;
+        piece_scale[k] = 1.0f;
+        sample_low[k] = low[k];
+        sample_high[k] = high[k];
+        if (!piece)
+            continue;
+        double a = d->piece_min[k], b = d->piece_max[k];
+        if (!(b > a) || !isfinite(a) || !isfinite(b)) {
+            halo_diag_error(diag, USAGE, "", 0, 0,
+                            "halo_gl_frame_draw: piece_min and piece_max must bound a box (axis %d: %g to %g)", k, a,
+                            b);
+            return 0;
+        }
+        double half = (b - a) / (2.0 * voxels[k]), tolerance = 1e-6 * (high[k] - low[k]);
+        piece_min[k] = (float)a;
+        piece_scale[k] = (float)(1.0 / (b - a));
+        sample_low[k] = a > low[k] + tolerance ? a + half : low[k];
+        sample_high[k] = b < high[k] - tolerance ? b - half : high[k];
+    }
+    return 1;
+}
+
+/* The seeds of every segment, for the exchange across pieces: one array texture a seed
+ * image (the march's outputs), with at least `layers` layers. */
+static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field *field,
+                              const halo_program *march, int layers, halo_diagnostics *diag)
+{
+    if (layers <= field->seed_layers)
+        return 1;
+    size_t n = halo_program_output_count(march);
+    for (size_t i = 0; i < n && i < FIELD_MAX_STACKS; ++i) {
+        halo_gl_frame_image view;
+        if (!halo_gl_frame_image_view(fr, halo_program_output(march, i)->image, &view))
+            continue;
+        GLenum format, type;
+        upload_format(view.internal_format, &format, &type);
+        if (!field->seed_stacks[i])
+            f->GenTextures(1, &field->seed_stacks[i]);
+        f->BindTexture(GL_TEXTURE_2D_ARRAY, field->seed_stacks[i]);
+        f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        f->TexImage3D(GL_TEXTURE_2D_ARRAY, 0, view.internal_format, view.width, view.height, layers, 0, format, type,
+                      NULL);
+    }
+    if (f->GetError() != GL_NO_ERROR) {
+        halo_diag_error(diag, GL_LINK, "", 0, 0, "the seeds of %d depth segments could not be allocated", layers);
+        return 0;
+    }
+    field->seed_layers = layers;
+    return 1;
+}
+
+/* Copies the march's seed images into (to_stack) or out of layer j of their seed stacks. */
+static void field_seed_copy(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field *field, const halo_program *march,
+                            int j, int to_stack)
+{
+    size_t n = halo_program_output_count(march);
+    for (size_t i = 0; i < n && i < FIELD_MAX_STACKS; ++i) {
+        halo_gl_frame_image view;
+        if (!field->seed_stacks[i] || !halo_gl_frame_image_view(fr, halo_program_output(march, i)->image, &view))
+            continue;
+        if (to_stack) {
+            f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, view.texture, 0);
+            f->ReadBuffer(GL_COLOR_ATTACHMENT0);
+            f->BindTexture(GL_TEXTURE_2D_ARRAY, field->seed_stacks[i]);
+            f->CopyTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, j, 0, 0, view.width, view.height);
+        } else {
+            f->FramebufferTextureLayer(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, field->seed_stacks[i], 0, j);
+            f->ReadBuffer(GL_COLOR_ATTACHMENT0);
+            f->BindTexture(GL_TEXTURE_2D, view.texture);
+            f->CopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, view.width, view.height);
+            f->BindTexture(GL_TEXTURE_2D, 0);
+        }
+    }
+    f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+}
+
+/* The seeds of every segment combined across the pieces: read back, the host's exchange,
+ * uploaded again. */
+static int field_seed_exchange(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field *field,
+                               const halo_program *march, const halo_gl_segments_desc *d, int layers,
+                               halo_diagnostics *diag)
+{
+    size_t n = halo_program_output_count(march);
+    for (size_t i = 0; i < n && i < FIELD_MAX_STACKS; ++i) {
+        halo_gl_frame_image view;
+        if (!field->seed_stacks[i] || !halo_gl_frame_image_view(fr, halo_program_output(march, i)->image, &view))
+            continue;
+        size_t layer = (size_t)view.width * (size_t)view.height * 4, count = layer * (size_t)layers;
+        if (count > field->exchange_size) {
+            float *grown = realloc(field->exchange_buffer, count * sizeof *grown);
+            if (!grown) {
+                halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory for the seeds of %d segments", layers);
+                return 0;
+            }
+            field->exchange_buffer = grown;
+            field->exchange_size = count;
+        }
+        f->PixelStorei(GL_PACK_ALIGNMENT, 4);
+        f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+        for (int j = 0; j < layers; ++j) {
+            f->FramebufferTextureLayer(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, field->seed_stacks[i], 0, j);
+            f->ReadBuffer(GL_COLOR_ATTACHMENT0);
+            f->ReadPixels(0, 0, view.width, view.height, GL_RGBA, GL_FLOAT, field->exchange_buffer + (size_t)j * layer);
+        }
+        f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+        d->exchange(d->exchange_user, field->exchange_buffer, count, halo_program_output(march, i)->blend);
+        f->BindTexture(GL_TEXTURE_2D_ARRAY, field->seed_stacks[i]);
+        f->TexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, view.width, view.height, layers, GL_RGBA, GL_FLOAT,
+                         field->exchange_buffer);
+    }
+    return 1;
+}
+
 /* Seeds, generation and the stacks for every segment but the last (whose field no sample reads). */
 static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc *d, const halo_segment_plan *plan,
                                  int unit, halo_diagnostics *diag)
@@ -693,6 +833,15 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     GLuint bricks = gradient ? field_bricks(f, field, p->prepass, gradient, voxels, d->volume_version, unit, diag) : 0;
     if (!bricks)
         return HALO_ERROR_INPUT;
+    double sample_low[3], sample_high[3];
+    float piece_min[3], piece_scale[3];
+    if (!field_piece(d, low, high, voxels, sample_low, sample_high, piece_min, piece_scale, diag))
+        return HALO_ERROR_INPUT;
+    /* a piece of a distributed volume: the seeds of every segment first, combined across the
+     * pieces once, then the generations */
+    int exchanged = d->exchange != NULL;
+    if (exchanged && !field_seed_reserve(f, fr, field, p->prepass, layers, diag))
+        return HALO_ERROR_IO;
     halo_gl_frame_begin(fr);
     f->UseProgram(field->march);
     halo_gl_program_upload(gl, p->prepass, field->march);
@@ -710,8 +859,10 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     field_host_uniforms(f, d, field->march);
     f->UniformMatrix4fv(field->matrix, 1, GL_FALSE, d->inverse_view_projection);
     f->Uniform2f(field->viewport, (float)width, (float)height);
-    f->Uniform3f(field->box_min, (float)low[0], (float)low[1], (float)low[2]);
-    f->Uniform3f(field->box_max, (float)high[0], (float)high[1], (float)high[2]);
+    f->Uniform3f(field->box_min, (float)sample_low[0], (float)sample_low[1], (float)sample_low[2]);
+    f->Uniform3f(field->box_max, (float)sample_high[0], (float)sample_high[1], (float)sample_high[2]);
+    f->Uniform3fv(field->piece_min, 1, piece_min);
+    f->Uniform3fv(field->piece_scale, 1, piece_scale);
     f->Uniform4f(field->plane, (float)plan->plane[0], (float)plan->plane[1], (float)plan->plane[2],
                  (float)plan->plane[3]);
     f->Uniform2f(field->planes, (float)plan->front, d->step);
@@ -724,8 +875,13 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
         segment_planes(plan, d->step, j, planes, &first, &end);
         double lo = plan->front + first * (double)d->step, hi = plan->front + (end - 1) * (double)d->step;
         double slack = 1e-6 * (plan->back - plan->front);
-        if (end > first &&
-            segment_footprint(view_projection, plan, low, high, lo - slack, hi + slack, width, height, box)) {
+        if (exchanged && j > 0) { /* this segment's seeds alone: the frame's images cleared */
+            halo_gl_frame_begin(fr);
+            halo_gl_frame_attach_outputs(fr, p->prepass, field->framebuffer, 0);
+            f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
+        }
+        if (end > first && segment_footprint(view_projection, plan, sample_low, sample_high, lo - slack, hi + slack,
+                                             width, height, box)) {
             f->UseProgram(field->march);
             f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, field->framebuffer);
             f->Enable(GL_SCISSOR_TEST);
@@ -734,6 +890,35 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
             f->DrawArrays(GL_TRIANGLES, 0, 3);
             f->Disable(GL_SCISSOR_TEST);
         }
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+        if (exchanged) {
+            field_seed_copy(f, fr, field, p->prepass, j, 1);
+            continue;
+        }
+        halo_gl_frame_drawn_region(fr, box[0], box[1], box[2], box[3]);
+        halo_gl_frame_generate(fr);
+        f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+        field_store(f, fr, field, j);
+    }
+    if (!exchanged)
+        return HALO_OK;
+    if (!field_seed_exchange(f, fr, field, p->prepass, d, layers, diag))
+        return HALO_ERROR_IO;
+    halo_gl_frame_begin(fr);
+    for (int j = 0; j + 1 < plan->segments; ++j) {
+        /* segment j's seeds of every piece; they can be nonzero where the segment's part of
+         * the whole box projects */
+        int first, end, box[4] = {0, 0, 0, 0};
+        segment_planes(plan, d->step, j, planes, &first, &end);
+        double lo = plan->front + first * (double)d->step, hi = plan->front + (end - 1) * (double)d->step;
+        double slack = 1e-6 * (plan->back - plan->front);
+        if (!(end > first && segment_footprint(view_projection, plan, low, high, lo - slack, hi + slack, width,
+                                               height, box)))
+            box[0] = box[1] = box[2] = box[3] = 0;
+        f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+        field_seed_copy(f, fr, field, p->prepass, j, 0);
         halo_gl_frame_drawn_region(fr, box[0], box[1], box[2], box[3]);
         halo_gl_frame_generate(fr);
         f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);

@@ -84,6 +84,7 @@
     X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                              \
     X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                              \
     X(PFNGLCOPYTEXSUBIMAGE3DPROC, CopyTexSubImage3D)                      \
+    X(PFNGLCOPYTEXSUBIMAGE2DPROC, CopyTexSubImage2D)                      \
     X(PFNGLTEXPARAMETERIPROC, TexParameteri)                              \
     X(PFNGLTEXPARAMETERFVPROC, TexParameterfv)                            \
     X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap)                            \

@@ -19,6 +19,9 @@
  *      bindings) gets the tidy host's floats in segments and in one draw, and libhalo
  *      gives all of that state back (before the fixes: a GL error in segments, 0.56 max
  *      abs in one draw).
+ *   6. Host contract 3 across the pieces of a distributed volume: two pieces' marches, the
+ *      seeds of every segment combined once a frame by the exchange, against one
+ *      renderer of the whole volume (control: a piece without the other's seeds).
  *   1 again with an orthographic camera (segments of the clip z planes).
  * The segmented ray caster against its emulation is the conformance family "segments"
  * (validate/conform_segment.c, halo-validate conform --stage segments).
@@ -94,6 +97,15 @@ static int orthographic; /* the camera of the next renders */
 static int one_draw;    /* host contract 3 for the next ray caster renders */
 static int untidy;      /* the next ray caster renders leave hostile GL state (hostile_state) */
 static int image_scale; /* halo_link_desc.image_scale of the next renders */
+/* a piece of the volume that the next ray caster renders' march reads (test_pieces) */
+typedef struct piece_setup {
+    const float *data;
+    int dims[3];
+    float min[3], max[3];
+    void (*exchange)(void *user, float *values, size_t count, halo_blend blend);
+    void *user;
+} piece_setup;
+static const piece_setup *piece;
 /* the ray caster's and the slab host's difference without halos, perspective (RMSE) */
 static double plain_difference;
 
@@ -243,6 +255,10 @@ static float *render_host(env *e, const char *scene_text, int slab, int force, i
         halo_raycast_set_segments(r, interval, segments);
         if (untidy)
             halo_raycast_set_untidy(r, hostile_state, e);
+        if (piece)
+            ok = ok && halo_raycast_set_piece(r, piece->data, piece->dims[0], piece->dims[1], piece->dims[2],
+                                              piece->min, piece->max, piece->exchange, piece->user,
+                                              e->g.diag) == HALO_OK;
         ok = ok && halo_raycast_render(r, rgba, e->g.diag) == HALO_OK;
         if (drawn)
             *drawn = halo_raycast_frame(r) ? halo_gl_frame_segment_count(halo_raycast_frame(r)) : 1;
@@ -385,6 +401,105 @@ static void test_one_draw_matches(env *e, const char *scene_text, const char *wh
     free(slab);
     free(ray_plain);
     free(slab_plain);
+}
+
+/* ---- Host contract 3 across the pieces of a distributed volume ---- */
+
+/* The seeds a piece's exchange sees: kept (capture), or combined with those kept (max). */
+typedef struct seed_exchange {
+    int combine, calls;
+    float *kept;
+    size_t count;
+} seed_exchange;
+
+static void exchange_seeds(void *user, float *values, size_t count, halo_blend blend)
+{
+    seed_exchange *x = user;
+    x->calls++;
+    if (!x->combine) {
+        free(x->kept);
+        x->kept = malloc(count * sizeof *values);
+        if (x->kept)
+            memcpy(x->kept, values, count * sizeof *values);
+        x->count = x->kept ? count : 0;
+        return;
+    }
+    for (size_t i = 0; i < count && i < x->count && blend == HALO_BLEND_MAX; ++i)
+        values[i] = values[i] > x->kept[i] ? values[i] : x->kept[i];
+}
+
+/* The x points [first, first + n) of the built-in volume, and their texels' box. */
+static float *volume_piece(const env *e, int first, int n, piece_setup *ps)
+{
+    float *data = malloc((size_t)n * VOLUME * VOLUME * sizeof *data);
+    if (!data)
+        return NULL;
+    for (int z = 0; z < VOLUME; ++z)
+        for (int y = 0; y < VOLUME; ++y)
+            for (int x = 0; x < n; ++x)
+                data[((size_t)z * VOLUME + (size_t)y) * (size_t)n + (size_t)x] =
+                    e->g.volume[((size_t)z * VOLUME + (size_t)y) * VOLUME + (size_t)(first + x)];
+    *ps = (piece_setup){data, {n, VOLUME, VOLUME}, {(float)first / VOLUME, 0, 0}, {(float)(first + n) / VOLUME, 1, 1},
+                        exchange_seeds, NULL};
+    return data;
+}
+
+/* Two pieces sharing the volume's middle x point, each with its own march, the seeds of
+ * every segment combined once a frame (halo_gl_segments_desc.exchange): piece A's render,
+ * with B's seeds combined in, against one renderer of the whole volume; the whole volume
+ * given as one piece with an exchange that changes nothing, against no exchange at all;
+ * and the control, piece A without B's seeds, which must be far off. */
+static void test_pieces(env *e)
+{
+    one_draw = 1;
+    float *whole = render_ray(e, halos_scene, 0, 4, 0, NULL);
+    piece_setup all, a, b;
+    seed_exchange same = {.combine = 1}, capture = {0}, combine = {.combine = 1}, alone = {.combine = 1};
+    float *all_data = volume_piece(e, 0, VOLUME, &all);
+    all.user = &same;
+    piece = &all;
+    float *as_piece = render_ray(e, halos_scene, 0, 4, 0, NULL);
+    int half = VOLUME / 2;
+    float *b_data = volume_piece(e, half, VOLUME - half, &b), *a_data = volume_piece(e, 0, half + 1, &a);
+    b.user = &capture;
+    piece = &b;
+    float *b_image = render_ray(e, halos_scene, 0, 4, 0, NULL);
+    combine.kept = capture.kept;
+    combine.count = capture.count;
+    a.user = &combine;
+    piece = &a;
+    float *a_image = render_ray(e, halos_scene, 0, 4, 0, NULL);
+    a.user = &alone;
+    float *a_alone = render_ray(e, halos_scene, 0, 4, 0, NULL);
+    piece = NULL;
+    one_draw = 0;
+    CHECK(whole && as_piece && b_image && a_image && a_alone, "pieces: the five renders");
+    if (whole && as_piece && b_image && a_image && a_alone) {
+        double m_same, r_same, m_pieces, r_pieces, m_alone, r_alone;
+        difference(as_piece, whole, &m_same, &r_same);
+        difference(a_image, whole, &m_pieces, &r_pieces);
+        difference(a_alone, whole, &m_alone, &r_alone);
+        printf("pieces: the whole volume as one piece with an exchange against none, max abs %.3g; two pieces, the "
+               "seeds combined once a frame (%d and %d calls, %zu floats each), against the whole volume: RMSE %.3g "
+               "(max %.3g); piece A without B's seeds: RMSE %.3g (max %.3g)\n",
+               m_same, capture.calls, combine.calls, capture.count, r_pieces, m_pieces, r_alone, m_alone);
+        CHECK(m_same <= 1e-6, "pieces: an exchange that changes nothing changes the image by %.3g", m_same);
+        CHECK(capture.calls == 1 && combine.calls == 1, "pieces: one exchange a frame (%d, %d)", capture.calls,
+              combine.calls);
+        /* the pieces' gradients at the shared points are one-sided (no ghost points) */
+        CHECK(r_pieces <= 2e-3, "pieces: two pieces against the whole volume: RMSE %.3g > 2e-3", r_pieces);
+        CHECK(r_alone > 5.0 * r_pieces, "pieces: the other piece's seeds change little (RMSE %.3g against %.3g)",
+              r_alone, r_pieces);
+    }
+    free(capture.kept);
+    free(all_data);
+    free(a_data);
+    free(b_data);
+    free(whole);
+    free(as_piece);
+    free(b_image);
+    free(a_image);
+    free(a_alone);
 }
 
 /* A host that leaves hostile state between its draws (culling, depth and stencil tests
@@ -547,6 +662,7 @@ int main(void)
     test_one_draw_matches(&e, halos_scene, "emissive");
     test_one_draw_matches(&e, occlusive_scene, "occlusive");
     test_one_draw_matches(&e, directional_scene, "directional");
+    test_pieces(&e);
     image_scale = 2;
     test_one_draw_matches(&e, halos_scene, "1/2 scale");
     image_scale = 0;
