@@ -309,6 +309,21 @@ static int feeds_generation(const halo_program *p, const char *image)
     return 1;
 }
 
+/* The seed images (the march's outputs that feed generation) from one frame to the other. */
+static void copy_seeds(const halo_program *p, halo_emu_frame *from_frame, halo_emu_frame *to_frame, size_t pixels)
+{
+    const halo_program *march = p->prepass;
+    for (size_t o = 0; o < halo_program_output_count(march); ++o) {
+        const halo_output_info *out = halo_program_output(march, o);
+        if (!feeds_generation(p, out->image))
+            continue;
+        double *from = halo_emu_frame_image(from_frame, out->image), *to = halo_emu_frame_image(to_frame, out->image);
+        for (size_t k = 0; from && to && k < halo_program_image_count(march); ++k)
+            if (!strcmp(halo_program_image(march, k)->name, out->image))
+                memcpy(to, from, pixels * (size_t)halo_program_image(march, k)->channels * sizeof *to);
+    }
+}
+
 /* The march of gl/field.c and prepass.c in double: for segment j, front to back, each
  * pixel's ray meets the segment's planes (phi = front + k step, k in the segment's range,
  * ray parameter in [0, 1] between the near and far planes, inside the unit box); there a
@@ -360,15 +375,7 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
         double a = ceil(j * plan->length / step - 0.5 - 1e-9), b = ceil((j + 1) * plan->length / step - 0.5 - 1e-9);
         int first = a < 0.0 ? 0 : a > planes ? planes : (int)a, end = b < 0.0 ? 0 : b > planes ? planes : (int)b;
         /* the march frame's seeds start as the host frame's images (cleared by the last generation) */
-        for (size_t o = 0; o < halo_program_output_count(march); ++o) {
-            const halo_output_info *out = halo_program_output(march, o);
-            if (!feeds_generation(p, out->image))
-                continue;
-            double *from = halo_emu_frame_image(host, out->image), *to = halo_emu_frame_image(seeds, out->image);
-            for (size_t k = 0; from && to && k < halo_program_image_count(march); ++k)
-                if (!strcmp(halo_program_image(march, k)->name, out->image))
-                    memcpy(to, from, pixels * (size_t)halo_program_image(march, k)->channels * sizeof *to);
-        }
+        copy_seeds(p, host, seeds, pixels);
         for (int y = 0; y < s->height && ok; ++y)
             for (int x = 0; x < s->width && ok; ++x) {
                 double ndc[2] = {(x + 0.5) / s->width * 2.0 - 1.0, (y + 0.5) / s->height * 2.0 - 1.0};
@@ -425,15 +432,7 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
                 }
                 halo_emu_frame_finish(seeds, &fragment);
             }
-        for (size_t o = 0; ok && o < halo_program_output_count(march); ++o) {
-            const halo_output_info *out = halo_program_output(march, o);
-            if (!feeds_generation(p, out->image))
-                continue;
-            double *from = halo_emu_frame_image(seeds, out->image), *to = halo_emu_frame_image(host, out->image);
-            for (size_t k = 0; from && to && k < halo_program_image_count(march); ++k)
-                if (!strcmp(halo_program_image(march, k)->name, out->image))
-                    memcpy(to, from, pixels * (size_t)halo_program_image(march, k)->channels * sizeof *to);
-        }
+        copy_seeds(p, seeds, host, pixels);
         ok = ok && halo_emu_frame_generate(host, diag) == HALO_OK;
         for (int i = 0; ok && i < st->count; ++i) {
             const double *image = halo_emu_frame_image(host, st->images[i]);

@@ -597,7 +597,7 @@ void haloVTKMapper::draw(void *user) {
     win->GetState()->Reset(); /* VTK's state cache: what libhalo bound is current */
     m->vtkOpenGLGPUVolumeRayCastMapper::GPURender(m->draw_renderer, m->draw_volume);
     note_program(h, win->GetShaderCache()->GetLastShaderBound());
-    if (h->exchange) exchange_outputs(h);
+    if (h->exchange && !h->one_draw) exchange_outputs(h); /* drawn once: the seeds' exchange is libhalo's */
     win->GetState()->Reset();
 }
 
@@ -693,16 +693,29 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
     sd.draw = &haloVTKMapper::draw;
     sd.user = this;
     if (h->one_draw) {
-        int extent[6];
+        /* a piece of a larger volume (halo_vtk_set_whole_extent): its march reads this piece,
+         * which covers its texels' part of the whole volume's texture space, and the seeds of
+         * every segment are combined across the pieces once a frame (halo_vtk_set_exchange) */
+        int extent[6], piece = 0;
         image->GetExtent(extent);
-        for (int a = 0; a < 3 && !h->failed; a++)
-            if (extent[2 * a] != first[a] || extent[2 * a + 1] - extent[2 * a] + 1 != dims[a]) {
-                add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
-                          "libhalo-vtk: image passes drawn once (host contract 3) over a piece of a larger "
-                          "volume: each piece's march would see only its own seeds; install with "
-                          "halo_vtk_desc.segments = 1 and halo_vtk_set_exchange (docs/distributed.md)");
-                h->failed = 1;
-            }
+        for (int a = 0; a < 3; a++) {
+            int n = extent[2 * a + 1] - extent[2 * a] + 1;
+            piece |= extent[2 * a] != first[a] || n != dims[a];
+            sd.piece_min[a] = (float)(extent[2 * a] - first[a]) / (float)dims[a];
+            sd.piece_max[a] = (float)(extent[2 * a] - first[a] + n) / (float)dims[a];
+        }
+        if (!piece) {
+            memset(sd.piece_min, 0, sizeof sd.piece_min);
+            memset(sd.piece_max, 0, sizeof sd.piece_max);
+        } else if (!h->exchange && !h->failed) {
+            add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
+                      "libhalo-vtk: volumetric halos on a piece of a larger volume need the other pieces' seeds: "
+                      "set halo_vtk_set_exchange (docs/distributed.md)");
+            h->failed = 1;
+        } else {
+            sd.exchange = h->exchange;
+            sd.exchange_user = h->exchange_user;
+        }
         unsigned made = h->failed ? 0 : volume_textures(h, image, 1);
         if (!made || !h->value_texture) {
             h->failed = 1;

@@ -60,8 +60,10 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag);
  * Positions, depth and the segments of volumetric halos are then the whole volume's, the
  * same on every piece (docs/distributed.md). Call again when the whole extent changes. */
 halo_status halo_vtk_set_whole_extent(halo_vtk *h, const int whole_extent[6]);
-/* Volumetric halos across pieces (installed with segments = 1; a one-draw install of a
- * piece fails its draw with a diagnostic): after each depth segment, the adapter reads each output
+/* Volumetric halos across pieces. Drawn once (the default): libhalo's march reads each
+ * piece, and once a frame exchange gets the seeds of every depth segment (layers x
+ * width x height RGBA floats) to combine in place with the other pieces' by blend (max).
+ * With segments = 1: after each depth segment, the adapter reads each output
  * image (the seeds: width * height RGBA floats) and calls exchange to combine it, in
  * place, with the other pieces' by the output's blend (max for seeds), before the passes
  * spread it. Every piece must draw the same segments (same camera and whole extent). */

@@ -90,6 +90,9 @@ void exchange_over_ranks(void* user, float* values, size_t count, halo_blend ble
   c->AllReduce(mine.data(), values, static_cast<vtkIdType>(count), op);
 }
 
+/* HaloExchange 0, for comparison: each rank's halos from its own brick's seeds alone */
+void exchange_nothing(void*, float*, size_t, halo_blend) {}
+
 /* HALO_PARAVIEW_LOCAL=1, for tests and measurements: each rank's stages in its own
  * piece's space, as libhalo-vtk installed on each rank without the whole extent would
  * be (docs/distributed.md) */
@@ -351,10 +354,12 @@ void vtkHaloVolumeRepresentation::PrepareHalo(vtkRenderer* renderer, vtkVolume* 
   int window = I->Window[1] != I->Window[0];
   desc.window[0] = window ? I->Window[0] : I->Range[0];
   desc.window[1] = window ? I->Window[1] : I->Range[1];
-  /* one rank: VTK's volume drawn once over the halo field (host contract 3); more: each
-   * rank's brick in depth segments, the seeds combined over the ranks after each segment
-   * (one collective a frame: not yet, docs/distributed.md) */
-  desc.segments = rank_count() > 1;
+  /* VTK's volume drawn once over the halo field (host contract 3): each rank's march reads
+   * its brick, the seeds of every depth segment combined over the ranks in one collective a
+   * frame; HALO_PARAVIEW_SEGMENTS=1: each rank's brick drawn in depth segments, one
+   * collective a segment (host contract 2, for comparison: docs/distributed.md) */
+  const char* segments = getenv("HALO_PARAVIEW_SEGMENTS");
+  desc.segments = segments && *segments && strcmp(segments, "0") != 0;
   I->Halo = halo_vtk_install(&desc, I->Diag);
   if (I->Halo && rank_count() > 1)
   {
@@ -385,6 +390,8 @@ void vtkHaloVolumeRepresentation::PrepareHalo(vtkRenderer* renderer, vtkVolume* 
     halo_vtk_set_whole_extent(I->Halo, this->WholeExtent);
   if (I->Exchange && rank_count() > 1)
     halo_vtk_set_exchange(I->Halo, exchange_over_ranks, vtkMultiProcessController::GetGlobalController());
+  else if (rank_count() > 1)
+    halo_vtk_set_exchange(I->Halo, exchange_nothing, nullptr);
   I->Flush();
 }
 
