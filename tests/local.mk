@@ -66,6 +66,7 @@ HALO_SHELL_TESTS = \
 	tests/install_headers.sh \
 	tests/conform.sh \
 	tests/conform_egl.sh \
+	tests/conform_es.sh \
 	tests/render.sh \
 	tests/cli/link_ok.sh \
 	tests/cli/missing_file.sh \

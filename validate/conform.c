@@ -38,7 +38,10 @@ int halo_conform_main(int argc, char **argv)
     print_header();
     for (size_t i = 0; i < conform_row_count; ++i)
         conform_rows[i].run(&c, &conform_rows[i]);
-    printf("%d rows, %d failed\n", c.rows, c.failures);
+    if (c.skipped)
+        printf("%d rows, %d failed, %d skipped on OpenGL ES\n", c.rows, c.failures, c.skipped);
+    else
+        printf("%d rows, %d failed\n", c.rows, c.failures);
     status = c.failures ? 1 : 0;
     conform_close(&c);
     return status;

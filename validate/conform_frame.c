@@ -229,7 +229,7 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
     if (!scene)
         goto done;
     program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = c->probe_source,
-                                          .host_file = "probe.frag", .all_live = live},
+                                          .host_file = "probe.frag", .all_live = live, .target = c->target},
                         c->diag);
     if (!program)
         goto done;

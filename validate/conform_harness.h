@@ -60,7 +60,15 @@ struct conform {
     const conform_row *registry;         /* every row, in order (conform_rows.c) */
     size_t registry_count;
     int rows, failures, errors;
+    /* the context: OpenGL (es 0; rows linked for GLSL 330, the default) or OpenGL ES 3.0 /
+     * 3.2 (es 30, 32: rows linked for GLSL ES 300; rows that need desktop OpenGL skipped) */
+    int es;
+    halo_target target;
+    int skipped;
 };
+/* On an OpenGL ES context, a (selected) row that needs desktop OpenGL is skipped with the
+ * reason: returns 1 (the caller returns) after printing it; 0 otherwise. */
+int conform_skip_on_es(conform *c, const char *row, const char *why);
 
 /* The command line of `halo-validate conform` (argv[0] is "conform"): fills c. Returns
  * -1 to go on, else the exit status (0 after --help, 2 on a usage error). */

@@ -700,5 +700,7 @@ void conform_lines_row(conform *c, const conform_row *row)
     rows selection = {.only = c->only};
     if (c->only && (strncmp(c->only, "line", 4) || !selected(&selection, row->name)))
         return;
+    if (conform_skip_on_es(c, row->name, "the line host (examples/hosts/line.vert, .frag) is GLSL 330"))
+        return;
     c->rows += run_rows(row->name, 1, c->verbose, &c->failures);
 }

@@ -226,7 +226,7 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
     halo_scene *scene = halo_scene_parse(json, oc->name, c->lib, c->diag);
     halo_program *program =
         scene ? halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = probe_source,
-                                            .host_file = "probe.frag"},
+                                            .host_file = "probe.frag", .target = c->target},
                           c->diag)
               : NULL;
     halo_gl_frame *gframe = NULL;

@@ -83,7 +83,8 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
     if (!scene || !samples || !image)
         goto done;
     program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = c->probe_source,
-                                          .host_file = "probe.frag", .image_scale = r->scale},
+                                          .host_file = "probe.frag", .image_scale = r->scale,
+                                          .target = c->target},
                         c->diag);
     if (!program || halo_diagnostics_errors(c->diag) > 0)
         goto done;

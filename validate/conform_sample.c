@@ -111,7 +111,8 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
         }
     }
     program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = c->probe_source,
-                                          .host_file = "probe.frag", .all_live = variant == VARIANT_LIVE},
+                                          .host_file = "probe.frag", .all_live = variant == VARIANT_LIVE,
+                                          .target = c->target},
                         c->diag);
     if (!program)
         goto done;

@@ -621,7 +621,9 @@ static halo_program *link_host(conform *c, const halo_scene *scene, const confor
                                const char *source, int force, int one_draw)
 {
     return halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = source,
-                                       .host_file = host->file, .target = host->target, .force_segments = force,
+                                       .host_file = host->file,
+                                       .target = c->target == HALO_TARGET_ES300 ? c->target : host->target,
+                                       .force_segments = force,
                                        .one_draw = one_draw},
                      c->diag);
 }
@@ -649,6 +651,9 @@ void conform_segment_row(conform *c, const conform_row *row)
     if (!row_selected(c, row->name, "segments"))
         return;
     const conform_segment_params *params = row->params;
+    if (params->host && params->host->target == HALO_TARGET_GLSL450 &&
+        conform_skip_on_es(c, row->name, "the host is GLSL 450 (desktop OpenGL)"))
+        return;
     const int volume_size = 32;
     size_t values = (size_t)c->size * (size_t)c->size * 4;
     float *volume = halo_volume_create(volume_size), *gpu = NULL, *single = NULL;

@@ -174,7 +174,7 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
         goto done;
     program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = source,
                                           .host_file = slab ? "slab.frag" : "slice.frag",
-                                          .target = HALO_TARGET_GLSL330, .image_scale = scale},
+                                          .target = c->target, .image_scale = scale},
                         c->diag);
     if (!program)
         goto done;
@@ -230,6 +230,8 @@ void conform_slice_row(conform *c, const conform_row *row)
 {
     /* --stage slice or slab (or any slice@, slab@ row) selects the family */
     if (c->only && strncmp(c->only, "slice", 5) && strncmp(c->only, "slab", 4))
+        return;
+    if (conform_skip_on_es(c, row->name, "the slice and slab hosts are written for desktop OpenGL"))
         return;
     const conform_slice_params *params = row->params;
     const int volume_size = 32;

@@ -548,7 +548,9 @@ int main(int argc, char **argv) {
         fprintf(stderr, "halo-validate: error: glslang failed to initialize\n");
         return EXIT_USAGE;
     }
-    /* the commands that render take --backend (libhalo/gl/headless.h) */
+    /* the commands that render take --backend (libhalo/gl/headless.h); conform runs on
+     * OpenGL ES too (the rows a host can run there) */
+    halo_headless_allow_es(!strcmp(cmd, "conform"));
     if ((!strcmp(cmd, "conform") || !strcmp(cmd, "bench") || !strcmp(cmd, "blur")) &&
         !halo_headless_take_backend_option(&argc, argv, "halo-validate")) {
         halo_shutdown();

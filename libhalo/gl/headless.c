@@ -116,8 +116,9 @@ static int check_choice(const char *where, const char *text, halo_headless_choic
         return 0;
     }
     if (!es_allowed && (*choice == HALO_HEADLESS_EGL_ES30 || *choice == HALO_HEADLESS_EGL_ES32)) {
-        set_error(err, errlen, "%s: '%s': this tool draws with desktop OpenGL only (on OpenGL ES: halo-render)",
-                  where, text);
+        set_error(err, errlen,
+                  "%s: '%s': this tool draws with desktop OpenGL only (on OpenGL ES: halo-render, halo-validate "
+                  "conform)", where, text);
         return 0;
     }
     if (!choice_built(*choice)) {

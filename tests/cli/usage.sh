@@ -21,9 +21,9 @@ expect_stderr "es310"
 # the headless backend (--backend, HALO_HEADLESS): checked before anything renders
 run 2 "$HALO_VALIDATE" conform --backend vulkan --stage empty
 expect_stderr "--backend: 'vulkan' is not egl, osmesa, auto, egl-es3.0 or egl-es3.2"
-# OpenGL ES: halo-render's raycast host only (tests/render/es.sh)
-run 2 "$HALO_VALIDATE" conform --backend egl-es3.0 --stage empty
-expect_stderr "'egl-es3.0': this tool draws with desktop OpenGL only \\(on OpenGL ES: halo-render\\)"
+# OpenGL ES: halo-render's raycast host (tests/render/es.sh) and conform (tests/conform_es.sh) only
+run 2 "$HALO_VALIDATE" bench --backend egl-es3.0 --size 16
+expect_stderr "'egl-es3.0': this tool draws with desktop OpenGL only \\(on OpenGL ES: halo-render, halo-validate conform\\)"
 run 2 "$HALO_VALIDATE" bench --backend
 expect_stderr "--backend needs a value"
 run 2 "$HALO_VALIDATE" check --backend egl "$srcdir/glsl/sample/boundary.glsl"
