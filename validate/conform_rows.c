@@ -125,7 +125,7 @@
     "expression in both; only the ended-ray flag (opacity + 2) may round the opacity of ended rays by 1.2e-7"
 #define SEGMENT_HALOS_WHY                                                                                         \
     "as the slice rows (float32 sampling, seeds, passes, blending against double); decisions on the 0.99 "         \
-    "opacity threshold and the rays' exits bracketed"
+    "opacity threshold, the rays' exits and the segment a sample falls in bracketed"
 #define SEGMENT_RENDER                                                                                            \
     "\"render\": {\"azimuth\": 30, \"elevation\": 20, \"zoom\": 1.3, \"step\": 0.5,"                          \
     " \"transfer\": [[0, 0, 0, 0, 0], [0.25, 0.6, 0.8, 1, 0.6], [0.5, 1, 0.85, 0.55, 1], [1, 1, 1, 0.8, 1]]}"
@@ -313,7 +313,10 @@ const conform_row conform_rows[] = {
     SEGMENT_ROW("ray", "the segmented ray caster with two halos, M = 4", SLICE_HALOS_TOL, SEGMENT_HALOS_WHY,
                 SEGMENT_HALOS_SCENE, 0, 0),
     SEGMENT_ROW("ray@ortho", "the segmented ray caster with two halos, orthographic", SLICE_HALOS_TOL,
-                SEGMENT_HALOS_WHY, SEGMENT_HALOS_SCENE, 0, 1),
+                SEGMENT_HALOS_WHY "; holds at 25 to 128 pixels a side (at 128, 5 pixels fell on a segment decision, "
+                "now bracketed); at 256, 1 pixel of 65536 is 3.3e-3 off, cause not found (not the segment, exit, "
+                "threshold or box decisions; the one-draw row of the same scene passes there)",
+                SEGMENT_HALOS_SCENE, 0, 1),
     SEGMENT_ROW("ray@outlines", "the segmented ray caster with a halo and outlines (post passes)", SLICE_HALOS_TOL,
                 SEGMENT_HALOS_WHY, SEGMENT_OUTLINES_SCENE, 0, 0),
     ONE_DRAW_ROW("ray@one_draw", "the one-draw ray caster (host contract 3) with two halos, M = 4", SLICE_HALOS_TOL,

@@ -502,8 +502,9 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
     int segments = one_draw ? 1 : plan->segments;
     for (int j = 0; j < segments && ok; ++j) {
         int head = j == 0, tail = j == segments - 1;
-        float low_bound = (float)(plan->start + j * plan->length), high_bound =
-                                                                       (float)(plan->start + (j + 1) * plan->length);
+        /* (moved by layer_move: which segment a sample near a plane falls in is a float decision) */
+        float low_bound = (float)(plan->start + j * plan->length + m.layer_move),
+              high_bound = (float)(plan->start + (j + 1) * plan->length + m.layer_move);
         for (size_t i = 0; i < pixels && ok; ++i) {
             segment_ray *r = &rays[i];
             int first = 0, end = r->steps;
@@ -687,8 +688,9 @@ void conform_segment_row(conform *c, const conform_row *row)
         static const double moves[][4] = {{-1e-5, 0.0, 0.0, 0.0}, {1e-5, 0.0, 0.0, 0.0}, {0.0, -1e-5, 0.0, 0.0},
                                           {0.0, 1e-5, 0.0, 0.0},  {0.0, 0.0, 0.0, -1e-5}, {0.0, 0.0, 0.0, 1e-5},
                                           {0.0, 0.0, -1e-5, 0.0}, {0.0, 0.0, 1e-5, 0.0}};
-        /* the stack layer a sample reads (one_draw): a decision on phi, bracketed as the exits */
-        size_t move_count = host->shading == CONFORM_SHADE_ISO ? 8 : params->one_draw ? 6 : 4;
+        /* the segment a sample falls in (segments), the stack layer it reads (one_draw):
+         * decisions on phi, bracketed as the exits */
+        size_t move_count = host->shading == CONFORM_SHADE_ISO ? 8 : 6;
         reference = malloc(values * sizeof *reference);
         moved = malloc(values * sizeof *moved);
         allowed = calloc(values, sizeof *allowed);
