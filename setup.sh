@@ -60,11 +60,15 @@ components="--with-egl --with-osmesa --with-glfw --with-vtk --with-paraview --wi
 [ -f Makefile ] || ./configure $components ${HALO_CONFIGURE_FLAGS:-}
 make -j"$(nproc)"
 
-# The browser tests' driver (tests/web/browser.sh): puppeteer-core, from the lock file
-# into tests/web/node_modules (it drives Debian's chromium; it downloads no browser).
-if [ ! -d tests/web/node_modules/puppeteer-core ]; then
-  (cd tests/web && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
-fi
+# The browser tests' packages (tests/web/browser.sh), from the lock file into
+# tests/web/node_modules: puppeteer-core (it drives Debian's chromium; it downloads no
+# browser) and three (the three.js ray caster, adapters/web/three.mjs).
+for module in puppeteer-core three; do
+  if [ ! -d "tests/web/node_modules/$module" ]; then
+    (cd tests/web && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
+    break
+  fi
+done
 
 # The main job: render the built-in volume with the default scene.
 LP_NUM_THREADS=${LP_NUM_THREADS:-2} ./tools/halo-render

@@ -324,7 +324,7 @@ EXTRA_DIST += tests/setup_deps.sh
 # when configure left the web package out, or without chromium or puppeteer-core) ----
 HALO_WEB_TESTS = tests/web/api.sh tests/web/browser.sh
 TESTS += $(HALO_WEB_TESTS)
-EXTRA_DIST += $(HALO_WEB_TESTS) tests/web/api.test.mjs tests/web/browser.mjs tests/web/raycast.html \
+EXTRA_DIST += $(HALO_WEB_TESTS) tests/web/api.test.mjs tests/web/browser.mjs tests/web/raycast.html tests/web/three.html \
 	tests/web/package.json tests/web/package-lock.json
 AM_TESTS_ENVIRONMENT += HALO_HAVE_WEB='$(HALO_HAVE_WEB)'; export HALO_HAVE_WEB; \
 	HALO_WEB_PACKAGE='$(abs_top_builddir)/adapters/web/package'; export HALO_WEB_PACKAGE; \

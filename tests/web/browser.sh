@@ -1,8 +1,10 @@
 #!/bin/sh
 # The web package in headless Chromium (tests/web/browser.mjs): examples/hosts/raycast.frag
 # with a scene's per-sample stages, linked in the page by the WebAssembly linker and drawn
-# in WebGL 2, against halo-render --host raycast with the same inputs (--export-host).
-# Skipped (77) without the web package, Chromium, or puppeteer-core (setup.sh installs
+# in WebGL 2, and the package's three.js ray caster with the stages put in by installHalo
+# (adapters/web/three.mjs), against halo-render --host raycast with the same inputs
+# (--export-host). Skipped (77) without the web package, Chromium, puppeteer-core or
+# three (setup.sh installs
 # them: Debian's chromium, npm ci in tests/web from its lock file).
 . "$srcdir/tests/render/common.sh"
 if test "${HALO_HAVE_WEB:-}" != yes; then
@@ -15,10 +17,12 @@ if test -z "$HALO_CHROMIUM"; then
     exit 77
 fi
 HALO_WEB_MODULES=${HALO_WEB_MODULES:-$srcdir/tests/web/node_modules}
-if test ! -d "$HALO_WEB_MODULES/puppeteer-core"; then
-    echo "no puppeteer-core in $HALO_WEB_MODULES (setup.sh: npm ci --prefix tests/web): skipping"
-    exit 77
-fi
+for module in puppeteer-core three; do
+    if test ! -d "$HALO_WEB_MODULES/$module"; then
+        echo "no $module in $HALO_WEB_MODULES (setup.sh: npm ci --prefix tests/web): skipping"
+        exit 77
+    fi
+done
 export HALO_CHROMIUM HALO_WEB_MODULES srcdir HALO_WEB_PACKAGE
 set --
 for scene in boundary-silhouette.json distance.json orientation.json; do

@@ -1,0 +1,38 @@
+// Type declarations of libhalo's three.js adapter (three.mjs; docs/hosts/web.md).
+import type { Halo, Program, HaloPieces } from './libhalo';
+
+export const MARKERS: { readonly declarations: string; readonly sample: string; readonly finish: string };
+export const CASTER_NAMES: Readonly<HaloPieces>;
+
+export interface VolumeCasterOptions {
+  volume: Float32Array;            // nx * ny * nz values in [0, 1], x fastest
+  dims: [number, number, number];
+  transfer: Float32Array;          // N RGBA texels: linear colour, opacity per unit step
+  step: number;                    // ray step, texture units
+  unitStep?: number;               // the step the opacities are for (default: step)
+  background?: [number, number, number];
+}
+
+export interface VolumeCaster {
+  mesh: any;                       // THREE.Mesh: a box over [0, 1]^3
+  material: any;                   // THREE.ShaderMaterial (GLSL 3) with the markers
+  volumeTexture: any;              // THREE.Data3DTexture
+  transferTexture: any;            // THREE.DataTexture
+}
+
+export function createVolumeCaster(THREE: any, options: VolumeCasterOptions): VolumeCaster;
+
+export interface InstallOptions {
+  scene?: string | object;
+  sceneFile?: string;
+  names?: HaloPieces;              // another caster's expressions
+  allLive?: boolean;
+}
+
+export interface Installed {
+  program: Program;
+  set(name: string, value: number | boolean | number[] | number[][]): void;
+  remove(): void;
+}
+
+export function installHalo(halo: Halo, material: any, options?: InstallOptions): Installed;

@@ -1,0 +1,235 @@
+// libhalo in three.js (docs/hosts/web.md): a compositing ray caster in the style of the
+// three.js examples (a box mesh with a ShaderMaterial, GLSL 3, the ray from
+// cameraPosition through the box), and installHalo, which links a scene's per-sample
+// stages as pieces (docs/composers.md) and puts them into a material's fragment shader at
+// three comment markers:
+//   //halo:declarations   at global scope, after the material's samplers
+//   //halo:sample         in the ray loop, after classification: P (vec3, volume texture
+//                         space), value (float), color (vec4, not premultiplied) in scope
+//   //halo:finish         after the loop
+// three's own VolumeShader (examples/jsm/shaders/VolumeShader.js) has only maximum
+// intensity projection and isosurfaces, which composite no samples: installHalo refuses
+// a material without the markers. Scenes with image passes (volumetric halos, outlines,
+// feature halos) need libhalo's GL runtime, which the web package does not have yet:
+// refused with a HaloError naming the stages.
+//
+//   import * as THREE from 'three';
+//   import libhalo from '@libhalo/web';
+//   import { createVolumeCaster, installHalo } from '@libhalo/web/three';
+//   const caster = createVolumeCaster(THREE, { volume, dims, transfer, step: 1 / 256 });
+//   scene.add(caster.mesh);
+//   const halo = await libhalo();
+//   const stages = installHalo(halo, caster.material, { scene: sceneJson });
+//   stages.set('tone_shading.k_ta', 0.4);   // a live parameter: a uniform, no rebuild
+//
+// The caster's conventions are libhalo's host contract's (docs/host-contract.md): the
+// mesh spans the volume's texture space [0, 1]^3 in world units; the value in the red
+// channel is already normalized to [0, 1]; the transfer function is N x 1 RGBA (linear
+// colour, opacity per unit step); depth is 0 at the front of the volume's bounding sphere
+// and 1 at its back, as in examples/hosts/raycast.frag, with which it is compared in the
+// browser tests (tests/web/browser.mjs).
+
+export const MARKERS = Object.freeze({
+  declarations: '//halo:declarations',
+  sample: '//halo:sample',
+  finish: '//halo:finish',
+});
+
+// The caster's names for the sample piece (HaloPieces): what the markers have in scope.
+export const CASTER_NAMES = Object.freeze({
+  position: 'P',
+  value: 'value',
+  volume: 'u_volume', // the gradient: central differences of the value, halved (the contract's)
+  view: 'normalize(cameraPosition - P)',
+  depth: 'clamp((distance(cameraPosition, P) - front_distance) / 1.7320508075688772, 0.0, 1.0)',
+  fragcoord: 'gl_FragCoord.xy',
+  color: 'color',
+});
+
+const vertexShader = `
+out vec3 v_position; // the box's point in world space: the volume's texture space
+void main() {
+    vec4 world = modelMatrix * vec4(position, 1.0);
+    v_position = world.xyz;
+    gl_Position = projectionMatrix * viewMatrix * world;
+}
+`;
+
+const fragmentShader = `
+precision highp sampler3D;
+uniform highp sampler3D u_volume;   // R: the value, normalized to [0, 1]
+uniform highp sampler2D u_transfer; // N x 1 RGBA: linear colour and opacity per unit step
+uniform float u_step;               // the ray step, in texture units
+uniform float u_unit_step;          // the step the transfer function's opacities are for
+uniform vec3 u_background;
+uniform mat4 u_inverse_view_projection; // clip space -> world: each pixel's ray (mesh.onBeforeRender)
+uniform vec2 u_viewport;                // the target's size in pixels
+in vec3 v_position;
+layout(location = 0) out highp vec4 frag_color;
+${MARKERS.declarations}
+#ifndef HALO_RAY_MAY_END
+#define HALO_RAY_MAY_END 1
+#endif
+vec4 classify(float value) {
+    float texels = float(textureSize(u_transfer, 0).x);
+    float u = ((value > 0.0 ? min(value, 1.0) : 0.0) * (texels - 1.0) + 0.5) / texels;
+    return texture(u_transfer, vec2(u, 0.5));
+}
+void main() {
+    // the pixel's ray through the near and far planes (exact for every pixel, perspective or
+    // orthographic; the box's back faces only say which pixels to march)
+    vec2 ndc = gl_FragCoord.xy / u_viewport * 2.0 - 1.0;
+    vec4 near_point = u_inverse_view_projection * vec4(ndc, -1.0, 1.0);
+    vec4 far_point = u_inverse_view_projection * vec4(ndc, 1.0, 1.0);
+    vec3 origin = near_point.xyz / near_point.w;
+    vec3 direction = normalize(far_point.xyz / far_point.w - origin);
+    vec3 inverse_direction = 1.0 / direction;
+    vec3 t_low = (vec3(0.0) - origin) * inverse_direction, t_high = (vec3(1.0) - origin) * inverse_direction;
+    vec3 t_min3 = min(t_low, t_high), t_max3 = max(t_low, t_high);
+    float t_enter = max(max(max(t_min3.x, t_min3.y), t_min3.z), 0.0);
+    float t_exit = min(min(t_max3.x, t_max3.y), t_max3.z);
+    float front_distance = distance(cameraPosition, vec3(0.5)) - 0.8660254037844386;
+    float exponent = u_step / u_unit_step;
+    vec4 accumulated = vec4(0.0); // premultiplied
+    for (int i = 0; i < 4096; ++i) {
+        float t = t_enter + float(i) * u_step;
+        if (t > t_exit)
+            break;
+        vec3 P = origin + t * direction;
+        float value = texture(u_volume, P).r;
+        vec4 color = classify(value);
+        ${MARKERS.sample}
+        float alpha = clamp(color.a, 0.0, 1.0);
+        if (alpha > 0.0) {
+            alpha = 1.0 - pow(1.0 - alpha, exponent);
+            accumulated.rgb += (1.0 - accumulated.a) * alpha * color.rgb;
+            accumulated.a += (1.0 - accumulated.a) * alpha;
+            if (accumulated.a >= 0.99 && HALO_RAY_MAY_END != 0)
+                break;
+        }
+    }
+    ${MARKERS.finish}
+    frag_color = vec4(accumulated.rgb + (1.0 - accumulated.a) * u_background, 1.0);
+}
+`;
+
+// The caster: { mesh, material, volumeTexture, transferTexture }. options: volume
+// (Float32Array, x fastest), dims [nx, ny, nz], transfer (Float32Array, N RGBA texels),
+// step (texture units), unitStep (default step), background ([r, g, b], default white).
+export function createVolumeCaster(THREE, options) {
+  const { volume, dims, transfer } = options;
+  if (!volume || !dims || dims.length !== 3 || volume.length !== dims[0] * dims[1] * dims[2])
+    throw new Error('createVolumeCaster: volume must hold dims[0] * dims[1] * dims[2] values');
+  if (!transfer || transfer.length < 8 || transfer.length % 4)
+    throw new Error('createVolumeCaster: transfer must hold N >= 2 RGBA texels');
+  if (!(options.step > 0)) throw new Error('createVolumeCaster: step must be > 0 (texture units)');
+  const volumeTexture = new THREE.Data3DTexture(volume, dims[0], dims[1], dims[2]);
+  volumeTexture.format = THREE.RedFormat;
+  volumeTexture.type = THREE.FloatType;
+  const transferTexture = new THREE.DataTexture(transfer, transfer.length / 4, 1, THREE.RGBAFormat, THREE.FloatType);
+  for (const texture of [volumeTexture, transferTexture]) {
+    texture.minFilter = texture.magFilter = THREE.LinearFilter;
+    texture.wrapS = texture.wrapT = texture.wrapR = THREE.ClampToEdgeWrapping;
+    texture.generateMipmaps = false;
+    texture.unpackAlignment = 1;
+    texture.needsUpdate = true;
+  }
+  const background = options.background || [1, 1, 1];
+  const material = new THREE.ShaderMaterial({
+    glslVersion: THREE.GLSL3,
+    uniforms: {
+      u_volume: { value: volumeTexture },
+      u_transfer: { value: transferTexture },
+      u_step: { value: options.step },
+      u_unit_step: { value: options.unitStep || options.step },
+      u_background: { value: new THREE.Vector3(background[0], background[1], background[2]) },
+      u_inverse_view_projection: { value: new THREE.Matrix4() },
+      u_viewport: { value: new THREE.Vector2(1, 1) },
+    },
+    vertexShader,
+    fragmentShader,
+    side: THREE.BackSide, // the far faces: the ray starts at the box or at the eye inside it
+    depthTest: false,
+    depthWrite: false,
+  });
+  const geometry = new THREE.BoxGeometry(1, 1, 1);
+  geometry.translate(0.5, 0.5, 0.5);
+  const mesh = new THREE.Mesh(geometry, material);
+  const size = new THREE.Vector2();
+  mesh.onBeforeRender = (renderer, scene, camera) => {
+    const u = material.uniforms;
+    u.u_inverse_view_projection.value.multiplyMatrices(camera.projectionMatrix, camera.matrixWorldInverse).invert();
+    const target = renderer.getRenderTarget();
+    if (target) u.u_viewport.value.set(target.width, target.height);
+    else u.u_viewport.value.copy(renderer.getDrawingBufferSize(size));
+  };
+  return { mesh, material, volumeTexture, transferTexture };
+}
+
+// A live parameter's value as three.js uploads it.
+function uniformValue(type, values) {
+  const array = /\[\d+\]$/.test(type);
+  const base = type.replace(/\[\d+\]$/, '');
+  if (!array && (base === 'float' || base === 'int' || base === 'bool')) return values[0];
+  return base === 'int' || base === 'bool' ? Int32Array.from(values, Math.round) : Float32Array.from(values);
+}
+
+// Links the scene's per-sample stages as pieces and puts them into material's fragment
+// shader at MARKERS; the live parameters become material uniforms. options: scene (JSON
+// text or object), sceneFile (its name in diagnostics), names (overrides of CASTER_NAMES
+// for another caster's variables), allLive. Returns { program, set(name, value), remove() };
+// throws a HaloError with file:line:col on a scene error or a refused scene.
+export function installHalo(halo, material, options = {}) {
+  const original = material.fragmentShader;
+  for (const [piece, marker] of Object.entries(MARKERS))
+    if (!original.includes(marker))
+      throw new Error(`installHalo: the material's fragment shader has no '${marker}' marker (where the ${piece} ` +
+        'piece goes): a compositing ray caster marks its declarations, its sample after classification and the ' +
+        "end of its ray loop (three's VolumeShader, MIP and isosurfaces only, composites no samples)");
+  if (material.glslVersion !== '300 es')
+    throw new Error('installHalo: the material must be GLSL 3 (glslVersion: THREE.GLSL3): the pieces are GLSL ES 300');
+  const program = halo.link({
+    scene: options.scene, sceneFile: options.sceneFile || 'scene', target: 'es300', allLive: !!options.allLive,
+    pieces: { ...CASTER_NAMES, ...(options.names || {}) },
+  });
+  const uniforms = [];
+  for (const u of program.reflection.uniforms || []) {
+    material.uniforms[u.name] = { value: uniformValue(u.type, u.value) };
+    uniforms.push(u.name);
+    if (/\[\d+\]$/.test(u.type)) {
+      const components = /vec(\d)/.exec(u.type) ? Number(/vec(\d)/.exec(u.type)[1]) : 1;
+      material.uniforms[`${u.name}_count`] = { value: Math.floor(u.value.length / components) };
+      uniforms.push(`${u.name}_count`);
+    }
+  }
+  material.fragmentShader = original
+    .replace(MARKERS.declarations, program.pieces.declarations || '')
+    .replace(MARKERS.sample, program.pieces.sample || '')
+    .replace(MARKERS.finish, program.pieces.finish || '');
+  material.needsUpdate = true;
+  return {
+    program,
+    // a live parameter ("stage.param"): the uniform's new value, no shader rebuild
+    set(name, value) {
+      program.set(name, value);
+      const dot = name.indexOf('.');
+      const u = (program.reflection.uniforms || []).find((e) => e.stage === name.slice(0, dot) &&
+        e.param === name.slice(dot + 1));
+      if (!u) throw new Error(`set ${name}: a constant in the linked shader: mark it live in the scene or install ` +
+        'with allLive');
+      const values = (Array.isArray(value) ? value.flat(2) : [value]).map((v) => (typeof v === 'boolean' ? +v : v));
+      material.uniforms[u.name].value = uniformValue(u.type, values);
+      if (material.uniforms[`${u.name}_count`]) {
+        const components = /vec(\d)/.exec(u.type) ? Number(/vec(\d)/.exec(u.type)[1]) : 1;
+        material.uniforms[`${u.name}_count`].value = Math.floor(values.length / components);
+      }
+    },
+    // the material's own shader again, without the stages
+    remove() {
+      material.fragmentShader = original;
+      for (const name of uniforms) delete material.uniforms[name];
+      material.needsUpdate = true;
+      program.destroy();
+    },
+  };
+}
