@@ -150,6 +150,10 @@
 #define HOST_ROW(name, renders, why, scene, host, jitter)                                                        \
     {name, "segments", renders, "%.0e", SLICE_HALOS_TOL, 0.0, why, conform_segment_row,                          \
      &(const conform_segment_params){scene, 0, 0, &host, jitter, 0}}
+/* ... drawn once over the field libhalo computes first (host contract 3) */
+#define HOST_ONE_DRAW_ROW(name, renders, why, scene, host, jitter)                                               \
+    {name, "segments", renders, "%.0e", SLICE_HALOS_TOL, 0.0, why, conform_segment_row,                          \
+     &(const conform_segment_params){scene, 0, 0, &host, jitter, 32}}
 #define HOST_WHY_DERIVED "libhalo's gradient, view and (planar) depth, emulated from the frame's camera"
 /* the ray row's two halos, and distance_blend: the host's depth convention shows */
 #define SEGMENT_HOST_SCENE                                                                                        \
@@ -335,6 +339,9 @@ const conform_row conform_rows[] = {
              "as ray; the jitter is the host's integer hash of the pixel, exact in C; " HOST_WHY_DERIVED "; the ceil "
              "step count bracketed (rays run to their end: the seeds read every sample)",
              SEGMENT_HOST_SCENE, conform_segment_webgl, 1.0f),
+    HOST_ONE_DRAW_ROW("ray@webgl_one_draw", "webgl_caster.frag, jitter 1, two halos, M = 4, drawn once (contract 3)",
+                      "as ray@webgl, the field as ray@one_draw; early termination at 0.98 bracketed",
+                      SEGMENT_HOST_SCENE, conform_segment_webgl, 1.0f),
     HOST_ROW("ray@webgl_sample", "webgl_caster.frag, jitter 1, per-sample stages: early termination at 0.98",
              "as ray@webgl; the termination decision on 0.98 bracketed", SEGMENT_SAMPLE_SCENE, conform_segment_webgl,
              1.0f),
@@ -342,6 +349,9 @@ const conform_row conform_rows[] = {
              "as ray; the exit is the back-face pass's interpolated point (the box's exit up to the rasterizer's "
              "float interpolation): its step count bracketed as ray's exits; " HOST_WHY_DERIVED,
              SEGMENT_HOST_SCENE, conform_segment_exit_points, 0.0f),
+    HOST_ONE_DRAW_ROW("ray@exit_points_one_draw", "exit_point_caster.frag, two halos, M = 4, drawn once (contract 3)",
+                      "as ray@exit_points, the field as ray@one_draw; early termination at 0.99 bracketed",
+                      SEGMENT_HOST_SCENE, conform_segment_exit_points, 0.0f),
     HOST_ROW("ray@exit_points_sample", "exit_point_caster.frag, per-sample stages: early termination at 0.99",
              "as ray@exit_points; the termination decision on 0.99 bracketed", SEGMENT_SAMPLE_SCENE,
              conform_segment_exit_points, 0.0f),
@@ -349,6 +359,9 @@ const conform_row conform_rows[] = {
              "as ray; the 2D transfer function (smoothsteps of |g|) and the Phong headlight (pow 24) in float32 "
              "on the float32 gradient; the host's view, libhalo's planar depth; the exits bracketed",
              SEGMENT_HOST_SCENE, conform_segment_tf2d, 0.0f),
+    HOST_ONE_DRAW_ROW("ray@tf2d_one_draw", "tf2d_caster.frag, two halos, M = 4, drawn once (contract 3)",
+                      "as ray@tf2d, the field as ray@one_draw; early termination past 0.995 bracketed",
+                      SEGMENT_HOST_SCENE, conform_segment_tf2d, 0.0f),
     HOST_ROW("ray@tf2d_sample", "tf2d_caster.frag, per-sample stages: early termination past 0.995",
              "as ray@tf2d; the termination decision on 0.995 bracketed", SEGMENT_SAMPLE_SCENE, conform_segment_tf2d,
              0.0f),
@@ -356,6 +369,9 @@ const conform_row conform_rows[] = {
              "as ray; the hit is a decision on value >= 0.5 (float32 trilinear value): bracketed with the value "
              "moved by 1e-5, as the exits; the host's gradient at hits only; " HOST_WHY_DERIVED,
              SEGMENT_HOST_SCENE, conform_segment_iso, 0.0f),
+    HOST_ONE_DRAW_ROW("ray@iso_one_draw", "mip_iso_caster.frag's isosurface, two halos, M = 4, drawn once (contract 3)",
+                      "as ray@iso, the field as ray@one_draw; a hit ends the ray",
+                      SEGMENT_HOST_SCENE, conform_segment_iso, 0.0f),
     HOST_ROW("ray@iso_sample", "mip_iso_caster.frag's isosurface, per-sample stages: the first hit ends the ray",
              "as ray@iso; opacity 1 at a hit ends the ray (0.99)", SEGMENT_SAMPLE_SCENE, conform_segment_iso, 0.0f),
     HOST_ROW("ray@mip", "mip_iso_caster.frag's MIP variant (no stage: it refuses them), drawn once",
