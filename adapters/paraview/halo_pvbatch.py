@@ -94,12 +94,19 @@ def main():
     view.CameraViewAngle = cam["view_angle"]
     view.CameraParallelProjection = 0
 
+    status = 0
     for output, scene, exchange, settings in jobs:
         rep.HaloScene = scene
         rep.HaloSettings = settings
         rep.HaloExchange = exchange
         render(view, output, a.frames, width, height)
-    return 0
+        # a refused or failed scene (its reason is on stderr): the script's exit status says so
+        rep.UpdatePropertyInformation()
+        if scene and rep.GetPropertyValue("HaloStatus"):
+            print("halo_pvbatch: %s: the scene %s was not drawn (see the errors above)" % (output, scene),
+                  file=sys.stderr)
+            status = 1
+    return status
 
 
 def render(view, output, frames, width, height):

@@ -10,7 +10,8 @@
 #    space (HALO_PARAVIEW_LOCAL=1, what a per-rank install without the whole extent does);
 #  - volumetric halos with the seeds combined over the ranks within the halo tolerance,
 #    and the naive halos (each rank's own seeds, HaloExchange 0) outside it;
-#  - outlines across ranks are refused with a diagnostic (they need the composited image).
+#  - outlines across ranks are refused with a diagnostic (they need the composited image),
+#    and a scene with an error gets its diagnostic; both make pvbatch exit non-zero.
 . "${srcdir:-.}/tests/harness.sh"
 harness_need srcdir HALO_IMAGE_COMPARE HALO_PVBATCH_SCRIPT
 if test -z "${HALO_PARAVIEW_PLUGIN:-}" || test ! -f "$HALO_PARAVIEW_PLUGIN"; then
@@ -131,8 +132,18 @@ set -- $(metrics default-1 default-naive-2)
 echo "control, each rank's own seeds: mean abs $1, $2 % over 1/255"
 test $# -eq 2 && within "$1" "$2" $halo_mean $halo_share && fail "control: the naive halos passed the halo tolerance"
 
-# outlines need the composited image: refused on 2 ranks, with the reason
+# outlines need the composited image: refused on 2 ranks, with the reason, and the script's
+# exit status says so (HaloStatus)
 pvrun outline 2 --scene "$scenes/outline-depth.json" -o "$tmp/outline.png"
+status=$?
 grep -q "finished image (outlines)" "$tmp/outline.log" ||
     { fail "outlines on 2 ranks: no diagnostic"; sed 's/^/    /' "$tmp/outline.log" | head -20 >&2; }
+test $status -ne 0 || fail "outlines on 2 ranks: refused, but pvbatch exited 0"
+# a scene with an error: the reason at its file:line:col, and a non-zero exit
+printf '{"halo_scene": 1, "stages": [{"tone_shading": {"k_ta": "x"}}]}\n' >"$tmp/bad.json"
+pvrun bad 1 --scene "$tmp/bad.json" -o "$tmp/bad.png"
+status=$?
+grep -q "bad.json:1:" "$tmp/bad.log" || { fail "a bad scene: no diagnostic at its file:line"; sed 's/^/    /' "$tmp/bad.log" | head -20 >&2; }
+test $status -ne 0 || fail "a bad scene: pvbatch exited 0"
+echo "refused and bad scenes: pvbatch exits non-zero ($status)"
 finish

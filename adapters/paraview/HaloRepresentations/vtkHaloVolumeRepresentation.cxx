@@ -408,9 +408,17 @@ void vtkHaloVolumeRepresentation::CheckHalo()
     return;
   I->Checked = 1;
   if (halo_vtk_check(I->Halo, I->Diag) != HALO_OK)
+  {
     vtkErrorMacro("HaloVolume: the shader VTK built does not hold libhalo's stages as installed "
                   "(diagnostics on stderr)");
+    I->Failed = 1;
+  }
   I->Flush();
+}
+
+int vtkHaloVolumeRepresentation::GetHaloStatus()
+{
+  return this->Internals->Failed ? 1 : 0;
 }
 
 void vtkHaloVolumeRepresentation::PrintSelf(ostream& os, vtkIndent indent)

@@ -33,6 +33,10 @@ public:
   void SetHaloWindow(double low, double high);
   /* 1 (default): volumetric halos cross the ranks' pieces; 0: each rank's own. */
   void SetHaloExchange(int exchange);
+  /* After a render: 0 when the scene (if any) is installed and drawn as asked; 1 when it
+   * was refused, failed to load or its draw failed (the reason went to stderr). Read by
+   * scripts through the information property HaloStatus (halo_pvbatch.py exits 1). */
+  int GetHaloStatus();
 
   /* The whole dataset's point extent (each rank draws a piece of it). */
   void GetWholeExtentOfPieces(int extent[6]);
