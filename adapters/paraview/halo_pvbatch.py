@@ -28,6 +28,8 @@ def main():
     p.add_argument("--settings", default="", help="stage.param=v[,v...];... over the scene's")
     p.add_argument("--exchange", type=int, default=1, help="1: halos cross the ranks' pieces; 0: each rank's own")
     p.add_argument("--frames", type=int, default=1, help="render this many frames and print the mean time")
+    p.add_argument("--paraview-volume", action="store_true",
+                   help="ParaView's own \"Volume\" representation instead of \"Halo Volume\" (no scene)")
     p.add_argument("-o", "--output", help="the image (.png)")
     p.add_argument("--jobs", help="a file of renders, one a line: OUTPUT SCENE|- [EXCHANGE [SETTINGS]] "
                    "(one pvbatch start for many images)")
@@ -71,7 +73,9 @@ def main():
 
     rep = Show(reader, view)
     rep.ColorArrayName = ["POINTS", "ImageFile"]
-    rep.SetRepresentationType("Halo Volume")
+    rep.SetRepresentationType("Volume" if a.paraview_volume else "Halo Volume")
+    if a.paraview_volume and any(scene for _, scene, _, _ in jobs):
+        p.error("--paraview-volume draws ParaView's own volume: no scene")
     ctf = GetColorTransferFunction("ImageFile")
     otf = GetOpacityTransferFunction("ImageFile")
     rgb, points = [], []
@@ -85,7 +89,8 @@ def main():
     rep.LookupTable = ctf
     rep.ScalarOpacityFunction = otf
     rep.ScalarOpacityUnitDistance = 1.0 / n
-    rep.HaloWindow = [0.0, 1.0]
+    if not a.paraview_volume:
+        rep.HaloWindow = [0.0, 1.0]
 
     cam = view_desc["camera"]
     view.CameraPosition = cam["eye"]
@@ -96,11 +101,14 @@ def main():
 
     status = 0
     for output, scene, exchange, settings in jobs:
-        rep.HaloScene = scene
-        rep.HaloSettings = settings
-        rep.HaloExchange = exchange
+        if not a.paraview_volume:
+            rep.HaloScene = scene
+            rep.HaloSettings = settings
+            rep.HaloExchange = exchange
         render(view, output, a.frames, width, height)
         # a refused or failed scene (its reason is on stderr): the script's exit status says so
+        if a.paraview_volume:
+            continue
         rep.UpdatePropertyInformation()
         if scene and rep.GetPropertyValue("HaloStatus"):
             print("halo_pvbatch: %s: the scene %s was not drawn (see the errors above)" % (output, scene),
