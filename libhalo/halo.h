@@ -745,6 +745,8 @@ HALO_API halo_status halo_gl_set_host_uniform(halo_gl *gl, unsigned gl_program, 
 typedef struct halo_gl_frame halo_gl_frame;
 HALO_API halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int width, int height,
                                              halo_diagnostics *diag);
+/* From a halo_gl_frame_draw callback it only asks: the frame is destroyed when the draw
+ * returns, which then reports USAGE and returns HALO_ERROR_INPUT. */
 HALO_API void halo_gl_frame_destroy(halo_gl_frame *f);
 /* Clears every image: call at the start of a frame. */
 HALO_API void halo_gl_frame_begin(halo_gl_frame *f);

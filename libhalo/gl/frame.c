@@ -100,7 +100,16 @@ struct halo_gl_frame {
      * (halo_gl_frame_set_readback_bounds). */
     int readback_bounds;
     float *readback;
+    /* halo_gl_frame_draw is running (a draw callback that destroys the frame only asks for
+     * it: the frame goes when the draw returns) */
+    int drawing, destroy_pending;
 };
+
+int halo_gl_frame_drawing(halo_gl_frame *fr, int drawing)
+{
+    fr->drawing = drawing;
+    return fr->destroy_pending;
+}
 
 /* For segments.c: the runtime, program, size and ray-state textures of a frame. */
 halo_gl *halo_gl_frame_runtime(const halo_gl_frame *fr) { return fr->gl; }
@@ -577,6 +586,10 @@ void halo_gl_frame_destroy(halo_gl_frame *fr)
 {
     if (!fr)
         return;
+    if (fr->drawing) { /* from halo_gl_frame_draw's callback: when the draw returns */
+        fr->destroy_pending = 1;
+        return;
+    }
     const halo_glfuncs *f = &fr->gl->f;
     if (fr->field && fr->field_destroy)
         fr->field_destroy(fr, fr->field);

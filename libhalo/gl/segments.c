@@ -40,11 +40,29 @@ static void set_draw_buffers(const halo_glfuncs *f, const halo_program *p, int l
     f->DrawBuffers(count, buffers);
 }
 
+static halo_status frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
+                              halo_diagnostics *diag);
+
 halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
                                halo_diagnostics *diag)
 {
     if (!halo_segments_arguments_valid(fr, "frame", d, "halo_gl_frame_draw", diag))
         return HALO_ERROR_INPUT;
+    halo_gl_frame_drawing(fr, 1);
+    halo_status status = frame_draw(fr, gl_program, d, diag);
+    if (halo_gl_frame_drawing(fr, 0)) {
+        halo_gl_frame_destroy(fr);
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "halo_gl_frame_draw: the draw callback destroyed the frame; it is destroyed now that the "
+                        "draw returned (destroy a frame after halo_gl_frame_draw, not from its callback)");
+        return HALO_ERROR_INPUT;
+    }
+    return status;
+}
+
+static halo_status frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
+                              halo_diagnostics *diag)
+{
     if (!d->draw) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_frame_draw: desc.draw is required");
         return HALO_ERROR_INPUT;

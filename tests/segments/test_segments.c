@@ -539,6 +539,14 @@ static void test_hostile_state(env *e)
 }
 
 static void draw_nothing(void *user) { (void)user; }
+static halo_gl_frame *destroying_frame;
+static int destroy_calls;
+static void draw_destroying(void *user)
+{
+    (void)user;
+    destroy_calls++;
+    halo_gl_frame_destroy(destroying_frame);
+}
 
 static void test_diagnostics(env *e)
 {
@@ -638,6 +646,21 @@ static void test_diagnostics(env *e)
               strstr(halo_diagnostics_get(e->g.diag, 0)->text, "volume_texture"),
           "one_draw: halo_gl_frame_draw without desc.volume_texture says so");
     halo_gl_frame_destroy(frame);
+    halo_program_destroy(p);
+    halo_diagnostics_clear(e->g.diag);
+    /* issue 26: a draw callback that destroys the frame (a use after free before): the frame
+     * goes when the draw returns, with USAGE */
+    p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = e->raycast,
+                                    .host_file = "raycast.frag"},
+                  e->g.diag);
+    frame = p ? halo_gl_frame_create(e->g.runtime, p, SIZE, SIZE, e->g.diag) : NULL;
+    destroying_frame = frame;
+    destroy_calls = 0;
+    CHECK(frame && halo_gl_frame_draw(frame, 0, &(halo_gl_segments_desc){.inverse_view_projection = identity,
+                                                                          .step = 0.05f, .draw = draw_destroying},
+                                      e->g.diag) == HALO_ERROR_INPUT &&
+              halo_diagnostics_has(e->g.diag, HALO_MSG_USAGE) && destroy_calls > 0,
+          "a draw callback that destroys the frame: HALO_ERROR_INPUT with USAGE after %d calls", destroy_calls);
     halo_program_destroy(p);
     halo_diagnostics_clear(e->g.diag);
     halo_scene_destroy(scene);
