@@ -78,7 +78,7 @@ void print_error_row_line(const char *row, int tolerance_width, halo_diagnostics
 
 void print_error_row(conform *c, const char *row)
 {
-    if (c->es && halo_diagnostics_has(c->diag, HALO_MSG_GL_PROC_MISSING)) {
+    if (c->es == 30 && halo_diagnostics_has(c->diag, HALO_MSG_GL_PROC_MISSING)) {
         /* the runtime's own refusal of what this OpenGL ES version lacks (its diagnostic
          * names it: per-buffer blending on ES 3.0) */
         halo_diagnostics_clear(c->diag);

@@ -22,6 +22,7 @@
 #include <vtk_glew.h>
 
 #include <dlfcn.h>
+#include <vtkAbstractMapper.h>
 #include <vtkCommand.h>
 #include <vtkDataArray.h>
 #include <vtkGPUVolumeRayCastMapper.h>
@@ -295,9 +296,17 @@ void note_program(halo_vtk *h, vtkShaderProgram *program) {
  * contract's value (the input's scalar over the window: R32F), which the march samples.
  * The gradient's name, or 0 after a diagnostic. */
 unsigned volume_textures(halo_vtk *h, vtkImageData *image, int value) {
-    vtkDataArray *scalars = image->GetPointData() ? image->GetPointData()->GetScalars() : nullptr;
-    if (!scalars) {
-        add_error(h->diag, HALO_MSG_USAGE, "libhalo-vtk: the mapper's input has no point scalars");
+    /* the array the mapper renders (its scalar mode and selected array, as VTK's own texture) */
+    int cells = 0;
+    vtkDataArray *scalars = vtkAbstractMapper::GetScalars(image, h->mapper->GetScalarMode(),
+                                                          h->mapper->GetArrayAccessMode(), h->mapper->GetArrayId(),
+                                                          h->mapper->GetArrayName(), cells);
+    if (!scalars || cells) {
+        if (!h->failed)
+            add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
+                      cells ? "libhalo-vtk: the mapper renders cell data: libhalo's march and gradient take point "
+                              "scalars"
+                            : "libhalo-vtk: the mapper's input has no scalars to render");
         return 0;
     }
     vtkMTimeType t = std::max(image->GetMTime(), scalars->GetMTime());
@@ -704,19 +713,22 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
             sd.piece_min[a] = (float)(extent[2 * a] - first[a]) / (float)dims[a];
             sd.piece_max[a] = (float)(extent[2 * a] - first[a] + n) / (float)dims[a];
         }
+        /* this frame's refusals (h->failed keeps that one happened, for halo_vtk_check) */
+        int refused = 0;
         if (!piece) {
             memset(sd.piece_min, 0, sizeof sd.piece_min);
             memset(sd.piece_max, 0, sizeof sd.piece_max);
-        } else if (!h->exchange && !h->failed) {
-            add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
-                      "libhalo-vtk: volumetric halos on a piece of a larger volume need the other pieces' seeds: "
-                      "set halo_vtk_set_exchange (docs/distributed.md)");
-            h->failed = 1;
+        } else if (!h->exchange) {
+            if (!h->failed)
+                add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
+                          "libhalo-vtk: volumetric halos on a piece of a larger volume need the other pieces' seeds: "
+                          "set halo_vtk_set_exchange (docs/distributed.md)");
+            refused = 1;
         } else {
             sd.exchange = h->exchange;
             sd.exchange_user = h->exchange_user;
         }
-        unsigned made = h->failed ? 0 : volume_textures(h, image, 1);
+        unsigned made = refused ? 0 : volume_textures(h, image, 1);
         if (!made || !h->value_texture) {
             h->failed = 1;
             ostate->PopFramebufferBindings();
@@ -952,19 +964,16 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
 
 void halo_vtk_remove(halo_vtk *h) {
     if (!h) return;
+    /* every replacement any path adds (clearing one that is not there does nothing) */
     h->property->ClearFragmentShaderReplacement(declarations_tag, true);
     h->property->ClearFragmentShaderReplacement(splice_point, false);
     h->property->ClearFragmentShaderReplacement(finish_point, false);
     h->property->ClearFragmentShaderReplacement(begin_tag, true);
-    if (haloVTKMapper *m = haloVTKMapper::SafeDownCast(h->mapper)) {
-        m->halo = nullptr;
-        h->property->ClearFragmentShaderReplacement(extension_tag, true);
-        h->property->ClearFragmentShaderReplacement(begin_tag, true);
-        h->property->ClearFragmentShaderReplacement(end_tag, true);
-        h->property->ClearFragmentShaderReplacement(termination_text, false);
-        h->property->ClearFragmentShaderReplacement(finish_point, false);
-        h->property->ClearFragmentShaderReplacement(visible_test, false);
-    }
+    h->property->ClearFragmentShaderReplacement(extension_tag, true);
+    h->property->ClearFragmentShaderReplacement(end_tag, true);
+    h->property->ClearFragmentShaderReplacement(termination_text, false);
+    h->property->ClearFragmentShaderReplacement(visible_test, false);
+    if (haloVTKMapper *m = haloVTKMapper::SafeDownCast(h->mapper)) m->halo = nullptr;
     if (h->value_texture) glDeleteTextures(1, &h->value_texture);
     if (h->gradient_texture) glDeleteTextures(1, &h->gradient_texture);
     halo_gl_frame_destroy(h->frame);

@@ -9,9 +9,9 @@
 //   //halo:finish         after the loop
 // three's own VolumeShader (examples/jsm/shaders/VolumeShader.js) has only maximum
 // intensity projection and isosurfaces, which composite no samples: installHalo refuses
-// a material without the markers. Scenes with image passes (volumetric halos, outlines,
-// feature halos) need libhalo's GL runtime, which the web package does not have yet:
-// refused with a HaloError naming the stages.
+// a material without the markers. Scenes with image passes, extra outputs or host
+// uniforms (volumetric halos, outlines, feature halos) need libhalo's GL runtime, which
+// the web package does not have yet: refused, naming the stages.
 //
 //   import * as THREE from 'three';
 //   import libhalo from '@libhalo/web';
@@ -23,7 +23,8 @@
 //   stages.set('tone_shading.k_ta', 0.4);   // a live parameter: a uniform, no rebuild
 //
 // The caster's conventions are libhalo's host contract's (docs/host-contract.md): the
-// mesh spans the volume's texture space [0, 1]^3 in world units; the value in the red
+// mesh spans the volume's texture space [0, 1]^3 in world units (a perspective camera: the
+// stages' view and depth are the eye's); the value in the red
 // channel is already normalized to [0, 1]; the transfer function is N x 1 RGBA (linear
 // colour, opacity per unit step); depth is 0 at the front of the volume's bounding sphere
 // and 1 at its back, as in examples/hosts/raycast.frag, with which it is compared in the
@@ -157,6 +158,9 @@ export function createVolumeCaster(THREE, options) {
   const mesh = new THREE.Mesh(geometry, material);
   const size = new THREE.Vector2();
   mesh.onBeforeRender = (renderer, scene, camera) => {
+    if (!renderer.extensions.has('OES_texture_float_linear')) // float textures would not filter: wrong image
+      throw new Error('createVolumeCaster: this WebGL 2 context lacks OES_texture_float_linear (linear filtering ' +
+        'of the float volume and transfer textures)');
     const u = material.uniforms;
     u.u_inverse_view_projection.value.multiplyMatrices(camera.projectionMatrix, camera.matrixWorldInverse).invert();
     const target = renderer.getRenderTarget();
@@ -192,6 +196,15 @@ export function installHalo(halo, material, options = {}) {
     scene: options.scene, sceneFile: options.sceneFile || 'scene', target: 'es300', allLive: !!options.allLive,
     pieces: { ...CASTER_NAMES, ...(options.names || {}) },
   });
+  const r = program.reflection;
+  const needs = [['image passes', r.passes], ['extra outputs', r.outputs], ['images', r.samplers],
+    ['host uniforms', r.host_uniforms]].filter(([, list]) => list && list.length);
+  if (needs.length) {
+    const stages = (r.stages || []).map((s) => (typeof s === 'string' ? s : s.name)).join(', ');
+    program.destroy();
+    throw new Error(`installHalo: the scene's stages (${stages}) need ${needs.map(([what]) => what).join(', ')}: ` +
+      "libhalo's GL runtime, which the web package does not have yet (per-sample stages only in three.js)");
+  }
   const uniforms = [];
   for (const u of program.reflection.uniforms || []) {
     material.uniforms[u.name] = { value: uniformValue(u.type, u.value) };

@@ -343,7 +343,7 @@ halo_status halo_raycast_set_piece(halo_raycast *r, const float *data, int nx, i
 {
     if (!r)
         return HALO_ERROR_INPUT;
-    if (!data) {
+    if (!data || !exchange) { /* a piece without the others' seeds would be drawn alone: none */
         r->exchange = NULL;
         memset(r->piece_min, 0, sizeof r->piece_min);
         memset(r->piece_max, 0, sizeof r->piece_max);

@@ -107,7 +107,7 @@ void halo_raycast_set_gradient_precision(halo_raycast *r, int bits);
  * exchange): the march reads this piece (nx * ny * nz values, x fastest; copied to a
  * texture) covering piece_min..piece_max of the volume's texture space, while the host
  * still draws the whole volume of halo_raycast_set_volume; exchange is called once a frame
- * with the seeds. data NULL: no piece. */
+ * with the seeds. data or exchange NULL: no piece. */
 halo_status halo_raycast_set_piece(halo_raycast *r, const float *data, int nx, int ny, int nz,
                                    const float piece_min[3], const float piece_max[3],
                                    void (*exchange)(void *user, float *values, size_t count, halo_blend blend),

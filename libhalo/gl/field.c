@@ -536,7 +536,7 @@ typedef struct field_buffer {
 typedef struct field_saved {
     halo_gl_bindings switches; /* cull, depth, stencil, discard, sRGB, polygon mode, packing */
     GLint program, draw_framebuffer, read_framebuffer, active, vertex_array, viewport[4], scissor_box[4];
-    GLint texture_3d[3], texture_array, unpack_buffer;
+    GLint texture_3d[3], texture_array, texture_2d, unpack_buffer;
     GLboolean scissor, cull, depth, stencil, blend;
     field_buffer buffers[FIELD_SAVED_BUFFERS];
     int buffer_count;
@@ -562,6 +562,7 @@ static void field_save(const halo_glfuncs *f, field_saved *s, int unit)
     }
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
     f->GetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &s->texture_array);
+    f->GetIntegerv(GL_TEXTURE_BINDING_2D, &s->texture_2d); /* the seeds' copies bind there */
     s->scissor = f->IsEnabled(GL_SCISSOR_TEST);
     s->cull = f->IsEnabled(GL_CULL_FACE);
     s->depth = f->IsEnabled(GL_DEPTH_TEST);
@@ -609,6 +610,7 @@ static void field_restore(const halo_glfuncs *f, const field_saved *s, int unit)
     }
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
     f->BindTexture(GL_TEXTURE_2D_ARRAY, (GLuint)s->texture_array);
+    f->BindTexture(GL_TEXTURE_2D, (GLuint)s->texture_2d);
     f->ActiveTexture((GLenum)s->active);
     f->BindBuffer(GL_PIXEL_UNPACK_BUFFER, (GLuint)s->unpack_buffer);
     (s->blend ? f->Enable : f->Disable)(GL_BLEND);
@@ -654,8 +656,9 @@ static void segment_planes(const halo_segment_plan *plan, double step, int j, in
 /* The piece's part of the box (halo_gl_segments_desc.piece_min, _max): the map from ray
  * positions to its volume texture, and where its march samples: from its first point's
  * centre to its last's, out to the box where the piece reaches the box's face (pieces
- * share their boundary points, so the pieces' samples cover the box; a sample two pieces
- * take seeds the same value in both, which the max keeps). 0 with USAGE for a bad box. */
+ * share their boundary points, so the pieces' samples cover the box; a sample on a shared
+ * face is taken by both, its value the same, its gradient one-sided in each, as no piece
+ * has the other's points: the max keeps the larger seed). 0 with USAGE for a bad box. */
 static int field_piece(const halo_gl_segments_desc *d, const double low[3], const double high[3],
                        const int voxels[3], double sample_low[3], double sample_high[3], float piece_min[3],
                        float piece_scale[3], halo_diagnostics *diag)
@@ -700,6 +703,14 @@ static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_
             continue;
         GLenum format, type;
         upload_format(view.internal_format, &format, &type);
+        if (halo_gl_es_version(halo_gl_frame_runtime(fr)) > 0 && view.internal_format != GL_RGBA32F &&
+            view.internal_format != GL_RGBA16F) {
+            /* the exchange reads and writes RGBA floats: OpenGL ES takes them for RGBA images only */
+            halo_diag_error(diag, USAGE, "", 0, 0,
+                            "halo_gl_frame_draw: the seeds' exchange on OpenGL ES needs RGBA float seed images, "
+                            "not this program's (more halo channels or 32/16-bit images)");
+            return 0;
+        }
         if (!field->seed_stacks[i])
             f->GenTextures(1, &field->seed_stacks[i]);
         f->BindTexture(GL_TEXTURE_2D_ARRAY, field->seed_stacks[i]);
@@ -814,7 +825,9 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     /* the derived gradient: float (exact) where float textures filter linearly (OpenGL; OpenGL
      * ES with OES_texture_float_linear), else or when asked, half */
     int es = halo_gl_es_version(gl) > 0;
-    int float_linear = !es || halo_gl_has_extension(gl, "GL_OES_texture_float_linear");
+    /* (and, on ES, rendering into RGBA32F: EXT_color_buffer_float) */
+    int float_linear = !es || (halo_gl_has_extension(gl, "GL_OES_texture_float_linear") &&
+                               halo_gl_has_extension(gl, "GL_EXT_color_buffer_float"));
     if (d->gradient_precision != 0 && d->gradient_precision != 16 && d->gradient_precision != 32) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_frame_draw: gradient_precision is 16, 32 or 0, not %d",
                         d->gradient_precision);
@@ -822,8 +835,9 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     }
     if (d->gradient_precision == 32 && !float_linear) {
         halo_diag_error(diag, GL_LINK, "", 0, 0,
-                        "halo_gl_frame_draw: gradient_precision 32 needs linear filtering of float textures, which "
-                        "this OpenGL ES context lacks (GL_OES_texture_float_linear); 16 or 0 (half here)");
+                        "halo_gl_frame_draw: gradient_precision 32 needs linear filtering of float textures and "
+                        "rendering into them, which this OpenGL ES context lacks (GL_OES_texture_float_linear, "
+                        "GL_EXT_color_buffer_float); 16 or 0 (half here)");
         return HALO_ERROR_INPUT;
     }
     GLint internal = d->gradient_precision == 16 || !float_linear ? GL_RGBA16F : GL_RGBA32F;
@@ -840,6 +854,7 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     /* a piece of a distributed volume: the seeds of every segment first, combined across the
      * pieces once, then the generations */
     int exchanged = d->exchange != NULL;
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit); /* the seed stacks are made there too */
     if (exchanged && !field_seed_reserve(f, fr, field, p->prepass, layers, diag))
         return HALO_ERROR_IO;
     halo_gl_frame_begin(fr);

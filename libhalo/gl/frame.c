@@ -105,10 +105,12 @@ struct halo_gl_frame {
     int drawing, destroy_pending;
 };
 
-int halo_gl_frame_drawing(halo_gl_frame *fr, int drawing)
+int halo_gl_frame_drawing(halo_gl_frame *fr, int change)
 {
-    fr->drawing = drawing;
-    return fr->destroy_pending;
+    if (change < 0) /* a query: -1 when a destroy was asked for, else 0 */
+        return fr->destroy_pending ? -1 : 0;
+    fr->drawing += change ? 1 : -1; /* nested halo_gl_frame_draw calls (a callback that draws) */
+    return fr->drawing == 0 && fr->destroy_pending;
 }
 
 /* For segments.c: the runtime, program, size and ray-state textures of a frame. */
@@ -586,7 +588,7 @@ void halo_gl_frame_destroy(halo_gl_frame *fr)
 {
     if (!fr)
         return;
-    if (fr->drawing) { /* from halo_gl_frame_draw's callback: when the draw returns */
+    if (fr->drawing > 0) { /* from halo_gl_frame_draw's callback: when the outermost draw returns */
         fr->destroy_pending = 1;
         return;
     }

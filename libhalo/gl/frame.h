@@ -14,9 +14,10 @@ void halo_gl_frame_size(const halo_gl_frame *fr, int *width, int *height);
 /* The ray-state texture: next 0, the one read by this segment; 1, the one it writes. */
 unsigned halo_gl_frame_state(halo_gl_frame *fr, int next);
 void halo_gl_frame_state_flip(halo_gl_frame *fr);
-/* halo_gl_frame_draw's bracket (drawing 1, then 0): while it is set, halo_gl_frame_destroy
- * only asks; returns whether a destroy was asked for. */
-int halo_gl_frame_drawing(halo_gl_frame *fr, int drawing);
+/* halo_gl_frame_draw's bracket (change 1 on entry, 0 on return; they nest): while a draw
+ * runs, halo_gl_frame_destroy only asks; on the outermost return, whether it was asked.
+ * change -1 only queries: -1 when a destroy was asked for. */
+int halo_gl_frame_drawing(halo_gl_frame *fr, int change);
 void halo_gl_frame_segments_reset(halo_gl_frame *fr);
 
 /* Host contract 3 (field.c): a one_draw program's stacks of the depth segments' images. */

@@ -17,7 +17,11 @@ const halo_glfuncs *halo_gl_functions(const halo_gl *gl)
     return gl ? &gl->f : NULL;
 }
 
-static const GLenum pack_names[4] = {GL_PACK_ALIGNMENT, GL_PACK_ROW_LENGTH, GL_PACK_SKIP_ROWS, GL_PACK_SKIP_PIXELS};
+static const GLenum pack_names[10] = {GL_PACK_ALIGNMENT,   GL_PACK_ROW_LENGTH,   GL_PACK_SKIP_ROWS,
+                                      GL_PACK_SKIP_PIXELS, GL_UNPACK_ALIGNMENT, GL_UNPACK_ROW_LENGTH,
+                                      GL_UNPACK_IMAGE_HEIGHT, GL_UNPACK_SKIP_ROWS, GL_UNPACK_SKIP_PIXELS,
+                                      GL_UNPACK_SKIP_IMAGES};
+static const GLint tight[10] = {4, 0, 0, 0, 4, 0, 0, 0, 0, 0};
 /* The switches libhalo's draws need off (GL_FRAMEBUFFER_SRGB last: desktop GL only). */
 static const GLenum halo_gl_switches[5] = {GL_CULL_FACE, GL_DEPTH_TEST, GL_STENCIL_TEST, GL_RASTERIZER_DISCARD,
                                            GL_FRAMEBUFFER_SRGB};
@@ -37,21 +41,26 @@ void halo_gl_bindings_save(const halo_glfuncs *f, halo_gl_bindings *b)
     if (desktop)
         f->GetIntegerv(GL_POLYGON_MODE, modes);
     b->polygon_mode = modes[0];
-    for (int i = 0; i < 4; ++i)
+    for (int i = 0; i < 10; ++i)
         f->GetIntegerv(pack_names[i], &b->pack[i]);
+    f->GetIntegerv(GL_PIXEL_PACK_BUFFER_BINDING, &b->pack_buffer);
+    f->GetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &b->unpack_buffer);
 }
 
 void halo_gl_bindings_neutral(const halo_glfuncs *f, const halo_gl_bindings *b)
 {
-    static const GLint tight[4] = {4, 0, 0, 0};
     for (int i = 0; i < 5; ++i)
         if (b->switched_on[i])
             f->Disable(halo_gl_switches[i]);
     if (b->polygon_mode && b->polygon_mode != GL_FILL)
         f->PolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-    for (int i = 0; i < 4; ++i)
+    for (int i = 0; i < 10; ++i)
         if (b->pack[i] != tight[i])
             f->PixelStorei(pack_names[i], tight[i]);
+    if (b->pack_buffer)
+        f->BindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+    if (b->unpack_buffer)
+        f->BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
 }
 
 void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b)
@@ -67,8 +76,10 @@ void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b)
             f->Enable(halo_gl_switches[i]);
     if (b->polygon_mode && b->polygon_mode != GL_FILL)
         f->PolygonMode(GL_FRONT_AND_BACK, (GLenum)b->polygon_mode);
-    for (int i = 0; i < 4; ++i)
+    for (int i = 0; i < 10; ++i)
         f->PixelStorei(pack_names[i], b->pack[i]);
+    f->BindBuffer(GL_PIXEL_PACK_BUFFER, (GLuint)b->pack_buffer);
+    f->BindBuffer(GL_PIXEL_UNPACK_BUFFER, (GLuint)b->unpack_buffer);
 }
 
 /* The context's kind, and its entry points made to say what it has: a loader such as

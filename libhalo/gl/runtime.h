@@ -51,11 +51,15 @@ typedef struct halo_gl_bindings {
     GLint draw_framebuffer, read_framebuffer, viewport[4], program, vertex_array, active_texture;
     GLboolean switched_on[5];                      /* halo_gl_switches: culling ... sRGB (desktop GL) */
     GLint polygon_mode;                            /* desktop GL only; 0: not queried */
-    GLint pack[4];                                 /* alignment, row length, skip rows, skip pixels */
+    GLint pack[10];                                /* pixel store: pack alignment, row length, skip rows,
+                                                    * skip pixels; unpack alignment, row length, image
+                                                    * height, skip rows, skip pixels, skip images */
+    GLint pack_buffer, unpack_buffer;              /* the pixel buffer bindings */
 } halo_gl_bindings;
 void halo_gl_bindings_save(const halo_glfuncs *f, halo_gl_bindings *b);
 /* What libhalo's draws need of those switches: no culling, depth or stencil test, no
- * rasterizer discard, no sRGB conversion, filled polygons, tight pixel packing. */
+ * rasterizer discard, no sRGB conversion, filled polygons, tight pixel packing and
+ * unpacking (alignment 4), no pixel pack or unpack buffer. */
 void halo_gl_bindings_neutral(const halo_glfuncs *f, const halo_gl_bindings *b);
 void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b);
 

@@ -50,7 +50,7 @@ halo_status halo_gl_frame_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         return HALO_ERROR_INPUT;
     halo_gl_frame_drawing(fr, 1);
     halo_status status = frame_draw(fr, gl_program, d, diag);
-    if (halo_gl_frame_drawing(fr, 0)) {
+    if (halo_gl_frame_drawing(fr, 0)) { /* the outermost draw, and a callback destroyed the frame */
         halo_gl_frame_destroy(fr);
         halo_diag_error(diag, USAGE, "", 0, 0,
                         "halo_gl_frame_draw: the draw callback destroyed the frame; it is destroyed now that the "
@@ -128,6 +128,8 @@ static halo_status frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo
             set_draw_buffers(f, p, location, last);
         }
         d->draw(d->user);
+        if (halo_gl_frame_drawing(fr, -1) < 0) /* the callback destroyed the frame: no more segments */
+            break;
         if (location > 0)
             halo_gl_frame_state_flip(fr);
         if (!last && generate) {
