@@ -198,7 +198,9 @@ export function installHalo(halo, material, options = {}) {
   });
   const r = program.reflection;
   const needs = [['image passes', r.passes], ['extra outputs', r.outputs], ['images', r.samplers],
-    ['host uniforms', r.host_uniforms]].filter(([, list]) => list && list.length);
+    // (halo_camera_*: the derived view and depth's, which the caster's own expressions replace)
+    ['host uniforms', (r.host_uniforms || []).filter((u) => !/^halo_camera_/.test(u.name))]]
+    .filter(([, list]) => list && list.length);
   if (needs.length) {
     const stages = (r.stages || []).map((s) => (typeof s === 'string' ? s : s.name)).join(', ');
     program.destroy();
