@@ -289,16 +289,26 @@ TESTS += tests/hosts/test_exact_work
 # ---- VTK (adapters/vtk, examples/halo-vtk): skipped (77) when configure found no VTK ----
 TESTS += tests/vtk/vtk.sh
 EXTRA_DIST += tests/vtk/vtk.sh tests/xrun.sh
-EXTRA_DIST += tests/vtk/test_vtk_lifetimes.cxx
+EXTRA_DIST += tests/vtk/test_vtk_lifetimes.cxx tests/vtk/test_vtk_two_volumes.cxx tests/vtk/test_ball.h
 if HALO_HAVE_VTK
 AM_TESTS_ENVIRONMENT += HALO_VTK='$(abs_top_builddir)/examples/halo-vtk'; export HALO_VTK;
 # the adapter's lifetimes and misuse, run by tests/vtk/vtk.sh on its X server
 check_PROGRAMS += tests/vtk/test_vtk_lifetimes
 tests_vtk_test_vtk_lifetimes_SOURCES = tests/vtk/test_vtk_lifetimes.cxx adapters/vtk/halo_vtk.cxx
-tests_vtk_test_vtk_lifetimes_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/adapters/vtk $(VTK_CPPFLAGS)
-tests_vtk_test_vtk_lifetimes_CXXFLAGS = $(AM_CXXFLAGS) -Wno-deprecated-copy -Wno-extra-semi
-tests_vtk_test_vtk_lifetimes_LDADD = $(HALO_TOOL_LIBS) $(VTK_LIBS)
+HALO_VTK_TEST_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/adapters/vtk $(VTK_CPPFLAGS)
+HALO_VTK_TEST_CXXFLAGS = $(AM_CXXFLAGS) -Wno-deprecated-copy -Wno-extra-semi
+HALO_VTK_TEST_LDADD = $(HALO_TOOL_LIBS) $(VTK_LIBS)
+tests_vtk_test_vtk_lifetimes_CPPFLAGS = $(HALO_VTK_TEST_CPPFLAGS)
+tests_vtk_test_vtk_lifetimes_CXXFLAGS = $(HALO_VTK_TEST_CXXFLAGS)
+tests_vtk_test_vtk_lifetimes_LDADD = $(HALO_VTK_TEST_LDADD)
 AM_TESTS_ENVIRONMENT += HALO_VTK_LIFETIMES='$(abs_top_builddir)/tests/vtk/test_vtk_lifetimes'; export HALO_VTK_LIFETIMES;
+# two volumes in one renderer: the depth order with the adapter on either one
+check_PROGRAMS += tests/vtk/test_vtk_two_volumes
+tests_vtk_test_vtk_two_volumes_SOURCES = tests/vtk/test_vtk_two_volumes.cxx adapters/vtk/halo_vtk.cxx
+tests_vtk_test_vtk_two_volumes_CPPFLAGS = $(HALO_VTK_TEST_CPPFLAGS)
+tests_vtk_test_vtk_two_volumes_CXXFLAGS = $(HALO_VTK_TEST_CXXFLAGS)
+tests_vtk_test_vtk_two_volumes_LDADD = $(HALO_VTK_TEST_LDADD)
+AM_TESTS_ENVIRONMENT += HALO_VTK_TWO_VOLUMES='$(abs_top_builddir)/tests/vtk/test_vtk_two_volumes'; export HALO_VTK_TWO_VOLUMES;
 endif
 
 # ---- The house: no circles between the C files of a folder (issue 12) ----

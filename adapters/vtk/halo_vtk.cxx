@@ -212,7 +212,7 @@ struct halo_vtk {
     int width = 0, height = 0;
     unsigned framebuffer = 0, color = 0, blit_program = 0, blit_vao = 0;
     int program_handle = -1;
-    unsigned host_color = 0;
+    unsigned host_color = 0, host_color_framebuffer = 0; /* VTK's image for the at=post passes */
     int host_color_width = 0, host_color_height = 0;
     const char *post_image = nullptr; /* the image the last at=post pass writes, or NULL */
     int failed = 0;                    /* a segmented draw failed (diagnostics in diag) */
@@ -758,12 +758,17 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
             h->host_color_width = w;
             h->host_color_height = h_;
         }
+        glBindTexture(GL_TEXTURE_2D, 0);
+        /* VTK's image into the texture: resolved by a blit, since VTK's framebuffer may be
+         * multisampled (a window's default), which glCopyTexSubImage2D cannot read */
         GLint read_framebuffer = 0;
         glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_framebuffer);
+        if (!h->host_color_framebuffer) glGenFramebuffers(1, &h->host_color_framebuffer);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, h->host_color_framebuffer);
+        glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, h->host_color, 0);
         glBindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)vtk_framebuffer);
-        glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, x0, y0, w, h_);
+        glBlitFramebuffer(x0, y0, x0 + w, y0 + h_, 0, 0, w, h_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
         glBindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)read_framebuffer);
-        glBindTexture(GL_TEXTURE_2D, 0);
         halo_gl_frame_post(h->frame, h->host_color);
         unsigned result = halo_gl_frame_texture(h->frame, h->post_image);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)vtk_framebuffer);
@@ -976,8 +981,14 @@ void halo_vtk_remove(halo_vtk *h) {
     if (haloVTKMapper *m = haloVTKMapper::SafeDownCast(h->mapper)) m->halo = nullptr;
     if (h->value_texture) glDeleteTextures(1, &h->value_texture);
     if (h->gradient_texture) glDeleteTextures(1, &h->gradient_texture);
+    if (h->color) glDeleteTextures(1, &h->color);
+    if (h->host_color) glDeleteTextures(1, &h->host_color);
+    if (h->framebuffer) glDeleteFramebuffers(1, &h->framebuffer);
+    if (h->host_color_framebuffer) glDeleteFramebuffers(1, &h->host_color_framebuffer);
+    if (h->blit_program) glDeleteProgram(h->blit_program);
+    if (h->blit_vao) glDeleteVertexArrays(1, &h->blit_vao);
     halo_gl_frame_destroy(h->frame);
-    halo_gl_destroy(h->gl); /* GL names of the frame, the FBO and the blit go with the context */
+    halo_gl_destroy(h->gl);
     vtkUniforms *u = h->property->GetFragmentCustomUniforms();
     for (const std::string &name : h->uniforms) u->RemoveUniform(name.c_str());
     h->mapper->RemoveObserver(h->observer_tag);

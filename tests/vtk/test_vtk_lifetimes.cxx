@@ -10,21 +10,19 @@
  *  - halo_vtk_check before any render says so. */
 #include "halo.h"
 #include "halo_vtk.h"
+#include "test_ball.h"
 
 #include <vtkAutoInit.h>
 #include <vtkColorTransferFunction.h>
-#include <vtkFloatArray.h>
 #include <vtkGPUVolumeRayCastMapper.h>
 #include <vtkImageData.h>
 #include <vtkPiecewiseFunction.h>
-#include <vtkPointData.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
 #include <vtkVolume.h>
 #include <vtkVolumeProperty.h>
 
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 
@@ -49,18 +47,7 @@ struct scene_objects {
 };
 
 static scene_objects make_objects(int halo_mapper) {
-    const int n = 16;
-    vtkSmartPointer<vtkImageData> image = vtkSmartPointer<vtkImageData>::New();
-    image->SetDimensions(n, n, n);
-    vtkSmartPointer<vtkFloatArray> values = vtkSmartPointer<vtkFloatArray>::New();
-    values->SetNumberOfTuples((vtkIdType)n * n * n);
-    for (int z = 0, i = 0; z < n; z++)
-        for (int y = 0; y < n; y++)
-            for (int x = 0; x < n; x++, i++) {
-                double r = std::sqrt((x - 7.5) * (x - 7.5) + (y - 7.5) * (y - 7.5) + (z - 7.5) * (z - 7.5));
-                values->SetValue(i, (float)(r < 5.0 ? 1.0 - r / 5.0 : 0.0));
-            }
-    image->GetPointData()->SetScalars(values);
+    vtkSmartPointer<vtkImageData> image = test_ball(0);
     scene_objects o;
     o.mapper.TakeReference(halo_mapper ? halo_vtk_mapper_new() : vtkGPUVolumeRayCastMapper::New());
     o.mapper->SetInputData(image);

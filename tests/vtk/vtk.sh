@@ -19,7 +19,8 @@
 #    same M, mean abs at most 5e-3 and at most half what the halos change in
 #    halo-render's ray caster (measured at 128x128, 64^3: 2.7e-3 to 3.9e-3 against
 #    effects of 0.011 to 0.037); control: VTK without the halo stages must fail it;
-#  - the adapter's lifetimes and misuse (test_vtk_lifetimes); tiled rendering: image
+#  - the adapter's lifetimes and misuse (test_vtk_lifetimes); two volumes in one renderer in
+#    VTK's depth order, the adapter on either (test_vtk_two_volumes); tiled rendering: image
 #    passes refused with exit 1, per-sample stages within 2/255 of a direct render (bytes);
 #  - what VTK cannot take is diagnosed with exit 1: MIP and additive blend modes, feature
 #    halos (they need a feature buffer the adapter does not provide yet).
@@ -72,6 +73,12 @@ fi
 # the adapter's lifetimes and misuse (tests/vtk/test_vtk_lifetimes.cxx)
 if test -n "${HALO_VTK_LIFETIMES:-}"; then
     "$HALO_VTK_LIFETIMES" >"$tmp/lifetimes.log" 2>&1 || { fail "test_vtk_lifetimes exited $?"; cat "$tmp/lifetimes.log" >&2; }
+fi
+
+# two volumes in one renderer: the adapter on either keeps VTK's depth order
+# (tests/vtk/test_vtk_two_volumes.cxx; VTK's default window, multisampled)
+if test -n "${HALO_VTK_TWO_VOLUMES:-}"; then
+    "$HALO_VTK_TWO_VOLUMES" >"$tmp/two_volumes.log" 2>&1 || { fail "test_vtk_two_volumes exited $?"; cat "$tmp/two_volumes.log" >&2; }
 fi
 
 # tiled rendering (an image larger than the window): image passes refused with a message,
