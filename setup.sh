@@ -20,7 +20,7 @@ packages="build-essential autoconf automake libtool pkg-config file
   libglfw3-dev xvfb xauth
   gnuplot-nox
   paraview paraview-dev python3-paraview openmpi-bin libopenmpi-dev libglew-dev libfreetype-dev cmake python3
-  glslang-tools git
+  glslang-tools git time
   emscripten nodejs npm chromium"
 
 # The web package builds jansson for WebAssembly from Debian's source package

@@ -144,6 +144,7 @@ halo_volume_status halo_volume_read_raw(const char *path, const halo_raw_desc *d
                                         char *err, size_t err_size)
 {
     memset(out, 0, sizeof *out);
+    out->reduced = 1;
     if (!desc || desc->type >= HALO_VOXEL_TYPE_COUNT || desc->offset < 0)
         return fail(HALO_VOLUME_IO, err, err_size, "%s: invalid raw description", path);
     long long dims[3] = {desc->dims[0], desc->dims[1], desc->dims[2]};
@@ -480,10 +481,72 @@ static halo_volume_status nifti_check_header(const char *path, const nifti_raw_h
 /* Reads `total` bytes at the data offset through zlib (which also reads uncompressed
  * files), growing the buffer as data arrives so that a short file never makes a
  * large allocation. */
-static halo_volume_status read_nifti_data(const char *path, const nifti_image *nim, size_t total,
-                                          unsigned char **data_out, char *err, size_t err_size)
+/* What the voxels become while they are read, a z slice at a time: floats in the file's
+ * units (scl_slope and scl_inter applied), in out->data, or, reduced by factor, each
+ * block of factor^3 voxels as their mean (labels: the block's first voxel). */
+typedef struct nifti_sink {
+    const nifti_image *nim;
+    int factor, labels, swap, scaled;
+    double slope, intercept;
+    long long dims[3];    /* the file's */
+    long long reduced[3]; /* out->data's: ceil(dims / factor) */
+    float *data;
+} nifti_sink;
+
+static void sink_slice(nifti_sink *k, unsigned char *slice, long long z)
 {
-    *data_out = NULL;
+    const long long nx = k->dims[0], ny = k->dims[1], rx = k->reduced[0], ry = k->reduced[1];
+    const int bytes = k->nim->nbyper, f = k->factor;
+    if (bytes > 1 && k->swap)
+        nifti_swap_Nbytes((int64_t)(nx * ny), k->nim->swapsize > 1 ? k->nim->swapsize : bytes, slice);
+    if (f > 1 && k->labels && z % f)
+        return; /* labels: only each block's first slice */
+    float *plane = k->data + (size_t)(z / f) * (size_t)rx * (size_t)ry;
+    for (long long y = 0; y < ny; ++y) {
+        if (f > 1 && k->labels && y % f)
+            continue;
+        const unsigned char *row = slice + (size_t)y * (size_t)nx * (size_t)bytes;
+        float *out = plane + (size_t)(y / f) * (size_t)rx;
+        for (long long x = 0; x < nx; ++x) {
+            if (f > 1 && k->labels && x % f)
+                continue;
+            double v = nifti_value(row + (size_t)x * (size_t)bytes, k->nim->datatype);
+            if (k->scaled)
+                v = v * k->slope + k->intercept;
+            if (f == 1 || k->labels)
+                out[x / f] = (float)v; /* beyond float range: infinite, then replaced */
+            else
+                out[x / f] += (float)v;
+        }
+    }
+}
+
+/* The means of the reduced blocks (the last block along an axis may hold fewer voxels). */
+static void sink_finish(nifti_sink *k)
+{
+    const int f = k->factor;
+    if (f == 1 || k->labels)
+        return;
+    for (long long z = 0, i = 0; z < k->reduced[2]; ++z)
+        for (long long y = 0; y < k->reduced[1]; ++y)
+            for (long long x = 0; x < k->reduced[0]; ++x, ++i) {
+                long long n = 1;
+                const long long at[3] = {x, y, z};
+                for (int a = 0; a < 3; ++a) {
+                    long long first = at[a] * f, last = first + f < k->dims[a] ? first + f : k->dims[a];
+                    n *= last - first;
+                }
+                k->data[i] /= (float)n;
+            }
+}
+
+/* Reads the voxel data a z slice at a time into the sink: resident memory is one
+ * slice beside the sink's floats, never the whole file's bytes. */
+static halo_volume_status read_nifti_data(const char *path, nifti_sink *k, char *err, size_t err_size)
+{
+    const nifti_image *nim = k->nim;
+    const size_t slice_bytes = (size_t)k->dims[0] * (size_t)k->dims[1] * (size_t)nim->nbyper;
+    const size_t total = slice_bytes * (size_t)k->dims[2];
     const char *data_path = nim->iname ? nim->iname : path;
     if (!ends_with(data_path, ".gz")) {
         struct stat st;
@@ -505,48 +568,65 @@ static halo_volume_status read_nifti_data(const char *path, const nifti_image *n
         return fail(HALO_VOLUME_IO, err, err_size, "%s: truncated: ends before the voxel data at offset %lld",
                     data_path, (long long)nim->iname_offset);
     }
-    size_t capacity = total < ((size_t)16 << 20) ? total : ((size_t)16 << 20);
-    unsigned char *data = malloc(capacity ? capacity : 1);
+    unsigned char *slice = malloc(slice_bytes);
+    if (!slice) {
+        gzclose(gz);
+        return fail(HALO_VOLUME_IO, err, err_size, "%s: out of memory for a slice of %zu bytes", data_path,
+                    slice_bytes);
+    }
     size_t have = 0;
     char why[128] = "end of file"; /* gzerror's text lives in the gzFile: copy it before gzclose */
-    while (data && have < total) {
-        if (have == capacity) {
-            size_t grown = capacity * 2 < total ? capacity * 2 : total;
-            unsigned char *bigger = realloc(data, grown);
-            if (!bigger) {
-                free(data);
-                data = NULL;
+    for (long long z = 0; z < k->dims[2]; ++z) {
+        size_t in_slice = 0;
+        while (in_slice < slice_bytes) {
+            size_t want = slice_bytes - in_slice;
+            if (want > ((size_t)1 << 30))
+                want = (size_t)1 << 30;
+            int got = gzread(gz, slice + in_slice, (unsigned)want);
+            if (got <= 0) {
+                int code = Z_OK;
+                const char *message = gzerror(gz, &code);
+                if ((got < 0 || code != Z_OK) && message && message[0])
+                    snprintf(why, sizeof why, "%s", message);
                 break;
             }
-            data = bigger;
-            capacity = grown;
+            in_slice += (size_t)got;
         }
-        size_t want = capacity - have;
-        if (want > ((size_t)1 << 30))
-            want = (size_t)1 << 30;
-        int got = gzread(gz, data + have, (unsigned)want);
-        if (got <= 0) {
-            int code = Z_OK;
-            const char *message = gzerror(gz, &code);
-            if ((got < 0 || code != Z_OK) && message && message[0])
-                snprintf(why, sizeof why, "%s", message);
+        have += in_slice;
+        if (in_slice < slice_bytes)
             break;
-        }
-        have += (size_t)got;
+        sink_slice(k, slice, z);
     }
     gzclose(gz);
-    if (!data)
-        return fail(HALO_VOLUME_IO, err, err_size, "%s: out of memory for %zu bytes of voxel data", data_path, total);
-    if (have < total) {
-        free(data);
+    free(slice);
+    if (have < total)
         return fail(HALO_VOLUME_IO, err, err_size, "%s: truncated: %s after %zu of the %zu bytes of voxel data",
                     data_path, why, have, total);
-    }
-    *data_out = data;
+    sink_finish(k);
     return HALO_VOLUME_OK;
 }
 
+/* The reduction factor for a cube of the given side (0: none): the largest integer
+ * that keeps at least twice the side along the longest axis, when the float copy
+ * would pass HALO_VOLUME_FILE_STREAM_BYTES; else 1. */
+static int reduction_factor(const long long dims[3], int side)
+{
+    long long longest = dims[0] > dims[1] ? dims[0] : dims[1];
+    longest = longest > dims[2] ? longest : dims[2];
+    double bytes = 4.0 * (double)dims[0] * (double)dims[1] * (double)dims[2];
+    if (side <= 0 || bytes <= (double)HALO_VOLUME_FILE_STREAM_BYTES)
+        return 1;
+    long long f = longest / (2LL * side);
+    return f > 1 ? (int)f : 1;
+}
+
 halo_volume_status halo_volume_read_nifti(const char *path, halo_volume_file *out, char *err, size_t err_size)
+{
+    return halo_volume_read_nifti_for(path, 0, 0, out, err, err_size);
+}
+
+halo_volume_status halo_volume_read_nifti_for(const char *path, int side, int labels, halo_volume_file *out,
+                                              char *err, size_t err_size)
 {
     memset(out, 0, sizeof *out);
     FILE *probe = fopen(path, "rb");
@@ -568,7 +648,6 @@ halo_volume_status halo_volume_read_nifti(const char *path, halo_volume_file *ou
     if (header.version)
         nim->iname_offset = (int64_t)header.vox_offset; /* the checked value, never a repaired one */
     halo_volume_status status = HALO_VOLUME_OK;
-    unsigned char *raw = NULL;
     long long dims[3] = {nim->nx, nim->ny, nim->nz};
     size_t voxels = 0;
     if (nim->ndim < 1 || nim->ndim > 7) {
@@ -593,50 +672,51 @@ halo_volume_status halo_volume_read_nifti(const char *path, halo_volume_file *ou
                           (long long)nim->dim[d]);
             goto done;
         }
-    int bytes = nim->nbyper;
-    status = read_nifti_data(path, nim, voxels * (size_t)bytes, &raw, err, err_size);
+    nifti_sink sink = {nim, reduction_factor(dims, side), labels, 0, 0, nim->scl_slope, nim->scl_inter,
+                       {dims[0], dims[1], dims[2]}, {0, 0, 0}, NULL};
+    sink.swap = nim->byteorder != nifti_short_order();
+    sink.scaled = isfinite(sink.slope) && sink.slope != 0.0 && isfinite(sink.intercept) &&
+                  (sink.slope != 1.0 || sink.intercept != 0.0);
+    size_t kept = 1;
+    for (int a = 0; a < 3; ++a) {
+        sink.reduced[a] = (dims[a] + sink.factor - 1) / sink.factor;
+        kept *= (size_t)sink.reduced[a];
+    }
+    out->data = sink.data = calloc(kept, sizeof *out->data);
+    if (!out->data) {
+        status = fail(HALO_VOLUME_IO, err, err_size, "%s: out of memory for %zu voxels", path, kept);
+        goto done;
+    }
+    status = read_nifti_data(path, &sink, err, err_size);
     if (status != HALO_VOLUME_OK)
         goto done;
-    if (bytes > 1 && nim->byteorder != nifti_short_order())
-        nifti_swap_Nbytes((int64_t)voxels, nim->swapsize > 1 ? nim->swapsize : bytes, raw);
-
-    out->data = malloc(voxels * sizeof *out->data);
-    if (!out->data) {
-        status = fail(HALO_VOLUME_IO, err, err_size, "%s: out of memory for %zu voxels", path, voxels);
-        goto done;
-    }
-    double slope = nim->scl_slope, intercept = nim->scl_inter;
-    int scaled = isfinite(slope) && slope != 0.0 && isfinite(intercept) && (slope != 1.0 || intercept != 0.0);
-    for (size_t i = 0; i < voxels; ++i) {
-        double x = nifti_value(raw + i * (size_t)bytes, nim->datatype);
-        if (scaled)
-            x = x * slope + intercept;
-        out->data[i] = (float)x; /* beyond float range: infinite, then replaced below */
-    }
-    free(raw);
-    raw = NULL;
 
     double spacing[3] = {nim->dx, nim->dy, nim->dz};
     for (int a = 0; a < 3; ++a) {
-        out->dims[a] = (int)dims[a];
-        out->spacing[a] = isfinite(spacing[a]) && fabs(spacing[a]) > 1e-9 ? fabs(spacing[a]) : 1.0;
+        out->dims[a] = (int)sink.reduced[a];
+        out->spacing[a] = (isfinite(spacing[a]) && fabs(spacing[a]) > 1e-9 ? fabs(spacing[a]) : 1.0) * sink.factor;
         out->display_axis[a] = a;
         out->display_flip[a] = 0;
     }
+    out->reduced = sink.factor;
     int oriented = nifti_display_axes(nim, out->display_axis, out->display_flip);
     long long extra = 1;
     for (int d = 4; d <= 7 && d <= nim->ndim; ++d)
         extra = extra > INT_MAX / nim->dim[d] ? INT_MAX : extra * nim->dim[d];
     out->discarded_volumes = extra - 1 > INT_MAX ? INT_MAX : (int)(extra - 1);
     const char *units = nim->xyz_units ? nifti_units_string(nim->xyz_units) : "";
-    snprintf(out->description, sizeof out->description, "NIfTI-%d, %s, %dx%dx%d voxels of %gx%gx%g%s%s%s", 
-             nim->nifti_type >= NIFTI_FTYPE_NIFTI2_1 ? 2 : 1, nifti_datatype_string(nim->datatype), out->dims[0],
-             out->dims[1], out->dims[2], out->spacing[0], out->spacing[1], out->spacing[2], units[0] ? " " : "",
-             units, oriented ? "" : ", no orientation (axes kept)");
-    status = replace_nonfinite(path, out, voxels, err, err_size);
+    char reduced[96] = "";
+    if (sink.factor > 1)
+        snprintf(reduced, sizeof reduced, ", read reduced by %d to %dx%dx%d (%s)", sink.factor, out->dims[0],
+                 out->dims[1], out->dims[2], labels ? "each block's first voxel" : "block means");
+    snprintf(out->description, sizeof out->description, "NIfTI-%d, %s, %lldx%lldx%lld voxels of %gx%gx%g%s%s%s%s",
+             nim->nifti_type >= NIFTI_FTYPE_NIFTI2_1 ? 2 : 1, nifti_datatype_string(nim->datatype), dims[0],
+             dims[1], dims[2], out->spacing[0] / sink.factor, out->spacing[1] / sink.factor,
+             out->spacing[2] / sink.factor, units[0] ? " " : "", units, oriented ? "" : ", no orientation (axes kept)",
+             reduced);
+    status = replace_nonfinite(path, out, kept, err, err_size);
 
 done:
-    free(raw);
     if (status != HALO_VOLUME_OK)
         halo_volume_file_free(out);
     nifti_image_free(nim);

@@ -22,6 +22,8 @@ typedef enum halo_volume_status {
  * 4-D file counts), so that the float copy stays below 2 GiB. */
 #define HALO_VOLUME_FILE_MAX_SIDE 8192
 #define HALO_VOLUME_FILE_MAX_VOXELS ((size_t)1 << 29)
+/* Above this float copy, halo_volume_read_nifti_for reduces while it reads (256 MiB). */
+#define HALO_VOLUME_FILE_STREAM_BYTES ((size_t)256 << 20)
 
 typedef enum halo_voxel_type {
     HALO_VOXEL_UINT8 = 0,
@@ -60,10 +62,22 @@ typedef struct halo_volume_file {
     float *data;
     size_t nonfinite;   /* NaN or infinite voxels, replaced by the smallest finite value */
     int discarded_volumes; /* a 4-D file's volumes after the first, not read */
+    int reduced;        /* 1, or the factor halo_volume_read_nifti_for reduced each axis by */
     char description[256]; /* "NIfTI-1, uint8, 301x370x316, 0.5x0.5x0.5 mm, L->R P->A I->S" */
 } halo_volume_file;
 
 halo_volume_status halo_volume_read_nifti(const char *path, halo_volume_file *out, char *err, size_t err_size);
+/* Reads for a cube of a known side (halo_volume_to_display's size; 0: unknown, the same
+ * as halo_volume_read_nifti). The voxels are read a z slice at a time, so resident
+ * memory is the float copy and one slice, never the file's bytes beside them; and a
+ * volume whose float copy would pass HALO_VOLUME_FILE_STREAM_BYTES is reduced while it
+ * is read, by the largest integer factor that keeps at least twice the side along its
+ * longest axis: each block of factor^3 voxels becomes their mean (labels != 0: the
+ * block's first voxel, never a blend of ids), the spacing grows by the factor, and
+ * out->reduced and the description say so. A volume and its labels read for the same
+ * side are reduced alike. */
+halo_volume_status halo_volume_read_nifti_for(const char *path, int side, int labels, halo_volume_file *out,
+                                              char *err, size_t err_size);
 halo_volume_status halo_volume_read_raw(const char *path, const halo_raw_desc *desc, halo_volume_file *out,
                                         char *err, size_t err_size);
 void halo_volume_file_free(halo_volume_file *v);

@@ -342,7 +342,9 @@ static int prepare_labels(const options *o, const halo_volume_file *vol, int siz
 {
     halo_volume_file file;
     char err[512];
-    halo_volume_status status = halo_volume_read_nifti(o->labels_path, &file, err, sizeof err);
+    /* read for the same side as the volume: reduced alike (halo_volume_read_nifti_for) */
+    halo_volume_status status = halo_volume_read_nifti_for(o->labels_path, o->have_volume_size ? o->volume_size : 0, 1,
+                                                           &file, err, sizeof err);
     if (status != HALO_VOLUME_OK) {
         fprintf(stderr, "halo-render: error: --labels: %s\n", err);
         return (int)status;
@@ -399,7 +401,9 @@ static int prepare_volume(const options *o, const halo_render_settings *settings
     halo_progress step;
     halo_progress_begin(&step, o->quiet ? NULL : TOOL, "reading the volume", 1);
     halo_volume_status status = o->raw ? halo_volume_read_raw(o->volume_path, &o->raw_desc, &file, err, sizeof err)
-                                       : halo_volume_read_nifti(o->volume_path, &file, err, sizeof err);
+                                       : halo_volume_read_nifti_for(o->volume_path,
+                                                                    o->have_volume_size ? o->volume_size : 0, 0, &file,
+                                                                    err, sizeof err);
     halo_progress_end(&step, 0, "read the volume");
     if (status != HALO_VOLUME_OK) {
         fprintf(stderr, "halo-render: error: %s\n", err);
