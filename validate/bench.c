@@ -9,6 +9,7 @@
  * --table1: Table 1 of Bruckner & Groller 2007 and the 75 % target at M = 4.
  * --specialize: what the linker's specialization buys against uniform switches. */
 #include "bench.h"
+#include "figure3.h"
 
 #include "bench_budget.h"
 #include "bench_memory.h"
@@ -247,6 +248,17 @@ static void print_wide(const halo_bench_env *env, const halo_bench_case *cases, 
             break;
         }
     }
+    for (size_t i = 0; i < count; ++i)
+        if (!strcmp(cases[i].axis, "wide") && cases[i].image) {
+            halo_figure3_wide_error e;
+            if (halo_figure3_wide(env->lib, &e, env->diag) == 0)
+                printf("# wide: on the halo field itself (emulation, Fig. 3's seed image %dx%d, delta 0.8, one"
+                       " generation): wide N = 2 against exact N = 4: max abs %.3f (exact %.3f, wide %.3f there),"
+                       " rmse %.3e; the halo 2..6 px outside each feature %.0f..%.0f %% weaker (a pixel to radius 32)\n",
+                       e.size, e.size, e.max_abs, e.exact_at_max, e.wide_at_max, e.rmse, 100.0 * e.weaker_min,
+                       100.0 * e.weaker_max);
+            break;
+        }
 }
 
 static int write_csv(const char *path, const halo_bench_case *cases, size_t count, const halo_bench_memory *memory)
