@@ -808,6 +808,9 @@ HALO_API int halo_gl_frame_read_region(const halo_gl_frame *f, int box[4]);
  * automatic count is capped there too). */
 #define HALO_SEGMENTS_MAX 65536
 
+/* The most bytes one exchange call of halo_gl_segments_desc carries (256 MiB). */
+#define HALO_GL_EXCHANGE_MAX_BYTES ((size_t)256 << 20)
+
 typedef struct halo_gl_segments_desc {
     const float *inverse_view_projection; /* required: column-major, clip space -> the space of the host's
                                            * ray positions (the halo_sample position: volume texture space) */
@@ -847,8 +850,12 @@ typedef struct halo_gl_segments_desc {
     void (*exchange)(void *user, float *values, size_t count, halo_blend blend);
                              /* with a piece: called once a frame with the seeds of every depth segment
                               * (layers x height x width x 4 floats, for each seed image), to combine
-                              * in place with the other pieces' by blend (max); then the passes run */
+                              * in place with the other pieces' by blend (max); then the passes run.
+                              * Above exchange_max_bytes the layers come in consecutive calls of at
+                              * most that many bytes each (at least one layer), the same calls on
+                              * every piece: the host's buffer stays bounded */
     void *exchange_user;
+    size_t exchange_max_bytes; /* 0: HALO_GL_EXCHANGE_MAX_BYTES */
 } halo_gl_segments_desc;
 
 /* Sets the camera uniforms of halo_view_at and halo_depth_at (the program must be current).

@@ -62,7 +62,8 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag);
 halo_status halo_vtk_set_whole_extent(halo_vtk *h, const int whole_extent[6]);
 /* Volumetric halos across pieces. Drawn once (the default): libhalo's march reads each
  * piece, and once a frame exchange gets the seeds of every depth segment (layers x
- * width x height RGBA floats) to combine in place with the other pieces' by blend (max).
+ * width x height RGBA floats; above 256 MiB in consecutive calls of whole layers, the
+ * same calls on every piece) to combine in place with the other pieces' by blend (max).
  * With segments = 1: after each depth segment, the adapter reads each output
  * image (the seeds: width * height RGBA floats) and calls exchange to combine it, in
  * place, with the other pieces' by the output's blend (max for seeds), before the passes

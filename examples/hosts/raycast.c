@@ -189,6 +189,7 @@ struct halo_raycast {
     float piece_min[3], piece_max[3];
     void (*exchange)(void *user, float *values, size_t count, halo_blend blend);
     void *exchange_user;
+    size_t exchange_max_bytes;
     GLuint exit_program, exit_texture, exit_framebuffer; /* halo_raycast_set_exit_points */
     void (*untidy)(void *user, int before_draw); /* halo_raycast_set_untidy */
     void *untidy_user;
@@ -334,6 +335,12 @@ void halo_raycast_set_untidy(halo_raycast *r, void (*untidy)(void *user, int bef
         return;
     r->untidy = untidy;
     r->untidy_user = user;
+}
+
+void halo_raycast_set_exchange_max_bytes(halo_raycast *r, size_t bytes)
+{
+    if (r)
+        r->exchange_max_bytes = bytes;
 }
 
 halo_status halo_raycast_set_piece(halo_raycast *r, const float *data, int nx, int ny, int nz,
@@ -498,6 +505,7 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
                                       .piece_max = {r->piece_max[0], r->piece_max[1], r->piece_max[2]},
                                       .exchange = r->exchange,
                                       .exchange_user = r->exchange_user,
+                                      .exchange_max_bytes = r->exchange_max_bytes,
                                       .seed_epsilon = r->seed_epsilon,
                                       .gradient_precision = r->gradient_precision,
                                       .draw = draw_proxy,

@@ -112,6 +112,9 @@ halo_status halo_raycast_set_piece(halo_raycast *r, const float *data, int nx, i
                                    const float piece_min[3], const float piece_max[3],
                                    void (*exchange)(void *user, float *values, size_t count, halo_blend blend),
                                    void *user, halo_diagnostics *diag);
+/* The most bytes one exchange call carries (halo_gl_segments_desc.exchange_max_bytes;
+ * 0: libhalo's default). */
+void halo_raycast_set_exchange_max_bytes(halo_raycast *r, size_t bytes);
 /* A host that leaves its GL state untidy (tests/segments/test_segments, issue 26): with
  * untidy set, the host's draw sets the state it needs itself (no culling, depth, stencil,
  * blending, scissor or rasterizer discard, filled polygons, every colour written) and

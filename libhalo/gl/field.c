@@ -763,7 +763,12 @@ static int field_seed_exchange(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl
         halo_gl_frame_image view;
         if (!field->seed_stacks[i] || !halo_gl_frame_image_view(fr, halo_program_output(march, i)->image, &view))
             continue;
-        size_t layer = (size_t)view.width * (size_t)view.height * 4, count = layer * (size_t)layers;
+        size_t layer = (size_t)view.width * (size_t)view.height * 4;
+        /* layers in groups of at most exchange_max_bytes (at least one a call) */
+        size_t cap = d->exchange_max_bytes ? d->exchange_max_bytes : HALO_GL_EXCHANGE_MAX_BYTES;
+        size_t group = cap / (layer * sizeof(float));
+        group = group < 1 ? 1 : group > (size_t)layers ? (size_t)layers : group;
+        size_t count = layer * group;
         if (count > field->exchange_size) {
             float *grown = realloc(field->exchange_buffer, count * sizeof *grown);
             if (!grown) {
@@ -775,16 +780,22 @@ static int field_seed_exchange(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl
         }
         f->PixelStorei(GL_PACK_ALIGNMENT, 4);
         f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-        for (int j = 0; j < layers; ++j) {
-            f->FramebufferTextureLayer(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, field->seed_stacks[i], 0, j);
-            f->ReadBuffer(GL_COLOR_ATTACHMENT0);
-            f->ReadPixels(0, 0, view.width, view.height, GL_RGBA, GL_FLOAT, field->exchange_buffer + (size_t)j * layer);
+        for (int first = 0; first < layers; first += (int)group) {
+            int k = layers - first < (int)group ? layers - first : (int)group;
+            for (int j = 0; j < k; ++j) {
+                f->FramebufferTextureLayer(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, field->seed_stacks[i], 0,
+                                           first + j);
+                f->ReadBuffer(GL_COLOR_ATTACHMENT0);
+                f->ReadPixels(0, 0, view.width, view.height, GL_RGBA, GL_FLOAT,
+                              field->exchange_buffer + (size_t)j * layer);
+            }
+            f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+            d->exchange(d->exchange_user, field->exchange_buffer, layer * (size_t)k,
+                        halo_program_output(march, i)->blend);
+            f->BindTexture(GL_TEXTURE_2D_ARRAY, field->seed_stacks[i]);
+            f->TexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, first, view.width, view.height, k, GL_RGBA, GL_FLOAT,
+                             field->exchange_buffer);
         }
-        f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
-        d->exchange(d->exchange_user, field->exchange_buffer, count, halo_program_output(march, i)->blend);
-        f->BindTexture(GL_TEXTURE_2D_ARRAY, field->seed_stacks[i]);
-        f->TexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, 0, view.width, view.height, layers, GL_RGBA, GL_FLOAT,
-                         field->exchange_buffer);
     }
     return 1;
 }

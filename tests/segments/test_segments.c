@@ -104,6 +104,7 @@ typedef struct piece_setup {
     float min[3], max[3];
     void (*exchange)(void *user, float *values, size_t count, halo_blend blend);
     void *user;
+    size_t max_bytes; /* halo_gl_segments_desc.exchange_max_bytes */
 } piece_setup;
 static const piece_setup *piece;
 /* the ray caster's and the slab host's difference without halos, perspective (RMSE) */
@@ -259,6 +260,8 @@ static float *render_host(env *e, const char *scene_text, int slab, int force, i
             ok = ok && halo_raycast_set_piece(r, piece->data, piece->dims[0], piece->dims[1], piece->dims[2],
                                               piece->min, piece->max, piece->exchange, piece->user,
                                               e->g.diag) == HALO_OK;
+        if (piece)
+            halo_raycast_set_exchange_max_bytes(r, piece->max_bytes);
         ok = ok && halo_raycast_render(r, rgba, e->g.diag) == HALO_OK;
         if (drawn)
             *drawn = halo_raycast_frame(r) ? halo_gl_frame_segment_count(halo_raycast_frame(r)) : 1;
@@ -405,11 +408,12 @@ static void test_one_draw_matches(env *e, const char *scene_text, const char *wh
 
 /* ---- Host contract 3 across the pieces of a distributed volume ---- */
 
-/* The seeds a piece's exchange sees: kept (capture), or combined with those kept (max). */
+/* The seeds a piece's exchange sees: kept (capture: every call's values one after the
+ * other), or combined with those kept (max), call after call from the start. */
 typedef struct seed_exchange {
     int combine, calls;
     float *kept;
-    size_t count;
+    size_t count, at;
 } seed_exchange;
 
 static void exchange_seeds(void *user, float *values, size_t count, halo_blend blend)
@@ -417,15 +421,17 @@ static void exchange_seeds(void *user, float *values, size_t count, halo_blend b
     seed_exchange *x = user;
     x->calls++;
     if (!x->combine) {
-        free(x->kept);
-        x->kept = malloc(count * sizeof *values);
-        if (x->kept)
-            memcpy(x->kept, values, count * sizeof *values);
-        x->count = x->kept ? count : 0;
+        float *grown = realloc(x->kept, (x->count + count) * sizeof *values);
+        if (!grown)
+            return;
+        x->kept = grown;
+        memcpy(x->kept + x->count, values, count * sizeof *values);
+        x->count += count;
         return;
     }
-    for (size_t i = 0; i < count && i < x->count && blend == HALO_BLEND_MAX; ++i)
-        values[i] = values[i] > x->kept[i] ? values[i] : x->kept[i];
+    for (size_t i = 0; i < count && x->at + i < x->count && blend == HALO_BLEND_MAX; ++i)
+        values[i] = values[i] > x->kept[x->at + i] ? values[i] : x->kept[x->at + i];
+    x->at += count;
 }
 
 /* The x points [first, first + n) of the built-in volume, and their texels' box. */
@@ -440,7 +446,7 @@ static float *volume_piece(const env *e, int first, int n, piece_setup *ps)
                 data[((size_t)z * VOLUME + (size_t)y) * (size_t)n + (size_t)x] =
                     e->g.volume[((size_t)z * VOLUME + (size_t)y) * VOLUME + (size_t)(first + x)];
     *ps = (piece_setup){data, {n, VOLUME, VOLUME}, {(float)first / VOLUME, 0, 0}, {(float)(first + n) / VOLUME, 1, 1},
-                        exchange_seeds, NULL};
+                        exchange_seeds, NULL, 0};
     return data;
 }
 
@@ -471,6 +477,19 @@ static void test_pieces(env *e)
     float *a_image = render_ray(e, halos_scene, 0, 4, 0, NULL);
     a.user = &alone;
     float *a_alone = render_ray(e, halos_scene, 0, 4, 0, NULL);
+    /* the same two pieces with the exchange split into calls of one layer each
+     * (exchange_max_bytes 1: at least one layer a call) */
+    seed_exchange capture1 = {0}, combine1 = {.combine = 1};
+    b.user = &capture1;
+    b.max_bytes = 1;
+    piece = &b;
+    float *b_split = render_ray(e, halos_scene, 0, 4, 0, NULL);
+    combine1.kept = capture1.kept;
+    combine1.count = capture1.count;
+    a.user = &combine1;
+    a.max_bytes = 1;
+    piece = &a;
+    float *a_split = render_ray(e, halos_scene, 0, 4, 0, NULL);
     piece = NULL;
     one_draw = 0;
     CHECK(whole && as_piece && b_image && a_image && a_alone, "pieces: the five renders");
@@ -486,12 +505,24 @@ static void test_pieces(env *e)
         CHECK(m_same <= 1e-6, "pieces: an exchange that changes nothing changes the image by %.3g", m_same);
         CHECK(capture.calls == 1 && combine.calls == 1, "pieces: one exchange a frame (%d, %d)", capture.calls,
               combine.calls);
+        double m_split = 1.0, r_split;
+        if (a_split && b_split)
+            difference(a_split, a_image, &m_split, &r_split);
+        printf("pieces: the exchange in calls of one layer (%d and %d calls, %zu floats in all): max abs %.3g against "
+               "one call\n", capture1.calls, combine1.calls, capture1.count, m_split);
+        CHECK(capture1.calls > 1 && capture1.calls == combine1.calls && capture1.count == capture.count,
+              "pieces: the split exchange: %d and %d calls, %zu floats (one call: %zu)", capture1.calls,
+              combine1.calls, capture1.count, capture.count);
+        CHECK(m_split == 0.0, "pieces: the split exchange changes the image by %.3g", m_split);
         /* the pieces' gradients at the shared points are one-sided (no ghost points) */
         CHECK(r_pieces <= 2e-3, "pieces: two pieces against the whole volume: RMSE %.3g > 2e-3", r_pieces);
         CHECK(r_alone > 5.0 * r_pieces, "pieces: the other piece's seeds change little (RMSE %.3g against %.3g)",
               r_alone, r_pieces);
     }
     free(capture.kept);
+    free(capture1.kept);
+    free(a_split);
+    free(b_split);
     free(all_data);
     free(a_data);
     free(b_data);
