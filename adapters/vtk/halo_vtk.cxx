@@ -34,6 +34,7 @@
 #include <vtkPointData.h>
 #include <vtkShader.h>
 #include <vtkShaderProgram.h>
+#include <vtkTextureUnitManager.h>
 #include <vtkSmartPointer.h>
 #include <vtkUniforms.h>
 #include <vtkVolume.h>
@@ -201,6 +202,7 @@ struct halo_vtk {
     vtkSmartPointer<vtkCallbackCommand> start_observer; /* binds the gradient texture */
     unsigned long start_observer_tag = 0;
     int saved_gradient_binding = 0;
+    std::vector<int> reserved_units; /* held in VTK's texture unit manager during the mapper's render */
     std::string last_source; /* the fragment shader VTK built last */
     int last_handle = -1;
     int builds = 0;
@@ -366,8 +368,47 @@ unsigned volume_textures(halo_vtk *h, vtkImageData *image, int value) {
 
 /* Before VTK's mapper renders (every path: VTK alone, one draw, segments): the gradient
  * texture on its unit, made or remade first; the unit's binding is restored after. */
+/* The texture units the adapter binds by number (the gradient's, and with the halo mapper
+ * libhalo's images from first_unit on), held in the window's texture unit manager from
+ * the mapper's render start to its end, so that the textures VTK activates meanwhile
+ * take other units. A unit already held is a collision: refused with a message. */
+const int reserved_halo_units = 12; /* first_unit and the frame's images after it */
+int reserve_units(halo_vtk *h) {
+    vtkOpenGLRenderWindow *window =
+        h->renderer ? vtkOpenGLRenderWindow::SafeDownCast(h->renderer->GetRenderWindow()) : nullptr;
+    vtkTextureUnitManager *units = window ? window->GetTextureUnitManager() : nullptr;
+    if (!units) return 1;
+    int last = h->segmented ? first_unit + reserved_halo_units - 1 : gradient_unit;
+    if (last >= units->GetNumberOfTextureUnits()) last = units->GetNumberOfTextureUnits() - 1;
+    for (int u = gradient_unit; u <= last; u++) {
+        if (units->IsAllocated(u)) {
+            if (!h->failed)
+                add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
+                          "libhalo-vtk: texture unit " + std::to_string(u) +
+                              " is held in VTK's texture unit manager when the volume renders; the adapter binds "
+                              "its textures on units " + std::to_string(gradient_unit) + " to " +
+                              std::to_string(last) + " (docs/hosts/vtk.md)");
+            h->failed = 1;
+            return 0;
+        }
+        if (units->Allocate(u) == u) h->reserved_units.push_back(u);
+    }
+    return 1;
+}
+
+void release_units(halo_vtk *h) {
+    vtkOpenGLRenderWindow *window =
+        h->renderer ? vtkOpenGLRenderWindow::SafeDownCast(h->renderer->GetRenderWindow()) : nullptr;
+    vtkTextureUnitManager *units = window ? window->GetTextureUnitManager() : nullptr;
+    for (int u : h->reserved_units)
+        if (units && units->IsAllocated(u)) units->Free(u);
+    h->reserved_units.clear();
+}
+
 void on_render_start(vtkObject *, unsigned long, void *client, void *) {
     halo_vtk *h = static_cast<halo_vtk *>(client);
+    release_units(h); /* a render that did not end (an exception in VTK) */
+    reserve_units(h);
     vtkImageData *image = vtkImageData::SafeDownCast(h->mapper->GetInput());
     GLint active = GL_TEXTURE0;
     glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
@@ -383,6 +424,7 @@ void on_render_start(vtkObject *, unsigned long, void *client, void *) {
  * shader cache bound last (VTK 9.1 sends no UpdateShaderEvent from the volume mapper). */
 void on_render_end(vtkObject *, unsigned long, void *client, void *) {
     halo_vtk *h = static_cast<halo_vtk *>(client);
+    release_units(h);
     GLint active = GL_TEXTURE0;
     glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
     glActiveTexture(GL_TEXTURE0 + gradient_unit);

@@ -7,7 +7,9 @@
  *    halo_vtk_remove: the install holds its own references, nothing is used after free
  *    (under AddressSanitizer in CI);
  *  - NULL arguments and a NULL diagnostics list: a NULL result or HALO_ERROR_INPUT, no crash;
- *  - halo_vtk_check before any render says so. */
+ *  - halo_vtk_check before any render says so;
+ *  - the texture units the adapter binds by number: held during the render, given back,
+ *    a unit the application holds refused. */
 #include "halo.h"
 #include "halo_vtk.h"
 #include "test_ball.h"
@@ -16,10 +18,12 @@
 #include <vtkColorTransferFunction.h>
 #include <vtkGPUVolumeRayCastMapper.h>
 #include <vtkImageData.h>
+#include <vtkOpenGLRenderWindow.h>
 #include <vtkPiecewiseFunction.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
+#include <vtkTextureUnitManager.h>
 #include <vtkVolume.h>
 #include <vtkVolumeProperty.h>
 
@@ -141,6 +145,28 @@ int main(void) {
             halo_diagnostics_print(diag, stderr);
             halo_diagnostics_clear(diag);
         } /* the mapper, volume, renderer and window: the application's references dropped */
+        halo_vtk_remove(h);
+    }
+
+    /* the texture units the adapter binds by number are held in VTK's texture unit manager
+     * during the volume's render and given back after; one already held is refused */
+    for (int halo_mapper = 0; halo_mapper < 2; halo_mapper++) {
+        scene_objects o = make_objects(halo_mapper);
+        halo_vtk *h = install(o, lib, halo_mapper ? halos : plain, diag);
+        o.window->Render();
+        vtkTextureUnitManager *units = vtkOpenGLRenderWindow::SafeDownCast(o.window)->GetTextureUnitManager();
+        CHECK(h && halo_vtk_check(h, diag) == HALO_OK, "the units: a render");
+        CHECK(units && !units->IsAllocated(19) && !units->IsAllocated(20), "the units are given back after the render");
+        halo_diagnostics_print(diag, stderr);
+        halo_diagnostics_clear(diag);
+        halo_vtk_remove(h);
+        h = install(o, lib, halo_mapper ? halos : plain, diag);
+        if (units) units->Allocate(19);
+        o.window->Render();
+        CHECK(h && halo_vtk_check(h, diag) != HALO_OK && halo_diagnostics_has(diag, HALO_MSG_ENGINE_UNSUPPORTED),
+              "a texture unit held by the application is refused with ENGINE_UNSUPPORTED");
+        halo_diagnostics_clear(diag);
+        if (units) units->Free(19);
         halo_vtk_remove(h);
     }
 
