@@ -534,6 +534,25 @@ HALO_API halo_target halo_program_target(const halo_program *p);
 HALO_API int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line);
 HALO_API size_t halo_program_stage_count(const halo_program *p);
 HALO_API const char *halo_program_stage(const halo_program *p, size_t index); /* in execution order */
+/* What a linked stage is, from its module's `#pragma halo is` annotation (docs/modules.md),
+ * so that hosts and adapters ask the stage instead of naming it. */
+typedef struct halo_stage_info {
+    const char *name;
+    halo_hook hook;
+    int keeps_empty;         /* `is keeps_empty`: an empty sample (value, colour, opacity and gradient 0)
+                              * stays empty, and the stage writes 0 to its outputs, where the images it
+                              * reads are 0 (a host may skip such samples: the slice host's clipping) */
+    int zero_generation;     /* `is zero_generation`: its generation passes make every image 0 from a
+                              * seed image of 0 (a host may skip the generation of an empty slab) */
+    const char *labels_when; /* `is labels_when=PARAM`: it reads halo_host_labels only for the values
+                              * of PARAM that are >= 0; NULL: whenever it declares that host uniform */
+} halo_stage_info;
+/* NULL for an index past the stages. */
+HALO_API const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t index);
+/* Whether the program reads halo_host_labels with its current parameter values (a stage
+ * declares it and, with labels_when, a value of that parameter is >= 0, or the parameter
+ * is live: it may change). */
+HALO_API int halo_program_reads_labels(const halo_program *p);
 /* Every parameter of every linked stage, live or constant. */
 HALO_API size_t halo_program_uniform_count(const halo_program *p);
 HALO_API const halo_uniform_info *halo_program_uniform(const halo_program *p, size_t index);

@@ -103,6 +103,7 @@ struct halo_module {
     halo_pass_decl *passes;
     size_t pass_count;
     halo_name_list per_halo;
+    halo_stage_info info; /* #pragma halo is: what hosts read (halo_program_stage_info) */
     int groups;          /* #pragma halo groups: channels parameters take up to HALO_MAX_GROUP_CHANNELS values,
                           * linked four at a time (feature groups, halo_program_select_group) */
 };

@@ -268,6 +268,7 @@ typedef struct parse_ctx {
     halo_diagnostics *diag;
     int errors;
     int module_tried, hook_tried; /* a 'module' or 'hook' annotation was there, malformed */
+    int labels_when_line, labels_when_col; /* where 'is labels_when=' was */
 } parse_ctx;
 
 #define ANNOT_ERROR(ctx, id, line, col, ...)                                                                     \
@@ -743,13 +744,29 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
     } else if (!strcmp(d, "per_halo")) {
         if (w.n < 2) ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'per_halo' takes parameter names");
         for (int i = 1; i < w.n; i++) halo_name_list_add(&m->per_halo, w.w[i], strlen(w.w[i]), line);
+    } else if (!strcmp(d, "is")) {
+        /* what the stage is, for hosts (halo_stage_info) */
+        if (w.n < 2) ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[0], "'is' takes one or more properties");
+        for (int i = 1; i < w.n; i++) {
+            if (!strcmp(w.w[i], "keeps_empty")) m->info.keeps_empty = 1;
+            else if (!strcmp(w.w[i], "zero_generation")) m->info.zero_generation = 1;
+            else if (!strncmp(w.w[i], "labels_when=", 12) && valid_name(w.w[i] + 12) && !m->info.labels_when)
+            {
+                m->info.labels_when = halo_strdup(w.w[i] + 12);
+                ctx->labels_when_line = line;
+                ctx->labels_when_col = w.col[i];
+            } else
+                ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[i],
+                            "'%s' is not a property 'is' takes (keeps_empty, zero_generation, labels_when=PARAM, "
+                            "once)", w.w[i]);
+        }
     } else if (!strcmp(d, "declarations")) {
         ANNOT_ERROR(ctx, ANNOTATION_UNKNOWN, line, w.col[0],
                     "'#pragma halo declarations' belongs in a host shader, not in a module");
     } else {
         ANNOT_ERROR(ctx, ANNOTATION_UNKNOWN, line, w.col[0],
                     "unknown directive '%s' (module, library, summary, hook, needs, provides, after, param, "
-                    "output, image, host_uniform, pass, per_halo, groups)", d);
+                    "output, image, host_uniform, pass, per_halo, groups, is)", d);
     }
 }
 
@@ -849,7 +866,7 @@ static int pass_param_invalid(const halo_module *m, halo_diagnostics *diag, cons
 halo_module *halo_module_parse(const char *file, const char *source, halo_diagnostics *diag) {
     halo_module *m = calloc(1, sizeof *m);
     if (!m) return NULL;
-    parse_ctx ctx = {m, diag, 0, 0, 0};
+    parse_ctx ctx = {m, diag, 0, 0, 0, 0, 0};
     source = halo_skip_bom(source); /* a UTF-8 byte-order mark is no part of the module */
     m->file = halo_strdup(file);
     m->source = halo_strdup(source);
@@ -894,6 +911,15 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
     } else if (m->module_line && !m->is_library && !m->hook_line && !ctx.hook_tried) {
         halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_MISSING, file, m->module_line, 1,
                       m->lines[m->module_line - 1], "module '%s' has no '#pragma halo hook' annotation", m->name);
+        ctx.errors++;
+    }
+    m->info.name = m->name;
+    m->info.hook = m->hook;
+    if (m->info.labels_when && !halo_module_find_param(m, m->info.labels_when)) {
+        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, ctx.labels_when_line,
+                      ctx.labels_when_col, m->lines[ctx.labels_when_line - 1],
+                      "'is labels_when=%s': the module has no parameter '%s'", m->info.labels_when,
+                      m->info.labels_when);
         ctx.errors++;
     }
     /* Tokens of the code, annotation lines left out. */
@@ -981,6 +1007,7 @@ oom:
 void halo_module_free(halo_module *m) {
     if (!m) return;
     free(m->name);
+    free((char *)m->info.labels_when);
     free(m->file);
     free(m->summary);
     halo_name_list_free(&m->needs);

@@ -167,6 +167,25 @@ const char *halo_program_stage(const halo_program *p, size_t i) {
     HALO_REFUSE_NULL(NULL, p, "program", NULL);
     return i < p->stage_count ? p->stages[i].module->name : NULL;
 }
+const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t i) {
+    HALO_REFUSE_NULL(NULL, p, "program", NULL);
+    return i < p->stage_count ? &p->stages[i].module->info : NULL;
+}
+int halo_program_reads_labels(const halo_program *p) {
+    HALO_REFUSE_NULL(NULL, p, "program", 0);
+    for (size_t i = 0; i < p->stage_count; i++) {
+        const halo_module *m = p->stages[i].module;
+        int declares = 0;
+        for (size_t k = 0; k < m->host_uniform_count; k++) declares |= !strcmp(m->host_uniforms[k].name, "labels");
+        if (!declares) continue;
+        if (!m->info.labels_when) return 1;
+        const halo_uniform_info *u = halo_program_find_uniform(p, m->name, m->info.labels_when);
+        if (!u || u->live) return 1;
+        for (int k = 0; k < u->count; k++)
+            if (u->value[k] >= 0.0) return 1;
+    }
+    return 0;
+}
 PROGRAM_GETTER(size_t, halo_program_uniform_count, 0, p->uniform_count)
 PROGRAM_ITEM(halo_uniform_info, halo_program_uniform, uniform_count, uniforms)
 const halo_uniform_info *halo_program_find_uniform(const halo_program *p, const char *stage, const char *param) {
@@ -329,6 +348,17 @@ char *halo_program_reflect_json(const halo_program *p) {
     json_t *stages = json_array();
     for (size_t s = 0; s < p->stage_count; s++) json_array_append_new(stages, json_string(p->stages[s].module->name));
     json_object_set_new(root, "stages", stages);
+    json_t *infos = json_array();
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_stage_info *in = &p->stages[s].module->info;
+        json_t *o = json_object();
+        json_object_set_new(o, "name", json_string(in->name));
+        json_object_set_new(o, "keeps_empty", json_boolean(in->keeps_empty));
+        json_object_set_new(o, "zero_generation", json_boolean(in->zero_generation));
+        json_object_set_new(o, "labels_when", in->labels_when ? json_string(in->labels_when) : json_null());
+        json_array_append_new(infos, o);
+    }
+    json_object_set_new(root, "stage_info", infos);
     json_t *uniforms = json_array(), *constants = json_array();
     for (size_t i = 0; i < p->uniform_count; i++) {
         const halo_uniform_info *u = &p->uniforms[i];

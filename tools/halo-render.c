@@ -327,14 +327,10 @@ static int scene_sets_window(const char *scene_path, const char *scene_text)
     return has;
 }
 
-/* Whether a feature of outline_feature reads the labels (label >= 0). */
+/* Whether a stage reads the labels with the scene's values (halo_stage_info.labels_when). */
 static int has_label_feature(const halo_program *program)
 {
-    const halo_uniform_info *u = halo_program_find_uniform(program, "outline_feature", "label");
-    for (int k = 0; u && u->value && k < u->count; ++k)
-        if (u->value[k] >= 0.0)
-            return 1;
-    return 0;
+    return halo_program_reads_labels(program);
 }
 
 /* The segmentation of --labels, on the grid of the volume file vol: the same cube. */

@@ -906,13 +906,8 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     }
     for (size_t i = 0; i < halo_program_host_uniform_count(program); i++) {
         const char *name = halo_program_host_uniform(program, i)->name;
-        /* a segmentation is read only for features with a label: without one, no labels needed */
-        int labels_unused = 0;
-        if (!strcmp(name, "halo_host_labels")) {
-            const halo_uniform_info *u = halo_program_find_uniform(program, "outline_feature", "label");
-            labels_unused = u && !u->live;
-            for (int k = 0; labels_unused && k < u->count; k++) labels_unused = u->value[k] < 0.0;
-        }
+        /* a segmentation is read only where the stage says so (halo_stage_info.labels_when) */
+        int labels_unused = !strcmp(name, "halo_host_labels") && !halo_program_reads_labels(program);
         if (strcmp(name, "halo_host_screen_right") && strcmp(name, "halo_host_screen_up") && !labels_unused) {
             add_error(diag, HALO_MSG_ENGINE_UNSUPPORTED,
                       std::string("the scene's stages need the host uniform '") + name + "' (" +

@@ -429,8 +429,9 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
     return status;
 }
 
-/* Whether the program's generation passes are halo_generate's alone: the spreading of
- * the seed image, whose images are all zero after a generation with an empty seed image. */
+/* Whether every stage that runs generation passes says they make every image 0 from a
+ * seed image of 0 (halo_stage_info.zero_generation: halo_generate's spreading), so that
+ * a generation after an empty slab may be skipped. */
 static int generation_is_halo_spreading(const halo_program *p)
 {
     int any = 0;
@@ -438,7 +439,11 @@ static int generation_is_halo_spreading(const halo_program *p)
         const halo_pass_info *pass = halo_program_pass(p, i);
         if (pass->post)
             continue;
-        if (strcmp(pass->stage, "halo_generate"))
+        const halo_stage_info *info = NULL;
+        for (size_t k = 0; k < halo_program_stage_count(p); ++k)
+            if (!strcmp(halo_program_stage(p, k), pass->stage))
+                info = halo_program_stage_info(p, k);
+        if (!info || !info->zero_generation)
             return 0;
         any = 1;
     }
@@ -503,29 +508,21 @@ static void generation_run(generation_skip *g, halo_gl_frame *frame)
 }
 
 /* Slices clipped to the volume (issue 16, item 1). Outside the unit cube slice.frag's
- * sample is empty: value, colour, opacity and gradient 0. The stages below leave such a
- * sample empty and write 0 to their outputs when the images they read are 0 there:
- * gradient only derives the gradient's length and direction,
- * halo_seed seeds nothing without a gradient, halo_map adds nothing where its field and
- * occlusion are 0, boundary scales an opacity of 0. With only these stages linked (or
- * none), a slice's pixels outside its plane's section of the cube and outside the
- * images' nonzero box (halo_gl_frame_read_region) add nothing to any buffer: the slice
- * is scissored to the rest, or not drawn when that is empty. Other stages may make an
- * empty sample visible (opacity_power's pow(0, 0), distance cues...): their slices are
- * drawn whole. */
+ * sample is empty: value, colour, opacity and gradient 0. A stage that says it keeps
+ * such a sample empty and writes 0 to its outputs where the images it reads are 0
+ * (halo_stage_info.keeps_empty: gradient, halo_seed, halo_map, halo_generate and
+ * boundary do) adds nothing there: with only such stages linked (or none), a slice's
+ * pixels outside its plane's section of the cube and outside the images' nonzero box
+ * (halo_gl_frame_read_region) add nothing to any buffer, so the slice is scissored to
+ * the rest, or not drawn when that is empty. Other stages may make an empty sample
+ * visible (opacity_power's pow(0, 0), distance cues...): their slices are drawn whole. */
 static int slices_clippable(const halo_slice *s)
 {
-    static const char *const empty_keeping[] = {"gradient", "halo_seed", "halo_map", "halo_generate", "boundary"};
     if (s->slab || s->run_every_generation)
         return 0;
-    for (size_t i = 0; s->linked && i < halo_program_stage_count(s->linked); ++i) {
-        const char *stage = halo_program_stage(s->linked, i);
-        int known = 0;
-        for (size_t k = 0; k < sizeof empty_keeping / sizeof *empty_keeping; ++k)
-            known |= !strcmp(stage, empty_keeping[k]);
-        if (!known)
+    for (size_t i = 0; s->linked && i < halo_program_stage_count(s->linked); ++i)
+        if (!halo_program_stage_info(s->linked, i)->keeps_empty)
             return 0;
-    }
     return 1;
 }
 

@@ -1,6 +1,7 @@
 #pragma halo module halo_map
 #pragma halo summary "volumetric halos, mapping: halo profile to colour and opacity, emissive or occlusive, composited with the sample"
 #pragma halo hook sample
+#pragma halo is keeps_empty
 #pragma halo needs field occlusion
 #pragma halo after halo_seed tone_shading distance_blend distance_cue
 #pragma halo image field

@@ -1,6 +1,7 @@
 #pragma halo module halo_seed
 #pragma halo summary "volumetric halos, seeding: per-halo seed intensity of contour samples, accumulated into the seed image"
 #pragma halo hook sample
+#pragma halo is keeps_empty
 #pragma halo needs normal gradient_magnitude
 #pragma halo after opacity_power boundary silhouette orientation_fade sketch
 #pragma halo provides seed channels

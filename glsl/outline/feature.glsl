@@ -1,6 +1,7 @@
 #pragma halo module outline_feature
 #pragma halo summary "outlines, feature buffers: per feature (channel) the front-most depth and first-hit normal of its samples, and the occluder depth"
 #pragma halo hook sample
+#pragma halo is labels_when=label
 #pragma halo needs normal
 #pragma halo groups
 #pragma halo after opacity_power boundary silhouette orientation_fade sketch tone_shading distance_blend distance_cue halo_seed halo_map

@@ -1,6 +1,7 @@
 #pragma halo module boundary
 #pragma halo summary "boundary enhancement: more opacity where the gradient is strong"
 #pragma halo hook sample
+#pragma halo is keeps_empty
 #pragma halo needs gradient_magnitude
 #pragma halo after opacity_power
 #pragma halo param k_gc float default=0.7 min=0 max=1000 "fraction of the original opacity kept everywhere (dimensionless)"

@@ -1,6 +1,7 @@
 #pragma halo module gradient
 #pragma halo summary "gradient magnitude and outward unit normal of the sample"
 #pragma halo hook sample
+#pragma halo is keeps_empty
 #pragma halo provides gradient_magnitude float
 #pragma halo provides normal vec3
 

@@ -1121,6 +1121,52 @@ static int test_compositing_mip(void) {
     return 0;
 }
 
+/* What the stages are, read from their modules' '#pragma halo is' (issue 28): the slice
+ * host's clipping, its generation skip and the labels check ask these instead of names. */
+static int test_stage_info(void) {
+    halo_program *p = link_valid("{\"halo_scene\": 1, \"stages\": [\"gradient\", \"boundary\", \"tone_shading\", "
+                                 "\"halo_seed\", \"halo_generate\", \"halo_map\"]}");
+    CHECK(p != NULL);
+    if (!p) return 1;
+    static const struct { const char *name; int keeps_empty, zero_generation; } expect[] = {
+        {"gradient", 1, 0}, {"boundary", 1, 0}, {"tone_shading", 0, 0},
+        {"halo_seed", 1, 0}, {"halo_generate", 1, 1}, {"halo_map", 1, 0}};
+    for (size_t k = 0; k < sizeof expect / sizeof expect[0]; k++) {
+        int i = stage_index(p, expect[k].name);
+        const halo_stage_info *info = i >= 0 ? halo_program_stage_info(p, (size_t)i) : NULL;
+        CHECK(info != NULL);
+        if (!info) continue;
+        CHECK_STR_EQ(info->name, expect[k].name);
+        CHECK_INT_EQ(info->keeps_empty, expect[k].keeps_empty);
+        CHECK_INT_EQ(info->zero_generation, expect[k].zero_generation);
+        CHECK(info->labels_when == NULL);
+    }
+    CHECK(halo_program_stage_info(p, halo_program_stage_count(p)) == NULL);
+    CHECK_INT_EQ(halo_program_reads_labels(p), 0);
+    char *json = halo_program_reflect_json(p);
+    CHECK(json && strstr(json, "\"stage_info\"") && strstr(json, "\"zero_generation\": true"));
+    free(json);
+    halo_program_destroy(p);
+    /* outline_feature reads the labels only for a feature with label >= 0 */
+    p = link_valid("{\"halo_scene\": 1, \"stages\": [\"gradient\", {\"outline_feature\": {\"label\": [-1]}}, "
+                   "\"outlines\"]}");
+    CHECK(p != NULL);
+    if (p) {
+        const halo_stage_info *info = halo_program_stage_info(p, (size_t)stage_index(p, "outline_feature"));
+        CHECK(info && info->labels_when && !strcmp(info->labels_when, "label"));
+        CHECK_INT_EQ(halo_program_reads_labels(p), 0);
+        halo_program_destroy(p);
+    }
+    p = link_valid("{\"halo_scene\": 1, \"stages\": [\"gradient\", {\"outline_feature\": {\"label\": [-1, 3]}}, "
+                   "\"outlines\"]}");
+    CHECK(p != NULL);
+    if (p) {
+        CHECK_INT_EQ(halo_program_reads_labels(p), 1);
+        halo_program_destroy(p);
+    }
+    return 0;
+}
+
 int main(void) {
     SETUP(halo_setup(&(halo_setup_desc){0}) == HALO_OK);
     library = check_library_setup(&diags);
@@ -1149,6 +1195,7 @@ int main(void) {
     RUN_TEST(test_generate_pass_lines);
     RUN_TEST(test_feature_groups);
     RUN_TEST(test_compositing_mip);
+    RUN_TEST(test_stage_info);
     halo_library_destroy(library);
     halo_diagnostics_destroy(diags);
     halo_shutdown();

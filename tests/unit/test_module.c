@@ -349,6 +349,38 @@ static int test_reserved_name(void) {
     return 0;
 }
 
+/* '#pragma halo is': what a stage is, for hosts (halo_stage_info; issue 28) */
+static int test_is_annotation(void) {
+    CHECK_ONE_ERROR("user/is.glsl",
+                    "#pragma halo module is_unknown\n"
+                    "#pragma halo hook sample\n"
+                    "#pragma halo is keeps_empty transparent\n"
+                    "void apply(inout halo_sample s) {}\n",
+                    HALO_MSG_ANNOTATION_SYNTAX, 3);
+    CHECK_ONE_ERROR("user/is.glsl",
+                    "#pragma halo module is_empty\n"
+                    "#pragma halo hook sample\n"
+                    "#pragma halo is\n"
+                    "void apply(inout halo_sample s) {}\n",
+                    HALO_MSG_ANNOTATION_SYNTAX, 3);
+    /* labels_when names a parameter of the module */
+    CHECK_ONE_ERROR("user/is.glsl",
+                    "#pragma halo module is_labels\n"
+                    "#pragma halo hook sample\n"
+                    "#pragma halo param label float default=-1 min=-1 max=100\n"
+                    "#pragma halo is labels_when=lable\n"
+                    "void apply(inout halo_sample s) {}\n",
+                    HALO_MSG_ANNOTATION_SYNTAX, 4);
+    CHECK_INT_EQ(add("user/is_ok.glsl", "#pragma halo module is_ok\n"
+                                        "#pragma halo hook sample\n"
+                                        "#pragma halo param label float default=-1 min=-1 max=100\n"
+                                        "#pragma halo is keeps_empty\n"
+                                        "#pragma halo is labels_when=label\n"
+                                        "void apply(inout halo_sample s) {}\n"),
+                 HALO_OK);
+    return 0;
+}
+
 /* Every error in a file is reported, each at its own line. */
 static int test_all_errors_reported(void) {
     CHECK_INT_EQ(add("user/many.glsl", "#pragma halo module many_errors\n"                     /* 1 */
@@ -542,6 +574,7 @@ int main(void) {
     RUN_TEST(test_duplicate_module);
     RUN_TEST(test_reserved_name);
     RUN_TEST(test_all_errors_reported);
+    RUN_TEST(test_is_annotation);
     RUN_TEST(test_columns);
     RUN_TEST(test_reserved_param_names);
     RUN_TEST(test_pass_reach_syntax);

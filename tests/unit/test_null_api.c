@@ -273,6 +273,8 @@ CASE(halo_program_map_line) {
 }
 CASE(halo_program_stage_count) { REFUSES(halo_program_stage_count(NULL) == 0, "program"); return 0; }
 CASE(halo_program_stage) { REFUSES(halo_program_stage(NULL, 0) == NULL, "program"); return 0; }
+CASE(halo_program_stage_info) { REFUSES(halo_program_stage_info(NULL, 0) == NULL, "program"); return 0; }
+CASE(halo_program_reads_labels) { REFUSES(halo_program_reads_labels(NULL) == 0, "program"); return 0; }
 CASE(halo_program_uniform_count) { REFUSES(halo_program_uniform_count(NULL) == 0, "program"); return 0; }
 CASE(halo_program_uniform) { REFUSES(halo_program_uniform(NULL, 0) == NULL, "program"); return 0; }
 CASE(halo_program_find_uniform) {
@@ -642,6 +644,8 @@ static const api_case cases[] = {
     ROW(halo_program_map_line),
     ROW(halo_program_stage_count),
     ROW(halo_program_stage),
+    ROW(halo_program_stage_info),
+    ROW(halo_program_reads_labels),
     ROW(halo_program_uniform_count),
     ROW(halo_program_uniform),
     ROW(halo_program_find_uniform),
