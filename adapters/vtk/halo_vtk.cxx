@@ -128,6 +128,38 @@ const char finish_text[] = "gl_FragData[0] = g_fragColor;\n  halo_finish();";
 const char piece_clamp[] =
     "if (halo_vtk_piece != 0)\n"
     "    g_fragColor.rgb = clamp(g_fragColor.rgb, vec3(0.0), vec3(clamp(g_fragColor.a, 0.0, 1.0)));\n  ";
+
+/* Every replacement the adapter makes in VTK's fragment shader, in one table walked by
+ * the install (add those of its mode), halo_vtk_remove (clear every VTK text once) and
+ * halo_vtk_check (each added one is in the shader VTK built). */
+enum splice_mode : unsigned {
+    SPLICE_OWN = 1,          /* VTK's own mapper: per-sample stages */
+    SPLICE_DRAWN_ONCE = 2,   /* halo_vtk_mapper_new's, drawn once over the halo field */
+    SPLICE_SEGMENTS = 4,     /* halo_vtk_mapper_new's, drawn in depth segments */
+    SPLICE_HALO = SPLICE_DRAWN_ONCE | SPLICE_SEGMENTS,
+    SPLICE_ALL = SPLICE_OWN | SPLICE_HALO,
+};
+enum splice_text { TEXT_DECLARATIONS, TEXT_SAMPLE, TEXT_FIXED, TEXT_VISIBLE, TEXT_FINISH_OWN, TEXT_FINISH_HALO };
+struct splice {
+    const char *vtk_text; /* what VTK's shader holds */
+    bool all;             /* every occurrence (VTK's tags) or the first */
+    unsigned modes;
+    splice_text kind;
+    const char *fixed;    /* TEXT_FIXED: the replacement */
+};
+const splice splices[] = {
+    {declarations_tag, true, SPLICE_ALL, TEXT_DECLARATIONS, nullptr},
+    {splice_point, false, SPLICE_ALL, TEXT_SAMPLE, nullptr},
+    {extension_tag, true, SPLICE_OWN, TEXT_FIXED, extension_text},
+    {extension_tag, true, SPLICE_HALO, TEXT_FIXED, extension_segmented_text},
+    {begin_tag, true, SPLICE_OWN | SPLICE_DRAWN_ONCE, TEXT_FIXED, align_text},
+    {begin_tag, true, SPLICE_SEGMENTS, TEXT_FIXED, begin_text},
+    {end_tag, true, SPLICE_SEGMENTS, TEXT_FIXED, end_text},
+    {termination_text, false, SPLICE_HALO, TEXT_FIXED, termination_guarded},
+    {finish_point, false, SPLICE_OWN, TEXT_FINISH_OWN, nullptr},
+    {finish_point, false, SPLICE_HALO, TEXT_FINISH_HALO, nullptr},
+    {visible_test, false, SPLICE_HALO, TEXT_VISIBLE, nullptr},
+};
 const int first_unit = 20; /* libhalo's images: above the units VTK's volume mapper takes */
 const int gradient_unit = 19; /* the adapter's gradient texture: the binding in conversions */
 
@@ -196,6 +228,7 @@ struct halo_vtk {
     halo_program *program = nullptr;
     std::string sample;       /* the replacement at the splice point */
     std::string declarations; /* the replacement at the declarations tag */
+    unsigned mode = 0;        /* the splices' mode (splice_mode) */
     std::vector<std::string> uniforms;
     vtkSmartPointer<vtkCallbackCommand> observer;
     unsigned long observer_tag = 0;
@@ -234,6 +267,19 @@ struct halo_vtk {
 };
 
 namespace {
+
+/* A splice's replacement text for this install. */
+std::string replacement(const halo_vtk *h, const splice &sp) {
+    switch (sp.kind) {
+    case TEXT_DECLARATIONS: return h->declarations;
+    case TEXT_SAMPLE: return h->sample;
+    case TEXT_VISIBLE: return halo_program_sampler_count(h->program) ? visible_test_images : visible_test_guarded;
+    case TEXT_FINISH_OWN: return std::string(piece_clamp) + finish_point;
+    case TEXT_FINISH_HALO: return std::string(piece_clamp) + finish_text;
+    case TEXT_FIXED: break;
+    }
+    return sp.fixed;
+}
 
 /* The live installs (a second one on the same mapper or volume is refused). */
 std::vector<halo_vtk *> &installs() {
@@ -964,8 +1010,6 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
                             "g_srcColor.a = halo_vtk_correct(g_srcColor.a, 1.0 / halo_vtk_exponent());\n") +
                 halo_program_piece(program, HALO_PIECE_SAMPLE) +
                 "g_srcColor.a = halo_vtk_correct(g_srcColor.a, halo_vtk_exponent());\n" + splice_point;
-    property->AddFragmentShaderReplacement(declarations_tag, true, h->declarations, false);
-    property->AddFragmentShaderReplacement(splice_point, false, h->sample, false);
     if (segmenting) {
         h->segmented = halo_program_output_count(program) || halo_program_pass_count(program);
         for (size_t i = 0; i < halo_program_pass_count(program) && link.one_draw; i++)
@@ -973,25 +1017,10 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
         for (size_t i = 0; i < halo_program_pass_count(program); i++)
             if (halo_program_pass(program, i)->post) h->post_image = halo_program_pass(program, i)->output;
         segmenting->halo = h;
-        property->AddFragmentShaderReplacement(extension_tag, true, extension_segmented_text, false);
-        if (names.segmented) {
-            property->AddFragmentShaderReplacement(begin_tag, true, begin_text, false);
-            property->AddFragmentShaderReplacement(end_tag, true, end_text, false);
-        } else {
-            property->AddFragmentShaderReplacement(begin_tag, true, align_text, false);
-        }
-        property->AddFragmentShaderReplacement(termination_text, false, termination_guarded, false);
-        property->AddFragmentShaderReplacement(finish_point, false, std::string(piece_clamp) + finish_text, false);
-        property->AddFragmentShaderReplacement(visible_test, false,
-                                               halo_program_sampler_count(program) ? visible_test_images
-                                                                                   : visible_test_guarded,
-                                               false);
     }
-    if (!segmenting) {
-        property->AddFragmentShaderReplacement(extension_tag, true, extension_text, false);
-        property->AddFragmentShaderReplacement(finish_point, false, std::string(piece_clamp) + finish_point, false);
-        property->AddFragmentShaderReplacement(begin_tag, true, align_text, false);
-    }
+    h->mode = !segmenting ? SPLICE_OWN : names.segmented ? SPLICE_SEGMENTS : SPLICE_DRAWN_ONCE;
+    for (const splice &sp : splices)
+        if (sp.modes & h->mode) property->AddFragmentShaderReplacement(sp.vtk_text, sp.all, replacement(h, sp), false);
     h->observer = vtkSmartPointer<vtkCallbackCommand>::New();
     h->observer->SetCallback(on_render_end);
     h->observer->SetClientData(h);
@@ -1006,15 +1035,12 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
 
 void halo_vtk_remove(halo_vtk *h) {
     if (!h) return;
-    /* every replacement any path adds (clearing one that is not there does nothing) */
-    h->property->ClearFragmentShaderReplacement(declarations_tag, true);
-    h->property->ClearFragmentShaderReplacement(splice_point, false);
-    h->property->ClearFragmentShaderReplacement(finish_point, false);
-    h->property->ClearFragmentShaderReplacement(begin_tag, true);
-    h->property->ClearFragmentShaderReplacement(extension_tag, true);
-    h->property->ClearFragmentShaderReplacement(end_tag, true);
-    h->property->ClearFragmentShaderReplacement(termination_text, false);
-    h->property->ClearFragmentShaderReplacement(visible_test, false);
+    /* every VTK text of the table, once (clearing one that is not there does nothing) */
+    for (size_t i = 0; i < sizeof splices / sizeof splices[0]; i++) {
+        bool seen = false;
+        for (size_t k = 0; k < i; k++) seen |= splices[k].vtk_text == splices[i].vtk_text;
+        if (!seen) h->property->ClearFragmentShaderReplacement(splices[i].vtk_text, splices[i].all);
+    }
     if (haloVTKMapper *m = haloVTKMapper::SafeDownCast(h->mapper)) m->halo = nullptr;
     if (h->value_texture) glDeleteTextures(1, &h->value_texture);
     if (h->gradient_texture) glDeleteTextures(1, &h->gradient_texture);
@@ -1076,6 +1102,31 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag) {
         if (f) {
             fputs(h->last_source.c_str(), f);
             fclose(f);
+        }
+    }
+    /* every other replacement of the install's mode: what it adds to VTK's text is there */
+    for (const splice &sp : splices) {
+        if (!(sp.modes & h->mode)) continue;
+        /* the parts of the replacement around VTK's own text (a tag VTK fills in later) */
+        std::string text = replacement(h, sp);
+        bool found = true;
+        for (size_t from = 0; from <= text.size() && found;) {
+            size_t at = text.find(sp.vtk_text, from);
+            std::string part = text.substr(from, at == std::string::npos ? std::string::npos : at - from);
+            from = at == std::string::npos ? text.size() + 1 : at + strlen(sp.vtk_text);
+            while (!part.empty() && (part[0] == '\n' || part[0] == ' ')) part.erase(0, 1);
+            while (!part.empty() && (part.back() == '\n' || part.back() == ' ')) part.pop_back();
+            /* VTK's GLSL 150 names its output fragOutput0 after the replacements */
+            for (size_t k; h->last_source.find("gl_FragData[0]") == std::string::npos &&
+                           (k = part.find("gl_FragData[0]")) != std::string::npos;)
+                part.replace(k, strlen("gl_FragData[0]"), "fragOutput0");
+            found = part.empty() || h->last_source.find(part) != std::string::npos;
+        }
+        if (!found) {
+            add_error(diag, HALO_MSG_ENGINE_UNSUPPORTED,
+                      "the shader VTK built does not hold libhalo-vtk's replacement of '" + std::string(sp.vtk_text) +
+                          "' (this VTK composes its shader differently: docs/hosts/vtk.md lists the replacements)");
+            return HALO_ERROR_INPUT;
         }
     }
     halo_composer_piece pieces[] = {{"libhalo-vtk conversions", conversions}};
