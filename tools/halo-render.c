@@ -327,12 +327,6 @@ static int scene_sets_window(const char *scene_path, const char *scene_text)
     return has;
 }
 
-/* Whether a stage reads the labels with the scene's values (halo_stage_info.labels_when). */
-static int has_label_feature(const halo_program *program)
-{
-    return halo_program_reads_labels(program);
-}
-
 /* The segmentation of --labels, on the grid of the volume file vol: the same cube. */
 static int prepare_labels(const options *o, const halo_volume_file *vol, int size, float **labels_out)
 {
@@ -634,11 +628,11 @@ static int set_up_host(const options *o, halo_driver *host, const halo_render_se
     const char *gradient = halo_driver_gradient_name(host);
     if (!o->quiet && gradient)
         fprintf(stderr, TOOL ": gradient texture: %s\n", gradient);
-    if (!labels && has_label_feature(host->program))
+    if (!labels && halo_program_reads_labels(host->program))
         fprintf(stderr, TOOL ": warning: the scene's label features (outline_feature label >= 0) need "
                         "--labels FILE: without it they are empty\n");
     if (labels) {
-        if (!has_label_feature(host->program) && !o->quiet)
+        if (!halo_program_reads_labels(host->program) && !o->quiet)
             fprintf(stderr, TOOL ": note: --labels: the scene has no label feature (outline_feature label)\n");
         if (halo_driver_set_labels(host, labels, dims, diag) != HALO_OK)
             return 2;

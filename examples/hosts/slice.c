@@ -432,7 +432,7 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
 /* Whether every stage that runs generation passes says they make every image 0 from a
  * seed image of 0 (halo_stage_info.zero_generation: halo_generate's spreading), so that
  * a generation after an empty slab may be skipped. */
-static int generation_is_halo_spreading(const halo_program *p)
+static int generation_zero_from_zero(const halo_program *p)
 {
     int any = 0;
     for (size_t i = 0; p && i < halo_program_pass_count(p); ++i) {
@@ -482,7 +482,7 @@ typedef struct generation_skip {
 
 static void generation_skip_start(generation_skip *g, const halo_slice *s, const halo_slice_state *st)
 {
-    g->enabled = !s->run_every_generation && generation_is_halo_spreading(s->linked);
+    g->enabled = !s->run_every_generation && generation_zero_from_zero(s->linked);
     cube_distance_range(st, g->range);
     g->seeded = 0;
     g->field_zero = 1;
