@@ -2,9 +2,6 @@
 #include "json_file.h"
 
 #include "halo.h"
-#include "strbuf.h"
-
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,23 +9,21 @@
 json_t *halo_json_load_file(const char *path, size_t flags, json_error_t *error)
 {
     size_t len = 0;
-    char *text = halo_read_file(path, &len); /* bounded as libhalo's scene reader is */
+    halo_diagnostics *diag = halo_diagnostics_create();
+    char *text = halo_read_text_file(path, "JSON file", &len, diag); /* bounded as libhalo's scenes */
     if (!text) {
         if (error) {
-            int e = errno;
+            const halo_diagnostic *why = halo_diagnostics_get(diag, 0);
             memset(error, 0, sizeof *error);
             error->line = error->column = -1;
             snprintf(error->source, sizeof error->source, "%s", path);
-            if (e == EFBIG)
-                snprintf(error->text, sizeof error->text,
-                         "the file is larger than the %zu MiB that libhalo reads (HALO_MAX_FILE_BYTES)",
-                         HALO_MAX_FILE_BYTES >> 20);
-            else
-                snprintf(error->text, sizeof error->text, "cannot read: %s", strerror(e));
+            snprintf(error->text, sizeof error->text, "%s", why ? why->text : "cannot read the file");
         }
+        halo_diagnostics_destroy(diag);
         return NULL;
     }
-    const char *start = halo_skip_bom(text);
+    halo_diagnostics_destroy(diag);
+    const char *start = len >= 3 && !memcmp(text, "\xEF\xBB\xBF", 3) ? text + 3 : text; /* a UTF-8 BOM */
     json_t *root = json_loadb(start, len - (size_t)(start - text), flags, error);
     free(text);
     return root;

@@ -9,8 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "diag.h"
-#include "strbuf.h"
+#include "halo.h"
 
 #ifndef M_PI
 #define M_PI 3.14159265358979323846
@@ -88,7 +87,7 @@ static halo_status builder_finish(builder *b, halo_polylines *out, halo_diagnost
 {
     if (b->failed) {
         halo_polylines_free(&b->lines);
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory building polylines (at most %zu points)",
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory building polylines (at most %zu points)",
                         (size_t)MAX_POINTS);
         return HALO_ERROR_IO;
     }
@@ -119,7 +118,7 @@ typedef struct parser {
 
 static void parse_error(parser *ps, halo_message_id id, int column, const char *fmt, const char *arg)
 {
-    halo_diag_add(ps->diag, HALO_SEVERITY_ERROR, id, ps->file, ps->line_number, column, ps->source_line, fmt, arg);
+    halo_diagnostics_report(ps->diag, HALO_SEVERITY_ERROR, id, ps->file, ps->line_number, column, ps->source_line, fmt, arg);
     ps->errors++;
 }
 
@@ -132,7 +131,7 @@ static void close_line(parser *ps)
         return;
     size_t n = l->first[l->line_count] - l->first[l->line_count - 1];
     if (n + (size_t)ps->bad_points < 2) {
-        halo_diag_add(ps->diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_VALUE_COUNT, ps->file, ps->open_line, 1, NULL,
+        halo_diagnostics_report(ps->diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_VALUE_COUNT, ps->file, ps->open_line, 1, NULL,
                       "line %zu has %zu point%s; a polyline needs at least 2", l->line_count, n, n == 1 ? "" : "s");
         ps->errors++;
     }
@@ -218,7 +217,7 @@ halo_status halo_polylines_parse(const char *text, const char *file, halo_polyli
 {
     memset(out, 0, sizeof *out);
     if (!text) {
-        halo_diag_error(diag, USAGE, file ? file : "", 0, 0, "no polyline text");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, file ? file : "", 0, 0, "no polyline text");
         return HALO_ERROR_INPUT;
     }
     parser ps = {.file = file ? file : "polylines", .diag = diag};
@@ -273,13 +272,13 @@ halo_status halo_polylines_parse(const char *text, const char *file, halo_polyli
     if (ps.b.failed)
         return builder_finish(&ps.b, out, diag);
     if (!ps.header) {
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_VERSION, ps.file, 1, 1, NULL,
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_VERSION, ps.file, 1, 1, NULL,
                       "empty file: a polyline file starts with the line 'halo-polylines 1'");
         ps.errors++;
     } else {
         close_line(&ps);
         if (ps.b.lines.line_count == 0 && ps.errors == 0) {
-            halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_VALUE_COUNT, ps.file, ps.line_number, 1, NULL,
+            halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_VALUE_COUNT, ps.file, ps.line_number, 1, NULL,
                           "the file has no 'line'");
             ps.errors++;
         }
@@ -295,17 +294,15 @@ halo_status halo_polylines_load(const char *path, halo_polylines *out, halo_diag
 {
     memset(out, 0, sizeof *out);
     size_t len = 0;
-    char *text = path ? halo_read_file(path, &len) : NULL;
-    if (!text) {
-        if (path)
-            halo_diag_read_failed(diag, path, "polyline file");
-        else
-            halo_diag_error(diag, IO_READ, "", 0, 0, "cannot open polyline file: no path");
+    if (!path) {
+        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, "", 0, 0, "cannot open polyline file: no path");
         return HALO_ERROR_IO;
     }
+    char *text = halo_read_text_file(path, "polyline file", &len, diag);
+    if (!text) return HALO_ERROR_IO;
     if (memchr(text, '\0', len)) {
         free(text);
-        halo_diag_error(diag, SCENE_TYPE, path, 0, 0, "'%s' is not a text file (it holds NUL bytes)", path);
+        HALO_REPORT_ERROR(diag, HALO_MSG_SCENE_TYPE, path, 0, 0, "'%s' is not a text file (it holds NUL bytes)", path);
         return HALO_ERROR_INPUT;
     }
     halo_status status = halo_polylines_parse(text, path, out, diag);
@@ -374,7 +371,7 @@ halo_status halo_linegen_streamlines(size_t target_points, int max_points, unsig
 {
     memset(out, 0, sizeof *out);
     if (target_points < 2 || target_points > MAX_POINTS || max_points < 2) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "streamlines: 2..%zu points and at least 2 per line", (size_t)MAX_POINTS);
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "streamlines: 2..%zu points and at least 2 per line", (size_t)MAX_POINTS);
         return HALO_ERROR_INPUT;
     }
     builder b = {0};
@@ -438,7 +435,7 @@ halo_status halo_linegen_knot(int p, int q, int tube_lines, int points_per_line,
     memset(out, 0, sizeof *out);
     if (p < 1 || q < 1 || p > 64 || q > 64 || tube_lines < 1 || tube_lines > 4096 || points_per_line < 2 ||
         points_per_line > 1000000 || !(tube_radius >= 0.0 && tube_radius < 1.0)) {
-        halo_diag_error(diag, USAGE, "", 0, 0,
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0,
                         "knot: p, q in 1..64, 1..4096 tube lines, 2..1000000 points each, radius in [0, 1)");
         return HALO_ERROR_INPUT;
     }

@@ -269,7 +269,7 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
         halo_strbuf stages = {0};
         for (size_t s = 0; s < p->stage_count; s++)
             for (size_t k = 0; k < p->stages[s].module->pass_count; k++)
-                if (!p->stages[s].module->passes[k].post) {
+                if (!p->stages[s].module->passes[k].at) {
                     halo_strbuf_printf(&stages, "%s%s", stages.len ? ", " : "", p->stages[s].module->name);
                     break;
                 }
@@ -420,7 +420,7 @@ static halo_status validate_composed_held(const halo_program *p, const char *com
         }
     }
     if (missing)
-        halo_diag_add(diag, HALO_SEVERITY_WARNING, HALO_MSG_USAGE, composed_file, 0, 0, NULL,
+        halo_diagnostics_report(diag, HALO_SEVERITY_WARNING, HALO_MSG_USAGE, composed_file, 0, 0, NULL,
                       "the program's declarations piece is not in the composed shader (or was changed): its "
                       "errors are reported at the composed shader's lines");
     int contract = check_composed_contract(p, text, composed_file, lines, diag);

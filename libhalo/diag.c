@@ -216,9 +216,11 @@ static char *source_window(const char *source_line, int column, int *caret) {
     return halo_strbuf_take(&b);
 }
 
-void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id id, const char *file, int line,
+void halo_diagnostics_report(halo_diagnostics *d, halo_severity severity, halo_message_id id, const char *file, int line,
                    int column, const char *source_line, const char *fmt, ...) {
-    if (d && (unsigned)id < HALO_MSG_COUNT) d->seen[id] = 1;
+    if ((unsigned)id >= HALO_MSG_COUNT) id = HALO_MSG_USAGE; /* a caller's id out of range */
+    if (!fmt) fmt = "";
+    if (d) d->seen[id] = 1;
     halo_strbuf text = {0};
     va_list ap;
     va_start(ap, fmt);
@@ -321,12 +323,6 @@ void halo_diagnostics_print(const halo_diagnostics *d, FILE *out) {
                     kinds[s][d->dropped[s] != 1], halo_diagnostics_limit(d));
 }
 
-void halo_diagnostics_report(halo_diagnostics *d, halo_severity severity, halo_message_id id, const char *file,
-                             int line, int column, const char *text) {
-    if ((unsigned)id >= HALO_MSG_COUNT) id = HALO_MSG_USAGE;
-    halo_diag_add(d, severity, id, file ? file : "", line, column, NULL, "%s", text ? text : "");
-}
-
 void halo_diag_read_failed(halo_diagnostics *d, const char *path, const char *what) {
     int e = errno;
     if (e == EFBIG)
@@ -337,6 +333,13 @@ void halo_diag_read_failed(halo_diagnostics *d, const char *path, const char *wh
         halo_diag_error(d, OUT_OF_MEMORY, path, 0, 0, "cannot read %s: out of memory", what);
     else
         halo_diag_error(d, IO_READ, path, 0, 0, "cannot read %s: %s", what, strerror(e));
+}
+
+char *halo_read_text_file(const char *path, const char *what, size_t *len, halo_diagnostics *d) {
+    HALO_REFUSE_NULL(d, path, "path", NULL);
+    char *text = halo_read_file(path, len);
+    if (!text) halo_diag_read_failed(d, path, what ? what : "file");
+    return text;
 }
 
 void *halo_diag_calloc(halo_diagnostics *d, size_t size, const char *what)

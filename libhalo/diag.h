@@ -4,18 +4,14 @@
 
 #include "halo.h"
 
-/* Adds a diagnostic; d may be NULL (then only the setup logger sees it).
- * text is printf-formatted. source_line may be NULL. */
-void halo_diag_add(halo_diagnostics *d, halo_severity severity, halo_message_id id, const char *file, int line,
-                   int column, const char *source_line, const char *fmt, ...)
-    __attribute__((format(printf, 8, 9)));
+/* Adding a diagnostic is halo.h's halo_diagnostics_report. */
 
 /* Whether a diagnostic of this severity added now would be kept (not past the cap):
  * where finding its place costs, the place is found only then. */
 int halo_diag_kept(const halo_diagnostics *d, halo_severity severity);
 
 #define halo_diag_error(d, id, file, line, col, ...) \
-    halo_diag_add((d), HALO_SEVERITY_ERROR, HALO_MSG_##id, (file), (line), (col), NULL, __VA_ARGS__)
+    halo_diagnostics_report((d), HALO_SEVERITY_ERROR, HALO_MSG_##id, (file), (line), (col), NULL, __VA_ARGS__)
 
 /* A required argument is NULL (halo.h: "every function refuses NULL objects"): adds
  * USAGE "function: argument is NULL" to d; with d NULL only the setup logger sees it. */

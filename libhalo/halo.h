@@ -188,10 +188,27 @@ HALO_API const halo_diagnostic *halo_diagnostics_get(const halo_diagnostics *d, 
 HALO_API size_t halo_diagnostics_errors(const halo_diagnostics *d);
 HALO_API int halo_diagnostics_has(const halo_diagnostics *d, halo_message_id id);
 HALO_API void halo_diagnostics_clear(halo_diagnostics *d);
-/* Adds a diagnostic (for adapters and tools built on libhalo); file may be NULL, line
- * and column 0 when there is no place. */
+/* Adds a diagnostic, as libhalo adds its own (for hosts, adapters and tools built on
+ * libhalo); d may be NULL (then only the setup logger sees it). file may be NULL, line
+ * and column 0 when there is no place; source_line (may be NULL) is the line the column
+ * points into, printed with a caret; the text is printf-formatted. */
+#if defined(__GNUC__) || defined(__clang__)
+#define HALO_PRINTF(fmt_index, first_arg) __attribute__((format(printf, fmt_index, first_arg)))
+#else
+#define HALO_PRINTF(fmt_index, first_arg)
+#endif
 HALO_API void halo_diagnostics_report(halo_diagnostics *d, halo_severity severity, halo_message_id id,
-                                      const char *file, int line, int column, const char *text);
+                                      const char *file, int line, int column, const char *source_line,
+                                      const char *fmt, ...) HALO_PRINTF(8, 9);
+/* An error without a source line: HALO_REPORT_ERROR(d, HALO_MSG_IO_READ, path, 0, 0,
+ * "cannot read %s", why). */
+#define HALO_REPORT_ERROR(d, id, file, line, column, ...) \
+    halo_diagnostics_report((d), HALO_SEVERITY_ERROR, (id), (file), (line), (column), NULL, __VA_ARGS__)
+/* Reads a text file whole, as libhalo reads its scenes and modules: at most
+ * HALO_MAX_FILE_BYTES, NUL-terminated (caller frees with free()), *len (may be NULL) its
+ * length without the NUL. NULL after one error naming the file and why (IO_READ,
+ * INPUT_TOO_LARGE, OUT_OF_MEMORY); `what` names the file in it ("host shader"). */
+HALO_API char *halo_read_text_file(const char *path, const char *what, size_t *len, halo_diagnostics *d);
 /* Writes `file:line:col: error: text` (`file:line:` where the column is unknown, as
  * GCC without columns), then the source line and a caret under the column; the gutter
  * is as wide as the line number. */
@@ -486,6 +503,13 @@ typedef struct halo_host_uniform_info {
 } halo_host_uniform_info;
 
 #define HALO_MAX_PASS_INPUTS 12
+/* When an image pass runs (at= in its module). */
+typedef enum halo_pass_at {
+    HALO_PASS_AT_GENERATE = 0, /* in halo_gl_frame_generate: between slices or segments (the field) */
+    HALO_PASS_AT_POST,         /* at the end of each feature group (halo_gl_frame_end_group, or
+                                * halo_gl_frame_post when the frame has one group) */
+    HALO_PASS_AT_FINAL,        /* once at the end of the frame (halo_gl_frame_post) */
+} halo_pass_at;
 typedef struct halo_pass_info {
     const char *name;   /* "spread" */
     const char *stage;  /* module: "halo_generate" */
@@ -497,9 +521,7 @@ typedef struct halo_pass_info {
     int repeat;         /* 1..HALO_MAX_PASS_REPEAT: a repeat=PARAM parameter must declare max <= it */
     const char *vertex_source;
     const char *fragment_source;
-    int post;           /* 1: at the end of each feature group (halo_gl_frame_end_group, or _post when the
-                         * frame has one group), 2: once at the end of the frame (halo_gl_frame_post);
-                         * 0: in halo_gl_frame_generate */
+    halo_pass_at at;    /* when it runs */
     int channel;        /* -1; else the channel of an each=channel pass (halo_pass_channel) */
     int start;          /* the first repetition drawn (1..repeat): draws start..repeat, each with its
                          * repetition as halo_pass_index (start=K in the module) */

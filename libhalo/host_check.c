@@ -68,7 +68,7 @@ static void host_diag(const halo_host_info *h, halo_diagnostics *diag, halo_mess
     const char *file;
     int origin_line;
     halo_host_scan_origin(&h->scan, host_file, line, &file, &origin_line);
-    halo_diag_add(diag, HALO_SEVERITY_ERROR, id, file, origin_line, column, lines[line - 1], "%s",
+    halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, id, file, origin_line, column, lines[line - 1], "%s",
                   b.data ? b.data : halo_message_name(id));
     halo_strbuf_free(&b);
 }

@@ -63,7 +63,7 @@ typedef struct halo_pass_decl {
     char *inputs[HALO_MAX_PASS_INPUTS]; /* NAME*: one input per channel (expanded by the linker) */
     int input_count;
     int line;
-    int post;         /* at=post: runs in halo_*_frame_post, not between slices */
+    halo_pass_at at;  /* at=post, final: runs in halo_*_frame_post, not between slices */
     int each_channel; /* each=channel: one pass per channel; '*' names that channel's image */
     int start;        /* start=K: repetitions K..repeat only (0: 1) */
     int reach;        /* reach=: -1 undeclared; else K of reach=K or reach=[M*]B^(PARAM-i)+K */

@@ -18,7 +18,7 @@ static halo_status add_module(halo_library *lib, halo_module *m, halo_diagnostic
     const char *name = halo_module_name(m);
     const halo_module *old = halo_library_find(lib, name);
     if (old) {
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_DUPLICATE, m->file, m->module_line, 1,
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_DUPLICATE, m->file, m->module_line, 1,
                       m->lines[m->module_line - 1], "a module named '%s' is already loaded from %s", name,
                       old->file);
         halo_module_free(m);
@@ -56,7 +56,7 @@ static halo_module *read_module(const char *path, halo_diagnostics *diag, halo_s
         /* the text up to the NUL is the line to show */
         const char *start = text;
         for (int l = 1; l < line; l++) start = strchr(start, '\n') + 1;
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_INPUT_NUL_BYTE, path, line, column, halo_skip_bom(start),
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_INPUT_NUL_BYTE, path, line, column, halo_skip_bom(start),
                       "the module contains a NUL byte: not a text file");
         free(text);
         *status = HALO_ERROR_INPUT;

@@ -71,12 +71,12 @@ static int resolve(const halo_library *lib, const halo_scene *scene, halo_shader
                     if (!found) found = lib->modules[k];
                 }
             if (candidates == 0) {
-                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_MISSING_PROVIDER, m->file, m->needs.lines[r], 1,
+                halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_MISSING_PROVIDER, m->file, m->needs.lines[r], 1,
                               m->lines[m->needs.lines[r] - 1],
                               "stage '%s' needs '%s', which neither the host nor any module provides", m->name, res);
                 errors++;
             } else if (candidates > 1) {
-                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_DUPLICATE_PROVIDER, m->file, m->needs.lines[r],
+                halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_DUPLICATE_PROVIDER, m->file, m->needs.lines[r],
                               1, m->lines[m->needs.lines[r] - 1],
                               "stage '%s' needs '%s', which %d modules provide; enable the one to use in the scene",
                               m->name, res, candidates);
@@ -90,7 +90,7 @@ static int resolve(const halo_library *lib, const halo_scene *scene, halo_shader
     for (int i = 0; i < n; i++) {
         const halo_module *m = nodes[i].module;
         if (!hook_fits(m->hook, kind)) {
-            halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_HOOK_MISMATCH, m->file, m->hook_line, 1,
+            halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_HOOK_MISMATCH, m->file, m->hook_line, 1,
                           m->lines[m->hook_line - 1], "stage '%s' runs at a hook that a %s host cannot place", m->name,
                           kind == HALO_SHADER_VERTEX ? "vertex" : "fragment");
             errors++;
@@ -98,7 +98,7 @@ static int resolve(const halo_library *lib, const halo_scene *scene, halo_shader
         for (size_t p = 0; p < m->provides_count; p++)
             for (int j = 0; j < i; j++)
                 if (provides(nodes[j].module, m->provides[p].name)) {
-                    halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_DUPLICATE_PROVIDER, m->file,
+                    halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_DUPLICATE_PROVIDER, m->file,
                                   m->provides[p].line, 1, m->lines[m->provides[p].line - 1],
                                   "stages '%s' and '%s' both provide '%s'; enable only one", nodes[j].module->name,
                                   m->name, m->provides[p].name);
@@ -158,7 +158,7 @@ static int resolve(const halo_library *lib, const halo_scene *scene, halo_shader
             }
         int line = first->after.count ? first->after.lines[0] : first->needs.count ? first->needs.lines[0]
                                                                                      : first->module_line;
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_CYCLE, first->file, line, 1, first->lines[line - 1],
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_CYCLE, first->file, line, 1, first->lines[line - 1],
                       "the 'needs' and 'after' annotations of these stages form a cycle: %s",
                       names.data ? names.data : "");
         halo_strbuf_free(&names);
@@ -280,7 +280,7 @@ static int collect_resources(halo_program *p, const char *host, halo_diagnostics
             int per_channel = 0, components = type ? field_components(p, type, &per_channel) : 0;
             if (!type || m->hook != HALO_HOOK_SAMPLE || !components ||
                 (od->blend == HALO_BLEND_FIRST && components != 4)) {
-                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, m->file, od->line, 1,
+                halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, m->file, od->line, 1,
                               m->lines[od->line - 1],
                               "output '%s' must be a field the sample stage provides, of type channels, float, "
                               "vec2..vec4 or mat4 (one vec4 column per channel); a 'first' output needs vec4 or mat4",
@@ -307,7 +307,7 @@ static int collect_resources(halo_program *p, const char *host, halo_diagnostics
             int known = halo_program_image_named(p, name) != NULL;
             for (size_t k = 0; k < p->sampler_count; k++) known |= !strcmp(p->samplers[k].image, name) * 2;
             if (known == 0) {
-                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_MISSING_PROVIDER, m->file, m->images[i].line,
+                halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_LINK_MISSING_PROVIDER, m->file, m->images[i].line,
                               1, m->lines[m->images[i].line - 1],
                               "stage '%s' reads image '%s', which no linked stage produces", m->name, name);
                 errors++;
@@ -345,7 +345,7 @@ static int collect_resources(halo_program *p, const char *host, halo_diagnostics
                     if (!names[k]) return -1;
                 }
                 if (names[k] && strcmp(names[k], "previous") && !halo_program_image_named(p, names[k])) {
-                    halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, m->file, pd->line, 1,
+                    halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, m->file, pd->line, 1,
                                   m->lines[pd->line - 1], "pass '%s' uses image '%s', which is not declared", pd->name,
                                   names[k]);
                     errors++;
@@ -368,7 +368,7 @@ static void set_image_scales(halo_program *p) {
             const halo_module *m = p->stages[s].module;
             for (size_t k = 0; k < m->pass_count && !full; k++) {
                 const halo_pass_decl *pd = &m->passes[k];
-                if (!pd->post) continue;
+                if (!pd->at) continue;
                 size_t n = strlen(pd->output);
                 full = n > 1 && pd->output[n - 1] == '*' ? !strncmp(im->name, pd->output, n - 1) &&
                                                                 im->name[n - 1] == '_'
@@ -515,7 +515,7 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     for (int k = 0; k < input_count; k++) pi->inputs[k] = inputs[k];
     pi->first = pd->first ? resolve_name(p, pd->first, channel) : NULL;
     pi->output = output;
-    pi->post = pd->post;
+    pi->at = pd->at;
     pi->channel = channel;
     pi->repeat = pd->repeat ? param_int(st, pd->repeat) : 1;
     pi->start = pd->start > 1 ? pd->start : 1;
@@ -556,7 +556,7 @@ static int build_passes(halo_program *p, const halo_library *lib, halo_diagnosti
             for (int c = 0; c < (pd->each_channel ? p->channel_count : 1); c++) {
                 int r = build_pass(p, lib, st, pd, pd->each_channel ? c : -1);
                 if (r == -2) {
-                    halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, st->module->file, pd->line, 1,
+                    halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, st->module->file, pd->line, 1,
                                   st->module->lines[pd->line - 1],
                                   "pass '%s' reads more than %d images with %d channels", pd->name,
                                   HALO_MAX_PASS_INPUTS, p->channel_count);
@@ -589,7 +589,7 @@ static int plan_segments(halo_program *p, const halo_link_desc *desc, const halo
         halo_strbuf names = {0};
         for (size_t s = 0; s < p->stage_count; s++)
             halo_strbuf_printf(&names, "%s%s", names.len ? ", " : "", p->stages[s].module->name);
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_COMPOSITING, p->host_file, h->compositing_mip, 1,
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_COMPOSITING, p->host_file, h->compositing_mip, 1,
                       p->host_lines[h->compositing_mip - 1],
                       "the stages %s act on the samples a host composites, but this host declares maximum intensity "
                       "projection ('#pragma halo compositing mip'): link it with no stage, or use a compositing mode",
@@ -598,7 +598,7 @@ static int plan_segments(halo_program *p, const halo_link_desc *desc, const halo
         return 1;
     }
     if (desc->force_segments && !segmenting) {
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_SINGLE_PASS, p->host_file, 1, 1, p->host_lines[0],
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_SINGLE_PASS, p->host_file, 1, 1, p->host_lines[0],
                       "force_segments: the host never calls halo_segment_begin (docs/host-contract.md, "
                       "\"Segmented ray casting\")");
         return 1;
@@ -611,13 +611,13 @@ static int plan_segments(halo_program *p, const halo_link_desc *desc, const halo
         for (size_t s = 0; s < p->stage_count; s++) {
             const halo_module *m = p->stages[s].module;
             for (size_t k = 0; k < m->pass_count; k++)
-                if (!m->passes[k].post) {
+                if (!m->passes[k].at) {
                     halo_strbuf_printf(&names, "%s%s", names.len ? ", " : "", m->name);
                     break;
                 }
         }
         int at = h->marker_line ? h->marker_line : 1;
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_SINGLE_PASS, p->host_file, at, 1, p->host_lines[at - 1],
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_HOST_SINGLE_PASS, p->host_file, at, 1, p->host_lines[at - 1],
                       "the stages %s run image passes between slices, but this host marches each ray in one draw: "
                       "clip its ray loop with halo_segment_begin/halo_segment_end and draw it with "
                       "halo_gl_frame_draw (docs/host-contract.md, \"Segmented ray casting\"), or, for a slice or "

@@ -273,7 +273,7 @@ typedef struct parse_ctx {
 
 #define ANNOT_ERROR(ctx, id, line, col, ...)                                                                     \
     do {                                                                                                        \
-        halo_diag_add((ctx)->diag, HALO_SEVERITY_ERROR, HALO_MSG_##id, (ctx)->m->file, (line), (col),            \
+        halo_diagnostics_report((ctx)->diag, HALO_SEVERITY_ERROR, HALO_MSG_##id, (ctx)->m->file, (line), (col),            \
                       (ctx)->m->lines[(line)-1], __VA_ARGS__);                                                  \
         (ctx)->errors++;                                                                                        \
     } while (0)
@@ -491,8 +491,8 @@ static void parse_pass(parse_ctx *ctx, words *w, int line) {
             slot = &pd.when;
         }
         else if (k == 2 && !strncmp(a, "at", 2)) {
-            if (!strcmp(v, "post")) pd.post = 1;
-            else if (!strcmp(v, "final")) pd.post = 2;
+            if (!strcmp(v, "post")) pd.at = HALO_PASS_AT_POST;
+            else if (!strcmp(v, "final")) pd.at = HALO_PASS_AT_FINAL;
             else if (strcmp(v, "generate"))
                 ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i], "at= takes generate, post or final");
             continue;
@@ -813,7 +813,7 @@ static void scan_code(parse_ctx *ctx) {
         /* names of any length, compared and kept whole (a truncated one would not be renamed) */
         if (halo_name_list_has_n(&m->declared, s, len)) continue;
         if (!m->is_library && !strncmp(s, "halo_", 5)) {
-            halo_diag_add(ctx->diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_RESERVED_NAME, m->file, t[i].line,
+            halo_diagnostics_report(ctx->diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_RESERVED_NAME, m->file, t[i].line,
                           t[i].column, m->lines[t[i].line - 1],
                           "module declares '%.*s': names starting with 'halo_' are reserved for the library",
                           (int)len, s);
@@ -857,7 +857,7 @@ static int pass_param_invalid(const halo_module *m, halo_diagnostics *diag, cons
                               const halo_pass_decl *pd, const char *key, const char *name, int is_bool) {
     const halo_param_info *pi = name ? halo_module_find_param(m, name) : NULL;
     if (!name || (pi && pi->type == (is_bool ? HALO_PARAM_BOOL : HALO_PARAM_INT) && !pi->array_size)) return 0;
-    halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1, m->lines[pd->line - 1],
+    halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1, m->lines[pd->line - 1],
                   "pass '%s': %s=%s must name an %s parameter of the module", pd->name, key, name,
                   is_bool ? "bool" : "int");
     return 1;
@@ -905,18 +905,18 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
     }
     free(storage);
     if (!m->module_line && !ctx.module_tried) {
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_MISSING, file, 1, 1, m->lines[0],
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_MISSING, file, 1, 1, m->lines[0],
                       "no '#pragma halo module NAME' (or '#pragma halo library') annotation");
         ctx.errors++;
     } else if (m->module_line && !m->is_library && !m->hook_line && !ctx.hook_tried) {
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_MISSING, file, m->module_line, 1,
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_MISSING, file, m->module_line, 1,
                       m->lines[m->module_line - 1], "module '%s' has no '#pragma halo hook' annotation", m->name);
         ctx.errors++;
     }
     m->info.name = m->name;
     m->info.hook = m->hook;
     if (m->info.labels_when && !halo_module_find_param(m, m->info.labels_when)) {
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, ctx.labels_when_line,
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, ctx.labels_when_line,
                       ctx.labels_when_col, m->lines[ctx.labels_when_line - 1],
                       "'is labels_when=%s': the module has no parameter '%s'", m->info.labels_when,
                       m->info.labels_when);
@@ -935,7 +935,7 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
         for (size_t i = 0; i < m->pass_count; i++) {
             const halo_pass_decl *pd = &m->passes[i];
             if (pd->entry && !halo_name_list_has(&m->declared, pd->entry)) {
-                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1,
+                halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1,
                               m->lines[pd->line - 1], "pass '%s': the module defines no function '%s'", pd->name,
                               pd->entry);
                 ctx.errors++;
@@ -946,7 +946,7 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
             const halo_param_info *rp = pd->repeat ? halo_module_find_param(m, pd->repeat) : NULL;
             if (rp && rp->type == HALO_PARAM_INT && !rp->array_size && !(rp->max <= HALO_MAX_PASS_REPEAT)) {
                 /* each repetition is a draw a generation: a scene may not ask for 2^31 of them */
-                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1,
+                halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1,
                               m->lines[pd->line - 1],
                               "pass '%s': repeat=%s: the parameter's max is %g; declare max=N with N at most %d "
                               "(HALO_MAX_PASS_REPEAT)",
@@ -965,7 +965,7 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
             if (im->read_when && (!pi || (pi->type != HALO_PARAM_CHANNELS && pi->type != HALO_PARAM_INT &&
                                           pi->type != HALO_PARAM_BOOL && pi->type != HALO_PARAM_FLOAT) ||
                                   (pi->array_size && pi->type != HALO_PARAM_CHANNELS))) {
-                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, im->line, 1,
+                halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, im->line, 1,
                               m->lines[im->line - 1],
                               "image '%s': read_when=%s must name a channels, float, int or bool parameter of the module",
                               im->name, im->read_when);
@@ -978,7 +978,7 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
         for (size_t i = 0; i < m->per_halo.count; i++) {
             const halo_param_info *pi = halo_module_find_param(m, m->per_halo.items[i]);
             if (!pi || !pi->array_size || pi->type == HALO_PARAM_CHANNELS) {
-                halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, m->per_halo.lines[i], 1,
+                halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, m->per_halo.lines[i], 1,
                               m->lines[m->per_halo.lines[i] - 1],
                               "per_halo '%s' must name an array parameter (TYPE[N]) of the module",
                               m->per_halo.items[i]);
@@ -986,7 +986,7 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
             }
         }
         if (!m->is_library && m->hook == HALO_HOOK_SAMPLE && !m->has_entry) {
-            halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_ENTRY_MISSING, file, m->module_line, 1,
+            halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_ENTRY_MISSING, file, m->module_line, 1,
                           m->lines[m->module_line - 1],
                           "sample module '%s' must define 'void apply(inout halo_sample s)'", m->name);
             ctx.errors++;
@@ -999,7 +999,7 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
     }
     return m;
 oom:
-    halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_OUT_OF_MEMORY, file, 0, 0, NULL, "out of memory");
+    halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_OUT_OF_MEMORY, file, 0, 0, NULL, "out of memory");
     halo_module_free(m);
     return NULL;
 }

@@ -64,7 +64,7 @@ static void report(parser *ps, size_t offset, const char *fmt, const char *arg) 
     size_t n = strlen(ps->name);
     char *file = malloc(n + strlen(ps->text) + 2);
     if (file) sprintf(file, "%s=%s", ps->name, ps->text);
-    halo_diag_add(ps->diag, HALO_SEVERITY_ERROR, HALO_MSG_PIECE_EXPRESSION, file ? file : ps->name, 1,
+    halo_diagnostics_report(ps->diag, HALO_SEVERITY_ERROR, HALO_MSG_PIECE_EXPRESSION, file ? file : ps->name, 1,
                   (int)(n + 2 + offset), file, fmt, arg);
     free(file);
 }

@@ -84,7 +84,7 @@ static int generation_reads(const halo_program *p, const char *image)
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_module *m = p->stages[s].module;
         for (size_t k = 0; k < m->pass_count; k++)
-            for (int i = 0; i < m->passes[k].input_count && !m->passes[k].post; i++)
+            for (int i = 0; i < m->passes[k].input_count && !m->passes[k].at; i++)
                 if (!strcmp(m->passes[k].inputs[i], image))
                     return 1;
     }
@@ -131,7 +131,7 @@ int halo_prepass_image(const halo_program *p, const char *image)
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_module *m = p->stages[s].module;
         for (size_t k = 0; k < m->pass_count; k++)
-            if (!m->passes[k].post && m->passes[k].output && !strcmp(m->passes[k].output, image))
+            if (!m->passes[k].at && m->passes[k].output && !strcmp(m->passes[k].output, image))
                 return 1;
     }
     return 0;

@@ -218,7 +218,7 @@ halo_status halo_program_set(halo_program *p, const char *stage, const char *par
     char why[256];
     int id = halo_param_check(u->info, values, count, why, sizeof why);
     if (id >= 0) {
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage, param, why);
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage, param, why);
         return HALO_ERROR_INPUT;
     }
     /* a grouped parameter of a program with feature groups: the whole list; the current
@@ -443,7 +443,7 @@ char *halo_program_reflect_json(const halo_program *p) {
         if (pi->first) json_object_set_new(o, "first", json_string(pi->first));
         json_object_set_new(o, "output", json_string(pi->output));
         json_object_set_new(o, "repeat", json_integer(pi->repeat));
-        if (pi->post) json_object_set_new(o, "at", json_string("post"));
+        if (pi->at) json_object_set_new(o, "at", json_string(pi->at == HALO_PASS_AT_FINAL ? "final" : "post"));
         if (pi->channel >= 0) json_object_set_new(o, "channel", json_integer(pi->channel));
         json_array_append_new(passes, o);
     }

@@ -117,7 +117,7 @@ halo_status halo_scene_set(halo_scene *s, const char *stage, const char *param, 
     char why[256];
     int id = halo_param_check(info, values, count, why, sizeof why);
     if (id >= 0) {
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage, param, why);
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage, param, why);
         return HALO_ERROR_INPUT;
     }
     halo_scene_entry *e = add_entry(s, m);
@@ -267,7 +267,7 @@ static void read_error(reader *r, halo_message_id id, const char *fmt, ...) {
             if (*p == '\n') line++, line_start = p + 1;
         column = (int)(at - line_start) + 1;
     }
-    halo_diag_add(r->diag, HALO_SEVERITY_ERROR, id, r->file, line, column, line_start, "%s", message);
+    halo_diagnostics_report(r->diag, HALO_SEVERITY_ERROR, id, r->file, line, column, line_start, "%s", message);
     halo_strbuf_free(&text);
     r->errors++;
 }
@@ -489,7 +489,7 @@ halo_scene *halo_scene_parse(const char *text, const char *file, const halo_libr
     json_error_t err;
     json_t *root = json_loads(text, JSON_REJECT_DUPLICATES, &err);
     if (!root) {
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_JSON, file, err.line > 0 ? err.line : 1,
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_JSON, file, err.line > 0 ? err.line : 1,
                       err.column > 0 ? err.column : 1, NULL, "invalid JSON: %s", err.text);
         return NULL;
     }

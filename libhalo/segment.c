@@ -166,7 +166,7 @@ int halo_program_has_generation_passes(const halo_program *p)
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_module *m = p->stages[s].module;
         for (size_t k = 0; k < m->pass_count; k++)
-            if (!m->passes[k].post)
+            if (!m->passes[k].at)
                 return 1;
     }
     return 0;

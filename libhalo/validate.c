@@ -71,7 +71,7 @@ static void report_entry(char *line, log_map *map, halo_diagnostics *diag, int *
         snprintf(map->last_file, sizeof map->last_file, "%s", file);
     }
     char *message = halo_glsl_message(msg, text);
-    halo_diag_add(diag, sev, sev == HALO_SEVERITY_ERROR ? HALO_MSG_GLSL_ERROR : HALO_MSG_GLSL_WARNING, file, line_no,
+    halo_diagnostics_report(diag, sev, sev == HALO_SEVERITY_ERROR ? HALO_MSG_GLSL_ERROR : HALO_MSG_GLSL_WARNING, file, line_no,
                   col, text, generated_line ? "%s (in code libhalo wrote: line %d of the linked shader)" : "%s",
                   message ? message : msg, generated_line);
     free(message);
@@ -284,7 +284,7 @@ static halo_status validate_plain(const char *source, const char *file, halo_sha
         halo_diag_error(diag, OUT_OF_MEMORY, file, 0, 0, "out of memory");
     } else {
         if (target == HALO_TARGET_DEFAULT && !version_line)
-            halo_diag_add(diag, HALO_SEVERITY_NOTE, HALO_MSG_GLSL_VERSION_IMPLIED, file, 0, 0, NULL,
+            halo_diagnostics_report(diag, HALO_SEVERITY_NOTE, HALO_MSG_GLSL_VERSION_IMPLIED, file, 0, 0, NULL,
                           "no '#version': checked as GLSL ES 1.00, GLSL's rule for a shader without one "
                           "(desktop OpenGL reads it as GLSL 1.10; --target chooses a version)");
         log_map map = {.origins = origins, .origin_count = n + first, .raw = raw, .fallback = file};

@@ -36,10 +36,10 @@ static int check_post(const halo_program *program, halo_gl_frame *frame, int siz
     }
     for (size_t i = 0; i < halo_program_pass_count(program); ++i) {
         const halo_pass_info *pass = halo_program_pass(program, i);
-        for (size_t k = 0; pass->post && k < halo_program_image_count(program) && k < 64; ++k)
+        for (size_t k = 0; pass->at && k < halo_program_image_count(program) && k < 64; ++k)
             if (!strcmp(halo_program_image(program, k)->name, pass->output)) {
                 written[k] = 1;
-                written_final[k] |= pass->post == 2;
+                written_final[k] |= pass->at == HALO_PASS_AT_FINAL;
             }
     }
     for (size_t k = 0; k < halo_program_image_count(program) && k < 64; ++k) {

@@ -4,8 +4,7 @@
 #include "conform_frame.h"
 
 #include "halo.h"
-#include "diag.h"
-#include "internal.h"
+#include "internal.h" /* the module's outputs, images and host uniforms */
 
 #include <math.h>
 #include <stdint.h>
@@ -187,7 +186,7 @@ static int compare_output_images(conform *c, const char *row, const halo_program
     ok = 1;
 out:
     if (!ok)
-        halo_diag_error(c->diag, EMU_MISSING, "", 0, 0, "row %s: an output image could not be read or emulated", row);
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0, "row %s: an output image could not be read or emulated", row);
     for (size_t i = 0; gl_images && i < images; ++i)
         free(gl_images[i]);
     free(gl_images);
@@ -243,7 +242,7 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
     gpu_seed = malloc(count * 4 * sizeof *gpu_seed);
     image = malloc(count * 4 * sizeof *image);
     if (!samples || !gpu || !gpu_seed || !image) {
-        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
         goto done;
     }
     conform_fill_samples(samples, c->size, c->size);
@@ -287,7 +286,7 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
         halo_emu_sample s = samples[i];
         double emu[8], condition[8] = {0};
         if (!emulate_frame_sample(program, eframe, &s, emu)) {
-            halo_diag_error(c->diag, EMU_MISSING, "", 0, 0, "a stage of row %s has no emulation", row);
+            HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0, "a stage of row %s has no emulation", row);
             goto done;
         }
         for (int field = 0; field < 6; ++field)
@@ -341,7 +340,7 @@ void conform_frame_row(conform *c, const conform_row *row)
     const halo_module *m = row_module(c, row->name);
     if (!m) {
         if (row_selected(c, row->name, NULL)) {
-            halo_diag_error(c->diag, EMU_MISSING, "", 0, 0, "the stage of row '%s' is not in the library", row->name);
+            HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0, "the stage of row '%s' is not in the library", row->name);
             print_error_row(c, row->name);
         }
         return;

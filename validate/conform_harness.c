@@ -2,8 +2,6 @@
 #include "conform_harness.h"
 
 #include "halo.h"
-#include "diag.h"
-#include "internal.h"
 #include "gl/glfuncs.h"
 #include "gl/headless.h"
 #include "hosts/host_common.h"
@@ -378,7 +376,7 @@ void *conform_host_frame_rays(const halo_program *p, int width, int height, cons
 {
     unsigned char *rays = malloc((size_t)width * (size_t)height * ray_size);
     if (!rays) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
         return NULL;
     }
     for (int y = 0; y < height; ++y)
@@ -526,7 +524,7 @@ int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp)
     GLenum status = f->CheckFramebufferStatus(GL_FRAMEBUFFER);
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
-        halo_diag_error(c->diag, GL_LINK, "", 0, 0, "frame probe: incomplete framebuffer (0x%x)", status);
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_GL_LINK, "", 0, 0, "frame probe: incomplete framebuffer (0x%x)", status);
         return 0;
     }
     return 1;
@@ -609,7 +607,7 @@ halo_status frame_probe_draw(conform *c, frame_probe *fp, const halo_program *p,
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
-        halo_diag_error(c->diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x while drawing the frame probe", error);
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_GL_LINK, "", 0, 0, "OpenGL error 0x%x while drawing the frame probe", error);
         return HALO_ERROR_IO;
     }
     return HALO_OK;

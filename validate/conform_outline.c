@@ -8,7 +8,6 @@
  * each hard case also checks what it is about (flat depth gives no outline, ...). */
 #include "conform_outline.h"
 
-#include "diag.h"
 #include "hosts/raycast.h"
 
 #include <math.h>
@@ -139,7 +138,7 @@ static int post_written(const halo_program *p, const char *image)
 {
     for (size_t i = 0; i < halo_program_pass_count(p); ++i) {
         const halo_pass_info *pass = halo_program_pass(p, i);
-        if (pass->post && !strcmp(pass->output, image))
+        if (pass->at && !strcmp(pass->output, image))
             return 1;
     }
     return 0;
@@ -280,7 +279,7 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
         }
     }
     if (six && groups != 2) {
-        halo_diag_error(c->diag, USAGE, "", 0, 0, "six features linked into %d feature groups, not 2", groups);
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_USAGE, "", 0, 0, "six features linked into %d feature groups, not 2", groups);
         goto done;
     }
     /* the host colour, in both */
@@ -305,7 +304,7 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
     halo_gl_frame_post(gframe, host_texture);
     GLenum gl_error = f->GetError();
     if (gl_error != GL_NO_ERROR) {
-        halo_diag_error(c->diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x in the post passes", gl_error);
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_GL_LINK, "", 0, 0, "OpenGL error 0x%x in the post passes", gl_error);
         goto done;
     }
     if (halo_emu_frame_post(eframe, c->diag) != HALO_OK)

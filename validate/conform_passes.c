@@ -5,8 +5,6 @@
 #include "conform_passes.h"
 
 #include "halo.h"
-#include "diag.h"
-#include "internal.h"
 
 #include <math.h>
 #include <stdint.h>

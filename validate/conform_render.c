@@ -4,8 +4,6 @@
 #include "conform_render.h"
 
 #include "halo.h"
-#include "diag.h"
-#include "internal.h"
 #include "render_driver.h"
 #include "volume.h"
 
@@ -40,7 +38,7 @@ static float *render_raycast(conform *c, const halo_program *program, const char
     const int dims[3] = {volume_size, volume_size, volume_size};
     if (!image || halo_driver_set_volume(&r, volume, dims, settings, 0, c->diag) != HALO_OK) {
         if (!image)
-            halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+            HALO_REPORT_ERROR(c->diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
         free(image);
         halo_driver_destroy(&r);
         return NULL;
@@ -75,7 +73,7 @@ static int raycast_input_open(conform *c, halo_scene *scene, raycast_input *in)
 {
     *in = (raycast_input){.scene = scene, .volume = halo_volume_create(RAYCAST_VOLUME_SIZE)};
     if (!in->volume)
-        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
     if (!in->scene || !in->volume)
         return 0;
     in->program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = c->raycast_source,
@@ -235,7 +233,7 @@ void conform_raycast_row(conform *c, const conform_row *row)
     reference = malloc(pixels * 4 * sizeof *reference);
     allowed = malloc(pixels * 4 * sizeof *allowed);
     if (!reference || !allowed) {
-        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
         goto done;
     }
     static const double moves[][2] = {{-RAYCAST_THRESHOLD_MOVE, 0.0}, {RAYCAST_THRESHOLD_MOVE, 0.0},
@@ -245,7 +243,7 @@ void conform_raycast_row(conform *c, const conform_row *row)
             size_t i = (size_t)y * (size_t)c->size + (size_t)x;
             double *r = &reference[i * 4];
             if (!emulate_pixel(&state, program, x, y, 0.99, 0.0, r)) {
-                halo_diag_error(c->diag, EMU_MISSING, "", 0, 0, "the ray cast scene has a stage without emulation");
+                HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0, "the ray cast scene has a stage without emulation");
                 goto done;
             }
             double spread[4] = {0, 0, 0, 0};

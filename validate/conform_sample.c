@@ -4,8 +4,7 @@
 #include "conform_sample.h"
 
 #include "halo.h"
-#include "diag.h"
-#include "internal.h"
+#include "internal.h" /* the module's outputs, images and host uniforms */
 #include "hosts/raycast.h"
 
 #include <math.h>
@@ -128,7 +127,7 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
     gpu = malloc(count * 4 * sizeof *gpu);
     if (!probe || !samples || !gpu) {
         if (!samples || !gpu)
-            halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+            HALO_REPORT_ERROR(c->diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
         goto done;
     }
     conform_fill_samples(samples, c->size, c->size);
@@ -215,7 +214,7 @@ static int has_emulation(conform *c, const halo_module *m)
     int is_stage = probe_scene && halo_scene_enable(probe_scene, halo_module_name(m), 1, NULL) == HALO_OK;
     halo_scene_destroy(probe_scene);
     if (is_stage && row_selected(c, halo_module_name(m), halo_module_name(m))) {
-        halo_diag_error(c->diag, EMU_MISSING, halo_module_file(m), 0, 0, "stage '%s' has no C emulation",
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, halo_module_file(m), 0, 0, "stage '%s' has no C emulation",
                         halo_module_name(m));
         print_error_row(c, halo_module_name(m));
     }
@@ -236,7 +235,7 @@ void conform_sample_rows(conform *c, const conform_row *row)
     const halo_module *m = halo_library_find(c->lib, row->name);
     if (!m) {
         if (row_selected(c, row->name, row->name)) {
-            halo_diag_error(c->diag, EMU_MISSING, "", 0, 0, "stage '%s' of the registry is not in the library",
+            HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0, "stage '%s' of the registry is not in the library",
                             row->name);
             print_error_row(c, row->name);
         }

@@ -13,8 +13,6 @@
  * the row brackets the decisions float32 may take the other way. */
 #include "conform_segment.h"
 
-#include "internal.h"
-#include "diag.h"
 #include "volume.h"
 
 #include <math.h>
@@ -345,7 +343,7 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
         for (size_t k = 0; k < halo_program_image_count(p); ++k)
             if (!strcmp(halo_program_image(p, k)->name, name)) {
                 if (halo_program_image(p, k)->scale != 1) {
-                    halo_diag_error(diag, USAGE, "", 0, 0, "the one-draw emulation takes full-size images only");
+                    HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "the one-draw emulation takes full-size images only");
                     return 0;
                 }
                 st->images[st->count] = name;
@@ -353,7 +351,7 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
                 st->layer_data[st->count] = calloc((size_t)st->layers * pixels * (size_t)st->channels[st->count],
                                                    sizeof(double));
                 if (!st->layer_data[st->count++]) {
-                    halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+                    HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
                     return 0;
                 }
             }
@@ -364,7 +362,7 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
                                   : NULL;
     if (!seeds) {
         if (framed)
-            halo_diag_error(diag, USAGE, "", 0, 0, "the one-draw program has no march to emulate");
+            HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "the one-draw program has no march to emulate");
         return 0;
     }
     double step = s->step_size, voxel[3] = {1.0 / s->dims[0], 1.0 / s->dims[1], 1.0 / s->dims[2]};
@@ -493,7 +491,7 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
         threshold = INFINITY;
     int ok = 1, generation = 0;
     for (size_t i = 0; i < halo_program_pass_count(p); ++i)
-        generation |= halo_program_pass(p, i)->post == 0;
+        generation |= halo_program_pass(p, i)->at == HALO_PASS_AT_GENERATE;
     /* host contract 3: the field of every segment first, then the host in one draw */
     field_stacks stacks = {0};
     int one_draw = p->one_draw;
@@ -642,7 +640,7 @@ static const char *host_source(conform *c, const conform_segment_host *host, cha
         free(text);
         text = variant;
         if (!text)
-            halo_diag_error(c->diag, USAGE, host->file, 0, 0, "no MIP mode lines to switch on");
+            HALO_REPORT_ERROR(c->diag, HALO_MSG_USAGE, host->file, 0, 0, "no MIP mode lines to switch on");
     }
     return *owned = text;
 }

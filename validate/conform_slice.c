@@ -5,7 +5,6 @@
 #include "conform_slice.h"
 
 #include "halo.h"
-#include "diag.h"
 #include "gl/glfuncs.h"
 #include "hosts/slab.h"
 #include "hosts/slice.h"
@@ -92,7 +91,7 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
     float *gradients = halo_volume_gradients(s->volume, s->dims);
     int ok = gradients != NULL;
     if (!ok)
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
     for (int k = 0; k < s->slice_count && ok; ++k) {
         double plane = s->first_distance + k * s->step_size;
         for (size_t i = 0; i < pixels && ok; ++i) {
@@ -193,7 +192,7 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
     gpu = malloc(pixels * 4 * sizeof *gpu);
     reference = malloc(pixels * 4 * sizeof *reference);
     if (!gpu || !reference) {
-        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
         goto done;
     }
     if (halo_slice_render(host, gpu, c->diag) != HALO_OK)
@@ -237,7 +236,7 @@ void conform_slice_row(conform *c, const conform_row *row)
     const int volume_size = 32;
     float *volume = halo_volume_create(volume_size);
     if (!volume) {
-        halo_diag_error(c->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
         print_error_row(c, row->name);
         return;
     }

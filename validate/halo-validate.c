@@ -160,7 +160,7 @@ static const char *crash_reason(int sig) { return sig ? strsignal(sig) : "no exi
 static void report_crash(halo_diagnostics *d, const char *path, int sig) {
     char text[256];
     snprintf(text, sizeof text, "the GLSL compiler crashed on this file (%s)", crash_reason(sig));
-    halo_diagnostics_report(d, HALO_SEVERITY_ERROR, HALO_MSG_GLSL_ERROR, path, 0, 0, text);
+    halo_diagnostics_report(d, HALO_SEVERITY_ERROR, HALO_MSG_GLSL_ERROR, path, 0, 0, NULL, "%s", text);
 }
 
 /* Validates one file that read_text has read; module says it is a module, shader a host

@@ -288,7 +288,7 @@ std::vector<halo_vtk *> &installs() {
 }
 
 void add_error(halo_diagnostics *diag, halo_message_id id, const std::string &text) {
-    halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, id, nullptr, 0, 0, text.c_str());
+    halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, id, nullptr, 0, 0, nullptr, "%s", text.c_str());
 }
 
 /* Uploads one engine uniform as a VTK custom uniform; arrays padded to their size so that
@@ -934,7 +934,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     link.one_draw = segmenting && !desc->segments;
     halo_program *program = halo_link(&link, diag);
     if (!program && !segmenting && halo_diagnostics_has(diag, HALO_MSG_HOST_SINGLE_PASS))
-        halo_diagnostics_report(diag, HALO_SEVERITY_NOTE, HALO_MSG_HOST_SINGLE_PASS, nullptr, 0, 0,
+        halo_diagnostics_report(diag, HALO_SEVERITY_NOTE, HALO_MSG_HOST_SINGLE_PASS, nullptr, 0, 0, nullptr,
                                 "in VTK: create the mapper with halo_vtk_mapper_new(), which draws VTK's volume "
                                 "in depth segments (docs/hosts/vtk.md)");
     if (!program) return nullptr;
@@ -1013,9 +1013,9 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     if (segmenting) {
         h->segmented = halo_program_output_count(program) || halo_program_pass_count(program);
         for (size_t i = 0; i < halo_program_pass_count(program) && link.one_draw; i++)
-            h->one_draw |= !halo_program_pass(program, i)->post; /* passes between slices: the field */
+            h->one_draw |= !halo_program_pass(program, i)->at; /* passes between slices: the field */
         for (size_t i = 0; i < halo_program_pass_count(program); i++)
-            if (halo_program_pass(program, i)->post) h->post_image = halo_program_pass(program, i)->output;
+            if (halo_program_pass(program, i)->at) h->post_image = halo_program_pass(program, i)->output;
         segmenting->halo = h;
     }
     h->mode = !segmenting ? SPLICE_OWN : names.segmented ? SPLICE_SEGMENTS : SPLICE_DRAWN_ONCE;

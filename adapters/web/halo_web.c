@@ -40,7 +40,7 @@ static void usage(halo_diagnostics *d, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(text, sizeof text, fmt, ap);
     va_end(ap);
-    halo_diagnostics_report(d, HALO_SEVERITY_ERROR, HALO_MSG_USAGE, "", 0, 0, text);
+    halo_diagnostics_report(d, HALO_SEVERITY_ERROR, HALO_MSG_USAGE, "", 0, 0, NULL, "%s", text);
 }
 
 static halo_diagnostics *fresh(void)

@@ -2,8 +2,7 @@
 #include "host_common.h"
 #include "volume.h"
 
-#include "diag.h"
-#include "internal.h"
+#include "halo.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -41,7 +40,7 @@ int halo_host_desc_check(const halo_host_desc *desc, halo_diagnostics *diag)
 {
     if (!desc || !desc->gl || desc->width < 1 || desc->height < 1 || desc->width > 16384 || desc->height > 16384 ||
         (desc->program && !desc->runtime)) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "host: gl, a size in 1..16384 and (with a program) a runtime are required");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "host: gl, a size in 1..16384 and (with a program) a runtime are required");
         return 0;
     }
     return 1;
@@ -75,7 +74,7 @@ static void report_log(halo_diagnostics *diag, halo_message_id id, const halo_pr
             line = column = 0;
         }
         if (n > 0)
-            halo_diag_add(diag, HALO_SEVERITY_ERROR, id, origin_file, line, column, NULL, "%.*s",
+            halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, id, origin_file, line, column, NULL, "%.*s",
                           (int)(n - (size_t)(text - p)), text);
         p = end ? end + 1 : NULL;
     }
@@ -99,11 +98,11 @@ static GLuint compile_raw(const halo_glfuncs *f, GLenum type, const halo_program
             report_log(diag, HALO_MSG_GL_COMPILE, program, file, log);
             free(log);
         }
-        halo_diag_error(diag, GL_COMPILE, file, 0, 0, "the driver rejected '%s'", file);
+        HALO_REPORT_ERROR(diag, HALO_MSG_GL_COMPILE, file, 0, 0, "the driver rejected '%s'", file);
     } else {
         if (log)
             f->GetShaderInfoLog(shader, length, NULL, log);
-        halo_diag_error(diag, GL_COMPILE, file, 0, 0, "the driver rejected '%s': %s", file, log ? log : "");
+        HALO_REPORT_ERROR(diag, HALO_MSG_GL_COMPILE, file, 0, 0, "the driver rejected '%s': %s", file, log ? log : "");
         free(log);
     }
     f->DeleteShader(shader);
@@ -152,7 +151,7 @@ GLuint halo_host_link_mapped(const halo_glfuncs *f, const halo_program *vertex_p
             free(log);
         }
     }
-    halo_diag_error(diag, GL_LINK, fragment_file, 0, 0, "the driver could not link '%s'", fragment_file);
+    HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, fragment_file, 0, 0, "the driver could not link '%s'", fragment_file);
     f->DeleteProgram(program);
     return 0;
 }
@@ -163,7 +162,7 @@ GLuint halo_host_program_build(const halo_host_desc *desc, const char *default_v
     const char *vertex_source = desc->vertex_source ? desc->vertex_source : halo_host_embedded(default_vertex);
     const char *vertex_file = desc->vertex_file ? desc->vertex_file : default_vertex;
     if (!vertex_source) {
-        halo_diag_error(diag, IO_READ, default_vertex, 0, 0, "no vertex shader: %s is not embedded", default_vertex);
+        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, default_vertex, 0, 0, "no vertex shader: %s is not embedded", default_vertex);
         return 0;
     }
     if (desc->program && halo_program_target(desc->program) == HALO_TARGET_ES300 &&
@@ -172,7 +171,7 @@ GLuint halo_host_program_build(const halo_host_desc *desc, const char *default_v
         size_t length = strlen(vertex_source) + 64;
         char *es = malloc(length);
         if (!es) {
-            halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+            HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
             return 0;
         }
         snprintf(es, length, "#version 300 es\nprecision highp float;\n%s", vertex_source + 18);
@@ -185,7 +184,7 @@ GLuint halo_host_program_build(const halo_host_desc *desc, const char *default_v
     const char *fragment_source = desc->fragment_source ? desc->fragment_source : halo_host_embedded(default_fragment);
     const char *fragment_file = desc->fragment_file ? desc->fragment_file : default_fragment;
     if (!fragment_source) {
-        halo_diag_error(diag, IO_READ, default_fragment, 0, 0, "no fragment shader: %s is not embedded",
+        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, default_fragment, 0, 0, "no fragment shader: %s is not embedded",
                         default_fragment);
         return 0;
     }
@@ -207,7 +206,7 @@ void *halo_host_calloc(size_t size, halo_diagnostics *diag)
 {
     void *p = calloc(1, size);
     if (!p)
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
     return p;
 }
 
@@ -216,7 +215,7 @@ halo_status halo_host_gl_check(const halo_glfuncs *f, halo_message_id id, const 
     GLenum error = f->GetError();
     if (error == GL_NO_ERROR)
         return HALO_OK;
-    halo_diag_add(diag, HALO_SEVERITY_ERROR, id, "", 0, 0, NULL, "%s (GL error 0x%x)", failed, error);
+    halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, id, "", 0, 0, NULL, "%s (GL error 0x%x)", failed, error);
     return HALO_ERROR_IO;
 }
 
@@ -230,7 +229,7 @@ int halo_host_framebuffer(const halo_glfuncs *f, GLuint *framebuffer, GLuint col
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
     GLenum error = f->GetError();
     if (status != GL_FRAMEBUFFER_COMPLETE || error != GL_NO_ERROR) {
-        halo_diag_error(diag, GL_LINK, "", 0, 0, "cannot create a %dx%d RGBA32F render target (status 0x%x, GL error 0x%x)",
+        HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0, "cannot create a %dx%d RGBA32F render target (status 0x%x, GL error 0x%x)",
                         width, height, status, error);
         return 0;
     }
@@ -301,7 +300,7 @@ static halo_status gradient_storage(const halo_glfuncs *f, GLuint texture, int n
                                    GLint internal_format, int usable, const char *refusal, halo_diagnostics *diag)
 {
     if (!usable || !(gradient_format_known(internal_format) || packed_format(internal_format))) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "gradient volume: %s or not RGB32F, RGB16F, RGB8_SNORM, RGBA16_SNORM, RGBA32F",
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "gradient volume: %s or not RGB32F, RGB16F, RGB8_SNORM, RGBA16_SNORM, RGBA32F",
                         refusal);
         return HALO_ERROR_INPUT;
     }
@@ -332,7 +331,7 @@ halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, co
     slab = slab < 1 ? 1 : slab > nz ? nz : slab;
     float *gradients = malloc(slice_bytes * (size_t)slab);
     if (!gradients) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory for the gradients of %d slices of %dx%d voxels",
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory for the gradients of %d slices of %dx%d voxels",
                         slab, nx, ny);
         return HALO_ERROR_IO;
     }
@@ -346,7 +345,7 @@ halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, co
     free(gradients);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
-        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload the gradients of a %dx%dx%d volume (GL error 0x%x)", nx,
+        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, "", 0, 0, "cannot upload the gradients of a %dx%dx%d volume (GL error 0x%x)", nx,
                         ny, nz, error);
         return HALO_ERROR_IO;
     }
@@ -392,7 +391,7 @@ halo_status halo_host_build_gradients(const halo_glfuncs *f, GLuint texture, GLu
                                       int nz, GLint internal_format, float scale, halo_diagnostics *diag)
 {
     if (packed_format(internal_format)) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "gradient volume: RGBA holds the value too: halo_host_build_packed");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "gradient volume: RGBA holds the value too: halo_host_build_packed");
         return HALO_ERROR_INPUT;
     }
     return build_on_gpu(f, texture, volume_texture, nx, ny, nz, internal_format, scale, NULL, diag);
@@ -416,7 +415,7 @@ halo_status halo_host_build_packed(const halo_glfuncs *f, GLuint texture, GLuint
                                    halo_diagnostics *diag)
 {
     if (!packed_format(internal_format)) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "packed volume: RGBA16_SNORM or RGBA32F");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "packed volume: RGBA16_SNORM or RGBA32F");
         return HALO_ERROR_INPUT;
     }
     const float encode[2] = {value_range[0], 1.0f / value_range[1]};
@@ -461,7 +460,7 @@ static halo_status build_on_gpu(const halo_glfuncs *f, GLuint texture, GLuint vo
     for (int z = 0; z < nz && status == HALO_OK; ++z) {
         f->FramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, texture, 0, z);
         if (z == 0 && f->CheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-            halo_diag_error(diag, GL_LINK, "", 0, 0, "the gradient texture's layers are not renderable");
+            HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0, "the gradient texture's layers are not renderable");
             status = HALO_ERROR_IO;
             break;
         }
@@ -478,7 +477,7 @@ static halo_status build_on_gpu(const halo_glfuncs *f, GLuint texture, GLuint vo
     f->DeleteProgram(program);
     GLenum error = f->GetError();
     if (status == HALO_OK && error != GL_NO_ERROR) {
-        halo_diag_error(diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x while building the gradients of a %dx%dx%d volume",
+        HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0, "OpenGL error 0x%x while building the gradients of a %dx%dx%d volume",
                         error, nx, ny, nz);
         status = HALO_ERROR_IO;
     }
@@ -491,7 +490,7 @@ static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const fl
 {
     int rgb = internal_format != GL_R32F, rgba = internal_format == GL_RGBA16_SNORM || internal_format == GL_RGBA32F;
     if (!f || (!data && !rgb) || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "%s of %dx%dx%d voxels: each side must be 2..2048", what, nx, ny, nz);
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "%s of %dx%dx%d voxels: each side must be 2..2048", what, nx, ny, nz);
         return HALO_ERROR_INPUT;
     }
     f->BindTexture(GL_TEXTURE_3D, texture);
@@ -578,9 +577,43 @@ void halo_host_matrix_multiply(const double a[16], const double b[16], double ou
     memcpy(out, r, sizeof r);
 }
 
+/* The inverse as the adjugate over the determinant, from the 2x2 minors of the upper
+ * and the lower two rows (Laplace expansion); 0 for a singular matrix. */
 int halo_host_matrix_invert(const double m[16], double out[16])
 {
-    return halo_mat4_invert(m, out);
+    /* a[row][col] of the column-major m */
+#define A(row, col) m[(col) * 4 + (row)]
+    double s0 = A(0, 0) * A(1, 1) - A(1, 0) * A(0, 1), s1 = A(0, 0) * A(1, 2) - A(1, 0) * A(0, 2);
+    double s2 = A(0, 0) * A(1, 3) - A(1, 0) * A(0, 3), s3 = A(0, 1) * A(1, 2) - A(1, 1) * A(0, 2);
+    double s4 = A(0, 1) * A(1, 3) - A(1, 1) * A(0, 3), s5 = A(0, 2) * A(1, 3) - A(1, 2) * A(0, 3);
+    double c5 = A(2, 2) * A(3, 3) - A(3, 2) * A(2, 3), c4 = A(2, 1) * A(3, 3) - A(3, 1) * A(2, 3);
+    double c3 = A(2, 1) * A(3, 2) - A(3, 1) * A(2, 2), c2 = A(2, 0) * A(3, 3) - A(3, 0) * A(2, 3);
+    double c1 = A(2, 0) * A(3, 2) - A(3, 0) * A(2, 2), c0 = A(2, 0) * A(3, 1) - A(3, 0) * A(2, 1);
+    double det = s0 * c5 - s1 * c4 + s2 * c3 + s3 * c2 - s4 * c1 + s5 * c0;
+    if (!(fabs(det) >= 1e-300) || !isfinite(det))
+        return 0;
+    double k = 1.0 / det, r[4][4];
+    r[0][0] = (A(1, 1) * c5 - A(1, 2) * c4 + A(1, 3) * c3) * k;
+    r[0][1] = (-A(0, 1) * c5 + A(0, 2) * c4 - A(0, 3) * c3) * k;
+    r[0][2] = (A(3, 1) * s5 - A(3, 2) * s4 + A(3, 3) * s3) * k;
+    r[0][3] = (-A(2, 1) * s5 + A(2, 2) * s4 - A(2, 3) * s3) * k;
+    r[1][0] = (-A(1, 0) * c5 + A(1, 2) * c2 - A(1, 3) * c1) * k;
+    r[1][1] = (A(0, 0) * c5 - A(0, 2) * c2 + A(0, 3) * c1) * k;
+    r[1][2] = (-A(3, 0) * s5 + A(3, 2) * s2 - A(3, 3) * s1) * k;
+    r[1][3] = (A(2, 0) * s5 - A(2, 2) * s2 + A(2, 3) * s1) * k;
+    r[2][0] = (A(1, 0) * c4 - A(1, 1) * c2 + A(1, 3) * c0) * k;
+    r[2][1] = (-A(0, 0) * c4 + A(0, 1) * c2 - A(0, 3) * c0) * k;
+    r[2][2] = (A(3, 0) * s4 - A(3, 1) * s2 + A(3, 3) * s0) * k;
+    r[2][3] = (-A(2, 0) * s4 + A(2, 1) * s2 - A(2, 3) * s0) * k;
+    r[3][0] = (-A(1, 0) * c3 + A(1, 1) * c1 - A(1, 2) * c0) * k;
+    r[3][1] = (A(0, 0) * c3 - A(0, 1) * c1 + A(0, 2) * c0) * k;
+    r[3][2] = (-A(3, 0) * s3 + A(3, 1) * s1 - A(3, 2) * s0) * k;
+    r[3][3] = (A(2, 0) * s3 - A(2, 1) * s1 + A(2, 2) * s0) * k;
+#undef A
+    for (int row = 0; row < 4; ++row)
+        for (int col = 0; col < 4; ++col)
+            out[col * 4 + row] = r[row][col];
+    return 1;
 }
 
 void halo_host_perspective(double half_fov, double aspect, double near_plane, double far_plane, double out[16])
@@ -676,7 +709,7 @@ const halo_image_info *halo_host_post_image(const halo_program *p)
 {
     const char *name = NULL;
     for (size_t i = 0; p && i < halo_program_pass_count(p); ++i)
-        if (halo_program_pass(p, i)->post)
+        if (halo_program_pass(p, i)->at)
             name = halo_program_pass(p, i)->output;
     for (size_t i = 0; name && i < halo_program_image_count(p); ++i)
         if (!strcmp(halo_program_image(p, i)->name, name))
@@ -695,7 +728,7 @@ halo_status halo_host_post_passes(halo_gl_frame *frame, const halo_program *p, u
     int channels = info->channels;
     float *image = malloc(pixels * (size_t)channels * sizeof *image);
     if (!image) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory for the post passes");
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory for the post passes");
         return HALO_ERROR_IO;
     }
     halo_status status = halo_gl_frame_read(frame, info->name, image);
@@ -710,6 +743,6 @@ halo_status halo_host_post_passes(halo_gl_frame *frame, const halo_program *p, u
     }
     free(image);
     if (status != HALO_OK)
-        halo_diag_error(diag, GL_LINK, "", 0, 0, "the post passes failed (image %s)", info->name);
+        HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0, "the post passes failed (image %s)", info->name);
     return status;
 }

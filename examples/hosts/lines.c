@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "diag.h"
 #include "host_common.h" /* halo_host_embedded, halo_host_matrix_multiply */
 
 #ifndef M_PI
@@ -46,13 +45,13 @@ halo_status halo_lines_link_scenes(const halo_library *lib, const halo_scene *ve
 {
     *vertex = *fragment = NULL;
     if (!lib) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_lines_link: a library is required");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "halo_lines_link: a library is required");
         return HALO_ERROR_INPUT;
     }
     const char *vs = vertex_source ? vertex_source : halo_host_embedded("line.vert");
     const char *fs = fragment_source ? fragment_source : halo_host_embedded("line.frag");
     if (!vs || !fs) {
-        halo_diag_error(diag, IO_READ, "line.vert", 0, 0, "the line host shaders are not embedded");
+        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, "line.vert", 0, 0, "the line host shaders are not embedded");
         return HALO_ERROR_IO;
     }
     *vertex = halo_link(&(halo_link_desc){.library = lib, .scene = vertex_scene, .host_source = vs,
@@ -76,7 +75,7 @@ halo_status halo_lines_link(const halo_library *lib, const char *scene_path, con
 {
     *vertex = *fragment = NULL;
     if (!lib) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_lines_link: a library is required");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "halo_lines_link: a library is required");
         return HALO_ERROR_INPUT;
     }
     halo_scene *vertex_scene = scene_for_hook(lib, scene_path, scene_text, HALO_HOOK_LINE_VERTEX, diag);
@@ -99,7 +98,7 @@ unsigned halo_lines_build_program(const halo_glfuncs *f, const halo_program *ver
                                   const char *fragment_file, halo_diagnostics *diag)
 {
     if (!f) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_lines_build_program: no GL functions");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "halo_lines_build_program: no GL functions");
         return 0;
     }
     vertex_file = vertex_file ? vertex_file : "vertex shader";
@@ -110,7 +109,7 @@ unsigned halo_lines_build_program(const halo_glfuncs *f, const halo_program *ver
         fragment_source = halo_program_source(fragment_program);
     if (!vertex_source || !fragment_source) {
         const char *file = vertex_source ? fragment_file : vertex_file;
-        halo_diag_error(diag, GL_COMPILE, file, 0, 0, "no shader text for '%s'", file);
+        HALO_REPORT_ERROR(diag, HALO_MSG_GL_COMPILE, file, 0, 0, "no shader text for '%s'", file);
         return 0;
     }
     return halo_host_link_mapped(f, vertex_program, vertex_source, vertex_file, fragment_program, fragment_source,
@@ -187,7 +186,7 @@ struct halo_lines {
 halo_lines *halo_lines_create(const halo_lines_desc *desc, halo_diagnostics *diag)
 {
     if (!desc || !desc->gl || desc->width < 1 || desc->height < 1 || desc->width > 16384 || desc->height > 16384) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "lines: gl and a size in 1..16384 are required");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "lines: gl and a size in 1..16384 are required");
         return NULL;
     }
     halo_lines *l = halo_host_calloc(sizeof *l, diag);
@@ -224,7 +223,7 @@ halo_lines *halo_lines_create(const halo_lines_desc *desc, halo_diagnostics *dia
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
     GLenum error = f->GetError();
     if (status != GL_FRAMEBUFFER_COMPLETE || error != GL_NO_ERROR) {
-        halo_diag_error(diag, GL_LINK, "", 0, 0,
+        HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0,
                         "cannot create a %dx%d RGBA8 + DEPTH32F render target (status 0x%x, GL error 0x%x)", l->width,
                         l->height, status, error);
         halo_lines_destroy(l);
@@ -258,7 +257,7 @@ size_t halo_lines_vertex_count(const halo_lines *l)
 halo_status halo_lines_set_data(halo_lines *l, const halo_polylines *lines, halo_diagnostics *diag)
 {
     if (!l || !lines || lines->point_count == 0 || lines->point_count > ((size_t)1 << 28)) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "lines: 1..2^28 points are required");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "lines: 1..2^28 points are required");
         return HALO_ERROR_INPUT;
     }
     size_t points = lines->point_count, segments = 0;
@@ -270,7 +269,7 @@ halo_status halo_lines_set_data(halo_lines *l, const halo_polylines *lines, halo
     uint32_t *indices = malloc((segments ? segments : 1) * 6 * sizeof *indices);
     if (!direction || !u || !vertices || !indices) {
         free(direction), free(u), free(vertices), free(indices);
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory building a strip of %zu points", points);
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory building a strip of %zu points", points);
         return HALO_ERROR_IO;
     }
     halo_lines_strip_attributes(lines, direction, u);
@@ -327,7 +326,7 @@ halo_status halo_lines_set_data(halo_lines *l, const halo_polylines *lines, halo
     free(direction), free(u), free(vertices), free(indices);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
-        halo_diag_error(diag, IO_READ, "", 0, 0, "cannot upload %zu strip vertices (GL error 0x%x)", 2 * points, error);
+        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, "", 0, 0, "cannot upload %zu strip vertices (GL error 0x%x)", 2 * points, error);
         return HALO_ERROR_IO;
     }
     l->vertex_count = 2 * points;
@@ -428,11 +427,11 @@ void halo_lines_project(const halo_lines *l, const halo_lines_state *s, const do
 halo_status halo_lines_draw(halo_lines *l, const halo_lines_view *view, halo_diagnostics *diag)
 {
     if (!l || !view) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_lines_draw: lines and view are required");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "halo_lines_draw: lines and view are required");
         return HALO_ERROR_INPUT;
     }
     if (!l->vertex_count) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "lines: no data uploaded");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "lines: no data uploaded");
         return HALO_ERROR_INPUT;
     }
     halo_lines_get_state(l, view, &l->state);

@@ -8,36 +8,22 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The library's internal diagnostics entry point is not exported; the examples add
- * their own diagnostics through this wrapper around the public list. */
-#include "diag.h"
-#include "strbuf.h"
-
-#include <errno.h>
 
 
 char *halo_host_load(const char *name, const char *override_path, halo_diagnostics *diag)
 {
     if (override_path) {
-        char *text = halo_read_file(override_path, NULL);
-        if (!text)
-            halo_diag_add(diag, HALO_SEVERITY_ERROR, errno == ENOMEM ? HALO_MSG_OUT_OF_MEMORY : HALO_MSG_IO_READ,
-                          override_path, 0, 0, NULL,
-                          errno == ENOMEM                   ? "out of memory reading '%s'"
-                          : errno == EIO || errno == EISDIR ? "cannot read host shader '%s'"
-                                                            : "cannot open host shader '%s'",
-                          override_path);
-        return text;
+        return halo_read_text_file(override_path, "host shader", NULL, diag);
     }
     const char *embedded = halo_host_embedded(name);
     if (!embedded) {
-        halo_diag_error(diag, IO_READ, name ? name : "", 0, 0, "no embedded host shader '%s'", name ? name : "");
+        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, name ? name : "", 0, 0, "no embedded host shader '%s'", name ? name : "");
         return NULL;
     }
     size_t n = strlen(embedded);
     char *copy = malloc(n + 1);
     if (!copy) {
-        halo_diag_error(diag, OUT_OF_MEMORY, name, 0, 0, "out of memory");
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, name, 0, 0, "out of memory");
         return NULL;
     }
     memcpy(copy, embedded, n + 1);
@@ -143,7 +129,7 @@ static halo_status host_target_read(host_target *t, float *rgba, halo_diagnostic
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
-        halo_diag_error(diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x while rendering", error);
+        HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0, "OpenGL error 0x%x while rendering", error);
         return HALO_ERROR_IO;
     }
     return HALO_OK;
@@ -465,7 +451,7 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
     if (!r || !rgba)
         return HALO_ERROR_INPUT;
     if (!r->volume) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "ray caster: no volume uploaded");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "ray caster: no volume uploaded");
         return HALO_ERROR_INPUT;
     }
     halo_raycast_state s;
@@ -561,7 +547,7 @@ halo_probe *halo_probe_create(const halo_host_desc *desc, halo_diagnostics *diag
         return NULL;
     p->staging = malloc((size_t)p->target.width * (size_t)p->target.height * 4 * sizeof(float));
     if (!p->staging) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
         halo_probe_destroy(p);
         return NULL;
     }

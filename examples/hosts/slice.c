@@ -3,7 +3,6 @@
 #include "hosts/host_common.h"
 #include "volume.h"
 
-#include "diag.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -303,7 +302,7 @@ halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int 
             if (s->packed)
                 halo_host_value_range(data, dims, s->value_range);
         } else if (s->packed) {
-            halo_diag_error(diag, GL_LINK, "", 0, 0, "slice host: this GL cannot render into the 3D textures of "
+            HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0, "slice host: this GL cannot render into the 3D textures of "
                                                      "gradient format %s", halo_gradient_format_name(format));
             return HALO_ERROR_IO;
         } else {
@@ -390,7 +389,7 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
     if (!s || !rgba)
         return HALO_ERROR_INPUT;
     if (!s->volume) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "slice host: no volume uploaded");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "slice host: no volume uploaded");
         return HALO_ERROR_INPUT;
     }
     if (s->gradient_pending) {
@@ -437,7 +436,7 @@ static int generation_zero_from_zero(const halo_program *p)
     int any = 0;
     for (size_t i = 0; p && i < halo_program_pass_count(p); ++i) {
         const halo_pass_info *pass = halo_program_pass(p, i);
-        if (pass->post)
+        if (pass->at)
             continue;
         const halo_stage_info *info = NULL;
         for (size_t k = 0; k < halo_program_stage_count(p); ++k)
@@ -732,7 +731,7 @@ static void program_state(halo_slice *s, GLuint program, const halo_slice_state 
 static GLuint shader_variant(halo_slice *s, GLuint *program, const char *defines, halo_diagnostics *diag)
 {
     if (!s->vertex_source) {
-        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "slice host: out of memory for its shader's variant");
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "slice host: out of memory for its shader's variant");
         return 0;
     }
     if (!*program)
@@ -893,7 +892,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     s->pass_draws = halo_gl_frame_pass_draws(s->frame) - pass_draws_before;
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
-        halo_diag_error(diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x while rendering slices", error);
+        HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0, "OpenGL error 0x%x while rendering slices", error);
         return HALO_ERROR_IO;
     }
     /* the background, behind what the slices left transparent */

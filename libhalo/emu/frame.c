@@ -244,27 +244,27 @@ static const halo_linked_stage *find_stage(const halo_program *p, const char *na
     return NULL;
 }
 
-static halo_status run_passes(halo_emu_frame *f, int post, halo_diagnostics *diag);
+static halo_status run_passes(halo_emu_frame *f, halo_pass_at at, halo_diagnostics *diag);
 
 halo_status halo_emu_frame_generate(halo_emu_frame *f, halo_diagnostics *diag) {
     HALO_REFUSE_NULL(diag, f, "frame", HALO_ERROR_INPUT);
-    return run_passes(f, 0, diag);
+    return run_passes(f, HALO_PASS_AT_GENERATE, diag);
 }
 
 halo_status halo_emu_frame_end_group(halo_emu_frame *f, halo_diagnostics *diag) {
     HALO_REFUSE_NULL(diag, f, "frame", HALO_ERROR_INPUT);
-    halo_status st = run_passes(f, 1, diag);
+    halo_status st = run_passes(f, HALO_PASS_AT_POST, diag);
     if (st == HALO_OK) f->groups_ended++;
     return st;
 }
 
 halo_status halo_emu_frame_post(halo_emu_frame *f, halo_diagnostics *diag) {
     HALO_REFUSE_NULL(diag, f, "frame", HALO_ERROR_INPUT);
-    halo_status st = f->groups_ended ? HALO_OK : run_passes(f, 1, diag);
-    return st == HALO_OK ? run_passes(f, 2, diag) : st;
+    halo_status st = f->groups_ended ? HALO_OK : run_passes(f, HALO_PASS_AT_POST, diag);
+    return st == HALO_OK ? run_passes(f, HALO_PASS_AT_FINAL, diag) : st;
 }
 
-static halo_status run_passes(halo_emu_frame *f, int post, halo_diagnostics *diag) {
+static halo_status run_passes(halo_emu_frame *f, halo_pass_at at, halo_diagnostics *diag) {
     if (!f) return HALO_ERROR_INPUT;
     const halo_program *p = f->program;
     /* Resolve everything first, so that a missing emulation changes no image. */
@@ -282,7 +282,7 @@ static halo_status run_passes(halo_emu_frame *f, int post, halo_diagnostics *dia
     }
     for (size_t i = 0; i < p->pass_count; i++) {
         const halo_pass_info *pi = &p->passes[i];
-        if (pi->post != post) continue;
+        if (pi->at != at) continue;
         halo_emu_params params = {p, find_stage(p, pi->stage), f};
         halo_emu_pass_fn fn = halo_emu_lookup_pass(pi->stage, pi->entry);
         int out = image_index(f, pi->output);
@@ -319,7 +319,7 @@ static halo_status run_passes(halo_emu_frame *f, int post, halo_diagnostics *dia
             f->scratch = old;
         }
     }
-    for (size_t i = 0; i < p->image_count && !post; i++)
+    for (size_t i = 0; i < p->image_count && at == HALO_PASS_AT_GENERATE; i++)
         if (p->images[i].reset == HALO_RESET_GENERATION) clear_image(f, i);
     return HALO_OK;
 }

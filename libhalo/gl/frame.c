@@ -321,7 +321,7 @@ static int frame_scissored(const halo_gl_frame *fr)
     int any = 0;
     for (size_t i = 0; i < fr->pass_count; ++i) {
         const frame_pass *pass = &fr->passes[i];
-        if (pass->info->post)
+        if (pass->info->at)
             continue;
         if (pass->info->reach < 0)
             return 0;
@@ -616,7 +616,7 @@ void halo_gl_frame_destroy(halo_gl_frame *fr)
 }
 
 static void frame_clear(halo_gl_frame *fr, int group);
-static void frame_run(halo_gl_frame *fr, int post);
+static void frame_run(halo_gl_frame *fr, halo_pass_at at);
 
 void halo_gl_frame_begin(halo_gl_frame *fr)
 {
@@ -634,7 +634,7 @@ void halo_gl_frame_begin_group(halo_gl_frame *fr)
 void halo_gl_frame_end_group(halo_gl_frame *fr)
 {
     HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
-    frame_run(fr, 1);
+    frame_run(fr, HALO_PASS_AT_POST);
     fr->groups_ended++;
 }
 
@@ -774,12 +774,12 @@ void halo_gl_frame_bind(halo_gl_frame *fr, unsigned gl_program, int first_unit)
     fr->bound_first_unit = first_unit;
 }
 
-static void frame_run(halo_gl_frame *fr, int post);
+static void frame_run(halo_gl_frame *fr, halo_pass_at at);
 
 void halo_gl_frame_generate(halo_gl_frame *fr)
 {
     HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
-    frame_run(fr, 0);
+    frame_run(fr, HALO_PASS_AT_GENERATE);
 }
 
 void halo_gl_frame_post(halo_gl_frame *fr, unsigned host_color_texture)
@@ -791,8 +791,8 @@ void halo_gl_frame_post(halo_gl_frame *fr, unsigned host_color_texture)
             fr->images[i].current = 0;
         }
     if (!fr->groups_ended)
-        frame_run(fr, 1);
-    frame_run(fr, 2);
+        frame_run(fr, HALO_PASS_AT_POST);
+    frame_run(fr, HALO_PASS_AT_FINAL);
 }
 
 unsigned halo_gl_frame_texture(const halo_gl_frame *fr, const char *image)
@@ -853,7 +853,7 @@ int halo_gl_frame_read_region(const halo_gl_frame *fr, int box[4])
     return !box_empty(region);
 }
 
-static void frame_run(halo_gl_frame *fr, int post)
+static void frame_run(halo_gl_frame *fr, halo_pass_at at)
 {
     if (!fr || (fr->pass_count == 0 && fr->image_count == 0))
         return;
@@ -866,12 +866,12 @@ static void frame_run(halo_gl_frame *fr, int post)
     f->Disable(GL_BLEND);
     f->Disable(GL_SCISSOR_TEST);
     f->BindVertexArray(fr->vertex_array);
-    int scissored = !post && frame_scissored(fr);
+    int scissored = at == HALO_PASS_AT_GENERATE && frame_scissored(fr);
     frame_take_host_draws(fr, scissored && fr->readback_bounds);
     for (size_t i = 0; i < fr->pass_count; ++i) {
         frame_pass *pass = &fr->passes[i];
         frame_image *out = &fr->images[pass->output];
-        if (pass->info->post != post || out->host)
+        if (pass->info->at != at || out->host)
             continue;
         f->UseProgram(pass->program);
         halo_gl_program_upload(gl, fr->program, pass->program);
@@ -907,7 +907,7 @@ static void frame_run(halo_gl_frame *fr, int post)
             out->current = 1 - out->current;
         }
     }
-    for (size_t i = 0; i < fr->image_count && !post; ++i) {
+    for (size_t i = 0; i < fr->image_count && at == HALO_PASS_AT_GENERATE; ++i) {
         frame_image *im = &fr->images[i];
         if (im->reset != HALO_RESET_GENERATION)
             continue;

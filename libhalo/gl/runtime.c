@@ -330,14 +330,14 @@ static void report_log_mapped(halo_diagnostics *diag, halo_message_id id, char *
                 origin_file = "(linked source)";
             }
         }
-        halo_diag_add(diag, m.severity, id, origin_file ? origin_file : "", origin_line, m.column, text_line,
+        halo_diagnostics_report(diag, m.severity, id, origin_file ? origin_file : "", origin_line, m.column, text_line,
                       "%s", m.text);
         free(text_line);
         if (m.severity == HALO_SEVERITY_ERROR)
             ++reported;
     }
     if (reported == 0 && id != HALO_MSG_GL_LINK)
-        halo_diag_add(diag, HALO_SEVERITY_ERROR, id, file ? file : "", 0, 0, NULL,
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, id, file ? file : "", 0, 0, NULL,
                       "the driver rejected the shader without an error message");
 }
 

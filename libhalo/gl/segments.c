@@ -88,7 +88,7 @@ static halo_status frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo
     int segments = plan.segments;
     int generate = 0;
     for (size_t i = 0; i < halo_program_pass_count(p); ++i)
-        generate |= halo_program_pass(p, i)->post == 0;
+        generate |= halo_program_pass(p, i)->at == HALO_PASS_AT_GENERATE;
 
     GLint saved_program = 0, saved_framebuffer = 0, saved_active = GL_TEXTURE0, saved_texture = 0;
     f->GetIntegerv(GL_CURRENT_PROGRAM, &saved_program);

@@ -189,7 +189,7 @@ static int render(const context *c, const halo_program *program, const halo_scen
     /* the post passes (outlines) on the host's image */
     const char *post = NULL;
     for (size_t i = 0; program && i < halo_program_pass_count(program); ++i)
-        if (halo_program_pass(program, i)->post)
+        if (halo_program_pass(program, i)->at)
             post = halo_program_pass(program, i)->output;
     if (post) {
         const halo_image_info *info = NULL;

@@ -922,8 +922,8 @@ static int test_feature_groups(void) {
     /* an at=post reduce pass into the frame's accumulator, at=final compose */
     int reduce = 0, final = 0;
     for (size_t i = 0; i < halo_program_pass_count(p); i++) {
-        reduce |= !strcmp(halo_program_pass(p, i)->name, "reduce") && halo_program_pass(p, i)->post == 1;
-        final |= !strcmp(halo_program_pass(p, i)->name, "compose") && halo_program_pass(p, i)->post == 2;
+        reduce |= !strcmp(halo_program_pass(p, i)->name, "reduce") && halo_program_pass(p, i)->at == HALO_PASS_AT_POST;
+        final |= !strcmp(halo_program_pass(p, i)->name, "compose") && halo_program_pass(p, i)->at == HALO_PASS_AT_FINAL;
     }
     CHECK(reduce && final);
     halo_program_destroy(p);

@@ -143,16 +143,27 @@ CASE(halo_diagnostics_clear) { ACCEPTS(DONE(halo_diagnostics_clear(NULL))); retu
 CASE(halo_diagnostics_report) {
     /* a NULL list: the logger alone sees it; a NULL file and text are empty */
     refuse_begin(d);
-    halo_diagnostics_report(NULL, HALO_SEVERITY_NOTE, HALO_MSG_GLSL_WARNING, NULL, 0, 0, NULL);
+    halo_diagnostics_report(NULL, HALO_SEVERITY_NOTE, HALO_MSG_GLSL_WARNING, NULL, 0, 0, NULL, NULL);
     CHECK_INT_EQ(logged.count, 1);
     CHECK_INT_EQ(logged.id, HALO_MSG_GLSL_WARNING);
+    return 0;
+}
+CASE(halo_read_text_file) {
+    REFUSES(halo_read_text_file(NULL, "file", NULL, d) == NULL, "path");
+    /* a file that is not there: NULL and one IO_READ naming it */
+    halo_diagnostics *list = halo_diagnostics_create();
+    SETUP(list != NULL);
+    CHECK_INT_EQ(halo_read_text_file("/nonexistent/halo.txt", "host shader", NULL, list) == NULL, 1);
+    CHECK_INT_EQ(halo_diagnostics_count(list), 1);
+    CHECK_INT_EQ(halo_diagnostics_has(list, HALO_MSG_IO_READ), 1);
+    halo_diagnostics_destroy(list);
     return 0;
 }
 CASE(halo_diagnostics_print) {
     ACCEPTS(DONE(halo_diagnostics_print(NULL, stderr)));
     halo_diagnostics *list = halo_diagnostics_create();
     SETUP(list != NULL);
-    halo_diagnostics_report(list, HALO_SEVERITY_NOTE, HALO_MSG_GLSL_WARNING, "f", 1, 1, "text");
+    halo_diagnostics_report(list, HALO_SEVERITY_NOTE, HALO_MSG_GLSL_WARNING, "f", 1, 1, NULL, "%s", "text");
     REFUSES(DONE(halo_diagnostics_print(list, NULL)), "out");
     halo_diagnostics_destroy(list);
     return 0;
@@ -597,6 +608,7 @@ static const api_case cases[] = {
     ROW(halo_diagnostics_has),
     ROW(halo_diagnostics_clear),
     ROW(halo_diagnostics_report),
+    ROW(halo_read_text_file),
     ROW(halo_diagnostics_print),
     NO_POINTER(halo_message_name),
     ROW(halo_diagnostics_set_limit),

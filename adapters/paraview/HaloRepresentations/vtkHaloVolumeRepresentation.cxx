@@ -177,7 +177,7 @@ public:
       }
       if (dot == std::string::npos || eq == std::string::npos || dot > eq || v.empty())
       {
-        halo_diagnostics_report(this->Diag, HALO_SEVERITY_ERROR, HALO_MSG_USAGE, "HaloSettings", 0, 0,
+        halo_diagnostics_report(this->Diag, HALO_SEVERITY_ERROR, HALO_MSG_USAGE, "HaloSettings", 0, 0, nullptr, "%s",
           ("HaloSettings takes stage.param=v[,v...] separated by ';', not '" + item + "'").c_str());
         return 0;
       }
@@ -187,7 +187,7 @@ public:
       int components = info ? info->components : 1;
       if (v.size() % static_cast<size_t>(components))
       {
-        halo_diagnostics_report(this->Diag, HALO_SEVERITY_ERROR, HALO_MSG_USAGE, "HaloSettings", 0, 0,
+        halo_diagnostics_report(this->Diag, HALO_SEVERITY_ERROR, HALO_MSG_USAGE, "HaloSettings", 0, 0, nullptr, "%s",
           ("HaloSettings: " + stage + "." + param + " takes " + std::to_string(components) +
             " values per element, not '" + item + "'")
             .c_str());
@@ -365,9 +365,9 @@ void vtkHaloVolumeRepresentation::PrepareHalo(vtkRenderer* renderer, vtkVolume* 
   {
     const halo_program* p = halo_vtk_program(I->Halo);
     for (size_t i = 0; i < halo_program_pass_count(p); i++)
-      if (halo_program_pass(p, i)->post)
+      if (halo_program_pass(p, i)->at)
       {
-        halo_diagnostics_report(I->Diag, HALO_SEVERITY_ERROR, HALO_MSG_ENGINE_UNSUPPORTED, nullptr, 0, 0,
+        halo_diagnostics_report(I->Diag, HALO_SEVERITY_ERROR, HALO_MSG_ENGINE_UNSUPPORTED, nullptr, 0, 0, nullptr, "%s",
           (std::string("the scene's stage ") + halo_program_pass(p, i)->stage +
             " runs image passes on the finished image (outlines): across ranks they need the composited "
             "image, which ParaView makes after the volume mapper; run it on one rank (docs/distributed.md)")
