@@ -15,7 +15,7 @@ cd "$(dirname "$0")"
 # tests/setup_deps.sh reads this list: keep it one packages="..." of plain names.
 packages="build-essential autoconf automake libtool pkg-config file
   glslang-dev libosmesa6-dev libegl-dev libegl-mesa0 mesa-common-dev libopenimageio-dev libjansson-dev
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev clang-format
   libnifti2-dev zlib1g-dev mricron-data
   libglfw3-dev xvfb xauth
   gnuplot-nox

@@ -42,7 +42,8 @@ extern "C" {
 VTK_MODULE_INIT(vtkRenderingOpenGL2);
 VTK_MODULE_INIT(vtkRenderingVolumeOpenGL2);
 
-namespace {
+namespace
+{
 
 const char usage_text[] =
     "usage: halo-vtk [OPTIONS]\n"
@@ -72,20 +73,24 @@ const char usage_text[] =
     "  --quiet             print only errors\n"
     "exit status: 0 success, 1 the input has errors, 2 usage or I/O, 77 no display\n";
 
-int usage_error(const std::string &text) {
+int usage_error(const std::string &text)
+{
     fprintf(stderr, "halo-vtk: error: %s\nTry 'halo-vtk --help'.\n", text.c_str());
     return 2;
 }
 
 struct options {
-    const char *scene = nullptr, *volume = nullptr, *output = "halo-vtk.png", *blend = "composite", *export_to = nullptr;
+    const char *scene = nullptr, *volume = nullptr, *output = "halo-vtk.png", *blend = "composite",
+               *export_to = nullptr;
     double window[2] = {0, 0};
-    int have_window = 0, volume_size = 0, width = 256, height = 256, frames = 1, quiet = 0, no_stages = 0, plain_mapper = 0;
+    int have_window = 0, volume_size = 0, width = 256, height = 256, frames = 1, quiet = 0, no_stages = 0,
+        plain_mapper = 0;
     int segments = 0, tile_scale = 1;
     std::vector<std::string> sets;
 };
 
-int parse(int argc, char **argv, options *o) {
+int parse(int argc, char **argv, options *o)
+{
     for (int i = 1; i < argc; i++) {
         std::string a = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : nullptr;
@@ -128,12 +133,14 @@ int parse(int argc, char **argv, options *o) {
         } else if (a == "--tile-scale" && need()) {
             char *end;
             long n = strtol(v, &end, 10);
-            if (*end || n < 1 || n > 8) return usage_error(std::string("--tile-scale takes 1..8, not '") + v + "'");
+            if (*end || n < 1 || n > 8)
+                return usage_error(std::string("--tile-scale takes 1..8, not '") + v + "'");
             o->tile_scale = (int)n;
         } else if (a == "--frames" && need()) {
             char *end;
             long n = strtol(v, &end, 10);
-            if (*end || n < 1 || n > 1000) return usage_error(std::string("--frames takes 1..1000, not '") + v + "'");
+            if (*end || n < 1 || n > 1000)
+                return usage_error(std::string("--frames takes 1..1000, not '") + v + "'");
             o->frames = (int)n;
         } else if (a == "--size" && need()) {
             if (sscanf(v, "%dx%d", &o->width, &o->height) != 2 || o->width < 1 || o->height < 1 || o->width > 8192 ||
@@ -148,11 +155,13 @@ int parse(int argc, char **argv, options *o) {
 
 /* The display cube: the built-in volume, or the NIfTI file through halo-render's window
  * and resampling. */
-float *load_volume(const options &o, const halo_render_settings *settings, int *size) {
+float *load_volume(const options &o, const halo_render_settings *settings, int *size)
+{
     if (!o.volume) {
         *size = o.volume_size ? o.volume_size : HALO_VOLUME_DEFAULT_SIZE;
         float *v = halo_volume_create(*size);
-        if (!v) fprintf(stderr, "halo-vtk: error: out of memory for the built-in volume\n");
+        if (!v)
+            fprintf(stderr, "halo-vtk: error: out of memory for the built-in volume\n");
         return v;
     }
     halo_volume_file file = {};
@@ -175,13 +184,15 @@ float *load_volume(const options &o, const halo_render_settings *settings, int *
     float *cube = halo_volume_display_check(&file, *size, err, sizeof err) == HALO_VOLUME_OK
                       ? halo_volume_to_display(&file, window, *size)
                       : nullptr;
-    if (!cube) fprintf(stderr, "halo-vtk: error: %s: %s\n", o.volume, err);
+    if (!cube)
+        fprintf(stderr, "halo-vtk: error: %s: %s\n", o.volume, err);
     halo_volume_file_free(&file);
     return cube;
 }
 
 /* --export: the cube and the view halo-vtk would render, for another renderer. */
-int export_view(const options &o, const halo_render_settings *settings, const float *cube, int size) {
+int export_view(const options &o, const halo_render_settings *settings, const float *cube, int size)
+{
     std::string raw = std::string(o.export_to) + ".raw", json = std::string(o.export_to) + ".json";
     FILE *f = fopen(raw.c_str(), "wb");
     size_t n = (size_t)size * size * size;
@@ -204,27 +215,32 @@ int export_view(const options &o, const halo_render_settings *settings, const fl
             o.height);
     fprintf(f, "  \"background\": [%.9g, %.9g, %.9g],\n", settings->background[0], settings->background[1],
             settings->background[2]);
-    fprintf(f, "  \"camera\": {\"eye\": [%.9g, %.9g, %.9g], \"up\": [%.9g, %.9g, %.9g], \"focus\": [0.5, 0.5, 0.5], "
-               "\"view_angle\": %.9g},\n",
+    fprintf(f,
+            "  \"camera\": {\"eye\": [%.9g, %.9g, %.9g], \"up\": [%.9g, %.9g, %.9g], \"focus\": [0.5, 0.5, 0.5], "
+            "\"view_angle\": %.9g},\n",
             cam.eye[0], cam.eye[1], cam.eye[2], cam.up[0], cam.up[1], cam.up[2], (double)HALO_RAYCAST_FIELD_OF_VIEW);
     fprintf(f, "  \"transfer\": [");
     for (int i = 0; i < HALO_RAYCAST_TRANSFER_TEXELS; i++)
-        fprintf(f, "%s\n    [%.9g, %.9g, %.9g, %.9g, %.9g]", i ? "," : "", (double)i / (HALO_RAYCAST_TRANSFER_TEXELS - 1),
-                table[i * 4], table[i * 4 + 1], table[i * 4 + 2], table[i * 4 + 3]);
+        fprintf(f, "%s\n    [%.9g, %.9g, %.9g, %.9g, %.9g]", i ? "," : "",
+                (double)i / (HALO_RAYCAST_TRANSFER_TEXELS - 1), table[i * 4], table[i * 4 + 1], table[i * 4 + 2],
+                table[i * 4 + 3]);
     fprintf(f, "\n  ]\n}\n");
     if (fclose(f) != 0) {
         fprintf(stderr, "halo-vtk: error: %s: %s\n", json.c_str(), strerror(errno));
         return 2;
     }
-    if (!o.quiet) printf("halo-vtk: wrote %s and %s (%d^3)\n", raw.c_str(), json.c_str(), size);
+    if (!o.quiet)
+        printf("halo-vtk: wrote %s and %s (%d^3)\n", raw.c_str(), json.c_str(), size);
     return 0;
 }
 
 } // namespace
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     options o;
-    if (int st = parse(argc, argv, &o)) return st;
+    if (int st = parse(argc, argv, &o))
+        return st;
     if (!o.export_to && !getenv("DISPLAY")) {
         fprintf(stderr, "halo-vtk: VTK's renderer needs an X display (run under xvfb-run)\n");
         return 77;
@@ -242,7 +258,8 @@ int main(int argc, char **argv) {
     const halo_render_settings *settings = halo_scene_render(scene);
     int size = 0;
     float *cube = load_volume(o, settings, &size);
-    if (!cube) return 1;
+    if (!cube)
+        return 1;
     if (o.export_to) {
         status = export_view(o, settings, cube, size);
         free(cube);
@@ -313,8 +330,8 @@ int main(int argc, char **argv) {
     if (o.width < o.height) /* VTK's view angle spans the height; halo-render's the smaller side */
         fov = 2.0 * std::atan(std::tan(fov * M_PI / 360.0) * o.height / o.width) * 180.0 / M_PI;
     camera->SetViewAngle(fov);
-    double distance = std::sqrt(std::pow(cam.eye[0] - 0.5, 2) + std::pow(cam.eye[1] - 0.5, 2) +
-                                std::pow(cam.eye[2] - 0.5, 2));
+    double distance =
+        std::sqrt(std::pow(cam.eye[0] - 0.5, 2) + std::pow(cam.eye[1] - 0.5, 2) + std::pow(cam.eye[2] - 0.5, 2));
     camera->SetClippingRange(std::max(distance - 0.87, 0.01), distance + 1.87);
 
     halo_vtk *h = nullptr;
@@ -330,11 +347,13 @@ int main(int argc, char **argv) {
         desc.all_live = !o.sets.empty();
         desc.segments = o.segments;
         h = halo_vtk_install(&desc, diag);
-        if (!h) status = 1; /* the diagnostics are printed at the end */
+        if (!h)
+            status = 1; /* the diagnostics are printed at the end */
     }
     if (!status) {
         window->Render();
-        if (h && halo_vtk_check(h, diag) != HALO_OK) status = 1;
+        if (h && halo_vtk_check(h, diag) != HALO_OK)
+            status = 1;
         else if (h && !o.quiet)
             printf("halo-vtk: the stages are in VTK's shader (%zu stage%s, validated)\n",
                    halo_program_stage_count(halo_vtk_program(h)),
@@ -344,7 +363,8 @@ int main(int argc, char **argv) {
         std::string s = o.sets[i];
         size_t dot = s.find('.'), eq = s.find('=');
         std::vector<double> v;
-        for (size_t at = eq == std::string::npos ? std::string::npos : eq + 1; at != std::string::npos && at < s.size();) {
+        for (size_t at = eq == std::string::npos ? std::string::npos : eq + 1;
+             at != std::string::npos && at < s.size();) {
             char *end;
             v.push_back(strtod(s.c_str() + at, &end));
             at = *end == ',' ? (size_t)(end - s.c_str()) + 1 : std::string::npos;
@@ -406,7 +426,8 @@ int main(int argc, char **argv) {
         rgba.assign(pixels->GetPointer(0), pixels->GetPointer(0) + (size_t)o.width * o.height * 4);
     }
     if (!status) {
-        for (size_t i = 3; i < rgba.size(); i += 4) rgba[i] = 1.0f; /* over the opaque background, as halo-render */
+        for (size_t i = 3; i < rgba.size(); i += 4)
+            rgba[i] = 1.0f; /* over the opaque background, as halo-render */
         char err[512];
         if (halo_image_write(o.output, out_width, out_height, rgba.data(), err, sizeof err)) {
             fprintf(stderr, "halo-vtk: error: %s\n", err);

@@ -14,7 +14,8 @@
 #include <string>
 #include <vector>
 
-namespace {
+namespace
+{
 
 void set_error(char *err, size_t errlen, const std::string &message)
 {

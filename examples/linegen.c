@@ -87,8 +87,8 @@ static halo_status builder_finish(builder *b, halo_polylines *out, halo_diagnost
 {
     if (b->failed) {
         halo_polylines_free(&b->lines);
-        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory building polylines (at most %zu points)",
-                        (size_t)MAX_POINTS);
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0,
+                          "out of memory building polylines (at most %zu points)", (size_t)MAX_POINTS);
         return HALO_ERROR_IO;
     }
     *out = b->lines;
@@ -118,7 +118,8 @@ typedef struct parser {
 
 static void parse_error(parser *ps, halo_message_id id, int column, const char *fmt, const char *arg)
 {
-    halo_diagnostics_report(ps->diag, HALO_SEVERITY_ERROR, id, ps->file, ps->line_number, column, ps->source_line, fmt, arg);
+    halo_diagnostics_report(ps->diag, HALO_SEVERITY_ERROR, id, ps->file, ps->line_number, column, ps->source_line, fmt,
+                            arg);
     ps->errors++;
 }
 
@@ -131,8 +132,9 @@ static void close_line(parser *ps)
         return;
     size_t n = l->first[l->line_count] - l->first[l->line_count - 1];
     if (n + (size_t)ps->bad_points < 2) {
-        halo_diagnostics_report(ps->diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_VALUE_COUNT, ps->file, ps->open_line, 1, NULL,
-                      "line %zu has %zu point%s; a polyline needs at least 2", l->line_count, n, n == 1 ? "" : "s");
+        halo_diagnostics_report(ps->diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_VALUE_COUNT, ps->file, ps->open_line, 1,
+                                NULL, "line %zu has %zu point%s; a polyline needs at least 2", l->line_count, n,
+                                n == 1 ? "" : "s");
         ps->errors++;
     }
 }
@@ -273,13 +275,13 @@ halo_status halo_polylines_parse(const char *text, const char *file, halo_polyli
         return builder_finish(&ps.b, out, diag);
     if (!ps.header) {
         halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_VERSION, ps.file, 1, 1, NULL,
-                      "empty file: a polyline file starts with the line 'halo-polylines 1'");
+                                "empty file: a polyline file starts with the line 'halo-polylines 1'");
         ps.errors++;
     } else {
         close_line(&ps);
         if (ps.b.lines.line_count == 0 && ps.errors == 0) {
-            halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_VALUE_COUNT, ps.file, ps.line_number, 1, NULL,
-                          "the file has no 'line'");
+            halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_VALUE_COUNT, ps.file, ps.line_number, 1,
+                                    NULL, "the file has no 'line'");
             ps.errors++;
         }
     }
@@ -299,7 +301,8 @@ halo_status halo_polylines_load(const char *path, halo_polylines *out, halo_diag
         return HALO_ERROR_IO;
     }
     char *text = halo_read_text_file(path, "polyline file", &len, diag);
-    if (!text) return HALO_ERROR_IO;
+    if (!text)
+        return HALO_ERROR_IO;
     if (memchr(text, '\0', len)) {
         free(text);
         HALO_REPORT_ERROR(diag, HALO_MSG_SCENE_TYPE, path, 0, 0, "'%s' is not a text file (it holds NUL bytes)", path);
@@ -334,10 +337,7 @@ static uint64_t splitmix64(uint64_t *state)
     return z ^ (z >> 31);
 }
 
-static double uniform01(uint64_t *state)
-{
-    return (double)(splitmix64(state) >> 11) * 0x1.0p-53;
-}
+static double uniform01(uint64_t *state) { return (double)(splitmix64(state) >> 11) * 0x1.0p-53; }
 
 /* The ABC flow at p (box coordinates, shifted by -pi). */
 static void abc_flow(const double p[3], double out[3])
@@ -366,12 +366,13 @@ static void rk4_step(double p[3], double h)
         p[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
 }
 
-halo_status halo_linegen_streamlines(size_t target_points, int max_points, unsigned long long seed,
-                                     halo_polylines *out, halo_diagnostics *diag)
+halo_status halo_linegen_streamlines(size_t target_points, int max_points, unsigned long long seed, halo_polylines *out,
+                                     halo_diagnostics *diag)
 {
     memset(out, 0, sizeof *out);
     if (target_points < 2 || target_points > MAX_POINTS || max_points < 2) {
-        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "streamlines: 2..%zu points and at least 2 per line", (size_t)MAX_POINTS);
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "streamlines: 2..%zu points and at least 2 per line",
+                          (size_t)MAX_POINTS);
         return HALO_ERROR_INPUT;
     }
     builder b = {0};
@@ -436,7 +437,7 @@ halo_status halo_linegen_knot(int p, int q, int tube_lines, int points_per_line,
     if (p < 1 || q < 1 || p > 64 || q > 64 || tube_lines < 1 || tube_lines > 4096 || points_per_line < 2 ||
         points_per_line > 1000000 || !(tube_radius >= 0.0 && tube_radius < 1.0)) {
         HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0,
-                        "knot: p, q in 1..64, 1..4096 tube lines, 2..1000000 points each, radius in [0, 1)");
+                          "knot: p, q in 1..64, 1..4096 tube lines, 2..1000000 points each, radius in [0, 1)");
         return HALO_ERROR_INPUT;
     }
     int n = points_per_line;
@@ -472,7 +473,8 @@ halo_status halo_linegen_knot(int p, int q, int tube_lines, int points_per_line,
         knot_tangent(p, q, 0, n, t0);
         const double *n0 = &normal[0], *nl = &normal[3 * (n - 1)];
         double b0[3] = {t0[1] * n0[2] - t0[2] * n0[1], t0[2] * n0[0] - t0[0] * n0[2], t0[0] * n0[1] - t0[1] * n0[0]};
-        double twist = atan2(nl[0] * b0[0] + nl[1] * b0[1] + nl[2] * b0[2], nl[0] * n0[0] + nl[1] * n0[1] + nl[2] * n0[2]);
+        double twist =
+            atan2(nl[0] * b0[0] + nl[1] * b0[1] + nl[2] * b0[2], nl[0] * n0[0] + nl[1] * n0[1] + nl[2] * n0[2]);
         for (int line = 0; line < tube_lines && builder_begin_line(&b); ++line) {
             double angle0 = 2.0 * M_PI * line / tube_lines;
             for (int k = 0; k < n; ++k) {

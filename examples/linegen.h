@@ -36,8 +36,8 @@ int halo_polylines_write(const char *path, const halo_polylines *lines);
  * `seed`) in the box [-pi, pi]^3 (the flow shifted by pi), each until it leaves the box or
  * has max_points points; lines are added until there are at least target_points points.
  * Coordinates are in the box. */
-halo_status halo_linegen_streamlines(size_t target_points, int max_points, unsigned long long seed,
-                                     halo_polylines *out, halo_diagnostics *diag);
+halo_status halo_linegen_streamlines(size_t target_points, int max_points, unsigned long long seed, halo_polylines *out,
+                                     halo_diagnostics *diag);
 
 /* A (p, q) torus knot, c(t) = ((2 + cos qt) cos pt, (2 + cos qt) sin pt, -sin qt), drawn
  * as a tube of tube_lines parallel polylines at distance tube_radius from the curve

@@ -11,7 +11,7 @@
 #include <pthread.h>
 
 typedef struct halo_progress {
-    const char *tool;       /* NULL: quiet */
+    const char *tool; /* NULL: quiet */
     pthread_mutex_t lock;
     pthread_cond_t wake;
     pthread_t thread;

@@ -54,10 +54,11 @@ static link_shape probe_link(const halo_library *lib, const char *const *stages,
     int ok = scene != NULL;
     for (size_t i = 0; ok && i < count; ++i)
         ok = halo_scene_enable(scene, stages[i], 1, NULL) == HALO_OK;
-    halo_program *p = ok ? halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = probe_host,
-                                                       .host_file = "probe"},
-                                     NULL)
-                         : NULL;
+    halo_program *p =
+        ok ? halo_link(
+                 &(halo_link_desc){.library = lib, .scene = scene, .host_source = probe_host, .host_file = "probe"},
+                 NULL)
+           : NULL;
     if (p) {
         shape.ok = 1;
         shape.outputs = halo_program_output_count(p);
@@ -163,8 +164,7 @@ float *halo_driver_builtin_volume(int size, const double window[2])
     return v;
 }
 
-halo_program *halo_driver_link(const halo_link_desc *desc, halo_driver_host kind, int validate,
-                               halo_diagnostics *diag)
+halo_program *halo_driver_link(const halo_link_desc *desc, halo_driver_host kind, int validate, halo_diagnostics *diag)
 {
     const char *file = halo_driver_fragment(kind);
     char *source = halo_host_load(file, NULL, diag);

@@ -47,21 +47,20 @@ float *halo_driver_builtin_volume(int size, const double window[2]);
 /* Links the scene into the host's fragment shader: desc gives the library, the scene
  * and the link options (its host_source and host_file are the driver's). validate:
  * halo_program_validate too. NULL on failure (diagnostics in diag). */
-halo_program *halo_driver_link(const halo_link_desc *desc, halo_driver_host kind, int validate,
-                               halo_diagnostics *diag);
+halo_program *halo_driver_link(const halo_link_desc *desc, halo_driver_host kind, int validate, halo_diagnostics *diag);
 
 typedef struct halo_driver {
     halo_driver_host kind;
-    halo_raycast *raycast;          /* the ray caster, or */
-    halo_slice *slice;              /* the slice host or the slab caster */
+    halo_raycast *raycast; /* the ray caster, or */
+    halo_slice *slice;     /* the slice host or the slab caster */
     halo_gl *runtime;
     const halo_program *program;
     int width, height;
-    const char *tool;               /* notes and progress on stderr under this name; NULL: none */
-    int quiet;                      /* with tool: errors only, no notes or progress */
-    long pass_draws;                /* the ray caster's image passes in the last frame */
-    halo_feature_buffer *feature;   /* feature_halo's halo buffer (halo_driver_update_feature) */
-    unsigned post_texture;          /* the slice host's colour, read by the post passes */
+    const char *tool;             /* notes and progress on stderr under this name; NULL: none */
+    int quiet;                    /* with tool: errors only, no notes or progress */
+    long pass_draws;              /* the ray caster's image passes in the last frame */
+    halo_feature_buffer *feature; /* feature_halo's halo buffer (halo_driver_update_feature) */
+    unsigned post_texture;        /* the slice host's colour, read by the post passes */
 } halo_driver;
 
 /* desc: the GL functions, runtime, program (or raw fragment source) and image size. */

@@ -20,10 +20,7 @@ static double soft_inside(double distance, double width)
     return t * t * (3.0 - 2.0 * t);
 }
 
-static float maxf(float a, float b)
-{
-    return a > b ? a : b;
-}
+static float maxf(float a, float b) { return a > b ? a : b; }
 
 /* The voxels lo..hi (per axis, inclusive) of the box from (int)p - reach to
  * (int)p + reach + 1 around the point p that lie inside the border. */
@@ -44,8 +41,8 @@ float *halo_volume_create(int size)
     float *v = calloc(n * n * n, sizeof *v);
     if (!v)
         return NULL;
-    const double scale = size / 96.0;   /* feature sizes below are in voxels at size 96 */
-    const double c = 0.5 * (size - 1);  /* centre, in voxel index units */
+    const double scale = size / 96.0;      /* feature sizes below are in voxels at size 96 */
+    const double c = 0.5 * (size - 1);     /* centre, in voxel index units */
     const double edge = 2.0 * scale + 1.0; /* width of every smooth edge */
     const int border = 2;
 
@@ -61,8 +58,8 @@ float *halo_volume_create(int size)
                 double outer = soft_inside(fabs(r - outer_radius) - outer_half, edge);
                 double cut = soft_inside(-fmin(dx, dz) + 4.0 * scale, edge); /* 1 outside the cut */
                 double inner = soft_inside(fabs(r - inner_radius) - inner_half, edge);
-                float value = maxf((float)(HALO_VOLUME_OUTER_SHELL * outer * cut),
-                                   (float)(HALO_VOLUME_INNER_SHELL * inner));
+                float value =
+                    maxf((float)(HALO_VOLUME_OUTER_SHELL * outer * cut), (float)(HALO_VOLUME_INNER_SHELL * inner));
                 v[((size_t)z * n + (size_t)y) * n + (size_t)x] = value;
             }
 
@@ -95,7 +92,7 @@ float *halo_volume_create(int size)
     static const double blobs[][4] = {
         {0.12, -0.10, 0.05, 2.5}, {-0.15, 0.08, -0.12, 3.0}, {0.02, 0.18, 0.14, 2.0},
         {0.55, 0.40, -0.20, 4.0}, {-0.50, -0.45, 0.30, 3.5}, {0.35, -0.60, -0.35, 2.5},
-        {-0.30, 0.62, 0.45, 3.0}, {0.60, -0.05, 0.55, 2.0}, {0.88, 0.10, 0.10, 3.0},
+        {-0.30, 0.62, 0.45, 3.0}, {0.60, -0.05, 0.55, 2.0},  {0.88, 0.10, 0.10, 3.0},
     };
     for (size_t b = 0; b < sizeof blobs / sizeof blobs[0]; ++b) {
         double bx = c + blobs[b][0] * c, by = c + blobs[b][1] * c, bz = c + blobs[b][2] * c;
@@ -176,8 +173,8 @@ static void trilinear_taps(const int dims[3], const double p[3], size_t voxel[8]
     }
     for (int corner = 0; corner < 8; ++corner) {
         int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
-        weight[corner] = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
-                         (corner & 4 ? f[2] : 1.0 - f[2]);
+        weight[corner] =
+            (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) * (corner & 4 ? f[2] : 1.0 - f[2]);
         voxel[corner] = ((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] + (size_t)x;
     }
 }

@@ -3,8 +3,8 @@
 #define HALO_EXAMPLE_VOLUME_H
 
 #define HALO_VOLUME_DEFAULT_SIZE 96
-#define HALO_VOLUME_MIN_SIZE 8
-#define HALO_VOLUME_MAX_SIZE 512
+#define HALO_VOLUME_MIN_SIZE     8
+#define HALO_VOLUME_MAX_SIZE     512
 
 /* A size³ volume (x fastest, then y, then z) of values in [0,1] with features of
  * several scales that occlude each other: two nested spherical shells (the outer one
@@ -19,8 +19,8 @@ float *halo_volume_create(int size);
 /* The values each feature peaks at, for transfer functions that separate them. */
 #define HALO_VOLUME_OUTER_SHELL 0.3f
 #define HALO_VOLUME_INNER_SHELL 0.5f
-#define HALO_VOLUME_TUBE 0.75f
-#define HALO_VOLUME_BLOB 1.0f
+#define HALO_VOLUME_TUBE        0.75f
+#define HALO_VOLUME_BLOB        1.0f
 
 /* The value of GL_LINEAR with GL_CLAMP_TO_EDGE on a dims[0] x dims[1] x dims[2] 3D
  * texture of v (x fastest) at texture coordinate p, in double. */

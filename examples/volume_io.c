@@ -73,23 +73,23 @@ static size_t checked_voxels(const char *path, const long long dims[3], char *er
     size_t voxels = 1;
     for (int a = 0; a < 3; ++a) {
         if (dims[a] < 1 || dims[a] > HALO_VOLUME_FILE_MAX_SIDE) {
-            fail(HALO_VOLUME_INVALID, err, err_size, "%s: dimension %c is %lld, outside 1..%d", path, "xyz"[a],
-                 dims[a], HALO_VOLUME_FILE_MAX_SIDE);
+            fail(HALO_VOLUME_INVALID, err, err_size, "%s: dimension %c is %lld, outside 1..%d", path, "xyz"[a], dims[a],
+                 HALO_VOLUME_FILE_MAX_SIDE);
             return 0;
         }
         voxels *= (size_t)dims[a]; /* at most 8192^3 = 2^39: no overflow in 64 bits */
     }
     if (voxels > HALO_VOLUME_FILE_MAX_VOXELS) {
-        fail(HALO_VOLUME_INVALID, err, err_size, "%s: %lldx%lldx%lld is %zu voxels, more than the %zu this renderer reads",
-             path, dims[0], dims[1], dims[2], voxels, HALO_VOLUME_FILE_MAX_VOXELS);
+        fail(HALO_VOLUME_INVALID, err, err_size,
+             "%s: %lldx%lldx%lld is %zu voxels, more than the %zu this renderer reads", path, dims[0], dims[1], dims[2],
+             voxels, HALO_VOLUME_FILE_MAX_VOXELS);
         return 0;
     }
     return voxels;
 }
 
 /* Replaces NaN and infinite voxels by the smallest finite value; fails when there is none. */
-static halo_volume_status replace_nonfinite(const char *path, halo_volume_file *v, size_t n, char *err,
-                                            size_t err_size)
+static halo_volume_status replace_nonfinite(const char *path, halo_volume_file *v, size_t n, char *err, size_t err_size)
 {
     float lowest = INFINITY;
     size_t bad = 0;
@@ -140,8 +140,8 @@ static float raw_value(const unsigned char *p, halo_voxel_type type, int swap)
     }
 }
 
-halo_volume_status halo_volume_read_raw(const char *path, const halo_raw_desc *desc, halo_volume_file *out,
-                                        char *err, size_t err_size)
+halo_volume_status halo_volume_read_raw(const char *path, const halo_raw_desc *desc, halo_volume_file *out, char *err,
+                                        size_t err_size)
 {
     memset(out, 0, sizeof *out);
     out->reduced = 1;
@@ -227,8 +227,16 @@ halo_volume_status halo_volume_read_raw(const char *path, const halo_raw_desc *d
 static int nifti_type_supported(int datatype)
 {
     switch (datatype) {
-    case DT_UINT8: case DT_INT8: case DT_INT16: case DT_UINT16: case DT_INT32: case DT_UINT32:
-    case DT_INT64: case DT_UINT64: case DT_FLOAT32: case DT_FLOAT64:
+    case DT_UINT8:
+    case DT_INT8:
+    case DT_INT16:
+    case DT_UINT16:
+    case DT_INT32:
+    case DT_UINT32:
+    case DT_INT64:
+    case DT_UINT64:
+    case DT_FLOAT32:
+    case DT_FLOAT64:
         return 1;
     default:
         return 0;
@@ -238,22 +246,22 @@ static int nifti_type_supported(int datatype)
 static double nifti_value(const unsigned char *p, int datatype)
 {
     switch (datatype) {
-#define HALO_NIFTI_CASE(dt, type)                                                                          \
-    case dt: {                                                                                             \
-        type x;                                                                                            \
-        memcpy(&x, p, sizeof x);                                                                           \
-        return (double)x;                                                                                  \
+#define HALO_NIFTI_CASE(dt, type) \
+    case dt: {                    \
+        type x;                   \
+        memcpy(&x, p, sizeof x);  \
+        return (double)x;         \
     }
-    HALO_NIFTI_CASE(DT_UINT8, uint8_t)
-    HALO_NIFTI_CASE(DT_INT8, int8_t)
-    HALO_NIFTI_CASE(DT_INT16, int16_t)
-    HALO_NIFTI_CASE(DT_UINT16, uint16_t)
-    HALO_NIFTI_CASE(DT_INT32, int32_t)
-    HALO_NIFTI_CASE(DT_UINT32, uint32_t)
-    HALO_NIFTI_CASE(DT_INT64, int64_t)
-    HALO_NIFTI_CASE(DT_UINT64, uint64_t)
-    HALO_NIFTI_CASE(DT_FLOAT32, float)
-    HALO_NIFTI_CASE(DT_FLOAT64, double)
+        HALO_NIFTI_CASE(DT_UINT8, uint8_t)
+        HALO_NIFTI_CASE(DT_INT8, int8_t)
+        HALO_NIFTI_CASE(DT_INT16, int16_t)
+        HALO_NIFTI_CASE(DT_UINT16, uint16_t)
+        HALO_NIFTI_CASE(DT_INT32, int32_t)
+        HALO_NIFTI_CASE(DT_UINT32, uint32_t)
+        HALO_NIFTI_CASE(DT_INT64, int64_t)
+        HALO_NIFTI_CASE(DT_UINT64, uint64_t)
+        HALO_NIFTI_CASE(DT_FLOAT32, float)
+        HALO_NIFTI_CASE(DT_FLOAT64, double)
 #undef HALO_NIFTI_CASE
     default:
         return 0.0;
@@ -284,13 +292,32 @@ static int nifti_display_axes(const nifti_image *nim, int axis[3], int flip[3])
     for (int a = 0; a < 3; ++a) {
         int d, backwards;
         switch (code[a]) {
-        case NIFTI_L2R: d = 0; backwards = 1; break;
-        case NIFTI_R2L: d = 0; backwards = 0; break;
-        case NIFTI_I2S: d = 1; backwards = 0; break;
-        case NIFTI_S2I: d = 1; backwards = 1; break;
-        case NIFTI_P2A: d = 2; backwards = 0; break;
-        case NIFTI_A2P: d = 2; backwards = 1; break;
-        default: return 0;
+        case NIFTI_L2R:
+            d = 0;
+            backwards = 1;
+            break;
+        case NIFTI_R2L:
+            d = 0;
+            backwards = 0;
+            break;
+        case NIFTI_I2S:
+            d = 1;
+            backwards = 0;
+            break;
+        case NIFTI_S2I:
+            d = 1;
+            backwards = 1;
+            break;
+        case NIFTI_P2A:
+            d = 2;
+            backwards = 0;
+            break;
+        case NIFTI_A2P:
+            d = 2;
+            backwards = 1;
+            break;
+        default:
+            return 0;
         }
         if (seen[d]++)
             return 0;
@@ -302,12 +329,12 @@ static int nifti_display_axes(const nifti_image *nim, int axis[3], int flip[3])
 
 /* The header fields libnifti would repair or trust, as the file has them. */
 typedef struct nifti_raw_header {
-    int version;          /* 1 or 2; 0: not a NIfTI header (left to libnifti to say so) */
-    int single_file;      /* n+1/n+2: header and data in one file */
+    int version;     /* 1 or 2; 0: not a NIfTI header (left to libnifti to say so) */
+    int single_file; /* n+1/n+2: header and data in one file */
     long long dim[8];
     double pixdim[8];
     double vox_offset;
-    char magic[4];        /* as in the file: "n+1", "ni1", "n+2", "ni2", anything else */
+    char magic[4]; /* as in the file: "n+1", "ni1", "n+2", "ni2", anything else */
     int datatype, bitpix;
     double scl_slope, scl_inter;
 } nifti_raw_header;
@@ -410,8 +437,7 @@ static void nifti_read_raw_header(const char *path, nifti_raw_header *h)
 /* The checks libnifti does not make, or makes by silently changing the value: the
  * data offset, the dimension count against the dimensions, the voxel spacing. Each
  * message names the header field. */
-static halo_volume_status nifti_check_header(const char *path, const nifti_raw_header *h, char *err,
-                                             size_t err_size)
+static halo_volume_status nifti_check_header(const char *path, const nifti_raw_header *h, char *err, size_t err_size)
 {
     if (!h->version)
         return HALO_VOLUME_OK;
@@ -420,9 +446,10 @@ static halo_volume_status nifti_check_header(const char *path, const nifti_raw_h
      * ANALYZE 7.5 (no magic): anything else is not read as NIfTI-1 regardless */
     const char *one = h->version == 1 ? "n+1" : "n+2", *pair = h->version == 1 ? "ni1" : "ni2";
     static const char none[4] = {0, 0, 0, 0};
-    int is_pair = ends_with(path, ".hdr") || ends_with(path, ".img") || ends_with(path, ".hdr.gz") ||
-                  ends_with(path, ".img.gz");
-    if (memcmp(h->magic, one, 4) && memcmp(h->magic, pair, 4) && !(is_pair && h->version == 1 && !memcmp(h->magic, none, 4))) {
+    int is_pair =
+        ends_with(path, ".hdr") || ends_with(path, ".img") || ends_with(path, ".hdr.gz") || ends_with(path, ".img.gz");
+    if (memcmp(h->magic, one, 4) && memcmp(h->magic, pair, 4) &&
+        !(is_pair && h->version == 1 && !memcmp(h->magic, none, 4))) {
         char shown[17] = "";
         for (int i = 0; i < 4; ++i)
             snprintf(shown + strlen(shown), sizeof shown - strlen(shown),
@@ -440,7 +467,8 @@ static halo_volume_status nifti_check_header(const char *path, const nifti_raw_h
     /* libnifti replaces a non-finite scale silently (slope by 1, intercept by 0) */
     if (!isfinite(h->scl_slope))
         return fail(HALO_VOLUME_INVALID, err, err_size,
-                    "%s: header field scl_slope is %g: the voxel scale must be finite (0 for none)", path, h->scl_slope);
+                    "%s: header field scl_slope is %g: the voxel scale must be finite (0 for none)", path,
+                    h->scl_slope);
     if (!isfinite(h->scl_inter))
         return fail(HALO_VOLUME_INVALID, err, err_size,
                     "%s: header field scl_inter is %g: the voxel offset must be finite", path, h->scl_inter);
@@ -473,8 +501,8 @@ static halo_volume_status nifti_check_header(const char *path, const nifti_raw_h
     for (int i = 1; i <= 3; ++i)
         if (!isfinite(h->pixdim[i]) || !(h->pixdim[i] > 0.0))
             return fail(HALO_VOLUME_INVALID, err, err_size,
-                        "%s: header field pixdim[%d] is %g: the voxel size along %c must be positive and finite",
-                        path, i, h->pixdim[i], "xyz"[i - 1]);
+                        "%s: header field pixdim[%d] is %g: the voxel size along %c must be positive and finite", path,
+                        i, h->pixdim[i], "xyz"[i - 1]);
     return HALO_VOLUME_OK;
 }
 
@@ -557,8 +585,7 @@ static halo_volume_status read_nifti_data(const char *path, nifti_sink *k, char 
             return fail(HALO_VOLUME_IO, err, err_size,
                         "%s: truncated: %llu bytes, but the header's %lldx%lldx%lld %s voxels at offset %lld need %llu",
                         data_path, (unsigned long long)st.st_size, (long long)nim->nx, (long long)nim->ny,
-                        (long long)nim->nz, nifti_datatype_string(nim->datatype), (long long)nim->iname_offset,
-                        needed);
+                        (long long)nim->nz, nifti_datatype_string(nim->datatype), (long long)nim->iname_offset, needed);
     }
     gzFile gz = gzopen(data_path, "rb");
     if (!gz)
@@ -625,8 +652,8 @@ halo_volume_status halo_volume_read_nifti(const char *path, halo_volume_file *ou
     return halo_volume_read_nifti_for(path, 0, 0, out, err, err_size);
 }
 
-halo_volume_status halo_volume_read_nifti_for(const char *path, int side, int labels, halo_volume_file *out,
-                                              char *err, size_t err_size)
+halo_volume_status halo_volume_read_nifti_for(const char *path, int side, int labels, halo_volume_file *out, char *err,
+                                              size_t err_size)
 {
     memset(out, 0, sizeof *out);
     FILE *probe = fopen(path, "rb");
@@ -640,11 +667,11 @@ halo_volume_status halo_volume_read_nifti_for(const char *path, int side, int la
     if (checked != HALO_VOLUME_OK)
         return checked;
 
-    nifti_set_debug_level(0); /* its messages are ours to write, once, naming the field */
+    nifti_set_debug_level(0);                     /* its messages are ours to write, once, naming the field */
     nifti_image *nim = nifti_image_read(path, 0); /* the header only */
     if (!nim)
-        return fail(HALO_VOLUME_INVALID, err, err_size,
-                    "%s: not a NIfTI file, or its header is incomplete or invalid", path);
+        return fail(HALO_VOLUME_INVALID, err, err_size, "%s: not a NIfTI file, or its header is incomplete or invalid",
+                    path);
     if (header.version)
         nim->iname_offset = (int64_t)header.vox_offset; /* the checked value, never a repaired one */
     halo_volume_status status = HALO_VOLUME_OK;
@@ -668,12 +695,20 @@ halo_volume_status halo_volume_read_nifti_for(const char *path, int side, int la
     }
     for (int d = 4; d <= 7 && d <= nim->ndim; ++d)
         if (nim->dim[d] < 1) {
-            status = fail(HALO_VOLUME_INVALID, err, err_size, "%s: dimension %d is %lld", path, d,
-                          (long long)nim->dim[d]);
+            status =
+                fail(HALO_VOLUME_INVALID, err, err_size, "%s: dimension %d is %lld", path, d, (long long)nim->dim[d]);
             goto done;
         }
-    nifti_sink sink = {nim, reduction_factor(dims, side), labels, 0, 0, nim->scl_slope, nim->scl_inter,
-                       {dims[0], dims[1], dims[2]}, {0, 0, 0}, NULL};
+    nifti_sink sink = {nim,
+                       reduction_factor(dims, side),
+                       labels,
+                       0,
+                       0,
+                       nim->scl_slope,
+                       nim->scl_inter,
+                       {dims[0], dims[1], dims[2]},
+                       {0, 0, 0},
+                       NULL};
     sink.swap = nim->byteorder != nifti_short_order();
     sink.scaled = isfinite(sink.slope) && sink.slope != 0.0 && isfinite(sink.intercept) &&
                   (sink.slope != 1.0 || sink.intercept != 0.0);
@@ -710,10 +745,9 @@ halo_volume_status halo_volume_read_nifti_for(const char *path, int side, int la
         snprintf(reduced, sizeof reduced, ", read reduced by %d to %dx%dx%d (%s)", sink.factor, out->dims[0],
                  out->dims[1], out->dims[2], labels ? "each block's first voxel" : "block means");
     snprintf(out->description, sizeof out->description, "NIfTI-%d, %s, %lldx%lldx%lld voxels of %gx%gx%g%s%s%s%s",
-             nim->nifti_type >= NIFTI_FTYPE_NIFTI2_1 ? 2 : 1, nifti_datatype_string(nim->datatype), dims[0],
-             dims[1], dims[2], out->spacing[0] / sink.factor, out->spacing[1] / sink.factor,
-             out->spacing[2] / sink.factor, units[0] ? " " : "", units, oriented ? "" : ", no orientation (axes kept)",
-             reduced);
+             nim->nifti_type >= NIFTI_FTYPE_NIFTI2_1 ? 2 : 1, nifti_datatype_string(nim->datatype), dims[0], dims[1],
+             dims[2], out->spacing[0] / sink.factor, out->spacing[1] / sink.factor, out->spacing[2] / sink.factor,
+             units[0] ? " " : "", units, oriented ? "" : ", no orientation (axes kept)", reduced);
     status = replace_nonfinite(path, out, kept, err, err_size);
 
 done:
@@ -725,8 +759,7 @@ done:
 
 /* ---- Window ------------------------------------------------------------------------ */
 
-void halo_volume_percentile_window(const halo_volume_file *v, double low_percent, double high_percent,
-                                   double window[2])
+void halo_volume_percentile_window(const halo_volume_file *v, double low_percent, double high_percent, double window[2])
 {
     size_t n = (size_t)v->dims[0] * (size_t)v->dims[1] * (size_t)v->dims[2];
     double lo = INFINITY, hi = -INFINITY;
@@ -943,10 +976,9 @@ float *halo_volume_labels_to_display(const halo_volume_file *v, int size)
         for (size_t y = 0; y < s; ++y)
             for (size_t x = 0; x < s; ++x) {
                 int i = nearest[x], j = nearest[s + y], k = nearest[2 * s + z];
-                out[(z * s + y) * s + x] =
-                    i < 0 || j < 0 || k < 0
-                        ? 0.0f
-                        : v->data[g.base + i * g.stride[0] + j * g.stride[1] + k * g.stride[2]];
+                out[(z * s + y) * s + x] = i < 0 || j < 0 || k < 0
+                                               ? 0.0f
+                                               : v->data[g.base + i * g.stride[0] + j * g.stride[1] + k * g.stride[2]];
             }
     free(nearest);
     return out;

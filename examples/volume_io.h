@@ -20,8 +20,8 @@ typedef enum halo_volume_status {
 
 /* Limits: at most this many voxels per side and in all (the first 3-D volume of a
  * 4-D file counts), so that the float copy stays below 2 GiB. */
-#define HALO_VOLUME_FILE_MAX_SIDE 8192
-#define HALO_VOLUME_FILE_MAX_VOXELS ((size_t)1 << 29)
+#define HALO_VOLUME_FILE_MAX_SIDE     8192
+#define HALO_VOLUME_FILE_MAX_VOXELS   ((size_t)1 << 29)
 /* Above this float copy, halo_volume_read_nifti_for reduces while it reads (256 MiB). */
 #define HALO_VOLUME_FILE_STREAM_BYTES ((size_t)256 << 20)
 
@@ -51,7 +51,7 @@ typedef struct halo_raw_desc {
  * applied), x fastest. */
 typedef struct halo_volume_file {
     int dims[3];
-    double spacing[3];  /* voxel size along each file axis (mm for NIfTI; 1 when unknown) */
+    double spacing[3]; /* voxel size along each file axis (mm for NIfTI; 1 when unknown) */
     /* The file axis shown along each display axis (0 x: the image's right at azimuth 0;
      * 1 y: up; 2 z: towards the camera at azimuth 0) and whether it runs backwards.
      * NIfTI files with an orientation are turned so that the patient's superior is
@@ -60,9 +60,9 @@ typedef struct halo_volume_file {
     int display_axis[3];
     int display_flip[3];
     float *data;
-    size_t nonfinite;   /* NaN or infinite voxels, replaced by the smallest finite value */
+    size_t nonfinite;      /* NaN or infinite voxels, replaced by the smallest finite value */
     int discarded_volumes; /* a 4-D file's volumes after the first, not read */
-    int reduced;        /* 1, or the factor halo_volume_read_nifti_for reduced each axis by */
+    int reduced;           /* 1, or the factor halo_volume_read_nifti_for reduced each axis by */
     char description[256]; /* "NIfTI-1, uint8, 301x370x316, 0.5x0.5x0.5 mm, L->R P->A I->S" */
 } halo_volume_file;
 
@@ -76,10 +76,10 @@ halo_volume_status halo_volume_read_nifti(const char *path, halo_volume_file *ou
  * block's first voxel, never a blend of ids), the spacing grows by the factor, and
  * out->reduced and the description say so. A volume and its labels read for the same
  * side are reduced alike. */
-halo_volume_status halo_volume_read_nifti_for(const char *path, int side, int labels, halo_volume_file *out,
-                                              char *err, size_t err_size);
-halo_volume_status halo_volume_read_raw(const char *path, const halo_raw_desc *desc, halo_volume_file *out,
-                                        char *err, size_t err_size);
+halo_volume_status halo_volume_read_nifti_for(const char *path, int side, int labels, halo_volume_file *out, char *err,
+                                              size_t err_size);
+halo_volume_status halo_volume_read_raw(const char *path, const halo_raw_desc *desc, halo_volume_file *out, char *err,
+                                        size_t err_size);
 void halo_volume_file_free(halo_volume_file *v);
 
 /* The values at the given percentiles (0..100) of the voxels, through a histogram
@@ -112,7 +112,7 @@ int halo_volume_display_size(const halo_volume_file *v, int max_size);
  * the two intermediate passes and the filter taps): HALO_VOLUME_DISPLAY_MAX_BYTES, or
  * HALO_VOLUME_DISPLAY_INPUT_FACTOR times the file's own float copy when that is more
  * (a large scan may take what its size calls for). docs/halo-render.md, "Memory". */
-#define HALO_VOLUME_DISPLAY_MAX_BYTES ((size_t)2 << 30)
+#define HALO_VOLUME_DISPLAY_MAX_BYTES    ((size_t)2 << 30)
 #define HALO_VOLUME_DISPLAY_INPUT_FACTOR 4
 
 /* Bytes that halo_volume_to_display(v, window, size) allocates (a double: it may be

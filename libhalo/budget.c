@@ -15,7 +15,8 @@ halo_status halo_budget_choose(const halo_budget_row *rows, size_t count, double
         return HALO_ERROR_INPUT;
     }
     if (!(max_error >= 0.0)) { /* also rejects NaN */
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_budget_choose: the error bound %g is not a number >= 0", max_error);
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_budget_choose: the error bound %g is not a number >= 0",
+                        max_error);
         return HALO_ERROR_INPUT;
     }
     size_t best = count;

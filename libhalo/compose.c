@@ -28,18 +28,24 @@ typedef struct sample_names {
     const char *position, *value, *gradient, *view, *depth, *fragcoord, *color;
 } sample_names;
 
-static const sample_names host_names = {"position", "value", "gradient", "view", "depth", "gl_FragCoord.xy",
-                                        "color"};
+static const sample_names host_names = {"position", "value", "gradient", "view", "depth", "gl_FragCoord.xy", "color"};
 
 /* The per-sample snippet: derived inputs where the composer gives none. */
-static void write_sample(halo_strbuf *b, const sample_names *n, const halo_pieces_desc *d) {
+static void write_sample(halo_strbuf *b, const sample_names *n, const halo_pieces_desc *d)
+{
     halo_strbuf b_grad = {0}, b_view = {0}, b_depth = {0};
-    if (d->gradient) halo_strbuf_append(&b_grad, n->gradient);
-    else halo_strbuf_printf(&b_grad, "halo_gradient_at(%s)", n->position);
-    if (d->view) halo_strbuf_append(&b_view, n->view);
-    else halo_strbuf_printf(&b_view, "halo_view_at(%s)", n->position);
-    if (d->depth) halo_strbuf_append(&b_depth, n->depth);
-    else halo_strbuf_printf(&b_depth, "halo_depth_at(%s)", n->position);
+    if (d->gradient)
+        halo_strbuf_append(&b_grad, n->gradient);
+    else
+        halo_strbuf_printf(&b_grad, "halo_gradient_at(%s)", n->position);
+    if (d->view)
+        halo_strbuf_append(&b_view, n->view);
+    else
+        halo_strbuf_printf(&b_view, "halo_view_at(%s)", n->position);
+    if (d->depth)
+        halo_strbuf_append(&b_depth, n->depth);
+    else
+        halo_strbuf_printf(&b_depth, "halo_depth_at(%s)", n->position);
     halo_strbuf_printf(b,
                        "{\n"
                        "    halo_sample libhalo_s = halo_make_sample(%s, %s, %s,\n"
@@ -49,46 +55,57 @@ static void write_sample(halo_strbuf *b, const sample_names *n, const halo_piece
                        "}\n",
                        n->position, n->value, b_grad.data ? b_grad.data : "", b_view.data ? b_view.data : "",
                        b_depth.data ? b_depth.data : "", n->fragcoord, n->color, n->color, n->color);
-    if (b_grad.failed || b_view.failed || b_depth.failed) b->failed = 1;
+    if (b_grad.failed || b_view.failed || b_depth.failed)
+        b->failed = 1;
     halo_strbuf_free(&b_grad);
     halo_strbuf_free(&b_view);
     halo_strbuf_free(&b_depth);
 }
 
 /* The host the pieces are linked into. */
-static char *pieces_host(const halo_pieces_desc *d, const halo_link_desc *desc) {
+static char *pieces_host(const halo_pieces_desc *d, const halo_link_desc *desc)
+{
     halo_strbuf b = {0};
     if (desc->target == HALO_TARGET_GLSL150 && desc->location_extension && !desc->unlocated_outputs)
         halo_strbuf_append(&b, "#extension GL_ARB_explicit_attrib_location : require\n");
     halo_strbuf_append(&b, "#pragma halo declarations\n");
-    if (d->gradient_texture) halo_strbuf_append(&b, "#pragma halo gradient piece_gradient\n");
-    else if (d->volume) halo_strbuf_append(&b, "#pragma halo volume piece_volume\n");
-    if (d->gradient_texture) halo_strbuf_append(&b, "uniform sampler3D piece_gradient;\n");
-    if (d->volume) halo_strbuf_append(&b, "uniform sampler3D piece_volume;\n");
+    if (d->gradient_texture)
+        halo_strbuf_append(&b, "#pragma halo gradient piece_gradient\n");
+    else if (d->volume)
+        halo_strbuf_append(&b, "#pragma halo volume piece_volume\n");
+    if (d->gradient_texture)
+        halo_strbuf_append(&b, "uniform sampler3D piece_gradient;\n");
+    if (d->volume)
+        halo_strbuf_append(&b, "uniform sampler3D piece_volume;\n");
     int located = !desc->unlocated_outputs && (desc->target != HALO_TARGET_GLSL150 || desc->location_extension);
     halo_strbuf_printf(&b, "%sout vec4 piece_output;\n", located ? "layout(location = 0) " : "");
-    halo_strbuf_append(&b, "void main() {\n"
-                           "    vec3 position = vec3(0.5);\n"
-                           "    float value = 0.5;\n"
-                           "    vec3 gradient = vec3(0.0, 0.0, 0.1);\n"
-                           "    vec3 view = vec3(0.0, 0.0, 1.0);\n"
-                           "    float depth = 0.5;\n"
-                           "    vec4 color = vec4(0.5);\n");
+    halo_strbuf_append(&b,
+                       "void main() {\n"
+                       "    vec3 position = vec3(0.5);\n"
+                       "    float value = 0.5;\n"
+                       "    vec3 gradient = vec3(0.0, 0.0, 0.1);\n"
+                       "    vec3 view = vec3(0.0, 0.0, 1.0);\n"
+                       "    float depth = 0.5;\n"
+                       "    vec4 color = vec4(0.5);\n");
     if (d->segmented)
-        halo_strbuf_append(&b, "    int first = 0, end = 2;\n"
-                               "    vec4 state = vec4(0.0);\n"
-                               "    halo_segment_begin(position, view, 0.0, 0.01, first, end, state);\n"
-                               "    for (int i = first; i < end; ++i)\n");
+        halo_strbuf_append(&b,
+                           "    int first = 0, end = 2;\n"
+                           "    vec4 state = vec4(0.0);\n"
+                           "    halo_segment_begin(position, view, 0.0, 0.01, first, end, state);\n"
+                           "    for (int i = first; i < end; ++i)\n");
     write_sample(&b, &host_names, d);
-    if (d->segmented) halo_strbuf_append(&b, "    halo_segment_end(state, false);\n");
-    halo_strbuf_append(&b, "    halo_finish();\n"
-                           "    piece_output = color;\n"
-                           "} // end of the pieces host\n");
+    if (d->segmented)
+        halo_strbuf_append(&b, "    halo_segment_end(state, false);\n");
+    halo_strbuf_append(&b,
+                       "    halo_finish();\n"
+                       "    piece_output = color;\n"
+                       "} // end of the pieces host\n");
     return halo_strbuf_take(&b);
 }
 
 /* Replaces the identifier from by the expression to, outside other identifiers. */
-static char *replace_identifier(const char *text, const char *from, const char *to) {
+static char *replace_identifier(const char *text, const char *from, const char *to)
+{
     halo_strbuf b = {0};
     size_t n = strlen(from);
     const char *p = text;
@@ -103,26 +120,32 @@ static char *replace_identifier(const char *text, const char *from, const char *
 }
 
 /* Lines of a text, counted: a final line without '\n' counts. */
-static int count_lines(const char *text) {
+static int count_lines(const char *text)
+{
     int n = 0;
-    for (const char *p = text; *p; p++) n += *p == '\n';
+    for (const char *p = text; *p; p++)
+        n += *p == '\n';
     return n + (*text && text[strlen(text) - 1] != '\n');
 }
 
 /* Cuts the declarations (the marker's block and the tail after the host's last line) out
  * of the linked pieces host. */
-static int cut_declarations(halo_program *p, const halo_pieces_desc *d, int marker_line) {
+static int cut_declarations(halo_program *p, const halo_pieces_desc *d, int marker_line)
+{
     int first = -1, last = -1, host_end = -1;
     for (int i = 0; i < p->origin_count; i++) {
         const halo_line_origin *o = &p->origins[i];
-        if (o->file != p->host_file) continue;
+        if (o->file != p->host_file)
+            continue;
         if (o->line == marker_line) {
-            if (first < 0) first = i;
+            if (first < 0)
+                first = i;
             last = i;
         }
         host_end = i;
     }
-    if (first < 0 || host_end < 0) return -1;
+    if (first < 0 || host_end < 0)
+        return -1;
     char *copy = halo_strdup(p->source);
     char **lines = NULL;
     int count = copy ? halo_split_lines(copy, &lines) : -1;
@@ -130,10 +153,12 @@ static int cut_declarations(halo_program *p, const halo_pieces_desc *d, int mark
     halo_strbuf b = {0};
     int n = 0;
     for (int i = 0; origins && i < count && i < p->origin_count; i++) {
-        if (!((i >= first && i <= last) || i > host_end)) continue;
+        if (!((i >= first && i <= last) || i > host_end))
+            continue;
         halo_strbuf_printf(&b, "%s\n", lines[i]);
         origins[n] = p->origins[i];
-        if (origins[n].file == p->host_file) origins[n] = (halo_line_origin){pieces_file, 0, NULL};
+        if (origins[n].file == p->host_file)
+            origins[n] = (halo_line_origin){pieces_file, 0, NULL};
         n++;
     }
     free(lines);
@@ -141,10 +166,12 @@ static int cut_declarations(halo_program *p, const halo_pieces_desc *d, int mark
     char *text = halo_strbuf_take(&b);
     /* the pieces host's sampler names become the composer's expressions */
     char *named = text && d->volume ? replace_identifier(text, "piece_volume", d->volume) : text;
-    if (named != text) free(text);
-    char *named2 = named && d->gradient_texture ? replace_identifier(named, "piece_gradient", d->gradient_texture)
-                                                : named;
-    if (named2 != named) free(named);
+    if (named != text)
+        free(text);
+    char *named2 =
+        named && d->gradient_texture ? replace_identifier(named, "piece_gradient", d->gradient_texture) : named;
+    if (named2 != named)
+        free(named);
     if (!origins || !named2) {
         free(origins);
         free(named2);
@@ -157,15 +184,18 @@ static int cut_declarations(halo_program *p, const halo_pieces_desc *d, int mark
 }
 
 /* A piece written here: every line is libhalo's own. */
-static int set_generated_piece(halo_program *p, halo_piece piece, char *text) {
-    if (!text) return -1;
+static int set_generated_piece(halo_program *p, halo_piece piece, char *text)
+{
+    if (!text)
+        return -1;
     int n = count_lines(text);
     halo_line_origin *origins = calloc((size_t)n + 1, sizeof *origins);
     if (!origins) {
         free(text);
         return -1;
     }
-    for (int i = 0; i < n; i++) origins[i] = (halo_line_origin){pieces_file, i + 1, NULL};
+    for (int i = 0; i < n; i++)
+        origins[i] = (halo_line_origin){pieces_file, i + 1, NULL};
     p->pieces[piece] = text;
     p->piece_origins[piece] = origins;
     p->piece_origin_counts[piece] = n;
@@ -174,17 +204,22 @@ static int set_generated_piece(halo_program *p, halo_piece piece, char *text) {
 
 /* With engine_uniforms, the pieces host declares the live parameters as the engine would
  * (from halo_program_uniform_next), after its #version line, so that it validates. */
-static int declare_engine_uniforms(halo_program *p) {
+static int declare_engine_uniforms(halo_program *p)
+{
     halo_strbuf b = {0};
     size_t cursor = 0;
     halo_uniform_decl u;
     int added = 0;
     while (halo_program_uniform_next(p, &cursor, &u)) {
-        if (u.name && u.array_size) halo_strbuf_printf(&b, "uniform %s %s[%d];\n", u.glsl_type, u.name, u.array_size), added++;
-        else if (u.name) halo_strbuf_printf(&b, "uniform %s %s;\n", u.glsl_type, u.name), added++;
-        if (u.count_name) halo_strbuf_printf(&b, "uniform int %s;\n", u.count_name), added++;
+        if (u.name && u.array_size)
+            halo_strbuf_printf(&b, "uniform %s %s[%d];\n", u.glsl_type, u.name, u.array_size), added++;
+        else if (u.name)
+            halo_strbuf_printf(&b, "uniform %s %s;\n", u.glsl_type, u.name), added++;
+        if (u.count_name)
+            halo_strbuf_printf(&b, "uniform int %s;\n", u.count_name), added++;
     }
-    if (!added) return 0;
+    if (!added)
+        return 0;
     /* after the #version line and the precision statements (GLSL ES: a float uniform
      * before them has no precision) */
     const char *nl = strchr(p->source, '\n');
@@ -208,7 +243,8 @@ static int declare_engine_uniforms(halo_program *p) {
         return -1;
     }
     memcpy(origins, p->origins, (size_t)first * sizeof *origins);
-    for (int i = 0; i < added; i++) origins[first + i] = (halo_line_origin){halo_generated_file, 0, NULL};
+    for (int i = 0; i < added; i++)
+        origins[first + i] = (halo_line_origin){halo_generated_file, 0, NULL};
     memcpy(origins + first + added, p->origins + first, (size_t)(p->origin_count - first) * sizeof *origins);
     free(p->source);
     free(p->origins);
@@ -219,11 +255,14 @@ static int declare_engine_uniforms(halo_program *p) {
 }
 
 /* The public entry: host text (link.c) or pieces (here). */
-halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
+halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, desc, "desc", NULL);
     HALO_REFUSE_NULL(diag, desc->library, "desc.library", NULL);
-    if (!desc->pieces) HALO_REFUSE_NULL(diag, desc->host_source, "desc.host_source (or desc.pieces)", NULL);
-    if (desc->pieces && !desc->host_source) return halo_link_pieces(desc, diag);
+    if (!desc->pieces)
+        HALO_REFUSE_NULL(diag, desc->host_source, "desc.host_source (or desc.pieces)", NULL);
+    if (desc->pieces && !desc->host_source)
+        return halo_link_pieces(desc, diag);
     if (desc->pieces) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: give host_source or pieces, not both");
         return NULL;
@@ -235,7 +274,8 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag) {
     return halo_link_host(desc, diag);
 }
 
-halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag) {
+halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag)
+{
     const halo_pieces_desc *d = desc->pieces;
     if (desc->kind != HALO_SHADER_FRAGMENT) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: pieces are for fragment shaders (per-sample stages)");
@@ -247,7 +287,8 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
                         "volume's sampler to derive it from (volume) or a gradient texture (gradient_texture)");
         return NULL;
     }
-    if (halo_pieces_check_expressions(d, desc->target, diag)) return NULL;
+    if (halo_pieces_check_expressions(d, desc->target, diag))
+        return NULL;
     char *host = pieces_host(d, desc);
     /* the marker's line in the pieces host: after its #extension line, if any */
     int marker_line = 1;
@@ -264,7 +305,8 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
     inner.version = HALO_VERSION_TARGET;
     halo_program *p = halo_link_host(&inner, diag);
     free(host);
-    if (!p) return NULL;
+    if (!p)
+        return NULL;
     if (!d->segmented && !p->one_draw && halo_program_has_generation_passes(p)) {
         halo_strbuf stages = {0};
         for (size_t s = 0; s < p->stage_count; s++)
@@ -273,26 +315,28 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
                     halo_strbuf_printf(&stages, "%s%s", stages.len ? ", " : "", p->stages[s].module->name);
                     break;
                 }
-        halo_diag_error(diag, HOST_SINGLE_PASS, "", 0, 0,
-                        "the scene's stages %s run image passes between depth segments, but the pieces were "
-                        "linked for a single pass: link with one_draw (host contract 3: libhalo computes the halo field "
-                        "before the engine draws once) or set halo_pieces_desc.segmented and call halo_segment_begin "
-                        "/ halo_segment_end in the ray loop (docs/host-contract.md)",
-                        stages.data ? stages.data : "?");
+        halo_diag_error(
+            diag, HOST_SINGLE_PASS, "", 0, 0,
+            "the scene's stages %s run image passes between depth segments, but the pieces were "
+            "linked for a single pass: link with one_draw (host contract 3: libhalo computes the halo field "
+            "before the engine draws once) or set halo_pieces_desc.segmented and call halo_segment_begin "
+            "/ halo_segment_end in the ray loop (docs/host-contract.md)",
+            stages.data ? stages.data : "?");
         halo_strbuf_free(&stages);
         halo_program_destroy(p);
         return NULL;
     }
     sample_names names = {
-        d->position ? d->position : host_names.position,    d->value ? d->value : host_names.value,
-        d->gradient ? d->gradient : host_names.gradient,    d->view ? d->view : host_names.view,
-        d->depth ? d->depth : host_names.depth,             d->fragcoord ? d->fragcoord : host_names.fragcoord,
+        d->position ? d->position : host_names.position, d->value ? d->value : host_names.value,
+        d->gradient ? d->gradient : host_names.gradient, d->view ? d->view : host_names.view,
+        d->depth ? d->depth : host_names.depth,          d->fragcoord ? d->fragcoord : host_names.fragcoord,
         d->color ? d->color : host_names.color,
     };
     halo_strbuf sample = {0};
     write_sample(&sample, &names, d);
     char *finish = halo_strdup("halo_finish();\n");
-    if (sample.failed || cut_declarations(p, d, marker_line) || (p->engine_uniforms && declare_engine_uniforms(p)) || set_generated_piece(p, HALO_PIECE_SAMPLE, halo_strbuf_take(&sample)) ||
+    if (sample.failed || cut_declarations(p, d, marker_line) || (p->engine_uniforms && declare_engine_uniforms(p)) ||
+        set_generated_piece(p, HALO_PIECE_SAMPLE, halo_strbuf_take(&sample)) ||
         set_generated_piece(p, HALO_PIECE_FINISH, finish)) {
         halo_strbuf_free(&sample);
         halo_program_destroy(p);
@@ -302,53 +346,66 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
     return p;
 }
 
-const char *halo_program_piece(const halo_program *p, halo_piece piece) {
+const char *halo_program_piece(const halo_program *p, halo_piece piece)
+{
     HALO_REFUSE_NULL(NULL, p, "program", NULL);
     return (unsigned)piece < HALO_PIECE_COUNT ? p->pieces[piece] : NULL;
 }
 
-int halo_program_piece_map_line(const halo_program *p, halo_piece piece, int line, const char **file,
-                                int *origin_line) {
+int halo_program_piece_map_line(const halo_program *p, halo_piece piece, int line, const char **file, int *origin_line)
+{
     HALO_REFUSE_NULL(NULL, p, "program", 0);
-    if (!halo_program_piece(p, piece) || line < 1 || line > p->piece_origin_counts[piece]) return 0;
+    if (!halo_program_piece(p, piece) || line < 1 || line > p->piece_origin_counts[piece])
+        return 0;
     const halo_line_origin *o = &p->piece_origins[piece][line - 1];
-    if (o->file == halo_generated_file || o->file == pieces_file || !o->line) return 0;
-    if (file) *file = o->file;
-    if (origin_line) *origin_line = o->line;
+    if (o->file == halo_generated_file || o->file == pieces_file || !o->line)
+        return 0;
+    if (file)
+        *file = o->file;
+    if (origin_line)
+        *origin_line = o->line;
     return 1;
 }
 
 /* The line (0-based) of offset in text. */
-static int line_of(const char *text, size_t offset) {
+static int line_of(const char *text, size_t offset)
+{
     int n = 0;
-    for (size_t i = 0; i < offset && text[i]; i++) n += text[i] == '\n';
+    for (size_t i = 0; i < offset && text[i]; i++)
+        n += text[i] == '\n';
     return n;
 }
 
 static halo_status validate_composed_held(const halo_program *p, const char *composed, const char *composed_file,
-                                         const halo_composer_piece *pieces, size_t piece_count,
-                                         halo_diagnostics *diag);
+                                          const halo_composer_piece *pieces, size_t piece_count,
+                                          halo_diagnostics *diag);
 
 halo_status halo_program_validate_composed(const halo_program *p, const char *composed, const char *composed_file,
                                            const halo_composer_piece *pieces, size_t piece_count,
-                                           halo_diagnostics *diag) {
+                                           halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, composed, "composed", HALO_ERROR_INPUT);
-    if (piece_count) HALO_REFUSE_NULL(diag, pieces, "pieces (with a piece_count)", HALO_ERROR_INPUT);
+    if (piece_count)
+        HALO_REFUSE_NULL(diag, pieces, "pieces (with a piece_count)", HALO_ERROR_INPUT);
     return HALO_WITH_GLSLANG(diag, validate_composed_held(p, composed, composed_file, pieces, piece_count, diag));
 }
 
 /* text with its CRLF line ends as LF (an engine on Windows, a file saved there): the
  * pieces are found, and lines counted, the same either way. */
-static char *without_carriage_returns(const char *text) {
+static char *without_carriage_returns(const char *text)
+{
     char *out = halo_strdup(text), *w = out;
     for (const char *r = text; out && *r; r++)
-        if (!(r[0] == '\r' && r[1] == '\n')) *w++ = *r;
-    if (out) *w = '\0';
+        if (!(r[0] == '\r' && r[1] == '\n'))
+            *w++ = *r;
+    if (out)
+        *w = '\0';
     return out;
 }
 
-static int no_marker(const char *line) {
+static int no_marker(const char *line)
+{
     (void)line;
     return 0;
 }
@@ -357,13 +414,15 @@ static int no_marker(const char *line) {
  * piece), halo_finish (the finish piece) and the segment calls where the program needs
  * them. Returns the error count. */
 static int check_composed_contract(const halo_program *p, const char *text, const char *file, char **lines,
-                                   halo_diagnostics *diag) {
+                                   halo_diagnostics *diag)
+{
     /* the engine's text alone: the declarations piece (which defines those functions) blanked */
     char *engine = halo_strdup(text);
     const char *decl = p->pieces[HALO_PIECE_DECLARATIONS];
     char *at = engine && decl && *decl ? strstr(engine, decl) : NULL;
     for (size_t i = 0; at && i < strlen(decl); i++)
-        if (at[i] != '\n') at[i] = ' ';
+        if (at[i] != '\n')
+            at[i] = ' ';
     halo_host_info h = {0};
     int errors = -1;
     if (engine && !halo_host_scan_run(&(halo_host_scan_desc){engine, p->target, p->kind, no_marker}, &h.scan)) {
@@ -377,9 +436,10 @@ static int check_composed_contract(const halo_program *p, const char *text, cons
 }
 
 static halo_status validate_composed_held(const halo_program *p, const char *composed, const char *composed_file,
-                                         const halo_composer_piece *pieces, size_t piece_count,
-                                         halo_diagnostics *diag) {
-    if (!composed_file) composed_file = "composed shader";
+                                          const halo_composer_piece *pieces, size_t piece_count, halo_diagnostics *diag)
+{
+    if (!composed_file)
+        composed_file = "composed shader";
     char *text = without_carriage_returns(halo_skip_bom(composed));
     char *copy = text ? halo_strdup(text) : NULL;
     char **lines = NULL;
@@ -392,21 +452,23 @@ static halo_status validate_composed_held(const halo_program *p, const char *com
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
         return HALO_ERROR_IO;
     }
-    for (int i = 0; i < count; i++) origins[i] = (halo_line_origin){composed_file, i + 1, lines[i]};
+    for (int i = 0; i < count; i++)
+        origins[i] = (halo_line_origin){composed_file, i + 1, lines[i]};
     /* the composer's pieces, then libhalo's (which may sit inside a composer piece) */
     for (size_t k = 0; k < piece_count; k++) {
         char *piece = pieces[k].text && *pieces[k].text ? without_carriage_returns(pieces[k].text) : NULL;
         const char *at = piece ? strstr(text, piece) : NULL;
         int first = at ? line_of(text, (size_t)(at - text)) : 0, n = at ? count_lines(piece) : 0;
         for (int i = 0; i < n && first + i < count; i++)
-            origins[first + i] = (halo_line_origin){pieces[k].name ? pieces[k].name : "composer piece", i + 1,
-                                                    lines[first + i]};
+            origins[first + i] =
+                (halo_line_origin){pieces[k].name ? pieces[k].name : "composer piece", i + 1, lines[first + i]};
         free(piece);
     }
     int missing = 0;
     for (int k = 0; k < HALO_PIECE_COUNT; k++) {
         const char *piece = p->pieces[k];
-        if (!piece) continue;
+        if (!piece)
+            continue;
         const char *at = strstr(text, piece);
         if (!at) {
             missing += k == HALO_PIECE_DECLARATIONS;
@@ -416,18 +478,22 @@ static halo_status validate_composed_held(const halo_program *p, const char *com
         int first = line_of(text, (size_t)(at - text));
         for (int i = 0; i < p->piece_origin_counts[k] && first + i < count; i++) {
             halo_line_origin o = p->piece_origins[k][i];
-            if (o.file != pieces_file && o.file != halo_generated_file && o.line) origins[first + i] = o;
+            if (o.file != pieces_file && o.file != halo_generated_file && o.line)
+                origins[first + i] = o;
         }
     }
     if (missing)
         halo_diagnostics_report(diag, HALO_SEVERITY_WARNING, HALO_MSG_USAGE, composed_file, 0, 0, NULL,
-                      "the program's declarations piece is not in the composed shader (or was changed): its "
-                      "errors are reported at the composed shader's lines");
+                                "the program's declarations piece is not in the composed shader (or was changed): its "
+                                "errors are reported at the composed shader's lines");
     int contract = check_composed_contract(p, text, composed_file, lines, diag);
-    halo_status st = contract < 0 ? HALO_ERROR_IO
-                                  : halo_glslang_validate(text, p->kind, p->target, origins, count, composed_file, diag);
-    if (contract < 0) halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
-    else if (contract > 0 && st == HALO_OK) st = HALO_ERROR_INPUT;
+    halo_status st = contract < 0
+                         ? HALO_ERROR_IO
+                         : halo_glslang_validate(text, p->kind, p->target, origins, count, composed_file, diag);
+    if (contract < 0)
+        halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
+    else if (contract > 0 && st == HALO_OK)
+        st = HALO_ERROR_INPUT;
     free(origins);
     free(lines);
     free(copy);
@@ -437,7 +503,8 @@ static halo_status validate_composed_held(const halo_program *p, const char *com
 
 /* ---- The uniforms an engine declares ---- */
 
-int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_uniform_decl *out) {
+int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_uniform_decl *out)
+{
     HALO_REFUSE_NULL(NULL, p, "program", 0);
     HALO_REFUSE_NULL(NULL, cursor, "cursor", 0);
     HALO_REFUSE_NULL(NULL, out, "out", 0);
@@ -446,12 +513,15 @@ int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_unifor
         const halo_param_info *info = u->info;
         const halo_module *m = NULL;
         for (size_t s = 0; s < p->stage_count && !m; s++)
-            if (!strcmp(p->stages[s].module->name, u->stage)) m = p->stages[s].module;
-        if (!u->live || !m) continue;
+            if (!strcmp(p->stages[s].module->name, u->stage))
+                m = p->stages[s].module;
+        if (!u->live || !m)
+            continue;
         char count_name[160];
         snprintf(count_name, sizeof count_name, "%s_count", info->name);
         int used = halo_module_uses(m, info->name), count_used = info->array_size && halo_module_uses(m, count_name);
-        if (!used && !count_used) continue;
+        if (!used && !count_used)
+            continue;
         static const char *const channel_types[] = {"float", "float", "vec2", "vec3", "vec4"};
         memset(out, 0, sizeof *out);
         out->name = u->name;
@@ -459,7 +529,8 @@ int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_unifor
         out->components = info->components;
         out->count = u->count;
         out->value = u->value;
-        if (info->type == HALO_PARAM_BOOL) out->glsl_type = "int";
+        if (info->type == HALO_PARAM_BOOL)
+            out->glsl_type = "int";
         else if (info->type == HALO_PARAM_CHANNELS) {
             /* halo_channels, the type the stages read: one float or vector of the program's
              * channels (its values a list of up to 4 in the module, no array in GLSL) */
@@ -470,11 +541,13 @@ int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_unifor
                 out->storage[k] = u->value[k < u->count ? k : u->count - 1];
             out->value = out->storage;
             return 1;
-        } else out->glsl_type = halo_param_type_name(info->type);
+        } else
+            out->glsl_type = halo_param_type_name(info->type);
         if (info->array_size) {
             out->array_size = used ? info->array_size : 0;
             out->count_name = count_used ? u->count_name : NULL;
-            if (!used) out->name = NULL; /* only the companion is read */
+            if (!used)
+                out->name = NULL; /* only the companion is read */
         }
         return 1;
     }

@@ -19,19 +19,19 @@ void halo_diag_null(halo_diagnostics *d, const char *function, const char *argum
 
 /* Returns value from the calling function, after halo_diag_null, when pointer is NULL;
  * argument is the name a reader of halo.h knows ("scene", "program"). */
-#define HALO_REFUSE_NULL(d, pointer, argument, value)                                                  \
-    do {                                                                                              \
-        if (!(pointer)) {                                                                             \
-            halo_diag_null((d), __func__, (argument));                                                \
-            return value;                                                                             \
-        }                                                                                             \
+#define HALO_REFUSE_NULL(d, pointer, argument, value)  \
+    do {                                               \
+        if (!(pointer)) {                              \
+            halo_diag_null((d), __func__, (argument)); \
+            return value;                              \
+        }                                              \
     } while (0)
-#define HALO_REFUSE_NULL_VOID(d, pointer, argument)                                                    \
-    do {                                                                                              \
-        if (!(pointer)) {                                                                             \
-            halo_diag_null((d), __func__, (argument));                                                \
-            return;                                                                                   \
-        }                                                                                             \
+#define HALO_REFUSE_NULL_VOID(d, pointer, argument)    \
+    do {                                               \
+        if (!(pointer)) {                              \
+            halo_diag_null((d), __func__, (argument)); \
+            return;                                    \
+        }                                              \
     } while (0)
 
 /* After halo_read_file(path) failed: one diagnostic naming the file and why, from errno

@@ -8,9 +8,9 @@
 typedef struct halo_glsl_spot {
     int reported_line; /* the compiled line of the token glslang stopped at */
     int line, column;  /* where the error is, in the compiled text, 1-based; column 0: unknown */
-    int moved;        /* a missing ';' (or ','): the spot is the end of the token before */
-    char *message;    /* glslang's message, without its location */
-    int used;         /* taken by halo_glsl_place */
+    int moved;         /* a missing ';' (or ','): the spot is the end of the token before */
+    char *message;     /* glslang's message, without its location */
+    int used;          /* taken by halo_glsl_place */
 } halo_glsl_spot;
 
 typedef struct halo_glsl_spots {

@@ -15,24 +15,30 @@
 
 #include <sys/stat.h>
 
-namespace {
+namespace
+{
 
 // The folder of a file name: what comes before its last '/' ("." without one, "/" for a
 // file at the root).
-std::string folder_of(const std::string &file) {
+std::string folder_of(const std::string &file)
+{
     size_t slash = file.rfind('/');
-    if (slash == std::string::npos) return ".";
+    if (slash == std::string::npos)
+        return ".";
     return slash ? file.substr(0, slash) : "/";
 }
 
 // A whole regular file, or false.
-bool read_file(const std::string &path, std::vector<char> &text) {
+bool read_file(const std::string &path, std::vector<char> &text)
+{
     FILE *f = std::fopen(path.c_str(), "rb");
-    if (!f) return false;
+    if (!f)
+        return false;
     struct stat st;
     bool ok = fstat(fileno(f), &st) == 0 && S_ISREG(st.st_mode);
     char chunk[8192];
-    for (size_t n; ok && (n = std::fread(chunk, 1, sizeof chunk, f)) > 0;) text.insert(text.end(), chunk, chunk + n);
+    for (size_t n; ok && (n = std::fread(chunk, 1, sizeof chunk, f)) > 0;)
+        text.insert(text.end(), chunk, chunk + n);
     ok = ok && !std::ferror(f);
     std::fclose(f);
     return ok;
@@ -42,20 +48,24 @@ bool read_file(const std::string &path, std::vector<char> &text) {
 // that includes it, then in the folders of the files that include that one, outward to
 // the shader's own folder; a '\\' in the name is a '/'. '#include <name>' finds nothing
 // (glslangValidator has no system folders either).
-class folder_includer : public glslang::TShader::Includer {
+class folder_includer : public glslang::TShader::Includer
+{
   public:
     explicit folder_includer(const std::string &root) : folders_(1, root) {}
 
-    IncludeResult *includeLocal(const char *name, const char *, size_t depth) override {
+    IncludeResult *includeLocal(const char *name, const char *, size_t depth) override
+    {
         // folders_[d]: the folder of the file open at include depth d (0: the shader)
         folders_.resize(depth ? depth : 1);
         for (size_t i = folders_.size(); i-- > 0;) {
             std::string path = folders_[i] + "/" + name;
             std::replace(path.begin(), path.end(), '\\', '/'); // "inc\\name.h" as glslangValidator reads it
             std::vector<char> text;
-            if (!read_file(path, text)) continue;
+            if (!read_file(path, text))
+                continue;
             std::unique_ptr<char[]> data(new char[text.size() + 1]);
-            if (!text.empty()) std::memcpy(data.get(), text.data(), text.size());
+            if (!text.empty())
+                std::memcpy(data.get(), text.data(), text.size());
             folders_.push_back(folder_of(path));
             IncludeResult *result = new IncludeResult(path, data.get(), text.size(), data.get());
             data.release(); // releaseInclude frees it
@@ -66,8 +76,10 @@ class folder_includer : public glslang::TShader::Includer {
 
     IncludeResult *includeSystem(const char *, const char *, size_t) override { return nullptr; }
 
-    void releaseInclude(IncludeResult *result) override {
-        if (!result) return;
+    void releaseInclude(IncludeResult *result) override
+    {
+        if (!result)
+            return;
         delete[] static_cast<char *>(result->userData);
         delete result;
     }
@@ -76,36 +88,42 @@ class folder_includer : public glslang::TShader::Includer {
     std::vector<std::string> folders_;
 };
 
-char *copy_log(const char *log) {
+char *copy_log(const char *log)
+{
     size_t n = std::strlen(log ? log : "");
     char *copy = static_cast<char *>(std::malloc(n + 1));
-    if (copy) std::memcpy(copy, log ? log : "", n + 1);
+    if (copy)
+        std::memcpy(copy, log ? log : "", n + 1);
     return copy;
 }
 
-int compile(const char *source, int vertex, const char *file, halo_glslang_link link,
-            halo_glslang_result *out) {
+int compile(const char *source, int vertex, const char *file, halo_glslang_link link, halo_glslang_result *out)
+{
     const EShLanguage stage = vertex ? EShLangVertex : EShLangFragment;
     const int default_version = 100; // GLSL's version for a shader without #version, as glslangValidator reads it
     const EShMessages messages = EShMsgCascadingErrors;
     folder_includer includer(file ? folder_of(file) : std::string("."));
     glslang::TShader shader(stage);
     const char *name = file && *file ? file : nullptr;
-    if (name) shader.setStringsWithLengthsAndNames(&source, nullptr, &name, 1);
-    else shader.setStrings(&source, 1);
+    if (name)
+        shader.setStringsWithLengthsAndNames(&source, nullptr, &name, 1);
+    else
+        shader.setStrings(&source, 1);
     shader.setEnvInput(glslang::EShSourceGlsl, stage, glslang::EShClientNone, default_version);
     shader.setEnvClient(glslang::EShClientNone, glslang::EShTargetVulkan_1_0);
     shader.setEnvTarget(glslang::EShTargetNone, glslang::EShTargetSpv_1_0);
     out->compiled =
         shader.parse(GetDefaultResources(), default_version, ENoProfile, false, false, messages, includer) ? 1 : 0;
     out->log = copy_log(shader.getInfoLog());
-    if (!out->log) return -1;
+    if (!out->log)
+        return -1;
     if (link == HALO_GLSLANG_LINK_ALWAYS || (link == HALO_GLSLANG_LINK_IF_COMPILED && out->compiled)) {
         glslang::TProgram program;
         program.addShader(&shader);
         out->linked = program.link(messages) ? 1 : 0;
         out->link_log = copy_log(program.getInfoLog());
-        if (!out->link_log) return -1;
+        if (!out->link_log)
+            return -1;
     }
     return 0;
 }
@@ -113,7 +131,8 @@ int compile(const char *source, int vertex, const char *file, halo_glslang_link 
 } // namespace
 
 extern "C" int halo_glslang_compile(const char *source, int vertex, const char *file, halo_glslang_link link,
-                                    halo_glslang_result *out) {
+                                    halo_glslang_result *out)
+{
     *out = halo_glslang_result{1, 1, nullptr, nullptr};
     int status = -1;
     try { // no C++ exception may reach the C caller
@@ -121,11 +140,13 @@ extern "C" int halo_glslang_compile(const char *source, int vertex, const char *
     } catch (...) {
         status = -1;
     }
-    if (status) halo_glslang_result_free(out);
+    if (status)
+        halo_glslang_result_free(out);
     return status;
 }
 
-extern "C" void halo_glslang_result_free(halo_glslang_result *r) {
+extern "C" void halo_glslang_result_free(halo_glslang_result *r)
+{
     std::free(r->log);
     std::free(r->link_log);
     r->log = r->link_log = nullptr;

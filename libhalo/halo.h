@@ -99,82 +99,83 @@ typedef enum halo_status {
 typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SEVERITY_NOTE } halo_severity;
 
 /* One list of message ids; tests assert on ids, never on wording. */
-#define HALO_MESSAGES(X)                                                                   \
-    X(IO_READ, "cannot read file")                                                         \
-    X(IO_WRITE, "cannot write file")                                                       \
-    X(OUT_OF_MEMORY, "out of memory")                                                      \
-    X(ANNOTATION_UNKNOWN, "unknown '#pragma halo' directive")                              \
-    X(ANNOTATION_SYNTAX, "malformed '#pragma halo' annotation")                            \
-    X(ANNOTATION_DUPLICATE, "annotation given twice")                                      \
-    X(ANNOTATION_MISSING, "required annotation missing")                                   \
-    X(MODULE_HOOK_UNKNOWN, "unknown hook")                                                 \
-    X(MODULE_ENTRY_MISSING, "module does not define its entry function")                   \
-    X(MODULE_DUPLICATE, "a module with this name is already loaded")                       \
-    X(MODULE_RESERVED_NAME, "module uses a name reserved by the host contract")            \
-    X(PARAM_TYPE_UNKNOWN, "unknown parameter type")                                        \
-    X(PARAM_DEFAULT_INVALID, "parameter default does not match its type or range")        \
-    X(PARAM_DUPLICATE, "parameter declared twice")                                         \
-    X(INPUT_NUL_BYTE, "the file contains a NUL byte")                                      \
-    X(SCENE_JSON, "scene is not valid JSON")                                               \
-    X(SCENE_KEY_UNKNOWN, "unknown key")                                                    \
-    X(SCENE_TYPE, "value has the wrong type")                                              \
-    X(SCENE_STAGE_UNKNOWN, "unknown stage")                                                \
-    X(SCENE_STAGE_DUPLICATE, "stage listed twice")                                         \
-    X(SCENE_PARAM_UNKNOWN, "unknown parameter")                                            \
-    X(SCENE_VALUE_BELOW_MIN, "value is below the minimum")                                 \
-    X(SCENE_VALUE_ABOVE_MAX, "value is above the maximum")                                 \
-    X(SCENE_VALUE_NONFINITE, "value is not finite")                                        \
-    X(SCENE_VALUE_COUNT, "value has the wrong number of components")                       \
-    X(SCENE_VERSION, "unsupported scene version")                                          \
-    X(LINK_MISSING_PROVIDER, "no enabled stage or host provides what a stage needs")       \
-    X(LINK_DUPLICATE_PROVIDER, "two enabled stages provide the same thing")                \
-    X(LINK_CYCLE, "stage dependencies form a cycle")                                       \
-    X(LINK_HOOK_MISMATCH, "stage hook does not fit this host")                             \
-    X(HOST_MARKER_MISSING, "host has no '#pragma halo declarations' line")                 \
-    X(HOST_MARKER_DUPLICATE, "host has more than one '#pragma halo declarations' line")   \
-    X(HOST_MARKER_SCOPE, "'#pragma halo declarations' must be at global scope")            \
-    X(HOST_RESERVED_NAME, "host declares a name reserved by the host contract")            \
-    X(HOST_VERSION, "host '#version' does not fit the target")                             \
-    X(HOST_FINISH_MISSING, "host never calls halo_finish but the program has extra outputs") \
-    X(HOST_MARKER_INACTIVE, "'#pragma halo declarations' is commented out or in a branch not taken") \
-    X(HOST_APPLY_MISSING, "host never calls halo_apply but the scene links stages that run in it") \
-    X(HOST_MACRO_CLASH, "a host macro rewrites a name that the libhalo declarations use") \
-    X(HOST_OUTPUT_LOCATION, "host output without layout(location) beside libhalo's extra outputs") \
-    X(PASS_INVALID, "malformed image pass")                                                \
-    X(GLSL_ERROR, "GLSL error")                                                            \
-    X(GLSL_WARNING, "GLSL warning")                                                        \
-    X(EMU_MISSING, "stage has no C emulation")                                             \
-    X(GL_PROC_MISSING, "OpenGL entry point not found")                                     \
-    X(GL_COMPILE, "driver rejected the shader")                                            \
-    X(GL_LINK, "driver rejected the program")                                              \
-    X(HOST_COMPOSITING, "the scene's stages mean nothing under the host's compositing (MIP)")          \
-    X(HOST_SINGLE_PASS, "the scene needs image passes between slices, which this host cannot run") \
-    X(ENGINE_UNSUPPORTED, "the engine's mode or input cannot take the stages (docs/hosts/)")          \
-    X(USAGE, "invalid argument")                                                           \
-    X(GLSL_VERSION_IMPLIED, "shader has no '#version': GLSL's default version applies")          \
-    X(INPUT_TOO_LARGE, "the file is larger than libhalo reads (HALO_MAX_FILE_BYTES)")          \
-    X(PIECE_EXPRESSION, "a composer expression (halo_pieces_desc) is not one GLSL expression of the kind its field needs") \
+#define HALO_MESSAGES(X)                                                                                 \
+    X(IO_READ, "cannot read file")                                                                       \
+    X(IO_WRITE, "cannot write file")                                                                     \
+    X(OUT_OF_MEMORY, "out of memory")                                                                    \
+    X(ANNOTATION_UNKNOWN, "unknown '#pragma halo' directive")                                            \
+    X(ANNOTATION_SYNTAX, "malformed '#pragma halo' annotation")                                          \
+    X(ANNOTATION_DUPLICATE, "annotation given twice")                                                    \
+    X(ANNOTATION_MISSING, "required annotation missing")                                                 \
+    X(MODULE_HOOK_UNKNOWN, "unknown hook")                                                               \
+    X(MODULE_ENTRY_MISSING, "module does not define its entry function")                                 \
+    X(MODULE_DUPLICATE, "a module with this name is already loaded")                                     \
+    X(MODULE_RESERVED_NAME, "module uses a name reserved by the host contract")                          \
+    X(PARAM_TYPE_UNKNOWN, "unknown parameter type")                                                      \
+    X(PARAM_DEFAULT_INVALID, "parameter default does not match its type or range")                       \
+    X(PARAM_DUPLICATE, "parameter declared twice")                                                       \
+    X(INPUT_NUL_BYTE, "the file contains a NUL byte")                                                    \
+    X(SCENE_JSON, "scene is not valid JSON")                                                             \
+    X(SCENE_KEY_UNKNOWN, "unknown key")                                                                  \
+    X(SCENE_TYPE, "value has the wrong type")                                                            \
+    X(SCENE_STAGE_UNKNOWN, "unknown stage")                                                              \
+    X(SCENE_STAGE_DUPLICATE, "stage listed twice")                                                       \
+    X(SCENE_PARAM_UNKNOWN, "unknown parameter")                                                          \
+    X(SCENE_VALUE_BELOW_MIN, "value is below the minimum")                                               \
+    X(SCENE_VALUE_ABOVE_MAX, "value is above the maximum")                                               \
+    X(SCENE_VALUE_NONFINITE, "value is not finite")                                                      \
+    X(SCENE_VALUE_COUNT, "value has the wrong number of components")                                     \
+    X(SCENE_VERSION, "unsupported scene version")                                                        \
+    X(LINK_MISSING_PROVIDER, "no enabled stage or host provides what a stage needs")                     \
+    X(LINK_DUPLICATE_PROVIDER, "two enabled stages provide the same thing")                              \
+    X(LINK_CYCLE, "stage dependencies form a cycle")                                                     \
+    X(LINK_HOOK_MISMATCH, "stage hook does not fit this host")                                           \
+    X(HOST_MARKER_MISSING, "host has no '#pragma halo declarations' line")                               \
+    X(HOST_MARKER_DUPLICATE, "host has more than one '#pragma halo declarations' line")                  \
+    X(HOST_MARKER_SCOPE, "'#pragma halo declarations' must be at global scope")                          \
+    X(HOST_RESERVED_NAME, "host declares a name reserved by the host contract")                          \
+    X(HOST_VERSION, "host '#version' does not fit the target")                                           \
+    X(HOST_FINISH_MISSING, "host never calls halo_finish but the program has extra outputs")             \
+    X(HOST_MARKER_INACTIVE, "'#pragma halo declarations' is commented out or in a branch not taken")     \
+    X(HOST_APPLY_MISSING, "host never calls halo_apply but the scene links stages that run in it")       \
+    X(HOST_MACRO_CLASH, "a host macro rewrites a name that the libhalo declarations use")                \
+    X(HOST_OUTPUT_LOCATION, "host output without layout(location) beside libhalo's extra outputs")       \
+    X(PASS_INVALID, "malformed image pass")                                                              \
+    X(GLSL_ERROR, "GLSL error")                                                                          \
+    X(GLSL_WARNING, "GLSL warning")                                                                      \
+    X(EMU_MISSING, "stage has no C emulation")                                                           \
+    X(GL_PROC_MISSING, "OpenGL entry point not found")                                                   \
+    X(GL_COMPILE, "driver rejected the shader")                                                          \
+    X(GL_LINK, "driver rejected the program")                                                            \
+    X(HOST_COMPOSITING, "the scene's stages mean nothing under the host's compositing (MIP)")            \
+    X(HOST_SINGLE_PASS, "the scene needs image passes between slices, which this host cannot run")       \
+    X(ENGINE_UNSUPPORTED, "the engine's mode or input cannot take the stages (docs/hosts/)")             \
+    X(USAGE, "invalid argument")                                                                         \
+    X(GLSL_VERSION_IMPLIED, "shader has no '#version': GLSL's default version applies")                  \
+    X(INPUT_TOO_LARGE, "the file is larger than libhalo reads (HALO_MAX_FILE_BYTES)")                    \
+    X(PIECE_EXPRESSION,                                                                                  \
+      "a composer expression (halo_pieces_desc) is not one GLSL expression of the kind its field needs") \
     X(HOST_SEGMENT_CALLS, "the ray loop is not bracketed by halo_segment_begin and halo_segment_end")
 
 typedef enum halo_message_id {
 #define HALO_X_ENUM(id, text) HALO_MSG_##id,
     HALO_MESSAGES(HALO_X_ENUM)
 #undef HALO_X_ENUM
-    HALO_MSG_COUNT
+        HALO_MSG_COUNT
 } halo_message_id;
 
 typedef struct halo_diagnostic {
     halo_severity severity;
     halo_message_id id;
-    const char *file;        /* origin: module, host or scene file ("" when none) */
-    int line, column;        /* 1-based; 0 when unknown */
-    const char *text;        /* the full message, naming the offending field */
+    const char *file; /* origin: module, host or scene file ("" when none) */
+    int line, column; /* 1-based; 0 when unknown */
+    const char *text; /* the full message, naming the offending field */
     /* The line it points at, or NULL. A line longer than HALO_DIAGNOSTIC_SOURCE_MAX bytes
      * is kept as a window of that many bytes around the column, "..." marking each cut
      * (as clang does), so that a long one-line input costs each diagnostic a screen line,
      * not the whole line. */
     const char *source_line;
-    int source_column;       /* the column of source_line that column points at (1-based; 0
+    int source_column; /* the column of source_line that column points at (1-based; 0
                               * when column is): column itself unless the line was cut */
 } halo_diagnostic;
 #define HALO_DIAGNOSTIC_SOURCE_MAX 120
@@ -197,9 +198,9 @@ HALO_API void halo_diagnostics_clear(halo_diagnostics *d);
 #else
 #define HALO_PRINTF(fmt_index, first_arg)
 #endif
-HALO_API void halo_diagnostics_report(halo_diagnostics *d, halo_severity severity, halo_message_id id,
-                                      const char *file, int line, int column, const char *source_line,
-                                      const char *fmt, ...) HALO_PRINTF(8, 9);
+HALO_API void halo_diagnostics_report(halo_diagnostics *d, halo_severity severity, halo_message_id id, const char *file,
+                                      int line, int column, const char *source_line, const char *fmt, ...)
+    HALO_PRINTF(8, 9);
 /* An error without a source line: HALO_REPORT_ERROR(d, HALO_MSG_IO_READ, path, 0, 0,
  * "cannot read %s", why). */
 #define HALO_REPORT_ERROR(d, id, file, line, column, ...) \
@@ -261,12 +262,12 @@ typedef enum halo_target {
     HALO_TARGET_GLSL330,
     HALO_TARGET_GLSL450,
     HALO_TARGET_ES300,
-    HALO_TARGET_GLSL150,     /* GLSL 1.50 core (OpenGL 3.2: VTK, macOS): fragment outputs carry no
+    HALO_TARGET_GLSL150, /* GLSL 1.50 core (OpenGL 3.2: VTK, macOS): fragment outputs carry no
                               * layout(location); halo_gl_program_build binds them by name */
     HALO_TARGET_COUNT
 } halo_target;
 
-HALO_API const char *halo_target_name(halo_target t); /* "330", "450", "es300", "150" */
+HALO_API const char *halo_target_name(halo_target t);         /* "330", "450", "es300", "150" */
 HALO_API halo_target halo_target_from_name(const char *name); /* HALO_TARGET_COUNT if unknown */
 
 typedef enum halo_shader_kind { HALO_SHADER_FRAGMENT = 0, HALO_SHADER_VERTEX } halo_shader_kind;
@@ -294,14 +295,14 @@ typedef enum halo_param_type {
 #define HALO_MAX_COMPONENTS 64
 
 typedef struct halo_param_info {
-    const char *name;       /* as written in the module: "k_gs" */
+    const char *name; /* as written in the module: "k_gs" */
     halo_param_type type;
-    int array_size;         /* 0: scalar or vector; N: an array of at most N elements */
-    int components;         /* per element: 1..4 */
-    double min, max;        /* valid range of each component */
-    int default_count;      /* elements in the default (1 unless an array) */
+    int array_size;    /* 0: scalar or vector; N: an array of at most N elements */
+    int components;    /* per element: 1..4 */
+    double min, max;   /* valid range of each component */
+    int default_count; /* elements in the default (1 unless an array) */
     double default_value[HALO_MAX_COMPONENTS];
-    const char *meaning;    /* one line, with units */
+    const char *meaning; /* one line, with units */
 } halo_param_info;
 
 typedef struct halo_module halo_module;
@@ -348,9 +349,9 @@ HALO_API int halo_module_has_emulation(const halo_module *m);
 typedef struct halo_render_settings {
     double azimuth, elevation, zoom; /* degrees, degrees, 1 = volume fills the view */
     double background[3];
-    double step;                     /* ray step in voxels */
-    double window[2];                /* intensity window mapped to [0,1] */
-    int transfer_count;              /* control points: value, r, g, b, opacity */
+    double step;        /* ray step in voxels */
+    double window[2];   /* intensity window mapped to [0,1] */
+    int transfer_count; /* control points: value, r, g, b, opacity */
     double transfer[HALO_MAX_TRANSFER_POINTS][5];
 } halo_render_settings;
 
@@ -387,20 +388,20 @@ typedef enum halo_version_mode {
  * //VTK:: tags, three.js chunks, any template engine). The expressions are the composer's
  * own GLSL, in scope where it puts the sample piece; NULL takes the default in brackets. */
 typedef struct halo_pieces_desc {
-    const char *position;  /* vec3, volume texture space [0,1]^3 ("halo_position") */
-    const char *value;     /* float, normalised to [0,1] ("halo_value") */
-    const char *gradient;  /* vec3, the contract's gradient; NULL: derived from volume (or gradient_texture) */
-    const char *view;      /* vec3, unit, towards the eye; NULL: derived from the camera uniforms */
-    const char *depth;     /* float in [0,1]; NULL: derived from the camera uniforms */
-    const char *fragcoord; /* vec2 ("gl_FragCoord.xy") */
-    const char *color;     /* a vec4 lvalue, colour and opacity before compositing, not premultiplied
+    const char *position;         /* vec3, volume texture space [0,1]^3 ("halo_position") */
+    const char *value;            /* float, normalised to [0,1] ("halo_value") */
+    const char *gradient;         /* vec3, the contract's gradient; NULL: derived from volume (or gradient_texture) */
+    const char *view;             /* vec3, unit, towards the eye; NULL: derived from the camera uniforms */
+    const char *depth;            /* float in [0,1]; NULL: derived from the camera uniforms */
+    const char *fragcoord;        /* vec2 ("gl_FragCoord.xy") */
+    const char *color;            /* a vec4 lvalue, colour and opacity before compositing, not premultiplied
                             * ("halo_color"): the sample piece reads and writes it */
-    const char *volume;    /* a sampler3D expression the engine declares ("in_volume[0]"): derive the
+    const char *volume;           /* a sampler3D expression the engine declares ("in_volume[0]"): derive the
                             * gradient from it (central differences, halved) */
     const char *gradient_texture; /* or a sampler3D with the gradient in RGB, per voxel step */
-    int segmented;         /* 1: the composer calls halo_segment_begin/halo_segment_end in its ray
+    int segmented;                /* 1: the composer calls halo_segment_begin/halo_segment_end in its ray
                             * loop (host contract 2); the program then runs its image passes */
-    int first_output_location; /* the extra outputs' first location, 1..HALO_MAX_OUTPUT_LOCATION; 0: 1
+    int first_output_location;    /* the extra outputs' first location, 1..HALO_MAX_OUTPUT_LOCATION; 0: 1
                                 * (after the engine's colour); another value: USAGE, no program */
 } halo_pieces_desc;
 #define HALO_MAX_OUTPUT_LOCATION 15
@@ -434,12 +435,12 @@ typedef struct halo_link_desc {
                                   * halo_gl_segments_desc.volume_texture), early ray termination kept; its
                                   * halo_segment_begin/_end calls, if any, do nothing (docs/host-contract.md) */
     /* ---- For shader composers (docs/composers.md) ---- */
-    halo_version_mode version;   /* the #version line: the target's (default), the host's own, or none */
-    int engine_uniforms;         /* 1: live parameters are not declared: the engine declares them from the
+    halo_version_mode version;      /* the #version line: the target's (default), the host's own, or none */
+    int engine_uniforms;            /* 1: live parameters are not declared: the engine declares them from the
                                   * reflection (halo_program_uniform_next), bools as int */
-    int unlocated_outputs;       /* 1: extra outputs without layout(location) (so for GLSL 150 unless
+    int unlocated_outputs;          /* 1: extra outputs without layout(location) (so for GLSL 150 unless
                                   * location_extension); bind them by name (halo_output_info.location) */
-    int location_extension;      /* GLSL 150: keep layout(location); the shader enables
+    int location_extension;         /* GLSL 150: keep layout(location); the shader enables
                                   * GL_ARB_explicit_attrib_location after its #version (an engine that
                                   * links the program itself and cannot bind names, such as VTK) */
     const halo_pieces_desc *pieces; /* with host_source NULL: link no host text; the program's pieces
@@ -449,30 +450,36 @@ typedef struct halo_link_desc {
 typedef enum halo_uniform_kind { HALO_UNIFORM_PARAM = 0, HALO_UNIFORM_COUNT_OF_ARRAY } halo_uniform_kind;
 
 typedef struct halo_uniform_info {
-    const char *name;   /* GLSL name in the linked source: "halo_boundary_k_gs" */
-    const char *stage;  /* "boundary" */
-    const char *param;  /* "k_gs" */
+    const char *name;  /* GLSL name in the linked source: "halo_boundary_k_gs" */
+    const char *stage; /* "boundary" */
+    const char *param; /* "k_gs" */
     const halo_param_info *info;
-    int live;           /* 1: a uniform the host sets; 0: emitted as a constant */
-    int count;          /* elements currently set (arrays) */
-    const double *value;/* current value: count * components doubles */
+    int live;               /* 1: a uniform the host sets; 0: emitted as a constant */
+    int count;              /* elements currently set (arrays) */
+    const double *value;    /* current value: count * components doubles */
     const char *count_name; /* an array's companion uniform "NAME_count" (int: elements set); else NULL */
 } halo_uniform_info;
 
 /* MIN: front-most value (e.g. a feature depth; its image is cleared to 1). FIRST: the
  * first hit along the ray wins: the field is vec4(value, hit), blended front to back by
  * coverage (GL_ONE_MINUS_DST_ALPHA, GL_ONE); docs/image-passes.md. */
-typedef enum halo_blend { HALO_BLEND_NONE = 0, HALO_BLEND_MAX, HALO_BLEND_ADD, HALO_BLEND_MIN, HALO_BLEND_FIRST } halo_blend;
+typedef enum halo_blend {
+    HALO_BLEND_NONE = 0,
+    HALO_BLEND_MAX,
+    HALO_BLEND_ADD,
+    HALO_BLEND_MIN,
+    HALO_BLEND_FIRST
+} halo_blend;
 
 /* An extra fragment output, fed from a halo_sample field (docs/image-passes.md). */
 typedef struct halo_output_info {
-    const char *name;   /* GLSL name: "halo_output_seed" */
+    const char *name; /* GLSL name: "halo_output_seed" */
     int location;
-    int components;     /* the field's: the program's channel count for a channels field */
-    const char *image;  /* the image it writes: "seed" */
-    halo_blend blend;   /* how the host's blending must combine fragments and slices */
-    const char *field;  /* the halo_sample field: "seed" */
-    int channel;        /* -1; else the column of a per-channel (mat4) field: image FIELD_k */
+    int components;    /* the field's: the program's channel count for a channels field */
+    const char *image; /* the image it writes: "seed" */
+    halo_blend blend;  /* how the host's blending must combine fragments and slices */
+    const char *field; /* the halo_sample field: "seed" */
+    int channel;       /* -1; else the column of a per-channel (mat4) field: image FIELD_k */
 } halo_output_info;
 
 /* A screen-sized image used by image passes, outputs and samplers. */
@@ -497,8 +504,8 @@ typedef struct halo_sampler_info {
 
 /* A uniform the host must set every frame (e.g. the image-plane axes). */
 typedef struct halo_host_uniform_info {
-    const char *name;  /* "halo_host_screen_right" */
-    const char *type;  /* GLSL type */
+    const char *name; /* "halo_host_screen_right" */
+    const char *type; /* GLSL type */
     const char *meaning;
 } halo_host_uniform_info;
 
@@ -511,14 +518,14 @@ typedef enum halo_pass_at {
     HALO_PASS_AT_FINAL,        /* once at the end of the frame (halo_gl_frame_post) */
 } halo_pass_at;
 typedef struct halo_pass_info {
-    const char *name;   /* "spread" */
-    const char *stage;  /* module: "halo_generate" */
+    const char *name;  /* "spread" */
+    const char *stage; /* module: "halo_generate" */
     const char *entry;
     int input_count;
     const char *inputs[HALO_MAX_PASS_INPUTS]; /* image names; "previous" = the output before the pass */
-    const char *first;  /* for "previous" in the first repetition; NULL = the output itself */
+    const char *first;                        /* for "previous" in the first repetition; NULL = the output itself */
     const char *output;
-    int repeat;         /* 1..HALO_MAX_PASS_REPEAT: a repeat=PARAM parameter must declare max <= it */
+    int repeat; /* 1..HALO_MAX_PASS_REPEAT: a repeat=PARAM parameter must declare max <= it */
     const char *vertex_source;
     const char *fragment_source;
     halo_pass_at at;    /* when it runs */
@@ -596,7 +603,7 @@ typedef struct halo_uniform_decl {
     int count;              /* elements set (1 unless an array) */
     const double *value;    /* count * components values */
     const halo_uniform_info *param;
-    double storage[4];      /* value's storage where it is converted (a channels parameter) */
+    double storage[4]; /* value's storage where it is converted (a channels parameter) */
 } halo_uniform_decl;
 HALO_API int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_uniform_decl *out);
 HALO_API size_t halo_program_output_count(const halo_program *p);
@@ -642,9 +649,8 @@ typedef struct halo_composer_piece {
  * libhalo piece, to name:line for a composer piece, else to composed_file:line. The
  * composed shader's own #version line selects the language. */
 HALO_API halo_status halo_program_validate_composed(const halo_program *p, const char *composed,
-                                                    const char *composed_file,
-                                                    const halo_composer_piece *pieces, size_t piece_count,
-                                                    halo_diagnostics *diag);
+                                                    const char *composed_file, const halo_composer_piece *pieces,
+                                                    size_t piece_count, halo_diagnostics *diag);
 
 /* Validates the linked source; glslang's errors are rewritten to the module's or the
  * host's own file:line:col. Returns HALO_OK or HALO_ERROR_INPUT. */
@@ -682,7 +688,7 @@ typedef struct halo_emu_sample {
     /* provided by stages */
     double normal[3];
     double gradient_magnitude;
-    double seed[4];  /* per-halo seed intensity (volumetric halos) */
+    double seed[4]; /* per-halo seed intensity (volumetric halos) */
     /* extra outputs: accumulated over the halo_emu_apply_frame calls of one fragment;
      * zero them at the start of a fragment (e.g. memset the whole sample) */
     double output_accum[4];
@@ -772,15 +778,14 @@ HALO_API unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, cons
  * compile-time variant of the host shader, without linking again. The driver's messages
  * keep the linked source's line numbers. NULL or "" defines: halo_gl_program_build. */
 HALO_API unsigned halo_gl_program_build_defines(halo_gl *gl, const halo_program *p, const char *vertex_source,
-                                                const char *vertex_file, const char *defines,
-                                                halo_diagnostics *diag);
+                                                const char *vertex_file, const char *defines, halo_diagnostics *diag);
 /* Uploads the live parameters' current values to the GL program (which must be current). */
 HALO_API void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_program);
 /* Sets a host uniform (reflection: host_uniforms) of the bound GL program by its short
  * name ("screen_right") or full name. A sampler host uniform takes one value: the
  * texture unit the host bound its texture to. */
-HALO_API halo_status halo_gl_set_host_uniform(halo_gl *gl, unsigned gl_program, const char *name,
-                                              const float *values, int count);
+HALO_API halo_status halo_gl_set_host_uniform(halo_gl *gl, unsigned gl_program, const char *name, const float *values,
+                                              int count);
 
 /* The images, pass programs and schedule of one program at one viewport size. */
 typedef struct halo_gl_frame halo_gl_frame;
@@ -855,31 +860,31 @@ HALO_API int halo_gl_frame_read_region(const halo_gl_frame *f, int box[4]);
 typedef struct halo_gl_segments_desc {
     const float *inverse_view_projection; /* required: column-major, clip space -> the space of the host's
                                            * ray positions (the halo_sample position: volume texture space) */
-    float step;            /* required: the host's sample spacing along a ray, in that space; segment
+    float step;                           /* required: the host's sample spacing along a ray, in that space; segment
                             * planes are this far apart, as the slice host's slices */
-    float box_min[3], box_max[3]; /* the volume's box in that space; all zero: the unit cube */
-    int interval;          /* M, planes per segment; 0: the program's halo_generate.interval, or 4 */
-    int segments;          /* > 0: exactly this many segments (a program linked with force_segments),
+    float box_min[3], box_max[3];         /* the volume's box in that space; all zero: the unit cube */
+    int interval;                         /* M, planes per segment; 0: the program's halo_generate.interval, or 4 */
+    int segments;                         /* > 0: exactly this many segments (a program linked with force_segments),
                             * at most HALO_SEGMENTS_MAX (more: USAGE) */
-    unsigned framebuffer;  /* the host's framebuffer: its colour attachment 0 gets the host's output */
-    int first_unit;        /* libhalo's textures from this unit on; 0: unit 8 */
-    void (*draw)(void *user); /* draws the host's proxy geometry once; the host's program is current */
+    unsigned framebuffer;                 /* the host's framebuffer: its colour attachment 0 gets the host's output */
+    int first_unit;                       /* libhalo's textures from this unit on; 0: unit 8 */
+    void (*draw)(void *user);             /* draws the host's proxy geometry once; the host's program is current */
     void *user;
-    unsigned volume_texture; /* host contract 3 (a one_draw program): the host's volume (GL_TEXTURE_3D, the
+    unsigned volume_texture;   /* host contract 3 (a one_draw program): the host's volume (GL_TEXTURE_3D, the
                               * value halo_make_sample gets in its red channel, at that position) that
                               * libhalo's march samples for the seeds; required there */
     unsigned gradient_texture; /* ... and its gradient (GL_TEXTURE_3D, RGB: the contract's gradient, per voxel
                                 * step) if the host has one; 0: libhalo derives one from volume_texture
                                 * and keeps it while volume_texture, its size, volume_version and
                                 * gradient_precision stay the same */
-    int gradient_precision;  /* the derived gradient: 32 (RGBA32F, 16 bytes a voxel: exact to float), 16
+    int gradient_precision;    /* the derived gradient: 32 (RGBA32F, 16 bytes a voxel: exact to float), 16
                               * (RGBA16F, 8 bytes a voxel: the seeds' error in docs/accuracy.md, rows
                               * ray@one_draw_half), 0: 32 where float textures filter linearly (OpenGL, ES
                               * with OES_texture_float_linear), else 16 */
-    int volume_version;      /* change it when the volume texture's contents change */
-    int volume_size[3];      /* its voxels per axis; 0: queried (a context without glGetTexLevelParameteriv,
+    int volume_version;        /* change it when the volume texture's contents change */
+    int volume_size[3];        /* its voxels per axis; 0: queried (a context without glGetTexLevelParameteriv,
                               * such as OpenGL ES 3.0, needs them) */
-    float seed_epsilon;      /* the march skips the 4^3-voxel bricks where no seed can exceed this (0: only
+    float seed_epsilon;        /* the march skips the 4^3-voxel bricks where no seed can exceed this (0: only
                               * where the gradient is zero: exact; the error it allows: docs/host-contract.md) */
     /* Host contract 3 across the pieces of a distributed volume (docs/distributed.md): this
      * renderer holds one piece, and every piece draws the same frame (camera, box, step) */
@@ -889,7 +894,7 @@ typedef struct halo_gl_segments_desc {
                                        * points (VTK's extents do): the march samples a piece from its
                                        * first point's centre to its last's, out to the box at its faces */
     void (*exchange)(void *user, float *values, size_t count, halo_blend blend);
-                             /* with a piece: called once a frame with the seeds of every depth segment
+    /* with a piece: called once a frame with the seeds of every depth segment
                               * (layers x height x width x 4 floats, for each seed image), to combine
                               * in place with the other pieces' by blend (max); then the passes run.
                               * Above exchange_max_bytes the layers come in consecutive calls of at
@@ -928,10 +933,10 @@ typedef struct halo_emu_line_vertex {
 } halo_emu_line_vertex;
 
 typedef struct halo_emu_line_fragment {
-    double uv[2];        /* interpolated strip coordinates: v = 0.5 at the line's centre */
-    double depth;        /* normalized linear depth: 0 front, 1 back of the data; the host writes it */
+    double uv[2]; /* interpolated strip coordinates: v = 0.5 at the line's centre */
+    double depth; /* normalized linear depth: 0 front, 1 back of the data; the host writes it */
     double fragcoord[2];
-    double color[3];     /* line colour; becomes the background colour in the halo */
+    double color[3]; /* line colour; becomes the background colour in the halo */
     double opacity;
     double background[3];
 } halo_emu_line_fragment;

@@ -30,15 +30,15 @@ extern "C" {
 
 /* Zero means "use the default" for every field (halo_feature_desc_effective). */
 typedef struct halo_feature_desc {
-    int splat_size;      /* n: the neighbourhood is the n x n x n cube around a voxel, odd, 3..9; default 5 */
-    double threshold;    /* low-gradient cutoff: only voxels with |grad f| > threshold splat (value per
+    int splat_size;        /* n: the neighbourhood is the n x n x n cube around a voxel, odd, 3..9; default 5 */
+    double threshold;      /* low-gradient cutoff: only voxels with |grad f| > threshold splat (value per
                           * voxel step); default 0.1; negative: no cutoff (every voxel whose gradient has
                           * a direction, |grad f| > 1e-10, as the exact reference) */
-    int half_resolution; /* 1: the buffer has ceil(dims/2) texels per side; gradients are the mean over
+    int half_resolution;   /* 1: the buffer has ceil(dims/2) texels per side; gradients are the mean over
                           * each 2x2x2 block; the splat radius is halved (rounded up) so that it covers
                           * the same neighbourhood */
-    double k_hpe;        /* how directly a neighbour's normal must point at the sample; default 1 (Fig. 6) */
-    double k_hse;        /* how tightly halos are kept in the plane facing the viewer; default 2 (Fig. 6) */
+    double k_hpe;          /* how directly a neighbour's normal must point at the sample; default 1 (Fig. 6) */
+    double k_hse;          /* how tightly halos are kept in the plane facing the viewer; default 2 (Fig. 6) */
     int gradient_weighted; /* 1: IVIS Eq. 2, |grad f(P_n) . e|^k_hpe with the unnormalized gradient, i.e.
                             * h_n times |grad f(P_n)|^k_hpe: weak gradients add little, which is what
                             * makes the low-gradient cutoff a good approximation; 0: Ebert & Rheingans
@@ -104,7 +104,7 @@ typedef struct halo_feature_buffer halo_feature_buffer;
  * current context of gl. The volume is copied. NULL with diagnostics (USAGE,
  * OUT_OF_MEMORY, GL_COMPILE, GL_LINK) on failure. */
 HALO_API halo_feature_buffer *halo_feature_buffer_create(halo_gl *gl, const float *values, const int dims[3],
-                                                          const halo_feature_desc *desc, halo_diagnostics *diag);
+                                                         const halo_feature_desc *desc, halo_diagnostics *diag);
 HALO_API void halo_feature_buffer_destroy(halo_feature_buffer *b);
 /* Splats the buffer for unit view vector view (sample -> eye, voxel space): per layer of
  * the buffer, the qualified voxels within reach drawn as points of the splat's size with

@@ -16,41 +16,51 @@
 
 static const char *const contract_names[] = {"halo_sample", "halo_make_sample", "halo_apply", "halo_finish",
                                              "halo_line_vertex", "halo_make_line_vertex", "halo_line_fragment",
-                                             "halo_make_line_fragment", "HALO_LINKED",
-                                             "HALO_CONTRACT_VERSION",
+                                             "halo_make_line_fragment", "HALO_LINKED", "HALO_CONTRACT_VERSION",
                                              /* host contract 2 */
-                                             "halo_segment_begin", "halo_segment_end", "halo_view_at",
-                                             "halo_depth_at", "halo_gradient_at", "HALO_RAY_MAY_END", NULL};
+                                             "halo_segment_begin", "halo_segment_end", "halo_view_at", "halo_depth_at",
+                                             "halo_gradient_at", "HALO_RAY_MAY_END", NULL};
 
 
 /* `#pragma halo volume NAME`, `gradient NAME`, `slices` or `compositing mip`: 1 if the line is one of them
  * (stored in h), 0 if it is another annotation, -1 if it is one of them but malformed. */
-static int host_annotation(const char *line, int number, halo_host_info *h) {
+static int host_annotation(const char *line, int number, halo_host_info *h)
+{
     const char *d = line + halo_annotation_start(line) - 1;
     size_t word = strcspn(d, " \t");
     const char *arg = d + word;
-    while (*arg == ' ' || *arg == '\t') arg++;
+    while (*arg == ' ' || *arg == '\t')
+        arg++;
     size_t n = strcspn(arg, " \t");
     int rest = arg[n + strspn(arg + n, " \t")] != '\0';
     if (word == 6 && !strncmp(d, "slices", 6)) {
-        if (*arg) return -1;
+        if (*arg)
+            return -1;
         h->slices = number;
         return 1;
     }
     if (word == 11 && !strncmp(d, "compositing", 11)) {
-        if (n != 3 || strncmp(arg, "mip", 3) || rest) return -1;
+        if (n != 3 || strncmp(arg, "mip", 3) || rest)
+            return -1;
         h->compositing_mip = number;
         return 1;
     }
-    char **slot = word == 6 && !strncmp(d, "volume", 6) ? &h->volume
-                  : word == 8 && !strncmp(d, "gradient", 8) ? &h->gradient : NULL;
-    if (!slot) return 0;
-    if (!n || rest || !(isalpha((unsigned char)arg[0]) || arg[0] == '_')) return -1;
+    char **slot = word == 6 && !strncmp(d, "volume", 6)     ? &h->volume
+                  : word == 8 && !strncmp(d, "gradient", 8) ? &h->gradient
+                                                            : NULL;
+    if (!slot)
+        return 0;
+    if (!n || rest || !(isalpha((unsigned char)arg[0]) || arg[0] == '_'))
+        return -1;
     for (size_t k = 0; k < n; k++)
-        if (!isalnum((unsigned char)arg[k]) && arg[k] != '_') return -1;
+        if (!isalnum((unsigned char)arg[k]) && arg[k] != '_')
+            return -1;
     free(*slot);
     *slot = malloc(n + 1);
-    if (*slot) { memcpy(*slot, arg, n); (*slot)[n] = '\0'; }
+    if (*slot) {
+        memcpy(*slot, arg, n);
+        (*slot)[n] = '\0';
+    }
     h->volume_line = number;
     return 1;
 }
@@ -59,7 +69,8 @@ static int host_annotation(const char *line, int number, halo_host_info *h) {
 static void host_diag(const halo_host_info *h, halo_diagnostics *diag, halo_message_id id, const char *host_file,
                       char **lines, int line, int column, const char *fmt, ...) __attribute__((format(printf, 8, 9)));
 static void host_diag(const halo_host_info *h, halo_diagnostics *diag, halo_message_id id, const char *host_file,
-                      char **lines, int line, int column, const char *fmt, ...) {
+                      char **lines, int line, int column, const char *fmt, ...)
+{
     halo_strbuf b = {0};
     va_list ap;
     va_start(ap, fmt);
@@ -69,31 +80,40 @@ static void host_diag(const halo_host_info *h, halo_diagnostics *diag, halo_mess
     int origin_line;
     halo_host_scan_origin(&h->scan, host_file, line, &file, &origin_line);
     halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, id, file, origin_line, column, lines[line - 1], "%s",
-                  b.data ? b.data : halo_message_name(id));
+                            b.data ? b.data : halo_message_name(id));
     halo_strbuf_free(&b);
 }
 
-static int is_version_line(const char *l) {
-    while (*l == ' ' || *l == '\t') l++;
-    if (*l != '#') return 0;
+static int is_version_line(const char *l)
+{
+    while (*l == ' ' || *l == '\t')
+        l++;
+    if (*l != '#')
+        return 0;
     l++;
-    while (*l == ' ' || *l == '\t') l++;
+    while (*l == ' ' || *l == '\t')
+        l++;
     return !strncmp(l, "version", 7) && !isalnum((unsigned char)l[7]);
 }
 
-int halo_host_is_marker_line(const char *l) {
+int halo_host_is_marker_line(const char *l)
+{
     int col = halo_annotation_start(l);
-    if (!col) return 0;
+    if (!col)
+        return 0;
     const char *d = l + col - 1;
-    if (strncmp(d, "declarations", 12)) return 0;
+    if (strncmp(d, "declarations", 12))
+        return 0;
     for (d += 12; *d; d++)
-        if (!isspace((unsigned char)*d)) return 0;
+        if (!isspace((unsigned char)*d))
+            return 0;
     return 1;
 }
 
 /* Marker lines that a compiler never sees: commented out, or in an #if branch not taken. */
 static int report_inactive_markers(const halo_host_info *h, const char *file, char **lines, int count,
-                                   halo_target target, halo_diagnostics *diag) {
+                                   halo_target target, halo_diagnostics *diag)
+{
     int errors = 0;
     for (int i = 0; i < count; i++) {
         const halo_host_line_info *l = &h->scan.lines[i];
@@ -117,7 +137,8 @@ static int report_inactive_markers(const halo_host_info *h, const char *file, ch
 }
 
 int halo_host_check(const char *file, const char *source, char **lines, int count, halo_host_info *h,
-                    halo_target target, halo_diagnostics *diag) {
+                    halo_target target, halo_diagnostics *diag)
+{
     int errors = 0;
     h->version_line = h->marker_line = h->slices = h->volume_line = h->compositing_mip = 0;
     h->volume = h->gradient = NULL;
@@ -127,8 +148,10 @@ int halo_host_check(const char *file, const char *source, char **lines, int coun
         return 1;
     }
     for (int i = 0; i < count; i++) {
-        if (is_version_line(lines[i]) && !h->version_line) h->version_line = i + 1;
-        if (!halo_host_scan_compiled(&h->scan, i + 1)) continue;
+        if (is_version_line(lines[i]) && !h->version_line)
+            h->version_line = i + 1;
+        if (!halo_host_scan_compiled(&h->scan, i + 1))
+            continue;
         if (halo_host_is_marker_line(h->scan.code_lines[i])) {
             if (h->marker_line) {
                 const char *first_file;
@@ -144,8 +167,10 @@ int halo_host_check(const char *file, const char *source, char **lines, int coun
             /* The marker must be at global scope: no open brace before it. */
             int depth = 0;
             for (size_t t = 0; t < toks.count && toks.items[t].line <= i; t++) {
-                if (halo_token_is(source, &toks.items[t], "{")) depth++;
-                if (halo_token_is(source, &toks.items[t], "}")) depth--;
+                if (halo_token_is(source, &toks.items[t], "{"))
+                    depth++;
+                if (halo_token_is(source, &toks.items[t], "}"))
+                    depth--;
             }
             if (depth > 0) {
                 host_diag(h, diag, HALO_MSG_HOST_MARKER_SCOPE, file, lines, i + 1, 1,
@@ -156,12 +181,14 @@ int halo_host_check(const char *file, const char *source, char **lines, int coun
         } else if (halo_annotation_start(h->scan.code_lines[i])) {
             int col = halo_annotation_start(h->scan.code_lines[i]);
             int known = host_annotation(h->scan.code_lines[i], i + 1, h);
-            if (known == 1) continue;
+            if (known == 1)
+                continue;
             host_diag(h, diag, known ? HALO_MSG_ANNOTATION_SYNTAX : HALO_MSG_ANNOTATION_UNKNOWN, file, lines, i + 1,
-                      col, known ? "'#pragma halo volume' and 'gradient' take one sampler name; 'slices' takes none; "
-                                   "'compositing' takes 'mip'"
-                                 : "a host shader takes only '#pragma halo declarations', 'volume NAME', "
-                                   "'gradient NAME', 'slices' and 'compositing mip' (docs/host-contract.md)");
+                      col,
+                      known ? "'#pragma halo volume' and 'gradient' take one sampler name; 'slices' takes none; "
+                              "'compositing' takes 'mip'"
+                            : "a host shader takes only '#pragma halo declarations', 'volume NAME', "
+                              "'gradient NAME', 'slices' and 'compositing mip' (docs/host-contract.md)");
             errors++;
         }
     }
@@ -180,13 +207,18 @@ int halo_host_check(const char *file, const char *source, char **lines, int coun
         halo_strbuf_printf(&allowed_list, "%s%s", c ? (contract_names[c + 1] ? ", " : " and ") : "", contract_names[c]);
     for (size_t t = 0; t < toks.count; t++) {
         const halo_token *k = &toks.items[t];
-        if (k->kind != HALO_TOK_IDENT || k->length < 5) continue;
+        if (k->kind != HALO_TOK_IDENT || k->length < 5)
+            continue;
         const char *s = source + k->offset;
-        if (strncmp(s, "halo_", 5) && strncmp(s, "HALO_", 5)) continue;
-        if (t > 0 && halo_token_is(source, &toks.items[t - 1], ".")) continue; /* a field */
+        if (strncmp(s, "halo_", 5) && strncmp(s, "HALO_", 5))
+            continue;
+        if (t > 0 && halo_token_is(source, &toks.items[t - 1], "."))
+            continue; /* a field */
         int allowed = 0;
-        for (int c = 0; contract_names[c]; c++) allowed |= halo_token_is(source, k, contract_names[c]);
-        if (allowed) continue;
+        for (int c = 0; contract_names[c]; c++)
+            allowed |= halo_token_is(source, k, contract_names[c]);
+        if (allowed)
+            continue;
         host_diag(h, diag, HALO_MSG_HOST_RESERVED_NAME, file, lines, k->line, k->column,
                   "'%.*s' is reserved: names starting with halo_ or HALO_ belong to libhalo (the host may use %s)",
                   (int)k->length, s, allowed_list.data ? allowed_list.data : "the contract's names");
@@ -200,7 +232,8 @@ int halo_host_check(const char *file, const char *source, char **lines, int coun
 /* ---- The host against what the program needs ---- */
 
 /* The host's main, where a missing call goes; line 1 when there is none. */
-static halo_host_hit host_main(const halo_host_info *h, const char *host) {
+static halo_host_hit host_main(const halo_host_info *h, const char *host)
+{
     const halo_token_list *t = &h->scan.tokens;
     for (size_t i = 0; i + 1 < t->count; i++)
         if (t->items[i].depth == 0 && halo_token_is(host, &t->items[i], "main") &&
@@ -211,9 +244,11 @@ static halo_host_hit host_main(const halo_host_info *h, const char *host) {
 
 /* A call the program needs: on a compiled line, not in a comment or a branch not taken. */
 static int require_call(const halo_program *p, const halo_host_info *h, const halo_host_text *t, const char *name,
-                        halo_message_id id, const char *why, halo_diagnostics *diag) {
+                        halo_message_id id, const char *why, halo_diagnostics *diag)
+{
     halo_host_hit unused;
-    if (halo_host_scan_find_call(&h->scan, name, &unused)) return 0;
+    if (halo_host_scan_find_call(&h->scan, name, &unused))
+        return 0;
     if (unused.line) {
         const halo_host_line_info *l = &h->scan.lines[unused.line - 1];
         const char *cfile;
@@ -234,32 +269,36 @@ static int require_call(const halo_program *p, const halo_host_info *h, const ha
     return 1;
 }
 
-int halo_host_check_calls(const halo_program *p, const halo_host_info *h, const char *host, halo_diagnostics *diag) {
+int halo_host_check_calls(const halo_program *p, const halo_host_info *h, const char *host, halo_diagnostics *diag)
+{
     halo_host_text t = {host, p->host_file, p->host_lines, "host"};
     return halo_host_check_calls_in(p, h, &t, diag);
 }
 
 int halo_host_check_calls_in(const halo_program *p, const halo_host_info *h, const halo_host_text *t,
-                             halo_diagnostics *diag) {
+                             halo_diagnostics *diag)
+{
     int errors = 0;
     halo_strbuf stages = {0}, why = {0};
     for (size_t s = 0; s < p->stage_count; s++)
         if (p->stages[s].module->hook != HALO_HOOK_IMAGE)
             halo_strbuf_printf(&stages, "%s%s", stages.len ? ", " : "", p->stages[s].module->name);
     if (stages.len) {
-        halo_strbuf_printf(&why, "the scene links the stages %s, which run only inside halo_apply: call it once per "
-                                 "sample (docs/host-contract.md)",
+        halo_strbuf_printf(&why,
+                           "the scene links the stages %s, which run only inside halo_apply: call it once per "
+                           "sample (docs/host-contract.md)",
                            stages.data);
-        errors += require_call(p, h, t, "halo_apply", HALO_MSG_HOST_APPLY_MISSING,
-                               why.data ? why.data : "call it", diag);
+        errors +=
+            require_call(p, h, t, "halo_apply", HALO_MSG_HOST_APPLY_MISSING, why.data ? why.data : "call it", diag);
     }
     if (p->output_count) {
         halo_strbuf_free(&why);
-        halo_strbuf_printf(&why, "the linked stages write extra outputs (%s...), so the host must call "
-                                 "halo_finish() once per fragment before it returns (docs/image-passes.md)",
+        halo_strbuf_printf(&why,
+                           "the linked stages write extra outputs (%s...), so the host must call "
+                           "halo_finish() once per fragment before it returns (docs/image-passes.md)",
                            p->outputs[0].name);
-        errors += require_call(p, h, t, "halo_finish", HALO_MSG_HOST_FINISH_MISSING,
-                               why.data ? why.data : "call it", diag);
+        errors +=
+            require_call(p, h, t, "halo_finish", HALO_MSG_HOST_FINISH_MISSING, why.data ? why.data : "call it", diag);
     }
     halo_host_hit unused;
     int begins = halo_host_scan_find_call(&h->scan, "halo_segment_begin", &unused),
@@ -280,10 +319,13 @@ int halo_host_check_calls_in(const halo_program *p, const halo_host_info *h, con
 
 /* The host's outputs need explicit locations when libhalo adds outputs of its own: the
  * compiler would place an output without one anywhere, possibly on libhalo's. */
-int halo_host_check_outputs(const halo_program *p, const halo_host_info *h, const char *host, halo_diagnostics *diag) {
+int halo_host_check_outputs(const halo_program *p, const halo_host_info *h, const char *host, halo_diagnostics *diag)
+{
     const halo_host_text text = {host, p->host_file, p->host_lines, "host"}, *t = &text;
-    if ((!p->output_count && !p->segment_location) || p->kind != HALO_SHADER_FRAGMENT) return 0;
-    if (p->unlocated_outputs) return 0; /* every output is bound by name before linking */
+    if ((!p->output_count && !p->segment_location) || p->kind != HALO_SHADER_FRAGMENT)
+        return 0;
+    if (p->unlocated_outputs)
+        return 0; /* every output is bound by name before linking */
     halo_host_hit at[16];
     size_t n = halo_host_scan_unlocated_outputs(&h->scan, t->source, at, sizeof at / sizeof at[0]);
     for (size_t i = 0; i < n && i < sizeof at / sizeof at[0]; i++)
@@ -297,18 +339,21 @@ int halo_host_check_outputs(const halo_program *p, const halo_host_info *h, cons
 
 /* A host macro defined at the marker rewrites every use of its name in the declarations
  * that replace the marker (a halo_sample field, a local of libhalo's code). */
-int halo_host_check_macros(const halo_program *p, const halo_host_info *h, halo_diagnostics *diag) {
+int halo_host_check_macros(const halo_program *p, const halo_host_info *h, halo_diagnostics *diag)
+{
     int first = 0, last = 0, errors = 0;
     for (int i = 0; i < p->origin_count; i++)
         if (p->origins[i].file == p->host_file && p->origins[i].line == h->marker_line) {
-            if (!first) first = i + 1;
+            if (!first)
+                first = i + 1;
             last = i + 1;
         }
     halo_token_list t;
-    if (!first || halo_lex(p->source, &t)) return 0;
+    if (!first || halo_lex(p->source, &t))
+        return 0;
     for (size_t m = 0; m < h->scan.marker_macro_count; m++) {
-        const halo_host_macro *mac = halo_host_scan_macro(&h->scan, h->scan.marker_macros[m].name,
-                                                          h->scan.marker_macros[m].length);
+        const halo_host_macro *mac =
+            halo_host_scan_macro(&h->scan, h->scan.marker_macros[m].name, h->scan.marker_macros[m].length);
         for (size_t i = 0; mac && i < t.count; i++) {
             const halo_token *k = &t.items[i];
             if (k->line <= first || k->line >= last || k->length != mac->length ||
@@ -334,28 +379,36 @@ int halo_host_check_macros(const halo_program *p, const halo_host_info *h, halo_
 
 /* A host #line stays out of the compiled text (its numbering would no longer match
  * the line map); the line map applies it instead. */
-int halo_host_hide_line_directives(halo_program *p, const halo_host_info *h) {
+int halo_host_hide_line_directives(halo_program *p, const halo_host_info *h)
+{
     for (int i = 0; i < h->scan.line_count; i++) {
-        if (!h->scan.lines[i].line_directive) continue;
+        if (!h->scan.lines[i].line_directive)
+            continue;
         char *comment = halo_program_own(p, "// %s (libhalo: applied to the line map)", p->host_lines[i]);
-        if (!comment) return -1;
+        if (!comment)
+            return -1;
         p->host_lines[i] = comment;
     }
     return 0;
 }
 
 /* Host lines of the program's line map at the origins the host's #line directives give. */
-int halo_host_map_lines(halo_program *p, const halo_host_info *h) {
+int halo_host_map_lines(halo_program *p, const halo_host_info *h)
+{
     for (int i = 0; i < p->origin_count; i++) {
         halo_line_origin *o = &p->origins[i];
-        if (o->file != p->host_file) continue;
+        if (o->file != p->host_file)
+            continue;
         const char *file;
         halo_host_scan_origin(&h->scan, p->host_file, o->line, &file, &o->line);
-        if (file == p->host_file) continue;
+        if (file == p->host_file)
+            continue;
         o->file = NULL;
         for (size_t k = 0; k < p->string_count && !o->file; k++)
-            if (!strcmp(p->strings[k], file)) o->file = p->strings[k];
-        if (!o->file && !(o->file = halo_program_own(p, "%s", file))) return -1;
+            if (!strcmp(p->strings[k], file))
+                o->file = p->strings[k];
+        if (!o->file && !(o->file = halo_program_own(p, "%s", file)))
+            return -1;
     }
     return 0;
 }

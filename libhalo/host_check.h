@@ -9,7 +9,7 @@
 typedef struct halo_host_info {
     int version_line; /* 0: none */
     int marker_line;
-    int slices;       /* #pragma halo slices: the host draws slices or slabs and runs the passes itself */
+    int slices;              /* #pragma halo slices: the host draws slices or slabs and runs the passes itself */
     char *volume, *gradient; /* #pragma halo volume NAME / gradient NAME (owned) */
     int volume_line;
     halo_host_scan scan; /* comments, #if branches, #line and macros of the host */

@@ -20,13 +20,13 @@ typedef struct halo_host_line_info {
 } halo_host_line_info;
 
 typedef struct halo_host_macro {
-    const char *name;  /* a view into the scan's code text */
+    const char *name; /* a view into the scan's code text */
     size_t length;
     const char *value; /* the replacement text, to the end of the line */
     int line, column;  /* of the name in the #define */
     int function_like;
-    int certain;       /* defined on a line certainly compiled */
-    int predefined;    /* GL_ES, __VERSION__, ...; HALO_LINKED after the marker */
+    int certain;    /* defined on a line certainly compiled */
+    int predefined; /* GL_ES, __VERSION__, ...; HALO_LINKED after the marker */
 } halo_host_macro;
 
 typedef struct halo_host_scan {
@@ -34,11 +34,11 @@ typedef struct halo_host_scan {
     char *comments; /* the source with everything but the text of comments blanked */
     char **code_lines, **comment_lines;
     int line_count;
-    halo_host_line_info *lines; /* per line, 0-based */
-    halo_token_list tokens;     /* of the code */
+    halo_host_line_info *lines;     /* per line, 0-based */
+    halo_token_list tokens;         /* of the code */
     halo_token_list comment_tokens; /* of the comments' text */
-    int marker_line;            /* the first compiled marker line; 0 when none */
-    halo_host_macro *macros;    /* defined while scanning (at the end: at the last line) */
+    int marker_line;                /* the first compiled marker line; 0 when none */
+    halo_host_macro *macros;        /* defined while scanning (at the end: at the last line) */
     size_t macro_count, macro_cap;
     halo_host_macro *marker_macros; /* those defined at the marker line */
     size_t marker_macro_count;

@@ -33,14 +33,14 @@ typedef struct halo_output_decl {
 } halo_output_decl;
 
 typedef struct halo_image_decl {
-    char *name;          /* without the trailing '*' of a per-channel family */
+    char *name; /* without the trailing '*' of a per-channel family */
     halo_image_reset reset;
     int line;
-    int family;          /* NAME*: one image per channel, NAME_0 .. NAME_{c-1} */
-    int components;      /* 0: the program's channel count; else 1..4 */
-    double clear;        /* value every component is cleared to (default 0) */
+    int family;     /* NAME*: one image per channel, NAME_0 .. NAME_{c-1} */
+    int components; /* 0: the program's channel count; else 1..4 */
+    double clear;   /* value every component is cleared to (default 0) */
     int clear_set;
-    char *read_when;     /* read_when=PARAM: the module reads the image only while some channel of
+    char *read_when; /* read_when=PARAM: the module reads the image only while some channel of
                           * PARAM is >= 0.5 or PARAM is live (NULL: always) */
 } halo_image_decl;
 
@@ -63,11 +63,11 @@ typedef struct halo_pass_decl {
     char *inputs[HALO_MAX_PASS_INPUTS]; /* NAME*: one input per channel (expanded by the linker) */
     int input_count;
     int line;
-    halo_pass_at at;  /* at=post, final: runs in halo_*_frame_post, not between slices */
-    int each_channel; /* each=channel: one pass per channel; '*' names that channel's image */
-    int start;        /* start=K: repetitions K..repeat only (0: 1) */
-    int reach;        /* reach=: -1 undeclared; else K of reach=K or reach=[M*]B^(PARAM-i)+K */
-    char *reach_param; /* PARAM of reach=[M*]B^(PARAM-i)[+K]; NULL for reach=K */
+    halo_pass_at at;              /* at=post, final: runs in halo_*_frame_post, not between slices */
+    int each_channel;             /* each=channel: one pass per channel; '*' names that channel's image */
+    int start;                    /* start=K: repetitions K..repeat only (0: 1) */
+    int reach;                    /* reach=: -1 undeclared; else K of reach=K or reach=[M*]B^(PARAM-i)+K */
+    char *reach_param;            /* PARAM of reach=[M*]B^(PARAM-i)[+K]; NULL for reach=K */
     int reach_factor, reach_base; /* M (1) and B (2 or 4) of reach=[M*]B^(PARAM-i)[+K] */
 } halo_pass_decl;
 
@@ -104,7 +104,7 @@ struct halo_module {
     size_t pass_count;
     halo_name_list per_halo;
     halo_stage_info info; /* #pragma halo is: what hosts read (halo_program_stage_info) */
-    int groups;          /* #pragma halo groups: channels parameters take up to HALO_MAX_GROUP_CHANNELS values,
+    int groups;           /* #pragma halo groups: channels parameters take up to HALO_MAX_GROUP_CHANNELS values,
                           * linked four at a time (feature groups, halo_program_select_group) */
 };
 
@@ -138,7 +138,7 @@ const char *halo_param_type_name(halo_param_type t);
 
 /* A parameter's value as set by a scene or a program. */
 typedef struct halo_param_value {
-    int set;   /* given by the scene (else the default) */
+    int set; /* given by the scene (else the default) */
     int live;
     int count; /* elements */
     double value[HALO_MAX_COMPONENTS];
@@ -176,7 +176,7 @@ int halo_annotation_start(const char *line);
 typedef struct halo_program_stage {
     const halo_module *module;
     halo_param_value *values;
-    size_t first_uniform; /* index into uniforms */
+    size_t first_uniform;           /* index into uniforms */
     halo_param_value *group_values; /* a grouped stage of a program with feature groups: the scene's
                                      * whole lists (values holds the selected group's four) */
     int prepass; /* host contract 3 (field.c): 2, its outputs feed generation passes (halo_seed); 1, it
@@ -210,13 +210,13 @@ struct halo_program {
     halo_host_uniform_info *host_uniforms;
     size_t host_uniform_count;
     int channel_count;
-    int group_count;   /* feature groups: ceil(features / 4) of the grouped stages, at least 1 */
-    int group;         /* the selected one */
+    int group_count; /* feature groups: ceil(features / 4) of the grouped stages, at least 1 */
+    int group;       /* the selected one */
     int image_precision;
     int image_scale;
     /* host contract 2 (libhalo/segment.c) */
-    int v2_host;            /* the host calls halo_segment_begin, halo_view_at or halo_depth_at, or names a volume */
-    int segment_location;   /* > 0: drawn in segments; the location of the ray state output */
+    int v2_host;          /* the host calls halo_segment_begin, halo_view_at or halo_depth_at, or names a volume */
+    int segment_location; /* > 0: drawn in segments; the location of the ray state output */
     /* host contract 3 (gl/field.c): one_draw, the images of generation passes are computed by
      * libhalo's own march before the host draws (prepass: that march, linked from the same
      * scene) and read per sample from a stack of depth-segment layers; prepass_only: this is

@@ -14,13 +14,14 @@ struct halo_embedded_file {
 };
 extern const struct halo_embedded_file halo_embedded_modules[];
 
-static halo_status add_module(halo_library *lib, halo_module *m, halo_diagnostics *diag) {
+static halo_status add_module(halo_library *lib, halo_module *m, halo_diagnostics *diag)
+{
     const char *name = halo_module_name(m);
     const halo_module *old = halo_library_find(lib, name);
     if (old) {
         halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_DUPLICATE, m->file, m->module_line, 1,
-                      m->lines[m->module_line - 1], "a module named '%s' is already loaded from %s", name,
-                      old->file);
+                                m->lines[m->module_line - 1], "a module named '%s' is already loaded from %s", name,
+                                old->file);
         halo_module_free(m);
         return HALO_ERROR_INPUT;
     }
@@ -35,15 +36,18 @@ static halo_status add_module(halo_library *lib, halo_module *m, halo_diagnostic
     return HALO_OK;
 }
 
-halo_status halo_library_add_source(halo_library *lib, const char *file, const char *source, halo_diagnostics *diag) {
+halo_status halo_library_add_source(halo_library *lib, const char *file, const char *source, halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, source, "source", HALO_ERROR_INPUT);
     halo_module *m = halo_module_parse(file ? file : "module", source, diag);
-    if (!m) return HALO_ERROR_INPUT;
+    if (!m)
+        return HALO_ERROR_INPUT;
     return add_module(lib, m, diag);
 }
 
-static halo_module *read_module(const char *path, halo_diagnostics *diag, halo_status *status) {
+static halo_module *read_module(const char *path, halo_diagnostics *diag, halo_status *status)
+{
     size_t len = 0;
     char *text = halo_read_file(path, &len);
     if (!text) {
@@ -55,9 +59,10 @@ static halo_module *read_module(const char *path, halo_diagnostics *diag, halo_s
     if (halo_find_nul(text, len, &line, &column)) {
         /* the text up to the NUL is the line to show */
         const char *start = text;
-        for (int l = 1; l < line; l++) start = strchr(start, '\n') + 1;
-        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_INPUT_NUL_BYTE, path, line, column, halo_skip_bom(start),
-                      "the module contains a NUL byte: not a text file");
+        for (int l = 1; l < line; l++)
+            start = strchr(start, '\n') + 1;
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_INPUT_NUL_BYTE, path, line, column,
+                                halo_skip_bom(start), "the module contains a NUL byte: not a text file");
         free(text);
         *status = HALO_ERROR_INPUT;
         return NULL;
@@ -68,7 +73,8 @@ static halo_module *read_module(const char *path, halo_diagnostics *diag, halo_s
     return m;
 }
 
-static halo_status replace_or_add(halo_library *lib, halo_module *m, halo_diagnostics *diag) {
+static halo_status replace_or_add(halo_library *lib, halo_module *m, halo_diagnostics *diag)
+{
     /* A scene or program holds pointers into the module it would replace. */
     long users = atomic_load(&lib->refs) - 1;
     if (users > 0) {
@@ -90,33 +96,38 @@ static halo_status replace_or_add(halo_library *lib, halo_module *m, halo_diagno
 
 /* Reads the module at path and puts it into lib with put (add_module or replace_or_add). */
 static halo_status put_file(halo_library *lib, const char *path, halo_diagnostics *diag,
-                            halo_status (*put)(halo_library *, halo_module *, halo_diagnostics *)) {
+                            halo_status (*put)(halo_library *, halo_module *, halo_diagnostics *))
+{
     halo_status st;
     halo_module *m = read_module(path, diag, &st);
     return m ? put(lib, m, diag) : st;
 }
 
-halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
+halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, path, "path", HALO_ERROR_INPUT);
     return put_file(lib, path, diag, replace_or_add);
 }
 
 halo_status halo_library_override_source(halo_library *lib, const char *file, const char *source,
-                                         halo_diagnostics *diag) {
+                                         halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, source, "source", HALO_ERROR_INPUT);
     halo_module *m = halo_module_parse(file ? file : "module", source, diag);
     return m ? replace_or_add(lib, m, diag) : HALO_ERROR_INPUT;
 }
 
-halo_status halo_library_add_file(halo_library *lib, const char *path, halo_diagnostics *diag) {
+halo_status halo_library_add_file(halo_library *lib, const char *path, halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, path, "path", HALO_ERROR_INPUT);
     return put_file(lib, path, diag, add_module);
 }
 
-halo_library *halo_library_create(halo_diagnostics *diag) {
+halo_library *halo_library_create(halo_diagnostics *diag)
+{
     halo_library *lib = calloc(1, sizeof *lib);
     if (!lib) {
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
@@ -134,36 +145,45 @@ halo_library *halo_library_create(halo_diagnostics *diag) {
 
 void halo_library_retain(const halo_library *lib) { atomic_fetch_add(&((halo_library *)lib)->refs, 1); }
 
-void halo_library_release(const halo_library *lib) {
+void halo_library_release(const halo_library *lib)
+{
     halo_library *l = (halo_library *)lib;
-    if (!l || atomic_fetch_sub(&l->refs, 1) != 1) return;
-    for (size_t i = 0; i < l->count; i++) halo_module_free(l->modules[i]);
+    if (!l || atomic_fetch_sub(&l->refs, 1) != 1)
+        return;
+    for (size_t i = 0; i < l->count; i++)
+        halo_module_free(l->modules[i]);
     free(l->modules);
     free(l);
 }
 
 void halo_library_destroy(halo_library *lib) { halo_library_release(lib); }
 
-size_t halo_library_module_count(const halo_library *lib) {
+size_t halo_library_module_count(const halo_library *lib)
+{
     HALO_REFUSE_NULL(NULL, lib, "library", 0);
     return lib->count;
 }
 
-const halo_module *halo_library_module(const halo_library *lib, size_t i) {
+const halo_module *halo_library_module(const halo_library *lib, size_t i)
+{
     HALO_REFUSE_NULL(NULL, lib, "library", NULL);
     return i < lib->count ? lib->modules[i] : NULL;
 }
 
-const halo_module *halo_library_find(const halo_library *lib, const char *name) {
+const halo_module *halo_library_find(const halo_library *lib, const char *name)
+{
     HALO_REFUSE_NULL(NULL, lib, "library", NULL);
     HALO_REFUSE_NULL(NULL, name, "name", NULL);
     for (size_t i = 0; i < lib->count; i++)
-        if (!strcmp(halo_module_name(lib->modules[i]), name)) return lib->modules[i];
+        if (!strcmp(halo_module_name(lib->modules[i]), name))
+            return lib->modules[i];
     return NULL;
 }
 
-const halo_module *halo_library_helpers(const halo_library *lib) {
+const halo_module *halo_library_helpers(const halo_library *lib)
+{
     for (size_t i = 0; lib && i < lib->count; i++)
-        if (lib->modules[i]->is_library) return lib->modules[i];
+        if (lib->modules[i]->is_library)
+            return lib->modules[i];
     return NULL;
 }

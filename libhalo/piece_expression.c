@@ -49,7 +49,7 @@ typedef struct parser {
     int failed;       /* an error was reported: stop */
     const char *name; /* the field */
     halo_diagnostics *diag;
-    int es;           /* GLSL ES: no implicit int -> float */
+    int es; /* GLSL ES: no implicit int -> float */
 } parser;
 
 typedef struct result {
@@ -58,34 +58,40 @@ typedef struct result {
 } result;
 
 static void report(parser *ps, size_t offset, const char *fmt, const char *arg) __attribute__((format(printf, 3, 0)));
-static void report(parser *ps, size_t offset, const char *fmt, const char *arg) {
-    if (ps->failed) return;
+static void report(parser *ps, size_t offset, const char *fmt, const char *arg)
+{
+    if (ps->failed)
+        return;
     ps->failed = 1;
     size_t n = strlen(ps->name);
     char *file = malloc(n + strlen(ps->text) + 2);
-    if (file) sprintf(file, "%s=%s", ps->name, ps->text);
+    if (file)
+        sprintf(file, "%s=%s", ps->name, ps->text);
     halo_diagnostics_report(ps->diag, HALO_SEVERITY_ERROR, HALO_MSG_PIECE_EXPRESSION, file ? file : ps->name, 1,
-                  (int)(n + 2 + offset), file, fmt, arg);
+                            (int)(n + 2 + offset), file, fmt, arg);
     free(file);
 }
 
-static int is(const parser *ps, const char *text) {
-    if (ps->at >= ps->count) return 0;
+static int is(const parser *ps, const char *text)
+{
+    if (ps->at >= ps->count)
+        return 0;
     const token *t = &ps->tokens[ps->at];
     return t->length == strlen(text) && !memcmp(ps->text + t->offset, text, t->length);
 }
 
-static size_t here(const parser *ps) {
-    return ps->at < ps->count ? ps->tokens[ps->at].offset : strlen(ps->text);
-}
+static size_t here(const parser *ps) { return ps->at < ps->count ? ps->tokens[ps->at].offset : strlen(ps->text); }
 
-static void expect(parser *ps, const char *text, size_t opened_at) {
+static void expect(parser *ps, const char *text, size_t opened_at)
+{
     if (is(ps, text)) {
         ps->at++;
         return;
     }
-    if (ps->at >= ps->count) report(ps, opened_at, "this bracket is never closed: the expression needs a '%s'", text);
-    else report(ps, here(ps), "expected '%s' here", text);
+    if (ps->at >= ps->count)
+        report(ps, opened_at, "this bracket is never closed: the expression needs a '%s'", text);
+    else
+        report(ps, here(ps), "expected '%s' here", text);
 }
 
 /* Operators of more than one character, longest first. */
@@ -94,28 +100,37 @@ static const char *const long_operators[] = {"<<=", ">>=", "++", "--", "<<", ">>
 
 /* GLSL's characters; a comment, a statement end, a block, a preprocessor line or a line
  * break has no place in one expression. 0 when the text is fine, else the offset + 1. */
-static size_t bad_character(const char *text, const char **why) {
+static size_t bad_character(const char *text, const char **why)
+{
     for (size_t i = 0; text[i]; i++) {
         unsigned char c = (unsigned char)text[i];
         *why = NULL;
         if (c == '/' && (text[i + 1] == '/' || text[i + 1] == '*'))
             *why = "a comment in the expression: '//' would comment out the rest of libhalo's line";
-        else if (c == ';') *why = "';' ends a statement: give one expression, which libhalo passes as an argument";
-        else if (c == '{' || c == '}') *why = "a block is not an expression: give one expression";
-        else if (c == '#') *why = "a preprocessor directive has no place in an expression";
-        else if (c == '\\') *why = "a line continuation has no place in an expression";
-        else if (c == '\n' || c == '\r') *why = "the expression spans lines: give it on one line";
+        else if (c == ';')
+            *why = "';' ends a statement: give one expression, which libhalo passes as an argument";
+        else if (c == '{' || c == '}')
+            *why = "a block is not an expression: give one expression";
+        else if (c == '#')
+            *why = "a preprocessor directive has no place in an expression";
+        else if (c == '\\')
+            *why = "a line continuation has no place in an expression";
+        else if (c == '\n' || c == '\r')
+            *why = "the expression spans lines: give it on one line";
         else if (c != ' ' && c != '\t' && !isalnum(c) && !strchr("_.+-*/%<>[]()^|&~=!:?,", c))
             *why = "this character is not part of a GLSL expression";
-        if (*why) return i + 1;
+        if (*why)
+            return i + 1;
     }
     return 0;
 }
 
 /* halo_lex's tokens, with its one-character punctuation joined into GLSL's operators. */
-static int tokenize(parser *ps) {
+static int tokenize(parser *ps)
+{
     halo_token_list list;
-    if (halo_lex(ps->text, &list)) return -1;
+    if (halo_lex(ps->text, &list))
+        return -1;
     ps->tokens = calloc(list.count + 1, sizeof *ps->tokens);
     if (!ps->tokens) {
         halo_token_list_free(&list);
@@ -146,56 +161,70 @@ static result parse_expression(parser *ps);
 static result parse_conditional(parser *ps);
 
 /* float, vecN, int, bool (the constructors whose type the expression names) */
-static expr_type constructor_type(const char *s, size_t n) {
+static expr_type constructor_type(const char *s, size_t n)
+{
     for (int t = TYPE_FLOAT; t <= TYPE_BOOL; t++)
-        if (strlen(type_names[t]) == n && !memcmp(type_names[t], s, n)) return (expr_type)t;
+        if (strlen(type_names[t]) == n && !memcmp(type_names[t], s, n))
+            return (expr_type)t;
     return TYPE_UNKNOWN;
 }
 
 /* Built-in functions whose result type their name fixes, or that of their first argument. */
-static expr_type builtin_type(const char *s, size_t n, expr_type first) {
+static expr_type builtin_type(const char *s, size_t n, expr_type first)
+{
     static const char *const floats[] = {"length", "distance", "dot", "determinant", NULL};
-    static const char *const vec4s[] = {"texture", "texelFetch", "textureLod", "textureProj", "texture3D",
-                                        "textureGrad", "textureOffset", "texture2D", NULL};
-    static const char *const same[] = {"abs", "sign", "floor", "ceil", "fract", "mod", "min", "max", "clamp",
-                                       "mix", "step", "smoothstep", "normalize", "sqrt", "inversesqrt", "pow",
-                                       "exp", "exp2", "log", "log2", "sin", "cos", "tan", "radians", "degrees",
-                                       "round", "trunc", "reflect", NULL};
+    static const char *const vec4s[] = {"texture",     "texelFetch",    "textureLod", "textureProj", "texture3D",
+                                        "textureGrad", "textureOffset", "texture2D",  NULL};
+    static const char *const same[] = {
+        "abs",  "sign",       "floor",     "ceil",    "fract",       "mod",   "min",   "max",     "clamp", "mix",
+        "step", "smoothstep", "normalize", "sqrt",    "inversesqrt", "pow",   "exp",   "exp2",    "log",   "log2",
+        "sin",  "cos",        "tan",       "radians", "degrees",     "round", "trunc", "reflect", NULL};
     for (int k = 0; floats[k]; k++)
-        if (strlen(floats[k]) == n && !memcmp(floats[k], s, n)) return TYPE_FLOAT;
+        if (strlen(floats[k]) == n && !memcmp(floats[k], s, n))
+            return TYPE_FLOAT;
     for (int k = 0; vec4s[k]; k++)
-        if (strlen(vec4s[k]) == n && !memcmp(vec4s[k], s, n)) return TYPE_VEC4;
-    if (n == 5 && !memcmp(s, "cross", 5)) return TYPE_VEC3;
+        if (strlen(vec4s[k]) == n && !memcmp(vec4s[k], s, n))
+            return TYPE_VEC4;
+    if (n == 5 && !memcmp(s, "cross", 5))
+        return TYPE_VEC3;
     for (int k = 0; same[k]; k++)
-        if (strlen(same[k]) == n && !memcmp(same[k], s, n)) return first == TYPE_INT && k >= 13 ? TYPE_UNKNOWN : first;
+        if (strlen(same[k]) == n && !memcmp(same[k], s, n))
+            return first == TYPE_INT && k >= 13 ? TYPE_UNKNOWN : first;
     return TYPE_UNKNOWN;
 }
 
 /* Words that no operand is: statements, qualifiers, declarations. */
-static int statement_word(const char *s, size_t n) {
-    static const char *const words[] = {"uniform", "const", "in", "out", "inout", "discard", "return", "if", "else",
-                                        "for", "while", "do", "break", "continue", "switch", "case", "default",
-                                        "struct", "precision", "layout", "highp", "mediump", "lowp", "attribute",
-                                        "varying", "buffer", "shared", "flat", "smooth", "centroid", "invariant",
-                                        "void", NULL};
+static int statement_word(const char *s, size_t n)
+{
+    static const char *const words[] = {
+        "uniform",   "const",  "in",       "out",       "inout",    "discard",   "return",  "if",      "else",
+        "for",       "while",  "do",       "break",     "continue", "switch",    "case",    "default", "struct",
+        "precision", "layout", "highp",    "mediump",   "lowp",     "attribute", "varying", "buffer",  "shared",
+        "flat",      "smooth", "centroid", "invariant", "void",     NULL};
     for (int k = 0; words[k]; k++)
-        if (strlen(words[k]) == n && !memcmp(words[k], s, n)) return 1;
+        if (strlen(words[k]) == n && !memcmp(words[k], s, n))
+            return 1;
     return 0;
 }
 
 /* A swizzle's component count (".xyz": 3), or 0 when the field is no swizzle. */
-static int swizzle_length(const char *s, size_t n) {
+static int swizzle_length(const char *s, size_t n)
+{
     static const char *const sets[] = {"xyzw", "rgba", "stpq"};
-    if (n < 1 || n > 4) return 0;
+    if (n < 1 || n > 4)
+        return 0;
     for (int k = 0; k < 3; k++) {
         size_t i = 0;
-        while (i < n && strchr(sets[k], s[i])) i++;
-        if (i == n) return (int)n;
+        while (i < n && strchr(sets[k], s[i]))
+            i++;
+        if (i == n)
+            return (int)n;
     }
     return 0;
 }
 
-static result parse_primary(parser *ps) {
+static result parse_primary(parser *ps)
+{
     result r = {TYPE_UNKNOWN, 0};
     if (ps->at >= ps->count) {
         report(ps, here(ps), "the expression ends where an operand is expected%s", "");
@@ -219,8 +248,9 @@ static result parse_primary(parser *ps) {
         return r;
     }
     if (!t->ident) {
-        report(ps, t->offset, is(ps, ")") || is(ps, "]") ? "this bracket closes one that was never opened%s"
-                                                         : "expected an operand here%s",
+        report(ps, t->offset,
+               is(ps, ")") || is(ps, "]") ? "this bracket closes one that was never opened%s"
+                                          : "expected an operand here%s",
                "");
         return r;
     }
@@ -238,21 +268,25 @@ static result parse_primary(parser *ps) {
         ps->at++;
         expr_type first = TYPE_UNKNOWN;
         for (int k = 0; !ps->failed && !is(ps, ")") && ps->at < ps->count; k++) {
-            if (k) expect(ps, ",", open);
+            if (k)
+                expect(ps, ",", open);
             result a = parse_conditional(ps);
-            if (!k) first = a.type;
+            if (!k)
+                first = a.type;
         }
         expect(ps, ")", open);
         expr_type ctor = constructor_type(s, t->length);
         r.type = ctor ? ctor : builtin_type(s, t->length, first);
         return r;
     }
-    if (t->length == 12 && !memcmp(s, "gl_FragCoord", 12)) r.type = TYPE_VEC4;
+    if (t->length == 12 && !memcmp(s, "gl_FragCoord", 12))
+        r.type = TYPE_VEC4;
     r.designator = 1;
     return r;
 }
 
-static result parse_postfix(parser *ps) {
+static result parse_postfix(parser *ps)
+{
     result r = parse_primary(ps);
     while (!ps->failed && ps->at < ps->count) {
         if (is(ps, "[")) {
@@ -280,7 +314,8 @@ static result parse_postfix(parser *ps) {
     return r;
 }
 
-static result parse_unary(parser *ps) {
+static result parse_unary(parser *ps)
+{
     if (is(ps, "++") || is(ps, "--")) {
         report(ps, here(ps), "'%s' changes the engine's state: libhalo evaluates the expression more than once",
                is(ps, "++") ? "++" : "--");
@@ -291,7 +326,8 @@ static result parse_unary(parser *ps) {
         ps->at++;
         result r = parse_unary(ps);
         r.designator = 0;
-        if (not) r.type = TYPE_BOOL;
+        if (not )
+            r.type = TYPE_BOOL;
         return r;
     }
     return parse_postfix(ps);
@@ -299,29 +335,38 @@ static result parse_unary(parser *ps) {
 
 /* Binary operators by precedence, loosest first. */
 static const char *const levels[][6] = {
-    {"||"}, {"^^"}, {"&&"}, {"|"}, {"^"}, {"&"}, {"==", "!="}, {"<", ">", "<=", ">="}, {"<<", ">>"}, {"+", "-"},
-    {"*", "/", "%"},
+    {"||"},       {"^^"},     {"&&"},          {"|"}, {"^"}, {"&"}, {"==", "!="}, {"<", ">", "<=", ">="},
+    {"<<", ">>"}, {"+", "-"}, {"*", "/", "%"},
 };
 #define LEVEL_COUNT (sizeof levels / sizeof levels[0])
 
-static int at_level(const parser *ps, size_t level) {
+static int at_level(const parser *ps, size_t level)
+{
     for (int k = 0; k < 6 && levels[level][k]; k++)
-        if (is(ps, levels[level][k])) return 1;
+        if (is(ps, levels[level][k]))
+            return 1;
     return 0;
 }
 
 /* The type of a op b, as far as it is known: a comparison is a bool; arithmetic with a
  * vector is that vector (or an error the compiler reports). */
-static expr_type combine(size_t level, expr_type a, expr_type b) {
-    if (level <= 2 || level == 6 || level == 7) return TYPE_BOOL;
-    if (level < 9) return a == b ? a : TYPE_UNKNOWN;
-    if (a >= TYPE_VEC2 && a <= TYPE_VEC4) return a;
-    if (b >= TYPE_VEC2 && b <= TYPE_VEC4) return b;
+static expr_type combine(size_t level, expr_type a, expr_type b)
+{
+    if (level <= 2 || level == 6 || level == 7)
+        return TYPE_BOOL;
+    if (level < 9)
+        return a == b ? a : TYPE_UNKNOWN;
+    if (a >= TYPE_VEC2 && a <= TYPE_VEC4)
+        return a;
+    if (b >= TYPE_VEC2 && b <= TYPE_VEC4)
+        return b;
     return a == b ? a : TYPE_UNKNOWN;
 }
 
-static result parse_binary(parser *ps, size_t level) {
-    if (level == LEVEL_COUNT) return parse_unary(ps);
+static result parse_binary(parser *ps, size_t level)
+{
+    if (level == LEVEL_COUNT)
+        return parse_unary(ps);
     result r = parse_binary(ps, level + 1);
     while (!ps->failed && at_level(ps, level)) {
         ps->at++;
@@ -332,14 +377,17 @@ static result parse_binary(parser *ps, size_t level) {
     return r;
 }
 
-static int assignment(const parser *ps) {
+static int assignment(const parser *ps)
+{
     static const char *const ops[] = {"=", "+=", "-=", "*=", "/=", "%=", "<<=", ">>=", "&=", "|=", "^=", NULL};
     for (int k = 0; ops[k]; k++)
-        if (is(ps, ops[k])) return 1;
+        if (is(ps, ops[k]))
+            return 1;
     return 0;
 }
 
-static result parse_conditional(parser *ps) {
+static result parse_conditional(parser *ps)
+{
     result r = parse_binary(ps, 0);
     if (!ps->failed && is(ps, "?")) {
         size_t q = here(ps);
@@ -358,7 +406,8 @@ static result parse_conditional(parser *ps) {
 
 /* In brackets, a comma is GLSL's sequence operator; at the top level it would split
  * libhalo's argument in two (parse_top refuses it). */
-static result parse_expression(parser *ps) {
+static result parse_expression(parser *ps)
+{
     result r = parse_conditional(ps);
     while (!ps->failed && is(ps, ",")) {
         ps->at++;
@@ -367,7 +416,8 @@ static result parse_expression(parser *ps) {
     return r;
 }
 
-static result parse_top(parser *ps) {
+static result parse_top(parser *ps)
+{
     result r = parse_conditional(ps);
     if (!ps->failed && is(ps, ","))
         report(ps, here(ps), "a comma at the top level would pass libhalo's call two arguments: give one %s",
@@ -382,7 +432,8 @@ static result parse_top(parser *ps) {
 
 /* One field's expression: 0 when it is fine, 1 after its error. */
 static int check_one(const char *name, const char *text, field_kind kind, expr_type expected, int es,
-                     halo_diagnostics *diag) {
+                     halo_diagnostics *diag)
+{
     parser ps = {.text = text, .name = name, .diag = diag, .es = es};
     const char *why = NULL;
     size_t bad = bad_character(text, &why);
@@ -394,15 +445,18 @@ static int check_one(const char *name, const char *text, field_kind kind, expr_t
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
         return 1;
     }
-    if (!ps.count) report(&ps, 0, "the expression is empty%s", "");
+    if (!ps.count)
+        report(&ps, 0, "the expression is empty%s", "");
     result r = ps.failed ? (result){0, 0} : parse_top(&ps);
     if (!ps.failed && kind == FIELD_LVALUE && !r.designator)
-        report(&ps, 0, "libhalo writes the colour back to %s: give a variable, an array element or a field "
-                       "(a vec4 lvalue, e.g. g_srcColor)",
+        report(&ps, 0,
+               "libhalo writes the colour back to %s: give a variable, an array element or a field "
+               "(a vec4 lvalue, e.g. g_srcColor)",
                name);
     if (!ps.failed && kind == FIELD_SAMPLER && !r.designator)
-        report(&ps, 0, "%s names a sampler3D the engine declares: give its name, an array element or a field "
-                       "(e.g. in_volume[0])",
+        report(&ps, 0,
+               "%s names a sampler3D the engine declares: give its name, an array element or a field "
+               "(e.g. in_volume[0])",
                name);
     int converts = !es && r.type == TYPE_INT && expected == TYPE_FLOAT;
     if (!ps.failed && expected && r.type && r.type != expected && !converts) {
@@ -415,16 +469,21 @@ static int check_one(const char *name, const char *text, field_kind kind, expr_t
     return ps.failed;
 }
 
-int halo_pieces_check_expressions(const halo_pieces_desc *d, halo_target target, halo_diagnostics *diag) {
+int halo_pieces_check_expressions(const halo_pieces_desc *d, halo_target target, halo_diagnostics *diag)
+{
     const struct {
         const char *name, *text;
         field_kind kind;
         expr_type type;
     } fields[] = {
-        {"position", d->position, FIELD_VALUE, TYPE_VEC3},     {"value", d->value, FIELD_VALUE, TYPE_FLOAT},
-        {"gradient", d->gradient, FIELD_VALUE, TYPE_VEC3},     {"view", d->view, FIELD_VALUE, TYPE_VEC3},
-        {"depth", d->depth, FIELD_VALUE, TYPE_FLOAT},          {"fragcoord", d->fragcoord, FIELD_VALUE, TYPE_VEC2},
-        {"color", d->color, FIELD_LVALUE, TYPE_VEC4},          {"volume", d->volume, FIELD_SAMPLER, TYPE_UNKNOWN},
+        {"position", d->position, FIELD_VALUE, TYPE_VEC3},
+        {"value", d->value, FIELD_VALUE, TYPE_FLOAT},
+        {"gradient", d->gradient, FIELD_VALUE, TYPE_VEC3},
+        {"view", d->view, FIELD_VALUE, TYPE_VEC3},
+        {"depth", d->depth, FIELD_VALUE, TYPE_FLOAT},
+        {"fragcoord", d->fragcoord, FIELD_VALUE, TYPE_VEC2},
+        {"color", d->color, FIELD_LVALUE, TYPE_VEC4},
+        {"volume", d->volume, FIELD_SAMPLER, TYPE_UNKNOWN},
         {"gradient_texture", d->gradient_texture, FIELD_SAMPLER, TYPE_UNKNOWN},
     };
     int errors = 0;

@@ -172,7 +172,8 @@ int halo_prepass_host_uniforms_known(const halo_program *march, halo_diagnostics
             if (strcmp(name, "screen_right") && strcmp(name, "screen_up")) {
                 halo_diag_error(diag, USAGE, "", 0, 0,
                                 "halo_link: one_draw (host contract 3): the seeding stage %s reads the host uniform "
-                                "'halo_host_%s', which libhalo's march cannot get from the host", m->name, name);
+                                "'halo_host_%s', which libhalo's march cannot get from the host",
+                                m->name, name);
                 return 0;
             }
         }

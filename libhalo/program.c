@@ -12,7 +12,8 @@
 
 const char halo_generated_file[] = "<libhalo>";
 
-char *halo_program_own(halo_program *p, const char *fmt, ...) {
+char *halo_program_own(halo_program *p, const char *fmt, ...)
+{
     halo_strbuf b = {0};
     va_list ap;
     va_start(ap, fmt);
@@ -20,27 +21,36 @@ char *halo_program_own(halo_program *p, const char *fmt, ...) {
     va_end(ap);
     char *str = halo_strbuf_take(&b);
     char **list = str ? realloc(p->strings, (p->string_count + 1) * sizeof *list) : NULL;
-    if (!list) { free(str); return NULL; }
+    if (!list) {
+        free(str);
+        return NULL;
+    }
     p->strings = list;
     p->strings[p->string_count++] = str;
     return str;
 }
 
-halo_image_info *halo_program_image_named(halo_program *p, const char *name) {
+halo_image_info *halo_program_image_named(halo_program *p, const char *name)
+{
     for (size_t i = 0; i < p->image_count; i++)
-        if (!strcmp(p->images[i].name, name)) return &p->images[i];
+        if (!strcmp(p->images[i].name, name))
+            return &p->images[i];
     return NULL;
 }
 
 /* Whether param `name` of a linked stage could be on: live, grouped (its values change per
  * group), or some element >= 0.5. */
-static int param_may_be_on(const halo_linked_stage *st, const char *name) {
+static int param_may_be_on(const halo_linked_stage *st, const char *name)
+{
     for (size_t i = 0; i < st->module->param_count; i++) {
-        if (strcmp(st->module->params[i].name, name)) continue;
+        if (strcmp(st->module->params[i].name, name))
+            continue;
         const halo_param_value *v = &st->values[i];
-        if (v->live || st->group_values) return 1;
+        if (v->live || st->group_values)
+            return 1;
         for (int c = 0; c < (v->count > 0 ? v->count : 1) && c < HALO_MAX_COMPONENTS; c++)
-            if (v->value[c] >= 0.5) return 1;
+            if (v->value[c] >= 0.5)
+                return 1;
         return 0;
     }
     return 1;
@@ -49,31 +59,39 @@ static int param_may_be_on(const halo_linked_stage *st, const char *name) {
 /* An image that only conditional readers declare (`image NAME read_when=PARAM`), each with
  * its condition off, and that no pass of another image reads: the passes writing it are
  * dead work (e.g. the occlusion image of a scene without occlusive halos). */
-int halo_program_image_unread(const halo_program *p, const char *image) {
+int halo_program_image_unread(const halo_program *p, const char *image)
+{
     int conditional = 0;
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_linked_stage *st = &p->stages[s];
         const halo_module *m = st->module;
         for (size_t i = 0; i < m->pass_count; i++)
             for (int k = 0; k < m->passes[i].input_count; k++)
-                if (!strcmp(m->passes[i].inputs[k], image) && strcmp(m->passes[i].output, image)) return 0;
-        if (m->hook != HALO_HOOK_SAMPLE) continue;
+                if (!strcmp(m->passes[i].inputs[k], image) && strcmp(m->passes[i].output, image))
+                    return 0;
+        if (m->hook != HALO_HOOK_SAMPLE)
+            continue;
         for (size_t i = 0; i < m->image_count; i++) {
             const halo_image_decl *im = &m->images[i];
-            if (strcmp(im->name, image)) continue;
-            if (im->family || !im->read_when || param_may_be_on(st, im->read_when)) return 0;
+            if (strcmp(im->name, image))
+                continue;
+            if (im->family || !im->read_when || param_may_be_on(st, im->read_when))
+                return 0;
             conditional = 1;
         }
     }
     return conditional;
 }
 
-int halo_program_build_uniforms(halo_program *p, int all_live) {
+int halo_program_build_uniforms(halo_program *p, int all_live)
+{
     size_t n = 0;
-    for (size_t s = 0; s < p->stage_count; s++) n += p->stages[s].module->param_count;
+    for (size_t s = 0; s < p->stage_count; s++)
+        n += p->stages[s].module->param_count;
     p->uniforms = calloc(n + 1, sizeof *p->uniforms);
     p->uniform_names = calloc(n + 1, sizeof *p->uniform_names);
-    if (!p->uniforms || !p->uniform_names) return -1;
+    if (!p->uniforms || !p->uniform_names)
+        return -1;
     for (size_t s = 0; s < p->stage_count; s++) {
         halo_linked_stage *st = &p->stages[s];
         st->first_uniform = p->uniform_count;
@@ -81,10 +99,12 @@ int halo_program_build_uniforms(halo_program *p, int all_live) {
             halo_strbuf b = {0};
             halo_strbuf_printf(&b, "halo_%s_%s", st->module->name, st->module->params[i].name);
             char *name = halo_strbuf_take(&b);
-            if (!name) return -1;
+            if (!name)
+                return -1;
             p->uniform_names[p->uniform_count] = name;
             halo_param_value *v = &st->values[i];
-            if (all_live) v->live = 1;
+            if (all_live)
+                v->live = 1;
             p->uniforms[p->uniform_count++] = (halo_uniform_info){
                 .name = name,
                 .stage = st->module->name,
@@ -95,7 +115,8 @@ int halo_program_build_uniforms(halo_program *p, int all_live) {
                 .value = v->value,
                 .count_name = st->module->params[i].array_size ? halo_program_own(p, "%s_count", name) : NULL,
             };
-            if (st->module->params[i].array_size && !p->uniforms[p->uniform_count - 1].count_name) return -1;
+            if (st->module->params[i].array_size && !p->uniforms[p->uniform_count - 1].count_name)
+                return -1;
         }
     }
     return 0;
@@ -103,8 +124,10 @@ int halo_program_build_uniforms(halo_program *p, int all_live) {
 
 void halo_program_retain(const halo_program *p) { atomic_fetch_add(&((halo_program *)p)->refs, 1); }
 
-void halo_program_destroy(halo_program *p) {
-    if (!p || atomic_fetch_sub(&p->refs, 1) != 1) return;
+void halo_program_destroy(halo_program *p)
+{
+    if (!p || atomic_fetch_sub(&p->refs, 1) != 1)
+        return;
     halo_program_destroy(p->prepass);
     for (int i = 0; i < HALO_PIECE_COUNT; i++) { /* pieces (compose.c) */
         free(p->pieces[i]);
@@ -122,83 +145,103 @@ void halo_program_destroy(halo_program *p) {
         free(p->stages[s].group_values);
     }
     free(p->stages);
-    for (size_t i = 0; i < p->uniform_count; i++) free(p->uniform_names[i]);
+    for (size_t i = 0; i < p->uniform_count; i++)
+        free(p->uniform_names[i]);
     free(p->uniform_names);
     free(p->uniforms);
     free(p->outputs);
     free(p->passes);
-    for (size_t i = 0; i < p->pass_count; i++) free(p->pass_origins[i]);
+    for (size_t i = 0; i < p->pass_count; i++)
+        free(p->pass_origins[i]);
     free(p->pass_origins);
     free(p->pass_origin_counts);
     free(p->images);
     free(p->samplers);
     free(p->host_uniforms);
-    for (size_t i = 0; i < p->string_count; i++) free(p->strings[i]);
+    for (size_t i = 0; i < p->string_count; i++)
+        free(p->strings[i]);
     free(p->strings);
     halo_library_release(p->library);
     free(p);
 }
 
 /* A reflection getter: refuses a NULL program with none_value. */
-#define PROGRAM_GETTER(type, name, none_value, expression)                                                        \
-    type name(const halo_program *p) {                                                                            \
-        HALO_REFUSE_NULL(NULL, p, "program", none_value);                                                         \
-        return expression;                                                                                        \
+#define PROGRAM_GETTER(type, name, none_value, expression) \
+    type name(const halo_program *p)                       \
+    {                                                      \
+        HALO_REFUSE_NULL(NULL, p, "program", none_value);  \
+        return expression;                                 \
     }
-#define PROGRAM_ITEM(type, name, count, items)                                                                    \
-    const type *name(const halo_program *p, size_t i) {                                                           \
-        HALO_REFUSE_NULL(NULL, p, "program", NULL);                                                               \
-        return i < p->count ? &p->items[i] : NULL;                                                                \
+#define PROGRAM_ITEM(type, name, count, items)        \
+    const type *name(const halo_program *p, size_t i) \
+    {                                                 \
+        HALO_REFUSE_NULL(NULL, p, "program", NULL);   \
+        return i < p->count ? &p->items[i] : NULL;    \
     }
 PROGRAM_GETTER(const char *, halo_program_source, NULL, p->source)
 PROGRAM_GETTER(halo_target, halo_program_target, HALO_TARGET_COUNT, p->target)
 
-int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line) {
+int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line)
+{
     HALO_REFUSE_NULL(NULL, p, "program", 0);
-    if (line < 1 || line > p->origin_count) return 0;
+    if (line < 1 || line > p->origin_count)
+        return 0;
     const halo_line_origin *o = &p->origins[line - 1];
-    if (file) *file = o->file;
-    if (origin_line) *origin_line = o->line;
+    if (file)
+        *file = o->file;
+    if (origin_line)
+        *origin_line = o->line;
     return o->file != halo_generated_file;
 }
 
 PROGRAM_GETTER(size_t, halo_program_stage_count, 0, p->stage_count)
-const char *halo_program_stage(const halo_program *p, size_t i) {
+const char *halo_program_stage(const halo_program *p, size_t i)
+{
     HALO_REFUSE_NULL(NULL, p, "program", NULL);
     return i < p->stage_count ? p->stages[i].module->name : NULL;
 }
-const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t i) {
+const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t i)
+{
     HALO_REFUSE_NULL(NULL, p, "program", NULL);
     return i < p->stage_count ? &p->stages[i].module->info : NULL;
 }
-int halo_program_reads_labels(const halo_program *p) {
+int halo_program_reads_labels(const halo_program *p)
+{
     HALO_REFUSE_NULL(NULL, p, "program", 0);
     for (size_t i = 0; i < p->stage_count; i++) {
         const halo_module *m = p->stages[i].module;
         int declares = 0;
-        for (size_t k = 0; k < m->host_uniform_count; k++) declares |= !strcmp(m->host_uniforms[k].name, "labels");
-        if (!declares) continue;
-        if (!m->info.labels_when) return 1;
+        for (size_t k = 0; k < m->host_uniform_count; k++)
+            declares |= !strcmp(m->host_uniforms[k].name, "labels");
+        if (!declares)
+            continue;
+        if (!m->info.labels_when)
+            return 1;
         const halo_uniform_info *u = halo_program_find_uniform(p, m->name, m->info.labels_when);
-        if (!u || u->live) return 1;
+        if (!u || u->live)
+            return 1;
         for (int k = 0; k < u->count; k++)
-            if (u->value[k] >= 0.0) return 1;
+            if (u->value[k] >= 0.0)
+                return 1;
     }
     return 0;
 }
 PROGRAM_GETTER(size_t, halo_program_uniform_count, 0, p->uniform_count)
 PROGRAM_ITEM(halo_uniform_info, halo_program_uniform, uniform_count, uniforms)
-const halo_uniform_info *halo_program_find_uniform(const halo_program *p, const char *stage, const char *param) {
+const halo_uniform_info *halo_program_find_uniform(const halo_program *p, const char *stage, const char *param)
+{
     HALO_REFUSE_NULL(NULL, p, "program", NULL);
     HALO_REFUSE_NULL(NULL, stage, "stage", NULL);
     HALO_REFUSE_NULL(NULL, param, "param", NULL);
     for (size_t i = 0; i < p->uniform_count; i++)
-        if (!strcmp(p->uniforms[i].stage, stage) && !strcmp(p->uniforms[i].param, param)) return &p->uniforms[i];
+        if (!strcmp(p->uniforms[i].stage, stage) && !strcmp(p->uniforms[i].param, param))
+            return &p->uniforms[i];
     return NULL;
 }
 
 halo_status halo_program_set(halo_program *p, const char *stage, const char *param, const double *values, int count,
-                             halo_diagnostics *diag) {
+                             halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, stage, "stage", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, param, "param", HALO_ERROR_INPUT);
@@ -218,16 +261,19 @@ halo_status halo_program_set(halo_program *p, const char *stage, const char *par
     char why[256];
     int id = halo_param_check(u->info, values, count, why, sizeof why);
     if (id >= 0) {
-        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage, param, why);
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage,
+                                param, why);
         return HALO_ERROR_INPUT;
     }
     /* a grouped parameter of a program with feature groups: the whole list; the current
      * group's four become the uniform's values */
     for (size_t s = 0; s < p->stage_count; s++) {
         halo_linked_stage *st = &p->stages[s];
-        if (!st->group_values || strcmp(st->module->name, stage)) continue;
+        if (!st->group_values || strcmp(st->module->name, stage))
+            continue;
         size_t i = (size_t)(u->info - st->module->params);
-        if (st->module->params[i].type != HALO_PARAM_CHANNELS) break;
+        if (st->module->params[i].type != HALO_PARAM_CHANNELS)
+            break;
         if (count > 4 * p->group_count) {
             halo_diag_error(diag, USAGE, "", 0, 0,
                             "%s.%s: %d features need more than the program's %d feature groups; link the scene again",
@@ -245,7 +291,8 @@ halo_status halo_program_set(halo_program *p, const char *stage, const char *par
     /* Keep the stage's value record in step. */
     for (size_t s = 0; s < p->stage_count; s++)
         for (size_t i = 0; i < p->stages[s].module->param_count; i++)
-            if (p->stages[s].values[i].value == w->value) p->stages[s].values[i].count = count;
+            if (p->stages[s].values[i].value == w->value)
+                p->stages[s].values[i].count = count;
     /* host contract 3: the march, linked from the same scene, has the same live parameters */
     if (p->prepass) /* the same stages and parameters: checked above */
         halo_program_set(p->prepass, stage, param, values, count, NULL);
@@ -269,12 +316,15 @@ PROGRAM_GETTER(int, halo_program_group_count, 0, p->group_count > 1 ? p->group_c
 /* Group g's values of every grouped channels parameter: values 4g .. 4g + 3 of the
  * scene's list (the last value repeated where the list ends), padded to the channel
  * count by repeating the group's last. */
-void halo_program_load_group(halo_program *p, int g) {
+void halo_program_load_group(halo_program *p, int g)
+{
     for (size_t s = 0; s < p->stage_count; s++) {
         halo_linked_stage *st = &p->stages[s];
-        if (!st->group_values) continue;
+        if (!st->group_values)
+            continue;
         for (size_t i = 0; i < st->module->param_count; i++) {
-            if (st->module->params[i].type != HALO_PARAM_CHANNELS) continue;
+            if (st->module->params[i].type != HALO_PARAM_CHANNELS)
+                continue;
             const halo_param_value *full = &st->group_values[i];
             halo_param_value *v = &st->values[i];
             int n = full->count < 1 ? 1 : full->count, c = p->channel_count < 1 ? 4 : p->channel_count;
@@ -289,17 +339,21 @@ void halo_program_load_group(halo_program *p, int g) {
     p->group = g;
 }
 
-halo_status halo_program_select_group(halo_program *p, int group) {
+halo_status halo_program_select_group(halo_program *p, int group)
+{
     HALO_REFUSE_NULL(NULL, p, "program", HALO_ERROR_INPUT);
-    if (group < 0 || group >= halo_program_group_count(p)) return HALO_ERROR_INPUT;
-    if (p->group_count > 1) halo_program_load_group(p, group);
+    if (group < 0 || group >= halo_program_group_count(p))
+        return HALO_ERROR_INPUT;
+    if (p->group_count > 1)
+        halo_program_load_group(p, group);
     return HALO_OK;
 }
 
 /* Feature groups: grouped stages whose channels lists are longer than four. Their lists
  * are kept whole (group_values), their channels parameters become uniforms (switching
  * groups is an upload), and group 0 is loaded. */
-int halo_program_set_groups(halo_program *p) {
+int halo_program_set_groups(halo_program *p)
+{
     int features = 0;
     for (size_t s = 0; s < p->stage_count; s++) {
         const halo_module *m = p->stages[s].module;
@@ -308,14 +362,18 @@ int halo_program_set_groups(halo_program *p) {
                 features = p->stages[s].values[i].count;
     }
     p->group_count = features > 4 ? (features + 3) / 4 : 1;
-    if (p->group_count == 1) return 0;
+    if (p->group_count == 1)
+        return 0;
     for (size_t s = 0; s < p->stage_count; s++) {
         halo_linked_stage *st = &p->stages[s];
-        if (!st->module->groups) continue;
+        if (!st->module->groups)
+            continue;
         st->group_values = calloc(st->module->param_count + 1, sizeof *st->group_values);
-        if (!st->group_values) return -1;
+        if (!st->group_values)
+            return -1;
         for (size_t i = 0; i < st->module->param_count; i++) {
-            if (st->module->params[i].type != HALO_PARAM_CHANNELS) continue;
+            if (st->module->params[i].type != HALO_PARAM_CHANNELS)
+                continue;
             st->group_values[i] = st->values[i];
             st->values[i].live = 1;
             st->values[i].count = 4; /* group 0 (set_channel_count sees four) */
@@ -326,10 +384,13 @@ int halo_program_set_groups(halo_program *p) {
 PROGRAM_GETTER(size_t, halo_program_pass_count, 0, p->pass_count)
 PROGRAM_ITEM(halo_pass_info, halo_program_pass, pass_count, passes)
 
-int halo_pass_reach(const halo_pass_info *pass, int repetition) {
+int halo_pass_reach(const halo_pass_info *pass, int repetition)
+{
     HALO_REFUSE_NULL(NULL, pass, "pass", -1);
-    if (pass->reach < 0) return -1;
-    if (pass->reach_exponent < 0) return pass->reach;
+    if (pass->reach < 0)
+        return -1;
+    if (pass->reach_exponent < 0)
+        return pass->reach;
     /* in long long and clamped before shifting: no int overflow for any exponent or repetition */
     long long e = (long long)pass->reach_exponent - repetition, bits = pass->reach_base == 4 ? 2 : 1;
     long long shift = e < 0 ? 0 : e > 30 ? 30 : e * bits > 30 ? 30 : e * bits;
@@ -340,13 +401,15 @@ int halo_pass_reach(const halo_pass_info *pass, int repetition) {
 
 static json_t *number_or_null(double v) { return isfinite(v) ? json_real(v) : json_null(); }
 
-char *halo_program_reflect_json(const halo_program *p) {
+char *halo_program_reflect_json(const halo_program *p)
+{
     HALO_REFUSE_NULL(NULL, p, "program", NULL);
     json_t *root = json_object();
     json_object_set_new(root, "contract", json_integer(HALO_CONTRACT_VERSION));
     json_object_set_new(root, "target", json_string(halo_target_name(p->target)));
     json_t *stages = json_array();
-    for (size_t s = 0; s < p->stage_count; s++) json_array_append_new(stages, json_string(p->stages[s].module->name));
+    for (size_t s = 0; s < p->stage_count; s++)
+        json_array_append_new(stages, json_string(p->stages[s].module->name));
     json_object_set_new(root, "stages", stages);
     json_t *infos = json_array();
     for (size_t s = 0; s < p->stage_count; s++) {
@@ -368,11 +431,13 @@ char *halo_program_reflect_json(const halo_program *p) {
         json_object_set_new(o, "param", json_string(u->param));
         halo_strbuf t = {0};
         halo_strbuf_append(&t, u->info->type == HALO_PARAM_CHANNELS ? "channels" : halo_param_type_name(u->info->type));
-        if (u->info->array_size && u->info->type != HALO_PARAM_CHANNELS) halo_strbuf_printf(&t, "[%d]", u->info->array_size);
+        if (u->info->array_size && u->info->type != HALO_PARAM_CHANNELS)
+            halo_strbuf_printf(&t, "[%d]", u->info->array_size);
         json_object_set_new(o, "type", json_string(t.data ? t.data : "?"));
         halo_strbuf_free(&t);
         json_t *val = json_array();
-        for (int k = 0; k < u->count * u->info->components; k++) json_array_append_new(val, json_real(u->value[k]));
+        for (int k = 0; k < u->count * u->info->components; k++)
+            json_array_append_new(val, json_real(u->value[k]));
         json_object_set_new(o, "value", val);
         json_object_set_new(o, "count", json_integer(u->count));
         json_object_set_new(o, "min", number_or_null(u->info->min));
@@ -412,11 +477,14 @@ char *halo_program_reflect_json(const halo_program *p) {
         json_t *o = json_object();
         json_object_set_new(o, "name", json_string(p->images[i].name));
         json_object_set_new(o, "channels", json_integer(p->images[i].channels));
-        if (p->images[i].clear != 0.0) json_object_set_new(o, "clear", json_real(p->images[i].clear));
-        if (p->images[i].host) json_object_set_new(o, "host", json_true());
-        if (p->images[i].scale > 1) json_object_set_new(o, "scale", json_integer(p->images[i].scale));
-        json_object_set_new(o, "reset", json_string(p->images[i].reset == HALO_RESET_GENERATION ? "generation"
-                                                                                                   : "frame"));
+        if (p->images[i].clear != 0.0)
+            json_object_set_new(o, "clear", json_real(p->images[i].clear));
+        if (p->images[i].host)
+            json_object_set_new(o, "host", json_true());
+        if (p->images[i].scale > 1)
+            json_object_set_new(o, "scale", json_integer(p->images[i].scale));
+        json_object_set_new(o, "reset",
+                            json_string(p->images[i].reset == HALO_RESET_GENERATION ? "generation" : "frame"));
         json_array_append_new(images, o);
     }
     json_object_set_new(root, "images", images);
@@ -424,9 +492,9 @@ char *halo_program_reflect_json(const halo_program *p) {
     json_t *outputs = json_array();
     for (size_t i = 0; i < p->output_count; i++) {
         const halo_output_info *o = &p->outputs[i];
-        json_array_append_new(outputs, json_pack("{s:s, s:i, s:i, s:s, s:s}", "name", o->name, "location", o->location,
-                                                 "components", o->components, "image", o->image, "blend",
-                                                 blends[o->blend]));
+        json_array_append_new(outputs,
+                              json_pack("{s:s, s:i, s:i, s:s, s:s}", "name", o->name, "location", o->location,
+                                        "components", o->components, "image", o->image, "blend", blends[o->blend]));
     }
     json_object_set_new(root, "outputs", outputs);
     json_t *passes = json_array();
@@ -438,13 +506,17 @@ char *halo_program_reflect_json(const halo_program *p) {
         json_object_set_new(o, "entry", json_string(pi->entry));
         json_object_set_new(o, "start", json_integer(pi->start));
         json_t *in = json_array();
-        for (int k = 0; k < pi->input_count; k++) json_array_append_new(in, json_string(pi->inputs[k]));
+        for (int k = 0; k < pi->input_count; k++)
+            json_array_append_new(in, json_string(pi->inputs[k]));
         json_object_set_new(o, "inputs", in);
-        if (pi->first) json_object_set_new(o, "first", json_string(pi->first));
+        if (pi->first)
+            json_object_set_new(o, "first", json_string(pi->first));
         json_object_set_new(o, "output", json_string(pi->output));
         json_object_set_new(o, "repeat", json_integer(pi->repeat));
-        if (pi->at) json_object_set_new(o, "at", json_string(pi->at == HALO_PASS_AT_FINAL ? "final" : "post"));
-        if (pi->channel >= 0) json_object_set_new(o, "channel", json_integer(pi->channel));
+        if (pi->at)
+            json_object_set_new(o, "at", json_string(pi->at == HALO_PASS_AT_FINAL ? "final" : "post"));
+        if (pi->channel >= 0)
+            json_object_set_new(o, "channel", json_integer(pi->channel));
         json_array_append_new(passes, o);
     }
     json_object_set_new(root, "passes", passes);

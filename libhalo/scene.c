@@ -16,7 +16,8 @@ int halo_param_from_json(const halo_param_info *info, void *json, double *values
 
 #define SCENE_FORMAT_VERSION 1
 
-static void default_render(halo_render_settings *r) {
+static void default_render(halo_render_settings *r)
+{
     memset(r, 0, sizeof *r);
     r->azimuth = 30;
     r->elevation = 20;
@@ -33,42 +34,53 @@ static void default_render(halo_render_settings *r) {
     memcpy(r->transfer, tf, sizeof tf);
 }
 
-halo_scene *halo_scene_create(const halo_library *lib) {
+halo_scene *halo_scene_create(const halo_library *lib)
+{
     HALO_REFUSE_NULL(NULL, lib, "library", NULL);
     halo_scene *s = calloc(1, sizeof *s);
-    if (!s) return NULL;
+    if (!s)
+        return NULL;
     s->library = lib;
     halo_library_retain(lib);
     default_render(&s->render);
     return s;
 }
 
-void halo_scene_destroy(halo_scene *s) {
-    if (!s) return;
-    for (size_t i = 0; i < s->count; i++) free(s->stages[i].values);
+void halo_scene_destroy(halo_scene *s)
+{
+    if (!s)
+        return;
+    for (size_t i = 0; i < s->count; i++)
+        free(s->stages[i].values);
     free(s->stages);
     halo_library_release(s->library);
     free(s);
 }
 
-static halo_scene_entry *find_entry(halo_scene *s, const char *stage) {
+static halo_scene_entry *find_entry(halo_scene *s, const char *stage)
+{
     for (size_t i = 0; i < s->count; i++)
-        if (!strcmp(halo_module_name(s->stages[i].module), stage)) return &s->stages[i];
+        if (!strcmp(halo_module_name(s->stages[i].module), stage))
+            return &s->stages[i];
     return NULL;
 }
 
 /* Adds a stage with default values, or returns the existing entry. */
-static halo_scene_entry *add_entry(halo_scene *s, const halo_module *m) {
+static halo_scene_entry *add_entry(halo_scene *s, const halo_module *m)
+{
     halo_scene_entry *e = find_entry(s, halo_module_name(m));
-    if (e) return e;
+    if (e)
+        return e;
     halo_scene_entry *p = realloc(s->stages, (s->count + 1) * sizeof *p);
-    if (!p) return NULL;
+    if (!p)
+        return NULL;
     s->stages = p;
     e = &p[s->count];
     e->module = m;
     e->enabled = 1;
     e->values = calloc(m->param_count ? m->param_count : 1, sizeof *e->values);
-    if (!e->values) return NULL;
+    if (!e->values)
+        return NULL;
     for (size_t i = 0; i < m->param_count; i++) {
         e->values[i].count = m->params[i].default_count;
         memcpy(e->values[i].value, m->params[i].default_value, sizeof e->values[i].value);
@@ -78,7 +90,8 @@ static halo_scene_entry *add_entry(halo_scene *s, const halo_module *m) {
 }
 
 static const halo_module *stage_module(const halo_scene *s, const char *stage, const char *file, const char *path,
-                                       halo_diagnostics *diag) {
+                                       halo_diagnostics *diag)
+{
     const halo_module *m = halo_library_find(s->library, stage);
     if (!m || m->is_library) {
         halo_diag_error(diag, SCENE_STAGE_UNKNOWN, file, 0, 0, "%s: unknown stage '%s'", path, stage);
@@ -87,11 +100,13 @@ static const halo_module *stage_module(const halo_scene *s, const char *stage, c
     return m;
 }
 
-halo_status halo_scene_enable(halo_scene *s, const char *stage, int enabled, halo_diagnostics *diag) {
+halo_status halo_scene_enable(halo_scene *s, const char *stage, int enabled, halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, s, "scene", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, stage, "stage", HALO_ERROR_INPUT);
     const halo_module *m = stage_module(s, stage, "", "stages", diag);
-    if (!m) return HALO_ERROR_INPUT;
+    if (!m)
+        return HALO_ERROR_INPUT;
     halo_scene_entry *e = add_entry(s, m);
     if (!e) {
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
@@ -102,13 +117,15 @@ halo_status halo_scene_enable(halo_scene *s, const char *stage, int enabled, hal
 }
 
 halo_status halo_scene_set(halo_scene *s, const char *stage, const char *param, const double *values, int count,
-                           int live, halo_diagnostics *diag) {
+                           int live, halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, s, "scene", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, stage, "stage", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, param, "param", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, values, "values", HALO_ERROR_INPUT);
     const halo_module *m = stage_module(s, stage, "", "stages", diag);
-    if (!m) return HALO_ERROR_INPUT;
+    if (!m)
+        return HALO_ERROR_INPUT;
     const halo_param_info *info = halo_module_find_param(m, param);
     if (!info) {
         halo_diag_error(diag, SCENE_PARAM_UNKNOWN, "", 0, 0, "%s: unknown parameter '%s'", stage, param);
@@ -117,7 +134,8 @@ halo_status halo_scene_set(halo_scene *s, const char *stage, const char *param, 
     char why[256];
     int id = halo_param_check(info, values, count, why, sizeof why);
     if (id >= 0) {
-        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage, param, why);
+        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage,
+                                param, why);
         return HALO_ERROR_INPUT;
     }
     halo_scene_entry *e = add_entry(s, m);
@@ -133,19 +151,23 @@ halo_status halo_scene_set(halo_scene *s, const char *stage, const char *param, 
     return HALO_OK;
 }
 
-size_t halo_scene_stage_count(const halo_scene *s) {
+size_t halo_scene_stage_count(const halo_scene *s)
+{
     HALO_REFUSE_NULL(NULL, s, "scene", 0);
     return s->count;
 }
-const char *halo_scene_stage(const halo_scene *s, size_t i) {
+const char *halo_scene_stage(const halo_scene *s, size_t i)
+{
     HALO_REFUSE_NULL(NULL, s, "scene", NULL);
     return i < s->count ? halo_module_name(s->stages[i].module) : NULL;
 }
-const halo_render_settings *halo_scene_render(const halo_scene *s) {
+const halo_render_settings *halo_scene_render(const halo_scene *s)
+{
     HALO_REFUSE_NULL(NULL, s, "scene", NULL);
     return &s->render;
 }
-halo_render_settings *halo_scene_render_mutable(halo_scene *s) {
+halo_render_settings *halo_scene_render_mutable(halo_scene *s)
+{
     HALO_REFUSE_NULL(NULL, s, "scene", NULL);
     return &s->render;
 }
@@ -163,79 +185,105 @@ typedef struct reader {
 /* ---- Where a value is in the text: jansson keeps no positions, so the JSON path of a
  * message ("stages[1].boundary.k_gs") is followed through the text again. ---- */
 
-static const char *skip_space(const char *p) {
-    while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r') p++;
+static const char *skip_space(const char *p)
+{
+    while (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r')
+        p++;
     return p;
 }
 
-static const char *skip_string(const char *p) { /* p at the opening quote */
+static const char *skip_string(const char *p)
+{ /* p at the opening quote */
     for (p++; *p && *p != '"'; p++)
-        if (*p == '\\' && p[1]) p++;
+        if (*p == '\\' && p[1])
+            p++;
     return *p ? p + 1 : p;
 }
 
-static const char *skip_value(const char *p) {
+static const char *skip_value(const char *p)
+{
     p = skip_space(p);
-    if (*p == '"') return skip_string(p);
+    if (*p == '"')
+        return skip_string(p);
     if (*p != '{' && *p != '[') {
-        while (*p && !strchr(",}] \t\r\n", *p)) p++;
+        while (*p && !strchr(",}] \t\r\n", *p))
+            p++;
         return p;
     }
     for (int depth = 0; *p; p++) {
-        if (*p == '"') p = skip_string(p) - 1;
-        else if (*p == '{' || *p == '[') depth++;
-        else if ((*p == '}' || *p == ']') && --depth == 0) return p + 1;
+        if (*p == '"')
+            p = skip_string(p) - 1;
+        else if (*p == '{' || *p == '[')
+            depth++;
+        else if ((*p == '}' || *p == ']') && --depth == 0)
+            return p + 1;
     }
     return p;
 }
 
 /* The key `name` (n bytes) of the object at p: its opening quote, or NULL. */
-static const char *object_key(const char *p, const char *name, size_t n) {
+static const char *object_key(const char *p, const char *name, size_t n)
+{
     p = skip_space(p);
-    if (*p++ != '{') return NULL;
+    if (*p++ != '{')
+        return NULL;
     for (;;) {
         p = skip_space(p);
-        if (*p != '"') return NULL;
+        if (*p != '"')
+            return NULL;
         const char *key = p, *end = skip_string(p);
         p = skip_space(end);
-        if (*p != ':') return NULL;
-        if ((size_t)(end - key) == n + 2 && !strncmp(key + 1, name, n)) return key;
+        if (*p != ':')
+            return NULL;
+        if ((size_t)(end - key) == n + 2 && !strncmp(key + 1, name, n))
+            return key;
         p = skip_space(skip_value(p + 1));
-        if (*p++ != ',') return NULL;
+        if (*p++ != ',')
+            return NULL;
     }
 }
 
 /* Item `index` of the list at p, or NULL. */
-static const char *list_item(const char *p, size_t index) {
+static const char *list_item(const char *p, size_t index)
+{
     p = skip_space(p);
-    if (*p++ != '[') return NULL;
+    if (*p++ != '[')
+        return NULL;
     for (size_t i = 0;; i++) {
         p = skip_space(p);
-        if (*p == ']' || !*p) return NULL;
-        if (i == index) return p;
+        if (*p == ']' || !*p)
+            return NULL;
+        if (i == index)
+            return p;
         p = skip_space(skip_value(p));
-        if (*p++ != ',') return NULL;
+        if (*p++ != ',')
+            return NULL;
     }
 }
 
 /* Where the value at path (n bytes: "a.b[2]") is in text, as far as the text follows the
  * path; at its key instead when the path ends with one and at_key is set. */
-static const char *locate_path(const char *text, const char *path, size_t n, int at_key) {
+static const char *locate_path(const char *text, const char *path, size_t n, int at_key)
+{
     const char *value = skip_space(text), *at = value;
     for (size_t i = 0; i < n;) {
         if (path[i] == '[') {
             char *end;
             unsigned long index = strtoul(path + i + 1, &end, 10);
             const char *item = list_item(value, index);
-            if (!item || *end != ']') break;
+            if (!item || *end != ']')
+                break;
             at = value = item;
             i = (size_t)(end - path) + 1;
         } else {
-            if (path[i] == '.') i++;
+            if (path[i] == '.')
+                i++;
             size_t k = i;
-            while (k < n && path[k] != '.' && path[k] != '[') k++;
+            while (k < n && path[k] != '.' && path[k] != '[')
+                k++;
             const char *key = object_key(value, path + i, k - i);
-            if (!key) break;
+            if (!key)
+                break;
             value = skip_space(skip_space(skip_string(key)) + 1);
             at = at_key && k == n ? key : value;
             i = k;
@@ -247,7 +295,8 @@ static const char *locate_path(const char *text, const char *path, size_t n, int
 /* A scene error at the value its message starts with ("PATH: ..."): file:line:col and
  * the line, as the JSON syntax errors have. */
 static void read_error(reader *r, halo_message_id id, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static void read_error(reader *r, halo_message_id id, const char *fmt, ...) {
+static void read_error(reader *r, halo_message_id id, const char *fmt, ...)
+{
     halo_strbuf text = {0};
     va_list ap;
     va_start(ap, fmt);
@@ -264,7 +313,8 @@ static void read_error(reader *r, halo_message_id id, const char *fmt, ...) {
         line = 1;
         line_start = r->text;
         for (const char *p = r->text; p < at; p++)
-            if (*p == '\n') line++, line_start = p + 1;
+            if (*p == '\n')
+                line++, line_start = p + 1;
         column = (int)(at - line_start) + 1;
     }
     halo_diagnostics_report(r->diag, HALO_SEVERITY_ERROR, id, r->file, line, column, line_start, "%s", message);
@@ -274,25 +324,34 @@ static void read_error(reader *r, halo_message_id id, const char *fmt, ...) {
 
 #define READ_ERROR(r, id, ...) read_error((r), HALO_MSG_##id, __VA_ARGS__)
 
-static const char *json_type_name(const json_t *v) {
+static const char *json_type_name(const json_t *v)
+{
     switch (json_typeof(v)) {
-    case JSON_OBJECT: return "an object";
-    case JSON_ARRAY: return "a list";
-    case JSON_STRING: return "a string";
+    case JSON_OBJECT:
+        return "an object";
+    case JSON_ARRAY:
+        return "a list";
+    case JSON_STRING:
+        return "a string";
     case JSON_INTEGER:
-    case JSON_REAL: return "a number";
+    case JSON_REAL:
+        return "a number";
     case JSON_TRUE:
-    case JSON_FALSE: return "a boolean";
-    default: return "null";
+    case JSON_FALSE:
+        return "a boolean";
+    default:
+        return "null";
     }
 }
 
-static void read_param(reader *r, halo_scene_entry *e, const char *path, const char *key, json_t *v) {
+static void read_param(reader *r, halo_scene_entry *e, const char *path, const char *key, json_t *v)
+{
     const halo_module *m = e->module;
     const halo_param_info *info = halo_module_find_param(m, key);
     if (!info) {
         halo_strbuf names = {0};
-        for (size_t i = 0; i < m->param_count; i++) halo_strbuf_printf(&names, "%s%s", i ? ", " : "", m->params[i].name);
+        for (size_t i = 0; i < m->param_count; i++)
+            halo_strbuf_printf(&names, "%s%s", i ? ", " : "", m->params[i].name);
         READ_ERROR(r, SCENE_PARAM_UNKNOWN, "%s.%s: unknown parameter of stage '%s' (it has: %s%s)", path, key,
                    halo_module_name(m), names.data ? names.data : "none", m->param_count ? ", live, enabled" : "");
         halo_strbuf_free(&names);
@@ -317,7 +376,8 @@ static void read_param(reader *r, halo_scene_entry *e, const char *path, const c
     memcpy(pv->value, values, (size_t)count * (size_t)info->components * sizeof(double));
 }
 
-static void read_stage(reader *r, size_t index, json_t *item) {
+static void read_stage(reader *r, size_t index, json_t *item)
+{
     char path[256];
     const char *stage = NULL;
     json_t *body = NULL;
@@ -349,7 +409,8 @@ static void read_stage(reader *r, size_t index, json_t *item) {
         READ_ERROR(r, OUT_OF_MEMORY, "out of memory");
         return;
     }
-    if (!body) return;
+    if (!body)
+        return;
     if (!json_is_object(body)) {
         READ_ERROR(r, SCENE_TYPE, "%s: expected an object of parameters, got %s", path, json_type_name(body));
         return;
@@ -357,11 +418,13 @@ static void read_stage(reader *r, size_t index, json_t *item) {
     json_t *live = NULL;
     const char *key;
     json_t *v;
-    json_object_foreach(body, key, v) {
+    json_object_foreach(body, key, v)
+    {
         if (!strcmp(key, "enabled")) {
-            if (!json_is_boolean(v)) READ_ERROR(r, SCENE_TYPE, "%s.enabled: expected true or false, got %s", path,
-                                                json_type_name(v));
-            else e->enabled = json_is_true(v);
+            if (!json_is_boolean(v))
+                READ_ERROR(r, SCENE_TYPE, "%s.enabled: expected true or false, got %s", path, json_type_name(v));
+            else
+                e->enabled = json_is_true(v);
         } else if (!strcmp(key, "live")) {
             live = v;
         } else {
@@ -370,16 +433,19 @@ static void read_stage(reader *r, size_t index, json_t *item) {
     }
     if (live) {
         if (json_is_boolean(live)) {
-            for (size_t i = 0; i < m->param_count; i++) e->values[i].live = json_is_true(live);
+            for (size_t i = 0; i < m->param_count; i++)
+                e->values[i].live = json_is_true(live);
         } else if (json_is_array(live)) {
             size_t i;
             json_t *name;
-            json_array_foreach(live, i, name) {
-                const halo_param_info *info = json_is_string(name) ? halo_module_find_param(m, json_string_value(name))
-                                                                  : NULL;
+            json_array_foreach(live, i, name)
+            {
+                const halo_param_info *info =
+                    json_is_string(name) ? halo_module_find_param(m, json_string_value(name)) : NULL;
                 if (!info)
                     READ_ERROR(r, SCENE_PARAM_UNKNOWN, "%s.live[%zu]: %s%s%s is not a parameter of '%s'", path, i,
-                               json_is_string(name) ? "'" : "", json_is_string(name) ? json_string_value(name) : "value",
+                               json_is_string(name) ? "'" : "",
+                               json_is_string(name) ? json_string_value(name) : "value",
                                json_is_string(name) ? "'" : "", stage);
                 else
                     e->values[info - m->params].live = 1;
@@ -391,7 +457,8 @@ static void read_stage(reader *r, size_t index, json_t *item) {
     }
 }
 
-static int read_number(reader *r, json_t *v, const char *path, double lo, double hi, double *out) {
+static int read_number(reader *r, json_t *v, const char *path, double lo, double hi, double *out)
+{
     if (!json_is_number(v)) {
         READ_ERROR(r, SCENE_TYPE, "%s: expected a number, got %s", path, json_type_name(v));
         return -1;
@@ -413,7 +480,8 @@ static int read_number(reader *r, json_t *v, const char *path, double lo, double
     return 0;
 }
 
-static int read_numbers(reader *r, json_t *v, const char *path, size_t n, double lo, double hi, double *out) {
+static int read_numbers(reader *r, json_t *v, const char *path, size_t n, double lo, double hi, double *out)
+{
     if (!json_is_array(v) || json_array_size(v) != n) {
         READ_ERROR(r, SCENE_VALUE_COUNT, "%s: expected a list of %zu numbers, got %s", path, n, json_type_name(v));
         return -1;
@@ -427,7 +495,8 @@ static int read_numbers(reader *r, json_t *v, const char *path, size_t n, double
     return bad;
 }
 
-static void read_render(reader *r, json_t *obj) {
+static void read_render(reader *r, json_t *obj)
+{
     halo_render_settings *rs = &r->scene->render;
     if (!json_is_object(obj)) {
         READ_ERROR(r, SCENE_TYPE, "render: expected an object, got %s", json_type_name(obj));
@@ -436,19 +505,27 @@ static void read_render(reader *r, json_t *obj) {
     const char *key;
     json_t *v;
     char path[256];
-    json_object_foreach(obj, key, v) {
+    json_object_foreach(obj, key, v)
+    {
         snprintf(path, sizeof path, "render.%s", key);
-        if (!strcmp(key, "azimuth")) read_number(r, v, path, -360, 360, &rs->azimuth);
-        else if (!strcmp(key, "elevation")) read_number(r, v, path, -90, 90, &rs->elevation);
-        else if (!strcmp(key, "zoom")) read_number(r, v, path, 0.05, 20, &rs->zoom);
-        else if (!strcmp(key, "step")) read_number(r, v, path, 0.05, 4, &rs->step);
-        else if (!strcmp(key, "background")) read_numbers(r, v, path, 3, 0, 1, rs->background);
+        if (!strcmp(key, "azimuth"))
+            read_number(r, v, path, -360, 360, &rs->azimuth);
+        else if (!strcmp(key, "elevation"))
+            read_number(r, v, path, -90, 90, &rs->elevation);
+        else if (!strcmp(key, "zoom"))
+            read_number(r, v, path, 0.05, 20, &rs->zoom);
+        else if (!strcmp(key, "step"))
+            read_number(r, v, path, 0.05, 4, &rs->step);
+        else if (!strcmp(key, "background"))
+            read_numbers(r, v, path, 3, 0, 1, rs->background);
         else if (!strcmp(key, "window")) {
             double w[2];
             if (!read_numbers(r, v, path, 2, -1e30, 1e30, w)) {
-                if (!(w[0] < w[1])) READ_ERROR(r, SCENE_VALUE_BELOW_MIN, "%s: the window's end %g is not above its start %g",
-                                               path, w[1], w[0]);
-                else memcpy(rs->window, w, sizeof w);
+                if (!(w[0] < w[1]))
+                    READ_ERROR(r, SCENE_VALUE_BELOW_MIN, "%s: the window's end %g is not above its start %g", path,
+                               w[1], w[0]);
+                else
+                    memcpy(rs->window, w, sizeof w);
             }
         } else if (!strcmp(key, "transfer")) {
             if (!json_is_array(v) || json_array_size(v) < 1 || json_array_size(v) > HALO_MAX_TRANSFER_POINTS) {
@@ -460,7 +537,8 @@ static void read_render(reader *r, json_t *obj) {
             json_t *pt;
             double tf[HALO_MAX_TRANSFER_POINTS][5];
             int bad = 0;
-            json_array_foreach(v, i, pt) {
+            json_array_foreach(v, i, pt)
+            {
                 char p[300];
                 snprintf(p, sizeof p, "%s[%zu]", path, i);
                 bad |= read_numbers(r, pt, p, 5, 0, 1, tf[i]);
@@ -481,16 +559,18 @@ static void read_render(reader *r, json_t *obj) {
     }
 }
 
-halo_scene *halo_scene_parse(const char *text, const char *file, const halo_library *lib, halo_diagnostics *diag) {
+halo_scene *halo_scene_parse(const char *text, const char *file, const halo_library *lib, halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, text, "json_text", NULL);
     HALO_REFUSE_NULL(diag, lib, "library", NULL);
-    if (!file) file = "scene";
+    if (!file)
+        file = "scene";
     text = halo_skip_bom(text); /* editors write it; JSON has no place for it */
     json_error_t err;
     json_t *root = json_loads(text, JSON_REJECT_DUPLICATES, &err);
     if (!root) {
         halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_SCENE_JSON, file, err.line > 0 ? err.line : 1,
-                      err.column > 0 ? err.column : 1, NULL, "invalid JSON: %s", err.text);
+                                err.column > 0 ? err.column : 1, NULL, "invalid JSON: %s", err.text);
         return NULL;
     }
     halo_scene *scene = halo_scene_create(lib);
@@ -505,13 +585,15 @@ halo_scene *halo_scene_parse(const char *text, const char *file, const halo_libr
     } else {
         const char *key;
         json_t *v;
-        json_object_foreach(root, key, v) {
+        json_object_foreach(root, key, v)
+        {
             if (!strcmp(key, "halo_scene")) {
                 if (!json_is_integer(v) || json_integer_value(v) != SCENE_FORMAT_VERSION)
-                    READ_ERROR(&r, SCENE_VERSION, "halo_scene: this libhalo reads scene version %d", SCENE_FORMAT_VERSION);
+                    READ_ERROR(&r, SCENE_VERSION, "halo_scene: this libhalo reads scene version %d",
+                               SCENE_FORMAT_VERSION);
             } else if (!strcmp(key, "description")) {
-                if (!json_is_string(v)) READ_ERROR(&r, SCENE_TYPE, "description: expected a string, got %s",
-                                                   json_type_name(v));
+                if (!json_is_string(v))
+                    READ_ERROR(&r, SCENE_TYPE, "description: expected a string, got %s", json_type_name(v));
             } else if (!strcmp(key, "stages")) {
                 if (!json_is_array(v)) {
                     READ_ERROR(&r, SCENE_TYPE, "stages: expected a list, got %s", json_type_name(v));
@@ -535,7 +617,8 @@ halo_scene *halo_scene_parse(const char *text, const char *file, const halo_libr
     return scene;
 }
 
-halo_scene *halo_scene_load(const char *path, const halo_library *lib, halo_diagnostics *diag) {
+halo_scene *halo_scene_load(const char *path, const halo_library *lib, halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, path, "path", NULL);
     HALO_REFUSE_NULL(diag, lib, "library", NULL);
     size_t len = 0;

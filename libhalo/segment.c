@@ -87,14 +87,16 @@ static const char segment_glsl[] =
 /* The uniforms of camera_glsl and segment_glsl, for the reflection: a host that draws
  * itself sets them (halo_gl_set_camera; halo_gl_frame_draw sets them all per segment). */
 const halo_runtime_uniform halo_runtime_uniforms[] = {
-    {"halo_camera_eye", "vec4", "xyz: the eye (w = 1), or the unit direction towards the viewer (w = 0: "
-                                "orthographic), in the space of the host's ray positions", "halo_gl_set_camera", 0},
+    {"halo_camera_eye", "vec4",
+     "xyz: the eye (w = 1), or the unit direction towards the viewer (w = 0: "
+     "orthographic), in the space of the host's ray positions",
+     "halo_gl_set_camera", 0},
     {"halo_camera_plane", "vec4", "phi(P) = dot(xyz, P) + w: distance along the view axis", "halo_gl_set_camera", 0},
     {"halo_camera_depth_range", "vec2", "phi at the front and back of the volume's bounding sphere",
      "halo_gl_set_camera", 0},
     {"halo_segment_state", "sampler2D", "the rays' state after the previous segment", "halo_gl_frame_draw", 1},
-    {"halo_segment_bounds", "vec2", "samples with bounds.x <= phi < bounds.y are this segment's",
-     "halo_gl_frame_draw", 1},
+    {"halo_segment_bounds", "vec2", "samples with bounds.x <= phi < bounds.y are this segment's", "halo_gl_frame_draw",
+     1},
     {"halo_segment_flags", "int", "1: the first segment, 2: the last", "halo_gl_frame_draw", 1},
     /* host contract 3 (emit.c): the stack of the segments' field layers */
     {"halo_stack_plane", "vec4", "phi(P) = dot(xyz, P) + w: the depth segments' axis", "halo_gl_frame_draw", 2},
@@ -130,12 +132,13 @@ void halo_segment_emit(halo_strbuf *b, const halo_program *p)
     if (p->volume_sampler || p->gradient_sampler)
         /* the host's sampler is declared after the marker: a prototype here, the body
          * after the host's last line (halo_segment_emit_tail) */
-        halo_strbuf_append(b, "\nvec3 halo_gradient_at(vec3 position);\n"
-                              "halo_sample halo_make_sample(vec3 position, float value, vec3 color, float opacity) {\n"
-                              "    return halo_make_sample(position, value, halo_gradient_at(position), "
-                              "halo_view_at(position),\n"
-                              "                            halo_depth_at(position), gl_FragCoord.xy, color, opacity);\n"
-                              "}");
+        halo_strbuf_append(b,
+                           "\nvec3 halo_gradient_at(vec3 position);\n"
+                           "halo_sample halo_make_sample(vec3 position, float value, vec3 color, float opacity) {\n"
+                           "    return halo_make_sample(position, value, halo_gradient_at(position), "
+                           "halo_view_at(position),\n"
+                           "                            halo_depth_at(position), gl_FragCoord.xy, color, opacity);\n"
+                           "}");
 }
 
 void halo_segment_emit_tail(halo_strbuf *b, const halo_program *p)
@@ -173,8 +176,10 @@ int halo_program_has_generation_passes(const halo_program *p)
 }
 
 /* "layout(location = N) " or "" for a program whose outputs carry none (GLSL 150). */
-const char *halo_output_layout(const halo_program *p, int location, char *buf, size_t len) {
-    if (p->unlocated_outputs) return "";
+const char *halo_output_layout(const halo_program *p, int location, char *buf, size_t len)
+{
+    if (p->unlocated_outputs)
+        return "";
     snprintf(buf, len, "layout(location = %d) ", location);
     return buf;
 }

@@ -94,7 +94,8 @@ HALO_SHELL_TESTS = \
 	tests/cli/pieces_versions.sh \
 	tests/cli/pieces_reflect.sh \
 	tests/cli/host_contract_rules.sh \
-	tests/examples/public_headers.sh
+	tests/examples/public_headers.sh \
+	tests/style.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh

@@ -38,13 +38,14 @@ static double now_ms(void)
 
 static void usage(FILE *out)
 {
-    fputs("Usage: halo-feature render [--scene S] [--volume FILE] [--volume-size N] [--size N]\n"
-          "                           [--splat N] [--threshold T] [--half] [-o OUT]\n"
-          "       halo-feature report [--size N] [--mri PATH] [--mri-size N] [--splat N] [--repeat N]\n"
-          "       halo-feature conform [-v]\n"
-          "Every command takes --backend B: headless OpenGL through egl, osmesa or auto\n"
-          "(default: EGL when it has a hardware renderer, else OSMesa).\n",
-          out);
+    fputs(
+        "Usage: halo-feature render [--scene S] [--volume FILE] [--volume-size N] [--size N]\n"
+        "                           [--splat N] [--threshold T] [--half] [-o OUT]\n"
+        "       halo-feature report [--size N] [--mri PATH] [--mri-size N] [--splat N] [--repeat N]\n"
+        "       halo-feature conform [-v]\n"
+        "Every command takes --backend B: headless OpenGL through egl, osmesa or auto\n"
+        "(default: EGL when it has a hardware renderer, else OSMesa).\n",
+        out);
 }
 
 typedef struct render_options {
@@ -84,11 +85,15 @@ static int render_main(int argc, char **argv)
     render_options o = {.output = "halo-feature.png", .size = 512};
     int threshold_set = 0;
     enum { OPT_SCENE, OPT_VOLUME, OPT_VOLUME_SIZE, OPT_SIZE, OPT_SPLAT, OPT_THRESHOLD, OPT_HALF, OPT_OUTPUT };
-    static const halo_tool_option table[] = {
-        [OPT_SCENE] = {"--scene", NULL, 1}, [OPT_VOLUME] = {"--volume", NULL, 1},
-        [OPT_VOLUME_SIZE] = {"--volume-size", NULL, 1}, [OPT_SIZE] = {"--size", NULL, 1},
-        [OPT_SPLAT] = {"--splat", NULL, 1}, [OPT_THRESHOLD] = {"--threshold", NULL, 1},
-        [OPT_HALF] = {"--half", NULL, 0}, [OPT_OUTPUT] = {"-o", NULL, 1}, {NULL, NULL, 0}};
+    static const halo_tool_option table[] = {[OPT_SCENE] = {"--scene", NULL, 1},
+                                             [OPT_VOLUME] = {"--volume", NULL, 1},
+                                             [OPT_VOLUME_SIZE] = {"--volume-size", NULL, 1},
+                                             [OPT_SIZE] = {"--size", NULL, 1},
+                                             [OPT_SPLAT] = {"--splat", NULL, 1},
+                                             [OPT_THRESHOLD] = {"--threshold", NULL, 1},
+                                             [OPT_HALF] = {"--half", NULL, 0},
+                                             [OPT_OUTPUT] = {"-o", NULL, 1},
+                                             {NULL, NULL, 0}};
     halo_tool_args args = {.tool = "halo-feature", .usage = usage, .argc = argc, .argv = argv, .next = 0};
     for (int k; (k = halo_tool_args_next(&args, table)) != HALO_TOOL_ARGS_END;) {
         if (k == HALO_TOOL_ARGS_HELP)
@@ -96,10 +101,18 @@ static int render_main(int argc, char **argv)
         const char *a = args.option, *value = args.value;
         int ok = k != HALO_TOOL_ARGS_ERROR;
         switch (k) {
-        case OPT_SCENE: o.scene = value; break;
-        case OPT_VOLUME: o.volume = value; break;
-        case OPT_VOLUME_SIZE: ok = halo_tool_int("halo-feature", a, value, 8, 512, &o.volume_size); break;
-        case OPT_SIZE: ok = halo_tool_int("halo-feature", a, value, 16, 4096, &o.size); break;
+        case OPT_SCENE:
+            o.scene = value;
+            break;
+        case OPT_VOLUME:
+            o.volume = value;
+            break;
+        case OPT_VOLUME_SIZE:
+            ok = halo_tool_int("halo-feature", a, value, 8, 512, &o.volume_size);
+            break;
+        case OPT_SIZE:
+            ok = halo_tool_int("halo-feature", a, value, 16, 4096, &o.size);
+            break;
         case OPT_SPLAT:
             ok = halo_tool_int("halo-feature", a, value, 3, 9, &o.splat);
             if (ok && o.splat % 2 == 0) {
@@ -107,9 +120,15 @@ static int render_main(int argc, char **argv)
                 ok = 0;
             }
             break;
-        case OPT_THRESHOLD: ok = threshold_set = halo_tool_number("halo-feature", a, value, -1e30, 1e30, &o.threshold); break;
-        case OPT_HALF: o.half = 1; break;
-        case OPT_OUTPUT: o.output = value; break;
+        case OPT_THRESHOLD:
+            ok = threshold_set = halo_tool_number("halo-feature", a, value, -1e30, 1e30, &o.threshold);
+            break;
+        case OPT_HALF:
+            o.half = 1;
+            break;
+        case OPT_OUTPUT:
+            o.output = value;
+            break;
         }
         if (!ok)
             return 2;
@@ -157,8 +176,8 @@ static int render_main(int argc, char **argv)
     program = halo_driver_link(&(halo_link_desc){.library = lib, .scene = scene}, kind, 0, diag);
     if (!program)
         goto done;
-    const halo_host_desc desc = {.gl = halo_gl_functions(runtime), .runtime = runtime, .program = program,
-                                 .width = o.size, .height = o.size};
+    const halo_host_desc desc = {
+        .gl = halo_gl_functions(runtime), .runtime = runtime, .program = program, .width = o.size, .height = o.size};
     const halo_glfuncs *f = halo_gl_functions(runtime);
     image = malloc((size_t)o.size * o.size * 4 * sizeof *image);
     if (!image)

@@ -41,35 +41,36 @@ static const char default_scene[] =
 
 static void usage(FILE *out)
 {
-    fputs("Usage: halo-lines [--lines FILE | --builtin streamlines|knots] [--scene S] [-o OUT]\n"
-          "                  [--size WxH] [--no-halos] [--stereo anaglyph] [--azimuth A]\n"
-          "                  [--elevation E] [--zoom Z] [--write-lines FILE]\n"
-          "       halo-lines --bench [--frames N] [--size WxH] [--lines FILE | --builtin ...]\n"
-          "       halo-lines --conform [--row NAME] [-v]\n"
-          "Renders lines with depth-dependent halos (Everts et al. 2009) through libhalo's\n"
-          "line stages (headless OpenGL: EGL or OSMesa) and writes an image.\n"
-          "\n"
-          "  --lines FILE       polylines in the text format of docs/polyline-format.md\n"
-          "  --builtin NAME     streamlines (ABC flow, default) or knots (a trefoil tube)\n"
-          "  --scene S          scene file (JSON); default: black lines with white halos\n"
-          "  -o OUT             output image, .png or .exr; default halo-lines.png\n"
-          "  --size WxH         image size, 1..16384 each (print: 4096x4096); default 800x800\n"
-          "  --no-halos         plain lines: line_halo off, the strip narrowed to the core\n"
-          "  --stereo anaglyph  red (left eye) / cyan (right eye) stereo image\n"
-          "  --azimuth A, --elevation E, --zoom Z   camera (default: the scene's)\n"
-          "  --write-lines FILE write the line data in the text format and go on\n"
-          "  --bench            frame time with and without halos, as a ratio (default data:\n"
-          "                     streamlines of 260 836 vertices, as the paper's first data set)\n"
-          "  --frames N         frames per variant for --bench, 1..1000; default 10\n"
-          "  --conform          the line conformance rows (GPU against the C emulation)\n"
-          "  --row NAME         only this conformance row (or all rows of a stage)\n"
-          "  -v                 details of failing conformance rows\n"
-          "  --backend B        headless OpenGL: egl, osmesa or auto (default: EGL when it\n"
-          "                     has a hardware renderer, else OSMesa)\n"
-          "  --help             show this help\n"
-          "\n"
-          "Exit status: 0 success, 1 the input has errors, 2 usage or I/O failure.\n",
-          out);
+    fputs(
+        "Usage: halo-lines [--lines FILE | --builtin streamlines|knots] [--scene S] [-o OUT]\n"
+        "                  [--size WxH] [--no-halos] [--stereo anaglyph] [--azimuth A]\n"
+        "                  [--elevation E] [--zoom Z] [--write-lines FILE]\n"
+        "       halo-lines --bench [--frames N] [--size WxH] [--lines FILE | --builtin ...]\n"
+        "       halo-lines --conform [--row NAME] [-v]\n"
+        "Renders lines with depth-dependent halos (Everts et al. 2009) through libhalo's\n"
+        "line stages (headless OpenGL: EGL or OSMesa) and writes an image.\n"
+        "\n"
+        "  --lines FILE       polylines in the text format of docs/polyline-format.md\n"
+        "  --builtin NAME     streamlines (ABC flow, default) or knots (a trefoil tube)\n"
+        "  --scene S          scene file (JSON); default: black lines with white halos\n"
+        "  -o OUT             output image, .png or .exr; default halo-lines.png\n"
+        "  --size WxH         image size, 1..16384 each (print: 4096x4096); default 800x800\n"
+        "  --no-halos         plain lines: line_halo off, the strip narrowed to the core\n"
+        "  --stereo anaglyph  red (left eye) / cyan (right eye) stereo image\n"
+        "  --azimuth A, --elevation E, --zoom Z   camera (default: the scene's)\n"
+        "  --write-lines FILE write the line data in the text format and go on\n"
+        "  --bench            frame time with and without halos, as a ratio (default data:\n"
+        "                     streamlines of 260 836 vertices, as the paper's first data set)\n"
+        "  --frames N         frames per variant for --bench, 1..1000; default 10\n"
+        "  --conform          the line conformance rows (GPU against the C emulation)\n"
+        "  --row NAME         only this conformance row (or all rows of a stage)\n"
+        "  -v                 details of failing conformance rows\n"
+        "  --backend B        headless OpenGL: egl, osmesa or auto (default: EGL when it\n"
+        "                     has a hardware renderer, else OSMesa)\n"
+        "  --help             show this help\n"
+        "\n"
+        "Exit status: 0 success, 1 the input has errors, 2 usage or I/O failure.\n",
+        out);
 }
 
 typedef struct options {
@@ -88,8 +89,8 @@ static halo_scene *load_scene(const options *o, const halo_library *lib, halo_di
 
 /* Links both hosts. Without halos: line_halo (every fragment stage) off, and the strip
  * narrowed to the halo's core, so the lines keep their visible width. */
-static int link_programs(const options *o, const halo_library *lib, int halos, halo_program **vp,
-                         halo_program **fp, halo_diagnostics *diag)
+static int link_programs(const options *o, const halo_library *lib, int halos, halo_program **vp, halo_program **fp,
+                         halo_diagnostics *diag)
 {
     halo_scene *vs = load_scene(o, lib, diag), *fs = load_scene(o, lib, NULL);
     int ok = vs && fs;
@@ -145,8 +146,10 @@ static int run_bench(const options *o, const halo_glfuncs *gl, const halo_librar
     for (int halos = 0; halos < 2 && ok; ++halos) {
         ok = link_programs(o, lib, halos, &vp[halos], &fp[halos], diag);
         if (ok)
-            l[halos] = halo_lines_create(&(halo_lines_desc){.gl = gl, .vertex_program = vp[halos],
-                                                            .fragment_program = fp[halos], .width = o->width,
+            l[halos] = halo_lines_create(&(halo_lines_desc){.gl = gl,
+                                                            .vertex_program = vp[halos],
+                                                            .fragment_program = fp[halos],
+                                                            .width = o->width,
                                                             .height = o->height},
                                          diag);
         ok = ok && l[halos] && halo_lines_set_data(l[halos], lines, diag) == HALO_OK;
@@ -190,18 +193,41 @@ int main(int argc, char **argv)
     options o = {.width = 800, .height = 800, .frames = 10, .output = "halo-lines.png"};
     if (!halo_headless_take_backend_option(&argc, argv, "halo-lines"))
         return 2;
-    enum { OPT_NO_HALOS, OPT_BENCH, OPT_CONFORM, OPT_VERBOSE, OPT_LINES, OPT_BUILTIN, OPT_SCENE, OPT_OUTPUT,
-           OPT_WRITE_LINES, OPT_ROW, OPT_SIZE, OPT_STEREO, OPT_FRAMES, OPT_AZIMUTH, OPT_ELEVATION, OPT_ZOOM };
-    static const halo_tool_option table[] = {
-        [OPT_NO_HALOS] = {"--no-halos", NULL, 0}, [OPT_BENCH] = {"--bench", NULL, 0},
-        [OPT_CONFORM] = {"--conform", NULL, 0},   [OPT_VERBOSE] = {"-v", NULL, 0},
-        [OPT_LINES] = {"--lines", NULL, 1},       [OPT_BUILTIN] = {"--builtin", NULL, 1},
-        [OPT_SCENE] = {"--scene", NULL, 1},       [OPT_OUTPUT] = {"-o", NULL, 1},
-        [OPT_WRITE_LINES] = {"--write-lines", NULL, 1}, [OPT_ROW] = {"--row", NULL, 1},
-        [OPT_SIZE] = {"--size", NULL, 1},         [OPT_STEREO] = {"--stereo", NULL, 1},
-        [OPT_FRAMES] = {"--frames", NULL, 1},     [OPT_AZIMUTH] = {"--azimuth", NULL, 1},
-        [OPT_ELEVATION] = {"--elevation", NULL, 1}, [OPT_ZOOM] = {"--zoom", NULL, 1},
-        {NULL, NULL, 0}};
+    enum {
+        OPT_NO_HALOS,
+        OPT_BENCH,
+        OPT_CONFORM,
+        OPT_VERBOSE,
+        OPT_LINES,
+        OPT_BUILTIN,
+        OPT_SCENE,
+        OPT_OUTPUT,
+        OPT_WRITE_LINES,
+        OPT_ROW,
+        OPT_SIZE,
+        OPT_STEREO,
+        OPT_FRAMES,
+        OPT_AZIMUTH,
+        OPT_ELEVATION,
+        OPT_ZOOM
+    };
+    static const halo_tool_option table[] = {[OPT_NO_HALOS] = {"--no-halos", NULL, 0},
+                                             [OPT_BENCH] = {"--bench", NULL, 0},
+                                             [OPT_CONFORM] = {"--conform", NULL, 0},
+                                             [OPT_VERBOSE] = {"-v", NULL, 0},
+                                             [OPT_LINES] = {"--lines", NULL, 1},
+                                             [OPT_BUILTIN] = {"--builtin", NULL, 1},
+                                             [OPT_SCENE] = {"--scene", NULL, 1},
+                                             [OPT_OUTPUT] = {"-o", NULL, 1},
+                                             [OPT_WRITE_LINES] = {"--write-lines", NULL, 1},
+                                             [OPT_ROW] = {"--row", NULL, 1},
+                                             [OPT_SIZE] = {"--size", NULL, 1},
+                                             [OPT_STEREO] = {"--stereo", NULL, 1},
+                                             [OPT_FRAMES] = {"--frames", NULL, 1},
+                                             [OPT_AZIMUTH] = {"--azimuth", NULL, 1},
+                                             [OPT_ELEVATION] = {"--elevation", NULL, 1},
+                                             [OPT_ZOOM] = {"--zoom", NULL, 1},
+                                             {NULL, NULL, 0}};
     static const char *const builtins[] = {"streamlines", "knots", NULL}, *const stereo[] = {"anaglyph", NULL};
     halo_tool_args args = {.tool = "halo-lines", .usage = usage, .argc = argc, .argv = argv, .next = 1};
     for (int k; (k = halo_tool_args_next(&args, table)) != HALO_TOOL_ARGS_END;) {
@@ -210,27 +236,55 @@ int main(int argc, char **argv)
         const char *a = args.option, *value = args.value;
         int ok = k != HALO_TOOL_ARGS_ERROR, choice;
         switch (k) {
-        case OPT_NO_HALOS: o.no_halos = 1; break;
-        case OPT_BENCH: o.bench = 1; break;
-        case OPT_CONFORM: o.conform = 1; break;
-        case OPT_VERBOSE: o.verbose = 1; break;
-        case OPT_LINES: o.lines_path = value; break;
+        case OPT_NO_HALOS:
+            o.no_halos = 1;
+            break;
+        case OPT_BENCH:
+            o.bench = 1;
+            break;
+        case OPT_CONFORM:
+            o.conform = 1;
+            break;
+        case OPT_VERBOSE:
+            o.verbose = 1;
+            break;
+        case OPT_LINES:
+            o.lines_path = value;
+            break;
         case OPT_BUILTIN:
             ok = halo_tool_choice("halo-lines", a, value, builtins, &choice);
             o.builtin = value;
             break;
-        case OPT_SCENE: o.scene_path = value; break;
-        case OPT_OUTPUT: o.output = value; break;
-        case OPT_WRITE_LINES: o.write_lines = value; break;
-        case OPT_ROW: o.row = value; break;
-        case OPT_SIZE: ok = halo_tool_size("halo-lines", a, value, 16384, &o.width, &o.height); break;
-        case OPT_STEREO: ok = o.stereo = halo_tool_choice("halo-lines", a, value, stereo, &choice); break;
-        case OPT_FRAMES: ok = halo_tool_int("halo-lines", a, value, 1, 1000, &o.frames); break;
-        case OPT_AZIMUTH: ok = o.has_azimuth = halo_tool_number("halo-lines", a, value, -360, 360, &o.azimuth); break;
+        case OPT_SCENE:
+            o.scene_path = value;
+            break;
+        case OPT_OUTPUT:
+            o.output = value;
+            break;
+        case OPT_WRITE_LINES:
+            o.write_lines = value;
+            break;
+        case OPT_ROW:
+            o.row = value;
+            break;
+        case OPT_SIZE:
+            ok = halo_tool_size("halo-lines", a, value, 16384, &o.width, &o.height);
+            break;
+        case OPT_STEREO:
+            ok = o.stereo = halo_tool_choice("halo-lines", a, value, stereo, &choice);
+            break;
+        case OPT_FRAMES:
+            ok = halo_tool_int("halo-lines", a, value, 1, 1000, &o.frames);
+            break;
+        case OPT_AZIMUTH:
+            ok = o.has_azimuth = halo_tool_number("halo-lines", a, value, -360, 360, &o.azimuth);
+            break;
         case OPT_ELEVATION:
             ok = o.has_elevation = halo_tool_number("halo-lines", a, value, -90, 90, &o.elevation);
             break;
-        case OPT_ZOOM: ok = o.has_zoom = halo_tool_number("halo-lines", a, value, 0.05, 20, &o.zoom); break;
+        case OPT_ZOOM:
+            ok = o.has_zoom = halo_tool_number("halo-lines", a, value, 0.05, 20, &o.zoom);
+            break;
         }
         if (!ok)
             return 2;
@@ -297,9 +351,10 @@ int main(int argc, char **argv)
         status = 1;
         goto done;
     }
-    renderer = halo_lines_create(&(halo_lines_desc){.gl = &gl, .vertex_program = vp, .fragment_program = fp,
-                                                    .width = o.width, .height = o.height},
-                                 diag);
+    renderer = halo_lines_create(
+        &(halo_lines_desc){
+            .gl = &gl, .vertex_program = vp, .fragment_program = fp, .width = o.width, .height = o.height},
+        diag);
     rgba = malloc((size_t)o.width * (size_t)o.height * 4 * sizeof *rgba);
     if (!renderer || !rgba || halo_lines_set_data(renderer, &lines, diag) != HALO_OK) {
         status = renderer && rgba ? 1 : 2;

@@ -71,7 +71,8 @@ static int check_post(const halo_program *program, halo_gl_frame *frame, int siz
             worst = d > worst ? d : worst;
         }
         int ok = finite && worst <= 1e-3;
-        printf("  %-16s max |GL - emu| %.2e  %s%s\n", info->name, worst, ok ? "PASS" : "FAIL", finite ? "" : " (not finite)");
+        printf("  %-16s max |GL - emu| %.2e  %s%s\n", info->name, worst, ok ? "PASS" : "FAIL",
+               finite ? "" : " (not finite)");
         failed |= !ok;
     }
     halo_emu_frame_destroy(emu);
@@ -81,9 +82,10 @@ static int check_post(const halo_program *program, halo_gl_frame *frame, int siz
 
 static void usage(FILE *out)
 {
-    fputs("usage: halo-outline --scene S [--size N] [--volume-size N] [--image NAME] [-o OUT] [--check]\n"
-          "                    [--backend egl|osmesa|auto]\n",
-          out);
+    fputs(
+        "usage: halo-outline --scene S [--size N] [--volume-size N] [--image NAME] [-o OUT] [--check]\n"
+        "                    [--backend egl|osmesa|auto]\n",
+        out);
 }
 
 int main(int argc, char **argv)
@@ -147,8 +149,11 @@ int main(int argc, char **argv)
     }
     runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, diag);
     if (!runtime || !halo_driver_create(&slice, HALO_DRIVER_SLICE,
-                                        &(halo_host_desc){.gl = halo_gl_functions(runtime), .runtime = runtime,
-                                                          .program = program, .width = size, .height = size},
+                                        &(halo_host_desc){.gl = halo_gl_functions(runtime),
+                                                          .runtime = runtime,
+                                                          .program = program,
+                                                          .width = size,
+                                                          .height = size},
                                         diag))
         goto done;
     volume = halo_volume_create(volume_size);

@@ -48,73 +48,74 @@ static const char *embedded_scene(const char *name)
     return NULL;
 }
 
-#define DEFAULT_SCENE "examples/scenes/default.json"
+#define DEFAULT_SCENE       "examples/scenes/default.json"
 /* The default window of a volume file whose scene sets none: these percentiles. */
-#define WINDOW_LOW_PERCENT 1.0
+#define WINDOW_LOW_PERCENT  1.0
 #define WINDOW_HIGH_PERCENT 99.0
 
 static void usage(FILE *out)
 {
-    fputs("Usage: halo-render [OPTION]...\n"
-          "Renders a volume with a libhalo scene through an example GPU host (headless\n"
-          "OpenGL: EGL or OSMesa) and writes an image. With no options: the built-in\n"
-          "procedural volume and the default halo scene, to halo-render.png.\n"
-          "\n"
-          "Scene and host:\n"
-          "  --scene S          scene file (JSON); default: examples/scenes/default.json (built in)\n"
-          "  --host H           slice, slab or raycast; default: slice when the scene has\n"
-          "                     halo stages, else raycast\n"
-          "  --no-halos         switch the halo stages (image passes, images, extra outputs,\n"
-          "                     feature_halo) off: the same scene and host without halos\n"
-          "  --one-draw         with --host raycast: host contract 3, volumetric halos computed\n"
-          "                     by libhalo before the ray caster is drawn once (docs/host-contract.md)\n"
-          "  --halo-scale S     halo images at 1/S of the image per side: 1 (default), 2 or 4\n"
-          "                     (faster image passes; docs/performance.md)\n"
-          "  --gradient-format F  the slice and slab hosts' gradient texture: float (RGB32F),\n"
-          "                     half (RGB16F, the default), snorm8 (RGB8_SNORM, scaled to the\n"
-          "                     volume's largest gradient), packed16 or packed32 (RGBA16_SNORM,\n"
-          "                     RGBA32F: value and gradient in one texture, one fetch);\n"
-          "                     docs/performance.md\n"
-          "  --max-error E      measure a sweep of configurations (slice or slab host, M, N,\n"
-          "                     halo image precision and resolution, step) of this scene,\n"
-          "                     volume and image against the exact reference and render with\n"
-          "                     the cheapest whose largest colour error is <= E (E >= 0). The\n"
-          "                     sweep renders about 35 configurations 4 times each: about\n"
-          "                     40 s at 64x64 with a\n"
-          "                     48^3 volume on llvmpipe, minutes at larger sizes\n"
-          "Volume (default: the built-in procedural volume):\n"
-          "  --volume FILE      NIfTI volume (.nii, .nii.gz, .hdr/.img), or raw with --raw-dims\n"
-          "  --raw-dims XxYxZ   raw file: voxels per axis, x fastest\n"
-          "  --raw-type T       raw file: uint8, uint16, int16 or float32 (required with --raw-dims)\n"
-          "  --raw-endian E     raw file: little (default) or big\n"
-          "  --raw-offset N     raw file: header bytes to skip (default 0)\n"
-          "  --raw-spacing XxYxZ  raw file: voxel size per axis (default 1x1x1)\n"
-          "  --labels FILE      segmentation (NIfTI, integer label ids) on the grid of --volume\n"
-          "                     (same dimensions and orientation), resampled nearest into the\n"
-          "                     same cube: the label features of outline_feature (label >= 0)\n"
-          "  --window LOW:HIGH  values mapped to [0,1]; default: the scene's render.window,\n"
-          "                     else for a file the 1st..99th percentile of its values\n"
-          "  --volume-size N    side of the cube the volume is resampled to (8..512); default:\n"
-          "                     96 for the built-in volume, a file's own resolution up to 512\n"
-          "Camera and image:\n"
-          "  --azimuth A        degrees about the vertical axis (default: the scene's)\n"
-          "  --elevation E      degrees, -90..90 (default: the scene's)\n"
-          "  --zoom Z           1 fits the volume in view, larger is closer (default: the scene's)\n"
-          "  --size WxH         image size in pixels, 1..8192 each; default 512x512\n"
-          "  -o OUT             .png (8-bit, clamped) or .exr (float); default halo-render.png\n"
-          "  --backend B        headless OpenGL: egl, osmesa or auto (default: EGL when it\n"
-          "                     has a hardware renderer, else OSMesa); egl-es3.0 or\n"
-          "                     egl-es3.2: an OpenGL ES context, for the raycast host\n"
-          "                     (halo scenes: drawn once, --one-draw, unless --host raycast)\n"
-          "  --export-host DIR  with --host raycast: write what the ray caster draws with into\n"
-          "                     DIR (host.json: uniforms and sizes; volume.f32, transfer.f32:\n"
-          "                     its textures; image.f32: the RGBA image), for another renderer\n"
-          "  --quiet            no progress or volume notes on stderr\n"
-          "  --help             show this help\n"
-          "\n"
-          "Exit status: 0 success, 1 the scene, shaders or volume contents have errors,\n"
-          "2 usage or I/O failure (bad options, missing or truncated files).\n",
-          out);
+    fputs(
+        "Usage: halo-render [OPTION]...\n"
+        "Renders a volume with a libhalo scene through an example GPU host (headless\n"
+        "OpenGL: EGL or OSMesa) and writes an image. With no options: the built-in\n"
+        "procedural volume and the default halo scene, to halo-render.png.\n"
+        "\n"
+        "Scene and host:\n"
+        "  --scene S          scene file (JSON); default: examples/scenes/default.json (built in)\n"
+        "  --host H           slice, slab or raycast; default: slice when the scene has\n"
+        "                     halo stages, else raycast\n"
+        "  --no-halos         switch the halo stages (image passes, images, extra outputs,\n"
+        "                     feature_halo) off: the same scene and host without halos\n"
+        "  --one-draw         with --host raycast: host contract 3, volumetric halos computed\n"
+        "                     by libhalo before the ray caster is drawn once (docs/host-contract.md)\n"
+        "  --halo-scale S     halo images at 1/S of the image per side: 1 (default), 2 or 4\n"
+        "                     (faster image passes; docs/performance.md)\n"
+        "  --gradient-format F  the slice and slab hosts' gradient texture: float (RGB32F),\n"
+        "                     half (RGB16F, the default), snorm8 (RGB8_SNORM, scaled to the\n"
+        "                     volume's largest gradient), packed16 or packed32 (RGBA16_SNORM,\n"
+        "                     RGBA32F: value and gradient in one texture, one fetch);\n"
+        "                     docs/performance.md\n"
+        "  --max-error E      measure a sweep of configurations (slice or slab host, M, N,\n"
+        "                     halo image precision and resolution, step) of this scene,\n"
+        "                     volume and image against the exact reference and render with\n"
+        "                     the cheapest whose largest colour error is <= E (E >= 0). The\n"
+        "                     sweep renders about 35 configurations 4 times each: about\n"
+        "                     40 s at 64x64 with a\n"
+        "                     48^3 volume on llvmpipe, minutes at larger sizes\n"
+        "Volume (default: the built-in procedural volume):\n"
+        "  --volume FILE      NIfTI volume (.nii, .nii.gz, .hdr/.img), or raw with --raw-dims\n"
+        "  --raw-dims XxYxZ   raw file: voxels per axis, x fastest\n"
+        "  --raw-type T       raw file: uint8, uint16, int16 or float32 (required with --raw-dims)\n"
+        "  --raw-endian E     raw file: little (default) or big\n"
+        "  --raw-offset N     raw file: header bytes to skip (default 0)\n"
+        "  --raw-spacing XxYxZ  raw file: voxel size per axis (default 1x1x1)\n"
+        "  --labels FILE      segmentation (NIfTI, integer label ids) on the grid of --volume\n"
+        "                     (same dimensions and orientation), resampled nearest into the\n"
+        "                     same cube: the label features of outline_feature (label >= 0)\n"
+        "  --window LOW:HIGH  values mapped to [0,1]; default: the scene's render.window,\n"
+        "                     else for a file the 1st..99th percentile of its values\n"
+        "  --volume-size N    side of the cube the volume is resampled to (8..512); default:\n"
+        "                     96 for the built-in volume, a file's own resolution up to 512\n"
+        "Camera and image:\n"
+        "  --azimuth A        degrees about the vertical axis (default: the scene's)\n"
+        "  --elevation E      degrees, -90..90 (default: the scene's)\n"
+        "  --zoom Z           1 fits the volume in view, larger is closer (default: the scene's)\n"
+        "  --size WxH         image size in pixels, 1..8192 each; default 512x512\n"
+        "  -o OUT             .png (8-bit, clamped) or .exr (float); default halo-render.png\n"
+        "  --backend B        headless OpenGL: egl, osmesa or auto (default: EGL when it\n"
+        "                     has a hardware renderer, else OSMesa); egl-es3.0 or\n"
+        "                     egl-es3.2: an OpenGL ES context, for the raycast host\n"
+        "                     (halo scenes: drawn once, --one-draw, unless --host raycast)\n"
+        "  --export-host DIR  with --host raycast: write what the ray caster draws with into\n"
+        "                     DIR (host.json: uniforms and sizes; volume.f32, transfer.f32:\n"
+        "                     its textures; image.f32: the RGBA image), for another renderer\n"
+        "  --quiet            no progress or volume notes on stderr\n"
+        "  --help             show this help\n"
+        "\n"
+        "Exit status: 0 success, 1 the scene, shaders or volume contents have errors,\n"
+        "2 usage or I/O failure (bad options, missing or truncated files).\n",
+        out);
 }
 
 /* ---- Options ---------------------------------------------------------------------- */
@@ -133,24 +134,54 @@ typedef struct options {
 } options;
 
 enum {
-    OPT_NO_HALOS, OPT_QUIET, OPT_SCENE, OPT_OUTPUT, OPT_SIZE, OPT_AZIMUTH, OPT_ELEVATION, OPT_ZOOM,
-    OPT_VOLUME_SIZE, OPT_VOLUME, OPT_RAW_DIMS, OPT_RAW_TYPE, OPT_RAW_ENDIAN, OPT_RAW_OFFSET, OPT_RAW_SPACING,
-    OPT_WINDOW, OPT_HOST, OPT_MAX_ERROR, OPT_LABELS, OPT_HALO_SCALE, OPT_GRADIENT_FORMAT, OPT_ONE_DRAW,
+    OPT_NO_HALOS,
+    OPT_QUIET,
+    OPT_SCENE,
+    OPT_OUTPUT,
+    OPT_SIZE,
+    OPT_AZIMUTH,
+    OPT_ELEVATION,
+    OPT_ZOOM,
+    OPT_VOLUME_SIZE,
+    OPT_VOLUME,
+    OPT_RAW_DIMS,
+    OPT_RAW_TYPE,
+    OPT_RAW_ENDIAN,
+    OPT_RAW_OFFSET,
+    OPT_RAW_SPACING,
+    OPT_WINDOW,
+    OPT_HOST,
+    OPT_MAX_ERROR,
+    OPT_LABELS,
+    OPT_HALO_SCALE,
+    OPT_GRADIENT_FORMAT,
+    OPT_ONE_DRAW,
     OPT_EXPORT_HOST
 };
-static const halo_tool_option option_table[] = {
-    [OPT_NO_HALOS] = {"--no-halos", NULL, 0}, [OPT_QUIET] = {"--quiet", "-q", 0},
-    [OPT_SCENE] = {"--scene", NULL, 1}, [OPT_OUTPUT] = {"-o", "--output", 1}, [OPT_SIZE] = {"--size", NULL, 1},
-    [OPT_AZIMUTH] = {"--azimuth", NULL, 1}, [OPT_ELEVATION] = {"--elevation", NULL, 1},
-    [OPT_ZOOM] = {"--zoom", NULL, 1}, [OPT_VOLUME_SIZE] = {"--volume-size", NULL, 1},
-    [OPT_VOLUME] = {"--volume", NULL, 1}, [OPT_RAW_DIMS] = {"--raw-dims", NULL, 1},
-    [OPT_RAW_TYPE] = {"--raw-type", NULL, 1}, [OPT_RAW_ENDIAN] = {"--raw-endian", NULL, 1},
-    [OPT_RAW_OFFSET] = {"--raw-offset", NULL, 1}, [OPT_RAW_SPACING] = {"--raw-spacing", NULL, 1},
-    [OPT_WINDOW] = {"--window", NULL, 1}, [OPT_HOST] = {"--host", NULL, 1},
-    [OPT_MAX_ERROR] = {"--max-error", NULL, 1}, [OPT_LABELS] = {"--labels", NULL, 1},
-    [OPT_HALO_SCALE] = {"--halo-scale", NULL, 1}, [OPT_GRADIENT_FORMAT] = {"--gradient-format", NULL, 1},
-    [OPT_ONE_DRAW] = {"--one-draw", NULL, 0}, [OPT_EXPORT_HOST] = {"--export-host", NULL, 1},
-    {NULL, NULL, 0}};
+static const halo_tool_option option_table[] = {[OPT_NO_HALOS] = {"--no-halos", NULL, 0},
+                                                [OPT_QUIET] = {"--quiet", "-q", 0},
+                                                [OPT_SCENE] = {"--scene", NULL, 1},
+                                                [OPT_OUTPUT] = {"-o", "--output", 1},
+                                                [OPT_SIZE] = {"--size", NULL, 1},
+                                                [OPT_AZIMUTH] = {"--azimuth", NULL, 1},
+                                                [OPT_ELEVATION] = {"--elevation", NULL, 1},
+                                                [OPT_ZOOM] = {"--zoom", NULL, 1},
+                                                [OPT_VOLUME_SIZE] = {"--volume-size", NULL, 1},
+                                                [OPT_VOLUME] = {"--volume", NULL, 1},
+                                                [OPT_RAW_DIMS] = {"--raw-dims", NULL, 1},
+                                                [OPT_RAW_TYPE] = {"--raw-type", NULL, 1},
+                                                [OPT_RAW_ENDIAN] = {"--raw-endian", NULL, 1},
+                                                [OPT_RAW_OFFSET] = {"--raw-offset", NULL, 1},
+                                                [OPT_RAW_SPACING] = {"--raw-spacing", NULL, 1},
+                                                [OPT_WINDOW] = {"--window", NULL, 1},
+                                                [OPT_HOST] = {"--host", NULL, 1},
+                                                [OPT_MAX_ERROR] = {"--max-error", NULL, 1},
+                                                [OPT_LABELS] = {"--labels", NULL, 1},
+                                                [OPT_HALO_SCALE] = {"--halo-scale", NULL, 1},
+                                                [OPT_GRADIENT_FORMAT] = {"--gradient-format", NULL, 1},
+                                                [OPT_ONE_DRAW] = {"--one-draw", NULL, 0},
+                                                [OPT_EXPORT_HOST] = {"--export-host", NULL, 1},
+                                                {NULL, NULL, 0}};
 
 /* One option's value into o. Returns 0 after a message. */
 static int take_option(options *o, int option, const char *a, const char *value)
@@ -159,14 +190,30 @@ static int take_option(options *o, int option, const char *a, const char *value)
     long offset;
     int ok = 1, host;
     switch (option) {
-    case OPT_NO_HALOS: o->no_halos = 1; break;
-    case OPT_ONE_DRAW: o->one_draw = 1; break;
-    case OPT_EXPORT_HOST: o->export_dir = value; break;
-    case OPT_QUIET: o->quiet = 1; break;
-    case OPT_SCENE: o->scene_path = value; break;
-    case OPT_OUTPUT: o->output = value; break;
-    case OPT_VOLUME: o->volume_path = value; break;
-    case OPT_LABELS: o->labels_path = value; break;
+    case OPT_NO_HALOS:
+        o->no_halos = 1;
+        break;
+    case OPT_ONE_DRAW:
+        o->one_draw = 1;
+        break;
+    case OPT_EXPORT_HOST:
+        o->export_dir = value;
+        break;
+    case OPT_QUIET:
+        o->quiet = 1;
+        break;
+    case OPT_SCENE:
+        o->scene_path = value;
+        break;
+    case OPT_OUTPUT:
+        o->output = value;
+        break;
+    case OPT_VOLUME:
+        o->volume_path = value;
+        break;
+    case OPT_LABELS:
+        o->labels_path = value;
+        break;
     case OPT_GRADIENT_FORMAT: {
         char err[128];
         ok = halo_gradient_format_option(value, &o->gradient_format, err, sizeof err);
@@ -181,11 +228,21 @@ static int take_option(options *o, int option, const char *a, const char *value)
             ok = 0;
         }
         break;
-    case OPT_SIZE: ok = halo_tool_size(TOOL, a, value, 8192, &o->width, &o->height); break;
-    case OPT_AZIMUTH: ok = o->have_azimuth = halo_tool_number(TOOL, a, value, -3600, 3600, &o->azimuth); break;
-    case OPT_ELEVATION: ok = o->have_elevation = halo_tool_number(TOOL, a, value, -90, 90, &o->elevation); break;
-    case OPT_ZOOM: ok = o->have_zoom = halo_tool_number(TOOL, a, value, 1e-3, 1e3, &o->zoom); break;
-    case OPT_MAX_ERROR: ok = o->have_max_error = halo_tool_number(TOOL, a, value, 0, 1e30, &o->max_error); break;
+    case OPT_SIZE:
+        ok = halo_tool_size(TOOL, a, value, 8192, &o->width, &o->height);
+        break;
+    case OPT_AZIMUTH:
+        ok = o->have_azimuth = halo_tool_number(TOOL, a, value, -3600, 3600, &o->azimuth);
+        break;
+    case OPT_ELEVATION:
+        ok = o->have_elevation = halo_tool_number(TOOL, a, value, -90, 90, &o->elevation);
+        break;
+    case OPT_ZOOM:
+        ok = o->have_zoom = halo_tool_number(TOOL, a, value, 1e-3, 1e3, &o->zoom);
+        break;
+    case OPT_MAX_ERROR:
+        ok = o->have_max_error = halo_tool_number(TOOL, a, value, 0, 1e30, &o->max_error);
+        break;
     case OPT_VOLUME_SIZE:
         ok = o->have_volume_size =
             halo_tool_int(TOOL, a, value, HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE, &o->volume_size);
@@ -277,11 +334,13 @@ static int check_options(const options *o)
     else if (o->raw && !o->volume_path)
         why = "--raw-dims needs --volume FILE";
     else if (halo_headless_choice_es() && (o->host == HALO_DRIVER_SLICE || o->host == HALO_DRIVER_SLAB))
-        why = "an OpenGL ES context (--backend egl-es3.0, egl-es3.2) draws the raycast host: the slice and slab "
-              "hosts are written for desktop OpenGL";
+        why =
+            "an OpenGL ES context (--backend egl-es3.0, egl-es3.2) draws the raycast host: the slice and slab "
+            "hosts are written for desktop OpenGL";
     else if (halo_headless_choice_es() && o->have_max_error)
-        why = "--max-error sweeps the slice and slab hosts, which need desktop OpenGL: not with an OpenGL ES "
-              "--backend";
+        why =
+            "--max-error sweeps the slice and slab hosts, which need desktop OpenGL: not with an OpenGL ES "
+            "--backend";
     if (why)
         fprintf(stderr, TOOL ": error: %s\n", why);
     return why == NULL;
@@ -291,8 +350,7 @@ static int check_options(const options *o)
  * here, before anything is read or rendered (a render can take minutes). */
 static int parse_options(int argc, char **argv, options *o)
 {
-    *o = (options){.output = "halo-render.png", .width = 512, .height = 512,
-                   .volume_size = HALO_VOLUME_DEFAULT_SIZE};
+    *o = (options){.output = "halo-render.png", .width = 512, .height = 512, .volume_size = HALO_VOLUME_DEFAULT_SIZE};
     halo_tool_args args = {.tool = TOOL, .usage = usage, .argc = argc, .argv = argv, .next = 1};
     for (int k; (k = halo_tool_args_next(&args, option_table)) != HALO_TOOL_ARGS_END;) {
         if (k == HALO_TOOL_ARGS_HELP)
@@ -333,8 +391,8 @@ static int prepare_labels(const options *o, const halo_volume_file *vol, int siz
     halo_volume_file file;
     char err[512];
     /* read for the same side as the volume: reduced alike (halo_volume_read_nifti_for) */
-    halo_volume_status status = halo_volume_read_nifti_for(o->labels_path, o->have_volume_size ? o->volume_size : 0, 1,
-                                                           &file, err, sizeof err);
+    halo_volume_status status =
+        halo_volume_read_nifti_for(o->labels_path, o->have_volume_size ? o->volume_size : 0, 1, &file, err, sizeof err);
     if (status != HALO_VOLUME_OK) {
         fprintf(stderr, "halo-render: error: --labels: %s\n", err);
         return (int)status;
@@ -369,8 +427,8 @@ static int prepare_labels(const options *o, const halo_volume_file *vol, int siz
 
 /* Loads the volume (a file, or the built-in one), windows it to [0,1] and resamples
  * it into a cube. Returns an exit status; *volume_out is the cube. */
-static int prepare_volume(const options *o, const halo_render_settings *settings, int scene_window,
-                          float **volume_out, float **labels_out, int *size_out)
+static int prepare_volume(const options *o, const halo_render_settings *settings, int scene_window, float **volume_out,
+                          float **labels_out, int *size_out)
 {
     *volume_out = NULL;
     *labels_out = NULL;
@@ -390,17 +448,18 @@ static int prepare_volume(const options *o, const halo_render_settings *settings
     char err[512];
     halo_progress step;
     halo_progress_begin(&step, o->quiet ? NULL : TOOL, "reading the volume", 1);
-    halo_volume_status status = o->raw ? halo_volume_read_raw(o->volume_path, &o->raw_desc, &file, err, sizeof err)
-                                       : halo_volume_read_nifti_for(o->volume_path,
-                                                                    o->have_volume_size ? o->volume_size : 0, 0, &file,
-                                                                    err, sizeof err);
+    halo_volume_status status =
+        o->raw ? halo_volume_read_raw(o->volume_path, &o->raw_desc, &file, err, sizeof err)
+               : halo_volume_read_nifti_for(o->volume_path, o->have_volume_size ? o->volume_size : 0, 0, &file, err,
+                                            sizeof err);
     halo_progress_end(&step, 0, "read the volume");
     if (status != HALO_VOLUME_OK) {
         fprintf(stderr, "halo-render: error: %s\n", err);
         return (int)status;
     }
     if (file.nonfinite)
-        fprintf(stderr, "halo-render: warning: %s: %zu voxel%s NaN or infinite: rendered as the smallest finite value\n",
+        fprintf(stderr,
+                "halo-render: warning: %s: %zu voxel%s NaN or infinite: rendered as the smallest finite value\n",
                 o->volume_path, file.nonfinite, file.nonfinite == 1 ? " is" : "s are");
     if (file.discarded_volumes)
         fprintf(stderr, "halo-render: warning: %s: 4-D file: rendering its first volume, %d more ignored\n",
@@ -426,8 +485,8 @@ static int prepare_volume(const options *o, const halo_render_settings *settings
         return HALO_VOLUME_INVALID;
     }
     if (!o->quiet)
-        fprintf(stderr, "halo-render: %s: %s; window %g:%g (%s); resampled to %d^3\n", o->volume_path,
-                file.description, window[0], window[1], window_from, size);
+        fprintf(stderr, "halo-render: %s: %s; window %g:%g (%s); resampled to %d^3\n", o->volume_path, file.description,
+                window[0], window[1], window_from, size);
     halo_progress_begin(&step, o->quiet ? NULL : TOOL, "resampling the volume", 1);
     float *cube = halo_volume_to_display(&file, window, size);
     halo_progress_end(&step, 0, "resampled the volume");
@@ -492,9 +551,17 @@ static int apply_budget(const options *o, const char *scene_text, halo_library *
         fprintf(stderr, "halo-render: error: --max-error: cannot prepare the scene for the sweep\n");
         return 2;
     }
-    halo_bench_env env = {.lib = lib, .runtime = runtime, .gl = halo_gl_functions(runtime), .diag = diag,
-                          .width = o->width, .height = o->height, .volume = volume, .dims = {size, size, size},
-                          .repeat = 3, .scene_text = text, .progress = o->quiet ? NULL : stderr};
+    halo_bench_env env = {.lib = lib,
+                          .runtime = runtime,
+                          .gl = halo_gl_functions(runtime),
+                          .diag = diag,
+                          .width = o->width,
+                          .height = o->height,
+                          .volume = volume,
+                          .dims = {size, size, size},
+                          .repeat = 3,
+                          .scene_text = text,
+                          .progress = o->quiet ? NULL : stderr};
     char *report_text = NULL;
     size_t report_size = 0;
     FILE *report = open_memstream(&report_text, &report_size);
@@ -516,8 +583,10 @@ static int apply_budget(const options *o, const char *scene_text, halo_library *
     free(report_text);
     if (st != HALO_OK) {
         if (st == HALO_ERROR_INPUT && line && length)
-            fprintf(stderr, "halo-render: error: --max-error %g: the cheapest configuration is not within it when "
-                            "measured again\n", o->max_error);
+            fprintf(stderr,
+                    "halo-render: error: --max-error %g: the cheapest configuration is not within it when "
+                    "measured again\n",
+                    o->max_error);
         return st == HALO_ERROR_INPUT ? 1 : 2;
     }
     if (halo_driver_has_stage(scene, "halo_generate") && choice.passes > 0) {
@@ -548,11 +617,15 @@ static int failure_status(const halo_diagnostics *d)
 }
 
 /* Links the scene for the host (the program validated). */
-static halo_program *link_scene(halo_library *lib, halo_scene *scene, halo_driver_host kind, int precision,
-                                int scale, int one_draw, halo_target target, halo_diagnostics *diag)
+static halo_program *link_scene(halo_library *lib, halo_scene *scene, halo_driver_host kind, int precision, int scale,
+                                int one_draw, halo_target target, halo_diagnostics *diag)
 {
-    return halo_driver_link(&(halo_link_desc){.library = lib, .scene = scene, .image_precision = precision,
-                                              .image_scale = scale, .one_draw = one_draw, .target = target},
+    return halo_driver_link(&(halo_link_desc){.library = lib,
+                                              .scene = scene,
+                                              .image_precision = precision,
+                                              .image_scale = scale,
+                                              .one_draw = one_draw,
+                                              .target = target},
                             kind, 1, diag);
 }
 
@@ -613,8 +686,8 @@ static int export_host_inputs(const char *dir, const halo_driver *host)
 }
 
 /* The volume and labels into the host, the camera, and the notes on them. Returns an exit status. */
-static int set_up_host(const options *o, halo_driver *host, const halo_render_settings *settings,
-                       const float *volume, const float *labels, int size, int interval, halo_diagnostics *diag)
+static int set_up_host(const options *o, halo_driver *host, const halo_render_settings *settings, const float *volume,
+                       const float *labels, int size, int interval, halo_diagnostics *diag)
 {
     const int dims[3] = {size, size, size};
     if (halo_driver_set_volume(host, volume, dims, settings, o->gradient_format, diag) != HALO_OK)
@@ -629,8 +702,9 @@ static int set_up_host(const options *o, halo_driver *host, const halo_render_se
     if (!o->quiet && gradient)
         fprintf(stderr, TOOL ": gradient texture: %s\n", gradient);
     if (!labels && halo_program_reads_labels(host->program))
-        fprintf(stderr, TOOL ": warning: the scene's label features (outline_feature label >= 0) need "
-                        "--labels FILE: without it they are empty\n");
+        fprintf(stderr, TOOL
+                ": warning: the scene's label features (outline_feature label >= 0) need "
+                "--labels FILE: without it they are empty\n");
     if (labels) {
         if (!halo_program_reads_labels(host->program) && !o->quiet)
             fprintf(stderr, TOOL ": note: --labels: the scene has no label feature (outline_feature label)\n");
@@ -692,7 +766,7 @@ int main(int argc, char **argv)
     }
     size_t halo_stages = halo_driver_find_halo_stages(lib, scene, is_halo);
     int feature = halo_driver_has_stage(scene, HALO_DRIVER_FEATURE_STAGE);
-    halo_driver_host kind = o.host != HALO_DRIVER_AUTO                   ? o.host
+    halo_driver_host kind = o.host != HALO_DRIVER_AUTO                  ? o.host
                             : halo_stages && !halo_headless_choice_es() ? HALO_DRIVER_SLICE
                                                                         : HALO_DRIVER_RAYCAST;
     if (o.host == HALO_DRIVER_AUTO && halo_stages && halo_headless_choice_es() && !o.one_draw) {
@@ -702,15 +776,18 @@ int main(int argc, char **argv)
             fprintf(stderr, TOOL ": note: OpenGL ES: the raycast host, drawn once over the halo field (--one-draw)\n");
     }
     if (o.gradient_format && kind == HALO_DRIVER_RAYCAST) { /* given or chosen: an option that cannot apply */
-        fprintf(stderr, TOOL ": error: --gradient-format: the raycast host%s has no gradient texture (it takes "
-                        "central differences); use --host slice or slab\n",
+        fprintf(stderr,
+                TOOL
+                ": error: --gradient-format: the raycast host%s has no gradient texture (it takes "
+                "central differences); use --host slice or slab\n",
                 o.host == HALO_DRIVER_AUTO ? " (this scene's, having no halo stages)" : "");
         status = 2;
         goto done;
     }
     if (o.have_max_error && feature) {
-        fprintf(stderr, TOOL ": error: --max-error: the sweep cannot render feature_halo (no halo buffer); "
-                        "render this scene without --max-error\n");
+        fprintf(stderr, TOOL
+                ": error: --max-error: the sweep cannot render feature_halo (no halo buffer); "
+                "render this scene without --max-error\n");
         status = 2;
         goto done;
     }
@@ -773,8 +850,8 @@ int main(int argc, char **argv)
             goto done;
         settings = halo_scene_render(scene);
     }
-    const halo_host_desc desc = {.gl = halo_gl_functions(runtime), .runtime = runtime, .program = program,
-                                 .width = o.width, .height = o.height};
+    const halo_host_desc desc = {
+        .gl = halo_gl_functions(runtime), .runtime = runtime, .program = program, .width = o.width, .height = o.height};
     if (!halo_driver_create(&host, kind, &desc, diag))
         goto done;
     host.tool = TOOL;
@@ -815,8 +892,8 @@ int main(int argc, char **argv)
     }
     const halo_image_info *post = halo_driver_frame(&host) ? halo_host_post_image(program) : NULL;
     size_t stages = halo_program_stage_count(program);
-    printf(TOOL ": wrote %s (%dx%d, %s host, %zu stage%s%s", o.output, o.width, o.height,
-           halo_driver_host_names[kind], stages, stages == 1 ? "" : "s", stages ? ": " : "");
+    printf(TOOL ": wrote %s (%dx%d, %s host, %zu stage%s%s", o.output, o.width, o.height, halo_driver_host_names[kind],
+           stages, stages == 1 ? "" : "s", stages ? ": " : "");
     for (size_t i = 0; i < stages; ++i)
         printf("%s%s", i ? ", " : "", halo_program_stage(program, i));
     if (post)

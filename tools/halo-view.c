@@ -41,66 +41,81 @@
 #include <time.h>
 
 
-#define WAIT_TIMEOUT_SECONDS 60.0 /* --keys "@reload" gives up after this long */
+#define WAIT_TIMEOUT_SECONDS    60.0 /* --keys "@reload" gives up after this long */
 #define ORBIT_DEGREES_PER_PIXEL 0.4
-#define KEY_ORBIT_DEGREES 5.0
-#define ZOOM_FACTOR 1.1
+#define KEY_ORBIT_DEGREES       5.0
+#define ZOOM_FACTOR             1.1
 
 static void usage(FILE *out)
 {
-    fputs("Usage: halo-view [OPTION]...\n"
-          "Opens a window that renders a volume with a libhalo scene through the example\n"
-          "GPU hosts (as halo-render does), with mouse orbit and zoom, keys that change the\n"
-          "scene, and live reloading of the scene file. Needs an X display (or xvfb-run).\n"
-          "\n"
-          "  --scene S          scene file (JSON); default: examples/scenes/default.json\n"
-          "                     (built in: no reloading, no scene cycling)\n"
-          "  --volume FILE      NIfTI volume (.nii, .nii.gz, .hdr/.img); default: the\n"
-          "                     built-in procedural volume\n"
-          "  --volume-size N    side of the cube the volume is resampled to (8..512); default:\n"
-          "                     96 for the built-in volume, a file's own resolution up to 512\n"
-          "  --size WxH         render (and initial window) size, 1..8192 each; default 512x512\n"
-          "  --save-prefix P    the S key writes P001.png and P001.json, P002...; default\n"
-          "                     halo-view-\n"
-          "Automation (tests):\n"
-          "  --keys \"K ...\"     presses these keys, one per frame, before anything else: a\n"
-          "                     character (\"1\", \"e\", \"D\" = shift+d, \"+\"), or left, right, up,\n"
-          "                     down, tab, shift+tab, pageup, pagedown, f1, esc; \"@reload\"\n"
-          "                     waits until the scene file was reloaded (or failed to) since\n"
-          "                     the previous key\n"
-          "  --frames N         render at least N frames (default 1)\n"
-          "  --screenshot FILE  after N frames and the keys, save the image: .png (8-bit,\n"
-          "                     clamped) or .exr (float), as halo-render -o writes it\n"
-          "  --quit             exit after that\n"
-          "  --help             show this help\n"
-          "\n"
-          "Keys: mouse left drag orbit, wheel zoom; 1-9 toggle the scene's stages; e\n"
-          "emissive/occlusive; d/D delta -/+0.05; m/M interval M halve/double; n/N passes\n"
-          "-/+1; arrows orbit; +/- zoom; r camera of the scene; tab/shift+tab (pagedown/\n"
-          "pageup) next/previous scene in its folder; s save screenshot and scene; h or F1\n"
-          "this help; q or esc quit.\n"
-          "\n"
-          "Exit status: 0 success, 1 the scene, shaders or volume contents have errors at\n"
-          "start, 2 usage, I/O, window or OpenGL failure.\n",
-          out);
+    fputs(
+        "Usage: halo-view [OPTION]...\n"
+        "Opens a window that renders a volume with a libhalo scene through the example\n"
+        "GPU hosts (as halo-render does), with mouse orbit and zoom, keys that change the\n"
+        "scene, and live reloading of the scene file. Needs an X display (or xvfb-run).\n"
+        "\n"
+        "  --scene S          scene file (JSON); default: examples/scenes/default.json\n"
+        "                     (built in: no reloading, no scene cycling)\n"
+        "  --volume FILE      NIfTI volume (.nii, .nii.gz, .hdr/.img); default: the\n"
+        "                     built-in procedural volume\n"
+        "  --volume-size N    side of the cube the volume is resampled to (8..512); default:\n"
+        "                     96 for the built-in volume, a file's own resolution up to 512\n"
+        "  --size WxH         render (and initial window) size, 1..8192 each; default 512x512\n"
+        "  --save-prefix P    the S key writes P001.png and P001.json, P002...; default\n"
+        "                     halo-view-\n"
+        "Automation (tests):\n"
+        "  --keys \"K ...\"     presses these keys, one per frame, before anything else: a\n"
+        "                     character (\"1\", \"e\", \"D\" = shift+d, \"+\"), or left, right, up,\n"
+        "                     down, tab, shift+tab, pageup, pagedown, f1, esc; \"@reload\"\n"
+        "                     waits until the scene file was reloaded (or failed to) since\n"
+        "                     the previous key\n"
+        "  --frames N         render at least N frames (default 1)\n"
+        "  --screenshot FILE  after N frames and the keys, save the image: .png (8-bit,\n"
+        "                     clamped) or .exr (float), as halo-render -o writes it\n"
+        "  --quit             exit after that\n"
+        "  --help             show this help\n"
+        "\n"
+        "Keys: mouse left drag orbit, wheel zoom; 1-9 toggle the scene's stages; e\n"
+        "emissive/occlusive; d/D delta -/+0.05; m/M interval M halve/double; n/N passes\n"
+        "-/+1; arrows orbit; +/- zoom; r camera of the scene; tab/shift+tab (pagedown/\n"
+        "pageup) next/previous scene in its folder; s save screenshot and scene; h or F1\n"
+        "this help; q or esc quit.\n"
+        "\n"
+        "Exit status: 0 success, 1 the scene, shaders or volume contents have errors at\n"
+        "start, 2 usage, I/O, window or OpenGL failure.\n",
+        out);
 }
 
 /* ---- Options -------------------------------------------------------------------------- */
 
 
-enum { OPT_QUIT, OPT_SCENE, OPT_VOLUME, OPT_VOLUME_SIZE, OPT_SIZE, OPT_SAVE_PREFIX, OPT_KEYS, OPT_FRAMES, OPT_SCREENSHOT };
-static const halo_tool_option option_table[] = {
-    [OPT_QUIT] = {"--quit", NULL, 0},           [OPT_SCENE] = {"--scene", NULL, 1},
-    [OPT_VOLUME] = {"--volume", NULL, 1},       [OPT_VOLUME_SIZE] = {"--volume-size", NULL, 1},
-    [OPT_SIZE] = {"--size", NULL, 1},           [OPT_SAVE_PREFIX] = {"--save-prefix", NULL, 1},
-    [OPT_KEYS] = {"--keys", NULL, 1},           [OPT_FRAMES] = {"--frames", NULL, 1},
-    [OPT_SCREENSHOT] = {"--screenshot", NULL, 1}, {NULL, NULL, 0}};
+enum {
+    OPT_QUIT,
+    OPT_SCENE,
+    OPT_VOLUME,
+    OPT_VOLUME_SIZE,
+    OPT_SIZE,
+    OPT_SAVE_PREFIX,
+    OPT_KEYS,
+    OPT_FRAMES,
+    OPT_SCREENSHOT
+};
+static const halo_tool_option option_table[] = {[OPT_QUIT] = {"--quit", NULL, 0},
+                                                [OPT_SCENE] = {"--scene", NULL, 1},
+                                                [OPT_VOLUME] = {"--volume", NULL, 1},
+                                                [OPT_VOLUME_SIZE] = {"--volume-size", NULL, 1},
+                                                [OPT_SIZE] = {"--size", NULL, 1},
+                                                [OPT_SAVE_PREFIX] = {"--save-prefix", NULL, 1},
+                                                [OPT_KEYS] = {"--keys", NULL, 1},
+                                                [OPT_FRAMES] = {"--frames", NULL, 1},
+                                                [OPT_SCREENSHOT] = {"--screenshot", NULL, 1},
+                                                {NULL, NULL, 0}};
 
 /* Returns 0 to go on, -1 to exit 0 (help), or an exit status. */
 static int parse_options(int argc, char **argv, options *o)
 {
-    *o = (options){.width = 512, .height = 512, .volume_size = HALO_VOLUME_DEFAULT_SIZE, .frames = 1,
-                   .save_prefix = "halo-view-"};
+    *o = (options){
+        .width = 512, .height = 512, .volume_size = HALO_VOLUME_DEFAULT_SIZE, .frames = 1, .save_prefix = "halo-view-"};
     halo_tool_args args = {.tool = "halo-view", .usage = usage, .argc = argc, .argv = argv, .next = 1};
     for (int k; (k = halo_tool_args_next(&args, option_table)) != HALO_TOOL_ARGS_END;) {
         if (k == HALO_TOOL_ARGS_HELP)
@@ -110,18 +125,34 @@ static int parse_options(int argc, char **argv, options *o)
         const char *a = args.option, *value = args.value;
         int ok = 1;
         switch (k) {
-        case OPT_QUIT: o->quit = 1; break;
-        case OPT_SCENE: o->scene_path = value; break;
-        case OPT_VOLUME: o->volume_path = value; break;
-        case OPT_VOLUME_SIZE:
-            ok = o->have_volume_size = halo_tool_int("halo-view", a, value, HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE,
-                                                     &o->volume_size);
+        case OPT_QUIT:
+            o->quit = 1;
             break;
-        case OPT_SIZE: ok = halo_tool_size("halo-view", a, value, 8192, &o->width, &o->height); break;
-        case OPT_SAVE_PREFIX: o->save_prefix = value; break;
-        case OPT_KEYS: o->keys = value; break;
-        case OPT_FRAMES: ok = halo_tool_int("halo-view", a, value, 1, 1000000, &o->frames); break;
-        case OPT_SCREENSHOT: o->screenshot = value; break;
+        case OPT_SCENE:
+            o->scene_path = value;
+            break;
+        case OPT_VOLUME:
+            o->volume_path = value;
+            break;
+        case OPT_VOLUME_SIZE:
+            ok = o->have_volume_size =
+                halo_tool_int("halo-view", a, value, HALO_VOLUME_MIN_SIZE, HALO_VOLUME_MAX_SIZE, &o->volume_size);
+            break;
+        case OPT_SIZE:
+            ok = halo_tool_size("halo-view", a, value, 8192, &o->width, &o->height);
+            break;
+        case OPT_SAVE_PREFIX:
+            o->save_prefix = value;
+            break;
+        case OPT_KEYS:
+            o->keys = value;
+            break;
+        case OPT_FRAMES:
+            ok = halo_tool_int("halo-view", a, value, 1, 1000000, &o->frames);
+            break;
+        case OPT_SCREENSHOT:
+            o->screenshot = value;
+            break;
         }
         if (!ok)
             return 2;
@@ -151,10 +182,18 @@ enum {
 static const struct {
     const char *name;
     int key;
-} key_names[] = {{"left", KEY_LEFT},         {"right", KEY_RIGHT},   {"up", KEY_UP},
-                 {"down", KEY_DOWN},         {"tab", KEY_NEXT_SCENE}, {"pagedown", KEY_NEXT_SCENE},
-                 {"shift+tab", KEY_PREVIOUS_SCENE}, {"pageup", KEY_PREVIOUS_SCENE}, {"f1", KEY_HELP},
-                 {"esc", KEY_QUIT},          {"escape", KEY_QUIT},   {"@reload", KEY_WAIT_RELOAD}};
+} key_names[] = {{"left", KEY_LEFT},
+                 {"right", KEY_RIGHT},
+                 {"up", KEY_UP},
+                 {"down", KEY_DOWN},
+                 {"tab", KEY_NEXT_SCENE},
+                 {"pagedown", KEY_NEXT_SCENE},
+                 {"shift+tab", KEY_PREVIOUS_SCENE},
+                 {"pageup", KEY_PREVIOUS_SCENE},
+                 {"f1", KEY_HELP},
+                 {"esc", KEY_QUIT},
+                 {"escape", KEY_QUIT},
+                 {"@reload", KEY_WAIT_RELOAD}};
 
 /* Parses --keys into an array of keys; returns the count, or -1 after a message. */
 static int parse_keys(const char *text, int **out)
@@ -204,17 +243,18 @@ static int parse_keys(const char *text, int **out)
 
 static void print_keys(void)
 {
-    fputs("halo-view keys:\n"
-          "  mouse: left drag orbit, wheel zoom; arrows orbit, + and - zoom, r the scene's camera\n"
-          "  1-9    toggle the scene's stages (in scene order)\n"
-          "  e      halo_map.mode: emissive <-> occlusive\n"
-          "  d / D  halo_generate.delta -/+ 0.05\n"
-          "  m / M  halo_generate.interval (M) halve / double\n"
-          "  n / N  halo_generate.passes (N) -/+ 1\n"
-          "  tab / shift+tab (pagedown / pageup)  next / previous scene in the scene's folder\n"
-          "  s      save the image and the scene (--save-prefix)\n"
-          "  h, F1  this help;  q, esc  quit\n",
-          stdout);
+    fputs(
+        "halo-view keys:\n"
+        "  mouse: left drag orbit, wheel zoom; arrows orbit, + and - zoom, r the scene's camera\n"
+        "  1-9    toggle the scene's stages (in scene order)\n"
+        "  e      halo_map.mode: emissive <-> occlusive\n"
+        "  d / D  halo_generate.delta -/+ 0.05\n"
+        "  m / M  halo_generate.interval (M) halve / double\n"
+        "  n / N  halo_generate.passes (N) -/+ 1\n"
+        "  tab / shift+tab (pagedown / pageup)  next / previous scene in the scene's folder\n"
+        "  s      save the image and the scene (--save-prefix)\n"
+        "  h, F1  this help;  q, esc  quit\n",
+        stdout);
 }
 
 static double wrap_degrees(double a)
@@ -229,10 +269,7 @@ static double wrap_degrees(double a)
 
 /* Camera values are kept to 6 decimals, so that a saved scene (written with 15
  * significant digits) holds exactly the camera of the screenshot saved with it. */
-static double snap(double x)
-{
-    return round(x * 1e6) / 1e6;
-}
+static double snap(double x) { return round(x * 1e6) / 1e6; }
 
 static void orbit(viewer *v, double d_azimuth, double d_elevation)
 {
@@ -254,20 +291,50 @@ static void handle_key(viewer *v, int key)
         return;
     }
     switch (key) {
-    case 'e': case 'E': view_change_param(v, "halo_map", "mode", view_flip_mode, 0); break;
-    case 'd': view_change_param(v, "halo_generate", "delta", view_add, -DELTA_STEP); break;
-    case 'D': view_change_param(v, "halo_generate", "delta", view_add, DELTA_STEP); break;
-    case 'm': view_change_param(v, "halo_generate", "interval", view_scale_int, 0.5); break;
-    case 'M': view_change_param(v, "halo_generate", "interval", view_scale_int, 2.0); break;
-    case 'n': view_change_param(v, "halo_generate", "passes", view_add, -1); break;
-    case 'N': view_change_param(v, "halo_generate", "passes", view_add, 1); break;
-    case '+': case '=': zoom_by(v, ZOOM_FACTOR); break;
-    case '-': case '_': zoom_by(v, 1.0 / ZOOM_FACTOR); break;
-    case KEY_LEFT: orbit(v, -KEY_ORBIT_DEGREES, 0); break;
-    case KEY_RIGHT: orbit(v, KEY_ORBIT_DEGREES, 0); break;
-    case KEY_UP: orbit(v, 0, KEY_ORBIT_DEGREES); break;
-    case KEY_DOWN: orbit(v, 0, -KEY_ORBIT_DEGREES); break;
-    case 'r': case 'R': {
+    case 'e':
+    case 'E':
+        view_change_param(v, "halo_map", "mode", view_flip_mode, 0);
+        break;
+    case 'd':
+        view_change_param(v, "halo_generate", "delta", view_add, -DELTA_STEP);
+        break;
+    case 'D':
+        view_change_param(v, "halo_generate", "delta", view_add, DELTA_STEP);
+        break;
+    case 'm':
+        view_change_param(v, "halo_generate", "interval", view_scale_int, 0.5);
+        break;
+    case 'M':
+        view_change_param(v, "halo_generate", "interval", view_scale_int, 2.0);
+        break;
+    case 'n':
+        view_change_param(v, "halo_generate", "passes", view_add, -1);
+        break;
+    case 'N':
+        view_change_param(v, "halo_generate", "passes", view_add, 1);
+        break;
+    case '+':
+    case '=':
+        zoom_by(v, ZOOM_FACTOR);
+        break;
+    case '-':
+    case '_':
+        zoom_by(v, 1.0 / ZOOM_FACTOR);
+        break;
+    case KEY_LEFT:
+        orbit(v, -KEY_ORBIT_DEGREES, 0);
+        break;
+    case KEY_RIGHT:
+        orbit(v, KEY_ORBIT_DEGREES, 0);
+        break;
+    case KEY_UP:
+        orbit(v, 0, KEY_ORBIT_DEGREES);
+        break;
+    case KEY_DOWN:
+        orbit(v, 0, -KEY_ORBIT_DEGREES);
+        break;
+    case 'r':
+    case 'R': {
         const halo_render_settings *r = halo_scene_render(v->scene);
         v->azimuth = r->azimuth;
         v->elevation = r->elevation;
@@ -275,12 +342,29 @@ static void handle_key(viewer *v, int key)
         view_set_camera(v);
         break;
     }
-    case KEY_NEXT_SCENE: view_cycle_scene(v, 1); break;
-    case KEY_PREVIOUS_SCENE: view_cycle_scene(v, -1); break;
-    case 's': case 'S': v->save_requested++; break;
-    case 'h': case 'H': case '?': case KEY_HELP: print_keys(); break;
-    case 'q': case 'Q': case KEY_QUIT: v->quit = 1; break;
-    default: break;
+    case KEY_NEXT_SCENE:
+        view_cycle_scene(v, 1);
+        break;
+    case KEY_PREVIOUS_SCENE:
+        view_cycle_scene(v, -1);
+        break;
+    case 's':
+    case 'S':
+        v->save_requested++;
+        break;
+    case 'h':
+    case 'H':
+    case '?':
+    case KEY_HELP:
+        print_keys();
+        break;
+    case 'q':
+    case 'Q':
+    case KEY_QUIT:
+        v->quit = 1;
+        break;
+    default:
+        break;
     }
     view_update_title(v);
 }
@@ -299,16 +383,35 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     if (action == GLFW_RELEASE)
         return;
     switch (key) {
-    case GLFW_KEY_LEFT: handle_key(v, KEY_LEFT); break;
-    case GLFW_KEY_RIGHT: handle_key(v, KEY_RIGHT); break;
-    case GLFW_KEY_UP: handle_key(v, KEY_UP); break;
-    case GLFW_KEY_DOWN: handle_key(v, KEY_DOWN); break;
-    case GLFW_KEY_TAB: handle_key(v, mods & GLFW_MOD_SHIFT ? KEY_PREVIOUS_SCENE : KEY_NEXT_SCENE); break;
-    case GLFW_KEY_PAGE_DOWN: handle_key(v, KEY_NEXT_SCENE); break;
-    case GLFW_KEY_PAGE_UP: handle_key(v, KEY_PREVIOUS_SCENE); break;
-    case GLFW_KEY_F1: handle_key(v, KEY_HELP); break;
-    case GLFW_KEY_ESCAPE: handle_key(v, KEY_QUIT); break;
-    default: break;
+    case GLFW_KEY_LEFT:
+        handle_key(v, KEY_LEFT);
+        break;
+    case GLFW_KEY_RIGHT:
+        handle_key(v, KEY_RIGHT);
+        break;
+    case GLFW_KEY_UP:
+        handle_key(v, KEY_UP);
+        break;
+    case GLFW_KEY_DOWN:
+        handle_key(v, KEY_DOWN);
+        break;
+    case GLFW_KEY_TAB:
+        handle_key(v, mods & GLFW_MOD_SHIFT ? KEY_PREVIOUS_SCENE : KEY_NEXT_SCENE);
+        break;
+    case GLFW_KEY_PAGE_DOWN:
+        handle_key(v, KEY_NEXT_SCENE);
+        break;
+    case GLFW_KEY_PAGE_UP:
+        handle_key(v, KEY_PREVIOUS_SCENE);
+        break;
+    case GLFW_KEY_F1:
+        handle_key(v, KEY_HELP);
+        break;
+    case GLFW_KEY_ESCAPE:
+        handle_key(v, KEY_QUIT);
+        break;
+    default:
+        break;
     }
 }
 

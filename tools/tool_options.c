@@ -40,8 +40,7 @@ int halo_tool_args_next(halo_tool_args *a, const halo_tool_option *table)
 
 /* Whether strto* read all of text (end at its end, no overflow, and ok); else one
  * message saying what it is not. */
-static int read_whole(const char *tool, const char *option, const char *text, const char *end, int ok,
-                      const char *what)
+static int read_whole(const char *tool, const char *option, const char *text, const char *end, int ok, const char *what)
 {
     if (text && end != text && *end == '\0' && errno != ERANGE && ok)
         return 1;
@@ -51,15 +50,14 @@ static int read_whole(const char *tool, const char *option, const char *text, co
 
 /* In a parser of x (its number type's printf FORMAT): stores x in *out and returns 1 when
  * it lies in lo..hi, else says so and returns 0. */
-#define STORE_IN_RANGE(FORMAT)                                                                               \
-    do {                                                                                                     \
-        if (x < lo || x > hi) {                                                                              \
-            fprintf(stderr, "%s: error: %s: " FORMAT " is outside " FORMAT ".." FORMAT "\n", tool, option, x, \
-                    lo, hi);                                                                                 \
-            return 0;                                                                                        \
-        }                                                                                                    \
-        *out = x;                                                                                            \
-        return 1;                                                                                            \
+#define STORE_IN_RANGE(FORMAT)                                                                                         \
+    do {                                                                                                               \
+        if (x < lo || x > hi) {                                                                                        \
+            fprintf(stderr, "%s: error: %s: " FORMAT " is outside " FORMAT ".." FORMAT "\n", tool, option, x, lo, hi); \
+            return 0;                                                                                                  \
+        }                                                                                                              \
+        *out = x;                                                                                                      \
+        return 1;                                                                                                      \
     } while (0)
 
 int halo_tool_number(const char *tool, const char *option, const char *text, double lo, double hi, double *out)
@@ -91,15 +89,14 @@ int halo_tool_int(const char *tool, const char *option, const char *text, int lo
     return 1;
 }
 
-int halo_tool_split(const char *tool, const char *option, const char *text, char separator, int count,
-                    char parts[][64])
+int halo_tool_split(const char *tool, const char *option, const char *text, char separator, int count, char parts[][64])
 {
     const char *p = text ? text : "";
     for (int k = 0; k < count; ++k) {
         const char *end = k + 1 < count ? strchr(p, separator) : p + strlen(p);
         if (!end || end == p || (size_t)(end - p) >= 64) {
-            fprintf(stderr, "%s: error: %s: '%s' is not %d values separated by '%c'\n", tool, option,
-                    text ? text : "", count, separator);
+            fprintf(stderr, "%s: error: %s: '%s' is not %d values separated by '%c'\n", tool, option, text ? text : "",
+                    count, separator);
             return 0;
         }
         memcpy(parts[k], p, (size_t)(end - p));
@@ -112,8 +109,7 @@ int halo_tool_split(const char *tool, const char *option, const char *text, char
 int halo_tool_size(const char *tool, const char *option, const char *text, int max, int *width, int *height)
 {
     char parts[2][64];
-    return halo_tool_split(tool, option, text, 'x', 2, parts) &&
-           halo_tool_int(tool, option, parts[0], 1, max, width) &&
+    return halo_tool_split(tool, option, text, 'x', 2, parts) && halo_tool_int(tool, option, parts[0], 1, max, width) &&
            halo_tool_int(tool, option, parts[1], 1, max, height);
 }
 

@@ -14,19 +14,19 @@ typedef struct halo_tool_option {
 } halo_tool_option;
 
 typedef struct halo_tool_args {
-    const char *tool;       /* the messages' prefix: "halo-render" */
-    void (*usage)(FILE *);  /* --help prints it on stdout; a usage error on stderr */
+    const char *tool;      /* the messages' prefix: "halo-render" */
+    void (*usage)(FILE *); /* --help prints it on stdout; a usage error on stderr */
     int argc;
     char **argv;
-    int next;               /* the argv index read next: 1 for a command, more after a subcommand */
-    const char *option;     /* the option just read, as written */
-    const char *value;      /* its value (valued options), else NULL */
+    int next;           /* the argv index read next: 1 for a command, more after a subcommand */
+    const char *option; /* the option just read, as written */
+    const char *value;  /* its value (valued options), else NULL */
 } halo_tool_args;
 
 enum {
-    HALO_TOOL_ARGS_END = -1,   /* argv is read */
-    HALO_TOOL_ARGS_HELP = -2,  /* --help or -h: the usage is printed on stdout (exit 0) */
-    HALO_TOOL_ARGS_ERROR = -3  /* an unknown option or a missing value: said on stderr with the usage (exit 2) */
+    HALO_TOOL_ARGS_END = -1,  /* argv is read */
+    HALO_TOOL_ARGS_HELP = -2, /* --help or -h: the usage is printed on stdout (exit 0) */
+    HALO_TOOL_ARGS_ERROR = -3 /* an unknown option or a missing value: said on stderr with the usage (exit 2) */
 };
 
 /* The index in table of the next option (its value in a->value), or one of the above. */

@@ -15,12 +15,12 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#define DEFAULT_SCENE "examples/scenes/default.json"
-#define WINDOW_LOW_PERCENT 1.0 /* as halo-render: a file volume's default window */
+#define DEFAULT_SCENE       "examples/scenes/default.json"
+#define WINDOW_LOW_PERCENT  1.0 /* as halo-render: a file volume's default window */
 #define WINDOW_HIGH_PERCENT 99.0
-#define POLL_SECONDS 0.25      /* how often the scene file's signature is checked */
-#define DELTA_STEP 0.05
-#define MAX_TOGGLE_STAGES 9
+#define POLL_SECONDS        0.25 /* how often the scene file's signature is checked */
+#define DELTA_STEP          0.05
+#define MAX_TOGGLE_STAGES   9
 
 /* examples/scenes/default.json, embedded by build-aux/embed.sh (embedded_scenes.c). */
 struct halo_embedded_file {
@@ -57,8 +57,8 @@ typedef struct viewer {
 
     /* The scene on screen (the last good one), with the keys' changes. */
     halo_scene *scene;
-    json_t *scene_json;   /* its text, for saving */
-    char *scene_file;     /* its path, NULL for the built-in scene */
+    json_t *scene_json; /* its text, for saving */
+    char *scene_file;   /* its path, NULL for the built-in scene */
     halo_driver_host kind;
     halo_program *program;
     halo_driver host;
@@ -72,8 +72,8 @@ typedef struct viewer {
     char *watch_path;
     file_signature watch_signature;
     double next_poll;
-    long loads;           /* reload attempts of the watched file, good or not */
-    char error[1024];     /* the first error of the last failed load or change, "" when none */
+    long loads;       /* reload attempts of the watched file, good or not */
+    char error[1024]; /* the first error of the last failed load or change, "" when none */
 
     /* Volume */
     halo_volume_file file;
@@ -94,8 +94,8 @@ typedef struct viewer {
     unsigned display_texture, display_framebuffer;
     int width, height;
     float *image, *display;
-    int dirty;            /* the image is out of date: render */
-    int rendered;         /* an image has been rendered */
+    int dirty;    /* the image is out of date: render */
+    int rendered; /* an image has been rendered */
     double frame_ms;
     long frames;
     int save_count;

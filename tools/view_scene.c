@@ -24,10 +24,7 @@ static const char *base_name(const char *path)
     return slash ? slash + 1 : path;
 }
 
-static char *dup_string(const char *s)
-{
-    return s ? strdup(s) : NULL;
-}
+static char *dup_string(const char *s) { return s ? strdup(s) : NULL; }
 
 
 file_signature view_signature_of(const char *path)
@@ -98,10 +95,10 @@ void view_update_title(viewer *v)
 {
     char title[2048];
     size_t n = 0;
-#define APPEND(...)                                                                       \
-    do {                                                                                  \
-        if (n < sizeof title)                                                             \
-            n += (size_t)snprintf(title + n, sizeof title - n, __VA_ARGS__);              \
+#define APPEND(...)                                                          \
+    do {                                                                     \
+        if (n < sizeof title)                                                \
+            n += (size_t)snprintf(title + n, sizeof title - n, __VA_ARGS__); \
     } while (0)
     APPEND("halo-view: %s [%s] %.0f ms", v->watch_path ? base_name(v->watch_path) : "default.json (built in)",
            halo_driver_host_names[v->kind], v->frame_ms);
@@ -197,8 +194,8 @@ static halo_program *link_program(viewer *v, const halo_scene *scene, halo_drive
 static int build_host(viewer *v, halo_driver_host kind, const halo_program *program,
                       const halo_render_settings *settings, const float *volume, int n, halo_driver *out)
 {
-    const halo_host_desc desc = {.gl = v->f, .runtime = v->runtime, .program = program,
-                                 .width = v->width, .height = v->height};
+    const halo_host_desc desc = {
+        .gl = v->f, .runtime = v->runtime, .program = program, .width = v->width, .height = v->height};
     halo_driver h;
     if (!halo_driver_create(&h, kind, &desc, v->diag) ||
         halo_driver_set_volume(&h, volume, (const int[3]){n, n, n}, settings, 0, v->diag) != HALO_OK) {
@@ -279,7 +276,8 @@ int view_load_scene(viewer *v, const char *path, int keep_camera)
                              : halo_scene_parse(text, DEFAULT_SCENE " (built in)", v->lib, v->diag);
     if (!scene) {
         view_report_diagnostics(v, "cannot read the scene");
-        return halo_diagnostics_has(v->diag, HALO_MSG_IO_READ) || halo_diagnostics_has(v->diag, HALO_MSG_INPUT_TOO_LARGE)
+        return halo_diagnostics_has(v->diag, HALO_MSG_IO_READ) ||
+                       halo_diagnostics_has(v->diag, HALO_MSG_INPUT_TOO_LARGE)
                    ? 2
                    : 1;
     }
@@ -387,10 +385,7 @@ void view_poll_scene_file(viewer *v, double now)
     open_scene(v, v->watch_path, same);
 }
 
-static int compare_names(const void *a, const void *b)
-{
-    return strcmp(*(char *const *)a, *(char *const *)b);
-}
+static int compare_names(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
 
 /* The next (step 1) or previous (step -1) .json file in the watched scene's folder. */
 void view_cycle_scene(viewer *v, int step)
@@ -499,10 +494,7 @@ double view_add(double x, double d)
     return round((x + d) * 1e6) / 1e6; /* 0.9 - 0.05 is 0.85, not 0.8500000000000001 */
 }
 
-double view_scale_int(double x, double factor)
-{
-    return round(x * factor);
-}
+double view_scale_int(double x, double factor) { return round(x * factor); }
 
 void view_toggle_stage(viewer *v, size_t index)
 {

@@ -14,9 +14,8 @@ halo_status halo_bench_budget_pick(const halo_bench_case *cases, size_t count, d
     for (size_t i = 0; i < count; ++i) {
         rows[i].seconds = cases[i].seconds;
         /* renders without halos, or without generation, are no configuration of the scene */
-        rows[i].error = cases[i].config.halos && !cases[i].config.no_generation && cases[i].nonfinite == 0
-                            ? cases[i].max_abs
-                            : NAN;
+        rows[i].error =
+            cases[i].config.halos && !cases[i].config.no_generation && cases[i].nonfinite == 0 ? cases[i].max_abs : NAN;
     }
     halo_status status = halo_budget_choose(rows, count, max_error, chosen, diag);
     free(rows);
@@ -38,8 +37,8 @@ int halo_bench_budget_verify(const halo_bench_env *env, const float *reference_i
     return 1;
 }
 
-halo_status halo_bench_budget(const halo_bench_env *env, int scene_passes, double max_error,
-                              halo_bench_config *choice, FILE *report)
+halo_status halo_bench_budget(const halo_bench_env *env, int scene_passes, double max_error, halo_bench_config *choice,
+                              FILE *report)
 {
     halo_bench_case cases[48];
     size_t count = halo_bench_sweep(cases, sizeof cases / sizeof cases[0], scene_passes, 0.25);
@@ -66,9 +65,8 @@ halo_status halo_bench_budget(const halo_bench_env *env, int scene_passes, doubl
                 "ms/frame, max abs "
                 "error %.3e (sweep) / %.1f ms, %.3e (verified: %s); the exact reference %.1f ms\n",
                 max_error, k->slab ? "slab" : "slice", k->interval, k->passes, k->precision, halo_bench_resolution(k),
-                k->step, halo_bench_gradient(k),
-                cases[chosen].seconds * 1e3, cases[chosen].max_abs, check.seconds * 1e3, check.max_abs,
-                verified ? "within" : "NOT within", cases[0].seconds * 1e3);
+                k->step, halo_bench_gradient(k), cases[chosen].seconds * 1e3, cases[chosen].max_abs,
+                check.seconds * 1e3, check.max_abs, verified ? "within" : "NOT within", cases[0].seconds * 1e3);
     *choice = *k;
     status = verified ? HALO_OK : HALO_ERROR_INPUT;
     halo_bench_cases_free(&check, 1);

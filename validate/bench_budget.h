@@ -24,7 +24,7 @@ int halo_bench_budget_verify(const halo_bench_env *env, const float *reference_i
  * cheapest configuration within max_error, verifies it and writes it to *choice; a
  * summary goes to report (may be NULL). HALO_ERROR_INPUT when nothing fits or the
  * verification fails, HALO_ERROR_IO when a render fails. */
-halo_status halo_bench_budget(const halo_bench_env *env, int scene_passes, double max_error,
-                              halo_bench_config *choice, FILE *report);
+halo_status halo_bench_budget(const halo_bench_env *env, int scene_passes, double max_error, halo_bench_config *choice,
+                              FILE *report);
 
 #endif

@@ -142,8 +142,9 @@ int halo_bench_memory_measure(const char *scene_path, const char *scene_text, in
 
 void halo_bench_memory_cell(const halo_bench_memory *m, int halos, int gradient, char *out, size_t size)
 {
-    int g = halos ? (halo_gradient_format_name((halo_gradient_format)gradient) ? gradient : HALO_GRADIENT_FORMAT_DEFAULT)
-                  : 0;
+    int g = halos
+                ? (halo_gradient_format_name((halo_gradient_format)gradient) ? gradient : HALO_GRADIENT_FORMAT_DEFAULT)
+                : 0;
     double v = m && m->size ? m->bytes_per_voxel[halos ? 1 : 0][g] : NAN;
     if (isnan(v))
         snprintf(out, size, "-");

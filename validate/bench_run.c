@@ -8,10 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-double halo_bench_now(void)
-{
-    return halo_progress_now();
-}
+double halo_bench_now(void) { return halo_progress_now(); }
 
 static int compare_doubles(const void *a, const void *b)
 {
@@ -34,9 +31,8 @@ static void describe(const halo_bench_case *c, char *out, size_t size)
     else
         snprintf(out, size, "%s, M = %d, N = %d%s%s, %d-bit, %s resolution, step %g, %s gradients%s",
                  halo_bench_host_name(k), k->interval, k->passes, k->wide ? " wide" : "", k->fold ? " fold" : "",
-                 k->precision,
-                 halo_bench_resolution(k), k->step,
-                 halo_bench_gradient(k), k->all_live ? ", all live" : "");
+                 k->precision, halo_bench_resolution(k), k->step, halo_bench_gradient(k),
+                 k->all_live ? ", all live" : "");
 }
 
 const char *halo_bench_gradient(const halo_bench_config *k)
@@ -86,11 +82,14 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
     if (!c->scene || !configure_scene(env, c))
         return 0;
     halo_driver_host kind = c->config.slab == HALO_BENCH_RAYCAST ? HALO_DRIVER_RAYCAST
-                            : c->config.slab                        ? HALO_DRIVER_SLAB
-                                                                    : HALO_DRIVER_SLICE;
-    const halo_link_desc link = {.library = env->lib, .scene = c->scene, .all_live = c->config.all_live,
+                            : c->config.slab                     ? HALO_DRIVER_SLAB
+                                                                 : HALO_DRIVER_SLICE;
+    const halo_link_desc link = {.library = env->lib,
+                                 .scene = c->scene,
+                                 .all_live = c->config.all_live,
                                  .image_precision = c->config.precision ? c->config.precision : 32,
-                                 .image_scale = c->config.scale, .one_draw = c->config.one_draw};
+                                 .image_scale = c->config.scale,
+                                 .one_draw = c->config.one_draw};
     c->program = halo_driver_link(&link, kind, 0, env->diag);
     /* no skips: halo_map's mode live (its values kept), so that the occlusion pass is linked */
     const halo_uniform_info *mode = c->program && c->config.no_skip && !c->config.all_live
@@ -108,8 +107,8 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
     }
     if (!c->program)
         return 0;
-    halo_host_desc desc = {.gl = env->gl, .runtime = env->runtime, .program = c->program, .width = env->width,
-                           .height = env->height};
+    halo_host_desc desc = {
+        .gl = env->gl, .runtime = env->runtime, .program = c->program, .width = env->width, .height = env->height};
     halo_driver *host = calloc(1, sizeof *host);
     c->host = host;
     if (!host || !halo_driver_create(host, kind, &desc, env->diag))
@@ -218,8 +217,8 @@ void halo_bench_errors(const halo_bench_env *env, halo_bench_case *cases, size_t
         for (size_t j = 0; j < count && cases[i].image && cases[i].config.halos; ++j) {
             const halo_bench_config *k = &cases[j].config;
             if (k->halos && !k->slab && k->interval == 1 && k->passes == r->passes && k->precision == r->precision &&
-                k->scale <= 1 && !k->wide &&
-                k->step == cases[i].config.step && !k->all_live && !k->no_generation && cases[j].image) {
+                k->scale <= 1 && !k->wide && k->step == cases[i].config.step && !k->all_live && !k->no_generation &&
+                cases[j].image) {
                 double rmse, share;
                 halo_bench_image_error(cases[i].image, cases[j].image, pixels, &cases[i].halo_max_abs, &rmse, &share);
                 break;
@@ -234,9 +233,8 @@ void halo_bench_errors(const halo_bench_env *env, halo_bench_case *cases, size_t
             const halo_bench_config *b = &cases[j].config;
             if (cases[j].image && b->gradient == HALO_GRADIENT_FLOAT && b->halos && b->slab == a->slab &&
                 b->interval == a->interval && b->passes == a->passes && b->wide == a->wide && b->fold == a->fold &&
-                b->precision == a->precision &&
-                b->scale == a->scale && b->step == a->step && b->all_live == a->all_live &&
-                b->no_generation == a->no_generation) {
+                b->precision == a->precision && b->scale == a->scale && b->step == a->step &&
+                b->all_live == a->all_live && b->no_generation == a->no_generation) {
                 double rmse, share;
                 halo_bench_image_error(cases[i].image, cases[j].image, pixels, &cases[i].gradient_max_abs, &rmse,
                                        &share);
@@ -281,14 +279,17 @@ size_t halo_bench_sweep(halo_bench_case *out, size_t max, int scene_passes, doub
     /* the base of every axis: slice host, M = 4 (the paper's choice), float32, step 0.5,
      * the hosts' default gradient texture; the reference's gradients are float */
     const halo_bench_config base = {.halos = 1, .interval = 4, .passes = n, .precision = 32, .step = 0.5};
-    struct { const char *axis; halo_bench_config k; } list[48];
+    struct {
+        const char *axis;
+        halo_bench_config k;
+    } list[48];
     size_t count = 0;
-#define ADD(AXIS, ...)                                                                                       \
-    do {                                                                                                     \
-        halo_bench_config k_ = base;                                                                         \
-        __VA_ARGS__;                                                                                         \
-        list[count].axis = (AXIS);                                                                           \
-        list[count++].k = k_;                                                                                \
+#define ADD(AXIS, ...)               \
+    do {                             \
+        halo_bench_config k_ = base; \
+        __VA_ARGS__;                 \
+        list[count].axis = (AXIS);   \
+        list[count++].k = k_;        \
     } while (0)
     ADD("reference", k_.interval = 1; k_.step = fine; k_.gradient = HALO_GRADIENT_FLOAT);
     static const int intervals[] = {1, 2, 4, 8, 16};

@@ -12,34 +12,34 @@
 
 /* One approximation of the scene. Zero values take the scene's own (or the default). */
 typedef struct halo_bench_config {
-    int halos;         /* 0: the same render with every stage off (the reference renderer) */
-    int slab;          /* 0: slice host, 1: slab ray caster, HALO_BENCH_RAYCAST: the segmented ray caster */
-    int interval;      /* M: slices between generations (slab: samples per draw) */
-    int passes;        /* N: spreading passes (halo_generate.passes); 0: the scene's */
-    int wide;          /* halo_generate's approximation wide: N passes of 49 taps, reach 4^N - 1 */
-    int fold;          /* halo_generate's fold: H_0 computed by the first spreading pass, no gradient pass */
-    int one_draw;      /* the ray caster linked with one_draw: the field before one host draw (host contract 3) */
+    int halos;           /* 0: the same render with every stage off (the reference renderer) */
+    int slab;            /* 0: slice host, 1: slab ray caster, HALO_BENCH_RAYCAST: the segmented ray caster */
+    int interval;        /* M: slices between generations (slab: samples per draw) */
+    int passes;          /* N: spreading passes (halo_generate.passes); 0: the scene's */
+    int wide;            /* halo_generate's approximation wide: N passes of 49 taps, reach 4^N - 1 */
+    int fold;            /* halo_generate's fold: H_0 computed by the first spreading pass, no gradient pass */
+    int one_draw;        /* the ray caster linked with one_draw: the field before one host draw (host contract 3) */
     double seed_epsilon; /* with one_draw: the march's empty-space bound (halo_gl_segments_desc.seed_epsilon) */
-    int precision;     /* halo image precision: 32, 16 or 8 (halo_link_desc.image_precision) */
-    int scale;         /* halo image resolution 1/scale of the frame: 1 (0), 2 or 4 (halo_link_desc.image_scale) */
-    double step;       /* sampling distance in voxels; 0: the scene's */
-    int all_live;      /* every parameter a uniform (halo_link_desc.all_live) */
-    int no_generation; /* seeding and mapping per sample, no image pass */
-    int gradient;      /* the slice/slab hosts' gradient texture (halo_gradient_format); 0: the hosts' default */
-    int no_skip;       /* the work a frame does not need, done anyway (issue 16, item 1): every generation
+    int precision;       /* halo image precision: 32, 16 or 8 (halo_link_desc.image_precision) */
+    int scale;           /* halo image resolution 1/scale of the frame: 1 (0), 2 or 4 (halo_link_desc.image_scale) */
+    double step;         /* sampling distance in voxels; 0: the scene's */
+    int all_live;        /* every parameter a uniform (halo_link_desc.all_live) */
+    int no_generation;   /* seeding and mapping per sample, no image pass */
+    int gradient;        /* the slice/slab hosts' gradient texture (halo_gradient_format); 0: the hosts' default */
+    int no_skip;         /* the work a frame does not need, done anyway (issue 16, item 1): every generation
                         * and every slice over the whole image (halo_slice_set_generation_skip 0), and the
                         * occlusion pass (halo_map's mode live) */
 } halo_bench_config;
 
 typedef struct halo_bench_case {
     halo_bench_config config;
-    const char *axis;        /* what the row varies (for the table): "reference", "M", ... */
-    const char *scene_text;  /* overrides the environment's scene (NULL: the environment's) */
+    const char *axis;       /* what the row varies (for the table): "reference", "M", ... */
+    const char *scene_text; /* overrides the environment's scene (NULL: the environment's) */
     /* results */
-    double seconds;          /* median frame time */
-    long draws, pass_draws;  /* per frame */
+    double seconds;         /* median frame time */
+    long draws, pass_draws; /* per frame */
     int slices;
-    float *image;            /* width*height*4, the last frame (caller frees with halo_bench_cases_free) */
+    float *image;                     /* width*height*4, the last frame (caller frees with halo_bench_cases_free) */
     double max_abs, rmse, share_over; /* against the reference image; NaN when not compared */
     double halo_max_abs;     /* against M = 1 of the slice host at the same step (the halo approximations alone) */
     double gradient_max_abs; /* against the same configuration with float gradients; NaN when there is none */
@@ -60,10 +60,10 @@ typedef struct halo_bench_env {
     int width, height;
     const float *volume;
     int dims[3];
-    int repeat;              /* timed frames per case (>= 1) */
-    const char *scene_text;  /* the scene (JSON text), or */
-    const char *scene_path;  /* a scene file (when scene_text is NULL) */
-    FILE *progress;          /* progress lines (stderr), or NULL */
+    int repeat;             /* timed frames per case (>= 1) */
+    const char *scene_text; /* the scene (JSON text), or */
+    const char *scene_path; /* a scene file (when scene_text is NULL) */
+    FILE *progress;         /* progress lines (stderr), or NULL */
 } halo_bench_env;
 
 /* Renders every case: one warm-up frame each, then env->repeat rounds over all cases

@@ -42,10 +42,7 @@ static void gauss_weights_sigma(int r, double sigma, double *w)
         w[i] = exp(-0.5 * (i / sigma) * (i / sigma));
 }
 
-static void gauss_weights(int r, double *w)
-{
-    gauss_weights_sigma(r, r / 3.0, w);
-}
+static void gauss_weights(int r, double *w) { gauss_weights_sigma(r, r / 3.0, w); }
 
 /* The Gaussian of sigma truncated at radius r, separable in double (exact to rounding),
  * renormalized over the inside taps: the reference of the truncation table. */
@@ -89,30 +86,30 @@ static void make_image(int n, float *rgba)
  * one-sided weights w[0..r], summed in the precision REAL: double for the reference,
  * float for the CPU's direct row. One body for both, so that they differ in precision
  * only. */
-#define DEFINE_DIRECT_BLUR(NAME, REAL)                                                                       \
-    static void NAME(int n, int r, const REAL *w, const float *in, REAL *out)                              \
-    {                                                                                                      \
-        for (int y = 0; y < n; ++y)                                                                        \
-            for (int x = 0; x < n; ++x) {                                                                  \
-                REAL sum[4] = {0, 0, 0, 0}, total = 0;                                                     \
-                for (int j = -r; j <= r; ++j) {                                                            \
-                    int py = y + j;                                                                        \
-                    if (py < 0 || py >= n)                                                                 \
-                        continue;                                                                          \
-                    for (int i = -r; i <= r; ++i) {                                                        \
-                        int px = x + i;                                                                    \
-                        if (px < 0 || px >= n)                                                             \
-                            continue;                                                                      \
-                        REAL wt = w[abs(i)] * w[abs(j)];                                                   \
-                        const float *v = &in[((size_t)py * n + px) * 4];                                   \
-                        for (int c = 0; c < 4; ++c)                                                        \
-                            sum[c] += wt * v[c];                                                           \
-                        total += wt;                                                                       \
-                    }                                                                                      \
-                }                                                                                          \
-                for (int c = 0; c < 4; ++c)                                                                \
-                    out[((size_t)y * n + x) * 4 + c] = sum[c] / total;                                     \
-            }                                                                                              \
+#define DEFINE_DIRECT_BLUR(NAME, REAL)                                        \
+    static void NAME(int n, int r, const REAL *w, const float *in, REAL *out) \
+    {                                                                         \
+        for (int y = 0; y < n; ++y)                                           \
+            for (int x = 0; x < n; ++x) {                                     \
+                REAL sum[4] = {0, 0, 0, 0}, total = 0;                        \
+                for (int j = -r; j <= r; ++j) {                               \
+                    int py = y + j;                                           \
+                    if (py < 0 || py >= n)                                    \
+                        continue;                                             \
+                    for (int i = -r; i <= r; ++i) {                           \
+                        int px = x + i;                                       \
+                        if (px < 0 || px >= n)                                \
+                            continue;                                         \
+                        REAL wt = w[abs(i)] * w[abs(j)];                      \
+                        const float *v = &in[((size_t)py * n + px) * 4];      \
+                        for (int c = 0; c < 4; ++c)                           \
+                            sum[c] += wt * v[c];                              \
+                        total += wt;                                          \
+                    }                                                         \
+                }                                                             \
+                for (int c = 0; c < 4; ++c)                                   \
+                    out[((size_t)y * n + x) * 4 + c] = sum[c] / total;        \
+            }                                                                 \
     }
 DEFINE_DIRECT_BLUR(direct_blur_double, double)
 DEFINE_DIRECT_BLUR(direct_blur_float, float)
@@ -167,25 +164,25 @@ static void cpu_separable(int n, int r, const float *in, float *scratch, float *
 
 /* ---- GPU ---- */
 
-static const char vertex_source[] = "#version 330 core\n"
-                                    "void main() {\n"
-                                    "    vec2 p = vec2(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0);\n"
-                                    "    gl_Position = vec4(p, 0.0, 1.0);\n"
-                                    "}\n";
+static const char vertex_source[] =
+    "#version 330 core\n"
+    "void main() {\n"
+    "    vec2 p = vec2(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0);\n"
+    "    gl_Position = vec4(p, 0.0, 1.0);\n"
+    "}\n";
 
 /* The blur shaders' interface: the image, the one-sided weights[0..radius] and the
  * axis of a separable pass. */
-#define BLUR_SHADER_INTERFACE           \
-    "#version 330 core\n"               \
-    "uniform sampler2D image;\n"        \
-    "uniform int radius;\n"             \
-    "uniform float weights[65];\n"      \
-    "uniform ivec2 axis;\n"             \
+#define BLUR_SHADER_INTERFACE      \
+    "#version 330 core\n"          \
+    "uniform sampler2D image;\n"   \
+    "uniform int radius;\n"        \
+    "uniform float weights[65];\n" \
+    "uniform ivec2 axis;\n"        \
     "out vec4 color;\n"
 
 /* Direct 2D and one separable axis (axis = (0, 0): direct). */
-static const char taps_source[] =
-    BLUR_SHADER_INTERFACE
+static const char taps_source[] = BLUR_SHADER_INTERFACE
     "void main() {\n"
     "    ivec2 size = textureSize(image, 0), p = ivec2(gl_FragCoord.xy);\n"
     "    vec4 sum = vec4(0.0);\n"
@@ -214,8 +211,7 @@ static const char taps_source[] =
 /* Linear sampling: the centre tap, then pairs (a, a+1) on each side with a = 1, 3, ...
  * merged into one bilinear fetch; a pair with its outer texel outside (or a lone last
  * tap) fetches the inner texel alone. */
-static const char linear_source[] =
-    BLUR_SHADER_INTERFACE
+static const char linear_source[] = BLUR_SHADER_INTERFACE
     "bool inside(int q, int n) { return q >= 0 && q < n; }\n"
     "void main() {\n"
     "    ivec2 size = textureSize(image, 0), p = ivec2(gl_FragCoord.xy);\n"
@@ -354,23 +350,27 @@ int halo_blur_report_main(int argc, char **argv)
             for (const char *s = list;; s = end + 1) {
                 long k = strtol(s, &end, 10);
                 if (end == s || (*end && *end != ',') || size_count == 8)
-                    return fprintf(stderr, "halo-validate blur: --kernels takes 1 to 8 odd sizes K1,K2,... (3..%d), "
-                                           "not '%s'\n", 2 * MAX_RADIUS + 1, list), 2;
+                    return fprintf(stderr,
+                                   "halo-validate blur: --kernels takes 1 to 8 odd sizes K1,K2,... (3..%d), "
+                                   "not '%s'\n",
+                                   2 * MAX_RADIUS + 1, list),
+                           2;
                 sizes[size_count++] = k < 0 || k > 1 << 20 ? 0 : (int)k;
                 if (!*end)
                     break;
             }
         } else if (!strcmp(argv[i], "--help")) {
-            printf("Usage: halo-validate blur [--size N] [--repeat R] [--kernels K1,K2,...] [--csv FILE]\n"
-                   "Gaussian blur of the outline passes (docs/blur.md): K x K kernels (K odd, default 5,33;\n"
-                   "sigma = (K-1)/6, truncated at 3 sigma, weights renormalized inside the image) on an\n"
-                   "N x N RGBA32F image (default 512): time (median of R, default 3) and largest error\n"
-                   "against a double-precision direct 2D convolution, for GPU direct / separable /\n"
-                   "linear-sampled (bilinear tap pairs) and CPU direct / separable, beside the paper's\n"
-                   "anchors (Svakhine et al. 2009: 5x5 33 fps GPU, 2.7 fps CPU; 33x33 9.5 / 0.07); then the\n"
-                   "separable GPU blur of the largest kernel's sigma truncated at 1..4 sigma against the\n"
-                   "Gaussian cut at 6 sigma. --csv FILE: every row as CSV as well.\n"
-                   "Exit status: 0; 1 an error above 1e-5; 2 usage or no OpenGL context.\n");
+            printf(
+                "Usage: halo-validate blur [--size N] [--repeat R] [--kernels K1,K2,...] [--csv FILE]\n"
+                "Gaussian blur of the outline passes (docs/blur.md): K x K kernels (K odd, default 5,33;\n"
+                "sigma = (K-1)/6, truncated at 3 sigma, weights renormalized inside the image) on an\n"
+                "N x N RGBA32F image (default 512): time (median of R, default 3) and largest error\n"
+                "against a double-precision direct 2D convolution, for GPU direct / separable /\n"
+                "linear-sampled (bilinear tap pairs) and CPU direct / separable, beside the paper's\n"
+                "anchors (Svakhine et al. 2009: 5x5 33 fps GPU, 2.7 fps CPU; 33x33 9.5 / 0.07); then the\n"
+                "separable GPU blur of the largest kernel's sigma truncated at 1..4 sigma against the\n"
+                "Gaussian cut at 6 sigma. --csv FILE: every row as CSV as well.\n"
+                "Exit status: 0; 1 an error above 1e-5; 2 usage or no OpenGL context.\n");
             return 0;
         } else {
             fprintf(stderr, "halo-validate blur: unknown option '%s' (try --help)\n", argv[i]);
@@ -406,7 +406,8 @@ int halo_blur_report_main(int argc, char **argv)
     gpu g = {.f = &funcs, .n = n};
     const halo_glfuncs *f = &funcs;
     size_t count = (size_t)n * n * 4;
-    float *in = malloc(count * sizeof *in), *out = malloc(count * sizeof *out), *scratch = malloc(count * sizeof *scratch);
+    float *in = malloc(count * sizeof *in), *out = malloc(count * sizeof *out),
+          *scratch = malloc(count * sizeof *scratch);
     double *ref = malloc(count * sizeof *ref);
     int status = 0;
     g.taps = build(f, taps_source);
@@ -437,8 +438,8 @@ int halo_blur_report_main(int argc, char **argv)
         loadavg[strcspn(loadavg, "\n")] = '\0';
         fclose(load);
     }
-    printf("blur: %dx%d RGBA32F, %s backend, %s, median of %d; load average %s\n", n, n,
-           halo_headless_backend(context), halo_headless_renderer(context), repeat, loadavg);
+    printf("blur: %dx%d RGBA32F, %s backend, %s, median of %d; load average %s\n", n, n, halo_headless_backend(context),
+           halo_headless_renderer(context), repeat, loadavg);
     printf("%-7s %-14s %12s %10s %12s %s\n", "kernel", "variant", "ms/frame", "fps", "max_abs_err", "paper (fps)");
     for (int k = 0; k < size_count; ++k) {
         int r = (sizes[k] - 1) / 2;
@@ -487,8 +488,10 @@ int halo_blur_report_main(int argc, char **argv)
     int r_exact = (int)ceil(6.0 * sigma);
     if (exact && exact_scratch && r_exact <= MAX_RADIUS) {
         reference_separable(n, r_exact, sigma, in, exact_scratch, exact);
-        printf("truncation: sigma %.3g px (the %dx%d kernel's), gpu separable cut at t sigma, against the Gaussian cut "
-               "at 6 sigma (radius %d) in double\n", sigma, sizes[size_count - 1], sizes[size_count - 1], r_exact);
+        printf(
+            "truncation: sigma %.3g px (the %dx%d kernel's), gpu separable cut at t sigma, against the Gaussian cut "
+            "at 6 sigma (radius %d) in double\n",
+            sigma, sizes[size_count - 1], sizes[size_count - 1], r_exact);
         printf("%-7s %-7s %12s %10s %12s %12s\n", "t", "radius", "ms/frame", "fps", "max_abs_err", "rmse");
         static const double cuts[] = {1.0, 1.5, 2.0, 2.5, 3.0, 4.0};
         for (size_t c = 0; c < sizeof cuts / sizeof cuts[0]; ++c) {
@@ -516,8 +519,8 @@ int halo_blur_report_main(int argc, char **argv)
             printf("%-7.1f %-7d %12.2f %10.2f %12.2e %12.2e%s\n", cuts[c], r, 1e3 * t, 1.0 / t, worst,
                    sqrt(squares / (double)count), cuts[c] == 3.0 ? "  (libhalo's outlines)" : "");
             if (csv)
-                fprintf(csv, "truncation,%d,gpu separable,%.6g,%g,%d,%.3f,%.3f,%.6e,%.6e\n", 2 * r + 1, sigma,
-                        cuts[c], r, 1e3 * t, 1.0 / t, worst, sqrt(squares / (double)count));
+                fprintf(csv, "truncation,%d,gpu separable,%.6g,%g,%d,%.3f,%.3f,%.6e,%.6e\n", 2 * r + 1, sigma, cuts[c],
+                        r, 1e3 * t, 1.0 / t, worst, sqrt(squares / (double)count));
             fflush(stdout);
         }
     }

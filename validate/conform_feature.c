@@ -185,10 +185,7 @@ static void run_reference_row(feature_context *c, const float *values, int n, co
 
 static uint64_t random_state;
 
-static double random_uniform(void) /* splitmix64, [0, 1) */
-{
-    return conform_random_uniform(&random_state);
-}
+static double random_uniform(void) /* splitmix64, [0, 1) */ { return conform_random_uniform(&random_state); }
 
 #define PROBE_SIZE 48
 
@@ -216,14 +213,15 @@ static void fill_samples(halo_emu_sample *samples)
         }
 }
 
-static const char probe_vertex[] = "#version 330 core\n"
-                                   "out vec2 ndc;\n"
-                                   "void main()\n"
-                                   "{\n"
-                                   "    vec2 corner = vec2(float((gl_VertexID & 1) << 2), float((gl_VertexID & 2) << 1)) - 1.0;\n"
-                                   "    ndc = corner;\n"
-                                   "    gl_Position = vec4(corner, 0.0, 1.0);\n"
-                                   "}\n";
+static const char probe_vertex[] =
+    "#version 330 core\n"
+    "out vec2 ndc;\n"
+    "void main()\n"
+    "{\n"
+    "    vec2 corner = vec2(float((gl_VertexID & 1) << 2), float((gl_VertexID & 2) << 1)) - 1.0;\n"
+    "    ndc = corner;\n"
+    "    gl_Position = vec4(corner, 0.0, 1.0);\n"
+    "}\n";
 
 /* Draws probe.frag linked with program over the samples with the buffer bound; rgba out. */
 static int draw_probe(feature_context *c, const halo_program *program, unsigned buffer_texture,
@@ -306,12 +304,13 @@ static void run_apply_row(feature_context *c, const char *row, const char *scene
                           double darkening, const float *volume, int n)
 {
     halo_scene *scene = halo_scene_parse(scene_json, "(conformance feature scene)", c->lib, c->diag);
-    halo_program *program =
-        scene ? halo_link(&(halo_link_desc){.library = c->lib, .scene = scene,
-                                             .host_source = halo_host_embedded("probe.frag"),
-                                             .host_file = "probe.frag", .all_live = live},
-                          c->diag)
-              : NULL;
+    halo_program *program = scene ? halo_link(&(halo_link_desc){.library = c->lib,
+                                                                .scene = scene,
+                                                                .host_source = halo_host_embedded("probe.frag"),
+                                                                .host_file = "probe.frag",
+                                                                .all_live = live},
+                                              c->diag)
+                                  : NULL;
     if (program && live) {
         halo_program_set(program, "feature_halo", "opacity_gain", &gain, 1, c->diag);
         halo_program_set(program, "feature_halo", "darkening", &darkening, 1, c->diag);
@@ -374,11 +373,11 @@ static int run_rows(const char *only, int verbose, int *failed)
     c.runtime = conform_gl_current_or_headless(&context, c.diag, err, sizeof err);
     if (!c.runtime && !context)
         fprintf(stderr, "halo-validate: conform: %s\n", err);
-    static const char *const rows[] = {"feature_splat", "feature_splat@n3", "feature_splat@n9",
-                                       "feature_splat@half", "feature_splat@weighted", "feature_splat@nocutoff", "feature_splat@constant",
-                                       "feature_splat@voxel", "feature_splat@edge", "feature_splat@edge_half",
-                                       "feature_reference",
-                                       "feature_halo", "feature_halo@live", "feature_halo@strong"};
+    static const char *const rows[] = {"feature_splat",           "feature_splat@n3",       "feature_splat@n9",
+                                       "feature_splat@half",      "feature_splat@weighted", "feature_splat@nocutoff",
+                                       "feature_splat@constant",  "feature_splat@voxel",    "feature_splat@edge",
+                                       "feature_splat@edge_half", "feature_reference",      "feature_halo",
+                                       "feature_halo@live",       "feature_halo@strong"};
     const int n = 32;
     float *volume = halo_volume_create(n);
     if (!c.lib || !c.runtime || !volume || halo_feature_ensure_module(c.lib, c.diag) != HALO_OK) {
@@ -391,19 +390,18 @@ static int run_rows(const char *only, int verbose, int *failed)
         if (WANT("feature_splat"))
             run_splat_row(&c, "feature_splat", volume, n, &(halo_feature_desc){0}, oblique);
         if (WANT("feature_splat@n3"))
-            run_splat_row(&c, "feature_splat@n3", volume, n, &(halo_feature_desc){.splat_size = 3, .k_hse = 0.5},
-                      axis);
+            run_splat_row(&c, "feature_splat@n3", volume, n, &(halo_feature_desc){.splat_size = 3, .k_hse = 0.5}, axis);
         if (WANT("feature_splat@n9"))
             run_splat_row(&c, "feature_splat@n9", volume, n, &(halo_feature_desc){.splat_size = 9, .threshold = 0.2},
-                      oblique);
+                          oblique);
         if (WANT("feature_splat@half"))
             run_splat_row(&c, "feature_splat@half", volume, n, &(halo_feature_desc){.half_resolution = 1}, oblique);
         if (WANT("feature_splat@weighted"))
             run_splat_row(&c, "feature_splat@weighted", volume, n,
-                      &(halo_feature_desc){.threshold = 0.05, .gradient_weighted = 1, .k_hpe = 2}, oblique);
+                          &(halo_feature_desc){.threshold = 0.05, .gradient_weighted = 1, .k_hpe = 2}, oblique);
         if (WANT("feature_splat@nocutoff"))
             run_splat_row(&c, "feature_splat@nocutoff", volume, n,
-                      &(halo_feature_desc){.threshold = -1, .k_hpe = 3, .k_hse = 1}, side);
+                          &(halo_feature_desc){.threshold = -1, .k_hpe = 3, .k_hse = 1}, side);
         float *hard = constant_volume(16, 0.5f);
         if (WANT("feature_splat@constant"))
             run_splat_row(&c, "feature_splat@constant", hard, 16, &(halo_feature_desc){.threshold = -1}, oblique);
@@ -426,9 +424,10 @@ static int run_rows(const char *only, int verbose, int *failed)
         if (WANT("feature_halo@live"))
             run_apply_row(&c, "feature_halo@live", scene, 1, 7.5, 0.5, volume, n);
         if (WANT("feature_halo@strong"))
-            run_apply_row(&c, "feature_halo@strong",
-                      "{\"halo_scene\": 1, \"stages\": [{\"feature_halo\": {\"opacity_gain\": 50, \"darkening\": 50}}]}",
-                      0, 0, 0, volume, n);
+            run_apply_row(
+                &c, "feature_halo@strong",
+                "{\"halo_scene\": 1, \"stages\": [{\"feature_halo\": {\"opacity_gain\": 50, \"darkening\": 50}}]}", 0,
+                0, 0, volume, n);
     }
     free(volume);
     halo_gl_destroy(c.runtime);
@@ -443,10 +442,7 @@ static int run_rows(const char *only, int verbose, int *failed)
 
 #undef WANT
 
-int halo_conform_feature_rows(int verbose, int *failed)
-{
-    return run_rows(NULL, verbose, failed);
-}
+int halo_conform_feature_rows(int verbose, int *failed) { return run_rows(NULL, verbose, failed); }
 
 void conform_feature_row(conform *c, const conform_row *row)
 {

@@ -7,12 +7,12 @@
 #include "halo.h"
 
 /* Tolerances of the rows (the measurements behind them: conform_feature.c). */
-#define FEATURE_SPLAT_TOLERANCE 1e-6
-#define FEATURE_SPLAT_WHY "float32 weights, unit vectors, pow and R32F additive blending of <= n^3 terms in [0,1]"
+#define FEATURE_SPLAT_TOLERANCE     1e-6
+#define FEATURE_SPLAT_WHY           "float32 weights, unit vectors, pow and R32F additive blending of <= n^3 terms in [0,1]"
 #define FEATURE_REFERENCE_TOLERANCE 1e-12
-#define FEATURE_REFERENCE_WHY "the same double sums, scaled by S and (1 - |grad f|): double rounding only"
-#define FEATURE_APPLY_TOLERANCE 5e-6
-#define FEATURE_APPLY_WHY "GL_LINEAR lookup of the buffer in float, |grad f| in float, scaled by c1 and c2 up to 50"
+#define FEATURE_REFERENCE_WHY       "the same double sums, scaled by S and (1 - |grad f|): double rounding only"
+#define FEATURE_APPLY_TOLERANCE     5e-6
+#define FEATURE_APPLY_WHY           "GL_LINEAR lookup of the buffer in float, |grad f| in float, scaled by c1 and c2 up to 50"
 
 /* Prints one row per test in halo-validate conform's format (stage max_abs rmse
  * over_tol nonfinite tolerance PASS|FAIL) to stdout; with verbose, the worst texel and

@@ -17,12 +17,28 @@
 static void perturb_input(halo_emu_sample *s, int field, double factor)
 {
     switch (field) {
-    case 0: for (int k = 0; k < 3; ++k) s->view[k] *= factor; break;
-    case 1: for (int k = 0; k < 3; ++k) s->gradient[k] *= factor; break;
-    case 2: s->value *= factor; break;
-    case 3: for (int k = 0; k < 3; ++k) s->position[k] *= factor; break;
-    case 4: for (int k = 0; k < 3; ++k) s->color[k] = fmin(1.0, s->color[k] * factor); break;
-    default: s->opacity = fmin(1.0, s->opacity * factor); break;
+    case 0:
+        for (int k = 0; k < 3; ++k)
+            s->view[k] *= factor;
+        break;
+    case 1:
+        for (int k = 0; k < 3; ++k)
+            s->gradient[k] *= factor;
+        break;
+    case 2:
+        s->value *= factor;
+        break;
+    case 3:
+        for (int k = 0; k < 3; ++k)
+            s->position[k] *= factor;
+        break;
+    case 4:
+        for (int k = 0; k < 3; ++k)
+            s->color[k] = fmin(1.0, s->color[k] * factor);
+        break;
+    default:
+        s->opacity = fmin(1.0, s->opacity * factor);
+        break;
     }
 }
 
@@ -62,8 +78,8 @@ static size_t print_frame_row(conform *c, const char *row, const row_stats *stat
     size_t shown = worst_over != SIZE_MAX ? worst_over : stats->worst;
     halo_emu_sample s = samples[shown];
     emulate_frame_sample(p, eframe, &s, emu);
-    conform_print_sample(worst_over != SIZE_MAX ? "over tolerance" : "largest error", &samples[shown],
-                         &gpu[shown * 4], emu);
+    conform_print_sample(worst_over != SIZE_MAX ? "over tolerance" : "largest error", &samples[shown], &gpu[shown * 4],
+                         emu);
     return shown;
 }
 
@@ -186,7 +202,8 @@ static int compare_output_images(conform *c, const char *row, const halo_program
     ok = 1;
 out:
     if (!ok)
-        HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0, "row %s: an output image could not be read or emulated", row);
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0,
+                          "row %s: an output image could not be read or emulated", row);
     for (size_t i = 0; gl_images && i < images; ++i)
         free(gl_images[i]);
     free(gl_images);
@@ -227,8 +244,12 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
         goto done;
     if (!scene)
         goto done;
-    program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = c->probe_source,
-                                          .host_file = "probe.frag", .all_live = live, .target = c->target},
+    program = halo_link(&(halo_link_desc){.library = c->lib,
+                                          .scene = scene,
+                                          .host_source = c->probe_source,
+                                          .host_file = "probe.frag",
+                                          .all_live = live,
+                                          .target = c->target},
                         c->diag);
     if (!program)
         goto done;
@@ -340,7 +361,8 @@ void conform_frame_row(conform *c, const conform_row *row)
     const halo_module *m = row_module(c, row->name);
     if (!m) {
         if (row_selected(c, row->name, NULL)) {
-            HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0, "the stage of row '%s' is not in the library", row->name);
+            HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0, "the stage of row '%s' is not in the library",
+                              row->name);
             print_error_row(c, row->name);
         }
         return;

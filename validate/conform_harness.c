@@ -80,9 +80,10 @@ void print_error_row(conform *c, const char *row)
         /* the runtime's own refusal of what this OpenGL ES version lacks (its diagnostic
          * names it: per-buffer blending on ES 3.0) */
         halo_diagnostics_clear(c->diag);
-        conform_skip_on_es(c, row, "the runtime refuses it here (GL_PROC_MISSING: the program writes extra "
-                                   "outputs, which need per-draw-buffer blending, ES 3.2; on ES 3.0 halos take "
-                                   "host contract 3, the ray@one_draw rows)");
+        conform_skip_on_es(c, row,
+                           "the runtime refuses it here (GL_PROC_MISSING: the program writes extra "
+                           "outputs, which need per-draw-buffer blending, ES 3.2; on ES 3.0 halos take "
+                           "host contract 3, the ray@one_draw rows)");
         return;
     }
     print_error_row_line(row, 12, c->diag);
@@ -168,10 +169,7 @@ double conform_random_uniform(uint64_t *state)
 
 static uint64_t random_state;
 
-static double random_uniform(void) /* splitmix64, [0, 1) */
-{
-    return conform_random_uniform(&random_state);
-}
+static double random_uniform(void) /* splitmix64, [0, 1) */ { return conform_random_uniform(&random_state); }
 
 void conform_normalize3(double v[3])
 {
@@ -181,10 +179,7 @@ void conform_normalize3(double v[3])
             v[k] /= n;
 }
 
-static void set3(double out[3], double x, double y, double z)
-{
-    out[0] = x, out[1] = y, out[2] = z;
-}
+static void set3(double out[3], double x, double y, double z) { out[0] = x, out[1] = y, out[2] = z; }
 
 /* A (gradient, view) pair of the hard cases. */
 typedef struct direction_case {
@@ -193,7 +188,7 @@ typedef struct direction_case {
 } direction_case;
 
 /* Float one ulp above and below 1 (2^-23 and 2^-24 away). */
-#define ONE_ULP_UP (1.0 + 1.0 / 8388608.0)
+#define ONE_ULP_UP   (1.0 + 1.0 / 8388608.0)
 #define ONE_ULP_DOWN (1.0 - 1.0 / 16777216.0)
 
 static size_t direction_cases(direction_case *out)
@@ -205,8 +200,8 @@ static size_t direction_cases(direction_case *out)
     /* Round the view to float first: the host's V is a float unit vector. */
     for (int k = 0; k < 3; ++k)
         oblique[k] = (float)oblique[k], other[k] = (float)other[k];
-    const double *views[] = {(const double[]){0, 0, 1}, (const double[]){0, 0, -1}, (const double[]){1, 0, 0},
-                             oblique, other};
+    const double *views[] = {(const double[]){0, 0, 1}, (const double[]){0, 0, -1}, (const double[]){1, 0, 0}, oblique,
+                             other};
     for (size_t v = 0; v < sizeof views / sizeof views[0]; ++v) {
         const double *V = views[v];
         /* no gradient, and gradients too small to have a direction (|g|^2 < 1e-20) */
@@ -254,7 +249,7 @@ void conform_fill_samples(halo_emu_sample *samples, int width, int height)
     size_t direction_count = direction_cases(directions);
     static const double depths[] = {0.0, 1.0, 0.5, 1e-7, 0.9999999};
     static const double opacities[] = {0.0, 1.0, 0.5, 0.02};
-    static const double colors[][3] = {{0, 0, 0}, {1, 1, 1}, {1, 0, 0}, {0.2, 0.5, 0.9},
+    static const double colors[][3] = {{0, 0, 0},       {1, 1, 1}, {1, 0, 0},    {0.2, 0.5, 0.9},
                                        {0.5, 0.5, 0.5}, {1, 1, 0}, {0, 0.3, 0.3}};
     static const double values[] = {0.0, 1.0, 0.5};
     static const double positions[][3] = {{0.5, 0.5, 0.5}, {0, 0, 0}, {1, 1, 1}};
@@ -309,7 +304,7 @@ static void transfer_texels(const float *transfer, int texels, double u, double 
 void conform_transfer_lookup(const float *transfer, int texels, double value, double rgba[4])
 {
     double v = value > 0.0 ? (value < 1.0 ? value : 1.0) : 0.0; /* NaN -> 0, as the hosts do */
-    transfer_texels(transfer, texels, v * (texels - 1), rgba); /* ((v (n-1) + 0.5) / n) * n - 0.5 */
+    transfer_texels(transfer, texels, v * (texels - 1), rgba);  /* ((v (n-1) + 0.5) / n) * n - 0.5 */
 }
 
 void conform_transfer_texture(const float *transfer, int texels, double value, double rgba[4])
@@ -325,8 +320,8 @@ void conform_transform(const double m[16], const double v[4], double out[4])
         out[row] = m[row] * v[0] + m[4 + row] * v[1] + m[8 + row] * v[2] + m[12 + row] * v[3];
 }
 
-void conform_pixel_ray(const double inverse_view_projection[16], int width, int height, int x, int y,
-                       double origin[3], double direction[3])
+void conform_pixel_ray(const double inverse_view_projection[16], int width, int height, int x, int y, double origin[3],
+                       double direction[3])
 {
     double ndc[2] = {(x + 0.5) / width * 2.0 - 1.0, (y + 0.5) / height * 2.0 - 1.0};
     double near_point[4], far_point[4];
@@ -406,8 +401,8 @@ void conform_print_sample(const char *label, const halo_emu_sample *s, const flo
 /* conform_harness.h */
 void conform_set_live_arrays(halo_program *p, const halo_module *m, halo_diagnostics *diag)
 {
-    static const double elements[4][4] = {{0.6, -0.8, 0.0, 1.0}, {0.0, 0.0, 0.0, 0.0},
-                                          {-0.3, 0.5, 0.8, 0.5}, {1.0, 1.0, -1.0, 0.25}};
+    static const double elements[4][4] = {
+        {0.6, -0.8, 0.0, 1.0}, {0.0, 0.0, 0.0, 0.0}, {-0.3, 0.5, 0.8, 0.5}, {1.0, 1.0, -1.0, 0.25}};
     for (size_t i = 0; i < halo_module_param_count(m); ++i) {
         const halo_param_info *info = halo_module_param(m, i);
         if (info->array_size < 2)
@@ -502,8 +497,7 @@ int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp)
     f->GenTextures(4, fp->inputs);
     f->GenTextures(1, &fp->color);
     for (int i = 0; i < 5; ++i)
-        halo_host_image_texture(f, i < 4 ? fp->inputs[i] : fp->color, GL_RGBA32F, c->size, c->size, GL_RGBA,
-                                GL_FLOAT);
+        halo_host_image_texture(f, i < 4 ? fp->inputs[i] : fp->color, GL_RGBA32F, c->size, c->size, GL_RGBA, GL_FLOAT);
     f->BindTexture(GL_TEXTURE_2D, 0);
     f->GenTextures(2, fp->host_textures);
     f->BindTexture(GL_TEXTURE_3D, fp->host_textures[0]);
@@ -533,7 +527,7 @@ int frame_probe_init(conform *c, const halo_program *p, frame_probe *fp)
 /* Draws probe.frag once over samples (one per pixel) with the frame's outputs attached and
  * images bound; reads colour and opacity back into rgba (may be NULL). */
 halo_status frame_probe_draw(conform *c, frame_probe *fp, const halo_program *p, halo_gl_frame *frame,
-                                    const halo_emu_sample *samples, float *rgba)
+                             const halo_emu_sample *samples, float *rgba)
 {
     const halo_glfuncs *f = fp->f;
     size_t n = (size_t)fp->size * (size_t)fp->size;
@@ -568,7 +562,8 @@ halo_status frame_probe_draw(conform *c, frame_probe *fp, const halo_program *p,
     halo_gl_frame_bind(frame, fp->program, 4);
     double right[3], up[3];
     host_axes(right, up);
-    float fr[3] = {(float)right[0], (float)right[1], (float)right[2]}, fu[3] = {(float)up[0], (float)up[1], (float)up[2]};
+    float fr[3] = {(float)right[0], (float)right[1], (float)right[2]},
+          fu[3] = {(float)up[0], (float)up[1], (float)up[2]};
     for (size_t i = 0; i < halo_program_host_uniform_count(p); ++i) {
         const char *name = halo_program_host_uniform(p, i)->name;
         if (strstr(name, "screen_right"))
@@ -607,7 +602,8 @@ halo_status frame_probe_draw(conform *c, frame_probe *fp, const halo_program *p,
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
-        HALO_REPORT_ERROR(c->diag, HALO_MSG_GL_LINK, "", 0, 0, "OpenGL error 0x%x while drawing the frame probe", error);
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_GL_LINK, "", 0, 0, "OpenGL error 0x%x while drawing the frame probe",
+                          error);
         return HALO_ERROR_IO;
     }
     return HALO_OK;
@@ -635,38 +631,39 @@ void emu_set_probe_volumes(const halo_program *p, halo_emu_frame *ef)
 
 static void conform_usage(FILE *out)
 {
-    fputs("Usage: halo-validate conform [--stage NAME] [--size N] [-v] [--list] [--backend B]\n"
-          "                             [--gradient-format F]\n"
-          "Renders every per-sample stage through a headless OpenGL context (EGL or OSMesa) and\n"
-          "compares it with the C emulation; one row per test:\n"
-          "  empty     the ray caster linked with no stage against the unlinked one (bit for bit)\n"
-          "  STAGE     the stage with its default parameters, on a probe of hard and random samples\n"
-          "  STAGE@exp0, STAGE@exp64   every exponent parameter set to 0 / 64\n"
-          "  STAGE@live                every parameter a uniform, arrays with several elements\n"
-          "  halo_seed, halo_map (and @halos2, @halos4, @live)   drawn through a GL frame (outputs,\n"
-          "            images, host uniforms) against the emulated frame\n"
-          "  pass:*    halo_generate's image passes on chosen seed images (GPU frame vs emulation)\n"
-          "  outline:* the outline passes (at=post) on synthetic feature buffers: flat depth, depth 1,\n"
-          "            one pixel, border, sigma > image, no-hit normals, occlusion styles, depth effects\n"
-          "  raycast   a small whole render against a C emulation of the ray caster\n"
-          "  figure3   the paper's Fig. 3 as numbers (emulation): fails unless spreading the seed\n"
-          "            gradient keeps small features' halos better than a low-pass of the seeds\n"
-          "Columns: max_abs and rmse of the error over colour and opacity, over_tol the samples\n"
-          "(pixels) beyond tolerance, nonfinite the NaN/Inf values, the tolerance (absolute +\n"
-          "relative; the per-sample conditioning term is explained in docs/accuracy.md).\n"
-          "  --stage NAME  only the rows of this stage (or one row: empty, raycast, boundary@exp64)\n"
-          "  --size N      probe and image side in pixels, 25..512 (default 64)\n"
-          "  -v            print the worst sample of every row and the tolerance's reason\n"
-          "  --list        print the rows (name, family, tolerance, its reason) and run none\n"
-          "  --backend B   the headless context: egl, osmesa or auto (default: EGL when it has a\n"
-          "                hardware renderer, else OSMesa); -v names the one used. egl-es3.0 or\n"
-          "                egl-es3.2: OpenGL ES, the rows linked for GLSL ES 300; the rows that need\n"
-          "                desktop OpenGL are skipped with their reason\n"
-          "  --gradient-format F   the slice and slab rows' gradient texture: float, half,\n"
-          "                        snorm8, packed16 or packed32\n"
-          "                (default: the hosts' default); the emulation reads the float gradients\n"
-          "Exit status: 0 all pass, 1 a row failed, 2 usage or setup failure (no OpenGL context).\n",
-          out);
+    fputs(
+        "Usage: halo-validate conform [--stage NAME] [--size N] [-v] [--list] [--backend B]\n"
+        "                             [--gradient-format F]\n"
+        "Renders every per-sample stage through a headless OpenGL context (EGL or OSMesa) and\n"
+        "compares it with the C emulation; one row per test:\n"
+        "  empty     the ray caster linked with no stage against the unlinked one (bit for bit)\n"
+        "  STAGE     the stage with its default parameters, on a probe of hard and random samples\n"
+        "  STAGE@exp0, STAGE@exp64   every exponent parameter set to 0 / 64\n"
+        "  STAGE@live                every parameter a uniform, arrays with several elements\n"
+        "  halo_seed, halo_map (and @halos2, @halos4, @live)   drawn through a GL frame (outputs,\n"
+        "            images, host uniforms) against the emulated frame\n"
+        "  pass:*    halo_generate's image passes on chosen seed images (GPU frame vs emulation)\n"
+        "  outline:* the outline passes (at=post) on synthetic feature buffers: flat depth, depth 1,\n"
+        "            one pixel, border, sigma > image, no-hit normals, occlusion styles, depth effects\n"
+        "  raycast   a small whole render against a C emulation of the ray caster\n"
+        "  figure3   the paper's Fig. 3 as numbers (emulation): fails unless spreading the seed\n"
+        "            gradient keeps small features' halos better than a low-pass of the seeds\n"
+        "Columns: max_abs and rmse of the error over colour and opacity, over_tol the samples\n"
+        "(pixels) beyond tolerance, nonfinite the NaN/Inf values, the tolerance (absolute +\n"
+        "relative; the per-sample conditioning term is explained in docs/accuracy.md).\n"
+        "  --stage NAME  only the rows of this stage (or one row: empty, raycast, boundary@exp64)\n"
+        "  --size N      probe and image side in pixels, 25..512 (default 64)\n"
+        "  -v            print the worst sample of every row and the tolerance's reason\n"
+        "  --list        print the rows (name, family, tolerance, its reason) and run none\n"
+        "  --backend B   the headless context: egl, osmesa or auto (default: EGL when it has a\n"
+        "                hardware renderer, else OSMesa); -v names the one used. egl-es3.0 or\n"
+        "                egl-es3.2: OpenGL ES, the rows linked for GLSL ES 300; the rows that need\n"
+        "                desktop OpenGL are skipped with their reason\n"
+        "  --gradient-format F   the slice and slab rows' gradient texture: float, half,\n"
+        "                        snorm8, packed16 or packed32\n"
+        "                (default: the hosts' default); the emulation reads the float gradients\n"
+        "Exit status: 0 all pass, 1 a row failed, 2 usage or setup failure (no OpenGL context).\n",
+        out);
 }
 
 int conform_parse_command_line(conform *c, int argc, char **argv)
@@ -729,8 +726,10 @@ static int stage_known(conform *c)
         *at = '\0';
     const halo_module *m = halo_library_find(c->lib, base);
     if (!m || halo_module_hook(m) != HALO_HOOK_SAMPLE) {
-        fprintf(stderr, "halo-validate: conform: --stage: no per-sample stage '%s' (rows: empty, raycast, figure3,"
-                        " pass:NAME, slice, slab, line_strip, line_halo, lines, or a stage of halo-validate list)\n", only);
+        fprintf(stderr,
+                "halo-validate: conform: --stage: no per-sample stage '%s' (rows: empty, raycast, figure3,"
+                " pass:NAME, slice, slab, line_strip, line_halo, lines, or a stage of halo-validate list)\n",
+                only);
         return 0;
     }
     return 1;

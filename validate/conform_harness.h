@@ -141,8 +141,8 @@ void conform_transfer_texture(const float *transfer, int texels, double value, d
 void conform_transform(const double m[16], const double v[4], double out[4]);
 /* The ray of pixel (x, y) as the example hosts build it from inverse_view_projection:
  * its origin on the near plane and its unit direction. */
-void conform_pixel_ray(const double inverse_view_projection[16], int width, int height, int x, int y,
-                       double origin[3], double direction[3]);
+void conform_pixel_ray(const double inverse_view_projection[16], int width, int height, int x, int y, double origin[3],
+                       double direction[3]);
 /* The emulated frame of a host's program, begun, with halo_seed's image-plane axes set;
  * NULL when the program has no images, outputs or samplers (*ok stays 1) or on failure
  * (*ok 0, diagnostics in diag). */

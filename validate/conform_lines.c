@@ -70,15 +70,9 @@ static int selected(const rows *r, const char *row)
 
 static uint64_t random_state;
 
-static double random_uniform(void) /* splitmix64, [0, 1) */
-{
-    return conform_random_uniform(&random_state);
-}
+static double random_uniform(void) /* splitmix64, [0, 1) */ { return conform_random_uniform(&random_state); }
 
-static double f32(double x)
-{
-    return (double)(float)x;
-}
+static double f32(double x) { return (double)(float)x; }
 
 /* ---- Float targets -------------------------------------------------------------------- */
 
@@ -135,28 +129,32 @@ static halo_program *link_probe(rows *r, const char *host, halo_shader_kind kind
     const char *source = halo_host_embedded(host);
     if (!source)
         fprintf(stderr, "conform lines: the probe host %s is not embedded\n", host);
-    halo_program *p = source ? halo_link(&(halo_link_desc){.library = r->lib, .scene = scene, .host_source = source,
-                                                            .host_file = host, .kind = kind},
-                                         r->diag)
-                             : NULL;
+    halo_program *p =
+        source ? halo_link(
+                     &(halo_link_desc){
+                         .library = r->lib, .scene = scene, .host_source = source, .host_file = host, .kind = kind},
+                     r->diag)
+               : NULL;
     halo_scene_destroy(scene);
     return p;
 }
 
 /* ---- line_vertex: points carrying the stage's output ------------------------------------- */
 
-static const char point_fragment[] = "#version 330 core\n"
-                                     "flat in vec4 probe_position;\n"
-                                     "flat in vec4 probe_color;\n"
-                                     "layout(location = 0) out vec4 out_position;\n"
-                                     "layout(location = 1) out vec4 out_color;\n"
-                                     "void main() { out_position = probe_position; out_color = probe_color; }\n";
+static const char point_fragment[] =
+    "#version 330 core\n"
+    "flat in vec4 probe_position;\n"
+    "flat in vec4 probe_color;\n"
+    "layout(location = 0) out vec4 out_position;\n"
+    "layout(location = 1) out vec4 out_color;\n"
+    "void main() { out_position = probe_position; out_color = probe_color; }\n";
 
-static const char fullscreen_vertex[] = "#version 330 core\n"
-                                        "void main() {\n"
-                                        "    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
-                                        "    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n"
-                                        "}\n";
+static const char fullscreen_vertex[] =
+    "#version 330 core\n"
+    "void main() {\n"
+    "    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
+    "    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n"
+    "}\n";
 
 /* A probe: the probe host linked with the row's scene, its GL program and its target. */
 typedef struct probe {
@@ -171,7 +169,7 @@ static int open_probe(rows *r, const char *row, int vertex_probe, const char *sc
 {
     halo_program *p = vertex_probe ? link_probe(r, "line_probe.vert", HALO_SHADER_VERTEX, scene_text)
                                    : link_probe(r, "line_probe.frag", HALO_SHADER_FRAGMENT, scene_text);
-    GLuint program = !p ? 0
+    GLuint program = !p             ? 0
                      : vertex_probe ? halo_lines_build_program(&r->f, p, NULL, "line_probe.vert", NULL, point_fragment,
                                                                "point.frag", r->diag)
                                     : halo_lines_build_program(&r->f, NULL, fullscreen_vertex, "fullscreen.vert", p,
@@ -203,7 +201,8 @@ static void vertex_row(rows *r, const char *row, const char *scene_text, halo_em
         return;
     const halo_glfuncs *f = &r->f;
     float *attributes = malloc(n * 12 * sizeof *attributes);
-    float *out0 = malloc(PROBE_SIDE * PROBE_SIDE * 4 * sizeof *out0), *out1 = malloc(PROBE_SIDE * PROBE_SIDE * 4 * sizeof *out1);
+    float *out0 = malloc(PROBE_SIDE * PROBE_SIDE * 4 * sizeof *out0),
+          *out1 = malloc(PROBE_SIDE * PROBE_SIDE * 4 * sizeof *out1);
     if (!attributes || !out0 || !out1) {
         free(attributes), free(out0), free(out1);
         close_probe(r, &pr);
@@ -358,8 +357,8 @@ static void run_strip_degenerate_row(rows *r)
     if (!selected(r, row))
         return;
     /* Polylines with coincident points, through the host's strip attributes. */
-    static const double coincident[] = {0, 0, 0, 0, 0, 0, 1, 0, 0, /* a zero-length first segment */
-                                        1, 1, 1, 1, 1, 1,          /* two coincident vertices only */
+    static const double coincident[] = {0, 0, 0, 0, 0, 0, 1, 0, 0,           /* a zero-length first segment */
+                                        1, 1, 1, 1, 1, 1,                    /* two coincident vertices only */
                                         2, 0, 0, 2, 0, 0, 2, 0, 0, 3, 0, 0}; /* three coincident, then one */
     size_t first[4] = {0, 3, 5, 9};
     halo_polylines lines = {3, 9, first, (double *)coincident};
@@ -379,20 +378,20 @@ static void run_strip_degenerate_row(rows *r)
         }
     /* position, direction, uv.x, width, eye */
     static const double special[][11] = {
-        {0, 0, 0, 0, 0, 1, 0.5, 1, 0, 0, 5},        /* pointing at the eye */
-        {0, 0, 0, 0, 0, -3, 0.5, 1, 0, 0, 5},       /* pointing away from it */
+        {0, 0, 0, 0, 0, 1, 0.5, 1, 0, 0, 5},         /* pointing at the eye */
+        {0, 0, 0, 0, 0, -3, 0.5, 1, 0, 0, 5},        /* pointing away from it */
         {0.5, 0.5, 0, 1, 1, 0, 0.5, 1, 0.5, 0.5, 4}, /* V x D = 0 off the axis */
-        {0, 0, 0, 0, 0, 0, 0.5, 1, 0, 0, 5},        /* zero-length segment: D = 0 */
-        {0, 0, 5, 1, 0, 0, 0.5, 1, 0, 0, 5},        /* at the eye: V = 0 */
-        {0, 0, 5, 0, 0, 1, 0.5, 1, 0, 0, 5},        /* at the eye, D along the view axis */
-        {0, 0, 4.999, 1, 0, 0, 0.5, 1, 0, 0, 5},    /* just in front of the eye (before the near plane) */
-        {0, 0, 6, 1, 0, 0, 0.5, 1, 0, 0, 5},        /* behind the eye */
-        {0, 0, 7, 0, 0, 1, 0.5, 1, 0, 0, 5},        /* behind the eye, on the axis */
-        {0, 0, 0, 1, 0, 0, 0.0, 1, 0, 0, 5},        /* line start: zero width */
-        {0, 0, 0, 1, 0, 0, 1.0, 1, 0, 0, 5},        /* line end: zero width */
-        {0, 0, 0, 1, 0, 0, 0.5, 0, 0, 0, 5},        /* zero width unit */
+        {0, 0, 0, 0, 0, 0, 0.5, 1, 0, 0, 5},         /* zero-length segment: D = 0 */
+        {0, 0, 5, 1, 0, 0, 0.5, 1, 0, 0, 5},         /* at the eye: V = 0 */
+        {0, 0, 5, 0, 0, 1, 0.5, 1, 0, 0, 5},         /* at the eye, D along the view axis */
+        {0, 0, 4.999, 1, 0, 0, 0.5, 1, 0, 0, 5},     /* just in front of the eye (before the near plane) */
+        {0, 0, 6, 1, 0, 0, 0.5, 1, 0, 0, 5},         /* behind the eye */
+        {0, 0, 7, 0, 0, 1, 0.5, 1, 0, 0, 5},         /* behind the eye, on the axis */
+        {0, 0, 0, 1, 0, 0, 0.0, 1, 0, 0, 5},         /* line start: zero width */
+        {0, 0, 0, 1, 0, 0, 1.0, 1, 0, 0, 5},         /* line end: zero width */
+        {0, 0, 0, 1, 0, 0, 0.5, 0, 0, 0, 5},         /* zero width unit */
         {1e-30, 0, 0, 1e-30, 0, 0, 0.5, 1, 0, 0, 5}, /* tiny direction */
-        {0, 0, 0, 1e30, 1e30, 0, 0.5, 1, 0, 0, 5},  /* huge direction */
+        {0, 0, 0, 1e30, 1e30, 0, 0.5, 1, 0, 0, 5},   /* huge direction */
     };
     for (size_t i = 0; i < sizeof special / sizeof special[0]; ++i)
         for (int side = 0; side < 2; ++side) {
@@ -460,7 +459,8 @@ static void run_halo_row(rows *r, int profile)
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
             f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-            f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, PROBE_SIDE, PROBE_SIDE, 0, GL_RGBA, GL_FLOAT, &inputs[k * n * 4]);
+            f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, PROBE_SIDE, PROBE_SIDE, 0, GL_RGBA, GL_FLOAT,
+                          &inputs[k * n * 4]);
             f->Uniform1i(f->GetUniformLocation(pr.program, samplers[k]), k);
         }
         GLuint vao = 0;
@@ -503,9 +503,11 @@ static void run_halo_row(rows *r, int profile)
             add_value(&s, gc[3], e.opacity, 1e-6);
             add_value(&s, gd[0], e.depth, 1e-6);
             if (r->verbose && s.over > before)
-                fprintf(stderr, "  %s pixel %zu: v %.9g depth %.9g: gpu (%.9g %.9g %.9g %.9g | %.9g) emulation (%.9g %.9g %.9g %.9g | %.9g)\n",
-                        row, i, in[i].uv[1], in[i].depth, gc[0], gc[1], gc[2], gc[3], gd[0], e.color[0], e.color[1],
-                        e.color[2], e.opacity, e.depth);
+                fprintf(
+                    stderr,
+                    "  %s pixel %zu: v %.9g depth %.9g: gpu (%.9g %.9g %.9g %.9g | %.9g) emulation (%.9g %.9g %.9g %.9g | %.9g)\n",
+                    row, i, in[i].uv[1], in[i].depth, gc[0], gc[1], gc[2], gc[3], gd[0], e.color[0], e.color[1],
+                    e.color[2], e.opacity, e.depth);
         }
         if (r->verbose && excluded)
             fprintf(stderr, "  %s: %zu pixels at the core's edge left out\n", row, excluded);
@@ -531,9 +533,9 @@ static int render_lines(rows *r, const char *scene_text, const halo_polylines *l
     halo_program *vp = NULL, *fp = NULL;
     if (halo_lines_link(r->lib, NULL, scene_text, NULL, NULL, &vp, &fp, r->diag) != HALO_OK)
         return 0;
-    halo_lines *l = halo_lines_create(&(halo_lines_desc){.gl = &r->f, .vertex_program = vp, .fragment_program = fp,
-                                                          .width = size, .height = size},
-                                      r->diag);
+    halo_lines *l = halo_lines_create(
+        &(halo_lines_desc){.gl = &r->f, .vertex_program = vp, .fragment_program = fp, .width = size, .height = size},
+        r->diag);
     int ok = l && halo_lines_set_data(l, lines, r->diag) == HALO_OK && halo_lines_draw(l, view, r->diag) == HALO_OK &&
              halo_lines_read(l, rgba, r->diag) == HALO_OK;
     if (ok && state)
@@ -628,15 +630,15 @@ static void run_near_plane_row(rows *r)
     const char *row = "lines@near_plane";
     if (!selected(r, row))
         return;
-    static const char scene[] = "{\"halo_scene\": 1, \"stages\": [{\"line_strip\": {\"strip_width\": 0.1}},"
-                                " {\"line_halo\": {\"profile\": 1}}]}";
+    static const char scene[] =
+        "{\"halo_scene\": 1, \"stages\": [{\"line_strip\": {\"strip_width\": 0.1}},"
+        " {\"line_halo\": {\"profile\": 1}}]}";
     /* eye on +z at 1/sin(15 deg) = 3.86 from the origin (radius 1) */
-    static const double points[] = {
-        0.3, 0.2, -1.0, 0.3, 0.2, 10.0,                   /* through the near plane, past the eye */
-        0.0, 0.0, 3.0, 0.0, 0.0, 1.0, 0.0, 0.0, -1.0,     /* pointing at the eye */
-        -0.5, -0.5, 0.0, -0.5, -0.5, 0.0, 0.5, -0.5, 0.0, /* a zero-length segment */
-        0.5, 0.5, 0.5, 0.5, 0.5, 0.5,                     /* two coincident vertices */
-        -0.6, 0.4, 0.0, -0.2, 0.4, 0.0};
+    static const double points[] = {0.3,  0.2,  -1.0, 0.3,  0.2,  10.0, /* through the near plane, past the eye */
+                                    0.0,  0.0,  3.0,  0.0,  0.0,  1.0,  0.0, 0.0,  -1.0, /* pointing at the eye */
+                                    -0.5, -0.5, 0.0,  -0.5, -0.5, 0.0,  0.5, -0.5, 0.0,  /* a zero-length segment */
+                                    0.5,  0.5,  0.5,  0.5,  0.5,  0.5,                   /* two coincident vertices */
+                                    -0.6, 0.4,  0.0,  -0.2, 0.4,  0.0};
     size_t first[] = {0, 2, 5, 8, 10, 12};
     halo_polylines lines = {5, 12, first, (double *)points};
     halo_lines_view view = {.zoom = 1.0, .radius = 1.0, .background = {1, 1, 1}, .line_color = {0, 0, 0}};
@@ -690,10 +692,7 @@ int halo_conform_line_rows_select(const char *only, int verbose, int *failed)
     return run_rows(only, 0, verbose, failed);
 }
 
-int halo_conform_line_rows(int verbose, int *failed)
-{
-    return halo_conform_line_rows_select(NULL, verbose, failed);
-}
+int halo_conform_line_rows(int verbose, int *failed) { return halo_conform_line_rows_select(NULL, verbose, failed); }
 
 void conform_lines_row(conform *c, const conform_row *row)
 {

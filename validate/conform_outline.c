@@ -19,23 +19,22 @@
 typedef struct outline_case {
     const char *name;
     enum conform_outline_shape shape;
-    int occluder_band; /* second draw: an opaque band (rows size/3 .. size/2) at depth 0.1 */
+    int occluder_band;    /* second draw: an opaque band (rows size/3 .. size/2) at depth 0.1 */
     const char *outlines; /* the outlines stage's parameters (JSON object members) */
     double tol_abs, tol_rel;
     const char *reason; /* of the tolerance */
 } outline_case;
 
 #define ONE_FEATURE "\"value_min\": 0.5, \"value_max\": 1, \"occluder_opacity\": 0.5"
-#define FOUR_FEATURES                                                                                             \
+#define FOUR_FEATURES \
     "\"value_min\": [0, 0.2, 0.5, 0.8], \"value_max\": [0.199, 0.399, 0.7, 1], \"occluder_opacity\": 0.5"
 
 /* Six features: two feature groups (features 0-3, then 4-5), one volume pass each. */
-#define SIX_FEATURES                                                                                              \
-    "\"value_min\": [0, 0.15, 0.3, 0.5, 0.65, 0.85], \"value_max\": [0.1, 0.25, 0.4, 0.6, 0.75, 1],"                  \
+#define SIX_FEATURES                                                                                 \
+    "\"value_min\": [0, 0.15, 0.3, 0.5, 0.65, 0.85], \"value_max\": [0.1, 0.25, 0.4, 0.6, 0.75, 1]," \
     " \"occluder_opacity\": 0.5"
 static const double six_centres[6][2] = {{0.2, 0.3}, {0.5, 0.3}, {0.8, 0.3}, {0.2, 0.7}, {0.5, 0.7}, {0.8, 0.7}};
 static const double six_values[6] = {0.05, 0.2, 0.35, 0.55, 0.7, 0.9};
-
 
 
 /* Depth and sphere normal of a disc at (cx, cy), radius r, front depth d0: 1 outside. */
@@ -60,9 +59,15 @@ static void feature_sample(enum conform_outline_shape shape, int size, int x, in
     double px = x + 0.5, py = y + 0.5, depth = 1.0, n[3] = {0, 0, 1}, value = 0.75;
     int hit = 0;
     switch (shape) {
-    case OUTLINE_FLAT: hit = 1, depth = 0.5; break;
-    case OUTLINE_DEPTH_ONE: hit = disc(px, py, size * 0.5, size * 0.5, size * 0.3, 0.0, &depth, n), depth = 1.0; break;
-    case OUTLINE_PIXEL: hit = x == size / 2 && y == size / 2, depth = 0.4; break;
+    case OUTLINE_FLAT:
+        hit = 1, depth = 0.5;
+        break;
+    case OUTLINE_DEPTH_ONE:
+        hit = disc(px, py, size * 0.5, size * 0.5, size * 0.3, 0.0, &depth, n), depth = 1.0;
+        break;
+    case OUTLINE_PIXEL:
+        hit = x == size / 2 && y == size / 2, depth = 0.4;
+        break;
     case OUTLINE_BORDER:
         hit = disc(px, py, 0.0, size * 0.5, size * 0.3, 0.3, &depth, n);
         if (!hit && y >= size - 3)
@@ -189,7 +194,8 @@ static const char *check_case(const outline_case *oc, int size, const float *imp
             return "an outline on the one-pixel feature itself (it lies in front of its blur)";
         return NULL;
     }
-    default: break;
+    default:
+        break;
     }
     if (!strcmp(oc->name, "outline:hidden") && (band_most > 0.0 || off_band <= 0.0))
         return "hidden: outline under the occluder (or none elsewhere)";
@@ -218,16 +224,20 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
     int size = c->size, four = oc->shape == OUTLINE_FOUR, six = oc->shape == OUTLINE_SIX;
     size_t count = (size_t)size * (size_t)size;
     char json[2048], tolerance_text[32];
-    snprintf(json, sizeof json,
-             "{\"halo_scene\": 1, \"stages\": [{\"outline_feature\": {%s}}, {\"outlines\": {%s}}]}",
-             six ? SIX_FEATURES : four ? FOUR_FEATURES : ONE_FEATURE, oc->outlines);
+    snprintf(json, sizeof json, "{\"halo_scene\": 1, \"stages\": [{\"outline_feature\": {%s}}, {\"outlines\": {%s}}]}",
+             six    ? SIX_FEATURES
+             : four ? FOUR_FEATURES
+                    : ONE_FEATURE,
+             oc->outlines);
     snprintf(tolerance_text, sizeof tolerance_text, "%.0e+%.0er", oc->tol_abs, oc->tol_rel); /* conform_rows.c */
     halo_scene *scene = halo_scene_parse(json, oc->name, c->lib, c->diag);
-    halo_program *program =
-        scene ? halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = probe_source,
-                                            .host_file = "probe.frag", .target = c->target},
-                          c->diag)
-              : NULL;
+    halo_program *program = scene ? halo_link(&(halo_link_desc){.library = c->lib,
+                                                                .scene = scene,
+                                                                .host_source = probe_source,
+                                                                .host_file = "probe.frag",
+                                                                .target = c->target},
+                                              c->diag)
+                                  : NULL;
     halo_gl_frame *gframe = NULL;
     halo_emu_frame *eframe = NULL;
     frame_probe fp = {0};
@@ -236,8 +246,7 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
     float *importance = malloc(count * 4 * sizeof *importance), *final = malloc(count * 4 * sizeof *final);
     unsigned host_texture = 0;
     int printed = 0; /* the row printed its line; else conform_row_end prints an error row */
-    if (!program || !samples || !host || !gl_image || !importance || !final ||
-        halo_diagnostics_errors(c->diag) > 0)
+    if (!program || !samples || !host || !gl_image || !importance || !final || halo_diagnostics_errors(c->diag) > 0)
         goto done;
     int channels = halo_program_channel_count(program);
     if (!frame_probe_open(c, program, size, &fp))
@@ -279,7 +288,8 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
         }
     }
     if (six && groups != 2) {
-        HALO_REPORT_ERROR(c->diag, HALO_MSG_USAGE, "", 0, 0, "six features linked into %d feature groups, not 2", groups);
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_USAGE, "", 0, 0, "six features linked into %d feature groups, not 2",
+                          groups);
         goto done;
     }
     /* the host colour, in both */
@@ -334,11 +344,12 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
             if (error > stats.max_abs)
                 stats.max_abs = error, stats.worst = i / (size_t)info->channels, worst_image = info->name;
             if (getenv("HALO_OUTLINE_DEBUG") && error > 1e-3)
-                fprintf(stderr, "    %s (%zu, %zu)[%zu] gpu %.9g emu %.9g\n", info->name, (i / (size_t)info->channels) % (size_t)size,
-                        (i / (size_t)info->channels) / (size_t)size, i % (size_t)info->channels, g, e[i]);
+                fprintf(stderr, "    %s (%zu, %zu)[%zu] gpu %.9g emu %.9g\n", info->name,
+                        (i / (size_t)info->channels) % (size_t)size, (i / (size_t)info->channels) / (size_t)size,
+                        i % (size_t)info->channels, g, e[i]);
             if (error > oc->tol_abs + oc->tol_rel * fabs(e[i]))
                 stats.over++, worst_over = i / (size_t)info->channels, worst_over_image = info->name,
-                worst_values[0] = g, worst_values[1] = e[i];
+                              worst_values[0] = g, worst_values[1] = e[i];
         }
     }
     const halo_image_info *imp = image_named(program, "importance");
@@ -402,7 +413,8 @@ static double band_sums[3] = {-1.0, -1.0, -1.0};
 void conform_outline_row(conform *c, const conform_row *row)
 {
     const conform_outline_params *params = row->params;
-    const outline_case oc = {row->name,          params->shape,      params->occluder_band, params->outlines,
-                             row->tolerance_abs, row->tolerance_rel, row->why};
+    const outline_case oc = {row->name,        params->shape,      params->occluder_band,
+                             params->outlines, row->tolerance_abs, row->tolerance_rel,
+                             row->why};
     run_case(c, &oc, c->probe_source, band_sums);
 }

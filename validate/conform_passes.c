@@ -30,23 +30,33 @@ static double seed_case(int which, int x, int y, int size)
 {
     int c0 = size / 2;
     switch (which) {
-    case SEED_EMPTY: return 0.0;
-    case SEED_FULL: return 1.0;
-    case SEED_PIXEL: return x == c0 && y == c0 ? 1.0 : 0.0;
+    case SEED_EMPTY:
+        return 0.0;
+    case SEED_FULL:
+        return 1.0;
+    case SEED_PIXEL:
+        return x == c0 && y == c0 ? 1.0 : 0.0;
     case SEED_BORDER: {
         int last = size - 1;
-        if ((x == 0 || x == last) && (y == 0 || y == last)) return 1.0;
-        if (x == 0 && y % 3 == 0) return 1.0;
-        if (x == last && y % 4 == 1) return 0.75;
-        if (y == 0 && x % 5 == 2) return 1.0;
-        if (y == last && x % 2 == 0) return 0.5;
+        if ((x == 0 || x == last) && (y == 0 || y == last))
+            return 1.0;
+        if (x == 0 && y % 3 == 0)
+            return 1.0;
+        if (x == last && y % 4 == 1)
+            return 0.75;
+        if (y == 0 && x % 5 == 2)
+            return 1.0;
+        if (y == last && x % 2 == 0)
+            return 0.5;
         return 0.0;
     }
     case SEED_DISCS: {
-        static const double discs[][4] = {{0.25, 0.3, 1, 0.7}, {0.6, 0.35, 3, 1.0}, {0.35, 0.7, 6, 0.35}, {0.8, 0.8, 2, 1.0}};
+        static const double discs[][4] = {
+            {0.25, 0.3, 1, 0.7}, {0.6, 0.35, 3, 1.0}, {0.35, 0.7, 6, 0.35}, {0.8, 0.8, 2, 1.0}};
         for (size_t d = 0; d < sizeof discs / sizeof discs[0]; ++d) {
             double dx = x - discs[d][0] * size, dy = y - discs[d][1] * size;
-            if (dx * dx + dy * dy <= discs[d][2] * discs[d][2]) return discs[d][3];
+            if (dx * dx + dy * dy <= discs[d][2] * discs[d][2])
+                return discs[d][3];
         }
         return 0.0;
     }
@@ -80,8 +90,11 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
     int printed = 0; /* the row printed its line; else conform_row_end prints an error row */
     if (!scene || !samples || !image)
         goto done;
-    program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = c->probe_source,
-                                          .host_file = "probe.frag", .image_scale = r->scale,
+    program = halo_link(&(halo_link_desc){.library = lib,
+                                          .scene = scene,
+                                          .host_source = c->probe_source,
+                                          .host_file = "probe.frag",
+                                          .image_scale = r->scale,
                                           .target = c->target},
                         c->diag);
     if (!program || halo_diagnostics_errors(c->diag) > 0)

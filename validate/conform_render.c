@@ -20,15 +20,18 @@
 #define RAYCAST_THRESHOLD_MOVE 1e-5
 
 /* Renders the built-in volume with the ray caster (the render driver): linked program, or raw text. */
-static float *render_raycast(conform *c, const halo_program *program, const char *raw_source,
-                             const halo_scene *scene, const float *volume, int volume_size,
-                             halo_raycast_state *state_out, float *transfer_out)
+static float *render_raycast(conform *c, const halo_program *program, const char *raw_source, const halo_scene *scene,
+                             const float *volume, int volume_size, halo_raycast_state *state_out, float *transfer_out)
 {
     halo_driver r;
     if (!halo_driver_create(&r, HALO_DRIVER_RAYCAST,
-                            &(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = program,
+                            &(halo_host_desc){.gl = c->gl,
+                                              .runtime = c->runtime,
+                                              .program = program,
                                               .fragment_source = program ? NULL : raw_source,
-                                              .fragment_file = "raycast.frag", .width = c->size, .height = c->size},
+                                              .fragment_file = "raycast.frag",
+                                              .width = c->size,
+                                              .height = c->size},
                             c->diag)) {
         halo_driver_destroy(&r);
         return NULL;
@@ -76,8 +79,11 @@ static int raycast_input_open(conform *c, halo_scene *scene, raycast_input *in)
         HALO_REPORT_ERROR(c->diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
     if (!in->scene || !in->volume)
         return 0;
-    in->program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = c->raycast_source,
-                                              .host_file = "raycast.frag", .target = c->target},
+    in->program = halo_link(&(halo_link_desc){.library = c->lib,
+                                              .scene = scene,
+                                              .host_source = c->raycast_source,
+                                              .host_file = "raycast.frag",
+                                              .target = c->target},
                             c->diag);
     return in->program != NULL;
 }
@@ -100,8 +106,7 @@ void conform_empty_row(conform *c, const conform_row *row)
     int printed = 0;
     if (raycast_input_open(c, halo_scene_create(c->lib), &in)) {
         raw = render_raycast(c, NULL, c->raycast_source, in.scene, in.volume, RAYCAST_VOLUME_SIZE, NULL, NULL);
-        linked = raw ? render_raycast(c, in.program, NULL, in.scene, in.volume, RAYCAST_VOLUME_SIZE, NULL, NULL)
-                     : NULL;
+        linked = raw ? render_raycast(c, in.program, NULL, in.scene, in.volume, RAYCAST_VOLUME_SIZE, NULL, NULL) : NULL;
     }
     if (raw && linked) {
         size_t pixels = (size_t)c->size * (size_t)c->size;
@@ -174,12 +179,13 @@ static int emulate_pixel(const halo_raycast_state *s, const halo_program *p, int
             double plus[3] = {P[0], P[1], P[2]}, minus[3] = {P[0], P[1], P[2]};
             plus[k] += voxel[k];
             minus[k] -= voxel[k];
-            sample.gradient[k] = (halo_volume_trilinear(s->volume, s->dims, plus) -
-                                  halo_volume_trilinear(s->volume, s->dims, minus)) * 0.5;
+            sample.gradient[k] =
+                (halo_volume_trilinear(s->volume, s->dims, plus) - halo_volume_trilinear(s->volume, s->dims, minus)) *
+                0.5;
             sample.view[k] = s->eye[k] - P[k];
         }
-        double distance = sqrt(sample.view[0] * sample.view[0] + sample.view[1] * sample.view[1] +
-                               sample.view[2] * sample.view[2]);
+        double distance =
+            sqrt(sample.view[0] * sample.view[0] + sample.view[1] * sample.view[1] + sample.view[2] * sample.view[2]);
         conform_normalize3(sample.view);
         double depth = (distance - front_distance) / (2.0 * radius);
         sample.depth = depth < 0.0 ? 0.0 : depth > 1.0 ? 1.0 : depth;
@@ -219,8 +225,7 @@ void conform_raycast_row(conform *c, const conform_row *row)
     float *gpu = NULL;
     double *reference = NULL, *allowed = NULL;
     int printed = 0;
-    if (!raycast_input_open(c, halo_scene_parse(raycast_scene, "(conformance ray cast scene)", c->lib, c->diag),
-                            &in))
+    if (!raycast_input_open(c, halo_scene_parse(raycast_scene, "(conformance ray cast scene)", c->lib, c->diag), &in))
         goto done;
     const halo_program *program = in.program;
     halo_raycast_state state;
@@ -236,14 +241,17 @@ void conform_raycast_row(conform *c, const conform_row *row)
         HALO_REPORT_ERROR(c->diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
         goto done;
     }
-    static const double moves[][2] = {{-RAYCAST_THRESHOLD_MOVE, 0.0}, {RAYCAST_THRESHOLD_MOVE, 0.0},
-                                      {0.0, -RAYCAST_THRESHOLD_MOVE}, {0.0, RAYCAST_THRESHOLD_MOVE}};
+    static const double moves[][2] = {{-RAYCAST_THRESHOLD_MOVE, 0.0},
+                                      {RAYCAST_THRESHOLD_MOVE, 0.0},
+                                      {0.0, -RAYCAST_THRESHOLD_MOVE},
+                                      {0.0, RAYCAST_THRESHOLD_MOVE}};
     for (int y = 0; y < c->size; ++y)
         for (int x = 0; x < c->size; ++x) {
             size_t i = (size_t)y * (size_t)c->size + (size_t)x;
             double *r = &reference[i * 4];
             if (!emulate_pixel(&state, program, x, y, 0.99, 0.0, r)) {
-                HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0, "the ray cast scene has a stage without emulation");
+                HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0,
+                                  "the ray cast scene has a stage without emulation");
                 goto done;
             }
             double spread[4] = {0, 0, 0, 0};
@@ -268,7 +276,8 @@ void conform_raycast_row(conform *c, const conform_row *row)
     print_row(c, row->name, &stats, tolerance_text, pass);
     if (c->verbose || !pass) {
         size_t w = stats.worst;
-        fprintf(stderr, "  largest error at pixel (%zu, %zu): gpu (%.9g %.9g %.9g %.9g) emulation (%.9g %.9g %.9g %.9g)\n",
+        fprintf(stderr,
+                "  largest error at pixel (%zu, %zu): gpu (%.9g %.9g %.9g %.9g) emulation (%.9g %.9g %.9g %.9g)\n",
                 w % (size_t)c->size, w / (size_t)c->size, gpu[w * 4], gpu[w * 4 + 1], gpu[w * 4 + 2], gpu[w * 4 + 3],
                 reference[w * 4], reference[w * 4 + 1], reference[w * 4 + 2], reference[w * 4 + 3]);
     }
@@ -279,4 +288,3 @@ done:
     free(reference);
     free(allowed);
 }
-

@@ -24,144 +24,192 @@
 /* Per-sample rows: |gpu - emu| <= abs + rel |emu| + condition for colour and opacity
  * (conform_sample.c explains the conditioning term). */
 #define SAMPLE_ROW(stage, abs, rel, why)                                                                          \
-    {stage, "sample", "the stage (defaults, exponents 0 and 64, live) on the probe's hard and random samples",   \
-     "%.0e+%.0er+cond", abs, rel, why, conform_sample_rows, NULL}
-#define FRAME_ROW(name, renders, abs, rel, why, scene, live)                                                      \
-    {name, "frame", renders, "%.0e+%.0er+cond", abs, rel, why, conform_frame_row,                                 \
-     &(const conform_frame_params){scene, live}}
-#define PASS_ROW(name, renders, tolerance, why, generate, compare, generations, scale)                             \
-    {name, "pass", renders, "%.0e", tolerance, 0.0, why, conform_pass_row,                                        \
-     &(const conform_pass_params){generate, compare, generations, scale}}
+    {                                                                                                             \
+        stage, "sample", "the stage (defaults, exponents 0 and 64, live) on the probe's hard and random samples", \
+            "%.0e+%.0er+cond", abs, rel, why, conform_sample_rows, NULL                                           \
+    }
+#define FRAME_ROW(name, renders, abs, rel, why, scene, live)                                                       \
+    {                                                                                                              \
+        name, "frame", renders, "%.0e+%.0er+cond", abs, rel, why, conform_frame_row, &(const conform_frame_params) \
+        {                                                                                                          \
+            scene, live                                                                                            \
+        }                                                                                                          \
+    }
+#define PASS_ROW(name, renders, tolerance, why, generate, compare, generations, scale)                     \
+    {                                                                                                      \
+        name, "pass", renders, "%.0e", tolerance, 0.0, why, conform_pass_row, &(const conform_pass_params) \
+        {                                                                                                  \
+            generate, compare, generations, scale                                                          \
+        }                                                                                                  \
+    }
 
 #define SEED_ABS 1e-5
 #define SEED_REL 1e-5
-#define SEED_WHY                                                                                                  \
-    "pow of |grad f| and smooth windows of value, direction and focus in float32: a few ulps, scaled by the "      \
+#define SEED_WHY                                                                                              \
+    "pow of |grad f| and smooth windows of value, direction and focus in float32: a few ulps, scaled by the " \
     "gradient scale; the seed image is compared as well"
 #define SEED_RENDERS "halo_seed through a GL frame: colour, opacity and the seed image"
-#define MAP_ABS 2e-6
-#define MAP_REL 4e-6
-#define MAP_WHY "the profile's pow and colour mixes on the GPU's own halo images (copied into the emulation): a few ulps"
+#define MAP_ABS      2e-6
+#define MAP_REL      4e-6
+#define MAP_WHY \
+    "the profile's pow and colour mixes on the GPU's own halo images (copied into the emulation): a few ulps"
 #define MAP_RENDERS "halo_map after halo_generate on the GPU, through a GL frame"
 /* Whole renders of the slice host and the slab ray caster (conform_slice.c: the
  * measured errors behind these tolerances). */
-#define SLICE_ROW(name, renders, tolerance, why, halos, slab, interval, scale)                                    \
-    {name, "slice", renders, "%.0e", tolerance, 0.0, why, conform_slice_row,                                      \
-     &(const conform_slice_params){halos, slab, interval, scale}}
+#define SLICE_ROW(name, renders, tolerance, why, halos, slab, interval, scale)                                \
+    {                                                                                                         \
+        name, "slice", renders, "%.0e", tolerance, 0.0, why, conform_slice_row, &(const conform_slice_params) \
+        {                                                                                                     \
+            halos, slab, interval, scale                                                                      \
+        }                                                                                                     \
+    }
 #define SLICE_HALOS_TOL 5e-4
-#define SLICE_HALOS_WHY                                                                                           \
-    "float32 sampling, seeds (|grad f|^alpha amplifies its relative error), image passes and blending of ~110 "    \
+#define SLICE_HALOS_WHY                                                                                         \
+    "float32 sampling, seeds (|grad f|^alpha amplifies its relative error), image passes and blending of ~110 " \
     "slices against double"
 /* The line stages (conform_lines.c); tolerances are plain text: the numbers scale with
  * each vertex's magnitude. */
-#define LINES_ROW(name, renders, tolerance, why) {name, "lines", renders, tolerance, 0.0, 0.0, why, conform_lines_row, NULL}
-#define LINES_VERTEX_WHY                                                                                          \
+#define LINES_ROW(name, renders, tolerance, why)                                  \
+    {                                                                             \
+        name, "lines", renders, tolerance, 0.0, 0.0, why, conform_lines_row, NULL \
+    }
+#define LINES_VERTEX_WHY \
     "float32 positions and widths: 4e-6 relative to the magnitudes of the point and the eye; colours 1e-6"
 #define LINES_HALO_WHY "float32 profile of the distance across the strip, colour, opacity and depth: 1e-6"
 /* The outline passes (at=post) on synthetic feature buffers (conform_outline.c). */
 #define OUTLINE_ROW(name, shape, occluder_band, outlines, abs, rel, why)                                           \
-    {name, "outline", "the outline passes (at=post) on synthetic feature buffers", "%.0e+%.0er", abs, rel, why,  \
-     conform_outline_row, &(const conform_outline_params){shape, occluder_band, outlines}}
+    {                                                                                                              \
+        name, "outline", "the outline passes (at=post) on synthetic feature buffers", "%.0e+%.0er", abs, rel, why, \
+            conform_outline_row, &(const conform_outline_params)                                                   \
+        {                                                                                                          \
+            shape, occluder_band, outlines                                                                         \
+        }                                                                                                          \
+    }
 /* Blurs: float sums of up to 2r+1 taps (r <= size) of exp() weights, renormalized:
  * a few ulps of the depth (<= 1) per tap, 1e-6 relative at most; importance is lambda
  * (<= 4) times a difference of blurred depths: 4e-6; the final colour a mix of colours
  * <= 1 by that importance. Measured: 1.2e-6 at most (64 x 64, llvmpipe); 1e-5 leaves a
  * margin of about 8. */
-#define DEPTH_TOL 1e-5
+#define DEPTH_TOL  1e-5
 /* Normals: the GPU's normal is normalize(gradient) in float (1e-7 relative), 1 - n.n'
  * of nearly parallel normals loses the leading digits (cancellation: 1e-7 absolute on
  * dN), and the window (dN - n_min) / (n_max - n_min) multiplies it by up to 1 / 0.2;
  * normal blurs add a few ulps per tap as above. Measured: 2e-6 at most (64 x 64). */
 #define NORMAL_TOL 2e-5
 /* Feature halos (conform_feature.c): the halo buffer, its reference, the stage. */
-#define FEATURE_SPLAT(name, renders)                                                                              \
-    {name, "feature", renders, "%.0e", FEATURE_SPLAT_TOLERANCE, 0.0, FEATURE_SPLAT_WHY, conform_feature_row, NULL}
-#define FEATURE_APPLY(name, renders)                                                                              \
-    {name, "feature", renders, "%.0e", FEATURE_APPLY_TOLERANCE, 0.0, FEATURE_APPLY_WHY, conform_feature_row, NULL}
+#define FEATURE_SPLAT(name, renders)                                                                                 \
+    {                                                                                                                \
+        name, "feature", renders, "%.0e", FEATURE_SPLAT_TOLERANCE, 0.0, FEATURE_SPLAT_WHY, conform_feature_row, NULL \
+    }
+#define FEATURE_APPLY(name, renders)                                                                                 \
+    {                                                                                                                \
+        name, "feature", renders, "%.0e", FEATURE_APPLY_TOLERANCE, 0.0, FEATURE_APPLY_WHY, conform_feature_row, NULL \
+    }
 #define PASS_SPREAD_WHY "float32 sums of 9 taps and a mix per pass (~1e-7 each), gain <= 1 from pass to pass"
 
 
 /* Scenes of the frame rows (halo_seed's named ones, halo_map's). */
-#define SEED_HALOS2 \
-    "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": [32, 4], \"beta\": [0.125, 1]," \
+#define SEED_HALOS2                                                                                              \
+    "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": [32, 4], \"beta\": [0.125, 1],"                \
     " \"gradient_scale\": [2, 5], \"value_0\": [[0.2, 0], [0.5, 1], [0.8, 0]], \"value_1\": [[0, 1], [1, 0.2]]," \
-    " \"direction_center\": [0, 90], \"direction_width\": [360, 120], \"direction_softness\": [30, 0]," \
-    " \"focus\": [[0.5, 0.5, 0.5], [0.3, 0.6, 0.5]], \"focus_radius\": [10, 0.3]," \
+    " \"direction_center\": [0, 90], \"direction_width\": [360, 120], \"direction_softness\": [30, 0],"          \
+    " \"focus\": [[0.5, 0.5, 0.5], [0.3, 0.6, 0.5]], \"focus_radius\": [10, 0.3],"                               \
     " \"focus_transition\": [0, 0.2]}}]}"
-#define SEED_HALOS4 \
+#define SEED_HALOS4                                                                                             \
     "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": [1, 2, 8, 32], \"beta\": [0, 0.5, 2, 0.125]," \
-    " \"direction_center\": [-135, 180, 45, 0], \"direction_width\": [180, 90, 0, 359]," \
-    " \"direction_softness\": [30, 180, 10, 0], \"focus_radius\": [0.4, 0, 10, 0.5]," \
+    " \"direction_center\": [-135, 180, 45, 0], \"direction_width\": [180, 90, 0, 359],"                        \
+    " \"direction_softness\": [30, 180, 10, 0], \"focus_radius\": [0.4, 0, 10, 0.5],"                           \
     " \"focus_transition\": [0, 0.5, 0, 10], \"value_2\": [[0.5, 0.3]], \"value_3\": [[0.1, 0], [0.1, 1]]}}]}"
-#define MAP_DEFAULT \
+#define MAP_DEFAULT                                                                             \
     "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": 1, \"gradient_scale\": 20}}," \
-    " {\"halo_generate\": {\"delta\": 0.9}}, {\"halo_map\": {\"color_near\": [[1, 0.5, 0]]," \
+    " {\"halo_generate\": {\"delta\": 0.9}}, {\"halo_map\": {\"color_near\": [[1, 0.5, 0]],"    \
     " \"color_far\": [[0, 0, 1]], \"full_at\": 0.5, \"profile_exponent\": 2, \"opacity\": 0.8}}]}"
-#define MAP_HALOS2 \
+#define MAP_HALOS2                                                                                         \
     "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": [1, 2], \"gradient_scale\": [20, 10]}}," \
-    " {\"halo_generate\": {\"delta\": [0.9, 0.7]}}, {\"halo_map\": {\"mode\": [0, 1]," \
-    " \"color_near\": [[1, 0.5, 0], [0, 0, 0]], \"color_far\": [[0, 0, 1], [0.2, 0.2, 0.2]]," \
+    " {\"halo_generate\": {\"delta\": [0.9, 0.7]}}, {\"halo_map\": {\"mode\": [0, 1],"                     \
+    " \"color_near\": [[1, 0.5, 0], [0, 0, 0]], \"color_far\": [[0, 0, 1], [0.2, 0.2, 0.2]],"              \
     " \"full_at\": [0.5, 0.01], \"profile_exponent\": [2, 0], \"opacity\": [0.8, 1]}}]}"
-#define MAP_HALOS4 \
-    "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": 1, \"gradient_scale\": [20, 10, 5, 50]}}," \
+#define MAP_HALOS4                                                                                                      \
+    "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": 1, \"gradient_scale\": [20, 10, 5, 50]}},"            \
     " {\"halo_generate\": {\"delta\": [0.9, 0.7, 0.5, 1], \"passes\": 3}}, {\"halo_map\": {\"mode\": [1, 0, 0.5, 0.2]," \
-    " \"color_near\": [[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]], \"color_far\": [[0, 0, 0]]," \
+    " \"color_near\": [[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]], \"color_far\": [[0, 0, 0]],"                        \
     " \"full_at\": [1, 0.2, 0.05, 0.5], \"profile_exponent\": [1, 64, 0.5, 3], \"opacity\": [1, 0.5, 0.25, 0.9]}}]}"
-#define PASS_COMPARE(...) {__VA_ARGS__}
+#define PASS_COMPARE(...) \
+    {                     \
+        __VA_ARGS__       \
+    }
 /* Segmented ray casting (host contract 2, conform_segment.c). */
-#define SEGMENT_ROW(name, renders, tolerance, why, scene, segments, orthographic)                                \
-    {name, "segments", renders, "%.0e", tolerance, 0.0, why, conform_segment_row,                                \
-     &(const conform_segment_params){scene, segments, orthographic, NULL, 0.0f, 0}}
+#define SEGMENT_ROW(name, renders, tolerance, why, scene, segments, orthographic)                                    \
+    {                                                                                                                \
+        name, "segments", renders, "%.0e", tolerance, 0.0, why, conform_segment_row, &(const conform_segment_params) \
+        {                                                                                                            \
+            scene, segments, orthographic, NULL, 0.0f, 0                                                             \
+        }                                                                                                            \
+    }
 /* Host contract 3: the one-draw ray caster (the field computed before it) against its emulation. */
-#define ONE_DRAW_ROW(name, renders, tolerance, why, scene, orthographic, precision)                              \
-    {name, "segments", renders, "%.0e", tolerance, 0.0, why, conform_segment_row,                                \
-     &(const conform_segment_params){scene, 0, orthographic, NULL, 0.0f, precision}}
-#define ONE_DRAW_WHY                                                                                              \
-    "as ray (float32 sampling, seeds, passes, blending against double), the march's seeds on its planes from "    \
-    "the float gradient it derives; the stack layer a sample reads (a decision on phi), the 0.99 threshold and "   \
+#define ONE_DRAW_ROW(name, renders, tolerance, why, scene, orthographic, precision)                                  \
+    {                                                                                                                \
+        name, "segments", renders, "%.0e", tolerance, 0.0, why, conform_segment_row, &(const conform_segment_params) \
+        {                                                                                                            \
+            scene, 0, orthographic, NULL, 0.0f, precision                                                            \
+        }                                                                                                            \
+    }
+#define ONE_DRAW_WHY                                                                                             \
+    "as ray (float32 sampling, seeds, passes, blending against double), the march's seeds on its planes from "   \
+    "the float gradient it derives; the stack layer a sample reads (a decision on phi), the 0.99 threshold and " \
     "the exits bracketed"
-#define SEGMENT_SAME_WHY                                                                                          \
-    "the same samples composited in the same order: a sample belongs to one segment by the same float "           \
+#define SEGMENT_SAME_WHY                                                                                \
+    "the same samples composited in the same order: a sample belongs to one segment by the same float " \
     "expression in both; only the ended-ray flag (opacity + 2) may round the opacity of ended rays by 1.2e-7"
-#define SEGMENT_HALOS_WHY                                                                                         \
-    "as the slice rows (float32 sampling, seeds, passes, blending against double); decisions on the 0.99 "         \
+#define SEGMENT_HALOS_WHY                                                                                  \
+    "as the slice rows (float32 sampling, seeds, passes, blending against double); decisions on the 0.99 " \
     "opacity threshold, the rays' exits and the segment a sample falls in bracketed"
-#define SEGMENT_RENDER                                                                                            \
-    "\"render\": {\"azimuth\": 30, \"elevation\": 20, \"zoom\": 1.3, \"step\": 0.5,"                          \
+#define SEGMENT_RENDER                                                               \
+    "\"render\": {\"azimuth\": 30, \"elevation\": 20, \"zoom\": 1.3, \"step\": 0.5," \
     " \"transfer\": [[0, 0, 0, 0, 0], [0.25, 0.6, 0.8, 1, 0.6], [0.5, 1, 0.85, 0.55, 1], [1, 1, 1, 0.8, 1]]}"
-#define SEGMENT_SAMPLE_SCENE                                                                                      \
-    "{\"halo_scene\": 1, \"stages\": [{\"boundary\": {}}, {\"silhouette\": {\"k_ss\": 4, \"k_se\": 1}},"         \
+#define SEGMENT_SAMPLE_SCENE                                                                             \
+    "{\"halo_scene\": 1, \"stages\": [{\"boundary\": {}}, {\"silhouette\": {\"k_ss\": 4, \"k_se\": 1}}," \
     " {\"tone_shading\": {}}, {\"distance_blend\": {}}], " SEGMENT_RENDER "}"
-#define SEGMENT_HALOS_SCENE                                                                                       \
-    "{\"halo_scene\": 1, \"stages\": ["                                                                          \
-    " {\"halo_seed\": {\"alpha\": [1, 2], \"beta\": 0.125, \"gradient_scale\": 4}},"                             \
-    " {\"halo_generate\": {\"passes\": 3, \"delta\": [0.8, 0.9], \"interval\": 4}},"                             \
-    " {\"halo_map\": {\"mode\": [0, 1], \"color_near\": [[1, 0.9, 0.4], [0, 0, 0]],"                             \
+#define SEGMENT_HALOS_SCENE                                                          \
+    "{\"halo_scene\": 1, \"stages\": ["                                              \
+    " {\"halo_seed\": {\"alpha\": [1, 2], \"beta\": 0.125, \"gradient_scale\": 4}}," \
+    " {\"halo_generate\": {\"passes\": 3, \"delta\": [0.8, 0.9], \"interval\": 4}}," \
+    " {\"halo_map\": {\"mode\": [0, 1], \"color_near\": [[1, 0.9, 0.4], [0, 0, 0]]," \
     "   \"color_far\": [[1, 0.3, 0.1], [0, 0, 0]], \"opacity\": [0.8, 0.7]}}], " SEGMENT_RENDER "}"
-#define SEGMENT_OUTLINES_SCENE                                                                                    \
-    "{\"halo_scene\": 1, \"stages\": ["                                                                          \
-    " {\"halo_seed\": {\"alpha\": 2, \"gradient_scale\": 4}}, {\"halo_generate\": {\"passes\": 3}},"            \
-    " {\"halo_map\": {\"mode\": 0, \"opacity\": 0.8}},"                                                          \
-    " {\"outline_feature\": {\"value_min\": 0.55, \"value_max\": 1}},"                                           \
+#define SEGMENT_OUTLINES_SCENE                                                                       \
+    "{\"halo_scene\": 1, \"stages\": ["                                                              \
+    " {\"halo_seed\": {\"alpha\": 2, \"gradient_scale\": 4}}, {\"halo_generate\": {\"passes\": 3}}," \
+    " {\"halo_map\": {\"mode\": 0, \"opacity\": 0.8}},"                                              \
+    " {\"outline_feature\": {\"value_min\": 0.55, \"value_max\": 1}},"                               \
     " {\"outlines\": {\"sigma\": 6, \"lambda\": 4, \"depth_power\": 1}}], " SEGMENT_RENDER "}"
 
 /* The hosts in the styles of the wild (examples/hosts/) against the emulation of each
  * (conform_segment.c models what each does otherwise than raycast.frag). */
-#define HOST_ROW(name, renders, why, scene, host, jitter)                                                        \
-    {name, "segments", renders, "%.0e", SLICE_HALOS_TOL, 0.0, why, conform_segment_row,                          \
-     &(const conform_segment_params){scene, 0, 0, &host, jitter, 0}}
+#define HOST_ROW(name, renders, why, scene, host, jitter)                                  \
+    {                                                                                      \
+        name, "segments", renders, "%.0e", SLICE_HALOS_TOL, 0.0, why, conform_segment_row, \
+            &(const conform_segment_params)                                                \
+        {                                                                                  \
+            scene, 0, 0, &host, jitter, 0                                                  \
+        }                                                                                  \
+    }
 /* ... drawn once over the field libhalo computes first (host contract 3) */
-#define HOST_ONE_DRAW_ROW(name, renders, why, scene, host, jitter)                                               \
-    {name, "segments", renders, "%.0e", SLICE_HALOS_TOL, 0.0, why, conform_segment_row,                          \
-     &(const conform_segment_params){scene, 0, 0, &host, jitter, 32}}
+#define HOST_ONE_DRAW_ROW(name, renders, why, scene, host, jitter)                         \
+    {                                                                                      \
+        name, "segments", renders, "%.0e", SLICE_HALOS_TOL, 0.0, why, conform_segment_row, \
+            &(const conform_segment_params)                                                \
+        {                                                                                  \
+            scene, 0, 0, &host, jitter, 32                                                 \
+        }                                                                                  \
+    }
 #define HOST_WHY_DERIVED "libhalo's gradient, view and (planar) depth, emulated from the frame's camera"
 /* the ray row's two halos, and distance_blend: the host's depth convention shows */
-#define SEGMENT_HOST_SCENE                                                                                        \
-    "{\"halo_scene\": 1, \"stages\": ["                                                                          \
-    " {\"halo_seed\": {\"alpha\": [1, 2], \"beta\": 0.125, \"gradient_scale\": 4}},"                             \
-    " {\"halo_generate\": {\"passes\": 3, \"delta\": [0.8, 0.9], \"interval\": 4}},"                             \
-    " {\"halo_map\": {\"mode\": [0, 1], \"color_near\": [[1, 0.9, 0.4], [0, 0, 0]],"                             \
-    "   \"color_far\": [[1, 0.3, 0.1], [0, 0, 0]], \"opacity\": [0.8, 0.7]}},"                                      \
+#define SEGMENT_HOST_SCENE                                                           \
+    "{\"halo_scene\": 1, \"stages\": ["                                              \
+    " {\"halo_seed\": {\"alpha\": [1, 2], \"beta\": 0.125, \"gradient_scale\": 4}}," \
+    " {\"halo_generate\": {\"passes\": 3, \"delta\": [0.8, 0.9], \"interval\": 4}}," \
+    " {\"halo_map\": {\"mode\": [0, 1], \"color_near\": [[1, 0.9, 0.4], [0, 0, 0]]," \
+    "   \"color_far\": [[1, 0.3, 0.1], [0, 0, 0]], \"opacity\": [0.8, 0.7]}},"       \
     " {\"distance_blend\": {\"k_ds\": 0.8, \"k_de\": 1}}], " SEGMENT_RENDER "}"
 #define SEGMENT_EMPTY_SCENE "{\"halo_scene\": 1, \"stages\": [], " SEGMENT_RENDER "}"
 
@@ -170,10 +218,12 @@ const conform_row conform_rows[] = {
      "halo_apply is empty: the linked host must render exactly as before", conform_empty_row, NULL},
 
     SAMPLE_ROW("gradient", 0.0, 0.0, "writes only normal and |grad f|: colour and opacity pass through bit for bit"),
-    SAMPLE_ROW("opacity_power", 2e-6, 8e-6,
-               "one pow: llvmpipe's exp2/log2 give ~1e-6 relative for exponents up to 64 (error in the argument e*log2 x)"),
-    SAMPLE_ROW("boundary", 2e-6, 8e-6,
-               "opacity * (k_gc + k_gs |g|^k_ge): pow as above, scaled by k_gs <= 10 on an opacity <= 1, then saturated"),
+    SAMPLE_ROW(
+        "opacity_power", 2e-6, 8e-6,
+        "one pow: llvmpipe's exp2/log2 give ~1e-6 relative for exponents up to 64 (error in the argument e*log2 x)"),
+    SAMPLE_ROW(
+        "boundary", 2e-6, 8e-6,
+        "opacity * (k_gc + k_gs |g|^k_ge): pow as above, scaled by k_gs <= 10 on an opacity <= 1, then saturated"),
     SAMPLE_ROW("silhouette", 4e-6, 8e-6,
                "opacity * (k_sc + k_ss (1-|n.V|)^k_se): k_ss = 50 multiplies pow's ~1e-7 absolute error"),
     SAMPLE_ROW("orientation_fade", 2e-6, 4e-6, "RGB->HSV->RGB in float: a division by chroma and max, a few ulps each"),
@@ -193,13 +243,13 @@ const conform_row conform_rows[] = {
     FRAME_ROW("halo_map@halos2", MAP_RENDERS ", two halos", MAP_ABS, MAP_REL, MAP_WHY, MAP_HALOS2, 0),
     FRAME_ROW("halo_map@halos4", MAP_RENDERS ", four halos", MAP_ABS, MAP_REL, MAP_WHY, MAP_HALOS4, 0),
     FRAME_ROW("halo_map@live", MAP_RENDERS ", every parameter live", MAP_ABS, MAP_REL, MAP_WHY, NULL, 1),
-    FRAME_ROW("outline_feature", "outline_feature's feature buffers (its output images) through a GL frame",
-              SEED_ABS, SEED_REL,
+    FRAME_ROW("outline_feature", "outline_feature's feature buffers (its output images) through a GL frame", SEED_ABS,
+              SEED_REL,
               "labels, value windows and depths in float32; a label that flips within the inputs' rounding is the "
               "conditioning term",
               NULL, 0),
-    FRAME_ROW("outline_feature@live", "outline_feature, every parameter live, through a GL frame", SEED_ABS,
-              SEED_REL, "as outline_feature", NULL, 1),
+    FRAME_ROW("outline_feature@live", "outline_feature, every parameter live, through a GL frame", SEED_ABS, SEED_REL,
+              "as outline_feature", NULL, 1),
     {"*", "frame", "every other stage with outputs, images or host uniforms: defaults and @live", "%.0e+%.0er+cond",
      SEED_ABS, SEED_REL, "a stage not in the table", conform_frame_other_rows, NULL},
 
@@ -216,16 +266,16 @@ const conform_row conform_rows[] = {
     PASS_ROW("pass:spread@N1", "one spreading pass", 2e-6, PASS_SPREAD_WHY, "{\"passes\": 1}", {"field"}, 1, 1),
     PASS_ROW("pass:spread@N2", "two spreading passes", 2e-6, "as N1, over 2 passes", "{\"passes\": 2}", {"field"}, 1,
              1),
-    PASS_ROW("pass:spread@N3", "three spreading passes", 2e-6, "as N1, over 3 passes", "{\"passes\": 3}", {"field"},
-             1, 1),
-    PASS_ROW("pass:spread@N4", "four spreading passes", 2e-6, "as N1, over 4 passes", "{\"passes\": 4}", {"field"},
-             1, 1),
+    PASS_ROW("pass:spread@N3", "three spreading passes", 2e-6, "as N1, over 3 passes", "{\"passes\": 3}", {"field"}, 1,
+             1),
+    PASS_ROW("pass:spread@N4", "four spreading passes", 2e-6, "as N1, over 4 passes", "{\"passes\": 4}", {"field"}, 1,
+             1),
     PASS_ROW("pass:spread@delta0", "four spreading passes with delta 0", 3e-7, "delta 0: H_N = H_0 exactly",
              "{\"passes\": 4, \"delta\": 0}", {"field"}, 1, 1),
-    PASS_ROW("pass:spread@delta1", "four spreading passes with delta 1", 2e-6, "as N4",
-             "{\"passes\": 4, \"delta\": 1}", {"field"}, 1, 1),
-    PASS_ROW("pass:spread@fold", "four spreading passes, H_0 folded into them (fold: no gradient pass)", 2e-6,
-             "as N4", "{\"passes\": 4, \"fold\": true}", {"field"}, 1, 1),
+    PASS_ROW("pass:spread@delta1", "four spreading passes with delta 1", 2e-6, "as N4", "{\"passes\": 4, \"delta\": 1}",
+             {"field"}, 1, 1),
+    PASS_ROW("pass:spread@fold", "four spreading passes, H_0 folded into them (fold: no gradient pass)", 2e-6, "as N4",
+             "{\"passes\": 4, \"fold\": true}", {"field"}, 1, 1),
     PASS_ROW("pass:halos4@fold", "four halos, median on, H_0 folded into the spreading (fold)", 2e-6, "as halos4",
              "{\"passes\": 3, \"delta\": [0, 0.5, 0.8, 1], \"median\": true, \"fold\": true}",
              PASS_COMPARE("field", "occlusion"), 2, 1),
@@ -239,8 +289,8 @@ const conform_row conform_rows[] = {
              "{\"passes\": 4, \"delta\": [0.7, 0.95]}", PASS_COMPARE("field", "occlusion"), 1, 1),
     PASS_ROW("pass:halos4", "four halos (vec4 images), median on", 2e-6,
              "four halos (vec4 images), median on: as N4 per channel",
-             "{\"passes\": 3, \"delta\": [0, 0.5, 0.8, 1], \"median\": true}",
-             PASS_COMPARE("field", "occlusion"), 2, 1),
+             "{\"passes\": 3, \"delta\": [0, 0.5, 0.8, 1], \"median\": true}", PASS_COMPARE("field", "occlusion"), 2,
+             1),
     /* halo images at 1/2 and 1/4 of the frame (an odd frame size gives partial blocks):
      * the first pass max-downsamples the full-size seed (exact), the rest as above */
     PASS_ROW("pass:spread@half", "spreading on halo images at 1/2 of the frame", 2e-6, "as N4 on the 1/2 images",
@@ -252,50 +302,50 @@ const conform_row conform_rows[] = {
              "as halos4 on the 1/4 images", "{\"passes\": 3, \"delta\": [0, 0.5, 0.8, 1], \"median\": true}",
              PASS_COMPARE("initial", "field", "occlusion"), 2, 4),
 
-    OUTLINE_ROW("outline:discs", OUTLINE_DISCS, 0,
-                "\"sigma\": 12, \"lambda\": 4",
-                DEPTH_TOL, DEPTH_TOL, "blurred depth, lambda 4"),
-    OUTLINE_ROW("outline:power0.6", OUTLINE_DISCS, 0,
-                "\"sigma\": 12, \"lambda\": 2, \"depth_power\": 0.6",
-                1e-4, DEPTH_TOL, "x^0.6 near x = 0 magnifies the blur's float error: d(x^0.6)/dx = 0.6 x^-0.4, 2.5e3 at x = 1e-8"),
-    OUTLINE_ROW("outline:flat", OUTLINE_FLAT, 0,
-                "\"sigma\": 12, \"lambda\": 1000",
-                DEPTH_TOL, DEPTH_TOL, "a constant depth blurs to itself (renormalized weights): no outline even at lambda 1000"),
+    OUTLINE_ROW("outline:discs", OUTLINE_DISCS, 0, "\"sigma\": 12, \"lambda\": 4", DEPTH_TOL, DEPTH_TOL,
+                "blurred depth, lambda 4"),
+    OUTLINE_ROW("outline:power0.6", OUTLINE_DISCS, 0, "\"sigma\": 12, \"lambda\": 2, \"depth_power\": 0.6", 1e-4,
+                DEPTH_TOL,
+                "x^0.6 near x = 0 magnifies the blur's float error: d(x^0.6)/dx = 0.6 x^-0.4, 2.5e3 at x = 1e-8"),
+    OUTLINE_ROW("outline:flat", OUTLINE_FLAT, 0, "\"sigma\": 12, \"lambda\": 1000", DEPTH_TOL, DEPTH_TOL,
+                "a constant depth blurs to itself (renormalized weights): no outline even at lambda 1000"),
     OUTLINE_ROW("outline:depth1", OUTLINE_DEPTH_ONE, 0,
-                "\"sigma\": 12, \"lambda\": 1000, \"depth_start\": 0.5, \"depth_cue\": true",
-                DEPTH_TOL, DEPTH_TOL, "features at depth exactly 1 are the background: no outline, gamma 1"),
-    OUTLINE_ROW("outline:pixel", OUTLINE_PIXEL, 0,
-                "\"sigma\": 12, \"lambda\": 4",
-                DEPTH_TOL, DEPTH_TOL, "a one-pixel feature: its ring of outline"),
-    OUTLINE_ROW("outline:border", OUTLINE_BORDER, 0,
-                "\"sigma\": 18, \"lambda\": 4",
-                DEPTH_TOL, DEPTH_TOL, "features touching the border: taps outside the image are left out, weights renormalized"),
-    OUTLINE_ROW("outline:sigma>image", OUTLINE_DISCS, 0,
-                "\"sigma\": 600, \"lambda\": 4, \"normal_unsharp\": true, \"normal_sigma\": 600",
-                NORMAL_TOL, NORMAL_TOL, "kernel size 600 % of the diagonal (standard deviation 100 %): radius clamped to the image side, 2 size + 1 taps"),
-    OUTLINE_ROW("outline:normals", OUTLINE_DISCS, 0,
-                "\"sigma\": 12, \"lambda\": 2, \"normal_difference\": true, \"normal_unsharp\": true, \"normal_sigma\": 12," " \"normal_min\": 0.05, \"normal_max\": 0.6",
-                NORMAL_TOL, NORMAL_TOL, "normals zero (no hit) outside the discs: halo_normalize of 0, 1 - dot"),
-    OUTLINE_ROW("outline:hidden", OUTLINE_DISCS, 1,
-                "\"sigma\": 12, \"lambda\": 4, \"occluded\": 0",
-                DEPTH_TOL, DEPTH_TOL, "occlusion: hidden"),
-    OUTLINE_ROW("outline:dashed", OUTLINE_DISCS, 1,
-                "\"sigma\": 12, \"lambda\": 4, \"occluded\": 1, \"dash_length\": 3",
+                "\"sigma\": 12, \"lambda\": 1000, \"depth_start\": 0.5, \"depth_cue\": true", DEPTH_TOL, DEPTH_TOL,
+                "features at depth exactly 1 are the background: no outline, gamma 1"),
+    OUTLINE_ROW("outline:pixel", OUTLINE_PIXEL, 0, "\"sigma\": 12, \"lambda\": 4", DEPTH_TOL, DEPTH_TOL,
+                "a one-pixel feature: its ring of outline"),
+    OUTLINE_ROW("outline:border", OUTLINE_BORDER, 0, "\"sigma\": 18, \"lambda\": 4", DEPTH_TOL, DEPTH_TOL,
+                "features touching the border: taps outside the image are left out, weights renormalized"),
+    OUTLINE_ROW(
+        "outline:sigma>image", OUTLINE_DISCS, 0,
+        "\"sigma\": 600, \"lambda\": 4, \"normal_unsharp\": true, \"normal_sigma\": 600", NORMAL_TOL, NORMAL_TOL,
+        "kernel size 600 % of the diagonal (standard deviation 100 %): radius clamped to the image side, 2 size + 1 taps"),
+    OUTLINE_ROW(
+        "outline:normals", OUTLINE_DISCS, 0,
+        "\"sigma\": 12, \"lambda\": 2, \"normal_difference\": true, \"normal_unsharp\": true, \"normal_sigma\": 12,"
+        " \"normal_min\": 0.05, \"normal_max\": 0.6",
+        NORMAL_TOL, NORMAL_TOL, "normals zero (no hit) outside the discs: halo_normalize of 0, 1 - dot"),
+    OUTLINE_ROW("outline:hidden", OUTLINE_DISCS, 1, "\"sigma\": 12, \"lambda\": 4, \"occluded\": 0", DEPTH_TOL,
+                DEPTH_TOL, "occlusion: hidden"),
+    OUTLINE_ROW("outline:dashed", OUTLINE_DISCS, 1, "\"sigma\": 12, \"lambda\": 4, \"occluded\": 1, \"dash_length\": 3",
                 DEPTH_TOL, DEPTH_TOL, "occlusion: dashed (integer dash arithmetic)"),
-    OUTLINE_ROW("outline:front", OUTLINE_DISCS, 1,
-                "\"sigma\": 12, \"lambda\": 4, \"occluded\": 2",
-                DEPTH_TOL, DEPTH_TOL, "occlusion: forced to the front"),
-    OUTLINE_ROW("outline:colors", OUTLINE_DISCS, 0,
-                "\"sigma\": 12, \"lambda\": 4, \"line_color_mode\": 2",
-                DEPTH_TOL, DEPTH_TOL, "line colour by the brightness behind"),
-    OUTLINE_ROW("outline:depth", OUTLINE_DISCS, 0,
-                "\"sigma\": 12, \"lambda\": 4, \"depth_start\": 0.3, \"depth_color_blend\": true, \"depth_color\": [0.9, 0.9, 1]," " \"depth_cue\": true, \"cue_gray\": 0.6, \"depth_blur\": true, \"blur_max\": 8, \"line_fading\": true," " \"line_color_mode\": 1",
-                DEPTH_TOL, DEPTH_TOL, "depth colour blending, cueing, blurring (kernel per pixel), line fading"),
+    OUTLINE_ROW("outline:front", OUTLINE_DISCS, 1, "\"sigma\": 12, \"lambda\": 4, \"occluded\": 2", DEPTH_TOL,
+                DEPTH_TOL, "occlusion: forced to the front"),
+    OUTLINE_ROW("outline:colors", OUTLINE_DISCS, 0, "\"sigma\": 12, \"lambda\": 4, \"line_color_mode\": 2", DEPTH_TOL,
+                DEPTH_TOL, "line colour by the brightness behind"),
+    OUTLINE_ROW(
+        "outline:depth", OUTLINE_DISCS, 0,
+        "\"sigma\": 12, \"lambda\": 4, \"depth_start\": 0.3, \"depth_color_blend\": true, \"depth_color\": [0.9, 0.9, 1],"
+        " \"depth_cue\": true, \"cue_gray\": 0.6, \"depth_blur\": true, \"blur_max\": 8, \"line_fading\": true,"
+        " \"line_color_mode\": 1",
+        DEPTH_TOL, DEPTH_TOL, "depth colour blending, cueing, blurring (kernel per pixel), line fading"),
     OUTLINE_ROW("outline:features4", OUTLINE_FOUR, 1,
-                "\"sigma\": 12, \"lambda\": [4, 2, 8, 1], \"occluded\": [0, 1, 2, 2], \"normal_difference\": true," " \"normal_min\": [0.1, 0.2, 0.3, 2], \"normal_max\": [0.5, 0.5, 0.3, 3]",
+                "\"sigma\": 12, \"lambda\": [4, 2, 8, 1], \"occluded\": [0, 1, 2, 2], \"normal_difference\": true,"
+                " \"normal_min\": [0.1, 0.2, 0.3, 2], \"normal_max\": [0.5, 0.5, 0.3, 3]",
                 NORMAL_TOL, NORMAL_TOL, "four features, per-feature parameters"),
     OUTLINE_ROW("outline:features6", OUTLINE_SIX, 1,
-                "\"sigma\": 12, \"lambda\": [4, 2, 8, 1, 4, 6], \"occluded\": [0, 1, 2, 2, 1, 2], \"depth_start\": 0.3," " \"depth_cue\": true, \"line_fading\": true",
+                "\"sigma\": 12, \"lambda\": [4, 2, 8, 1, 4, 6], \"occluded\": [0, 1, 2, 2, 1, 2], \"depth_start\": 0.3,"
+                " \"depth_cue\": true, \"line_fading\": true",
                 DEPTH_TOL, DEPTH_TOL, "six features in two feature groups (two volume passes), depth cueing over both"),
     SLICE_ROW("slice", "the slice host with two halos", SLICE_HALOS_TOL, SLICE_HALOS_WHY, 1, 0, 0, 1),
     SLICE_ROW("slice@nohalo", "the slice host without stages", 1e-4,
@@ -305,8 +355,8 @@ const conform_row conform_rows[] = {
     /* halo images at 1/2 and 1/4 of the frame (halo_link_desc.image_scale): the
      * max-downsampled seed, the spreading at the low size, the bilinear read */
     SLICE_ROW("slice@half", "the slice host, halo images at 1/2", SLICE_HALOS_TOL, SLICE_HALOS_WHY, 1, 0, 0, 2),
-    SLICE_ROW("slab@quarter", "the slab ray caster, M = 4, halo images at 1/4", SLICE_HALOS_TOL, SLICE_HALOS_WHY, 1,
-              1, 4, 4),
+    SLICE_ROW("slab@quarter", "the slab ray caster, M = 4, halo images at 1/4", SLICE_HALOS_TOL, SLICE_HALOS_WHY, 1, 1,
+              4, 4),
     /* Host contract 2: the single-pass ray caster drawn in depth segments (conform_segment.c) */
     SEGMENT_ROW("segments@K4", "the ray caster with per-sample stages in 4 forced segments against one draw", 1e-6,
                 SEGMENT_SAME_WHY, SEGMENT_SAMPLE_SCENE, 4, 0),
@@ -317,7 +367,8 @@ const conform_row conform_rows[] = {
     SEGMENT_ROW("ray", "the segmented ray caster with two halos, M = 4", SLICE_HALOS_TOL, SEGMENT_HALOS_WHY,
                 SEGMENT_HALOS_SCENE, 0, 0),
     SEGMENT_ROW("ray@ortho", "the segmented ray caster with two halos, orthographic", SLICE_HALOS_TOL,
-                SEGMENT_HALOS_WHY "; holds at 25 to 128 pixels a side (at 128, 5 pixels fell on a segment decision, "
+                SEGMENT_HALOS_WHY
+                "; holds at 25 to 128 pixels a side (at 128, 5 pixels fell on a segment decision, "
                 "now bracketed); at 256, 1 pixel of 65536 is 3.3e-3 off, cause not found (not the segment, exit, "
                 "threshold or box decisions; the one-draw row of the same scene passes there)",
                 SEGMENT_HALOS_SCENE, 0, 1),
@@ -370,8 +421,8 @@ const conform_row conform_rows[] = {
              "moved by 1e-5, as the exits; the host's gradient at hits only; " HOST_WHY_DERIVED,
              SEGMENT_HOST_SCENE, conform_segment_iso, 0.0f),
     HOST_ONE_DRAW_ROW("ray@iso_one_draw", "mip_iso_caster.frag's isosurface, two halos, M = 4, drawn once (contract 3)",
-                      "as ray@iso, the field as ray@one_draw; a hit ends the ray",
-                      SEGMENT_HOST_SCENE, conform_segment_iso, 0.0f),
+                      "as ray@iso, the field as ray@one_draw; a hit ends the ray", SEGMENT_HOST_SCENE,
+                      conform_segment_iso, 0.0f),
     HOST_ROW("ray@iso_sample", "mip_iso_caster.frag's isosurface, per-sample stages: the first hit ends the ray",
              "as ray@iso; opacity 1 at a hit ends the ray (0.99)", SEGMENT_SAMPLE_SCENE, conform_segment_iso, 0.0f),
     HOST_ROW("ray@mip", "mip_iso_caster.frag's MIP variant (no stage: it refuses them), drawn once",
@@ -393,8 +444,8 @@ const conform_row conform_rows[] = {
     FEATURE_APPLY("feature_halo", "the stage feature_halo on a probe against its emulation"),
     FEATURE_APPLY("feature_halo@live", "feature_halo, every parameter live"),
     FEATURE_APPLY("feature_halo@strong", "feature_halo with opacity gain and darkening 50"),
-    LINES_ROW("line_strip", "line_strip's vertex stage on controlled strips (line_probe.vert)",
-              "4e-6*(1+|p|+|eye|)", LINES_VERTEX_WHY),
+    LINES_ROW("line_strip", "line_strip's vertex stage on controlled strips (line_probe.vert)", "4e-6*(1+|p|+|eye|)",
+              LINES_VERTEX_WHY),
     LINES_ROW("line_strip@degenerate", "line_strip on a line at the eye, zero-length segments, coincident vertices",
               "4e-6*(1+|p|+|eye|)", LINES_VERTEX_WHY),
     LINES_ROW("line_halo@linear", "line_halo's fragment stage across the strip, linear profile", "1e-6",

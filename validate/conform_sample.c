@@ -47,12 +47,27 @@ static int perturbed_output(const halo_program *p, const halo_emu_sample *input,
 {
     halo_emu_sample s = *input;
     switch (field) {
-    case 0: for (int k = 0; k < 3; ++k) s.view[k] *= factor; break;
-    case 1: for (int k = 0; k < 3; ++k) s.gradient[k] *= factor; break;
-    case 2: s.value *= factor; break;
-    case 3: s.depth = fmin(1.0, s.depth * factor); break;
-    case 4: for (int k = 0; k < 3; ++k) s.color[k] = fmin(1.0, s.color[k] * factor); break;
-    default: s.opacity = fmin(1.0, s.opacity * factor); break;
+    case 0:
+        for (int k = 0; k < 3; ++k)
+            s.view[k] *= factor;
+        break;
+    case 1:
+        for (int k = 0; k < 3; ++k)
+            s.gradient[k] *= factor;
+        break;
+    case 2:
+        s.value *= factor;
+        break;
+    case 3:
+        s.depth = fmin(1.0, s.depth * factor);
+        break;
+    case 4:
+        for (int k = 0; k < 3; ++k)
+            s.color[k] = fmin(1.0, s.color[k] * factor);
+        break;
+    default:
+        s.opacity = fmin(1.0, s.opacity * factor);
+        break;
     }
     if (halo_emu_apply(p, &s, NULL) != HALO_OK)
         return 0;
@@ -109,8 +124,11 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
                 goto done;
         }
     }
-    program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = c->probe_source,
-                                          .host_file = "probe.frag", .all_live = variant == VARIANT_LIVE,
+    program = halo_link(&(halo_link_desc){.library = c->lib,
+                                          .scene = scene,
+                                          .host_source = c->probe_source,
+                                          .host_file = "probe.frag",
+                                          .all_live = variant == VARIANT_LIVE,
                                           .target = c->target},
                         c->diag);
     if (!program)
@@ -119,9 +137,9 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
         conform_set_live_arrays(program, m, c->diag);
     if (halo_diagnostics_errors(c->diag) > 0)
         goto done;
-    probe = halo_probe_create(&(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = program,
-                                                .width = c->size, .height = c->size},
-                              c->diag);
+    probe = halo_probe_create(
+        &(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = program, .width = c->size, .height = c->size},
+        c->diag);
     size_t count = (size_t)c->size * (size_t)c->size;
     samples = malloc(count * sizeof *samples);
     gpu = malloc(count * 4 * sizeof *gpu);
@@ -215,7 +233,7 @@ static int has_emulation(conform *c, const halo_module *m)
     halo_scene_destroy(probe_scene);
     if (is_stage && row_selected(c, halo_module_name(m), halo_module_name(m))) {
         HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, halo_module_file(m), 0, 0, "stage '%s' has no C emulation",
-                        halo_module_name(m));
+                          halo_module_name(m));
         print_error_row(c, halo_module_name(m));
     }
     return 0;
@@ -235,8 +253,8 @@ void conform_sample_rows(conform *c, const conform_row *row)
     const halo_module *m = halo_library_find(c->lib, row->name);
     if (!m) {
         if (row_selected(c, row->name, row->name)) {
-            HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0, "stage '%s' of the registry is not in the library",
-                            row->name);
+            HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, "", 0, 0,
+                              "stage '%s' of the registry is not in the library", row->name);
             print_error_row(c, row->name);
         }
         return;

@@ -21,36 +21,57 @@
 #include <string.h>
 
 /* The hosts (conform_segment.h): raycast.frag, and what the others do otherwise. */
-const conform_segment_host conform_segment_raycast = {
-    .file = "raycast.frag", .target = HALO_TARGET_GLSL330, .shading = CONFORM_SHADE_TRANSFER, .threshold = 0.99,
-    .centred_lookup = 1, .opacity_correction = 1};
+const conform_segment_host conform_segment_raycast = {.file = "raycast.frag",
+                                                      .target = HALO_TARGET_GLSL330,
+                                                      .shading = CONFORM_SHADE_TRANSFER,
+                                                      .threshold = 0.99,
+                                                      .centred_lookup = 1,
+                                                      .opacity_correction = 1};
 /* ES 300 style, drawn as GLSL 330 (the context has no ES): derived inputs, a jittered first
  * sample, a counted loop, termination at 0.98, the table read at texture(tf, vec2(v, 0.5)) */
-const conform_segment_host conform_segment_webgl = {
-    .file = "webgl_caster.frag", .target = HALO_TARGET_GLSL330, .shading = CONFORM_SHADE_TRANSFER,
-    .threshold = 0.98, .counted_steps = 1, .derived_view = 1, .derived_depth = 1, .opacity_correction = 1};
+const conform_segment_host conform_segment_webgl = {.file = "webgl_caster.frag",
+                                                    .target = HALO_TARGET_GLSL330,
+                                                    .shading = CONFORM_SHADE_TRANSFER,
+                                                    .threshold = 0.98,
+                                                    .counted_steps = 1,
+                                                    .derived_view = 1,
+                                                    .derived_depth = 1,
+                                                    .opacity_correction = 1};
 /* raycast.frag's sampling and classification; its exit from the back-face texture (the
  * same ray parameter up to the rasterizer's interpolation: bracketed), derived inputs */
-const conform_segment_host conform_segment_exit_points = {
-    .file = "exit_point_caster.frag", .target = HALO_TARGET_GLSL450, .shading = CONFORM_SHADE_TRANSFER,
-    .threshold = 0.99, .centred_lookup = 1, .derived_view = 1, .derived_depth = 1, .opacity_correction = 1,
-    .exit_points = 1};
+const conform_segment_host conform_segment_exit_points = {.file = "exit_point_caster.frag",
+                                                          .target = HALO_TARGET_GLSL450,
+                                                          .shading = CONFORM_SHADE_TRANSFER,
+                                                          .threshold = 0.99,
+                                                          .centred_lookup = 1,
+                                                          .derived_view = 1,
+                                                          .derived_depth = 1,
+                                                          .opacity_correction = 1,
+                                                          .exit_points = 1};
 /* its own gradient and view, libhalo's depth; passes 0.995 to end */
-const conform_segment_host conform_segment_tf2d = {
-    .file = "tf2d_caster.frag", .target = HALO_TARGET_GLSL330, .shading = CONFORM_SHADE_TF2D, .threshold = 0.995,
-    .strict_threshold = 1, .derived_depth = 1, .opacity_correction = 1};
+const conform_segment_host conform_segment_tf2d = {.file = "tf2d_caster.frag",
+                                                   .target = HALO_TARGET_GLSL330,
+                                                   .shading = CONFORM_SHADE_TF2D,
+                                                   .threshold = 0.995,
+                                                   .strict_threshold = 1,
+                                                   .derived_depth = 1,
+                                                   .opacity_correction = 1};
 /* its own gradient at hits, libhalo's view and depth; opacity 0 or 1, not corrected */
-const conform_segment_host conform_segment_iso = {
-    .file = "mip_iso_caster.frag", .target = HALO_TARGET_GLSL330, .shading = CONFORM_SHADE_ISO, .threshold = 0.99,
-    .counted_steps = 1, .derived_view = 1, .derived_depth = 1};
+const conform_segment_host conform_segment_iso = {.file = "mip_iso_caster.frag",
+                                                  .target = HALO_TARGET_GLSL330,
+                                                  .shading = CONFORM_SHADE_ISO,
+                                                  .threshold = 0.99,
+                                                  .counted_steps = 1,
+                                                  .derived_view = 1,
+                                                  .derived_depth = 1};
 const conform_segment_host conform_segment_mip = {
     .file = "mip_iso_caster.frag", .target = HALO_TARGET_GLSL330, .shading = CONFORM_SHADE_MIP, .counted_steps = 1};
 
 /* mip_iso_caster.frag's iso_value and tf2d_caster.frag's lighting */
-#define ISO_VALUE 0.5
-#define TF2D_AMBIENT 0.3
-#define TF2D_DIFFUSE 0.6
-#define TF2D_SPECULAR 0.25
+#define ISO_VALUE      0.5
+#define TF2D_AMBIENT   0.3
+#define TF2D_DIFFUSE   0.6
+#define TF2D_SPECULAR  0.25
 #define TF2D_SHININESS 24.0
 
 /* One pixel's ray: origin, unit direction, the box's entry and exit, the first sample
@@ -227,8 +248,8 @@ static void host_sample(const halo_raycast_state *s, const halo_segment_plan *pl
         double plus[3] = {P[0], P[1], P[2]}, minus[3] = {P[0], P[1], P[2]};
         plus[c] += voxel[c];
         minus[c] -= voxel[c];
-        sample->gradient[c] = (halo_volume_trilinear(s->volume, s->dims, plus) -
-                               halo_volume_trilinear(s->volume, s->dims, minus)) * 0.5;
+        sample->gradient[c] =
+            (halo_volume_trilinear(s->volume, s->dims, plus) - halo_volume_trilinear(s->volume, s->dims, minus)) * 0.5;
         sample->view[c] = s->eye[c] - P[c];
         distance += sample->view[c] * sample->view[c];
     }
@@ -343,13 +364,14 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
         for (size_t k = 0; k < halo_program_image_count(p); ++k)
             if (!strcmp(halo_program_image(p, k)->name, name)) {
                 if (halo_program_image(p, k)->scale != 1) {
-                    HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "the one-draw emulation takes full-size images only");
+                    HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0,
+                                      "the one-draw emulation takes full-size images only");
                     return 0;
                 }
                 st->images[st->count] = name;
                 st->channels[st->count] = halo_program_image(p, k)->channels;
-                st->layer_data[st->count] = calloc((size_t)st->layers * pixels * (size_t)st->channels[st->count],
-                                                   sizeof(double));
+                st->layer_data[st->count] =
+                    calloc((size_t)st->layers * pixels * (size_t)st->channels[st->count], sizeof(double));
                 if (!st->layer_data[st->count++]) {
                     HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
                     return 0;
@@ -357,9 +379,8 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
             }
     }
     int framed = 1;
-    halo_emu_frame *seeds = march ? conform_host_frame(march, s->width, s->height, s->screen_right, s->screen_up,
-                                                       &framed, diag)
-                                  : NULL;
+    halo_emu_frame *seeds =
+        march ? conform_host_frame(march, s->width, s->height, s->screen_right, s->screen_up, &framed, diag) : NULL;
     if (!seeds) {
         if (framed)
             HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "the one-draw program has no march to emulate");
@@ -413,7 +434,8 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
                         plus[c] += voxel[c];
                         minus[c] -= voxel[c];
                         sample.gradient[c] = (halo_volume_trilinear(s->volume, s->dims, plus) -
-                                              halo_volume_trilinear(s->volume, s->dims, minus)) * 0.5;
+                                              halo_volume_trilinear(s->volume, s->dims, minus)) *
+                                             0.5;
                         v[c] = plan->eye[c] - P[c] * plan->eye[3]; /* halo_view_at */
                         length2 += v[c] * v[c];
                     }
@@ -584,10 +606,11 @@ static float *render(conform *c, const halo_program *p, const halo_render_settin
     const conform_segment_host *host = params->host ? params->host : &conform_segment_raycast;
     size_t values = (size_t)c->size * (size_t)c->size * 4;
     float *gpu = malloc(values * sizeof *gpu);
-    halo_raycast *r = halo_raycast_create(&(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = p,
-                                                            .width = c->size, .height = c->size},
-                                          c->diag);
-    int ok = gpu && r && halo_raycast_set_volume(r, volume, volume_size, volume_size, volume_size, c->diag) == HALO_OK &&
+    halo_raycast *r = halo_raycast_create(
+        &(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = p, .width = c->size, .height = c->size},
+        c->diag);
+    int ok = gpu && r &&
+             halo_raycast_set_volume(r, volume, volume_size, volume_size, volume_size, c->diag) == HALO_OK &&
              halo_raycast_set_render(r, settings, c->diag) == HALO_OK;
     if (ok && host->exit_points)
         ok = halo_raycast_set_exit_points(r, c->diag) == HALO_OK;
@@ -604,7 +627,8 @@ static float *render(conform *c, const halo_program *p, const halo_render_settin
         float inverse[16];
         for (int i = 0; i < 16; ++i)
             inverse[i] = (float)state->inverse_view_projection[i];
-        halo_gl_segments_desc desc = {.inverse_view_projection = inverse, .step = (float)state->step_size,
+        halo_gl_segments_desc desc = {.inverse_view_projection = inverse,
+                                      .step = (float)state->step_size,
                                       .segments = segments > 0 ? segments : 0};
         ok = ok && halo_segment_plan_make(&desc, p, plan, c->diag);
     }
@@ -619,7 +643,9 @@ static float *render(conform *c, const halo_program *p, const halo_render_settin
 static halo_program *link_host(conform *c, const halo_scene *scene, const conform_segment_host *host,
                                const char *source, int force, int one_draw)
 {
-    return halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = source,
+    return halo_link(&(halo_link_desc){.library = c->lib,
+                                       .scene = scene,
+                                       .host_source = source,
                                        .host_file = host->file,
                                        .target = c->target == HALO_TARGET_ES300 ? c->target : host->target,
                                        .force_segments = force,
@@ -665,7 +691,8 @@ void conform_segment_row(conform *c, const conform_row *row)
     halo_raycast_state state;
     halo_segment_plan plan;
     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4];
-    int ok = source && scene && (program = link_host(c, scene, host, source, params->segments > 0, params->one_draw)) != NULL;
+    int ok = source && scene &&
+             (program = link_host(c, scene, host, source, params->segments > 0, params->one_draw)) != NULL;
     const halo_render_settings *settings = ok ? halo_scene_render(scene) : NULL;
     ok = ok && (gpu = render(c, program, settings, volume, volume_size, params, params->segments, &state, transfer,
                              &plan)) != NULL;
@@ -683,7 +710,7 @@ void conform_segment_row(conform *c, const conform_row *row)
     } else if (ok) {
         /* against the emulation; the decisions on the opacity threshold, the ray's exit and
          * the isosurface's value bracketed */
-        static const double moves[][4] = {{-1e-5, 0.0, 0.0, 0.0}, {1e-5, 0.0, 0.0, 0.0}, {0.0, -1e-5, 0.0, 0.0},
+        static const double moves[][4] = {{-1e-5, 0.0, 0.0, 0.0}, {1e-5, 0.0, 0.0, 0.0},  {0.0, -1e-5, 0.0, 0.0},
                                           {0.0, 1e-5, 0.0, 0.0},  {0.0, 0.0, 0.0, -1e-5}, {0.0, 0.0, 0.0, 1e-5},
                                           {0.0, 0.0, -1e-5, 0.0}, {0.0, 0.0, 1e-5, 0.0}};
         /* the segment a sample falls in (segments), the stack layer it reads (one_draw):
@@ -697,8 +724,11 @@ void conform_segment_row(conform *c, const conform_row *row)
         ok = reference && moved && allowed &&
              halo_conform_segment_emulate(&state, program, &plan, &model, reference, c->diag);
         for (size_t m = 0; ok && m < move_count; ++m) {
-            conform_segment_model bracket = {.host = host, .jitter = params->jitter, .threshold_move = moves[m][0],
-                                             .exit_move = moves[m][1], .iso_move = moves[m][2],
+            conform_segment_model bracket = {.host = host,
+                                             .jitter = params->jitter,
+                                             .threshold_move = moves[m][0],
+                                             .exit_move = moves[m][1],
+                                             .iso_move = moves[m][2],
                                              .layer_move = moves[m][3]};
             ok = halo_conform_segment_emulate(&state, program, &plan, &bracket, moved, c->diag);
             for (size_t i = 0; ok && i < values; ++i)

@@ -21,17 +21,17 @@ typedef enum conform_segment_shading {
  * (conform_segment_raycast; the others are conform_segment_webgl, _exit_points, _tf2d,
  * _iso and _mip). */
 typedef struct conform_segment_host {
-    const char *file;      /* an embedded example host */
-    halo_target target;    /* the target it is linked for and drawn with */
+    const char *file;   /* an embedded example host */
+    halo_target target; /* the target it is linked for and drawn with */
     conform_segment_shading shading;
-    double threshold;      /* early ray termination at this accumulated opacity ... */
-    int strict_threshold;  /* ... reached (>=), or passed (>) */
-    int counted_steps;     /* ceil((t_exit - t_first) / step) samples, else those with t <= t_exit */
-    int centred_lookup;    /* the transfer table read at texel centres, else texture(tf, vec2(v, 0.5)) */
-    int derived_view;      /* halo_view_at (the frame's camera), else normalize(eye - P) */
-    int derived_depth;     /* halo_depth_at (planar), else the distance to the eye (radial) */
+    double threshold;       /* early ray termination at this accumulated opacity ... */
+    int strict_threshold;   /* ... reached (>=), or passed (>) */
+    int counted_steps;      /* ceil((t_exit - t_first) / step) samples, else those with t <= t_exit */
+    int centred_lookup;     /* the transfer table read at texel centres, else texture(tf, vec2(v, 0.5)) */
+    int derived_view;       /* halo_view_at (the frame's camera), else normalize(eye - P) */
+    int derived_depth;      /* halo_depth_at (planar), else the distance to the eye (radial) */
     int opacity_correction; /* 1 - (1 - a)^(step / unit_step), else a as it is */
-    int exit_points;       /* two passes: the exit from a texture of the box's back faces */
+    int exit_points;        /* two passes: the exit from a texture of the box's back faces */
 } conform_segment_host;
 
 extern const conform_segment_host conform_segment_raycast, conform_segment_webgl, conform_segment_exit_points,

@@ -171,14 +171,16 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
     source = halo_host_load(slab ? "slab.frag" : "slice.frag", NULL, c->diag);
     if (!source)
         goto done;
-    program = halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = source,
+    program = halo_link(&(halo_link_desc){.library = c->lib,
+                                          .scene = scene,
+                                          .host_source = source,
                                           .host_file = slab ? "slab.frag" : "slice.frag",
-                                          .target = c->target, .image_scale = scale},
+                                          .target = c->target,
+                                          .image_scale = scale},
                         c->diag);
     if (!program)
         goto done;
-    halo_host_desc desc = {.gl = c->gl, .runtime = c->runtime, .program = program, .width = c->size,
-                           .height = c->size};
+    halo_host_desc desc = {.gl = c->gl, .runtime = c->runtime, .program = program, .width = c->size, .height = c->size};
     host = slab ? halo_slab_create(&desc, c->diag) : halo_slice_create(&desc, c->diag);
     if (!host)
         goto done;
@@ -210,11 +212,12 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
     print_row(c, row, &stats, tolerance_text, pass);
     if (c->verbose || !pass) {
         size_t w = stats.worst;
-        fprintf(stderr, "  %s: %d slices, M = %d, %ld draws, %ld pass draws; largest error at pixel (%zu, %zu): gpu "
-                        "(%.9g %.9g %.9g) emulation (%.9g %.9g %.9g)\n  tolerance: %s\n",
+        fprintf(stderr,
+                "  %s: %d slices, M = %d, %ld draws, %ld pass draws; largest error at pixel (%zu, %zu): gpu "
+                "(%.9g %.9g %.9g) emulation (%.9g %.9g %.9g)\n  tolerance: %s\n",
                 row, state.slice_count, state.interval, halo_slice_draws(host), halo_slice_pass_draws(host),
-                w % (size_t)c->size, w / (size_t)c->size, gpu[w * 4], gpu[w * 4 + 1], gpu[w * 4 + 2],
-                reference[w * 4], reference[w * 4 + 1], reference[w * 4 + 2], reason);
+                w % (size_t)c->size, w / (size_t)c->size, gpu[w * 4], gpu[w * 4 + 1], gpu[w * 4 + 2], reference[w * 4],
+                reference[w * 4 + 1], reference[w * 4 + 2], reason);
     }
     printed = 1;
 done:

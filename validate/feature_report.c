@@ -158,21 +158,28 @@ static int report_volume(report *r, const char *name, const float *values, int n
     for (size_t i = 0; i < count; ++i)
         exact_max = exact[i] > exact_max ? exact[i] : exact_max;
     double sum = halo_feature_splat_weight_sum(r->splat);
-    fprintf(stderr, "%s%s: exact reference (CPU, 1 thread) %.0f ms; max h_i %.4f (= %.4f after / S, S = %.4f)\n",
-            name, weighted ? " (gradient-weighted)" : "", reference_ms, exact_max, exact_max / sum, sum);
-    static const variant ebert[] = {{-1, 0, "Ebert, no cutoff"}, {0.1, 0, "Ebert, cutoff 0.1"},
-                                    {0.2, 0, "Ebert, cutoff 0.2"}, {-1, 1, "Ebert, no cutoff, half res."},
+    fprintf(stderr, "%s%s: exact reference (CPU, 1 thread) %.0f ms; max h_i %.4f (= %.4f after / S, S = %.4f)\n", name,
+            weighted ? " (gradient-weighted)" : "", reference_ms, exact_max, exact_max / sum, sum);
+    static const variant ebert[] = {{-1, 0, "Ebert, no cutoff"},
+                                    {0.1, 0, "Ebert, cutoff 0.1"},
+                                    {0.2, 0, "Ebert, cutoff 0.2"},
+                                    {-1, 1, "Ebert, no cutoff, half res."},
                                     {0.1, 1, "Ebert, cutoff 0.1, half res."}};
-    static const variant ivis[] = {{-1, 0, "weighted, no cutoff"}, {0.05, 0, "weighted, cutoff 0.05"},
-                                   {0.1, 0, "weighted, cutoff 0.1"}, {0.2, 0, "weighted, cutoff 0.2"},
-                                   {0.4, 0, "weighted, cutoff 0.4"}, {-1, 1, "weighted, no cutoff, half res."},
+    static const variant ivis[] = {{-1, 0, "weighted, no cutoff"},
+                                   {0.05, 0, "weighted, cutoff 0.05"},
+                                   {0.1, 0, "weighted, cutoff 0.1"},
+                                   {0.2, 0, "weighted, cutoff 0.2"},
+                                   {0.4, 0, "weighted, cutoff 0.4"},
+                                   {-1, 1, "weighted, no cutoff, half res."},
                                    {0.1, 1, "weighted, cutoff 0.1, half res."}};
     const variant *list = weighted ? ivis : ebert;
     size_t list_count = weighted ? sizeof ivis / sizeof *ivis : sizeof ebert / sizeof *ebert;
     int ok = 1;
     for (size_t t = 0; t < list_count && ok; ++t) {
-        halo_feature_desc desc = {.splat_size = r->splat, .threshold = list[t].threshold,
-                                  .half_resolution = list[t].half, .gradient_weighted = weighted};
+        halo_feature_desc desc = {.splat_size = r->splat,
+                                  .threshold = list[t].threshold,
+                                  .half_resolution = list[t].half,
+                                  .gradient_weighted = weighted};
         ok = measure(r, name, values, n, &desc, exact, exact_max, list[t].label);
     }
     free(exact);
@@ -197,8 +204,10 @@ int halo_feature_report_main(int argc, char **argv)
         else if (!strcmp(a, "--repeat") && has)
             repeat = atoi(argv[++i]);
         else {
-            fprintf(stderr, "feature report: unknown argument '%s'\n"
-                            "usage: [--size N] [--mri PATH] [--mri-size N] [--splat N] [--repeat N]\n", a);
+            fprintf(stderr,
+                    "feature report: unknown argument '%s'\n"
+                    "usage: [--size N] [--mri PATH] [--mri-size N] [--splat N] [--repeat N]\n",
+                    a);
             return 2;
         }
     }
@@ -246,18 +255,21 @@ int halo_feature_report_main(int argc, char **argv)
     } else {
         fprintf(stderr, "feature report: %s not found: the MRI head is skipped\n", mri);
     }
-    printf("Share of voxels above gradient thresholds (|grad f| in normalized value per voxel step, central\n"
-           "differences / 2; the largest possible is sqrt(3)/2 = 0.866):\n\n");
+    printf(
+        "Share of voxels above gradient thresholds (|grad f| in normalized value per voxel step, central\n"
+        "differences / 2; the largest possible is sqrt(3)/2 = 0.866):\n\n");
     printf("| volume | > 0 | > 0.05 | > 0.1 | > 0.2 | > 0.4 | max |\n|---|---|---|---|---|---|---|\n");
     gradient_table_row("built-in", builtin, size);
     if (head)
         gradient_table_row("MRI head", head, head_size);
-    printf("\nHalo buffer: %dx%dx%d splat, view (%.2f, %.2f, %.2f), median of %d builds; error of the halo\n"
-           "effect h/S at every voxel against the exact reference, max relative to the largest exact value,\n"
-           "RMSE absolute, share of voxels off by more than 0.01:\n\n",
-           splat, splat, splat, report_view[0], report_view[1], report_view[2], repeat);
-    printf("| volume | buffer | qualified | points drawn | preprocess ms | build ms | max error / max h | RMSE | > 0.01 |\n"
-           "|---|---|---|---|---|---|---|---|---|\n");
+    printf(
+        "\nHalo buffer: %dx%dx%d splat, view (%.2f, %.2f, %.2f), median of %d builds; error of the halo\n"
+        "effect h/S at every voxel against the exact reference, max relative to the largest exact value,\n"
+        "RMSE absolute, share of voxels off by more than 0.01:\n\n",
+        splat, splat, splat, report_view[0], report_view[1], report_view[2], repeat);
+    printf(
+        "| volume | buffer | qualified | points drawn | preprocess ms | build ms | max error / max h | RMSE | > 0.01 |\n"
+        "|---|---|---|---|---|---|---|---|---|\n");
     char name[64];
     snprintf(name, sizeof name, "built-in %d^3", size);
     for (int weighted = 0; weighted < 2; ++weighted) {

@@ -19,9 +19,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FIG_SIZE 256
+#define FIG_SIZE     256
 #define FIG_FEATURES 7
-#define FIG_SIGMA 5.0 /* px: 3 sigma = 15 px = the reach 2^N - 1 of the spreading with N = 4 */
+#define FIG_SIGMA    5.0 /* px: 3 sigma = 15 px = the reach 2^N - 1 of the spreading with N = 4 */
 
 static const struct {
     double radius; /* 0: a single pixel */
@@ -30,18 +30,19 @@ static const struct {
     {0, 200, 220}, {1, 140, 220}, {2, 190, 170}, {4, 140, 170}, {8, 60, 180}, {16, 180, 60}, {32, 60, 60},
 };
 
-static const char figure3_host[] = "#version 330 core\n"
-                                   "#pragma halo declarations\n"
-                                   "layout(location = 0) out vec4 color;\n"
-                                   "void main() {\n"
-                                   "    color = vec4(0.0);\n"
-                                   "#ifdef HALO_LINKED\n"
-                                   "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.0), vec3(0.0, 0.0, 1.0),"
-                                   " 0.5, gl_FragCoord.xy, vec3(0.0), 0.0);\n"
-                                   "    halo_apply(s);\n"
-                                   "    halo_finish();\n"
-                                   "#endif\n"
-                                   "}\n";
+static const char figure3_host[] =
+    "#version 330 core\n"
+    "#pragma halo declarations\n"
+    "layout(location = 0) out vec4 color;\n"
+    "void main() {\n"
+    "    color = vec4(0.0);\n"
+    "#ifdef HALO_LINKED\n"
+    "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.0), vec3(0.0, 0.0, 1.0),"
+    " 0.5, gl_FragCoord.xy, vec3(0.0), 0.0);\n"
+    "    halo_apply(s);\n"
+    "    halo_finish();\n"
+    "#endif\n"
+    "}\n";
 
 static void seed_image(double *s)
 {
@@ -88,8 +89,8 @@ static void lowpass(const double *in, double *out, double *tmp)
 static void run_pass(halo_emu_pass_fn fn, const halo_emu_params *params, int index, int count, const double *in0,
                      const double *in1, double *out)
 {
-    halo_emu_pass_context c = {params, FIG_SIZE, FIG_SIZE, 1, index, count, in1 ? 2 : 1, {in0, in1}, {0}, 0, 1,
-                               {0}, {0}, {0}, {0}};
+    halo_emu_pass_context c = {params, FIG_SIZE, FIG_SIZE, 1,   index, count, in1 ? 2 : 1, {in0, in1},
+                               {0},    0,        1,        {0}, {0},   {0},   {0}};
     for (int y = 0; y < FIG_SIZE; ++y)
         for (int x = 0; x < FIG_SIZE; ++x) {
             double v[4] = {0, 0, 0, 0};
@@ -138,9 +139,9 @@ int halo_figure3_run(const halo_library *lib, FILE *out, double ratios[4], halo_
     halo_emu_frame *frame = NULL;
     if (!buffers || !scene)
         goto done;
-    program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = figure3_host,
-                                          .host_file = "(figure 3 host)"},
-                        diag);
+    program = halo_link(
+        &(halo_link_desc){.library = lib, .scene = scene, .host_source = figure3_host, .host_file = "(figure 3 host)"},
+        diag);
     if (!program)
         goto done;
     frame = halo_emu_frame_create(program, FIG_SIZE, FIG_SIZE, diag);
@@ -157,10 +158,10 @@ int halo_figure3_run(const halo_library *lib, FILE *out, double ratios[4], halo_
     double *S = buffers, *grad = buffers + n, *tmp = buffers + 2 * n, *tmp2 = buffers + 3 * n;
     double *results[4] = {buffers + 4 * n, buffers + 5 * n, buffers + 6 * n, buffers + 7 * n};
     seed_image(S);
-    lowpass(S, results[0], tmp);          /* (b) */
-    spread(&params, 4, S, results[1], tmp); /* (c) */
+    lowpass(S, results[0], tmp);                      /* (b) */
+    spread(&params, 4, S, results[1], tmp);           /* (c) */
     run_pass(gradient, &params, 1, 1, S, NULL, grad); /* (d) */
-    lowpass(grad, results[2], tmp);       /* (e) */
+    lowpass(grad, results[2], tmp);                   /* (e) */
     /* (f): libhalo's schedule, as a host runs it: the seed image, then one generation. */
     halo_emu_frame_begin(frame);
     memcpy(halo_emu_frame_image(frame, "seed"), S, n * sizeof *S);
@@ -226,9 +227,10 @@ static int field_of(const halo_library *lib, const char *generate, const double 
     char json[256];
     snprintf(json, sizeof json, "{\"stages\": [{\"halo_generate\": %s}]}", generate);
     halo_scene *scene = halo_scene_parse(json, "(wide field scene)", lib, diag);
-    halo_program *program = scene ? halo_link(&(halo_link_desc){.library = lib, .scene = scene,
-                                                                 .host_source = figure3_host,
-                                                                 .host_file = "(figure 3 host)"},
+    halo_program *program = scene ? halo_link(&(halo_link_desc){.library = lib,
+                                                                .scene = scene,
+                                                                .host_source = figure3_host,
+                                                                .host_file = "(figure 3 host)"},
                                               diag)
                                   : NULL;
     halo_emu_frame *frame = program ? halo_emu_frame_create(program, FIG_SIZE, FIG_SIZE, diag) : NULL;

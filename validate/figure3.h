@@ -15,7 +15,7 @@ int halo_figure3_run(const halo_library *lib, FILE *out, double ratios[4], halo_
  * double precision. weaker_*: 1 - (wide / exact) of the ring means 2..6 px outside each
  * feature (a single pixel to radius 32), the smallest and the largest. */
 typedef struct halo_figure3_wide_error {
-    int size;                         /* the seed image's side */
+    int size; /* the seed image's side */
     double max_abs, rmse;
     double exact_at_max, wide_at_max; /* the two fields where they differ most */
     double weaker_min, weaker_max;

@@ -63,7 +63,8 @@ static const char usage_text[] =
     "                 targets prints once, naming them: [330, 450, es300]\n"
     "exit status: 0 success, 1 the input has errors, 2 usage or I/O failure\n";
 
-static int usage_error(const char *fmt, const char *arg) {
+static int usage_error(const char *fmt, const char *arg)
+{
     fprintf(stderr, "halo-validate: ");
     fprintf(stderr, fmt, arg);
     fprintf(stderr, "\nTry 'halo-validate --help'.\n");
@@ -71,11 +72,13 @@ static int usage_error(const char *fmt, const char *arg) {
 }
 
 /* Maps a set of diagnostics to an exit status: I/O problems are 2, others 1. */
-static int status_of(const halo_diagnostics *d) {
+static int status_of(const halo_diagnostics *d)
+{
     int status = 0;
     for (size_t i = 0; i < halo_diagnostics_count(d); i++) {
         const halo_diagnostic *g = halo_diagnostics_get(d, i);
-        if (g->severity != HALO_SEVERITY_ERROR) continue;
+        if (g->severity != HALO_SEVERITY_ERROR)
+            continue;
         if (g->id == HALO_MSG_IO_READ || g->id == HALO_MSG_IO_WRITE || g->id == HALO_MSG_OUT_OF_MEMORY ||
             g->id == HALO_MSG_INPUT_TOO_LARGE)
             return EXIT_USAGE;
@@ -85,16 +88,19 @@ static int status_of(const halo_diagnostics *d) {
 }
 
 /* --error-limit N: the cap on the errors shown (halo_diagnostics_set_limit). */
-static int parse_error_limit(const char *arg, size_t *limit) {
+static int parse_error_limit(const char *arg, size_t *limit)
+{
     char *end = NULL;
     errno = 0;
     unsigned long long n = arg && *arg >= '0' && *arg <= '9' ? strtoull(arg, &end, 10) : 0;
-    if (!end || *end || errno || n > (unsigned long long)SIZE_MAX) return -1;
+    if (!end || *end || errno || n > (unsigned long long)SIZE_MAX)
+        return -1;
     *limit = (size_t)n;
     return 0;
 }
 
-static const char *extension(const char *path) {
+static const char *extension(const char *path)
+{
     const char *slash = strrchr(path, '/');
     const char *dot = strrchr(slash ? slash : path, '.');
     return dot ? dot + 1 : "";
@@ -102,14 +108,17 @@ static const char *extension(const char *path) {
 
 /* Reads a shader. NULL with *status EXIT_USAGE when the file cannot be read, or
  * EXIT_INPUT when it is no text (a NUL byte: an error in the input, at its place). */
-static char *read_text(const char *path, int *status) {
+static char *read_text(const char *path, int *status)
+{
     *status = EXIT_USAGE;
     size_t len = 0;
     char *buf = halo_read_file(path, &len);
     if (!buf) {
         if (errno == EFBIG)
-            fprintf(stderr, "%s: error: cannot read: the file is larger than the %zu MiB that libhalo reads "
-                            "(HALO_MAX_FILE_BYTES)\n", path, HALO_MAX_FILE_BYTES >> 20);
+            fprintf(stderr,
+                    "%s: error: cannot read: the file is larger than the %zu MiB that libhalo reads "
+                    "(HALO_MAX_FILE_BYTES)\n",
+                    path, HALO_MAX_FILE_BYTES >> 20);
         else
             fprintf(stderr, "%s: error: cannot read: %s\n", path, errno == ENOMEM ? "out of memory" : strerror(errno));
         return NULL;
@@ -125,16 +134,19 @@ static char *read_text(const char *path, int *status) {
     return buf;
 }
 
-static int parse_targets(const char *arg, halo_target *targets, int *count) {
+static int parse_targets(const char *arg, halo_target *targets, int *count)
+{
     if (!strcmp(arg, "all")) {
         *count = 0;
         /* 150 only when asked: hosts written for 330 and up declare layout(location) */
         for (int t = HALO_TARGET_GLSL330; t < HALO_TARGET_COUNT; t++)
-            if (t != HALO_TARGET_GLSL150) targets[(*count)++] = (halo_target)t;
+            if (t != HALO_TARGET_GLSL150)
+                targets[(*count)++] = (halo_target)t;
         return 0;
     }
     halo_target t = halo_target_from_name(arg);
-    if (t == HALO_TARGET_COUNT) return -1;
+    if (t == HALO_TARGET_COUNT)
+        return -1;
     targets[0] = t;
     *count = 1;
     return 0;
@@ -149,7 +161,8 @@ typedef struct check_targets {
 
 /* Is a file checked for its own #version (a plain shader, no --target): one compile, not
  * one per target? */
-static int checks_own_version(const char *text, int module, const check_targets *ct) {
+static int checks_own_version(const char *text, int module, const check_targets *ct)
+{
     return !module && !ct->given && halo_source_kind_of(text) == HALO_SOURCE_SHADER;
 }
 
@@ -157,7 +170,8 @@ static int checks_own_version(const char *text, int module, const check_targets 
 static const char *crash_reason(int sig) { return sig ? strsignal(sig) : "no exit status"; }
 
 /* The error for a file on which the compiler crashed: an input error at the file. */
-static void report_crash(halo_diagnostics *d, const char *path, int sig) {
+static void report_crash(halo_diagnostics *d, const char *path, int sig)
+{
     char text[256];
     snprintf(text, sizeof text, "the GLSL compiler crashed on this file (%s)", crash_reason(sig));
     halo_diagnostics_report(d, HALO_SEVERITY_ERROR, HALO_MSG_GLSL_ERROR, path, 0, 0, NULL, "%s", text);
@@ -168,7 +182,8 @@ static void report_crash(halo_diagnostics *d, const char *path, int sig) {
  * the targets on which the compiler crashed, by index in ct (signal number + 1), reported
  * as such in place of a check. Returns its exit status. */
 static int check_file(const char *path, const char *text, int module, halo_library *lib, const check_targets *ct,
-                      const int *crashed, halo_diagnostics *d) {
+                      const int *crashed, halo_diagnostics *d)
+{
     int file_status, own = 0;
     if (module) {
         halo_status st = halo_library_override_file(lib, path, d);
@@ -178,11 +193,14 @@ static int check_file(const char *path, const char *text, int module, halo_libra
         }
         const halo_module *m = NULL;
         for (size_t i = 0; i < halo_library_module_count(lib); i++)
-            if (!strcmp(halo_module_file(halo_library_module(lib, i)), path)) m = halo_library_module(lib, i);
+            if (!strcmp(halo_module_file(halo_library_module(lib, i)), path))
+                m = halo_library_module(lib, i);
         for (int t = 0; m && t < ct->count; t++) { /* printed once below, naming the targets */
             halo_diagnostics_set_run(d, halo_target_name(ct->list[t]));
-            if (crashed && crashed[t]) report_crash(d, path, crashed[t] - 1);
-            else halo_module_validate(lib, m, ct->list[t], d);
+            if (crashed && crashed[t])
+                report_crash(d, path, crashed[t] - 1);
+            else
+                halo_module_validate(lib, m, ct->list[t], d);
         }
     } else {
         /* a plain shader is checked for its own #version unless --target says otherwise */
@@ -191,20 +209,24 @@ static int check_file(const char *path, const char *text, int module, halo_libra
         for (int t = 0; t < (own ? 1 : ct->count); t++) { /* printed once below, naming the targets */
             halo_target target = own ? HALO_TARGET_DEFAULT : ct->list[t];
             halo_diagnostics_set_run(d, own ? NULL : halo_target_name(target));
-            if (crashed && crashed[t]) report_crash(d, path, crashed[t] - 1);
-            else halo_validate_shader(text, path, kind, target, d);
+            if (crashed && crashed[t])
+                report_crash(d, path, crashed[t] - 1);
+            else
+                halo_validate_shader(text, path, kind, target, d);
         }
     }
     int implied = 0;
     for (size_t i = 0; i < halo_diagnostics_count(d); i++)
-        if (halo_diagnostics_get(d, i)->id == HALO_MSG_GLSL_VERSION_IMPLIED) implied = 1;
+        if (halo_diagnostics_get(d, i)->id == HALO_MSG_GLSL_VERSION_IMPLIED)
+            implied = 1;
     halo_diagnostics_print(d, stderr);
     file_status = status_of(d);
     if (!file_status && own) {
         printf("%s: ok (%s)\n", path, implied ? "GLSL ES 1.00: no #version" : "its own #version");
     } else if (!file_status) {
         printf("%s: ok (", path);
-        for (int t = 0; t < ct->count; t++) printf("%s%s", t ? ", " : "", halo_target_name(ct->list[t]));
+        for (int t = 0; t < ct->count; t++)
+            printf("%s%s", t ? ", " : "", halo_target_name(ct->list[t]));
         printf(")\n");
     }
     return file_status;
@@ -212,23 +234,26 @@ static int check_file(const char *path, const char *text, int module, halo_libra
 
 /* check_file in a child process, quiet: printing nothing. Returns the child's exit status,
  * or -1 when it died, with the signal in *sig (0: none). */
-static int check_in_child(const char *path, const char *text, int module, halo_library *lib,
-                          const check_targets *ct, const int *crashed, int quiet, halo_diagnostics *d, int *sig) {
+static int check_in_child(const char *path, const char *text, int module, halo_library *lib, const check_targets *ct,
+                          const int *crashed, int quiet, halo_diagnostics *d, int *sig)
+{
     fflush(stdout);
     fflush(stderr);
     pid_t pid = fork();
     if (pid == 0) {
-        if (quiet && (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr))) _exit(EXIT_USAGE);
+        if (quiet && (!freopen("/dev/null", "w", stdout) || !freopen("/dev/null", "w", stderr)))
+            _exit(EXIT_USAGE);
         int s = check_file(path, text, module, lib, ct, crashed, d);
         fflush(stdout);
         fflush(stderr);
         _exit(s);
     }
-    if (pid < 0) return quiet ? 0 : check_file(path, text, module, lib, ct, crashed, d); /* no child: in process */
+    if (pid < 0)
+        return quiet ? 0 : check_file(path, text, module, lib, ct, crashed, d); /* no child: in process */
     int wstatus = 0;
-    while (waitpid(pid, &wstatus, 0) < 0 && errno == EINTR) {
-    }
-    if (WIFEXITED(wstatus)) return WEXITSTATUS(wstatus);
+    while (waitpid(pid, &wstatus, 0) < 0 && errno == EINTR) {}
+    if (WIFEXITED(wstatus))
+        return WEXITSTATUS(wstatus);
     *sig = WIFSIGNALED(wstatus) ? WTERMSIG(wstatus) : 0;
     return -1;
 }
@@ -241,17 +266,21 @@ static int check_in_child(const char *path, const char *text, int module, halo_l
  * crash, then the others are checked and printed with a crash error for those: the
  * errors of the targets that compile are not lost. */
 static int check_file_isolated(const char *path, const char *text, int module, halo_library *lib,
-                               const check_targets *ct, halo_diagnostics *d) {
+                               const check_targets *ct, halo_diagnostics *d)
+{
     int sig = 0, status = check_in_child(path, text, module, lib, ct, NULL, 0, d, &sig);
     if (status < 0 && ct->count > 1 && !checks_own_version(text, module, ct)) {
         int crashed[HALO_TARGET_COUNT] = {0}, compiled = 0;
         for (int t = 0; t < ct->count; t++) {
             check_targets one = {.list = {ct->list[t]}, .count = 1, .given = ct->given};
             int s = 0;
-            if (check_in_child(path, text, module, lib, &one, NULL, 1, d, &s) < 0) crashed[t] = s + 1;
-            else compiled = 1;
+            if (check_in_child(path, text, module, lib, &one, NULL, 1, d, &s) < 0)
+                crashed[t] = s + 1;
+            else
+                compiled = 1;
         }
-        if (compiled) status = check_in_child(path, text, module, lib, ct, crashed, 0, d, &sig);
+        if (compiled)
+            status = check_in_child(path, text, module, lib, ct, crashed, 0, d, &sig);
     }
     if (module) {
         /* the parent's library takes the module too, for the files after it */
@@ -259,18 +288,21 @@ static int check_file_isolated(const char *path, const char *text, int module, h
         halo_library_override_file(lib, path, ignored);
         halo_diagnostics_destroy(ignored);
     }
-    if (status >= 0) return status;
+    if (status >= 0)
+        return status;
     fprintf(stderr, "%s: error: the GLSL compiler crashed on this file (%s)\n", path, crash_reason(sig));
     return EXIT_INPUT;
 }
 
-static int cmd_check(int argc, char **argv) {
+static int cmd_check(int argc, char **argv)
+{
     check_targets ct = {.count = 0};
     parse_targets("all", ct.list, &ct.count);
     int nfiles = 0, worst = 0;
     size_t error_limit = HALO_DIAGNOSTICS_DEFAULT_LIMIT;
     char **files = calloc((size_t)argc + 1, sizeof *files);
-    if (!files) return EXIT_USAGE;
+    if (!files)
+        return EXIT_USAGE;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--error-limit")) {
             if (i + 1 >= argc || parse_error_limit(argv[++i], &error_limit)) {
@@ -325,7 +357,8 @@ static int cmd_check(int argc, char **argv) {
             file_status = EXIT_USAGE;
         }
         free(text);
-        if (file_status > worst) worst = file_status;
+        if (file_status > worst)
+            worst = file_status;
     }
     halo_library_destroy(lib);
     halo_diagnostics_destroy(d);
@@ -334,16 +367,27 @@ static int cmd_check(int argc, char **argv) {
 }
 
 /* --sample NAME=EXPR: an expression of halo_pieces_desc. */
-static int set_piece_expression(halo_pieces_desc *d, char *arg) {
+static int set_piece_expression(halo_pieces_desc *d, char *arg)
+{
     char *eq = strchr(arg, '=');
-    if (!eq || eq == arg || !eq[1]) return -1;
+    if (!eq || eq == arg || !eq[1])
+        return -1;
     *eq = '\0';
     const char *v = eq + 1;
     /* gradient_texture: the field's own name, as the diagnostics of an expression call it */
-    static const char *const names[] = {"position", "value", "gradient", "view", "depth", "fragcoord", "color",
-                                        "volume", "gradient-texture", "gradient_texture"};
-    const char **fields[] = {&d->position, &d->value, &d->gradient, &d->view, &d->depth, &d->fragcoord, &d->color,
-                             &d->volume, &d->gradient_texture, &d->gradient_texture};
+    static const char *const names[] = {
+        "position",         "value",           "gradient", "view", "depth", "fragcoord", "color", "volume",
+        "gradient-texture", "gradient_texture"};
+    const char **fields[] = {&d->position,
+                             &d->value,
+                             &d->gradient,
+                             &d->view,
+                             &d->depth,
+                             &d->fragcoord,
+                             &d->color,
+                             &d->volume,
+                             &d->gradient_texture,
+                             &d->gradient_texture};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
         if (!strcmp(arg, names[i])) {
             *fields[i] = v;
@@ -353,7 +397,8 @@ static int set_piece_expression(halo_pieces_desc *d, char *arg) {
     return -1;
 }
 
-static int write_text(const char *path, const char *text) {
+static int write_text(const char *path, const char *text)
+{
     FILE *f = fopen(path, "w");
     if (!f || fputs(text, f) < 0 || fclose(f)) {
         fprintf(stderr, "%s: error: cannot write: %s\n", path, strerror(errno));
@@ -364,7 +409,8 @@ static int write_text(const char *path, const char *text) {
 
 /* link --pieces: the pieces, with a header each, to stdout or to the file -o names, or
  * into DIR. */
-static int print_pieces(const halo_program *p, const char *dir, const char *out_path) {
+static int print_pieces(const halo_program *p, const char *dir, const char *out_path)
+{
     static const char *const names[HALO_PIECE_COUNT] = {"declarations", "sample", "finish"};
     if (!dir) {
         FILE *out = out_path ? fopen(out_path, "w") : stdout;
@@ -373,8 +419,10 @@ static int print_pieces(const halo_program *p, const char *dir, const char *out_
             const char *text = halo_program_piece(p, (halo_piece)k);
             bad |= fprintf(out, "// ==== libhalo piece: %s ====\n%s", names[k], text ? text : "") < 0;
         }
-        if (out && out != stdout) bad |= fclose(out) != 0;
-        if (bad) fprintf(stderr, "%s: error: cannot write: %s\n", out_path ? out_path : "<stdout>", strerror(errno));
+        if (out && out != stdout)
+            bad |= fclose(out) != 0;
+        if (bad)
+            fprintf(stderr, "%s: error: cannot write: %s\n", out_path ? out_path : "<stdout>", strerror(errno));
         return bad ? EXIT_USAGE : 0;
     }
     for (int k = 0; k < HALO_PIECE_COUNT; k++) {
@@ -382,12 +430,14 @@ static int print_pieces(const halo_program *p, const char *dir, const char *out_
         char path[4096];
         snprintf(path, sizeof path, "%s/%s.glsl", dir, names[k]);
         int st = write_text(path, text ? text : "");
-        if (st) return st;
+        if (st)
+            return st;
     }
     return 0;
 }
 
-static int cmd_link(int argc, char **argv) {
+static int cmd_link(int argc, char **argv)
+{
     const char *scene_path = NULL, *host_path = NULL, *out_path = NULL, *composed_path = NULL, *pieces_dir = NULL;
     const char *pieces_option = NULL; /* the last option that only pieces take */
     int reflect = 0, nmodules = 0, pieces = 0;
@@ -395,39 +445,58 @@ static int cmd_link(int argc, char **argv) {
     halo_pieces_desc pd = {0};
     halo_link_desc desc = {.target = HALO_TARGET_GLSL330};
     const char **modules = calloc((size_t)argc + 1, sizeof *modules);
-    if (!modules) return EXIT_USAGE;
+    if (!modules)
+        return EXIT_USAGE;
     int bad = 0;
     for (int i = 1; i < argc && !bad; i++) {
         const char *a = argv[i];
         int has_value = i + 1 < argc;
-        if (!strcmp(a, "--scene") && has_value) scene_path = argv[++i];
-        else if (!strcmp(a, "--host") && has_value) host_path = argv[++i];
-        else if (!strcmp(a, "-o") && has_value) out_path = argv[++i];
-        else if (!strcmp(a, "--module") && has_value) modules[nmodules++] = argv[++i];
-        else if (!strcmp(a, "--reflect")) reflect = 1;
-        else if (!strcmp(a, "--pieces")) pieces = 1;
-        else if (!strcmp(a, "--pieces-dir") && has_value) pieces = 1, pieces_dir = argv[++i];
-        else if (!strcmp(a, "--composed") && has_value) pieces = 1, composed_path = argv[++i];
-        else if (!strcmp(a, "--segmented")) pd.segmented = 1, pieces_option = a;
-        else if (!strcmp(a, "--engine-uniforms")) desc.engine_uniforms = 1;
-        else if (!strcmp(a, "--unlocated-outputs")) desc.unlocated_outputs = 1;
+        if (!strcmp(a, "--scene") && has_value)
+            scene_path = argv[++i];
+        else if (!strcmp(a, "--host") && has_value)
+            host_path = argv[++i];
+        else if (!strcmp(a, "-o") && has_value)
+            out_path = argv[++i];
+        else if (!strcmp(a, "--module") && has_value)
+            modules[nmodules++] = argv[++i];
+        else if (!strcmp(a, "--reflect"))
+            reflect = 1;
+        else if (!strcmp(a, "--pieces"))
+            pieces = 1;
+        else if (!strcmp(a, "--pieces-dir") && has_value)
+            pieces = 1, pieces_dir = argv[++i];
+        else if (!strcmp(a, "--composed") && has_value)
+            pieces = 1, composed_path = argv[++i];
+        else if (!strcmp(a, "--segmented"))
+            pd.segmented = 1, pieces_option = a;
+        else if (!strcmp(a, "--engine-uniforms"))
+            desc.engine_uniforms = 1;
+        else if (!strcmp(a, "--unlocated-outputs"))
+            desc.unlocated_outputs = 1;
         else if (!strcmp(a, "--first-output-location") && has_value) {
             pieces_option = a;
             char *end;
             long v = strtol(argv[++i], &end, 10);
-            if (*end || v < 1 || v > 15) bad = usage_error("--first-output-location takes 1..15, not '%s'", argv[i]);
+            if (*end || v < 1 || v > 15)
+                bad = usage_error("--first-output-location takes 1..15, not '%s'", argv[i]);
             pd.first_output_location = (int)v;
         } else if (!strcmp(a, "--sample") && has_value) {
             pieces_option = a;
             if (set_piece_expression(&pd, argv[++i]))
-                bad = usage_error("--sample takes NAME=EXPR with NAME position, value, gradient, view, depth, "
-                                  "fragcoord, color, volume or gradient-texture, not '%s'", argv[i]);
+                bad = usage_error(
+                    "--sample takes NAME=EXPR with NAME position, value, gradient, view, depth, "
+                    "fragcoord, color, volume or gradient-texture, not '%s'",
+                    argv[i]);
         } else if (!strcmp(a, "--version") && has_value) {
             const char *v = argv[++i];
-            if (!strcmp(v, "target")) desc.version = HALO_VERSION_TARGET;
-            else if (!strcmp(v, "keep")) desc.version = HALO_VERSION_KEEP;
-            else if (!strcmp(v, "none")) desc.version = HALO_VERSION_NONE;
-            else bad = usage_error("--version takes target, keep or none, not '%s'", v);
+            if (!strcmp(v, "target"))
+                desc.version = HALO_VERSION_TARGET;
+            else if (!strcmp(v, "keep"))
+                desc.version = HALO_VERSION_KEEP;
+            else if (!strcmp(v, "none"))
+                desc.version = HALO_VERSION_NONE;
+            else
+                bad = usage_error("--version takes target, keep or none, not '%s'", v);
         } else if (!strcmp(a, "--error-limit") && has_value) {
             if (parse_error_limit(argv[++i], &error_limit))
                 bad = usage_error("--error-limit takes a number of errors (0: no limit), not '%s'", argv[i]);
@@ -439,8 +508,10 @@ static int cmd_link(int argc, char **argv) {
             bad = usage_error("link: unknown option or missing value: '%s'", a);
         }
     }
-    if (!bad && !host_path && !pieces) bad = usage_error("link needs --host FILE, or --pieces%s", "");
-    if (!bad && host_path && pieces) bad = usage_error("link takes --host FILE or --pieces, not both%s", "");
+    if (!bad && !host_path && !pieces)
+        bad = usage_error("link needs --host FILE, or --pieces%s", "");
+    if (!bad && host_path && pieces)
+        bad = usage_error("link takes --host FILE or --pieces, not both%s", "");
     if (!bad && host_path && pieces_option)
         bad = usage_error("%s applies to --pieces only: a host shader's own text says it (not with --host)",
                           pieces_option);
@@ -455,31 +526,40 @@ static int cmd_link(int argc, char **argv) {
     halo_program *p = NULL;
     char *host = NULL, *composed = NULL;
     int status = 0;
-    for (int i = 0; lib && i < nmodules; i++) halo_library_override_file(lib, modules[i], d);
-    if (!lib || halo_diagnostics_errors(d)) goto done;
+    for (int i = 0; lib && i < nmodules; i++)
+        halo_library_override_file(lib, modules[i], d);
+    if (!lib || halo_diagnostics_errors(d))
+        goto done;
     scene = scene_path ? halo_scene_load(scene_path, lib, d) : halo_scene_create(lib);
-    if (!scene) goto done;
+    if (!scene)
+        goto done;
     if (host_path) {
         host = read_text(host_path, &status);
-        if (!host) goto done;
+        if (!host)
+            goto done;
         desc.kind = !strcmp(extension(host_path), "vert") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT;
     } else {
         desc.pieces = &pd;
     }
-    if (composed_path && !(composed = read_text(composed_path, &status))) goto done;
+    if (composed_path && !(composed = read_text(composed_path, &status)))
+        goto done;
     desc.library = lib;
     desc.scene = scene;
     desc.host_source = host;
     desc.host_file = host_path;
     p = halo_link(&desc, d);
-    if (!p || halo_program_validate(p, d) != HALO_OK) goto done;
-    if (composed && halo_program_validate_composed(p, composed, composed_path, NULL, 0, d) != HALO_OK) goto done;
+    if (!p || halo_program_validate(p, d) != HALO_OK)
+        goto done;
+    if (composed && halo_program_validate_composed(p, composed, composed_path, NULL, 0, d) != HALO_OK)
+        goto done;
     if (pieces && (pieces_dir || !reflect)) {
         status = print_pieces(p, pieces_dir, out_path);
-        if (status) goto done;
+        if (status)
+            goto done;
     } else if (out_path) {
         status = write_text(out_path, halo_program_source(p));
-        if (status) goto done;
+        if (status)
+            goto done;
     } else if (!reflect) {
         fputs(halo_program_source(p), stdout);
     }
@@ -494,8 +574,10 @@ static int cmd_link(int argc, char **argv) {
     }
 done:
     halo_diagnostics_print(d, stderr);
-    if (!status) status = status_of(d);
-    if (!status && !p) status = EXIT_INPUT;
+    if (!status)
+        status = status_of(d);
+    if (!status && !p)
+        status = EXIT_INPUT;
     halo_program_destroy(p);
     free(host);
     free(composed);
@@ -506,7 +588,8 @@ done:
     return status;
 }
 
-static int cmd_list(void) {
+static int cmd_list(void)
+{
     halo_diagnostics *d = halo_diagnostics_create();
     halo_library *lib = halo_library_create(d);
     if (!lib) {
@@ -530,7 +613,8 @@ static int cmd_list(void) {
     return 0;
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     if (argc < 2) {
         fputs(usage_text, stderr);
         return EXIT_USAGE;
@@ -557,13 +641,20 @@ int main(int argc, char **argv) {
         return EXIT_USAGE;
     }
     int status;
-    if (!strcmp(cmd, "check")) status = cmd_check(argc - 1, argv + 1);
-    else if (!strcmp(cmd, "link")) status = cmd_link(argc - 1, argv + 1);
-    else if (!strcmp(cmd, "list")) status = cmd_list();
-    else if (!strcmp(cmd, "conform")) status = halo_conform_main(argc - 1, argv + 1);
-    else if (!strcmp(cmd, "bench")) status = halo_bench_main(argc - 1, argv + 1);
-    else if (!strcmp(cmd, "blur")) status = halo_blur_report_main(argc - 1, argv + 1);
-    else status = usage_error("unknown command '%s'", cmd);
+    if (!strcmp(cmd, "check"))
+        status = cmd_check(argc - 1, argv + 1);
+    else if (!strcmp(cmd, "link"))
+        status = cmd_link(argc - 1, argv + 1);
+    else if (!strcmp(cmd, "list"))
+        status = cmd_list();
+    else if (!strcmp(cmd, "conform"))
+        status = halo_conform_main(argc - 1, argv + 1);
+    else if (!strcmp(cmd, "bench"))
+        status = halo_bench_main(argc - 1, argv + 1);
+    else if (!strcmp(cmd, "blur"))
+        status = halo_blur_report_main(argc - 1, argv + 1);
+    else
+        status = usage_error("unknown command '%s'", cmd);
     halo_shutdown();
     return status;
 }

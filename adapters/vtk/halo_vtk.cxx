@@ -48,7 +48,8 @@
 #include <string>
 #include <vector>
 
-namespace {
+namespace
+{
 
 /* Where the sample piece goes: VTK's composite mode premultiplies the classified colour
  * here, just before compositing (one occurrence in a composite, one-component shader). */
@@ -64,35 +65,35 @@ const char extension_tag[] = "//VTK::System::Dec";
  * in VTK's GLSL 150): VTK builds and binds its program itself, libhalo-vtk cannot set a
  * sampler there before VTK's first draw */
 const char extension_text[] = "//VTK::System::Dec\n#extension GL_ARB_shading_language_420pack : require\n";
-const char extension_segmented_text[] = "//VTK::System::Dec\n#extension GL_ARB_shading_language_420pack : require\n"
-                                        "#extension GL_ARB_explicit_attrib_location : require\n";
+const char extension_segmented_text[] =
+    "//VTK::System::Dec\n#extension GL_ARB_shading_language_420pack : require\n"
+    "#extension GL_ARB_explicit_attrib_location : require\n";
 const char begin_tag[] = "//VTK::Shading::Init";
 /* A piece of a larger volume: VTK starts each piece's rays one step inside the piece, so
  * the samples of the pieces are not those of the whole volume; move the first one on to
  * the whole volume's lattice (one step inside its box, then whole steps; back by less
  * than a step, or forward by a hair), which makes the pieces sample where one renderer of
  * the whole volume samples. */
-#define HALO_VTK_ALIGN \
-    "    if (halo_vtk_piece != 0) {\n" \
-    "        // ---- libhalo-vtk: this piece's samples on the whole volume's lattice ----\n" \
-    "        vec3 o = halo_vtk_global(g_dataPos), d = g_dirStep * halo_vtk_global_scale;\n" \
-    "        float enter = -1e30;\n" \
-    "        for (int a = 0; a < 3; ++a)\n" \
-    "            if (abs(d[a]) > 1e-12)\n" \
+#define HALO_VTK_ALIGN                                                                                                   \
+    "    if (halo_vtk_piece != 0) {\n"                                                                                   \
+    "        // ---- libhalo-vtk: this piece's samples on the whole volume's lattice ----\n"                             \
+    "        vec3 o = halo_vtk_global(g_dataPos), d = g_dirStep * halo_vtk_global_scale;\n"                              \
+    "        float enter = -1e30;\n"                                                                                     \
+    "        for (int a = 0; a < 3; ++a)\n"                                                                              \
+    "            if (abs(d[a]) > 1e-12)\n"                                                                               \
     "                enter = max(enter, min((halo_vtk_box_lo[a] - o[a]) / d[a], (halo_vtk_box_hi[a] - o[a]) / d[a]));\n" \
-    "        // the whole volume's samples are at enter + k, k = 1, 2, ... (in steps from here);\n" \
-    "        // this piece takes those after its entry (one step back), the one on its entry\n" \
-    "        // being the piece's in front\n" \
-    "        float behind = -enter, shift = floor(behind + 1e-4) - behind;\n" \
-    "        if (enter > -1e29 && shift != 0.0) {\n" \
-    "            g_dataPos += shift * g_dirStep;\n" \
-    "            g_terminatePointMax -= shift;\n" \
-    "        }\n" \
+    "        // the whole volume's samples are at enter + k, k = 1, 2, ... (in steps from here);\n"                      \
+    "        // this piece takes those after its entry (one step back), the one on its entry\n"                          \
+    "        // being the piece's in front\n"                                                                            \
+    "        float behind = -enter, shift = floor(behind + 1e-4) - behind;\n"                                            \
+    "        if (enter > -1e29 && shift != 0.0) {\n"                                                                     \
+    "            g_dataPos += shift * g_dirStep;\n"                                                                      \
+    "            g_terminatePointMax -= shift;\n"                                                                        \
+    "        }\n"                                                                                                        \
     "    }\n"
 const char align_text[] = "//VTK::Shading::Init\n" HALO_VTK_ALIGN;
 const char begin_text[] =
-    "//VTK::Shading::Init\n"
-    HALO_VTK_ALIGN
+    "//VTK::Shading::Init\n" HALO_VTK_ALIGN
     "    // ---- libhalo-vtk: this segment's samples of the ray (host contract 2) ----\n"
     "    float halo_vtk_max = g_terminatePointMax;\n"
     "    int halo_vtk_first = 0, halo_vtk_end = int(ceil(max(g_terminatePointMax, 0.0))) + 1;\n"
@@ -133,9 +134,9 @@ const char piece_clamp[] =
  * the install (add those of its mode), halo_vtk_remove (clear every VTK text once) and
  * halo_vtk_check (each added one is in the shader VTK built). */
 enum splice_mode : unsigned {
-    SPLICE_OWN = 1,          /* VTK's own mapper: per-sample stages */
-    SPLICE_DRAWN_ONCE = 2,   /* halo_vtk_mapper_new's, drawn once over the halo field */
-    SPLICE_SEGMENTS = 4,     /* halo_vtk_mapper_new's, drawn in depth segments */
+    SPLICE_OWN = 1,        /* VTK's own mapper: per-sample stages */
+    SPLICE_DRAWN_ONCE = 2, /* halo_vtk_mapper_new's, drawn once over the halo field */
+    SPLICE_SEGMENTS = 4,   /* halo_vtk_mapper_new's, drawn in depth segments */
     SPLICE_HALO = SPLICE_DRAWN_ONCE | SPLICE_SEGMENTS,
     SPLICE_ALL = SPLICE_OWN | SPLICE_HALO,
 };
@@ -145,7 +146,7 @@ struct splice {
     bool all;             /* every occurrence (VTK's tags) or the first */
     unsigned modes;
     splice_text kind;
-    const char *fixed;    /* TEXT_FIXED: the replacement */
+    const char *fixed; /* TEXT_FIXED: the replacement */
 };
 const splice splices[] = {
     {declarations_tag, true, SPLICE_ALL, TEXT_DECLARATIONS, nullptr},
@@ -160,7 +161,7 @@ const splice splices[] = {
     {finish_point, false, SPLICE_HALO, TEXT_FINISH_HALO, nullptr},
     {visible_test, false, SPLICE_HALO, TEXT_VISIBLE, nullptr},
 };
-const int first_unit = 20; /* libhalo's images: above the units VTK's volume mapper takes */
+const int first_unit = 20;    /* libhalo's images: above the units VTK's volume mapper takes */
 const int gradient_unit = 19; /* the adapter's gradient texture: the binding in conversions */
 
 /* Our functions: VTK's conventions to the host contract's (docs/hosts/vtk.md). */
@@ -236,7 +237,7 @@ struct halo_vtk {
     unsigned long start_observer_tag = 0;
     int saved_gradient_binding = 0;
     std::vector<int> reserved_units; /* held in VTK's texture unit manager during the mapper's render */
-    std::string last_source; /* the fragment shader VTK built last */
+    std::string last_source;         /* the fragment shader VTK built last */
     int last_handle = -1;
     int builds = 0;
     int took = 0;
@@ -250,11 +251,11 @@ struct halo_vtk {
     unsigned host_color = 0, host_color_framebuffer = 0; /* VTK's image for the at=post passes */
     int host_color_width = 0, host_color_height = 0;
     const char *post_image = nullptr; /* the image the last at=post pass writes, or NULL */
-    int failed = 0;                    /* a segmented draw failed (diagnostics in diag) */
+    int failed = 0;                   /* a segmented draw failed (diagnostics in diag) */
     /* host contract 3 (a one_draw program): libhalo's march reads its own copy of the volume,
      * the value over the window in [0, 1] (R32F), remade when the input changes */
     int one_draw = 0;
-    double window_data[2] = {0, 1};    /* the window in the input's units */
+    double window_data[2] = {0, 1};                   /* the window in the input's units */
     unsigned value_texture = 0, gradient_texture = 0; /* the gradient: RGBA16F, also the stages' in VTK */
     vtkMTimeType value_time = 0;
     int value_version = 0, value_size[3] = {0, 0, 0};
@@ -266,72 +267,94 @@ struct halo_vtk {
     std::vector<float> exchange_buffer;
 };
 
-namespace {
+namespace
+{
 
 /* A splice's replacement text for this install. */
-std::string replacement(const halo_vtk *h, const splice &sp) {
+std::string replacement(const halo_vtk *h, const splice &sp)
+{
     switch (sp.kind) {
-    case TEXT_DECLARATIONS: return h->declarations;
-    case TEXT_SAMPLE: return h->sample;
-    case TEXT_VISIBLE: return halo_program_sampler_count(h->program) ? visible_test_images : visible_test_guarded;
-    case TEXT_FINISH_OWN: return std::string(piece_clamp) + finish_point;
-    case TEXT_FINISH_HALO: return std::string(piece_clamp) + finish_text;
-    case TEXT_FIXED: break;
+    case TEXT_DECLARATIONS:
+        return h->declarations;
+    case TEXT_SAMPLE:
+        return h->sample;
+    case TEXT_VISIBLE:
+        return halo_program_sampler_count(h->program) ? visible_test_images : visible_test_guarded;
+    case TEXT_FINISH_OWN:
+        return std::string(piece_clamp) + finish_point;
+    case TEXT_FINISH_HALO:
+        return std::string(piece_clamp) + finish_text;
+    case TEXT_FIXED:
+        break;
     }
     return sp.fixed;
 }
 
 /* The live installs (a second one on the same mapper or volume is refused). */
-std::vector<halo_vtk *> &installs() {
+std::vector<halo_vtk *> &installs()
+{
     static std::vector<halo_vtk *> list;
     return list;
 }
 
-void add_error(halo_diagnostics *diag, halo_message_id id, const std::string &text) {
+void add_error(halo_diagnostics *diag, halo_message_id id, const std::string &text)
+{
     halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, id, nullptr, 0, 0, nullptr, "%s", text.c_str());
 }
 
 /* Uploads one engine uniform as a VTK custom uniform; arrays padded to their size so that
  * VTK's declaration never changes (a change would rebuild the shader). */
-void set_uniform(vtkUniforms *u, const halo_uniform_decl &d, std::vector<std::string> *names) {
+void set_uniform(vtkUniforms *u, const halo_uniform_decl &d, std::vector<std::string> *names)
+{
     if (d.name) {
         int comps = d.components, n = d.array_size ? d.array_size : 1;
         if (!strcmp(d.glsl_type, "int")) {
             std::vector<int> v((size_t)n * comps, 0);
             for (int k = 0; k < n * comps && d.count > 0; k++)
                 v[(size_t)k] = (int)d.value[k < d.count * comps ? k : d.count * comps - 1];
-            if (d.array_size) u->SetUniform1iv(d.name, n, v.data());
-            else u->SetUniformi(d.name, v[0]);
+            if (d.array_size)
+                u->SetUniform1iv(d.name, n, v.data());
+            else
+                u->SetUniformi(d.name, v[0]);
         } else {
             std::vector<float> v((size_t)n * comps, 0.0f);
             for (int k = 0; k < n * comps; k++) {
                 int from = k < d.count * comps ? k : (d.count - 1) * comps + k % comps;
                 v[(size_t)k] = d.count > 0 ? (float)d.value[from] : 0.0f;
             }
-            u->SetUniform(d.name, comps == 1 && !d.array_size ? vtkUniforms::TupleTypeScalar : vtkUniforms::TupleTypeVector,
+            u->SetUniform(d.name,
+                          comps == 1 && !d.array_size ? vtkUniforms::TupleTypeScalar : vtkUniforms::TupleTypeVector,
                           comps, v);
         }
-        if (names) names->push_back(d.name);
+        if (names)
+            names->push_back(d.name);
     }
     if (d.count_name) {
         u->SetUniformi(d.count_name, d.count);
-        if (names) names->push_back(d.count_name);
+        if (names)
+            names->push_back(d.count_name);
     }
 }
 
-void upload_all(halo_vtk *h, std::vector<std::string> *names) {
+void upload_all(halo_vtk *h, std::vector<std::string> *names)
+{
     vtkUniforms *u = h->property->GetFragmentCustomUniforms();
     size_t cursor = 0;
     halo_uniform_decl d;
-    while (halo_program_uniform_next(h->program, &cursor, &d)) set_uniform(u, d, names);
+    while (halo_program_uniform_next(h->program, &cursor, &d))
+        set_uniform(u, d, names);
 }
 
 /* Notes the program VTK drew the volume with, and whether the stages are in it. */
-void note_program(halo_vtk *h, vtkShaderProgram *program) {
-    if (!program || !program->GetFragmentShader()) return;
-    if (program->GetFragmentShader()->GetSource().find("g_srcColor") == std::string::npos) return;
+void note_program(halo_vtk *h, vtkShaderProgram *program)
+{
+    if (!program || !program->GetFragmentShader())
+        return;
+    if (program->GetFragmentShader()->GetSource().find("g_srcColor") == std::string::npos)
+        return;
     int handle = program->GetHandle();
-    if (handle == h->last_handle) return;
+    if (handle == h->last_handle)
+        return;
     h->last_handle = handle;
     h->last_source = program->GetFragmentShader()->GetSource();
     h->took = h->last_source.find(halo_program_piece(h->program, HALO_PIECE_SAMPLE)) != std::string::npos;
@@ -343,12 +366,13 @@ void note_program(halo_vtk *h, vtkShaderProgram *program) {
  * stages read in VTK's shader and libhalo's march) and, with value (host contract 3), the
  * contract's value (the input's scalar over the window: R32F), which the march samples.
  * The gradient's name, or 0 after a diagnostic. */
-unsigned volume_textures(halo_vtk *h, vtkImageData *image, int value) {
+unsigned volume_textures(halo_vtk *h, vtkImageData *image, int value)
+{
     /* the array the mapper renders (its scalar mode and selected array, as VTK's own texture) */
     int cells = 0;
-    vtkDataArray *scalars = vtkAbstractMapper::GetScalars(image, h->mapper->GetScalarMode(),
-                                                          h->mapper->GetArrayAccessMode(), h->mapper->GetArrayId(),
-                                                          h->mapper->GetArrayName(), cells);
+    vtkDataArray *scalars =
+        vtkAbstractMapper::GetScalars(image, h->mapper->GetScalarMode(), h->mapper->GetArrayAccessMode(),
+                                      h->mapper->GetArrayId(), h->mapper->GetArrayName(), cells);
     if (!scalars || cells) {
         if (!h->failed)
             add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
@@ -375,7 +399,8 @@ unsigned volume_textures(halo_vtk *h, vtkImageData *image, int value) {
     size_t n = (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2];
     std::vector<float> values(n);
     double w0 = h->window_data[0], scale = 1.0 / (h->window_data[1] - h->window_data[0]);
-    for (size_t i = 0; i < n; i++) values[i] = (float)((scalars->GetComponent((vtkIdType)i, 0) - w0) * scale);
+    for (size_t i = 0; i < n; i++)
+        values[i] = (float)((scalars->GetComponent((vtkIdType)i, 0) - w0) * scale);
     /* the contract's gradient at the points: central differences, clamped at the borders as
      * a CLAMP_TO_EDGE read of the values, halved (what halo_vtk_gradient reads at a point) */
     std::vector<float> gradient(4 * n);
@@ -391,15 +416,20 @@ unsigned volume_textures(halo_vtk *h, vtkImageData *image, int value) {
                 }
                 gradient[4 * i + 3] = 0.0f;
             }
-    if (!h->value_texture && value) glGenTextures(1, &h->value_texture);
-    if (!h->gradient_texture) glGenTextures(1, &h->gradient_texture);
+    if (!h->value_texture && value)
+        glGenTextures(1, &h->value_texture);
+    if (!h->gradient_texture)
+        glGenTextures(1, &h->gradient_texture);
     GLint saved = 0;
     glGetIntegerv(GL_TEXTURE_BINDING_3D, &saved);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     for (int k = h->value_texture ? 0 : 1; k < 2; k++) {
         glBindTexture(GL_TEXTURE_3D, k ? h->gradient_texture : h->value_texture);
-        if (k) glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA16F, dims[0], dims[1], dims[2], 0, GL_RGBA, GL_FLOAT, gradient.data());
-        else glTexImage3D(GL_TEXTURE_3D, 0, GL_R32F, dims[0], dims[1], dims[2], 0, GL_RED, GL_FLOAT, values.data());
+        if (k)
+            glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA16F, dims[0], dims[1], dims[2], 0, GL_RGBA, GL_FLOAT,
+                         gradient.data());
+        else
+            glTexImage3D(GL_TEXTURE_3D, 0, GL_R32F, dims[0], dims[1], dims[2], 0, GL_RED, GL_FLOAT, values.data());
         glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
         glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
         for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R})
@@ -419,39 +449,46 @@ unsigned volume_textures(halo_vtk *h, vtkImageData *image, int value) {
  * the mapper's render start to its end, so that the textures VTK activates meanwhile
  * take other units. A unit already held is a collision: refused with a message. */
 const int reserved_halo_units = 12; /* first_unit and the frame's images after it */
-int reserve_units(halo_vtk *h) {
+int reserve_units(halo_vtk *h)
+{
     vtkOpenGLRenderWindow *window =
         h->renderer ? vtkOpenGLRenderWindow::SafeDownCast(h->renderer->GetRenderWindow()) : nullptr;
     vtkTextureUnitManager *units = window ? window->GetTextureUnitManager() : nullptr;
-    if (!units) return 1;
+    if (!units)
+        return 1;
     int last = h->segmented ? first_unit + reserved_halo_units - 1 : gradient_unit;
-    if (last >= units->GetNumberOfTextureUnits()) last = units->GetNumberOfTextureUnits() - 1;
+    if (last >= units->GetNumberOfTextureUnits())
+        last = units->GetNumberOfTextureUnits() - 1;
     for (int u = gradient_unit; u <= last; u++) {
         if (units->IsAllocated(u)) {
             if (!h->failed)
                 add_error(h->diag, HALO_MSG_ENGINE_UNSUPPORTED,
                           "libhalo-vtk: texture unit " + std::to_string(u) +
                               " is held in VTK's texture unit manager when the volume renders; the adapter binds "
-                              "its textures on units " + std::to_string(gradient_unit) + " to " +
-                              std::to_string(last) + " (docs/hosts/vtk.md)");
+                              "its textures on units " +
+                              std::to_string(gradient_unit) + " to " + std::to_string(last) + " (docs/hosts/vtk.md)");
             h->failed = 1;
             return 0;
         }
-        if (units->Allocate(u) == u) h->reserved_units.push_back(u);
+        if (units->Allocate(u) == u)
+            h->reserved_units.push_back(u);
     }
     return 1;
 }
 
-void release_units(halo_vtk *h) {
+void release_units(halo_vtk *h)
+{
     vtkOpenGLRenderWindow *window =
         h->renderer ? vtkOpenGLRenderWindow::SafeDownCast(h->renderer->GetRenderWindow()) : nullptr;
     vtkTextureUnitManager *units = window ? window->GetTextureUnitManager() : nullptr;
     for (int u : h->reserved_units)
-        if (units && units->IsAllocated(u)) units->Free(u);
+        if (units && units->IsAllocated(u))
+            units->Free(u);
     h->reserved_units.clear();
 }
 
-void on_render_start(vtkObject *, unsigned long, void *client, void *) {
+void on_render_start(vtkObject *, unsigned long, void *client, void *)
+{
     halo_vtk *h = static_cast<halo_vtk *>(client);
     release_units(h); /* a render that did not end (an exception in VTK) */
     reserve_units(h);
@@ -459,7 +496,8 @@ void on_render_start(vtkObject *, unsigned long, void *client, void *) {
     GLint active = GL_TEXTURE0;
     glGetIntegerv(GL_ACTIVE_TEXTURE, &active);
     unsigned gradient = image ? volume_textures(h, image, h->one_draw) : 0;
-    if (!gradient) h->failed = 1;
+    if (!gradient)
+        h->failed = 1;
     glActiveTexture(GL_TEXTURE0 + gradient_unit);
     glGetIntegerv(GL_TEXTURE_BINDING_3D, &h->saved_gradient_binding);
     glBindTexture(GL_TEXTURE_3D, gradient);
@@ -468,7 +506,8 @@ void on_render_start(vtkObject *, unsigned long, void *client, void *) {
 
 /* After the mapper's render, the ray-casting program is the one the render window's
  * shader cache bound last (VTK 9.1 sends no UpdateShaderEvent from the volume mapper). */
-void on_render_end(vtkObject *, unsigned long, void *client, void *) {
+void on_render_end(vtkObject *, unsigned long, void *client, void *)
+{
     halo_vtk *h = static_cast<halo_vtk *>(client);
     release_units(h);
     GLint active = GL_TEXTURE0;
@@ -478,7 +517,8 @@ void on_render_end(vtkObject *, unsigned long, void *client, void *) {
     glActiveTexture((GLenum)active);
     vtkOpenGLRenderWindow *window =
         h->renderer ? vtkOpenGLRenderWindow::SafeDownCast(h->renderer->GetRenderWindow()) : nullptr;
-    if (window) note_program(h, window->GetShaderCache()->GetLastShaderBound());
+    if (window)
+        note_program(h, window->GetShaderCache()->GetLastShaderBound());
 }
 
 } // namespace
@@ -486,11 +526,14 @@ void on_render_end(vtkObject *, unsigned long, void *client, void *) {
 
 /* ---- Volumetric halos: VTK's mapper drawn once per depth segment ---- */
 
-namespace {
+namespace
+{
 
-void *gl_proc(const char *name) {
+void *gl_proc(const char *name)
+{
     static void *(*get)(const unsigned char *) = nullptr;
-    if (!get) get = (void *(*)(const unsigned char *))dlsym(RTLD_DEFAULT, "glXGetProcAddressARB");
+    if (!get)
+        get = (void *(*)(const unsigned char *))dlsym(RTLD_DEFAULT, "glXGetProcAddressARB");
     void *p = get ? get((const unsigned char *)name) : nullptr;
     return p ? p : dlsym(RTLD_DEFAULT, name);
 }
@@ -498,7 +541,8 @@ void *gl_proc(const char *name) {
 /* The box of the texture space the segments and the stages use: the input's points, or
  * the whole dataset's (halo_vtk_set_whole_extent). A texture coordinate t in [0,1]^3
  * covers the cells around the points: world = origin + (first + t n - 1/2) spacing. */
-void texture_box(const halo_vtk *h, vtkImageData *image, int first[3], int n[3]) {
+void texture_box(const halo_vtk *h, vtkImageData *image, int first[3], int n[3])
+{
     int extent[6];
     image->GetExtent(extent);
     const int *box = h->whole[1] >= h->whole[0] ? h->whole : extent;
@@ -510,7 +554,8 @@ void texture_box(const halo_vtk *h, vtkImageData *image, int first[3], int n[3])
 
 /* The uniforms that map the input's texture space into the whole one: identity unless
  * the input is a piece (halo_vtk_set_whole_extent). */
-void update_global(halo_vtk *h) {
+void update_global(halo_vtk *h)
+{
     vtkImageData *image = vtkImageData::SafeDownCast(h->mapper->GetInput());
     float scale[3] = {1, 1, 1}, offset[3] = {0, 0, 0};
     if (image && h->whole[1] >= h->whole[0]) {
@@ -542,7 +587,8 @@ void update_global(halo_vtk *h) {
 
 /* clip space -> the (whole) volume texture space, column-major: libhalo's segment planes
  * are in the space of the ray positions the segments get (halo_vtk_global(g_dataPos)) */
-void texture_from_clip(const halo_vtk *h, vtkRenderer *ren, vtkVolume *vol, vtkImageData *image, float out[16]) {
+void texture_from_clip(const halo_vtk *h, vtkRenderer *ren, vtkVolume *vol, vtkImageData *image, float out[16])
+{
     int first[3], n[3];
     double spacing[3], origin[3];
     texture_box(h, image, first, n);
@@ -562,12 +608,14 @@ void texture_from_clip(const halo_vtk *h, vtkRenderer *ren, vtkVolume *vol, vtkI
     vtkMatrix4x4::Multiply4x4(w2c, t2w, t2c);
     vtkMatrix4x4::Invert(t2c, c2t);
     for (int c = 0; c < 4; c++)
-        for (int r = 0; r < 4; r++) out[c * 4 + r] = (float)c2t->GetElement(r, c);
+        for (int r = 0; r < 4; r++)
+            out[c * 4 + r] = (float)c2t->GetElement(r, c);
 }
 
 /* The image plane's axes (halo_host_screen_right, _up: directional halos) in the space
  * of the adapter's view and gradient, voxel index space. */
-void set_screen_axes(vtkRenderer *ren, vtkVolume *vol, vtkImageData *image, unsigned program) {
+void set_screen_axes(vtkRenderer *ren, vtkVolume *vol, vtkImageData *image, unsigned program)
+{
     double spacing[3], up[3], dop[3], right[3];
     image->GetSpacing(spacing);
     vtkCamera *camera = ren->GetActiveCamera();
@@ -579,7 +627,8 @@ void set_screen_axes(vtkRenderer *ren, vtkVolume *vol, vtkImageData *image, unsi
     /* index = inverse(volume matrix * diag(spacing)) world, for directions */
     vtkNew<vtkMatrix4x4> i2w, w2i;
     for (int r = 0; r < 3; r++)
-        for (int c = 0; c < 3; c++) i2w->SetElement(r, c, vol->GetMatrix()->GetElement(r, c) * spacing[c]);
+        for (int c = 0; c < 3; c++)
+            i2w->SetElement(r, c, vol->GetMatrix()->GetElement(r, c) * spacing[c]);
     vtkMatrix4x4::Invert(i2w, w2i);
     const char *names[2] = {"halo_host_screen_right", "halo_host_screen_up"};
     const double *axes[2] = {right, up};
@@ -589,17 +638,20 @@ void set_screen_axes(vtkRenderer *ren, vtkVolume *vol, vtkImageData *image, unsi
     for (int k = 0; k < 2; k++) {
         double v[3], n = 0.0;
         for (int r = 0; r < 3; r++) {
-            v[r] = w2i->GetElement(r, 0) * axes[k][0] + w2i->GetElement(r, 1) * axes[k][1] + w2i->GetElement(r, 2) * axes[k][2];
+            v[r] = w2i->GetElement(r, 0) * axes[k][0] + w2i->GetElement(r, 1) * axes[k][1] +
+                   w2i->GetElement(r, 2) * axes[k][2];
             n += v[r] * v[r];
         }
         n = n > 0.0 ? 1.0 / std::sqrt(n) : 0.0;
         GLint at = glGetUniformLocation(program, names[k]);
-        if (at >= 0) glUniform3f(at, (float)(v[0] * n), (float)(v[1] * n), (float)(v[2] * n));
+        if (at >= 0)
+            glUniform3f(at, (float)(v[0] * n), (float)(v[1] * n), (float)(v[2] * n));
     }
     glUseProgram((GLuint)saved);
 }
 
-GLuint compile(GLenum type, const char *text) {
+GLuint compile(GLenum type, const char *text)
+{
     GLuint sh = glCreateShader(type);
     glShaderSource(sh, 1, &text, nullptr);
     glCompileShader(sh);
@@ -607,13 +659,16 @@ GLuint compile(GLenum type, const char *text) {
 }
 
 /* texture over VTK's framebuffer (premultiplied, or replacing it): one full-screen triangle */
-void blit(halo_vtk *h, unsigned texture, int blend) {
+void blit(halo_vtk *h, unsigned texture, int blend)
+{
     if (!h->blit_program) {
-        const char *vs = "#version 150\nout vec2 uv;\nvoid main() {\n"
-                         "    vec2 c = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
-                         "    uv = c; gl_Position = vec4(c * 2.0 - 1.0, 0.0, 1.0);\n}\n";
-        const char *fs = "#version 150\nin vec2 uv;\nout vec4 color;\nuniform sampler2D image;\n"
-                         "void main() { color = texture(image, uv); }\n";
+        const char *vs =
+            "#version 150\nout vec2 uv;\nvoid main() {\n"
+            "    vec2 c = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
+            "    uv = c; gl_Position = vec4(c * 2.0 - 1.0, 0.0, 1.0);\n}\n";
+        const char *fs =
+            "#version 150\nin vec2 uv;\nout vec4 color;\nuniform sampler2D image;\n"
+            "void main() { color = texture(image, uv); }\n";
         GLuint v = compile(GL_VERTEX_SHADER, vs), f = compile(GL_FRAGMENT_SHADER, fs);
         h->blit_program = glCreateProgram();
         glAttachShader(h->blit_program, v);
@@ -645,15 +700,16 @@ void blit(halo_vtk *h, unsigned texture, int blend) {
 /* The mapper for volumetric halos (halo_vtk_mapper_new): VTK's own, drawn by libhalo's
  * runtime once per depth segment into libhalo's frame, the passes run between, and the
  * result composited over VTK's framebuffer. */
-class haloVTKMapper : public vtkOpenGLGPUVolumeRayCastMapper {
-public:
+class haloVTKMapper : public vtkOpenGLGPUVolumeRayCastMapper
+{
+  public:
     static haloVTKMapper *New();
     vtkTypeMacro(haloVTKMapper, vtkOpenGLGPUVolumeRayCastMapper);
     halo_vtk *halo = nullptr;
     vtkRenderer *draw_renderer = nullptr;
     vtkVolume *draw_volume = nullptr;
 
-protected:
+  protected:
     void GPURender(vtkRenderer *ren, vtkVolume *vol) override;
     static void draw(void *user);
 };
@@ -662,11 +718,13 @@ vtkStandardNewMacro(haloVTKMapper);
 /* Volumetric halos across pieces (halo_vtk_set_exchange): after a segment, each output
  * image the pieces drew (the seeds) combined over all pieces by its blend, so that every
  * piece spreads the same seeds; done before the passes run on them. */
-static void exchange_outputs(halo_vtk *h) {
+static void exchange_outputs(halo_vtk *h)
+{
     for (size_t i = 0; i < halo_program_output_count(h->program); i++) {
         const halo_output_info *o = halo_program_output(h->program, i);
         unsigned texture = halo_gl_frame_texture(h->frame, o->image);
-        if (!texture) continue;
+        if (!texture)
+            continue;
         size_t count = (size_t)h->width * (size_t)h->height * 4;
         h->exchange_buffer.resize(count);
         GLint saved = 0;
@@ -681,7 +739,8 @@ static void exchange_outputs(halo_vtk *h) {
     }
 }
 
-void haloVTKMapper::draw(void *user) {
+void haloVTKMapper::draw(void *user)
+{
     haloVTKMapper *m = static_cast<haloVTKMapper *>(user);
     halo_vtk *h = m->halo;
     /* one fragment per pixel: each target written this segment starts from zero, so that
@@ -689,18 +748,22 @@ void haloVTKMapper::draw(void *user) {
     static const float zero[4] = {0, 0, 0, 0};
     glClearBufferfv(GL_COLOR, 0, zero);
     int state = halo_program_segment_location(h->program);
-    if (state > 0) glClearBufferfv(GL_COLOR, state, zero);
+    if (state > 0)
+        glClearBufferfv(GL_COLOR, state, zero);
     vtkOpenGLRenderWindow *win = vtkOpenGLRenderWindow::SafeDownCast(m->draw_renderer->GetRenderWindow());
     win->GetState()->Reset(); /* VTK's state cache: what libhalo bound is current */
     m->vtkOpenGLGPUVolumeRayCastMapper::GPURender(m->draw_renderer, m->draw_volume);
     note_program(h, win->GetShaderCache()->GetLastShaderBound());
-    if (h->exchange && !h->one_draw) exchange_outputs(h); /* drawn once: the seeds' exchange is libhalo's */
+    if (h->exchange && !h->one_draw)
+        exchange_outputs(h); /* drawn once: the seeds' exchange is libhalo's */
     win->GetState()->Reset();
 }
 
-void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
+void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol)
+{
     halo_vtk *h = this->halo;
-    if (h) update_global(h);
+    if (h)
+        update_global(h);
     if (!h || !h->segmented) {
         this->vtkOpenGLGPUVolumeRayCastMapper::GPURender(ren, vol);
         return;
@@ -726,7 +789,8 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
     if (!h->gl) {
         halo_gl_desc gd = {gl_proc};
         h->gl = halo_gl_create(&gd, h->diag);
-        if (!h->gl) return;
+        if (!h->gl)
+            return;
     }
     ostate->Push();
     ostate->PushFramebufferBindings();
@@ -735,13 +799,15 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
     if (!h->frame || w != h->width || h_ != h->height) {
         halo_gl_frame_destroy(h->frame);
         h->frame = halo_gl_frame_create(h->gl, h->program, w, h_, h->diag);
-        if (!h->color) glGenTextures(1, &h->color);
+        if (!h->color)
+            glGenTextures(1, &h->color);
         glBindTexture(GL_TEXTURE_2D, h->color);
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA16F, w, h_, 0, GL_RGBA, GL_FLOAT, nullptr);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         glBindTexture(GL_TEXTURE_2D, 0);
-        if (!h->framebuffer) glGenFramebuffers(1, &h->framebuffer);
+        if (!h->framebuffer)
+            glGenFramebuffers(1, &h->framebuffer);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, h->framebuffer);
         glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, h->color, 0);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)vtk_framebuffer);
@@ -765,11 +831,11 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, h->framebuffer);
         ostate->Reset();
         int warnings = vtkObject::GetGlobalWarningDisplay();
-        if (h->one_draw) vtkObject::GlobalWarningDisplayOff();
+        if (h->one_draw)
+            vtkObject::GlobalWarningDisplayOff();
         this->vtkOpenGLGPUVolumeRayCastMapper::GPURender(ren, vol);
         vtkObject::SetGlobalWarningDisplay(warnings);
-        while (glGetError() != GL_NO_ERROR) {
-        }
+        while (glGetError() != GL_NO_ERROR) {}
         vtkShaderProgram *prog = win->GetShaderCache()->GetLastShaderBound();
         note_program(h, prog);
         h->program_handle = prog ? prog->GetHandle() : 0;
@@ -829,14 +895,16 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
         memcpy(sd.volume_size, h->value_size, sizeof sd.volume_size);
     }
     set_screen_axes(ren, vol, image, (unsigned)h->program_handle);
-    if (halo_gl_frame_draw(h->frame, (unsigned)h->program_handle, &sd, h->diag) != HALO_OK) h->failed = 1;
+    if (halo_gl_frame_draw(h->frame, (unsigned)h->program_handle, &sd, h->diag) != HALO_OK)
+        h->failed = 1;
     /* the volume over VTK's framebuffer */
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)vtk_framebuffer);
     glViewport(x0, y0, w, h_);
     blit(h, h->color, 1);
     if (h->post_image) {
         /* at=post passes (outlines): on VTK's whole image, which then shows their result */
-        if (!h->host_color) glGenTextures(1, &h->host_color);
+        if (!h->host_color)
+            glGenTextures(1, &h->host_color);
         glActiveTexture(GL_TEXTURE0 + first_unit);
         glBindTexture(GL_TEXTURE_2D, h->host_color);
         if (h->host_color_width != w || h->host_color_height != h_) {
@@ -851,7 +919,8 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
          * multisampled (a window's default), which glCopyTexSubImage2D cannot read */
         GLint read_framebuffer = 0;
         glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &read_framebuffer);
-        if (!h->host_color_framebuffer) glGenFramebuffers(1, &h->host_color_framebuffer);
+        if (!h->host_color_framebuffer)
+            glGenFramebuffers(1, &h->host_color_framebuffer);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, h->host_color_framebuffer);
         glFramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, h->host_color, 0);
         glBindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)vtk_framebuffer);
@@ -861,8 +930,10 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
         unsigned result = halo_gl_frame_texture(h->frame, h->post_image);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)vtk_framebuffer);
         glViewport(x0, y0, w, h_);
-        if (result) blit(h, result, 0);
-        else h->failed = 1;
+        if (result)
+            blit(h, result, 0);
+        else
+            h->failed = 1;
     }
     ostate->PopFramebufferBindings();
     ostate->Pop();
@@ -870,7 +941,8 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol) {
 
 vtkGPUVolumeRayCastMapper *halo_vtk_mapper_new(void) { return haloVTKMapper::New(); }
 
-halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
+halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
+{
     if (!desc || !desc->mapper || !desc->volume || !desc->renderer || !desc->library) {
         add_error(diag, HALO_MSG_USAGE, "halo_vtk_install: mapper, volume, renderer and library are required");
         return nullptr;
@@ -885,18 +957,18 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
         }
     vtkOpenGLShaderProperty *property = vtkOpenGLShaderProperty::SafeDownCast(desc->volume->GetShaderProperty());
     if (!property) {
-        add_error(diag, HALO_MSG_USAGE, "halo_vtk_install: the volume has no OpenGL shader property (VTK's OpenGL2 "
-                                        "rendering module is not initialised: VTK_MODULE_INIT(vtkRenderingOpenGL2))");
+        add_error(diag, HALO_MSG_USAGE,
+                  "halo_vtk_install: the volume has no OpenGL shader property (VTK's OpenGL2 "
+                  "rendering module is not initialised: VTK_MODULE_INIT(vtkRenderingOpenGL2))");
         return nullptr;
     }
     /* What VTK's shader can take: one splice point, in composite mode with one component. */
-    static const char *const modes[] = {"composite", "maximum intensity", "minimum intensity", "average intensity",
-                                        "additive", "isosurface", "slice"};
+    static const char *const modes[] = {
+        "composite", "maximum intensity", "minimum intensity", "average intensity", "additive", "isosurface", "slice"};
     int mode = mapper->GetBlendMode();
     if (mode != vtkVolumeMapper::COMPOSITE_BLEND) {
         add_error(diag, HALO_MSG_ENGINE_UNSUPPORTED,
-                  std::string("the VTK mapper's blend mode is ") +
-                      (mode >= 0 && mode < 7 ? modes[mode] : "unknown") +
+                  std::string("the VTK mapper's blend mode is ") + (mode >= 0 && mode < 7 ? modes[mode] : "unknown") +
                       ": libhalo's stages run only in composite blend mode, where VTK classifies and composites "
                       "each sample (docs/hosts/vtk.md, blend modes)");
         return nullptr;
@@ -937,7 +1009,8 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
         halo_diagnostics_report(diag, HALO_SEVERITY_NOTE, HALO_MSG_HOST_SINGLE_PASS, nullptr, 0, 0, nullptr,
                                 "in VTK: create the mapper with halo_vtk_mapper_new(), which draws VTK's volume "
                                 "in depth segments (docs/hosts/vtk.md)");
-    if (!program) return nullptr;
+    if (!program)
+        return nullptr;
     if (!segmenting && (halo_program_output_count(program) || halo_program_pass_count(program))) {
         std::string stages;
         for (size_t i = 0; i < halo_program_stage_count(program); i++)
@@ -986,7 +1059,8 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     h->window_data[1] = w1 != w0 ? w1 : w0 + 1.0;
     double span = range[1] > range[0] ? range[1] - range[0] : 1.0;
     float window[2] = {(float)((w0 - range[0]) / span), (float)((w1 - range[0]) / span)};
-    if (window[1] == window[0]) window[1] = window[0] + 1.0f;
+    if (window[1] == window[0])
+        window[1] = window[0] + 1.0f;
     vtkUniforms *u = property->GetFragmentCustomUniforms();
     u->SetUniform2f("halo_vtk_window", window);
     h->uniforms.push_back("halo_vtk_window");
@@ -1003,11 +1077,11 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     upload_all(h, &h->uniforms);
     /* the pieces */
     h->declarations = std::string(declarations_tag) + "\n" + conversions +
-                      "const bool halo_vtk_reads_images = " +
-                      (halo_program_sampler_count(program) ? "true" : "false") + ";\n" +
-                      halo_program_piece(program, HALO_PIECE_DECLARATIONS);
-    h->sample = std::string("// ---- libhalo-vtk: the stages, on the opacity per unit distance ----\n"
-                            "g_srcColor.a = halo_vtk_correct(g_srcColor.a, 1.0 / halo_vtk_exponent());\n") +
+                      "const bool halo_vtk_reads_images = " + (halo_program_sampler_count(program) ? "true" : "false") +
+                      ";\n" + halo_program_piece(program, HALO_PIECE_DECLARATIONS);
+    h->sample = std::string(
+                    "// ---- libhalo-vtk: the stages, on the opacity per unit distance ----\n"
+                    "g_srcColor.a = halo_vtk_correct(g_srcColor.a, 1.0 / halo_vtk_exponent());\n") +
                 halo_program_piece(program, HALO_PIECE_SAMPLE) +
                 "g_srcColor.a = halo_vtk_correct(g_srcColor.a, halo_vtk_exponent());\n" + splice_point;
     if (segmenting) {
@@ -1015,12 +1089,14 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
         for (size_t i = 0; i < halo_program_pass_count(program) && link.one_draw; i++)
             h->one_draw |= !halo_program_pass(program, i)->at; /* passes between slices: the field */
         for (size_t i = 0; i < halo_program_pass_count(program); i++)
-            if (halo_program_pass(program, i)->at) h->post_image = halo_program_pass(program, i)->output;
+            if (halo_program_pass(program, i)->at)
+                h->post_image = halo_program_pass(program, i)->output;
         segmenting->halo = h;
     }
     h->mode = !segmenting ? SPLICE_OWN : names.segmented ? SPLICE_SEGMENTS : SPLICE_DRAWN_ONCE;
     for (const splice &sp : splices)
-        if (sp.modes & h->mode) property->AddFragmentShaderReplacement(sp.vtk_text, sp.all, replacement(h, sp), false);
+        if (sp.modes & h->mode)
+            property->AddFragmentShaderReplacement(sp.vtk_text, sp.all, replacement(h, sp), false);
     h->observer = vtkSmartPointer<vtkCallbackCommand>::New();
     h->observer->SetCallback(on_render_end);
     h->observer->SetClientData(h);
@@ -1033,66 +1109,88 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag) {
     return h;
 }
 
-void halo_vtk_remove(halo_vtk *h) {
-    if (!h) return;
+void halo_vtk_remove(halo_vtk *h)
+{
+    if (!h)
+        return;
     /* every VTK text of the table, once (clearing one that is not there does nothing) */
     for (size_t i = 0; i < sizeof splices / sizeof splices[0]; i++) {
         bool seen = false;
-        for (size_t k = 0; k < i; k++) seen |= splices[k].vtk_text == splices[i].vtk_text;
-        if (!seen) h->property->ClearFragmentShaderReplacement(splices[i].vtk_text, splices[i].all);
+        for (size_t k = 0; k < i; k++)
+            seen |= splices[k].vtk_text == splices[i].vtk_text;
+        if (!seen)
+            h->property->ClearFragmentShaderReplacement(splices[i].vtk_text, splices[i].all);
     }
-    if (haloVTKMapper *m = haloVTKMapper::SafeDownCast(h->mapper)) m->halo = nullptr;
-    if (h->value_texture) glDeleteTextures(1, &h->value_texture);
-    if (h->gradient_texture) glDeleteTextures(1, &h->gradient_texture);
-    if (h->color) glDeleteTextures(1, &h->color);
-    if (h->host_color) glDeleteTextures(1, &h->host_color);
-    if (h->framebuffer) glDeleteFramebuffers(1, &h->framebuffer);
-    if (h->host_color_framebuffer) glDeleteFramebuffers(1, &h->host_color_framebuffer);
-    if (h->blit_program) glDeleteProgram(h->blit_program);
-    if (h->blit_vao) glDeleteVertexArrays(1, &h->blit_vao);
+    if (haloVTKMapper *m = haloVTKMapper::SafeDownCast(h->mapper))
+        m->halo = nullptr;
+    if (h->value_texture)
+        glDeleteTextures(1, &h->value_texture);
+    if (h->gradient_texture)
+        glDeleteTextures(1, &h->gradient_texture);
+    if (h->color)
+        glDeleteTextures(1, &h->color);
+    if (h->host_color)
+        glDeleteTextures(1, &h->host_color);
+    if (h->framebuffer)
+        glDeleteFramebuffers(1, &h->framebuffer);
+    if (h->host_color_framebuffer)
+        glDeleteFramebuffers(1, &h->host_color_framebuffer);
+    if (h->blit_program)
+        glDeleteProgram(h->blit_program);
+    if (h->blit_vao)
+        glDeleteVertexArrays(1, &h->blit_vao);
     halo_gl_frame_destroy(h->frame);
     halo_gl_destroy(h->gl);
     vtkUniforms *u = h->property->GetFragmentCustomUniforms();
-    for (const std::string &name : h->uniforms) u->RemoveUniform(name.c_str());
+    for (const std::string &name : h->uniforms)
+        u->RemoveUniform(name.c_str());
     h->mapper->RemoveObserver(h->observer_tag);
     h->mapper->RemoveObserver(h->start_observer_tag);
     halo_program_destroy(h->program);
     std::vector<halo_vtk *> &list = installs();
     for (size_t i = 0; i < list.size(); i++)
-        if (list[i] == h) list.erase(list.begin() + (long)i);
+        if (list[i] == h)
+            list.erase(list.begin() + (long)i);
     delete h;
 }
 
 halo_status halo_vtk_set(halo_vtk *h, const char *stage, const char *param, const double *values, int count,
-                         halo_diagnostics *diag) {
-    if (!h) return HALO_ERROR_INPUT;
+                         halo_diagnostics *diag)
+{
+    if (!h)
+        return HALO_ERROR_INPUT;
     const halo_uniform_info *info = halo_program_find_uniform(h->program, stage, param);
     if (info && !info->live) {
         add_error(diag, HALO_MSG_USAGE,
-                                   "this parameter is a constant in the linked shader: mark it live in the scene "
-                                   "(\"live\") or install with all_live to change it without a rebuild");
+                  "this parameter is a constant in the linked shader: mark it live in the scene "
+                  "(\"live\") or install with all_live to change it without a rebuild");
         return HALO_ERROR_INPUT;
     }
     halo_status st = halo_program_set(h->program, stage, param, values, count, diag);
-    if (st != HALO_OK) return st;
+    if (st != HALO_OK)
+        return st;
     upload_all(h, nullptr);
     return HALO_OK;
 }
 
-halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag) {
-    if (!h) return HALO_ERROR_INPUT;
+halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag)
+{
+    if (!h)
+        return HALO_ERROR_INPUT;
     if (h->last_source.empty()) {
         add_error(diag, HALO_MSG_ENGINE_UNSUPPORTED,
                   "VTK has not built its volume shader yet (render once before halo_vtk_check)");
         return HALO_ERROR_INPUT;
     }
     if (h->failed) {
-        add_error(diag, HALO_MSG_GL_LINK, "drawing the volume with libhalo's image passes failed (see the diagnostics above)");
+        add_error(diag, HALO_MSG_GL_LINK,
+                  "drawing the volume with libhalo's image passes failed (see the diagnostics above)");
         return HALO_ERROR_INPUT;
     }
     if (!h->took) {
         add_error(diag, HALO_MSG_ENGINE_UNSUPPORTED,
-                  "the shader VTK built does not hold libhalo's stages: the splice point '" + std::string(splice_point) +
+                  "the shader VTK built does not hold libhalo's stages: the splice point '" +
+                      std::string(splice_point) +
                       "' was not in it (the blend mode or the inputs changed after the install, or this VTK "
                       "composes its shader differently)");
         return HALO_ERROR_INPUT;
@@ -1106,7 +1204,8 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag) {
     }
     /* every other replacement of the install's mode: what it adds to VTK's text is there */
     for (const splice &sp : splices) {
-        if (!(sp.modes & h->mode)) continue;
+        if (!(sp.modes & h->mode))
+            continue;
         /* the parts of the replacement around VTK's own text (a tag VTK fills in later) */
         std::string text = replacement(h, sp);
         bool found = true;
@@ -1114,8 +1213,10 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag) {
             size_t at = text.find(sp.vtk_text, from);
             std::string part = text.substr(from, at == std::string::npos ? std::string::npos : at - from);
             from = at == std::string::npos ? text.size() + 1 : at + strlen(sp.vtk_text);
-            while (!part.empty() && (part[0] == '\n' || part[0] == ' ')) part.erase(0, 1);
-            while (!part.empty() && (part.back() == '\n' || part.back() == ' ')) part.pop_back();
+            while (!part.empty() && (part[0] == '\n' || part[0] == ' '))
+                part.erase(0, 1);
+            while (!part.empty() && (part.back() == '\n' || part.back() == ' '))
+                part.pop_back();
             /* VTK's GLSL 150 names its output fragOutput0 after the replacements */
             for (size_t k; h->last_source.find("gl_FragData[0]") == std::string::npos &&
                            (k = part.find("gl_FragData[0]")) != std::string::npos;)
@@ -1133,15 +1234,20 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag) {
     return halo_program_validate_composed(h->program, h->last_source.c_str(), file_name, pieces, 1, diag);
 }
 
-halo_status halo_vtk_set_whole_extent(halo_vtk *h, const int whole_extent[6]) {
-    if (!h || !whole_extent) return HALO_ERROR_INPUT;
-    for (int k = 0; k < 6; k++) h->whole[k] = whole_extent[k];
+halo_status halo_vtk_set_whole_extent(halo_vtk *h, const int whole_extent[6])
+{
+    if (!h || !whole_extent)
+        return HALO_ERROR_INPUT;
+    for (int k = 0; k < 6; k++)
+        h->whole[k] = whole_extent[k];
     update_global(h);
     return HALO_OK;
 }
 
-void halo_vtk_set_exchange(halo_vtk *h, halo_vtk_exchange_fn exchange, void *user) {
-    if (!h) return;
+void halo_vtk_set_exchange(halo_vtk *h, halo_vtk_exchange_fn exchange, void *user)
+{
+    if (!h)
+        return;
     h->exchange = exchange;
     h->exchange_user = user;
 }

@@ -60,10 +60,7 @@ WEB_API int halo_web_init(void)
     return library != NULL;
 }
 
-WEB_API const char *halo_web_version(void)
-{
-    return halo_version();
-}
+WEB_API const char *halo_web_version(void) { return halo_version(); }
 
 WEB_API const char *halo_web_diagnostics(void)
 {
@@ -73,9 +70,9 @@ WEB_API const char *halo_web_diagnostics(void)
         const halo_diagnostic *g = halo_diagnostics_get(diagnostics, i);
         json_array_append_new(list, json_pack("{s:s, s:s, s:s, s:i, s:i, s:s, s:s?}", "severity",
                                               g->severity == HALO_SEVERITY_ERROR ? "error" : "warning", "id",
-                                              halo_message_name(g->id), "file", g->file ? g->file : "", "line",
-                                              g->line, "column", g->column, "message", g->text ? g->text : "",
-                                              "source", g->source_line));
+                                              halo_message_name(g->id), "file", g->file ? g->file : "", "line", g->line,
+                                              "column", g->column, "message", g->text ? g->text : "", "source",
+                                              g->source_line));
     }
     char *text = list ? json_dumps(list, JSON_COMPACT) : NULL;
     json_decref(list);
@@ -170,34 +167,32 @@ WEB_API halo_program *halo_web_link(const char *options_text)
         };
     }
     const char *host = string_field(o, "host"), *host_file = string_field(o, "host_file");
-    p = halo_link(&(halo_link_desc){
-                      .library = library,
-                      .scene = scene,
-                      .host_source = json_is_object(pieces) ? NULL : host,
-                      .host_file = host_file,
-                      .target = target,
-                      .kind = kind && !strcmp(kind, "vertex") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT,
-                      .all_live = int_field(o, "all_live", 0),
-                      .image_precision = int_field(o, "image_precision", 0),
-                      .image_scale = int_field(o, "image_scale", 0),
-                      .one_draw = int_field(o, "one_draw", 0),
-                      .version = !version || !strcmp(version, "target") ? HALO_VERSION_TARGET
-                                 : !strcmp(version, "keep")              ? HALO_VERSION_KEEP
-                                                                         : HALO_VERSION_NONE,
-                      .engine_uniforms = int_field(o, "engine_uniforms", 0),
-                      .pieces = json_is_object(pieces) ? &pd : NULL,
-                  },
-                  d);
+    p = halo_link(
+        &(halo_link_desc){
+            .library = library,
+            .scene = scene,
+            .host_source = json_is_object(pieces) ? NULL : host,
+            .host_file = host_file,
+            .target = target,
+            .kind = kind && !strcmp(kind, "vertex") ? HALO_SHADER_VERTEX : HALO_SHADER_FRAGMENT,
+            .all_live = int_field(o, "all_live", 0),
+            .image_precision = int_field(o, "image_precision", 0),
+            .image_scale = int_field(o, "image_scale", 0),
+            .one_draw = int_field(o, "one_draw", 0),
+            .version = !version || !strcmp(version, "target") ? HALO_VERSION_TARGET
+                       : !strcmp(version, "keep")             ? HALO_VERSION_KEEP
+                                                              : HALO_VERSION_NONE,
+            .engine_uniforms = int_field(o, "engine_uniforms", 0),
+            .pieces = json_is_object(pieces) ? &pd : NULL,
+        },
+        d);
 done:
     halo_scene_destroy(scene);
     json_decref(o);
     return p;
 }
 
-WEB_API void halo_web_program_destroy(halo_program *p)
-{
-    halo_program_destroy(p);
-}
+WEB_API void halo_web_program_destroy(halo_program *p) { halo_program_destroy(p); }
 
 WEB_API const char *halo_web_program_source(const halo_program *p)
 {
@@ -212,14 +207,10 @@ WEB_API const char *halo_web_program_piece(const halo_program *p, int piece)
     return s ? s : "";
 }
 
-WEB_API const char *halo_web_program_reflect(const halo_program *p)
-{
-    return keep(halo_program_reflect_json(p));
-}
+WEB_API const char *halo_web_program_reflect(const halo_program *p) { return keep(halo_program_reflect_json(p)); }
 
 /* Sets a live parameter (count values from values); 1, or 0 after diagnostics. */
-WEB_API int halo_web_program_set(halo_program *p, const char *stage, const char *param, const double *values,
-                                 int count)
+WEB_API int halo_web_program_set(halo_program *p, const char *stage, const char *param, const double *values, int count)
 {
     return halo_program_set(p, stage, param, values, count, fresh()) == HALO_OK;
 }

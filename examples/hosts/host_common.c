@@ -40,7 +40,8 @@ int halo_host_desc_check(const halo_host_desc *desc, halo_diagnostics *diag)
 {
     if (!desc || !desc->gl || desc->width < 1 || desc->height < 1 || desc->width > 16384 || desc->height > 16384 ||
         (desc->program && !desc->runtime)) {
-        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "host: gl, a size in 1..16384 and (with a program) a runtime are required");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0,
+                          "host: gl, a size in 1..16384 and (with a program) a runtime are required");
         return 0;
     }
     return 1;
@@ -75,7 +76,7 @@ static void report_log(halo_diagnostics *diag, halo_message_id id, const halo_pr
         }
         if (n > 0)
             halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, id, origin_file, line, column, NULL, "%.*s",
-                          (int)(n - (size_t)(text - p)), text);
+                                    (int)(n - (size_t)(text - p)), text);
         p = end ? end + 1 : NULL;
     }
 }
@@ -110,17 +111,15 @@ static GLuint compile_raw(const halo_glfuncs *f, GLenum type, const halo_program
 }
 
 GLuint halo_host_link_raw(const halo_glfuncs *f, const char *vertex_source, const char *vertex_file,
-                          const char *fragment_source, const char *fragment_file, int log_style,
-                          halo_diagnostics *diag)
+                          const char *fragment_source, const char *fragment_file, int log_style, halo_diagnostics *diag)
 {
     return halo_host_link_mapped(f, NULL, vertex_source, vertex_file, NULL, fragment_source, fragment_file, log_style,
                                  diag);
 }
 
 GLuint halo_host_link_mapped(const halo_glfuncs *f, const halo_program *vertex_program, const char *vertex_source,
-                             const char *vertex_file, const halo_program *fragment_program,
-                             const char *fragment_source, const char *fragment_file, int log_style,
-                             halo_diagnostics *diag)
+                             const char *vertex_file, const halo_program *fragment_program, const char *fragment_source,
+                             const char *fragment_file, int log_style, halo_diagnostics *diag)
 {
     GLuint vertex = compile_raw(f, GL_VERTEX_SHADER, vertex_program, vertex_source, vertex_file, log_style, diag);
     GLuint fragment =
@@ -162,7 +161,8 @@ GLuint halo_host_program_build(const halo_host_desc *desc, const char *default_v
     const char *vertex_source = desc->vertex_source ? desc->vertex_source : halo_host_embedded(default_vertex);
     const char *vertex_file = desc->vertex_file ? desc->vertex_file : default_vertex;
     if (!vertex_source) {
-        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, default_vertex, 0, 0, "no vertex shader: %s is not embedded", default_vertex);
+        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, default_vertex, 0, 0, "no vertex shader: %s is not embedded",
+                          default_vertex);
         return 0;
     }
     if (desc->program && halo_program_target(desc->program) == HALO_TARGET_ES300 &&
@@ -185,7 +185,7 @@ GLuint halo_host_program_build(const halo_host_desc *desc, const char *default_v
     const char *fragment_file = desc->fragment_file ? desc->fragment_file : default_fragment;
     if (!fragment_source) {
         HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, default_fragment, 0, 0, "no fragment shader: %s is not embedded",
-                        default_fragment);
+                          default_fragment);
         return 0;
     }
     return halo_host_link_raw(desc->gl, vertex_source, vertex_file, fragment_source, fragment_file, log_style, diag);
@@ -229,8 +229,9 @@ int halo_host_framebuffer(const halo_glfuncs *f, GLuint *framebuffer, GLuint col
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
     GLenum error = f->GetError();
     if (status != GL_FRAMEBUFFER_COMPLETE || error != GL_NO_ERROR) {
-        HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0, "cannot create a %dx%d RGBA32F render target (status 0x%x, GL error 0x%x)",
-                        width, height, status, error);
+        HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0,
+                          "cannot create a %dx%d RGBA32F render target (status 0x%x, GL error 0x%x)", width, height,
+                          status, error);
         return 0;
     }
     return 1;
@@ -297,11 +298,11 @@ static int packed_format(GLint internal_format)
 /* The gradient texture's storage (no data); usable 0 or an unknown format: USAGE with
  * refusal named. */
 static halo_status gradient_storage(const halo_glfuncs *f, GLuint texture, int nx, int ny, int nz,
-                                   GLint internal_format, int usable, const char *refusal, halo_diagnostics *diag)
+                                    GLint internal_format, int usable, const char *refusal, halo_diagnostics *diag)
 {
     if (!usable || !(gradient_format_known(internal_format) || packed_format(internal_format))) {
-        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "gradient volume: %s or not RGB32F, RGB16F, RGB8_SNORM, RGBA16_SNORM, RGBA32F",
-                        refusal);
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0,
+                          "gradient volume: %s or not RGB32F, RGB16F, RGB8_SNORM, RGBA16_SNORM, RGBA32F", refusal);
         return HALO_ERROR_INPUT;
     }
     return upload_volume(f, texture, NULL, nx, ny, nz, GL_LINEAR, internal_format, "gradient volume", diag);
@@ -322,8 +323,8 @@ halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, co
                                        int nz, GLint internal_format, float *scale, halo_diagnostics *diag)
 {
     /* the texture's storage first (no data), then slab by slab */
-    halo_status status = gradient_storage(f, texture, nx, ny, nz, internal_format, volume && scale,
-                                          "no volume, no scale", diag);
+    halo_status status =
+        gradient_storage(f, texture, nx, ny, nz, internal_format, volume && scale, "no volume, no scale", diag);
     if (status != HALO_OK)
         return status;
     size_t slice_bytes = (size_t)nx * (size_t)ny * 3 * sizeof(float);
@@ -331,8 +332,8 @@ halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, co
     slab = slab < 1 ? 1 : slab > nz ? nz : slab;
     float *gradients = malloc(slice_bytes * (size_t)slab);
     if (!gradients) {
-        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory for the gradients of %d slices of %dx%d voxels",
-                        slab, nx, ny);
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0,
+                          "out of memory for the gradients of %d slices of %dx%d voxels", slab, nx, ny);
         return HALO_ERROR_IO;
     }
     const int dims[3] = {nx, ny, nz};
@@ -345,8 +346,8 @@ halo_status halo_host_upload_gradients(const halo_glfuncs *f, GLuint texture, co
     free(gradients);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
-        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, "", 0, 0, "cannot upload the gradients of a %dx%dx%d volume (GL error 0x%x)", nx,
-                        ny, nz, error);
+        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, "", 0, 0,
+                          "cannot upload the gradients of a %dx%dx%d volume (GL error 0x%x)", nx, ny, nz, error);
         return HALO_ERROR_IO;
     }
     return HALO_OK;
@@ -368,7 +369,8 @@ static int layer_renderable(const halo_glfuncs *f, GLuint texture)
 
 int halo_host_gradients_renderable(const halo_glfuncs *f, GLint internal_format)
 {
-    if (!f || !f->FramebufferTextureLayer || !(gradient_format_known(internal_format) || packed_format(internal_format)))
+    if (!f || !f->FramebufferTextureLayer ||
+        !(gradient_format_known(internal_format) || packed_format(internal_format)))
         return 0;
     /* a probe of 2^3 texels: the real texture's storage comes when it is built */
     GLuint probe = 0;
@@ -391,7 +393,8 @@ halo_status halo_host_build_gradients(const halo_glfuncs *f, GLuint texture, GLu
                                       int nz, GLint internal_format, float scale, halo_diagnostics *diag)
 {
     if (packed_format(internal_format)) {
-        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "gradient volume: RGBA holds the value too: halo_host_build_packed");
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0,
+                          "gradient volume: RGBA holds the value too: halo_host_build_packed");
         return HALO_ERROR_INPUT;
     }
     return build_on_gpu(f, texture, volume_texture, nx, ny, nz, internal_format, scale, NULL, diag);
@@ -410,8 +413,8 @@ void halo_host_value_range(const float *volume, const int dims[3], float range[2
     range[1] = lo < hi && isfinite(hi - lo) ? hi - lo : 1.0f;
 }
 
-halo_status halo_host_build_packed(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny,
-                                   int nz, GLint internal_format, float scale, const float value_range[2],
+halo_status halo_host_build_packed(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny, int nz,
+                                   GLint internal_format, float scale, const float value_range[2],
                                    halo_diagnostics *diag)
 {
     if (!packed_format(internal_format)) {
@@ -423,17 +426,16 @@ halo_status halo_host_build_packed(const halo_glfuncs *f, GLuint texture, GLuint
 }
 
 static halo_status build_on_gpu(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny, int nz,
-                                GLint internal_format, float scale, const float value_encode[2],
-                                halo_diagnostics *diag)
+                                GLint internal_format, float scale, const float value_encode[2], halo_diagnostics *diag)
 {
-    halo_status status = gradient_storage(f, texture, nx, ny, nz, internal_format,
-                                          f && f->FramebufferTextureLayer && scale > 0.0f,
-                                          "on the GPU: no glFramebufferTextureLayer, no scale", diag);
+    halo_status status =
+        gradient_storage(f, texture, nx, ny, nz, internal_format, f && f->FramebufferTextureLayer && scale > 0.0f,
+                         "on the GPU: no glFramebufferTextureLayer, no scale", diag);
     if (status != HALO_OK)
         return status;
-    GLuint program = halo_host_link_raw(f, halo_host_embedded("slice.vert"), "slice.vert",
-                                        halo_host_embedded("gradient.frag"), "gradient.frag", HALO_HOST_LOG_APPENDED,
-                                        diag);
+    GLuint program =
+        halo_host_link_raw(f, halo_host_embedded("slice.vert"), "slice.vert", halo_host_embedded("gradient.frag"),
+                           "gradient.frag", HALO_HOST_LOG_APPENDED, diag);
     if (!program)
         return HALO_ERROR_IO;
     GLuint framebuffer = 0, vertex_array = 0;
@@ -477,8 +479,8 @@ static halo_status build_on_gpu(const halo_glfuncs *f, GLuint texture, GLuint vo
     f->DeleteProgram(program);
     GLenum error = f->GetError();
     if (status == HALO_OK && error != GL_NO_ERROR) {
-        HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0, "OpenGL error 0x%x while building the gradients of a %dx%dx%d volume",
-                        error, nx, ny, nz);
+        HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0,
+                          "OpenGL error 0x%x while building the gradients of a %dx%dx%d volume", error, nx, ny, nz);
         status = HALO_ERROR_IO;
     }
     return status;
@@ -490,7 +492,8 @@ static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const fl
 {
     int rgb = internal_format != GL_R32F, rgba = internal_format == GL_RGBA16_SNORM || internal_format == GL_RGBA32F;
     if (!f || (!data && !rgb) || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
-        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "%s of %dx%dx%d voxels: each side must be 2..2048", what, nx, ny, nz);
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "%s of %dx%dx%d voxels: each side must be 2..2048", what, nx,
+                          ny, nz);
         return HALO_ERROR_INPUT;
     }
     f->BindTexture(GL_TEXTURE_3D, texture);
@@ -500,8 +503,11 @@ static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const fl
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
     f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    f->TexImage3D(GL_TEXTURE_3D, 0, internal_format, nx, ny, nz, 0, rgba ? GL_RGBA : rgb ? GL_RGB : GL_RED, GL_FLOAT,
-                  data);
+    f->TexImage3D(GL_TEXTURE_3D, 0, internal_format, nx, ny, nz, 0,
+                  rgba  ? GL_RGBA
+                  : rgb ? GL_RGB
+                        : GL_RED,
+                  GL_FLOAT, data);
     f->BindTexture(GL_TEXTURE_3D, 0);
     char failed[96];
     snprintf(failed, sizeof failed, "cannot upload a %dx%dx%d %s", nx, ny, nz, what);
@@ -582,7 +588,7 @@ void halo_host_matrix_multiply(const double a[16], const double b[16], double ou
 int halo_host_matrix_invert(const double m[16], double out[16])
 {
     /* a[row][col] of the column-major m */
-#define A(row, col) m[(col) * 4 + (row)]
+#define A(row, col) m[(col)*4 + (row)]
     double s0 = A(0, 0) * A(1, 1) - A(1, 0) * A(0, 1), s1 = A(0, 0) * A(1, 2) - A(1, 0) * A(0, 2);
     double s2 = A(0, 0) * A(1, 3) - A(1, 0) * A(0, 3), s3 = A(0, 1) * A(1, 2) - A(1, 1) * A(0, 2);
     double s4 = A(0, 1) * A(1, 3) - A(1, 1) * A(0, 3), s5 = A(0, 2) * A(1, 3) - A(1, 2) * A(0, 3);
@@ -622,9 +628,22 @@ void halo_host_perspective(double half_fov, double aspect, double near_plane, do
     /* The field of view spans the smaller image side. */
     double sx = aspect >= 1.0 ? 1.0 / (t * aspect) : 1.0 / t;
     double sy = aspect >= 1.0 ? 1.0 / t : aspect / t;
-    double projection[16] = {sx, 0.0, 0.0, 0.0, 0.0, sy, 0.0, 0.0,
-                             0.0, 0.0, -(far_plane + near_plane) / (far_plane - near_plane), -1.0,
-                             0.0, 0.0, -2.0 * far_plane * near_plane / (far_plane - near_plane), 0.0};
+    double projection[16] = {sx,
+                             0.0,
+                             0.0,
+                             0.0,
+                             0.0,
+                             sy,
+                             0.0,
+                             0.0,
+                             0.0,
+                             0.0,
+                             -(far_plane + near_plane) / (far_plane - near_plane),
+                             -1.0,
+                             0.0,
+                             0.0,
+                             -2.0 * far_plane * near_plane / (far_plane - near_plane),
+                             0.0};
     memcpy(out, projection, sizeof projection);
 }
 
@@ -661,7 +680,7 @@ int halo_host_orbit_camera_projection(double azimuth, double elevation, double z
     up[1] = back[2] * right[0] - back[0] * right[2];
     up[2] = back[0] * right[1] - back[1] * right[0];
     double view[16] = {right[0], up[0], back[0], 0.0, right[1], up[1], back[1], 0.0,
-                       right[2], up[2], back[2], 0.0, 0.0, 0.0, 0.0, 1.0};
+                       right[2], up[2], back[2], 0.0, 0.0,      0.0,   0.0,     1.0};
     for (int row = 0; row < 3; ++row)
         view[12 + row] = -(view[row] * eye[0] + view[4 + row] * eye[1] + view[8 + row] * eye[2]);
 
@@ -675,9 +694,22 @@ int halo_host_orbit_camera_projection(double azimuth, double elevation, double z
         double half = radius / zoom;
         double ox = aspect >= 1.0 ? 1.0 / (half * aspect) : 1.0 / half;
         double oy = aspect >= 1.0 ? 1.0 / half : aspect / half;
-        double ortho[16] = {ox, 0.0, 0.0, 0.0, 0.0, oy, 0.0, 0.0,
-                            0.0, 0.0, -2.0 / (far_plane - near_plane), 0.0,
-                            0.0, 0.0, -(far_plane + near_plane) / (far_plane - near_plane), 1.0};
+        double ortho[16] = {ox,
+                            0.0,
+                            0.0,
+                            0.0,
+                            0.0,
+                            oy,
+                            0.0,
+                            0.0,
+                            0.0,
+                            0.0,
+                            -2.0 / (far_plane - near_plane),
+                            0.0,
+                            0.0,
+                            0.0,
+                            -(far_plane + near_plane) / (far_plane - near_plane),
+                            1.0};
         memcpy(projection, ortho, sizeof projection);
     }
     double view_projection[16], inverse[16];

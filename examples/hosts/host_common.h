@@ -24,9 +24,8 @@ GLuint halo_host_link_raw(const halo_glfuncs *f, const char *vertex_source, cons
 /* The same for texts linked by halo_link: the driver's log lines are mapped through
  * each program's origins to the module's or host's file:line (a NULL program: as raw). */
 GLuint halo_host_link_mapped(const halo_glfuncs *f, const halo_program *vertex_program, const char *vertex_source,
-                             const char *vertex_file, const halo_program *fragment_program,
-                             const char *fragment_source, const char *fragment_file, int log_style,
-                             halo_diagnostics *diag);
+                             const char *vertex_file, const halo_program *fragment_program, const char *fragment_source,
+                             const char *fragment_file, int log_style, halo_diagnostics *diag);
 
 /* The host's program: desc->program built with halo_gl_program_build, else the
  * unlinked fragment text (default: the embedded default_fragment); the vertex text
@@ -95,9 +94,8 @@ halo_status halo_host_build_gradients(const halo_glfuncs *f, GLuint texture, GLu
  * Built on the GPU from volume_texture as halo_host_build_gradients is; the shader
  * decodes range[0] + R range[1] and GBA scale, linear maps of the filtered
  * texels. */
-halo_status halo_host_build_packed(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny,
-                                   int nz, GLint internal_format, float scale, const float range[2],
-                                   halo_diagnostics *diag);
+halo_status halo_host_build_packed(const halo_glfuncs *f, GLuint texture, GLuint volume_texture, int nx, int ny, int nz,
+                                   GLint internal_format, float scale, const float range[2], halo_diagnostics *diag);
 /* The volume's finite values' range for halo_host_build_packed: range[0] the least,
  * range[1] the span (1 when they are all equal or there are none). */
 void halo_host_value_range(const float *volume, const int dims[3], float range[2]);

@@ -31,7 +31,7 @@ void halo_lines_scene_keep_hook(halo_scene *scene, const halo_library *lib, halo
 static halo_scene *scene_for_hook(const halo_library *lib, const char *path, const char *text, halo_hook hook,
                                   halo_diagnostics *diag)
 {
-    halo_scene *scene = path ? halo_scene_load(path, lib, diag)
+    halo_scene *scene = path   ? halo_scene_load(path, lib, diag)
                         : text ? halo_scene_parse(text, "scene", lib, diag)
                                : halo_scene_create(lib);
     halo_lines_scene_keep_hook(scene, lib, hook);
@@ -54,11 +54,17 @@ halo_status halo_lines_link_scenes(const halo_library *lib, const halo_scene *ve
         HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, "line.vert", 0, 0, "the line host shaders are not embedded");
         return HALO_ERROR_IO;
     }
-    *vertex = halo_link(&(halo_link_desc){.library = lib, .scene = vertex_scene, .host_source = vs,
-                                           .host_file = "line.vert", .kind = HALO_SHADER_VERTEX},
+    *vertex = halo_link(&(halo_link_desc){.library = lib,
+                                          .scene = vertex_scene,
+                                          .host_source = vs,
+                                          .host_file = "line.vert",
+                                          .kind = HALO_SHADER_VERTEX},
                         diag);
-    *fragment = halo_link(&(halo_link_desc){.library = lib, .scene = fragment_scene, .host_source = fs,
-                                             .host_file = "line.frag", .kind = HALO_SHADER_FRAGMENT},
+    *fragment = halo_link(&(halo_link_desc){.library = lib,
+                                            .scene = fragment_scene,
+                                            .host_source = fs,
+                                            .host_file = "line.frag",
+                                            .kind = HALO_SHADER_FRAGMENT},
                           diag);
     if (!*vertex || !*fragment) {
         halo_program_destroy(*vertex);
@@ -92,10 +98,9 @@ halo_status halo_lines_link(const halo_library *lib, const char *scene_path, con
 
 /* ---- Programs ------------------------------------------------------------------------ */
 
-unsigned halo_lines_build_program(const halo_glfuncs *f, const halo_program *vertex_program,
-                                  const char *vertex_source, const char *vertex_file,
-                                  const halo_program *fragment_program, const char *fragment_source,
-                                  const char *fragment_file, halo_diagnostics *diag)
+unsigned halo_lines_build_program(const halo_glfuncs *f, const halo_program *vertex_program, const char *vertex_source,
+                                  const char *vertex_file, const halo_program *fragment_program,
+                                  const char *fragment_source, const char *fragment_file, halo_diagnostics *diag)
 {
     if (!f) {
         HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "halo_lines_build_program: no GL functions");
@@ -140,14 +145,16 @@ void halo_lines_strip_attributes(const halo_polylines *lines, double *direction,
         double total = 0.0;
         for (size_t k = first + 1; k < last; ++k) {
             const double *a = &lines->points[3 * (k - 1)], *b = &lines->points[3 * k];
-            total += sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
+            total +=
+                sqrt((b[0] - a[0]) * (b[0] - a[0]) + (b[1] - a[1]) * (b[1] - a[1]) + (b[2] - a[2]) * (b[2] - a[2]));
         }
         double run = 0.0;
         for (size_t k = first; k < last; ++k) {
             const double *p = &lines->points[3 * k];
             if (k > first) {
                 const double *a = &lines->points[3 * (k - 1)];
-                run += sqrt((p[0] - a[0]) * (p[0] - a[0]) + (p[1] - a[1]) * (p[1] - a[1]) + (p[2] - a[2]) * (p[2] - a[2]));
+                run +=
+                    sqrt((p[0] - a[0]) * (p[0] - a[0]) + (p[1] - a[1]) * (p[1] - a[1]) + (p[2] - a[2]) * (p[2] - a[2]));
             }
             u[k] = total > 0.0 ? run / total : (n > 1 ? (double)(k - first) / (double)(n - 1) : 0.0);
             /* Nearest distinct neighbours on either side (zero-length segments skipped). */
@@ -224,8 +231,8 @@ halo_lines *halo_lines_create(const halo_lines_desc *desc, halo_diagnostics *dia
     GLenum error = f->GetError();
     if (status != GL_FRAMEBUFFER_COMPLETE || error != GL_NO_ERROR) {
         HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0,
-                        "cannot create a %dx%d RGBA8 + DEPTH32F render target (status 0x%x, GL error 0x%x)", l->width,
-                        l->height, status, error);
+                          "cannot create a %dx%d RGBA8 + DEPTH32F render target (status 0x%x, GL error 0x%x)", l->width,
+                          l->height, status, error);
         halo_lines_destroy(l);
         return NULL;
     }
@@ -249,10 +256,7 @@ void halo_lines_destroy(halo_lines *l)
     free(l);
 }
 
-size_t halo_lines_vertex_count(const halo_lines *l)
-{
-    return l ? l->vertex_count : 0;
-}
+size_t halo_lines_vertex_count(const halo_lines *l) { return l ? l->vertex_count : 0; }
 
 halo_status halo_lines_set_data(halo_lines *l, const halo_polylines *lines, halo_diagnostics *diag)
 {
@@ -269,7 +273,8 @@ halo_status halo_lines_set_data(halo_lines *l, const halo_polylines *lines, halo
     uint32_t *indices = malloc((segments ? segments : 1) * 6 * sizeof *indices);
     if (!direction || !u || !vertices || !indices) {
         free(direction), free(u), free(vertices), free(indices);
-        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory building a strip of %zu points", points);
+        HALO_REPORT_ERROR(diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory building a strip of %zu points",
+                          points);
         return HALO_ERROR_IO;
     }
     halo_lines_strip_attributes(lines, direction, u);
@@ -326,7 +331,8 @@ halo_status halo_lines_set_data(halo_lines *l, const halo_polylines *lines, halo
     free(direction), free(u), free(vertices), free(indices);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
-        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, "", 0, 0, "cannot upload %zu strip vertices (GL error 0x%x)", 2 * points, error);
+        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, "", 0, 0, "cannot upload %zu strip vertices (GL error 0x%x)",
+                          2 * points, error);
         return HALO_ERROR_IO;
     }
     l->vertex_count = 2 * points;
@@ -350,10 +356,7 @@ static void normalize3(double v[3])
 }
 
 /* Rounds to float, as uploaded. */
-static double f32(double x)
-{
-    return (double)(float)x;
-}
+static double f32(double x) { return (double)(float)x; }
 
 void halo_lines_get_state(const halo_lines *l, const halo_lines_view *view, halo_lines_state *s)
 {
@@ -388,7 +391,7 @@ void halo_lines_get_state(const halo_lines *l, const halo_lines_view *view, halo
     double up[3];
     cross3(right, forward, up);
     double viewm[16] = {right[0], up[0], -forward[0], 0.0, right[1], up[1], -forward[1], 0.0,
-                        right[2], up[2], -forward[2], 0.0, 0.0, 0.0, 0.0, 1.0};
+                        right[2], up[2], -forward[2], 0.0, 0.0,      0.0,   0.0,         1.0};
     for (int row = 0; row < 3; ++row)
         viewm[12 + row] = -(viewm[row] * eye[0] + viewm[4 + row] * eye[1] + viewm[8 + row] * eye[2]);
     double aspect = (double)l->width / l->height;
@@ -401,7 +404,8 @@ void halo_lines_get_state(const halo_lines *l, const halo_lines_view *view, halo
         s->view_projection[i] = f32(s->view_projection[i]);
     /* depth along forward of the sphere's front and back: the eye is `distance` from the
      * centre (approximately, when shifted) */
-    double along = (centre[0] - eye[0]) * forward[0] + (centre[1] - eye[1]) * forward[1] + (centre[2] - eye[2]) * forward[2];
+    double along =
+        (centre[0] - eye[0]) * forward[0] + (centre[1] - eye[1]) * forward[1] + (centre[2] - eye[2]) * forward[2];
     for (int c = 0; c < 3; ++c) {
         s->eye[c] = f32(eye[c]);
         s->forward[c] = f32(forward[c]);
@@ -467,8 +471,8 @@ halo_status halo_lines_draw(halo_lines *l, const halo_lines_view *view, halo_dia
     f->Uniform1f(f->GetUniformLocation(program, "width_unit"), (float)s->width_unit);
     f->Uniform3f(f->GetUniformLocation(program, "line_color"), (float)view->line_color[0], (float)view->line_color[1],
                  (float)view->line_color[2]);
-    f->Uniform3f(f->GetUniformLocation(program, "background"), (float)view->background[0],
-                 (float)view->background[1], (float)view->background[2]);
+    f->Uniform3f(f->GetUniformLocation(program, "background"), (float)view->background[0], (float)view->background[1],
+                 (float)view->background[2]);
     /* the line_strip stage's host uniform (absent when the stage is not linked) */
     f->Uniform2f(f->GetUniformLocation(program, "halo_host_depth_range"), (float)s->distance_range[0],
                  (float)s->distance_range[1]);

@@ -35,10 +35,9 @@ halo_status halo_lines_link_scenes(const halo_library *lib, const halo_scene *ve
 /* Compiles and links a vertex and a fragment shader: each either a linked program
  * (driver messages mapped to the module's or host's file:line) or, where the program is
  * NULL, the plain text. Returns the GL program or 0 with GL_COMPILE / GL_LINK. */
-unsigned halo_lines_build_program(const halo_glfuncs *gl, const halo_program *vertex_program,
-                                  const char *vertex_source, const char *vertex_file,
-                                  const halo_program *fragment_program, const char *fragment_source,
-                                  const char *fragment_file, halo_diagnostics *diag);
+unsigned halo_lines_build_program(const halo_glfuncs *gl, const halo_program *vertex_program, const char *vertex_source,
+                                  const char *vertex_file, const halo_program *fragment_program,
+                                  const char *fragment_source, const char *fragment_file, halo_diagnostics *diag);
 
 /* ---- The line renderer ------------------------------------------------------------ */
 
@@ -57,21 +56,21 @@ typedef struct halo_lines_view {
     double zoom;               /* 1 (or 0): the bounding sphere fits the view */
     double centre[3];          /* with radius > 0: the bounds to frame; else the data's bounding sphere */
     double radius;
-    double eye_shift;          /* stereo: moves the eye along the camera's right axis by this fraction of
+    double eye_shift;     /* stereo: moves the eye along the camera's right axis by this fraction of
                                   the eye distance, still looking at the centre */
-    double background[3];      /* linear RGB; the halo colour */
-    double line_color[3];      /* linear RGB */
-    int mask_channels;         /* 0: write all; else bits 1 red, 2 green, 4 blue (anaglyph) */
-    int keep_color;            /* 1: clear only depth (the second eye of an anaglyph) */
+    double background[3]; /* linear RGB; the halo colour */
+    double line_color[3]; /* linear RGB */
+    int mask_channels;    /* 0: write all; else bits 1 red, 2 green, 4 blue (anaglyph) */
+    int keep_color;       /* 1: clear only depth (the second eye of an anaglyph) */
 } halo_lines_view;
 
 /* The values a draw uploads (float-rounded), for an emulation or a test. */
 typedef struct halo_lines_state {
     double view_projection[16]; /* column-major, world -> clip */
     double eye[3], forward[3];
-    double depth_range[2];      /* host uniform depth_range: along forward */
-    double distance_range[2];   /* halo_host_depth_range: distances from the eye */
-    double width_unit;          /* the data's radius */
+    double depth_range[2];    /* host uniform depth_range: along forward */
+    double distance_range[2]; /* halo_host_depth_range: distances from the eye */
+    double width_unit;        /* the data's radius */
 } halo_lines_state;
 
 typedef struct halo_lines halo_lines;

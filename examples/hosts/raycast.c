@@ -9,7 +9,6 @@
 #include <string.h>
 
 
-
 char *halo_host_load(const char *name, const char *override_path, halo_diagnostics *diag)
 {
     if (override_path) {
@@ -17,7 +16,8 @@ char *halo_host_load(const char *name, const char *override_path, halo_diagnosti
     }
     const char *embedded = halo_host_embedded(name);
     if (!embedded) {
-        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, name ? name : "", 0, 0, "no embedded host shader '%s'", name ? name : "");
+        HALO_REPORT_ERROR(diag, HALO_MSG_IO_READ, name ? name : "", 0, 0, "no embedded host shader '%s'",
+                          name ? name : "");
         return NULL;
     }
     size_t n = strlen(embedded);
@@ -139,8 +139,7 @@ static halo_status host_target_read(host_target *t, float *rgba, halo_diagnostic
 
 /* A host of size bytes (a struct whose first member is its host_target), zeroed, with
  * its target set up for default_fragment; NULL (diagnostics in diag) on failure. */
-static void *host_create(size_t size, const halo_host_desc *desc, const char *default_fragment,
-                         halo_diagnostics *diag)
+static void *host_create(size_t size, const halo_host_desc *desc, const char *default_fragment, halo_diagnostics *diag)
 {
     host_target *t = halo_host_calloc(size, diag);
     if (!t)
@@ -167,8 +166,8 @@ struct halo_raycast {
     halo_gl_frame *frame; /* a program with images, outputs or segments (host contract 2) */
     int interval, segments;
     int orthographic;
-    float jitter; /* the uniform `jitter` of hosts that jitter their first sample */
-    float seed_epsilon; /* host contract 3: halo_gl_segments_desc.seed_epsilon */
+    float jitter;           /* the uniform `jitter` of hosts that jitter their first sample */
+    float seed_epsilon;     /* host contract 3: halo_gl_segments_desc.seed_epsilon */
     int gradient_precision; /* ... and .gradient_precision */
     GLuint piece_texture;   /* ... and a piece (halo_raycast_set_piece), 0: none */
     int piece_dims[3];
@@ -177,7 +176,7 @@ struct halo_raycast {
     void *exchange_user;
     size_t exchange_max_bytes;
     GLuint exit_program, exit_texture, exit_framebuffer; /* halo_raycast_set_exit_points */
-    void (*untidy)(void *user, int before_draw); /* halo_raycast_set_untidy */
+    void (*untidy)(void *user, int before_draw);         /* halo_raycast_set_untidy */
     void *untidy_user;
 };
 
@@ -256,16 +255,12 @@ void halo_raycast_destroy(halo_raycast *r)
     free(r);
 }
 
-unsigned halo_raycast_gl_program(const halo_raycast *r)
-{
-    return r ? r->target.program : 0;
-}
+unsigned halo_raycast_gl_program(const halo_raycast *r) { return r ? r->target.program : 0; }
 
-halo_status halo_raycast_set_volume(halo_raycast *r, const float *data, int nx, int ny, int nz,
-                                    halo_diagnostics *diag)
+halo_status halo_raycast_set_volume(halo_raycast *r, const float *data, int nx, int ny, int nz, halo_diagnostics *diag)
 {
-    halo_status status = halo_host_upload_volume(r ? r->target.f : NULL, r ? r->volume_texture : 0, data, nx, ny,
-                                                 nz, diag);
+    halo_status status =
+        halo_host_upload_volume(r ? r->target.f : NULL, r ? r->volume_texture : 0, data, nx, ny, nz, diag);
     if (status != HALO_OK)
         return status;
     r->volume = data;
@@ -290,16 +285,13 @@ void halo_raycast_set_camera(halo_raycast *r, double azimuth, double elevation, 
     if (!r)
         return;
     halo_host_camera camera;
-    if (!halo_host_orbit_camera_projection(azimuth, elevation, zoom, r->target.width, r->target.height,
-                                           r->orthographic, &camera))
+    if (!halo_host_orbit_camera_projection(azimuth, elevation, zoom, r->target.width, r->target.height, r->orthographic,
+                                           &camera))
         return;
     halo_host_camera_keep(&camera, r->inverse_view_projection, r->eye, r->screen_right, r->screen_up);
 }
 
-halo_gl_frame *halo_raycast_frame(const halo_raycast *r)
-{
-    return r ? r->frame : NULL;
-}
+halo_gl_frame *halo_raycast_frame(const halo_raycast *r) { return r ? r->frame : NULL; }
 
 void halo_raycast_set_orthographic(halo_raycast *r, int orthographic)
 {
@@ -329,8 +321,8 @@ void halo_raycast_set_exchange_max_bytes(halo_raycast *r, size_t bytes)
         r->exchange_max_bytes = bytes;
 }
 
-halo_status halo_raycast_set_piece(halo_raycast *r, const float *data, int nx, int ny, int nz,
-                                   const float piece_min[3], const float piece_max[3],
+halo_status halo_raycast_set_piece(halo_raycast *r, const float *data, int nx, int ny, int nz, const float piece_min[3],
+                                   const float piece_max[3],
                                    void (*exchange)(void *user, float *values, size_t count, halo_blend blend),
                                    void *user, halo_diagnostics *diag)
 {
@@ -381,9 +373,9 @@ halo_status halo_raycast_set_exit_points(halo_raycast *r, halo_diagnostics *diag
         return HALO_ERROR_INPUT;
     const halo_glfuncs *f = r->target.f;
     if (!r->exit_program) {
-        r->exit_program = halo_host_link_raw(f, halo_host_embedded("exit_points.vert"), "exit_points.vert",
-                                             halo_host_embedded("exit_points.frag"), "exit_points.frag",
-                                             HALO_HOST_LOG_LINES, diag);
+        r->exit_program =
+            halo_host_link_raw(f, halo_host_embedded("exit_points.vert"), "exit_points.vert",
+                               halo_host_embedded("exit_points.frag"), "exit_points.frag", HALO_HOST_LOG_LINES, diag);
         if (!r->exit_program)
             return HALO_ERROR_IO;
         f->GenTextures(1, &r->exit_texture);

@@ -26,14 +26,14 @@ char *halo_host_mip_variant(const char *source);
 /* ---- Programs ------------------------------------------------------------------ */
 
 typedef struct halo_host_desc {
-    const halo_glfuncs *gl;        /* required; the context must be current */
-    halo_gl *runtime;              /* required with program */
-    const halo_program *program;   /* the host linked by halo_link, or NULL ... */
-    const char *fragment_source;   /* ... for this unlinked text (default: the embedded host) */
-    const char *fragment_file;     /* for diagnostics (default: the host's name) */
-    const char *vertex_source;     /* default: the embedded raycast.vert */
-    const char *vertex_file;       /* default "raycast.vert" */
-    int width, height;             /* render target size, required */
+    const halo_glfuncs *gl;      /* required; the context must be current */
+    halo_gl *runtime;            /* required with program */
+    const halo_program *program; /* the host linked by halo_link, or NULL ... */
+    const char *fragment_source; /* ... for this unlinked text (default: the embedded host) */
+    const char *fragment_file;   /* for diagnostics (default: the host's name) */
+    const char *vertex_source;   /* default: the embedded raycast.vert */
+    const char *vertex_file;     /* default "raycast.vert" */
+    int width, height;           /* render target size, required */
 } halo_host_desc;
 
 /* ---- The ray caster -------------------------------------------------------------- */
@@ -44,21 +44,21 @@ typedef struct halo_raycast halo_raycast;
  * and vectors hold exactly the float values uploaded. */
 typedef struct halo_raycast_state {
     int width, height;
-    double inverse_view_projection[16]; /* column-major, clip space -> volume texture space */
-    double eye[3];                      /* volume texture space */
+    double inverse_view_projection[16];   /* column-major, clip space -> volume texture space */
+    double eye[3];                        /* volume texture space */
     double screen_right[3], screen_up[3]; /* unit image-plane axes (host uniforms of halo_seed) */
-    double step_size;                   /* texture units */
-    double unit_step;                   /* the step transfer opacities are given for (one voxel) */
+    double step_size;                     /* texture units */
+    double unit_step;                     /* the step transfer opacities are given for (one voxel) */
     double background[3];
-    int transfer_texels;                /* HALO_RAYCAST_TRANSFER_TEXELS */
-    const float *transfer;              /* transfer_texels RGBA texels as uploaded */
-    int dims[3];                        /* volume size in voxels */
-    const float *volume;                /* the values uploaded (x fastest), NULL before upload */
+    int transfer_texels;   /* HALO_RAYCAST_TRANSFER_TEXELS */
+    const float *transfer; /* transfer_texels RGBA texels as uploaded */
+    int dims[3];           /* volume size in voxels */
+    const float *volume;   /* the values uploaded (x fastest), NULL before upload */
 } halo_raycast_state;
 
 #define HALO_RAYCAST_TRANSFER_TEXELS 256
 /* Field of view across the smaller image side at zoom 1, in degrees. */
-#define HALO_RAYCAST_FIELD_OF_VIEW 30.0
+#define HALO_RAYCAST_FIELD_OF_VIEW   30.0
 
 /* Builds the program (linked or raw) and the render target. Returns NULL with
  * diagnostics (GL_COMPILE, GL_LINK, OUT_OF_MEMORY, USAGE) on failure. */
@@ -67,13 +67,11 @@ void halo_raycast_destroy(halo_raycast *r);
 /* Uploads a volume of values already normalized to [0,1] (x fastest); the ray
  * caster keeps a reference to data for halo_raycast_get_state (an emulation reads it
  * there; rendering does not): keep it alive while get_state's volume is read. */
-halo_status halo_raycast_set_volume(halo_raycast *r, const float *data, int nx, int ny, int nz,
-                                    halo_diagnostics *diag);
+halo_status halo_raycast_set_volume(halo_raycast *r, const float *data, int nx, int ny, int nz, halo_diagnostics *diag);
 /* Transfer function (control points linearly interpolated into a 256-texel table;
  * none: a grey ramp), background and step (voxels; <= 0 means 0.5) from a scene's
  * render settings. */
-halo_status halo_raycast_set_render(halo_raycast *r, const halo_render_settings *settings,
-                                    halo_diagnostics *diag);
+halo_status halo_raycast_set_render(halo_raycast *r, const halo_render_settings *settings, halo_diagnostics *diag);
 /* Perspective camera looking at the volume centre from azimuth (about +y, 0 = on
  * the +z side) and elevation (degrees); zoom 1 fits the bounding sphere in view. */
 void halo_raycast_set_camera(halo_raycast *r, double azimuth, double elevation, double zoom);
@@ -108,8 +106,8 @@ void halo_raycast_set_gradient_precision(halo_raycast *r, int bits);
  * texture) covering piece_min..piece_max of the volume's texture space, while the host
  * still draws the whole volume of halo_raycast_set_volume; exchange is called once a frame
  * with the seeds. data or exchange NULL: no piece. */
-halo_status halo_raycast_set_piece(halo_raycast *r, const float *data, int nx, int ny, int nz,
-                                   const float piece_min[3], const float piece_max[3],
+halo_status halo_raycast_set_piece(halo_raycast *r, const float *data, int nx, int ny, int nz, const float piece_min[3],
+                                   const float piece_max[3],
                                    void (*exchange)(void *user, float *values, size_t count, halo_blend blend),
                                    void *user, halo_diagnostics *diag);
 /* The most bytes one exchange call carries (halo_gl_segments_desc.exchange_max_bytes;

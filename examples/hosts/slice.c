@@ -28,18 +28,18 @@ struct halo_slice {
     float background[3];
     int interval_override;
     halo_gradient_format gradient_format;
-    float gradient_scale; /* the texture holds gradient / gradient_scale */
+    float gradient_scale;   /* the texture holds gradient / gradient_scale */
     GLint gradient_pending; /* the internal format of gradients still to build on the GPU; 0: none */
     int reads_gradients;    /* the linked stages read the gradient (slice.frag's sample_gradient) */
     /* packed16/32 (halo_host_build_packed): gradient_texture holds the value too and program
      * is the SLICE_PACKED_VOLUME variant of the host shader, built by set_volume */
     int packed;
     float value_range[2];
-    GLuint plain_program; /* the host shader as linked, while program is the packed variant */
+    GLuint plain_program;   /* the host shader as linked, while program is the packed variant */
     GLuint outside_program; /* the SLICE_OUTSIDE variant (built at the first clipped render with images) */
     GLuint zero_program;    /* the HALO_IMAGES_ZERO variant (of the packed one when packed): the section's
                              * pixels outside the read region */
-    char *vertex_source;  /* for building the variant */
+    char *vertex_source;    /* for building the variant */
     halo_gl *runtime_for_variant;
     int run_every_generation; /* halo_slice_set_generation_skip(s, 0) */
     long draws, pass_draws;
@@ -62,8 +62,8 @@ halo_slice *halo_slice_create_mode(const halo_host_desc *desc, int slab, halo_di
     s->gradient_scale = 1.0f;
     s->width = desc->width;
     s->height = desc->height;
-    s->program = halo_host_program_build(desc, "slice.vert", slab ? "slab.frag" : "slice.frag",
-                                         HALO_HOST_LOG_APPENDED, diag);
+    s->program =
+        halo_host_program_build(desc, "slice.vert", slab ? "slab.frag" : "slice.frag", HALO_HOST_LOG_APPENDED, diag);
     if (!s->program)
         goto fail;
     s->reads_gradients = f->GetUniformLocation(s->program, "gradient_texture") >= 0;
@@ -113,7 +113,7 @@ void halo_slice_destroy(halo_slice *s)
     halo_gl_frame_destroy(s->frame);
     if (f) { /* glDelete* passes over the names never made (0) */
         f->DeleteFramebuffers(1, &s->framebuffer);
-        const GLuint textures[6] = {s->textures[0],    s->textures[1],  s->volume_texture,
+        const GLuint textures[6] = {s->textures[0],      s->textures[1],    s->volume_texture,
                                     s->transfer_texture, s->labels_texture, s->gradient_texture};
         f->DeleteTextures(6, textures);
         f->DeleteVertexArrays(1, &s->vertex_array);
@@ -126,25 +126,13 @@ void halo_slice_destroy(halo_slice *s)
     free(s);
 }
 
-unsigned halo_slice_gl_program(const halo_slice *s)
-{
-    return s ? s->program : 0;
-}
+unsigned halo_slice_gl_program(const halo_slice *s) { return s ? s->program : 0; }
 
-halo_gl_frame *halo_slice_frame(const halo_slice *s)
-{
-    return s ? s->frame : NULL;
-}
+halo_gl_frame *halo_slice_frame(const halo_slice *s) { return s ? s->frame : NULL; }
 
-long halo_slice_draws(const halo_slice *s)
-{
-    return s ? s->draws : 0;
-}
+long halo_slice_draws(const halo_slice *s) { return s ? s->draws : 0; }
 
-long halo_slice_pass_draws(const halo_slice *s)
-{
-    return s ? s->pass_draws : 0;
-}
+long halo_slice_pass_draws(const halo_slice *s) { return s ? s->pass_draws : 0; }
 
 void halo_slice_set_interval(halo_slice *s, int interval)
 {
@@ -195,12 +183,9 @@ halo_status halo_slice_set_labels(halo_slice *s, const float *labels, int nx, in
     return status;
 }
 
-int halo_slice_reads_gradients(const halo_slice *s)
-{
-    return s && s->reads_gradients;
-}
+int halo_slice_reads_gradients(const halo_slice *s) { return s && s->reads_gradients; }
 
-static const char *const gradient_format_names[HALO_GRADIENT_FORMAT_COUNT] = {NULL,   "float",    "half",
+static const char *const gradient_format_names[HALO_GRADIENT_FORMAT_COUNT] = {NULL,     "float",    "half",
                                                                               "snorm8", "packed16", "packed32"};
 
 const char *halo_gradient_format_name(halo_gradient_format format)
@@ -221,7 +206,8 @@ int halo_gradient_format_option(const char *text, halo_gradient_format *format, 
     halo_gradient_format named = halo_gradient_format_from_name(text);
     if (named == HALO_GRADIENT_FORMAT_COUNT) {
         if (err && errlen)
-            snprintf(err, errlen, "--gradient-format: '%s' is not float, half, snorm8, packed16 or packed32", text ? text : "");
+            snprintf(err, errlen, "--gradient-format: '%s' is not float, half, snorm8, packed16 or packed32",
+                     text ? text : "");
         return 0;
     }
     *format = named;
@@ -254,10 +240,10 @@ halo_gradient_format halo_slice_gradient_format(const halo_slice *s)
 static halo_status use_packed(halo_slice *s, int packed, halo_diagnostics *diag)
 {
     if (packed && !s->plain_program) {
-        GLuint variant = s->vertex_source ? halo_gl_program_build_defines(s->runtime_for_variant, s->linked,
-                                                                          s->vertex_source, "slice.vert",
-                                                                          "#define SLICE_PACKED_VOLUME 1\n", diag)
-                                          : 0;
+        GLuint variant = s->vertex_source
+                             ? halo_gl_program_build_defines(s->runtime_for_variant, s->linked, s->vertex_source,
+                                                             "slice.vert", "#define SLICE_PACKED_VOLUME 1\n", diag)
+                             : 0;
         if (!variant)
             return HALO_ERROR_IO;
         s->plain_program = s->program;
@@ -289,8 +275,8 @@ halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int 
      * reads them: otherwise the driver drops the unread fetch and with it the sampler
      * (the same image without the texture) */
     if (halo_slice_reads_gradients(s)) {
-        static const GLint internal_formats[HALO_GRADIENT_FORMAT_COUNT] = {0,         GL_RGB32F, GL_RGB16F,
-                                                                           GL_RGB8_SNORM, GL_RGBA16_SNORM, GL_RGBA32F};
+        static const GLint internal_formats[HALO_GRADIENT_FORMAT_COUNT] = {
+            0, GL_RGB32F, GL_RGB16F, GL_RGB8_SNORM, GL_RGBA16_SNORM, GL_RGBA32F};
         GLint internal_format = internal_formats[format];
         if (halo_host_gradients_renderable(s->f, internal_format)) {
             /* built on the GPU from the volume texture at the first render: by then the
@@ -302,8 +288,10 @@ halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int 
             if (s->packed)
                 halo_host_value_range(data, dims, s->value_range);
         } else if (s->packed) {
-            HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0, "slice host: this GL cannot render into the 3D textures of "
-                                                     "gradient format %s", halo_gradient_format_name(format));
+            HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0,
+                              "slice host: this GL cannot render into the 3D textures of "
+                              "gradient format %s",
+                              halo_gradient_format_name(format));
             return HALO_ERROR_IO;
         } else {
             status = halo_host_upload_gradients(s->f, s->gradient_texture, data, nx, ny, nz, internal_format,
@@ -323,8 +311,8 @@ halo_status halo_slice_set_render(halo_slice *s, const halo_render_settings *set
 {
     if (!s)
         return HALO_ERROR_INPUT;
-    return halo_host_upload_transfer(s->f, s->transfer_texture, s->transfer, settings, &s->step_voxels,
-                                     s->background, diag);
+    return halo_host_upload_transfer(s->f, s->transfer_texture, s->transfer, settings, &s->step_voxels, s->background,
+                                     diag);
 }
 
 void halo_slice_set_camera(halo_slice *s, double azimuth, double elevation, double zoom)
@@ -395,8 +383,7 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
     if (s->gradient_pending) {
         halo_status built =
             s->packed ? halo_host_build_packed(s->f, s->gradient_texture, s->volume_texture, s->dims[0], s->dims[1],
-                                               s->dims[2], s->gradient_pending, s->gradient_scale, s->value_range,
-                                               diag)
+                                               s->dims[2], s->gradient_pending, s->gradient_scale, s->value_range, diag)
                       : halo_host_build_gradients(s->f, s->gradient_texture, s->volume_texture, s->dims[0], s->dims[1],
                                                   s->dims[2], s->gradient_pending, s->gradient_scale, diag);
         if (built != HALO_OK)
@@ -653,8 +640,8 @@ static int draw_clipped_slice(const halo_slice *s, const GLuint programs[3], con
         counts[1] = box_empty(inside) ? (memcpy(pieces[1][0], section, sizeof section), 1)
                                       : box_subtract(section, inside, pieces[1]);
     if (images && !box_empty(read))
-        counts[2] = box_empty(section) ? (memcpy(pieces[2][0], read, sizeof read), 1)
-                                       : box_subtract(read, section, pieces[2]);
+        counts[2] =
+            box_empty(section) ? (memcpy(pieces[2][0], read, sizeof read), 1) : box_subtract(read, section, pieces[2]);
     int first = programs[1] == *current ? 1 : programs[2] == *current ? 2 : 0, any = 0;
     for (int i = 0; i < 3; ++i) {
         int g = (first + i) % 3;
@@ -793,7 +780,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
         if (group >= 0)
             halo_gl_frame_begin_group(s->frame);
         halo_gl_frame_attach(s->frame, s->framebuffer); /* buffer 0 keeps the blend set above */
-        if (outside) { /* sampler uniforms are set on the program in use */
+        if (outside) {                                  /* sampler uniforms are set on the program in use */
             f->UseProgram(outside);
             halo_gl_frame_bind(s->frame, outside, 3);
             f->UseProgram(zero_variant);
@@ -843,8 +830,8 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
         GLint samples_location = f->GetUniformLocation(program, "slab_samples");
         for (int k = 0; k < st.slice_count; k += interval) {
             int samples = st.slice_count - k < interval ? st.slice_count - k : interval;
-            f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
-                                    s->textures[1 - current], 0);
+            f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, s->textures[1 - current],
+                                    0);
             f->ActiveTexture(GL_TEXTURE2);
             f->BindTexture(GL_TEXTURE_2D, s->textures[current]);
             f->ActiveTexture(GL_TEXTURE0);

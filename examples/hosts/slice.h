@@ -20,16 +20,16 @@ typedef struct halo_slice halo_slice;
 /* The values the shaders run with, for an emulation: float values as uploaded. */
 typedef struct halo_slice_state {
     int width, height;
-    double inverse_view_projection[16]; /* column-major, clip space -> volume texture space */
-    double eye[3];                      /* volume texture space */
-    double view_axis[3];                /* unit, from the eye into the scene */
+    double inverse_view_projection[16];   /* column-major, clip space -> volume texture space */
+    double eye[3];                        /* volume texture space */
+    double view_axis[3];                  /* unit, from the eye into the scene */
     double screen_right[3], screen_up[3]; /* unit image-plane axes (host uniforms of halo_seed) */
-    double first_distance;              /* plane of slice 0 along the view axis, from the eye */
-    int slice_count;                    /* slice k at first_distance + k * step_size */
-    double step_size;                   /* texture units */
-    double unit_step;                   /* one voxel: the step transfer opacities are given for */
-    int interval;                       /* M: slices between two generations (slab: samples per draw) */
-    int slab;                           /* 1: the slab ray caster */
+    double first_distance;                /* plane of slice 0 along the view axis, from the eye */
+    int slice_count;                      /* slice k at first_distance + k * step_size */
+    double step_size;                     /* texture units */
+    double unit_step;                     /* one voxel: the step transfer opacities are given for */
+    int interval;                         /* M: slices between two generations (slab: samples per draw) */
+    int slab;                             /* 1: the slab ray caster */
     double background[3];
     int transfer_texels;
     const float *transfer;
@@ -53,9 +53,9 @@ int halo_slice_reads_gradients(const halo_slice *s);
  * the [0,1] value, |g| <= 0.5 a component): 0 is the default, HALO_GRADIENT_FORMAT_DEFAULT. */
 typedef enum halo_gradient_format {
     HALO_GRADIENT_DEFAULT = 0,
-    HALO_GRADIENT_FLOAT,  /* RGB32F, 12 bytes a voxel: the exact floats */
-    HALO_GRADIENT_HALF,   /* RGB16F, 6 (llvmpipe: 8) bytes a voxel, 11 significant bits (scaled when |g| > 1) */
-    HALO_GRADIENT_SNORM8, /* RGB8_SNORM, 3 (llvmpipe: 4) bytes a voxel, g / the volume's largest |component| */
+    HALO_GRADIENT_FLOAT,    /* RGB32F, 12 bytes a voxel: the exact floats */
+    HALO_GRADIENT_HALF,     /* RGB16F, 6 (llvmpipe: 8) bytes a voxel, 11 significant bits (scaled when |g| > 1) */
+    HALO_GRADIENT_SNORM8,   /* RGB8_SNORM, 3 (llvmpipe: 4) bytes a voxel, g / the volume's largest |component| */
     HALO_GRADIENT_PACKED16, /* RGBA16_SNORM holding the value too (the volume texture is dropped): 8 bytes a voxel for
                              * both, 16 bits each, one fetch for value and gradient (halo_host_build_packed) */
     HALO_GRADIENT_PACKED32, /* RGBA32F holding the value too: 16 bytes a voxel for both, floats, one fetch */
@@ -91,7 +91,7 @@ void halo_slice_set_camera(halo_slice *s, double azimuth, double elevation, doub
  * as the host uniform "labels" (outline_feature's label features) on texture unit
  * HALO_SLICE_LABEL_UNIT while rendering. NULL data (and the default, for a program
  * that declares "labels") is a segmentation where no voxel has a label id (>= 0). */
-#define HALO_SLICE_LABEL_UNIT 15
+#define HALO_SLICE_LABEL_UNIT    15
 /* The precomputed gradients (set_volume) are on this unit while rendering. */
 #define HALO_SLICE_GRADIENT_UNIT 14
 halo_status halo_slice_set_labels(halo_slice *s, const float *labels, int nx, int ny, int nz, halo_diagnostics *diag);

@@ -5,53 +5,65 @@
 
 #include <string.h>
 
-const double *halo_emu_param(const halo_emu_params *p, const char *name, int *count) {
+const double *halo_emu_param(const halo_emu_params *p, const char *name, int *count)
+{
     const halo_module *m = p->stage->module;
     for (size_t i = 0; i < m->param_count; i++)
         if (!strcmp(m->params[i].name, name)) {
-            if (count) *count = p->stage->values[i].count;
+            if (count)
+                *count = p->stage->values[i].count;
             return p->stage->values[i].value;
         }
-    if (count) *count = 0;
+    if (count)
+        *count = 0;
     return NULL;
 }
 
-double halo_emu_scalar(const halo_emu_params *p, const char *name) {
+double halo_emu_scalar(const halo_emu_params *p, const char *name)
+{
     const double *v = halo_emu_param(p, name, NULL);
     return v ? v[0] : 0.0;
 }
 
-const double *halo_emu_channel_param(const halo_emu_params *p, const char *name, int h) {
+const double *halo_emu_channel_param(const halo_emu_params *p, const char *name, int h)
+{
     const halo_module *m = p->stage->module;
     for (size_t i = 0; i < m->param_count; i++)
         if (!strcmp(m->params[i].name, name)) {
             int count = p->stage->values[i].count;
-            if (count < 1) return NULL;
-            if (h > count - 1) h = count - 1;
-            if (h < 0) h = 0;
+            if (count < 1)
+                return NULL;
+            if (h > count - 1)
+                h = count - 1;
+            if (h < 0)
+                h = 0;
             return p->stage->values[i].value + (size_t)h * (size_t)m->params[i].components;
         }
     return NULL;
 }
 
-double halo_emu_channel(const halo_emu_params *p, const char *name, int h) {
+double halo_emu_channel(const halo_emu_params *p, const char *name, int h)
+{
     const double *v = halo_emu_channel_param(p, name, h);
     return v ? v[0] : 0.0;
 }
 
-int halo_emu_channel_count(const halo_emu_params *p) {
+int halo_emu_channel_count(const halo_emu_params *p)
+{
     int c = p->program ? p->program->channel_count : 1;
     return c < 1 ? 1 : c > 4 ? 4 : c;
 }
 
 /* The stages of the program in order; image-hook stages have no per-sample code. */
-static halo_status run_stages(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s, halo_diagnostics *diag) {
+static halo_status run_stages(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s, halo_diagnostics *diag)
+{
     memset(s->normal, 0, sizeof s->normal);
     s->gradient_magnitude = 0;
     memset(s->seed, 0, sizeof s->seed);
     for (size_t i = 0; i < p->stage_count; i++) {
         const halo_linked_stage *st = &p->stages[i];
-        if (st->module->hook != HALO_HOOK_SAMPLE) continue;
+        if (st->module->hook != HALO_HOOK_SAMPLE)
+            continue;
         halo_emu_stage_fn fn = halo_emu_lookup(st->module->name);
         if (!fn) {
             halo_diag_error(diag, EMU_MISSING, st->module->file, st->module->module_line, 1,
@@ -64,29 +76,34 @@ static halo_status run_stages(const halo_program *p, halo_emu_frame *f, halo_emu
     return HALO_OK;
 }
 
-halo_status halo_emu_apply(const halo_program *p, halo_emu_sample *s, halo_diagnostics *diag) {
+halo_status halo_emu_apply(const halo_program *p, halo_emu_sample *s, halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, s, "sample", HALO_ERROR_INPUT);
     return run_stages(p, NULL, s, diag);
 }
 
-halo_status halo_emu_apply_frame(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s,
-                                 halo_diagnostics *diag) {
+halo_status halo_emu_apply_frame(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s, halo_diagnostics *diag)
+{
     HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, f, "frame", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, s, "sample", HALO_ERROR_INPUT);
     halo_status st = run_stages(p, f, s, diag);
-    if (st != HALO_OK) return st;
+    if (st != HALO_OK)
+        return st;
     /* The linker folds each output's field after halo_apply (emu/frame.c). */
     return halo_emu_frame_fold(p, s, diag);
 }
 
-int halo_module_has_emulation(const halo_module *m) {
+int halo_module_has_emulation(const halo_module *m)
+{
     HALO_REFUSE_NULL(NULL, m, "module", 0);
-    if (m->is_library) return 0;
+    if (m->is_library)
+        return 0;
     if (m->hook == HALO_HOOK_IMAGE) {
         for (size_t i = 0; i < m->pass_count; i++)
-            if (!halo_emu_lookup_pass(m->name, m->passes[i].entry)) return 0;
+            if (!halo_emu_lookup_pass(m->name, m->passes[i].entry))
+                return 0;
         return m->pass_count > 0;
     }
     return halo_emu_lookup(m->name) != NULL;

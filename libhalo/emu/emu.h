@@ -56,8 +56,8 @@ typedef struct halo_emu_pass_context {
     int pass_channel;                           /* halo_pass_channel (each=channel passes) */
     int scale;                                  /* halo_pass_scale: the output is 1/scale of the frame */
     int input_width[HALO_MAX_PASS_INPUTS], input_height[HALO_MAX_PASS_INPUTS];
-    int input_down[HALO_MAX_PASS_INPUTS];       /* input larger by this: max over the block */
-    int input_up[HALO_MAX_PASS_INPUTS];         /* input smaller by this: its pixel / up */
+    int input_down[HALO_MAX_PASS_INPUTS]; /* input larger by this: max over the block */
+    int input_up[HALO_MAX_PASS_INPUTS];   /* input smaller by this: its pixel / up */
 } halo_emu_pass_context;
 
 /* halo_input(k, pixel) / halo_input4 for one component: 0 outside the image (zero

@@ -68,14 +68,11 @@ double halo_feature_splat_weight_sum(int splat_size)
 
 static int dims_ok(const int dims[3])
 {
-    return dims && dims[0] > 0 && dims[1] > 0 && dims[2] > 0 && dims[0] <= 8192 && dims[1] <= 8192 &&
-           dims[2] <= 8192 && (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2] <= ((size_t)1 << 30);
+    return dims && dims[0] > 0 && dims[1] > 0 && dims[2] > 0 && dims[0] <= 8192 && dims[1] <= 8192 && dims[2] <= 8192 &&
+           (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2] <= ((size_t)1 << 30);
 }
 
-static size_t voxel_count(const int dims[3])
-{
-    return (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2];
-}
+static size_t voxel_count(const int dims[3]) { return (size_t)dims[0] * (size_t)dims[1] * (size_t)dims[2]; }
 
 static float value_at(const float *v, const int dims[3], int x, int y, int z)
 {
@@ -183,10 +180,7 @@ static int outward_normal(const double g[3], double n[3])
     return 1;
 }
 
-static void unit_view(const double view[3], double out[3])
-{
-    halo_emu_normalize(view, out);
-}
+static void unit_view(const double view[3], double out[3]) { halo_emu_normalize(view, out); }
 
 /* Scatters the splats of the voxels with |g| > cutoff into out (bd texels, zeroed by
  * the caller): out[t] += weight(d) h(n_s, d/|d|); weight 1/|d|^2 times scale. */
@@ -267,12 +261,12 @@ static halo_status feature_buffer(const float *values, const int dims[3], const 
 }
 
 /* In the public function itself, so that a refusal names it. */
-#define REFUSE_NULL_BUFFER_ARGUMENTS()                                                                       \
-    do {                                                                                                     \
-        HALO_REFUSE_NULL(NULL, values, "values", HALO_ERROR_INPUT);                                          \
-        HALO_REFUSE_NULL(NULL, dims, "dims", HALO_ERROR_INPUT);                                              \
-        HALO_REFUSE_NULL(NULL, view, "view", HALO_ERROR_INPUT);                                              \
-        HALO_REFUSE_NULL(NULL, out, "out", HALO_ERROR_INPUT);                                                \
+#define REFUSE_NULL_BUFFER_ARGUMENTS()                              \
+    do {                                                            \
+        HALO_REFUSE_NULL(NULL, values, "values", HALO_ERROR_INPUT); \
+        HALO_REFUSE_NULL(NULL, dims, "dims", HALO_ERROR_INPUT);     \
+        HALO_REFUSE_NULL(NULL, view, "view", HALO_ERROR_INPUT);     \
+        HALO_REFUSE_NULL(NULL, out, "out", HALO_ERROR_INPUT);       \
     } while (0)
 
 halo_status halo_feature_reference(const float *values, const int dims[3], const halo_feature_desc *desc,
@@ -315,8 +309,8 @@ double halo_feature_buffer_lookup(const double *buffer, const int dims[3], const
     double result = 0.0;
     for (int corner = 0; corner < 8; ++corner) {
         int x = corner & 1 ? i1[0] : i0[0], y = corner & 2 ? i1[1] : i0[1], z = corner & 4 ? i1[2] : i0[2];
-        double w = (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) *
-                   (corner & 4 ? f[2] : 1.0 - f[2]);
+        double w =
+            (corner & 1 ? f[0] : 1.0 - f[0]) * (corner & 2 ? f[1] : 1.0 - f[1]) * (corner & 4 ? f[2] : 1.0 - f[2]);
         result += w * buffer[((size_t)z * (size_t)dims[1] + (size_t)y) * (size_t)dims[0] + (size_t)x];
     }
     return result;

@@ -11,8 +11,8 @@ int halo_feature_splat_radius(const halo_feature_desc *effective);
 /* The host contract's gradient at voxel (x, y, z), clamped at the faces. */
 void halo_feature_gradient_at(const float *values, const int dims[3], int x, int y, int z, double g[3]);
 /* The gradient of every buffer texel (3 doubles each): the voxel's, or the 2x2x2 mean. */
-halo_status halo_feature_buffer_gradients(const float *values, const int dims[3],
-                                          const halo_feature_desc *effective, double *out);
+halo_status halo_feature_buffer_gradients(const float *values, const int dims[3], const halo_feature_desc *effective,
+                                          double *out);
 /* h_n for an outward unit normal, the unit offset e from the neighbour to the sample and
  * the unit view vector. */
 double halo_feature_potential(const double normal[3], const double e[3], const double view[3], double k_hpe,

@@ -5,10 +5,7 @@
 
 #include "stages.h"
 
-double halo_emu_saturate(double x)
-{
-    return halo_emu_clamp(x, 0.0, 1.0);
-}
+double halo_emu_saturate(double x) { return halo_emu_clamp(x, 0.0, 1.0); }
 
 /* GLSL clamp: min(max(x, lo), hi). */
 double halo_emu_clamp(double x, double lo, double hi)
@@ -37,10 +34,7 @@ void halo_emu_normalize(const double v[3], double out[3])
 }
 
 /* The GLSL built-in dot. */
-double halo_emu_dot(const double a[3], const double b[3])
-{
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
-}
+double halo_emu_dot(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 double halo_emu_dot_clamped(const double a[3], const double b[3])
 {
@@ -48,10 +42,7 @@ double halo_emu_dot_clamped(const double a[3], const double b[3])
 }
 
 /* The GLSL built-in mix: a (1 - t) + b t. */
-double halo_emu_mix(double a, double b, double t)
-{
-    return a * (1.0 - t) + b * t;
-}
+double halo_emu_mix(double a, double b, double t) { return a * (1.0 - t) + b * t; }
 
 void halo_emu_rgb_to_hsv(const double rgb[3], double hsv[3])
 {
@@ -90,12 +81,36 @@ void halo_emu_hsv_to_rgb(const double hsv[3], double rgb[3])
     double t = value * (1.0 - saturation * (1.0 - fraction));
     double out[3];
     switch ((int)sector) {
-    case 0: out[0] = value; out[1] = t; out[2] = p; break;
-    case 1: out[0] = q; out[1] = value; out[2] = p; break;
-    case 2: out[0] = p; out[1] = value; out[2] = t; break;
-    case 3: out[0] = p; out[1] = q; out[2] = value; break;
-    case 4: out[0] = t; out[1] = p; out[2] = value; break;
-    default: out[0] = value; out[1] = p; out[2] = q; break;
+    case 0:
+        out[0] = value;
+        out[1] = t;
+        out[2] = p;
+        break;
+    case 1:
+        out[0] = q;
+        out[1] = value;
+        out[2] = p;
+        break;
+    case 2:
+        out[0] = p;
+        out[1] = value;
+        out[2] = t;
+        break;
+    case 3:
+        out[0] = p;
+        out[1] = q;
+        out[2] = value;
+        break;
+    case 4:
+        out[0] = t;
+        out[1] = p;
+        out[2] = value;
+        break;
+    default:
+        out[0] = value;
+        out[1] = p;
+        out[2] = q;
+        break;
     }
     rgb[0] = out[0];
     rgb[1] = out[1];

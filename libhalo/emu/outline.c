@@ -143,12 +143,12 @@ static void keep_channels(const halo_emu_pass_context *c, double out[4])
 /* The separable passes: one axis (ax, ay) of a blur or a minimum over the kernel of a
  * size parameter; the depth passes clear the channels beyond the features'. One row a
  * pass (the registry, registry.c, names them). */
-#define AXIS_PASS(NAME, AXIS_FUNCTION, AX, AY, SIZE_PARAMETER, CLEAR_UNUSED)                                  \
-    void NAME(const halo_emu_pass_context *c, int x, int y, double out[4])                                 \
-    {                                                                                                      \
-        AXIS_FUNCTION(c, 0, x, y, AX, AY, deviation_pixels(c, SIZE_PARAMETER), out);                       \
-        if (CLEAR_UNUSED)                                                                                  \
-            keep_channels(c, out);                                                                         \
+#define AXIS_PASS(NAME, AXIS_FUNCTION, AX, AY, SIZE_PARAMETER, CLEAR_UNUSED)         \
+    void NAME(const halo_emu_pass_context *c, int x, int y, double out[4])           \
+    {                                                                                \
+        AXIS_FUNCTION(c, 0, x, y, AX, AY, deviation_pixels(c, SIZE_PARAMETER), out); \
+        if (CLEAR_UNUSED)                                                            \
+            keep_channels(c, out);                                                   \
     }
 AXIS_PASS(halo_emu_outline_blur_x, blur_axis, 1, 0, "sigma", 1)
 AXIS_PASS(halo_emu_outline_blur_y, blur_axis, 0, 1, "sigma", 1)
@@ -189,13 +189,15 @@ void halo_emu_outline_importance(const halo_emu_pass_context *c, int x, int y, d
 {
     const halo_emu_params *p = c->params;
     int n = c->channels, difference = halo_emu_scalar(p, "normal_difference") != 0.0,
-        unsharp = halo_emu_scalar(p, "normal_unsharp") != 0.0, correction = halo_emu_scalar(p, "depth_correction") != 0.0;
+        unsharp = halo_emu_scalar(p, "normal_unsharp") != 0.0,
+        correction = halo_emu_scalar(p, "depth_correction") != 0.0;
     double occluder = halo_emu_input(c, 3, x, y, 0);
     for (int k = 0; k < n; ++k) {
-        double D = halo_emu_input(c, 0, x, y, k), B = halo_emu_input(c, 1, x, y, k), d_min = halo_emu_input(c, 2, x, y, k);
+        double D = halo_emu_input(c, 0, x, y, k), B = halo_emu_input(c, 1, x, y, k),
+               d_min = halo_emu_input(c, 2, x, y, k);
         double negative = D - B > 0.0 ? D - B : 0.0;
-        double I = halo_emu_clamp(halo_emu_channel(p, "lambda", k) * halo_emu_pow(negative, halo_emu_channel(p, "depth_power", k)),
-                                  0.0, 1.0);
+        double I = halo_emu_clamp(
+            halo_emu_channel(p, "lambda", k) * halo_emu_pow(negative, halo_emu_channel(p, "depth_power", k)), 0.0, 1.0);
         double dn = 0.0;
         if (difference) {
             double a[4], b[4], e[4], f[4];
@@ -297,7 +299,8 @@ void halo_emu_outline_compose(const halo_emu_pass_context *c, int x, int y, doub
 
 static double final_sigma(const halo_emu_pass_context *c, int x, int y)
 {
-    double size = halo_emu_mix(1.0, diagonal_pixels(c, halo_emu_scalar(c->params, "blur_max")), pixel_gamma(c, x, y, 1));
+    double size =
+        halo_emu_mix(1.0, diagonal_pixels(c, halo_emu_scalar(c->params, "blur_max")), pixel_gamma(c, x, y, 1));
     return size <= 1.0 ? 0.0 : size / 6.0;
 }
 

@@ -5,9 +5,20 @@
 #include "stages.h"
 
 /* The per-sample stages with an emulation, by module name: one line per stage. */
-#define HALO_EMU_SAMPLE_STAGES(X)                                                                                 \
-    X(gradient) X(opacity_power) X(boundary) X(silhouette) X(orientation_fade) X(sketch) X(tone_shading)           \
-    X(distance_blend) X(distance_cue) X(halo_seed) X(halo_map) X(outline_feature) X(feature_halo)
+#define HALO_EMU_SAMPLE_STAGES(X) \
+    X(gradient)                   \
+    X(opacity_power)              \
+    X(boundary)                   \
+    X(silhouette)                 \
+    X(orientation_fade)           \
+    X(sketch)                     \
+    X(tone_shading)               \
+    X(distance_blend)             \
+    X(distance_cue)               \
+    X(halo_seed)                  \
+    X(halo_map)                   \
+    X(outline_feature)            \
+    X(feature_halo)
 
 #define HALO_EMU_DECLARE(name) HALO_EMU_STAGE(name);
 HALO_EMU_SAMPLE_STAGES(HALO_EMU_DECLARE)

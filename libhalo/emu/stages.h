@@ -37,9 +37,6 @@ double halo_emu_dot_clamped(const double a[3], const double b[3]);
 
 /* The GLSL test `v == vec3(0.0)`: a normal from halo_normalize is exactly zero when the
  * gradient has no direction. */
-static inline int halo_emu_is_zero3(const double v[3])
-{
-    return v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0;
-}
+static inline int halo_emu_is_zero3(const double v[3]) { return v[0] == 0.0 && v[1] == 0.0 && v[2] == 0.0; }
 
 #endif

@@ -112,15 +112,14 @@ int halo_segments_desc_valid(const halo_gl_segments_desc *d, const char *functio
 {
     if (d && d->inverse_view_projection && d->step > 0.0f && isfinite(d->step))
         return 1;
-    halo_diag_error(diag, USAGE, "", 0, 0, "%s: inverse_view_projection and a finite step > 0 are required",
-                    function);
+    halo_diag_error(diag, USAGE, "", 0, 0, "%s: inverse_view_projection and a finite step > 0 are required", function);
     return 0;
 }
 
 /* The checks of the public entry points: the object (named object_name) and the desc are
  * not NULL and the desc is valid; reported as function's. */
 int halo_segments_arguments_valid(const void *object, const char *object_name, const halo_gl_segments_desc *d,
-                           const char *function, halo_diagnostics *diag)
+                                  const char *function, halo_diagnostics *diag)
 {
     if (!object || !d) {
         halo_diag_null(diag, function, object ? "desc" : object_name);
@@ -172,13 +171,15 @@ int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p
     if (d->segments > 0 && location <= 0 && !p->one_draw) {
         halo_diag_error(diag, USAGE, "", 0, 0,
                         "halo_gl_frame_draw: segments = %d needs a program linked with force_segments from a host "
-                        "that calls halo_segment_begin", d->segments);
+                        "that calls halo_segment_begin",
+                        d->segments);
         return 0;
     }
     if (d->segments > HALO_SEGMENTS_MAX) {
         halo_diag_error(diag, USAGE, "", 0, 0,
                         "halo_gl_frame_draw: segments = %d: at most %d (each is a draw of the host and, with "
-                        "volumetric halos, a generation)", d->segments, HALO_SEGMENTS_MAX);
+                        "volumetric halos, a generation)",
+                        d->segments, HALO_SEGMENTS_MAX);
         return 0;
     }
     if (!segment_camera(d, plan)) {
@@ -200,7 +201,8 @@ int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p
             int interval = segment_interval(p, d);
             double count = ceil(planes / interval);
             plan->segments = count < 1.0 ? 1 : count > HALO_SEGMENTS_MAX ? HALO_SEGMENTS_MAX : (int)count;
-            plan->length = count > HALO_SEGMENTS_MAX ? planes * d->step / HALO_SEGMENTS_MAX : interval * (double)d->step;
+            plan->length =
+                count > HALO_SEGMENTS_MAX ? planes * d->step / HALO_SEGMENTS_MAX : interval * (double)d->step;
         }
     }
     return 1;

@@ -238,13 +238,12 @@ static int build_vertices(halo_feature_buffer *b, const float *values, const int
 }
 
 halo_feature_buffer *halo_feature_buffer_create(halo_gl *gl, const float *values, const int dims[3],
-                                                 const halo_feature_desc *desc, halo_diagnostics *diag)
+                                                const halo_feature_desc *desc, halo_diagnostics *diag)
 {
     HALO_REFUSE_NULL(diag, gl, "gl", NULL);
     HALO_REFUSE_NULL(diag, values, "values", NULL);
     HALO_REFUSE_NULL(diag, dims, "dims", NULL);
-    if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1 || dims[0] > 8192 ||
-        dims[1] > 8192 || dims[2] > 8192) {
+    if (dims[0] < 1 || dims[1] < 1 || dims[2] < 1 || dims[0] > 8192 || dims[1] > 8192 || dims[2] > 8192) {
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_feature_buffer_create: dims in 1..8192 are required");
         return NULL;
     }
@@ -324,8 +323,8 @@ void halo_feature_buffer_destroy(halo_feature_buffer *b)
 static const GLenum switched_caps[] = {GL_BLEND, GL_DEPTH_TEST, GL_SCISSOR_TEST, GL_PROGRAM_POINT_SIZE, GL_CULL_FACE};
 enum { SRC_RGB, DST_RGB, SRC_ALPHA, DST_ALPHA, EQUATION_RGB, EQUATION_ALPHA, BLEND_QUERIES };
 static const GLenum blend_queries[BLEND_QUERIES] = {
-    [SRC_RGB] = GL_BLEND_SRC_RGB,         [DST_RGB] = GL_BLEND_DST_RGB,
-    [SRC_ALPHA] = GL_BLEND_SRC_ALPHA,     [DST_ALPHA] = GL_BLEND_DST_ALPHA,
+    [SRC_RGB] = GL_BLEND_SRC_RGB,           [DST_RGB] = GL_BLEND_DST_RGB,
+    [SRC_ALPHA] = GL_BLEND_SRC_ALPHA,       [DST_ALPHA] = GL_BLEND_DST_ALPHA,
     [EQUATION_RGB] = GL_BLEND_EQUATION_RGB, [EQUATION_ALPHA] = GL_BLEND_EQUATION_ALPHA,
 };
 #define SWITCHED_CAPS (sizeof switched_caps / sizeof switched_caps[0])

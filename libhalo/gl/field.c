@@ -24,7 +24,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#define FIELD_MAX_STACKS 4
+#define FIELD_MAX_STACKS         4
 #define FIELD_DEFAULT_FIRST_UNIT 8
 
 typedef struct field_stack {
@@ -46,10 +46,10 @@ typedef struct field_gradient {
     GLint brick_gradient, brick_layer;
     unsigned bricks_of;
     int bricks_version, bricks_valid, brick_size[3];
-    unsigned of;  /* the volume texture it was derived from */
+    unsigned of;           /* the volume texture it was derived from */
     GLint internal_format; /* GL_RGBA32F or GL_RGBA16F: halo_gl_segments_desc.gradient_precision */
     int size[3];
-    int version;  /* halo_gl_segments_desc.volume_version it was derived at */
+    int version; /* halo_gl_segments_desc.volume_version it was derived at */
     int valid;
 } field_gradient;
 
@@ -137,10 +137,9 @@ static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     }
     GLint program = 0;
     f->GetIntegerv(GL_CURRENT_PROGRAM, &program);
-    field->march = halo_gl_program_build(gl, p->prepass,
-                                         halo_program_target(p->prepass) == HALO_TARGET_ES300 ? march_vertex_es300
-                                                                                              : march_vertex_330,
-                                         "(libhalo's march, vertex shader)", diag);
+    field->march = halo_gl_program_build(
+        gl, p->prepass, halo_program_target(p->prepass) == HALO_TARGET_ES300 ? march_vertex_es300 : march_vertex_330,
+        "(libhalo's march, vertex shader)", diag);
     if (!field->march) {
         field_destroy(fr, field);
         return NULL;
@@ -203,12 +202,32 @@ static void field_bind(const halo_glfuncs *f, const halo_program *p, const halo_
 static void upload_format(GLint internal, GLenum *format, GLenum *type)
 {
     switch (internal) {
-    case GL_R32F: case GL_R16F: *format = GL_RED; *type = GL_FLOAT; break;
-    case GL_RG32F: case GL_RG16F: *format = GL_RG; *type = GL_FLOAT; break;
-    case GL_R8: *format = GL_RED; *type = GL_UNSIGNED_BYTE; break;
-    case GL_RG8: *format = GL_RG; *type = GL_UNSIGNED_BYTE; break;
-    case GL_RGBA8: *format = GL_RGBA; *type = GL_UNSIGNED_BYTE; break;
-    default: *format = GL_RGBA; *type = GL_FLOAT; break;
+    case GL_R32F:
+    case GL_R16F:
+        *format = GL_RED;
+        *type = GL_FLOAT;
+        break;
+    case GL_RG32F:
+    case GL_RG16F:
+        *format = GL_RG;
+        *type = GL_FLOAT;
+        break;
+    case GL_R8:
+        *format = GL_RED;
+        *type = GL_UNSIGNED_BYTE;
+        break;
+    case GL_RG8:
+        *format = GL_RG;
+        *type = GL_UNSIGNED_BYTE;
+        break;
+    case GL_RGBA8:
+        *format = GL_RGBA;
+        *type = GL_UNSIGNED_BYTE;
+        break;
+    default:
+        *format = GL_RGBA;
+        *type = GL_FLOAT;
+        break;
     }
 }
 
@@ -239,8 +258,7 @@ static int field_reserve(const halo_glfuncs *f, halo_gl_field *field, int layers
         f->BindTexture(GL_TEXTURE_2D_ARRAY, st->texture);
         f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
         f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-        f->TexImage3D(GL_TEXTURE_2D_ARRAY, 0, st->internal_format, st->width, st->height, count, 0, format, type,
-                      NULL);
+        f->TexImage3D(GL_TEXTURE_2D_ARRAY, 0, st->internal_format, st->width, st->height, count, 0, format, type, NULL);
     }
     if (f->GetError() != GL_NO_ERROR) {
         halo_diag_error(diag, GL_LINK, "", 0, 0, "the stacks of %d depth segments (%dx%d) could not be allocated",
@@ -327,7 +345,8 @@ static GLuint field_program(const halo_glfuncs *f, const halo_program *march, co
                                            0, file, diag);
     GLuint fragment = halo_gl_compile_mapped(f, GL_FRAGMENT_SHADER, source, NULL, NULL, 0, file, diag);
     GLuint program = halo_gl_program_attach(f, vertex, fragment, file, diag);
-    return program ? halo_gl_link_attached(f, program, vertex, fragment, file, "the driver could not link it", diag) : 0;
+    return program ? halo_gl_link_attached(f, program, vertex, fragment, file, "the driver could not link it", diag)
+                   : 0;
 }
 
 /* A 3D texture of size[3] (internal format, linear or nearest) written layer by layer by
@@ -382,9 +401,8 @@ static GLuint field_bricks(const halo_glfuncs *f, halo_gl_field *field, const ha
     f->UseProgram(g->brick_program);
     f->Uniform1i(g->brick_gradient, unit + 1);
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 2);
-    field_draw_layers(f, field, &g->bricks, GL_R32F, GL_NEAREST, bricks, !g->bricks || memcmp(g->brick_size, bricks,
-                                                                                          sizeof bricks),
-                      g->brick_program, g->brick_layer);
+    field_draw_layers(f, field, &g->bricks, GL_R32F, GL_NEAREST, bricks,
+                      !g->bricks || memcmp(g->brick_size, bricks, sizeof bricks), g->brick_program, g->brick_layer);
     g->bricks_of = gradient;
     g->bricks_version = version;
     memcpy(g->brick_size, bricks, sizeof bricks);
@@ -427,8 +445,8 @@ static GLuint field_gradient_texture(const halo_glfuncs *f, halo_gl_field *field
     field_gradient *g = &field->gradient;
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
     f->BindTexture(GL_TEXTURE_3D, d->volume_texture);
-    if (g->valid && g->of == d->volume_texture && g->version == d->volume_version &&
-        g->internal_format == internal && !memcmp(g->size, size, sizeof g->size))
+    if (g->valid && g->of == d->volume_texture && g->version == d->volume_version && g->internal_format == internal &&
+        !memcmp(g->size, size, sizeof g->size))
         return g->texture;
     if (!g->program) {
         g->program = field_program(f, march, gradient_fragment_body, "(libhalo's gradient of the host's volume)", diag);
@@ -510,8 +528,10 @@ static void field_store(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field 
         if (!fresh && !stale)
             continue;
         for (int k = 0; k < 4; ++k)
-            copy[k] = !stale ? view.box[k] : !fresh ? old[k] : k < 2 ? (view.box[k] < old[k] ? view.box[k] : old[k])
-                                                                     : (view.box[k] > old[k] ? view.box[k] : old[k]);
+            copy[k] = !stale   ? view.box[k]
+                      : !fresh ? old[k]
+                      : k < 2  ? (view.box[k] < old[k] ? view.box[k] : old[k])
+                               : (view.box[k] > old[k] ? view.box[k] : old[k]);
         f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, view.texture, 0);
         f->ReadBuffer(GL_COLOR_ATTACHMENT0);
         f->BindTexture(GL_TEXTURE_2D_ARRAY, st->texture);
@@ -659,9 +679,9 @@ static void segment_planes(const halo_segment_plan *plan, double step, int j, in
  * share their boundary points, so the pieces' samples cover the box; a sample on a shared
  * face is taken by both, its value the same, its gradient one-sided in each, as no piece
  * has the other's points: the max keeps the larger seed). 0 with USAGE for a bad box. */
-static int field_piece(const halo_gl_segments_desc *d, const double low[3], const double high[3],
-                       const int voxels[3], double sample_low[3], double sample_high[3], float piece_min[3],
-                       float piece_scale[3], halo_diagnostics *diag)
+static int field_piece(const halo_gl_segments_desc *d, const double low[3], const double high[3], const int voxels[3],
+                       double sample_low[3], double sample_high[3], float piece_min[3], float piece_scale[3],
+                       halo_diagnostics *diag)
 {
     int piece = 0;
     for (int k = 0; k < 3; ++k)
@@ -691,8 +711,8 @@ static int field_piece(const halo_gl_segments_desc *d, const double low[3], cons
 
 /* The seeds of every segment, for the exchange across pieces: one array texture a seed
  * image (the march's outputs), with at least `layers` layers. */
-static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field *field,
-                              const halo_program *march, int layers, halo_diagnostics *diag)
+static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field *field, const halo_program *march,
+                              int layers, halo_diagnostics *diag)
 {
     if (layers <= field->seed_layers)
         return 1;
@@ -817,7 +837,8 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
         halo_diag_error(diag, USAGE, "", 0, 0,
                         "halo_gl_frame_draw: %.0f planes in %d depth segments (step %g): the field of more than %d "
                         "segments (GL_MAX_ARRAY_TEXTURE_LAYERS) or 2^20 planes is not kept; a larger step or "
-                        "halo_generate.interval", span, plan->segments, (double)d->step, (int)max_layers);
+                        "halo_generate.interval",
+                        span, plan->segments, (double)d->step, (int)max_layers);
         return HALO_ERROR_INPUT;
     }
     int planes = (int)span;
@@ -939,8 +960,8 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
         segment_planes(plan, d->step, j, planes, &first, &end);
         double lo = plan->front + first * (double)d->step, hi = plan->front + (end - 1) * (double)d->step;
         double slack = 1e-6 * (plan->back - plan->front);
-        if (!(end > first && segment_footprint(view_projection, plan, low, high, lo - slack, hi + slack, width,
-                                               height, box)))
+        if (!(end > first &&
+              segment_footprint(view_projection, plan, low, high, lo - slack, hi + slack, width, height, box)))
             box[0] = box[1] = box[2] = box[3] = 0;
         f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
         f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
@@ -985,8 +1006,8 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
     if (status == HALO_OK) {
         f->UseProgram(gl_program);
         halo_segment_camera_set(f, gl_program, &plan);
-        f->Uniform4f(f->GetUniformLocation(gl_program, "halo_stack_plane"), (float)plan.plane[0],
-                     (float)plan.plane[1], (float)plan.plane[2], (float)plan.plane[3]);
+        f->Uniform4f(f->GetUniformLocation(gl_program, "halo_stack_plane"), (float)plan.plane[0], (float)plan.plane[1],
+                     (float)plan.plane[2], (float)plan.plane[3]);
         f->Uniform3f(f->GetUniformLocation(gl_program, "halo_stack_slabs"), (float)plan.start,
                      (float)(1.0 / plan.length), (float)plan.segments);
         f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, d->framebuffer);

@@ -79,13 +79,13 @@ struct halo_gl_frame {
     GLuint framebuffer, vertex_array;
     long pass_draws;
     int groups_ended; /* halo_gl_frame_end_group calls since halo_gl_frame_begin */
-    int attached;  /* outputs attached to attached_framebuffer by halo_gl_frame_attach */
+    int attached;     /* outputs attached to attached_framebuffer by halo_gl_frame_attach */
     GLuint attached_framebuffer;
     const halo_program *attached_program; /* whose outputs: the program's, or its march's (field.c) */
     /* host contract 3: the stacks of a one_draw program, made by field.c at its first draw */
     halo_gl_field *field;
     void (*field_destroy)(halo_gl_frame *fr, halo_gl_field *field);
-    int bound;     /* samplers bound by halo_gl_frame_bind from bound_first_unit */
+    int bound; /* samplers bound by halo_gl_frame_bind from bound_first_unit */
     int bound_first_unit;
     GLuint state[2];   /* host contract 2: the rays' state between segments (RGBA32F), ping-ponged */
     int state_current; /* state[state_current] holds the state after the last segment drawn */
@@ -130,10 +130,7 @@ void halo_gl_frame_state_flip(halo_gl_frame *fr)
     fr->state_current = 1 - fr->state_current;
     fr->segments_drawn++;
 }
-void halo_gl_frame_segments_reset(halo_gl_frame *fr)
-{
-    fr->segments_drawn = 0;
-}
+void halo_gl_frame_segments_reset(halo_gl_frame *fr) { fr->segments_drawn = 0; }
 int halo_gl_frame_segment_count(const halo_gl_frame *fr)
 {
     HALO_REFUSE_NULL(NULL, fr, "frame", 0);
@@ -235,8 +232,8 @@ static void frame_clear_image(halo_gl_frame *fr, int i)
     if (image->host)
         return;
     const GLfloat value[4] = {image->clear, image->clear, image->clear, image->clear};
-    f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
-                            image->texture[image->current], 0);
+    f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, image->texture[image->current],
+                            0);
     f->ClearBufferfv(GL_COLOR, 0, value);
     image->support[image->current] = (frame_box){0, 0, 0, 0};
 }
@@ -296,20 +293,20 @@ static void frame_take_host_draws(halo_gl_frame *fr, int read_back)
     /* with host contract 3, libhalo's march (the program's prepass) writes the seeds */
     const halo_program *writers[2] = {fr->program, fr->program->prepass};
     for (int w = 0; w < 2 && writers[w]; ++w)
-    for (size_t i = 0, n = halo_program_output_count(writers[w]); i < n; ++i) {
-        int k = frame_find_image(fr, halo_program_output(writers[w], i)->image);
-        if (k < 0 || fr->images[k].host)
-            continue;
-        frame_image *im = &fr->images[k];
-        frame_box *support = &im->support[im->current];
-        if (read_back && fr->drawn_known)
-            *support = box_union(*support, image_nonzero_box(fr, im, fr->drawn));
-        else if (read_back)
-            *support = image_nonzero_box(fr, im, image_full(im));
-        else
-            *support = fr->drawn_known ? box_union(*support, box_grow(fr->drawn, 0, im->width, im->height))
-                                       : image_full(im);
-    }
+        for (size_t i = 0, n = halo_program_output_count(writers[w]); i < n; ++i) {
+            int k = frame_find_image(fr, halo_program_output(writers[w], i)->image);
+            if (k < 0 || fr->images[k].host)
+                continue;
+            frame_image *im = &fr->images[k];
+            frame_box *support = &im->support[im->current];
+            if (read_back && fr->drawn_known)
+                *support = box_union(*support, image_nonzero_box(fr, im, fr->drawn));
+            else if (read_back)
+                *support = image_nonzero_box(fr, im, image_full(im));
+            else
+                *support = fr->drawn_known ? box_union(*support, box_grow(fr->drawn, 0, im->width, im->height))
+                                           : image_full(im);
+        }
     fr->drawn_known = 0;
 }
 
@@ -369,9 +366,9 @@ static frame_box pass_reach_box(const halo_gl_frame *fr, const frame_pass *pass,
         return image_full(out);
     frame_box in = {0, 0, 0, 0};
     for (int k = 0; k < pass->info->input_count; ++k) {
-        const frame_image *im = pass->inputs[k] >= 0 ? &fr->images[pass->inputs[k]]
+        const frame_image *im = pass->inputs[k] >= 0                     ? &fr->images[pass->inputs[k]]
                                 : rep == pass->start && pass->first >= 0 ? &fr->images[pass->first]
-                                                                : out;
+                                                                         : out;
         in = box_union(in, box_to_scale(im->support[im->current], im->scale, out->scale));
     }
     return box_grow(in, reach, out->width, out->height);
@@ -386,8 +383,8 @@ static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, siz
     const halo_line_origin *origins = p->pass_origins ? p->pass_origins[index] : NULL;
     int origin_count = origins && p->pass_origin_counts ? p->pass_origin_counts[index] : 0;
     GLuint vertex = halo_gl_compile_mapped(f, GL_VERTEX_SHADER, pass->vertex_source, NULL, NULL, 0, file, diag);
-    GLuint fragment = halo_gl_compile_mapped(f, GL_FRAGMENT_SHADER, pass->fragment_source, NULL, origins,
-                                             origin_count, file, diag);
+    GLuint fragment =
+        halo_gl_compile_mapped(f, GL_FRAGMENT_SHADER, pass->fragment_source, NULL, origins, origin_count, file, diag);
     GLuint program = halo_gl_program_attach(f, vertex, fragment, file, diag);
     if (!program)
         return 0;
@@ -422,7 +419,8 @@ static int frame_context_fits(halo_gl *gl, const halo_program *p, halo_diagnosti
     if (gl->es < 32 && !halo_gl_has_extension(gl, "GL_EXT_color_buffer_float")) {
         halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
                         "the program's images are float textures drawn to, which OpenGL ES %d.%d allows with "
-                        "GL_EXT_color_buffer_float; this context lacks it", gl->es / 10, gl->es % 10);
+                        "GL_EXT_color_buffer_float; this context lacks it",
+                        gl->es / 10, gl->es % 10);
         return 0;
     }
     size_t blended = outputs + (p->prepass ? halo_program_output_count(p->prepass) : 0);
@@ -435,8 +433,7 @@ static int frame_context_fits(halo_gl *gl, const halo_program *p, halo_diagnosti
     return 1;
 }
 
-halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int width, int height,
-                                    halo_diagnostics *diag)
+halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int width, int height, halo_diagnostics *diag)
 {
     HALO_REFUSE_NULL(diag, gl, "gl", NULL);
     HALO_REFUSE_NULL(diag, p, "program", NULL);
@@ -507,8 +504,8 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
             if (status != GL_FRAMEBUFFER_COMPLETE) {
                 halo_diag_error(diag, GL_LINK, "", 0, 0,
                                 "image '%s': a %dx%d texture of %d channels at precision %d cannot be rendered to "
-                                "(framebuffer status 0x%x)", image->name, image->width, image->height, image->channels, precision,
-                                status);
+                                "(framebuffer status 0x%x)",
+                                image->name, image->width, image->height, image->channels, precision, status);
                 failed = 1;
                 break;
             }
@@ -578,8 +575,8 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
     /* A software renderer waits for each pass's draw before the next reads it: reading
      * the seeds back costs about a copy, and the scissor then spares most of the work. */
     const char *renderer = (const char *)f->GetString(GL_RENDERER);
-    fr->readback_bounds = renderer && (strstr(renderer, "llvmpipe") || strstr(renderer, "softpipe") ||
-                                       strstr(renderer, "SwiftShader"));
+    fr->readback_bounds =
+        renderer && (strstr(renderer, "llvmpipe") || strstr(renderer, "softpipe") || strstr(renderer, "SwiftShader"));
     halo_gl_frame_begin(fr);
     return fr;
 }
@@ -878,9 +875,9 @@ static void frame_run(halo_gl_frame *fr, halo_pass_at at)
         f->Viewport(0, 0, out->width, out->height);
         for (int rep = pass->start; rep <= pass->repeat; ++rep) {
             for (int k = 0; k < pass->info->input_count; ++k) {
-                const frame_image *in = pass->inputs[k] >= 0 ? &fr->images[pass->inputs[k]]
+                const frame_image *in = pass->inputs[k] >= 0                     ? &fr->images[pass->inputs[k]]
                                         : rep == pass->start && pass->first >= 0 ? &fr->images[pass->first]
-                                                                        : out;
+                                                                                 : out;
                 f->ActiveTexture(GL_TEXTURE0 + (GLenum)k);
                 f->BindTexture(GL_TEXTURE_2D, in->texture[in->current]);
             }

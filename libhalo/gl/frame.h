@@ -26,7 +26,7 @@ typedef struct halo_gl_frame_image {
     unsigned texture;    /* the current texture */
     int internal_format; /* its GL internal format */
     int width, height;
-    int box[4];          /* x0, y0, x1, y1: outside it the texture holds 0 */
+    int box[4]; /* x0, y0, x1, y1: outside it the texture holds 0 */
 } halo_gl_frame_image;
 /* The current texture of an image, without taking it from the frame's bookkeeping (unlike
  * halo_gl_frame_texture); 0 for an unknown or host image. */

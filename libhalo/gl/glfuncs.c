@@ -16,24 +16,24 @@ int halo_glfuncs_load(halo_glfuncs *f, void *(*get_proc_address)(const char *nam
     }
     /* Object pointers and function pointers share a representation on every platform
      * OpenGL runs on (POSIX requires it for dlsym); memcpy keeps ISO C quiet. */
-#define HALO_X_GLFUNC_LOAD(type, name)                                  \
-    {                                                                   \
-        void *address = get_proc_address("gl" #name);                   \
-        if (address) {                                                  \
-            memcpy(&f->name, &address, sizeof f->name);                 \
-        } else {                                                        \
-            if (complete && missing_name)                               \
-                *missing_name = "gl" #name;                             \
-            complete = 0;                                               \
-        }                                                               \
+#define HALO_X_GLFUNC_LOAD(type, name)                  \
+    {                                                   \
+        void *address = get_proc_address("gl" #name);   \
+        if (address) {                                  \
+            memcpy(&f->name, &address, sizeof f->name); \
+        } else {                                        \
+            if (complete && missing_name)               \
+                *missing_name = "gl" #name;             \
+            complete = 0;                               \
+        }                                               \
     }
     HALO_GL_FUNCTIONS(HALO_X_GLFUNC_LOAD)
 #undef HALO_X_GLFUNC_LOAD
-#define HALO_X_GLFUNC_LOAD_OPTIONAL(type, name)                         \
-    {                                                                   \
-        void *address = get_proc_address("gl" #name);                   \
-        if (address)                                                    \
-            memcpy(&f->name, &address, sizeof f->name);                 \
+#define HALO_X_GLFUNC_LOAD_OPTIONAL(type, name)         \
+    {                                                   \
+        void *address = get_proc_address("gl" #name);   \
+        if (address)                                    \
+            memcpy(&f->name, &address, sizeof f->name); \
     }
     HALO_GL_FUNCTIONS_OPTIONAL(HALO_X_GLFUNC_LOAD_OPTIONAL)
 #undef HALO_X_GLFUNC_LOAD_OPTIONAL

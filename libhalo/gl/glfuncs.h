@@ -10,110 +10,110 @@
 #include <GL/glcorearb.h>
 
 /* X(function pointer type from glcorearb.h, name without the "gl" prefix) */
-#define HALO_GL_FUNCTIONS(X)                                              \
-    /* state and queries */                                               \
-    X(PFNGLGETERRORPROC, GetError)                                        \
-    X(PFNGLGETSTRINGPROC, GetString)                                      \
-    X(PFNGLGETSTRINGIPROC, GetStringi)                                    \
-    X(PFNGLGETINTEGERVPROC, GetIntegerv)                                  \
-    X(PFNGLENABLEPROC, Enable)                                            \
-    X(PFNGLDISABLEPROC, Disable)                                          \
-    X(PFNGLBLENDFUNCPROC, BlendFunc)                                      \
-    X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)                      \
-    X(PFNGLBLENDEQUATIONPROC, BlendEquation)                              \
-    X(PFNGLBLENDEQUATIONSEPARATEPROC, BlendEquationSeparate)              \
-    X(PFNGLDEPTHFUNCPROC, DepthFunc)                                      \
-    X(PFNGLDEPTHMASKPROC, DepthMask)                                      \
-    X(PFNGLCOLORMASKPROC, ColorMask)                                      \
-    X(PFNGLVIEWPORTPROC, Viewport)                                        \
-    X(PFNGLSCISSORPROC, Scissor)                                          \
-    X(PFNGLCLEARCOLORPROC, ClearColor)                                    \
-    X(PFNGLCLEARPROC, Clear)                                              \
-    X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv)                              \
-    X(PFNGLFINISHPROC, Finish)                                            \
-    X(PFNGLFLUSHPROC, Flush)                                              \
-    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                  \
-    X(PFNGLREADPIXELSPROC, ReadPixels)                                    \
-    X(PFNGLREADBUFFERPROC, ReadBuffer)                                    \
-    X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                                  \
-    /* shaders and programs */                                            \
-    X(PFNGLCREATESHADERPROC, CreateShader)                                \
-    X(PFNGLSHADERSOURCEPROC, ShaderSource)                                \
-    X(PFNGLCOMPILESHADERPROC, CompileShader)                              \
-    X(PFNGLGETSHADERIVPROC, GetShaderiv)                                  \
-    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                        \
-    X(PFNGLDELETESHADERPROC, DeleteShader)                                \
-    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                              \
-    X(PFNGLATTACHSHADERPROC, AttachShader)                                \
-    X(PFNGLDETACHSHADERPROC, DetachShader)                                \
-    X(PFNGLBINDATTRIBLOCATIONPROC, BindAttribLocation)                    \
-    X(PFNGLLINKPROGRAMPROC, LinkProgram)                                  \
-    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                                \
-    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)                      \
-    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                              \
-    X(PFNGLUSEPROGRAMPROC, UseProgram)                                    \
-    X(PFNGLGETATTRIBLOCATIONPROC, GetAttribLocation)                      \
-    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)                    \
-    X(PFNGLGETACTIVEUNIFORMPROC, GetActiveUniform)                        \
-    /* uniforms */                                                        \
-    X(PFNGLUNIFORM1FPROC, Uniform1f)                                      \
-    X(PFNGLUNIFORM2FPROC, Uniform2f)                                      \
-    X(PFNGLUNIFORM3FPROC, Uniform3f)                                      \
-    X(PFNGLUNIFORM4FPROC, Uniform4f)                                      \
-    X(PFNGLUNIFORM1IPROC, Uniform1i)                                      \
-    X(PFNGLUNIFORM2IPROC, Uniform2i)                                      \
-    X(PFNGLUNIFORM3IPROC, Uniform3i)                                      \
-    X(PFNGLUNIFORM4IPROC, Uniform4i)                                      \
-    X(PFNGLUNIFORM1FVPROC, Uniform1fv)                                    \
-    X(PFNGLUNIFORM2FVPROC, Uniform2fv)                                    \
-    X(PFNGLUNIFORM3FVPROC, Uniform3fv)                                    \
-    X(PFNGLUNIFORM4FVPROC, Uniform4fv)                                    \
-    X(PFNGLUNIFORM1IVPROC, Uniform1iv)                                    \
-    X(PFNGLUNIFORM2IVPROC, Uniform2iv)                                    \
-    X(PFNGLUNIFORM3IVPROC, Uniform3iv)                                    \
-    X(PFNGLUNIFORM4IVPROC, Uniform4iv)                                    \
-    X(PFNGLUNIFORMMATRIX3FVPROC, UniformMatrix3fv)                        \
-    X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                        \
-    /* textures */                                                        \
-    X(PFNGLGENTEXTURESPROC, GenTextures)                                  \
-    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                            \
-    X(PFNGLBINDTEXTUREPROC, BindTexture)                                  \
-    X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                              \
-    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                    \
-    X(PFNGLTEXIMAGE3DPROC, TexImage3D)                                    \
-    X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                              \
-    X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                              \
-    X(PFNGLCOPYTEXSUBIMAGE3DPROC, CopyTexSubImage3D)                      \
-    X(PFNGLCOPYTEXSUBIMAGE2DPROC, CopyTexSubImage2D)                      \
-    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                              \
-    X(PFNGLTEXPARAMETERFVPROC, TexParameterfv)                            \
-    X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap)                            \
-    /* framebuffers */                                                    \
-    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                          \
-    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                    \
-    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                          \
-    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                \
-    X(PFNGLFRAMEBUFFERTEXTURELAYERPROC, FramebufferTextureLayer)          \
-    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)          \
-    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)            \
-    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                        \
-    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)                  \
-    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                        \
-    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)                  \
-    X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)                          \
-    /* vertex arrays, buffers, drawing */                                 \
-    X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                          \
-    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                    \
-    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                          \
-    X(PFNGLGENBUFFERSPROC, GenBuffers)                                    \
-    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                              \
-    X(PFNGLBINDBUFFERPROC, BindBuffer)                                    \
-    X(PFNGLBUFFERDATAPROC, BufferData)                                    \
-    X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                              \
-    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                  \
-    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)          \
-    X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, DisableVertexAttribArray)        \
-    X(PFNGLDRAWARRAYSPROC, DrawArrays)                                    \
+#define HALO_GL_FUNCTIONS(X)                                       \
+    /* state and queries */                                        \
+    X(PFNGLGETERRORPROC, GetError)                                 \
+    X(PFNGLGETSTRINGPROC, GetString)                               \
+    X(PFNGLGETSTRINGIPROC, GetStringi)                             \
+    X(PFNGLGETINTEGERVPROC, GetIntegerv)                           \
+    X(PFNGLENABLEPROC, Enable)                                     \
+    X(PFNGLDISABLEPROC, Disable)                                   \
+    X(PFNGLBLENDFUNCPROC, BlendFunc)                               \
+    X(PFNGLBLENDFUNCSEPARATEPROC, BlendFuncSeparate)               \
+    X(PFNGLBLENDEQUATIONPROC, BlendEquation)                       \
+    X(PFNGLBLENDEQUATIONSEPARATEPROC, BlendEquationSeparate)       \
+    X(PFNGLDEPTHFUNCPROC, DepthFunc)                               \
+    X(PFNGLDEPTHMASKPROC, DepthMask)                               \
+    X(PFNGLCOLORMASKPROC, ColorMask)                               \
+    X(PFNGLVIEWPORTPROC, Viewport)                                 \
+    X(PFNGLSCISSORPROC, Scissor)                                   \
+    X(PFNGLCLEARCOLORPROC, ClearColor)                             \
+    X(PFNGLCLEARPROC, Clear)                                       \
+    X(PFNGLCLEARBUFFERFVPROC, ClearBufferfv)                       \
+    X(PFNGLFINISHPROC, Finish)                                     \
+    X(PFNGLFLUSHPROC, Flush)                                       \
+    X(PFNGLPIXELSTOREIPROC, PixelStorei)                           \
+    X(PFNGLREADPIXELSPROC, ReadPixels)                             \
+    X(PFNGLREADBUFFERPROC, ReadBuffer)                             \
+    X(PFNGLDRAWBUFFERSPROC, DrawBuffers)                           \
+    /* shaders and programs */                                     \
+    X(PFNGLCREATESHADERPROC, CreateShader)                         \
+    X(PFNGLSHADERSOURCEPROC, ShaderSource)                         \
+    X(PFNGLCOMPILESHADERPROC, CompileShader)                       \
+    X(PFNGLGETSHADERIVPROC, GetShaderiv)                           \
+    X(PFNGLGETSHADERINFOLOGPROC, GetShaderInfoLog)                 \
+    X(PFNGLDELETESHADERPROC, DeleteShader)                         \
+    X(PFNGLCREATEPROGRAMPROC, CreateProgram)                       \
+    X(PFNGLATTACHSHADERPROC, AttachShader)                         \
+    X(PFNGLDETACHSHADERPROC, DetachShader)                         \
+    X(PFNGLBINDATTRIBLOCATIONPROC, BindAttribLocation)             \
+    X(PFNGLLINKPROGRAMPROC, LinkProgram)                           \
+    X(PFNGLGETPROGRAMIVPROC, GetProgramiv)                         \
+    X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)               \
+    X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                       \
+    X(PFNGLUSEPROGRAMPROC, UseProgram)                             \
+    X(PFNGLGETATTRIBLOCATIONPROC, GetAttribLocation)               \
+    X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)             \
+    X(PFNGLGETACTIVEUNIFORMPROC, GetActiveUniform)                 \
+    /* uniforms */                                                 \
+    X(PFNGLUNIFORM1FPROC, Uniform1f)                               \
+    X(PFNGLUNIFORM2FPROC, Uniform2f)                               \
+    X(PFNGLUNIFORM3FPROC, Uniform3f)                               \
+    X(PFNGLUNIFORM4FPROC, Uniform4f)                               \
+    X(PFNGLUNIFORM1IPROC, Uniform1i)                               \
+    X(PFNGLUNIFORM2IPROC, Uniform2i)                               \
+    X(PFNGLUNIFORM3IPROC, Uniform3i)                               \
+    X(PFNGLUNIFORM4IPROC, Uniform4i)                               \
+    X(PFNGLUNIFORM1FVPROC, Uniform1fv)                             \
+    X(PFNGLUNIFORM2FVPROC, Uniform2fv)                             \
+    X(PFNGLUNIFORM3FVPROC, Uniform3fv)                             \
+    X(PFNGLUNIFORM4FVPROC, Uniform4fv)                             \
+    X(PFNGLUNIFORM1IVPROC, Uniform1iv)                             \
+    X(PFNGLUNIFORM2IVPROC, Uniform2iv)                             \
+    X(PFNGLUNIFORM3IVPROC, Uniform3iv)                             \
+    X(PFNGLUNIFORM4IVPROC, Uniform4iv)                             \
+    X(PFNGLUNIFORMMATRIX3FVPROC, UniformMatrix3fv)                 \
+    X(PFNGLUNIFORMMATRIX4FVPROC, UniformMatrix4fv)                 \
+    /* textures */                                                 \
+    X(PFNGLGENTEXTURESPROC, GenTextures)                           \
+    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                     \
+    X(PFNGLBINDTEXTUREPROC, BindTexture)                           \
+    X(PFNGLACTIVETEXTUREPROC, ActiveTexture)                       \
+    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                             \
+    X(PFNGLTEXIMAGE3DPROC, TexImage3D)                             \
+    X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                       \
+    X(PFNGLTEXSUBIMAGE3DPROC, TexSubImage3D)                       \
+    X(PFNGLCOPYTEXSUBIMAGE3DPROC, CopyTexSubImage3D)               \
+    X(PFNGLCOPYTEXSUBIMAGE2DPROC, CopyTexSubImage2D)               \
+    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                       \
+    X(PFNGLTEXPARAMETERFVPROC, TexParameterfv)                     \
+    X(PFNGLGENERATEMIPMAPPROC, GenerateMipmap)                     \
+    /* framebuffers */                                             \
+    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                   \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)             \
+    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                   \
+    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)         \
+    X(PFNGLFRAMEBUFFERTEXTURELAYERPROC, FramebufferTextureLayer)   \
+    X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, FramebufferRenderbuffer)   \
+    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)     \
+    X(PFNGLGENRENDERBUFFERSPROC, GenRenderbuffers)                 \
+    X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)           \
+    X(PFNGLBINDRENDERBUFFERPROC, BindRenderbuffer)                 \
+    X(PFNGLRENDERBUFFERSTORAGEPROC, RenderbufferStorage)           \
+    X(PFNGLBLITFRAMEBUFFERPROC, BlitFramebuffer)                   \
+    /* vertex arrays, buffers, drawing */                          \
+    X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                   \
+    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)             \
+    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                   \
+    X(PFNGLGENBUFFERSPROC, GenBuffers)                             \
+    X(PFNGLDELETEBUFFERSPROC, DeleteBuffers)                       \
+    X(PFNGLBINDBUFFERPROC, BindBuffer)                             \
+    X(PFNGLBUFFERDATAPROC, BufferData)                             \
+    X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                       \
+    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)           \
+    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)   \
+    X(PFNGLDISABLEVERTEXATTRIBARRAYPROC, DisableVertexAttribArray) \
+    X(PFNGLDRAWARRAYSPROC, DrawArrays)                             \
     X(PFNGLDRAWELEMENTSPROC, DrawElements)
 
 /* Entry points beyond OpenGL 3.3 core and OpenGL ES 3.0, or of one of them only: loaded
@@ -121,21 +121,21 @@
  * context's version lacks (a loader may return stubs). Per-draw-buffer blending (OpenGL
  * 4.0, OpenGL ES 3.2) is what the extra outputs of image-pass programs need
  * (halo_gl_frame_attach). */
-#define HALO_GL_FUNCTIONS_OPTIONAL(X)                                     \
-    X(PFNGLENABLEIPROC, Enablei)                                          \
-    X(PFNGLDISABLEIPROC, Disablei)                                        \
-    X(PFNGLISENABLEDIPROC, IsEnabledi)                                    \
-    X(PFNGLISENABLEDPROC, IsEnabled)                                      \
-    X(PFNGLBLENDEQUATIONIPROC, BlendEquationi)                            \
-    X(PFNGLBLENDFUNCIPROC, BlendFunci)                                    \
-    X(PFNGLBLENDEQUATIONSEPARATEIPROC, BlendEquationSeparatei)            \
-    X(PFNGLBLENDFUNCSEPARATEIPROC, BlendFuncSeparatei)                    \
-    X(PFNGLCOLORMASKIPROC, ColorMaski)                                    \
-    X(PFNGLGETBOOLEANVPROC, GetBooleanv)                                  \
-    X(PFNGLGETTEXLEVELPARAMETERIVPROC, GetTexLevelParameteriv)            \
-    X(PFNGLGETINTEGERI_VPROC, GetIntegeri_v)                              \
-    X(PFNGLGETBOOLEANI_VPROC, GetBooleani_v)                              \
-    X(PFNGLBINDFRAGDATALOCATIONPROC, BindFragDataLocation)                \
+#define HALO_GL_FUNCTIONS_OPTIONAL(X)                          \
+    X(PFNGLENABLEIPROC, Enablei)                               \
+    X(PFNGLDISABLEIPROC, Disablei)                             \
+    X(PFNGLISENABLEDIPROC, IsEnabledi)                         \
+    X(PFNGLISENABLEDPROC, IsEnabled)                           \
+    X(PFNGLBLENDEQUATIONIPROC, BlendEquationi)                 \
+    X(PFNGLBLENDFUNCIPROC, BlendFunci)                         \
+    X(PFNGLBLENDEQUATIONSEPARATEIPROC, BlendEquationSeparatei) \
+    X(PFNGLBLENDFUNCSEPARATEIPROC, BlendFuncSeparatei)         \
+    X(PFNGLCOLORMASKIPROC, ColorMaski)                         \
+    X(PFNGLGETBOOLEANVPROC, GetBooleanv)                       \
+    X(PFNGLGETTEXLEVELPARAMETERIVPROC, GetTexLevelParameteriv) \
+    X(PFNGLGETINTEGERI_VPROC, GetIntegeri_v)                   \
+    X(PFNGLGETBOOLEANI_VPROC, GetBooleani_v)                   \
+    X(PFNGLBINDFRAGDATALOCATIONPROC, BindFragDataLocation)     \
     X(PFNGLPOLYGONMODEPROC, PolygonMode)
 
 typedef struct halo_glfuncs {

@@ -104,10 +104,7 @@ static int choice_built(halo_headless_choice choice)
 /* Whether the tool draws on OpenGL ES (halo_headless_allow_es). */
 static int es_allowed;
 
-void halo_headless_allow_es(int allowed)
-{
-    es_allowed = allowed != 0;
-}
+void halo_headless_allow_es(int allowed) { es_allowed = allowed != 0; }
 
 static int check_choice(const char *where, const char *text, halo_headless_choice *choice, char *err, size_t errlen)
 {
@@ -118,7 +115,8 @@ static int check_choice(const char *where, const char *text, halo_headless_choic
     if (!es_allowed && (*choice == HALO_HEADLESS_EGL_ES30 || *choice == HALO_HEADLESS_EGL_ES32)) {
         set_error(err, errlen,
                   "%s: '%s': this tool draws with desktop OpenGL only (on OpenGL ES: halo-render, halo-validate "
-                  "conform)", where, text);
+                  "conform)",
+                  where, text);
         return 0;
     }
     if (!choice_built(*choice)) {
@@ -211,10 +209,19 @@ static int create_osmesa(halo_headless *h, int width, int height, char *err, siz
         return 0;
     }
     for (size_t i = 0; i < sizeof versions / sizeof versions[0]; ++i) {
-        const int attributes[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
-                                  OSMESA_STENCIL_BITS, 8, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-                                  OSMESA_CONTEXT_MAJOR_VERSION, versions[i][0],
-                                  OSMESA_CONTEXT_MINOR_VERSION, versions[i][1], 0};
+        const int attributes[] = {OSMESA_FORMAT,
+                                  OSMESA_RGBA,
+                                  OSMESA_DEPTH_BITS,
+                                  24,
+                                  OSMESA_STENCIL_BITS,
+                                  8,
+                                  OSMESA_PROFILE,
+                                  OSMESA_CORE_PROFILE,
+                                  OSMESA_CONTEXT_MAJOR_VERSION,
+                                  versions[i][0],
+                                  OSMESA_CONTEXT_MINOR_VERSION,
+                                  versions[i][1],
+                                  0};
         h->osmesa = OSMesaCreateContextAttribs(attributes, NULL);
         if (h->osmesa)
             break;
@@ -308,9 +315,13 @@ static int create_egl_context(halo_headless *h, char *err, size_t errlen)
         h->egl_context = eglCreateContext(h->egl_display, config, EGL_NO_CONTEXT, context_attributes);
     }
     for (size_t i = 0; i < sizeof versions / sizeof versions[0] && h->egl_context == EGL_NO_CONTEXT && !h->es; ++i) {
-        const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, versions[i][0], EGL_CONTEXT_MINOR_VERSION,
-                                             versions[i][1], EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                             EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+        const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                             versions[i][0],
+                                             EGL_CONTEXT_MINOR_VERSION,
+                                             versions[i][1],
+                                             EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                             EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
+                                             EGL_NONE};
         h->egl_context = eglCreateContext(h->egl_display, config, EGL_NO_CONTEXT, context_attributes);
     }
     if (h->egl_context == EGL_NO_CONTEXT) {
@@ -405,8 +416,8 @@ static int create_egl(halo_headless *h, int hardware_only, char *err, size_t err
                             err, errlen))
             return 1;
     }
-    if (device_count == 0 && (hardware_only || !client_extensions ||
-                              !strstr(client_extensions, "EGL_MESA_platform_surfaceless")))
+    if (device_count == 0 &&
+        (hardware_only || !client_extensions || !strstr(client_extensions, "EGL_MESA_platform_surfaceless")))
         set_error(err, errlen, hardware_only ? "no device" : "neither the surfaceless platform nor a device");
     return 0;
 }
@@ -509,17 +520,8 @@ void halo_headless_destroy(halo_headless *h)
     free(h);
 }
 
-int halo_headless_es(const halo_headless *h)
-{
-    return h ? h->es : 0;
-}
+int halo_headless_es(const halo_headless *h) { return h ? h->es : 0; }
 
-const char *halo_headless_renderer(halo_headless *h)
-{
-    return h ? h->renderer : "";
-}
+const char *halo_headless_renderer(halo_headless *h) { return h ? h->renderer : ""; }
 
-const char *halo_headless_backend(halo_headless *h)
-{
-    return h && h->backend == BACKEND_EGL ? "egl" : "osmesa";
-}
+const char *halo_headless_backend(halo_headless *h) { return h && h->backend == BACKEND_EGL ? "egl" : "osmesa"; }

@@ -12,15 +12,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-const halo_glfuncs *halo_gl_functions(const halo_gl *gl)
-{
-    return gl ? &gl->f : NULL;
-}
+const halo_glfuncs *halo_gl_functions(const halo_gl *gl) { return gl ? &gl->f : NULL; }
 
-static const GLenum pack_names[10] = {GL_PACK_ALIGNMENT,   GL_PACK_ROW_LENGTH,   GL_PACK_SKIP_ROWS,
-                                      GL_PACK_SKIP_PIXELS, GL_UNPACK_ALIGNMENT, GL_UNPACK_ROW_LENGTH,
-                                      GL_UNPACK_IMAGE_HEIGHT, GL_UNPACK_SKIP_ROWS, GL_UNPACK_SKIP_PIXELS,
-                                      GL_UNPACK_SKIP_IMAGES};
+static const GLenum pack_names[10] = {
+    GL_PACK_ALIGNMENT,    GL_PACK_ROW_LENGTH,     GL_PACK_SKIP_ROWS,   GL_PACK_SKIP_PIXELS,   GL_UNPACK_ALIGNMENT,
+    GL_UNPACK_ROW_LENGTH, GL_UNPACK_IMAGE_HEIGHT, GL_UNPACK_SKIP_ROWS, GL_UNPACK_SKIP_PIXELS, GL_UNPACK_SKIP_IMAGES};
 static const GLint tight[10] = {4, 0, 0, 0, 4, 0, 0, 0, 0, 0};
 /* The switches libhalo's draws need off (GL_FRAMEBUFFER_SRGB last: desktop GL only). */
 static const GLenum halo_gl_switches[5] = {GL_CULL_FACE, GL_DEPTH_TEST, GL_STENCIL_TEST, GL_RASTERIZER_DISCARD,
@@ -136,9 +132,10 @@ halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
         return NULL;
     const char *missing = NULL;
     if (!halo_glfuncs_load(&gl->f, desc->get_proc_address, &missing)) {
-        halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
-                        "OpenGL entry point '%s' not found: an OpenGL 3.3 core or OpenGL ES 3.0 context must be current",
-                        missing ? missing : "?");
+        halo_diag_error(
+            diag, GL_PROC_MISSING, "", 0, 0,
+            "OpenGL entry point '%s' not found: an OpenGL 3.3 core or OpenGL ES 3.0 context must be current",
+            missing ? missing : "?");
         free(gl);
         return NULL;
     }
@@ -150,10 +147,7 @@ halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
     return gl;
 }
 
-int halo_gl_es_version(const halo_gl *gl)
-{
-    return gl ? gl->es : 0;
-}
+int halo_gl_es_version(const halo_gl *gl) { return gl ? gl->es : 0; }
 
 int halo_gl_read_floats(const halo_gl *gl, int x, int y, int width, int height, int channels, float *out)
 {
@@ -217,9 +211,9 @@ static char *source_line_of(const char *text, int line)
 
 /* One message of a driver's info log, with its position when the driver gave one. */
 typedef struct log_message {
-    int line, column;      /* 0 when absent */
+    int line, column; /* 0 when absent */
     halo_severity severity;
-    const char *text;      /* points into the (modified) log line */
+    const char *text; /* points into the (modified) log line */
 } log_message;
 
 static int starts_with_nocase(const char *s, const char *word)
@@ -235,9 +229,13 @@ static void take_severity(const char **p, log_message *m)
 {
     while (**p == ' ')
         ++*p;
-    static const struct { const char *word; halo_severity severity; } words[] = {
-        {"error", HALO_SEVERITY_ERROR}, {"warning", HALO_SEVERITY_WARNING}, {"info", HALO_SEVERITY_NOTE},
-        {"note", HALO_SEVERITY_NOTE}};
+    static const struct {
+        const char *word;
+        halo_severity severity;
+    } words[] = {{"error", HALO_SEVERITY_ERROR},
+                 {"warning", HALO_SEVERITY_WARNING},
+                 {"info", HALO_SEVERITY_NOTE},
+                 {"note", HALO_SEVERITY_NOTE}};
     for (size_t i = 0; i < sizeof words / sizeof words[0]; ++i) {
         if (starts_with_nocase(*p, words[i].word)) {
             const char *q = *p + strlen(words[i].word);
@@ -293,8 +291,7 @@ static log_message parse_log_line(const char *s)
 /* Reports every message of an info log. Lines of the fragment shader are mapped through
  * the program's line map; others (vertex shader, link log) keep their own file. */
 static void report_log_mapped(halo_diagnostics *diag, halo_message_id id, char *log, const halo_program *p,
-                              const halo_line_origin *origins, int origin_count, const char *source,
-                              const char *file)
+                              const halo_line_origin *origins, int origin_count, const char *source, const char *file)
 {
     int reported = 0;
     char *next = log;
@@ -331,14 +328,14 @@ static void report_log_mapped(halo_diagnostics *diag, halo_message_id id, char *
             }
         }
         halo_diagnostics_report(diag, m.severity, id, origin_file ? origin_file : "", origin_line, m.column, text_line,
-                      "%s", m.text);
+                                "%s", m.text);
         free(text_line);
         if (m.severity == HALO_SEVERITY_ERROR)
             ++reported;
     }
     if (reported == 0 && id != HALO_MSG_GL_LINK)
         halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, id, file ? file : "", 0, 0, NULL,
-                      "the driver rejected the shader without an error message");
+                                "the driver rejected the shader without an error message");
 }
 
 void halo_gl_report_log(halo_diagnostics *diag, halo_message_id id, char *log, const halo_program *p,
@@ -440,8 +437,8 @@ GLuint halo_gl_compile_mapped(const halo_glfuncs *f, GLenum type, const char *so
     return shader;
 }
 
-static GLuint compile(const halo_glfuncs *f, GLenum type, const char *source, const halo_program *p,
-                      const char *file, halo_diagnostics *diag)
+static GLuint compile(const halo_glfuncs *f, GLenum type, const char *source, const halo_program *p, const char *file,
+                      halo_diagnostics *diag)
 {
     return halo_gl_compile_mapped(f, type, source, p, NULL, 0, file, diag);
 }
@@ -463,8 +460,8 @@ static char *source_with_defines(const char *source, const char *defines)
     return text;
 }
 
-unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *vertex_source,
-                               const char *vertex_file, halo_diagnostics *diag)
+unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *vertex_source, const char *vertex_file,
+                               halo_diagnostics *diag)
 {
     return halo_gl_program_build_defines(gl, p, vertex_source, vertex_file, NULL, diag);
 }
@@ -534,10 +531,18 @@ void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_prog
                 values[k] = (GLfloat)u->value[k < u->count ? k : u->count - 1];
             if (location >= 0) {
                 switch (channels) {
-                case 1: f->Uniform1fv(location, 1, values); break;
-                case 2: f->Uniform2fv(location, 1, values); break;
-                case 3: f->Uniform3fv(location, 1, values); break;
-                default: f->Uniform4fv(location, 1, values); break;
+                case 1:
+                    f->Uniform1fv(location, 1, values);
+                    break;
+                case 2:
+                    f->Uniform2fv(location, 1, values);
+                    break;
+                case 3:
+                    f->Uniform3fv(location, 1, values);
+                    break;
+                default:
+                    f->Uniform4fv(location, 1, values);
+                    break;
                 }
             }
             continue;
@@ -553,10 +558,18 @@ void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_prog
                 for (int k = 0; k < count * components; ++k)
                     values[k] = (GLfloat)u->value[k];
                 switch (components) {
-                case 1: f->Uniform1fv(location, count, values); break;
-                case 2: f->Uniform2fv(location, count, values); break;
-                case 3: f->Uniform3fv(location, count, values); break;
-                default: f->Uniform4fv(location, count, values); break;
+                case 1:
+                    f->Uniform1fv(location, count, values);
+                    break;
+                case 2:
+                    f->Uniform2fv(location, count, values);
+                    break;
+                case 3:
+                    f->Uniform3fv(location, count, values);
+                    break;
+                default:
+                    f->Uniform4fv(location, count, values);
+                    break;
                 }
             }
         }
@@ -589,9 +602,16 @@ static int uniform_is_sampler(const halo_glfuncs *f, GLuint program, const char 
         if (strcmp(found, name) != 0)
             continue;
         switch (type) {
-        case GL_SAMPLER_1D: case GL_SAMPLER_2D: case GL_SAMPLER_3D: case GL_SAMPLER_CUBE:
-        case GL_SAMPLER_2D_ARRAY: case GL_SAMPLER_2D_SHADOW: case GL_INT_SAMPLER_2D: case GL_INT_SAMPLER_3D:
-        case GL_UNSIGNED_INT_SAMPLER_2D: case GL_UNSIGNED_INT_SAMPLER_3D:
+        case GL_SAMPLER_1D:
+        case GL_SAMPLER_2D:
+        case GL_SAMPLER_3D:
+        case GL_SAMPLER_CUBE:
+        case GL_SAMPLER_2D_ARRAY:
+        case GL_SAMPLER_2D_SHADOW:
+        case GL_INT_SAMPLER_2D:
+        case GL_INT_SAMPLER_3D:
+        case GL_UNSIGNED_INT_SAMPLER_2D:
+        case GL_UNSIGNED_INT_SAMPLER_3D:
             return 1;
         default:
             return 0;
@@ -600,8 +620,7 @@ static int uniform_is_sampler(const halo_glfuncs *f, GLuint program, const char 
     return 0;
 }
 
-halo_status halo_gl_set_host_uniform(halo_gl *gl, unsigned gl_program, const char *name, const float *values,
-                                     int count)
+halo_status halo_gl_set_host_uniform(halo_gl *gl, unsigned gl_program, const char *name, const float *values, int count)
 {
     HALO_REFUSE_NULL(NULL, gl, "gl", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(NULL, name, "name", HALO_ERROR_INPUT);
@@ -628,10 +647,18 @@ halo_status halo_gl_set_host_uniform(halo_gl *gl, unsigned gl_program, const cha
         return HALO_OK;
     }
     switch (count) {
-    case 1: f->Uniform1fv(location, 1, values); break;
-    case 2: f->Uniform2fv(location, 1, values); break;
-    case 3: f->Uniform3fv(location, 1, values); break;
-    default: f->Uniform4fv(location, 1, values); break;
+    case 1:
+        f->Uniform1fv(location, 1, values);
+        break;
+    case 2:
+        f->Uniform2fv(location, 1, values);
+        break;
+    case 3:
+        f->Uniform3fv(location, 1, values);
+        break;
+    default:
+        f->Uniform4fv(location, 1, values);
+        break;
     }
     return HALO_OK;
 }

@@ -49,12 +49,12 @@ void halo_gl_report_log(halo_diagnostics *diag, halo_message_id id, char *log, c
  * depth-tested full-screen pass draws nothing). */
 typedef struct halo_gl_bindings {
     GLint draw_framebuffer, read_framebuffer, viewport[4], program, vertex_array, active_texture;
-    GLboolean switched_on[5];                      /* halo_gl_switches: culling ... sRGB (desktop GL) */
-    GLint polygon_mode;                            /* desktop GL only; 0: not queried */
-    GLint pack[10];                                /* pixel store: pack alignment, row length, skip rows,
+    GLboolean switched_on[5];         /* halo_gl_switches: culling ... sRGB (desktop GL) */
+    GLint polygon_mode;               /* desktop GL only; 0: not queried */
+    GLint pack[10];                   /* pixel store: pack alignment, row length, skip rows,
                                                     * skip pixels; unpack alignment, row length, image
                                                     * height, skip rows, skip pixels, skip images */
-    GLint pack_buffer, unpack_buffer;              /* the pixel buffer bindings */
+    GLint pack_buffer, unpack_buffer; /* the pixel buffer bindings */
 } halo_gl_bindings;
 void halo_gl_bindings_save(const halo_glfuncs *f, halo_gl_bindings *b);
 /* What libhalo's draws need of those switches: no culling, depth or stencil test, no

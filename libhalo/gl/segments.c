@@ -15,7 +15,7 @@
 #include <string.h>
 
 #define DEFAULT_FIRST_UNIT 8
-#define MAX_LOCATIONS 16
+#define MAX_LOCATIONS      16
 
 /* Draw buffers: the host's colour at 0 (GL_NONE before the last segment), the frame's
  * outputs, and the ray state. */

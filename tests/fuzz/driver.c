@@ -11,38 +11,71 @@
 #include <string.h>
 
 static unsigned long long rng_state = 0x2545F4914F6CDD1DULL;
-static unsigned next_random(void) {
+static unsigned next_random(void)
+{
     rng_state ^= rng_state << 13;
     rng_state ^= rng_state >> 7;
     rng_state ^= rng_state << 17;
     return (unsigned)(rng_state >> 11);
 }
 
-static const char *const tokens[] = {"#pragma halo ", "param ", "float", "vec3[4]", "channels", "default=",
-                                     "[[", "]]", "{", "}", "\"", "\n", "NaN", "1e999", "-1", "module x\n",
-                                     "hook sample\n", "\"stages\"", ":", ",", "halo_", "pass p entry=", "\\",
-                                     "/*", "*/", "//", "(", ")", ";", "\0"};
+static const char *const tokens[] = {"#pragma halo ",
+                                     "param ",
+                                     "float",
+                                     "vec3[4]",
+                                     "channels",
+                                     "default=",
+                                     "[[",
+                                     "]]",
+                                     "{",
+                                     "}",
+                                     "\"",
+                                     "\n",
+                                     "NaN",
+                                     "1e999",
+                                     "-1",
+                                     "module x\n",
+                                     "hook sample\n",
+                                     "\"stages\"",
+                                     ":",
+                                     ",",
+                                     "halo_",
+                                     "pass p entry=",
+                                     "\\",
+                                     "/*",
+                                     "*/",
+                                     "//",
+                                     "(",
+                                     ")",
+                                     ";",
+                                     "\0"};
 
-static void mutate(unsigned char *buf, size_t *len, size_t cap) {
+static void mutate(unsigned char *buf, size_t *len, size_t cap)
+{
     size_t n = *len;
     switch (next_random() % 5) {
     case 0: /* flip a bit */
-        if (n) buf[next_random() % n] ^= (unsigned char)(1u << (next_random() % 8));
+        if (n)
+            buf[next_random() % n] ^= (unsigned char)(1u << (next_random() % 8));
         break;
     case 1: /* truncate */
-        if (n) *len = next_random() % n;
+        if (n)
+            *len = next_random() % n;
         break;
     case 2: { /* delete a span */
-        if (n < 2) break;
+        if (n < 2)
+            break;
         size_t at = next_random() % n, k = 1 + next_random() % (n - at);
         memmove(buf + at, buf + at + k, n - at - k);
         *len = n - k;
         break;
     }
     case 3: { /* duplicate a span */
-        if (!n) break;
+        if (!n)
+            break;
         size_t at = next_random() % n, k = 1 + next_random() % (n - at);
-        if (n + k > cap) break;
+        if (n + k > cap)
+            break;
         memmove(buf + at + k, buf + at, n - at);
         *len = n + k;
         break;
@@ -50,7 +83,8 @@ static void mutate(unsigned char *buf, size_t *len, size_t cap) {
     default: { /* insert a token */
         const char *t = tokens[next_random() % (sizeof tokens / sizeof tokens[0])];
         size_t k = strlen(t) ? strlen(t) : 1, at = n ? next_random() % (n + 1) : 0;
-        if (n + k > cap) break;
+        if (n + k > cap)
+            break;
         memmove(buf + at + k, buf + at, n - at);
         memcpy(buf + at, t, k);
         *len = n + k;
@@ -58,19 +92,27 @@ static void mutate(unsigned char *buf, size_t *len, size_t cap) {
     }
 }
 
-static int run_file(const char *path, int mutations) {
+static int run_file(const char *path, int mutations)
+{
     FILE *f = fopen(path, "rb");
-    if (!f) return 0;
+    if (!f)
+        return 0;
     size_t cap = 1 << 20;
     unsigned char *orig = malloc(cap), *buf = malloc(cap);
-    if (!orig || !buf) { fclose(f); free(orig); free(buf); return 1; }
+    if (!orig || !buf) {
+        fclose(f);
+        free(orig);
+        free(buf);
+        return 1;
+    }
     size_t len = fread(orig, 1, cap / 2, f);
     fclose(f);
     LLVMFuzzerTestOneInput(orig, len);
     for (int i = 0; i < mutations; i++) {
         size_t n = len;
         memcpy(buf, orig, len);
-        for (unsigned k = 0, rounds = 1 + next_random() % 4; k < rounds; k++) mutate(buf, &n, cap);
+        for (unsigned k = 0, rounds = 1 + next_random() % 4; k < rounds; k++)
+            mutate(buf, &n, cap);
         LLVMFuzzerTestOneInput(buf, n);
     }
     free(orig);
@@ -78,7 +120,8 @@ static int run_file(const char *path, int mutations) {
     return 1;
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     int mutations = 200, files = 0;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "-n") && i + 1 < argc) {
@@ -92,7 +135,8 @@ int main(int argc, char **argv) {
         }
         struct dirent *e;
         while ((e = readdir(d)) != NULL) {
-            if (e->d_name[0] == '.') continue;
+            if (e->d_name[0] == '.')
+                continue;
             char path[4096];
             snprintf(path, sizeof path, "%s/%s", argv[i], e->d_name);
             files += run_file(path, mutations);

@@ -8,19 +8,21 @@
 static halo_library *library;
 static halo_scene *scene;
 
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
     if (!library) {
         library = halo_library_create(NULL);
         scene = library ? halo_scene_parse("{\"stages\": [\"silhouette\", \"tone_shading\"]}", "s.json", library, NULL)
                         : NULL;
     }
-    if (!scene) return 0;
+    if (!scene)
+        return 0;
     char *text = fuzz_text(data, size);
-    if (!text) return 0;
+    if (!text)
+        return 0;
     halo_diagnostics *diag = halo_diagnostics_create();
-    halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = text,
-                                                  .host_file = "fuzz.frag"},
-                                diag);
+    halo_program *p = halo_link(
+        &(halo_link_desc){.library = library, .scene = scene, .host_source = text, .host_file = "fuzz.frag"}, diag);
     halo_program_destroy(p);
     halo_diagnostics_destroy(diag);
     free(text);

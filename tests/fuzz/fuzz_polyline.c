@@ -7,12 +7,15 @@
 #include <stdlib.h>
 #include <string.h>
 
-int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
     char *text = fuzz_text(data, size);
-    if (!text) return 0;
+    if (!text)
+        return 0;
     halo_diagnostics *diag = halo_diagnostics_create();
     halo_polylines lines = {0};
-    if (halo_polylines_parse(text, "fuzz.txt", &lines, diag) == HALO_OK) halo_polylines_write("/dev/null", &lines);
+    if (halo_polylines_parse(text, "fuzz.txt", &lines, diag) == HALO_OK)
+        halo_polylines_write("/dev/null", &lines);
     halo_polylines_free(&lines);
     halo_diagnostics_destroy(diag);
     free(text);

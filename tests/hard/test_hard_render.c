@@ -20,12 +20,13 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
                                halo_diagnostics *diag);
 
 #define SIZE 24
-#define RENDER(AZ, EL)                                                                                       \
-    "\"render\": {\"azimuth\": " #AZ ", \"elevation\": " #EL ", \"zoom\": 1.3, \"step\": 0.5,"               \
-    " \"background\": [0.05, 0.08, 0.25],"                                                                   \
+#define RENDER(AZ, EL)                                       \
+    "\"render\": {\"azimuth\": " #AZ ", \"elevation\": " #EL \
+    ", \"zoom\": 1.3, \"step\": 0.5,"                        \
+    " \"background\": [0.05, 0.08, 0.25],"                   \
     " \"transfer\": [[0, 0, 0, 0, 0], [0.2, 0.6, 0.8, 1, 0.3], [0.5, 1, 0.85, 0.55, 0.5], [1, 1, 1, 0.8, 0.9]]}"
 #define MAP " {\"halo_map\": {\"mode\": [0, 1], \"color_near\": [[1, 0.9, 0.4], [0, 0, 0]], \"opacity\": [0.9, 0.7]}}"
-#define HALOS(SEED, GENERATE)                                                                                \
+#define HALOS(SEED, GENERATE) \
     "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": " SEED "}, {\"halo_generate\": " GENERATE "}," MAP "], "
 
 typedef enum volume_kind {
@@ -42,9 +43,9 @@ typedef enum volume_kind {
 typedef struct hard_case {
     const char *name;
     volume_kind volume;
-    int side;       /* voxels per side */
+    int side; /* voxels per side */
     const char *scene;
-    int precision;  /* halo image precision */
+    int precision; /* halo image precision */
     int slab, interval;
     double tolerance; /* against the emulation; < 0: finite only (the inputs are not finite) */
 } hard_case;
@@ -52,8 +53,7 @@ typedef struct hard_case {
 static const hard_case cases[] = {
     {"nan_inf_volume", VOLUME_NAN, 10, HALOS("{}", "{\"passes\": 3}") RENDER(30, 20) "}", 32, 0, 4, -1},
     {"nan_inf_volume@slab", VOLUME_NAN, 10, HALOS("{}", "{\"passes\": 3}") RENDER(30, 20) "}", 32, 1, 4, -1},
-    {"nan_inf_volume@nohalo", VOLUME_NAN, 10, "{\"halo_scene\": 1, \"stages\": [], " RENDER(30, 20) "}", 32, 0, 1,
-     -1},
+    {"nan_inf_volume@nohalo", VOLUME_NAN, 10, "{\"halo_scene\": 1, \"stages\": [], " RENDER(30, 20) "}", 32, 0, 1, -1},
     {"nan_inf_volume@sample_stages", VOLUME_NAN, 10,
      "{\"halo_scene\": 1, \"stages\": [{\"boundary\": {}}, {\"silhouette\": {}}, {\"tone_shading\": {}},"
      " {\"sketch\": {}}, {\"orientation_fade\": {}}], " RENDER(30, 20) "}",
@@ -65,8 +65,8 @@ static const hard_case cases[] = {
      1, 4, 2e-2},
     {"constant_volume", VOLUME_CONSTANT, 10, HALOS("{\"alpha\": 0, \"beta\": 0}", "{}") RENDER(30, 20) "}", 32, 0, 4,
      5e-4},
-    {"tiny_gradient@alpha64", VOLUME_TINY, 10, HALOS("{\"alpha\": 64, \"gradient_scale\": 1000}", "{}") RENDER(30, 20) "}",
-     32, 0, 4, 5e-4},
+    {"tiny_gradient@alpha64", VOLUME_TINY, 10,
+     HALOS("{\"alpha\": 64, \"gradient_scale\": 1000}", "{}") RENDER(30, 20) "}", 32, 0, 4, 5e-4},
     {"n_parallel_v@beta0", VOLUME_RAMP_Z, 10, HALOS("{\"alpha\": 0, \"beta\": 0}", "{}") RENDER(0, 0) "}", 32, 0, 4,
      5e-4},
     {"n_parallel_v@beta1e-3", VOLUME_RAMP_Z, 10, HALOS("{\"alpha\": 0, \"beta\": 0.001}", "{}") RENDER(0, 0) "}", 32, 1,
@@ -80,7 +80,8 @@ static const hard_case cases[] = {
      5e-4},
     {"volume_2x2x2", VOLUME_SPHERE, 2, HALOS("{\"alpha\": 1}", "{}") RENDER(30, 20) "}", 32, 0, 4, 5e-4},
     {"depth_0_1_cues", VOLUME_SPHERE, 10,
-     "{\"halo_scene\": 1, \"stages\": [{\"distance_blend\": {\"k_de\": 0}}, {\"distance_cue\": {}}], " RENDER(30, 20) "}",
+     "{\"halo_scene\": 1, \"stages\": [{\"distance_blend\": {\"k_de\": 0}}, {\"distance_cue\": {}}], " RENDER(30,
+                                                                                                              20) "}",
      32, 0, 1, 5e-4},
 };
 
@@ -107,14 +108,30 @@ static float *make_volume(volume_kind kind, int n)
                 double r = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
                 float sphere = (float)(r < 0.45 ? 1.0 - r / 0.45 : 0.0);
                 switch (kind) {
-                case VOLUME_SPHERE: v[i] = sphere; break;
-                case VOLUME_NAN: v[i] = i % 7 == 3 ? NAN : i % 11 == 5 ? INFINITY : i % 13 == 2 ? -INFINITY : sphere; break;
-                case VOLUME_DENORMAL: v[i] = sphere * 1e-39f; break;
-                case VOLUME_HUGE: v[i] = sphere * 1e6f; break;
-                case VOLUME_CONSTANT: v[i] = 0.5f; break;
-                case VOLUME_TINY: v[i] = 0.5f + 1e-9f * (float)x; break;
-                case VOLUME_RAMP_Z: v[i] = (float)(z + 0.5) / (float)n; break;
-                case VOLUME_NOISE: v[i] = hash_noise((unsigned)i * 2654435761U + 17U); break;
+                case VOLUME_SPHERE:
+                    v[i] = sphere;
+                    break;
+                case VOLUME_NAN:
+                    v[i] = i % 7 == 3 ? NAN : i % 11 == 5 ? INFINITY : i % 13 == 2 ? -INFINITY : sphere;
+                    break;
+                case VOLUME_DENORMAL:
+                    v[i] = sphere * 1e-39f;
+                    break;
+                case VOLUME_HUGE:
+                    v[i] = sphere * 1e6f;
+                    break;
+                case VOLUME_CONSTANT:
+                    v[i] = 0.5f;
+                    break;
+                case VOLUME_TINY:
+                    v[i] = 0.5f + 1e-9f * (float)x;
+                    break;
+                case VOLUME_RAMP_Z:
+                    v[i] = (float)(z + 0.5) / (float)n;
+                    break;
+                case VOLUME_NOISE:
+                    v[i] = hash_noise((unsigned)i * 2654435761U + 17U);
+                    break;
                 }
             }
     return v;
@@ -133,9 +150,9 @@ static int run_case(halo_library *lib, halo_gl *runtime, const halo_glfuncs *gl,
     double *emu = malloc((size_t)SIZE * SIZE * 4 * sizeof *emu);
     if (!scene || !source || !volume || !gpu || !emu)
         goto done;
-    program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = source,
-                                          .image_precision = c->precision},
-                        diag);
+    program = halo_link(
+        &(halo_link_desc){.library = lib, .scene = scene, .host_source = source, .image_precision = c->precision},
+        diag);
     if (!program)
         goto done;
     halo_host_desc desc = {.gl = gl, .runtime = runtime, .program = program, .width = SIZE, .height = SIZE};
@@ -185,8 +202,8 @@ static int run_case(halo_library *lib, halo_gl *runtime, const halo_glfuncs *gl,
             sample.opacity = 0.5;
             if (frame)
                 halo_emu_frame_begin(frame);
-            if ((frame ? halo_emu_apply_frame(program, frame, &sample, diag) : halo_emu_apply(program, &sample, diag)) !=
-                HALO_OK)
+            if ((frame ? halo_emu_apply_frame(program, frame, &sample, diag)
+                       : halo_emu_apply(program, &sample, diag)) != HALO_OK)
                 goto done;
             for (int k = 0; k < 3; ++k)
                 emu_nonfinite += !isfinite(sample.color[k]);
@@ -200,9 +217,9 @@ static int run_case(halo_library *lib, halo_gl *runtime, const halo_glfuncs *gl,
         snprintf(tolerance, sizeof tolerance, "%.0e", c->tolerance);
     snprintf(emu_count, sizeof emu_count, "%ld", emu_nonfinite);
     snprintf(error, sizeof error, "%.3e", max_abs);
-    printf("%-28s %-5s %2d-bit M=%-2d gpu_nonfinite %4ld emu_nonfinite %4s max_abs %-9s tolerance %-11s %s\n",
-           c->name, c->slab ? "slab" : "slice", c->precision, state.interval, gpu_nonfinite, emu_count, error,
-           tolerance, pass ? "PASS" : "FAIL");
+    printf("%-28s %-5s %2d-bit M=%-2d gpu_nonfinite %4ld emu_nonfinite %4s max_abs %-9s tolerance %-11s %s\n", c->name,
+           c->slab ? "slab" : "slice", c->precision, state.interval, gpu_nonfinite, emu_count, error, tolerance,
+           pass ? "PASS" : "FAIL");
     ok = pass;
 done:
     if (halo_diagnostics_errors(diag)) {
@@ -227,11 +244,12 @@ static int one_voxel(halo_library *lib, halo_gl *runtime, const halo_glfuncs *gl
 {
     char *source = halo_host_load("slice.frag", NULL, diag);
     halo_program *program = source ? halo_link(&(halo_link_desc){.library = lib, .host_source = source}, diag) : NULL;
-    halo_slice *host = program ? halo_slice_create(&(halo_host_desc){.gl = gl, .runtime = runtime,
-                                                                     .program = program, .width = SIZE,
-                                                                     .height = SIZE},
-                                                   diag)
-                               : NULL;
+    halo_slice *host =
+        program
+            ? halo_slice_create(
+                  &(halo_host_desc){.gl = gl, .runtime = runtime, .program = program, .width = SIZE, .height = SIZE},
+                  diag)
+            : NULL;
     float voxel = 0.5f;
     int ok = host && halo_slice_set_volume(host, &voxel, 1, 1, 1, diag) == HALO_ERROR_INPUT &&
              halo_diagnostics_has(diag, HALO_MSG_USAGE);

@@ -68,8 +68,7 @@ static int read_components_as(const halo_glfuncs *f, GLuint texture, const int d
         if (snorm && clamp_color)
             clamp_color(GL_CLAMP_READ_COLOR, GL_FIXED_ONLY);
         for (size_t i = 0; i < slice; ++i)
-            memcpy(&out[((size_t)z * slice + i) * (size_t)components], &rgba[i * 4],
-                   (size_t)components * sizeof *out);
+            memcpy(&out[((size_t)z * slice + i) * (size_t)components], &rgba[i * 4], (size_t)components * sizeof *out);
     }
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
     f->DeleteFramebuffers(1, &framebuffer);
@@ -103,8 +102,8 @@ static int check_packed(const halo_glfuncs *f, const char *what, const float *vo
         GLint internal_format = wide ? GL_RGBA32F : GL_RGBA16_SNORM;
         const char *name = wide ? "packed32" : "packed16";
         float scale = halo_host_gradient_scale(volume, dims, internal_format);
-        if (halo_host_build_packed(f, texture, volume_texture, dims[0], dims[1], dims[2], internal_format, scale,
-                                   range, diag) != HALO_OK ||
+        if (halo_host_build_packed(f, texture, volume_texture, dims[0], dims[1], dims[2], internal_format, scale, range,
+                                   diag) != HALO_OK ||
             !read_components_as(f, texture, dims, 4, !wide, gpu)) {
             halo_diagnostics_print(diag, stdout);
             printf("FAIL %s %s: build or read-back\n", what, name);
@@ -115,8 +114,8 @@ static int check_packed(const halo_glfuncs *f, const char *what, const float *vo
         size_t zeros = 0, nonzero_zeros = 0;
         for (size_t i = 0; i < n; ++i)
             for (int c = 0; c < 4; ++c) {
-                double expected = c == 0 ? ((double)volume[i] - range[0]) / range[1]
-                                         : (double)exact[i * 3 + (size_t)c - 1] / scale;
+                double expected =
+                    c == 0 ? ((double)volume[i] - range[0]) / range[1] : (double)exact[i * 3 + (size_t)c - 1] / scale;
                 if (c > 0 && expected == 0.0) {
                     zeros++;
                     nonzero_zeros += gpu[i * 4 + (size_t)c] != 0.0f;
@@ -126,9 +125,11 @@ static int check_packed(const halo_glfuncs *f, const char *what, const float *vo
                 worst = units > worst ? units : worst;
             }
         int ok = worst <= limit && nonzero_zeros == 0;
-        printf("%s %s %s: largest difference %.3f units (at most %g), %zu of %zu zero components not 0, scale %.9g, "
-               "value range %g + %g\n", ok ? "ok  " : "FAIL", what, name, worst, limit, nonzero_zeros, zeros,
-               (double)scale, (double)range[0], (double)range[1]);
+        printf(
+            "%s %s %s: largest difference %.3f units (at most %g), %zu of %zu zero components not 0, scale %.9g, "
+            "value range %g + %g\n",
+            ok ? "ok  " : "FAIL", what, name, worst, limit, nonzero_zeros, zeros, (double)scale, (double)range[0],
+            (double)range[1]);
         failed += !ok;
     }
     if (!gpu)
@@ -144,8 +145,8 @@ static size_t count_differences(const char *what, const float *got, const float 
     for (size_t i = 0; i < n; ++i)
         if (memcmp(&got[i], &expected[i], sizeof *got) != 0 && !(got[i] == 0.0f && expected[i] == 0.0f)) {
             if (!differing)
-                printf("  %s: component %zu (texel %zu) is %.9g, expected %.9g\n", what, i % 3, i / 3,
-                       (double)got[i], (double)expected[i]);
+                printf("  %s: component %zu (texel %zu) is %.9g, expected %.9g\n", what, i % 3, i / 3, (double)got[i],
+                       (double)expected[i]);
             differing++;
         }
     return differing;
@@ -250,8 +251,8 @@ static float *render_skips(halo_gl *runtime, const halo_program *p, const halo_r
                            halo_diagnostics *diag)
 {
     enum { PIXELS = 48 };
-    halo_host_desc desc = {.gl = halo_gl_functions(runtime), .runtime = runtime, .program = p, .width = PIXELS,
-                           .height = PIXELS};
+    halo_host_desc desc = {
+        .gl = halo_gl_functions(runtime), .runtime = runtime, .program = p, .width = PIXELS, .height = PIXELS};
     halo_slice *s = slab ? halo_slab_create(&desc, diag) : halo_slice_create(&desc, diag);
     float *rgba = malloc((size_t)PIXELS * PIXELS * 4 * sizeof *rgba);
     if (s)
@@ -288,16 +289,16 @@ static int check_skip_case(halo_gl *runtime, const halo_program *p, const halo_s
     float *image[3] = {NULL, NULL, NULL};
     int variants = p && !slab ? 3 : 2;
     for (int skip = 0; skip < variants; ++skip)
-        image[skip] = render_skips(runtime, p, halo_scene_render(scene), volume, side, slab, skip, camera,
-                                   draws[skip], diag);
+        image[skip] =
+            render_skips(runtime, p, halo_scene_render(scene), volume, side, slab, skip, camera, draws[skip], diag);
     size_t differing = 0, n = (size_t)48 * 48 * 4;
     for (int v = 1; v < variants; ++v)
         for (size_t i = 0; image[0] && image[v] && i < n; ++i)
             differing += memcmp(&image[0][i], &image[v][i], sizeof(float)) != 0;
     /* the halo scene: fewer pass draws, and on the slice host fewer slices (clipped); no
      * stages: fewer slices at the oblique camera, where some miss the cube */
-    int spared = p ? draws[1][1] < draws[0][1] && (slab || draws[1][0] < draws[0][0])
-                   : camera == 0 || draws[1][0] < draws[0][0];
+    int spared =
+        p ? draws[1][1] < draws[0][1] && (slab || draws[1][0] < draws[0][0]) : camera == 0 || draws[1][0] < draws[0][0];
     int ok = image[0] && image[1] && (variants < 3 || image[2]) && differing == 0 && spared;
     printf("%s %s host, %s, camera %d: skips off %ld slices and %ld pass draws, on %ld and %ld", ok ? "ok  " : "FAIL",
            slab ? "slab" : "slice", what, camera, draws[0][0], draws[0][1], draws[1][0], draws[1][1]);
@@ -348,12 +349,14 @@ static int check_skips(halo_gl *runtime, unsigned *state, int variant)
         char what[32];
         snprintf(what, sizeof what, "%s%s", ball ? "ball" : "noise", skip_variants[variant].name);
         for (int slab = 0; slab < 2 && scene && volume; ++slab) {
-            halo_program *p = host[slab] ? halo_link(&(halo_link_desc){.library = lib, .scene = scene,
-                                                                        .image_scale = skip_variants[variant].image_scale,
-                                                                        .host_source = host[slab],
-                                                                        .host_file = slab ? "slab.frag" : "slice.frag"},
-                                                     diag)
-                                         : NULL;
+            halo_program *p = host[slab]
+                                  ? halo_link(&(halo_link_desc){.library = lib,
+                                                                .scene = scene,
+                                                                .image_scale = skip_variants[variant].image_scale,
+                                                                .host_source = host[slab],
+                                                                .host_file = slab ? "slab.frag" : "slice.frag"},
+                                              diag)
+                                  : NULL;
             for (int camera = 0; camera < 2; ++camera) {
                 failed += p ? check_skip_case(runtime, p, scene, volume, SIDE, slab, camera, what, diag) : 1;
                 if (!slab && variant == 0)
@@ -392,9 +395,11 @@ static void slice_link_open(slice_link *l, const char *json, int image_scale)
     l->lib = halo_library_create(l->diag);
     l->host = halo_host_load("slice.frag", NULL, l->diag);
     l->scene = l->lib ? halo_scene_parse(json, "(scene)", l->lib, l->diag) : NULL;
-    l->program = l->scene && l->host ? halo_link(&(halo_link_desc){.library = l->lib, .scene = l->scene,
-                                                                    .host_source = l->host, .host_file = "slice.frag",
-                                                                    .image_scale = image_scale},
+    l->program = l->scene && l->host ? halo_link(&(halo_link_desc){.library = l->lib,
+                                                                   .scene = l->scene,
+                                                                   .host_source = l->host,
+                                                                   .host_file = "slice.frag",
+                                                                   .image_scale = image_scale},
                                                  l->diag)
                                      : NULL;
 }
@@ -443,8 +448,8 @@ static int check_groups(halo_gl *runtime)
     for (int skip = 0; skip < 2 && p && volume && groups == 2; ++skip) {
         size_t outputs = halo_program_output_count(p);
         out[skip] = malloc(pixels * 4 * (outputs + 1) * sizeof(float));
-        halo_host_desc desc = {.gl = halo_gl_functions(runtime), .runtime = runtime, .program = p, .width = PIXELS,
-                               .height = PIXELS};
+        halo_host_desc desc = {
+            .gl = halo_gl_functions(runtime), .runtime = runtime, .program = p, .width = PIXELS, .height = PIXELS};
         halo_slice *s = halo_slice_create(&desc, diag);
         const halo_render_settings *settings = halo_scene_render(scene);
         int ok = s && out[skip] && halo_slice_set_volume(s, volume, SIDE, SIDE, SIDE, diag) == HALO_OK &&
@@ -473,9 +478,10 @@ static int check_groups(halo_gl *runtime)
     for (size_t i = 0; out[0] && out[1] && i < floats; ++i)
         differing += memcmp(&out[0][i], &out[1][i], sizeof(float)) != 0;
     int ok = out[0] && out[1] && differing == 0;
-    printf("%s slice host, %d feature groups: colour written once against every group; %zu of %zu floats (colour and"
-           " %zu images) differ\n", ok ? "ok  " : "FAIL", groups, differing, floats,
-           p ? halo_program_output_count(p) : 0);
+    printf(
+        "%s slice host, %d feature groups: colour written once against every group; %zu of %zu floats (colour and"
+        " %zu images) differ\n",
+        ok ? "ok  " : "FAIL", groups, differing, floats, p ? halo_program_output_count(p) : 0);
     if (!ok)
         halo_diagnostics_print(diag, stdout);
     failed += !ok;
@@ -508,8 +514,10 @@ static int check_read_region(halo_gl *runtime)
         any[1] = halo_gl_frame_read_region(frame, after);
     }
     int ok = frame && any[0] == 0 && any[1] == 1 && after[0] == 0 && after[1] == 0 && after[2] == 9 && after[3] == 100;
-    printf("%s read region, halo images at 1/4 of 9 x 100: %d after the frame's clear, %d after a generation: {%d, %d,"
-           " %d, %d} (the whole frame)\n", ok ? "ok  " : "FAIL", any[0], any[1], after[0], after[1], after[2], after[3]);
+    printf(
+        "%s read region, halo images at 1/4 of 9 x 100: %d after the frame's clear, %d after a generation: {%d, %d,"
+        " %d, %d} (the whole frame)\n",
+        ok ? "ok  " : "FAIL", any[0], any[1], after[0], after[1], after[2], after[3]);
     if (!frame)
         halo_diagnostics_print(link.diag, stdout);
     halo_gl_frame_destroy(frame);
@@ -552,7 +560,9 @@ int main(void)
                 volume[i] = kind == 1 ? 40.0f * r * r : kind == 2 && i % (size_t)dims[0] == 0 ? 0.25f : r;
             }
             snprintf(what, sizeof what, "%dx%dx%d %s", dims[0], dims[1], dims[2],
-                     kind == 0 ? "[0,1]" : kind == 1 ? "[0,40]" : "constant face");
+                     kind == 0   ? "[0,1]"
+                     : kind == 1 ? "[0,40]"
+                                 : "constant face");
             failed += check_volume(f, what, volume, dims);
         }
         free(volume);

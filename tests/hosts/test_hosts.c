@@ -22,8 +22,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SIZE 40
-#define VOLUME 32
+#define SIZE         40
+#define VOLUME       32
 #define FEATURE_UNIT 15
 
 typedef struct host_case {
@@ -36,11 +36,29 @@ typedef struct host_case {
 } host_case;
 
 static const host_case hosts[] = {
-    {"webgl_caster.frag", {HALO_TARGET_ES300, HALO_TARGET_GLSL330, HALO_TARGET_GLSL450}, 3, HALO_TARGET_GLSL330, 1.0f, 0},
-    {"exit_point_caster.frag", {HALO_TARGET_GLSL450, HALO_TARGET_GLSL330, HALO_TARGET_ES300}, 3, HALO_TARGET_GLSL450,
-     0.0f, 1},
-    {"tf2d_caster.frag", {HALO_TARGET_GLSL330, HALO_TARGET_GLSL450, HALO_TARGET_ES300}, 3, HALO_TARGET_GLSL330, 0.0f, 0},
-    {"mip_iso_caster.frag", {HALO_TARGET_GLSL330, HALO_TARGET_GLSL450, HALO_TARGET_ES300}, 3, HALO_TARGET_GLSL330, 0.0f,
+    {"webgl_caster.frag",
+     {HALO_TARGET_ES300, HALO_TARGET_GLSL330, HALO_TARGET_GLSL450},
+     3,
+     HALO_TARGET_GLSL330,
+     1.0f,
+     0},
+    {"exit_point_caster.frag",
+     {HALO_TARGET_GLSL450, HALO_TARGET_GLSL330, HALO_TARGET_ES300},
+     3,
+     HALO_TARGET_GLSL450,
+     0.0f,
+     1},
+    {"tf2d_caster.frag",
+     {HALO_TARGET_GLSL330, HALO_TARGET_GLSL450, HALO_TARGET_ES300},
+     3,
+     HALO_TARGET_GLSL330,
+     0.0f,
+     0},
+    {"mip_iso_caster.frag",
+     {HALO_TARGET_GLSL330, HALO_TARGET_GLSL450, HALO_TARGET_ES300},
+     3,
+     HALO_TARGET_GLSL330,
+     0.0f,
      0},
 };
 
@@ -94,8 +112,13 @@ static halo_scene *empty_like(const context *c, const halo_scene *scene)
 static halo_program *link_host(const context *c, const char *file, const char *source, const halo_scene *scene,
                                halo_target target, int mode)
 {
-    return halo_link(&(halo_link_desc){.library = c->lib, .scene = scene, .host_source = source, .host_file = file,
-                                       .target = target, .force_segments = mode == 1, .one_draw = mode == 2},
+    return halo_link(&(halo_link_desc){.library = c->lib,
+                                       .scene = scene,
+                                       .host_source = source,
+                                       .host_file = file,
+                                       .target = target,
+                                       .force_segments = mode == 1,
+                                       .one_draw = mode == 2},
                      c->diag);
 }
 
@@ -135,8 +158,8 @@ static int link_validate(const context *c, const host_case *h, const char *sourc
 typedef struct render_options {
     float jitter;
     int exit_points;
-    int segments; /* > 0: forced count (a program linked with force_segments) */
-    int drawn;    /* out: segments the frame drew (0: no frame) */
+    int segments;           /* > 0: forced count (a program linked with force_segments) */
+    int drawn;              /* out: segments the frame drew (0: no frame) */
     const char *raw_source; /* with no program: the host's unlinked text */
 } render_options;
 
@@ -147,9 +170,12 @@ static int render(const context *c, const halo_program *program, const halo_scen
 {
     int ok = 0;
     halo_feature_buffer *buffer = NULL;
-    halo_raycast *r = halo_raycast_create(&(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = program,
+    halo_raycast *r = halo_raycast_create(&(halo_host_desc){.gl = c->gl,
+                                                            .runtime = c->runtime,
+                                                            .program = program,
                                                             .fragment_source = o->raw_source,
-                                                            .width = SIZE, .height = SIZE},
+                                                            .width = SIZE,
+                                                            .height = SIZE},
                                           c->diag);
     if (!r)
         goto done;
@@ -196,9 +222,8 @@ static int render(const context *c, const halo_program *program, const halo_scen
         for (size_t i = 0; i < halo_program_image_count(program); ++i)
             if (!strcmp(halo_program_image(program, i)->name, post))
                 info = halo_program_image(program, i);
-        float *out = info ? malloc((size_t)SIZE * SIZE * (size_t)(info->channels > 4 ? info->channels : 4) *
-                                   sizeof *out)
-                          : NULL;
+        float *out =
+            info ? malloc((size_t)SIZE * SIZE * (size_t)(info->channels > 4 ? info->channels : 4) * sizeof *out) : NULL;
         if (!out || info->channels < 3) {
             free(out);
             printf("post image %s: not a colour image\n", post);
@@ -293,9 +318,8 @@ static int stage_renders(const context *c, const host_case *h, const char *sourc
          * halos need segments */
         int halos = strstr(scenes[i][1], "halo_generate") != NULL;
         ok = ok && d.bad == 0 && d.max > 0.02 && d.differing >= SIZE * SIZE * 4 / 100 && (!halos || o_p.drawn > 1);
-        printf("%-48s %2d segments, nonfinite %ld, vs without (%s): max abs %.4f, %ld values differ > 1e-3: %s\n",
-               what, o_p.drawn, ok ? d.bad : -1, scenes[i][1], ok ? d.max : 0.0, ok ? d.differing : 0,
-               ok ? "PASS" : "FAIL");
+        printf("%-48s %2d segments, nonfinite %ld, vs without (%s): max abs %.4f, %ld values differ > 1e-3: %s\n", what,
+               o_p.drawn, ok ? d.bad : -1, scenes[i][1], ok ? d.max : 0.0, ok ? d.differing : 0, ok ? "PASS" : "FAIL");
         failed += !ok;
         halo_program_destroy(p);
         halo_program_destroy(q);
@@ -371,13 +395,15 @@ static int one_draw_renders(const context *c, const host_case *h, const char *so
         char what[160];
         snprintf(what, sizeof what, "%s one draw %s", h->file, scenes[i]);
         comparison d, e;
-        int ok = one && segmented && without && compare(c, what, one, scene, &o_one, segmented, scene, &o_seg, 0.02, &d) &&
+        int ok = one && segmented && without &&
+                 compare(c, what, one, scene, &o_one, segmented, scene, &o_seg, 0.02, &d) &&
                  compare(c, what, segmented, scene, &o_seg, without, plain, &o_plain, 0.02, &e);
         double share = ok ? (double)d.differing / (SIZE * SIZE * 4) : 1.0;
         ok = ok && d.bad == 0 && o_one.drawn == 1 && d.rmse <= 0.4 * e.rmse;
-        printf("%-48s drew %d (segmented %d): vs segments RMSE %.4f (<= %.4f: 0.4 of the halos' own),"
-               " max abs %.3f, %.2f %% of values differ > 0.02: %s\n",
-               what, o_one.drawn, o_seg.drawn, d.rmse, 0.4 * e.rmse, d.max, 100.0 * share, ok ? "PASS" : "FAIL");
+        printf(
+            "%-48s drew %d (segmented %d): vs segments RMSE %.4f (<= %.4f: 0.4 of the halos' own),"
+            " max abs %.3f, %.2f %% of values differ > 0.02: %s\n",
+            what, o_one.drawn, o_seg.drawn, d.rmse, 0.4 * e.rmse, d.max, 100.0 * share, ok ? "PASS" : "FAIL");
         failed += !ok;
         halo_program_destroy(one);
         halo_program_destroy(segmented);
@@ -526,8 +552,10 @@ static int build_defines_checks(const context *c, const char *file, const char *
         }
         if (program)
             c->gl->DeleteProgram(program);
-        printf("%-60s %s\n", k == 0 ? "build_defines: none builds" : k == 1 ? "build_defines: another builds"
-                                                                            : "build_defines: error at the host's line",
+        printf("%-60s %s\n",
+               k == 0   ? "build_defines: none builds"
+               : k == 1 ? "build_defines: another builds"
+                        : "build_defines: error at the host's line",
                ok ? "PASS" : "FAIL");
         if (!ok)
             halo_diagnostics_print(c->diag, stdout);

@@ -35,11 +35,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SIZE 48
+#define SIZE   48
 #define VOLUME 24
 
-#define RENDER                                                                                               \
-    "\"render\": {\"azimuth\": 30, \"elevation\": 20, \"zoom\": 1.3, \"step\": 0.5,"                         \
+#define RENDER                                                                       \
+    "\"render\": {\"azimuth\": 30, \"elevation\": 20, \"zoom\": 1.3, \"step\": 0.5," \
     " \"transfer\": [[0, 0, 0, 0, 0], [0.25, 0.6, 0.8, 1, 0.6], [0.5, 1, 0.85, 0.55, 1], [1, 1, 1, 0.8, 1]]}"
 
 /* Dense enough that most rays end on the 0.99 opacity threshold. */
@@ -48,11 +48,11 @@ static const char sample_scene[] =
     " {\"tone_shading\": {}}, {\"distance_blend\": {}}], " RENDER "}";
 /* halo-render's default halo (examples/scenes/default.json): emissive, dark, around the
  * tube and the blobs, seen through transparent shells. */
-#define HALO_RENDER                                                                                          \
-    "\"render\": {\"azimuth\": 35, \"elevation\": 25, \"zoom\": 1.5, \"step\": 0.5,"                          \
-    " \"background\": [0.05, 0.08, 0.25],"                                                                    \
-    " \"transfer\": [[0, 0, 0, 0, 0], [0.18, 0.6, 0.8, 1, 0], [0.3, 0.6, 0.8, 1, 0.06],"                     \
-    " [0.42, 1, 0.85, 0.55, 0.02], [0.5, 1, 0.85, 0.55, 0.25], [0.62, 0.9, 0.35, 0.25, 0.05],"               \
+#define HALO_RENDER                                                                            \
+    "\"render\": {\"azimuth\": 35, \"elevation\": 25, \"zoom\": 1.5, \"step\": 0.5,"           \
+    " \"background\": [0.05, 0.08, 0.25],"                                                     \
+    " \"transfer\": [[0, 0, 0, 0, 0], [0.18, 0.6, 0.8, 1, 0], [0.3, 0.6, 0.8, 1, 0.06],"       \
+    " [0.42, 1, 0.85, 0.55, 0.02], [0.5, 1, 0.85, 0.55, 0.25], [0.62, 0.9, 0.35, 0.25, 0.05]," \
     " [0.75, 0.95, 0.3, 0.2, 0.7], [0.9, 1, 0.95, 0.7, 0.8], [1, 1, 1, 0.8, 0.9]]}"
 static const char halos_scene[] =
     "{\"halo_scene\": 1, \"stages\": ["
@@ -84,14 +84,14 @@ typedef struct env {
 static int failures;
 static int orthographic; /* the camera of the next renders */
 
-#define CHECK(cond, ...)                                                                                     \
-    do {                                                                                                     \
-        if (!(cond)) {                                                                                       \
-            printf("FAIL %s:%d: ", __FILE__, __LINE__);                                                      \
-            printf(__VA_ARGS__);                                                                             \
-            printf("\n");                                                                                    \
-            failures++;                                                                                      \
-        }                                                                                                    \
+#define CHECK(cond, ...)                                \
+    do {                                                \
+        if (!(cond)) {                                  \
+            printf("FAIL %s:%d: ", __FILE__, __LINE__); \
+            printf(__VA_ARGS__);                        \
+            printf("\n");                               \
+            failures++;                                 \
+        }                                               \
     } while (0)
 
 static int one_draw;    /* host contract 3 for the next ray caster renders */
@@ -161,26 +161,39 @@ static void hostile_set(const halo_glfuncs *f)
  * only the switches, masks and packing. */
 static void hostile_check(const halo_glfuncs *f, int bindings)
 {
-    struct { const char *name; GLenum cap; } caps[] = {
-        {"GL_CULL_FACE", GL_CULL_FACE}, {"GL_DEPTH_TEST", GL_DEPTH_TEST}, {"GL_STENCIL_TEST", GL_STENCIL_TEST},
-        {"GL_BLEND", GL_BLEND}, {"GL_SCISSOR_TEST", GL_SCISSOR_TEST}, {"GL_RASTERIZER_DISCARD", GL_RASTERIZER_DISCARD},
-        {"GL_FRAMEBUFFER_SRGB", GL_FRAMEBUFFER_SRGB}};
+    struct {
+        const char *name;
+        GLenum cap;
+    } caps[] = {{"GL_CULL_FACE", GL_CULL_FACE},
+                {"GL_DEPTH_TEST", GL_DEPTH_TEST},
+                {"GL_STENCIL_TEST", GL_STENCIL_TEST},
+                {"GL_BLEND", GL_BLEND},
+                {"GL_SCISSOR_TEST", GL_SCISSOR_TEST},
+                {"GL_RASTERIZER_DISCARD", GL_RASTERIZER_DISCARD},
+                {"GL_FRAMEBUFFER_SRGB", GL_FRAMEBUFFER_SRGB}};
     hostile_checks++;
     for (size_t i = 0; i < sizeof caps / sizeof caps[0]; ++i)
         if (!f->IsEnabled(caps[i].cap)) {
             printf("  %s was switched off\n", caps[i].name);
             hostile_mismatches++;
         }
-    struct { const char *name; GLenum query; GLint expected; } values[] = {
-        {"GL_CULL_FACE_MODE", GL_CULL_FACE_MODE, GL_FRONT_AND_BACK}, {"GL_DEPTH_FUNC", GL_DEPTH_FUNC, GL_NEVER},
-        {"GL_STENCIL_FUNC", GL_STENCIL_FUNC, GL_NEVER}, {"GL_BLEND_SRC_RGB", GL_BLEND_SRC_RGB, GL_ZERO},
-        {"GL_BLEND_DST_ALPHA", GL_BLEND_DST_ALPHA, GL_ZERO},
-        {"GL_BLEND_EQUATION_RGB", GL_BLEND_EQUATION_RGB, GL_FUNC_REVERSE_SUBTRACT},
-        {"GL_BLEND_EQUATION_ALPHA", GL_BLEND_EQUATION_ALPHA, GL_FUNC_REVERSE_SUBTRACT},
-        {"GL_PACK_ALIGNMENT", GL_PACK_ALIGNMENT, 8}, {"GL_PACK_ROW_LENGTH", GL_PACK_ROW_LENGTH, 3},
-        {"GL_ACTIVE_TEXTURE", GL_ACTIVE_TEXTURE, GL_TEXTURE7},
-        {"GL_VERTEX_ARRAY_BINDING", GL_VERTEX_ARRAY_BINDING, (GLint)hostile_vertex_array},
-        {"GL_CURRENT_PROGRAM", GL_CURRENT_PROGRAM, 0}, {"GL_POLYGON_MODE", GL_POLYGON_MODE, GL_LINE}};
+    struct {
+        const char *name;
+        GLenum query;
+        GLint expected;
+    } values[] = {{"GL_CULL_FACE_MODE", GL_CULL_FACE_MODE, GL_FRONT_AND_BACK},
+                  {"GL_DEPTH_FUNC", GL_DEPTH_FUNC, GL_NEVER},
+                  {"GL_STENCIL_FUNC", GL_STENCIL_FUNC, GL_NEVER},
+                  {"GL_BLEND_SRC_RGB", GL_BLEND_SRC_RGB, GL_ZERO},
+                  {"GL_BLEND_DST_ALPHA", GL_BLEND_DST_ALPHA, GL_ZERO},
+                  {"GL_BLEND_EQUATION_RGB", GL_BLEND_EQUATION_RGB, GL_FUNC_REVERSE_SUBTRACT},
+                  {"GL_BLEND_EQUATION_ALPHA", GL_BLEND_EQUATION_ALPHA, GL_FUNC_REVERSE_SUBTRACT},
+                  {"GL_PACK_ALIGNMENT", GL_PACK_ALIGNMENT, 8},
+                  {"GL_PACK_ROW_LENGTH", GL_PACK_ROW_LENGTH, 3},
+                  {"GL_ACTIVE_TEXTURE", GL_ACTIVE_TEXTURE, GL_TEXTURE7},
+                  {"GL_VERTEX_ARRAY_BINDING", GL_VERTEX_ARRAY_BINDING, (GLint)hostile_vertex_array},
+                  {"GL_CURRENT_PROGRAM", GL_CURRENT_PROGRAM, 0},
+                  {"GL_POLYGON_MODE", GL_POLYGON_MODE, GL_LINE}};
     for (size_t i = 0; i < sizeof values / sizeof values[0]; ++i) {
         if (!bindings && (values[i].query == GL_ACTIVE_TEXTURE || values[i].query == GL_VERTEX_ARRAY_BINDING ||
                           values[i].query == GL_CURRENT_PROGRAM))
@@ -220,9 +233,13 @@ static halo_program *link_scene(env *e, const char *scene_text, const char *host
                                 halo_scene **scene_out)
 {
     halo_scene *scene = halo_scene_parse(scene_text, "(test scene)", e->g.lib, e->g.diag);
-    halo_program *p = scene ? halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = host,
-                                                          .host_file = file, .force_segments = force,
-                                                          .one_draw = one_draw, .image_scale = image_scale},
+    halo_program *p = scene ? halo_link(&(halo_link_desc){.library = e->g.lib,
+                                                          .scene = scene,
+                                                          .host_source = host,
+                                                          .host_file = file,
+                                                          .force_segments = force,
+                                                          .one_draw = one_draw,
+                                                          .image_scale = image_scale},
                                         e->g.diag)
                             : NULL;
     if (!p) {
@@ -236,12 +253,11 @@ static halo_program *link_scene(env *e, const char *scene_text, const char *host
 
 /* Renders with the ray caster (slab 0) in `segments` segments (0: as the program needs),
  * or with the slab host (slab 1), of M = interval planes. */
-static float *render_host(env *e, const char *scene_text, int slab, int force, int interval, int segments,
-                          int *drawn)
+static float *render_host(env *e, const char *scene_text, int slab, int force, int interval, int segments, int *drawn)
 {
     halo_scene *scene = NULL;
-    halo_program *p = link_scene(e, scene_text, slab ? e->slab : e->raycast, slab ? "slab.frag" : "raycast.frag",
-                                 force, &scene);
+    halo_program *p =
+        link_scene(e, scene_text, slab ? e->slab : e->raycast, slab ? "slab.frag" : "raycast.frag", force, &scene);
     float *rgba = malloc((size_t)SIZE * SIZE * 4 * sizeof *rgba);
     const halo_host_desc desc = {.gl = e->g.gl, .runtime = e->g.runtime, .program = p, .width = SIZE, .height = SIZE};
     halo_raycast *r = p && !slab ? halo_raycast_create(&desc, e->g.diag) : NULL;
@@ -257,9 +273,9 @@ static float *render_host(env *e, const char *scene_text, int slab, int force, i
         if (untidy)
             halo_raycast_set_untidy(r, hostile_state, e);
         if (piece)
-            ok = ok && halo_raycast_set_piece(r, piece->data, piece->dims[0], piece->dims[1], piece->dims[2],
-                                              piece->min, piece->max, piece->exchange, piece->user,
-                                              e->g.diag) == HALO_OK;
+            ok =
+                ok && halo_raycast_set_piece(r, piece->data, piece->dims[0], piece->dims[1], piece->dims[2], piece->min,
+                                             piece->max, piece->exchange, piece->user, e->g.diag) == HALO_OK;
         if (piece)
             halo_raycast_set_exchange_max_bytes(r, piece->max_bytes);
         ok = ok && halo_raycast_render(r, rgba, e->g.diag) == HALO_OK;
@@ -350,12 +366,13 @@ static void test_halos_match_slab(env *e)
         difference(ray_plain, slab_plain, &m_plain, &r_plain);
         difference(ray, ray_plain, &m_effect, &r_effect);
         double tolerance = 2.0 * r_plain + 2e-3;
-        printf("halos at M = 4 (%d segments): ray caster against slab host RMSE %.3g (max %.3g); without halos %.3g"
-               " (max %.3g); tolerance %.3g; the halos' own effect RMSE %.3g\n",
-               drawn, r_halo, m_halo, r_plain, m_plain, tolerance, r_effect);
+        printf(
+            "halos at M = 4 (%d segments): ray caster against slab host RMSE %.3g (max %.3g); without halos %.3g"
+            " (max %.3g); tolerance %.3g; the halos' own effect RMSE %.3g\n",
+            drawn, r_halo, m_halo, r_plain, m_plain, tolerance, r_effect);
         CHECK(r_halo <= tolerance, "ray caster against slab host: RMSE %.3g > %.3g", r_halo, tolerance);
-        CHECK(r_effect > 5.0 * r_halo, "the halos change the image (RMSE %.3g) not far more than the hosts differ (%.3g)",
-              r_effect, r_halo);
+        CHECK(r_effect > 5.0 * r_halo,
+              "the halos change the image (RMSE %.3g) not far more than the hosts differ (%.3g)", r_effect, r_halo);
         CHECK(drawn > 1, "a halo scene is drawn in segments (%d)", drawn);
     }
     free(ray);
@@ -386,17 +403,20 @@ static void test_one_draw_matches(env *e, const char *scene_text, const char *wh
         if (!orthographic)
             plain_difference = r_plain;
         double tolerance = 2.0 * plain_difference + 2e-3;
-        printf("%s halos at M = 4, one draw (%d drawn; segmented: %d): against the slab host RMSE %.3g (max %.3g),"
-               " tolerance %.3g; against the segmented ray caster RMSE %.3g (max %.3g); the halos' own effect RMSE"
-               " %.3g\n",
-               what, drawn, segmented_drawn, r_halo, m_halo, tolerance, r_seg, m_seg, r_effect);
+        printf(
+            "%s halos at M = 4, one draw (%d drawn; segmented: %d): against the slab host RMSE %.3g (max %.3g),"
+            " tolerance %.3g; against the segmented ray caster RMSE %.3g (max %.3g); the halos' own effect RMSE"
+            " %.3g\n",
+            what, drawn, segmented_drawn, r_halo, m_halo, tolerance, r_seg, m_seg, r_effect);
         /* the slab host has no orthographic camera: there the segmented ray caster is the reference */
         CHECK(orthographic || r_halo <= tolerance, "%s: one draw against slab host: RMSE %.3g > %.3g", what, r_halo,
               tolerance);
         CHECK(r_seg <= tolerance, "%s: one draw against segments: RMSE %.3g > %.3g", what, r_seg, tolerance);
         double r_reference = orthographic ? r_seg : r_halo;
-        CHECK(r_effect > 5.0 * r_reference, "%s: the halos change the image (RMSE %.3g) not far more than the hosts"
-              " differ (%.3g)", what, r_effect, r_reference);
+        CHECK(r_effect > 5.0 * r_reference,
+              "%s: the halos change the image (RMSE %.3g) not far more than the hosts"
+              " differ (%.3g)",
+              what, r_effect, r_reference);
         CHECK(drawn == 1, "%s: one draw of the host (%d)", what, drawn);
     }
     free(ray);
@@ -445,8 +465,13 @@ static float *volume_piece(const env *e, int first, int n, piece_setup *ps)
             for (int x = 0; x < n; ++x)
                 data[((size_t)z * VOLUME + (size_t)y) * (size_t)n + (size_t)x] =
                     e->g.volume[((size_t)z * VOLUME + (size_t)y) * VOLUME + (size_t)(first + x)];
-    *ps = (piece_setup){data, {n, VOLUME, VOLUME}, {(float)first / VOLUME, 0, 0}, {(float)(first + n) / VOLUME, 1, 1},
-                        exchange_seeds, NULL, 0};
+    *ps = (piece_setup){data,
+                        {n, VOLUME, VOLUME},
+                        {(float)first / VOLUME, 0, 0},
+                        {(float)(first + n) / VOLUME, 1, 1},
+                        exchange_seeds,
+                        NULL,
+                        0};
     return data;
 }
 
@@ -498,21 +523,24 @@ static void test_pieces(env *e)
         difference(as_piece, whole, &m_same, &r_same);
         difference(a_image, whole, &m_pieces, &r_pieces);
         difference(a_alone, whole, &m_alone, &r_alone);
-        printf("pieces: the whole volume as one piece with an exchange against none, max abs %.3g; two pieces, the "
-               "seeds combined once a frame (%d and %d calls, %zu floats each), against the whole volume: RMSE %.3g "
-               "(max %.3g); piece A without B's seeds: RMSE %.3g (max %.3g)\n",
-               m_same, capture.calls, combine.calls, capture.count, r_pieces, m_pieces, r_alone, m_alone);
+        printf(
+            "pieces: the whole volume as one piece with an exchange against none, max abs %.3g; two pieces, the "
+            "seeds combined once a frame (%d and %d calls, %zu floats each), against the whole volume: RMSE %.3g "
+            "(max %.3g); piece A without B's seeds: RMSE %.3g (max %.3g)\n",
+            m_same, capture.calls, combine.calls, capture.count, r_pieces, m_pieces, r_alone, m_alone);
         CHECK(m_same <= 1e-6, "pieces: an exchange that changes nothing changes the image by %.3g", m_same);
         CHECK(capture.calls == 1 && combine.calls == 1, "pieces: one exchange a frame (%d, %d)", capture.calls,
               combine.calls);
         double m_split = 1.0, r_split;
         if (a_split && b_split)
             difference(a_split, a_image, &m_split, &r_split);
-        printf("pieces: the exchange in calls of one layer (%d and %d calls, %zu floats in all): max abs %.3g against "
-               "one call\n", capture1.calls, combine1.calls, capture1.count, m_split);
+        printf(
+            "pieces: the exchange in calls of one layer (%d and %d calls, %zu floats in all): max abs %.3g against "
+            "one call\n",
+            capture1.calls, combine1.calls, capture1.count, m_split);
         CHECK(capture1.calls > 1 && capture1.calls == combine1.calls && capture1.count == capture.count,
-              "pieces: the split exchange: %d and %d calls, %zu floats (one call: %zu)", capture1.calls,
-              combine1.calls, capture1.count, capture.count);
+              "pieces: the split exchange: %d and %d calls, %zu floats (one call: %zu)", capture1.calls, combine1.calls,
+              capture1.count, capture.count);
         CHECK(m_split == 0.0, "pieces: the split exchange changes the image by %.3g", m_split);
         /* the pieces' gradients at the shared points are one-sided (no ghost points) */
         CHECK(r_pieces <= 2e-3, "pieces: two pieces against the whole volume: RMSE %.3g > 2e-3", r_pieces);
@@ -556,13 +584,16 @@ static void test_hostile_state(env *e)
             if (tidy && hostile) {
                 double max_abs, rmse;
                 difference(tidy, hostile, &max_abs, &rmse);
-                printf("hostile host state, %s, %s: against a tidy host max abs %.3g; %d checks of the state libhalo "
-                       "gives back, %d changes\n", s ? "occlusive halos" : "emissive halos", what, max_abs, hostile_checks,
-                       hostile_mismatches);
-                CHECK(max_abs == 0.0, "%s, %s: a host's hostile state changes the image by %.3g", s ? "occlusive halos" : "emissive halos",
-                      what, max_abs);
-                CHECK(hostile_checks > 0 && hostile_mismatches == 0, "%s, %s: libhalo changed %d pieces of the host's "
-                      "state", s ? "occlusive halos" : "emissive halos", what, hostile_mismatches);
+                printf(
+                    "hostile host state, %s, %s: against a tidy host max abs %.3g; %d checks of the state libhalo "
+                    "gives back, %d changes\n",
+                    s ? "occlusive halos" : "emissive halos", what, max_abs, hostile_checks, hostile_mismatches);
+                CHECK(max_abs == 0.0, "%s, %s: a host's hostile state changes the image by %.3g",
+                      s ? "occlusive halos" : "emissive halos", what, max_abs);
+                CHECK(hostile_checks > 0 && hostile_mismatches == 0,
+                      "%s, %s: libhalo changed %d pieces of the host's "
+                      "state",
+                      s ? "occlusive halos" : "emissive halos", what, hostile_mismatches);
             }
             free(tidy);
             free(hostile);
@@ -604,9 +635,9 @@ static void test_diagnostics(env *e)
         "    color = sum;\n"
         "}\n";
     halo_scene *scene = halo_scene_parse(halos_scene, "(test scene)", e->g.lib, e->g.diag);
-    halo_program *p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = single_pass,
-                                                  .host_file = "single.frag"},
-                                e->g.diag);
+    halo_program *p = halo_link(
+        &(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = single_pass, .host_file = "single.frag"},
+        e->g.diag);
     const halo_diagnostic *d = halo_diagnostics_count(e->g.diag) ? halo_diagnostics_get(e->g.diag, 0) : NULL;
     CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_HOST_SINGLE_PASS),
           "a halo scene in a single-pass ray caster is refused with HOST_SINGLE_PASS");
@@ -615,8 +646,11 @@ static void test_diagnostics(env *e)
     CHECK(d && strstr(d->text, "halo_generate"), "the message names the stage with passes");
     halo_program_destroy(p);
     halo_diagnostics_clear(e->g.diag);
-    p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = NULL, .host_source = single_pass,
-                                    .host_file = "single.frag", .force_segments = 1},
+    p = halo_link(&(halo_link_desc){.library = e->g.lib,
+                                    .scene = NULL,
+                                    .host_source = single_pass,
+                                    .host_file = "single.frag",
+                                    .force_segments = 1},
                   e->g.diag);
     CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_HOST_SINGLE_PASS),
           "force_segments without halo_segment_begin is refused");
@@ -633,31 +667,37 @@ static void test_diagnostics(env *e)
     char *slices = malloc(sizeof single_pass + 32);
     if (slices) {
         snprintf(slices, sizeof single_pass + 32, "#pragma halo slices\n%s", single_pass);
-        p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = slices,
-                                        .host_file = "slices.frag"},
-                      e->g.diag);
+        p = halo_link(
+            &(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = slices, .host_file = "slices.frag"},
+            e->g.diag);
         CHECK(p != NULL, "with '#pragma halo slices' the host links");
         halo_program_destroy(p);
         halo_diagnostics_clear(e->g.diag);
         free(slices);
     }
     /* host contract 3 refuses what it cannot draw once */
-    p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = e->raycast,
-                                    .host_file = "raycast.frag", .one_draw = 1, .force_segments = 1},
+    p = halo_link(&(halo_link_desc){.library = e->g.lib,
+                                    .scene = scene,
+                                    .host_source = e->raycast,
+                                    .host_file = "raycast.frag",
+                                    .one_draw = 1,
+                                    .force_segments = 1},
                   e->g.diag);
     CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_USAGE), "one_draw with force_segments is refused");
     halo_program_destroy(p);
     halo_diagnostics_clear(e->g.diag);
-    p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = e->slab,
-                                    .host_file = "slab.frag", .one_draw = 1},
-                  e->g.diag);
+    p = halo_link(
+        &(halo_link_desc){
+            .library = e->g.lib, .scene = scene, .host_source = e->slab, .host_file = "slab.frag", .one_draw = 1},
+        e->g.diag);
     CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_USAGE), "one_draw with a slab host is refused");
     halo_program_destroy(p);
     halo_diagnostics_clear(e->g.diag);
     /* host contract 3: the single-pass host links, rays may end, no seed output is left */
-    p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = single_pass,
-                                    .host_file = "single.frag", .one_draw = 1},
-                  e->g.diag);
+    p = halo_link(
+        &(halo_link_desc){
+            .library = e->g.lib, .scene = scene, .host_source = single_pass, .host_file = "single.frag", .one_draw = 1},
+        e->g.diag);
     CHECK(p != NULL, "with one_draw the single-pass host links");
     CHECK(p && strstr(halo_program_source(p), "#define HALO_RAY_MAY_END 1"), "one_draw: early ray termination kept");
     CHECK(p && halo_program_output_count(p) == 0, "one_draw: the seeds are libhalo's march's, not the host's outputs");
@@ -665,14 +705,17 @@ static void test_diagnostics(env *e)
     halo_gl_frame *frame = p ? halo_gl_frame_create(e->g.runtime, p, SIZE, SIZE, e->g.diag) : NULL;
     CHECK(frame != NULL, "one_draw: a frame");
     static const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-    CHECK(frame && halo_gl_frame_draw(frame, 0, &(halo_gl_segments_desc){.inverse_view_projection = identity,
-                                                                          .step = 0.01f, .draw = NULL},
-                                      e->g.diag) == HALO_ERROR_INPUT,
+    CHECK(frame &&
+              halo_gl_frame_draw(
+                  frame, 0, &(halo_gl_segments_desc){.inverse_view_projection = identity, .step = 0.01f, .draw = NULL},
+                  e->g.diag) == HALO_ERROR_INPUT,
           "halo_gl_frame_draw refuses a desc without draw");
     halo_diagnostics_clear(e->g.diag);
-    CHECK(frame && halo_gl_frame_draw(frame, 0, &(halo_gl_segments_desc){.inverse_view_projection = identity,
-                                                                          .step = 0.01f, .draw = draw_nothing},
-                                      e->g.diag) == HALO_ERROR_INPUT &&
+    CHECK(frame &&
+              halo_gl_frame_draw(
+                  frame, 0,
+                  &(halo_gl_segments_desc){.inverse_view_projection = identity, .step = 0.01f, .draw = draw_nothing},
+                  e->g.diag) == HALO_ERROR_INPUT &&
               halo_diagnostics_count(e->g.diag) == 1 &&
               strstr(halo_diagnostics_get(e->g.diag, 0)->text, "volume_texture"),
           "one_draw: halo_gl_frame_draw without desc.volume_texture says so");
@@ -681,15 +724,17 @@ static void test_diagnostics(env *e)
     halo_diagnostics_clear(e->g.diag);
     /* issue 26: a draw callback that destroys the frame (a use after free before): the frame
      * goes when the draw returns, with USAGE */
-    p = halo_link(&(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = e->raycast,
-                                    .host_file = "raycast.frag"},
-                  e->g.diag);
+    p = halo_link(
+        &(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = e->raycast, .host_file = "raycast.frag"},
+        e->g.diag);
     frame = p ? halo_gl_frame_create(e->g.runtime, p, SIZE, SIZE, e->g.diag) : NULL;
     destroying_frame = frame;
     destroy_calls = 0;
-    CHECK(frame && halo_gl_frame_draw(frame, 0, &(halo_gl_segments_desc){.inverse_view_projection = identity,
-                                                                          .step = 0.05f, .draw = draw_destroying},
-                                      e->g.diag) == HALO_ERROR_INPUT &&
+    CHECK(frame &&
+              halo_gl_frame_draw(
+                  frame, 0,
+                  &(halo_gl_segments_desc){.inverse_view_projection = identity, .step = 0.05f, .draw = draw_destroying},
+                  e->g.diag) == HALO_ERROR_INPUT &&
               halo_diagnostics_has(e->g.diag, HALO_MSG_USAGE) && destroy_calls > 0,
           "a draw callback that destroys the frame: HALO_ERROR_INPUT with USAGE after %d calls", destroy_calls);
     halo_program_destroy(p);

@@ -13,24 +13,30 @@ static halo_library *library;
 static halo_diagnostics *diags;
 
 /* Before the bound a read of /dev/zero never ended: fail, not hang, if it does again. */
-static void on_alarm(int sig) {
+static void on_alarm(int sig)
+{
     (void)sig;
     static const char message[] = "test_amplify: a file read did not end within 60 s\n";
-    if (write(2, message, sizeof message - 1) < 0) _exit(1);
+    if (write(2, message, sizeof message - 1) < 0)
+        _exit(1);
     _exit(1);
 }
 
 /* A sparse regular file of `size` bytes (nothing written: no disk, no time). */
-static int sparse_file(char *path, off_t size) {
+static int sparse_file(char *path, off_t size)
+{
     int fd = mkstemp(path);
-    if (fd < 0) return -1;
+    if (fd < 0)
+        return -1;
     int r = ftruncate(fd, size);
     close(fd);
     return r;
 }
 
-static int test_stream_without_end(void) {
-    if (access("/dev/zero", R_OK)) return 0;
+static int test_stream_without_end(void)
+{
+    if (access("/dev/zero", R_OK))
+        return 0;
     halo_diagnostics_clear(diags);
     CHECK(halo_scene_load("/dev/zero", library, diags) == NULL);
     CHECK_DIAG(diags, HALO_MSG_INPUT_TOO_LARGE);
@@ -47,7 +53,8 @@ static int test_stream_without_end(void) {
 }
 
 /* A regular file past the maximum is refused by its size, before a byte is read. */
-static int test_regular_file_too_large(void) {
+static int test_regular_file_too_large(void)
+{
     char path[] = "/tmp/halo-amplify-XXXXXX";
     SETUP(sparse_file(path, (off_t)HALO_MAX_FILE_BYTES + 1) == 0);
     halo_diagnostics_clear(diags);
@@ -63,7 +70,8 @@ static int test_regular_file_too_large(void) {
 /* A one-line scene of 20 000 unknown stages (about 300 KB): the default cap keeps 100
  * errors, and each keeps and prints a window of the line, the caret under the same
  * character as in the whole line. Before, every error echoed the whole line: 30 MB. */
-static int test_long_line_echo(void) {
+static int test_long_line_echo(void)
+{
     enum { STAGES = 20000 };
     size_t cap = (size_t)STAGES * 24 + 64, len = 0;
     char *text = malloc(cap);
@@ -83,7 +91,8 @@ static int test_long_line_echo(void) {
         CHECK(g->source_column > 0 && (size_t)g->source_column <= strlen(g->source_line));
         /* the caret's character is the column's */
         CHECK_INT_EQ(g->source_line[g->source_column - 1], text[g->column - 1]);
-        if (g->column > HALO_DIAGNOSTIC_SOURCE_MAX) CHECK(!strncmp(g->source_line, "...", 3));
+        if (g->column > HALO_DIAGNOSTIC_SOURCE_MAX)
+            CHECK(!strncmp(g->source_line, "...", 3));
         CHECK_STR_CONTAINS(g->source_line + strlen(g->source_line) - 3, "...");
     }
     FILE *out = tmpfile();
@@ -92,12 +101,14 @@ static int test_long_line_echo(void) {
     long bytes = ftell(out);
     fclose(out);
     free(text);
-    if (bytes > 64 * 1024) CHECK_FAIL_AT("100 errors printed %ld bytes (the line is %zu bytes)", bytes, len);
+    if (bytes > 64 * 1024)
+        CHECK_FAIL_AT("100 errors printed %ld bytes (the line is %zu bytes)", bytes, len);
     return 0;
 }
 
 /* A short line is kept whole, its caret where the column says. */
-static int test_short_line_echo(void) {
+static int test_short_line_echo(void)
+{
     halo_diagnostics_clear(diags);
     CHECK(halo_scene_parse("{\"halo_scene\": 1, \"stages\": [\"nosuch\"]}", "short.json", library, diags) == NULL);
     const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_SCENE_STAGE_UNKNOWN, 1);
@@ -107,7 +118,8 @@ static int test_short_line_echo(void) {
     return 0;
 }
 
-int main(void) {
+int main(void)
+{
     signal(SIGALRM, on_alarm);
     alarm(60);
     static const check_test tests[] = {

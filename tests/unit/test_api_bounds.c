@@ -9,18 +9,22 @@ static halo_library *library;
 static halo_diagnostics *diags;
 
 /* Links the scene text (stages of the library) into the sample host; NULL on errors. */
-static halo_program *link_scene(const char *json) {
+static halo_program *link_scene(const char *json)
+{
     halo_diagnostics_clear(diags);
     halo_scene *scene = halo_scene_parse(json, "bounds.json", library, diags);
-    if (!scene) return NULL;
-    halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = check_sample_host,
-                                                  .host_file = "host.frag"},
-                                diags);
+    if (!scene)
+        return NULL;
+    halo_program *p = halo_link(
+        &(halo_link_desc){
+            .library = library, .scene = scene, .host_source = check_sample_host, .host_file = "host.frag"},
+        diags);
     halo_scene_destroy(scene);
     return p;
 }
 
-static int test_emu_frame_size(void) {
+static int test_emu_frame_size(void)
+{
     halo_program *p = link_scene("{\"halo_scene\": 1, \"stages\": []}");
     SETUP(p != NULL);
     static const int sizes[][2] = {{INT_MAX, INT_MAX}, {HALO_MAX_FRAME_SIDE + 1, 1}, {1, INT_MAX}, {0, 4}, {4, -1}};
@@ -46,7 +50,8 @@ static int test_emu_frame_size(void) {
 }
 
 /* An image module whose pass repeats `n` times and reaches 2^(m - i) pixels. */
-static halo_status add_pass_module(const char *name, const char *n_param, const char *m_param) {
+static halo_status add_pass_module(const char *name, const char *n_param, const char *m_param)
+{
     char source[2048];
     snprintf(source, sizeof source,
              "#pragma halo module %s\n"
@@ -62,7 +67,8 @@ static halo_status add_pass_module(const char *name, const char *n_param, const 
     return halo_library_add_source(library, name, source, diags);
 }
 
-static int test_repeat_bound(void) {
+static int test_repeat_bound(void)
+{
     /* no max, or one past the bound: 2147483647 draws a generation would pass */
     CHECK_INT_EQ(add_pass_module("unbounded_repeat", "default=2", "default=1"), HALO_ERROR_INPUT);
     CHECK_DIAG(diags, HALO_MSG_PASS_INVALID);
@@ -73,7 +79,8 @@ static int test_repeat_bound(void) {
     return 0;
 }
 
-static int test_pass_reach(void) {
+static int test_pass_reach(void)
+{
     /* exponents and repetitions far past 2^30: clamped, never an overflow (before: 0) */
     halo_pass_info pass = {.reach = 0, .reach_exponent = INT_MAX, .reach_factor = 1, .reach_base = 4};
     CHECK_INT_EQ(halo_pass_reach(&pass, 0), 1 << 30);
@@ -92,11 +99,13 @@ static int test_pass_reach(void) {
     /* a reach exponent parameter of -1 is B^0 = 1, not "no exponent" (before: the reach was K = 0) */
     SETUP(add_pass_module("reach_minus_one", "default=1 min=1 max=8", "default=1 min=-4 max=40") == HALO_OK);
     halo_program *p = link_scene("{\"halo_scene\": 1, \"stages\": [{\"reach_minus_one\": {\"m\": -1}}]}");
-    if (!p) check_print_diags(diags);
+    if (!p)
+        check_print_diags(diags);
     CHECK(p != NULL);
     const halo_pass_info *grow = NULL;
     for (size_t i = 0; i < halo_program_pass_count(p); i++)
-        if (!strcmp(halo_program_pass(p, i)->name, "grow")) grow = halo_program_pass(p, i);
+        if (!strcmp(halo_program_pass(p, i)->name, "grow"))
+            grow = halo_program_pass(p, i);
     int reach = grow ? halo_pass_reach(grow, 1) : -2, exponent = grow ? grow->reach_exponent : -2;
     halo_program_destroy(p);
     CHECK(grow != NULL);
@@ -105,7 +114,8 @@ static int test_pass_reach(void) {
     return 0;
 }
 
-static int test_first_output_location(void) {
+static int test_first_output_location(void)
+{
     static const int bad[] = {INT_MAX, HALO_MAX_OUTPUT_LOCATION + 1, -1, INT_MIN};
     halo_scene *scene = halo_scene_create(library);
     SETUP(scene != NULL);
@@ -129,13 +139,15 @@ static int test_first_output_location(void) {
     halo_program *ok = halo_link(&(halo_link_desc){.library = library, .scene = scene, .pieces = &pieces}, diags);
     halo_program_destroy(ok);
     halo_scene_destroy(scene);
-    if (!ok) check_print_diags(diags);
+    if (!ok)
+        check_print_diags(diags);
     CHECK(ok != NULL);
     return 0;
 }
 
 /* A global and an array parameter with names of 150 characters: renamed as short ones are. */
-static int test_long_identifiers(void) {
+static int test_long_identifiers(void)
+{
     char global[151], array[151], source[4096], json[512];
     memset(global, 'g', 150);
     global[150] = '\0';
@@ -152,26 +164,33 @@ static int test_long_identifiers(void) {
     SETUP(halo_library_add_source(library, "long_names.glsl", source, diags) == HALO_OK);
     snprintf(json, sizeof json, "{\"halo_scene\": 1, \"stages\": [\"long_names\"]}");
     halo_program *p = link_scene(json);
-    if (!p) check_print_diags(diags);
+    if (!p)
+        check_print_diags(diags);
     CHECK(p != NULL);
     const char *text = halo_program_source(p);
     char want[512]; /* two names of up to 150 bytes and the text around them */
     int failed = 0;
     snprintf(want, sizeof want, "float halo_long_names_%s = 0.5;", global);
-    if (!strstr(text, want)) failed = 1; /* the global stays private */
+    if (!strstr(text, want))
+        failed = 1; /* the global stays private */
     snprintf(want, sizeof want, "const int halo_long_names_%s_count = 2;", array);
-    if (!strstr(text, want)) failed |= 2; /* the array keeps its _count */
+    if (!strstr(text, want))
+        failed |= 2; /* the array keeps its _count */
     snprintf(want, sizeof want, "halo_long_names_%s[halo_long_names_%s_count - 1]", array, array);
-    if (!strstr(text, want)) failed |= 4;
-    if (failed) fprintf(stderr, "%s\n", text);
+    if (!strstr(text, want))
+        failed |= 4;
+    if (failed)
+        fprintf(stderr, "%s\n", text);
     halo_program_destroy(p);
-    if (failed) CHECK_FAIL_AT("long names not renamed (mask %d: 1 the global, 2 the _count, 4 the use)", failed);
+    if (failed)
+        CHECK_FAIL_AT("long names not renamed (mask %d: 1 the global, 2 the _count, 4 the use)", failed);
     return 0;
 }
 
-int main(void) {
+int main(void)
+{
     static const check_test tests[] = {
-        CHECK_TEST(test_emu_frame_size),      CHECK_TEST(test_repeat_bound),     CHECK_TEST(test_pass_reach),
+        CHECK_TEST(test_emu_frame_size),        CHECK_TEST(test_repeat_bound),     CHECK_TEST(test_pass_reach),
         CHECK_TEST(test_first_output_location), CHECK_TEST(test_long_identifiers),
     };
     return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);

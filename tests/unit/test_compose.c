@@ -10,55 +10,60 @@ static halo_diagnostics *diags;
 
 /* An engine's template: its own declarations, then tags it replaces with code. */
 static const char engine_template[] =
-    "#version 150\n"                                                         /* 1 */
-    "uniform sampler3D volume_textures[2];\n"                                /* 2 */
-    "uniform vec3 step_size;\n"                                              /* 3 */
-    "out vec4 frag_output_0;\n"                                              /* 4 */
-    "//ENGINE::Uniforms\n"                                                   /* 5 */
-    "//ENGINE::Declarations\n"                                               /* 6 */
-    "void main() {\n"                                                        /* 7 */
-    "    vec3 ray_position = vec3(0.5);\n"                                   /* 8 */
-    "    vec4 sample_color = vec4(0.0);\n"                                   /* 9 */
-    "    for (int i = 0; i < 8; ++i) {\n"                                    /* 10 */
-    "        float scalar = texture(volume_textures[0], ray_position).r;\n"  /* 11 */
-    "        sample_color = vec4(scalar, scalar, scalar, 0.1);\n"            /* 12 */
-    "//ENGINE::Sample\n"                                                     /* 13 */
-    "        ray_position += step_size;\n"                                   /* 14 */
-    "    }\n"                                                                /* 15 */
-    "//ENGINE::Finish\n"                                                     /* 16 */
-    "    frag_output_0 = sample_color;\n"                                    /* 17 */
+    "#version 150\n"                                                        /* 1 */
+    "uniform sampler3D volume_textures[2];\n"                               /* 2 */
+    "uniform vec3 step_size;\n"                                             /* 3 */
+    "out vec4 frag_output_0;\n"                                             /* 4 */
+    "//ENGINE::Uniforms\n"                                                  /* 5 */
+    "//ENGINE::Declarations\n"                                              /* 6 */
+    "void main() {\n"                                                       /* 7 */
+    "    vec3 ray_position = vec3(0.5);\n"                                  /* 8 */
+    "    vec4 sample_color = vec4(0.0);\n"                                  /* 9 */
+    "    for (int i = 0; i < 8; ++i) {\n"                                   /* 10 */
+    "        float scalar = texture(volume_textures[0], ray_position).r;\n" /* 11 */
+    "        sample_color = vec4(scalar, scalar, scalar, 0.1);\n"           /* 12 */
+    "//ENGINE::Sample\n"                                                    /* 13 */
+    "        ray_position += step_size;\n"                                  /* 14 */
+    "    }\n"                                                               /* 15 */
+    "//ENGINE::Finish\n"                                                    /* 16 */
+    "    frag_output_0 = sample_color;\n"                                   /* 17 */
     "}\n";
 
 static const halo_pieces_desc engine_names = {
     .position = "ray_position", .value = "scalar", .color = "sample_color", .volume = "volume_textures[0]"};
 
 /* A per-sample user module with a bool, an array and a vector parameter. */
-static const char user_module[] = "#pragma halo module engine_test\n"
-                                  "#pragma halo hook sample\n"
-                                  "#pragma halo param enabled bool default=1\n"
-                                  "#pragma halo param weights float[4] default=[0.5,0.25] min=0 max=1\n"
-                                  "#pragma halo param tint vec3 default=[1,0.5,0.25] min=0 max=1\n"
-                                  "void apply(inout halo_sample s) {\n"
-                                  "    if (!enabled) return;\n"
-                                  "    for (int i = 0; i < weights_count; ++i) s.opacity *= weights[i];\n"
-                                  "    s.color *= tint;\n"
-                                  "}\n";
+static const char user_module[] =
+    "#pragma halo module engine_test\n"
+    "#pragma halo hook sample\n"
+    "#pragma halo param enabled bool default=1\n"
+    "#pragma halo param weights float[4] default=[0.5,0.25] min=0 max=1\n"
+    "#pragma halo param tint vec3 default=[1,0.5,0.25] min=0 max=1\n"
+    "void apply(inout halo_sample s) {\n"
+    "    if (!enabled) return;\n"
+    "    for (int i = 0; i < weights_count; ++i) s.opacity *= weights[i];\n"
+    "    s.color *= tint;\n"
+    "}\n";
 
 /* Replaces the line holding tag (the whole line) by text. */
-static char *replace_tag(const char *source, const char *tag, const char *text) {
+static char *replace_tag(const char *source, const char *tag, const char *text)
+{
     const char *at = strstr(source, tag);
-    if (!at) return NULL;
+    if (!at)
+        return NULL;
     const char *end = strchr(at, '\n');
     end = end ? end + 1 : at + strlen(at);
     size_t n = strlen(source) - (size_t)(end - at) + strlen(text) + 1;
     char *out = malloc(n);
-    if (!out) return NULL;
+    if (!out)
+        return NULL;
     snprintf(out, n, "%.*s%s%s", (int)(at - source), source, text, end);
     return out;
 }
 
 /* Composes the engine's shader from the template, the program's pieces and uniforms. */
-static char *compose(const halo_program *p, const char *uniforms, const char *template_text) {
+static char *compose(const halo_program *p, const char *uniforms, const char *template_text)
+{
     char *a = replace_tag(template_text, "//ENGINE::Uniforms", uniforms);
     char *b = a ? replace_tag(a, "//ENGINE::Declarations", halo_program_piece(p, HALO_PIECE_DECLARATIONS)) : NULL;
     char *c = b ? replace_tag(b, "//ENGINE::Sample", halo_program_piece(p, HALO_PIECE_SAMPLE)) : NULL;
@@ -70,7 +75,8 @@ static char *compose(const halo_program *p, const char *uniforms, const char *te
 }
 
 /* The declarations an engine writes from the reflection (halo_program_uniform_next). */
-static char *engine_uniform_declarations(const halo_program *p, int *count) {
+static char *engine_uniform_declarations(const halo_program *p, int *count)
+{
     static char buf[4096];
     size_t len = 0, cursor = 0;
     halo_uniform_decl u;
@@ -83,23 +89,27 @@ static char *engine_uniform_declarations(const halo_program *p, int *count) {
                                     u.array_size);
         else if (u.name)
             len += (size_t)snprintf(buf + len, sizeof buf - len, "uniform %s %s;\n", u.glsl_type, u.name);
-        if (u.count_name) len += (size_t)snprintf(buf + len, sizeof buf - len, "uniform int %s;\n", u.count_name);
+        if (u.count_name)
+            len += (size_t)snprintf(buf + len, sizeof buf - len, "uniform int %s;\n", u.count_name);
     }
     return buf;
 }
 
-static halo_program *link_pieces(const char *json, const halo_pieces_desc *names, halo_target target, int engine) {
+static halo_program *link_pieces(const char *json, const halo_pieces_desc *names, halo_target target, int engine)
+{
     halo_diagnostics_clear(diags);
     halo_scene *scene = halo_scene_parse(json, "compose.json", library, diags);
     if (!scene) {
         check_print_diags(diags);
         return NULL;
     }
-    halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .pieces = names,
-                                                  .target = target, .engine_uniforms = engine},
-                                diags);
+    halo_program *p = halo_link(
+        &(halo_link_desc){
+            .library = library, .scene = scene, .pieces = names, .target = target, .engine_uniforms = engine},
+        diags);
     halo_scene_destroy(scene);
-    if (!p) check_print_diags(diags);
+    if (!p)
+        check_print_diags(diags);
     return p;
 }
 
@@ -109,7 +119,8 @@ static const char per_sample_scene[] =
 
 /* Pieces link, validate alone (the pieces host), compose into the engine's template and
  * validate there; derived inputs are used where the engine gives none. */
-static int test_pieces_compose(void) {
+static int test_pieces_compose(void)
+{
     halo_program *p = link_pieces(per_sample_scene, &engine_names, HALO_TARGET_GLSL150, 0);
     CHECK(p != NULL);
     CHECK(halo_program_validate(p, diags) == HALO_OK);
@@ -151,7 +162,8 @@ static int test_pieces_compose(void) {
 /* An error in the engine's own piece is reported at that piece's line; an error in an
  * expression the engine gave, at the composed shader's line; the template's own lines
  * at the composed file. */
-static int test_composed_errors_mapped(void) {
+static int test_composed_errors_mapped(void)
+{
     halo_program *p = link_pieces(per_sample_scene, &engine_names, HALO_TARGET_GLSL150, 0);
     CHECK(p != NULL);
     int n = 0;
@@ -170,8 +182,8 @@ static int test_composed_errors_mapped(void) {
     CHECK(g->column > 1);
     free(with_piece);
     /* a template line of its own: composed file, composed line */
-    char *bad_template = replace_tag(engine_template, "    vec3 ray_position = vec3(0.5);\n",
-                                     "    vec3 ray_position = vec2(0.5);\n");
+    char *bad_template =
+        replace_tag(engine_template, "    vec3 ray_position = vec3(0.5);\n", "    vec3 ray_position = vec2(0.5);\n");
     char *composed2 = bad_template ? compose(p, engine_uniform_declarations(p, &n), bad_template) : NULL;
     CHECK(composed2 != NULL);
     halo_diagnostics_clear(diags);
@@ -180,7 +192,8 @@ static int test_composed_errors_mapped(void) {
     CHECK(g != NULL);
     CHECK_STR_EQ(g->file, "engine.frag");
     int line = 1;
-    for (const char *c = composed2; c < strstr(composed2, "vec2(0.5)"); c++) line += *c == '\n';
+    for (const char *c = composed2; c < strstr(composed2, "vec2(0.5)"); c++)
+        line += *c == '\n';
     CHECK_INT_EQ(g->line, line);
     free(bad_template);
     free(composed2);
@@ -206,10 +219,12 @@ static int test_composed_errors_mapped(void) {
 /* Live parameters for an engine that declares uniforms: none declared by libhalo, the
  * reflection gives each with its GLSL type (bool as int), array size and count companion;
  * the composed shader validates with the engine's declarations and fails without them. */
-static int test_engine_uniforms(void) {
-    halo_program *p = link_pieces("{\"halo_scene\": 1, \"stages\": [{\"engine_test\": {\"live\": true}},"
-                                  " {\"boundary\": {\"live\": [\"k_gs\"]}}]}",
-                                  &engine_names, HALO_TARGET_GLSL150, 1);
+static int test_engine_uniforms(void)
+{
+    halo_program *p = link_pieces(
+        "{\"halo_scene\": 1, \"stages\": [{\"engine_test\": {\"live\": true}},"
+        " {\"boundary\": {\"live\": [\"k_gs\"]}}]}",
+        &engine_names, HALO_TARGET_GLSL150, 1);
     CHECK(p != NULL);
     const char *decl = halo_program_piece(p, HALO_PIECE_DECLARATIONS);
     CHECK(!strstr(decl, "\nuniform float halo_boundary_k_gs"));
@@ -252,7 +267,8 @@ static int test_engine_uniforms(void) {
     CHECK(composed != NULL);
     halo_diagnostics_clear(diags);
     halo_status st = halo_program_validate_composed(p, composed, "engine.frag", NULL, 0, diags);
-    if (st != HALO_OK) check_print_diags(diags);
+    if (st != HALO_OK)
+        check_print_diags(diags);
     CHECK_INT_EQ(st, HALO_OK);
     free(composed);
     /* without the engine's declarations: undeclared, mapped to the module's line */
@@ -270,9 +286,11 @@ static int test_engine_uniforms(void) {
 /* Pieces with image passes: outputs with no layout(location) under GLSL 150 (bound by
  * name at the reflection's location), a first location the engine chooses, and a
  * single-pass link of a halo scene refused with the stages named. */
-static int test_pieces_outputs(void) {
-    static const char halo_json[] = "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {}},"
-                                     " {\"halo_map\": {}}]}";
+static int test_pieces_outputs(void)
+{
+    static const char halo_json[] =
+        "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {}},"
+        " {\"halo_map\": {}}]}";
     halo_program *p = link_pieces(halo_json, &engine_names, HALO_TARGET_GLSL150, 0);
     CHECK(p == NULL);
     CHECK(check_find_diag(diags, HALO_MSG_HOST_SINGLE_PASS, 0) != NULL);
@@ -296,14 +314,18 @@ static int test_pieces_outputs(void) {
     halo_diagnostics_clear(diags);
     halo_scene *hs = halo_scene_parse(halo_json, "h.json", library, diags);
     CHECK(hs != NULL);
-    p = halo_link(&(halo_link_desc){.library = library, .scene = hs, .pieces = &segmented,
-                                    .target = HALO_TARGET_GLSL150, .location_extension = 1},
+    p = halo_link(&(halo_link_desc){.library = library,
+                                    .scene = hs,
+                                    .pieces = &segmented,
+                                    .target = HALO_TARGET_GLSL150,
+                                    .location_extension = 1},
                   diags);
     halo_scene_destroy(hs);
     CHECK(p != NULL);
     CHECK(strstr(halo_program_piece(p, HALO_PIECE_DECLARATIONS), "layout(location = 3) out") != NULL);
     CHECK(strstr(halo_program_source(p), "#extension GL_ARB_explicit_attrib_location : require") != NULL);
-    if (halo_program_validate(p, diags) != HALO_OK) check_print_diags(diags);
+    if (halo_program_validate(p, diags) != HALO_OK)
+        check_print_diags(diags);
     CHECK_INT_EQ(halo_diagnostics_errors(diags), 0);
     halo_program_destroy(p);
     /* the same under 330: located outputs */
@@ -320,44 +342,52 @@ static int test_pieces_outputs(void) {
 }
 
 /* #version modes with host text: the target's, the host's own, none. */
-static int test_version_modes(void) {
-    static const char host[] = "#version 150\n"
-                               "#pragma halo declarations\n"
-                               "out vec4 color_out;\n"
-                               "void main() {\n"
-                               "    vec4 color = vec4(0.5);\n"
-                               "#ifdef HALO_LINKED\n"
-                               "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1), vec3(0.0, 0.0, 1.0),\n"
-                               "                                     0.5, gl_FragCoord.xy, color.rgb, color.a);\n"
-                               "    halo_apply(s);\n"
-                               "    color = vec4(s.color, s.opacity);\n"
-                               "    halo_finish();\n"
-                               "#endif\n"
-                               "    color_out = color;\n"
-                               "}\n";
+static int test_version_modes(void)
+{
+    static const char host[] =
+        "#version 150\n"
+        "#pragma halo declarations\n"
+        "out vec4 color_out;\n"
+        "void main() {\n"
+        "    vec4 color = vec4(0.5);\n"
+        "#ifdef HALO_LINKED\n"
+        "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1), vec3(0.0, 0.0, 1.0),\n"
+        "                                     0.5, gl_FragCoord.xy, color.rgb, color.a);\n"
+        "    halo_apply(s);\n"
+        "    color = vec4(s.color, s.opacity);\n"
+        "    halo_finish();\n"
+        "#endif\n"
+        "    color_out = color;\n"
+        "}\n";
     halo_scene *scene = halo_scene_parse(per_sample_scene, "v.json", library, diags);
     CHECK(scene != NULL);
     static const char *const first_lines[] = {"#version 150 core\n", "#version 150\n", "// #version 150 (no"};
     for (int mode = HALO_VERSION_TARGET; mode <= HALO_VERSION_NONE; mode++) {
         halo_diagnostics_clear(diags);
-        halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host,
-                                                      .host_file = "v.frag", .target = HALO_TARGET_GLSL150,
+        halo_program *p = halo_link(&(halo_link_desc){.library = library,
+                                                      .scene = scene,
+                                                      .host_source = host,
+                                                      .host_file = "v.frag",
+                                                      .target = HALO_TARGET_GLSL150,
                                                       .version = (halo_version_mode)mode},
                                     diags);
         CHECK(p != NULL);
         CHECK(!strncmp(halo_program_source(p), first_lines[mode], strlen(first_lines[mode])));
-        if (mode != HALO_VERSION_NONE) CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
+        if (mode != HALO_VERSION_NONE)
+            CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
         halo_program_destroy(p);
     }
     halo_diagnostics_clear(diags);
-    CHECK(halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host,
-                                      .target = HALO_TARGET_GLSL150, .version = (halo_version_mode)7},
+    CHECK(halo_link(&(halo_link_desc){.library = library,
+                                      .scene = scene,
+                                      .host_source = host,
+                                      .target = HALO_TARGET_GLSL150,
+                                      .version = (halo_version_mode)7},
                     diags) == NULL);
     CHECK(check_find_diag(diags, HALO_MSG_USAGE, 0) != NULL);
     /* host text and pieces at once: refused */
     halo_diagnostics_clear(diags);
-    CHECK(halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host,
-                                      .pieces = &engine_names},
+    CHECK(halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host, .pieces = &engine_names},
                     diags) == NULL);
     CHECK(check_find_diag(diags, HALO_MSG_USAGE, 0) != NULL);
     halo_scene_destroy(scene);
@@ -369,25 +399,26 @@ static int test_version_modes(void) {
  * link fails with PIECE_EXPRESSION at "NAME=EXPR", line 1, the offending token's column
  * (before, every one of these linked and gave pieces that cannot compile or do something
  * else). */
-static int test_piece_expressions(void) {
+static int test_piece_expressions(void)
+{
     static const struct {
         const char *field, *text;
         int column; /* in "field=text" */
     } bad[] = {
-        {"position", "p //", 12},               /* comments out the rest of libhalo's line */
-        {"position", "p); discard; (p", 12},     /* statements */
-        {"color", "vec4(1.0)", 7},               /* color is written back: an lvalue */
-        {"position", "(p", 10},                  /* unbalanced */
+        {"position", "p //", 12},            /* comments out the rest of libhalo's line */
+        {"position", "p); discard; (p", 12}, /* statements */
+        {"color", "vec4(1.0)", 7},           /* color is written back: an lvalue */
+        {"position", "(p", 10},              /* unbalanced */
         {"position", "p)", 11},
         {"value", "; uniform float evil", 7},
         {"value", "x #define evil", 9},
-        {"value", "a = 1.0", 9},                 /* state changes: evaluated more than once */
+        {"value", "a = 1.0", 9}, /* state changes: evaluated more than once */
         {"value", "x++", 8},
-        {"value", "a, b", 8},                    /* two arguments */
+        {"value", "a, b", 8}, /* two arguments */
         {"value", "discard", 7},
-        {"position", "p.xy", 10},                /* a vec2 where a vec3 goes */
+        {"position", "p.xy", 10}, /* a vec2 where a vec3 goes */
         {"value", "vec3(1.0)", 7},
-        {"volume", "texture(v, p)", 8},          /* no sampler designator */
+        {"volume", "texture(v, p)", 8}, /* no sampler designator */
         {"value", "", 7},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
@@ -398,9 +429,11 @@ static int test_piece_expressions(void) {
                                                               : &names.volume;
         *slot = bad[i].text;
         halo_program *p = link_pieces(per_sample_scene, &names, HALO_TARGET_GLSL150, 0);
-        if (p) CHECK_FAIL_AT("%s=%s linked", bad[i].field, bad[i].text);
+        if (p)
+            CHECK_FAIL_AT("%s=%s linked", bad[i].field, bad[i].text);
         const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_PIECE_EXPRESSION, 1);
-        if (!g) CHECK_FAIL_AT("%s=%s: no PIECE_EXPRESSION", bad[i].field, bad[i].text);
+        if (!g)
+            CHECK_FAIL_AT("%s=%s: no PIECE_EXPRESSION", bad[i].field, bad[i].text);
         char file[128];
         snprintf(file, sizeof file, "%s=%s", bad[i].field, bad[i].text);
         CHECK_STR_EQ(g->file, file);
@@ -422,7 +455,8 @@ static int test_piece_expressions(void) {
  * the engine as the program's halo_channels (vec2 for two halos), not as an array, so
  * seed.glsl and map.glsl compile (before: "vec2 NAME[4]", and halo_channel() had no
  * overload); under GLSL ES the engine's uniforms come after the precision statements. */
-static int test_engine_channels(void) {
+static int test_engine_channels(void)
+{
     static const char scene_json[] =
         "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"alpha\": [32, 16], \"live\": [\"alpha\"]}},"
         " {\"halo_generate\": {\"delta\": [0.9, 0.8], \"live\": [\"delta\"]}}, {\"halo_map\": {}}]}";
@@ -435,8 +469,11 @@ static int test_engine_channels(void) {
     for (size_t t = 0; t < sizeof targets / sizeof targets[0]; t++)
         for (int all_live = 0; all_live <= 1; all_live++) {
             halo_diagnostics_clear(diags);
-            halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .pieces = &names,
-                                                          .target = targets[t], .engine_uniforms = 1,
+            halo_program *p = halo_link(&(halo_link_desc){.library = library,
+                                                          .scene = scene,
+                                                          .pieces = &names,
+                                                          .target = targets[t],
+                                                          .engine_uniforms = 1,
                                                           .all_live = all_live},
                                         diags);
             CHECK(p != NULL);
@@ -468,7 +505,8 @@ static int test_engine_channels(void) {
     return 0;
 }
 
-int main(void) {
+int main(void)
+{
     SETUP(halo_setup(&(halo_setup_desc){0}) == HALO_OK);
     library = check_library_setup(&diags);
     if (halo_library_add_source(library, "user/engine_test.glsl", user_module, diags) != HALO_OK) {

@@ -11,18 +11,20 @@ static halo_diagnostics *diags;
 /* Same formulas in double precision, differently ordered: allow rounding only. */
 #define TOLERANCE 1e-12
 
-static const char trivial_host[] = "#pragma halo declarations\n"
-                                   "void main() { halo_sample s; halo_apply(s); halo_finish(); }\n";
+static const char trivial_host[] =
+    "#pragma halo declarations\n"
+    "void main() { halo_sample s; halo_apply(s); halo_finish(); }\n";
 
-static halo_program *program_of(const char *json) {
+static halo_program *program_of(const char *json)
+{
     halo_diagnostics_clear(diags);
     halo_scene *scene = halo_scene_parse(json, "test.json", library, diags);
     if (!scene) {
         check_print_diags(diags);
         SETUP_FAIL("scene rejected: %s", json);
     }
-    halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = trivial_host},
-                                diags);
+    halo_program *p =
+        halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = trivial_host}, diags);
     halo_scene_destroy(scene);
     if (!p) {
         check_print_diags(diags);
@@ -37,7 +39,8 @@ static double guarded_pow(double x, double e) { return x <= 0 ? (e == 0 ? 1 : 0)
 static double clamp01(double x) { return x < 0 ? 0 : x > 1 ? 1 : x; }
 static double length3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
-static halo_emu_sample sample(double value, double gx, double gy, double gz, double depth, double opacity) {
+static halo_emu_sample sample(double value, double gx, double gy, double gz, double depth, double opacity)
+{
     halo_emu_sample s = {0};
     s.position[0] = s.position[1] = s.position[2] = 0.5;
     s.value = value;
@@ -53,7 +56,8 @@ static halo_emu_sample sample(double value, double gx, double gy, double gz, dou
     return s;
 }
 
-static int apply(const halo_program *p, halo_emu_sample *s) {
+static int apply(const halo_program *p, halo_emu_sample *s)
+{
     halo_diagnostics_clear(diags);
     CHECK_INT_EQ(halo_emu_apply(p, s, diags), HALO_OK);
     CHECK_NO_ERRORS(diags);
@@ -61,29 +65,35 @@ static int apply(const halo_program *p, halo_emu_sample *s) {
 }
 
 /* The scene's emulation leaves the sample's opacity and colour exactly as they were. */
-static int check_unchanged(const char *json, halo_emu_sample s) {
+static int check_unchanged(const char *json, halo_emu_sample s)
+{
     const halo_emu_sample before = s;
     halo_program *p = program_of(json);
-    if (apply(p, &s)) return 1;
+    if (apply(p, &s))
+        return 1;
     CHECK_NEAR(s.opacity, before.opacity, 0);
-    for (int c = 0; c < 3; c++) CHECK_NEAR(s.color[c], before.color[c], 0);
+    for (int c = 0; c < 3; c++)
+        CHECK_NEAR(s.color[c], before.color[c], 0);
     halo_program_destroy(p);
     return 0;
 }
 
 /* |n.V| with n = -g/|g|, V = s.view (a unit vector here). */
-static double facing_of(const halo_emu_sample *s) {
+static double facing_of(const halo_emu_sample *s)
+{
     double len = length3(s->gradient);
     double d = -(s->gradient[0] * s->view[0] + s->gradient[1] * s->view[1] + s->gradient[2] * s->view[2]) / len;
     return fabs(d);
 }
 
-static int test_opacity_power(void) {
+static int test_opacity_power(void)
+{
     halo_program *p = program_of("{\"stages\": [{\"opacity_power\": {\"k_os\": 2, \"k_oe\": 1.5}}]}");
     static const double values[] = {0, 0.1, 0.3, 0.49, 0.8, 1};
     for (size_t i = 0; i < sizeof values / sizeof values[0]; i++) {
         halo_emu_sample s = sample(values[i], 0.1, 0.2, 0.3, 0.5, 0.7);
-        if (apply(p, &s)) return 1;
+        if (apply(p, &s))
+            return 1;
         CHECK_NEAR(s.opacity, clamp01(guarded_pow(2 * values[i], 1.5)), TOLERANCE);
         /* The colour is left alone. */
         CHECK_NEAR(s.color[0], 0.8, 0);
@@ -92,17 +102,20 @@ static int test_opacity_power(void) {
     return 0;
 }
 
-static int test_gradient_and_boundary(void) {
+static int test_gradient_and_boundary(void)
+{
     halo_program *p = program_of("{\"stages\": [{\"boundary\": {\"k_gc\": 0.4, \"k_gs\": 12, \"k_ge\": 1.5}}]}");
     CHECK_INT_EQ(halo_program_stage_count(p), 2); /* gradient, then boundary */
     static const double g[][3] = {{0.03, -0.04, 0.12}, {0.3, 0.4, 0}, {0.001, 0, 0}, {-1, 2, -2}};
     static const double opacities[] = {0.2, 0.05, 0.9, 0.01};
     for (size_t i = 0; i < 4; i++) {
         halo_emu_sample s = sample(0.5, g[i][0], g[i][1], g[i][2], 0.5, opacities[i]);
-        if (apply(p, &s)) return 1;
+        if (apply(p, &s))
+            return 1;
         double magnitude = length3(g[i]);
         CHECK_NEAR(s.gradient_magnitude, magnitude, TOLERANCE);
-        for (int c = 0; c < 3; c++) CHECK_NEAR(s.normal[c], -g[i][c] / magnitude, TOLERANCE);
+        for (int c = 0; c < 3; c++)
+            CHECK_NEAR(s.normal[c], -g[i][c] / magnitude, TOLERANCE);
         /* o_g = o_v (k_gc + k_gs |grad f|^k_ge), Ebert & Rheingans 2000, Sec. 4.1 */
         CHECK_NEAR(s.opacity, clamp01(opacities[i] * (0.4 + 12 * pow(magnitude, 1.5))), TOLERANCE);
     }
@@ -110,13 +123,15 @@ static int test_gradient_and_boundary(void) {
     return 0;
 }
 
-static int test_silhouette(void) {
+static int test_silhouette(void)
+{
     halo_program *p = program_of("{\"stages\": [{\"silhouette\": {\"k_sc\": 0.5, \"k_ss\": 3, \"k_se\": 2}}]}");
     static const double g[][3] = {{0, 0, -0.2}, {0.2, 0, -0.2}, {0.3, 0.1, 0}, {0.05, 0.05, 0.5}};
     for (size_t i = 0; i < 4; i++) {
         halo_emu_sample s = sample(0.5, g[i][0], g[i][1], g[i][2], 0.5, 0.3);
         double facing = facing_of(&s);
-        if (apply(p, &s)) return 1;
+        if (apply(p, &s))
+            return 1;
         /* o_s = o_v (k_sc + k_ss (1 - |n.V|)^k_se), Sec. 4.2 */
         CHECK_NEAR(s.opacity, clamp01(0.3 * (0.5 + 3 * pow(1 - facing, 2))), TOLERANCE);
     }
@@ -124,17 +139,20 @@ static int test_silhouette(void) {
     return 0;
 }
 
-static int test_tone_shading(void) {
-    halo_program *p = program_of("{\"stages\": [{\"tone_shading\": {\"k_ty\": 0.35, \"k_tb\": 0.45, \"k_ta\": 0.6,"
-                                 " \"k_td\": 0.5, \"lights\": [[1, 1, 0], [0, 0.5, -0.5]]}}]}");
+static int test_tone_shading(void)
+{
+    halo_program *p = program_of(
+        "{\"stages\": [{\"tone_shading\": {\"k_ty\": 0.35, \"k_tb\": 0.45, \"k_ta\": 0.6,"
+        " \"k_td\": 0.5, \"lights\": [[1, 1, 0], [0, 0.5, -0.5]]}}]}");
     static const double g[][3] = {{0, 0, -0.2}, {-0.3, -0.1, 0.05}, {0.1, 0.2, 0.3}};
     static const double lights[2][3] = {{1 / 1.4142135623730951, 1 / 1.4142135623730951, 0},
-                                         {0, 1 / 1.4142135623730951, -1 / 1.4142135623730951}};
+                                        {0, 1 / 1.4142135623730951, -1 / 1.4142135623730951}};
     for (size_t i = 0; i < 3; i++) {
         halo_emu_sample s = sample(0.5, g[i][0], g[i][1], g[i][2], 0.5, 0.3);
         double len = length3(g[i]), n[3] = {-g[i][0] / len, -g[i][1] / len, -g[i][2] / len};
         double expected[3];
-        for (int c = 0; c < 3; c++) expected[c] = 0.6 * s.color[c];
+        for (int c = 0; c < 3; c++)
+            expected[c] = 0.6 * s.color[c];
         for (int l = 0; l < 2; l++) {
             double n_dot_l = n[0] * lights[l][0] + n[1] * lights[l][1] + n[2] * lights[l][2];
             double toward = (1 + n_dot_l) / 2;
@@ -143,47 +161,58 @@ static int test_tone_shading(void) {
             for (int c = 0; c < 3; c++)
                 expected[c] += toward * warm[c] + (1 - toward) * cool[c] + 0.5 * s.color[c] * fmax(n_dot_l, 0);
         }
-        if (apply(p, &s)) return 1;
-        for (int c = 0; c < 3; c++) CHECK_NEAR(s.color[c], expected[c], TOLERANCE);
+        if (apply(p, &s))
+            return 1;
+        for (int c = 0; c < 3; c++)
+            CHECK_NEAR(s.color[c], expected[c], TOLERANCE);
         CHECK_NEAR(s.opacity, 0.3, 0);
     }
     halo_program_destroy(p);
     return 0;
 }
 
-static int test_distance_blend(void) {
-    halo_program *p = program_of("{\"stages\": [{\"distance_blend\": {\"background\": [0.1, 0.2, 0.3],"
-                                 " \"k_ds\": 0.8, \"k_de\": 2}}]}");
+static int test_distance_blend(void)
+{
+    halo_program *p = program_of(
+        "{\"stages\": [{\"distance_blend\": {\"background\": [0.1, 0.2, 0.3],"
+        " \"k_ds\": 0.8, \"k_de\": 2}}]}");
     static const double depths[] = {0, 0.25, 0.5, 0.9, 1, 1.5, -0.5};
     for (size_t i = 0; i < sizeof depths / sizeof depths[0]; i++) {
         halo_emu_sample s = sample(0.5, 0.1, 0.1, 0.1, depths[i], 0.3);
         const double color[3] = {s.color[0], s.color[1], s.color[2]}, background[3] = {0.1, 0.2, 0.3};
         double d = clamp01(depths[i]), t = 0.8 * d * d;
-        if (apply(p, &s)) return 1;
+        if (apply(p, &s))
+            return 1;
         /* c_d = (1 - k_ds d^k_de) c_v + k_ds d^k_de c_b, Sec. 5.1 */
-        for (int c = 0; c < 3; c++) CHECK_NEAR(s.color[c], (1 - t) * color[c] + t * background[c], TOLERANCE);
+        for (int c = 0; c < 3; c++)
+            CHECK_NEAR(s.color[c], (1 - t) * color[c] + t * background[c], TOLERANCE);
     }
     halo_program_destroy(p);
     return 0;
 }
 
-static int test_distance_cue(void) {
-    halo_program *p = program_of("{\"stages\": [{\"distance_cue\": {\"colors\": [[1, 0, 0], [0, 1, 0], [0, 0, 1]],"
-                                 " \"k_cm\": 0.5}}]}");
+static int test_distance_cue(void)
+{
+    halo_program *p = program_of(
+        "{\"stages\": [{\"distance_cue\": {\"colors\": [[1, 0, 0], [0, 1, 0], [0, 0, 1]],"
+        " \"k_cm\": 0.5}}]}");
     /* depth → the colour map's value, piecewise linear through the three colours. */
-    static const double points[][4] = {{0, 1, 0, 0},       {0.25, 0.5, 0.5, 0}, {0.5, 0, 1, 0},   {0.75, 0, 0.5, 0.5},
-                                       {1, 0, 0, 1},       {1.5, 0, 0, 1},      {-1, 1, 0, 0},    {0.1, 0.8, 0.2, 0}};
+    static const double points[][4] = {{0, 1, 0, 0}, {0.25, 0.5, 0.5, 0}, {0.5, 0, 1, 0}, {0.75, 0, 0.5, 0.5},
+                                       {1, 0, 0, 1}, {1.5, 0, 0, 1},      {-1, 1, 0, 0},  {0.1, 0.8, 0.2, 0}};
     for (size_t i = 0; i < sizeof points / sizeof points[0]; i++) {
         halo_emu_sample s = sample(0.5, 0.1, 0.1, 0.1, points[i][0], 0.3);
         const double color[3] = {s.color[0], s.color[1], s.color[2]};
-        if (apply(p, &s)) return 1;
-        for (int c = 0; c < 3; c++) CHECK_NEAR(s.color[c], color[c] * (0.5 + 0.5 * points[i][1 + c]), TOLERANCE);
+        if (apply(p, &s))
+            return 1;
+        for (int c = 0; c < 3; c++)
+            CHECK_NEAR(s.color[c], color[c] * (0.5 + 0.5 * points[i][1 + c]), TOLERANCE);
     }
     halo_program_destroy(p);
     /* One colour: a constant tint; the default map: two colours. */
     p = program_of("{\"stages\": [{\"distance_cue\": {\"colors\": [[0.5, 0.25, 1]], \"k_cm\": 1}}]}");
     halo_emu_sample s = sample(0.5, 0.1, 0.1, 0.1, 0.7, 0.3);
-    if (apply(p, &s)) return 1;
+    if (apply(p, &s))
+        return 1;
     CHECK_NEAR(s.color[0], 0.8 * 0.5, TOLERANCE);
     CHECK_NEAR(s.color[1], 0.4 * 0.25, TOLERANCE);
     CHECK_NEAR(s.color[2], 0.2 * 1, TOLERANCE);
@@ -192,7 +221,8 @@ static int test_distance_cue(void) {
     const halo_uniform_info *colors = halo_program_find_uniform(p, "distance_cue", "colors");
     CHECK(colors && colors->count == 2);
     s = sample(0.5, 0.1, 0.1, 0.1, 0.25, 0.3);
-    if (apply(p, &s)) return 1;
+    if (apply(p, &s))
+        return 1;
     double k_cm = halo_program_find_uniform(p, "distance_cue", "k_cm")->value[0];
     for (int c = 0; c < 3; c++) {
         double map = 0.75 * colors->value[c] + 0.25 * colors->value[3 + c];
@@ -202,9 +232,11 @@ static int test_distance_cue(void) {
     return 0;
 }
 
-static int test_orientation_fade(void) {
-    halo_program *p = program_of("{\"stages\": [{\"orientation_fade\": {\"k_fo\": 0.6, \"k_fs\": 0.5, \"k_fv\": 0.3,"
-                                 " \"k_fe\": 2}}]}");
+static int test_orientation_fade(void)
+{
+    halo_program *p = program_of(
+        "{\"stages\": [{\"orientation_fade\": {\"k_fo\": 0.6, \"k_fs\": 0.5, \"k_fv\": 0.3,"
+        " \"k_fe\": 2}}]}");
     static const double g[][3] = {{0, 0, -0.2}, {0.2, 0, -0.2}, {0.3, 0.1, 0}, {0.05, -0.05, 0.5}};
     for (size_t i = 0; i < 4; i++) {
         /* colour (0.8, 0.4, 0.2): red is the largest, blue the smallest. In HSV, V = 0.8,
@@ -213,7 +245,8 @@ static int test_orientation_fade(void) {
         double facing = pow(facing_of(&s), 2);
         double saturation = 0.75 * (1 - 0.5 * facing), value = 0.8 * (1 - 0.3 * (1 - facing));
         double red = value, blue = value * (1 - saturation), green = blue + (red - blue) / 3;
-        if (apply(p, &s)) return 1;
+        if (apply(p, &s))
+            return 1;
         /* o *= 1 - k_fo facing; S *= 1 - k_fs facing; V *= 1 - k_fv (1 - facing), Sec. 4.2 */
         CHECK_NEAR(s.opacity, 0.9 * (1 - 0.6 * facing), TOLERANCE);
         CHECK_NEAR(s.color[0], red, TOLERANCE);
@@ -224,13 +257,16 @@ static int test_orientation_fade(void) {
     return 0;
 }
 
-static int test_sketch(void) {
-    halo_program *p = program_of("{\"stages\": [{\"sketch\": {\"line_color\": [1, 0.5, 0], \"k_ls\": 2, \"k_le\": 3}}]}");
+static int test_sketch(void)
+{
+    halo_program *p =
+        program_of("{\"stages\": [{\"sketch\": {\"line_color\": [1, 0.5, 0], \"k_ls\": 2, \"k_le\": 3}}]}");
     static const double g[][3] = {{0, 0, -0.2}, {0.2, 0, -0.2}, {0.3, 0.1, 0}, {0.05, -0.05, 0.5}};
     for (size_t i = 0; i < 4; i++) {
         halo_emu_sample s = sample(0.5, g[i][0], g[i][1], g[i][2], 0.5, 0.4);
         double line = pow(1 - facing_of(&s), 3);
-        if (apply(p, &s)) return 1;
+        if (apply(p, &s))
+            return 1;
         /* line = (1 - |n.V|)^k_le; c = line colour; o = clamp(o k_ls line), Sec. 4.2 */
         CHECK_NEAR(s.opacity, clamp01(0.4 * 2 * line), TOLERANCE);
         CHECK_NEAR(s.color[0], 1, 0);
@@ -242,12 +278,15 @@ static int test_sketch(void) {
 }
 
 /* Several stages: the emulation runs them in the program's order. */
-static int test_chain(void) {
-    halo_program *p = program_of("{\"stages\": [{\"distance_blend\": {\"background\": [0, 0, 0], \"k_ds\": 1,"
-                                 " \"k_de\": 1}}, {\"opacity_power\": {\"k_os\": 1, \"k_oe\": 2}},"
-                                 " {\"boundary\": {\"k_gc\": 0, \"k_gs\": 1, \"k_ge\": 1}}]}");
+static int test_chain(void)
+{
+    halo_program *p = program_of(
+        "{\"stages\": [{\"distance_blend\": {\"background\": [0, 0, 0], \"k_ds\": 1,"
+        " \"k_de\": 1}}, {\"opacity_power\": {\"k_os\": 1, \"k_oe\": 2}},"
+        " {\"boundary\": {\"k_gc\": 0, \"k_gs\": 1, \"k_ge\": 1}}]}");
     halo_emu_sample s = sample(0.5, 0.3, 0.4, 0, 0.25, 0.9);
-    if (apply(p, &s)) return 1;
+    if (apply(p, &s))
+        return 1;
     /* opacity_power (0.25), then boundary (x |g| = 0.5); blend towards black by 0.25 */
     CHECK_NEAR(s.opacity, 0.25 * 0.5, TOLERANCE);
     CHECK_NEAR(s.color[0], 0.8 * 0.75, TOLERANCE);
@@ -256,11 +295,13 @@ static int test_chain(void) {
 }
 
 /* Edge inputs stay finite, with the values the guards define. */
-static int test_hard_cases(void) {
+static int test_hard_cases(void)
+{
     /* Zero gradient: no normal, no orientation. */
     halo_program *p = program_of("{\"stages\": [{\"silhouette\": {\"k_sc\": 0.5, \"k_ss\": 3, \"k_se\": 0}}]}");
     halo_emu_sample s = sample(0.5, 0, 0, 0, 0.5, 0.4);
-    if (apply(p, &s)) return 1;
+    if (apply(p, &s))
+        return 1;
     CHECK_NEAR(s.gradient_magnitude, 0, 0);
     CHECK(s.normal[0] == 0 && s.normal[1] == 0 && s.normal[2] == 0);
     CHECK_NEAR(s.opacity, 0.4 * 0.5, TOLERANCE);
@@ -275,10 +316,10 @@ static int test_hard_cases(void) {
         /* zero gradient: no line */
         {"{\"stages\": [\"sketch\"]}", 0.5, 0, 0.4, 0, 0},
         /* zero gradient under boundary: 0^k_ge is 0, and 1 when k_ge = 0 */
-        {"{\"stages\": [{\"boundary\": {\"k_gc\": 0.5, \"k_gs\": 0.25, \"k_ge\": 2}}]}", 0.5, 0, 0.4,
-         0.4 * 0.5, TOLERANCE},
-        {"{\"stages\": [{\"boundary\": {\"k_gc\": 0.5, \"k_gs\": 0.25, \"k_ge\": 0}}]}", 0.5, 0, 0.4,
-         0.4 * 0.75, TOLERANCE},
+        {"{\"stages\": [{\"boundary\": {\"k_gc\": 0.5, \"k_gs\": 0.25, \"k_ge\": 2}}]}", 0.5, 0, 0.4, 0.4 * 0.5,
+         TOLERANCE},
+        {"{\"stages\": [{\"boundary\": {\"k_gc\": 0.5, \"k_gs\": 0.25, \"k_ge\": 0}}]}", 0.5, 0, 0.4, 0.4 * 0.75,
+         TOLERANCE},
         /* opacity_power at value 0: 0^0 = 1 */
         {"{\"stages\": [{\"opacity_power\": {\"k_oe\": 0}}]}", 0, 0.1, 0.5, 1, 0},
     };
@@ -286,18 +327,22 @@ static int test_hard_cases(void) {
         p = program_of(guarded[i].scene);
         double g = guarded[i].gradient;
         s = sample(guarded[i].value, g, g, g, 0.5, guarded[i].opacity);
-        if (apply(p, &s)) return 1;
+        if (apply(p, &s))
+            return 1;
         CHECK_NEAR(s.opacity, guarded[i].expected, guarded[i].tolerance);
         halo_program_destroy(p);
     }
 
     /* zero gradient: no orientation to fade by */
-    if (check_unchanged("{\"stages\": [\"orientation_fade\"]}", sample(0.5, 0, 0, 0, 0.5, 0.4))) return 1;
+    if (check_unchanged("{\"stages\": [\"orientation_fade\"]}", sample(0.5, 0, 0, 0, 0.5, 0.4)))
+        return 1;
 
-    p = program_of("{\"stages\": [{\"tone_shading\": {\"k_ta\": 1, \"k_td\": 1, \"k_ty\": 0.2, \"k_tb\": 0.4,"
-                   " \"lights\": [[0, 0, 0], [0, 1, 0]]}}]}");
+    p = program_of(
+        "{\"stages\": [{\"tone_shading\": {\"k_ta\": 1, \"k_td\": 1, \"k_ty\": 0.2, \"k_tb\": 0.4,"
+        " \"lights\": [[0, 0, 0], [0, 1, 0]]}}]}");
     s = sample(0.5, 0, 0, 0, 0.5, 0.4);
-    if (apply(p, &s)) return 1;
+    if (apply(p, &s))
+        return 1;
     /* n.L = 0 for both lights (no normal; a zero light has no direction): half warm, half cool */
     CHECK_NEAR(s.color[0], 0.8 + 2 * 0.5 * 0.2, TOLERANCE);
     CHECK_NEAR(s.color[2], 0.2 + 2 * 0.5 * 0.4, TOLERANCE);
@@ -317,14 +362,19 @@ static int test_hard_cases(void) {
         for (int sign = -1; sign <= 1; sign += 2) {
             s = sample(0.5, 0, 0, -0.3 * sign, 0.5, 0.4);
             s.view[2] = sign * (1 + 1e-7);
-            if (apply(p, &s)) return 1;
+            if (apply(p, &s))
+                return 1;
             CHECK_FINITE(s.opacity);
             CHECK(s.opacity >= 0 && s.opacity <= 1);
-            for (int c = 0; c < 3; c++) CHECK_FINITE(s.color[c]);
+            for (int c = 0; c < 3; c++)
+                CHECK_FINITE(s.color[c]);
             /* Facing the viewer squarely: no silhouette, no line. */
-            if (i == 0) CHECK_NEAR(s.opacity, 0.4 * 0.5, TOLERANCE);
-            if (i == 1) CHECK_NEAR(s.opacity, clamp01(0.4 * 3.5), TOLERANCE); /* (1 - 1)^0 = 1 */
-            if (i == 2) CHECK_NEAR(s.opacity, 0, 0);
+            if (i == 0)
+                CHECK_NEAR(s.opacity, 0.4 * 0.5, TOLERANCE);
+            if (i == 1)
+                CHECK_NEAR(s.opacity, clamp01(0.4 * 3.5), TOLERANCE); /* (1 - 1)^0 = 1 */
+            if (i == 2)
+                CHECK_NEAR(s.opacity, 0, 0);
         }
         halo_program_destroy(p);
     }
@@ -354,47 +404,55 @@ static int test_hard_cases(void) {
                     for (int o = 0; o < 2; o++)
                         for (int v = 0; v < 2; v++) {
                             s = sample(edges[v], gradients[g][0], gradients[g][1], gradients[g][2], edges[d], edges[o]);
-                            if (apply(p, &s)) return 1;
+                            if (apply(p, &s))
+                                return 1;
                             if (!isfinite(s.opacity) || !isfinite(s.color[0]) || !isfinite(s.color[1]) ||
                                 !isfinite(s.color[2]) || s.opacity < 0 || s.opacity > 1)
-                                CHECK_FAIL_AT("%s: value %g, gradient (%g, %g, %g), depth %g, opacity %g gave colour "
-                                              "(%g, %g, %g) opacity %g",
-                                              json, edges[v], gradients[g][0], gradients[g][1], gradients[g][2],
-                                              edges[d], edges[o], s.color[0], s.color[1], s.color[2], s.opacity);
+                                CHECK_FAIL_AT(
+                                    "%s: value %g, gradient (%g, %g, %g), depth %g, opacity %g gave colour "
+                                    "(%g, %g, %g) opacity %g",
+                                    json, edges[v], gradients[g][0], gradients[g][1], gradients[g][2], edges[d],
+                                    edges[o], s.color[0], s.color[1], s.color[2], s.opacity);
                         }
             halo_program_destroy(p);
         }
     /* distance_blend at the edges: d^0 = 1 even at d = 0; 0^64 = 0. */
     p = program_of("{\"stages\": [{\"distance_blend\": {\"background\": [0, 0, 0], \"k_ds\": 1, \"k_de\": 0}}]}");
     s = sample(0.5, 0.1, 0.1, 0.1, 0, 0.5);
-    if (apply(p, &s)) return 1;
+    if (apply(p, &s))
+        return 1;
     CHECK_NEAR(s.color[0], 0, TOLERANCE);
     halo_program_destroy(p);
     p = program_of("{\"stages\": [{\"distance_blend\": {\"background\": [0, 0, 0], \"k_ds\": 1, \"k_de\": 64}}]}");
     s = sample(0.5, 0.1, 0.1, 0.1, 0, 0.5);
-    if (apply(p, &s)) return 1;
+    if (apply(p, &s))
+        return 1;
     CHECK_NEAR(s.color[0], 0.8, TOLERANCE);
     s = sample(0.5, 0.1, 0.1, 0.1, 1, 0.5);
-    if (apply(p, &s)) return 1;
+    if (apply(p, &s))
+        return 1;
     CHECK_NEAR(s.color[0], 0, TOLERANCE);
     halo_program_destroy(p);
     return 0;
 }
 
 /* Live parameters changed with halo_program_set are what the emulation uses. */
-static int test_program_set(void) {
+static int test_program_set(void)
+{
     halo_program *p = program_of("{\"stages\": [{\"opacity_power\": {\"live\": true}}]}");
     const double k_oe = 2;
     halo_diagnostics_clear(diags);
     CHECK_INT_EQ(halo_program_set(p, "opacity_power", "k_oe", &k_oe, 1, diags), HALO_OK);
     halo_emu_sample s = sample(0.5, 0.1, 0.1, 0.1, 0.5, 0.5);
-    if (apply(p, &s)) return 1;
+    if (apply(p, &s))
+        return 1;
     CHECK_NEAR(s.opacity, 0.25, TOLERANCE);
     halo_program_destroy(p);
     return 0;
 }
 
-static int test_no_emulation(void) {
+static int test_no_emulation(void)
+{
     halo_diagnostics_clear(diags);
     SETUP(halo_library_add_source(library, "user/plain.glsl",
                                   "#pragma halo module plain\n#pragma halo hook sample\n"
@@ -416,19 +474,27 @@ static int test_no_emulation(void) {
  * Gaussian truncated at 3 standard deviations, so its standard deviation is sigma / 6.
  * Measured on the blur of an impulse: sigma 6 % of a 200 x 200 diagonal (283 px) is a
  * standard deviation of 2.83 px (the truncated Gaussian's is 0.987 of that), not 17 px. */
-static int test_outline_kernel_size(void) {
-    halo_program *p = program_of("{\"halo_scene\": 1, \"stages\": [\"outline_feature\", "
-                                 "{\"outlines\": {\"sigma\": 6, \"normal_sigma\": 6}}]}");
+static int test_outline_kernel_size(void)
+{
+    halo_program *p = program_of(
+        "{\"halo_scene\": 1, \"stages\": [\"outline_feature\", "
+        "{\"outlines\": {\"sigma\": 6, \"normal_sigma\": 6}}]}");
     const halo_linked_stage *stage = NULL;
     for (size_t i = 0; i < p->stage_count; i++)
-        if (!strcmp(halo_module_name(p->stages[i].module), "outlines")) stage = &p->stages[i];
+        if (!strcmp(halo_module_name(p->stages[i].module), "outlines"))
+            stage = &p->stages[i];
     CHECK(stage != NULL);
     enum { side = 200 };
     static double impulse[side * side];
     impulse[(side / 2) * side + side / 2] = 1.0;
     halo_emu_params params = {.program = p, .stage = stage};
-    halo_emu_pass_context c = {.params = &params, .width = side, .height = side, .channels = 1, .input_count = 1,
-                               .inputs = {impulse}, .input_components = {1}};
+    halo_emu_pass_context c = {.params = &params,
+                               .width = side,
+                               .height = side,
+                               .channels = 1,
+                               .input_count = 1,
+                               .inputs = {impulse},
+                               .input_components = {1}};
     void (*const blurs[])(const halo_emu_pass_context *, int, int, double[4]) = {halo_emu_outline_blur_x,
                                                                                  halo_emu_outline_normal_blur_x};
     for (int b = 0; b < 2; b++) {
@@ -447,13 +513,20 @@ static int test_outline_kernel_size(void) {
     return 0;
 }
 
-int main(void) {
-    static const check_test tests[] = {
-        CHECK_TEST(test_opacity_power), CHECK_TEST(test_gradient_and_boundary), CHECK_TEST(test_silhouette),
-        CHECK_TEST(test_tone_shading), CHECK_TEST(test_distance_blend), CHECK_TEST(test_distance_cue),
-        CHECK_TEST(test_orientation_fade), CHECK_TEST(test_sketch), CHECK_TEST(test_chain),
-        CHECK_TEST(test_hard_cases), CHECK_TEST(test_program_set), CHECK_TEST(test_no_emulation),
-        CHECK_TEST(test_outline_kernel_size)
-    };
+int main(void)
+{
+    static const check_test tests[] = {CHECK_TEST(test_opacity_power),
+                                       CHECK_TEST(test_gradient_and_boundary),
+                                       CHECK_TEST(test_silhouette),
+                                       CHECK_TEST(test_tone_shading),
+                                       CHECK_TEST(test_distance_blend),
+                                       CHECK_TEST(test_distance_cue),
+                                       CHECK_TEST(test_orientation_fade),
+                                       CHECK_TEST(test_sketch),
+                                       CHECK_TEST(test_chain),
+                                       CHECK_TEST(test_hard_cases),
+                                       CHECK_TEST(test_program_set),
+                                       CHECK_TEST(test_no_emulation),
+                                       CHECK_TEST(test_outline_kernel_size)};
     return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);
 }

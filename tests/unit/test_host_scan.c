@@ -12,7 +12,8 @@ static const char sample_scene[] = "{\"stages\": [\"boundary\"]}";
 static const char seed_scene[] = "{\"stages\": [\"halo_seed\", \"halo_generate\", \"halo_map\"]}";
 
 /* Links host (file "test.frag") with the scene (NULL: none) for the target. */
-static halo_program *link_host(const char *scene_json, const char *host, halo_target target) {
+static halo_program *link_host(const char *scene_json, const char *host, halo_target target)
+{
     halo_diagnostics_clear(diags);
     halo_scene *scene = NULL;
     if (scene_json && !(scene = halo_scene_parse(scene_json, "test.json", library, diags))) {
@@ -20,16 +21,18 @@ static halo_program *link_host(const char *scene_json, const char *host, halo_ta
         SETUP_FAIL("scene rejected: %s", scene_json);
     }
     halo_diagnostics_clear(diags);
-    halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host,
-                                                  .host_file = "test.frag", .target = target},
-                                diags);
+    halo_program *p = halo_link(
+        &(halo_link_desc){
+            .library = library, .scene = scene, .host_source = host, .host_file = "test.frag", .target = target},
+        diags);
     halo_scene_destroy(scene);
     return p;
 }
 
 /* The link fails with id at file:line (and column, when not 0). */
 static int expect_error_at(const char *file, const char *scene_json, const char *host, halo_target target,
-                           halo_message_id id, int line, int column) {
+                           halo_message_id id, int line, int column)
+{
     halo_program *p = link_host(scene_json, host, target);
     if (p) {
         halo_program_destroy(p);
@@ -41,18 +44,21 @@ static int expect_error_at(const char *file, const char *scene_json, const char 
         CHECK_FAIL_AT("no %s at line %d for host:\n%s", halo_message_name(id), line, host);
     }
     CHECK_STR_EQ(g->file, file);
-    if (column) CHECK_INT_EQ(g->column, column);
+    if (column)
+        CHECK_INT_EQ(g->column, column);
     CHECK(g->source_line != NULL);
     return 0;
 }
 
 static int expect_error(const char *scene_json, const char *host, halo_target target, halo_message_id id, int line,
-                        int column) {
+                        int column)
+{
     return expect_error_at("test.frag", scene_json, host, target, id, line, column);
 }
 
 /* The host links and validates for the target. */
-static int expect_valid(const char *scene_json, const char *host, halo_target target) {
+static int expect_valid(const char *scene_json, const char *host, halo_target target)
+{
     halo_program *p = link_host(scene_json, host, target);
     if (!p || halo_program_validate(p, diags) != HALO_OK) {
         check_print_diags(diags);
@@ -63,21 +69,22 @@ static int expect_valid(const char *scene_json, const char *host, halo_target ta
     return 0;
 }
 
-#define HOST_BODY                                                                                  \
-    "out vec4 c;\n"                                                                                \
-    "void main() {\n"                                                                              \
-    "    vec4 color = vec4(0.5);\n"                                                                \
-    "#ifdef HALO_LINKED\n"                                                                         \
+#define HOST_BODY                                                                                 \
+    "out vec4 c;\n"                                                                               \
+    "void main() {\n"                                                                             \
+    "    vec4 color = vec4(0.5);\n"                                                               \
+    "#ifdef HALO_LINKED\n"                                                                        \
     "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1), vec3(0.0, 0.0, 1.0), 0.5,\n" \
-    "                                     gl_FragCoord.xy, color.rgb, color.a);\n"                 \
-    "    halo_apply(s);\n"                                                                         \
-    "    color = vec4(s.color, s.opacity);\n"                                                      \
-    "#endif\n"                                                                                     \
-    "    c = color;\n"                                                                             \
+    "                                     gl_FragCoord.xy, color.rgb, color.a);\n"                \
+    "    halo_apply(s);\n"                                                                        \
+    "    color = vec4(s.color, s.opacity);\n"                                                     \
+    "#endif\n"                                                                                    \
+    "    c = color;\n"                                                                            \
     "}\n"
 
 /* (1) A marker in a comment is no marker: say so at its line, not "no marker". */
-static int test_marker_commented(void) {
+static int test_marker_commented(void)
+{
     if (expect_error(sample_scene, "#version 330 core\n// #pragma halo declarations\n" HOST_BODY, HALO_TARGET_GLSL330,
                      HALO_MSG_HOST_MARKER_INACTIVE, 2, 0))
         return 1;
@@ -90,13 +97,15 @@ static int test_marker_commented(void) {
                      HALO_TARGET_GLSL330, HALO_MSG_HOST_MARKER_INACTIVE, 3, 0))
         return 1;
     /* A comment that mentions the marker beside a real one is fine. */
-    return expect_valid(sample_scene, "#version 330 core\n// #pragma halo declarations\n#pragma halo declarations\n" HOST_BODY,
+    return expect_valid(sample_scene,
+                        "#version 330 core\n// #pragma halo declarations\n#pragma halo declarations\n" HOST_BODY,
                         HALO_TARGET_GLSL330);
 }
 
 /* (1) A marker in a branch not taken under the target's predefined macros and the
  * host's own: #if 0, #ifdef, #if defined(), #elif, #else, __VERSION__, GL_ES. */
-static int test_marker_dead_branch(void) {
+static int test_marker_dead_branch(void)
+{
     static const char *const dead[] = {
         "#if 0\n#pragma halo declarations\n#endif\n",
         "#ifdef GL_ES\n#pragma halo declarations\n#endif\n",
@@ -115,20 +124,25 @@ static int test_marker_dead_branch(void) {
         snprintf(host, sizeof host, "#version 330 core\n%s" HOST_BODY, dead[i]);
         int marker = 0, line = 1;
         for (const char *c = host; *c && !marker; c++) {
-            if (!strncmp(c, "#pragma", 7)) marker = line;
+            if (!strncmp(c, "#pragma", 7))
+                marker = line;
             line += *c == '\n';
         }
-        if (expect_error(sample_scene, host, HALO_TARGET_GLSL330, HALO_MSG_HOST_MARKER_INACTIVE, marker, 1)) return 1;
+        if (expect_error(sample_scene, host, HALO_TARGET_GLSL330, HALO_MSG_HOST_MARKER_INACTIVE, marker, 1))
+            return 1;
         CHECK_INT_EQ(check_count_diag(diags, HALO_MSG_HOST_MARKER_MISSING), 0);
     }
     /* The same branches taken for another target, or with the host's macros. */
     if (expect_valid(sample_scene, "#version 300 es\n#ifdef GL_ES\n#pragma halo declarations\n#endif\n" HOST_BODY,
                      HALO_TARGET_ES300) ||
-        expect_valid(sample_scene, "#version 450 core\n#if __VERSION__ >= 450\n#pragma halo declarations\n#endif\n" HOST_BODY,
+        expect_valid(sample_scene,
+                     "#version 450 core\n#if __VERSION__ >= 450\n#pragma halo declarations\n#endif\n" HOST_BODY,
                      HALO_TARGET_GLSL450) ||
-        expect_valid(sample_scene, "#define LEVEL 3\n#if defined(LEVEL) && LEVEL > 2\n#pragma halo declarations\n#endif\n" HOST_BODY,
+        expect_valid(sample_scene,
+                     "#define LEVEL 3\n#if defined(LEVEL) && LEVEL > 2\n#pragma halo declarations\n#endif\n" HOST_BODY,
                      HALO_TARGET_GLSL330) ||
-        expect_valid(sample_scene, "#if 0\n#elif 2 * 3 == 6 && 7 % 4 == 3\n#pragma halo declarations\n#endif\n" HOST_BODY,
+        expect_valid(sample_scene,
+                     "#if 0\n#elif 2 * 3 == 6 && 7 % 4 == 3\n#pragma halo declarations\n#endif\n" HOST_BODY,
                      HALO_TARGET_GLSL330))
         return 1;
     /* What the evaluator cannot decide counts as taken: the link goes on (glslang may
@@ -139,7 +153,8 @@ static int test_marker_dead_branch(void) {
         char host[1024];
         snprintf(host, sizeof host, "#version 330 core\n%s#pragma halo declarations\n#endif\n" HOST_BODY, unknown[i]);
         halo_program *p = link_host(sample_scene, host, HALO_TARGET_GLSL330);
-        if (!p) check_print_diags(diags);
+        if (!p)
+            check_print_diags(diags);
         CHECK(p != NULL);
         halo_program_destroy(p);
     }
@@ -147,7 +162,8 @@ static int test_marker_dead_branch(void) {
 }
 
 /* Conditions a fuzzer would write: deep nesting, overflow, self-referencing macros. */
-static int test_hostile_conditions(void) {
+static int test_hostile_conditions(void)
+{
     static const char *const lines[] = {"#if 9223372036854775807 + 1 < 0 || -(-9223372036854775807 - 1) * 3\n",
                                         "#if (-9223372036854775807 - 1) / -1 || 1 << 70 || -1 << 3\n",
                                         "#define A B\n#define B A\n#if A\n"};
@@ -174,23 +190,24 @@ static int test_hostile_conditions(void) {
     return 0;
 }
 
-#define HOST_NO_APPLY(call_line)                                                                   \
-    "#version 330 core\n"                                                          /* 1 */         \
-    "#pragma halo declarations\n"                                                  /* 2 */         \
-    "out vec4 c;\n"                                                                /* 3 */         \
-    "void main() {\n"                                                              /* 4 */         \
-    "    vec4 color = vec4(0.5);\n"                                                /* 5 */         \
-    "#ifdef HALO_LINKED\n"                                                         /* 6 */         \
+#define HOST_NO_APPLY(call_line)                                                                  \
+    "#version 330 core\n"           /* 1 */                                                       \
+    "#pragma halo declarations\n"   /* 2 */                                                       \
+    "out vec4 c;\n"                 /* 3 */                                                       \
+    "void main() {\n"               /* 4 */                                                       \
+    "    vec4 color = vec4(0.5);\n" /* 5 */                                                       \
+    "#ifdef HALO_LINKED\n"          /* 6 */                                                       \
     "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1), vec3(0.0, 0.0, 1.0), 0.5,\n" \
-    "                                     gl_FragCoord.xy, color.rgb, color.a);\n" /* 8 */         \
-    call_line                                                                      /* 9, 10 */     \
-    "    color = vec4(s.color, s.opacity);\n"                                                      \
-    "#endif\n"                                                                                     \
-    "    c = color;\n"                                                                             \
+    "                                     gl_FragCoord.xy, color.rgb, color.a);\n" /* 8 */        \
+        call_line                                                                  /* 9, 10 */    \
+    "    color = vec4(s.color, s.opacity);\n"                                                     \
+    "#endif\n"                                                                                    \
+    "    c = color;\n"                                                                            \
     "}\n"
 
 /* (2) Per-sample stages need a halo_apply call that the compiler sees. */
-static int test_apply_missing(void) {
+static int test_apply_missing(void)
+{
     if (expect_error(sample_scene, HOST_NO_APPLY("\n\n"), HALO_TARGET_GLSL330, HALO_MSG_HOST_APPLY_MISSING, 4, 6))
         return 1;
     CHECK_STR_CONTAINS(check_find_diag(diags, HALO_MSG_HOST_APPLY_MISSING, 4)->text, "boundary");
@@ -211,21 +228,22 @@ static int test_apply_missing(void) {
     return expect_valid(NULL, HOST_NO_APPLY("\n\n"), HALO_TARGET_GLSL330);
 }
 
-#define SEED_HOST(finish_line)                                                                     \
-    "#version 330 core\n"                                                          /* 1 */         \
-    "#pragma halo declarations\n"                                                  /* 2 */         \
-    "layout(location = 0) out vec4 c;\n"                                           /* 3 */         \
-    "void main() {\n"                                                              /* 4 */         \
-    "    vec4 color = vec4(0.5);\n"                                                /* 5 */         \
+#define SEED_HOST(finish_line)                                                                    \
+    "#version 330 core\n"                /* 1 */                                                  \
+    "#pragma halo declarations\n"        /* 2 */                                                  \
+    "layout(location = 0) out vec4 c;\n" /* 3 */                                                  \
+    "void main() {\n"                    /* 4 */                                                  \
+    "    vec4 color = vec4(0.5);\n"      /* 5 */                                                  \
     "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1), vec3(0.0, 0.0, 1.0), 0.5,\n" \
-    "                                     gl_FragCoord.xy, color.rgb, color.a);\n" /* 7 */         \
-    "    halo_apply(s);\n"                                                         /* 8 */         \
-    finish_line                                                                    /* 9 */         \
-    "    c = vec4(s.color, s.opacity);\n"                                                          \
+    "                                     gl_FragCoord.xy, color.rgb, color.a);\n" /* 7 */        \
+    "    halo_apply(s);\n"                                                         /* 8 */        \
+        finish_line                                                                /* 9 */        \
+    "    c = vec4(s.color, s.opacity);\n"                                                         \
     "}\n"
 
 /* (2) halo_finish in a comment used to satisfy the check (it searched the text). */
-static int test_finish_missing(void) {
+static int test_finish_missing(void)
+{
     if (expect_error(seed_scene, SEED_HOST("    // halo_finish(); later\n"), HALO_TARGET_GLSL330,
                      HALO_MSG_HOST_FINISH_MISSING, 9, 8) ||
         expect_error(seed_scene, SEED_HOST("\n"), HALO_TARGET_GLSL330, HALO_MSG_HOST_FINISH_MISSING, 4, 6))
@@ -234,14 +252,17 @@ static int test_finish_missing(void) {
 }
 
 /* The host links, and glslang's first error is at file:line. */
-static int expect_glsl_error(const char *host, const char *file, int line) {
+static int expect_glsl_error(const char *host, const char *file, int line)
+{
     halo_program *p = link_host(sample_scene, host, HALO_TARGET_GLSL330);
-    if (!p) check_print_diags(diags);
+    if (!p)
+        check_print_diags(diags);
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_validate(p, diags), HALO_ERROR_INPUT);
     halo_program_destroy(p);
     const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_GLSL_ERROR, 0);
-    if (!g || g->line != line) check_print_diags(diags);
+    if (!g || g->line != line)
+        check_print_diags(diags);
     CHECK(g != NULL);
     CHECK_STR_EQ(g->file, file);
     CHECK_INT_EQ(g->line, line);
@@ -250,27 +271,33 @@ static int expect_glsl_error(const char *host, const char *file, int line) {
 }
 
 /* Line of the linked source holding text (1-based), mapped back through the program. */
-static int map_line_of(const halo_program *p, const char *text, const char **file) {
+static int map_line_of(const halo_program *p, const char *text, const char **file)
+{
     const char *src = halo_program_source(p), *hit = strstr(src, text);
     int out = 1, line = 0;
-    for (const char *c = src; hit && c < hit; c++) out += *c == '\n';
-    if (!hit || !halo_program_map_line(p, out, file, &line)) return 0;
+    for (const char *c = src; hit && c < hit; c++)
+        out += *c == '\n';
+    if (!hit || !halo_program_map_line(p, out, file, &line))
+        return 0;
     return line;
 }
 
 /* (3) #line N, #line N "file", #line N source-string: diagnostics and the line map
  * follow the directive. */
-static int test_line_directive(void) {
-    static const char host[] = "#version 330 core\n"          /* 1 */
-                               "#pragma halo declarations\n"  /* 2 */
-                               "out vec4 c;\n"                /* 3 */
-                               "#line 100\n"                  /* 4 */
-                               "void main()\n"                /* 5: 100 */
-                               "{\n"                          /* 6: 101 */
-                               "    float y = vec2(1.0);\n"   /* 7: 102 */
-                               "    halo_sample s; halo_apply(s); c = vec4(y);\n"
-                               "}\n";
-    if (expect_glsl_error(host, "test.frag", 102)) return 1;
+static int test_line_directive(void)
+{
+    static const char host[] =
+        "#version 330 core\n"         /* 1 */
+        "#pragma halo declarations\n" /* 2 */
+        "out vec4 c;\n"               /* 3 */
+        "#line 100\n"                 /* 4 */
+        "void main()\n"               /* 5: 100 */
+        "{\n"                         /* 6: 101 */
+        "    float y = vec2(1.0);\n"  /* 7: 102 */
+        "    halo_sample s; halo_apply(s); c = vec4(y);\n"
+        "}\n";
+    if (expect_glsl_error(host, "test.frag", 102))
+        return 1;
     halo_program *p = link_host(sample_scene, host, HALO_TARGET_GLSL330);
     CHECK(p != NULL);
     CHECK_STR_NOT_CONTAINS(halo_program_source(p), "\n#line");
@@ -284,36 +311,40 @@ static int test_line_directive(void) {
     CHECK_INT_EQ(before, 3);
 
     /* A file name (GL_GOOGLE_cpp_style_line_directive), and the linker's own diagnostics. */
-#define NAMED_LINE_HOST                                          \
-    "#version 330 core\n"                                        \
-    "#extension GL_GOOGLE_cpp_style_line_directive : enable\n"   \
-    "#pragma halo declarations\n"                                \
+#define NAMED_LINE_HOST                                        \
+    "#version 330 core\n"                                      \
+    "#extension GL_GOOGLE_cpp_style_line_directive : enable\n" \
+    "#pragma halo declarations\n"                              \
     "#line 20 \"renderer/raycast.glsl\"\n"
     if (expect_error_at("renderer/raycast.glsl", sample_scene, NAMED_LINE_HOST "float halo_mine;\n" HOST_BODY,
                         HALO_TARGET_GLSL330, HALO_MSG_HOST_RESERVED_NAME, 20, 7) ||
-        expect_glsl_error(NAMED_LINE_HOST "out vec4 c;\n"
-                                          "void main() { float y = vec2(1.0); halo_sample s; halo_apply(s); c = vec4(y); }\n",
+        expect_glsl_error(NAMED_LINE_HOST
+                          "out vec4 c;\n"
+                          "void main() { float y = vec2(1.0); halo_sample s; halo_apply(s); c = vec4(y); }\n",
                           "renderer/raycast.glsl", 21))
         return 1;
 #undef NAMED_LINE_HOST
     /* A source-string number keeps the host's file; a #line in a branch not taken is no #line. */
-    return expect_glsl_error("#version 330 core\n#pragma halo declarations\n#line 50 3\nout vec4 c;\n#if 0\n#line 7\n"
-                             "#endif\nvoid main() { float y = vec2(1.0); halo_sample s; halo_apply(s); c = vec4(y); }\n",
-                             "test.frag", 54);
+    return expect_glsl_error(
+        "#version 330 core\n#pragma halo declarations\n#line 50 3\nout vec4 c;\n#if 0\n#line 7\n"
+        "#endif\nvoid main() { float y = vec2(1.0); halo_sample s; halo_apply(s); c = vec4(y); }\n",
+        "test.frag", 54);
 }
 
 /* (4) A host macro still defined at the marker rewrites libhalo's declarations. */
-static int test_macro_clash(void) {
+static int test_macro_clash(void)
+{
     static const char *const clashes[][2] = {
         {"#define opacity a*1.0\n", "opacity"}, /* a halo_sample field */
         {"#define color vec3(1.0)\n", "color"},
         {"#define value 0.5\n", "value"},
-        {"#define s sample_state\n", "s"},      /* the halo_sample variable of libhalo's code */
+        {"#define s sample_state\n", "s"}, /* the halo_sample variable of libhalo's code */
     };
     for (size_t i = 0; i < sizeof clashes / sizeof clashes[0]; i++) {
         char host[1024];
         snprintf(host, sizeof host, "#version 330 core\n%s#pragma halo declarations\n" HOST_BODY, clashes[i][0]);
-        if (expect_error(sample_scene, host, HALO_TARGET_GLSL330, HALO_MSG_HOST_MACRO_CLASH, 2, 9)) return 1;
+        if (expect_error(sample_scene, host, HALO_TARGET_GLSL330, HALO_MSG_HOST_MACRO_CLASH, 2, 9))
+            return 1;
         CHECK_STR_CONTAINS(check_find_diag(diags, HALO_MSG_HOST_MACRO_CLASH, 2)->text, clashes[i][1]);
         CHECK_STR_CONTAINS(check_find_diag(diags, HALO_MSG_HOST_MACRO_CLASH, 2)->text, "#undef");
     }
@@ -326,32 +357,38 @@ static int test_macro_clash(void) {
 }
 
 /* (5) Outputs without layout(location) beside libhalo's extra outputs. */
-static int test_output_location(void) {
-    static const char host[] = "#version 330 core\n"                    /* 1 */
-                               "#pragma halo declarations\n"            /* 2 */
-                               "uniform float k;\n"                     /* 3 */
-                               "out vec4 c;\n"                          /* 4 */
-                               "void f(out float x) { x = k; }\n"       /* 5 */
-                               "void main() {\n"
-                               "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1), vec3(0.0, 0.0, 1.0), "
-                               "0.5, gl_FragCoord.xy, vec3(0.5), 0.5);\n"
-                               "    halo_apply(s);\n"
-                               "    halo_finish();\n"
-                               "    c = vec4(s.color, s.opacity);\n"
-                               "}\n";
-    if (expect_error(seed_scene, host, HALO_TARGET_GLSL330, HALO_MSG_HOST_OUTPUT_LOCATION, 4, 1)) return 1;
+static int test_output_location(void)
+{
+    static const char host[] =
+        "#version 330 core\n"              /* 1 */
+        "#pragma halo declarations\n"      /* 2 */
+        "uniform float k;\n"               /* 3 */
+        "out vec4 c;\n"                    /* 4 */
+        "void f(out float x) { x = k; }\n" /* 5 */
+        "void main() {\n"
+        "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1), vec3(0.0, 0.0, 1.0), "
+        "0.5, gl_FragCoord.xy, vec3(0.5), 0.5);\n"
+        "    halo_apply(s);\n"
+        "    halo_finish();\n"
+        "    c = vec4(s.color, s.opacity);\n"
+        "}\n";
+    if (expect_error(seed_scene, host, HALO_TARGET_GLSL330, HALO_MSG_HOST_OUTPUT_LOCATION, 4, 1))
+        return 1;
     CHECK_INT_EQ(check_count_diag(diags, HALO_MSG_HOST_OUTPUT_LOCATION), 1);
     CHECK_STR_CONTAINS(check_find_diag(diags, HALO_MSG_HOST_OUTPUT_LOCATION, 4)->text, "layout(location = 0)");
     /* Without extra outputs the compiler's placement is the host's business. */
-    if (expect_valid(sample_scene, host, HALO_TARGET_GLSL330)) return 1;
+    if (expect_valid(sample_scene, host, HALO_TARGET_GLSL330))
+        return 1;
     char located[1024];
-    static const char fixed[] = "#version 330 core\n#pragma halo declarations\nuniform float k;\n"
-                                "layout(location = 0)\n    out vec4 c;\nvoid f(out float x) { x = k; }\n";
+    static const char fixed[] =
+        "#version 330 core\n#pragma halo declarations\nuniform float k;\n"
+        "layout(location = 0)\n    out vec4 c;\nvoid f(out float x) { x = k; }\n";
     snprintf(located, sizeof located, "%s%s", fixed, strstr(host, "void main"));
     return expect_valid(seed_scene, located, HALO_TARGET_GLSL330);
 }
 
-int main(void) {
+int main(void)
+{
     SETUP(halo_setup(&(halo_setup_desc){0}) == HALO_OK);
     library = check_library_setup(&diags);
     RUN_TEST(test_marker_commented);

@@ -13,7 +13,8 @@
 static halo_library *library;
 static halo_diagnostics *diags;
 
-static halo_status add(const char *file, const char *source) {
+static halo_status add(const char *file, const char *source)
+{
     halo_diagnostics_clear(diags);
     return halo_library_add_source(library, file, source, diags);
 }
@@ -21,7 +22,8 @@ static halo_status add(const char *file, const char *source) {
 
 /* ---- Parameters beyond the range of their type ---- */
 
-static int test_param_beyond_type_range(void) {
+static int test_param_beyond_type_range(void)
+{
     static const struct {
         const char *line; /* line 3 of the module */
         int column;       /* where the offending number starts */
@@ -62,23 +64,26 @@ static int test_param_beyond_type_range(void) {
         CHECK_STR_CONTAINS(g->text, "range");
     }
     /* the extremes themselves are fine */
-    CHECK_INT_EQ(add("user/extremes.glsl", "#pragma halo module extremes\n"
-                                           "#pragma halo hook sample\n"
-                                           "#pragma halo param i int default=2147483647 min=-2147483648\n"
-                                           "#pragma halo param f float default=-3.4e38 max=3.4e38\n"
-                                           "void apply(inout halo_sample s) { s.value += float(i) + f; }\n"),
+    CHECK_INT_EQ(add("user/extremes.glsl",
+                     "#pragma halo module extremes\n"
+                     "#pragma halo hook sample\n"
+                     "#pragma halo param i int default=2147483647 min=-2147483648\n"
+                     "#pragma halo param f float default=-3.4e38 max=3.4e38\n"
+                     "void apply(inout halo_sample s) { s.value += float(i) + f; }\n"),
                  HALO_OK);
     CHECK_NO_ERRORS(diags);
     return 0;
 }
 
 /* Scene values for an int parameter without a range: beyond int they are an error. */
-static int test_scene_value_beyond_type_range(void) {
-    SETUP(add("user/unbounded.glsl", "#pragma halo module unbounded\n"
-                                     "#pragma halo hook sample\n"
-                                     "#pragma halo param n int default=3\n"
-                                     "#pragma halo param x float default=1\n"
-                                     "void apply(inout halo_sample s) { s.value += float(n) * x; }\n") == HALO_OK);
+static int test_scene_value_beyond_type_range(void)
+{
+    SETUP(add("user/unbounded.glsl",
+              "#pragma halo module unbounded\n"
+              "#pragma halo hook sample\n"
+              "#pragma halo param n int default=3\n"
+              "#pragma halo param x float default=1\n"
+              "void apply(inout halo_sample s) { s.value += float(n) * x; }\n") == HALO_OK);
     static const char *const scenes[] = {
         "{\"halo_scene\": 1, \"stages\": [{\"unbounded\": {\"n\": 1e12}}]}",
         "{\"halo_scene\": 1, \"stages\": [{\"unbounded\": {\"n\": -2147483649}}]}",
@@ -109,11 +114,13 @@ static int test_scene_value_beyond_type_range(void) {
 /* ---- NUL bytes ---- */
 
 /* Writes len bytes to a new temporary file; its path in path (PATH_MAX). */
-static int write_temp(char *path, const char *suffix, const char *bytes, size_t len) {
+static int write_temp(char *path, const char *suffix, const char *bytes, size_t len)
+{
     snprintf(path, 4096, "%s/halo-test-XXXXXX%s", getenv("TMPDIR") && *getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp",
              suffix);
     int fd = mkstemps(path, (int)strlen(suffix));
-    if (fd < 0) return 0;
+    if (fd < 0)
+        return 0;
     int ok = write(fd, bytes, len) == (ssize_t)len;
     close(fd);
     return ok;
@@ -121,11 +128,13 @@ static int write_temp(char *path, const char *suffix, const char *bytes, size_t 
 
 /* A NUL byte in a module file is an input error at its line and column, not a
  * module silently cut short there. */
-static int test_module_nul_byte(void) {
-    static const char text[] = "#pragma halo module cut_short\n"
-                               "#pragma halo hook sample\n"
-                               "void apply(inout halo_sample s) {}\n"
-                               "// after this: \0 #pragma halo param k float default=1\n";
+static int test_module_nul_byte(void)
+{
+    static const char text[] =
+        "#pragma halo module cut_short\n"
+        "#pragma halo hook sample\n"
+        "void apply(inout halo_sample s) {}\n"
+        "// after this: \0 #pragma halo param k float default=1\n";
     char path[4096];
     SETUP(write_temp(path, ".glsl", text, sizeof text - 1));
     halo_diagnostics_clear(diags);
@@ -148,7 +157,8 @@ static int test_module_nul_byte(void) {
 
 /* ---- The cap on diagnostics ---- */
 
-static int test_diagnostics_limit(void) {
+static int test_diagnostics_limit(void)
+{
     halo_diagnostics *d = halo_diagnostics_create();
     SETUP(d);
     CHECK_INT_EQ(halo_diagnostics_limit(d), HALO_DIAGNOSTICS_DEFAULT_LIMIT);
@@ -157,14 +167,16 @@ static int test_diagnostics_limit(void) {
     char *host = malloc(64 + n * 32);
     SETUP(host);
     strcpy(host, "#version 330 core\n");
-    for (size_t i = 0; i < n; i++) strcat(host, "#pragma halo declarations\n");
+    for (size_t i = 0; i < n; i++)
+        strcat(host, "#pragma halo declarations\n");
     strcat(host, "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
     halo_scene *scene = halo_scene_create(library);
     SETUP(scene);
     size_t limits[] = {HALO_DIAGNOSTICS_DEFAULT_LIMIT, 7, 0};
     for (size_t k = 0; k < 3; k++) {
         halo_diagnostics_clear(d);
-        if (k) halo_diagnostics_set_limit(d, limits[k]);
+        if (k)
+            halo_diagnostics_set_limit(d, limits[k]);
         CHECK_INT_EQ(halo_diagnostics_limit(d), limits[k]);
         halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host}, d);
         CHECK(p == NULL);
@@ -181,8 +193,10 @@ static int test_diagnostics_limit(void) {
         fclose(out);
         char expected[64];
         snprintf(expected, sizeof expected, "\n%zu more errors not shown", n - 1 - kept);
-        if (limits[k]) CHECK_STR_CONTAINS(text, expected);
-        else CHECK_STR_NOT_CONTAINS(text, "more errors not shown");
+        if (limits[k])
+            CHECK_STR_CONTAINS(text, expected);
+        else
+            CHECK_STR_NOT_CONTAINS(text, "more errors not shown");
         free(text);
     }
     /* clearing forgets what was left out */
@@ -199,10 +213,10 @@ static int test_diagnostics_limit(void) {
     return 0;
 }
 
-int main(void) {
-    static const check_test tests[] = {
-        CHECK_TEST(test_param_beyond_type_range), CHECK_TEST(test_scene_value_beyond_type_range),
-        CHECK_TEST(test_module_nul_byte), CHECK_TEST(test_diagnostics_limit)
-    };
+int main(void)
+{
+    static const check_test tests[] = {CHECK_TEST(test_param_beyond_type_range),
+                                       CHECK_TEST(test_scene_value_beyond_type_range), CHECK_TEST(test_module_nul_byte),
+                                       CHECK_TEST(test_diagnostics_limit)};
     return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);
 }

@@ -18,7 +18,8 @@ static const char other_boundary[] =
     "void apply(inout halo_sample s) { s.opacity *= k_gs; }\n";
 
 /* check_library_setup, then scene_json read against that library. */
-static halo_scene *scene_setup(halo_library **lib, halo_diagnostics **d) {
+static halo_scene *scene_setup(halo_library **lib, halo_diagnostics **d)
+{
     *lib = check_library_setup(d);
     halo_scene *scene = halo_scene_parse(scene_json, "scene.json", *lib, *d);
     if (!scene) {
@@ -30,14 +31,19 @@ static halo_scene *scene_setup(halo_library **lib, halo_diagnostics **d) {
 
 /* Blocks of the sizes just freed, allocated so that a use after free reads them. */
 enum { FILLER_BLOCKS = 64 };
-static void filler_take(void *filler[FILLER_BLOCKS]) {
-    for (int i = 0; i < FILLER_BLOCKS; i++) filler[i] = malloc(64 * (size_t)(i % 8 + 1));
+static void filler_take(void *filler[FILLER_BLOCKS])
+{
+    for (int i = 0; i < FILLER_BLOCKS; i++)
+        filler[i] = malloc(64 * (size_t)(i % 8 + 1));
 }
-static void filler_free(void *filler[FILLER_BLOCKS]) {
-    for (int i = 0; i < FILLER_BLOCKS; i++) free(filler[i]);
+static void filler_free(void *filler[FILLER_BLOCKS])
+{
+    for (int i = 0; i < FILLER_BLOCKS; i++)
+        free(filler[i]);
 }
 
-static int test_validate_before_setup(void) {
+static int test_validate_before_setup(void)
+{
     halo_diagnostics *d = halo_diagnostics_create();
     CHECK(d != NULL);
     CHECK_INT_EQ(halo_validate_shader("#version 330 core\nvoid main() {}\n", "plain.frag", HALO_SHADER_FRAGMENT,
@@ -71,7 +77,8 @@ static int test_validate_before_setup(void) {
 
 /* The library destroyed first: its scene and program still work, and the last of
  * them frees it (ASan and the leak check see a use after free or a leak). */
-static int test_library_destroyed_first(void) {
+static int test_library_destroyed_first(void)
+{
     halo_diagnostics *d;
     halo_library *lib;
     halo_scene *scene = scene_setup(&lib, &d);
@@ -88,8 +95,12 @@ static int test_library_destroyed_first(void) {
     CHECK(u != NULL);
     CHECK_STR_EQ(u->info->name, "k_gs");
     CHECK_INT_EQ(halo_program_set(p, "boundary", "k_gs", (const double[]){11}, 1, d), HALO_OK);
-    halo_emu_sample s = {.value = 0.5, .gradient = {0.1, 0.2, 0.3}, .view = {0, 0, 1}, .depth = 0.5,
-                         .color = {0.8, 0.6, 0.4}, .opacity = 0.5};
+    halo_emu_sample s = {.value = 0.5,
+                         .gradient = {0.1, 0.2, 0.3},
+                         .view = {0, 0, 1},
+                         .depth = 0.5,
+                         .color = {0.8, 0.6, 0.4},
+                         .opacity = 0.5};
     CHECK_INT_EQ(halo_emu_apply(p, &s, d), HALO_OK);
     CHECK_FINITE(s.opacity);
     filler_free(filler);
@@ -102,12 +113,12 @@ static int test_library_destroyed_first(void) {
 }
 
 /* An emulation frame keeps its program (and so the library) alive. */
-static int test_program_destroyed_first(void) {
+static int test_program_destroyed_first(void)
+{
     halo_diagnostics *d;
     halo_library *lib;
     halo_scene *scene = scene_setup(&lib, &d);
-    halo_program *p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = check_sample_host},
-                                d);
+    halo_program *p = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = check_sample_host}, d);
     CHECK(p != NULL);
     halo_emu_frame *f = halo_emu_frame_create(p, 4, 4, d);
     CHECK(f != NULL);
@@ -128,7 +139,8 @@ static int test_program_destroyed_first(void) {
 
 /* A scene read against one library, linked with another: refused, not linked with the
  * first library's modules. */
-static int test_scene_of_another_library(void) {
+static int test_scene_of_another_library(void)
+{
     halo_diagnostics *d;
     halo_library *first = check_library_setup(&d);
     halo_library *second = halo_library_create(d);
@@ -158,7 +170,8 @@ static int test_scene_of_another_library(void) {
 }
 
 /* Replacing a module that a scene or program points into is refused while they live. */
-static int test_override_in_use(void) {
+static int test_override_in_use(void)
+{
     halo_diagnostics *d;
     halo_library *lib;
     halo_scene *scene = scene_setup(&lib, &d);
@@ -174,7 +187,8 @@ static int test_override_in_use(void) {
     return 0;
 }
 
-int main(int argc, char **argv) {
+int main(int argc, char **argv)
+{
     (void)argc;
 #ifdef __GLIBC__
     /* glibc fills freed memory only outside its per-thread cache: run again without it */

@@ -9,23 +9,24 @@ static halo_diagnostics *diags;
 
 /* A host following the contract: #version, the marker, one sample through halo_apply. */
 static const char host_source[] =
-    "#version 330 core\n"                                                                   /* 1 */
-    "// a test host\n"                                                                      /* 2 */
-    "#pragma halo declarations\n"                                                           /* 3 */
-    "layout(location = 0) out vec4 fragment_color;\n"                                      /* 4 */
-    "void main()\n"                                                                         /* 5 */
-    "{\n"                                                                                   /* 6 */
-    "    vec4 color = vec4(0.8, 0.6, 0.4, 0.5);\n"                                          /* 7 */
-    "#ifdef HALO_LINKED\n"                                                                  /* 8 */
+    "#version 330 core\n"                             /* 1 */
+    "// a test host\n"                                /* 2 */
+    "#pragma halo declarations\n"                     /* 3 */
+    "layout(location = 0) out vec4 fragment_color;\n" /* 4 */
+    "void main()\n"                                   /* 5 */
+    "{\n"                                             /* 6 */
+    "    vec4 color = vec4(0.8, 0.6, 0.4, 0.5);\n"    /* 7 */
+    "#ifdef HALO_LINKED\n"                            /* 8 */
     "    halo_sample s = halo_make_sample(vec3(0.5), 0.5, vec3(0.1, 0.2, 0.3), vec3(0.0, 0.0, 1.0), 0.5,\n"
-    "                                     gl_FragCoord.xy, color.rgb, color.a);\n"          /* 10 */
-    "    halo_apply(s);\n"                                                                  /* 11 */
-    "    color = vec4(s.color, s.opacity); halo_finish();\n"                                /* 12 */
-    "#endif\n"                                                                              /* 13 */
-    "    fragment_color = color;\n"                                                         /* 14 */
+    "                                     gl_FragCoord.xy, color.rgb, color.a);\n" /* 10 */
+    "    halo_apply(s);\n"                                                         /* 11 */
+    "    color = vec4(s.color, s.opacity); halo_finish();\n"                       /* 12 */
+    "#endif\n"                                                                     /* 13 */
+    "    fragment_color = color;\n"                                                /* 14 */
     "}\n";
 
-static halo_scene *scene_of(const char *json) {
+static halo_scene *scene_of(const char *json)
+{
     halo_diagnostics_clear(diags);
     halo_scene *s = halo_scene_parse(json, "test.json", library, diags);
     if (!s) {
@@ -35,52 +36,66 @@ static halo_scene *scene_of(const char *json) {
     return s;
 }
 
-static halo_program *link_with(const halo_scene *scene, const char *host, halo_target target, int all_live) {
+static halo_program *link_with(const halo_scene *scene, const char *host, halo_target target, int all_live)
+{
     halo_diagnostics_clear(diags);
-    return halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host,
-                                       .host_file = "test.frag", .target = target, .all_live = all_live},
+    return halo_link(&(halo_link_desc){.library = library,
+                                       .scene = scene,
+                                       .host_source = host,
+                                       .host_file = "test.frag",
+                                       .target = target,
+                                       .all_live = all_live},
                      diags);
 }
 
 /* Links the scene into the test host and validates it; NULL (and a message) on failure. */
-static halo_program *link_valid(const char *json) {
+static halo_program *link_valid(const char *json)
+{
     halo_scene *scene = scene_of(json);
     halo_program *p = link_with(scene, host_source, HALO_TARGET_DEFAULT, 0);
     halo_scene_destroy(scene);
     if (!p || halo_program_validate(p, diags) != HALO_OK) {
         fprintf(stderr, "link or validation failed for %s\n", json);
         check_print_diags(diags);
-        if (p) fprintf(stderr, "%s", halo_program_source(p));
+        if (p)
+            fprintf(stderr, "%s", halo_program_source(p));
         halo_program_destroy(p);
         return NULL;
     }
     return p;
 }
 
-static int stage_index(const halo_program *p, const char *stage) {
+static int stage_index(const halo_program *p, const char *stage)
+{
     for (size_t i = 0; i < halo_program_stage_count(p); i++)
-        if (!strcmp(halo_program_stage(p, i), stage)) return (int)i;
+        if (!strcmp(halo_program_stage(p, i), stage))
+            return (int)i;
     return -1;
 }
 
 /* 1-based line number of the first line of text containing needle, or 0. */
-static int line_containing(const char *text, const char *needle) {
+static int line_containing(const char *text, const char *needle)
+{
     const char *hit = strstr(text, needle);
-    if (!hit) return 0;
+    if (!hit)
+        return 0;
     int line = 1;
-    for (const char *c = text; c < hit; c++) line += *c == '\n';
+    for (const char *c = text; c < hit; c++)
+        line += *c == '\n';
     return line;
 }
 
 /* The helpers of halo_math.glsl that the linked stages call, directly or through
  * other helpers, computed from the modules' own lists. */
-static int helper_needed(const halo_program *p, const halo_module *helpers, size_t chunk) {
+static int helper_needed(const halo_program *p, const halo_module *helpers, size_t chunk)
+{
     unsigned char need[64] = {0};
     SETUP(helpers->chunk_count <= 64);
     for (size_t c = 0; c < helpers->chunk_count; c++)
         for (size_t s = 0; s < halo_program_stage_count(p); s++) {
             const halo_module *m = halo_library_find(library, halo_program_stage(p, s));
-            if (halo_name_list_has(&m->calls, helpers->chunks[c].name)) need[c] = 1;
+            if (halo_name_list_has(&m->calls, helpers->chunks[c].name))
+                need[c] = 1;
         }
     for (int changed = 1; changed;) {
         changed = 0;
@@ -95,7 +110,8 @@ static int helper_needed(const halo_program *p, const halo_module *helpers, size
 /* The source holds code of the linked stages only, and exactly the helpers they use. */
 static int check_only_linked_in(const halo_program *p, const char *src);
 /* The program's text: the host's source and every image pass's programs. */
-static int check_only_linked(const halo_program *p) {
+static int check_only_linked(const halo_program *p)
+{
     size_t len = strlen(halo_program_source(p)) + 1;
     for (size_t i = 0; i < halo_program_pass_count(p); i++)
         len += strlen(halo_program_pass(p, i)->fragment_source) + strlen(halo_program_pass(p, i)->vertex_source);
@@ -111,10 +127,12 @@ static int check_only_linked(const halo_program *p) {
     return status;
 }
 
-static int check_only_linked_in(const halo_program *p, const char *src) {
+static int check_only_linked_in(const halo_program *p, const char *src)
+{
     for (size_t i = 0; i < halo_library_module_count(library); i++) {
         const halo_module *m = halo_library_module(library, i);
-        if (m->is_library) continue;
+        if (m->is_library)
+            continue;
         char prefix[160], comment[160];
         snprintf(prefix, sizeof prefix, "halo_%s_", halo_module_name(m));
         snprintf(comment, sizeof comment, "// stage %s ", halo_module_name(m));
@@ -132,19 +150,23 @@ static int check_only_linked_in(const halo_program *p, const char *src) {
     for (size_t c = 0; c < helpers->chunk_count; c++) {
         char call[160];
         snprintf(call, sizeof call, "%s(", helpers->chunks[c].name);
-        if (helper_needed(p, helpers, c)) CHECK_STR_CONTAINS(src, call);
-        else CHECK_STR_NOT_CONTAINS(src, call);
+        if (helper_needed(p, helpers, c))
+            CHECK_STR_CONTAINS(src, call);
+        else
+            CHECK_STR_NOT_CONTAINS(src, call);
     }
     return 0;
 }
 
 /* (a) A one-stage scene emits that stage (and what it needs) and nothing else. */
-static int test_only_enabled_code(void) {
+static int test_only_enabled_code(void)
+{
     halo_program *p = link_valid("{\"stages\": [\"opacity_power\"]}");
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_stage_count(p), 1);
     CHECK_STR_EQ(halo_program_stage(p, 0), "opacity_power");
-    if (check_only_linked(p)) return 1;
+    if (check_only_linked(p))
+        return 1;
     /* opacity_power uses halo_pow and halo_saturate, not the colour helpers. */
     CHECK_STR_CONTAINS(halo_program_source(p), "halo_pow(");
     CHECK_STR_NOT_CONTAINS(halo_program_source(p), "halo_rgb_to_hsv");
@@ -154,7 +176,8 @@ static int test_only_enabled_code(void) {
     p = link_valid("{\"stages\": [\"silhouette\"]}");
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_stage_count(p), 2); /* with gradient, which provides the normal */
-    if (check_only_linked(p)) return 1;
+    if (check_only_linked(p))
+        return 1;
     CHECK_STR_NOT_CONTAINS(halo_program_source(p), "halo_hsv_to_rgb");
     halo_program_destroy(p);
 
@@ -168,7 +191,8 @@ static int test_only_enabled_code(void) {
         p = link_valid(json);
         CHECK(p != NULL);
         CHECK(stage_index(p, halo_module_name(m)) >= 0);
-        if (check_only_linked(p)) return 1;
+        if (check_only_linked(p))
+            return 1;
         halo_program_destroy(p);
     }
 
@@ -176,13 +200,15 @@ static int test_only_enabled_code(void) {
     p = link_valid("{\"stages\": [\"opacity_power\", {\"sketch\": {\"enabled\": false}}]}");
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_stage_count(p), 1);
-    if (check_only_linked(p)) return 1;
+    if (check_only_linked(p))
+        return 1;
     halo_program_destroy(p);
     return 0;
 }
 
 /* Unused parameters produce no code. */
-static int test_unused_param(void) {
+static int test_unused_param(void)
+{
     halo_program *p = link_valid("{\"stages\": [\"unused_param\"]}");
     CHECK(p != NULL);
     CHECK_STR_CONTAINS(halo_program_source(p), "halo_unused_param_used");
@@ -192,25 +218,30 @@ static int test_unused_param(void) {
 }
 
 /* The body of halo_apply: between its braces, only white space. */
-static int check_empty_apply(const char *src) {
+static int check_empty_apply(const char *src)
+{
     const char *at = strstr(src, "void halo_apply(inout halo_sample s)");
     CHECK(at != NULL);
     const char *open = strchr(at, '{'), *close = open ? strchr(open, '}') : NULL;
     CHECK(open && close);
     for (const char *c = open + 1; c < close; c++)
-        if (*c != ' ' && *c != '\n' && *c != '\t') CHECK_FAIL_AT("halo_apply is not empty: %.*s", (int)(close - open + 1), open);
+        if (*c != ' ' && *c != '\n' && *c != '\t')
+            CHECK_FAIL_AT("halo_apply is not empty: %.*s", (int)(close - open + 1), open);
     return 0;
 }
 
 /* (b) No stage: an empty halo_apply, no stage code, no helpers. */
-static int test_empty_scene(void) {
+static int test_empty_scene(void)
+{
     halo_program *p = link_with(NULL, host_source, HALO_TARGET_DEFAULT, 0);
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_stage_count(p), 0);
     CHECK_INT_EQ(halo_program_uniform_count(p), 0);
     CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
-    if (check_only_linked(p)) return 1;
-    if (check_empty_apply(halo_program_source(p))) return 1;
+    if (check_only_linked(p))
+        return 1;
+    if (check_empty_apply(halo_program_source(p)))
+        return 1;
     CHECK_STR_CONTAINS(halo_program_source(p), "#define HALO_LINKED");
     CHECK_STR_CONTAINS(halo_program_source(p), "struct halo_sample");
     CHECK_STR_CONTAINS(halo_program_source(p), "halo_make_sample");
@@ -227,7 +258,8 @@ static int test_empty_scene(void) {
     halo_scene_destroy(scene);
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_stage_count(p), 0);
-    if (check_empty_apply(halo_program_source(p))) return 1;
+    if (check_empty_apply(halo_program_source(p)))
+        return 1;
     /* An empty scene and a scene of disabled stages link to the same text. */
     CHECK_STR_EQ(halo_program_source(p), empty_scene_text);
     free(empty_scene_text);
@@ -236,15 +268,16 @@ static int test_empty_scene(void) {
 }
 
 /* (c) The host may use the names that modules use privately. */
-static int test_renaming(void) {
+static int test_renaming(void)
+{
     static const char host[] =
         "#version 330 core\n"
         "#pragma halo declarations\n"
-        "const float k_gs = 1.0;\n"         /* a parameter of boundary */
-        "const float k_ss = 2.0;\n"         /* of silhouette */
-        "uniform vec3 colors[2];\n"         /* of distance_cue */
-        "uniform vec3 background;\n"        /* of distance_blend */
-        "float apply(float x) { return x * k_gs; }\n" /* every stage's entry */
+        "const float k_gs = 1.0;\n"                     /* a parameter of boundary */
+        "const float k_ss = 2.0;\n"                     /* of silhouette */
+        "uniform vec3 colors[2];\n"                     /* of distance_cue */
+        "uniform vec3 background;\n"                    /* of distance_blend */
+        "float apply(float x) { return x * k_gs; }\n"   /* every stage's entry */
         "vec3 depth_map(float d) { return vec3(d); }\n" /* distance_cue's private helper */
         "float weight(float x) { return x; }\n"         /* a user module's private helper */
         "out vec4 fragment_color;\n"
@@ -260,8 +293,9 @@ static int test_renaming(void) {
     const halo_module *cue = halo_library_find(library, "distance_cue");
     SETUP(cue && halo_name_list_has(&cue->declared, "depth_map"));
     SETUP(halo_name_list_has(&halo_library_find(library, "weight_a")->declared, "weight"));
-    halo_scene *scene = scene_of("{\"stages\": [\"boundary\", \"silhouette\", \"distance_cue\", \"distance_blend\","
-                                 " \"weight_a\", \"weight_b\"]}");
+    halo_scene *scene = scene_of(
+        "{\"stages\": [\"boundary\", \"silhouette\", \"distance_cue\", \"distance_blend\","
+        " \"weight_a\", \"weight_b\"]}");
     for (int live = 0; live < 2; live++) {
         halo_program *p = link_with(scene, host, HALO_TARGET_DEFAULT, live);
         CHECK(p != NULL);
@@ -282,9 +316,11 @@ static int test_renaming(void) {
 }
 
 /* (d) Fixed parameters are constants, live ones uniforms. */
-static int test_constants_and_uniforms(void) {
-    halo_program *p = link_valid("{\"stages\": [{\"boundary\": {\"k_gs\": 12.5, \"live\": [\"k_gc\"]}},"
-                                 " {\"tone_shading\": {\"lights\": [[1,0,0],[0,1,0]]}}]}");
+static int test_constants_and_uniforms(void)
+{
+    halo_program *p = link_valid(
+        "{\"stages\": [{\"boundary\": {\"k_gs\": 12.5, \"live\": [\"k_gc\"]}},"
+        " {\"tone_shading\": {\"lights\": [[1,0,0],[0,1,0]]}}]}");
     CHECK(p != NULL);
     const char *src = halo_program_source(p);
     CHECK_STR_CONTAINS(src, "uniform float halo_boundary_k_gc;");
@@ -340,7 +376,8 @@ static int test_constants_and_uniforms(void) {
 }
 
 /* (e) Dependencies are enabled and ordered; the output is deterministic. */
-static int test_order(void) {
+static int test_order(void)
+{
     halo_program *p = link_valid("{\"stages\": [\"silhouette\"]}");
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_stage_count(p), 2);
@@ -353,10 +390,10 @@ static int test_order(void) {
     halo_program_destroy(p);
 
     /* tone_shading before distance_blend, whatever the scene's order. */
-    static const char *const scenes[] = {"{\"stages\": [\"distance_blend\", \"tone_shading\"]}",
-                                         "{\"stages\": [\"tone_shading\", \"distance_blend\"]}",
-                                         "{\"stages\": [\"distance_cue\", \"distance_blend\", \"sketch\", \"tone_shading\","
-                                         " \"orientation_fade\", \"boundary\", \"silhouette\", \"opacity_power\"]}"};
+    static const char *const scenes[] = {
+        "{\"stages\": [\"distance_blend\", \"tone_shading\"]}", "{\"stages\": [\"tone_shading\", \"distance_blend\"]}",
+        "{\"stages\": [\"distance_cue\", \"distance_blend\", \"sketch\", \"tone_shading\","
+        " \"orientation_fade\", \"boundary\", \"silhouette\", \"opacity_power\"]}"};
     for (size_t i = 0; i < 3; i++) {
         p = link_valid(scenes[i]);
         CHECK(p != NULL);
@@ -371,10 +408,12 @@ static int test_order(void) {
                 if (before >= 0 && before > (int)k)
                     CHECK_FAIL_AT("%s runs before %s, which it must follow", m->name, m->after.items[a]);
             }
-            if (m->needs.count) CHECK(stage_index(p, "gradient") < (int)k);
+            if (m->needs.count)
+                CHECK(stage_index(p, "gradient") < (int)k);
         }
         src = halo_program_source(p);
-        CHECK(line_containing(src, "halo_tone_shading_apply(s);") < line_containing(src, "halo_distance_blend_apply(s);"));
+        CHECK(line_containing(src, "halo_tone_shading_apply(s);") <
+              line_containing(src, "halo_distance_blend_apply(s);"));
         /* Deterministic: linking again gives the same text. */
         halo_scene *scene = scene_of(scenes[i]);
         halo_program *again = link_with(scene, host_source, HALO_TARGET_DEFAULT, 0);
@@ -399,7 +438,8 @@ static int test_order(void) {
 }
 
 /* (f) Resolution errors, from user modules. */
-static int test_resolution_errors(void) {
+static int test_resolution_errors(void)
+{
     halo_scene *scene = scene_of("{\"stages\": [\"needs_unknown\"]}");
     halo_program *p = link_with(scene, host_source, HALO_TARGET_DEFAULT, 0);
     halo_scene_destroy(scene);
@@ -441,7 +481,8 @@ static int test_resolution_errors(void) {
     return 0;
 }
 
-static int check_host_error(const char *host, halo_message_id id, int line, int column) {
+static int check_host_error(const char *host, halo_message_id id, int line, int column)
+{
     halo_scene *scene = scene_of("{\"stages\": [\"boundary\"]}");
     halo_program *p = link_with(scene, host, HALO_TARGET_DEFAULT, 0);
     halo_scene_destroy(scene);
@@ -455,12 +496,14 @@ static int check_host_error(const char *host, halo_message_id id, int line, int 
         CHECK_FAIL_AT("no %s at line %d for host:\n%s", halo_message_name(id), line, host);
     }
     CHECK_STR_EQ(g->file, "test.frag");
-    if (column) CHECK_INT_EQ(g->column, column);
+    if (column)
+        CHECK_INT_EQ(g->column, column);
     return 0;
 }
 
 /* (g) Hosts that break the contract, reported at the host's line. */
-static int test_host_errors(void) {
+static int test_host_errors(void)
+{
     if (check_host_error("#version 330 core\n"
                          "out vec4 c;\n"
                          "void main() { c = vec4(1.0); }\n",
@@ -520,7 +563,8 @@ static int test_host_errors(void) {
                   "#endif\n"
                   "}\n",
                   HALO_TARGET_DEFAULT, 0);
-    if (!p) check_print_diags(diags);
+    if (!p)
+        check_print_diags(diags);
     CHECK(p != NULL);
     halo_program_destroy(p);
     /* A library and a host are required. */
@@ -534,7 +578,8 @@ static int test_host_errors(void) {
 }
 
 /* (h) Every emitted line maps back to its origin. */
-static int test_line_map(void) {
+static int test_line_map(void)
+{
     halo_program *p = link_valid("{\"stages\": [\"boundary\", \"tone_shading\", \"distance_cue\"]}");
     CHECK(p != NULL);
     const char *src = halo_program_source(p);
@@ -547,7 +592,8 @@ static int test_line_map(void) {
         const halo_module *m = halo_library_find(library, statements[i][0]);
         int module_line = 0;
         for (int l = 0; l < m->line_count && !module_line; l++)
-            if (strstr(m->lines[l], statements[i][1])) module_line = l + 1;
+            if (strstr(m->lines[l], statements[i][1]))
+                module_line = l + 1;
         SETUP(module_line > 0);
         int out = line_containing(src, statements[i][1]);
         CHECK(out > 0);
@@ -578,14 +624,17 @@ static int test_line_map(void) {
     unsigned char seen[64] = {0};
     SETUP(host_count < 64);
     for (int l = 1; l <= count; l++) {
-        if (!halo_program_map_line(p, l, &file, &line) || strcmp(file, "test.frag")) continue;
+        if (!halo_program_map_line(p, l, &file, &line) || strcmp(file, "test.frag"))
+            continue;
         CHECK(line >= 1 && line <= host_count);
         seen[line] = 1;
-        if (line == 1 || line == 3) continue;
+        if (line == 1 || line == 3)
+            continue;
         CHECK_STR_EQ(lines[l - 1], host_lines[line - 1]);
     }
     for (int l = 1; l <= host_count; l++)
-        if (!seen[l] && host_lines[l - 1][0]) CHECK_FAIL_AT("host line %d is not in the linked text", l);
+        if (!seen[l] && host_lines[l - 1][0])
+            CHECK_FAIL_AT("host line %d is not in the linked text", l);
     free(host_lines);
     free(lines);
     free(host_copy);
@@ -599,14 +648,16 @@ static int test_line_map(void) {
 }
 
 /* (i) glslang's errors come back at the module's or the host's own line. */
-static int test_glsl_errors_mapped(void) {
+static int test_glsl_errors_mapped(void)
+{
     halo_scene *scene = scene_of("{\"stages\": [\"type_error\"]}");
     halo_program *p = link_with(scene, host_source, HALO_TARGET_DEFAULT, 0);
     halo_scene_destroy(scene);
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_validate(p, diags), HALO_ERROR_INPUT);
     const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_GLSL_ERROR, 7);
-    if (!g) check_print_diags(diags);
+    if (!g)
+        check_print_diags(diags);
     CHECK(g != NULL);
     CHECK_STR_EQ(g->file, "user/type_error.glsl");
     CHECK(g->column >= 1);
@@ -614,21 +665,23 @@ static int test_glsl_errors_mapped(void) {
     CHECK_STR_CONTAINS(g->source_line, "vec3(1.0)");
     halo_program_destroy(p);
 
-    static const char host[] = "#version 330 core\n"                /* 1 */
-                               "#pragma halo declarations\n"        /* 2 */
-                               "out vec4 c;\n"                      /* 3 */
-                               "void main()\n"                      /* 4 */
-                               "{\n"                                /* 5 */
-                               "    float y = vec2(1.0);\n"         /* 6 */
-                               "    halo_sample s; halo_apply(s); c = vec4(y);\n" /* 7 */
-                               "}\n";
+    static const char host[] =
+        "#version 330 core\n"                              /* 1 */
+        "#pragma halo declarations\n"                      /* 2 */
+        "out vec4 c;\n"                                    /* 3 */
+        "void main()\n"                                    /* 4 */
+        "{\n"                                              /* 5 */
+        "    float y = vec2(1.0);\n"                       /* 6 */
+        "    halo_sample s; halo_apply(s); c = vec4(y);\n" /* 7 */
+        "}\n";
     scene = scene_of("{\"stages\": [\"boundary\", \"tone_shading\"]}");
     p = link_with(scene, host, HALO_TARGET_DEFAULT, 0);
     halo_scene_destroy(scene);
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_validate(p, diags), HALO_ERROR_INPUT);
     g = check_find_diag(diags, HALO_MSG_GLSL_ERROR, 6);
-    if (!g) check_print_diags(diags);
+    if (!g)
+        check_print_diags(diags);
     CHECK(g != NULL);
     CHECK_STR_EQ(g->file, "test.frag");
     /* Every error is at the host's or a module's line, none at the linked text's. */
@@ -638,7 +691,8 @@ static int test_glsl_errors_mapped(void) {
     return 0;
 }
 
-static int link_target(const halo_scene *scene, const char *host, halo_target target, int all_live) {
+static int link_target(const halo_scene *scene, const char *host, halo_target target, int all_live)
+{
     halo_program *p = link_with(scene, host, target, all_live);
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_target(p), target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : target);
@@ -649,13 +703,18 @@ static int link_target(const halo_scene *scene, const char *host, halo_target ta
     const char *src = halo_program_source(p);
     switch (target) {
     case HALO_TARGET_DEFAULT:
-    case HALO_TARGET_GLSL330: CHECK(!strncmp(src, "#version 330 core\n", 18)); break;
-    case HALO_TARGET_GLSL450: CHECK(!strncmp(src, "#version 450 core\n", 18)); break;
+    case HALO_TARGET_GLSL330:
+        CHECK(!strncmp(src, "#version 330 core\n", 18));
+        break;
+    case HALO_TARGET_GLSL450:
+        CHECK(!strncmp(src, "#version 450 core\n", 18));
+        break;
     case HALO_TARGET_ES300:
         CHECK(!strncmp(src, "#version 300 es\n", 16));
         CHECK_STR_CONTAINS(src, "precision highp float;");
         break;
-    default: break;
+    default:
+        break;
     }
     CHECK_INT_EQ(line_containing(src, "#version"), 1);
     CHECK_STR_NOT_CONTAINS(strstr(src, "#version") + 1, "#version");
@@ -664,7 +723,8 @@ static int link_target(const halo_scene *scene, const char *host, halo_target ta
 }
 
 /* (j) Every target, with every sample stage enabled, as constants and as uniforms. */
-static int test_targets(void) {
+static int test_targets(void)
+{
     halo_scene *scene = halo_scene_create(library);
     SETUP(scene != NULL);
     for (size_t i = 0; i < halo_library_module_count(library); i++) {
@@ -678,10 +738,13 @@ static int test_targets(void) {
                                           HALO_TARGET_ES300};
     for (size_t t = 0; t < 4; t++)
         for (int live = 0; live < 2; live++) {
-            if (link_target(scene, host_source, targets[t], live)) return 1;
-            if (link_target(scene, no_version, targets[t], live)) return 1;
+            if (link_target(scene, host_source, targets[t], live))
+                return 1;
+            if (link_target(scene, no_version, targets[t], live))
+                return 1;
         }
-    if (link_target(NULL, host_source, HALO_TARGET_ES300, 0)) return 1;
+    if (link_target(NULL, host_source, HALO_TARGET_ES300, 0))
+        return 1;
     halo_scene_destroy(scene);
     CHECK_STR_EQ(halo_target_name(HALO_TARGET_ES300), "es300");
     CHECK_INT_EQ(halo_target_from_name("450"), HALO_TARGET_GLSL450);
@@ -692,12 +755,16 @@ static int test_targets(void) {
 /* Halo images at 1/scale (halo_link_desc.image_scale): the pass images are scaled, the
  * seed output is not; the per-sample read interpolates, the first pass max-downsamples;
  * a scale other than 1, 2 or 4 is a usage error. */
-static int test_image_scale(void) {
+static int test_image_scale(void)
+{
     halo_scene *scene = scene_of("{\"stages\": [\"halo_seed\", \"halo_generate\", \"halo_map\"]}");
     for (int scale = 1; scale <= 4; scale *= 2) {
         halo_diagnostics_clear(diags);
-        halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host_source,
-                                                      .host_file = "test.frag", .image_scale = scale},
+        halo_program *p = halo_link(&(halo_link_desc){.library = library,
+                                                      .scene = scene,
+                                                      .host_source = host_source,
+                                                      .host_file = "test.frag",
+                                                      .image_scale = scale},
                                     diags);
         CHECK(p != NULL);
         CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
@@ -714,7 +781,8 @@ static int test_image_scale(void) {
             CHECK_STR_CONTAINS(halo_program_source(p), "floor(at)"); /* the bilinear read */
             const halo_pass_info *gradient = NULL;
             for (size_t i = 0; i < halo_program_pass_count(p); i++)
-                if (!strcmp(halo_program_pass(p, i)->name, "gradient")) gradient = halo_program_pass(p, i);
+                if (!strcmp(halo_program_pass(p, i)->name, "gradient"))
+                    gradient = halo_program_pass(p, i);
             CHECK(gradient != NULL);
             CHECK_STR_CONTAINS(gradient->fragment_source, "m = max(m, halo_fetch_0"); /* seed: block max */
         } else {
@@ -723,8 +791,11 @@ static int test_image_scale(void) {
         halo_program_destroy(p);
     }
     halo_diagnostics_clear(diags);
-    CHECK(halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host_source,
-                                      .host_file = "test.frag", .image_scale = 3},
+    CHECK(halo_link(&(halo_link_desc){.library = library,
+                                      .scene = scene,
+                                      .host_source = host_source,
+                                      .host_file = "test.frag",
+                                      .image_scale = 3},
                     diags) == NULL);
     CHECK_DIAG(diags, HALO_MSG_USAGE);
     halo_scene_destroy(scene);
@@ -732,9 +803,11 @@ static int test_image_scale(void) {
 }
 
 /* Whether the program has a pass named name. */
-static int has_pass(const halo_program *p, const char *name) {
+static int has_pass(const halo_program *p, const char *name)
+{
     for (size_t i = 0; i < halo_program_pass_count(p); i++)
-        if (!strcmp(halo_program_pass(p, i)->name, name)) return 1;
+        if (!strcmp(halo_program_pass(p, i)->name, name))
+            return 1;
     return 0;
 }
 
@@ -742,7 +815,8 @@ static int has_pass(const halo_program *p, const char *name) {
  * read_when=mode`): not for emissive halos, for any occlusive channel or a live mode, and
  * always without halo_map (nothing says the image is unread). At the frame's size the
  * gradient pass stores H_0, then spread from repetition 1 (halo_generate's fold off). */
-static int test_occlusion_pass_when_occlusive(void) {
+static int test_occlusion_pass_when_occlusive(void)
+{
     static const struct {
         const char *map;
         int all_live, occlude;
@@ -761,14 +835,16 @@ static int test_occlusion_pass_when_occlusive(void) {
         halo_program *p = link_with(scene, host_source, HALO_TARGET_DEFAULT, cases[k].all_live);
         halo_scene_destroy(scene);
         CHECK(p != NULL);
-        if (!p) continue;
+        if (!p)
+            continue;
         if (has_pass(p, "occlude") != cases[k].occlude)
             CHECK_FAIL_AT("%s (all_live %d): occlude pass %s", json, cases[k].all_live,
                           cases[k].occlude ? "missing" : "linked");
         /* full size, fold off: the gradient pass, then spread from 1 */
         CHECK(has_pass(p, "spread") && !has_pass(p, "spread_seed") && has_pass(p, "gradient"));
         for (size_t i = 0; i < halo_program_pass_count(p); i++)
-            if (!strcmp(halo_program_pass(p, i)->name, "spread")) CHECK_INT_EQ(halo_program_pass(p, i)->start, 1);
+            if (!strcmp(halo_program_pass(p, i)->name, "spread"))
+                CHECK_INT_EQ(halo_program_pass(p, i)->start, 1);
         halo_program_destroy(p);
     }
     return 0;
@@ -776,16 +852,20 @@ static int test_occlusion_pass_when_occlusive(void) {
 
 /* halo_generate's approximation wide at N = 2: the gradient pass stores H_0 (reach 1), then
  * spread_wide twice, reaching 3 * 4^(N - i): 12 and 3; none of the exact spreading passes. */
-static int test_pass_reach_wide(void) {
-    halo_program *p = link_valid("{\"stages\": [\"halo_seed\", {\"halo_generate\": {\"passes\": 2, \"wide\": true}},"
-                                 " \"halo_map\"]}");
+static int test_pass_reach_wide(void)
+{
+    halo_program *p = link_valid(
+        "{\"stages\": [\"halo_seed\", {\"halo_generate\": {\"passes\": 2, \"wide\": true}},"
+        " \"halo_map\"]}");
     CHECK(p != NULL);
     char names[256] = "";
-    if (!p) return 0;
+    if (!p)
+        return 0;
     for (size_t i = 0; i < halo_program_pass_count(p); i++) {
         const halo_pass_info *pass = halo_program_pass(p, i);
         snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? "," : "", pass->name);
-        if (!strcmp(pass->name, "gradient")) CHECK_INT_EQ(halo_pass_reach(pass, 1), 1);
+        if (!strcmp(pass->name, "gradient"))
+            CHECK_INT_EQ(halo_pass_reach(pass, 1), 1);
         if (!strcmp(pass->name, "spread_wide")) {
             CHECK_INT_EQ(pass->repeat, 2);
             CHECK_INT_EQ(halo_pass_reach(pass, 1), 12);
@@ -800,7 +880,8 @@ static int test_pass_reach_wide(void) {
 /* halo_generate's passes for each combination of fold, wide and the halo image size:
  * exactly one gradient pass (none only with fold at full size without wide) and one
  * family of spreading passes. */
-static int test_generate_pass_lines(void) {
+static int test_generate_pass_lines(void)
+{
     static const struct {
         const char *params;
         int scale;
@@ -821,12 +902,16 @@ static int test_generate_pass_lines(void) {
                  cases[k].params);
         halo_scene *scene = scene_of(json);
         halo_diagnostics_clear(diags);
-        halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host_source,
-                                                      .host_file = "test.frag", .image_scale = cases[k].scale},
+        halo_program *p = halo_link(&(halo_link_desc){.library = library,
+                                                      .scene = scene,
+                                                      .host_source = host_source,
+                                                      .host_file = "test.frag",
+                                                      .image_scale = cases[k].scale},
                                     diags);
         halo_scene_destroy(scene);
         CHECK(p != NULL);
-        if (!p) continue;
+        if (!p)
+            continue;
         for (size_t i = 0; i < halo_program_pass_count(p); i++)
             snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? "," : "",
                      halo_program_pass(p, i)->name);
@@ -841,16 +926,20 @@ static int test_generate_pass_lines(void) {
  * pixels, with the parameter's value: halo_generate at N = 3 stores H_0 (reach 1), then
  * spreads 4, 2 and 1; with fold, its first spreading pass reaches 4 + 1 (the seed
  * gradient's taps), then 2 and 1; its occlusion pass 0. */
-static int test_pass_reach(void) {
+static int test_pass_reach(void)
+{
     for (int fold = 0; fold <= 1; fold++) {
         char json[256];
-        snprintf(json, sizeof json, "{\"stages\": [\"halo_seed\", {\"halo_generate\": {\"passes\": 3, \"fold\": %s}},"
-                 " {\"halo_map\": {\"mode\": 1}}]}", fold ? "true" : "false");
+        snprintf(json, sizeof json,
+                 "{\"stages\": [\"halo_seed\", {\"halo_generate\": {\"passes\": 3, \"fold\": %s}},"
+                 " {\"halo_map\": {\"mode\": 1}}]}",
+                 fold ? "true" : "false");
         halo_scene *scene = scene_of(json);
         halo_program *p = link_with(scene, host_source, HALO_TARGET_DEFAULT, 0);
         halo_scene_destroy(scene);
         CHECK(p != NULL);
-        if (!p) return 0;
+        if (!p)
+            return 0;
         char names[256] = "";
         for (size_t i = 0; i < halo_program_pass_count(p); i++) {
             const halo_pass_info *pass = halo_program_pass(p, i);
@@ -861,7 +950,8 @@ static int test_pass_reach(void) {
                 CHECK_INT_EQ(halo_pass_reach(pass, 1), 5);
             } else if (!strcmp(pass->name, "spread")) {
                 CHECK_INT_EQ(pass->start, fold ? 2 : 1);
-                if (!fold) CHECK_INT_EQ(halo_pass_reach(pass, 1), 4);
+                if (!fold)
+                    CHECK_INT_EQ(halo_pass_reach(pass, 1), 4);
                 CHECK_INT_EQ(halo_pass_reach(pass, 2), 2);
                 CHECK_INT_EQ(halo_pass_reach(pass, 3), 1);
             } else if (!strcmp(pass->name, "occlude")) {
@@ -877,14 +967,16 @@ static int test_pass_reach(void) {
 /* Feature groups: more than four features of a grouped stage (outline_feature,
  * outlines) link in groups of four, their channels parameters live, group g's values
  * current after halo_program_select_group; other stages keep the limit of four. */
-static int test_feature_groups(void) {
-    halo_scene *scene = scene_of("{\"stages\": [{\"outline_feature\": {\"value_min\": [0.1, 0.2, 0.3, 0.4, 0.5, 0.6],"
-                                 " \"value_max\": [0.15, 0.25, 0.35, 0.45, 0.55, 0.65]}},"
-                                 " {\"outlines\": {\"lambda\": [1, 2, 3, 4, 5]}}]}");
+static int test_feature_groups(void)
+{
+    halo_scene *scene = scene_of(
+        "{\"stages\": [{\"outline_feature\": {\"value_min\": [0.1, 0.2, 0.3, 0.4, 0.5, 0.6],"
+        " \"value_max\": [0.15, 0.25, 0.35, 0.45, 0.55, 0.65]}},"
+        " {\"outlines\": {\"lambda\": [1, 2, 3, 4, 5]}}]}");
     halo_diagnostics_clear(diags);
-    halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host_source,
-                                                  .host_file = "test.frag"},
-                                diags);
+    halo_program *p = halo_link(
+        &(halo_link_desc){.library = library, .scene = scene, .host_source = host_source, .host_file = "test.frag"},
+        diags);
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
     CHECK_INT_EQ(halo_program_group_count(p), 2);
@@ -929,7 +1021,8 @@ static int test_feature_groups(void) {
     halo_program_destroy(p);
     halo_scene_destroy(scene);
     /* four features: one group, parameters constant as before */
-    halo_program *q = link_valid("{\"stages\": [{\"outline_feature\": {\"value_min\": [0.1, 0.2, 0.3, 0.4]}}, \"outlines\"]}");
+    halo_program *q =
+        link_valid("{\"stages\": [{\"outline_feature\": {\"value_min\": [0.1, 0.2, 0.3, 0.4]}}, \"outlines\"]}");
     CHECK(q != NULL);
     CHECK_INT_EQ(halo_program_group_count(q), 1);
     CHECK(!halo_program_find_uniform(q, "outline_feature", "value_min")->live);
@@ -938,8 +1031,9 @@ static int test_feature_groups(void) {
     halo_program_destroy(q);
     /* more than 16 features, or more than four halos: the scene says no */
     halo_diagnostics_clear(diags);
-    CHECK(halo_scene_parse("{\"stages\": [{\"outline_feature\": {\"label\": [1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17]}}]}",
-                           "t.json", library, diags) == NULL);
+    CHECK(halo_scene_parse(
+              "{\"stages\": [{\"outline_feature\": {\"label\": [1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17]}}]}",
+              "t.json", library, diags) == NULL);
     halo_diagnostics_clear(diags);
     CHECK(halo_scene_parse("{\"stages\": [{\"halo_seed\": {\"alpha\": [1, 2, 3, 4, 5]}}]}", "t.json", library, diags) ==
           NULL);
@@ -948,9 +1042,11 @@ static int test_feature_groups(void) {
 }
 
 /* (k) Changing parameters of a linked program. */
-static int test_program_set(void) {
-    halo_program *p = link_valid("{\"stages\": [{\"boundary\": {\"live\": [\"k_gs\"]}},"
-                                 " {\"tone_shading\": {\"live\": [\"lights\"]}}]}");
+static int test_program_set(void)
+{
+    halo_program *p = link_valid(
+        "{\"stages\": [{\"boundary\": {\"live\": [\"k_gs\"]}},"
+        " {\"tone_shading\": {\"live\": [\"lights\"]}}]}");
     CHECK(p != NULL);
     double v = 20;
     halo_diagnostics_clear(diags);
@@ -993,10 +1089,12 @@ static int test_program_set(void) {
 }
 
 /* Vertex hosts take no sample stages. */
-static int test_hook_mismatch(void) {
+static int test_hook_mismatch(void)
+{
     halo_scene *scene = scene_of("{\"stages\": [\"boundary\"]}");
     halo_diagnostics_clear(diags);
-    halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene,
+    halo_program *p = halo_link(&(halo_link_desc){.library = library,
+                                                  .scene = scene,
                                                   .host_source = "#pragma halo declarations\nvoid main() {}\n",
                                                   .kind = HALO_SHADER_VERTEX},
                                 diags);
@@ -1008,53 +1106,63 @@ static int test_hook_mismatch(void) {
 
 /* User modules for the tests above, added to the library once. */
 static const char *const user_modules[][2] = {
-    {"user/unused_param.glsl", "#pragma halo module unused_param\n"
-                               "#pragma halo hook sample\n"
-                               "#pragma halo param used float default=0.5 min=0 max=1\n"
-                               "#pragma halo param spare float default=0.5 min=0 max=1\n"
-                               "void apply(inout halo_sample s) { s.opacity *= used; }\n"},
-    {"user/weight_a.glsl", "#pragma halo module weight_a\n"
-                           "#pragma halo hook sample\n"
-                           "float weight(float x) { return x * 0.5; }\n"
-                           "void apply(inout halo_sample s) { s.opacity = weight(s.opacity); }\n"},
-    {"user/weight_b.glsl", "#pragma halo module weight_b\n"
-                           "#pragma halo hook sample\n"
-                           "const float k_gs = 3.0;\n"
-                           "float weight(float x) { return x * k_gs; }\n"
-                           "void apply(inout halo_sample s) { s.opacity = halo_saturate(weight(s.opacity)); }\n"},
-    {"user/needs_unknown.glsl", "#pragma halo module needs_unknown\n"
-                                "#pragma halo hook sample\n"
-                                "#pragma halo needs curvature\n"
-                                "void apply(inout halo_sample s) {}\n"},
-    {"user/provider_a.glsl", "#pragma halo module provider_a\n"
-                             "#pragma halo hook sample\n"
-                             "#pragma halo provides thing float\n"
-                             "void apply(inout halo_sample s) { s.thing = 1.0; }\n"},
-    {"user/provider_b.glsl", "#pragma halo module provider_b\n"
-                             "#pragma halo hook sample\n"
-                             "#pragma halo provides thing float\n"
-                             "void apply(inout halo_sample s) { s.thing = 2.0; }\n"},
-    {"user/needs_thing.glsl", "#pragma halo module needs_thing\n"
-                              "#pragma halo hook sample\n"
-                              "#pragma halo needs thing\n"
-                              "void apply(inout halo_sample s) { s.opacity *= s.thing; }\n"},
-    {"user/cycle_a.glsl", "#pragma halo module cycle_a\n"
-                          "#pragma halo hook sample\n"
-                          "#pragma halo after cycle_b\n"
-                          "void apply(inout halo_sample s) {}\n"},
-    {"user/cycle_b.glsl", "#pragma halo module cycle_b\n"
-                          "#pragma halo hook sample\n"
-                          "#pragma halo after cycle_a\n"
-                          "void apply(inout halo_sample s) {}\n"},
-    {"user/type_error.glsl", "#pragma halo module type_error\n"     /* 1 */
-                             "#pragma halo hook sample\n"           /* 2 */
-                             "// a stage with a type error on line 7\n"
-                             "\n"                                   /* 4 */
-                             "void apply(inout halo_sample s)\n"    /* 5 */
-                             "{\n"                                  /* 6 */
-                             "    float x = vec3(1.0);\n"           /* 7 */
-                             "    s.opacity = x;\n"                 /* 8 */
-                             "}\n"},
+    {"user/unused_param.glsl",
+     "#pragma halo module unused_param\n"
+     "#pragma halo hook sample\n"
+     "#pragma halo param used float default=0.5 min=0 max=1\n"
+     "#pragma halo param spare float default=0.5 min=0 max=1\n"
+     "void apply(inout halo_sample s) { s.opacity *= used; }\n"},
+    {"user/weight_a.glsl",
+     "#pragma halo module weight_a\n"
+     "#pragma halo hook sample\n"
+     "float weight(float x) { return x * 0.5; }\n"
+     "void apply(inout halo_sample s) { s.opacity = weight(s.opacity); }\n"},
+    {"user/weight_b.glsl",
+     "#pragma halo module weight_b\n"
+     "#pragma halo hook sample\n"
+     "const float k_gs = 3.0;\n"
+     "float weight(float x) { return x * k_gs; }\n"
+     "void apply(inout halo_sample s) { s.opacity = halo_saturate(weight(s.opacity)); }\n"},
+    {"user/needs_unknown.glsl",
+     "#pragma halo module needs_unknown\n"
+     "#pragma halo hook sample\n"
+     "#pragma halo needs curvature\n"
+     "void apply(inout halo_sample s) {}\n"},
+    {"user/provider_a.glsl",
+     "#pragma halo module provider_a\n"
+     "#pragma halo hook sample\n"
+     "#pragma halo provides thing float\n"
+     "void apply(inout halo_sample s) { s.thing = 1.0; }\n"},
+    {"user/provider_b.glsl",
+     "#pragma halo module provider_b\n"
+     "#pragma halo hook sample\n"
+     "#pragma halo provides thing float\n"
+     "void apply(inout halo_sample s) { s.thing = 2.0; }\n"},
+    {"user/needs_thing.glsl",
+     "#pragma halo module needs_thing\n"
+     "#pragma halo hook sample\n"
+     "#pragma halo needs thing\n"
+     "void apply(inout halo_sample s) { s.opacity *= s.thing; }\n"},
+    {"user/cycle_a.glsl",
+     "#pragma halo module cycle_a\n"
+     "#pragma halo hook sample\n"
+     "#pragma halo after cycle_b\n"
+     "void apply(inout halo_sample s) {}\n"},
+    {"user/cycle_b.glsl",
+     "#pragma halo module cycle_b\n"
+     "#pragma halo hook sample\n"
+     "#pragma halo after cycle_a\n"
+     "void apply(inout halo_sample s) {}\n"},
+    {"user/type_error.glsl",
+     "#pragma halo module type_error\n" /* 1 */
+     "#pragma halo hook sample\n"       /* 2 */
+     "// a stage with a type error on line 7\n"
+     "\n"                                /* 4 */
+     "void apply(inout halo_sample s)\n" /* 5 */
+     "{\n"                               /* 6 */
+     "    float x = vec3(1.0);\n"        /* 7 */
+     "    s.opacity = x;\n"              /* 8 */
+     "}\n"},
 };
 
 /* Host contract 2: a host that declares `#pragma halo compositing mip` composites no
@@ -1062,16 +1170,18 @@ static const char *const user_modules[][2] = {
  * A host whose gradient is derived from its sampler (`#pragma halo volume`) links with
  * image passes: the pass programs do not get the derived gradient's body (they have no
  * host sampler). */
-static int test_compositing_mip(void) {
-    static const char mip[] = "#version 330 core\n"
-                              "#pragma halo declarations\n"
-                              "#pragma halo compositing mip\n"
-                              "out vec4 c;\n"
-                              "void main() { c = vec4(1.0);\n"
-                              "#ifdef HALO_LINKED\n"
-                              "    halo_finish();\n"
-                              "#endif\n"
-                              "}\n";
+static int test_compositing_mip(void)
+{
+    static const char mip[] =
+        "#version 330 core\n"
+        "#pragma halo declarations\n"
+        "#pragma halo compositing mip\n"
+        "out vec4 c;\n"
+        "void main() { c = vec4(1.0);\n"
+        "#ifdef HALO_LINKED\n"
+        "    halo_finish();\n"
+        "#endif\n"
+        "}\n";
     halo_scene *scene = scene_of("{\"stages\": [\"boundary\", \"silhouette\"]}");
     halo_program *p = link_with(scene, mip, HALO_TARGET_DEFAULT, 0);
     halo_scene_destroy(scene);
@@ -1123,19 +1233,25 @@ static int test_compositing_mip(void) {
 
 /* What the stages are, read from their modules' '#pragma halo is' (issue 28): the slice
  * host's clipping, its generation skip and the labels check ask these instead of names. */
-static int test_stage_info(void) {
-    halo_program *p = link_valid("{\"halo_scene\": 1, \"stages\": [\"gradient\", \"boundary\", \"tone_shading\", "
-                                 "\"halo_seed\", \"halo_generate\", \"halo_map\"]}");
+static int test_stage_info(void)
+{
+    halo_program *p = link_valid(
+        "{\"halo_scene\": 1, \"stages\": [\"gradient\", \"boundary\", \"tone_shading\", "
+        "\"halo_seed\", \"halo_generate\", \"halo_map\"]}");
     CHECK(p != NULL);
-    if (!p) return 1;
-    static const struct { const char *name; int keeps_empty, zero_generation; } expect[] = {
-        {"gradient", 1, 0}, {"boundary", 1, 0}, {"tone_shading", 0, 0},
-        {"halo_seed", 1, 0}, {"halo_generate", 1, 1}, {"halo_map", 1, 0}};
+    if (!p)
+        return 1;
+    static const struct {
+        const char *name;
+        int keeps_empty, zero_generation;
+    } expect[] = {{"gradient", 1, 0},  {"boundary", 1, 0},      {"tone_shading", 0, 0},
+                  {"halo_seed", 1, 0}, {"halo_generate", 1, 1}, {"halo_map", 1, 0}};
     for (size_t k = 0; k < sizeof expect / sizeof expect[0]; k++) {
         int i = stage_index(p, expect[k].name);
         const halo_stage_info *info = i >= 0 ? halo_program_stage_info(p, (size_t)i) : NULL;
         CHECK(info != NULL);
-        if (!info) continue;
+        if (!info)
+            continue;
         CHECK_STR_EQ(info->name, expect[k].name);
         CHECK_INT_EQ(info->keeps_empty, expect[k].keeps_empty);
         CHECK_INT_EQ(info->zero_generation, expect[k].zero_generation);
@@ -1148,8 +1264,9 @@ static int test_stage_info(void) {
     free(json);
     halo_program_destroy(p);
     /* outline_feature reads the labels only for a feature with label >= 0 */
-    p = link_valid("{\"halo_scene\": 1, \"stages\": [\"gradient\", {\"outline_feature\": {\"label\": [-1]}}, "
-                   "\"outlines\"]}");
+    p = link_valid(
+        "{\"halo_scene\": 1, \"stages\": [\"gradient\", {\"outline_feature\": {\"label\": [-1]}}, "
+        "\"outlines\"]}");
     CHECK(p != NULL);
     if (p) {
         const halo_stage_info *info = halo_program_stage_info(p, (size_t)stage_index(p, "outline_feature"));
@@ -1157,8 +1274,9 @@ static int test_stage_info(void) {
         CHECK_INT_EQ(halo_program_reads_labels(p), 0);
         halo_program_destroy(p);
     }
-    p = link_valid("{\"halo_scene\": 1, \"stages\": [\"gradient\", {\"outline_feature\": {\"label\": [-1, 3]}}, "
-                   "\"outlines\"]}");
+    p = link_valid(
+        "{\"halo_scene\": 1, \"stages\": [\"gradient\", {\"outline_feature\": {\"label\": [-1, 3]}}, "
+        "\"outlines\"]}");
     CHECK(p != NULL);
     if (p) {
         CHECK_INT_EQ(halo_program_reads_labels(p), 1);
@@ -1167,7 +1285,8 @@ static int test_stage_info(void) {
     return 0;
 }
 
-int main(void) {
+int main(void)
+{
     SETUP(halo_setup(&(halo_setup_desc){0}) == HALO_OK);
     library = check_library_setup(&diags);
     for (size_t i = 0; i < sizeof user_modules / sizeof user_modules[0]; i++)

@@ -6,32 +6,34 @@ static halo_library *library;
 static halo_diagnostics *diags;
 
 /* Adds a module from source; returns its status with the diagnostics in `diags`. */
-static halo_status add(const char *file, const char *source) {
+static halo_status add(const char *file, const char *source)
+{
     halo_diagnostics_clear(diags);
     return halo_library_add_source(library, file, source, diags);
 }
 
 static const char valid_module[] =
-    "#pragma halo module every_type\n"                                                                  /* 1 */
-    "#pragma halo summary \"a parameter of every type\"\n"                                             /* 2 */
-    "#pragma halo hook sample\n"                                                                        /* 3 */
-    "#pragma halo param a float default=0.5 min=0 max=1 \"a float (fraction)\"\n"                       /* 4 */
-    "#pragma halo param b vec2 default=[1,-2] min=-5 max=5 \"a vec2\"\n"                                /* 5 */
-    "#pragma halo param c vec3 default=[0.1, 0.2, 0.3] \"a vec3 without a range\"\n"                    /* 6 */
-    "#pragma halo param d vec4 default=[1,2,3,4] min=0 max=10 \"a vec4\"\n"                             /* 7 */
-    "#pragma halo param e int default=3 min=1 max=8 \"an int\"\n"                                       /* 8 */
-    "#pragma halo param f bool default=true \"a bool\"\n"                                               /* 9 */
-    "#pragma halo param g float[4] default=[0.25,0.5] min=0 max=1 \"a float array\"\n"                  /* 10 */
-    "#pragma halo param h vec3[2] default=[[1,0,0],[0,1,-1]] min=-1 max=1 \"a vec3 array\"\n"           /* 11 */
-    "\n"                                                                                                /* 12 */
-    "float weight(float x) { return x * a; }\n"                                                         /* 13 */
-    "void apply(inout halo_sample s)\n"                                                                 /* 14 */
-    "{\n"                                                                                               /* 15 */
+    "#pragma halo module every_type\n"                                                        /* 1 */
+    "#pragma halo summary \"a parameter of every type\"\n"                                    /* 2 */
+    "#pragma halo hook sample\n"                                                              /* 3 */
+    "#pragma halo param a float default=0.5 min=0 max=1 \"a float (fraction)\"\n"             /* 4 */
+    "#pragma halo param b vec2 default=[1,-2] min=-5 max=5 \"a vec2\"\n"                      /* 5 */
+    "#pragma halo param c vec3 default=[0.1, 0.2, 0.3] \"a vec3 without a range\"\n"          /* 6 */
+    "#pragma halo param d vec4 default=[1,2,3,4] min=0 max=10 \"a vec4\"\n"                   /* 7 */
+    "#pragma halo param e int default=3 min=1 max=8 \"an int\"\n"                             /* 8 */
+    "#pragma halo param f bool default=true \"a bool\"\n"                                     /* 9 */
+    "#pragma halo param g float[4] default=[0.25,0.5] min=0 max=1 \"a float array\"\n"        /* 10 */
+    "#pragma halo param h vec3[2] default=[[1,0,0],[0,1,-1]] min=-1 max=1 \"a vec3 array\"\n" /* 11 */
+    "\n"                                                                                      /* 12 */
+    "float weight(float x) { return x * a; }\n"                                               /* 13 */
+    "void apply(inout halo_sample s)\n"                                                       /* 14 */
+    "{\n"                                                                                     /* 15 */
     "    s.opacity = weight(s.opacity) + b.x + c.y + d.z + float(e) + (f ? 1.0 : 0.0) + g[0] + h[1].z\n"
     "              + float(g_count + h_count);\n"
     "}\n";
 
-static int test_valid_module(void) {
+static int test_valid_module(void)
+{
     size_t before = halo_library_module_count(library);
     CHECK_INT_EQ(add("user/every_type.glsl", valid_module), HALO_OK);
     CHECK_NO_ERRORS(diags);
@@ -73,7 +75,8 @@ static int test_valid_module(void) {
     p = halo_module_find_param(m, "d");
     CHECK_INT_EQ(p->type, HALO_PARAM_VEC4);
     CHECK_INT_EQ(p->components, 4);
-    for (int i = 0; i < 4; i++) CHECK_NEAR(p->default_value[i], i + 1, 0);
+    for (int i = 0; i < 4; i++)
+        CHECK_NEAR(p->default_value[i], i + 1, 0);
 
     p = halo_module_find_param(m, "e");
     CHECK_INT_EQ(p->type, HALO_PARAM_INT);
@@ -101,7 +104,8 @@ static int test_valid_module(void) {
     CHECK_INT_EQ(p->components, 3);
     CHECK_INT_EQ(p->default_count, 2);
     static const double h[6] = {1, 0, 0, 0, 1, -1};
-    for (int i = 0; i < 6; i++) CHECK_NEAR(p->default_value[i], h[i], 0);
+    for (int i = 0; i < 6; i++)
+        CHECK_NEAR(p->default_value[i], h[i], 0);
     CHECK_NEAR(p->min, -1, 0);
 
     CHECK(halo_module_find_param(m, "nope") == NULL);
@@ -111,7 +115,8 @@ static int test_valid_module(void) {
 }
 
 /* The embedded modules parse, with the parameters their files declare. */
-static int test_builtin_modules(void) {
+static int test_builtin_modules(void)
+{
     const halo_module *b = halo_library_find(library, "boundary");
     CHECK(b != NULL);
     CHECK_STR_EQ(halo_module_file(b), "glsl/sample/boundary.glsl");
@@ -129,7 +134,8 @@ static int test_builtin_modules(void) {
     int stages = 0;
     for (size_t i = 0; i < halo_library_module_count(library); i++) {
         const halo_module *m = halo_library_module(library, i);
-        if (!strcmp(halo_module_name(m), "halo_math") || strncmp(halo_module_file(m), "glsl/", 5)) continue;
+        if (!strcmp(halo_module_name(m), "halo_math") || strncmp(halo_module_file(m), "glsl/", 5))
+            continue;
         stages++;
         if (halo_module_hook(m) == HALO_HOOK_SAMPLE && !halo_module_has_emulation(m))
             CHECK_FAIL_AT("built-in stage %s has no emulation", halo_module_name(m));
@@ -139,19 +145,20 @@ static int test_builtin_modules(void) {
 }
 
 /* One error: status, id, file and line. */
-#define CHECK_ONE_ERROR(FILE_, SOURCE_, ID, LINE)                                                                   \
-    do {                                                                                                          \
-        size_t count_before_ = halo_library_module_count(library);                                                \
-        CHECK_INT_EQ(add(FILE_, SOURCE_), HALO_ERROR_INPUT);                                                      \
-        CHECK_DIAG_LINE(diags, ID, LINE);                                                                         \
-        CHECK_STR_EQ(check_find_diag(diags, ID, LINE)->file, FILE_);                                              \
-        CHECK_INT_EQ(halo_library_module_count(library), count_before_);                                          \
+#define CHECK_ONE_ERROR(FILE_, SOURCE_, ID, LINE)                        \
+    do {                                                                 \
+        size_t count_before_ = halo_library_module_count(library);       \
+        CHECK_INT_EQ(add(FILE_, SOURCE_), HALO_ERROR_INPUT);             \
+        CHECK_DIAG_LINE(diags, ID, LINE);                                \
+        CHECK_STR_EQ(check_find_diag(diags, ID, LINE)->file, FILE_);     \
+        CHECK_INT_EQ(halo_library_module_count(library), count_before_); \
     } while (0)
 
 /* Each of the lines, put into a sample module after head (so at line `line`), is refused
  * with id at that line. */
 static int check_each_line_refused(const char *file, const char *head, const char *const *lines, size_t count,
-                                   halo_message_id id, int line) {
+                                   halo_message_id id, int line)
+{
     for (size_t i = 0; i < count; i++) {
         char source[512];
         snprintf(source, sizeof source, "%s%svoid apply(inout halo_sample s) {}\n", head, lines[i]);
@@ -164,7 +171,8 @@ static int check_each_line_refused(const char *file, const char *head, const cha
     return 0;
 }
 
-static int test_unknown_directive(void) {
+static int test_unknown_directive(void)
+{
     CHECK_ONE_ERROR("user/unknown.glsl",
                     "#pragma halo module unknown_directive\n"
                     "#pragma halo hook sample\n"
@@ -183,14 +191,15 @@ static int test_unknown_directive(void) {
     return 0;
 }
 
-static int test_malformed_param(void) {
+static int test_malformed_param(void)
+{
     static const char *const bad_lines[] = {
-        "#pragma halo param\n",                                       /* no name */
-        "#pragma halo param k_x\n",                                   /* no type */
-        "#pragma halo param K_X float default=1\n",                   /* name not [a-z][a-z0-9_]* */
-        "#pragma halo param k_x float default=1 bogus\n",             /* stray word */
-        "#pragma halo param k_x float default=1 min=zero\n",          /* min not a number */
-        "#pragma halo param k_x float default=1 min=2 max=1\n",       /* min above max */
+        "#pragma halo param\n",                                        /* no name */
+        "#pragma halo param k_x\n",                                    /* no type */
+        "#pragma halo param K_X float default=1\n",                    /* name not [a-z][a-z0-9_]* */
+        "#pragma halo param k_x float default=1 bogus\n",              /* stray word */
+        "#pragma halo param k_x float default=1 min=zero\n",           /* min not a number */
+        "#pragma halo param k_x float default=1 min=2 max=1\n",        /* min above max */
         "#pragma halo param k_x float default=1 \"unclosed meaning\n", /* unclosed quote */
     };
     if (check_each_line_refused("user/malformed.glsl",
@@ -200,17 +209,20 @@ static int test_malformed_param(void) {
                                 bad_lines, sizeof bad_lines / sizeof bad_lines[0], HALO_MSG_ANNOTATION_SYNTAX, 4))
         return 1;
     /* A parameter without default= is missing a required part. */
-    CHECK_INT_EQ(add("user/malformed.glsl", "#pragma halo module no_default\n"
-                                            "#pragma halo hook sample\n"
-                                            "#pragma halo param k float min=0 max=1\n"
-                                            "void apply(inout halo_sample s) {}\n"),
+    CHECK_INT_EQ(add("user/malformed.glsl",
+                     "#pragma halo module no_default\n"
+                     "#pragma halo hook sample\n"
+                     "#pragma halo param k float min=0 max=1\n"
+                     "void apply(inout halo_sample s) {}\n"),
                  HALO_ERROR_INPUT);
     CHECK(halo_diagnostics_errors(diags) >= 1);
-    CHECK(check_find_diag(diags, HALO_MSG_ANNOTATION_MISSING, 3) || check_find_diag(diags, HALO_MSG_ANNOTATION_SYNTAX, 3));
+    CHECK(check_find_diag(diags, HALO_MSG_ANNOTATION_MISSING, 3) ||
+          check_find_diag(diags, HALO_MSG_ANNOTATION_SYNTAX, 3));
     return 0;
 }
 
-static int test_unknown_type(void) {
+static int test_unknown_type(void)
+{
     CHECK_ONE_ERROR("user/type.glsl",
                     "#pragma halo module unknown_type\n"
                     "#pragma halo hook sample\n"
@@ -234,25 +246,28 @@ static int test_unknown_type(void) {
     return 0;
 }
 
-static int test_default_invalid(void) {
+static int test_default_invalid(void)
+{
     static const char *const bad_lines[] = {
-        "#pragma halo param k float default=5 min=0 max=1\n",       /* above max */
-        "#pragma halo param k float default=-0.5 min=0 max=1\n",    /* below min */
-        "#pragma halo param k vec3 default=[0,0,2] min=0 max=1\n",  /* one component above max */
+        "#pragma halo param k float default=5 min=0 max=1\n",         /* above max */
+        "#pragma halo param k float default=-0.5 min=0 max=1\n",      /* below min */
+        "#pragma halo param k vec3 default=[0,0,2] min=0 max=1\n",    /* one component above max */
         "#pragma halo param k vec3 default=[0,0] \"two of three\"\n", /* wrong component count */
-        "#pragma halo param k float default=\"one\"\n",             /* not a number */
-        "#pragma halo param k float default=[1\n",                  /* not JSON */
-        "#pragma halo param k int default=1.5 min=0 max=4\n",       /* not a whole number */
-        "#pragma halo param k bool default=2\n",                    /* a bool is 0 or 1 */
-        "#pragma halo param k float[2] default=[1,2,3]\n",          /* too many elements */
+        "#pragma halo param k float default=\"one\"\n",               /* not a number */
+        "#pragma halo param k float default=[1\n",                    /* not JSON */
+        "#pragma halo param k int default=1.5 min=0 max=4\n",         /* not a whole number */
+        "#pragma halo param k bool default=2\n",                      /* a bool is 0 or 1 */
+        "#pragma halo param k float[2] default=[1,2,3]\n",            /* too many elements */
     };
     return check_each_line_refused("user/default.glsl",
                                    "#pragma halo module bad_default\n"
                                    "#pragma halo hook sample\n",
-                                   bad_lines, sizeof bad_lines / sizeof bad_lines[0], HALO_MSG_PARAM_DEFAULT_INVALID, 3);
+                                   bad_lines, sizeof bad_lines / sizeof bad_lines[0], HALO_MSG_PARAM_DEFAULT_INVALID,
+                                   3);
 }
 
-static int test_duplicate_param(void) {
+static int test_duplicate_param(void)
+{
     CHECK_ONE_ERROR("user/dup.glsl",
                     "#pragma halo module duplicate_param\n"
                     "#pragma halo hook sample\n"
@@ -264,10 +279,12 @@ static int test_duplicate_param(void) {
     return 0;
 }
 
-static int test_missing_annotations(void) {
+static int test_missing_annotations(void)
+{
     /* No module (nor library). */
-    CHECK_INT_EQ(add("user/anonymous.glsl", "#pragma halo hook sample\n"
-                                            "void apply(inout halo_sample s) {}\n"),
+    CHECK_INT_EQ(add("user/anonymous.glsl",
+                     "#pragma halo hook sample\n"
+                     "void apply(inout halo_sample s) {}\n"),
                  HALO_ERROR_INPUT);
     CHECK_DIAG(diags, HALO_MSG_ANNOTATION_MISSING);
     CHECK_STR_EQ(check_find_diag(diags, HALO_MSG_ANNOTATION_MISSING, 0)->file, "user/anonymous.glsl");
@@ -295,7 +312,8 @@ static int test_missing_annotations(void) {
     return 0;
 }
 
-static int test_entry_missing(void) {
+static int test_entry_missing(void)
+{
     CHECK_ONE_ERROR("user/no_apply.glsl",
                     "#pragma halo module no_apply\n"
                     "#pragma halo hook sample\n"
@@ -304,10 +322,12 @@ static int test_entry_missing(void) {
     return 0;
 }
 
-static int test_duplicate_module(void) {
-    static const char source[] = "#pragma halo module twin\n"
-                                 "#pragma halo hook sample\n"
-                                 "void apply(inout halo_sample s) {}\n";
+static int test_duplicate_module(void)
+{
+    static const char source[] =
+        "#pragma halo module twin\n"
+        "#pragma halo hook sample\n"
+        "void apply(inout halo_sample s) {}\n";
     CHECK_INT_EQ(add("user/twin.glsl", source), HALO_OK);
     CHECK_ONE_ERROR("user/twin_again.glsl", source, HALO_MSG_MODULE_DUPLICATE, 1);
     /* A user module may not take a built-in stage's name with add_source. */
@@ -320,7 +340,8 @@ static int test_duplicate_module(void) {
     return 0;
 }
 
-static int test_reserved_name(void) {
+static int test_reserved_name(void)
+{
     CHECK_ONE_ERROR("user/reserved.glsl",
                     "#pragma halo module reserved\n"
                     "#pragma halo hook sample\n"
@@ -342,15 +363,17 @@ static int test_reserved_name(void) {
                     "void apply(inout halo_sample s) {}\n",
                     HALO_MSG_MODULE_RESERVED_NAME, 3);
     /* Calling the shared helpers is allowed. */
-    CHECK_INT_EQ(add("user/helper_user.glsl", "#pragma halo module helper_user\n"
-                                              "#pragma halo hook sample\n"
-                                              "void apply(inout halo_sample s) { s.opacity = halo_saturate(s.opacity); }\n"),
+    CHECK_INT_EQ(add("user/helper_user.glsl",
+                     "#pragma halo module helper_user\n"
+                     "#pragma halo hook sample\n"
+                     "void apply(inout halo_sample s) { s.opacity = halo_saturate(s.opacity); }\n"),
                  HALO_OK);
     return 0;
 }
 
 /* '#pragma halo is': what a stage is, for hosts (halo_stage_info; issue 28) */
-static int test_is_annotation(void) {
+static int test_is_annotation(void)
+{
     CHECK_ONE_ERROR("user/is.glsl",
                     "#pragma halo module is_unknown\n"
                     "#pragma halo hook sample\n"
@@ -371,28 +394,31 @@ static int test_is_annotation(void) {
                     "#pragma halo is labels_when=lable\n"
                     "void apply(inout halo_sample s) {}\n",
                     HALO_MSG_ANNOTATION_SYNTAX, 4);
-    CHECK_INT_EQ(add("user/is_ok.glsl", "#pragma halo module is_ok\n"
-                                        "#pragma halo hook sample\n"
-                                        "#pragma halo param label float default=-1 min=-1 max=100\n"
-                                        "#pragma halo is keeps_empty\n"
-                                        "#pragma halo is labels_when=label\n"
-                                        "void apply(inout halo_sample s) {}\n"),
+    CHECK_INT_EQ(add("user/is_ok.glsl",
+                     "#pragma halo module is_ok\n"
+                     "#pragma halo hook sample\n"
+                     "#pragma halo param label float default=-1 min=-1 max=100\n"
+                     "#pragma halo is keeps_empty\n"
+                     "#pragma halo is labels_when=label\n"
+                     "void apply(inout halo_sample s) {}\n"),
                  HALO_OK);
     return 0;
 }
 
 /* Every error in a file is reported, each at its own line. */
-static int test_all_errors_reported(void) {
-    CHECK_INT_EQ(add("user/many.glsl", "#pragma halo module many_errors\n"                     /* 1 */
-                                       "#pragma halo hook sample\n"                             /* 2 */
-                                       "#pragma halo frobnicate\n"                              /* 3 */
-                                       "#pragma halo param a float default=1\n"                 /* 4 */
-                                       "#pragma halo param b floaty default=1\n"                /* 5 */
-                                       "#pragma halo param c float default=9 min=0 max=1\n"     /* 6 */
-                                       "#pragma halo param a float default=1\n"                 /* 7 */
-                                       "#pragma halo param\n"                                   /* 8 */
-                                       "#pragma halo hook sample\n"                             /* 9 */
-                                       "void apply(inout halo_sample s) {}\n"),
+static int test_all_errors_reported(void)
+{
+    CHECK_INT_EQ(add("user/many.glsl",
+                     "#pragma halo module many_errors\n"                  /* 1 */
+                     "#pragma halo hook sample\n"                         /* 2 */
+                     "#pragma halo frobnicate\n"                          /* 3 */
+                     "#pragma halo param a float default=1\n"             /* 4 */
+                     "#pragma halo param b floaty default=1\n"            /* 5 */
+                     "#pragma halo param c float default=9 min=0 max=1\n" /* 6 */
+                     "#pragma halo param a float default=1\n"             /* 7 */
+                     "#pragma halo param\n"                               /* 8 */
+                     "#pragma halo hook sample\n"                         /* 9 */
+                     "void apply(inout halo_sample s) {}\n"),
                  HALO_ERROR_INPUT);
     CHECK_DIAG_LINE(diags, HALO_MSG_ANNOTATION_UNKNOWN, 3);
     CHECK_DIAG_LINE(diags, HALO_MSG_PARAM_TYPE_UNKNOWN, 5);
@@ -414,13 +440,16 @@ static int test_all_errors_reported(void) {
 /* Columns point at the offending word. */
 /* Adds a module that must be refused: the column of its `id` error at `line`, -1 when
  * it was taken or has no such error. */
-static int refused_at(const char *source, halo_message_id id, int line) {
-    if (add("user/refused.glsl", source) != HALO_ERROR_INPUT) return -1;
+static int refused_at(const char *source, halo_message_id id, int line)
+{
+    if (add("user/refused.glsl", source) != HALO_ERROR_INPUT)
+        return -1;
     const halo_diagnostic *g = check_find_diag(diags, id, line);
     return g ? g->column : -1;
 }
 
-static int test_columns(void) {
+static int test_columns(void)
+{
     CHECK_INT_EQ(refused_at("#pragma halo module columns\n"
                             "#pragma halo hook sample\n"
                             "#pragma halo param k vec5 default=1\n"
@@ -432,21 +461,33 @@ static int test_columns(void) {
 
 /* reach= of a pass: K, or [M*]B^(PARAM-i)[+K] with PARAM an int parameter and B 2 or 4;
  * when= a list [!]PARAM,... of bool parameters; anything else at the word. */
-static int test_pass_reach_syntax(void) {
+static int test_pass_reach_syntax(void)
+{
     static const struct {
         const char *word;
         halo_message_id id;
-    } bad[] = {{"reach=x", HALO_MSG_ANNOTATION_SYNTAX},           {"reach=2^(n-j)", HALO_MSG_ANNOTATION_SYNTAX},
-               {"reach=2^(n-i)+", HALO_MSG_ANNOTATION_SYNTAX},    {"reach=-1", HALO_MSG_ANNOTATION_SYNTAX},
-               {"reach=2^(n-i)*2", HALO_MSG_ANNOTATION_SYNTAX},   {"reach=5000", HALO_MSG_ANNOTATION_SYNTAX},
-               {"reach=3^(n-i)", HALO_MSG_ANNOTATION_SYNTAX},     {"reach=3*4", HALO_MSG_ANNOTATION_SYNTAX},
-               {"reach=0*4^(n-i)", HALO_MSG_ANNOTATION_SYNTAX},   {"reach=*4^(n-i)", HALO_MSG_ANNOTATION_SYNTAX},
-               {"reach=5000*2^(n-i)", HALO_MSG_ANNOTATION_SYNTAX}, {"reach=3*4^(n-i)+", HALO_MSG_ANNOTATION_SYNTAX},
-               {"when=on,", HALO_MSG_ANNOTATION_SYNTAX},          {"when=,on", HALO_MSG_ANNOTATION_SYNTAX},
-               {"when=on,,on", HALO_MSG_ANNOTATION_SYNTAX},       {"when=on,!", HALO_MSG_ANNOTATION_SYNTAX},
-               {"when=On", HALO_MSG_ANNOTATION_SYNTAX},           {"when=on,nope", HALO_MSG_PASS_INVALID},
-               {"when=!on,n", HALO_MSG_PASS_INVALID},             {"reach=2^(nope-i)", HALO_MSG_PASS_INVALID},
-               {"reach=2^(on-i)", HALO_MSG_PASS_INVALID},         {"reach=3*4^(on-i)+1", HALO_MSG_PASS_INVALID}};
+    } bad[] = {{"reach=x", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=2^(n-j)", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=2^(n-i)+", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=-1", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=2^(n-i)*2", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=5000", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=3^(n-i)", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=3*4", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=0*4^(n-i)", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=*4^(n-i)", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=5000*2^(n-i)", HALO_MSG_ANNOTATION_SYNTAX},
+               {"reach=3*4^(n-i)+", HALO_MSG_ANNOTATION_SYNTAX},
+               {"when=on,", HALO_MSG_ANNOTATION_SYNTAX},
+               {"when=,on", HALO_MSG_ANNOTATION_SYNTAX},
+               {"when=on,,on", HALO_MSG_ANNOTATION_SYNTAX},
+               {"when=on,!", HALO_MSG_ANNOTATION_SYNTAX},
+               {"when=On", HALO_MSG_ANNOTATION_SYNTAX},
+               {"when=on,nope", HALO_MSG_PASS_INVALID},
+               {"when=!on,n", HALO_MSG_PASS_INVALID},
+               {"reach=2^(nope-i)", HALO_MSG_PASS_INVALID},
+               {"reach=2^(on-i)", HALO_MSG_PASS_INVALID},
+               {"reach=3*4^(on-i)+1", HALO_MSG_PASS_INVALID}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char source[512];
         snprintf(source, sizeof source,
@@ -463,26 +504,28 @@ static int test_pass_reach_syntax(void) {
             CHECK_FAIL_AT("%s: no error at line 6 (column %d)", bad[i].word, column);
         CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
     }
-    CHECK_INT_EQ(add("user/reach.glsl", "#pragma halo module reach_ok\n"
-                                        "#pragma halo hook image\n"
-                                        "#pragma halo param n int default=2 min=1 max=4\n"
-                                        "#pragma halo param on bool default=true\n"
-                                        "#pragma halo image a\n"
-                                        "#pragma halo pass p entry=f inputs=a output=a reach=2^(n-i)+1\n"
-                                        "#pragma halo pass q entry=f inputs=a output=a reach=0\n"
-                                        "#pragma halo pass r entry=f inputs=a output=a reach=3*4^(n-i)+1 when=on\n"
-                                        "#pragma halo pass s entry=f inputs=a output=a reach=4^(n-i) "
-                                        "when=!on,halo_full_size\n"
-                                        "halo_channels f(ivec2 pixel) { return halo_input(0, pixel); }\n"),
+    CHECK_INT_EQ(add("user/reach.glsl",
+                     "#pragma halo module reach_ok\n"
+                     "#pragma halo hook image\n"
+                     "#pragma halo param n int default=2 min=1 max=4\n"
+                     "#pragma halo param on bool default=true\n"
+                     "#pragma halo image a\n"
+                     "#pragma halo pass p entry=f inputs=a output=a reach=2^(n-i)+1\n"
+                     "#pragma halo pass q entry=f inputs=a output=a reach=0\n"
+                     "#pragma halo pass r entry=f inputs=a output=a reach=3*4^(n-i)+1 when=on\n"
+                     "#pragma halo pass s entry=f inputs=a output=a reach=4^(n-i) "
+                     "when=!on,halo_full_size\n"
+                     "halo_channels f(ivec2 pixel) { return halo_input(0, pixel); }\n"),
                  HALO_OK);
     return 0;
 }
 
 /* A parameter named after a GLSL keyword, type or reserved word is refused at its
  * annotation (the module's code could not use it), not later in the shader. */
-static int test_reserved_param_names(void) {
-    static const char *const names[] = {"float", "sample", "vec3", "dvec2", "mat2x3", "output", "filter", "gl_x",
-                                        "a__b"};
+static int test_reserved_param_names(void)
+{
+    static const char *const names[] = {"float",  "sample", "vec3", "dvec2", "mat2x3",
+                                        "output", "filter", "gl_x", "a__b"};
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
         char source[512];
         snprintf(source, sizeof source,
@@ -496,17 +539,19 @@ static int test_reserved_param_names(void) {
         CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
     }
     /* a built-in function's name is no keyword: the linker renames parameters */
-    CHECK_INT_EQ(add("user/reserved.glsl", "#pragma halo module builtin_name\n"
-                                           "#pragma halo hook sample\n"
-                                           "#pragma halo param texture float default=1\n"
-                                           "void apply(inout halo_sample s) { s.opacity *= texture; }\n"),
+    CHECK_INT_EQ(add("user/reserved.glsl",
+                     "#pragma halo module builtin_name\n"
+                     "#pragma halo hook sample\n"
+                     "#pragma halo param texture float default=1\n"
+                     "void apply(inout halo_sample s) { s.opacity *= texture; }\n"),
                  HALO_OK);
     return 0;
 }
 
 /* The real reason, at its place: 25 words are too many (at the 25th), not "unclosed
  * quote?" at the directive; an unclosed quote at the quote. */
-static int test_annotation_words(void) {
+static int test_annotation_words(void)
+{
     CHECK_INT_EQ(refused_at("#pragma halo module many_words\n"
                             "#pragma halo hook sample\n"
                             "#pragma halo needs a b c d e f g h i j k l m n o p q r s t u v w x y\n"
@@ -525,38 +570,44 @@ static int test_annotation_words(void) {
 
 /* Comments after an annotation are no part of it (the preprocessor drops them), and a
  * malformed 'module' or 'hook' annotation is one error, not also "no module". */
-static int test_annotation_comments(void) {
-    CHECK_INT_EQ(add("user/comments.glsl", "#pragma halo module commented // the module\n"
-                                           "#pragma halo hook sample /* per sample */\n"
-                                           "#pragma halo summary \"a // in quotes stays\" // a comment\n"
-                                           "#pragma halo param k float default=1 \"k\" // its meaning\n"
-                                           "void apply(inout halo_sample s) { s.opacity *= k; }\n"),
+static int test_annotation_comments(void)
+{
+    CHECK_INT_EQ(add("user/comments.glsl",
+                     "#pragma halo module commented // the module\n"
+                     "#pragma halo hook sample /* per sample */\n"
+                     "#pragma halo summary \"a // in quotes stays\" // a comment\n"
+                     "#pragma halo param k float default=1 \"k\" // its meaning\n"
+                     "void apply(inout halo_sample s) { s.opacity *= k; }\n"),
                  HALO_OK);
     CHECK_INT_EQ(halo_diagnostics_count(diags), 0);
     const halo_module *m = halo_library_find(library, "commented");
     CHECK(m != NULL);
     CHECK(!strcmp(halo_module_summary(m), "a // in quotes stays"));
-    CHECK_INT_EQ(add("user/comments.glsl", "#pragma halo module Bad-Name\n"
-                                           "#pragma halo hook sample\n"
-                                           "void apply(inout halo_sample s) {}\n"),
+    CHECK_INT_EQ(add("user/comments.glsl",
+                     "#pragma halo module Bad-Name\n"
+                     "#pragma halo hook sample\n"
+                     "void apply(inout halo_sample s) {}\n"),
                  HALO_ERROR_INPUT);
     CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
-    CHECK_INT_EQ(add("user/comments.glsl", "#pragma halo module bad_hook\n"
-                                           "#pragma halo hook sample per sample\n"
-                                           "void apply(inout halo_sample s) {}\n"),
+    CHECK_INT_EQ(add("user/comments.glsl",
+                     "#pragma halo module bad_hook\n"
+                     "#pragma halo hook sample per sample\n"
+                     "void apply(inout halo_sample s) {}\n"),
                  HALO_ERROR_INPUT);
     CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
     return 0;
 }
 
-static int test_add_file(void) {
+static int test_add_file(void)
+{
     halo_diagnostics_clear(diags);
     CHECK_INT_EQ(halo_library_add_file(library, "/nonexistent/dir/module.glsl", diags), HALO_ERROR_IO);
     CHECK_DIAG(diags, HALO_MSG_IO_READ);
     return 0;
 }
 
-int main(void) {
+int main(void)
+{
     library = check_library_setup(&diags);
     if (halo_diagnostics_count(diags)) {
         check_print_diags(diags);

@@ -29,7 +29,8 @@ static struct {
     char text[512];
 } logged;
 
-static void logger(const halo_diagnostic *g, void *user_data) {
+static void logger(const halo_diagnostic *g, void *user_data)
+{
     (void)user_data;
     if (logged.count++ == 0) {
         logged.id = g->id;
@@ -37,7 +38,8 @@ static void logger(const halo_diagnostic *g, void *user_data) {
     }
 }
 
-static void refuse_begin(halo_diagnostics *d) {
+static void refuse_begin(halo_diagnostics *d)
+{
     halo_diagnostics_clear(d);
     logged.count = 0;
     logged.text[0] = '\0';
@@ -45,11 +47,14 @@ static void refuse_begin(halo_diagnostics *d) {
 
 /* One USAGE diagnostic naming the function and the argument, through the logger and,
  * when the function takes the list d, in d too. */
-static int refuse_reported(const char *fn, const char *argument, halo_diagnostics *d, int takes_list) {
+static int refuse_reported(const char *fn, const char *argument, halo_diagnostics *d, int takes_list)
+{
     if (logged.count != 1 || logged.id != HALO_MSG_USAGE || !strstr(logged.text, fn) ||
         !strstr(logged.text, argument)) {
-        fprintf(stderr, "    %s with %s NULL: the logger saw %d diagnostic%s, the first [%s] \"%s\"; want one USAGE "
-                "naming %s and %s\n", fn, argument, logged.count, logged.count == 1 ? "" : "s",
+        fprintf(stderr,
+                "    %s with %s NULL: the logger saw %d diagnostic%s, the first [%s] \"%s\"; want one USAGE "
+                "naming %s and %s\n",
+                fn, argument, logged.count, logged.count == 1 ? "" : "s",
                 logged.count ? halo_message_name(logged.id) : "-", logged.text, fn, argument);
         return 0;
     }
@@ -64,20 +69,24 @@ static int refuse_reported(const char *fn, const char *argument, halo_diagnostic
 
 /* ok: the call, compared with its error value ("halo_x(NULL) == NULL"). REFUSES for a
  * function without a halo_diagnostics argument, REFUSES_D for one that is passed d. */
-#define REFUSES_AS(ok, argument, takes_list)                                                                      \
-    do {                                                                                                          \
-        refuse_begin(d);                                                                                          \
-        if (!(ok)) CHECK_FAIL_AT("%s with %s NULL: not its error value (%s)", fn, argument, #ok);               \
-        if (!refuse_reported(fn, argument, d, takes_list)) CHECK_FAIL_AT("%s: no USAGE diagnostic", fn);       \
+#define REFUSES_AS(ok, argument, takes_list)                                               \
+    do {                                                                                   \
+        refuse_begin(d);                                                                   \
+        if (!(ok))                                                                         \
+            CHECK_FAIL_AT("%s with %s NULL: not its error value (%s)", fn, argument, #ok); \
+        if (!refuse_reported(fn, argument, d, takes_list))                                 \
+            CHECK_FAIL_AT("%s: no USAGE diagnostic", fn);                                  \
     } while (0)
-#define REFUSES(ok, argument) REFUSES_AS(ok, argument, 0)
+#define REFUSES(ok, argument)   REFUSES_AS(ok, argument, 0)
 #define REFUSES_D(ok, argument) REFUSES_AS(ok, argument, 1)
 /* NULL is a valid value here: no diagnostic at all. */
-#define ACCEPTS(ok)                                                                                               \
-    do {                                                                                                          \
-        refuse_begin(d);                                                                                          \
-        if (!(ok)) CHECK_FAIL_AT("%s: %s failed", fn, #ok);                                                      \
-        if (logged.count) CHECK_FAIL_AT("%s: a diagnostic for a NULL it takes: \"%s\"", fn, logged.text);        \
+#define ACCEPTS(ok)                                                                         \
+    do {                                                                                    \
+        refuse_begin(d);                                                                    \
+        if (!(ok))                                                                          \
+            CHECK_FAIL_AT("%s: %s failed", fn, #ok);                                        \
+        if (logged.count)                                                                   \
+            CHECK_FAIL_AT("%s: a diagnostic for a NULL it takes: \"%s\"", fn, logged.text); \
     } while (0)
 /* A void call as an expression. */
 #define DONE(call) ((call), 1)
@@ -111,7 +120,8 @@ static struct {
 } gl_fixture;
 static int gl_skipped;
 
-static halo_gl *fixture_gl(void) {
+static halo_gl *fixture_gl(void)
+{
     if (!gl_fixture.tried) {
         gl_fixture.tried = 1;
         char err[256] = "";
@@ -124,9 +134,11 @@ static halo_gl *fixture_gl(void) {
         } else {
             fprintf(stderr, "    no headless context (%s)\n", err);
         }
-        if (!gl_fixture.gl || !gl_fixture.frame || !gl_fixture.buffer) gl_fixture.gl = NULL;
+        if (!gl_fixture.gl || !gl_fixture.frame || !gl_fixture.buffer)
+            gl_fixture.gl = NULL;
     }
-    if (!gl_fixture.gl) gl_skipped = 1;
+    if (!gl_fixture.gl)
+        gl_skipped = 1;
     return gl_fixture.gl;
 }
 
@@ -134,13 +146,39 @@ static halo_gl *fixture_gl(void) {
 
 #define CASE(name) static int case_##name(const char *fn, halo_diagnostics *d)
 
-CASE(halo_diagnostics_destroy) { ACCEPTS(DONE(halo_diagnostics_destroy(NULL))); return 0; }
-CASE(halo_diagnostics_count) { ACCEPTS(halo_diagnostics_count(NULL) == 0); return 0; }
-CASE(halo_diagnostics_get) { ACCEPTS(halo_diagnostics_get(NULL, 0) == NULL); return 0; }
-CASE(halo_diagnostics_errors) { ACCEPTS(halo_diagnostics_errors(NULL) == 0); return 0; }
-CASE(halo_diagnostics_has) { ACCEPTS(halo_diagnostics_has(NULL, HALO_MSG_USAGE) == 0); return 0; }
-CASE(halo_diagnostics_clear) { ACCEPTS(DONE(halo_diagnostics_clear(NULL))); return 0; }
-CASE(halo_diagnostics_report) {
+// clang-format off: one line a case, the table of the API (each one call and its refusal)
+CASE(halo_diagnostics_destroy)
+{
+    ACCEPTS(DONE(halo_diagnostics_destroy(NULL)));
+    return 0;
+}
+CASE(halo_diagnostics_count)
+{
+    ACCEPTS(halo_diagnostics_count(NULL) == 0);
+    return 0;
+}
+CASE(halo_diagnostics_get)
+{
+    ACCEPTS(halo_diagnostics_get(NULL, 0) == NULL);
+    return 0;
+}
+CASE(halo_diagnostics_errors)
+{
+    ACCEPTS(halo_diagnostics_errors(NULL) == 0);
+    return 0;
+}
+CASE(halo_diagnostics_has)
+{
+    ACCEPTS(halo_diagnostics_has(NULL, HALO_MSG_USAGE) == 0);
+    return 0;
+}
+CASE(halo_diagnostics_clear)
+{
+    ACCEPTS(DONE(halo_diagnostics_clear(NULL)));
+    return 0;
+}
+CASE(halo_diagnostics_report)
+{
     /* a NULL list: the logger alone sees it; a NULL file and text are empty */
     refuse_begin(d);
     halo_diagnostics_report(NULL, HALO_SEVERITY_NOTE, HALO_MSG_GLSL_WARNING, NULL, 0, 0, NULL, NULL);
@@ -148,7 +186,8 @@ CASE(halo_diagnostics_report) {
     CHECK_INT_EQ(logged.id, HALO_MSG_GLSL_WARNING);
     return 0;
 }
-CASE(halo_read_text_file) {
+CASE(halo_read_text_file)
+{
     REFUSES(halo_read_text_file(NULL, "file", NULL, d) == NULL, "path");
     /* a file that is not there: NULL and one IO_READ naming it */
     halo_diagnostics *list = halo_diagnostics_create();
@@ -159,7 +198,8 @@ CASE(halo_read_text_file) {
     halo_diagnostics_destroy(list);
     return 0;
 }
-CASE(halo_diagnostics_print) {
+CASE(halo_diagnostics_print)
+{
     ACCEPTS(DONE(halo_diagnostics_print(NULL, stderr)));
     halo_diagnostics *list = halo_diagnostics_create();
     SETUP(list != NULL);
@@ -168,97 +208,194 @@ CASE(halo_diagnostics_print) {
     halo_diagnostics_destroy(list);
     return 0;
 }
-CASE(halo_diagnostics_set_limit) { ACCEPTS(DONE(halo_diagnostics_set_limit(NULL, 5))); return 0; }
-CASE(halo_diagnostics_limit) { ACCEPTS(halo_diagnostics_limit(NULL) == HALO_DIAGNOSTICS_DEFAULT_LIMIT); return 0; }
-CASE(halo_diagnostics_dropped) { ACCEPTS(halo_diagnostics_dropped(NULL) == 0); return 0; }
-CASE(halo_diagnostics_set_run) { ACCEPTS(DONE(halo_diagnostics_set_run(NULL, "330"))); return 0; }
+CASE(halo_diagnostics_set_limit)
+{
+    ACCEPTS(DONE(halo_diagnostics_set_limit(NULL, 5)));
+    return 0;
+}
+CASE(halo_diagnostics_limit)
+{
+    ACCEPTS(halo_diagnostics_limit(NULL) == HALO_DIAGNOSTICS_DEFAULT_LIMIT);
+    return 0;
+}
+CASE(halo_diagnostics_dropped)
+{
+    ACCEPTS(halo_diagnostics_dropped(NULL) == 0);
+    return 0;
+}
+CASE(halo_diagnostics_set_run)
+{
+    ACCEPTS(DONE(halo_diagnostics_set_run(NULL, "330")));
+    return 0;
+}
 
-CASE(halo_setup) {
+CASE(halo_setup)
+{
     /* NULL: no logger change, default settings */
     ACCEPTS(halo_setup(NULL) == HALO_OK);
     halo_shutdown();
     return 0;
 }
-CASE(halo_target_from_name) { REFUSES(halo_target_from_name(NULL) == HALO_TARGET_COUNT, "name"); return 0; }
+CASE(halo_target_from_name)
+{
+    REFUSES(halo_target_from_name(NULL) == HALO_TARGET_COUNT, "name");
+    return 0;
+}
 
-CASE(halo_library_create) {
+CASE(halo_library_create)
+{
     halo_library *l;
     ACCEPTS((l = halo_library_create(NULL)) != NULL);
     halo_library_destroy(l);
     return 0;
 }
-CASE(halo_library_destroy) { ACCEPTS(DONE(halo_library_destroy(NULL))); return 0; }
-CASE(halo_library_add_file) {
+CASE(halo_library_destroy)
+{
+    ACCEPTS(DONE(halo_library_destroy(NULL)));
+    return 0;
+}
+CASE(halo_library_add_file)
+{
     REFUSES_D(halo_library_add_file(NULL, module_path, d) == HALO_ERROR_INPUT, "library");
     REFUSES_D(halo_library_add_file(lib, NULL, d) == HALO_ERROR_INPUT, "path");
     return 0;
 }
-CASE(halo_library_override_file) {
+CASE(halo_library_override_file)
+{
     REFUSES_D(halo_library_override_file(NULL, module_path, d) == HALO_ERROR_INPUT, "library");
     REFUSES_D(halo_library_override_file(lib, NULL, d) == HALO_ERROR_INPUT, "path");
     return 0;
 }
-CASE(halo_library_override_source) {
+CASE(halo_library_override_source)
+{
     REFUSES_D(halo_library_override_source(NULL, "m.glsl", "x", d) == HALO_ERROR_INPUT, "library");
     REFUSES_D(halo_library_override_source(lib, "m.glsl", NULL, d) == HALO_ERROR_INPUT, "source");
     return 0;
 }
-CASE(halo_library_add_source) {
+CASE(halo_library_add_source)
+{
     REFUSES_D(halo_library_add_source(NULL, "m.glsl", "x", d) == HALO_ERROR_INPUT, "library");
     REFUSES_D(halo_library_add_source(lib, "m.glsl", NULL, d) == HALO_ERROR_INPUT, "source");
     return 0;
 }
-CASE(halo_library_module_count) { REFUSES(halo_library_module_count(NULL) == 0, "library"); return 0; }
-CASE(halo_library_module) { REFUSES(halo_library_module(NULL, 0) == NULL, "library"); return 0; }
-CASE(halo_library_find) {
+CASE(halo_library_module_count)
+{
+    REFUSES(halo_library_module_count(NULL) == 0, "library");
+    return 0;
+}
+CASE(halo_library_module)
+{
+    REFUSES(halo_library_module(NULL, 0) == NULL, "library");
+    return 0;
+}
+CASE(halo_library_find)
+{
     REFUSES(halo_library_find(NULL, "boundary") == NULL, "library");
     REFUSES(halo_library_find(lib, NULL) == NULL, "name");
     return 0;
 }
 
-CASE(halo_module_name) { REFUSES(halo_module_name(NULL) == NULL, "module"); return 0; }
-CASE(halo_module_file) { REFUSES(halo_module_file(NULL) == NULL, "module"); return 0; }
-CASE(halo_module_summary) { REFUSES(halo_module_summary(NULL) == NULL, "module"); return 0; }
-CASE(halo_module_hook) { REFUSES(halo_module_hook(NULL) == HALO_HOOK_COUNT, "module"); return 0; }
-CASE(halo_module_param_count) { REFUSES(halo_module_param_count(NULL) == 0, "module"); return 0; }
-CASE(halo_module_param) { REFUSES(halo_module_param(NULL, 0) == NULL, "module"); return 0; }
-CASE(halo_module_find_param) {
+CASE(halo_module_name)
+{
+    REFUSES(halo_module_name(NULL) == NULL, "module");
+    return 0;
+}
+CASE(halo_module_file)
+{
+    REFUSES(halo_module_file(NULL) == NULL, "module");
+    return 0;
+}
+CASE(halo_module_summary)
+{
+    REFUSES(halo_module_summary(NULL) == NULL, "module");
+    return 0;
+}
+CASE(halo_module_hook)
+{
+    REFUSES(halo_module_hook(NULL) == HALO_HOOK_COUNT, "module");
+    return 0;
+}
+CASE(halo_module_param_count)
+{
+    REFUSES(halo_module_param_count(NULL) == 0, "module");
+    return 0;
+}
+CASE(halo_module_param)
+{
+    REFUSES(halo_module_param(NULL, 0) == NULL, "module");
+    return 0;
+}
+CASE(halo_module_find_param)
+{
     REFUSES(halo_module_find_param(NULL, "k_gs") == NULL, "module");
     REFUSES(halo_module_find_param(module, NULL) == NULL, "name");
     return 0;
 }
-CASE(halo_module_has_emulation) { REFUSES(halo_module_has_emulation(NULL) == 0, "module"); return 0; }
+CASE(halo_module_has_emulation)
+{
+    REFUSES(halo_module_has_emulation(NULL) == 0, "module");
+    return 0;
+}
 
-CASE(halo_scene_load) {
+CASE(halo_scene_load)
+{
     REFUSES_D(halo_scene_load(NULL, lib, d) == NULL, "path");
     REFUSES_D(halo_scene_load(scene_path, NULL, d) == NULL, "library");
     return 0;
 }
-CASE(halo_scene_parse) {
+CASE(halo_scene_parse)
+{
     REFUSES_D(halo_scene_parse(NULL, "s.json", lib, d) == NULL, "json_text");
     REFUSES_D(halo_scene_parse("{\"stages\": [\"boundary\"]}", "s.json", NULL, d) == NULL, "library");
     return 0;
 }
-CASE(halo_scene_create) { REFUSES(halo_scene_create(NULL) == NULL, "library"); return 0; }
-CASE(halo_scene_destroy) { ACCEPTS(DONE(halo_scene_destroy(NULL))); return 0; }
-CASE(halo_scene_enable) {
+CASE(halo_scene_create)
+{
+    REFUSES(halo_scene_create(NULL) == NULL, "library");
+    return 0;
+}
+CASE(halo_scene_destroy)
+{
+    ACCEPTS(DONE(halo_scene_destroy(NULL)));
+    return 0;
+}
+CASE(halo_scene_enable)
+{
     REFUSES_D(halo_scene_enable(NULL, "boundary", 1, d) == HALO_ERROR_INPUT, "scene");
     REFUSES_D(halo_scene_enable(scene, NULL, 1, d) == HALO_ERROR_INPUT, "stage");
     return 0;
 }
-CASE(halo_scene_set) {
+CASE(halo_scene_set)
+{
     REFUSES_D(halo_scene_set(NULL, "boundary", "k_gs", values, 1, 0, d) == HALO_ERROR_INPUT, "scene");
     REFUSES_D(halo_scene_set(scene, NULL, "k_gs", values, 1, 0, d) == HALO_ERROR_INPUT, "stage");
     REFUSES_D(halo_scene_set(scene, "boundary", NULL, values, 1, 0, d) == HALO_ERROR_INPUT, "param");
     REFUSES_D(halo_scene_set(scene, "boundary", "k_gs", NULL, 1, 0, d) == HALO_ERROR_INPUT, "values");
     return 0;
 }
-CASE(halo_scene_stage_count) { REFUSES(halo_scene_stage_count(NULL) == 0, "scene"); return 0; }
-CASE(halo_scene_stage) { REFUSES(halo_scene_stage(NULL, 0) == NULL, "scene"); return 0; }
-CASE(halo_scene_render) { REFUSES(halo_scene_render(NULL) == NULL, "scene"); return 0; }
-CASE(halo_scene_render_mutable) { REFUSES(halo_scene_render_mutable(NULL) == NULL, "scene"); return 0; }
+CASE(halo_scene_stage_count)
+{
+    REFUSES(halo_scene_stage_count(NULL) == 0, "scene");
+    return 0;
+}
+CASE(halo_scene_stage)
+{
+    REFUSES(halo_scene_stage(NULL, 0) == NULL, "scene");
+    return 0;
+}
+CASE(halo_scene_render)
+{
+    REFUSES(halo_scene_render(NULL) == NULL, "scene");
+    return 0;
+}
+CASE(halo_scene_render_mutable)
+{
+    REFUSES(halo_scene_render_mutable(NULL) == NULL, "scene");
+    return 0;
+}
 
-CASE(halo_link) {
+CASE(halo_link)
+{
     REFUSES_D(halo_link(NULL, d) == NULL, "desc");
     REFUSES_D(halo_link(&(halo_link_desc){.scene = scene, .host_source = check_sample_host}, d) == NULL, "library");
     REFUSES_D(halo_link(&(halo_link_desc){.library = lib, .scene = scene}, d) == NULL, "host_source");
@@ -266,42 +403,87 @@ CASE(halo_link) {
               "library");
     return 0;
 }
-CASE(halo_program_destroy) { ACCEPTS(DONE(halo_program_destroy(NULL))); return 0; }
-CASE(halo_program_source) { REFUSES(halo_program_source(NULL) == NULL, "program"); return 0; }
-CASE(halo_program_piece) { REFUSES(halo_program_piece(NULL, HALO_PIECE_SAMPLE) == NULL, "program"); return 0; }
-CASE(halo_program_piece_map_line) {
+CASE(halo_program_destroy)
+{
+    ACCEPTS(DONE(halo_program_destroy(NULL)));
+    return 0;
+}
+CASE(halo_program_source)
+{
+    REFUSES(halo_program_source(NULL) == NULL, "program");
+    return 0;
+}
+CASE(halo_program_piece)
+{
+    REFUSES(halo_program_piece(NULL, HALO_PIECE_SAMPLE) == NULL, "program");
+    return 0;
+}
+CASE(halo_program_piece_map_line)
+{
     const char *file;
     int line;
     REFUSES(halo_program_piece_map_line(NULL, HALO_PIECE_SAMPLE, 1, &file, &line) == 0, "program");
     return 0;
 }
-CASE(halo_program_target) { REFUSES(halo_program_target(NULL) == HALO_TARGET_COUNT, "program"); return 0; }
-CASE(halo_program_map_line) {
+CASE(halo_program_target)
+{
+    REFUSES(halo_program_target(NULL) == HALO_TARGET_COUNT, "program");
+    return 0;
+}
+CASE(halo_program_map_line)
+{
     const char *file;
     int line;
     REFUSES(halo_program_map_line(NULL, 1, &file, &line) == 0, "program");
     return 0;
 }
-CASE(halo_program_stage_count) { REFUSES(halo_program_stage_count(NULL) == 0, "program"); return 0; }
-CASE(halo_program_stage) { REFUSES(halo_program_stage(NULL, 0) == NULL, "program"); return 0; }
-CASE(halo_program_stage_info) { REFUSES(halo_program_stage_info(NULL, 0) == NULL, "program"); return 0; }
-CASE(halo_program_reads_labels) { REFUSES(halo_program_reads_labels(NULL) == 0, "program"); return 0; }
-CASE(halo_program_uniform_count) { REFUSES(halo_program_uniform_count(NULL) == 0, "program"); return 0; }
-CASE(halo_program_uniform) { REFUSES(halo_program_uniform(NULL, 0) == NULL, "program"); return 0; }
-CASE(halo_program_find_uniform) {
+CASE(halo_program_stage_count)
+{
+    REFUSES(halo_program_stage_count(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_stage)
+{
+    REFUSES(halo_program_stage(NULL, 0) == NULL, "program");
+    return 0;
+}
+CASE(halo_program_stage_info)
+{
+    REFUSES(halo_program_stage_info(NULL, 0) == NULL, "program");
+    return 0;
+}
+CASE(halo_program_reads_labels)
+{
+    REFUSES(halo_program_reads_labels(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_uniform_count)
+{
+    REFUSES(halo_program_uniform_count(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_uniform)
+{
+    REFUSES(halo_program_uniform(NULL, 0) == NULL, "program");
+    return 0;
+}
+CASE(halo_program_find_uniform)
+{
     REFUSES(halo_program_find_uniform(NULL, "boundary", "k_gs") == NULL, "program");
     REFUSES(halo_program_find_uniform(program, NULL, "k_gs") == NULL, "stage");
     REFUSES(halo_program_find_uniform(program, "boundary", NULL) == NULL, "param");
     return 0;
 }
-CASE(halo_program_set) {
+CASE(halo_program_set)
+{
     REFUSES_D(halo_program_set(NULL, "boundary", "k_gc", values, 1, d) == HALO_ERROR_INPUT, "program");
     REFUSES_D(halo_program_set(program, NULL, "k_gc", values, 1, d) == HALO_ERROR_INPUT, "stage");
     REFUSES_D(halo_program_set(program, "boundary", NULL, values, 1, d) == HALO_ERROR_INPUT, "param");
     REFUSES_D(halo_program_set(program, "boundary", "k_gc", NULL, 1, d) == HALO_ERROR_INPUT, "values");
     return 0;
 }
-CASE(halo_program_uniform_next) {
+CASE(halo_program_uniform_next)
+{
     size_t cursor = 0;
     halo_uniform_decl decl;
     REFUSES(halo_program_uniform_next(NULL, &cursor, &decl) == 0, "program");
@@ -309,92 +491,207 @@ CASE(halo_program_uniform_next) {
     REFUSES(halo_program_uniform_next(program, &cursor, NULL) == 0, "out");
     return 0;
 }
-CASE(halo_program_output_count) { REFUSES(halo_program_output_count(NULL) == 0, "program"); return 0; }
-CASE(halo_program_output) { REFUSES(halo_program_output(NULL, 0) == NULL, "program"); return 0; }
-CASE(halo_program_pass_count) { REFUSES(halo_program_pass_count(NULL) == 0, "program"); return 0; }
-CASE(halo_program_pass) { REFUSES(halo_program_pass(NULL, 0) == NULL, "program"); return 0; }
-CASE(halo_pass_reach) { REFUSES(halo_pass_reach(NULL, 1) == -1, "pass"); return 0; }
-CASE(halo_program_image_count) { REFUSES(halo_program_image_count(NULL) == 0, "program"); return 0; }
-CASE(halo_program_image) { REFUSES(halo_program_image(NULL, 0) == NULL, "program"); return 0; }
-CASE(halo_program_sampler_count) { REFUSES(halo_program_sampler_count(NULL) == 0, "program"); return 0; }
-CASE(halo_program_sampler) { REFUSES(halo_program_sampler(NULL, 0) == NULL, "program"); return 0; }
-CASE(halo_program_host_uniform_count) { REFUSES(halo_program_host_uniform_count(NULL) == 0, "program"); return 0; }
-CASE(halo_program_host_uniform) { REFUSES(halo_program_host_uniform(NULL, 0) == NULL, "program"); return 0; }
-CASE(halo_program_channel_count) { REFUSES(halo_program_channel_count(NULL) == 0, "program"); return 0; }
-CASE(halo_program_image_precision) { REFUSES(halo_program_image_precision(NULL) == 0, "program"); return 0; }
-CASE(halo_program_image_scale) { REFUSES(halo_program_image_scale(NULL) == 0, "program"); return 0; }
-CASE(halo_program_segment_location) { REFUSES(halo_program_segment_location(NULL) == 0, "program"); return 0; }
-CASE(halo_program_group_count) { REFUSES(halo_program_group_count(NULL) == 0, "program"); return 0; }
-CASE(halo_program_select_group) {
+CASE(halo_program_output_count)
+{
+    REFUSES(halo_program_output_count(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_output)
+{
+    REFUSES(halo_program_output(NULL, 0) == NULL, "program");
+    return 0;
+}
+CASE(halo_program_pass_count)
+{
+    REFUSES(halo_program_pass_count(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_pass)
+{
+    REFUSES(halo_program_pass(NULL, 0) == NULL, "program");
+    return 0;
+}
+CASE(halo_pass_reach)
+{
+    REFUSES(halo_pass_reach(NULL, 1) == -1, "pass");
+    return 0;
+}
+CASE(halo_program_image_count)
+{
+    REFUSES(halo_program_image_count(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_image)
+{
+    REFUSES(halo_program_image(NULL, 0) == NULL, "program");
+    return 0;
+}
+CASE(halo_program_sampler_count)
+{
+    REFUSES(halo_program_sampler_count(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_sampler)
+{
+    REFUSES(halo_program_sampler(NULL, 0) == NULL, "program");
+    return 0;
+}
+CASE(halo_program_host_uniform_count)
+{
+    REFUSES(halo_program_host_uniform_count(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_host_uniform)
+{
+    REFUSES(halo_program_host_uniform(NULL, 0) == NULL, "program");
+    return 0;
+}
+CASE(halo_program_channel_count)
+{
+    REFUSES(halo_program_channel_count(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_image_precision)
+{
+    REFUSES(halo_program_image_precision(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_image_scale)
+{
+    REFUSES(halo_program_image_scale(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_segment_location)
+{
+    REFUSES(halo_program_segment_location(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_group_count)
+{
+    REFUSES(halo_program_group_count(NULL) == 0, "program");
+    return 0;
+}
+CASE(halo_program_select_group)
+{
     REFUSES(halo_program_select_group(NULL, 0) == HALO_ERROR_INPUT, "program");
     return 0;
 }
-CASE(halo_program_reflect_json) { REFUSES(halo_program_reflect_json(NULL) == NULL, "program"); return 0; }
+CASE(halo_program_reflect_json)
+{
+    REFUSES(halo_program_reflect_json(NULL) == NULL, "program");
+    return 0;
+}
 
-CASE(halo_program_validate_composed) {
+CASE(halo_program_validate_composed)
+{
     const char *composed = halo_program_source(program);
     REFUSES_D(halo_program_validate_composed(NULL, composed, "c.frag", NULL, 0, d) == HALO_ERROR_INPUT, "program");
     REFUSES_D(halo_program_validate_composed(program, NULL, "c.frag", NULL, 0, d) == HALO_ERROR_INPUT, "composed");
     REFUSES_D(halo_program_validate_composed(program, composed, "c.frag", NULL, 1, d) == HALO_ERROR_INPUT, "pieces");
     return 0;
 }
-CASE(halo_program_validate) { REFUSES_D(halo_program_validate(NULL, d) == HALO_ERROR_INPUT, "program"); return 0; }
-CASE(halo_validate_shader) {
+CASE(halo_program_validate)
+{
+    REFUSES_D(halo_program_validate(NULL, d) == HALO_ERROR_INPUT, "program");
+    return 0;
+}
+CASE(halo_validate_shader)
+{
     REFUSES_D(halo_validate_shader(NULL, "s.frag", HALO_SHADER_FRAGMENT, HALO_TARGET_DEFAULT, d) == HALO_ERROR_INPUT,
               "source");
     return 0;
 }
-CASE(halo_source_kind_of) { REFUSES(halo_source_kind_of(NULL) == HALO_SOURCE_SHADER, "source"); return 0; }
-CASE(halo_module_validate) {
+CASE(halo_source_kind_of)
+{
+    REFUSES(halo_source_kind_of(NULL) == HALO_SOURCE_SHADER, "source");
+    return 0;
+}
+CASE(halo_module_validate)
+{
     REFUSES_D(halo_module_validate(NULL, module, HALO_TARGET_DEFAULT, d) == HALO_ERROR_INPUT, "library");
     REFUSES_D(halo_module_validate(lib, NULL, HALO_TARGET_DEFAULT, d) == HALO_ERROR_INPUT, "module");
     return 0;
 }
 
-CASE(halo_emu_apply) {
+CASE(halo_emu_apply)
+{
     halo_emu_sample s = {.value = 0.5, .view = {0, 0, 1}};
     REFUSES_D(halo_emu_apply(NULL, &s, d) == HALO_ERROR_INPUT, "program");
     REFUSES_D(halo_emu_apply(program, NULL, d) == HALO_ERROR_INPUT, "sample");
     return 0;
 }
-CASE(halo_emu_frame_create) { REFUSES_D(halo_emu_frame_create(NULL, 4, 4, d) == NULL, "program"); return 0; }
-CASE(halo_emu_frame_destroy) { ACCEPTS(DONE(halo_emu_frame_destroy(NULL))); return 0; }
-CASE(halo_emu_frame_image) {
+CASE(halo_emu_frame_create)
+{
+    REFUSES_D(halo_emu_frame_create(NULL, 4, 4, d) == NULL, "program");
+    return 0;
+}
+CASE(halo_emu_frame_destroy)
+{
+    ACCEPTS(DONE(halo_emu_frame_destroy(NULL)));
+    return 0;
+}
+CASE(halo_emu_frame_image)
+{
     REFUSES(halo_emu_frame_image(NULL, "seed") == NULL, "frame");
     REFUSES(halo_emu_frame_image(emu_frame, NULL) == NULL, "name");
     return 0;
 }
-CASE(halo_emu_frame_set_host_uniform) {
+CASE(halo_emu_frame_set_host_uniform)
+{
     REFUSES(halo_emu_frame_set_host_uniform(NULL, "screen_right", values, 3) == HALO_ERROR_INPUT, "frame");
     REFUSES(halo_emu_frame_set_host_uniform(emu_frame, NULL, values, 3) == HALO_ERROR_INPUT, "name");
     REFUSES(halo_emu_frame_set_host_uniform(emu_frame, "screen_right", NULL, 3) == HALO_ERROR_INPUT, "values");
     return 0;
 }
-CASE(halo_emu_frame_begin) { REFUSES(DONE(halo_emu_frame_begin(NULL)), "frame"); return 0; }
-CASE(halo_emu_frame_begin_group) { REFUSES(DONE(halo_emu_frame_begin_group(NULL)), "frame"); return 0; }
-CASE(halo_emu_frame_end_group) { REFUSES_D(halo_emu_frame_end_group(NULL, d) == HALO_ERROR_INPUT, "frame"); return 0; }
-CASE(halo_emu_apply_frame) {
+CASE(halo_emu_frame_begin)
+{
+    REFUSES(DONE(halo_emu_frame_begin(NULL)), "frame");
+    return 0;
+}
+CASE(halo_emu_frame_begin_group)
+{
+    REFUSES(DONE(halo_emu_frame_begin_group(NULL)), "frame");
+    return 0;
+}
+CASE(halo_emu_frame_end_group)
+{
+    REFUSES_D(halo_emu_frame_end_group(NULL, d) == HALO_ERROR_INPUT, "frame");
+    return 0;
+}
+CASE(halo_emu_apply_frame)
+{
     halo_emu_sample s = {.value = 0.5, .view = {0, 0, 1}};
     REFUSES_D(halo_emu_apply_frame(NULL, emu_frame, &s, d) == HALO_ERROR_INPUT, "program");
     REFUSES_D(halo_emu_apply_frame(program, NULL, &s, d) == HALO_ERROR_INPUT, "frame");
     REFUSES_D(halo_emu_apply_frame(program, emu_frame, NULL, d) == HALO_ERROR_INPUT, "sample");
     return 0;
 }
-CASE(halo_emu_frame_finish) {
+CASE(halo_emu_frame_finish)
+{
     halo_emu_sample s = {.value = 0.5};
     REFUSES(DONE(halo_emu_frame_finish(NULL, &s)), "frame");
     REFUSES(DONE(halo_emu_frame_finish(emu_frame, NULL)), "sample");
     return 0;
 }
-CASE(halo_emu_frame_generate) { REFUSES_D(halo_emu_frame_generate(NULL, d) == HALO_ERROR_INPUT, "frame"); return 0; }
-CASE(halo_emu_frame_post) { REFUSES_D(halo_emu_frame_post(NULL, d) == HALO_ERROR_INPUT, "frame"); return 0; }
-CASE(halo_emu_frame_set_volume) {
+CASE(halo_emu_frame_generate)
+{
+    REFUSES_D(halo_emu_frame_generate(NULL, d) == HALO_ERROR_INPUT, "frame");
+    return 0;
+}
+CASE(halo_emu_frame_post)
+{
+    REFUSES_D(halo_emu_frame_post(NULL, d) == HALO_ERROR_INPUT, "frame");
+    return 0;
+}
+CASE(halo_emu_frame_set_volume)
+{
     REFUSES(halo_emu_frame_set_volume(NULL, "labels", volume, 4, 4, 4) == HALO_ERROR_INPUT, "frame");
     REFUSES(halo_emu_frame_set_volume(emu_frame, NULL, volume, 4, 4, 4) == HALO_ERROR_INPUT, "name");
     REFUSES(halo_emu_frame_set_volume(emu_frame, "labels", NULL, 4, 4, 4) == HALO_ERROR_INPUT, "data");
     return 0;
 }
-CASE(halo_budget_choose) {
+CASE(halo_budget_choose)
+{
     const halo_budget_row rows[1] = {{1.0, 0.1}};
     size_t chosen;
     REFUSES_D(halo_budget_choose(NULL, 1, 1.0, &chosen, d) == HALO_ERROR_INPUT, "rows");
@@ -402,130 +699,216 @@ CASE(halo_budget_choose) {
     return 0;
 }
 
-CASE(halo_gl_create) {
+CASE(halo_gl_create)
+{
     REFUSES_D(halo_gl_create(NULL, d) == NULL, "desc");
     REFUSES_D(halo_gl_create(&(halo_gl_desc){0}, d) == NULL, "get_proc_address");
     return 0;
 }
-CASE(halo_gl_destroy) { ACCEPTS(DONE(halo_gl_destroy(NULL))); return 0; }
-CASE(halo_gl_es_version) { ACCEPTS(halo_gl_es_version(NULL) == 0); return 0; }
-CASE(halo_gl_program_build) {
+CASE(halo_gl_destroy)
+{
+    ACCEPTS(DONE(halo_gl_destroy(NULL)));
+    return 0;
+}
+CASE(halo_gl_es_version)
+{
+    ACCEPTS(halo_gl_es_version(NULL) == 0);
+    return 0;
+}
+CASE(halo_gl_program_build)
+{
     REFUSES_D(halo_gl_program_build(NULL, program, vertex_source, "v.vert", d) == 0, "gl");
     halo_gl *gl = fixture_gl();
-    if (!gl) return 0;
+    if (!gl)
+        return 0;
     REFUSES_D(halo_gl_program_build(gl, NULL, vertex_source, "v.vert", d) == 0, "program");
     REFUSES_D(halo_gl_program_build(gl, program, NULL, "v.vert", d) == 0, "vertex_source");
     return 0;
 }
-CASE(halo_gl_program_build_defines) {
+CASE(halo_gl_program_build_defines)
+{
     REFUSES_D(halo_gl_program_build_defines(NULL, program, vertex_source, "v.vert", "#define X 1\n", d) == 0, "gl");
     halo_gl *gl = fixture_gl();
-    if (!gl) return 0;
+    if (!gl)
+        return 0;
     REFUSES_D(halo_gl_program_build_defines(gl, NULL, vertex_source, "v.vert", NULL, d) == 0, "program");
     REFUSES_D(halo_gl_program_build_defines(gl, program, NULL, "v.vert", NULL, d) == 0, "vertex_source");
     return 0;
 }
-CASE(halo_gl_program_upload) {
+CASE(halo_gl_program_upload)
+{
     REFUSES(DONE(halo_gl_program_upload(NULL, program, 1)), "gl");
     halo_gl *gl = fixture_gl();
-    if (!gl) return 0;
+    if (!gl)
+        return 0;
     REFUSES(DONE(halo_gl_program_upload(gl, NULL, 1)), "program");
     return 0;
 }
-CASE(halo_gl_set_host_uniform) {
+CASE(halo_gl_set_host_uniform)
+{
     const float v[3] = {1, 0, 0};
     REFUSES(halo_gl_set_host_uniform(NULL, 1, "screen_right", v, 3) == HALO_ERROR_INPUT, "gl");
     halo_gl *gl = fixture_gl();
-    if (!gl) return 0;
+    if (!gl)
+        return 0;
     REFUSES(halo_gl_set_host_uniform(gl, 1, NULL, v, 3) == HALO_ERROR_INPUT, "name");
     REFUSES(halo_gl_set_host_uniform(gl, 1, "screen_right", NULL, 3) == HALO_ERROR_INPUT, "values");
     return 0;
 }
-CASE(halo_gl_frame_create) {
+CASE(halo_gl_frame_create)
+{
     REFUSES_D(halo_gl_frame_create(NULL, program, 4, 4, d) == NULL, "gl");
     halo_gl *gl = fixture_gl();
-    if (!gl) return 0;
+    if (!gl)
+        return 0;
     REFUSES_D(halo_gl_frame_create(gl, NULL, 4, 4, d) == NULL, "program");
     return 0;
 }
-CASE(halo_gl_frame_destroy) { ACCEPTS(DONE(halo_gl_frame_destroy(NULL))); return 0; }
-CASE(halo_gl_frame_begin) { REFUSES(DONE(halo_gl_frame_begin(NULL)), "frame"); return 0; }
-CASE(halo_gl_frame_begin_group) { REFUSES(DONE(halo_gl_frame_begin_group(NULL)), "frame"); return 0; }
-CASE(halo_gl_frame_end_group) { REFUSES(DONE(halo_gl_frame_end_group(NULL)), "frame"); return 0; }
-CASE(halo_gl_frame_attach) { REFUSES(DONE(halo_gl_frame_attach(NULL, 0)), "frame"); return 0; }
-CASE(halo_gl_frame_bind) { REFUSES(DONE(halo_gl_frame_bind(NULL, 1, 0)), "frame"); return 0; }
-CASE(halo_gl_frame_generate) { REFUSES(DONE(halo_gl_frame_generate(NULL)), "frame"); return 0; }
-CASE(halo_gl_frame_drawn_region) { REFUSES(DONE(halo_gl_frame_drawn_region(NULL, 0, 0, 1, 1)), "frame"); return 0; }
-CASE(halo_gl_frame_read_region) {
+CASE(halo_gl_frame_destroy)
+{
+    ACCEPTS(DONE(halo_gl_frame_destroy(NULL)));
+    return 0;
+}
+CASE(halo_gl_frame_begin)
+{
+    REFUSES(DONE(halo_gl_frame_begin(NULL)), "frame");
+    return 0;
+}
+CASE(halo_gl_frame_begin_group)
+{
+    REFUSES(DONE(halo_gl_frame_begin_group(NULL)), "frame");
+    return 0;
+}
+CASE(halo_gl_frame_end_group)
+{
+    REFUSES(DONE(halo_gl_frame_end_group(NULL)), "frame");
+    return 0;
+}
+CASE(halo_gl_frame_attach)
+{
+    REFUSES(DONE(halo_gl_frame_attach(NULL, 0)), "frame");
+    return 0;
+}
+CASE(halo_gl_frame_bind)
+{
+    REFUSES(DONE(halo_gl_frame_bind(NULL, 1, 0)), "frame");
+    return 0;
+}
+CASE(halo_gl_frame_generate)
+{
+    REFUSES(DONE(halo_gl_frame_generate(NULL)), "frame");
+    return 0;
+}
+CASE(halo_gl_frame_drawn_region)
+{
+    REFUSES(DONE(halo_gl_frame_drawn_region(NULL, 0, 0, 1, 1)), "frame");
+    return 0;
+}
+CASE(halo_gl_frame_read_region)
+{
     int box[4];
     REFUSES(halo_gl_frame_read_region(NULL, box) == 0, "frame");
-    if (!fixture_gl()) return 0;
+    if (!fixture_gl())
+        return 0;
     REFUSES(halo_gl_frame_read_region(gl_fixture.frame, NULL) == 0, "box");
     return 0;
 }
-CASE(halo_gl_frame_set_readback_bounds) { REFUSES(DONE(halo_gl_frame_set_readback_bounds(NULL, 1)), "frame"); return 0; }
-CASE(halo_gl_frame_post) { REFUSES(DONE(halo_gl_frame_post(NULL, 0)), "frame"); return 0; }
-CASE(halo_gl_frame_texture) {
+CASE(halo_gl_frame_set_readback_bounds)
+{
+    REFUSES(DONE(halo_gl_frame_set_readback_bounds(NULL, 1)), "frame");
+    return 0;
+}
+CASE(halo_gl_frame_post)
+{
+    REFUSES(DONE(halo_gl_frame_post(NULL, 0)), "frame");
+    return 0;
+}
+CASE(halo_gl_frame_texture)
+{
     REFUSES(halo_gl_frame_texture(NULL, "final") == 0, "frame");
-    if (!fixture_gl()) return 0;
+    if (!fixture_gl())
+        return 0;
     REFUSES(halo_gl_frame_texture(gl_fixture.frame, NULL) == 0, "image");
     return 0;
 }
-CASE(halo_gl_frame_read) {
+CASE(halo_gl_frame_read)
+{
     REFUSES(halo_gl_frame_read(NULL, "final", floats_out) == HALO_ERROR_INPUT, "frame");
-    if (!fixture_gl()) return 0;
+    if (!fixture_gl())
+        return 0;
     REFUSES(halo_gl_frame_read(gl_fixture.frame, NULL, floats_out) == HALO_ERROR_INPUT, "image");
     REFUSES(halo_gl_frame_read(gl_fixture.frame, "final", NULL) == HALO_ERROR_INPUT, "out");
     return 0;
 }
-CASE(halo_gl_frame_pass_draws) { REFUSES(halo_gl_frame_pass_draws(NULL) == 0, "frame"); return 0; }
+CASE(halo_gl_frame_pass_draws)
+{
+    REFUSES(halo_gl_frame_pass_draws(NULL) == 0, "frame");
+    return 0;
+}
 static const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
-CASE(halo_gl_set_camera) {
+CASE(halo_gl_set_camera)
+{
     const halo_gl_segments_desc desc = {.inverse_view_projection = identity, .step = 0.01f};
     REFUSES_D(halo_gl_set_camera(NULL, 1, &desc, d) == HALO_ERROR_INPUT, "gl");
     halo_gl *gl = fixture_gl();
-    if (!gl) return 0;
+    if (!gl)
+        return 0;
     REFUSES_D(halo_gl_set_camera(gl, 1, NULL, d) == HALO_ERROR_INPUT, "desc");
     REFUSES_D(halo_gl_set_camera(gl, 1, &(halo_gl_segments_desc){.step = 0.01f}, d) == HALO_ERROR_INPUT,
               "inverse_view_projection");
     return 0;
 }
-CASE(halo_gl_frame_draw) {
+CASE(halo_gl_frame_draw)
+{
     const halo_gl_segments_desc desc = {.inverse_view_projection = identity, .step = 0.01f};
     REFUSES_D(halo_gl_frame_draw(NULL, 1, &desc, d) == HALO_ERROR_INPUT, "frame");
-    if (!fixture_gl()) return 0;
+    if (!fixture_gl())
+        return 0;
     REFUSES_D(halo_gl_frame_draw(gl_fixture.frame, 1, NULL, d) == HALO_ERROR_INPUT, "desc");
     return 0;
 }
-CASE(halo_gl_frame_segment_count) { REFUSES(halo_gl_frame_segment_count(NULL) == 0, "frame"); return 0; }
+CASE(halo_gl_frame_segment_count)
+{
+    REFUSES(halo_gl_frame_segment_count(NULL) == 0, "frame");
+    return 0;
+}
 
-CASE(halo_emu_line_vertex_apply) {
+CASE(halo_emu_line_vertex_apply)
+{
     halo_emu_line_vertex v = {.width = 1};
     REFUSES_D(halo_emu_line_vertex_apply(NULL, NULL, &v, d) == HALO_ERROR_INPUT, "program");
     REFUSES_D(halo_emu_line_vertex_apply(program, NULL, NULL, d) == HALO_ERROR_INPUT, "vertex");
     return 0;
 }
-CASE(halo_emu_line_fragment_apply) {
+CASE(halo_emu_line_fragment_apply)
+{
     halo_emu_line_fragment f = {.opacity = 1};
     REFUSES_D(halo_emu_line_fragment_apply(NULL, &f, d) == HALO_ERROR_INPUT, "program");
     REFUSES_D(halo_emu_line_fragment_apply(program, NULL, d) == HALO_ERROR_INPUT, "fragment");
     return 0;
 }
 
-CASE(halo_feature_desc_effective) { REFUSES(DONE(halo_feature_desc_effective(NULL, NULL)), "out"); return 0; }
-CASE(halo_feature_desc_from_program) {
+CASE(halo_feature_desc_effective)
+{
+    REFUSES(DONE(halo_feature_desc_effective(NULL, NULL)), "out");
+    return 0;
+}
+CASE(halo_feature_desc_from_program)
+{
     halo_feature_desc out;
     REFUSES(halo_feature_desc_from_program(NULL, &out) == HALO_ERROR_INPUT, "program");
     REFUSES(halo_feature_desc_from_program(program, NULL) == HALO_ERROR_INPUT, "out");
     return 0;
 }
-CASE(halo_feature_buffer_dims) {
+CASE(halo_feature_buffer_dims)
+{
     int out[3];
     REFUSES(DONE(halo_feature_buffer_dims(NULL, NULL, out)), "dims");
     REFUSES(DONE(halo_feature_buffer_dims(dims, NULL, NULL)), "out");
     return 0;
 }
-CASE(halo_feature_gradient_magnitudes) {
+CASE(halo_feature_gradient_magnitudes)
+{
     REFUSES(halo_feature_gradient_magnitudes(NULL, dims, floats_out) == HALO_ERROR_INPUT, "values");
     REFUSES(halo_feature_gradient_magnitudes(volume, NULL, floats_out) == HALO_ERROR_INPUT, "dims");
     REFUSES(halo_feature_gradient_magnitudes(volume, dims, NULL) == HALO_ERROR_INPUT, "out");
@@ -534,7 +917,8 @@ CASE(halo_feature_gradient_magnitudes) {
 /* halo_feature_reference and halo_feature_emu_buffer: the same arguments. */
 typedef halo_status (*feature_volume_fn)(const float *, const int[3], const halo_feature_desc *, const double[3],
                                          double *);
-static int refuses_feature_volume(const char *fn, halo_diagnostics *d, feature_volume_fn call) {
+static int refuses_feature_volume(const char *fn, halo_diagnostics *d, feature_volume_fn call)
+{
     REFUSES(call(NULL, dims, NULL, view, doubles_out) == HALO_ERROR_INPUT, "values");
     REFUSES(call(volume, NULL, NULL, view, doubles_out) == HALO_ERROR_INPUT, "dims");
     REFUSES(call(volume, dims, NULL, NULL, doubles_out) == HALO_ERROR_INPUT, "view");
@@ -543,50 +927,77 @@ static int refuses_feature_volume(const char *fn, halo_diagnostics *d, feature_v
 }
 CASE(halo_feature_reference) { return refuses_feature_volume(fn, d, halo_feature_reference); }
 CASE(halo_feature_emu_buffer) { return refuses_feature_volume(fn, d, halo_feature_emu_buffer); }
-CASE(halo_feature_buffer_lookup) {
+CASE(halo_feature_buffer_lookup)
+{
     const double position[3] = {0.5, 0.5, 0.5};
     REFUSES(halo_feature_buffer_lookup(NULL, dims, position) == 0.0, "buffer");
     REFUSES(halo_feature_buffer_lookup(doubles_out, NULL, position) == 0.0, "dims");
     REFUSES(halo_feature_buffer_lookup(doubles_out, dims, NULL) == 0.0, "position");
     return 0;
 }
-CASE(halo_feature_emu_apply) {
+CASE(halo_feature_emu_apply)
+{
     halo_emu_sample s = {.value = 0.5, .view = {0, 0, 1}};
     REFUSES_D(halo_feature_emu_apply(NULL, 0.5, &s, d) == HALO_ERROR_INPUT, "program");
     REFUSES_D(halo_feature_emu_apply(program, 0.5, NULL, d) == HALO_ERROR_INPUT, "sample");
     return 0;
 }
-CASE(halo_feature_buffer_create) {
+CASE(halo_feature_buffer_create)
+{
     REFUSES_D(halo_feature_buffer_create(NULL, volume, dims, NULL, d) == NULL, "gl");
     halo_gl *gl = fixture_gl();
-    if (!gl) return 0;
+    if (!gl)
+        return 0;
     REFUSES_D(halo_feature_buffer_create(gl, NULL, dims, NULL, d) == NULL, "values");
     REFUSES_D(halo_feature_buffer_create(gl, volume, NULL, NULL, d) == NULL, "dims");
     return 0;
 }
-CASE(halo_feature_buffer_destroy) { ACCEPTS(DONE(halo_feature_buffer_destroy(NULL))); return 0; }
-CASE(halo_feature_buffer_build) {
+CASE(halo_feature_buffer_destroy)
+{
+    ACCEPTS(DONE(halo_feature_buffer_destroy(NULL)));
+    return 0;
+}
+CASE(halo_feature_buffer_build)
+{
     REFUSES(halo_feature_buffer_build(NULL, view) == HALO_ERROR_INPUT, "buffer");
-    if (!fixture_gl()) return 0;
+    if (!fixture_gl())
+        return 0;
     REFUSES(halo_feature_buffer_build(gl_fixture.buffer, NULL) == HALO_ERROR_INPUT, "view");
     return 0;
 }
-CASE(halo_feature_buffer_texture) { REFUSES(halo_feature_buffer_texture(NULL) == 0, "buffer"); return 0; }
-CASE(halo_feature_buffer_get_dims) {
+CASE(halo_feature_buffer_texture)
+{
+    REFUSES(halo_feature_buffer_texture(NULL) == 0, "buffer");
+    return 0;
+}
+CASE(halo_feature_buffer_get_dims)
+{
     int out[3] = {1, 1, 1};
     REFUSES(DONE(halo_feature_buffer_get_dims(NULL, out)) && out[0] == 0, "buffer");
-    if (!fixture_gl()) return 0;
+    if (!fixture_gl())
+        return 0;
     REFUSES(DONE(halo_feature_buffer_get_dims(gl_fixture.buffer, NULL)), "out");
     return 0;
 }
-CASE(halo_feature_buffer_qualified) { REFUSES(halo_feature_buffer_qualified(NULL) == 0, "buffer"); return 0; }
-CASE(halo_feature_buffer_points_drawn) { REFUSES(halo_feature_buffer_points_drawn(NULL) == 0, "buffer"); return 0; }
-CASE(halo_feature_buffer_read) {
+CASE(halo_feature_buffer_qualified)
+{
+    REFUSES(halo_feature_buffer_qualified(NULL) == 0, "buffer");
+    return 0;
+}
+CASE(halo_feature_buffer_points_drawn)
+{
+    REFUSES(halo_feature_buffer_points_drawn(NULL) == 0, "buffer");
+    return 0;
+}
+CASE(halo_feature_buffer_read)
+{
     REFUSES(halo_feature_buffer_read(NULL, floats_out) == HALO_ERROR_INPUT, "buffer");
-    if (!fixture_gl()) return 0;
+    if (!fixture_gl())
+        return 0;
     REFUSES(halo_feature_buffer_read(gl_fixture.buffer, NULL) == HALO_ERROR_INPUT, "out");
     return 0;
 }
+// clang-format on
 
 /* ---- The table: every HALO_API function, in the headers' order ---- */
 
@@ -596,8 +1007,14 @@ typedef struct api_case {
     case_fn run; /* NULL: the function takes no pointer */
 } api_case;
 
-#define ROW(name) {#name, case_##name}
-#define NO_POINTER(name) {#name, NULL}
+#define ROW(name)          \
+    {                      \
+#name, case_##name \
+    }
+#define NO_POINTER(name) \
+    {                    \
+#name, NULL      \
+    }
 
 static const api_case cases[] = {
     NO_POINTER(halo_diagnostics_create),
@@ -749,27 +1166,33 @@ static const api_case cases[] = {
 
 /* ---- The table against the headers ---- */
 
-static const api_case *find_case(const char *name) {
+static const api_case *find_case(const char *name)
+{
     for (size_t i = 0; i < CASE_COUNT; i++)
-        if (!strcmp(cases[i].name, name)) return &cases[i];
+        if (!strcmp(cases[i].name, name))
+            return &cases[i];
     return NULL;
 }
 
 /* Appends the name of each function declared HALO_API in path (the first halo_
  * identifier followed by '(' on a HALO_API line) to names; returns how many, -1 when
  * the file cannot be read. */
-static int header_functions(const char *path, char names[][64], int max) {
+static int header_functions(const char *path, char names[][64], int max)
+{
     FILE *f = fopen(path, "r");
-    if (!f) return -1;
+    if (!f)
+        return -1;
     char line[1024];
     int n = 0;
     while (fgets(line, sizeof line, f)) {
         const char *api = strstr(line, "HALO_API");
-        if (!api || line[strspn(line, " \t")] == '#') continue;
+        if (!api || line[strspn(line, " \t")] == '#')
+            continue;
         for (const char *p = api; (p = strstr(p, "halo_")); p++) {
             size_t len = strspn(p, "abcdefghijklmnopqrstuvwxyz0123456789_");
             if (p[len] == '(' && (p == line || !strchr("abcdefghijklmnopqrstuvwxyz0123456789_", p[-1]))) {
-                if (n < max) snprintf(names[n], sizeof names[n], "%.*s", (int)len, p);
+                if (n < max)
+                    snprintf(names[n], sizeof names[n], "%.*s", (int)len, p);
                 n++;
                 break;
             }
@@ -781,16 +1204,19 @@ static int header_functions(const char *path, char names[][64], int max) {
 
 static char names[2 * CASE_COUNT + 64][64];
 
-static int test_table_matches_headers(void) {
+static int test_table_matches_headers(void)
+{
     const char *srcdir = getenv("srcdir");
-    if (!srcdir) srcdir = ".";
+    if (!srcdir)
+        srcdir = ".";
     static const char *const headers[] = {"libhalo/halo.h", "libhalo/halo_feature.h"};
     int total = 0, max = (int)(sizeof names / sizeof names[0]);
     for (size_t h = 0; h < 2; h++) {
         char path[1024];
         snprintf(path, sizeof path, "%s/%s", srcdir, headers[h]);
         int n = header_functions(path, names + total, max - total);
-        if (n < 0) SETUP_FAIL("cannot read %s", path);
+        if (n < 0)
+            SETUP_FAIL("cannot read %s", path);
         total += n;
     }
     int missing = 0;
@@ -801,7 +1227,8 @@ static int test_table_matches_headers(void) {
         }
     for (size_t c = 0; c < CASE_COUNT; c++) {
         int found = 0;
-        for (int i = 0; i < total && i < max && !found; i++) found = !strcmp(names[i], cases[c].name);
+        for (int i = 0; i < total && i < max && !found; i++)
+            found = !strcmp(names[i], cases[c].name);
         if (!found) {
             fprintf(stderr, "    %s has a row but is not declared HALO_API in the headers\n", cases[c].name);
             missing++;
@@ -815,7 +1242,8 @@ static int test_table_matches_headers(void) {
 
 /* ---- Running the rows ---- */
 
-static int run_case_here(const api_case *c) {
+static int run_case_here(const api_case *c)
+{
     halo_diagnostics *d = halo_diagnostics_create();
     SETUP(d != NULL);
     int failed = c->run(c->name, d) || c->run(c->name, NULL);
@@ -823,16 +1251,19 @@ static int run_case_here(const api_case *c) {
     return failed;
 }
 
-static int test_every_function_refuses_null(void) {
+static int test_every_function_refuses_null(void)
+{
     int failed = 0, crashed = 0, checked = 0, skipped = 0;
     for (size_t i = 0; i < CASE_COUNT; i++) {
         const api_case *c = &cases[i];
-        if (!c->run) continue;
+        if (!c->run)
+            continue;
         checked++;
         fflush(stdout);
         fflush(stderr);
         pid_t pid = fork();
-        if (pid < 0) SETUP_FAIL("fork failed");
+        if (pid < 0)
+            SETUP_FAIL("fork failed");
         if (pid == 0) {
             int r = run_case_here(c);
             fflush(stdout);
@@ -840,7 +1271,8 @@ static int test_every_function_refuses_null(void) {
             _exit(r ? 1 : gl_skipped ? 77 : 0);
         }
         int status = 0;
-        if (waitpid(pid, &status, 0) != pid) SETUP_FAIL("waitpid failed");
+        if (waitpid(pid, &status, 0) != pid)
+            SETUP_FAIL("waitpid failed");
         if (WIFSIGNALED(status)) {
             printf("CRASH %s (signal %d: %s)\n", c->name, WTERMSIG(status), strsignal(WTERMSIG(status)));
             crashed++;
@@ -858,9 +1290,11 @@ static int test_every_function_refuses_null(void) {
     return 0;
 }
 
-int main(void) {
+int main(void)
+{
     const char *srcdir = getenv("srcdir");
-    if (!srcdir) srcdir = ".";
+    if (!srcdir)
+        srcdir = ".";
     snprintf(module_path, sizeof module_path, "%s/glsl/sample/boundary.glsl", srcdir);
     snprintf(scene_path, sizeof scene_path, "%s/examples/scenes/boundary-silhouette.json", srcdir);
     SETUP(halo_setup(&(halo_setup_desc){.logger = logger}) == HALO_OK);
@@ -875,7 +1309,8 @@ int main(void) {
     SETUP(program != NULL);
     emu_frame = halo_emu_frame_create(program, 4, 4, d);
     SETUP(emu_frame != NULL);
-    for (int i = 0; i < 64; i++) volume[i] = (float)(i % 4) / 3.0f;
+    for (int i = 0; i < 64; i++)
+        volume[i] = (float)(i % 4) / 3.0f;
     RUN_TEST(test_table_matches_headers);
     RUN_TEST(test_every_function_refuses_null);
     halo_emu_frame_destroy(emu_frame);

@@ -6,52 +6,59 @@
 static halo_library *library;
 static halo_diagnostics *diags;
 
-static halo_scene *parse(const char *json) {
+static halo_scene *parse(const char *json)
+{
     halo_diagnostics_clear(diags);
     return halo_scene_parse(json, "test.json", library, diags);
 }
 
 /* The scene's value record of stage.param (internal), or NULL. */
-static const halo_param_value *value_of(const halo_scene *s, const char *stage, const char *param) {
+static const halo_param_value *value_of(const halo_scene *s, const char *stage, const char *param)
+{
     for (size_t i = 0; i < s->count; i++) {
         const halo_module *m = s->stages[i].module;
-        if (strcmp(halo_module_name(m), stage)) continue;
+        if (strcmp(halo_module_name(m), stage))
+            continue;
         const halo_param_info *info = halo_module_find_param(m, param);
         return info ? &s->stages[i].values[info - m->params] : NULL;
     }
     return NULL;
 }
 
-static int enabled_of(const halo_scene *s, const char *stage) {
+static int enabled_of(const halo_scene *s, const char *stage)
+{
     for (size_t i = 0; i < s->count; i++)
-        if (!strcmp(halo_module_name(s->stages[i].module), stage)) return s->stages[i].enabled;
+        if (!strcmp(halo_module_name(s->stages[i].module), stage))
+            return s->stages[i].enabled;
     return -1;
 }
 
 /* The scene is rejected with ID, and the text of that diagnostic names PATH. */
-#define CHECK_REJECTED(JSON, ID, PATH)                                                                           \
-    do {                                                                                                          \
-        halo_scene *rejected_ = parse(JSON);                                                                      \
-        if (rejected_) {                                                                                          \
-            halo_scene_destroy(rejected_);                                                                        \
-            CHECK_FAIL_AT("scene accepted: %s", JSON);                                                            \
-        }                                                                                                         \
-        CHECK_DIAG(diags, ID);                                                                                    \
-        CHECK_STR_CONTAINS(check_find_diag(diags, ID, 0)->text, PATH);                                            \
-        CHECK_STR_EQ(check_find_diag(diags, ID, 0)->file, "test.json");                                           \
+#define CHECK_REJECTED(JSON, ID, PATH)                                  \
+    do {                                                                \
+        halo_scene *rejected_ = parse(JSON);                            \
+        if (rejected_) {                                                \
+            halo_scene_destroy(rejected_);                              \
+            CHECK_FAIL_AT("scene accepted: %s", JSON);                  \
+        }                                                               \
+        CHECK_DIAG(diags, ID);                                          \
+        CHECK_STR_CONTAINS(check_find_diag(diags, ID, 0)->text, PATH);  \
+        CHECK_STR_EQ(check_find_diag(diags, ID, 0)->file, "test.json"); \
     } while (0)
 
-static int test_valid_scene(void) {
-    halo_scene *s = parse("{\"halo_scene\":1, \"description\": \"a test\",\n"
-                          " \"stages\":[ \"silhouette\",\n"
-                          "   {\"boundary\":{\"k_gs\":12.5,\"live\":[\"k_gc\"],\"enabled\":true}},\n"
-                          "   {\"tone_shading\":{\"lights\":[[1,0,0],[0,1,0],[0,0,-1]], \"k_ty\": 0}},\n"
-                          "   {\"distance_blend\":{\"background\":[0.1,0.2,0.3], \"enabled\": false}},\n"
-                          "   {\"sketch\":{\"live\": true}}\n"
-                          " ],\n"
-                          " \"render\":{\"azimuth\":45, \"elevation\":-10, \"zoom\":2, \"step\":0.25,\n"
-                          "   \"background\":[0.5,0.5,0.5], \"window\":[0.1,0.9],\n"
-                          "   \"transfer\":[[0,0,0,0,0],[0.5,1,0.5,0.25,0.1],[1,1,1,1,1]]}}\n");
+static int test_valid_scene(void)
+{
+    halo_scene *s = parse(
+        "{\"halo_scene\":1, \"description\": \"a test\",\n"
+        " \"stages\":[ \"silhouette\",\n"
+        "   {\"boundary\":{\"k_gs\":12.5,\"live\":[\"k_gc\"],\"enabled\":true}},\n"
+        "   {\"tone_shading\":{\"lights\":[[1,0,0],[0,1,0],[0,0,-1]], \"k_ty\": 0}},\n"
+        "   {\"distance_blend\":{\"background\":[0.1,0.2,0.3], \"enabled\": false}},\n"
+        "   {\"sketch\":{\"live\": true}}\n"
+        " ],\n"
+        " \"render\":{\"azimuth\":45, \"elevation\":-10, \"zoom\":2, \"step\":0.25,\n"
+        "   \"background\":[0.5,0.5,0.5], \"window\":[0.1,0.9],\n"
+        "   \"transfer\":[[0,0,0,0,0],[0.5,1,0.5,0.25,0.1],[1,1,1,1,1]]}}\n");
     CHECK_NO_ERRORS(diags);
     CHECK(s != NULL);
     CHECK_INT_EQ(halo_scene_stage_count(s), 5);
@@ -98,7 +105,8 @@ static int test_valid_scene(void) {
     return 0;
 }
 
-static int test_minimal_scenes(void) {
+static int test_minimal_scenes(void)
+{
     halo_scene *s = parse("{}");
     CHECK(s != NULL);
     CHECK_INT_EQ(halo_scene_stage_count(s), 0);
@@ -118,11 +126,13 @@ static int test_minimal_scenes(void) {
     return 0;
 }
 
-static int test_bad_json(void) {
-    halo_scene *s = parse("{\"halo_scene\": 1,\n"
-                          " \"stages\": [\n"
-                          "   \"boundary\",,\n"
-                          " ]}\n");
+static int test_bad_json(void)
+{
+    halo_scene *s = parse(
+        "{\"halo_scene\": 1,\n"
+        " \"stages\": [\n"
+        "   \"boundary\",,\n"
+        " ]}\n");
     CHECK(s == NULL);
     CHECK_DIAG(diags, HALO_MSG_SCENE_JSON);
     const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_SCENE_JSON, 0);
@@ -144,7 +154,8 @@ static int test_bad_json(void) {
     return 0;
 }
 
-static int test_top_level(void) {
+static int test_top_level(void)
+{
     CHECK_REJECTED("{\"halo_scene\": 1, \"stagez\": []}", HALO_MSG_SCENE_KEY_UNKNOWN, "stagez");
     CHECK_REJECTED("{\"halo_scene\": 2}", HALO_MSG_SCENE_VERSION, "halo_scene");
     CHECK_REJECTED("[\"boundary\"]", HALO_MSG_SCENE_TYPE, "");
@@ -153,7 +164,8 @@ static int test_top_level(void) {
     return 0;
 }
 
-static int test_stage_errors(void) {
+static int test_stage_errors(void)
+{
     CHECK_REJECTED("{\"stages\": [\"boundary\", \"no_such_stage\"]}", HALO_MSG_SCENE_STAGE_UNKNOWN, "stages[1]");
     CHECK_STR_CONTAINS(check_find_diag(diags, HALO_MSG_SCENE_STAGE_UNKNOWN, 0)->text, "no_such_stage");
     /* The helper library is no stage. */
@@ -170,7 +182,8 @@ static int test_stage_errors(void) {
     return 0;
 }
 
-static int test_wrong_types(void) {
+static int test_wrong_types(void)
+{
     CHECK_REJECTED("{\"stages\": [{\"boundary\": {\"k_gs\": \"ten\"}}]}", HALO_MSG_SCENE_TYPE,
                    "stages[0].boundary.k_gs");
     CHECK_REJECTED("{\"stages\": [{\"boundary\": {\"k_gs\": [10]}}]}", HALO_MSG_SCENE_TYPE, "stages[0].boundary.k_gs");
@@ -185,7 +198,8 @@ static int test_wrong_types(void) {
     return 0;
 }
 
-static int test_range(void) {
+static int test_range(void)
+{
     CHECK_REJECTED("{\"stages\": [\"silhouette\", \"sketch\", {\"boundary\": {\"k_gs\": -1}}]}",
                    HALO_MSG_SCENE_VALUE_BELOW_MIN, "stages[2].boundary.k_gs");
     CHECK_REJECTED("{\"stages\": [{\"boundary\": {\"k_ge\": 64.5}}]}", HALO_MSG_SCENE_VALUE_ABOVE_MAX,
@@ -203,7 +217,8 @@ static int test_range(void) {
 }
 
 /* JSON has no NaN or infinity; halo_scene_set takes any double. */
-static int test_nonfinite(void) {
+static int test_nonfinite(void)
+{
     halo_scene *s = halo_scene_create(library);
     SETUP(s != NULL);
     const double bad[] = {NAN, INFINITY, -INFINITY};
@@ -235,10 +250,12 @@ static int test_nonfinite(void) {
     return 0;
 }
 
-static int test_counts(void) {
+static int test_counts(void)
+{
     /* tone_shading.lights is vec3[4]: five lights are too many, none too few. The id
      * (SCENE_VALUE_COUNT) is checked in test_scene_counts. */
-    halo_scene *rejected = parse("{\"stages\": [{\"tone_shading\": {\"lights\": [[1,0,0],[0,1,0],[0,0,1],[1,1,0],[0,1,1]]}}]}");
+    halo_scene *rejected =
+        parse("{\"stages\": [{\"tone_shading\": {\"lights\": [[1,0,0],[0,1,0],[0,0,1],[1,1,0],[0,1,1]]}}]}");
     CHECK(rejected == NULL);
     CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
     CHECK_STR_CONTAINS(halo_diagnostics_get(diags, 0)->text, "stages[0].tone_shading.lights");
@@ -264,13 +281,13 @@ static int test_counts(void) {
     return 0;
 }
 
-static int test_render_errors(void) {
+static int test_render_errors(void)
+{
     CHECK_REJECTED("{\"render\": {\"zoom\": 0}}", HALO_MSG_SCENE_VALUE_BELOW_MIN, "render.zoom");
     CHECK_REJECTED("{\"render\": {\"elevation\": 91}}", HALO_MSG_SCENE_VALUE_ABOVE_MAX, "render.elevation");
     CHECK_REJECTED("{\"render\": {\"azimuth\": \"north\"}}", HALO_MSG_SCENE_TYPE, "render.azimuth");
     CHECK_REJECTED("{\"render\": {\"background\": [0, 0]}}", HALO_MSG_SCENE_VALUE_COUNT, "render.background");
-    CHECK_REJECTED("{\"render\": {\"background\": [0, 0, 2]}}", HALO_MSG_SCENE_VALUE_ABOVE_MAX,
-                   "render.background[2]");
+    CHECK_REJECTED("{\"render\": {\"background\": [0, 0, 2]}}", HALO_MSG_SCENE_VALUE_ABOVE_MAX, "render.background[2]");
     CHECK_REJECTED("{\"render\": {\"colour\": 1}}", HALO_MSG_SCENE_KEY_UNKNOWN, "render.colour");
     CHECK_REJECTED("{\"render\": 5}", HALO_MSG_SCENE_TYPE, "render");
     CHECK_REJECTED("{\"render\": {\"transfer\": []}}", HALO_MSG_SCENE_VALUE_COUNT, "render.transfer");
@@ -290,9 +307,11 @@ static int test_render_errors(void) {
     return 0;
 }
 
-static int test_live_lists(void) {
-    halo_scene *s = parse("{\"stages\": [{\"silhouette\": {\"live\": [\"k_ss\", \"k_se\"]}},"
-                          " {\"boundary\": {\"live\": false}}, {\"sketch\": {\"live\": true, \"k_le\": 4}}]}");
+static int test_live_lists(void)
+{
+    halo_scene *s = parse(
+        "{\"stages\": [{\"silhouette\": {\"live\": [\"k_ss\", \"k_se\"]}},"
+        " {\"boundary\": {\"live\": false}}, {\"sketch\": {\"live\": true, \"k_le\": 4}}]}");
     CHECK_NO_ERRORS(diags);
     CHECK(s != NULL);
     CHECK_INT_EQ(value_of(s, "silhouette", "k_sc")->live, 0);
@@ -312,9 +331,11 @@ static int test_live_lists(void) {
 }
 
 /* Every error in a scene is reported, not only the first. */
-static int test_all_errors_reported(void) {
-    halo_scene *s = parse("{\"stages\": [\"nope\", {\"boundary\": {\"k_gs\": -1, \"k_zz\": 1}}],"
-                          " \"render\": {\"zoom\": 100}, \"extra\": 1}");
+static int test_all_errors_reported(void)
+{
+    halo_scene *s = parse(
+        "{\"stages\": [\"nope\", {\"boundary\": {\"k_gs\": -1, \"k_zz\": 1}}],"
+        " \"render\": {\"zoom\": 100}, \"extra\": 1}");
     CHECK(s == NULL);
     CHECK_DIAG(diags, HALO_MSG_SCENE_STAGE_UNKNOWN);
     CHECK_DIAG(diags, HALO_MSG_SCENE_VALUE_BELOW_MIN);
@@ -325,7 +346,8 @@ static int test_all_errors_reported(void) {
     return 0;
 }
 
-static int test_api(void) {
+static int test_api(void)
+{
     halo_scene *s = halo_scene_create(library);
     SETUP(s != NULL);
     halo_diagnostics_clear(diags);
@@ -360,7 +382,8 @@ static int test_api(void) {
     return 0;
 }
 
-static int test_load(void) {
+static int test_load(void)
+{
     halo_diagnostics_clear(diags);
     halo_scene *s = halo_scene_load("/nonexistent/dir/scene.json", library, diags);
     CHECK(s == NULL);
@@ -371,7 +394,8 @@ static int test_load(void) {
 
 /* Each semantic error at the line and column of the value (or, for an unknown key, of
  * the key) besides its JSON path, with the line shown. */
-static int test_error_places(void) {
+static int test_error_places(void)
+{
     CHECK(parse("{\n"
                 "  \"halo_scene\": 1,\n"
                 "  \"stages\": [\n"
@@ -384,15 +408,16 @@ static int test_error_places(void) {
         halo_message_id id;
         int line, column;
     } places[] = {
-        {HALO_MSG_SCENE_VALUE_BELOW_MIN, 4, 27},  /* -1 */
-        {HALO_MSG_SCENE_PARAM_UNKNOWN, 4, 31},    /* "bogus" */
-        {HALO_MSG_SCENE_STAGE_UNKNOWN, 5, 5},     /* "nosuch" */
-        {HALO_MSG_SCENE_VALUE_ABOVE_MAX, 7, 27},  /* 200 */
-        {HALO_MSG_SCENE_KEY_UNKNOWN, 7, 57},      /* "what" */
+        {HALO_MSG_SCENE_VALUE_BELOW_MIN, 4, 27}, /* -1 */
+        {HALO_MSG_SCENE_PARAM_UNKNOWN, 4, 31},   /* "bogus" */
+        {HALO_MSG_SCENE_STAGE_UNKNOWN, 5, 5},    /* "nosuch" */
+        {HALO_MSG_SCENE_VALUE_ABOVE_MAX, 7, 27}, /* 200 */
+        {HALO_MSG_SCENE_KEY_UNKNOWN, 7, 57},     /* "what" */
     };
     for (size_t i = 0; i < sizeof places / sizeof places[0]; i++) {
         const halo_diagnostic *g = check_find_diag(diags, places[i].id, places[i].line);
-        if (!g) CHECK_FAIL_AT("no %s at line %d", halo_message_name(places[i].id), places[i].line);
+        if (!g)
+            CHECK_FAIL_AT("no %s at line %d", halo_message_name(places[i].id), places[i].line);
         CHECK_INT_EQ(g->column, places[i].column);
         CHECK(g->source_line != NULL);
     }
@@ -406,13 +431,22 @@ static int test_error_places(void) {
     return 0;
 }
 
-int main(void) {
-    static const check_test tests[] = {
-        CHECK_TEST(test_valid_scene), CHECK_TEST(test_error_places), CHECK_TEST(test_minimal_scenes),
-        CHECK_TEST(test_bad_json), CHECK_TEST(test_top_level), CHECK_TEST(test_stage_errors),
-        CHECK_TEST(test_wrong_types), CHECK_TEST(test_range), CHECK_TEST(test_nonfinite), CHECK_TEST(test_counts),
-        CHECK_TEST(test_render_errors), CHECK_TEST(test_live_lists), CHECK_TEST(test_all_errors_reported),
-        CHECK_TEST(test_api), CHECK_TEST(test_load)
-    };
+int main(void)
+{
+    static const check_test tests[] = {CHECK_TEST(test_valid_scene),
+                                       CHECK_TEST(test_error_places),
+                                       CHECK_TEST(test_minimal_scenes),
+                                       CHECK_TEST(test_bad_json),
+                                       CHECK_TEST(test_top_level),
+                                       CHECK_TEST(test_stage_errors),
+                                       CHECK_TEST(test_wrong_types),
+                                       CHECK_TEST(test_range),
+                                       CHECK_TEST(test_nonfinite),
+                                       CHECK_TEST(test_counts),
+                                       CHECK_TEST(test_render_errors),
+                                       CHECK_TEST(test_live_lists),
+                                       CHECK_TEST(test_all_errors_reported),
+                                       CHECK_TEST(test_api),
+                                       CHECK_TEST(test_load)};
     return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);
 }

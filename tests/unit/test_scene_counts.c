@@ -11,7 +11,8 @@
 static halo_library *library;
 static halo_diagnostics *diags;
 
-static int check_count_error(const char *json, const char *path) {
+static int check_count_error(const char *json, const char *path)
+{
     halo_diagnostics_clear(diags);
     halo_scene *s = halo_scene_parse(json, "test.json", library, diags);
     if (s) {
@@ -23,24 +24,28 @@ static int check_count_error(const char *json, const char *path) {
     return 0;
 }
 
-static int test_array_too_long(void) {
+static int test_array_too_long(void)
+{
     /* tone_shading.lights is vec3[4] */
-    return check_count_error("{\"stages\": [{\"tone_shading\": {\"lights\": [[1,0,0],[0,1,0],[0,0,1],[1,1,0],[0,1,1]]}}]}",
-                             "stages[0].tone_shading.lights");
+    return check_count_error(
+        "{\"stages\": [{\"tone_shading\": {\"lights\": [[1,0,0],[0,1,0],[0,0,1],[1,1,0],[0,1,1]]}}]}",
+        "stages[0].tone_shading.lights");
 }
 
-static int test_array_empty(void) {
+static int test_array_empty(void)
+{
     return check_count_error("{\"stages\": [{\"tone_shading\": {\"lights\": []}}]}", "stages[0].tone_shading.lights");
 }
 
-static int test_vector_too_short(void) {
+static int test_vector_too_short(void)
+{
     return check_count_error("{\"stages\": [{\"distance_blend\": {\"background\": [0, 0]}}]}",
                              "stages[0].distance_blend.background");
 }
 
-int main(void) {
-    static const check_test tests[] = {
-        CHECK_TEST(test_array_too_long), CHECK_TEST(test_array_empty), CHECK_TEST(test_vector_too_short)
-    };
+int main(void)
+{
+    static const check_test tests[] = {CHECK_TEST(test_array_too_long), CHECK_TEST(test_array_empty),
+                                       CHECK_TEST(test_vector_too_short)};
     return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);
 }

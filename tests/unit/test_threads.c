@@ -12,7 +12,7 @@
 #define ROUNDS 10
 
 typedef struct worker {
-    pthread_t thread;   /* set by the thread itself */
+    pthread_t thread; /* set by the thread itself */
     const halo_library *library;
     size_t diagnostics; /* diagnostics this thread's calls produced */
     size_t logged;      /* those its logger received */
@@ -20,7 +20,8 @@ typedef struct worker {
     int failed;
 } worker;
 
-static void logger(const halo_diagnostic *g, void *user_data) {
+static void logger(const halo_diagnostic *g, void *user_data)
+{
     worker *w = user_data;
     (void)g;
     if (!pthread_equal(pthread_self(), w->thread)) {
@@ -32,7 +33,8 @@ static void logger(const halo_diagnostic *g, void *user_data) {
 
 static const char bad_shader[] = "#version 330 core\nout vec4 c;\nvoid main() { c = vec4(undeclared_name); }\n";
 
-static int work(worker *w) {
+static int work(worker *w)
+{
     for (int round = 0; round < ROUNDS; round++) {
         CHECK_INT_EQ(halo_setup(&(halo_setup_desc){.logger = logger, .user_data = w}), HALO_OK);
         halo_diagnostics *d = halo_diagnostics_create();
@@ -45,8 +47,8 @@ static int work(worker *w) {
         halo_scene *scene = halo_scene_parse("{\"halo_scene\": 1, \"stages\": [\"boundary\", \"silhouette\"]}",
                                              "good.json", w->library, d);
         CHECK(scene != NULL);
-        halo_program *p = halo_link(
-            &(halo_link_desc){.library = w->library, .scene = scene, .host_source = check_sample_host}, d);
+        halo_program *p =
+            halo_link(&(halo_link_desc){.library = w->library, .scene = scene, .host_source = check_sample_host}, d);
         CHECK(p != NULL);
         CHECK_INT_EQ(halo_program_validate(p, d), HALO_OK);
         halo_program_destroy(p);
@@ -58,20 +60,24 @@ static int work(worker *w) {
     return 0;
 }
 
-static void *run(void *arg) {
+static void *run(void *arg)
+{
     worker *w = arg;
     w->thread = pthread_self();
     w->failed = work(w);
     return NULL;
 }
 
-static int test_two_threads(void) {
+static int test_two_threads(void)
+{
     halo_diagnostics *d;
     halo_library *lib = check_library_setup(&d);
     worker workers[2] = {{.library = lib}, {.library = lib}};
     pthread_t handles[2];
-    for (int i = 0; i < 2; i++) SETUP(pthread_create(&handles[i], NULL, run, &workers[i]) == 0);
-    for (int i = 0; i < 2; i++) SETUP(pthread_join(handles[i], NULL) == 0);
+    for (int i = 0; i < 2; i++)
+        SETUP(pthread_create(&handles[i], NULL, run, &workers[i]) == 0);
+    for (int i = 0; i < 2; i++)
+        SETUP(pthread_join(handles[i], NULL) == 0);
     for (int i = 0; i < 2; i++) {
         CHECK_INT_EQ(workers[i].failed, 0);
         CHECK_INT_EQ(atomic_load(&workers[i].foreign), 0);
@@ -82,7 +88,8 @@ static int test_two_threads(void) {
     return 0;
 }
 
-int main(void) {
+int main(void)
+{
     RUN_TEST(test_two_threads);
     return check_exit_status();
 }

@@ -17,7 +17,8 @@
 #include <string>
 #include <vector>
 
-namespace {
+namespace
+{
 
 bool read_image(const char *path, int &width, int &height, std::vector<float> &rgba)
 {
@@ -109,10 +110,11 @@ int main(int argc, char **argv)
     }
     double share = pixels ? static_cast<double>(differing) / pixels : 0.0;
     bool within = largest <= max_abs && share <= max_share;
-    std::printf("image_compare: %s vs %s (%dx%d): max abs %.9g (%.3f/255), mean abs %.3g, %zu pixels (%.4f %%) "
-                "differ by more than %g\n",
-                paths[0], paths[1], w[0], h[0], largest, largest * 255.0, sum / (4.0 * (pixels ? pixels : 1)),
-                differing, 100.0 * share, threshold);
+    std::printf(
+        "image_compare: %s vs %s (%dx%d): max abs %.9g (%.3f/255), mean abs %.3g, %zu pixels (%.4f %%) "
+        "differ by more than %g\n",
+        paths[0], paths[1], w[0], h[0], largest, largest * 255.0, sum / (4.0 * (pixels ? pixels : 1)), differing,
+        100.0 * share, threshold);
     if (differ)
         return within ? 1 : 0;
     return within ? 0 : 1;

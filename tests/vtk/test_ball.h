@@ -10,7 +10,8 @@
 
 #include <cmath>
 
-static inline vtkSmartPointer<vtkImageData> test_ball(int binary) {
+static inline vtkSmartPointer<vtkImageData> test_ball(int binary)
+{
     const int n = 16;
     vtkSmartPointer<vtkImageData> image = vtkSmartPointer<vtkImageData>::New();
     image->SetDimensions(n, n, n);

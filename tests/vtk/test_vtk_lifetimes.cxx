@@ -34,12 +34,12 @@ VTK_MODULE_INIT(vtkRenderingOpenGL2);
 VTK_MODULE_INIT(vtkRenderingVolumeOpenGL2);
 
 static int failures = 0;
-#define CHECK(cond, what)                                                                                            \
-    do {                                                                                                             \
-        if (!(cond)) {                                                                                               \
-            fprintf(stderr, "FAIL: %s (%s:%d)\n", what, __FILE__, __LINE__);                                        \
-            failures++;                                                                                              \
-        }                                                                                                            \
+#define CHECK(cond, what)                                                    \
+    do {                                                                     \
+        if (!(cond)) {                                                       \
+            fprintf(stderr, "FAIL: %s (%s:%d)\n", what, __FILE__, __LINE__); \
+            failures++;                                                      \
+        }                                                                    \
     } while (0)
 
 /* A small volume (a ball) in a mapper, a volume, a renderer and an offscreen window. */
@@ -50,7 +50,8 @@ struct scene_objects {
     vtkSmartPointer<vtkRenderWindow> window;
 };
 
-static scene_objects make_objects(int halo_mapper) {
+static scene_objects make_objects(int halo_mapper)
+{
     vtkSmartPointer<vtkImageData> image = test_ball(0);
     scene_objects o;
     o.mapper.TakeReference(halo_mapper ? halo_vtk_mapper_new() : vtkGPUVolumeRayCastMapper::New());
@@ -77,7 +78,8 @@ static scene_objects make_objects(int halo_mapper) {
 }
 
 static halo_vtk *install(const scene_objects &o, const halo_library *lib, const halo_scene *scene,
-                         halo_diagnostics *diag) {
+                         halo_diagnostics *diag)
+{
     halo_vtk_desc desc = {};
     desc.mapper = o.mapper;
     desc.volume = o.volume;
@@ -87,7 +89,8 @@ static halo_vtk *install(const scene_objects &o, const halo_library *lib, const 
     return halo_vtk_install(&desc, diag);
 }
 
-int main(void) {
+int main(void)
+{
     if (!getenv("DISPLAY")) {
         fprintf(stderr, "SKIP: VTK's renderer needs an X display\n");
         return 77;
@@ -96,11 +99,12 @@ int main(void) {
     halo_setup(&setup);
     halo_diagnostics *diag = halo_diagnostics_create();
     halo_library *lib = halo_library_create(diag);
-    halo_scene *plain = halo_scene_parse("{\"halo_scene\": 1, \"stages\": [{\"tone_shading\": {}}]}", "plain", lib,
-                                         diag);
-    halo_scene *halos = halo_scene_parse("{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": "
-                                         "{}}, {\"halo_map\": {}}]}",
-                                         "halos", lib, diag);
+    halo_scene *plain =
+        halo_scene_parse("{\"halo_scene\": 1, \"stages\": [{\"tone_shading\": {}}]}", "plain", lib, diag);
+    halo_scene *halos = halo_scene_parse(
+        "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": "
+        "{}}, {\"halo_map\": {}}]}",
+        "halos", lib, diag);
     CHECK(lib && plain && halos, "the library and scenes");
     if (!lib || !plain || !halos) {
         halo_diagnostics_print(diag, stderr);
@@ -161,12 +165,14 @@ int main(void) {
         halo_diagnostics_clear(diag);
         halo_vtk_remove(h);
         h = install(o, lib, halo_mapper ? halos : plain, diag);
-        if (units) units->Allocate(19);
+        if (units)
+            units->Allocate(19);
         o.window->Render();
         CHECK(h && halo_vtk_check(h, diag) != HALO_OK && halo_diagnostics_has(diag, HALO_MSG_ENGINE_UNSUPPORTED),
               "a texture unit held by the application is refused with ENGINE_UNSUPPORTED");
         halo_diagnostics_clear(diag);
-        if (units) units->Free(19);
+        if (units)
+            units->Free(19);
         halo_vtk_remove(h);
     }
 
@@ -194,7 +200,9 @@ int main(void) {
     halo_library_destroy(lib);
     halo_diagnostics_destroy(diag);
     halo_shutdown();
-    if (failures) fprintf(stderr, "%d failed\n", failures);
-    else printf("test_vtk_lifetimes: all passed\n");
+    if (failures)
+        fprintf(stderr, "%d failed\n", failures);
+    else
+        printf("test_vtk_lifetimes: all passed\n");
     return failures ? 1 : 0;
 }

@@ -41,7 +41,8 @@ enum { size = 64 };
 /* probe pixels on the centre row: the far ball alone, both (the near one in front), the near alone */
 static const int probes[3] = {25, 31, 40};
 
-static vtkSmartPointer<vtkVolume> ball(vtkGPUVolumeRayCastMapper *mapper, const double rgb[3], double x, double z) {
+static vtkSmartPointer<vtkVolume> ball(vtkGPUVolumeRayCastMapper *mapper, const double rgb[3], double x, double z)
+{
     vtkSmartPointer<vtkImageData> image = test_ball(1);
     mapper->SetInputData(image);
     vtkSmartPointer<vtkColorTransferFunction> color = vtkSmartPointer<vtkColorTransferFunction>::New();
@@ -63,7 +64,8 @@ static vtkSmartPointer<vtkVolume> ball(vtkGPUVolumeRayCastMapper *mapper, const 
 
 /* 'R', 'B' or '.' (neither) at each probe; on failure, a message and "" */
 static std::string render(const halo_library *lib, const halo_scene *scene, int halo_mapper, int on_far, int segments,
-                          int far_first, int sorted) {
+                          int far_first, int sorted)
+{
     static const double red[3] = {1, 0, 0}, blue[3] = {0, 0, 1};
     vtkSmartPointer<vtkGPUVolumeRayCastMapper> near_mapper, far_mapper;
     near_mapper.TakeReference(halo_mapper && !on_far ? halo_vtk_mapper_new() : vtkGPUVolumeRayCastMapper::New());
@@ -77,7 +79,8 @@ static std::string render(const halo_library *lib, const halo_scene *scene, int 
         renderer->GetCullers()->InitTraversal();
         vtkFrustumCoverageCuller *culler =
             vtkFrustumCoverageCuller::SafeDownCast(renderer->GetCullers()->GetNextItem());
-        if (culler) culler->SetSortingStyleToBackToFront();
+        if (culler)
+            culler->SetSortingStyleToBackToFront();
     }
     vtkSmartPointer<vtkRenderWindow> window = vtkSmartPointer<vtkRenderWindow>::New();
     window->SetOffScreenRendering(1);
@@ -99,7 +102,8 @@ static std::string render(const halo_library *lib, const halo_scene *scene, int 
     std::string out;
     if (!scene || h) {
         window->Render();
-        if (h && halo_vtk_check(h, diag) != HALO_OK) h = (halo_vtk_remove(h), nullptr);
+        if (h && halo_vtk_check(h, diag) != HALO_OK)
+            h = (halo_vtk_remove(h), nullptr);
         else {
             vtkSmartPointer<vtkUnsignedCharArray> px = vtkSmartPointer<vtkUnsignedCharArray>::New();
             window->GetRGBACharPixelData(0, 0, size - 1, size - 1, 0, px);
@@ -109,13 +113,16 @@ static std::string render(const halo_library *lib, const halo_scene *scene, int 
             }
         }
     }
-    if (out.empty()) halo_diagnostics_print(diag, stderr);
-    if (h) halo_vtk_remove(h);
+    if (out.empty())
+        halo_diagnostics_print(diag, stderr);
+    if (h)
+        halo_vtk_remove(h);
     halo_diagnostics_destroy(diag);
     return out;
 }
 
-int main(void) {
+int main(void)
+{
     if (!getenv("DISPLAY")) {
         fprintf(stderr, "SKIP: VTK's renderer needs an X display\n");
         return 77;
@@ -140,14 +147,16 @@ int main(void) {
             printf("%s added first, %s: VTK alone %s\n", far_first ? "far" : "near", sorted ? "sorted" : "unsorted",
                    vtk.c_str());
             if (sorted && vtk != "BRR") {
-                fprintf(stderr, "FAIL: VTK alone, sorted, gives %s, not BRR: the test's set-up is wrong\n", vtk.c_str());
+                fprintf(stderr, "FAIL: VTK alone, sorted, gives %s, not BRR: the test's set-up is wrong\n",
+                        vtk.c_str());
                 failures++;
             }
             for (const auto &c : cases)
                 for (int on_far = 0; on_far < 2; on_far++) {
                     std::string json = std::string("{\"halo_scene\": 1, \"stages\": ") + c.json + "}";
                     halo_scene *scene = halo_scene_parse(json.c_str(), c.name, lib, diag);
-                    std::string got = scene ? render(lib, scene, c.halo_mapper, on_far, c.segments, far_first, sorted) : "";
+                    std::string got =
+                        scene ? render(lib, scene, c.halo_mapper, on_far, c.segments, far_first, sorted) : "";
                     halo_scene_destroy(scene);
                     int ok = got == vtk;
                     printf("  %-18s on the %s ball: %s%s\n", c.name, on_far ? "far" : "near", got.c_str(),
@@ -159,7 +168,9 @@ int main(void) {
     halo_library_destroy(lib);
     halo_diagnostics_destroy(diag);
     halo_shutdown();
-    if (failures) fprintf(stderr, "test_vtk_two_volumes: %d failed\n", failures);
-    else printf("test_vtk_two_volumes: all passed\n");
+    if (failures)
+        fprintf(stderr, "test_vtk_two_volumes: %d failed\n", failures);
+    else
+        printf("test_vtk_two_volumes: all passed\n");
     return failures ? 1 : 0;
 }

@@ -20,43 +20,43 @@ class vtkVolume;
 
 class HALOREPRESENTATIONS_EXPORT vtkHaloVolumeRepresentation : public vtkImageVolumeRepresentation
 {
-public:
-  static vtkHaloVolumeRepresentation* New();
-  vtkTypeMacro(vtkHaloVolumeRepresentation, vtkImageVolumeRepresentation);
-  void PrintSelf(ostream& os, vtkIndent indent) override;
+  public:
+    static vtkHaloVolumeRepresentation *New();
+    vtkTypeMacro(vtkHaloVolumeRepresentation, vtkImageVolumeRepresentation);
+    void PrintSelf(ostream &os, vtkIndent indent) override;
 
-  /* A libhalo scene file; empty: no stage (ParaView's own volume rendering). */
-  void SetHaloScene(const char* path);
-  /* "stage.param=v[,v...]" separated by ';': values over the scene's. */
-  void SetHaloSettings(const char* settings);
-  /* The data values mapped to 0 and 1; equal: the data's range over all ranks. */
-  void SetHaloWindow(double low, double high);
-  /* 1 (default): volumetric halos cross the ranks' pieces; 0: each rank's own. */
-  void SetHaloExchange(int exchange);
-  /* After a render: 0 when the scene (if any) is installed and drawn as asked; 1 when it
+    /* A libhalo scene file; empty: no stage (ParaView's own volume rendering). */
+    void SetHaloScene(const char *path);
+    /* "stage.param=v[,v...]" separated by ';': values over the scene's. */
+    void SetHaloSettings(const char *settings);
+    /* The data values mapped to 0 and 1; equal: the data's range over all ranks. */
+    void SetHaloWindow(double low, double high);
+    /* 1 (default): volumetric halos cross the ranks' pieces; 0: each rank's own. */
+    void SetHaloExchange(int exchange);
+    /* After a render: 0 when the scene (if any) is installed and drawn as asked; 1 when it
    * was refused, failed to load or its draw failed (the reason went to stderr). Read by
    * scripts through the information property HaloStatus (halo_pvbatch.py exits 1). */
-  int GetHaloStatus();
+    int GetHaloStatus();
 
-  /* The whole dataset's point extent (each rank draws a piece of it). */
-  void GetWholeExtentOfPieces(int extent[6]);
-  /* Called by the representation's mapper before each render of the volume. */
-  void PrepareHalo(vtkRenderer* renderer, vtkVolume* volume);
-  /* Called after it: after the first render of an install, halo_vtk_check. */
-  void CheckHalo();
+    /* The whole dataset's point extent (each rank draws a piece of it). */
+    void GetWholeExtentOfPieces(int extent[6]);
+    /* Called by the representation's mapper before each render of the volume. */
+    void PrepareHalo(vtkRenderer *renderer, vtkVolume *volume);
+    /* Called after it: after the first render of an install, halo_vtk_check. */
+    void CheckHalo();
 
-protected:
-  vtkHaloVolumeRepresentation();
-  ~vtkHaloVolumeRepresentation() override;
+  protected:
+    vtkHaloVolumeRepresentation();
+    ~vtkHaloVolumeRepresentation() override;
 
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+    int RequestData(vtkInformation *, vtkInformationVector **, vtkInformationVector *) override;
 
-private:
-  vtkHaloVolumeRepresentation(const vtkHaloVolumeRepresentation&) = delete;
-  void operator=(const vtkHaloVolumeRepresentation&) = delete;
+  private:
+    vtkHaloVolumeRepresentation(const vtkHaloVolumeRepresentation &) = delete;
+    void operator=(const vtkHaloVolumeRepresentation &) = delete;
 
-  class vtkInternals;
-  vtkInternals* Internals;
+    class vtkInternals;
+    vtkInternals *Internals;
 };
 
 #endif

@@ -1,4 +1,2 @@
 // included by include_main.frag, from the same folder
-float shade(float x) {
-    return x * x;
-}
+float shade(float x) { return x * x; }
