@@ -63,6 +63,8 @@ const char usage_text[] =
     "  --blend MODE        composite (default), mip or additive: VTK's blend mode\n"
     "  --set STAGE.PARAM=V[,V...]  after a first render, change a live parameter and\n"
     "                      render again (prints whether VTK rebuilt its shader)\n"
+    "  --halo-scale S      halo images (and libhalo's march) at 1/S of the image per side:\n"
+    "                      1 (default), 2 or 4\n"
     "  --frames N          render N frames and print the mean frame time\n"
     "  --tile-scale N      write the image N times the size, rendered by VTK in N x N tiles\n"
     "                      (vtkWindowToImageFilter, as a screenshot larger than the window)\n"
@@ -85,7 +87,7 @@ struct options {
     double window[2] = {0, 0};
     int have_window = 0, volume_size = 0, width = 256, height = 256, frames = 1, quiet = 0, no_stages = 0,
         plain_mapper = 0;
-    int segments = 0, tile_scale = 1;
+    int segments = 0, tile_scale = 1, halo_scale = 1;
     std::vector<std::string> sets;
 };
 
@@ -136,6 +138,10 @@ int parse(int argc, char **argv, options *o)
             if (*end || n < 1 || n > 8)
                 return usage_error(std::string("--tile-scale takes 1..8, not '") + v + "'");
             o->tile_scale = (int)n;
+        } else if (a == "--halo-scale" && need()) {
+            if (strcmp(v, "1") && strcmp(v, "2") && strcmp(v, "4"))
+                return usage_error(std::string("--halo-scale takes 1, 2 or 4, not '") + v + "'");
+            o->halo_scale = atoi(v);
         } else if (a == "--frames" && need()) {
             char *end;
             long n = strtol(v, &end, 10);
@@ -346,6 +352,7 @@ int main(int argc, char **argv)
         desc.window[1] = 1.0;
         desc.all_live = !o.sets.empty();
         desc.segments = o.segments;
+        desc.image_scale = o.halo_scale;
         h = halo_vtk_install(&desc, diag);
         if (!h)
             status = 1; /* the diagnostics are printed at the end */

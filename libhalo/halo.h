@@ -155,7 +155,8 @@ typedef enum halo_severity { HALO_SEVERITY_ERROR, HALO_SEVERITY_WARNING, HALO_SE
     X(INPUT_TOO_LARGE, "the file is larger than libhalo reads (HALO_MAX_FILE_BYTES)")                    \
     X(PIECE_EXPRESSION,                                                                                  \
       "a composer expression (halo_pieces_desc) is not one GLSL expression of the kind its field needs") \
-    X(HOST_SEGMENT_CALLS, "the ray loop is not bracketed by halo_segment_begin and halo_segment_end")
+    X(HOST_SEGMENT_CALLS, "the ray loop is not bracketed by halo_segment_begin and halo_segment_end")    \
+    X(FIELD_MEMORY, "the halo field of the frame's depth segments is over its memory cap (field_max_bytes)")
 
 typedef enum halo_message_id {
 #define HALO_X_ENUM(id, text) HALO_MSG_##id,
@@ -856,6 +857,9 @@ HALO_API int halo_gl_frame_read_region(const halo_gl_frame *f, int box[4]);
 
 /* The most bytes one exchange call of halo_gl_segments_desc carries (256 MiB). */
 #define HALO_GL_EXCHANGE_MAX_BYTES ((size_t)256 << 20)
+/* The default cap on the stacks of a one-draw frame's halo field (halo_gl_segments_desc.
+ * field_max_bytes): 1 GiB. */
+#define HALO_GL_FIELD_MAX_BYTES    ((size_t)1 << 30)
 
 typedef struct halo_gl_segments_desc {
     const float *inverse_view_projection; /* required: column-major, clip space -> the space of the host's
@@ -902,6 +906,11 @@ typedef struct halo_gl_segments_desc {
                               * every piece: the host's buffer stays bounded */
     void *exchange_user;
     size_t exchange_max_bytes; /* 0: HALO_GL_EXCHANGE_MAX_BYTES */
+    size_t field_max_bytes;    /* host contract 3: the cap on the halo field's stacks (one layer a depth
+                                * segment: width x height x bytes a texel of each image the samples read,
+                                * at the halo images' scale); 0: HALO_GL_FIELD_MAX_BYTES. Above it
+                                * halo_gl_frame_draw draws nothing and reports FIELD_MEMORY with the
+                                * bytes needed and what fits (image_scale 2 or 4, a larger M) */
 } halo_gl_segments_desc;
 
 /* Sets the camera uniforms of halo_view_at and halo_depth_at (the program must be current).

@@ -269,6 +269,36 @@ static int require_call(const halo_program *p, const halo_host_info *h, const ha
     return 1;
 }
 
+/* Drawn in segments, a fragment that discards after halo_segment_begin loses the draw of
+ * that segment only: its colour and ray state are not written, so the next segment starts
+ * the ray again from the state before (a discard that depends on the segment). A discard
+ * before halo_segment_begin (a ray that misses the box) holds in every segment. Each
+ * compiled `discard` after the first compiled halo_segment_begin call, in the function
+ * that makes it, is an error; one in a function called from there is not seen. */
+static int segment_discards(const halo_host_info *h, const halo_host_text *t, halo_diagnostics *diag)
+{
+    const halo_token_list *tokens = &h->scan.tokens;
+    size_t i = 0;
+    for (; i + 1 < tokens->count; i++)
+        if (halo_token_is(t->source, &tokens->items[i], "halo_segment_begin") &&
+            halo_token_is(t->source, &tokens->items[i + 1], "(") &&
+            halo_host_scan_compiled(&h->scan, tokens->items[i].line))
+            break;
+    int errors = 0;
+    for (size_t k = i + 1; k < tokens->count && tokens->items[k].brace_depth > 0; k++) {
+        const halo_token *d = &tokens->items[k];
+        if (!halo_token_is(t->source, d, "discard") || !halo_host_scan_compiled(&h->scan, d->line))
+            continue;
+        host_diag(h, diag, HALO_MSG_HOST_SEGMENT_CALLS, t->file, t->lines, d->line, d->column,
+                  "a discard after halo_segment_begin: drawn in depth segments, it drops this segment's colour and "
+                  "ray state, and the next segment marches the ray again from before it; discard before "
+                  "halo_segment_begin (a ray that misses the volume), or end the ray with "
+                  "halo_segment_end(state, true) (docs/host-contract.md)");
+        ++errors;
+    }
+    return errors;
+}
+
 int halo_host_check_calls(const halo_program *p, const halo_host_info *h, const char *host, halo_diagnostics *diag)
 {
     halo_host_text t = {host, p->host_file, p->host_lines, "host"};
@@ -311,6 +341,8 @@ int halo_host_check_calls_in(const halo_program *p, const halo_host_info *h, con
             "ray's state for the next segment (docs/host-contract.md, \"Segmented ray casting\")";
         errors += require_call(p, h, t, "halo_segment_begin", HALO_MSG_HOST_SEGMENT_CALLS, why_segments, diag);
         errors += require_call(p, h, t, "halo_segment_end", HALO_MSG_HOST_SEGMENT_CALLS, why_segments, diag);
+        if (p->segment_location > 0)
+            errors += segment_discards(h, t, diag);
     }
     halo_strbuf_free(&stages);
     halo_strbuf_free(&why);

@@ -862,7 +862,6 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
         halo_program_destroy(p);
         return NULL;
     }
-    /* the images' sizes while the seeds are still an output (full size, as the march's) */
     set_image_scales(p);
     /* host contract 3: the stages that seed the generation passes run in libhalo's march */
     if (desc->one_draw && !prepass_only && halo_program_has_generation_passes(p)) {
@@ -879,6 +878,9 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
         }
         p->one_draw = 1;
         halo_prepass_drop_outputs(p, 1);
+        /* the seeds are no longer the host's outputs: libhalo's march writes them at the
+         * halo images' scale (gl/field.c), a ray a pixel of the 1/image_scale image */
+        set_image_scales(p);
         /* the march and the host share the parameters' values: halo_program_set changes both */
         halo_link_desc march = halo_prepass_desc(p, desc);
         if (!(p->prepass = halo_link_prepass(&march, diag)) || !halo_prepass_host_uniforms_known(p->prepass, diag)) {

@@ -239,6 +239,28 @@ const halo_uniform_info *halo_program_find_uniform(const halo_program *p, const 
     return NULL;
 }
 
+/* Does a pass of module m take its schedule from param: its repetitions (repeat=PARAM), its
+ * reach (reach=B^(PARAM-i)) or whether it runs (when=PARAM,...)? The linker fixed those at
+ * the linked value. */
+static const char *schedule_use(const halo_module *m, const char *param)
+{
+    for (size_t k = 0; k < m->pass_count; k++) {
+        const halo_pass_decl *pd = &m->passes[k];
+        if (pd->repeat && !strcmp(pd->repeat, param))
+            return "repeat=";
+        if (pd->reach_param && !strcmp(pd->reach_param, param))
+            return "reach=";
+        for (const char *w = pd->when; w && *w;) {
+            w += *w == '!';
+            size_t n = strcspn(w, ",");
+            if (n == strlen(param) && !strncmp(w, param, n))
+                return "when=";
+            w += n + (w[n] == ',');
+        }
+    }
+    return NULL;
+}
+
 halo_status halo_program_set(halo_program *p, const char *stage, const char *param, const double *values, int count,
                              halo_diagnostics *diag)
 {
@@ -263,6 +285,22 @@ halo_status halo_program_set(halo_program *p, const char *stage, const char *par
     if (id >= 0) {
         halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, (halo_message_id)id, "", 0, 0, NULL, "%s.%s: %s", stage,
                                 param, why);
+        return HALO_ERROR_INPUT;
+    }
+    /* a parameter that schedules image passes: the passes were planned at its linked value */
+    const halo_module *m = NULL;
+    for (size_t s = 0; s < p->stage_count && !m; s++)
+        if (!strcmp(p->stages[s].module->name, stage))
+            m = p->stages[s].module;
+    const char *use = m ? schedule_use(m, param) : NULL;
+    int changed = count != u->count;
+    for (int i = 0; i < count * u->info->components && !changed; i++)
+        changed = values[i] != u->value[i];
+    if (use && changed) {
+        halo_diag_error(diag, USAGE, "", 0, 0,
+                        "%s.%s schedules the stage's image passes (%s): they were planned at its linked value %g; "
+                        "link the scene again (halo_link) to change it",
+                        stage, param, use, u->value[0]);
         return HALO_ERROR_INPUT;
     }
     /* a grouped parameter of a program with feature groups: the whole list; the current

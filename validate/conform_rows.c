@@ -143,7 +143,7 @@
     {                                                                                                                \
         name, "segments", renders, "%.0e", tolerance, 0.0, why, conform_segment_row, &(const conform_segment_params) \
         {                                                                                                            \
-            scene, segments, orthographic, NULL, 0.0f, 0                                                             \
+            scene, segments, orthographic, NULL, 0.0f, 0, 1                                                          \
         }                                                                                                            \
     }
 /* Host contract 3: the one-draw ray caster (the field computed before it) against its emulation. */
@@ -151,9 +151,21 @@
     {                                                                                                                \
         name, "segments", renders, "%.0e", tolerance, 0.0, why, conform_segment_row, &(const conform_segment_params) \
         {                                                                                                            \
-            scene, 0, orthographic, NULL, 0.0f, precision                                                            \
+            scene, 0, orthographic, NULL, 0.0f, precision, 1                                                         \
         }                                                                                                            \
     }
+/* the one-draw ray caster with its halo images and libhalo's march at 1/scale of the frame */
+#define ONE_DRAW_SCALED_ROW(name, renders, scale)                                                          \
+    {                                                                                                      \
+        name, "segments", renders, "%.0e", SLICE_HALOS_TOL, 0.0, ONE_DRAW_SCALED_WHY, conform_segment_row, \
+            &(const conform_segment_params)                                                                \
+        {                                                                                                  \
+            SEGMENT_HALOS_SCENE, 0, 0, NULL, 0.0f, 32, scale                                               \
+        }                                                                                                  \
+    }
+#define ONE_DRAW_SCALED_WHY                                                                                  \
+    "as ray@one_draw; the march's rays through the centres of the 1/scale pixels, the seeds written there, " \
+    "the spreading at the low size, the host's bilinear read of the stack layer"
 #define ONE_DRAW_WHY                                                                                             \
     "as ray (float32 sampling, seeds, passes, blending against double), the march's seeds on its planes from "   \
     "the float gradient it derives; the stack layer a sample reads (a decision on phi), the 0.99 threshold and " \
@@ -190,7 +202,7 @@
         name, "segments", renders, "%.0e", SLICE_HALOS_TOL, 0.0, why, conform_segment_row, \
             &(const conform_segment_params)                                                \
         {                                                                                  \
-            scene, 0, 0, &host, jitter, 0                                                  \
+            scene, 0, 0, &host, jitter, 0, 1                                               \
         }                                                                                  \
     }
 /* ... drawn once over the field libhalo computes first (host contract 3) */
@@ -199,7 +211,7 @@
         name, "segments", renders, "%.0e", SLICE_HALOS_TOL, 0.0, why, conform_segment_row, \
             &(const conform_segment_params)                                                \
         {                                                                                  \
-            scene, 0, 0, &host, jitter, 32                                                 \
+            scene, 0, 0, &host, jitter, 32, 1                                              \
         }                                                                                  \
     }
 #define HOST_WHY_DERIVED "libhalo's gradient, view and (planar) depth, emulated from the frame's camera"
@@ -386,6 +398,8 @@ const conform_row conform_rows[] = {
                  "the exact gradient: the error of the half gradient itself; measured max abs 1.3e-4 at 25x25, "
                  "2.9e-3 at 64x64, 3.3e-3 at 128x128",
                  SEGMENT_HALOS_SCENE, 0, 16),
+    ONE_DRAW_SCALED_ROW("ray@one_draw_scale2", "the one-draw ray caster, two halos, M = 4, halo images at 1/2", 2),
+    ONE_DRAW_SCALED_ROW("ray@one_draw_scale4", "the one-draw ray caster, two halos, M = 4, halo images at 1/4", 4),
     HOST_ROW("ray@webgl", "webgl_caster.frag (ES 300 style, linked for GLSL 330 here), jitter 1, two halos, M = 4",
              "as ray; the jitter is the host's integer hash of the pixel, exact in C; " HOST_WHY_DERIVED "; the ceil "
              "step count bracketed (rays run to their end: the seeds read every sample)",

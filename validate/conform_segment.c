@@ -305,7 +305,8 @@ static void emulate_mip(const halo_raycast_state *s, const segment_ray *rays, do
 /* The images the one-draw host's samples read (its samplers), one stack layer per depth
  * segment but the last: what the samples of segment j + 1 read (gl/field.c). */
 typedef struct field_stacks {
-    int count, layers, width, height;
+    int count, layers, width, height; /* width, height: the images' (1/scale of the frame) */
+    int scale, frame_width;
     const char *images[HALO_MAX_OUTPUT_LOCATION + 1];
     int channels[HALO_MAX_OUTPUT_LOCATION + 1];
     double *layer_data[HALO_MAX_OUTPUT_LOCATION + 1]; /* layers * width * height * channels */
@@ -355,17 +356,22 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
 {
     const halo_program *march = p->prepass;
     memset(st, 0, sizeof *st);
-    st->width = s->width;
-    st->height = s->height;
+    /* the march and the field at the halo images' scale (halo_link_desc.image_scale): a ray
+     * through the centre of each 1/scale pixel, as gl/field.c's */
+    int scale = halo_program_image_scale(p) > 1 ? halo_program_image_scale(p) : 1;
+    st->scale = scale;
+    st->frame_width = s->width;
+    st->width = (s->width + scale - 1) / scale;
+    st->height = (s->height + scale - 1) / scale;
     st->layers = plan->segments > 1 ? plan->segments - 1 : 1;
-    size_t pixels = (size_t)s->width * (size_t)s->height;
+    size_t pixels = (size_t)st->width * (size_t)st->height;
     for (size_t i = 0; i < halo_program_sampler_count(p) && st->count <= HALO_MAX_OUTPUT_LOCATION; ++i) {
         const char *name = halo_program_sampler(p, i)->image;
         for (size_t k = 0; k < halo_program_image_count(p); ++k)
             if (!strcmp(halo_program_image(p, k)->name, name)) {
-                if (halo_program_image(p, k)->scale != 1) {
+                if (halo_program_image(p, k)->scale != scale) {
                     HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0,
-                                      "the one-draw emulation takes full-size images only");
+                                      "the one-draw emulation takes images at the program's image_scale only");
                     return 0;
                 }
                 st->images[st->count] = name;
@@ -380,7 +386,7 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
     }
     int framed = 1;
     halo_emu_frame *seeds =
-        march ? conform_host_frame(march, s->width, s->height, s->screen_right, s->screen_up, &framed, diag) : NULL;
+        march ? conform_host_frame(march, st->width, st->height, s->screen_right, s->screen_up, &framed, diag) : NULL;
     if (!seeds) {
         if (framed)
             HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "the one-draw program has no march to emulate");
@@ -395,9 +401,11 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
         int first = a < 0.0 ? 0 : a > planes ? planes : (int)a, end = b < 0.0 ? 0 : b > planes ? planes : (int)b;
         /* the march frame's seeds start as the host frame's images (cleared by the last generation) */
         copy_seeds(p, host, seeds, pixels);
-        for (int y = 0; y < s->height && ok; ++y)
-            for (int x = 0; x < s->width && ok; ++x) {
-                double ndc[2] = {(x + 0.5) / s->width * 2.0 - 1.0, (y + 0.5) / s->height * 2.0 - 1.0};
+        for (int y = 0; y < st->height && ok; ++y)
+            for (int x = 0; x < st->width && ok; ++x) {
+                /* the pixel's centre in the frame's pixels */
+                double pixel[2] = {(x + 0.5) * scale, (y + 0.5) * scale};
+                double ndc[2] = {pixel[0] / s->width * 2.0 - 1.0, pixel[1] / s->height * 2.0 - 1.0};
                 double near_point[4], far_point[4], origin[3], direction[3];
                 conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], -1.0, 1.0}, near_point);
                 conform_transform(s->inverse_view_projection, (const double[]){ndc[0], ndc[1], 1.0, 1.0}, far_point);
@@ -410,6 +418,8 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
                 }
                 halo_emu_sample fragment;
                 memset(&fragment, 0, sizeof fragment);
+                /* the march's output pixel (its frame is the seed image's size); its samples
+                 * see the frame's pixel coordinates (prepass.c) */
                 fragment.fragcoord[0] = x + 0.5;
                 fragment.fragcoord[1] = y + 0.5;
                 for (int k = first; k < end && fabs(phi_rate) > 1e-30 && ok; ++k) {
@@ -426,7 +436,7 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
                     halo_emu_sample sample;
                     memset(&sample, 0, sizeof sample);
                     memcpy(sample.position, P, sizeof P);
-                    memcpy(sample.fragcoord, fragment.fragcoord, sizeof sample.fragcoord);
+                    memcpy(sample.fragcoord, pixel, sizeof sample.fragcoord);
                     sample.value = halo_volume_trilinear(s->volume, s->dims, P);
                     double v[3], length2 = 0.0;
                     for (int c = 0; c < 3; ++c) {
@@ -477,12 +487,27 @@ static void field_at_sample(const field_stacks *st, const halo_segment_plan *pla
     if (layer >= st->layers)
         layer = st->layers - 1;
     size_t pixels = (size_t)st->width * (size_t)st->height;
+    /* the texels the sample's read takes: the pixel's own, or at 1/scale the four around it
+     * that the bilinear read blends (halo_emu_read_image; the GPU's halo_read_NAME) */
+    size_t texels[4] = {i, i, i, i};
+    if (st->scale > 1) {
+        double fx = (double)(i % (size_t)st->frame_width) + 0.5, fy = (double)(i / (size_t)st->frame_width) + 0.5;
+        int x0 = (int)floor(fx / st->scale - 0.5), y0 = (int)floor(fy / st->scale - 0.5);
+        for (int t = 0; t < 4; ++t) {
+            int x = x0 + (t & 1), y = y0 + (t >> 1);
+            x = x < 0 ? 0 : x > st->width - 1 ? st->width - 1 : x;
+            y = y < 0 ? 0 : y > st->height - 1 ? st->height - 1 : y;
+            texels[t] = (size_t)y * (size_t)st->width + (size_t)x;
+        }
+    }
     for (int s = 0; s < st->count; ++s) {
         double *image = halo_emu_frame_image(host, st->images[s]);
         int n = st->channels[s];
-        for (int c = 0; image && c < n; ++c)
-            image[i * (size_t)n + (size_t)c] =
-                layer < 0 ? 0.0 : st->layer_data[s][((size_t)layer * pixels + i) * (size_t)n + (size_t)c];
+        for (int t = 0; image && t < (st->scale > 1 ? 4 : 1); ++t)
+            for (int c = 0; c < n; ++c) {
+                size_t at = texels[t] * (size_t)n + (size_t)c;
+                image[at] = layer < 0 ? 0.0 : st->layer_data[s][(size_t)layer * pixels * (size_t)n + at];
+            }
     }
 }
 
@@ -641,7 +666,7 @@ static float *render(conform *c, const halo_program *p, const halo_render_settin
 }
 
 static halo_program *link_host(conform *c, const halo_scene *scene, const conform_segment_host *host,
-                               const char *source, int force, int one_draw)
+                               const char *source, int force, int one_draw, int image_scale)
 {
     return halo_link(&(halo_link_desc){.library = c->lib,
                                        .scene = scene,
@@ -649,7 +674,8 @@ static halo_program *link_host(conform *c, const halo_scene *scene, const confor
                                        .host_file = host->file,
                                        .target = c->target == HALO_TARGET_ES300 ? c->target : host->target,
                                        .force_segments = force,
-                                       .one_draw = one_draw},
+                                       .one_draw = one_draw,
+                                       .image_scale = image_scale},
                      c->diag);
 }
 
@@ -692,7 +718,8 @@ void conform_segment_row(conform *c, const conform_row *row)
     halo_segment_plan plan;
     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4];
     int ok = source && scene &&
-             (program = link_host(c, scene, host, source, params->segments > 0, params->one_draw)) != NULL;
+             (program = link_host(c, scene, host, source, params->segments > 0, params->one_draw,
+                                  params->image_scale)) != NULL;
     const halo_render_settings *settings = ok ? halo_scene_render(scene) : NULL;
     ok = ok && (gpu = render(c, program, settings, volume, volume_size, params, params->segments, &state, transfer,
                              &plan)) != NULL;
@@ -700,7 +727,7 @@ void conform_segment_row(conform *c, const conform_row *row)
     if (ok && params->segments > 0) {
         /* the same host in one draw: the segments alone must change nothing */
         halo_segment_plan once;
-        ok = (plain = link_host(c, scene, host, source, 0, 0)) != NULL &&
+        ok = (plain = link_host(c, scene, host, source, 0, 0, params->image_scale)) != NULL &&
              (single = render(c, plain, settings, volume, volume_size, params, 0, &state, transfer, &once)) != NULL;
         for (size_t i = 0; ok && i < values / 4; ++i) {
             const double g[4] = {gpu[i * 4], gpu[i * 4 + 1], gpu[i * 4 + 2], gpu[i * 4 + 3]};

@@ -60,8 +60,9 @@ typedef struct conform_segment_params {
     int segments, orthographic;
     const conform_segment_host *host;
     float jitter;
-    int one_draw; /* linked with one_draw (host contract 3): the field before the one draw, its march's
+    int one_draw;    /* linked with one_draw (host contract 3): the field before the one draw, its march's
                    * gradient of this precision (32 or 16: halo_gl_segments_desc.gradient_precision) */
+    int image_scale; /* halo_link_desc.image_scale (0: 1); with one_draw, the march at that scale too */
 } conform_segment_params;
 void conform_segment_row(conform *c, const conform_row *row);
 

@@ -302,6 +302,19 @@ void add_error(halo_diagnostics *diag, halo_message_id id, const std::string &te
     halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, id, nullptr, 0, 0, nullptr, "%s", text.c_str());
 }
 
+/* h is a live install: not NULL and not removed (a removed handle's memory is gone; its
+ * address is compared, never read). Otherwise one USAGE diagnostic naming the call. */
+bool live_install(const halo_vtk *h, const char *call, halo_diagnostics *diag)
+{
+    for (const halo_vtk *other : installs())
+        if (other == h)
+            return true;
+    add_error(diag, HALO_MSG_USAGE,
+              std::string(call) + (h ? ": this halo_vtk was removed (halo_vtk_remove) or never installed"
+                                     : ": the halo_vtk is NULL (halo_vtk_install failed: its diagnostics say why)"));
+    return false;
+}
+
 /* Uploads one engine uniform as a VTK custom uniform; arrays padded to their size so that
  * VTK's declaration never changes (a change would rebuild the shader). */
 void set_uniform(vtkUniforms *u, const halo_uniform_decl &d, std::vector<std::string> *names)
@@ -1004,6 +1017,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
     link.location_extension = 1;
     link.pieces = &names;
     link.one_draw = segmenting && !desc->segments;
+    link.image_scale = desc->image_scale;
     halo_program *program = halo_link(&link, diag);
     if (!program && !segmenting && halo_diagnostics_has(diag, HALO_MSG_HOST_SINGLE_PASS))
         halo_diagnostics_report(diag, HALO_SEVERITY_NOTE, HALO_MSG_HOST_SINGLE_PASS, nullptr, 0, 0, nullptr,
@@ -1111,8 +1125,8 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
 
 void halo_vtk_remove(halo_vtk *h)
 {
-    if (!h)
-        return;
+    if (!h || !live_install(h, "halo_vtk_remove", nullptr))
+        return; /* NULL, or removed already: nothing to do */
     /* every VTK text of the table, once (clearing one that is not there does nothing) */
     for (size_t i = 0; i < sizeof splices / sizeof splices[0]; i++) {
         bool seen = false;
@@ -1157,7 +1171,7 @@ void halo_vtk_remove(halo_vtk *h)
 halo_status halo_vtk_set(halo_vtk *h, const char *stage, const char *param, const double *values, int count,
                          halo_diagnostics *diag)
 {
-    if (!h)
+    if (!live_install(h, "halo_vtk_set", diag))
         return HALO_ERROR_INPUT;
     const halo_uniform_info *info = halo_program_find_uniform(h->program, stage, param);
     if (info && !info->live) {
@@ -1175,7 +1189,7 @@ halo_status halo_vtk_set(halo_vtk *h, const char *stage, const char *param, cons
 
 halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag)
 {
-    if (!h)
+    if (!live_install(h, "halo_vtk_check", diag))
         return HALO_ERROR_INPUT;
     if (h->last_source.empty()) {
         add_error(diag, HALO_MSG_ENGINE_UNSUPPORTED,
@@ -1236,7 +1250,7 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag)
 
 halo_status halo_vtk_set_whole_extent(halo_vtk *h, const int whole_extent[6])
 {
-    if (!h || !whole_extent)
+    if (!whole_extent || !live_install(h, "halo_vtk_set_whole_extent", nullptr))
         return HALO_ERROR_INPUT;
     for (int k = 0; k < 6; k++)
         h->whole[k] = whole_extent[k];
@@ -1246,7 +1260,7 @@ halo_status halo_vtk_set_whole_extent(halo_vtk *h, const int whole_extent[6])
 
 void halo_vtk_set_exchange(halo_vtk *h, halo_vtk_exchange_fn exchange, void *user)
 {
-    if (!h)
+    if (!live_install(h, "halo_vtk_set_exchange", nullptr))
         return;
     h->exchange = exchange;
     h->exchange_user = user;

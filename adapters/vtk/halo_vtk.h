@@ -32,6 +32,9 @@ typedef struct halo_vtk_desc {
                                         * VTK draws once, over the halo field libhalo computes first
                                         * (host contract 3); 1: once per depth segment (host contract 2:
                                         * the pieces of a distributed volume, halo_vtk_set_exchange) */
+    int image_scale;                   /* halo images at 1/image_scale of VTK's frame per side (halo_link_desc.
+                                        * image_scale): 0 or 1 full, 2, 4; drawn once, libhalo's march at that
+                                        * scale too (docs/performance.md: the cheaper halo frame, its error) */
 } halo_vtk_desc;
 
 /* Installs the scene. Returns NULL, with the reason in diag, when the mapper or the
@@ -47,7 +50,10 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag);
  * halo_vtk_desc.segments, VTK's ray caster is drawn once per depth segment with the passes
  * between. Without such a scene it renders as VTK's own. Delete() it as any VTK object. */
 vtkGPUVolumeRayCastMapper *halo_vtk_mapper_new(void);
-/* Removes the replacements and uniforms; the mapper renders as VTK's own again. */
+/* Removes the replacements and uniforms; the mapper renders as VTK's own again. The
+ * handle is gone after it: a second remove does nothing, and halo_vtk_set, halo_vtk_check
+ * and the other calls on it report USAGE (its address is compared with the live installs,
+ * never read). NULL: nothing. */
 void halo_vtk_remove(halo_vtk *h);
 /* A live parameter's new value: a uniform update, no shader rebuild. */
 halo_status halo_vtk_set(halo_vtk *h, const char *stage, const char *param, const double *values, int count,

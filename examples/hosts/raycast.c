@@ -175,6 +175,7 @@ struct halo_raycast {
     void (*exchange)(void *user, float *values, size_t count, halo_blend blend);
     void *exchange_user;
     size_t exchange_max_bytes;
+    size_t field_max_bytes;                              /* halo_gl_segments_desc.field_max_bytes */
     GLuint exit_program, exit_texture, exit_framebuffer; /* halo_raycast_set_exit_points */
     void (*untidy)(void *user, int before_draw);         /* halo_raycast_set_untidy */
     void *untidy_user;
@@ -319,6 +320,12 @@ void halo_raycast_set_exchange_max_bytes(halo_raycast *r, size_t bytes)
 {
     if (r)
         r->exchange_max_bytes = bytes;
+}
+
+void halo_raycast_set_field_max_bytes(halo_raycast *r, size_t bytes)
+{
+    if (r)
+        r->field_max_bytes = bytes;
 }
 
 halo_status halo_raycast_set_piece(halo_raycast *r, const float *data, int nx, int ny, int nz, const float piece_min[3],
@@ -484,6 +491,7 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
                                       .exchange = r->exchange,
                                       .exchange_user = r->exchange_user,
                                       .exchange_max_bytes = r->exchange_max_bytes,
+                                      .field_max_bytes = r->field_max_bytes,
                                       .seed_epsilon = r->seed_epsilon,
                                       .gradient_precision = r->gradient_precision,
                                       .draw = draw_proxy,

@@ -56,7 +56,7 @@ typedef struct field_gradient {
 struct halo_gl_field {
     GLuint march, framebuffer, vertex_array;
     GLint volume, gradient_sampler, bricks_sampler, skip, matrix, viewport, box_min, box_max, plane, planes, range;
-    GLint piece_min, piece_scale;
+    GLint piece_min, piece_scale, scale;
     field_gradient gradient;
     field_stack stacks[FIELD_MAX_STACKS];
     int stack_count;
@@ -150,6 +150,7 @@ static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     field->skip = f->GetUniformLocation(field->march, "march_skip");
     field->matrix = f->GetUniformLocation(field->march, "march_inverse_view_projection");
     field->viewport = f->GetUniformLocation(field->march, "march_viewport");
+    field->scale = f->GetUniformLocation(field->march, "march_scale");
     field->box_min = f->GetUniformLocation(field->march, "march_box_min");
     field->box_max = f->GetUniformLocation(field->march, "march_box_max");
     field->plane = f->GetUniformLocation(field->march, "march_plane");
@@ -159,7 +160,7 @@ static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     field->piece_scale = f->GetUniformLocation(field->march, "march_piece_scale");
     f->GenFramebuffers(1, &field->framebuffer);
     f->GenVertexArrays(1, &field->vertex_array);
-    f->UseProgram((GLuint)program);
+    halo_gl_use_saved_program(f, program);
     return field;
 }
 
@@ -231,13 +232,59 @@ static void upload_format(GLint internal, GLenum *format, GLenum *type)
     }
 }
 
-/* At least `layers` layers in every stack (a quarter more, so that a moving camera does not
- * reallocate every frame); a new layer's content is unknown: its box is the whole image. */
-static int field_reserve(const halo_glfuncs *f, halo_gl_field *field, int layers, int cap, halo_diagnostics *diag)
+/* Bytes a texel of a stack's internal format. */
+static size_t texel_bytes(GLint internal_format)
 {
+    switch (internal_format) {
+    case GL_R8:
+        return 1;
+    case GL_RG8:
+    case GL_R16F:
+        return 2;
+    case GL_RGBA8:
+    case GL_RG16F:
+    case GL_R32F:
+        return 4;
+    case GL_RGBA16F:
+    case GL_RG32F:
+        return 8;
+    default:
+        return 16; /* GL_RGBA32F */
+    }
+}
+
+/* At least `layers` layers in every stack (a quarter more, so that a moving camera does not
+ * reallocate every frame, where the cap on their bytes allows); a new layer's content is
+ * unknown: its box is the whole image. 1; 0 out of memory; -1 over max_bytes (FIELD_MEMORY,
+ * with what would fit). */
+static int field_reserve(const halo_glfuncs *f, const halo_program *p, halo_gl_field *field, int layers, int cap,
+                         size_t max_bytes, halo_diagnostics *diag)
+{
+    size_t per_layer = 0;
+    for (int s = 0; s < field->stack_count; ++s)
+        per_layer += (size_t)field->stacks[s].width * (size_t)field->stacks[s].height *
+                     texel_bytes(field->stacks[s].internal_format);
+    if (per_layer > 0 && (size_t)layers > max_bytes / per_layer) {
+        int scale = halo_program_image_scale(p) > 1 ? halo_program_image_scale(p) : 1;
+        double mib = 1.0 / (1024.0 * 1024.0), need = (double)layers * (double)per_layer;
+        char fits[160] = "";
+        for (int smaller = scale * 2; smaller <= 4 && !fits[0]; smaller *= 2)
+            if (need * scale * scale / ((double)smaller * smaller) <= (double)max_bytes)
+                snprintf(fits, sizeof fits, "halo_link_desc.image_scale %d fits (about %.3g MiB); ", smaller,
+                         need * mib * scale * scale / ((double)smaller * smaller));
+        halo_diag_error(diag, FIELD_MEMORY, "", 0, 0,
+                        "halo_gl_frame_draw: the halo field of %d depth segments needs %.3g MiB (%zu bytes a layer: "
+                        "%d image%s at %dx%d), over field_max_bytes %.3g MiB; %sa larger halo_generate.interval "
+                        "(M) has fewer segments, or raise field_max_bytes",
+                        layers, need * mib, per_layer, field->stack_count, field->stack_count == 1 ? "" : "s",
+                        field->stacks[0].width, field->stacks[0].height, (double)max_bytes * mib, fits);
+        return -1;
+    }
     if (layers <= field->layers)
         return 1;
     int count = cap > 0 ? cap : layers + layers / 4;
+    if (per_layer > 0 && (size_t)count > max_bytes / per_layer)
+        count = (int)(max_bytes / per_layer); /* >= layers (above) */
     for (int s = 0; s < field->stack_count; ++s) {
         field_stack *st = &field->stacks[s];
         int(*boxes)[4] = realloc(st->boxes, (size_t)count * sizeof *boxes);
@@ -660,7 +707,7 @@ static void field_restore(const halo_glfuncs *f, const field_saved *s, int unit)
     (s->stencil ? f->Enable : f->Disable)(GL_STENCIL_TEST);
     f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)s->read_framebuffer);
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)s->draw_framebuffer);
-    f->UseProgram((GLuint)s->program);
+    halo_gl_use_saved_program(f, s->program);
 }
 
 /* The planes of segment j: [first, end) of the plan's planes front + k step. */
@@ -844,8 +891,11 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     int planes = (int)span;
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit); /* the stacks are bound there to be made and filled */
     int layers = plan->segments > 1 ? plan->segments - 1 : 1;
-    if (!field_reserve(f, field, layers, layers > max_layers - max_layers / 5 ? max_layers : 0, diag))
-        return HALO_ERROR_IO;
+    size_t max_bytes = d->field_max_bytes ? d->field_max_bytes : HALO_GL_FIELD_MAX_BYTES;
+    int reserved =
+        field_reserve(f, p, field, layers, layers > max_layers - max_layers / 5 ? max_layers : 0, max_bytes, diag);
+    if (reserved <= 0)
+        return reserved < 0 ? HALO_ERROR_INPUT : HALO_ERROR_IO;
     double inverse[16], view_projection[16], low[3], high[3];
     for (int i = 0; i < 16; ++i)
         inverse[i] = d->inverse_view_projection[i];
@@ -906,6 +956,10 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     field_host_uniforms(f, d, field->march);
     f->UniformMatrix4fv(field->matrix, 1, GL_FALSE, d->inverse_view_projection);
     f->Uniform2f(field->viewport, (float)width, (float)height);
+    /* the march at the seed images' scale (the halo images', halo_link_desc.image_scale): a
+     * ray through the centre of each 1/s pixel */
+    int s = halo_program_image_scale(p) > 1 ? halo_program_image_scale(p) : 1;
+    f->Uniform1f(field->scale, (float)s);
     f->Uniform3f(field->box_min, (float)sample_low[0], (float)sample_low[1], (float)sample_low[2]);
     f->Uniform3f(field->box_max, (float)sample_high[0], (float)sample_high[1], (float)sample_high[2]);
     f->Uniform3fv(field->piece_min, 1, piece_min);
@@ -915,7 +969,7 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     f->Uniform2f(field->planes, (float)plan->front, d->step);
     halo_gl_frame_attach_outputs(fr, p->prepass, field->framebuffer, 0);
     f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
-    f->Viewport(0, 0, width, height);
+    f->Viewport(0, 0, (width + s - 1) / s, (height + s - 1) / s);
     f->BindVertexArray(field->vertex_array);
     for (int j = 0; j + 1 < plan->segments; ++j) {
         int first, end, box[4] = {0, 0, 0, 0};
@@ -932,7 +986,9 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
             f->UseProgram(field->march);
             f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, field->framebuffer);
             f->Enable(GL_SCISSOR_TEST);
-            f->Scissor(box[0], box[1], box[2] - box[0], box[3] - box[1]);
+            /* the 1/s pixels whose blocks meet the footprint */
+            int x0 = box[0] / s, y0 = box[1] / s, x1 = (box[2] + s - 1) / s, y1 = (box[3] + s - 1) / s;
+            f->Scissor(x0, y0, x1 - x0, y1 - y0);
             f->Uniform2i(field->range, first, end);
             f->DrawArrays(GL_TRIANGLES, 0, 3);
             f->Disable(GL_SCISSOR_TEST);
@@ -1021,7 +1077,7 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         d->draw(d->user);
         halo_gl_frame_state_flip(fr); /* counts the one draw */
         f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)saved.draw_framebuffer);
-        f->UseProgram((GLuint)saved.program);
+        halo_gl_use_saved_program(f, saved.program);
     }
     GLenum error = f->GetError();
     if (status == HALO_OK && error != GL_NO_ERROR) {

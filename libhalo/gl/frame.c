@@ -284,6 +284,22 @@ static frame_box image_nonzero_box(halo_gl_frame *fr, frame_image *im, frame_box
     return box_empty(b) ? (frame_box){0, 0, 0, 0} : b;
 }
 
+/* Box b of an image at 1/from of the frame in the pixels of one at 1/to, as a pass reads
+ * it (link.c, halo_input4): a larger input is max-reduced over the to/from blocks, so an
+ * output pixel is nonzero where its block meets b; a smaller one is read at pixel /
+ * (from/to). */
+static frame_box box_to_scale(frame_box b, int from, int to)
+{
+    if (box_empty(b) || from == to)
+        return b;
+    if (to > from) {
+        int d = to / from;
+        return (frame_box){b.x0 / d, b.y0 / d, (b.x1 + d - 1) / d, (b.y1 + d - 1) / d};
+    }
+    int u = from / to;
+    return (frame_box){b.x0 * u, b.y0 * u, b.x1 * u, b.y1 * u};
+}
+
 /* The host's draws since the last call are in the images it writes (the program's
  * outputs): their current textures' support grows by the region the host declared, or
  * becomes the whole image; read_back: by the nonzero pixels read back inside that region,
@@ -299,13 +315,15 @@ static void frame_take_host_draws(halo_gl_frame *fr, int read_back)
                 continue;
             frame_image *im = &fr->images[k];
             frame_box *support = &im->support[im->current];
+            /* the declared region is in the frame's pixels; a 1/s image (the seeds of host
+             * contract 3's march) is written where its pixels' blocks meet it */
+            frame_box drawn = box_grow(box_to_scale(fr->drawn, 1, im->scale), 0, im->width, im->height);
             if (read_back && fr->drawn_known)
-                *support = box_union(*support, image_nonzero_box(fr, im, fr->drawn));
+                *support = box_union(*support, image_nonzero_box(fr, im, drawn));
             else if (read_back)
                 *support = image_nonzero_box(fr, im, image_full(im));
             else
-                *support = fr->drawn_known ? box_union(*support, box_grow(fr->drawn, 0, im->width, im->height))
-                                           : image_full(im);
+                *support = fr->drawn_known ? box_union(*support, drawn) : image_full(im);
         }
     fr->drawn_known = 0;
 }
@@ -339,21 +357,6 @@ static int frame_scissored(const halo_gl_frame *fr)
     return any;
 }
 
-/* Box b of an image at 1/from of the frame in the pixels of one at 1/to, as a pass reads
- * it (link.c, halo_input4): a larger input is max-reduced over the to/from blocks, so an
- * output pixel is nonzero where its block meets b; a smaller one is read at pixel /
- * (from/to). */
-static frame_box box_to_scale(frame_box b, int from, int to)
-{
-    if (box_empty(b) || from == to)
-        return b;
-    if (to > from) {
-        int d = to / from;
-        return (frame_box){b.x0 / d, b.y0 / d, (b.x1 + d - 1) / d, (b.y1 + d - 1) / d};
-    }
-    int u = from / to;
-    return (frame_box){b.x0 * u, b.y0 * u, b.x1 * u, b.y1 * u};
-}
 
 /* Where repetition rep of a pass can write a nonzero pixel: its inputs' support, in the
  * output's pixels, grown by its reach (pixels of the output image, whatever its scale: a

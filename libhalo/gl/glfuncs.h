@@ -52,6 +52,7 @@
     X(PFNGLGETPROGRAMINFOLOGPROC, GetProgramInfoLog)               \
     X(PFNGLDELETEPROGRAMPROC, DeleteProgram)                       \
     X(PFNGLUSEPROGRAMPROC, UseProgram)                             \
+    X(PFNGLISPROGRAMPROC, IsProgram)                               \
     X(PFNGLGETATTRIBLOCATIONPROC, GetAttribLocation)               \
     X(PFNGLGETUNIFORMLOCATIONPROC, GetUniformLocation)             \
     X(PFNGLGETACTIVEUNIFORMPROC, GetActiveUniform)                 \

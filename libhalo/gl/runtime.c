@@ -59,12 +59,17 @@ void halo_gl_bindings_neutral(const halo_glfuncs *f, const halo_gl_bindings *b)
         f->BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
 }
 
+void halo_gl_use_saved_program(const halo_glfuncs *f, GLint program)
+{
+    f->UseProgram(program && f->IsProgram((GLuint)program) ? (GLuint)program : 0);
+}
+
 void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b)
 {
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)b->draw_framebuffer);
     f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)b->read_framebuffer);
     f->Viewport(b->viewport[0], b->viewport[1], b->viewport[2], b->viewport[3]);
-    f->UseProgram((GLuint)b->program);
+    halo_gl_use_saved_program(f, b->program);
     f->BindVertexArray((GLuint)b->vertex_array);
     f->ActiveTexture((GLenum)b->active_texture);
     for (int i = 0; i < 5; ++i)

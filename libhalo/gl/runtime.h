@@ -62,5 +62,9 @@ void halo_gl_bindings_save(const halo_glfuncs *f, halo_gl_bindings *b);
  * unpacking (alignment 4), no pixel pack or unpack buffer. */
 void halo_gl_bindings_neutral(const halo_glfuncs *f, const halo_gl_bindings *b);
 void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b);
+/* Makes the host's saved program current again: a program the host deleted while it was
+ * current lives only as long as it stays current, so once libhalo bound its own it is gone;
+ * then none (0) is made current instead of raising GL_INVALID_VALUE. */
+void halo_gl_use_saved_program(const halo_glfuncs *f, GLint program);
 
 #endif

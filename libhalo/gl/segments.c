@@ -10,6 +10,7 @@
 #include "diag.h"
 #include "gl/frame.h"
 #include "gl/glfuncs.h"
+#include "gl/runtime.h"
 
 #include <math.h>
 #include <string.h>
@@ -147,7 +148,7 @@ static halo_status frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo
     f->BindTexture(GL_TEXTURE_2D, (GLuint)saved_texture);
     f->ActiveTexture((GLenum)saved_active);
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)saved_framebuffer);
-    f->UseProgram((GLuint)saved_program);
+    halo_gl_use_saved_program(f, saved_program);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
         halo_diag_error(diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x while drawing the host in %d segment%s", error,

@@ -15,6 +15,17 @@ sed 's|^\( *\)\(halo_segment_end(.*\)$|\1// \2|' "$host" >"$tmp/end_commented.fr
 run 1 "$HALO_VALIDATE" link --scene "$scene" --host "$tmp/end_commented.frag" -o "$tmp/x.frag"
 expect_stderr "end_commented\.frag:[0-9]+:[0-9]+: error: this call of halo_segment_end is commented out"
 
+# a discard that depends on the segment (after halo_segment_begin) in a program drawn in
+# segments (volumetric halos) is refused at the discard; one before it (a ray that misses
+# the volume) is accepted
+halos="$srcdir/examples/scenes/default.json"
+end_line=$(grep -n 'halo_segment_end(' "$host" | head -1 | cut -d: -f1)
+sed 's|^\( *\)\(halo_segment_end(.*\)$|\1if (accumulated.a > 2.0) discard;\n\1\2|' "$host" >"$tmp/discard.frag"
+run 1 "$HALO_VALIDATE" link --scene "$halos" --host "$tmp/discard.frag" -o "$tmp/x.frag"
+expect_stderr "discard\.frag:$end_line:[0-9]+: error: a discard after halo_segment_begin"
+sed 's|^\( *\)\(halo_segment_begin(.*\)$|\1if (t_enter > 1e30) discard;\n\1\2|' "$host" >"$tmp/discard_before.frag"
+run 0 "$HALO_VALIDATE" link --scene "$halos" --host "$tmp/discard_before.frag" -o "$tmp/x.frag"
+
 printf '#version 330 core\n#pragma halo declarations\nuniform float halo_mine;\nout vec4 c;\nvoid main() { c = vec4(halo_mine); }\n' \
     >"$tmp/reserved.frag"
 run 1 "$HALO_VALIDATE" link --host "$tmp/reserved.frag" -o "$tmp/x.frag"

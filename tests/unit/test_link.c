@@ -1061,6 +1061,25 @@ static int test_program_set(void)
     CHECK_INT_EQ(halo_program_set(p, "boundary", "k_gs", &v, 1, diags), HALO_ERROR_INPUT);
     CHECK_DIAG(diags, HALO_MSG_SCENE_VALUE_NONFINITE);
     CHECK_NEAR(halo_program_find_uniform(p, "boundary", "k_gs")->value[0], 20, 0);
+    /* A live parameter that schedules image passes (halo_generate.passes: repeat= and
+     * reach=; median: when=) cannot change without a new link; its linked value can be set. */
+    halo_program *h = link_valid(
+        "{\"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {\"live\": [\"passes\","
+        " \"median\", \"delta\"]}}, {\"halo_map\": {}}]}");
+    CHECK(h != NULL);
+    double passes = 5, linked = 4, on = 1, delta = 0.5;
+    halo_diagnostics_clear(diags);
+    CHECK_INT_EQ(halo_program_set(h, "halo_generate", "passes", &passes, 1, diags), HALO_ERROR_INPUT);
+    CHECK_DIAG(diags, HALO_MSG_USAGE);
+    CHECK_NEAR(halo_program_find_uniform(h, "halo_generate", "passes")->value[0], 4, 0);
+    halo_diagnostics_clear(diags);
+    CHECK_INT_EQ(halo_program_set(h, "halo_generate", "median", &on, 1, diags), HALO_ERROR_INPUT);
+    CHECK_DIAG(diags, HALO_MSG_USAGE);
+    halo_diagnostics_clear(diags);
+    CHECK_INT_EQ(halo_program_set(h, "halo_generate", "passes", &linked, 1, diags), HALO_OK);
+    CHECK_INT_EQ(halo_program_set(h, "halo_generate", "delta", &delta, 1, diags), HALO_OK);
+    CHECK_NO_ERRORS(diags);
+    halo_program_destroy(h);
     /* A constant cannot change: it is compiled in. */
     v = 1;
     halo_diagnostics_clear(diags);

@@ -135,6 +135,21 @@ int main(void)
         halo_diagnostics_print(diag, stderr);
         halo_diagnostics_clear(diag);
         halo_vtk_remove(again);
+        /* a removed handle: a second remove does nothing, set and check say USAGE (the
+         * address is compared with the live installs, never read: ASan would see a read) */
+        halo_vtk_remove(again);
+        double v = 0.5;
+        CHECK(halo_vtk_set(again, "tone_shading", "k_ta", &v, 1, diag) == HALO_ERROR_INPUT &&
+                  halo_diagnostics_has(diag, HALO_MSG_USAGE),
+              "halo_vtk_set after halo_vtk_remove: USAGE");
+        halo_diagnostics_clear(diag);
+        CHECK(halo_vtk_check(again, diag) == HALO_ERROR_INPUT && halo_diagnostics_has(diag, HALO_MSG_USAGE),
+              "halo_vtk_check after halo_vtk_remove: USAGE");
+        halo_diagnostics_clear(diag);
+        CHECK(halo_vtk_set(nullptr, "tone_shading", "k_ta", &v, 1, diag) == HALO_ERROR_INPUT &&
+                  halo_diagnostics_has(diag, HALO_MSG_USAGE),
+              "halo_vtk_set(NULL, ..., diag): a diagnostic");
+        halo_diagnostics_clear(diag);
     }
 
     /* the application's references go before the install: halo_vtk_remove after them */
