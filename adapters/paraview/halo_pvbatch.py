@@ -27,6 +27,8 @@ def main():
     p.add_argument("--scene", default="", help="libhalo scene file; none: ParaView's own volume rendering")
     p.add_argument("--settings", default="", help="stage.param=v[,v...];... over the scene's")
     p.add_argument("--exchange", type=int, default=1, help="1: halos cross the ranks' pieces; 0: each rank's own")
+    p.add_argument("--image-scale", type=int, default=1, choices=[1, 2, 4],
+                   help="halo images and libhalo's march at 1/N of the view per side")
     p.add_argument("--frames", type=int, default=1, help="render this many frames and print the mean time")
     p.add_argument("--paraview-volume", action="store_true",
                    help="ParaView's own \"Volume\" representation instead of \"Halo Volume\" (no scene)")
@@ -105,6 +107,7 @@ def main():
             rep.HaloScene = scene
             rep.HaloSettings = settings
             rep.HaloExchange = exchange
+            rep.HaloImageScale = a.image_scale
         render(view, output, a.frames, width, height)
         # a refused or failed scene (its reason is on stderr): the script's exit status says so
         if a.paraview_volume:

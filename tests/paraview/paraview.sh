@@ -72,15 +72,18 @@ pvrun() {
         return $p_status
     done
 }
-# pv NAME RANKS JOBS: renders the jobs (OUTPUT SCENE|- [EXCHANGE [SETTINGS]] a line) in one
-# pvbatch run; any error, the plugin's included, fails the test.
+# pv NAME RANKS JOBS [ARG...]: renders the jobs (OUTPUT SCENE|- [EXCHANGE [SETTINGS]] a
+# line) in one pvbatch run (ARGs to halo_pvbatch.py); any error, the plugin's included,
+# fails the test.
 pv() {
     printf '%s\n' "$3" >"$tmp/$1.jobs"
-    if pvrun "$1" "$2" --jobs "$tmp/$1.jobs" && ! grep -q "HaloVolume" "$tmp/$1.log"; then
+    p_pv_name=$1 p_pv_ranks=$2
+    shift 3
+    if pvrun "$p_pv_name" "$p_pv_ranks" --jobs "$tmp/$p_pv_name.jobs" "$@" && ! grep -q "HaloVolume" "$tmp/$p_pv_name.log"; then
         return 0
     fi
-    fail "pvbatch on $2 rank(s) ($1) failed or the plugin reported errors"
-    grep -v "No plugin loaded yet" "$tmp/$1.log" | sed 's/^/    /' | head -20 >&2
+    fail "pvbatch on $p_pv_ranks rank(s) ($p_pv_name) failed or the plugin reported errors"
+    grep -v "No plugin loaded yet" "$tmp/$p_pv_name.log" | sed 's/^/    /' | head -20 >&2
     return 1
 }
 # metrics A B: "MEAN SHARE" (mean abs; percent of pixels over 1/255)
@@ -131,6 +134,18 @@ test $# -eq 2 && within "$1" "$2" $halo_mean $halo_share ||
 set -- $(metrics default-1 default-naive-2)
 echo "control, each rank's own seeds: mean abs $1, $2 % over 1/255"
 test $# -eq 2 && within "$1" "$2" $halo_mean $halo_share && fail "control: the naive halos passed the halo tolerance"
+
+# halo images and libhalo's march at 1/2 (HaloImageScale 2): 2 ranks against 1 at 1/2, the
+# same tolerance; and the property takes effect (1/2 is not the full-size image)
+pv half-one 1 "$tmp/default-half-1.png $scenes/default.json" --image-scale 2
+pv half-two 2 "$tmp/default-half-2.png $scenes/default.json 1" --image-scale 2
+set -- $(metrics default-half-1 default-half-2)
+echo "halos at 1/2 (HaloImageScale 2): 2 ranks against 1: mean abs $1, $2 % over 1/255"
+test $# -eq 2 && within "$1" "$2" $halo_mean $halo_share ||
+    fail "halos at 1/2: 2 ranks differ from 1 by mean abs $1, $2 % over 1/255 (tolerance $halo_mean, $halo_share %)"
+set -- $(metrics default-1 default-half-1)
+echo "halos at 1/2 against full size, 1 rank: mean abs $1, $2 % over 1/255"
+test $# -eq 2 && awk -v m="$1" 'BEGIN { exit !(m > 0) }' || fail "HaloImageScale 2 changed nothing"
 
 # outlines need the composited image: refused on 2 ranks, with the reason, and the script's
 # exit status says so (HaloStatus)

@@ -113,6 +113,7 @@ class vtkHaloVolumeRepresentation::vtkInternals
     std::string ScenePath, Settings;
     double Window[2] = {0, 0};
     int Exchange = 1;
+    int ImageScale = 1;       /* halo_vtk_desc.image_scale */
     double Range[2] = {0, 1}; /* the drawn array's range over all ranks */
     int Dirty = 1;            /* a property changed: install again */
     int Failed = 0;           /* the last install failed (said once) */
@@ -268,6 +269,15 @@ void vtkHaloVolumeRepresentation::SetHaloExchange(int exchange)
     this->Modified();
 }
 
+void vtkHaloVolumeRepresentation::SetHaloImageScale(int scale)
+{
+    if (scale == this->Internals->ImageScale)
+        return;
+    this->Internals->ImageScale = scale; /* 1, 2 or 4 (the XML's domain; libhalo refuses others) */
+    this->Internals->Dirty = 1;
+    this->Modified();
+}
+
 int vtkHaloVolumeRepresentation::RequestData(vtkInformation *request, vtkInformationVector **inputVector,
                                              vtkInformationVector *outputVector)
 {
@@ -345,6 +355,7 @@ void vtkHaloVolumeRepresentation::PrepareHalo(vtkRenderer *renderer, vtkVolume *
    * collective a segment (host contract 2, for comparison: docs/distributed.md) */
     const char *segments = getenv("HALO_PARAVIEW_SEGMENTS");
     desc.segments = segments && *segments && strcmp(segments, "0") != 0;
+    desc.image_scale = I->ImageScale;
     I->Halo = halo_vtk_install(&desc, I->Diag);
     if (I->Halo && rank_count() > 1) {
         const halo_program *p = halo_vtk_program(I->Halo);
@@ -408,4 +419,5 @@ void vtkHaloVolumeRepresentation::PrintSelf(ostream &os, vtkIndent indent)
     os << indent << "HaloSettings: " << this->Internals->Settings << "\n";
     os << indent << "HaloWindow: " << this->Internals->Window[0] << " " << this->Internals->Window[1] << "\n";
     os << indent << "HaloExchange: " << this->Internals->Exchange << "\n";
+    os << indent << "HaloImageScale: " << this->Internals->ImageScale << "\n";
 }

@@ -33,6 +33,9 @@ class HALOREPRESENTATIONS_EXPORT vtkHaloVolumeRepresentation : public vtkImageVo
     void SetHaloWindow(double low, double high);
     /* 1 (default): volumetric halos cross the ranks' pieces; 0: each rank's own. */
     void SetHaloExchange(int exchange);
+    /* 1 (default), 2 or 4: the halo images (and libhalo's march) at 1/N of the view per side
+     * (halo_vtk_desc.image_scale: cheaper, the error in docs/performance.md). */
+    void SetHaloImageScale(int scale);
     /* After a render: 0 when the scene (if any) is installed and drawn as asked; 1 when it
    * was refused, failed to load or its draw failed (the reason went to stderr). Read by
    * scripts through the information property HaloStatus (halo_pvbatch.py exits 1). */
