@@ -125,7 +125,8 @@ void halo_emit_params(halo_emitter *e, const halo_program *p, const halo_linked_
                       info->type == HALO_PARAM_BOOL       ? "int"
                       : info->type == HALO_PARAM_CHANNELS ? "halo_channels"
                                                           : type,
-                      u->name, info->array_size && used ? "[]" : "", count_used ? ", with NAME_count" : "");
+                      u->name, info->array_size && used && info->type != HALO_PARAM_CHANNELS ? "[]" : "",
+                      count_used ? ", with NAME_count" : "");
             continue;
         }
         if (u->live) {

@@ -105,8 +105,12 @@ static size_t bad_character(const char *text, const char **why)
     for (size_t i = 0; text[i]; i++) {
         unsigned char c = (unsigned char)text[i];
         *why = NULL;
-        if (c == '/' && (text[i + 1] == '/' || text[i + 1] == '*'))
+        if (c == '/' && text[i + 1] == '/')
             *why = "a comment in the expression: '//' would comment out the rest of libhalo's line";
+        else if (c == '/' && text[i + 1] == '*')
+            *why =
+                "a comment in the expression: '/*' hides what follows from the check and can span libhalo's "
+                "lines; give the expression alone";
         else if (c == ';')
             *why = "';' ends a statement: give one expression, which libhalo passes as an argument";
         else if (c == '{' || c == '}')
@@ -223,6 +227,44 @@ static int swizzle_length(const char *s, size_t n)
     return 0;
 }
 
+/* A GLSL number literal: decimal, octal or hexadecimal integer with an optional u; or a
+ * float, digits with a '.' or an exponent (e, sign, digits), with an optional f or lf. */
+static int valid_number(const char *s, size_t n)
+{
+    size_t i = 0;
+    if (n > 2 && s[0] == '0' && (s[1] == 'x' || s[1] == 'X')) {
+        for (i = 2; i < n && isxdigit((unsigned char)s[i]); i++)
+            ;
+        return i > 2 && (i == n || (i + 1 == n && (s[i] == 'u' || s[i] == 'U')));
+    }
+    size_t digits = 0;
+    int dot = 0, exponent = 0;
+    for (; i < n && isdigit((unsigned char)s[i]); i++)
+        digits++;
+    if (i < n && s[i] == '.') {
+        dot = 1;
+        for (i++; i < n && isdigit((unsigned char)s[i]); i++)
+            digits++;
+    }
+    if (!digits)
+        return 0;
+    if (i < n && (s[i] == 'e' || s[i] == 'E')) {
+        exponent = 1;
+        i += i + 1 < n && (s[i + 1] == '+' || s[i + 1] == '-') ? 2 : 1;
+        size_t first = i;
+        for (; i < n && isdigit((unsigned char)s[i]); i++)
+            ;
+        if (i == first)
+            return 0;
+    }
+    if (i == n)
+        return 1;
+    if (!dot && !exponent && i + 1 == n && (s[i] == 'u' || s[i] == 'U'))
+        return 1;
+    return (i + 1 == n && (s[i] == 'f' || s[i] == 'F')) ||
+           (i + 2 == n && ((s[i] == 'l' && s[i + 1] == 'f') || (s[i] == 'L' && s[i + 1] == 'F')));
+}
+
 static result parse_primary(parser *ps)
 {
     result r = {TYPE_UNKNOWN, 0};
@@ -233,6 +275,10 @@ static result parse_primary(parser *ps)
     const token *t = &ps->tokens[ps->at];
     const char *s = ps->text + t->offset;
     if (t->number) {
+        if (!valid_number(s, t->length)) {
+            report(ps, t->offset, "not a GLSL number: digits with an optional '.', exponent and suffix%s", "");
+            return r;
+        }
         ps->at++;
         int real = memchr(s, '.', t->length) || ((memchr(s, 'e', t->length) || memchr(s, 'E', t->length)) &&
                                                  !(t->length > 1 && (s[1] == 'x' || s[1] == 'X')));
@@ -244,8 +290,7 @@ static result parse_primary(parser *ps)
         ps->at++;
         r = parse_expression(ps);
         expect(ps, ")", open);
-        r.designator = 0;
-        return r;
+        return r; /* a bracketed designator stays one: (x) = ... is GLSL */
     }
     if (!t->ident) {
         report(ps, t->offset,

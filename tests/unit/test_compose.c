@@ -420,6 +420,10 @@ static int test_piece_expressions(void)
         {"value", "vec3(1.0)", 7},
         {"volume", "texture(v, p)", 8}, /* no sampler designator */
         {"value", "", 7},
+        {"value", "x /* y */", 9}, /* a block comment */
+        {"value", "1.0e", 7},      /* not a number literal */
+        {"value", "1..0", 7},
+        {"value", "0x", 7},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         halo_pieces_desc names = engine_names;
@@ -443,7 +447,7 @@ static int test_piece_expressions(void)
                                           .value = "clamp(texture(volume_textures[0], ray_position).r, 0.0, 1.0)",
                                           .view = "-normalize(eye - (ray_position))",
                                           .depth = "x > 0.5 ? 1.0 : f(x, (y, z))",
-                                          .color = "colors[1]",
+                                          .color = "(colors[1])",
                                           .volume = "volume_textures[0]"};
     halo_program *p = link_pieces(per_sample_scene, &good, HALO_TARGET_GLSL150, 0);
     CHECK(p != NULL);
