@@ -202,6 +202,27 @@ static int set_generated_piece(halo_program *p, halo_piece piece, char *text)
     return 0;
 }
 
+/* Does text declare name as a uniform: the whole identifier on a line that has the word
+ * "uniform" before it? (A link without the parameter live has a constant of that name.) */
+static int declares_uniform(const char *text, const char *name)
+{
+    size_t n = strlen(name);
+    for (const char *at = strstr(text, name); at; at = strstr(at + 1, name)) {
+        int before = at > text && (isalnum((unsigned char)at[-1]) || at[-1] == '_');
+        int after = isalnum((unsigned char)at[n]) || at[n] == '_';
+        if (before || after)
+            continue;
+        const char *line = at;
+        while (line > text && line[-1] != '\n')
+            --line;
+        for (const char *u = strstr(line, "uniform"); u && u < at; u = strstr(u + 1, "uniform"))
+            if ((u == line || !(isalnum((unsigned char)u[-1]) || u[-1] == '_')) && !isalnum((unsigned char)u[7]) &&
+                u[7] != '_')
+                return 1;
+    }
+    return 0;
+}
+
 /* With engine_uniforms, the pieces host declares the live parameters as the engine would
  * (from halo_program_uniform_next), after its #version line, so that it validates. */
 static int declare_engine_uniforms(halo_program *p)
@@ -486,13 +507,28 @@ static halo_status validate_composed_held(const halo_program *p, const char *com
         halo_diagnostics_report(diag, HALO_SEVERITY_WARNING, HALO_MSG_USAGE, composed_file, 0, 0, NULL,
                                 "the program's declarations piece is not in the composed shader (or was changed): its "
                                 "errors are reported at the composed shader's lines");
+    /* the live uniforms this link's declarations piece declares must be in the text (a
+     * shader composed from another link's pieces compiles, and the values set for this
+     * program reach nothing); with engine_uniforms the engine declares them itself */
+    int stale = 0;
+    for (size_t u = 0; u < p->uniform_count && !p->engine_uniforms; u++)
+        if (p->uniforms[u].live && p->pieces[HALO_PIECE_DECLARATIONS] &&
+            declares_uniform(p->pieces[HALO_PIECE_DECLARATIONS], p->uniforms[u].name) &&
+            !declares_uniform(text, p->uniforms[u].name)) {
+            halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_USAGE, composed_file, 0, 0, NULL,
+                                    "the composed shader has no uniform %s (%s.%s, live in this program): it was "
+                                    "composed from other pieces; compose it again from this link's pieces",
+                                    p->uniforms[u].name, p->uniforms[u].stage, p->uniforms[u].param);
+            stale = 1;
+            break;
+        }
     int contract = check_composed_contract(p, text, composed_file, lines, diag);
     halo_status st = contract < 0
                          ? HALO_ERROR_IO
                          : halo_glslang_validate(text, p->kind, p->target, origins, count, composed_file, diag);
     if (contract < 0)
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
-    else if (contract > 0 && st == HALO_OK)
+    else if ((contract > 0 || stale) && st == HALO_OK)
         st = HALO_ERROR_INPUT;
     free(origins);
     free(lines);

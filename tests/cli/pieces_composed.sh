@@ -41,4 +41,14 @@ if grep -q 'of the linked shader' "$tmp/err"; then fail "an error is reported at
 sed 's/$/\r/' "$tmp/composed.frag" >"$tmp/crlf.frag"
 run 0 "$HALO_VALIDATE" $link --composed "$tmp/crlf.frag"
 if grep -q 'not in the composed shader' "$tmp/err"; then fail "a CRLF composed shader is said to lack its piece"; fi
+
+# composed from another link's pieces (the same scene without live parameters): it compiles,
+# but the live uniforms the engine sets for this program are not there; an error (before:
+# a warning and exit 0)
+sed 's/, "live": \["[a-z]*"\]//' "$data/scenes/halo_pieces.json" >"$tmp/constant.json"
+mkdir -p "$tmp/stale"
+run 0 "$HALO_VALIDATE" $(echo "$link" | sed "s|$data/scenes/halo_pieces.json|$tmp/constant.json|") --pieces-dir "$tmp/stale"
+sed "" "$template" | awk -v dir="$tmp/stale" -f "$data/composer/compose.awk" >"$tmp/stale.frag"
+run 1 "$HALO_VALIDATE" $link --composed "$tmp/stale.frag"
+expect_stderr "stale\.frag: error: the composed shader has no uniform halo_halo_[a-z_]+ \\(halo_[a-z_]+\\.[a-z]+, live in this program\\)"
 finish
