@@ -153,6 +153,17 @@ d=$(max_abs live fresh)
 echo "live parameters: max abs $d against a fresh render"
 awk -v d="$d" 'BEGIN { exit !(d != "" && d == 0) }' || fail "live: the image differs from a fresh render by $d"
 
+# a live parameter of an image pass (halo_generate.delta, a channels parameter: issue 26),
+# VTK drawn once over the field: no rebuild, and the image of a fresh render with it
+sed 's/"delta": 0.9/"delta": 0.5/' "$scenes/default.json" >"$tmp/default-delta.json"
+vtk live-delta "$scenes/default.json" --set halo_generate.delta=0.5
+vtk fresh-delta "$tmp/default-delta.json"
+test "$(grep -c 'no shader rebuild' "$tmp/live-delta.log")" -eq 1 ||
+    { fail "live halo_generate.delta: VTK rebuilt its shader, or the set failed"; cat "$tmp/live-delta.log" >&2; }
+d=$(max_abs live-delta fresh-delta)
+echo "live halo_generate.delta: max abs $d against a fresh render"
+awk -v d="$d" 'BEGIN { exit !(d != "" && d == 0) }' || fail "live delta: the image differs from a fresh render by $d"
+
 # what VTK cannot take
 for blend in mip additive; do
     "$HALO_VTK" --scene "$scenes/tone.json" --blend $blend --size 8x8 --volume-size 8 -o "$tmp/x.png" \
