@@ -67,8 +67,11 @@ int halo_lex(const char *src, halo_token_list *out)
                 ADVANCE();
         } else if (isdigit((unsigned char)c) || (c == '.' && isdigit((unsigned char)src[i + 1]))) {
             t.kind = HALO_TOK_NUMBER;
+            /* an exponent's sign belongs to the number, except in a hexadecimal one (0x1e-3
+             * is 0x1e minus 3) */
+            int hex = c == '0' && (src[i + 1] == 'x' || src[i + 1] == 'X');
             while (isalnum((unsigned char)src[i]) || src[i] == '.' || src[i] == '_' ||
-                   ((src[i] == '+' || src[i] == '-') && (src[i - 1] == 'e' || src[i - 1] == 'E')))
+                   (!hex && (src[i] == '+' || src[i] == '-') && (src[i - 1] == 'e' || src[i - 1] == 'E')))
                 ADVANCE();
         } else {
             t.kind = HALO_TOK_PUNCT;

@@ -855,9 +855,12 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
     }
     set_channel_count(p);
     int resources = collect_resources(p, host_source, diag);
-    int host_errors = resources < 0 ? 0
-                                    : plan_segments(p, desc, h, diag) + halo_host_check_calls(p, h, host_source, diag) +
-                                          halo_host_check_outputs(p, h, host_source, diag);
+    int host_errors = 0;
+    if (resources >= 0) { /* in this order: the checks of the calls read the plan (segment_location) */
+        host_errors += plan_segments(p, desc, h, diag);
+        host_errors += halo_host_check_calls(p, h, host_source, diag);
+        host_errors += halo_host_check_outputs(p, h, host_source, diag);
+    }
     if (resources || host_errors) {
         halo_program_destroy(p);
         return NULL;

@@ -227,8 +227,9 @@ static int swizzle_length(const char *s, size_t n)
     return 0;
 }
 
-/* A GLSL number literal: decimal, octal or hexadecimal integer with an optional u; or a
- * float, digits with a '.' or an exponent (e, sign, digits), with an optional f or lf. */
+/* A GLSL number literal: decimal, octal (a leading 0, digits 0-7) or hexadecimal integer
+ * with an optional u; or a float, digits with a '.' or an exponent (e, sign, digits), with
+ * an optional f or lf (lf: GLSL 4.00, which glslang checks for the target). */
 static int valid_number(const char *s, size_t n)
 {
     size_t i = 0;
@@ -257,10 +258,14 @@ static int valid_number(const char *s, size_t n)
         if (i == first)
             return 0;
     }
+    if (!dot && !exponent && s[0] == '0') /* octal */
+        for (size_t k = 1; k < i; k++)
+            if (s[k] > '7')
+                return 0;
     if (i == n)
         return 1;
-    if (!dot && !exponent && i + 1 == n && (s[i] == 'u' || s[i] == 'U'))
-        return 1;
+    if (!dot && !exponent)
+        return i + 1 == n && (s[i] == 'u' || s[i] == 'U');
     return (i + 1 == n && (s[i] == 'f' || s[i] == 'F')) ||
            (i + 2 == n && ((s[i] == 'l' && s[i + 1] == 'f') || (s[i] == 'L' && s[i + 1] == 'F')));
 }
@@ -457,6 +462,7 @@ static result parse_expression(parser *ps)
     while (!ps->failed && is(ps, ",")) {
         ps->at++;
         r = parse_conditional(ps);
+        r.designator = 0; /* (a, b) is no lvalue */
     }
     return r;
 }

@@ -304,11 +304,18 @@ void add_error(halo_diagnostics *diag, halo_message_id id, const std::string &te
 
 /* h is a live install: not NULL and not removed (a removed handle's memory is gone; its
  * address is compared, never read). Otherwise one USAGE diagnostic naming the call. */
-bool live_install(const halo_vtk *h, const char *call, halo_diagnostics *diag)
+bool installed(const halo_vtk *h)
 {
     for (const halo_vtk *other : installs())
         if (other == h)
             return true;
+    return false;
+}
+
+bool live_install(const halo_vtk *h, const char *call, halo_diagnostics *diag)
+{
+    if (installed(h))
+        return true;
     add_error(diag, HALO_MSG_USAGE,
               std::string(call) + (h ? ": this halo_vtk was removed (halo_vtk_remove) or never installed"
                                      : ": the halo_vtk is NULL (halo_vtk_install failed: its diagnostics say why)"));
@@ -1125,8 +1132,8 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
 
 void halo_vtk_remove(halo_vtk *h)
 {
-    if (!h || !live_install(h, "halo_vtk_remove", nullptr))
-        return; /* NULL, or removed already: nothing to do */
+    if (!installed(h))
+        return; /* NULL, or removed already: nothing to do, silently */
     /* every VTK text of the table, once (clearing one that is not there does nothing) */
     for (size_t i = 0; i < sizeof splices / sizeof splices[0]; i++) {
         bool seen = false;
@@ -1266,5 +1273,5 @@ void halo_vtk_set_exchange(halo_vtk *h, halo_vtk_exchange_fn exchange, void *use
     h->exchange_user = user;
 }
 
-const halo_program *halo_vtk_program(const halo_vtk *h) { return h ? h->program : nullptr; }
-int halo_vtk_build_count(const halo_vtk *h) { return h ? h->builds : 0; }
+const halo_program *halo_vtk_program(const halo_vtk *h) { return installed(h) ? h->program : nullptr; }
+int halo_vtk_build_count(const halo_vtk *h) { return installed(h) ? h->builds : 0; }

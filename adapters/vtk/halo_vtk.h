@@ -51,9 +51,10 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag);
  * between. Without such a scene it renders as VTK's own. Delete() it as any VTK object. */
 vtkGPUVolumeRayCastMapper *halo_vtk_mapper_new(void);
 /* Removes the replacements and uniforms; the mapper renders as VTK's own again. The
- * handle is gone after it: a second remove does nothing, and halo_vtk_set, halo_vtk_check
- * and the other calls on it report USAGE (its address is compared with the live installs,
- * never read). NULL: nothing. */
+ * handle is gone after it: a second remove does nothing, halo_vtk_set and halo_vtk_check
+ * on it report USAGE and the getters return NULL / 0 (its address is compared with the
+ * live installs, never read). A later install may get the same address back, and a stale
+ * handle then names it: drop the handle when you remove it. NULL: nothing. */
 void halo_vtk_remove(halo_vtk *h);
 /* A live parameter's new value: a uniform update, no shader rebuild. */
 halo_status halo_vtk_set(halo_vtk *h, const char *stage, const char *param, const double *values, int count,

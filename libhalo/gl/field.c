@@ -258,9 +258,9 @@ static size_t texel_bytes(GLint internal_format)
  * unknown: its box is the whole image. 1; 0 out of memory; -1 over max_bytes (FIELD_MEMORY,
  * with what would fit). */
 static int field_reserve(const halo_glfuncs *f, const halo_program *p, halo_gl_field *field, int layers, int cap,
-                         size_t max_bytes, halo_diagnostics *diag)
+                         size_t max_bytes, size_t seed_per_layer, halo_diagnostics *diag)
 {
-    size_t per_layer = 0;
+    size_t per_layer = seed_per_layer; /* the exchange's seed stacks, when there is one */
     for (int s = 0; s < field->stack_count; ++s)
         per_layer += (size_t)field->stacks[s].width * (size_t)field->stacks[s].height *
                      texel_bytes(field->stacks[s].internal_format);
@@ -273,11 +273,12 @@ static int field_reserve(const halo_glfuncs *f, const halo_program *p, halo_gl_f
                 snprintf(fits, sizeof fits, "halo_link_desc.image_scale %d fits (about %.3g MiB); ", smaller,
                          need * mib * scale * scale / ((double)smaller * smaller));
         halo_diag_error(diag, FIELD_MEMORY, "", 0, 0,
-                        "halo_gl_frame_draw: the halo field of %d depth segments needs %.3g MiB (%zu bytes a layer: "
-                        "%d image%s at %dx%d), over field_max_bytes %.3g MiB; %sa larger halo_generate.interval "
-                        "(M) has fewer segments, or raise field_max_bytes",
+                        "halo_gl_frame_draw: the halo field of %d layers (a depth segment each, but the last) needs "
+                        "%.3g MiB (%zu bytes a layer: %d image%s at %dx%d%s), over field_max_bytes %.3g MiB; %sa "
+                        "larger halo_generate.interval (M) has fewer segments, or raise field_max_bytes",
                         layers, need * mib, per_layer, field->stack_count, field->stack_count == 1 ? "" : "s",
-                        field->stacks[0].width, field->stacks[0].height, (double)max_bytes * mib, fits);
+                        field->stacks[0].width, field->stacks[0].height,
+                        seed_per_layer ? ", and the exchange's seeds" : "", (double)max_bytes * mib, fits);
         return -1;
     }
     if (layers <= field->layers)
@@ -891,9 +892,14 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     int planes = (int)span;
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit); /* the stacks are bound there to be made and filled */
     int layers = plan->segments > 1 ? plan->segments - 1 : 1;
-    size_t max_bytes = d->field_max_bytes ? d->field_max_bytes : HALO_GL_FIELD_MAX_BYTES;
-    int reserved =
-        field_reserve(f, p, field, layers, layers > max_layers - max_layers / 5 ? max_layers : 0, max_bytes, diag);
+    size_t max_bytes = d->field_max_bytes ? d->field_max_bytes : HALO_GL_FIELD_MAX_BYTES, seed_per_layer = 0;
+    for (size_t i = 0; d->exchange && i < halo_program_output_count(p->prepass); ++i) {
+        halo_gl_frame_image view; /* the seed stacks of the exchange (field_seed_reserve) count too */
+        if (halo_gl_frame_image_view(fr, halo_program_output(p->prepass, i)->image, &view))
+            seed_per_layer += (size_t)view.width * (size_t)view.height * texel_bytes(view.internal_format);
+    }
+    int reserved = field_reserve(f, p, field, layers, layers > max_layers - max_layers / 5 ? max_layers : 0, max_bytes,
+                                 seed_per_layer, diag);
     if (reserved <= 0)
         return reserved < 0 ? HALO_ERROR_INPUT : HALO_ERROR_IO;
     double inverse[16], view_projection[16], low[3], high[3];

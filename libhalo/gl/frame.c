@@ -317,7 +317,8 @@ static void frame_take_host_draws(halo_gl_frame *fr, int read_back)
             frame_box *support = &im->support[im->current];
             /* the declared region is in the frame's pixels; a 1/s image (the seeds of host
              * contract 3's march) is written where its pixels' blocks meet it */
-            frame_box drawn = box_grow(box_to_scale(fr->drawn, 1, im->scale), 0, im->width, im->height);
+            frame_box drawn = box_grow(box_to_scale(box_grow(fr->drawn, 0, fr->width, fr->height), 1, im->scale), 0,
+                                       im->width, im->height);
             if (read_back && fr->drawn_known)
                 *support = box_union(*support, image_nonzero_box(fr, im, drawn));
             else if (read_back)

@@ -462,7 +462,7 @@ static void test_field_memory(env *e)
         field_max_bytes = round == 0 ? 1 : (size_t)layers * SIZE * SIZE * 4 / 2;
         float *refused = render_ray(e, halos_scene, 0, 4, 0, NULL);
         snprintf(text, sizeof text, "%s", field_message);
-        if (round == 0 && sscanf(text, "halo_gl_frame_draw: the halo field of %d depth segments", &layers) != 1)
+        if (round == 0 && sscanf(text, "halo_gl_frame_draw: the halo field of %d layers", &layers) != 1)
             layers = 0;
         printf("field over its cap (%zu bytes): %s\n", field_max_bytes, text[0] ? text : "(no message)");
         CHECK(full && !refused && text[0], "field over a cap of %zu bytes: refused with FIELD_MEMORY (%s)",

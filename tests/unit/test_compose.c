@@ -424,6 +424,9 @@ static int test_piece_expressions(void)
         {"value", "1.0e", 7},      /* not a number literal */
         {"value", "1..0", 7},
         {"value", "0x", 7},
+        {"value", "2f", 7},             /* a float suffix without '.' or exponent */
+        {"value", "09", 7},             /* not octal */
+        {"color", "(a, colors[1])", 7}, /* a comma expression is no lvalue */
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         halo_pieces_desc names = engine_names;
@@ -450,6 +453,13 @@ static int test_piece_expressions(void)
                                           .color = "(colors[1])",
                                           .volume = "volume_textures[0]"};
     halo_program *p = link_pieces(per_sample_scene, &good, HALO_TARGET_GLSL150, 0);
+    CHECK(p != NULL);
+    halo_program_destroy(p);
+    /* the plain designator too, and literals of every kind (0x1e-3: 0x1e minus 3) */
+    halo_pieces_desc plain = good;
+    plain.color = "colors[1]";
+    plain.depth = "float(0x1e-3 + 07) + 1e5 + .5e-3 + 5. + float(0X1Fu) + 1.0F + 0.0";
+    p = link_pieces(per_sample_scene, &plain, HALO_TARGET_GLSL150, 0);
     CHECK(p != NULL);
     halo_program_destroy(p);
     return 0;
