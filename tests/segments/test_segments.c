@@ -152,10 +152,38 @@ static void hostile_set(const halo_glfuncs *f)
     f->Enable(GL_FRAMEBUFFER_SRGB);
     f->PixelStorei(GL_PACK_ALIGNMENT, 8);
     f->PixelStorei(GL_PACK_ROW_LENGTH, 3);
+    f->PixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    f->PixelStorei(GL_UNPACK_ROW_LENGTH, 5);
+    /* draw buffers 1..3 (where libhalo's outputs go) each in a state of their own: blending
+     * off on 1, odd functions and equations on 2 and 3, odd masks */
+    if (f->Disablei && f->BlendFuncSeparatei && f->BlendEquationSeparatei && f->ColorMaski)
+        for (GLuint k = 1; k <= 3; ++k) {
+            (k == 1 ? f->Disablei : f->Enablei)(GL_BLEND, k);
+            f->BlendFuncSeparatei(k, GL_DST_COLOR, GL_SRC_ALPHA, GL_ONE_MINUS_DST_ALPHA, GL_CONSTANT_COLOR);
+            f->BlendEquationSeparatei(k, k == 2 ? GL_MIN : GL_FUNC_SUBTRACT, GL_MAX);
+            f->ColorMaski(k, k == 3, GL_TRUE, GL_FALSE, k == 2);
+        }
     f->Viewport(0, 0, 1, 1);
     f->ActiveTexture(GL_TEXTURE7);
     f->BindVertexArray(hostile_vertex_array);
     f->UseProgram(0);
+}
+
+/* The pixel packing and draw buffers' state that the example hosts, which set only what
+ * their draws need, take as GL's defaults. */
+static void hostile_unset(const halo_glfuncs *f)
+{
+    f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    f->PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    f->PixelStorei(GL_PACK_ALIGNMENT, 4);
+    f->PixelStorei(GL_PACK_ROW_LENGTH, 0);
+    for (GLuint k = 1; k <= 3 && f->Disablei && f->BlendFuncSeparatei && f->BlendEquationSeparatei && f->ColorMaski;
+         ++k) {
+        f->Disablei(GL_BLEND, k);
+        f->BlendFuncSeparatei(k, GL_ONE, GL_ZERO, GL_ONE, GL_ZERO);
+        f->BlendEquationSeparatei(k, GL_FUNC_ADD, GL_FUNC_ADD);
+        f->ColorMaski(k, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    }
 }
 
 /* Is the state still what hostile_set left? Names what libhalo did not give back; with
@@ -192,6 +220,8 @@ static void hostile_check(const halo_glfuncs *f, int bindings)
                   {"GL_BLEND_EQUATION_ALPHA", GL_BLEND_EQUATION_ALPHA, GL_FUNC_REVERSE_SUBTRACT},
                   {"GL_PACK_ALIGNMENT", GL_PACK_ALIGNMENT, 8},
                   {"GL_PACK_ROW_LENGTH", GL_PACK_ROW_LENGTH, 3},
+                  {"GL_UNPACK_ALIGNMENT", GL_UNPACK_ALIGNMENT, 2},
+                  {"GL_UNPACK_ROW_LENGTH", GL_UNPACK_ROW_LENGTH, 5},
                   {"GL_ACTIVE_TEXTURE", GL_ACTIVE_TEXTURE, GL_TEXTURE7},
                   {"GL_VERTEX_ARRAY_BINDING", GL_VERTEX_ARRAY_BINDING, (GLint)hostile_vertex_array},
                   {"GL_CURRENT_PROGRAM", GL_CURRENT_PROGRAM, 0},
@@ -204,6 +234,23 @@ static void hostile_check(const halo_glfuncs *f, int bindings)
         f->GetIntegerv(values[i].query, v);
         if (v[0] != values[i].expected) {
             printf("  %s is 0x%x, the host left 0x%x\n", values[i].name, (unsigned)v[0], (unsigned)values[i].expected);
+            hostile_mismatches++;
+        }
+    }
+    /* draw buffers 1..3: libhalo sets its outputs' blending there for the host's draws, and
+     * gives the host's back when halo_gl_frame_draw returns */
+    for (GLuint k = 1; k <= 3 && bindings && f->IsEnabledi && f->GetIntegeri_v && f->GetBooleani_v; ++k) {
+        GLint src_rgb = 0, dst_alpha = 0, equation_rgb = 0, equation_alpha = 0;
+        GLboolean m[4] = {0, 0, 0, 0};
+        f->GetIntegeri_v(GL_BLEND_SRC_RGB, k, &src_rgb);
+        f->GetIntegeri_v(GL_BLEND_DST_ALPHA, k, &dst_alpha);
+        f->GetIntegeri_v(GL_BLEND_EQUATION_RGB, k, &equation_rgb);
+        f->GetIntegeri_v(GL_BLEND_EQUATION_ALPHA, k, &equation_alpha);
+        f->GetBooleani_v(GL_COLOR_WRITEMASK, k, m);
+        if ((f->IsEnabledi(GL_BLEND, k) != 0) != (k != 1) || src_rgb != GL_DST_COLOR ||
+            dst_alpha != GL_CONSTANT_COLOR || equation_rgb != (k == 2 ? GL_MIN : GL_FUNC_SUBTRACT) ||
+            equation_alpha != GL_MAX || m[0] != (k == 3) || !m[1] || m[2] || m[3] != (k == 2)) {
+            printf("  draw buffer %u's blending or colour mask was changed\n", k);
             hostile_mismatches++;
         }
     }
@@ -635,6 +682,7 @@ static void test_hostile_state(env *e)
             untidy = 1;
             float *hostile = render_ray(e, scenes[s], 0, 4, 0, NULL);
             untidy = 0;
+            hostile_unset(e->g.gl); /* the later tests' hosts upload with the default packing */
             one_draw = 0;
             const char *what = draw_once ? "one draw" : "segments";
             CHECK(tidy && hostile, "%s, %s: both renders", s ? "occlusive halos" : "emissive halos", what);
