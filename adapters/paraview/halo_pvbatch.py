@@ -29,6 +29,9 @@ def main():
     p.add_argument("--exchange", type=int, default=1, help="1: halos cross the ranks' pieces; 0: each rank's own")
     p.add_argument("--image-scale", type=int, default=1, choices=[1, 2, 4],
                    help="halo images and libhalo's march at 1/N of the view per side")
+    p.add_argument("--screenshot-scale", type=int, default=1, choices=range(1, 9), metavar="N",
+                   help="save the image N times the view's size (ParaView renders it in N x N tiles, as the "
+                        "GUI's Save Screenshot above the view's size)")
     p.add_argument("--frames", type=int, default=1, help="render this many frames and print the mean time")
     p.add_argument("--paraview-volume", action="store_true",
                    help="ParaView's own \"Volume\" representation instead of \"Halo Volume\" (no scene)")
@@ -108,7 +111,7 @@ def main():
             rep.HaloSettings = settings
             rep.HaloExchange = exchange
             rep.HaloImageScale = a.image_scale
-        render(view, output, a.frames, width, height)
+        render(view, output, a.frames, width, height, a.screenshot_scale)
         # a refused or failed scene (its reason is on stderr): the script's exit status says so
         if a.paraview_volume:
             continue
@@ -120,7 +123,7 @@ def main():
     return status
 
 
-def render(view, output, frames, width, height):
+def render(view, output, frames, width, height, scale=1):
     Render(view)
     if frames > 1:
         t0 = time.time()
@@ -130,7 +133,7 @@ def render(view, output, frames, width, height):
         ranks = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
         print("halo_pvbatch: %s: %.1f ms per frame (%d frames, %dx%d, %d rank%s)" %
               (output, ms, frames, width, height, ranks, "" if ranks == 1 else "s"))
-    SaveScreenshot(output, view, ImageResolution=[width, height], TransparentBackground=0)
+    SaveScreenshot(output, view, ImageResolution=[width * scale, height * scale], TransparentBackground=0)
 
 
 # no sys.exit on success: pvbatch tears its render window down after the script, and an

@@ -147,6 +147,22 @@ set -- $(metrics default-1 default-half-1)
 echo "halos at 1/2 against full size, 1 rank: mean abs $1, $2 % over 1/255"
 test $# -eq 2 && awk -v m="$1" 'BEGIN { exit !(m > 0) }' || fail "HaloImageScale 2 changed nothing"
 
+# a screenshot above the view's size (the GUI's Save Screenshot; ParaView renders it in
+# tiles): halos are refused with the reason and the script's exit status says so (before: an
+# empty image, exit 0); per-sample stages are the same as a render at that size
+pvrun tiled 1 --scene "$scenes/default.json" --screenshot-scale 2 -o "$tmp/tiled.png"
+status=$?
+test $status -ne 0 && grep -q "tiles" "$tmp/tiled.log" ||
+    { fail "halos in a tiled screenshot: exit $status, expected non-zero with a message on the tiles"; sed 's/^/    /' "$tmp/tiled.log" | head -20 >&2; }
+pv tiled-tone 1 "$tmp/tiled-tone.png $scenes/tone.json" --screenshot-scale 2
+"$HALO_VTK" --quiet --scene "$scenes/default.json" --volume-size 64 --size 192x192 --export "$tmp/volume2" ||
+    fail "halo-vtk --export at 192x192 exited $?"
+pv direct-tone 1 "$tmp/direct-tone.png $scenes/tone.json" --view "$tmp/volume2"
+set -- $(metrics tiled-tone direct-tone)
+echo "tone in a 2x2-tiled screenshot against a render at that size: mean abs $1, $2 % over 1/255"
+test $# -eq 2 && within "$1" "$2" $sample_mean $sample_share ||
+    fail "tone, tiled: differs from a direct render by mean abs $1, $2 % over 1/255"
+
 # outlines need the composited image: refused on 2 ranks, with the reason, and the script's
 # exit status says so (HaloStatus)
 pvrun outline 2 --scene "$scenes/outline-depth.json" -o "$tmp/outline.png"

@@ -117,6 +117,7 @@ class vtkHaloVolumeRepresentation::vtkInternals
     double Range[2] = {0, 1}; /* the drawn array's range over all ranks */
     int Dirty = 1;            /* a property changed: install again */
     int Failed = 0;           /* the last install failed (said once) */
+    int FrameFailed = 0;      /* a render since the install reported an error (a tiled screenshot) */
     int Checked = 0;          /* halo_vtk_check ran after the install's first render */
     haloSmartVolumeMapper *Mapper = nullptr;
     halo_diagnostics *Diag = nullptr;
@@ -377,6 +378,7 @@ void vtkHaloVolumeRepresentation::PrepareHalo(vtkRenderer *renderer, vtkVolume *
         return;
     }
     I->Failed = 0;
+    I->FrameFailed = 0;
     I->Checked = 0;
     I->On = gpu;
     I->Volume = volume;
@@ -398,19 +400,26 @@ void vtkHaloVolumeRepresentation::GetWholeExtentOfPieces(int extent[6])
 void vtkHaloVolumeRepresentation::CheckHalo()
 {
     vtkInternals *I = this->Internals;
-    if (!I->Halo || I->Checked)
+    if (!I->Halo)
         return;
-    I->Checked = 1;
-    if (halo_vtk_check(I->Halo, I->Diag) != HALO_OK) {
-        vtkErrorMacro(
-            "HaloVolume: the shader VTK built does not hold libhalo's stages as installed "
-            "(diagnostics on stderr)");
-        I->Failed = 1;
+    if (!I->Checked) {
+        I->Checked = 1;
+        if (halo_vtk_check(I->Halo, I->Diag) != HALO_OK) {
+            vtkErrorMacro(
+                "HaloVolume: the shader VTK built does not hold libhalo's stages as installed "
+                "(diagnostics on stderr)");
+            I->Failed = 1;
+        }
     }
+    /* what the adapter refused during a render (an image larger than the view, drawn in
+     * tiles: the volume is not drawn) is said on stderr and kept in the status until the
+     * scene is installed again: ParaView renders the view once more after a screenshot */
+    if (halo_diagnostics_errors(I->Diag) > 0)
+        I->FrameFailed = 1;
     I->Flush();
 }
 
-int vtkHaloVolumeRepresentation::GetHaloStatus() { return this->Internals->Failed ? 1 : 0; }
+int vtkHaloVolumeRepresentation::GetHaloStatus() { return this->Internals->Failed || this->Internals->FrameFailed; }
 
 void vtkHaloVolumeRepresentation::PrintSelf(ostream &os, vtkIndent indent)
 {
