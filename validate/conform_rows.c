@@ -147,21 +147,13 @@
         }                                                                                                            \
     }
 /* Host contract 3: the one-draw ray caster (the field computed before it) against its emulation. */
-#define ONE_DRAW_ROW(name, renders, tolerance, why, scene, orthographic, precision)                                  \
+/* the one-draw ray caster; scale: its halo images and libhalo's march at 1/scale of the frame */
+#define ONE_DRAW_ROW(name, renders, tolerance, why, scene, orthographic, precision, scale)                           \
     {                                                                                                                \
         name, "segments", renders, "%.0e", tolerance, 0.0, why, conform_segment_row, &(const conform_segment_params) \
         {                                                                                                            \
-            scene, 0, orthographic, NULL, 0.0f, precision, 1                                                         \
+            scene, 0, orthographic, NULL, 0.0f, precision, scale                                                     \
         }                                                                                                            \
-    }
-/* the one-draw ray caster with its halo images and libhalo's march at 1/scale of the frame */
-#define ONE_DRAW_SCALED_ROW(name, renders, scale)                                                          \
-    {                                                                                                      \
-        name, "segments", renders, "%.0e", SLICE_HALOS_TOL, 0.0, ONE_DRAW_SCALED_WHY, conform_segment_row, \
-            &(const conform_segment_params)                                                                \
-        {                                                                                                  \
-            SEGMENT_HALOS_SCENE, 0, 0, NULL, 0.0f, 32, scale                                               \
-        }                                                                                                  \
     }
 #define ONE_DRAW_SCALED_WHY                                                                                  \
     "as ray@one_draw; the march's rays through the centres of the 1/scale pixels, the seeds written there, " \
@@ -387,19 +379,21 @@ const conform_row conform_rows[] = {
     SEGMENT_ROW("ray@outlines", "the segmented ray caster with a halo and outlines (post passes)", SLICE_HALOS_TOL,
                 SEGMENT_HALOS_WHY, SEGMENT_OUTLINES_SCENE, 0, 0),
     ONE_DRAW_ROW("ray@one_draw", "the one-draw ray caster (host contract 3) with two halos, M = 4", SLICE_HALOS_TOL,
-                 ONE_DRAW_WHY, SEGMENT_HALOS_SCENE, 0, 32),
+                 ONE_DRAW_WHY, SEGMENT_HALOS_SCENE, 0, 32, 1),
     ONE_DRAW_ROW("ray@one_draw_ortho", "the one-draw ray caster with two halos, orthographic", SLICE_HALOS_TOL,
-                 ONE_DRAW_WHY, SEGMENT_HALOS_SCENE, 1, 32),
+                 ONE_DRAW_WHY, SEGMENT_HALOS_SCENE, 1, 32, 1),
     ONE_DRAW_ROW("ray@one_draw_outlines", "the one-draw ray caster with a halo and outlines (post passes)",
-                 SLICE_HALOS_TOL, ONE_DRAW_WHY, SEGMENT_OUTLINES_SCENE, 0, 32),
+                 SLICE_HALOS_TOL, ONE_DRAW_WHY, SEGMENT_OUTLINES_SCENE, 0, 32, 1),
     ONE_DRAW_ROW("ray@one_draw_half", "the one-draw ray caster, two halos, the march's gradient RGBA16F", 5e-3,
                  "as ray@one_draw, on a half-float gradient (11 significant bits: relative error up to 2^-12 in each "
                  "component, so in |g| and the seeds, which the spreading and the halo profile carry on), against "
                  "the exact gradient: the error of the half gradient itself; measured max abs 1.3e-4 at 25x25, "
                  "2.9e-3 at 64x64, 3.3e-3 at 128x128",
-                 SEGMENT_HALOS_SCENE, 0, 16),
-    ONE_DRAW_SCALED_ROW("ray@one_draw_scale2", "the one-draw ray caster, two halos, M = 4, halo images at 1/2", 2),
-    ONE_DRAW_SCALED_ROW("ray@one_draw_scale4", "the one-draw ray caster, two halos, M = 4, halo images at 1/4", 4),
+                 SEGMENT_HALOS_SCENE, 0, 16, 1),
+    ONE_DRAW_ROW("ray@one_draw_scale2", "the one-draw ray caster, two halos, M = 4, halo images at 1/2",
+                 SLICE_HALOS_TOL, ONE_DRAW_SCALED_WHY, SEGMENT_HALOS_SCENE, 0, 32, 2),
+    ONE_DRAW_ROW("ray@one_draw_scale4", "the one-draw ray caster, two halos, M = 4, halo images at 1/4",
+                 SLICE_HALOS_TOL, ONE_DRAW_SCALED_WHY, SEGMENT_HALOS_SCENE, 0, 32, 4),
     HOST_ROW("ray@webgl", "webgl_caster.frag (ES 300 style, linked for GLSL 330 here), jitter 1, two halos, M = 4",
              "as ray; the jitter is the host's integer hash of the pixel, exact in C; " HOST_WHY_DERIVED "; the ceil "
              "step count bracketed (rays run to their end: the seeds read every sample)",
