@@ -281,6 +281,15 @@ nodist_EXTRA_tests_hosts_test_hosts_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_hosts_test_hosts_LDADD = $(HALO_TOOL_LIBS)
 TESTS += tests/hosts/test_hosts
 
+# libhalo's runtime in a host's hostile GL state (issue 26): the slice and slab hosts'
+# frame calls, the feature buffer, the ray caster; on OpenGL ES contexts too.
+check_PROGRAMS += tests/hosts/test_host_state
+tests_hosts_test_host_state_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
+nodist_EXTRA_tests_hosts_test_host_state_SOURCES = $(HALO_TEST_CXX_LINK)
+tests_hosts_test_host_state_LDADD = $(HALO_TOOL_LIBS)
+TESTS += tests/hosts/test_host_state tests/hosts/host_state_es.sh
+EXTRA_DIST += tests/hosts/host_state_es.sh tests/hostile.h
+
 # The gradient texture built on the GPU against the CPU's central differences.
 check_PROGRAMS += tests/hosts/test_exact_work
 tests_hosts_test_exact_work_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)

@@ -45,6 +45,8 @@ struct halo_slice {
     long draws, pass_draws;
     halo_slice_progress_fn progress;
     void *progress_user;
+    void (*untidy)(void *user, int returned); /* halo_slice_set_untidy */
+    void *untidy_user;
 };
 
 halo_slice *halo_slice_create_mode(const halo_host_desc *desc, int slab, halo_diagnostics *diag)
@@ -139,6 +141,25 @@ void halo_slice_set_interval(halo_slice *s, int interval)
     if (s)
         s->interval_override = interval > 0 ? interval : 0;
 }
+
+void halo_slice_set_untidy(halo_slice *s, void (*untidy)(void *user, int returned), void *user)
+{
+    if (s) {
+        s->untidy = untidy;
+        s->untidy_user = user;
+    }
+}
+
+/* A call of libhalo's runtime that must neither depend on the host's GL state nor change
+ * it, between the two calls of the untidy hook (halo_slice_set_untidy). */
+#define SLICE_RUNTIME(s, call)                \
+    do {                                      \
+        if ((s)->untidy)                      \
+            (s)->untidy((s)->untidy_user, 0); \
+        call;                                 \
+        if ((s)->untidy)                      \
+            (s)->untidy((s)->untidy_user, 1); \
+    } while (0)
 
 void halo_slice_set_progress(halo_slice *s, halo_slice_progress_fn fn, void *user)
 {
@@ -484,11 +505,11 @@ static void generation_skip_drawn(generation_skip *g, const halo_slice_state *st
 }
 
 /* Runs the generation unless it is skippable. */
-static void generation_run(generation_skip *g, halo_gl_frame *frame)
+static void generation_run(generation_skip *g, const halo_slice *s)
 {
     if (g->enabled && !g->seeded && g->field_zero)
         return;
-    halo_gl_frame_generate(frame);
+    SLICE_RUNTIME(s, halo_gl_frame_generate(s->frame));
     g->field_zero = !g->seeded;
     g->seeded = 0;
 }
@@ -629,7 +650,7 @@ static int draw_clipped_slice(const halo_slice *s, const GLuint programs[3], con
     slice_section_box(s, distance, section);
     int images = programs[1] && programs[2];
     if (images && s->frame)
-        halo_gl_frame_read_region(s->frame, read);
+        SLICE_RUNTIME(s, halo_gl_frame_read_region(s->frame, read));
     if (!images) /* the shader over the section */
         memcpy(inside, section, sizeof inside);
     else
@@ -776,9 +797,9 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     int generate = s->frame && halo_program_pass_count(s->linked) > 0;
     if (s->frame) {
         if (group <= 0)
-            halo_gl_frame_begin(s->frame);
+            SLICE_RUNTIME(s, halo_gl_frame_begin(s->frame));
         if (group >= 0)
-            halo_gl_frame_begin_group(s->frame);
+            SLICE_RUNTIME(s, halo_gl_frame_begin_group(s->frame));
         halo_gl_frame_attach(s->frame, s->framebuffer); /* buffer 0 keeps the blend set above */
         if (outside) {                                  /* sampler uniforms are set on the program in use */
             f->UseProgram(outside);
@@ -818,7 +839,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
                     halo_gl_frame_drawn_region(s->frame, drawn[0], drawn[1], drawn[2], drawn[3]);
                     memset(drawn, 0, sizeof drawn);
                 }
-                generation_run(&skip, s->frame);
+                generation_run(&skip, s);
             }
             if (s->progress)
                 s->progress(k + 1, st.slice_count, s->progress_user);
@@ -842,7 +863,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
             generation_skip_drawn(&skip, &st, k, samples);
             current = 1 - current;
             if (generate && k + interval < st.slice_count)
-                generation_run(&skip, s->frame);
+                generation_run(&skip, s);
             if (s->progress)
                 s->progress((int)s->draws, (st.slice_count + interval - 1) / interval, s->progress_user);
         }
@@ -854,7 +875,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     }
     colour_mask(s, colour_written, 1);
     if (group >= 0)
-        halo_gl_frame_end_group(s->frame);
+        SLICE_RUNTIME(s, halo_gl_frame_end_group(s->frame));
     if (!colour_written) {
         f->BindFramebuffer(GL_READ_FRAMEBUFFER, s->framebuffer);
         f->ReadBuffer(GL_COLOR_ATTACHMENT0);

@@ -107,6 +107,12 @@ int halo_slice_interval(const halo_slice *s);
  * NULL (the default) reports nothing. */
 typedef void (*halo_slice_progress_fn)(int done, int total, void *user);
 void halo_slice_set_progress(halo_slice *s, halo_slice_progress_fn fn, void *user);
+/* For tests of libhalo's runtime (issue 26): untidy(user, 0) before each call of the
+ * halo_gl_frame functions that neither depend on the host's GL state nor change it
+ * (begin, begin_group, generate, end_group, read_region), and untidy(user, 1) when it has
+ * returned. The hook may leave any state at 0 and must give the host's back at 1. NULL:
+ * off. */
+void halo_slice_set_untidy(halo_slice *s, void (*untidy)(void *user, int returned), void *user);
 /* Renders and reads back width*height*4 floats, rows bottom-up, premultiplied colour
  * composited over the background (alpha 1). */
 halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag);

@@ -319,44 +319,28 @@ void halo_feature_buffer_destroy(halo_feature_buffer *b)
     free(b);
 }
 
-/* The capabilities the build switches, and the blend function and equations it sets. */
-static const GLenum switched_caps[] = {GL_BLEND, GL_DEPTH_TEST, GL_SCISSOR_TEST, GL_PROGRAM_POINT_SIZE, GL_CULL_FACE};
-enum { SRC_RGB, DST_RGB, SRC_ALPHA, DST_ALPHA, EQUATION_RGB, EQUATION_ALPHA, BLEND_QUERIES };
-static const GLenum blend_queries[BLEND_QUERIES] = {
-    [SRC_RGB] = GL_BLEND_SRC_RGB,           [DST_RGB] = GL_BLEND_DST_RGB,
-    [SRC_ALPHA] = GL_BLEND_SRC_ALPHA,       [DST_ALPHA] = GL_BLEND_DST_ALPHA,
-    [EQUATION_RGB] = GL_BLEND_EQUATION_RGB, [EQUATION_ALPHA] = GL_BLEND_EQUATION_ALPHA,
-};
-#define SWITCHED_CAPS (sizeof switched_caps / sizeof switched_caps[0])
-
+/* The host's state around the build (halo_gl_state, made neutral) and what the build sets
+ * beyond it: unit 0's 3D texture and point sizes from the shader. */
 typedef struct saved_state {
-    halo_gl_bindings bindings;
+    halo_gl_state state;
     GLint texture_3d;
-    GLint enabled[SWITCHED_CAPS];
-    GLint blend[BLEND_QUERIES];
+    GLboolean point_size;
 } saved_state;
 
 static void save_state(const halo_glfuncs *f, saved_state *s)
 {
-    halo_gl_bindings_save(f, &s->bindings);
-    halo_gl_bindings_neutral(f, &s->bindings);
+    halo_gl_state_save(f, &s->state);
+    halo_gl_state_neutral(f, &s->state);
     f->ActiveTexture(GL_TEXTURE0);
     f->GetIntegerv(GL_TEXTURE_BINDING_3D, &s->texture_3d);
-    for (size_t i = 0; i < SWITCHED_CAPS; ++i)
-        f->GetIntegerv(switched_caps[i], &s->enabled[i]);
-    for (int i = 0; i < BLEND_QUERIES; ++i)
-        f->GetIntegerv(blend_queries[i], &s->blend[i]);
+    s->point_size = f->IsEnabled && f->IsEnabled(GL_PROGRAM_POINT_SIZE);
 }
 
 static void restore_state(const halo_glfuncs *f, const saved_state *s)
 {
     f->BindTexture(GL_TEXTURE_3D, (GLuint)s->texture_3d); /* on unit 0, before the saved unit is restored */
-    halo_gl_bindings_restore(f, &s->bindings);
-    f->BlendFuncSeparate((GLenum)s->blend[SRC_RGB], (GLenum)s->blend[DST_RGB], (GLenum)s->blend[SRC_ALPHA],
-                         (GLenum)s->blend[DST_ALPHA]);
-    f->BlendEquationSeparate((GLenum)s->blend[EQUATION_RGB], (GLenum)s->blend[EQUATION_ALPHA]);
-    for (size_t i = 0; i < SWITCHED_CAPS; ++i)
-        (s->enabled[i] ? f->Enable : f->Disable)(switched_caps[i]);
+    (s->point_size ? f->Enable : f->Disable)(GL_PROGRAM_POINT_SIZE);
+    halo_gl_state_restore(f, &s->state);
 }
 
 halo_status halo_feature_buffer_build(halo_feature_buffer *b, const double view[3])
@@ -373,9 +357,6 @@ halo_status halo_feature_buffer_build(halo_feature_buffer *b, const double view[
     save_state(f, &saved);
     f->BindFramebuffer(GL_FRAMEBUFFER, b->framebuffer);
     f->Viewport(0, 0, b->dims[0], b->dims[1]);
-    f->Disable(GL_DEPTH_TEST);
-    f->Disable(GL_SCISSOR_TEST);
-    f->Disable(GL_CULL_FACE);
     f->Enable(GL_PROGRAM_POINT_SIZE);
     f->Enable(GL_BLEND);
     f->BlendEquation(GL_FUNC_ADD);
@@ -454,22 +435,18 @@ halo_status halo_feature_buffer_read(halo_feature_buffer *b, float *out)
     HALO_REFUSE_NULL(NULL, b, "buffer", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(b->diag, out, "out", HALO_ERROR_INPUT);
     const halo_glfuncs *f = b->f;
-    GLint saved_read = 0, saved_draw = 0, saved_pack = 0;
-    f->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &saved_read);
-    f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &saved_draw);
-    f->GetIntegerv(GL_PACK_ALIGNMENT, &saved_pack);
+    halo_gl_bindings saved; /* the framebuffers, and tight packing without a pack buffer */
+    halo_gl_bindings_save(f, &saved);
+    halo_gl_bindings_neutral(f, &saved);
     f->BindFramebuffer(GL_FRAMEBUFFER, b->framebuffer);
     f->ReadBuffer(GL_COLOR_ATTACHMENT0);
-    f->PixelStorei(GL_PACK_ALIGNMENT, 4);
     size_t layer = (size_t)b->dims[0] * (size_t)b->dims[1];
     for (int z = 0; z < b->dims[2]; ++z) {
         f->FramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, b->texture, 0, z);
         f->ReadPixels(0, 0, b->dims[0], b->dims[1], GL_RED, GL_FLOAT, out + layer * (size_t)z);
     }
     f->FramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0);
-    f->PixelStorei(GL_PACK_ALIGNMENT, saved_pack);
-    f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)saved_read);
-    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)saved_draw);
+    halo_gl_bindings_restore(f, &saved);
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
         halo_diag_error(b->diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x while reading the halo buffer", error);

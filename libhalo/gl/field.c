@@ -590,40 +590,16 @@ static void field_store(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field 
     f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
 }
 
-/* The GL state field_compute and the host's draw change, saved and restored. */
-#define FIELD_SAVED_BUFFERS 8 /* draw buffers whose blend state and colour mask are kept */
-
-/* One draw buffer's blending and colour mask (the march's seed output and the gradient
- * and brick passes' buffer 0 change them). Without per-buffer state (OpenGL ES 3.0) the
- * one blend state of all buffers is kept in buffers[0]. */
-typedef struct field_buffer {
-    GLboolean blend, mask[4];
-    GLint equation[2], function[4];
-} field_buffer;
-
+/* The GL state field_compute changes, saved and restored around it: the host's
+ * (halo_gl_state, made neutral for the march) and the textures of the units it binds. */
 typedef struct field_saved {
-    halo_gl_bindings switches; /* cull, depth, stencil, discard, sRGB, polygon mode, packing */
-    GLint program, draw_framebuffer, read_framebuffer, active, vertex_array, viewport[4], scissor_box[4];
-    GLint texture_3d[3], texture_array, texture_2d, unpack_buffer;
-    GLboolean scissor, cull, depth, stencil, blend;
-    field_buffer buffers[FIELD_SAVED_BUFFERS];
-    int buffer_count;
+    halo_gl_state state;
+    GLint texture_3d[3], texture_array, texture_2d;
 } field_saved;
-
-static const GLenum buffer_queries[6] = {GL_BLEND_EQUATION_RGB, GL_BLEND_EQUATION_ALPHA, GL_BLEND_SRC_RGB,
-                                         GL_BLEND_DST_RGB,      GL_BLEND_SRC_ALPHA,      GL_BLEND_DST_ALPHA};
 
 static void field_save(const halo_glfuncs *f, field_saved *s, int unit)
 {
-    halo_gl_bindings_save(f, &s->switches);
-    f->GetIntegerv(GL_CURRENT_PROGRAM, &s->program);
-    f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &s->draw_framebuffer);
-    f->GetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &s->read_framebuffer);
-    f->GetIntegerv(GL_ACTIVE_TEXTURE, &s->active);
-    f->GetIntegerv(GL_VERTEX_ARRAY_BINDING, &s->vertex_array);
-    f->GetIntegerv(GL_VIEWPORT, s->viewport);
-    f->GetIntegerv(GL_SCISSOR_BOX, s->scissor_box);
-    f->GetIntegerv(GL_PIXEL_UNPACK_BUFFER_BINDING, &s->unpack_buffer);
+    halo_gl_state_save(f, &s->state);
     for (int k = 0; k < 3; ++k) {
         f->ActiveTexture(GL_TEXTURE0 + (GLenum)(unit + k));
         f->GetIntegerv(GL_TEXTURE_BINDING_3D, &s->texture_3d[k]);
@@ -631,47 +607,12 @@ static void field_save(const halo_glfuncs *f, field_saved *s, int unit)
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
     f->GetIntegerv(GL_TEXTURE_BINDING_2D_ARRAY, &s->texture_array);
     f->GetIntegerv(GL_TEXTURE_BINDING_2D, &s->texture_2d); /* the seeds' copies bind there */
-    s->scissor = f->IsEnabled(GL_SCISSOR_TEST);
-    s->cull = f->IsEnabled(GL_CULL_FACE);
-    s->depth = f->IsEnabled(GL_DEPTH_TEST);
-    s->stencil = f->IsEnabled(GL_STENCIL_TEST);
-    s->blend = f->IsEnabled(GL_BLEND);
-    GLint buffers = 1;
-    f->GetIntegerv(GL_MAX_DRAW_BUFFERS, &buffers);
-    s->buffer_count = buffers < 1 ? 1 : buffers > FIELD_SAVED_BUFFERS ? FIELD_SAVED_BUFFERS : buffers;
-    if (!f->IsEnabledi) /* one blend state for every buffer (OpenGL ES 3.0), kept in buffers[0] */
-        for (int q = 0; q < 6; ++q)
-            f->GetIntegerv(buffer_queries[q], q < 2 ? &s->buffers[0].equation[q] : &s->buffers[0].function[q - 2]);
-    for (int i = 0; i < s->buffer_count && f->IsEnabledi; ++i) {
-        field_buffer *b = &s->buffers[i];
-        b->blend = f->IsEnabledi(GL_BLEND, (GLuint)i);
-        for (int q = 0; q < 6 && f->GetIntegeri_v; ++q)
-            f->GetIntegeri_v(buffer_queries[q], (GLuint)i, q < 2 ? &b->equation[q] : &b->function[q - 2]);
-        if (f->GetBooleani_v)
-            f->GetBooleani_v(GL_COLOR_WRITEMASK, (GLuint)i, b->mask);
-    }
-}
-
-/* What our draws need: no blending but the seed output's (set by the attach), every
- * colour written, no culling, depth or stencil test, no pixel unpack buffer. */
-static void field_neutral(const halo_glfuncs *f, const field_saved *s)
-{
-    halo_gl_bindings_neutral(f, &s->switches);
-    f->Disable(GL_BLEND);
-    f->Disable(GL_SCISSOR_TEST);
-    f->Disable(GL_CULL_FACE);
-    f->Disable(GL_DEPTH_TEST);
-    f->Disable(GL_STENCIL_TEST);
-    f->BindBuffer(GL_PIXEL_UNPACK_BUFFER, 0);
-    for (int i = 0; i < s->buffer_count && f->ColorMaski; ++i)
-        f->ColorMaski((GLuint)i, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    if (!f->ColorMaski)
-        f->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    f->ActiveTexture((GLenum)s->state.bindings.active_texture);
+    halo_gl_state_neutral(f, &s->state);
 }
 
 static void field_restore(const halo_glfuncs *f, const field_saved *s, int unit)
 {
-    halo_gl_bindings_restore(f, &s->switches); /* the bindings again below, in their order */
     for (int k = 0; k < 3; ++k) {
         f->ActiveTexture(GL_TEXTURE0 + (GLenum)(unit + k));
         f->BindTexture(GL_TEXTURE_3D, (GLuint)s->texture_3d[k]);
@@ -679,36 +620,7 @@ static void field_restore(const halo_glfuncs *f, const field_saved *s, int unit)
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
     f->BindTexture(GL_TEXTURE_2D_ARRAY, (GLuint)s->texture_array);
     f->BindTexture(GL_TEXTURE_2D, (GLuint)s->texture_2d);
-    f->ActiveTexture((GLenum)s->active);
-    f->BindBuffer(GL_PIXEL_UNPACK_BUFFER, (GLuint)s->unpack_buffer);
-    (s->blend ? f->Enable : f->Disable)(GL_BLEND);
-    if (!f->Enablei) {
-        const field_buffer *b = &s->buffers[0];
-        f->BlendEquationSeparate((GLenum)b->equation[0], (GLenum)b->equation[1]);
-        f->BlendFuncSeparate((GLenum)b->function[0], (GLenum)b->function[1], (GLenum)b->function[2],
-                             (GLenum)b->function[3]);
-    }
-    for (int i = 0; i < s->buffer_count && f->Enablei && f->Disablei; ++i) {
-        const field_buffer *b = &s->buffers[i];
-        (b->blend ? f->Enablei : f->Disablei)(GL_BLEND, (GLuint)i);
-        if (f->GetIntegeri_v && f->BlendEquationSeparatei && f->BlendFuncSeparatei) {
-            f->BlendEquationSeparatei((GLuint)i, (GLenum)b->equation[0], (GLenum)b->equation[1]);
-            f->BlendFuncSeparatei((GLuint)i, (GLenum)b->function[0], (GLenum)b->function[1], (GLenum)b->function[2],
-                                  (GLenum)b->function[3]);
-        }
-        if (f->GetBooleani_v && f->ColorMaski)
-            f->ColorMaski((GLuint)i, b->mask[0], b->mask[1], b->mask[2], b->mask[3]);
-    }
-    f->BindVertexArray((GLuint)s->vertex_array);
-    f->Viewport(s->viewport[0], s->viewport[1], s->viewport[2], s->viewport[3]);
-    f->Scissor(s->scissor_box[0], s->scissor_box[1], s->scissor_box[2], s->scissor_box[3]);
-    (s->scissor ? f->Enable : f->Disable)(GL_SCISSOR_TEST);
-    (s->cull ? f->Enable : f->Disable)(GL_CULL_FACE);
-    (s->depth ? f->Enable : f->Disable)(GL_DEPTH_TEST);
-    (s->stencil ? f->Enable : f->Disable)(GL_STENCIL_TEST);
-    f->BindFramebuffer(GL_READ_FRAMEBUFFER, (GLuint)s->read_framebuffer);
-    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)s->draw_framebuffer);
-    halo_gl_use_saved_program(f, s->program);
+    halo_gl_state_restore(f, &s->state); /* the active unit too */
 }
 
 /* The planes of segment j: [first, end) of the plan's planes front + k step. */
@@ -1062,7 +974,6 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
     int march_unit = first_unit + (int)halo_program_sampler_count(p);
     field_saved saved;
     field_save(f, &saved, march_unit);
-    field_neutral(f, &saved);
     halo_status status = field_compute(fr, d, &plan, march_unit, diag);
     field_restore(f, &saved, march_unit); /* the host draws with its own state */
     if (status == HALO_OK) {
@@ -1082,8 +993,8 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         halo_gl_frame_segments_reset(fr);
         d->draw(d->user);
         halo_gl_frame_state_flip(fr); /* counts the one draw */
-        f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)saved.draw_framebuffer);
-        halo_gl_use_saved_program(f, saved.program);
+        f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)saved.state.bindings.draw_framebuffer);
+        halo_gl_use_saved_program(f, saved.state.bindings.program);
     }
     GLenum error = f->GetError();
     if (status == HALO_OK && error != GL_NO_ERROR) {

@@ -156,48 +156,20 @@ static void image_formats(int channels, int precision, GLint *internal, GLenum *
     *format = formats[c - 1];
 }
 
-/* The write mask of draw buffer 0, where the frame's passes and clears draw: the host's
- * saved in mask and all channels on (a host may mask its colour while it draws). */
-static void frame_mask_open(const halo_glfuncs *f, GLboolean mask[4])
-{
-    mask[0] = mask[1] = mask[2] = mask[3] = GL_TRUE;
-    if (!f->ColorMaski || !f->GetBooleanv)
-        return;
-    f->GetBooleanv(GL_COLOR_WRITEMASK, mask);
-    f->ColorMaski(0, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-}
-
-static void frame_mask_close(const halo_glfuncs *f, const GLboolean mask[4])
-{
-    if (f->ColorMaski && f->GetBooleanv)
-        f->ColorMaski(0, mask[0], mask[1], mask[2], mask[3]);
-}
-
-/* The GL state the frame functions change, saved and restored around them. */
+/* The GL state the frame functions change, saved and restored around them: the host's
+ * (halo_gl_state, made neutral for the frame's draws) and the 2D textures of the units
+ * its passes bind. */
 typedef struct frame_saved {
-    halo_gl_bindings bindings;
-    GLboolean mask[4];
-    GLboolean scissor, blend[FRAME_MAX_BUFFERS];
-    GLint scissor_box[4];
-    int blend_count;
-    int first_unit, unit_count;
+    halo_gl_state state;
+    int unit_count;
     GLint textures[HALO_MAX_PASS_INPUTS];
 } frame_saved;
 
 static void frame_save(const halo_glfuncs *f, frame_saved *s, int units)
 {
     memset(s, 0, sizeof *s);
-    halo_gl_bindings_save(f, &s->bindings);
-    halo_gl_bindings_neutral(f, &s->bindings);
-    frame_mask_open(f, s->mask);
-    if (f->IsEnabled)
-        s->scissor = f->IsEnabled(GL_SCISSOR_TEST);
-    f->GetIntegerv(GL_SCISSOR_BOX, s->scissor_box);
-    GLint max_buffers = 1;
-    f->GetIntegerv(GL_MAX_DRAW_BUFFERS, &max_buffers);
-    s->blend_count = max_buffers < 1 ? 1 : max_buffers > FRAME_MAX_BUFFERS ? FRAME_MAX_BUFFERS : max_buffers;
-    for (int i = 0; i < s->blend_count; ++i)
-        s->blend[i] = f->IsEnabledi ? f->IsEnabledi(GL_BLEND, (GLuint)i) : f->IsEnabled ? f->IsEnabled(GL_BLEND) : 0;
+    halo_gl_state_save(f, &s->state);
+    halo_gl_state_neutral(f, &s->state);
     s->unit_count = units > HALO_MAX_PASS_INPUTS ? HALO_MAX_PASS_INPUTS : units;
     for (int u = 0; u < s->unit_count; ++u) {
         f->ActiveTexture(GL_TEXTURE0 + (GLenum)u);
@@ -211,17 +183,7 @@ static void frame_restore(const halo_glfuncs *f, const frame_saved *s)
         f->ActiveTexture(GL_TEXTURE0 + (GLenum)u);
         f->BindTexture(GL_TEXTURE_2D, (GLuint)s->textures[u]);
     }
-    halo_gl_bindings_restore(f, &s->bindings);
-    frame_mask_close(f, s->mask);
-    f->Scissor(s->scissor_box[0], s->scissor_box[1], s->scissor_box[2], s->scissor_box[3]);
-    if (s->scissor)
-        f->Enable(GL_SCISSOR_TEST);
-    for (int i = 0; i < s->blend_count; ++i) {
-        if (f->Enablei && f->Disablei)
-            (s->blend[i] ? f->Enablei : f->Disablei)(GL_BLEND, (GLuint)i);
-        else if (i == 0)
-            (s->blend[0] ? f->Enable : f->Disable)(GL_BLEND);
-    }
+    halo_gl_state_restore(f, &s->state);
 }
 
 /* Clears the current texture of image i through the frame's framebuffer (bound as draw). */
@@ -645,23 +607,15 @@ static void frame_clear(halo_gl_frame *fr, int group)
     if (!fr || fr->image_count == 0)
         return;
     const halo_glfuncs *f = &fr->gl->f;
-    GLint draw_framebuffer = 0;
-    GLboolean scissor = f->IsEnabled ? f->IsEnabled(GL_SCISSOR_TEST) : GL_FALSE;
     frame_take_host_draws(fr, 0); /* for the images not cleared */
-    GLboolean mask[4];
-    frame_mask_open(f, mask);
-    f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &draw_framebuffer);
+    frame_saved saved;
+    frame_save(f, &saved, 0); /* a clear obeys the scissor, the colour mask, rasterizer discard */
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, fr->framebuffer);
-    if (scissor)
-        f->Disable(GL_SCISSOR_TEST);
     for (size_t i = 0; i < fr->image_count; ++i)
         if (!group || fr->images[i].reset != HALO_RESET_FRAME_ONLY)
             frame_clear_image(fr, (int)i);
     f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
-    if (scissor)
-        f->Enable(GL_SCISSOR_TEST);
-    frame_mask_close(f, mask);
-    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)draw_framebuffer);
+    frame_restore(f, &saved);
 }
 
 /* Attaches the outputs' current textures to the framebuffer bound as GL_DRAW_FRAMEBUFFER. */
@@ -934,7 +888,7 @@ static void frame_run(halo_gl_frame *fr, halo_pass_at at)
     }
     if (fr->bound) {
         frame_bind_textures(fr, fr->bound_first_unit);
-        f->ActiveTexture((GLenum)saved.bindings.active_texture);
+        f->ActiveTexture((GLenum)saved.state.bindings.active_texture);
     }
 }
 

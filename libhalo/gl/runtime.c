@@ -72,15 +72,89 @@ void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b)
     halo_gl_use_saved_program(f, b->program);
     f->BindVertexArray((GLuint)b->vertex_array);
     f->ActiveTexture((GLenum)b->active_texture);
+    int desktop = f->PolygonMode != NULL;
     for (int i = 0; i < 5; ++i)
-        if (b->switched_on[i])
-            f->Enable(halo_gl_switches[i]);
-    if (b->polygon_mode && b->polygon_mode != GL_FILL)
+        if (desktop || i < 4)
+            (b->switched_on[i] ? f->Enable : f->Disable)(halo_gl_switches[i]);
+    if (b->polygon_mode)
         f->PolygonMode(GL_FRONT_AND_BACK, (GLenum)b->polygon_mode);
     for (int i = 0; i < 10; ++i)
         f->PixelStorei(pack_names[i], b->pack[i]);
     f->BindBuffer(GL_PIXEL_PACK_BUFFER, (GLuint)b->pack_buffer);
     f->BindBuffer(GL_PIXEL_UNPACK_BUFFER, (GLuint)b->unpack_buffer);
+}
+
+static const GLenum blend_queries[6] = {GL_BLEND_EQUATION_RGB, GL_BLEND_EQUATION_ALPHA, GL_BLEND_SRC_RGB,
+                                        GL_BLEND_DST_RGB,      GL_BLEND_SRC_ALPHA,      GL_BLEND_DST_ALPHA};
+
+static int state_indexed(const halo_glfuncs *f)
+{
+    return f->IsEnabledi && f->Enablei && f->Disablei && f->GetIntegeri_v && f->GetBooleani_v &&
+           f->BlendEquationSeparatei && f->BlendFuncSeparatei && f->ColorMaski;
+}
+
+void halo_gl_state_save(const halo_glfuncs *f, halo_gl_state *s)
+{
+    memset(s, 0, sizeof *s);
+    halo_gl_bindings_save(f, &s->bindings);
+    s->scissor = f->IsEnabled && f->IsEnabled(GL_SCISSOR_TEST);
+    f->GetIntegerv(GL_SCISSOR_BOX, s->scissor_box);
+    int indexed = state_indexed(f);
+    GLint buffers = 1;
+    if (indexed)
+        f->GetIntegerv(GL_MAX_DRAW_BUFFERS, &buffers);
+    s->buffer_count = buffers < 1 ? 1 : buffers > HALO_GL_STATE_BUFFERS ? HALO_GL_STATE_BUFFERS : buffers;
+    for (int i = 0; i < s->buffer_count; ++i) {
+        halo_gl_buffer_state *b = &s->buffers[i];
+        GLint *values[6] = {&b->equation[0], &b->equation[1], &b->function[0],
+                            &b->function[1], &b->function[2], &b->function[3]};
+        if (indexed) {
+            b->blend = f->IsEnabledi(GL_BLEND, (GLuint)i);
+            for (int q = 0; q < 6; ++q)
+                f->GetIntegeri_v(blend_queries[q], (GLuint)i, values[q]);
+            f->GetBooleani_v(GL_COLOR_WRITEMASK, (GLuint)i, b->mask);
+        } else {
+            b->blend = f->IsEnabled && f->IsEnabled(GL_BLEND);
+            for (int q = 0; q < 6; ++q)
+                f->GetIntegerv(blend_queries[q], values[q]);
+            b->mask[0] = b->mask[1] = b->mask[2] = b->mask[3] = GL_TRUE;
+            if (f->GetBooleanv)
+                f->GetBooleanv(GL_COLOR_WRITEMASK, b->mask);
+        }
+    }
+}
+
+void halo_gl_state_neutral(const halo_glfuncs *f, const halo_gl_state *s)
+{
+    halo_gl_bindings_neutral(f, &s->bindings);
+    if (s->scissor)
+        f->Disable(GL_SCISSOR_TEST);
+    f->Disable(GL_BLEND); /* every draw buffer */
+    f->ColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+}
+
+void halo_gl_state_restore(const halo_glfuncs *f, const halo_gl_state *s)
+{
+    halo_gl_bindings_restore(f, &s->bindings);
+    f->Scissor(s->scissor_box[0], s->scissor_box[1], s->scissor_box[2], s->scissor_box[3]);
+    (s->scissor ? f->Enable : f->Disable)(GL_SCISSOR_TEST);
+    int indexed = state_indexed(f);
+    for (int i = 0; i < s->buffer_count; ++i) {
+        const halo_gl_buffer_state *b = &s->buffers[i];
+        if (indexed) {
+            (b->blend ? f->Enablei : f->Disablei)(GL_BLEND, (GLuint)i);
+            f->BlendEquationSeparatei((GLuint)i, (GLenum)b->equation[0], (GLenum)b->equation[1]);
+            f->BlendFuncSeparatei((GLuint)i, (GLenum)b->function[0], (GLenum)b->function[1], (GLenum)b->function[2],
+                                  (GLenum)b->function[3]);
+            f->ColorMaski((GLuint)i, b->mask[0], b->mask[1], b->mask[2], b->mask[3]);
+        } else {
+            (b->blend ? f->Enable : f->Disable)(GL_BLEND);
+            f->BlendEquationSeparate((GLenum)b->equation[0], (GLenum)b->equation[1]);
+            f->BlendFuncSeparate((GLenum)b->function[0], (GLenum)b->function[1], (GLenum)b->function[2],
+                                 (GLenum)b->function[3]);
+            f->ColorMask(b->mask[0], b->mask[1], b->mask[2], b->mask[3]);
+        }
+    }
 }
 
 /* The context's kind, and its entry points made to say what it has: a loader such as

@@ -62,6 +62,29 @@ void halo_gl_bindings_save(const halo_glfuncs *f, halo_gl_bindings *b);
  * unpacking (alignment 4), no pixel pack or unpack buffer. */
 void halo_gl_bindings_neutral(const halo_glfuncs *f, const halo_gl_bindings *b);
 void halo_gl_bindings_restore(const halo_glfuncs *f, const halo_gl_bindings *b);
+/* All of the host's state that libhalo's own draws, clears and read-backs depend on or
+ * change: the bindings and switches above, the scissor, and each draw buffer's blending
+ * (switch, equations, functions) and colour mask. One save, neutral and restore for every
+ * runtime entry point (frame.c, field.c, feature_splat.c); the caller saves and restores
+ * the texture units it binds. Where the context has one blend state and colour mask for
+ * all draw buffers (OpenGL ES 3.0, OpenGL 3.3: no indexed functions, halo_gl_create), one
+ * entry holds it. */
+#define HALO_GL_STATE_BUFFERS 8
+typedef struct halo_gl_buffer_state {
+    GLboolean blend, mask[4];
+    GLint equation[2], function[4];
+} halo_gl_buffer_state;
+typedef struct halo_gl_state {
+    halo_gl_bindings bindings;
+    GLboolean scissor;
+    GLint scissor_box[4];
+    int buffer_count;
+    halo_gl_buffer_state buffers[HALO_GL_STATE_BUFFERS];
+} halo_gl_state;
+void halo_gl_state_save(const halo_glfuncs *f, halo_gl_state *s);
+/* halo_gl_bindings_neutral, and no scissor test, no blending, every colour written. */
+void halo_gl_state_neutral(const halo_glfuncs *f, const halo_gl_state *s);
+void halo_gl_state_restore(const halo_glfuncs *f, const halo_gl_state *s);
 /* Makes the host's saved program current again: a program the host deleted while it was
  * current lives only as long as it stays current, so once libhalo bound its own it is gone;
  * then none (0) is made current instead of raising GL_INVALID_VALUE. */

@@ -27,6 +27,7 @@
  * (validate/conform_segment.c, halo-validate conform --stage segments).
  * Exit 77 without OpenGL. */
 #include "../gl_fixture.h"
+#include "../hostile.h"
 #include "hosts/raycast.h"
 #include "hosts/slab.h"
 
@@ -114,168 +115,17 @@ static double plain_difference;
 
 /* ---- A host that leaves hostile GL state between its draws (issue 26) ---- */
 
-typedef void (*stencil_func_proc)(GLenum, GLint, GLuint);
-typedef void (*cull_face_proc)(GLenum);
-static GLuint hostile_vertex_array;
-static int hostile_checks, hostile_mismatches;
-
-/* The state a careless host leaves: every switch that would make libhalo's full-screen
- * passes draw nothing or something else, and odd bindings and packing. */
-static void hostile_set(const halo_glfuncs *f)
-{
-    stencil_func_proc stencil_func = NULL;
-    void *address = halo_headless_get_proc_address("glStencilFunc");
-    memcpy(&stencil_func, &address, sizeof stencil_func);
-    cull_face_proc cull_face = NULL;
-    address = halo_headless_get_proc_address("glCullFace");
-    memcpy(&cull_face, &address, sizeof cull_face);
-    if (!hostile_vertex_array)
-        f->GenVertexArrays(1, &hostile_vertex_array);
-    f->Enable(GL_CULL_FACE);
-    if (cull_face)
-        cull_face(GL_FRONT_AND_BACK);
-    f->Enable(GL_DEPTH_TEST);
-    f->DepthFunc(GL_NEVER);
-    f->DepthMask(GL_FALSE);
-    f->Enable(GL_STENCIL_TEST);
-    if (stencil_func)
-        stencil_func(GL_NEVER, 1, 0xFF);
-    f->Enable(GL_BLEND);
-    f->BlendFunc(GL_ZERO, GL_ZERO);
-    f->BlendEquation(GL_FUNC_REVERSE_SUBTRACT);
-    f->Enable(GL_SCISSOR_TEST);
-    f->Scissor(0, 0, 1, 1);
-    f->ColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-    if (f->PolygonMode)
-        f->PolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-    f->Enable(GL_RASTERIZER_DISCARD);
-    f->Enable(GL_FRAMEBUFFER_SRGB);
-    f->PixelStorei(GL_PACK_ALIGNMENT, 8);
-    f->PixelStorei(GL_PACK_ROW_LENGTH, 3);
-    f->PixelStorei(GL_UNPACK_ALIGNMENT, 2);
-    f->PixelStorei(GL_UNPACK_ROW_LENGTH, 5);
-    /* draw buffers 1..3 (where libhalo's outputs go) each in a state of their own: blending
-     * off on 1, odd functions and equations on 2 and 3, odd masks */
-    if (f->Disablei && f->BlendFuncSeparatei && f->BlendEquationSeparatei && f->ColorMaski)
-        for (GLuint k = 1; k <= 3; ++k) {
-            (k == 1 ? f->Disablei : f->Enablei)(GL_BLEND, k);
-            f->BlendFuncSeparatei(k, GL_DST_COLOR, GL_SRC_ALPHA, GL_ONE_MINUS_DST_ALPHA, GL_CONSTANT_COLOR);
-            f->BlendEquationSeparatei(k, k == 2 ? GL_MIN : GL_FUNC_SUBTRACT, GL_MAX);
-            f->ColorMaski(k, k == 3, GL_TRUE, GL_FALSE, k == 2);
-        }
-    f->Viewport(0, 0, 1, 1);
-    f->ActiveTexture(GL_TEXTURE7);
-    f->BindVertexArray(hostile_vertex_array);
-    f->UseProgram(0);
-}
-
-/* The pixel packing and draw buffers' state that the example hosts, which set only what
- * their draws need, take as GL's defaults. */
-static void hostile_unset(const halo_glfuncs *f)
-{
-    f->PixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    f->PixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-    f->PixelStorei(GL_PACK_ALIGNMENT, 4);
-    f->PixelStorei(GL_PACK_ROW_LENGTH, 0);
-    for (GLuint k = 1; k <= 3 && f->Disablei && f->BlendFuncSeparatei && f->BlendEquationSeparatei && f->ColorMaski;
-         ++k) {
-        f->Disablei(GL_BLEND, k);
-        f->BlendFuncSeparatei(k, GL_ONE, GL_ZERO, GL_ONE, GL_ZERO);
-        f->BlendEquationSeparatei(k, GL_FUNC_ADD, GL_FUNC_ADD);
-        f->ColorMaski(k, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    }
-}
-
-/* Is the state still what hostile_set left? Names what libhalo did not give back; with
- * bindings 0 (before the host's draw, for which libhalo binds its program and textures),
- * only the switches, masks and packing. */
-static void hostile_check(const halo_glfuncs *f, int bindings)
-{
-    struct {
-        const char *name;
-        GLenum cap;
-    } caps[] = {{"GL_CULL_FACE", GL_CULL_FACE},
-                {"GL_DEPTH_TEST", GL_DEPTH_TEST},
-                {"GL_STENCIL_TEST", GL_STENCIL_TEST},
-                {"GL_BLEND", GL_BLEND},
-                {"GL_SCISSOR_TEST", GL_SCISSOR_TEST},
-                {"GL_RASTERIZER_DISCARD", GL_RASTERIZER_DISCARD},
-                {"GL_FRAMEBUFFER_SRGB", GL_FRAMEBUFFER_SRGB}};
-    hostile_checks++;
-    for (size_t i = 0; i < sizeof caps / sizeof caps[0]; ++i)
-        if (!f->IsEnabled(caps[i].cap)) {
-            printf("  %s was switched off\n", caps[i].name);
-            hostile_mismatches++;
-        }
-    struct {
-        const char *name;
-        GLenum query;
-        GLint expected;
-    } values[] = {{"GL_CULL_FACE_MODE", GL_CULL_FACE_MODE, GL_FRONT_AND_BACK},
-                  {"GL_DEPTH_FUNC", GL_DEPTH_FUNC, GL_NEVER},
-                  {"GL_STENCIL_FUNC", GL_STENCIL_FUNC, GL_NEVER},
-                  {"GL_BLEND_SRC_RGB", GL_BLEND_SRC_RGB, GL_ZERO},
-                  {"GL_BLEND_DST_ALPHA", GL_BLEND_DST_ALPHA, GL_ZERO},
-                  {"GL_BLEND_EQUATION_RGB", GL_BLEND_EQUATION_RGB, GL_FUNC_REVERSE_SUBTRACT},
-                  {"GL_BLEND_EQUATION_ALPHA", GL_BLEND_EQUATION_ALPHA, GL_FUNC_REVERSE_SUBTRACT},
-                  {"GL_PACK_ALIGNMENT", GL_PACK_ALIGNMENT, 8},
-                  {"GL_PACK_ROW_LENGTH", GL_PACK_ROW_LENGTH, 3},
-                  {"GL_UNPACK_ALIGNMENT", GL_UNPACK_ALIGNMENT, 2},
-                  {"GL_UNPACK_ROW_LENGTH", GL_UNPACK_ROW_LENGTH, 5},
-                  {"GL_ACTIVE_TEXTURE", GL_ACTIVE_TEXTURE, GL_TEXTURE7},
-                  {"GL_VERTEX_ARRAY_BINDING", GL_VERTEX_ARRAY_BINDING, (GLint)hostile_vertex_array},
-                  {"GL_CURRENT_PROGRAM", GL_CURRENT_PROGRAM, 0},
-                  {"GL_POLYGON_MODE", GL_POLYGON_MODE, GL_LINE}};
-    for (size_t i = 0; i < sizeof values / sizeof values[0]; ++i) {
-        if (!bindings && (values[i].query == GL_ACTIVE_TEXTURE || values[i].query == GL_VERTEX_ARRAY_BINDING ||
-                          values[i].query == GL_CURRENT_PROGRAM))
-            continue;
-        GLint v[4] = {0, 0, 0, 0};
-        f->GetIntegerv(values[i].query, v);
-        if (v[0] != values[i].expected) {
-            printf("  %s is 0x%x, the host left 0x%x\n", values[i].name, (unsigned)v[0], (unsigned)values[i].expected);
-            hostile_mismatches++;
-        }
-    }
-    /* draw buffers 1..3: libhalo sets its outputs' blending there for the host's draws, and
-     * gives the host's back when halo_gl_frame_draw returns */
-    for (GLuint k = 1; k <= 3 && bindings && f->IsEnabledi && f->GetIntegeri_v && f->GetBooleani_v; ++k) {
-        GLint src_rgb = 0, dst_alpha = 0, equation_rgb = 0, equation_alpha = 0;
-        GLboolean m[4] = {0, 0, 0, 0};
-        f->GetIntegeri_v(GL_BLEND_SRC_RGB, k, &src_rgb);
-        f->GetIntegeri_v(GL_BLEND_DST_ALPHA, k, &dst_alpha);
-        f->GetIntegeri_v(GL_BLEND_EQUATION_RGB, k, &equation_rgb);
-        f->GetIntegeri_v(GL_BLEND_EQUATION_ALPHA, k, &equation_alpha);
-        f->GetBooleani_v(GL_COLOR_WRITEMASK, k, m);
-        if ((f->IsEnabledi(GL_BLEND, k) != 0) != (k != 1) || src_rgb != GL_DST_COLOR ||
-            dst_alpha != GL_CONSTANT_COLOR || equation_rgb != (k == 2 ? GL_MIN : GL_FUNC_SUBTRACT) ||
-            equation_alpha != GL_MAX || m[0] != (k == 3) || !m[1] || m[2] || m[3] != (k == 2)) {
-            printf("  draw buffer %u's blending or colour mask was changed\n", k);
-            hostile_mismatches++;
-        }
-    }
-    GLint box[4], viewport[4];
-    GLboolean mask[4] = {1, 1, 1, 1}, depth_mask = 1;
-    f->GetIntegerv(GL_SCISSOR_BOX, box);
-    f->GetIntegerv(GL_VIEWPORT, viewport);
-    f->GetBooleanv(GL_COLOR_WRITEMASK, mask);
-    f->GetBooleanv(GL_DEPTH_WRITEMASK, &depth_mask);
-    if (box[2] != 1 || box[3] != 1 || (bindings && (viewport[2] != 1 || viewport[3] != 1)) || mask[0] || mask[1] ||
-        mask[2] || mask[3] || depth_mask) {
-        printf("  the scissor box, viewport or write masks were changed\n");
-        hostile_mismatches++;
-    }
-}
+static hostile hostile_host; /* tests/hostile.h; its functions are set in test_hostile_state */
 
 /* The ray caster's untidy hook: after each of its draws the host leaves hostile state;
  * before each (and when halo_gl_frame_draw returns) libhalo must have given it back. */
 static void hostile_state(void *user, int before_draw)
 {
-    env *e = user;
+    (void)user;
     if (before_draw)
-        hostile_check(e->g.gl, before_draw == 2);
+        hostile_check(&hostile_host, before_draw == 2, "halo_gl_frame_draw");
     else
-        hostile_set(e->g.gl);
+        hostile_set(&hostile_host);
 }
 
 static halo_program *link_scene(env *e, const char *scene_text, const char *host, const char *file, int force,
@@ -678,30 +528,31 @@ static void test_hostile_state(env *e)
         for (int draw_once = 0; draw_once < 2; ++draw_once) {
             one_draw = draw_once;
             float *tidy = render_ray(e, scenes[s], 0, 4, 0, NULL);
-            hostile_checks = hostile_mismatches = 0;
+            hostile_host = (hostile){.f = e->g.gl, .vertex_array = hostile_host.vertex_array};
             untidy = 1;
-            float *hostile = render_ray(e, scenes[s], 0, 4, 0, NULL);
+            float *untidy_image = render_ray(e, scenes[s], 0, 4, 0, NULL);
             untidy = 0;
-            hostile_unset(e->g.gl); /* the later tests' hosts upload with the default packing */
+            hostile_unset(&hostile_host); /* the later tests' hosts upload with the default packing */
             one_draw = 0;
             const char *what = draw_once ? "one draw" : "segments";
-            CHECK(tidy && hostile, "%s, %s: both renders", s ? "occlusive halos" : "emissive halos", what);
-            if (tidy && hostile) {
+            CHECK(tidy && untidy_image, "%s, %s: both renders", s ? "occlusive halos" : "emissive halos", what);
+            if (tidy && untidy_image) {
                 double max_abs, rmse;
-                difference(tidy, hostile, &max_abs, &rmse);
+                difference(tidy, untidy_image, &max_abs, &rmse);
                 printf(
                     "hostile host state, %s, %s: against a tidy host max abs %.3g; %d checks of the state libhalo "
                     "gives back, %d changes\n",
-                    s ? "occlusive halos" : "emissive halos", what, max_abs, hostile_checks, hostile_mismatches);
+                    s ? "occlusive halos" : "emissive halos", what, max_abs, hostile_host.checks,
+                    hostile_host.mismatches);
                 CHECK(max_abs == 0.0, "%s, %s: a host's hostile state changes the image by %.3g",
                       s ? "occlusive halos" : "emissive halos", what, max_abs);
-                CHECK(hostile_checks > 0 && hostile_mismatches == 0,
+                CHECK(hostile_host.checks > 0 && hostile_host.mismatches == 0,
                       "%s, %s: libhalo changed %d pieces of the host's "
                       "state",
-                      s ? "occlusive halos" : "emissive halos", what, hostile_mismatches);
+                      s ? "occlusive halos" : "emissive halos", what, hostile_host.mismatches);
             }
             free(tidy);
-            free(hostile);
+            free(untidy_image);
         }
 }
 
