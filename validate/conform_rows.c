@@ -372,9 +372,9 @@ const conform_row conform_rows[] = {
                 SEGMENT_HALOS_SCENE, 0, 0),
     SEGMENT_ROW("ray@ortho", "the segmented ray caster with two halos, orthographic", SLICE_HALOS_TOL,
                 SEGMENT_HALOS_WHY
-                "; holds at 25 to 128 pixels a side (at 128, 5 pixels fell on a segment decision, "
-                "now bracketed); at 256, 1 pixel of 65536 is 3.3e-3 off, cause not found (not the segment, exit, "
-                "threshold or box decisions; the one-draw row of the same scene passes there)",
+                "; every ray meets the planes between segments at the same depths, so many samples lie "
+                "on a plane: each plane's decision is bracketed both ways, all planes together and "
+                "alternately (at 256, 1 pixel was 3.3e-3 off with the planes moved all one way)",
                 SEGMENT_HALOS_SCENE, 0, 1),
     SEGMENT_ROW("ray@outlines", "the segmented ray caster with a halo and outlines (post passes)", SLICE_HALOS_TOL,
                 SEGMENT_HALOS_WHY, SEGMENT_OUTLINES_SCENE, 0, 0),
@@ -402,8 +402,12 @@ const conform_row conform_rows[] = {
                       "as ray@webgl, the field as ray@one_draw; early termination at 0.98 bracketed",
                       SEGMENT_HOST_SCENE, conform_segment_webgl, 1.0f),
     HOST_ROW("ray@webgl_sample", "webgl_caster.frag, jitter 1, per-sample stages: early termination at 0.98",
-             "as ray@webgl; the termination decision on 0.98 bracketed", SEGMENT_SAMPLE_SCENE, conform_segment_webgl,
-             1.0f),
+             "as ray@webgl; the termination decision on 0.98 bracketed; holds at 25 to 128 pixels a side: at 256, 1 "
+             "pixel of 65536 is 2.7e-3 off, where a sample of opacity 0.998 lies at a near-zero gradient (|g| "
+             "5.9e-4 of a voxel, the ray's samples before it 0.1 to 0.17): its normal, and so its tone, is the "
+             "direction of differences of two filtered fetches that float32 and the texture unit's weights give "
+             "only to about 1e-3",
+             SEGMENT_SAMPLE_SCENE, conform_segment_webgl, 1.0f),
     HOST_ROW("ray@exit_points", "exit_point_caster.frag (two passes, GL 4.5) with two halos, M = 4",
              "as ray; the exit is the back-face pass's interpolated point (the box's exit up to the rasterizer's "
              "float interpolation): its step count bracketed as ray's exits; " HOST_WHY_DERIVED,

@@ -43,7 +43,11 @@ typedef struct conform_segment_model {
     const conform_segment_host *host; /* NULL: raycast.frag */
     double jitter;                    /* the uniform `jitter` (webgl_caster.frag) */
     double threshold_move, exit_move, iso_move;
-    double layer_move; /* a one_draw program: the phi a sample's stack layer is chosen by */
+    double layer_move; /* the phi of the planes between segments (one_draw: the stack layer a
+                        * sample reads), moved by this */
+    int layer_pattern; /* 0: every plane moved the same way; p > 0: plane b moved by
+                        * -layer_move where bit p - 1 of b is 0 (each plane's decision is
+                        * its own float rounding, not one direction for all) */
 } conform_segment_model;
 
 /* The frame of the model's host drawn by the plan (halo_segment_plan_make with the state's
