@@ -12,6 +12,7 @@
  * result by the origins of its lines. The sample snippet is written twice: with this
  * host's names for the program, with the composer's expressions for the piece. */
 #include "diag.h"
+#include "glsl_lex.h"
 #include "host_check.h"
 #include "internal.h"
 #include "strbuf.h"
@@ -202,25 +203,26 @@ static int set_generated_piece(halo_program *p, halo_piece piece, char *text)
     return 0;
 }
 
-/* Does text declare name as a uniform: the whole identifier on a line that has the word
- * "uniform" before it? (A link without the parameter live has a constant of that name.) */
+/* Does text declare name as a uniform: the identifier in a declaration that starts with
+ * the keyword "uniform" (outside comments: the tokens), up to its ';'? (A link without the
+ * parameter live has a constant of that name.) -1 when memory ran out. */
 static int declares_uniform(const char *text, const char *name)
 {
-    size_t n = strlen(name);
-    for (const char *at = strstr(text, name); at; at = strstr(at + 1, name)) {
-        int before = at > text && (isalnum((unsigned char)at[-1]) || at[-1] == '_');
-        int after = isalnum((unsigned char)at[n]) || at[n] == '_';
-        if (before || after)
+    halo_token_list t = {0};
+    if (halo_lex(text, &t) != 0)
+        return -1;
+    int found = 0;
+    for (size_t i = 0; i < t.count && !found; i++) {
+        if (t.items[i].kind != HALO_TOK_IDENT || !halo_token_is(text, &t.items[i], "uniform"))
             continue;
-        const char *line = at;
-        while (line > text && line[-1] != '\n')
-            --line;
-        for (const char *u = strstr(line, "uniform"); u && u < at; u = strstr(u + 1, "uniform"))
-            if ((u == line || !(isalnum((unsigned char)u[-1]) || u[-1] == '_')) && !isalnum((unsigned char)u[7]) &&
-                u[7] != '_')
-                return 1;
+        for (size_t j = i + 1; j < t.count && !halo_token_is(text, &t.items[j], ";"); j++)
+            if (t.items[j].kind == HALO_TOK_IDENT && halo_token_is(text, &t.items[j], name)) {
+                found = 1;
+                break;
+            }
     }
-    return 0;
+    halo_token_list_free(&t);
+    return found;
 }
 
 /* With engine_uniforms, the pieces host declares the live parameters as the engine would
@@ -513,8 +515,8 @@ static halo_status validate_composed_held(const halo_program *p, const char *com
     int stale = 0;
     for (size_t u = 0; u < p->uniform_count && !p->engine_uniforms; u++)
         if (p->uniforms[u].live && p->pieces[HALO_PIECE_DECLARATIONS] &&
-            declares_uniform(p->pieces[HALO_PIECE_DECLARATIONS], p->uniforms[u].name) &&
-            !declares_uniform(text, p->uniforms[u].name)) {
+            declares_uniform(p->pieces[HALO_PIECE_DECLARATIONS], p->uniforms[u].name) == 1 &&
+            declares_uniform(text, p->uniforms[u].name) == 0) {
             halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_USAGE, composed_file, 0, 0, NULL,
                                     "the composed shader has no uniform %s (%s.%s, live in this program): it was "
                                     "composed from other pieces; compose it again from this link's pieces",

@@ -51,4 +51,13 @@ run 0 "$HALO_VALIDATE" $(echo "$link" | sed "s|$data/scenes/halo_pieces.json|$tm
 sed "" "$template" | awk -v dir="$tmp/stale" -f "$data/composer/compose.awk" >"$tmp/stale.frag"
 run 1 "$HALO_VALIDATE" $link --composed "$tmp/stale.frag"
 expect_stderr "stale\.frag: error: the composed shader has no uniform halo_halo_[a-z_]+ \\(halo_[a-z_]+\\.[a-z]+, live in this program\\)"
+# the same with the missing uniforms declared in comments only: still an error (before: the
+# word "uniform" and the name on one line passed the check)
+for name in $(grep -o 'uniform [a-z_]* halo_halo_[a-z_0-9]*' "$tmp/pieces/declarations.glsl" | sed 's/.* //'); do
+    printf '// uniform float %s;\n/* uniform float %s; */\n' "$name" "$name"
+done >"$tmp/comments.glsl"
+test -s "$tmp/comments.glsl" || fail "no live uniform found in the declarations piece"
+{ sed -n '1p' "$tmp/stale.frag"; cat "$tmp/comments.glsl"; sed '1d' "$tmp/stale.frag"; } >"$tmp/commented.frag"
+run 1 "$HALO_VALIDATE" $link --composed "$tmp/commented.frag"
+expect_stderr "commented\.frag: error: the composed shader has no uniform halo_halo_[a-z_]+"
 finish
