@@ -29,10 +29,15 @@ typedef enum expr_type {
     TYPE_VEC3,
     TYPE_VEC4,
     TYPE_INT,
-    TYPE_BOOL
+    TYPE_BOOL,
+    TYPE_OTHER /* and after it: the other constructors' types (type_names), no field's */
 } expr_type;
 
-static const char *const type_names[] = {"?", "float", "vec2", "vec3", "vec4", "int", "bool"};
+static const char *const type_names[] = {
+    "?",      "float",  "vec2",   "vec3",   "vec4",   "int",    "bool",   "mat2",  "mat3",  "mat4",  "mat2x2", "mat2x3",
+    "mat2x4", "mat3x2", "mat3x3", "mat3x4", "mat4x2", "mat4x3", "mat4x4", "ivec2", "ivec3", "ivec4", "uint",   "uvec2",
+    "uvec3",  "uvec4",  "bvec2",  "bvec3",  "bvec4",  "double", "dvec2",  "dvec3", "dvec4", "dmat2", "dmat3",  "dmat4"};
+#define TYPE_COUNT ((int)(sizeof type_names / sizeof type_names[0]))
 
 /* The field's kind: a value of a type, a vec4 lvalue, or a sampler designator. */
 typedef enum field_kind { FIELD_VALUE, FIELD_LVALUE, FIELD_SAMPLER } field_kind;
@@ -164,10 +169,11 @@ static int tokenize(parser *ps)
 static result parse_expression(parser *ps);
 static result parse_conditional(parser *ps);
 
-/* float, vecN, int, bool (the constructors whose type the expression names) */
+/* float, vecN, int, bool, matrices, integer, boolean and double vectors (the constructors
+ * whose type the expression names) */
 static expr_type constructor_type(const char *s, size_t n)
 {
-    for (int t = TYPE_FLOAT; t <= TYPE_BOOL; t++)
+    for (int t = TYPE_FLOAT; t < TYPE_COUNT; t++)
         if (strlen(type_names[t]) == n && !memcmp(type_names[t], s, n))
             return (expr_type)t;
     return TYPE_UNKNOWN;
@@ -512,8 +518,9 @@ static int check_one(const char *name, const char *text, field_kind kind, expr_t
     int converts = !es && r.type == TYPE_INT && expected == TYPE_FLOAT;
     if (!ps.failed && expected && r.type && r.type != expected && !converts) {
         char what[160];
-        snprintf(what, sizeof what, "the expression is a%s %s, but %s is a %s", r.type == TYPE_INT ? "n" : "",
-                 type_names[r.type], name, type_names[expected]);
+        const char *type = type_names[r.type];
+        snprintf(what, sizeof what, "the expression is a%s %s, but %s is a %s", type[0] == 'i' ? "n" : "", type, name,
+                 type_names[expected]);
         report(&ps, 0, "%s", what);
     }
     free(ps.tokens);

@@ -427,6 +427,9 @@ static int test_piece_expressions(void)
         {"value", "2f", 7},             /* a float suffix without '.' or exponent */
         {"value", "09", 7},             /* not octal */
         {"color", "(a, colors[1])", 7}, /* a comma expression is no lvalue */
+        {"value", "mat2(1.0)", 7},      /* constructors of no field's type (before: left to glslang) */
+        {"position", "ivec3(1)", 10},
+        {"value", "abs(dvec2(1.0))", 7},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         halo_pieces_desc names = engine_names;
