@@ -576,9 +576,15 @@ typedef struct halo_stage_info {
                               * seed image of 0 (a host may skip the generation of an empty slab) */
     const char *labels_when; /* `is labels_when=PARAM`: it reads halo_host_labels only for the values
                               * of PARAM that are >= 0; NULL: whenever it declares that host uniform */
+    const char *interval;    /* `is interval=PARAM`: PARAM (an int) is M, the slices or planes a host
+                              * draws between two generations of its passes (halo_program_interval) */
 } halo_stage_info;
 /* NULL for an index past the stages. */
 HALO_API const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t index);
+/* M, the slices (planes) between two generations: the value of the first stage's `is
+ * interval=` parameter (e.g. halo_generate.interval), or 0 when no stage states one (a host
+ * then takes its own, e.g. the paper's 4). */
+HALO_API int halo_program_interval(const halo_program *p);
 /* Whether the program reads halo_host_labels with its current parameter values (a stage
  * declares it and, with labels_when, a value of that parameter is >= 0, or the parameter
  * is live: it may change). */
@@ -867,7 +873,7 @@ typedef struct halo_gl_segments_desc {
     float step;                           /* required: the host's sample spacing along a ray, in that space; segment
                             * planes are this far apart, as the slice host's slices */
     float box_min[3], box_max[3];         /* the volume's box in that space; all zero: the unit cube */
-    int interval;                         /* M, planes per segment; 0: the program's halo_generate.interval, or 4 */
+    int interval;                         /* M, planes per segment; 0: the program's (halo_program_interval), or 4 */
     int segments;                         /* > 0: exactly this many segments (a program linked with force_segments),
                             * at most HALO_SEGMENTS_MAX (more: USAGE) */
     unsigned framebuffer;                 /* the host's framebuffer: its colour attachment 0 gets the host's output */

@@ -310,6 +310,7 @@ typedef struct parse_ctx {
     int errors;
     int module_tried, hook_tried;          /* a 'module' or 'hook' annotation was there, malformed */
     int labels_when_line, labels_when_col; /* where 'is labels_when=' was */
+    int interval_line, interval_col;       /* where 'is interval=' was */
 } parse_ctx;
 
 #define ANNOT_ERROR(ctx, id, line, col, ...)                                                                    \
@@ -872,10 +873,14 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
                 m->info.labels_when = halo_strdup(w.w[i] + 12);
                 ctx->labels_when_line = line;
                 ctx->labels_when_col = w.col[i];
+            } else if (!strncmp(w.w[i], "interval=", 9) && valid_name(w.w[i] + 9) && !m->info.interval) {
+                m->info.interval = halo_strdup(w.w[i] + 9);
+                ctx->interval_line = line;
+                ctx->interval_col = w.col[i];
             } else
                 ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[i],
                             "'%s' is not a property 'is' takes (keeps_empty, zero_generation, labels_when=PARAM, "
-                            "once)",
+                            "interval=PARAM, once)",
                             w.w[i]);
         }
     } else if (!strcmp(d, "declarations")) {
@@ -1008,7 +1013,7 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
     halo_module *m = calloc(1, sizeof *m);
     if (!m)
         return NULL;
-    parse_ctx ctx = {m, diag, 0, 0, 0, 0, 0};
+    parse_ctx ctx = {.m = m, .diag = diag};
     source = halo_skip_bom(source); /* a UTF-8 byte-order mark is no part of the module */
     m->file = halo_strdup(file);
     m->source = halo_strdup(source);
@@ -1073,6 +1078,16 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
                                 "'is labels_when=%s': the module has no parameter '%s'", m->info.labels_when,
                                 m->info.labels_when);
         ctx.errors++;
+    }
+    if (m->info.interval) {
+        const halo_param_info *pi = halo_module_find_param(m, m->info.interval);
+        if (!pi || pi->type != HALO_PARAM_INT || pi->components != 1) {
+            halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, ctx.interval_line,
+                                    ctx.interval_col, m->lines[ctx.interval_line - 1],
+                                    "'is interval=%s': the module has no int parameter '%s'", m->info.interval,
+                                    m->info.interval);
+            ctx.errors++;
+        }
     }
     /* Tokens of the code, annotation lines left out. */
     halo_token_list all;
@@ -1168,6 +1183,7 @@ void halo_module_free(halo_module *m)
         return;
     free(m->name);
     free((char *)m->info.labels_when);
+    free((char *)m->info.interval);
     free(m->file);
     free(m->summary);
     halo_name_list_free(&m->needs);

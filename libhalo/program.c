@@ -205,6 +205,18 @@ const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t i)
     HALO_REFUSE_NULL(NULL, p, "program", NULL);
     return i < p->stage_count ? &p->stages[i].module->info : NULL;
 }
+int halo_program_interval(const halo_program *p)
+{
+    HALO_REFUSE_NULL(NULL, p, "program", 0);
+    for (size_t i = 0; i < p->stage_count; i++) {
+        const halo_module *m = p->stages[i].module;
+        const halo_uniform_info *u = m->info.interval ? halo_program_find_uniform(p, m->name, m->info.interval) : NULL;
+        if (u && u->value && u->count > 0 && u->value[0] >= 1.0 && u->value[0] < 1e6)
+            return (int)u->value[0];
+    }
+    return 0;
+}
+
 int halo_program_reads_labels(const halo_program *p)
 {
     HALO_REFUSE_NULL(NULL, p, "program", 0);
@@ -457,6 +469,7 @@ char *halo_program_reflect_json(const halo_program *p)
         json_object_set_new(o, "keeps_empty", json_boolean(in->keeps_empty));
         json_object_set_new(o, "zero_generation", json_boolean(in->zero_generation));
         json_object_set_new(o, "labels_when", in->labels_when ? json_string(in->labels_when) : json_null());
+        json_object_set_new(o, "interval", in->interval ? json_string(in->interval) : json_null());
         json_array_append_new(infos, o);
     }
     json_object_set_new(root, "stage_info", infos);

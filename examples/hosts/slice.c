@@ -175,10 +175,8 @@ int halo_slice_interval(const halo_slice *s)
         return 1;
     if (s->interval_override > 0)
         return s->interval_override;
-    const halo_uniform_info *u = s->linked ? halo_program_find_uniform(s->linked, "halo_generate", "interval") : NULL;
-    if (u && u->value && u->count > 0 && u->value[0] >= 1.0)
-        return (int)u->value[0];
-    return 4;
+    int m = s->linked ? halo_program_interval(s->linked) : 0;
+    return m > 0 ? m : 4;
 }
 
 /* Without a segmentation the labels sampler still needs a 3D texture of its own (unit 0

@@ -1,7 +1,7 @@
 #pragma halo module halo_generate
 #pragma halo summary "volumetric halos, generation: spreads the gradient of the seed image into the halo field and the occlusion image"
 #pragma halo hook image
-#pragma halo is keeps_empty zero_generation
+#pragma halo is keeps_empty zero_generation interval=interval
 #pragma halo needs seed
 #pragma halo provides field image
 #pragma halo provides occlusion image

@@ -151,15 +151,13 @@ halo_status halo_gl_set_camera(halo_gl *gl, unsigned gl_program, const halo_gl_s
     return HALO_OK;
 }
 
-/* M: the desc's, the program's halo_generate.interval, or the paper's 4. */
+/* M: the desc's, the program's (halo_program_interval), or the paper's 4. */
 static int segment_interval(const halo_program *p, const halo_gl_segments_desc *d)
 {
     if (d->interval > 0)
         return d->interval;
-    const halo_uniform_info *u = halo_program_find_uniform(p, "halo_generate", "interval");
-    if (u && u->value && u->count > 0 && u->value[0] >= 1.0 && u->value[0] < 1e6)
-        return (int)u->value[0];
-    return 4;
+    int m = halo_program_interval(p);
+    return m > 0 ? m : 4;
 }
 
 int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p, halo_segment_plan *plan,

@@ -1278,9 +1278,22 @@ static int test_stage_info(void)
     }
     CHECK(halo_program_stage_info(p, halo_program_stage_count(p)) == NULL);
     CHECK_INT_EQ(halo_program_reads_labels(p), 0);
+    /* M from the stage that says which parameter is it (halo_generate: interval, default 4) */
+    int generate = stage_index(p, "halo_generate");
+    const halo_stage_info *gen = generate >= 0 ? halo_program_stage_info(p, (size_t)generate) : NULL;
+    CHECK(gen && gen->interval && !strcmp(gen->interval, "interval"));
+    CHECK_INT_EQ(halo_program_interval(p), 4);
     char *json = halo_program_reflect_json(p);
     CHECK(json && strstr(json, "\"stage_info\"") && strstr(json, "\"zero_generation\": true"));
     free(json);
+    halo_program_destroy(p);
+    p = link_valid(
+        "{\"halo_scene\": 1, \"stages\": [\"halo_seed\", {\"halo_generate\": {\"interval\": 7}}, "
+        "\"halo_map\"]}");
+    CHECK(p && halo_program_interval(p) == 7);
+    halo_program_destroy(p);
+    p = link_valid("{\"halo_scene\": 1, \"stages\": [\"boundary\"]}");
+    CHECK(p && halo_program_interval(p) == 0);
     halo_program_destroy(p);
     /* outline_feature reads the labels only for a feature with label >= 0 */
     p = link_valid(

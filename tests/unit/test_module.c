@@ -394,6 +394,14 @@ static int test_is_annotation(void)
                     "#pragma halo is labels_when=lable\n"
                     "void apply(inout halo_sample s) {}\n",
                     HALO_MSG_ANNOTATION_SYNTAX, 4);
+    /* interval names an int parameter of the module */
+    CHECK_ONE_ERROR("user/is.glsl",
+                    "#pragma halo module is_interval\n"
+                    "#pragma halo hook sample\n"
+                    "#pragma halo param m float default=4\n"
+                    "#pragma halo is interval=m\n"
+                    "void apply(inout halo_sample s) {}\n",
+                    HALO_MSG_ANNOTATION_SYNTAX, 4);
     CHECK_INT_EQ(add("user/is_ok.glsl",
                      "#pragma halo module is_ok\n"
                      "#pragma halo hook sample\n"

@@ -452,6 +452,12 @@ CASE(halo_program_stage_info)
     REFUSES(halo_program_stage_info(NULL, 0) == NULL, "program");
     return 0;
 }
+CASE(halo_program_interval)
+{
+    REFUSES(halo_program_interval(NULL) == 0, "program");
+    return 0;
+}
+
 CASE(halo_program_reads_labels)
 {
     REFUSES(halo_program_reads_labels(NULL) == 0, "program");
@@ -1074,6 +1080,7 @@ static const api_case cases[] = {
     ROW(halo_program_stage_count),
     ROW(halo_program_stage),
     ROW(halo_program_stage_info),
+    ROW(halo_program_interval),
     ROW(halo_program_reads_labels),
     ROW(halo_program_uniform_count),
     ROW(halo_program_uniform),
