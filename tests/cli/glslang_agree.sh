@@ -63,7 +63,8 @@ expect_stderr "own_version\.frag:5:[0-9]+: error: 'gl_FragColor'"
 # (under AddressSanitizer the crash must stay a signal, as in a plain build: ASan would
 # catch it and exit with its own report)
 ASAN_OPTIONS="handle_segv=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
-export ASAN_OPTIONS
+TSAN_OPTIONS="handle_segv=0${TSAN_OPTIONS:+:$TSAN_OPTIONS}"
+export ASAN_OPTIONS TSAN_OPTIONS
 run 1 "$HALO_VALIDATE" check "$dir/compiler_crash.vert" "$dir/own_version.frag"
 expect_stderr "compiler_crash\.vert(:[0-9]+:[0-9]+)?: error: "
 grep -q "own_version\.frag: ok" "$tmp/out" || fail "the file after a compiler crash was not checked"
