@@ -283,6 +283,10 @@ nodist_EXTRA_tests_hosts_test_hosts_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_hosts_test_hosts_LDADD = $(HALO_TOOL_LIBS)
 TESTS += tests/hosts/test_hosts
 
+# ray@ortho at 128 and 256 pixels a side (issue 26).
+TESTS += tests/conform_sizes.sh
+EXTRA_DIST += tests/conform_sizes.sh
+
 # libhalo's runtime in a host's hostile GL state (issue 26): the slice and slab hosts'
 # frame calls, the feature buffer, the ray caster; on OpenGL ES contexts too.
 check_PROGRAMS += tests/hosts/test_host_state
