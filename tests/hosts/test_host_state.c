@@ -61,7 +61,10 @@ static double max_abs_difference(const float *a, const float *b, size_t n)
     return m;
 }
 
-static halo_program *link_file(env *e, const char *scene_file, const char *host_name, halo_scene **scene_out)
+/* scene_file (examples/scenes/) linked into the embedded host host_name, for GLSL ES 300 on
+ * an ES context; NULL after printing the diagnostics. */
+static halo_program *link_file(env *e, const char *scene_file, const char *host_name, int one_draw,
+                               halo_scene **scene_out)
 {
     char path[1024];
     snprintf(path, sizeof path, "%s/examples/scenes/%s", e->srcdir, scene_file);
@@ -71,6 +74,7 @@ static halo_program *link_file(env *e, const char *scene_file, const char *host_
                                                           .scene = scene,
                                                           .host_source = host,
                                                           .host_file = host_name,
+                                                          .one_draw = one_draw,
                                                           .target = e->es ? HALO_TARGET_ES300 : HALO_TARGET_DEFAULT},
                                         e->g.diag)
                             : NULL;
@@ -116,7 +120,7 @@ static float *render_slice(env *e, const char *scene_file, int slab, int untidy,
                            size_t *read_count)
 {
     halo_scene *scene = NULL;
-    halo_program *p = link_file(e, scene_file, slab ? "slab.frag" : "slice.frag", &scene);
+    halo_program *p = link_file(e, scene_file, slab ? "slab.frag" : "slice.frag", 0, &scene);
     float *rgba = malloc((size_t)SIZE * SIZE * 4 * sizeof *rgba);
     const halo_host_desc desc = {.gl = e->g.gl, .runtime = e->g.runtime, .program = p, .width = SIZE, .height = SIZE};
     halo_slice *s = !p ? NULL : slab ? halo_slab_create(&desc, e->g.diag) : halo_slice_create(&desc, e->g.diag);
@@ -269,19 +273,7 @@ static void ray_untidy(void *user, int before_draw)
 static float *render_ray(env *e, const char *scene_file, int one_draw, int untidy)
 {
     halo_scene *scene = NULL;
-    char path[1024];
-    snprintf(path, sizeof path, "%s/examples/scenes/%s", e->srcdir, scene_file);
-    char *host = halo_host_load("raycast.frag", NULL, e->g.diag);
-    scene = host ? halo_scene_load(path, e->g.lib, e->g.diag) : NULL;
-    halo_program *p = scene ? halo_link(&(halo_link_desc){.library = e->g.lib,
-                                                          .scene = scene,
-                                                          .host_source = host,
-                                                          .host_file = "raycast.frag",
-                                                          .one_draw = one_draw,
-                                                          .target = e->es ? HALO_TARGET_ES300 : HALO_TARGET_DEFAULT},
-                                        e->g.diag)
-                            : NULL;
-    free(host);
+    halo_program *p = link_file(e, scene_file, "raycast.frag", one_draw, &scene);
     float *rgba = malloc((size_t)SIZE * SIZE * 4 * sizeof *rgba);
     const halo_host_desc desc = {.gl = e->g.gl, .runtime = e->g.runtime, .program = p, .width = SIZE, .height = SIZE};
     halo_raycast *r = p ? halo_raycast_create(&desc, e->g.diag) : NULL;
