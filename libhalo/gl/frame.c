@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define FRAME_MAX_BUFFERS 8 /* draw buffers whose blend enable is saved */
+#define FRAME_MAX_BUFFERS 8 /* halo_gl_frame_attach's draw-buffer list holds 4x this */
 
 /* A box of pixels [x0, x1) x [y0, y1); empty when x0 >= x1 or y0 >= y1. */
 typedef struct frame_box {

@@ -41,12 +41,11 @@ char *halo_gl_program_log(const halo_glfuncs *f, GLuint program);
 void halo_gl_report_log(halo_diagnostics *diag, halo_message_id id, char *log, const halo_program *p,
                         const char *source, const char *file);
 
-/* The host's bindings that libhalo's own draws change (framebuffers, viewport, program,
- * vertex array, active texture unit), saved before and restored after them; the caller
- * saves and restores whatever else it changes. */
 /* The host's state that libhalo's own draws, clears and read-backs set and give back:
  * bindings, and the switches a host may leave in any position (issue 26: a culled or
- * depth-tested full-screen pass draws nothing). */
+ * depth-tested full-screen pass draws nothing): framebuffers, viewport, program, vertex
+ * array, active unit, switches, polygon mode, pixel store and pixel buffers. The scissor
+ * and per-buffer blending are halo_gl_state's (below). */
 typedef struct halo_gl_bindings {
     GLint draw_framebuffer, read_framebuffer, viewport[4], program, vertex_array, active_texture;
     GLboolean switched_on[5];         /* halo_gl_switches: culling ... sRGB (desktop GL) */
