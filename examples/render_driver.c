@@ -45,6 +45,7 @@ static const char probe_host[] =
 typedef struct link_shape {
     int ok;
     size_t outputs, samplers, passes;
+    int feature_buffer; /* reads the halo buffer of feature halos (halo_feature.h) */
 } link_shape;
 
 static link_shape probe_link(const halo_library *lib, const char *const *stages, size_t count)
@@ -64,6 +65,8 @@ static link_shape probe_link(const halo_library *lib, const char *const *stages,
         shape.outputs = halo_program_output_count(p);
         shape.samplers = halo_program_sampler_count(p);
         shape.passes = halo_program_pass_count(p);
+        for (size_t i = 0; i < halo_program_host_uniform_count(p); ++i)
+            shape.feature_buffer |= !strcmp(halo_program_host_uniform(p, i)->name, HALO_HOST_FEATURE_BUFFER);
     }
     halo_program_destroy(p);
     halo_scene_destroy(scene);
@@ -89,6 +92,10 @@ size_t halo_driver_find_halo_stages(const halo_library *lib, const halo_scene *s
             continue;
         }
         link_shape alone = probe_link(lib, &name, 1);
+        if (alone.ok && alone.feature_buffer) { /* feature halos go with any host */
+            is_halo[i] = HALO_DRIVER_FEATURE;
+            continue;
+        }
         if (alone.ok)
             is_halo[i] = alone.outputs || alone.samplers || alone.passes;
         else
@@ -107,12 +114,8 @@ size_t halo_driver_find_halo_stages(const halo_library *lib, const halo_scene *s
         is_halo[i] = with.ok && (with.outputs > without.outputs || with.samplers > without.samplers ||
                                  with.passes > without.passes);
     }
-    /* feature halos (a halo buffer read per sample) go with any host */
-    for (size_t i = 0; i < n; ++i) {
-        if (!strcmp(halo_scene_stage(scene, i), HALO_DRIVER_FEATURE_STAGE))
-            is_halo[i] = 0;
-        found += is_halo[i] != 0;
-    }
+    for (size_t i = 0; i < n; ++i)
+        found += is_halo[i] == HALO_DRIVER_HALO;
     free(base);
     free(pending);
     return found;
@@ -126,11 +129,13 @@ halo_driver_host halo_driver_choose_host(const halo_library *lib, const halo_sce
     return found ? HALO_DRIVER_SLICE : HALO_DRIVER_RAYCAST;
 }
 
-int halo_driver_has_stage(const halo_scene *scene, const char *name)
+int halo_driver_has_feature_halos(const halo_library *lib, const halo_scene *scene)
 {
-    for (size_t i = 0; i < halo_scene_stage_count(scene); ++i)
-        if (!strcmp(halo_scene_stage(scene, i), name))
+    for (size_t i = 0; i < halo_scene_stage_count(scene); ++i) {
+        const char *name = halo_scene_stage(scene, i);
+        if (probe_link(lib, &name, 1).feature_buffer)
             return 1;
+    }
     return 0;
 }
 
@@ -141,7 +146,7 @@ int halo_driver_disable_halo_stages(halo_scene *scene, const int *is_halo, halo_
     char **names = calloc(n + 1, sizeof *names);
     int ok = names != NULL;
     for (size_t i = 0; ok && i < n; ++i)
-        if (is_halo[i] || !strcmp(halo_scene_stage(scene, i), HALO_DRIVER_FEATURE_STAGE))
+        if (is_halo[i])
             ok = (names[count++] = strdup(halo_scene_stage(scene, i))) != NULL;
     for (size_t i = 0; ok && i < count; ++i)
         ok = halo_scene_enable(scene, names[i], 0, diag) == HALO_OK;
@@ -288,7 +293,7 @@ void halo_driver_bind_feature(halo_driver *d, const halo_feature_buffer *buffer)
     const halo_glfuncs *f = halo_gl_functions(d->runtime);
     unsigned gl_program = d->raycast ? halo_raycast_gl_program(d->raycast) : halo_slice_gl_program(d->slice);
     f->UseProgram(gl_program);
-    f->Uniform1i(f->GetUniformLocation(gl_program, "halo_host_feature_buffer"), FEATURE_BUFFER_UNIT);
+    f->Uniform1i(f->GetUniformLocation(gl_program, HALO_HOST_FEATURE_BUFFER), FEATURE_BUFFER_UNIT);
     f->UseProgram(0);
     f->ActiveTexture(GL_TEXTURE0 + FEATURE_BUFFER_UNIT);
     f->BindTexture(GL_TEXTURE_3D, halo_feature_buffer_texture(buffer));

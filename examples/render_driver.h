@@ -25,19 +25,22 @@ extern const char *const halo_driver_host_names[];
 /* The host's fragment shader (halo_host_load): "slice.frag", "slab.frag", "raycast.frag". */
 const char *halo_driver_fragment(halo_driver_host kind);
 
-/* The stage of feature halos (libhalo/halo_feature.h): its halo buffer is built by the driver. */
-#define HALO_DRIVER_FEATURE_STAGE "feature_halo"
+/* is_halo values of halo_driver_find_halo_stages. */
+enum { HALO_DRIVER_HALO = 1, HALO_DRIVER_FEATURE = 2 };
 
-/* Marks the scene's halo stages in is_halo (one per scene stage): a stage with hook
- * image, or one that adds extra outputs, images read per sample or image passes. A
- * stage that does not link alone is judged together with the halo stages found first.
- * feature_halo is not one (it goes with any host). Returns the number found. */
+/* Marks the scene's stages in is_halo (one per scene stage): HALO_DRIVER_HALO for a
+ * stage with hook image, or one that adds extra outputs, images read per sample or
+ * image passes (a stage that does not link alone is judged together with the halo
+ * stages found first); HALO_DRIVER_FEATURE for one that reads the halo buffer of feature
+ * halos (halo_feature.h: the driver builds it; it goes with any host); else 0. Returns
+ * the number of HALO_DRIVER_HALO stages. No stage is known by its name. */
 size_t halo_driver_find_halo_stages(const halo_library *lib, const halo_scene *scene, int *is_halo);
 /* The host for the scene: the slice host when it has halo stages, else the ray caster. */
 halo_driver_host halo_driver_choose_host(const halo_library *lib, const halo_scene *scene);
-/* Switches off the marked stages and feature_halo. Returns 0 on failure. */
+/* Switches off the marked stages (halos and feature halos). Returns 0 on failure. */
 int halo_driver_disable_halo_stages(halo_scene *scene, const int *is_halo, halo_diagnostics *diag);
-int halo_driver_has_stage(const halo_scene *scene, const char *name);
+/* Whether a stage of the scene reads the feature halo buffer (HALO_HOST_FEATURE_BUFFER). */
+int halo_driver_has_feature_halos(const halo_library *lib, const halo_scene *scene);
 
 /* The built-in procedural volume (volume.h, values in [0,1]) of side size, mapped
  * through the window to [0,1] (clamped) unless the window is 0:1. NULL when memory

@@ -304,6 +304,8 @@ typedef struct halo_param_info {
     int default_count; /* elements in the default (1 unless an array) */
     double default_value[HALO_MAX_COMPONENTS];
     const char *meaning; /* one line, with units */
+    double step;         /* step=: the smallest change that means something (e.g. 1 for a 0/1 mode kept as
+                          * a float); 0: not stated. For editors and sliders; values are not rounded to it */
 } halo_param_info;
 
 typedef struct halo_module halo_module;
@@ -526,7 +528,8 @@ typedef struct halo_pass_info {
     const char *inputs[HALO_MAX_PASS_INPUTS]; /* image names; "previous" = the output before the pass */
     const char *first;                        /* for "previous" in the first repetition; NULL = the output itself */
     const char *output;
-    int repeat; /* 1..HALO_MAX_PASS_REPEAT: a repeat=PARAM parameter must declare max <= it */
+    int repeat;               /* 1..HALO_MAX_PASS_REPEAT: a repeat=PARAM parameter must declare max <= it */
+    const char *repeat_param; /* PARAM of repeat=PARAM (a parameter of `stage`, e.g. "passes"); NULL: once */
     const char *vertex_source;
     const char *fragment_source;
     halo_pass_at at;    /* when it runs */

@@ -602,6 +602,7 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     pi->at = pd->at;
     pi->channel = channel;
     pi->repeat = pd->repeat ? param_int(st, pd->repeat) : 1;
+    pi->repeat_param = pd->repeat ? halo_program_own(p, "%s", pd->repeat) : NULL;
     pi->start = pd->start > 1 ? pd->start : 1;
     pi->reach = pd->reach;
     /* -1 is "no exponent": a negative PARAM is B^0, the same as exponent 0 */

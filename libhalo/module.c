@@ -325,7 +325,7 @@ static void parse_param(parse_ctx *ctx, words *w, int line)
     halo_module *m = ctx->m;
     if (w->n < 3) {
         ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[0],
-                    "param needs: NAME TYPE default=VALUE [min=N] [max=N] \"meaning\"");
+                    "param needs: NAME TYPE default=VALUE [min=N] [max=N] [step=N] \"meaning\"");
         return;
     }
     const char *name = w->w[1], *type = w->w[2];
@@ -400,6 +400,17 @@ static void parse_param(parse_ctx *ctx, words *w, int line)
         } else if (!strncmp(a, "default=", 8)) {
             default_text = a + 8;
             default_col = w->col[i];
+        } else if (!strncmp(a, "step=", 5)) {
+            char *end;
+            double v = strtod(a + 5, &end);
+            if (*end || end == a + 5 || !isfinite(v) || v <= 0.0 ||
+                ((info.type == HALO_PARAM_INT || info.type == HALO_PARAM_BOOL) && v != floor(v))) {
+                ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i] + 5,
+                            "'%s' needs a finite number above 0 (a whole one for an int or bool)", a);
+                free((char *)info.meaning);
+                return;
+            }
+            info.step = v;
         } else if (!strncmp(a, "min=", 4) || !strncmp(a, "max=", 4)) {
             char *end;
             double v = strtod(a + 4, &end);
@@ -421,7 +432,7 @@ static void parse_param(parse_ctx *ctx, words *w, int line)
                 info.max = v;
         } else {
             ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i],
-                        "unexpected '%s' in param (default=, min=, max= or a \"meaning\")", a);
+                        "unexpected '%s' in param (default=, min=, max=, step= or a \"meaning\")", a);
             free((char *)info.meaning);
             return;
         }

@@ -493,6 +493,8 @@ char *halo_program_reflect_json(const halo_program *p)
         json_object_set_new(o, "count", json_integer(u->count));
         json_object_set_new(o, "min", number_or_null(u->info->min));
         json_object_set_new(o, "max", number_or_null(u->info->max));
+        if (u->info->step > 0.0)
+            json_object_set_new(o, "step", json_real(u->info->step));
         json_object_set_new(o, "meaning", json_string(u->info->meaning));
         json_array_append_new(u->live ? uniforms : constants, o);
     }
@@ -564,6 +566,8 @@ char *halo_program_reflect_json(const halo_program *p)
             json_object_set_new(o, "first", json_string(pi->first));
         json_object_set_new(o, "output", json_string(pi->output));
         json_object_set_new(o, "repeat", json_integer(pi->repeat));
+        if (pi->repeat_param)
+            json_object_set_new(o, "repeat_param", json_string(pi->repeat_param));
         if (pi->at)
             json_object_set_new(o, "at", json_string(pi->at == HALO_PASS_AT_FINAL ? "final" : "post"));
         if (pi->channel >= 0)

@@ -29,6 +29,8 @@
 #include <time.h>
 
 
+#define DEFAULT_SCENE "examples/scenes/feature-default.json"
+
 static double now_ms(void)
 {
     struct timespec t;
@@ -148,12 +150,16 @@ static int render_main(int argc, char **argv)
     float *volume = NULL, *image = NULL;
     if (!lib || halo_feature_ensure_module(lib, diag) != HALO_OK)
         goto done;
-    scene = o.scene ? halo_scene_load(o.scene, lib, diag) : halo_scene_create(lib);
+    const char *builtin = o.scene ? NULL : halo_tool_embedded_scene(DEFAULT_SCENE);
+    if (!o.scene && !builtin) {
+        fprintf(stderr, "halo-feature: error: %s is not embedded\n", DEFAULT_SCENE);
+        goto done;
+    }
+    scene = o.scene ? halo_scene_load(o.scene, lib, diag)
+                    : halo_scene_parse(builtin, DEFAULT_SCENE " (built in)", lib, diag);
     if (!scene)
         goto done;
-    if (!o.scene && halo_scene_enable(scene, "feature_halo", 1, diag) != HALO_OK)
-        goto done;
-    int feature = halo_driver_has_stage(scene, HALO_DRIVER_FEATURE_STAGE);
+    int feature = halo_driver_has_feature_halos(lib, scene);
     const halo_render_settings *settings = halo_scene_render(scene);
     int size = 0;
     volume = load_volume(&o, settings, &size);

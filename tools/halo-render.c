@@ -33,21 +33,6 @@
 
 #define TOOL "halo-render"
 
-/* examples/scenes/default.json, embedded by build-aux/embed.sh (embedded_scenes.c). */
-struct halo_embedded_file {
-    const char *name;
-    const char *text;
-};
-extern const struct halo_embedded_file halo_embedded_scenes[];
-
-static const char *embedded_scene(const char *name)
-{
-    for (const struct halo_embedded_file *f = halo_embedded_scenes; f->name; ++f)
-        if (!strcmp(f->name, name))
-            return f->text;
-    return NULL;
-}
-
 #define DEFAULT_SCENE       "examples/scenes/default.json"
 /* The default window of a volume file whose scene sets none: these percentiles. */
 #define WINDOW_LOW_PERCENT  1.0
@@ -537,14 +522,26 @@ static char *budget_scene_text(const options *o, const char *scene_text)
     return text;
 }
 
+/* N of the sweep: the parameter that sets the repetitions of the program's generation
+ * passes (repeat=PARAM in its module: the spreading passes N), or NULL when none repeats. */
+static const halo_uniform_info *repeat_uniform(const halo_program *p)
+{
+    for (size_t i = 0; i < halo_program_pass_count(p); ++i) {
+        const halo_pass_info *pi = halo_program_pass(p, i);
+        if (pi->repeat_param && pi->at == HALO_PASS_AT_GENERATE)
+            return halo_program_find_uniform(p, pi->stage, pi->repeat_param);
+    }
+    return NULL;
+}
+
 /* Runs the error budget (validate/bench_budget.c) on the scene, volume and image size
  * and applies its choice to the scene (N, step) and to *kind, *precision, *scale,
  * *interval, *gradient.
  * Returns an exit status. */
 static int apply_budget(const options *o, const char *scene_text, halo_library *lib, halo_gl *runtime,
-                        const float *volume, int size, int scene_passes, halo_scene *scene, halo_driver_host *kind,
-                        int *precision, int *scale, int *interval, halo_gradient_format *gradient,
-                        halo_diagnostics *diag)
+                        const float *volume, int size, const halo_uniform_info *n_param, halo_scene *scene,
+                        halo_driver_host *kind, int *precision, int *scale, int *interval,
+                        halo_gradient_format *gradient, halo_diagnostics *diag)
 {
     char *text = budget_scene_text(o, scene_text);
     if (!text) {
@@ -570,6 +567,7 @@ static int apply_budget(const options *o, const char *scene_text, halo_library *
     if (!o->quiet)
         fprintf(stderr, "halo-render: --max-error %g: measuring the configurations at %dx%d...\n", o->max_error,
                 o->width, o->height);
+    int scene_passes = n_param && n_param->count > 0 ? (int)n_param->value[0] : 0;
     halo_status st = halo_bench_budget(&env, scene_passes, o->max_error, &choice, report);
     double elapsed = halo_progress_now() - start;
     if (report)
@@ -589,9 +587,9 @@ static int apply_budget(const options *o, const char *scene_text, halo_library *
                     o->max_error);
         return st == HALO_ERROR_INPUT ? 1 : 2;
     }
-    if (halo_driver_has_stage(scene, "halo_generate") && choice.passes > 0) {
+    if (n_param && choice.passes > 0) {
         double passes = choice.passes;
-        if (halo_scene_set(scene, "halo_generate", "passes", &passes, 1, 0, diag) != HALO_OK)
+        if (halo_scene_set(scene, n_param->stage, n_param->param, &passes, 1, 0, diag) != HALO_OK)
             return 1;
     }
     if (choice.step > 0.0)
@@ -745,7 +743,7 @@ int main(int argc, char **argv)
     if (!lib)
         goto done;
     if (!o.scene_path) {
-        scene_text = embedded_scene(DEFAULT_SCENE);
+        scene_text = halo_tool_embedded_scene(DEFAULT_SCENE);
         if (!scene_text) {
             fprintf(stderr, TOOL ": error: %s is not embedded\n", DEFAULT_SCENE);
             status = 2;
@@ -765,7 +763,7 @@ int main(int argc, char **argv)
         goto done;
     }
     size_t halo_stages = halo_driver_find_halo_stages(lib, scene, is_halo);
-    int feature = halo_driver_has_stage(scene, HALO_DRIVER_FEATURE_STAGE);
+    int feature = halo_driver_has_feature_halos(lib, scene);
     halo_driver_host kind = o.host != HALO_DRIVER_AUTO                  ? o.host
                             : halo_stages && !halo_headless_choice_es() ? HALO_DRIVER_SLICE
                                                                         : HALO_DRIVER_RAYCAST;
@@ -835,11 +833,9 @@ int main(int argc, char **argv)
     int interval = 0;
     if (o.have_max_error) {
         /* the scene's N heads the sweep */
-        const halo_uniform_info *u = halo_program_find_uniform(program, "halo_generate", "passes");
-        int scene_passes = u && u->value ? (int)u->value[0] : 0;
         int precision = 32, scale = 1;
-        status = apply_budget(&o, scene_text, lib, runtime, volume, size, scene_passes, scene, &kind, &precision,
-                              &scale, &interval, &o.gradient_format, diag);
+        status = apply_budget(&o, scene_text, lib, runtime, volume, size, repeat_uniform(program), scene, &kind,
+                              &precision, &scale, &interval, &o.gradient_format, diag);
         if (status)
             goto done;
         status = 1;

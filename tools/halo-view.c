@@ -247,10 +247,9 @@ static void print_keys(void)
         "halo-view keys:\n"
         "  mouse: left drag orbit, wheel zoom; arrows orbit, + and - zoom, r the scene's camera\n"
         "  1-9    toggle the scene's stages (in scene order)\n"
-        "  e      halo_map.mode: emissive <-> occlusive\n"
-        "  d / D  halo_generate.delta -/+ 0.05\n"
-        "  m / M  halo_generate.interval (M) halve / double\n"
-        "  n / N  halo_generate.passes (N) -/+ 1\n"
+        "  p / P  select the next / previous parameter of the linked stages (in the title)\n"
+        "  [ / ]  the selected parameter down / up: a bool flips, an int steps by 1 (a stage's\n"
+        "         interval M halves / doubles), a bounded float by a twentieth of its range\n"
         "  tab / shift+tab (pagedown / pageup)  next / previous scene in the scene's folder\n"
         "  s      save the image and the scene (--save-prefix)\n"
         "  h, F1  this help;  q, esc  quit\n",
@@ -291,27 +290,17 @@ static void handle_key(viewer *v, int key)
         return;
     }
     switch (key) {
-    case 'e':
-    case 'E':
-        view_change_param(v, "halo_map", "mode", view_flip_mode, 0);
+    case 'p':
+        view_select_param(v, 1);
         break;
-    case 'd':
-        view_change_param(v, "halo_generate", "delta", view_add, -DELTA_STEP);
+    case 'P':
+        view_select_param(v, -1);
         break;
-    case 'D':
-        view_change_param(v, "halo_generate", "delta", view_add, DELTA_STEP);
+    case '[':
+        view_step_param(v, -1);
         break;
-    case 'm':
-        view_change_param(v, "halo_generate", "interval", view_scale_int, 0.5);
-        break;
-    case 'M':
-        view_change_param(v, "halo_generate", "interval", view_scale_int, 2.0);
-        break;
-    case 'n':
-        view_change_param(v, "halo_generate", "passes", view_add, -1);
-        break;
-    case 'N':
-        view_change_param(v, "halo_generate", "passes", view_add, 1);
+    case ']':
+        view_step_param(v, 1);
         break;
     case '+':
     case '=':

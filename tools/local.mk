@@ -5,8 +5,9 @@
 # halo-feature: their conformance rows through validate/'s harness); nothing below
 # depends on tools/.
 # halo-render: volumes from NIfTI and raw files (volume_io), and its default scene
-# embedded from examples/scenes/default.json (one source for the file and the binary).
-HALO_EMBEDDED_SCENES = examples/scenes/default.json
+# embedded from examples/scenes/default.json (one source for the file and the binary;
+# halo-feature's is feature-default.json).
+HALO_EMBEDDED_SCENES = examples/scenes/default.json examples/scenes/feature-default.json
 BUILT_SOURCES += tools/embedded_scenes.c
 CLEANFILES += tools/embedded_scenes.c
 tools/embedded_scenes.c: $(HALO_EMBEDDED_SCENES) $(top_srcdir)/build-aux/embed.sh
@@ -54,6 +55,7 @@ bin_PROGRAMS += tools/halo-feature
 tools_halo_feature_SOURCES = tools/halo-feature.c tools/tool_options.c tools/tool_options.h examples/volume_io.c examples/volume_io.h \
 	validate/conform_feature.c validate/conform_feature.h validate/feature_report.c validate/feature_report.h \
 	validate/conform_harness.c validate/conform_harness.h
+nodist_tools_halo_feature_SOURCES = tools/embedded_scenes.c
 nodist_EXTRA_tools_halo_feature_SOURCES = build-aux/force-cxx-link.cc
 tools_halo_feature_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate $(NIFTI_CFLAGS)
 tools_halo_feature_LDADD = $(HALO_TOOL_LIBS) $(NIFTI_LIBS)

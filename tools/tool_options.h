@@ -5,6 +5,7 @@
 #define HALO_TOOL_OPTIONS_H
 
 #include <stdio.h>
+#include <string.h>
 
 /* One option: its name, another spelling (or NULL), and whether it takes a value. A
  * table ends with a zero entry. */
@@ -43,5 +44,22 @@ int halo_tool_split(const char *tool, const char *option, const char *text, char
 int halo_tool_size(const char *tool, const char *option, const char *text, int max, int *width, int *height);
 /* One of names (a NULL-terminated list): its index in *out. The message lists them. */
 int halo_tool_choice(const char *tool, const char *option, const char *text, const char *const *names, int *out);
+
+/* A file embedded by build-aux/embed.sh (tools/embedded_scenes.c: the built-in scenes,
+ * examples/scenes/default.json and feature-default.json). */
+struct halo_embedded_file {
+    const char *name;
+    const char *text;
+};
+extern const struct halo_embedded_file halo_embedded_scenes[];
+/* The text of the embedded scene `name` ("examples/scenes/default.json"), or NULL. Only
+ * for tools linked with tools/embedded_scenes.c (inline: the others never reference it). */
+static inline const char *halo_tool_embedded_scene(const char *name)
+{
+    for (const struct halo_embedded_file *f = halo_embedded_scenes; f->name; ++f)
+        if (!strcmp(f->name, name))
+            return f->text;
+    return NULL;
+}
 
 #endif

@@ -6,6 +6,7 @@
 
 #include "halo.h"
 #include "render_driver.h"
+#include "tool_options.h"
 #include "volume_io.h"
 
 #define GLFW_INCLUDE_NONE
@@ -19,15 +20,9 @@
 #define WINDOW_LOW_PERCENT  1.0 /* as halo-render: a file volume's default window */
 #define WINDOW_HIGH_PERCENT 99.0
 #define POLL_SECONDS        0.25 /* how often the scene file's signature is checked */
-#define DELTA_STEP          0.05
+#define PARAM_STEPS         20   /* [ and ] move a bounded float parameter by its range / this */
+#define VIEW_NAME_MAX       128
 #define MAX_TOGGLE_STAGES   9
-
-/* examples/scenes/default.json, embedded by build-aux/embed.sh (embedded_scenes.c). */
-struct halo_embedded_file {
-    const char *name;
-    const char *text;
-};
-extern const struct halo_embedded_file halo_embedded_scenes[];
 
 typedef struct options {
     const char *scene_path, *volume_path, *screenshot, *save_prefix, *keys;
@@ -45,7 +40,7 @@ typedef struct file_signature {
 
 /* One change the keys made to a parameter, written into a saved scene. */
 typedef struct touched_param {
-    const char *stage, *param;
+    char stage[VIEW_NAME_MAX], param[VIEW_NAME_MAX];
 } touched_param;
 
 #define MAX_TOUCHED 8
@@ -67,6 +62,7 @@ typedef struct viewer {
     int toggle_on[MAX_TOGGLE_STAGES];
     touched_param touched[MAX_TOUCHED];
     int touched_count;
+    touched_param selected; /* the parameter [ and ] change ("" until p or P selects one) */
 
     /* The file watched for changes (the scene asked for last, good or not). */
     char *watch_path;
@@ -112,12 +108,10 @@ void view_free_toggles(viewer *v);
 int view_load_scene(viewer *v, const char *path, int keep_camera);
 void view_poll_scene_file(viewer *v, double now);
 void view_cycle_scene(viewer *v, int step);
-void view_change_param(viewer *v, const char *stage, const char *param, double (*fn)(double, double), double arg);
+void view_select_param(viewer *v, int step);
+void view_step_param(viewer *v, int direction);
 void view_toggle_stage(viewer *v, size_t index);
 int view_save_image(viewer *v, const char *path, const char *name);
 void view_save_screenshot_and_scene(viewer *v);
-double view_flip_mode(double x, double unused);
-double view_add(double x, double d);
-double view_scale_int(double x, double factor);
 
 #endif

@@ -104,17 +104,14 @@ void view_update_title(viewer *v)
            halo_driver_host_names[v->kind], v->frame_ms);
     for (size_t i = 0; i < v->toggle_count; ++i)
         APPEND("%s%zu%c%s", i ? " " : " | ", i + 1, v->toggle_on[i] ? '+' : '-', v->toggle_names[i]);
-    const halo_uniform_info *delta = find_param(v, "halo_generate", "delta");
-    const halo_uniform_info *passes = find_param(v, "halo_generate", "passes");
-    const halo_uniform_info *mode = find_param(v, "halo_map", "mode");
-    if (delta && delta->count > 0)
-        APPEND(" | delta %.2f", delta->value[0]);
     if (v->host.slice)
-        APPEND(" M %d", halo_slice_interval(v->host.slice));
-    if (passes && passes->count > 0)
-        APPEND(" N %.0f", passes->value[0]);
-    if (mode && mode->count > 0)
-        APPEND(" %s", mode->value[0] >= 0.5 ? "occlusive" : "emissive");
+        APPEND(" | M %d", halo_slice_interval(v->host.slice));
+    const halo_uniform_info *selected = find_param(v, v->selected.stage, v->selected.param);
+    if (selected && selected->count > 0) {
+        APPEND(" | %s.%s", selected->stage, selected->param);
+        for (int k = 0; k < selected->info->components && k < 4; ++k)
+            APPEND("%s%g", k ? ", " : " ", selected->value[k]);
+    }
     if (v->error[0])
         APPEND(" | %s (showing the last good scene)", v->error);
 #undef APPEND
@@ -264,9 +261,7 @@ int view_load_scene(viewer *v, const char *path, int keep_camera)
     halo_diagnostics_clear(v->diag);
     const char *text = NULL;
     if (!path) {
-        for (const struct halo_embedded_file *e = halo_embedded_scenes; e->name; ++e)
-            if (!strcmp(e->name, DEFAULT_SCENE))
-                text = e->text;
+        text = halo_tool_embedded_scene(DEFAULT_SCENE);
         if (!text) {
             set_error(v, "%s is not embedded", DEFAULT_SCENE);
             return 2;
@@ -446,17 +441,20 @@ static void touch(viewer *v, const char *stage, const char *param)
     for (int i = 0; i < v->touched_count; ++i)
         if (!strcmp(v->touched[i].stage, stage) && !strcmp(v->touched[i].param, param))
             return;
-    if (v->touched_count < MAX_TOUCHED)
-        v->touched[v->touched_count++] = (touched_param){stage, param};
+    if (v->touched_count < MAX_TOUCHED) {
+        touched_param *t = &v->touched[v->touched_count++];
+        snprintf(t->stage, sizeof t->stage, "%s", stage);
+        snprintf(t->param, sizeof t->param, "%s", param);
+    }
 }
 
 /* Applies fn to every element of stage.param and relinks; restores the old values if
  * the relink fails. */
-void view_change_param(viewer *v, const char *stage, const char *param, double (*fn)(double, double), double arg)
+static void change_param(viewer *v, const char *stage, const char *param, double (*fn)(double, double), double arg)
 {
     const halo_uniform_info *u = find_param(v, stage, param);
     if (!u) {
-        fprintf(stderr, "halo-view: the scene has no %s stage linked (%s)\n", stage, param);
+        fprintf(stderr, "halo-view: the linked program has no parameter %s.%s\n", stage, param);
         return;
     }
     int n = u->count * u->info->components, live = u->live;
@@ -478,23 +476,99 @@ void view_change_param(viewer *v, const char *stage, const char *param, double (
         halo_scene_set(v->scene, stage, param, old, count, live, NULL);
     } else {
         touch(v, stage, param);
-        printf("halo-view: %s.%s = %g%s\n", stage, param, values[0], count > 1 ? " (every halo)" : "");
+        printf("halo-view: %s.%s = %g%s\n", stage, param, values[0], count > 1 ? " (every element)" : "");
     }
     view_update_title(v);
 }
 
-double view_flip_mode(double x, double unused)
+static double flip(double x, double unused)
 {
     (void)unused;
     return x >= 0.5 ? 0.0 : 1.0;
 }
 
-double view_add(double x, double d)
+static double add(double x, double d)
 {
     return round((x + d) * 1e6) / 1e6; /* 0.9 - 0.05 is 0.85, not 0.8500000000000001 */
 }
 
-double view_scale_int(double x, double factor) { return round(x * factor); }
+static double scale_int(double x, double factor) { return round(x * factor); }
+
+/* 10 % of the value (of 1 near 0) in the direction's sign. */
+static double nudge(double x, double direction) { return add(x, direction * 0.1 * fmax(fabs(x), 1.0)); }
+
+/* The program's index of the selected parameter, or -1. */
+static long selected_index(const viewer *v)
+{
+    size_t n = v->program ? halo_program_uniform_count(v->program) : 0;
+    for (size_t i = 0; i < n; ++i) {
+        const halo_uniform_info *u = halo_program_uniform(v->program, i);
+        if (!strcmp(u->stage, v->selected.stage) && !strcmp(u->param, v->selected.param))
+            return (long)i;
+    }
+    return -1;
+}
+
+void view_select_param(viewer *v, int step)
+{
+    size_t n = v->program ? halo_program_uniform_count(v->program) : 0;
+    if (!n) {
+        fprintf(stderr, "halo-view: the linked stages have no parameters\n");
+        return;
+    }
+    long i = selected_index(v);
+    if (i < 0)
+        i = step > 0 ? -1 : 0;
+    i = ((i + step) % (long)n + (long)n) % (long)n;
+    const halo_uniform_info *u = halo_program_uniform(v->program, (size_t)i);
+    snprintf(v->selected.stage, sizeof v->selected.stage, "%s", u->stage);
+    snprintf(v->selected.param, sizeof v->selected.param, "%s", u->param);
+    printf("halo-view: selected %s.%s = %g (%g..%g): %s\n", u->stage, u->param, u->count > 0 ? u->value[0] : 0.0,
+           u->info->min, u->info->max, u->info->meaning ? u->info->meaning : "");
+    view_update_title(v);
+}
+
+/* A step by what the reflection says of the parameter: its step= when it has one; a bool flips; an int steps by 1,
+ * or halves and doubles when it is a stage's interval (M: powers of two); a float (or
+ * vector: every component) moves by a PARAM_STEPS-th of its range, or by 10 % when the
+ * range is unbounded. */
+void view_step_param(viewer *v, int direction)
+{
+    long i = selected_index(v);
+    if (i < 0) {
+        fprintf(stderr, "halo-view: no parameter selected (p / P select one)%s\n",
+                v->selected.stage[0] ? ": the selected one is not linked now" : "");
+        return;
+    }
+    const halo_uniform_info *u = halo_program_uniform(v->program, (size_t)i);
+    const halo_param_info *info = u->info;
+    if (info->step > 0.0) {
+        change_param(v, u->stage, u->param, add, direction * info->step);
+        return;
+    }
+    if (info->type == HALO_PARAM_BOOL) {
+        change_param(v, u->stage, u->param, flip, 0.0);
+        return;
+    }
+    if (info->type == HALO_PARAM_INT) {
+        int interval = 0;
+        for (size_t k = 0; k < halo_program_stage_count(v->program); ++k) {
+            const halo_stage_info *s = halo_program_stage_info(v->program, k);
+            interval |= !strcmp(s->name, u->stage) && s->interval && !strcmp(s->interval, u->param);
+        }
+        if (interval)
+            change_param(v, u->stage, u->param, scale_int, direction > 0 ? 2.0 : 0.5);
+        else
+            change_param(v, u->stage, u->param, add, direction);
+        return;
+    }
+    double range = info->max - info->min;
+    if (isfinite(range) && range > 0.0 && range <= 1e6) {
+        change_param(v, u->stage, u->param, add, direction * range / PARAM_STEPS);
+        return;
+    }
+    change_param(v, u->stage, u->param, nudge, direction);
+}
 
 void view_toggle_stage(viewer *v, size_t index)
 {

@@ -6,7 +6,7 @@
 #pragma halo after halo_seed tone_shading distance_blend distance_cue
 #pragma halo image field
 #pragma halo image occlusion read_when=mode
-#pragma halo param mode channels default=0 min=0 max=1 "0 emissive (composited behind the sample), 1 occlusive (tints the sample); >= 0.5 is occlusive"
+#pragma halo param mode channels default=0 min=0 max=1 step=1 "0 emissive (composited behind the sample), 1 occlusive (tints the sample); >= 0.5 is occlusive"
 #pragma halo param color_near vec3[4] default=[[0,0,0]] min=0 max=1 "halo colour at intensity >= full_at (linear RGB)"
 #pragma halo param color_far vec3[4] default=[[0,0,0]] min=0 max=1 "halo colour as the intensity goes to 0 (linear RGB)"
 #pragma halo param opacity channels default=1 min=0 max=1 "halo opacity at intensity >= full_at (fraction)"

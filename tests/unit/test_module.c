@@ -20,7 +20,7 @@ static const char valid_module[] =
     "#pragma halo param b vec2 default=[1,-2] min=-5 max=5 \"a vec2\"\n"                      /* 5 */
     "#pragma halo param c vec3 default=[0.1, 0.2, 0.3] \"a vec3 without a range\"\n"          /* 6 */
     "#pragma halo param d vec4 default=[1,2,3,4] min=0 max=10 \"a vec4\"\n"                   /* 7 */
-    "#pragma halo param e int default=3 min=1 max=8 \"an int\"\n"                             /* 8 */
+    "#pragma halo param e int default=3 min=1 max=8 step=2 \"an int\"\n"                      /* 8 */
     "#pragma halo param f bool default=true \"a bool\"\n"                                     /* 9 */
     "#pragma halo param g float[4] default=[0.25,0.5] min=0 max=1 \"a float array\"\n"        /* 10 */
     "#pragma halo param h vec3[2] default=[[1,0,0],[0,1,-1]] min=-1 max=1 \"a vec3 array\"\n" /* 11 */
@@ -56,6 +56,8 @@ static int test_valid_module(void)
     CHECK_INT_EQ(p->default_count, 1);
     CHECK_NEAR(p->default_value[0], 0.5, 0);
     CHECK_STR_EQ(p->meaning, "a float (fraction)");
+    CHECK_NEAR(p->step, 0, 0); /* not stated */
+    CHECK_NEAR(halo_module_find_param(m, "e")->step, 2, 0);
 
     p = halo_module_find_param(m, "b");
     CHECK(p == halo_module_param(m, 1));
@@ -200,6 +202,9 @@ static int test_malformed_param(void)
         "#pragma halo param k_x float default=1 bogus\n",              /* stray word */
         "#pragma halo param k_x float default=1 min=zero\n",           /* min not a number */
         "#pragma halo param k_x float default=1 min=2 max=1\n",        /* min above max */
+        "#pragma halo param k_x float default=1 step=0\n",             /* step not above 0 */
+        "#pragma halo param k_x float default=1 step=inf\n",           /* step not finite */
+        "#pragma halo param k_x int default=1 step=0.5\n",             /* an int's step not whole */
         "#pragma halo param k_x float default=1 \"unclosed meaning\n", /* unclosed quote */
     };
     if (check_each_line_refused("user/malformed.glsl",

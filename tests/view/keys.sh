@@ -1,6 +1,8 @@
 #!/bin/sh
-# Keys (injected with --keys) relink the scene: toggle a stage, emissive/occlusive,
-# delta, M and N, orbit and zoom; the S key saves the image and the scene, and the
+# Keys (injected with --keys) relink the scene: toggle a stage, select parameters from
+# the reflection (P walks back from the last: halo_map.profile_exponent .. mode, then
+# halo_generate's fold, wide, interval, median, delta, passes) and step them (a bool
+# flips, M doubles, delta moves by 1/20 of its range, N by 1), orbit and zoom; the S key saves the image and the scene, and the
 # saved scene renders with halo-render to the same image. Tab cycles the scenes of the
 # scene's folder.
 . "$srcdir/tests/view/common.sh"
@@ -10,7 +12,7 @@ opts="--size 112x84 --volume-size 40"
 
 cp "$scenes/halo-emissive.json" "$tmp/emissive.json"
 run 0 xrun "$HALO_VIEW" --scene "$tmp/emissive.json" $opts --save-prefix "$tmp/a-" \
-    --keys "s 1 e d d M N left up + s" --quit
+    --keys "s 1 P P P P P P ] P P P ] P P [ [ P ] left up + s" --quit
 for msg in "tone_shading disabled" "halo_map.mode = 1" "halo_generate.delta = 0.8\$" "halo_generate.interval = 8" \
     "halo_generate.passes = 5" "wrote $tmp/a-002.png"; do
     grep -q "$msg" "$tmp/out" || fail "stdout lacks '$msg'"
@@ -27,9 +29,9 @@ for k in 001 002; do
     same "$tmp/a-$k.png" "$tmp/a-$k-render.png" $limits
 done
 
-# keys for halo parameters on a scene without halos: reported, nothing breaks
-run 0 xrun "$HALO_VIEW" --scene "$scenes/plain.json" $opts --keys "e d N 7" --screenshot "$tmp/plain.png" --quit
-grep -q "no halo_map stage" "$tmp/err" || fail "no message for e without halo_map"
+# stepping before selecting, and a stage key beyond the scene: reported, nothing breaks
+run 0 xrun "$HALO_VIEW" --scene "$scenes/plain.json" $opts --keys "[ ] 7" --screenshot "$tmp/plain.png" --quit
+grep -q "no parameter selected" "$tmp/err" || fail "no message for [ before a parameter is selected"
 grep -q "no stage 7" "$tmp/err" || fail "no message for a stage key beyond the scene"
 
 # tab: the next scene of the folder (sorted by name), with its own camera
