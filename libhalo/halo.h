@@ -768,8 +768,20 @@ HALO_API halo_status halo_budget_choose(const halo_budget_row *rows, size_t coun
 
 typedef struct halo_gl halo_gl;
 
+/* Whether the frames read their seeds back before a generation to bound its passes
+ * (halo_gl_frame_drawn_region): exact for any host, at the cost of a read-back that waits
+ * for the host's draws, which a software renderer does between passes anyway. */
+typedef enum halo_gl_readback {
+    HALO_GL_READBACK_AUTO = 0, /* on for a software renderer (GL_RENDERER: llvmpipe, softpipe, swrast, Software
+                                * Rasterizer, SwiftShader), off for a GPU */
+    HALO_GL_READBACK_ON,
+    HALO_GL_READBACK_OFF
+} halo_gl_readback;
+
 typedef struct halo_gl_desc {
     void *(*get_proc_address)(const char *name); /* required: the host's loader */
+    halo_gl_readback readback;                   /* the policy of every frame made with this runtime (one frame's:
+                                                  * halo_gl_frame_set_readback_bounds) */
 } halo_gl_desc;
 
 /* The context current at creation must be OpenGL 3.3 core or later, or OpenGL ES 3.0 or
@@ -844,10 +856,8 @@ HALO_API long halo_gl_frame_pass_draws(const halo_gl_frame *f);
 HALO_API void halo_gl_frame_drawn_region(halo_gl_frame *f, int x0, int y0, int x1, int y1);
 /* on: before each generation that can be scissored (every pass declares its reach), read
  * the program's outputs back and take their nonzero pixels' box (inside the region the
- * host declared, when it did): exact for any host, at the cost of a read-back that waits
- * for the draws.
- * Default: on for a software renderer (llvmpipe, softpipe, SwiftShader), which waits
- * between passes anyway; off for a GPU. */
+ * host declared, when it did). A frame starts with its runtime's policy
+ * (halo_gl_desc.readback); this changes one frame's. */
 HALO_API void halo_gl_frame_set_readback_bounds(halo_gl_frame *f, int on);
 /* Where the images the linked shader reads (its samplers, e.g. halo_map's field) can be
  * nonzero now: box = {x0, y0, x1, y1}, frame pixels [x0, x1) x [y0, y1); returns 0 when

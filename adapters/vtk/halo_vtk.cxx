@@ -807,7 +807,7 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol)
         return;
     }
     if (!h->gl) {
-        halo_gl_desc gd = {gl_proc};
+        halo_gl_desc gd = {gl_proc, HALO_GL_READBACK_AUTO};
         h->gl = halo_gl_create(&gd, h->diag);
         if (!h->gl)
             return;

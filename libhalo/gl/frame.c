@@ -538,11 +538,7 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
         halo_gl_frame_destroy(fr);
         return NULL;
     }
-    /* A software renderer waits for each pass's draw before the next reads it: reading
-     * the seeds back costs about a copy, and the scissor then spares most of the work. */
-    const char *renderer = (const char *)f->GetString(GL_RENDERER);
-    fr->readback_bounds =
-        renderer && (strstr(renderer, "llvmpipe") || strstr(renderer, "softpipe") || strstr(renderer, "SwiftShader"));
+    fr->readback_bounds = gl->readback; /* the runtime's policy (halo_gl_desc.readback) */
     halo_gl_frame_begin(fr);
     return fr;
 }

@@ -200,6 +200,17 @@ static int runtime_context(halo_gl *gl, halo_diagnostics *diag)
     return 1;
 }
 
+/* A software rasterizer by its GL_RENDERER (as libhalo-headless tells them apart): it
+ * waits for each draw before the next reads its result anyway. */
+static int renderer_is_software(const char *renderer)
+{
+    static const char *const software[] = {"llvmpipe", "softpipe", "swrast", "Software Rasterizer", "SwiftShader"};
+    for (size_t i = 0; renderer && i < sizeof software / sizeof software[0]; ++i)
+        if (strstr(renderer, software[i]))
+            return 1;
+    return 0;
+}
+
 halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
 {
     if (!desc || !desc->get_proc_address) {
@@ -222,6 +233,16 @@ halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
         free(gl);
         return NULL;
     }
+    if (desc->readback != HALO_GL_READBACK_AUTO && desc->readback != HALO_GL_READBACK_ON &&
+        desc->readback != HALO_GL_READBACK_OFF) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_gl_create: desc.readback %d is not a halo_gl_readback",
+                        (int)desc->readback);
+        free(gl);
+        return NULL;
+    }
+    gl->readback =
+        desc->readback == HALO_GL_READBACK_ON ||
+        (desc->readback == HALO_GL_READBACK_AUTO && renderer_is_software((const char *)gl->f.GetString(GL_RENDERER)));
     atomic_init(&gl->refs, 1);
     return gl;
 }

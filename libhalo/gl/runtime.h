@@ -11,6 +11,7 @@
 struct halo_gl {
     halo_glfuncs f; /* entry points the context lacks are NULL (halo_gl_create) */
     int es;         /* 30, 31, 32: OpenGL ES 3.x; 0: desktop OpenGL */
+    int readback;   /* halo_gl_desc.readback resolved at creation: the frames' read-back bounds, 1 or 0 */
     /* The creator's reference (halo_gl_destroy) and one per frame made with it. */
     _Atomic long refs;
 };

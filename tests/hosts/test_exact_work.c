@@ -495,8 +495,10 @@ static int check_groups(halo_gl *runtime)
 /* halo_gl_frame_read_region of halo images at 1/4 of a narrow frame (9 x 100: 3 x 25
  * texels): after a generation with no read-back and no declared region (the seeds may be
  * anywhere) the images may be nonzero anywhere, and the region is the whole frame in both
- * directions. */
-static int check_read_region(halo_gl *runtime)
+ * directions; with the read-back, nothing was drawn, so nothing can be nonzero. The
+ * read-back comes from the runtime's policy (halo_gl_desc.readback: AUTO is on for
+ * llvmpipe) or, for setter >= 0, from halo_gl_frame_set_readback_bounds. */
+static int check_read_region(halo_gl *runtime, const char *policy, int setter, int expect_readback)
 {
     char json[sizeof skip_scene + 64];
     snprintf(json, sizeof json, skip_scene, "\"passes\": 2");
@@ -505,24 +507,52 @@ static int check_read_region(halo_gl *runtime)
     halo_gl_frame *frame = link.program ? halo_gl_frame_create(runtime, link.program, 9, 100, link.diag) : NULL;
     int before[4] = {-1, -1, -1, -1}, after[4] = {-1, -1, -1, -1}, any[2] = {-1, -1};
     if (frame) {
-        /* no read-back and no declared region: the host may have drawn seeds anywhere, so
-         * the generation's images may be nonzero everywhere */
-        halo_gl_frame_set_readback_bounds(frame, 0);
+        if (setter >= 0)
+            halo_gl_frame_set_readback_bounds(frame, setter);
         halo_gl_frame_begin(frame);
         any[0] = halo_gl_frame_read_region(frame, before);
         halo_gl_frame_generate(frame);
         any[1] = halo_gl_frame_read_region(frame, after);
     }
-    int ok = frame && any[0] == 0 && any[1] == 1 && after[0] == 0 && after[1] == 0 && after[2] == 9 && after[3] == 100;
+    int ok = frame && any[0] == 0 &&
+             (expect_readback ? any[1] == 0
+                              : any[1] == 1 && after[0] == 0 && after[1] == 0 && after[2] == 9 && after[3] == 100);
     printf(
-        "%s read region, halo images at 1/4 of 9 x 100: %d after the frame's clear, %d after a generation: {%d, %d,"
-        " %d, %d} (the whole frame)\n",
-        ok ? "ok  " : "FAIL", any[0], any[1], after[0], after[1], after[2], after[3]);
+        "%s read region, halo images at 1/4 of 9 x 100, %s: %d after the frame's clear, %d after a generation: {%d,"
+        " %d, %d, %d} (%s)\n",
+        ok ? "ok  " : "FAIL", policy, any[0], any[1], after[0], after[1], after[2], after[3],
+        expect_readback ? "read back: nothing drawn, nothing nonzero" : "no read-back: the whole frame");
     if (!frame)
         halo_diagnostics_print(link.diag, stdout);
     halo_gl_frame_destroy(frame);
     slice_link_close(&link);
     return !ok;
+}
+
+/* The read-back policy of halo_gl_desc, and one frame's setter over it. */
+static int check_readback_policies(halo_gl *runtime, halo_diagnostics *diag)
+{
+    int failed = check_read_region(runtime, "runtime AUTO (llvmpipe), frame set off", 0, 0);
+    static const struct {
+        halo_gl_readback policy;
+        const char *name;
+        int on;
+    } rows[] = {{HALO_GL_READBACK_OFF, "runtime OFF", 0},
+                {HALO_GL_READBACK_ON, "runtime ON", 1},
+                {HALO_GL_READBACK_AUTO, "runtime AUTO (llvmpipe)", 1}};
+    for (size_t i = 0; i < sizeof rows / sizeof rows[0]; ++i) {
+        halo_gl *gl = halo_gl_create(
+            &(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address, .readback = rows[i].policy}, diag);
+        failed += gl ? check_read_region(gl, rows[i].name, -1, rows[i].on) : 1;
+        halo_gl_destroy(gl);
+    }
+    halo_gl *gl = halo_gl_create(
+        &(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address, .readback = (halo_gl_readback)7}, diag);
+    int refused = !gl && halo_diagnostics_has(diag, HALO_MSG_USAGE);
+    printf("%s halo_gl_desc.readback 7: %s\n", refused ? "ok  " : "FAIL", refused ? "refused (USAGE)" : "accepted");
+    halo_gl_destroy(gl);
+    halo_diagnostics_clear(diag);
+    return failed + !refused;
 }
 
 int main(void)
@@ -570,7 +600,7 @@ int main(void)
     for (int variant = 0; variant < (int)(sizeof skip_variants / sizeof skip_variants[0]); ++variant)
         failed += check_skips(runtime, &state, variant);
     failed += check_groups(runtime);
-    failed += check_read_region(runtime);
+    failed += check_readback_policies(runtime, diag);
     printf("%d failed\n", failed);
     halo_gl_destroy(runtime);
     halo_headless_destroy(headless);
