@@ -323,14 +323,15 @@ typedef struct halo_library halo_library;
  * from the library keep it until they are destroyed ("Lifetimes" above). */
 HALO_API halo_library *halo_library_create(halo_diagnostics *diag);
 HALO_API void halo_library_destroy(halo_library *lib);
-HALO_API halo_status halo_library_add_file(halo_library *lib, const char *path, halo_diagnostics *diag);
-/* Adds a module, replacing a loaded one of the same name (to try a modified built-in stage).
- * Refused (USAGE) while a scene or program made from the library lives. */
-HALO_API halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag);
-HALO_API halo_status halo_library_override_source(halo_library *lib, const char *file, const char *source,
-                                                  halo_diagnostics *diag);
-HALO_API halo_status halo_library_add_source(halo_library *lib, const char *file, const char *source,
-                                             halo_diagnostics *diag);
+typedef enum halo_add_mode {
+    HALO_ADD_NEW = 0, /* a module whose name is already loaded is refused (MODULE_DUPLICATE) */
+    HALO_ADD_REPLACE  /* replaces a loaded module of the same name (to try a modified built-in stage);
+                       * refused (USAGE) while a scene or program made from the library lives */
+} halo_add_mode;
+/* Adds a module: parsed from `source`, with `file` its name in diagnostics (NULL: "module");
+ * or, with source NULL, read from the file at the path `file` (bounded: HALO_MAX_FILE_BYTES). */
+HALO_API halo_status halo_library_add(halo_library *lib, const char *file, const char *source, halo_add_mode mode,
+                                      halo_diagnostics *diag);
 HALO_API size_t halo_library_module_count(const halo_library *lib);
 HALO_API const halo_module *halo_library_module(const halo_library *lib, size_t index);
 HALO_API const halo_module *halo_library_find(const halo_library *lib, const char *name);
@@ -699,7 +700,7 @@ typedef struct halo_emu_sample {
     double normal[3];
     double gradient_magnitude;
     double seed[4]; /* per-halo seed intensity (volumetric halos) */
-    /* extra outputs: accumulated over the halo_emu_apply_frame calls of one fragment;
+    /* extra outputs: accumulated over the halo_emu_apply calls of one fragment;
      * zero them at the start of a fragment (e.g. memset the whole sample) */
     double output_accum[4];
     /* outlines (docs/outlines.md): the front-most feature depth per feature (1: none),
@@ -712,12 +713,15 @@ typedef struct halo_emu_sample {
     double output_accum_next[15][4];
 } halo_emu_sample;
 
-/* Applies the program's stages, in its order, with its current parameter values. */
-HALO_API halo_status halo_emu_apply(const halo_program *p, halo_emu_sample *s, halo_diagnostics *diag);
-
 /* Screen-sized images of a program with image passes, outputs or samplers, in double
  * precision: the reference for the GL runtime's frame (docs/image-passes.md). */
 typedef struct halo_emu_frame halo_emu_frame;
+
+/* Applies the program's stages, in its order, with its current parameter values. With a
+ * frame (halo_emu_frame_create below; NULL: none), the frame's images and host uniforms
+ * are available to the stages and the outputs are folded into s->output_accum. */
+HALO_API halo_status halo_emu_apply(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s,
+                                    halo_diagnostics *diag);
 
 /* width and height 1..HALO_MAX_FRAME_SIDE (as halo_gl_frame_create); otherwise USAGE and NULL. */
 #define HALO_MAX_FRAME_SIDE 16384
@@ -733,10 +737,6 @@ HALO_API void halo_emu_frame_begin(halo_emu_frame *f);
 /* As halo_gl_frame_begin_group / _end_group. */
 HALO_API void halo_emu_frame_begin_group(halo_emu_frame *f);
 HALO_API halo_status halo_emu_frame_end_group(halo_emu_frame *f, halo_diagnostics *diag);
-/* Like halo_emu_apply, with the frame's images and host uniforms available to the stages
- * and outputs folded into s->output_accum. */
-HALO_API halo_status halo_emu_apply_frame(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s,
-                                          halo_diagnostics *diag);
 /* Ends a fragment: blends s->output_accum into each output image at s->fragcoord. */
 HALO_API void halo_emu_frame_finish(halo_emu_frame *f, const halo_emu_sample *s);
 /* Runs the image passes, then clears the reset=generation images. */
@@ -792,15 +792,13 @@ HALO_API void halo_gl_destroy(halo_gl *gl);
  * with target HALO_TARGET_ES300), 0 for desktop OpenGL; 0 for NULL. */
 HALO_API int halo_gl_es_version(const halo_gl *gl);
 /* Compiles the linked fragment program with the host's vertex shader (plain text) and
- * links them; driver messages are mapped to file:line. Returns the GL program name or 0. */
+ * links them; driver messages are mapped to file:line. `defines` (NULL or "": none; e.g.
+ * "#define HOST_VARIANT 1\n": lines of preprocessor directives) go into the fragment
+ * shader after its #version line: a compile-time variant of the host shader without
+ * linking again; the driver's messages keep the linked source's line numbers. Returns the
+ * GL program name or 0. */
 HALO_API unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *vertex_source,
-                                        const char *vertex_file, halo_diagnostics *diag);
-/* As halo_gl_program_build, with `defines` (e.g. "#define HOST_VARIANT 1\n": lines of
- * preprocessor directives) inserted into the fragment shader after its #version line: a
- * compile-time variant of the host shader, without linking again. The driver's messages
- * keep the linked source's line numbers. NULL or "" defines: halo_gl_program_build. */
-HALO_API unsigned halo_gl_program_build_defines(halo_gl *gl, const halo_program *p, const char *vertex_source,
-                                                const char *vertex_file, const char *defines, halo_diagnostics *diag);
+                                        const char *vertex_file, const char *defines, halo_diagnostics *diag);
 /* Uploads the live parameters' current values to the GL program (which must be current). */
 HALO_API void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_program);
 /* Sets a host uniform (reflection: host_uniforms) of the bound GL program by its short

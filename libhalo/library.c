@@ -36,16 +36,6 @@ static halo_status add_module(halo_library *lib, halo_module *m, halo_diagnostic
     return HALO_OK;
 }
 
-halo_status halo_library_add_source(halo_library *lib, const char *file, const char *source, halo_diagnostics *diag)
-{
-    HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(diag, source, "source", HALO_ERROR_INPUT);
-    halo_module *m = halo_module_parse(file ? file : "module", source, diag);
-    if (!m)
-        return HALO_ERROR_INPUT;
-    return add_module(lib, m, diag);
-}
-
 static halo_module *read_module(const char *path, halo_diagnostics *diag, halo_status *status)
 {
     size_t len = 0;
@@ -103,27 +93,22 @@ static halo_status put_file(halo_library *lib, const char *path, halo_diagnostic
     return m ? put(lib, m, diag) : st;
 }
 
-halo_status halo_library_override_file(halo_library *lib, const char *path, halo_diagnostics *diag)
+halo_status halo_library_add(halo_library *lib, const char *file, const char *source, halo_add_mode mode,
+                             halo_diagnostics *diag)
 {
     HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(diag, path, "path", HALO_ERROR_INPUT);
-    return put_file(lib, path, diag, replace_or_add);
-}
-
-halo_status halo_library_override_source(halo_library *lib, const char *file, const char *source,
-                                         halo_diagnostics *diag)
-{
-    HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(diag, source, "source", HALO_ERROR_INPUT);
+    if (mode != HALO_ADD_NEW && mode != HALO_ADD_REPLACE) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_library_add: mode %d is not a halo_add_mode", (int)mode);
+        return HALO_ERROR_INPUT;
+    }
+    halo_status (*put)(halo_library *, halo_module *, halo_diagnostics *) =
+        mode == HALO_ADD_REPLACE ? replace_or_add : add_module;
+    if (!source) {
+        HALO_REFUSE_NULL(diag, file, "file (a path, when source is NULL)", HALO_ERROR_INPUT);
+        return put_file(lib, file, diag, put);
+    }
     halo_module *m = halo_module_parse(file ? file : "module", source, diag);
-    return m ? replace_or_add(lib, m, diag) : HALO_ERROR_INPUT;
-}
-
-halo_status halo_library_add_file(halo_library *lib, const char *path, halo_diagnostics *diag)
-{
-    HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(diag, path, "path", HALO_ERROR_INPUT);
-    return put_file(lib, path, diag, add_module);
+    return m ? put(lib, m, diag) : HALO_ERROR_INPUT;
 }
 
 halo_library *halo_library_create(halo_diagnostics *diag)
@@ -135,7 +120,7 @@ halo_library *halo_library_create(halo_diagnostics *diag)
     }
     atomic_init(&lib->refs, 1);
     for (const struct halo_embedded_file *f = halo_embedded_modules; f->name; f++) {
-        if (halo_library_add_source(lib, f->name, f->text, diag) != HALO_OK) {
+        if (halo_library_add(lib, f->name, f->text, HALO_ADD_NEW, diag) != HALO_OK) {
             halo_library_destroy(lib);
             return NULL;
         }

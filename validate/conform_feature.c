@@ -89,11 +89,11 @@ halo_status halo_feature_ensure_module(halo_library *lib, halo_diagnostics *diag
         return HALO_OK;
     const char *env = getenv("HALO_FEATURE_MODULE");
     if (env && *env)
-        return halo_library_add_file(lib, env, diag);
+        return halo_library_add(lib, env, NULL, HALO_ADD_NEW, diag);
     const char *srcdir = getenv("srcdir");
     char path[4096];
     snprintf(path, sizeof path, "%s/glsl/feature/feature_halo.glsl", srcdir && *srcdir ? srcdir : ".");
-    return halo_library_add_file(lib, path, diag);
+    return halo_library_add(lib, path, NULL, HALO_ADD_NEW, diag);
 }
 
 /* ---- Test volumes ------------------------------------------------------------------- */
@@ -228,7 +228,7 @@ static int draw_probe(feature_context *c, const halo_program *program, unsigned 
                       const halo_emu_sample *samples, float *rgba)
 {
     const halo_glfuncs *f = c->f;
-    GLuint gl_program = halo_gl_program_build(c->runtime, program, probe_vertex, "feature_probe.vert", c->diag);
+    GLuint gl_program = halo_gl_program_build(c->runtime, program, probe_vertex, "feature_probe.vert", NULL, c->diag);
     if (!gl_program)
         return 0;
     size_t n = (size_t)PROBE_SIZE * PROBE_SIZE;

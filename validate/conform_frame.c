@@ -47,7 +47,7 @@ static void perturb_input(halo_emu_sample *s, int field, double factor)
 static int emulate_frame_sample(const halo_program *p, halo_emu_frame *ef, halo_emu_sample *s, double out[8])
 {
     memset(s->output_accum, 0, sizeof s->output_accum);
-    if (halo_emu_apply_frame(p, ef, s, NULL) != HALO_OK)
+    if (halo_emu_apply(p, ef, s, NULL) != HALO_OK)
         return 0;
     out[0] = s->color[0], out[1] = s->color[1], out[2] = s->color[2], out[3] = s->opacity;
     for (int k = 0; k < 4; ++k)
@@ -93,7 +93,7 @@ static int emulate_output_pixel(const halo_program *p, halo_emu_frame *one, cons
     memset(s.output_accum_next, 0, sizeof s.output_accum_next);
     s.fragcoord[0] = s.fragcoord[1] = 0.5;
     halo_emu_frame_begin(one);
-    if (halo_emu_apply_frame(p, one, &s, NULL) != HALO_OK)
+    if (halo_emu_apply(p, one, &s, NULL) != HALO_OK)
         return 0;
     halo_emu_frame_finish(one, &s);
     int n = 0;
@@ -143,7 +143,7 @@ static int compare_output_images(conform *c, const char *row, const halo_program
         halo_emu_sample s = samples[i];
         memset(s.output_accum, 0, sizeof s.output_accum);
         memset(s.output_accum_next, 0, sizeof s.output_accum_next);
-        if (halo_emu_apply_frame(p, eframe, &s, c->diag) != HALO_OK)
+        if (halo_emu_apply(p, eframe, &s, c->diag) != HALO_OK)
             goto out;
         halo_emu_frame_finish(eframe, &s);
     }

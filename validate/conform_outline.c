@@ -276,7 +276,7 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
                 goto done;
             for (size_t i = 0; i < count; ++i) {
                 halo_emu_sample s = samples[(size_t)d * count + i];
-                if (halo_emu_apply_frame(program, eframe, &s, c->diag) != HALO_OK)
+                if (halo_emu_apply(program, eframe, &s, c->diag) != HALO_OK)
                     goto done;
                 halo_emu_frame_finish(eframe, &s);
             }

@@ -179,7 +179,8 @@ void conform_pass_row(conform *c, const conform_row *row)
     if (!row_selected(c, row->name, NULL))
         return;
     halo_library *lib = halo_library_create(c->diag);
-    if (!lib || halo_library_add_source(lib, "(conformance seed module)", conform_seed_module, c->diag) != HALO_OK) {
+    if (!lib ||
+        halo_library_add(lib, "(conformance seed module)", conform_seed_module, HALO_ADD_NEW, c->diag) != HALO_OK) {
         print_error_row(c, row->name);
         halo_library_destroy(lib);
         return;

@@ -193,7 +193,7 @@ static int emulate_pixel(const halo_raycast_state *s, const halo_program *p, int
         sample.fragcoord[1] = y + 0.5;
         memcpy(sample.color, color, 3 * sizeof *color);
         sample.opacity = color[3];
-        if (halo_emu_apply(p, &sample, NULL) != HALO_OK)
+        if (halo_emu_apply(p, NULL, &sample, NULL) != HALO_OK)
             return 0;
         double alpha = sample.opacity < 0.0 ? 0.0 : sample.opacity > 1.0 ? 1.0 : sample.opacity;
         if (alpha > 0.0) {

@@ -69,7 +69,7 @@ static int perturbed_output(const halo_program *p, const halo_emu_sample *input,
         s.opacity = fmin(1.0, s.opacity * factor);
         break;
     }
-    if (halo_emu_apply(p, &s, NULL) != HALO_OK)
+    if (halo_emu_apply(p, NULL, &s, NULL) != HALO_OK)
         return 0;
     emulated_output(&s, out);
     return 1;
@@ -157,7 +157,7 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
     double worst_excess = 0.0, worst_ratio = 0.0;
     for (size_t i = 0; i < count; ++i) {
         halo_emu_sample s = samples[i];
-        if (halo_emu_apply(program, &s, c->diag) != HALO_OK)
+        if (halo_emu_apply(program, NULL, &s, c->diag) != HALO_OK)
             goto done;
         double emu[4], condition[4] = {0, 0, 0, 0};
         emulated_output(&s, emu);
@@ -205,7 +205,7 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
             if (shown[j] == SIZE_MAX || (j == 1 && shown[1] == shown[0]))
                 continue;
             halo_emu_sample s = samples[shown[j]];
-            halo_emu_apply(program, &s, NULL);
+            halo_emu_apply(program, NULL, &s, NULL);
             double emu[4];
             emulated_output(&s, emu);
             conform_print_sample(labels[j], &samples[shown[j]], &gpu[shown[j] * 4], emu);

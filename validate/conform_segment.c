@@ -2,7 +2,7 @@
  * halo_gl_frame_draw in depth segments, against a double-precision emulation of the same
  * renderer: the same rays, samples and compositing as the one-draw emulation of the
  * raycast row, the samples of each segment chosen by the same plan as the runtime's
- * (halo_segment_plan_make), halo_emu_apply_frame per sample, the fragment's outputs
+ * (halo_segment_plan_make), halo_emu_apply with the frame per sample, the fragment's outputs
  * finished once per segment, halo_emu_frame_generate between segments.
  *
  * The hosts in the styles of the wild (examples/hosts/webgl_caster.frag,
@@ -456,7 +456,7 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
                     sample.depth = depth < 0.0 ? 0.0 : depth > 1.0 ? 1.0 : depth;
                     memcpy(sample.output_accum, fragment.output_accum, sizeof sample.output_accum);
                     memcpy(sample.output_accum_next, fragment.output_accum_next, sizeof sample.output_accum_next);
-                    ok = halo_emu_apply_frame(march, seeds, &sample, diag) == HALO_OK;
+                    ok = halo_emu_apply(march, seeds, &sample, diag) == HALO_OK;
                     memcpy(fragment.output_accum, sample.output_accum, sizeof sample.output_accum);
                     memcpy(fragment.output_accum_next, sample.output_accum_next, sizeof sample.output_accum_next);
                 }
@@ -595,7 +595,7 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
                     field_at_sample(&stacks, plan, &m, frame, P, i);
                 memcpy(sample.output_accum, fragment.output_accum, sizeof sample.output_accum);
                 memcpy(sample.output_accum_next, fragment.output_accum_next, sizeof sample.output_accum_next);
-                ok = (frame ? halo_emu_apply_frame(p, frame, &sample, diag) : halo_emu_apply(p, &sample, diag)) ==
+                ok = (frame ? halo_emu_apply(p, frame, &sample, diag) : halo_emu_apply(p, NULL, &sample, diag)) ==
                      HALO_OK;
                 memcpy(fragment.output_accum, sample.output_accum, sizeof sample.output_accum);
                 memcpy(fragment.output_accum_next, sample.output_accum_next, sizeof sample.output_accum_next);

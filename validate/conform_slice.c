@@ -1,6 +1,6 @@
 /* Conformance of the slice host and the slab ray caster: the GPU render of a small
  * scene with one emissive and one occlusive halo against a double-precision emulation
- * of the same renderer (same slice planes, halo_emu_apply_frame per fragment,
+ * of the same renderer (same slice planes, halo_emu_apply with the frame per fragment,
  * halo_emu_frame_generate every M slices, the same compositing). */
 #include "conform_slice.h"
 
@@ -128,10 +128,10 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
             memcpy(sample.color, color, 3 * sizeof *color);
             sample.opacity = color[3];
             if (frame) {
-                ok = halo_emu_apply_frame(p, frame, &sample, diag) == HALO_OK;
+                ok = halo_emu_apply(p, frame, &sample, diag) == HALO_OK;
                 halo_emu_frame_finish(frame, &sample);
             } else {
-                ok = halo_emu_apply(p, &sample, diag) == HALO_OK;
+                ok = halo_emu_apply(p, NULL, &sample, diag) == HALO_OK;
             }
             double alpha = sample.opacity < 0.0 ? 0.0 : sample.opacity > 1.0 ? 1.0 : sample.opacity;
             if (alpha > 0.0) {

@@ -186,7 +186,7 @@ static int check_file(const char *path, const char *text, int module, halo_libra
 {
     int file_status, own = 0;
     if (module) {
-        halo_status st = halo_library_override_file(lib, path, d);
+        halo_status st = halo_library_add(lib, path, NULL, HALO_ADD_REPLACE, d);
         if (st != HALO_OK) {
             halo_diagnostics_print(d, stderr);
             return st == HALO_ERROR_IO ? EXIT_USAGE : EXIT_INPUT;
@@ -285,7 +285,7 @@ static int check_file_isolated(const char *path, const char *text, int module, h
     if (module) {
         /* the parent's library takes the module too, for the files after it */
         halo_diagnostics *ignored = halo_diagnostics_create();
-        halo_library_override_file(lib, path, ignored);
+        halo_library_add(lib, path, NULL, HALO_ADD_REPLACE, ignored);
         halo_diagnostics_destroy(ignored);
     }
     if (status >= 0)
@@ -527,7 +527,7 @@ static int cmd_link(int argc, char **argv)
     char *host = NULL, *composed = NULL;
     int status = 0;
     for (int i = 0; lib && i < nmodules; i++)
-        halo_library_override_file(lib, modules[i], d);
+        halo_library_add(lib, modules[i], NULL, HALO_ADD_REPLACE, d);
     if (!lib || halo_diagnostics_errors(d))
         goto done;
     scene = scene_path ? halo_scene_load(scene_path, lib, d) : halo_scene_create(lib);

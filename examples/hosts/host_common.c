@@ -175,12 +175,12 @@ GLuint halo_host_program_build(const halo_host_desc *desc, const char *default_v
             return 0;
         }
         snprintf(es, length, "#version 300 es\nprecision highp float;\n%s", vertex_source + 18);
-        GLuint program = halo_gl_program_build(desc->runtime, desc->program, es, vertex_file, diag);
+        GLuint program = halo_gl_program_build(desc->runtime, desc->program, es, vertex_file, NULL, diag);
         free(es);
         return program;
     }
     if (desc->program)
-        return halo_gl_program_build(desc->runtime, desc->program, vertex_source, vertex_file, diag);
+        return halo_gl_program_build(desc->runtime, desc->program, vertex_source, vertex_file, NULL, diag);
     const char *fragment_source = desc->fragment_source ? desc->fragment_source : halo_host_embedded(default_fragment);
     const char *fragment_file = desc->fragment_file ? desc->fragment_file : default_fragment;
     if (!fragment_source) {

@@ -259,10 +259,9 @@ halo_gradient_format halo_slice_gradient_format(const halo_slice *s)
 static halo_status use_packed(halo_slice *s, int packed, halo_diagnostics *diag)
 {
     if (packed && !s->plain_program) {
-        GLuint variant = s->vertex_source
-                             ? halo_gl_program_build_defines(s->runtime_for_variant, s->linked, s->vertex_source,
-                                                             "slice.vert", "#define SLICE_PACKED_VOLUME 1\n", diag)
-                             : 0;
+        GLuint variant = s->vertex_source ? halo_gl_program_build(s->runtime_for_variant, s->linked, s->vertex_source,
+                                                                  "slice.vert", "#define SLICE_PACKED_VOLUME 1\n", diag)
+                                          : 0;
         if (!variant)
             return HALO_ERROR_IO;
         s->plain_program = s->program;
@@ -741,8 +740,8 @@ static GLuint shader_variant(halo_slice *s, GLuint *program, const char *defines
         return 0;
     }
     if (!*program)
-        *program = halo_gl_program_build_defines(s->runtime_for_variant, s->linked, s->vertex_source, "slice.vert",
-                                                 defines, diag);
+        *program =
+            halo_gl_program_build(s->runtime_for_variant, s->linked, s->vertex_source, "slice.vert", defines, diag);
     return *program;
 }
 

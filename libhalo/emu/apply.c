@@ -76,20 +76,12 @@ static halo_status run_stages(const halo_program *p, halo_emu_frame *f, halo_emu
     return HALO_OK;
 }
 
-halo_status halo_emu_apply(const halo_program *p, halo_emu_sample *s, halo_diagnostics *diag)
+halo_status halo_emu_apply(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s, halo_diagnostics *diag)
 {
     HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(diag, s, "sample", HALO_ERROR_INPUT);
-    return run_stages(p, NULL, s, diag);
-}
-
-halo_status halo_emu_apply_frame(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s, halo_diagnostics *diag)
-{
-    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(diag, f, "frame", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, s, "sample", HALO_ERROR_INPUT);
     halo_status st = run_stages(p, f, s, diag);
-    if (st != HALO_OK)
+    if (st != HALO_OK || !f)
         return st;
     /* The linker folds each output's field after halo_apply (emu/frame.c). */
     return halo_emu_frame_fold(p, s, diag);

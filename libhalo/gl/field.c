@@ -139,7 +139,7 @@ static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     f->GetIntegerv(GL_CURRENT_PROGRAM, &program);
     field->march = halo_gl_program_build(
         gl, p->prepass, halo_program_target(p->prepass) == HALO_TARGET_ES300 ? march_vertex_es300 : march_vertex_330,
-        "(libhalo's march, vertex shader)", diag);
+        "(libhalo's march, vertex shader)", NULL, diag);
     if (!field->march) {
         field_destroy(fr, field);
         return NULL;

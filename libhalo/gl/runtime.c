@@ -561,13 +561,7 @@ static char *source_with_defines(const char *source, const char *defines)
 }
 
 unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *vertex_source, const char *vertex_file,
-                               halo_diagnostics *diag)
-{
-    return halo_gl_program_build_defines(gl, p, vertex_source, vertex_file, NULL, diag);
-}
-
-unsigned halo_gl_program_build_defines(halo_gl *gl, const halo_program *p, const char *vertex_source,
-                                       const char *vertex_file, const char *defines, halo_diagnostics *diag)
+                               const char *defines, halo_diagnostics *diag)
 {
     HALO_REFUSE_NULL(diag, gl, "gl", 0);
     HALO_REFUSE_NULL(diag, p, "program", 0);

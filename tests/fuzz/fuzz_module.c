@@ -13,7 +13,7 @@ static const char host[] =
     " c = vec4(s.color, s.opacity);\n halo_finish();\n#endif\n}\n";
 
 /* The built-in library is parsed once; each input module is swapped in for the run
- * (replacing a module of the same name, as halo_library_override_source does) and out
+ * (replacing a module of the same name, as halo_library_add with HALO_ADD_REPLACE does) and out
  * again, so that an input costs its own parse and link, not the whole library's
  * (about 280 inputs/s when the library was rebuilt per input). */
 static halo_library *library;

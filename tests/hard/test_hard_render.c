@@ -202,8 +202,8 @@ static int run_case(halo_library *lib, halo_gl *runtime, const halo_glfuncs *gl,
             sample.opacity = 0.5;
             if (frame)
                 halo_emu_frame_begin(frame);
-            if ((frame ? halo_emu_apply_frame(program, frame, &sample, diag)
-                       : halo_emu_apply(program, &sample, diag)) != HALO_OK)
+            if ((frame ? halo_emu_apply(program, frame, &sample, diag)
+                       : halo_emu_apply(program, NULL, &sample, diag)) != HALO_OK)
                 goto done;
             for (int k = 0; k < 3; ++k)
                 emu_nonfinite += !isfinite(sample.color[k]);

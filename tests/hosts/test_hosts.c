@@ -513,7 +513,7 @@ static int mip_variant_checks(const context *c, const char *iso_source)
     return failed;
 }
 
-/* halo_gl_program_build_defines: a host's own compile-time variant. The host gets a
+/* halo_gl_program_build with defines: a host's own compile-time variant. The host gets a
  * block that only compiles wrong under TEST_VARIANT_BROKEN, before its main: built with
  * that define the driver's error is at the block's line of the host file (the inserted
  * lines and #line keep the numbering); without it, or with another define, it builds. */
@@ -540,7 +540,7 @@ static int build_defines_checks(const context *c, const char *file, const char *
     for (int k = 0; k < 3 && p && vertex; ++k) {
         static const char *const defines[3] = {NULL, "#define SOMETHING_ELSE 1\n", "#define TEST_VARIANT_BROKEN 1"};
         halo_diagnostics_clear(c->diag);
-        unsigned program = halo_gl_program_build_defines(c->runtime, p, vertex, "raycast.vert", defines[k], c->diag);
+        unsigned program = halo_gl_program_build(c->runtime, p, vertex, "raycast.vert", defines[k], c->diag);
         int ok;
         if (k < 2) {
             ok = program != 0 && halo_diagnostics_errors(c->diag) == 0;

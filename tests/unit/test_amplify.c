@@ -44,10 +44,10 @@ static int test_stream_without_end(void)
     CHECK_STR_EQ(g->file, "/dev/zero");
     CHECK_STR_CONTAINS(g->text, "HALO_MAX_FILE_BYTES");
     halo_diagnostics_clear(diags);
-    CHECK_INT_EQ(halo_library_add_file(library, "/dev/zero", diags), HALO_ERROR_IO);
+    CHECK_INT_EQ(halo_library_add(library, "/dev/zero", NULL, HALO_ADD_NEW, diags), HALO_ERROR_IO);
     CHECK_DIAG(diags, HALO_MSG_INPUT_TOO_LARGE);
     halo_diagnostics_clear(diags);
-    CHECK_INT_EQ(halo_library_override_file(library, "/dev/zero", diags), HALO_ERROR_IO);
+    CHECK_INT_EQ(halo_library_add(library, "/dev/zero", NULL, HALO_ADD_REPLACE, diags), HALO_ERROR_IO);
     CHECK_DIAG(diags, HALO_MSG_INPUT_TOO_LARGE);
     return 0;
 }
@@ -59,7 +59,7 @@ static int test_regular_file_too_large(void)
     SETUP(sparse_file(path, (off_t)HALO_MAX_FILE_BYTES + 1) == 0);
     halo_diagnostics_clear(diags);
     halo_scene *s = halo_scene_load(path, library, diags);
-    halo_status st = halo_library_add_file(library, path, diags);
+    halo_status st = halo_library_add(library, path, NULL, HALO_ADD_NEW, diags);
     unlink(path);
     CHECK(s == NULL);
     CHECK_INT_EQ(st, HALO_ERROR_IO);

@@ -64,7 +64,7 @@ static halo_status add_pass_module(const char *name, const char *n_param, const 
              "halo_channels grow_pass(ivec2 p) { return halo_input(0, p); }\n",
              name, name, name, n_param, m_param, name);
     halo_diagnostics_clear(diags);
-    return halo_library_add_source(library, name, source, diags);
+    return halo_library_add(library, name, source, HALO_ADD_NEW, diags);
 }
 
 static int test_repeat_bound(void)
@@ -161,7 +161,7 @@ static int test_long_identifiers(void)
              "void apply(inout halo_sample s) { s.opacity *= %s * %s[%s_count - 1]; }\n",
              array, global, global, array, array);
     halo_diagnostics_clear(diags);
-    SETUP(halo_library_add_source(library, "long_names.glsl", source, diags) == HALO_OK);
+    SETUP(halo_library_add(library, "long_names.glsl", source, HALO_ADD_NEW, diags) == HALO_OK);
     snprintf(json, sizeof json, "{\"halo_scene\": 1, \"stages\": [\"long_names\"]}");
     halo_program *p = link_scene(json);
     if (!p)

@@ -526,7 +526,7 @@ int main(void)
 {
     SETUP(halo_setup(&(halo_setup_desc){0}) == HALO_OK);
     library = check_library_setup(&diags);
-    if (halo_library_add_source(library, "user/engine_test.glsl", user_module, diags) != HALO_OK) {
+    if (halo_library_add(library, "user/engine_test.glsl", user_module, HALO_ADD_NEW, diags) != HALO_OK) {
         check_print_diags(diags);
         SETUP_FAIL("cannot add the test module");
     }

@@ -59,7 +59,7 @@ static halo_emu_sample sample(double value, double gx, double gy, double gz, dou
 static int apply(const halo_program *p, halo_emu_sample *s)
 {
     halo_diagnostics_clear(diags);
-    CHECK_INT_EQ(halo_emu_apply(p, s, diags), HALO_OK);
+    CHECK_INT_EQ(halo_emu_apply(p, NULL, s, diags), HALO_OK);
     CHECK_NO_ERRORS(diags);
     return 0;
 }
@@ -454,15 +454,15 @@ static int test_program_set(void)
 static int test_no_emulation(void)
 {
     halo_diagnostics_clear(diags);
-    SETUP(halo_library_add_source(library, "user/plain.glsl",
-                                  "#pragma halo module plain\n#pragma halo hook sample\n"
-                                  "void apply(inout halo_sample s) {}\n",
-                                  diags) == HALO_OK);
+    SETUP(halo_library_add(library, "user/plain.glsl",
+                           "#pragma halo module plain\n#pragma halo hook sample\n"
+                           "void apply(inout halo_sample s) {}\n",
+                           HALO_ADD_NEW, diags) == HALO_OK);
     CHECK(!halo_module_has_emulation(halo_library_find(library, "plain")));
     CHECK(halo_module_has_emulation(halo_library_find(library, "boundary")));
     halo_program *p = program_of("{\"stages\": [\"plain\"]}");
     halo_emu_sample s = sample(0.5, 0.1, 0.1, 0.1, 0.5, 0.5);
-    CHECK_INT_EQ(halo_emu_apply(p, &s, diags), HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_emu_apply(p, NULL, &s, diags), HALO_ERROR_INPUT);
     CHECK_DIAG(diags, HALO_MSG_EMU_MISSING);
     halo_program_destroy(p);
     /* No stage: the sample is unchanged. */

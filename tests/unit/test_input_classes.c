@@ -16,7 +16,7 @@ static halo_diagnostics *diags;
 static halo_status add(const char *file, const char *source)
 {
     halo_diagnostics_clear(diags);
-    return halo_library_add_source(library, file, source, diags);
+    return halo_library_add(library, file, source, HALO_ADD_NEW, diags);
 }
 
 
@@ -138,8 +138,8 @@ static int test_module_nul_byte(void)
     char path[4096];
     SETUP(write_temp(path, ".glsl", text, sizeof text - 1));
     halo_diagnostics_clear(diags);
-    halo_status st = halo_library_add_file(library, path, diags);
-    halo_status st2 = halo_library_override_file(library, path, diags);
+    halo_status st = halo_library_add(library, path, NULL, HALO_ADD_NEW, diags);
+    halo_status st2 = halo_library_add(library, path, NULL, HALO_ADD_REPLACE, diags);
     unlink(path);
     CHECK_INT_EQ(st, HALO_ERROR_INPUT);
     CHECK_INT_EQ(st2, HALO_ERROR_INPUT);

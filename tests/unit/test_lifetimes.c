@@ -101,7 +101,7 @@ static int test_library_destroyed_first(void)
                          .depth = 0.5,
                          .color = {0.8, 0.6, 0.4},
                          .opacity = 0.5};
-    CHECK_INT_EQ(halo_emu_apply(p, &s, d), HALO_OK);
+    CHECK_INT_EQ(halo_emu_apply(p, NULL, &s, d), HALO_OK);
     CHECK_FINITE(s.opacity);
     filler_free(filler);
     halo_scene_destroy(scene);
@@ -145,7 +145,7 @@ static int test_scene_of_another_library(void)
     halo_library *first = check_library_setup(&d);
     halo_library *second = halo_library_create(d);
     CHECK(second != NULL);
-    CHECK_INT_EQ(halo_library_override_source(second, "other_boundary.glsl", other_boundary, d), HALO_OK);
+    CHECK_INT_EQ(halo_library_add(second, "other_boundary.glsl", other_boundary, HALO_ADD_REPLACE, d), HALO_OK);
     halo_scene *scene = halo_scene_parse("{\"halo_scene\": 1, \"stages\": [\"boundary\"]}", "s.json", first, d);
     CHECK(scene != NULL);
     CHECK_NO_ERRORS(d);
@@ -175,12 +175,12 @@ static int test_override_in_use(void)
     halo_diagnostics *d;
     halo_library *lib;
     halo_scene *scene = scene_setup(&lib, &d);
-    CHECK_INT_EQ(halo_library_override_source(lib, "other_boundary.glsl", other_boundary, d), HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_library_add(lib, "other_boundary.glsl", other_boundary, HALO_ADD_REPLACE, d), HALO_ERROR_INPUT);
     CHECK_DIAG(d, HALO_MSG_USAGE);
     CHECK_INT_EQ(halo_scene_set(scene, "boundary", "k_gs", (const double[]){50}, 1, 0, d), HALO_OK);
     halo_scene_destroy(scene);
     halo_diagnostics_clear(d);
-    CHECK_INT_EQ(halo_library_override_source(lib, "other_boundary.glsl", other_boundary, d), HALO_OK);
+    CHECK_INT_EQ(halo_library_add(lib, "other_boundary.glsl", other_boundary, HALO_ADD_REPLACE, d), HALO_OK);
     CHECK_INT_EQ((int)halo_module_param(halo_library_find(lib, "boundary"), 0)->default_value[0], 7);
     halo_library_destroy(lib);
     halo_diagnostics_destroy(d);

@@ -1322,7 +1322,7 @@ int main(void)
     SETUP(halo_setup(&(halo_setup_desc){0}) == HALO_OK);
     library = check_library_setup(&diags);
     for (size_t i = 0; i < sizeof user_modules / sizeof user_modules[0]; i++)
-        if (halo_library_add_source(library, user_modules[i][0], user_modules[i][1], diags) != HALO_OK) {
+        if (halo_library_add(library, user_modules[i][0], user_modules[i][1], HALO_ADD_NEW, diags) != HALO_OK) {
             check_print_diags(diags);
             SETUP_FAIL("cannot add %s", user_modules[i][0]);
         }

@@ -9,7 +9,7 @@ static halo_diagnostics *diags;
 static halo_status add(const char *file, const char *source)
 {
     halo_diagnostics_clear(diags);
-    return halo_library_add_source(library, file, source, diags);
+    return halo_library_add(library, file, source, HALO_ADD_NEW, diags);
 }
 
 static const char valid_module[] =
@@ -614,7 +614,7 @@ static int test_annotation_comments(void)
 static int test_add_file(void)
 {
     halo_diagnostics_clear(diags);
-    CHECK_INT_EQ(halo_library_add_file(library, "/nonexistent/dir/module.glsl", diags), HALO_ERROR_IO);
+    CHECK_INT_EQ(halo_library_add(library, "/nonexistent/dir/module.glsl", NULL, HALO_ADD_NEW, diags), HALO_ERROR_IO);
     CHECK_DIAG(diags, HALO_MSG_IO_READ);
     return 0;
 }

@@ -254,28 +254,12 @@ CASE(halo_library_destroy)
     ACCEPTS(DONE(halo_library_destroy(NULL)));
     return 0;
 }
-CASE(halo_library_add_file)
+CASE(halo_library_add)
 {
-    REFUSES_D(halo_library_add_file(NULL, module_path, d) == HALO_ERROR_INPUT, "library");
-    REFUSES_D(halo_library_add_file(lib, NULL, d) == HALO_ERROR_INPUT, "path");
-    return 0;
-}
-CASE(halo_library_override_file)
-{
-    REFUSES_D(halo_library_override_file(NULL, module_path, d) == HALO_ERROR_INPUT, "library");
-    REFUSES_D(halo_library_override_file(lib, NULL, d) == HALO_ERROR_INPUT, "path");
-    return 0;
-}
-CASE(halo_library_override_source)
-{
-    REFUSES_D(halo_library_override_source(NULL, "m.glsl", "x", d) == HALO_ERROR_INPUT, "library");
-    REFUSES_D(halo_library_override_source(lib, "m.glsl", NULL, d) == HALO_ERROR_INPUT, "source");
-    return 0;
-}
-CASE(halo_library_add_source)
-{
-    REFUSES_D(halo_library_add_source(NULL, "m.glsl", "x", d) == HALO_ERROR_INPUT, "library");
-    REFUSES_D(halo_library_add_source(lib, "m.glsl", NULL, d) == HALO_ERROR_INPUT, "source");
+    REFUSES_D(halo_library_add(NULL, module_path, NULL, HALO_ADD_NEW, d) == HALO_ERROR_INPUT, "library");
+    REFUSES_D(halo_library_add(lib, NULL, NULL, HALO_ADD_NEW, d) == HALO_ERROR_INPUT, "file");
+    REFUSES_D(halo_library_add(lib, NULL, NULL, HALO_ADD_REPLACE, d) == HALO_ERROR_INPUT, "file");
+    REFUSES_D(halo_library_add(lib, "m.glsl", "x", (halo_add_mode)2, d) == HALO_ERROR_INPUT, "mode");
     return 0;
 }
 CASE(halo_library_module_count)
@@ -622,8 +606,8 @@ CASE(halo_module_validate)
 CASE(halo_emu_apply)
 {
     halo_emu_sample s = {.value = 0.5, .view = {0, 0, 1}};
-    REFUSES_D(halo_emu_apply(NULL, &s, d) == HALO_ERROR_INPUT, "program");
-    REFUSES_D(halo_emu_apply(program, NULL, d) == HALO_ERROR_INPUT, "sample");
+    REFUSES_D(halo_emu_apply(NULL, NULL, &s, d) == HALO_ERROR_INPUT, "program");
+    REFUSES_D(halo_emu_apply(program, NULL, NULL, d) == HALO_ERROR_INPUT, "sample");
     return 0;
 }
 CASE(halo_emu_frame_create)
@@ -662,14 +646,6 @@ CASE(halo_emu_frame_begin_group)
 CASE(halo_emu_frame_end_group)
 {
     REFUSES_D(halo_emu_frame_end_group(NULL, d) == HALO_ERROR_INPUT, "frame");
-    return 0;
-}
-CASE(halo_emu_apply_frame)
-{
-    halo_emu_sample s = {.value = 0.5, .view = {0, 0, 1}};
-    REFUSES_D(halo_emu_apply_frame(NULL, emu_frame, &s, d) == HALO_ERROR_INPUT, "program");
-    REFUSES_D(halo_emu_apply_frame(program, NULL, &s, d) == HALO_ERROR_INPUT, "frame");
-    REFUSES_D(halo_emu_apply_frame(program, emu_frame, NULL, d) == HALO_ERROR_INPUT, "sample");
     return 0;
 }
 CASE(halo_emu_frame_finish)
@@ -723,22 +699,12 @@ CASE(halo_gl_es_version)
 }
 CASE(halo_gl_program_build)
 {
-    REFUSES_D(halo_gl_program_build(NULL, program, vertex_source, "v.vert", d) == 0, "gl");
+    REFUSES_D(halo_gl_program_build(NULL, program, vertex_source, "v.vert", NULL, d) == 0, "gl");
     halo_gl *gl = fixture_gl();
     if (!gl)
         return 0;
-    REFUSES_D(halo_gl_program_build(gl, NULL, vertex_source, "v.vert", d) == 0, "program");
-    REFUSES_D(halo_gl_program_build(gl, program, NULL, "v.vert", d) == 0, "vertex_source");
-    return 0;
-}
-CASE(halo_gl_program_build_defines)
-{
-    REFUSES_D(halo_gl_program_build_defines(NULL, program, vertex_source, "v.vert", "#define X 1\n", d) == 0, "gl");
-    halo_gl *gl = fixture_gl();
-    if (!gl)
-        return 0;
-    REFUSES_D(halo_gl_program_build_defines(gl, NULL, vertex_source, "v.vert", NULL, d) == 0, "program");
-    REFUSES_D(halo_gl_program_build_defines(gl, program, NULL, "v.vert", NULL, d) == 0, "vertex_source");
+    REFUSES_D(halo_gl_program_build(gl, NULL, vertex_source, "v.vert", NULL, d) == 0, "program");
+    REFUSES_D(halo_gl_program_build(gl, program, NULL, "v.vert", NULL, d) == 0, "vertex_source");
     return 0;
 }
 CASE(halo_gl_program_upload)
@@ -1045,10 +1011,7 @@ static const api_case cases[] = {
     ROW(halo_target_from_name),
     ROW(halo_library_create),
     ROW(halo_library_destroy),
-    ROW(halo_library_add_file),
-    ROW(halo_library_override_file),
-    ROW(halo_library_override_source),
-    ROW(halo_library_add_source),
+    ROW(halo_library_add),
     ROW(halo_library_module_count),
     ROW(halo_library_module),
     ROW(halo_library_find),
@@ -1118,7 +1081,6 @@ static const api_case cases[] = {
     ROW(halo_emu_frame_begin),
     ROW(halo_emu_frame_begin_group),
     ROW(halo_emu_frame_end_group),
-    ROW(halo_emu_apply_frame),
     ROW(halo_emu_frame_finish),
     ROW(halo_emu_frame_generate),
     ROW(halo_emu_frame_post),
@@ -1128,7 +1090,6 @@ static const api_case cases[] = {
     ROW(halo_gl_destroy),
     ROW(halo_gl_es_version),
     ROW(halo_gl_program_build),
-    ROW(halo_gl_program_build_defines),
     ROW(halo_gl_program_upload),
     ROW(halo_gl_set_host_uniform),
     ROW(halo_gl_frame_create),

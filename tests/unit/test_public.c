@@ -42,7 +42,7 @@ static int test_pipeline(void)
                              .depth = 0.5,
                              .color = {0.8, 0.6, 0.4},
                              .opacity = 0.5};
-        CHECK_INT_EQ(halo_emu_apply(p, &s, d), HALO_OK);
+        CHECK_INT_EQ(halo_emu_apply(p, NULL, &s, d), HALO_OK);
         CHECK_FINITE(s.opacity);
         char *json = halo_program_reflect_json(p);
         CHECK(json != NULL);
