@@ -180,7 +180,7 @@ halo_program *halo_driver_link(const halo_link_desc *desc, halo_driver_host kind
     d.host_file = file;
     halo_program *p = halo_link(&d, diag);
     free(source);
-    if (p && validate && halo_program_validate(p, diag) != HALO_OK) {
+    if (p && validate && halo_validate(&(halo_validate_desc){.program = p}, diag) != HALO_OK) {
         halo_program_destroy(p);
         p = NULL;
     }

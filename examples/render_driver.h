@@ -49,7 +49,7 @@ float *halo_driver_builtin_volume(int size, const double window[2]);
 
 /* Links the scene into the host's fragment shader: desc gives the library, the scene
  * and the link options (its host_source and host_file are the driver's). validate:
- * halo_program_validate too. NULL on failure (diagnostics in diag). */
+ * halo_validate too. NULL on failure (diagnostics in diag). */
 halo_program *halo_driver_link(const halo_link_desc *desc, halo_driver_host kind, int validate, halo_diagnostics *diag);
 
 typedef struct halo_driver {

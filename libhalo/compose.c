@@ -4,11 +4,11 @@
  * tagged replacements, so there is no host text to link into. A link from pieces
  * (halo_link_desc.pieces, host_source NULL) returns the declarations and the per-sample
  * and finish snippets as separate strings, each with its line map, for the engine to put
- * in its own tags; halo_program_validate_composed checks the shader the engine composed,
+ * in its own tags; halo_validate (composed) checks the shader the engine composed,
  * with errors mapped back to the modules and to the composer's pieces.
  *
  * How: the pieces are linked into a small host written here, the same way as any host
- * (so halo_program_validate checks them in a complete shader), and cut out of the
+ * (so halo_validate checks them in a complete shader), and cut out of the
  * result by the origins of its lines. The sample snippet is written twice: with this
  * host's names for the program, with the composer's expressions for the piece. */
 #include "diag.h"
@@ -403,9 +403,8 @@ static halo_status validate_composed_held(const halo_program *p, const char *com
                                           const halo_composer_piece *pieces, size_t piece_count,
                                           halo_diagnostics *diag);
 
-halo_status halo_program_validate_composed(const halo_program *p, const char *composed, const char *composed_file,
-                                           const halo_composer_piece *pieces, size_t piece_count,
-                                           halo_diagnostics *diag)
+halo_status halo_validate_composed(const halo_program *p, const char *composed, const char *composed_file,
+                                   const halo_composer_piece *pieces, size_t piece_count, halo_diagnostics *diag)
 {
     HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, composed, "composed", HALO_ERROR_INPUT);

@@ -2,7 +2,7 @@
  *
  * The pipeline: load modules (halo_library) → read a scene (halo_scene) → link the
  * enabled stages into the host's own shader (halo_link → halo_program) → validate with
- * glslang (halo_program_validate) → run it in the host's GL context (halo_gl_*), or
+ * glslang (halo_validate) → run it in the host's GL context (halo_gl_*), or
  * compute the same thing in double precision (halo_emu_*).
  *
  * Conventions (sokol-style): descriptor structs where zero means "use the default",
@@ -47,8 +47,7 @@
  *                     deleted in whatever GL context is current: destroy a GL frame while its
  *                     context is current.
  *   halo_gl           freed when destroyed and every frame made with it is destroyed.
- * Validation (halo_program_validate, halo_validate_shader, halo_module_validate,
- * halo_program_validate_composed) needs halo_setup: without it, HALO_ERROR_INPUT and a
+ * Validation (halo_validate) needs halo_setup: without it, HALO_ERROR_INPUT and a
  * USAGE diagnostic. Everything else works without setup.
  *
  * Threads (tests/unit/test_threads.c, run under ThreadSanitizer in CI): halo_setup and
@@ -644,7 +643,6 @@ HALO_API int halo_program_segment_location(const halo_program *p);
 #define HALO_MAX_GROUP_CHANNELS 16
 HALO_API int halo_program_group_count(const halo_program *p);
 HALO_API halo_status halo_program_select_group(halo_program *p, int group);
-/* Validates the fragment program of each image pass (part of halo_program_validate). */
 /* Reflection as a JSON document (caller frees with free()). */
 HALO_API char *halo_program_reflect_json(const halo_program *p);
 
@@ -655,34 +653,44 @@ typedef struct halo_composer_piece {
     const char *name; /* "//VTK::Shading::Impl" or a file name */
     const char *text; /* found verbatim in the composed shader */
 } halo_composer_piece;
-/* Validates a shader composed by an engine from the program's pieces (found verbatim in
- * it) and its own template. Errors are mapped to the module's file:line for lines of a
- * libhalo piece, to name:line for a composer piece, else to composed_file:line. The
- * composed shader's own #version line selects the language. */
-HALO_API halo_status halo_program_validate_composed(const halo_program *p, const char *composed,
-                                                    const char *composed_file, const halo_composer_piece *pieces,
-                                                    size_t piece_count, halo_diagnostics *diag);
-
-/* Validates the linked source; glslang's errors are rewritten to the module's or the
- * host's own file:line:col. Returns HALO_OK or HALO_ERROR_INPUT. */
-HALO_API halo_status halo_program_validate(const halo_program *p, halo_diagnostics *diag);
-/* Validates a stand-alone shader (no linking). A plain shader (no libhalo annotation) is
- * checked as it is: for its own #version with HALO_TARGET_DEFAULT (none: GLSL ES 1.00, as
- * GLSL says, and a GLSL_VERSION_IMPLIED note), else for the target's version whatever its
- * #version says. '#include "name"' resolves as glslangValidator resolves it: against the
- * folder of the including file (for the shader itself, file's folder; file is a path as
- * fopen takes it, and a name without '/' is in the working directory), then those of
- * the files including that one. The working directory is not changed. */
-HALO_API halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind,
-                                          halo_target target, halo_diagnostics *diag);
 /* What a shader text is, whatever its file's extension: a module (a '#pragma halo module'
  * line), a host (a '#pragma halo declarations' line, also one commented out or in a branch
- * not taken, which halo_validate_shader then reports), or a plain shader. */
+ * not taken, which halo_validate then reports), or a plain shader. */
 typedef enum halo_source_kind { HALO_SOURCE_SHADER = 0, HALO_SOURCE_MODULE, HALO_SOURCE_HOST } halo_source_kind;
 HALO_API halo_source_kind halo_source_kind_of(const char *source);
-/* Validates a module by linking it alone into a minimal host of its hook. */
-HALO_API halo_status halo_module_validate(const halo_library *lib, const halo_module *m, halo_target target,
-                                          halo_diagnostics *diag);
+
+/* What halo_validate checks: set exactly one of program, source and module (more, or
+ * none: USAGE). glslang's errors are rewritten to the module's or the host's own
+ * file:line:col. */
+typedef struct halo_validate_desc {
+    /* A linked program: its source and each image pass's fragment program. With composed:
+     * instead, a shader an engine composed from the program's pieces (found verbatim in it)
+     * and its own template; errors in a libhalo piece map to the module's file:line, in one
+     * of composer_pieces to name:line, else to composed_file:line. The composed shader's own
+     * #version line selects the language. */
+    const halo_program *program;
+    const char *composed;
+    const char *composed_file;
+    const halo_composer_piece *composer_pieces;
+    size_t composer_piece_count;
+    /* A stand-alone shader (no linking), named file in diagnostics. A plain shader (no
+     * libhalo annotation) is checked as it is: for its own #version with HALO_TARGET_DEFAULT
+     * (none: GLSL ES 1.00, as GLSL says, and a GLSL_VERSION_IMPLIED note), else for the
+     * target's version whatever its #version says. '#include "name"' resolves as
+     * glslangValidator resolves it: against the folder of the including file (for the
+     * shader itself, file's folder; file is a path as fopen takes it, and a name without '/'
+     * is in the working directory), then those of the files including that one. The working
+     * directory is not changed. */
+    const char *source;
+    const char *file;
+    halo_shader_kind kind;
+    /* A module of library, linked alone into a minimal host of its hook. */
+    const halo_module *module;
+    const halo_library *library;
+    halo_target target; /* for source and module */
+} halo_validate_desc;
+/* Returns HALO_OK or HALO_ERROR_INPUT. */
+HALO_API halo_status halo_validate(const halo_validate_desc *desc, halo_diagnostics *diag);
 
 /* ---- C emulation (double precision) ---------------------------------------- */
 

@@ -337,6 +337,15 @@ halo_status halo_glslang_release_with(halo_status st);
 #define HALO_WITH_GLSLANG(diag, call) \
     (halo_glslang_acquire((diag), __func__) ? halo_glslang_release_with(call) : HALO_ERROR_INPUT)
 
+/* halo_validate's cases (libhalo/check.c): a program, a stand-alone shader and a module
+ * (validate.c), a composed shader (compose.c). */
+halo_status halo_validate_program(const halo_program *p, halo_diagnostics *diag);
+halo_status halo_validate_source(const char *source, const char *file, halo_shader_kind kind, halo_target target,
+                                 halo_diagnostics *diag);
+halo_status halo_validate_module(const halo_library *lib, const halo_module *m, halo_target target,
+                                 halo_diagnostics *diag);
+halo_status halo_validate_composed(const halo_program *p, const char *composed, const char *composed_file,
+                                   const halo_composer_piece *pieces, size_t piece_count, halo_diagnostics *diag);
 /* glslang validation of one source with origins for mapping; the caller holds
  * halo_glslang_acquire. */
 halo_status halo_glslang_validate(const char *source, halo_shader_kind kind, halo_target target,

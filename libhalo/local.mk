@@ -12,7 +12,7 @@ CLEANFILES += libhalo/embedded_modules.c
 noinst_LTLIBRARIES += libhalo/libhalo-core.la
 libhalo_libhalo_core_la_SOURCES = \
 	libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c \
-	libhalo/scene.c libhalo/link.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c libhalo/prepass.c libhalo/compose.c libhalo/piece_expression.c libhalo/contract.c libhalo/host_scan.c libhalo/validate.c libhalo/glsl_locate.c libhalo/setup.c libhalo/target.c \
+	libhalo/scene.c libhalo/link.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c libhalo/prepass.c libhalo/compose.c libhalo/piece_expression.c libhalo/contract.c libhalo/host_scan.c libhalo/validate.c libhalo/check.c libhalo/glsl_locate.c libhalo/setup.c libhalo/target.c \
 	libhalo/glslang_parse.cpp \
 	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c \
 	libhalo/emu/gradient.c libhalo/emu/opacity_power.c libhalo/emu/boundary.c \

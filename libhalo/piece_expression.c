@@ -10,7 +10,7 @@
  * balanced brackets, an lvalue for color and a plain designator for the samplers, and
  * the type where the expression itself says it (literals, constructors, a trailing
  * swizzle, texture(): `position=p.xy` is a vec2). The types of the engine's own names
- * are checked when the composed shader is validated (halo_program_validate_composed).
+ * are checked when the composed shader is validated (halo_validate with composed).
  * Each problem is reported at the expression as the file "NAME=EXPR" (what
  * `halo-validate link --sample` takes), line 1, at the column of the offending token. */
 #include "diag.h"

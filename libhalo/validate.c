@@ -345,7 +345,7 @@ static halo_status validate_shader_held(const char *source, const char *file, ha
     halo_program *p = halo_link_host(
         &(halo_link_desc){.library = &empty, .host_source = source, .host_file = file, .target = target, .kind = kind},
         diag);
-    halo_status st = p ? halo_program_validate(p, diag) : HALO_ERROR_INPUT;
+    halo_status st = p ? HALO_WITH_GLSLANG(diag, program_validate_held(p, diag)) : HALO_ERROR_INPUT;
     halo_program_destroy(p);
     return st;
 }
@@ -431,39 +431,36 @@ static halo_status module_validate_held(const halo_library *lib, const halo_modu
                                          diag);
         if (p)
             point_check_host_at_entry(p, m);
-        st = p ? halo_program_validate(p, diag) : HALO_ERROR_INPUT;
+        st = p ? HALO_WITH_GLSLANG(diag, program_validate_held(p, diag)) : HALO_ERROR_INPUT;
         halo_program_destroy(p);
     }
     halo_scene_destroy(scene);
     return st;
 }
 
-halo_status halo_program_validate(const halo_program *p, halo_diagnostics *diag)
-{
-    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
-    return HALO_WITH_GLSLANG(diag, program_validate_held(p, diag));
-}
-
-halo_status halo_validate_shader(const char *source, const char *file, halo_shader_kind kind, halo_target target,
-                                 halo_diagnostics *diag)
-{
-    HALO_REFUSE_NULL(diag, source, "source", HALO_ERROR_INPUT);
-    return HALO_WITH_GLSLANG(diag, validate_shader_held(source, file, kind, target, diag));
-}
-
-halo_status halo_module_validate(const halo_library *lib, const halo_module *m, halo_target target,
+halo_status halo_validate_module(const halo_library *lib, const halo_module *m, halo_target target,
                                  halo_diagnostics *diag)
 {
     HALO_REFUSE_NULL(diag, lib, "library", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(diag, m, "module", HALO_ERROR_INPUT);
     size_t i = 0;
     while (i < lib->count && lib->modules[i] != m)
         i++;
     if (i == lib->count) {
         /* the check links by name: it would validate lib's module of that name instead */
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_module_validate: module '%s' is not one of the library's",
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_validate: module '%s' is not one of the library's",
                         halo_module_name(m));
         return HALO_ERROR_INPUT;
     }
     return HALO_WITH_GLSLANG(diag, module_validate_held(lib, m, target, diag));
+}
+
+halo_status halo_validate_program(const halo_program *p, halo_diagnostics *diag)
+{
+    return HALO_WITH_GLSLANG(diag, program_validate_held(p, diag));
+}
+
+halo_status halo_validate_source(const char *source, const char *file, halo_shader_kind kind, halo_target target,
+                                 halo_diagnostics *diag)
+{
+    return HALO_WITH_GLSLANG(diag, validate_shader_held(source, file, kind, target, diag));
 }

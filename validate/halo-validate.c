@@ -200,7 +200,7 @@ static int check_file(const char *path, const char *text, int module, halo_libra
             if (crashed && crashed[t])
                 report_crash(d, path, crashed[t] - 1);
             else
-                halo_module_validate(lib, m, ct->list[t], d);
+                halo_validate(&(halo_validate_desc){.module = m, .library = lib, .target = ct->list[t]}, d);
         }
     } else {
         /* a plain shader is checked for its own #version unless --target says otherwise */
@@ -212,7 +212,7 @@ static int check_file(const char *path, const char *text, int module, halo_libra
             if (crashed && crashed[t])
                 report_crash(d, path, crashed[t] - 1);
             else
-                halo_validate_shader(text, path, kind, target, d);
+                halo_validate(&(halo_validate_desc){.source = text, .file = path, .kind = kind, .target = target}, d);
         }
     }
     int implied = 0;
@@ -548,9 +548,14 @@ static int cmd_link(int argc, char **argv)
     desc.host_source = host;
     desc.host_file = host_path;
     p = halo_link(&desc, d);
-    if (!p || halo_program_validate(p, d) != HALO_OK)
+    if (!p || halo_validate(&(halo_validate_desc){.program = p}, d) != HALO_OK)
         goto done;
-    if (composed && halo_program_validate_composed(p, composed, composed_path, NULL, 0, d) != HALO_OK)
+    if (composed && halo_validate(&(halo_validate_desc){.program = p,
+                                                        .composed = composed,
+                                                        .composed_file = composed_path,
+                                                        .composer_pieces = NULL,
+                                                        .composer_piece_count = 0},
+                                  d) != HALO_OK)
         goto done;
     if (pieces && (pieces_dir || !reflect)) {
         status = print_pieces(p, pieces_dir, out_path);

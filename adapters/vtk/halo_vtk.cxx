@@ -1057,7 +1057,9 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
             return nullptr;
         }
     }
-    if (halo_program_validate(program, diag) != HALO_OK) {
+    halo_validate_desc check{};
+    check.program = program;
+    if (halo_validate(&check, diag) != HALO_OK) {
         halo_program_destroy(program);
         return nullptr;
     }
@@ -1252,7 +1254,13 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag)
         }
     }
     halo_composer_piece pieces[] = {{"libhalo-vtk conversions", conversions}};
-    return halo_program_validate_composed(h->program, h->last_source.c_str(), file_name, pieces, 1, diag);
+    halo_validate_desc check{};
+    check.program = h->program;
+    check.composed = h->last_source.c_str();
+    check.composed_file = file_name;
+    check.composer_pieces = pieces;
+    check.composer_piece_count = 1;
+    return halo_validate(&check, diag);
 }
 
 halo_status halo_vtk_set_whole_extent(halo_vtk *h, const int whole_extent[6])

@@ -141,7 +141,7 @@ static int link_validate(const context *c, const host_case *h, const char *sourc
     for (int t = 0; t < h->target_count; ++t)
         for (int s = 0; s < 2; ++s) {
             halo_program *p = link_host(c, h->file, source, s ? halos : empty, h->targets[t], 0);
-            int ok = p && halo_program_validate(p, c->diag) == HALO_OK;
+            int ok = p && halo_validate(&(halo_validate_desc){.program = p}, c->diag) == HALO_OK;
             char what[160];
             snprintf(what, sizeof what, "%s link+validate %s %s scene", h->file, halo_target_name(h->targets[t]),
                      s ? "halo" : "empty");
@@ -494,7 +494,7 @@ static int mip_variant_checks(const context *c, const char *iso_source)
     static const halo_target targets[] = {HALO_TARGET_GLSL330, HALO_TARGET_GLSL450, HALO_TARGET_ES300};
     for (int t = 0; t < 3; ++t) {
         halo_program *p = link_host(c, "mip_iso_caster.frag", mip, empty, targets[t], 0);
-        ok = ok && p && halo_program_validate(p, c->diag) == HALO_OK;
+        ok = ok && p && halo_validate(&(halo_validate_desc){.program = p}, c->diag) == HALO_OK;
         halo_program_destroy(p);
     }
     halo_program *p = link_host(c, "mip_iso_caster.frag", mip, empty, HALO_TARGET_GLSL330, 0);

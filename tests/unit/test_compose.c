@@ -123,7 +123,7 @@ static int test_pieces_compose(void)
 {
     halo_program *p = link_pieces(per_sample_scene, &engine_names, HALO_TARGET_GLSL150, 0);
     CHECK(p != NULL);
-    CHECK(halo_program_validate(p, diags) == HALO_OK);
+    CHECK(halo_validate(&(halo_validate_desc){.program = p}, diags) == HALO_OK);
     const char *decl = halo_program_piece(p, HALO_PIECE_DECLARATIONS);
     const char *sample = halo_program_piece(p, HALO_PIECE_SAMPLE);
     CHECK(decl && sample && halo_program_piece(p, HALO_PIECE_FINISH));
@@ -148,7 +148,12 @@ static int test_pieces_compose(void)
     char *composed = compose(p, engine_uniform_declarations(p, &n), engine_template);
     CHECK(composed != NULL);
     halo_diagnostics_clear(diags);
-    halo_status st = halo_program_validate_composed(p, composed, "engine.frag", NULL, 0, diags);
+    halo_status st = halo_validate(&(halo_validate_desc){.program = p,
+                                                         .composed = composed,
+                                                         .composed_file = "engine.frag",
+                                                         .composer_pieces = NULL,
+                                                         .composer_piece_count = 0},
+                                   diags);
     if (st != HALO_OK) {
         check_print_diags(diags);
         fprintf(stderr, "%s", composed);
@@ -175,7 +180,13 @@ static int test_composed_errors_mapped(void)
     CHECK(with_piece != NULL);
     halo_diagnostics_clear(diags);
     halo_composer_piece pieces[] = {{"//ENGINE::Shading", bad_piece}};
-    CHECK_INT_EQ(halo_program_validate_composed(p, with_piece, "engine.frag", pieces, 1, diags), HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p,
+                                                     .composed = with_piece,
+                                                     .composed_file = "engine.frag",
+                                                     .composer_pieces = pieces,
+                                                     .composer_piece_count = 1},
+                               diags),
+                 HALO_ERROR_INPUT);
     const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_GLSL_ERROR, 2);
     CHECK(g != NULL);
     CHECK_STR_EQ(g->file, "//ENGINE::Shading");
@@ -187,7 +198,13 @@ static int test_composed_errors_mapped(void)
     char *composed2 = bad_template ? compose(p, engine_uniform_declarations(p, &n), bad_template) : NULL;
     CHECK(composed2 != NULL);
     halo_diagnostics_clear(diags);
-    CHECK_INT_EQ(halo_program_validate_composed(p, composed2, "engine.frag", NULL, 0, diags), HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p,
+                                                     .composed = composed2,
+                                                     .composed_file = "engine.frag",
+                                                     .composer_pieces = NULL,
+                                                     .composer_piece_count = 0},
+                               diags),
+                 HALO_ERROR_INPUT);
     g = check_find_diag(diags, HALO_MSG_GLSL_ERROR, 0);
     CHECK(g != NULL);
     CHECK_STR_EQ(g->file, "engine.frag");
@@ -207,7 +224,13 @@ static int test_composed_errors_mapped(void)
     composed = compose(p, "", engine_template);
     CHECK(composed != NULL);
     halo_diagnostics_clear(diags);
-    CHECK_INT_EQ(halo_program_validate_composed(p, composed, "engine.frag", NULL, 0, diags), HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p,
+                                                     .composed = composed,
+                                                     .composed_file = "engine.frag",
+                                                     .composer_pieces = NULL,
+                                                     .composer_piece_count = 0},
+                               diags),
+                 HALO_ERROR_INPUT);
     g = check_find_diag(diags, HALO_MSG_GLSL_ERROR, 0);
     CHECK(g != NULL && strstr(g->text, "scalar_value"));
     CHECK_STR_EQ(g->file, "engine.frag");
@@ -233,7 +256,7 @@ static int test_engine_uniforms(void)
     CHECK(strstr(decl, "const float halo_boundary_k_gc") != NULL); /* a constant stays a constant */
     /* the pieces host declares them as the engine would: it validates */
     halo_diagnostics_clear(diags);
-    CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
     size_t cursor = 0;
     halo_uniform_decl u;
     int seen = 0;
@@ -266,7 +289,12 @@ static int test_engine_uniforms(void)
     char *composed = compose(p, engine_uniform_declarations(p, &n), engine_template);
     CHECK(composed != NULL);
     halo_diagnostics_clear(diags);
-    halo_status st = halo_program_validate_composed(p, composed, "engine.frag", NULL, 0, diags);
+    halo_status st = halo_validate(&(halo_validate_desc){.program = p,
+                                                         .composed = composed,
+                                                         .composed_file = "engine.frag",
+                                                         .composer_pieces = NULL,
+                                                         .composer_piece_count = 0},
+                                   diags);
     if (st != HALO_OK)
         check_print_diags(diags);
     CHECK_INT_EQ(st, HALO_OK);
@@ -274,7 +302,13 @@ static int test_engine_uniforms(void)
     /* without the engine's declarations: undeclared, mapped to the module's line */
     composed = compose(p, "", engine_template);
     halo_diagnostics_clear(diags);
-    CHECK_INT_EQ(halo_program_validate_composed(p, composed, "engine.frag", NULL, 0, diags), HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p,
+                                                     .composed = composed,
+                                                     .composed_file = "engine.frag",
+                                                     .composer_pieces = NULL,
+                                                     .composer_piece_count = 0},
+                               diags),
+                 HALO_ERROR_INPUT);
     const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_GLSL_ERROR, 0);
     CHECK(g != NULL);
     CHECK(strstr(g->file, "engine_test.glsl") != NULL);
@@ -299,7 +333,7 @@ static int test_pieces_outputs(void)
     segmented.first_output_location = 3;
     p = link_pieces(halo_json, &segmented, HALO_TARGET_GLSL150, 0);
     CHECK(p != NULL);
-    CHECK(halo_program_validate(p, diags) == HALO_OK);
+    CHECK(halo_validate(&(halo_validate_desc){.program = p}, diags) == HALO_OK);
     const char *decl = halo_program_piece(p, HALO_PIECE_DECLARATIONS);
     CHECK(!strstr(decl, "layout(location"));
     CHECK(strstr(decl, "out halo_channels halo_output_seed;") != NULL);
@@ -324,7 +358,7 @@ static int test_pieces_outputs(void)
     CHECK(p != NULL);
     CHECK(strstr(halo_program_piece(p, HALO_PIECE_DECLARATIONS), "layout(location = 3) out") != NULL);
     CHECK(strstr(halo_program_source(p), "#extension GL_ARB_explicit_attrib_location : require") != NULL);
-    if (halo_program_validate(p, diags) != HALO_OK)
+    if (halo_validate(&(halo_validate_desc){.program = p}, diags) != HALO_OK)
         check_print_diags(diags);
     CHECK_INT_EQ(halo_diagnostics_errors(diags), 0);
     halo_program_destroy(p);
@@ -374,7 +408,7 @@ static int test_version_modes(void)
         CHECK(p != NULL);
         CHECK(!strncmp(halo_program_source(p), first_lines[mode], strlen(first_lines[mode])));
         if (mode != HALO_VERSION_NONE)
-            CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
+            CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
         halo_program_destroy(p);
     }
     halo_diagnostics_clear(diags);
@@ -506,7 +540,7 @@ static int test_engine_channels(void)
                     CHECK(u.count_name == NULL);
                 }
             CHECK(delta);
-            if (halo_program_validate(p, diags) != HALO_OK) {
+            if (halo_validate(&(halo_validate_desc){.program = p}, diags) != HALO_OK) {
                 check_print_diags(diags);
                 CHECK_FAIL_AT("target %s, all_live %d: the pieces do not validate", halo_target_name(targets[t]),
                               all_live);

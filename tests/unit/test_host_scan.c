@@ -60,7 +60,7 @@ static int expect_error(const char *scene_json, const char *host, halo_target ta
 static int expect_valid(const char *scene_json, const char *host, halo_target target)
 {
     halo_program *p = link_host(scene_json, host, target);
-    if (!p || halo_program_validate(p, diags) != HALO_OK) {
+    if (!p || halo_validate(&(halo_validate_desc){.program = p}, diags) != HALO_OK) {
         check_print_diags(diags);
         halo_program_destroy(p);
         CHECK_FAIL_AT("host rejected for target %s:\n%s", halo_target_name(target), host);
@@ -258,7 +258,7 @@ static int expect_glsl_error(const char *host, const char *file, int line)
     if (!p)
         check_print_diags(diags);
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_validate(p, diags), HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_ERROR_INPUT);
     halo_program_destroy(p);
     const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_GLSL_ERROR, 0);
     if (!g || g->line != line)

@@ -46,8 +46,11 @@ static int test_validate_before_setup(void)
 {
     halo_diagnostics *d = halo_diagnostics_create();
     CHECK(d != NULL);
-    CHECK_INT_EQ(halo_validate_shader("#version 330 core\nvoid main() {}\n", "plain.frag", HALO_SHADER_FRAGMENT,
-                                      HALO_TARGET_GLSL330, d),
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.source = "#version 330 core\nvoid main() {}\n",
+                                                     .file = "plain.frag",
+                                                     .kind = HALO_SHADER_FRAGMENT,
+                                                     .target = HALO_TARGET_GLSL330},
+                               d),
                  HALO_ERROR_INPUT);
     CHECK_DIAG(d, HALO_MSG_USAGE);
     CHECK_INT_EQ(halo_diagnostics_count(d), 1);
@@ -58,16 +61,19 @@ static int test_validate_before_setup(void)
     CHECK(lib != NULL);
     halo_program *p = halo_link(&(halo_link_desc){.library = lib, .host_source = check_sample_host}, d);
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_validate(p, d), HALO_ERROR_INPUT);
-    CHECK_INT_EQ(halo_module_validate(lib, halo_library_find(lib, "boundary"), HALO_TARGET_GLSL330, d),
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, d), HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.module = halo_library_find(lib, "boundary"),
+                                                     .library = lib,
+                                                     .target = HALO_TARGET_GLSL330},
+                               d),
                  HALO_ERROR_INPUT);
     CHECK_INT_EQ(check_count_diag(d, HALO_MSG_USAGE), 2);
     /* After a setup and its shutdown, the same again. */
     CHECK_INT_EQ(halo_setup(NULL), HALO_OK);
     halo_diagnostics_clear(d);
-    CHECK_INT_EQ(halo_program_validate(p, d), HALO_OK);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, d), HALO_OK);
     halo_shutdown();
-    CHECK_INT_EQ(halo_program_validate(p, d), HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, d), HALO_ERROR_INPUT);
     CHECK_DIAG(d, HALO_MSG_USAGE);
     halo_program_destroy(p);
     halo_library_destroy(lib);
@@ -159,7 +165,10 @@ static int test_scene_of_another_library(void)
     CHECK(p != NULL);
     halo_program_destroy(p);
     /* a module of another library is not validated as this library's module of that name */
-    CHECK_INT_EQ(halo_module_validate(first, halo_library_find(second, "boundary"), HALO_TARGET_GLSL330, d),
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.module = halo_library_find(second, "boundary"),
+                                                     .library = first,
+                                                     .target = HALO_TARGET_GLSL330},
+                               d),
                  HALO_ERROR_INPUT);
     CHECK_DIAG(d, HALO_MSG_USAGE);
     halo_scene_destroy(scene);

@@ -1,5 +1,5 @@
 /* The linker (halo_link) with hosts given as strings, and glslang validation of what
- * it emits (halo_program_validate). No GL. */
+ * it emits (halo_validate). No GL. */
 #include "check.h"
 #include "internal.h"
 #include "strbuf.h"
@@ -54,7 +54,7 @@ static halo_program *link_valid(const char *json)
     halo_scene *scene = scene_of(json);
     halo_program *p = link_with(scene, host_source, HALO_TARGET_DEFAULT, 0);
     halo_scene_destroy(scene);
-    if (!p || halo_program_validate(p, diags) != HALO_OK) {
+    if (!p || halo_validate(&(halo_validate_desc){.program = p}, diags) != HALO_OK) {
         fprintf(stderr, "link or validation failed for %s\n", json);
         check_print_diags(diags);
         if (p)
@@ -237,7 +237,7 @@ static int test_empty_scene(void)
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_stage_count(p), 0);
     CHECK_INT_EQ(halo_program_uniform_count(p), 0);
-    CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
     if (check_only_linked(p))
         return 1;
     if (check_empty_apply(halo_program_source(p)))
@@ -300,7 +300,7 @@ static int test_renaming(void)
         halo_program *p = link_with(scene, host, HALO_TARGET_DEFAULT, live);
         CHECK(p != NULL);
         CHECK_NO_ERRORS(diags);
-        if (halo_program_validate(p, diags) != HALO_OK) {
+        if (halo_validate(&(halo_validate_desc){.program = p}, diags) != HALO_OK) {
             check_print_diags(diags);
             fprintf(stderr, "%s", halo_program_source(p));
             CHECK_FAIL_AT("renamed program does not validate (all_live = %d)", live);
@@ -356,7 +356,7 @@ static int test_constants_and_uniforms(void)
     p = link_with(scene, host_source, HALO_TARGET_DEFAULT, 1);
     halo_scene_destroy(scene);
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
     src = halo_program_source(p);
     CHECK_STR_NOT_CONTAINS(src, "const float halo_");
     CHECK_STR_NOT_CONTAINS(src, "const int halo_");
@@ -654,7 +654,7 @@ static int test_glsl_errors_mapped(void)
     halo_program *p = link_with(scene, host_source, HALO_TARGET_DEFAULT, 0);
     halo_scene_destroy(scene);
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_validate(p, diags), HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_ERROR_INPUT);
     const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_GLSL_ERROR, 7);
     if (!g)
         check_print_diags(diags);
@@ -678,7 +678,7 @@ static int test_glsl_errors_mapped(void)
     p = link_with(scene, host, HALO_TARGET_DEFAULT, 0);
     halo_scene_destroy(scene);
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_validate(p, diags), HALO_ERROR_INPUT);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_ERROR_INPUT);
     g = check_find_diag(diags, HALO_MSG_GLSL_ERROR, 6);
     if (!g)
         check_print_diags(diags);
@@ -696,7 +696,7 @@ static int link_target(const halo_scene *scene, const char *host, halo_target ta
     halo_program *p = link_with(scene, host, target, all_live);
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_target(p), target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : target);
-    if (halo_program_validate(p, diags) != HALO_OK) {
+    if (halo_validate(&(halo_validate_desc){.program = p}, diags) != HALO_OK) {
         check_print_diags(diags);
         CHECK_FAIL_AT("does not validate for target %s (all_live %d)", halo_target_name(target), all_live);
     }
@@ -767,7 +767,7 @@ static int test_image_scale(void)
                                                       .image_scale = scale},
                                     diags);
         CHECK(p != NULL);
-        CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
+        CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
         CHECK_INT_EQ(halo_program_image_scale(p), scale);
         int seen = 0;
         for (size_t i = 0; i < halo_program_image_count(p); i++) {
@@ -978,7 +978,7 @@ static int test_feature_groups(void)
         &(halo_link_desc){.library = library, .scene = scene, .host_source = host_source, .host_file = "test.frag"},
         diags);
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_validate(p, diags), HALO_OK);
+    CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
     CHECK_INT_EQ(halo_program_group_count(p), 2);
     CHECK_INT_EQ(halo_program_channel_count(p), 4);
     const halo_uniform_info *vmin = halo_program_find_uniform(p, "outline_feature", "value_min");
@@ -1211,7 +1211,7 @@ static int test_compositing_mip(void)
     scene = scene_of("{\"stages\": []}");
     p = link_with(scene, mip, HALO_TARGET_DEFAULT, 0);
     halo_scene_destroy(scene);
-    CHECK(p != NULL && halo_program_validate(p, diags) == HALO_OK);
+    CHECK(p != NULL && halo_validate(&(halo_validate_desc){.program = p}, diags) == HALO_OK);
     halo_program_destroy(p);
     if (check_host_error("#version 330 core\n#pragma halo declarations\n#pragma halo compositing max\n"
                          "out vec4 c;\nvoid main() { c = vec4(1.0); }\n",
@@ -1240,7 +1240,7 @@ static int test_compositing_mip(void)
     scene = scene_of("{\"stages\": [\"halo_seed\", \"halo_generate\", \"halo_map\"]}");
     p = link_with(scene, volume_host, HALO_TARGET_DEFAULT, 0);
     halo_scene_destroy(scene);
-    if (!p || halo_program_validate(p, diags) != HALO_OK) {
+    if (!p || halo_validate(&(halo_validate_desc){.program = p}, diags) != HALO_OK) {
         check_print_diags(diags);
         halo_program_destroy(p);
         CHECK_FAIL_AT("a '#pragma halo volume' host with image passes does not link and validate");

@@ -572,23 +572,23 @@ CASE(halo_program_reflect_json)
     return 0;
 }
 
-CASE(halo_program_validate_composed)
+CASE(halo_validate)
 {
     const char *composed = halo_program_source(program);
-    REFUSES_D(halo_program_validate_composed(NULL, composed, "c.frag", NULL, 0, d) == HALO_ERROR_INPUT, "program");
-    REFUSES_D(halo_program_validate_composed(program, NULL, "c.frag", NULL, 0, d) == HALO_ERROR_INPUT, "composed");
-    REFUSES_D(halo_program_validate_composed(program, composed, "c.frag", NULL, 1, d) == HALO_ERROR_INPUT, "pieces");
-    return 0;
-}
-CASE(halo_program_validate)
-{
-    REFUSES_D(halo_program_validate(NULL, d) == HALO_ERROR_INPUT, "program");
-    return 0;
-}
-CASE(halo_validate_shader)
-{
-    REFUSES_D(halo_validate_shader(NULL, "s.frag", HALO_SHADER_FRAGMENT, HALO_TARGET_DEFAULT, d) == HALO_ERROR_INPUT,
-              "source");
+    REFUSES_D(halo_validate(NULL, d) == HALO_ERROR_INPUT, "desc");
+    REFUSES_D(halo_validate(&(halo_validate_desc){0}, d) == HALO_ERROR_INPUT, "program");
+    REFUSES_D(halo_validate(&(halo_validate_desc){.composed = composed, .composed_file = "c.frag"}, d) ==
+                  HALO_ERROR_INPUT,
+              "program");
+    REFUSES_D(halo_validate(&(halo_validate_desc){.program = program, .composer_piece_count = 1}, d) ==
+                  HALO_ERROR_INPUT,
+              "composed");
+    REFUSES_D(halo_validate(&(halo_validate_desc){.program = program, .composed = composed, .composer_piece_count = 1},
+                            d) == HALO_ERROR_INPUT,
+              "pieces");
+    REFUSES_D(halo_validate(&(halo_validate_desc){.program = program, .source = composed}, d) == HALO_ERROR_INPUT,
+              "more than one");
+    REFUSES_D(halo_validate(&(halo_validate_desc){.module = module}, d) == HALO_ERROR_INPUT, "library");
     return 0;
 }
 CASE(halo_source_kind_of)
@@ -596,13 +596,6 @@ CASE(halo_source_kind_of)
     REFUSES(halo_source_kind_of(NULL) == HALO_SOURCE_SHADER, "source");
     return 0;
 }
-CASE(halo_module_validate)
-{
-    REFUSES_D(halo_module_validate(NULL, module, HALO_TARGET_DEFAULT, d) == HALO_ERROR_INPUT, "library");
-    REFUSES_D(halo_module_validate(lib, NULL, HALO_TARGET_DEFAULT, d) == HALO_ERROR_INPUT, "module");
-    return 0;
-}
-
 CASE(halo_emu_apply)
 {
     halo_emu_sample s = {.value = 0.5, .view = {0, 0, 1}};
@@ -1068,11 +1061,8 @@ static const api_case cases[] = {
     ROW(halo_program_group_count),
     ROW(halo_program_select_group),
     ROW(halo_program_reflect_json),
-    ROW(halo_program_validate_composed),
-    ROW(halo_program_validate),
-    ROW(halo_validate_shader),
+    ROW(halo_validate),
     ROW(halo_source_kind_of),
-    ROW(halo_module_validate),
     ROW(halo_emu_apply),
     ROW(halo_emu_frame_create),
     ROW(halo_emu_frame_destroy),

@@ -28,7 +28,7 @@ static int test_pipeline(void)
                                                       .target = (halo_target)t},
                                     d);
         CHECK(p != NULL);
-        if (halo_program_validate(p, d) != HALO_OK) {
+        if (halo_validate(&(halo_validate_desc){.program = p}, d) != HALO_OK) {
             check_print_diags(d);
             CHECK_FAIL_AT("does not validate for %s", halo_target_name((halo_target)t));
         }
@@ -132,11 +132,17 @@ static int test_include_beside_file(void)
     CHECK(write_file(root, "shaders/more/broken.h", "float fine = 1.0;\nfloat bad = missing;\n") == 0);
     CHECK(chdir(root) == 0);
     halo_diagnostics *d = halo_diagnostics_create();
-    halo_status ok = halo_validate_shader(shader, "shaders/main.frag", HALO_SHADER_FRAGMENT, HALO_TARGET_DEFAULT, d);
+    halo_status ok = halo_validate(
+        &(halo_validate_desc){
+            .source = shader, .file = "shaders/main.frag", .kind = HALO_SHADER_FRAGMENT, .target = HALO_TARGET_DEFAULT},
+        d);
     if (ok != HALO_OK)
         check_print_diags(d);
     halo_diagnostics_clear(d);
-    halo_status bad = halo_validate_shader(broken, "shaders/main.frag", HALO_SHADER_FRAGMENT, HALO_TARGET_DEFAULT, d);
+    halo_status bad = halo_validate(
+        &(halo_validate_desc){
+            .source = broken, .file = "shaders/main.frag", .kind = HALO_SHADER_FRAGMENT, .target = HALO_TARGET_DEFAULT},
+        d);
     const halo_diagnostic *g = check_find_diag(d, HALO_MSG_GLSL_ERROR, 0);
     int back = chdir(cwd);
     const char *names[] = {"shaders/more/broken.h",

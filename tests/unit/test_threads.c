@@ -39,7 +39,11 @@ static int work(worker *w)
         CHECK_INT_EQ(halo_setup(&(halo_setup_desc){.logger = logger, .user_data = w}), HALO_OK);
         halo_diagnostics *d = halo_diagnostics_create();
         CHECK(d != NULL);
-        CHECK_INT_EQ(halo_validate_shader(bad_shader, "bad.frag", HALO_SHADER_FRAGMENT, HALO_TARGET_GLSL330, d),
+        CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.source = bad_shader,
+                                                         .file = "bad.frag",
+                                                         .kind = HALO_SHADER_FRAGMENT,
+                                                         .target = HALO_TARGET_GLSL330},
+                                   d),
                      HALO_ERROR_INPUT);
         CHECK_DIAG_LINE(d, HALO_MSG_GLSL_ERROR, 3); /* the other thread's log never mixes in */
         CHECK(halo_scene_parse("{\"stages\": [\"no_such_stage\"]}", "bad.json", w->library, d) == NULL);
@@ -50,7 +54,7 @@ static int work(worker *w)
         halo_program *p =
             halo_link(&(halo_link_desc){.library = w->library, .scene = scene, .host_source = check_sample_host}, d);
         CHECK(p != NULL);
-        CHECK_INT_EQ(halo_program_validate(p, d), HALO_OK);
+        CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, d), HALO_OK);
         halo_program_destroy(p);
         halo_scene_destroy(scene);
         w->diagnostics += halo_diagnostics_count(d) + halo_diagnostics_dropped(d);
