@@ -9,23 +9,37 @@ noinst_HEADERS += libhalo/diag.h libhalo/strbuf.h libhalo/internal.h libhalo/gls
 BUILT_SOURCES += libhalo/embedded_modules.c
 CLEANFILES += libhalo/embedded_modules.c
 
-noinst_LTLIBRARIES += libhalo/libhalo-core.la
-libhalo_libhalo_core_la_SOURCES = \
-	libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c \
-	libhalo/scene.c libhalo/link.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c libhalo/prepass.c libhalo/compose.c libhalo/piece_expression.c libhalo/contract.c libhalo/host_scan.c libhalo/validate.c libhalo/check.c libhalo/glsl_locate.c libhalo/setup.c libhalo/target.c \
-	libhalo/glslang_parse.cpp \
-	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c \
+# The per-sample stages' emulations, one file each, defining HALO_EMU_STAGE(name): the
+# registry's list (libhalo/emu/registry_list.h) is generated from them, so a stage's
+# emulation is its file and its line here.
+halo_emu_stage_files = \
 	libhalo/emu/gradient.c libhalo/emu/opacity_power.c libhalo/emu/boundary.c \
 	libhalo/emu/silhouette.c libhalo/emu/orientation_fade.c libhalo/emu/sketch.c \
 	libhalo/emu/tone_shading.c libhalo/emu/distance_blend.c libhalo/emu/distance_cue.c \
-	libhalo/emu/lines.c \
-	libhalo/emu/halo_seed.c libhalo/emu/halo_generate.c libhalo/emu/halo_map.c libhalo/emu/frame.c libhalo/emu/outline.c \
-	libhalo/gl/glfuncs.c libhalo/gl/runtime.c libhalo/gl/runtime.h libhalo/gl/frame.c libhalo/gl/camera.c libhalo/gl/segments.c libhalo/gl/field.c libhalo/gl/frame.h \
-	libhalo/emu/feature_halo.c libhalo/gl/feature_splat.c
+	libhalo/emu/halo_seed.c libhalo/emu/halo_map.c libhalo/emu/outline.c libhalo/emu/feature_halo.c
+# What needs neither glslang nor desktop GL: the linker, modules, scenes, reflection and
+# the emulation (the web package builds these for WebAssembly: adapters/web/local.mk).
+halo_portable_files = \
+	libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c \
+	libhalo/scene.c libhalo/link.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c \
+	libhalo/prepass.c libhalo/compose.c libhalo/piece_expression.c libhalo/contract.c libhalo/host_scan.c \
+	libhalo/target.c libhalo/budget.c \
+	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c libhalo/emu/lines.c \
+	libhalo/emu/halo_generate.c libhalo/emu/frame.c $(halo_emu_stage_files)
+
+BUILT_SOURCES += libhalo/emu/registry_list.h
+CLEANFILES += libhalo/emu/registry_list.h
+libhalo/emu/registry_list.h: $(halo_emu_stage_files) $(top_srcdir)/build-aux/emu_registry.sh
+	$(AM_V_GEN)$(MKDIR_P) libhalo/emu && \
+	$(SHELL) $(top_srcdir)/build-aux/emu_registry.sh $@ $(top_srcdir) $(halo_emu_stage_files)
+
+noinst_LTLIBRARIES += libhalo/libhalo-core.la
+libhalo_libhalo_core_la_SOURCES = $(halo_portable_files) \
+	libhalo/validate.c libhalo/check.c libhalo/glsl_locate.c libhalo/setup.c libhalo/glslang_parse.cpp \
+	libhalo/gl/glfuncs.c libhalo/gl/runtime.c libhalo/gl/runtime.h libhalo/gl/frame.c libhalo/gl/camera.c \
+	libhalo/gl/segments.c libhalo/gl/field.c libhalo/gl/frame.h libhalo/gl/feature_splat.c
 nodist_libhalo_libhalo_core_la_SOURCES = libhalo/embedded_modules.c
-# The error budget (halo_budget_choose): halo-validate bench --max-error.
-libhalo_libhalo_core_la_SOURCES += libhalo/budget.c
-libhalo_libhalo_core_la_CPPFLAGS = $(AM_CPPFLAGS) -DHALO_BUILDING $(JANSSON_CFLAGS) $(GLSLANG_CFLAGS)
+libhalo_libhalo_core_la_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_builddir)/libhalo/emu -DHALO_BUILDING $(JANSSON_CFLAGS) $(GLSLANG_CFLAGS)
 libhalo_libhalo_core_la_CFLAGS = $(AM_CFLAGS) -fvisibility=hidden
 # glslang_parse.cpp: glslang's TShader is C++ only. No RTTI, as glslang is built: with it
 # UBSan's vptr check would refer to glslang's type information, which its library lacks.

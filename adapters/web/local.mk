@@ -10,18 +10,8 @@ EXTRA_DIST += $(web_package_files) adapters/web/deps.sh adapters/web/local.mk
 
 if HALO_HAVE_WEB
 WEB_PACKAGE = adapters/web/package
-# libhalo-core's sources that need no glslang and no desktop GL
-web_core_files = \
-	libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c \
-	libhalo/scene.c libhalo/link.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c \
-	libhalo/prepass.c libhalo/compose.c libhalo/piece_expression.c libhalo/contract.c libhalo/host_scan.c \
-	libhalo/target.c libhalo/budget.c \
-	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c \
-	libhalo/emu/gradient.c libhalo/emu/opacity_power.c libhalo/emu/boundary.c \
-	libhalo/emu/silhouette.c libhalo/emu/orientation_fade.c libhalo/emu/sketch.c \
-	libhalo/emu/tone_shading.c libhalo/emu/distance_blend.c libhalo/emu/distance_cue.c \
-	libhalo/emu/lines.c libhalo/emu/halo_seed.c libhalo/emu/halo_generate.c libhalo/emu/halo_map.c \
-	libhalo/emu/frame.c libhalo/emu/outline.c libhalo/emu/feature_halo.c
+# libhalo-core's sources that need no glslang and no desktop GL (libhalo/local.mk)
+web_core_files = $(halo_portable_files)
 WEB_DEPS = adapters/web/deps
 # emscripten's tools run on node and need Debian's node-acorn, which a node of another
 # origin does not find by itself
@@ -35,10 +25,11 @@ $(WEB_DEPS)/lib/libjansson.a: $(srcdir)/adapters/web/deps.sh
 	$(AM_V_GEN)EMCC="$(EMCC)" NODE="$(NODE)" $(SHELL) $(srcdir)/adapters/web/deps.sh $(WEB_DEPS)
 
 $(WEB_PACKAGE)/dist/libhalo-core.mjs: $(web_core_files) adapters/web/halo_web.c libhalo/embedded_modules.c \
+		libhalo/emu/registry_list.h \
 		$(WEB_DEPS)/lib/libjansson.a libhalo/halo.h libhalo/internal.h $(srcdir)/adapters/web/local.mk
 	@mkdir -p $(WEB_PACKAGE)/dist
 	$(AM_V_GEN)$(WEB_EMCC) -O2 -std=gnu11 -DHALO_BUILDING -DPACKAGE_VERSION=\"$(PACKAGE_VERSION)\" \
-		-I$(srcdir)/libhalo -Ilibhalo -I$(srcdir) -I$(WEB_DEPS)/include \
+		-I$(srcdir)/libhalo -Ilibhalo -Ilibhalo/emu -I$(srcdir) -I$(WEB_DEPS)/include \
 		$(addprefix $(srcdir)/,$(web_core_files) adapters/web/halo_web.c) libhalo/embedded_modules.c \
 		$(WEB_DEPS)/lib/libjansson.a -o $@ -sMODULARIZE=1 -sEXPORT_ES6=1 -sEXPORT_NAME=haloCore \
 		-sALLOW_MEMORY_GROWTH=1 -sENVIRONMENT=web,worker -sEXPORTED_FUNCTIONS=$(subst $(web_space),$(web_comma),$(WEB_EXPORTS)) \

@@ -4,6 +4,7 @@
  * per-sample stage glsl/feature/feature_halo.glsl. docs/feature-halos.md. */
 #include "diag.h"
 #include "emu.h"
+#include "stages.h"
 #include "halo_feature.h"
 #include "internal.h"
 
@@ -357,7 +358,7 @@ static void apply_stage(halo_emu_sample *s, const halo_emu_params *p, double buf
 /* The registered emulation (halo_emu_lookup "feature_halo"): the emulated frame cannot
  * hold a 3D texture, so its host uniform `feature_buffer` holds the buffer's value at
  * the sample, set by the caller per sample (0 without a frame, as an unbound sampler). */
-void halo_emu_feature_halo(halo_emu_sample *s, const halo_emu_params *p)
+HALO_EMU_STAGE(feature_halo)
 {
     apply_stage(s, p, halo_emu_host_uniform(p, "feature_buffer")[0]);
 }

@@ -4,21 +4,10 @@
 #include "feature_internal.h"
 #include "stages.h"
 
-/* The per-sample stages with an emulation, by module name: one line per stage. */
-#define HALO_EMU_SAMPLE_STAGES(X) \
-    X(gradient)                   \
-    X(opacity_power)              \
-    X(boundary)                   \
-    X(silhouette)                 \
-    X(orientation_fade)           \
-    X(sketch)                     \
-    X(tone_shading)               \
-    X(distance_blend)             \
-    X(distance_cue)               \
-    X(halo_seed)                  \
-    X(halo_map)                   \
-    X(outline_feature)            \
-    X(feature_halo)
+/* The per-sample stages with an emulation, by module name: HALO_EMU_SAMPLE_STAGES(X),
+ * generated from the HALO_EMU_STAGE(name) definitions of libhalo/local.mk's
+ * halo_emu_stage_files (build-aux/emu_registry.sh). */
+#include "registry_list.h"
 
 #define HALO_EMU_DECLARE(name) HALO_EMU_STAGE(name);
 HALO_EMU_SAMPLE_STAGES(HALO_EMU_DECLARE)

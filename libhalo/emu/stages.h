@@ -6,8 +6,9 @@
 #include "emu.h"
 
 /* A per-sample stage's emulation, defined in its own file as HALO_EMU_STAGE(name) { ... }
- * and listed once in registry.c (HALO_EMU_SAMPLE_STAGES): adding a stage touches no
- * other place of the emulation. */
+ * at the start of a line, the file listed in libhalo/local.mk's halo_emu_stage_files:
+ * the registry's list is generated from those definitions (build-aux/emu_registry.sh),
+ * so adding a stage touches no other place of the emulation. */
 #define HALO_EMU_STAGE(name) void halo_emu_##name(halo_emu_sample *s, const halo_emu_params *p)
 
 /* The image passes of halo_generate (emu/halo_generate.c). */
