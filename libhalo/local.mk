@@ -29,7 +29,7 @@ halo_portable_files = \
 
 BUILT_SOURCES += libhalo/emu/registry_list.h
 CLEANFILES += libhalo/emu/registry_list.h
-libhalo/emu/registry_list.h: $(halo_emu_stage_files) $(top_srcdir)/build-aux/emu_registry.sh
+libhalo/emu/registry_list.h: $(halo_emu_stage_files) $(top_srcdir)/build-aux/emu_registry.sh $(top_srcdir)/libhalo/local.mk
 	$(AM_V_GEN)$(MKDIR_P) libhalo/emu && \
 	$(SHELL) $(top_srcdir)/build-aux/emu_registry.sh $@ $(top_srcdir) $(halo_emu_stage_files)
 
