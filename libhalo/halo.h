@@ -572,15 +572,20 @@ HALO_API const char *halo_program_stage(const halo_program *p, size_t index); /*
 typedef struct halo_stage_info {
     const char *name;
     halo_hook hook;
-    int keeps_empty;         /* `is keeps_empty`: an empty sample (value, colour, opacity and gradient 0)
+    int keeps_empty;           /* `is keeps_empty`: an empty sample (value, colour, opacity and gradient 0)
                               * stays empty, and the stage writes 0 to its outputs, where the images it
                               * reads are 0 (a host may skip such samples: the slice host's clipping) */
-    int zero_generation;     /* `is zero_generation`: its generation passes make every image 0 from a
+    int zero_generation;       /* `is zero_generation`: its generation passes make every image 0 from a
                               * seed image of 0 (a host may skip the generation of an empty slab) */
-    const char *labels_when; /* `is labels_when=PARAM`: it reads halo_host_labels only for the values
+    const char *labels_when;   /* `is labels_when=PARAM`: it reads halo_host_labels only for the values
                               * of PARAM that are >= 0; NULL: whenever it declares that host uniform */
-    const char *interval;    /* `is interval=PARAM`: PARAM (an int) is M, the slices or planes a host
+    const char *interval;      /* `is interval=PARAM`: PARAM (an int) is M, the slices or planes a host
                               * draws between two generations of its passes (halo_program_interval) */
+    const char *strip_width;   /* `is strip_width=PARAM` (a line vertex stage): PARAM (a float) is the strip's
+                                * whole width, line core and halo together */
+    const char *core_fraction; /* `is core_fraction=PARAM` (a line fragment stage): PARAM (a float) is the
+                                * fraction of the strip that is the line itself, the rest its halo: a host
+                                * drawing plain lines without this stage narrows the strip by it */
 } halo_stage_info;
 /* NULL for an index past the stages. */
 HALO_API const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t index);

@@ -9,6 +9,7 @@
 #include <limits.h>
 #include <math.h>
 #include <stdlib.h>
+#include <stddef.h>
 #include <string.h>
 
 static const char *const hook_names[HALO_HOOK_COUNT] = {"sample", "image", "line_vertex", "line_fragment"};
@@ -304,13 +305,32 @@ static char *unquote(const char *w)
     return halo_strdup(w);
 }
 
+/* The `is KEY=PARAM` properties (halo_stage_info): which field PARAM's name goes to, and
+ * the type that parameter must have (a scalar; -1: any parameter). */
+static const struct {
+    const char *key;
+    size_t offset;
+    int type;
+    const char *type_name;
+} is_params[] = {
+    {"labels_when", offsetof(halo_stage_info, labels_when), -1, ""},
+    {"interval", offsetof(halo_stage_info, interval), HALO_PARAM_INT, "int "},
+    {"strip_width", offsetof(halo_stage_info, strip_width), HALO_PARAM_FLOAT, "float "},
+    {"core_fraction", offsetof(halo_stage_info, core_fraction), HALO_PARAM_FLOAT, "float "},
+};
+#define IS_PARAM_COUNT 4
+
+static const char **is_param_field(halo_stage_info *info, int k)
+{
+    return (const char **)((char *)info + is_params[k].offset);
+}
+
 typedef struct parse_ctx {
     halo_module *m;
     halo_diagnostics *diag;
     int errors;
-    int module_tried, hook_tried;          /* a 'module' or 'hook' annotation was there, malformed */
-    int labels_when_line, labels_when_col; /* where 'is labels_when=' was */
-    int interval_line, interval_col;       /* where 'is interval=' was */
+    int module_tried, hook_tried; /* a 'module' or 'hook' annotation was there, malformed */
+    int is_param_line[IS_PARAM_COUNT], is_param_col[IS_PARAM_COUNT]; /* where each 'is KEY=PARAM' was */
 } parse_ctx;
 
 #define ANNOT_ERROR(ctx, id, line, col, ...)                                                                    \
@@ -880,19 +900,22 @@ static void parse_annotation(parse_ctx *ctx, const char *rest, int col0, int lin
                 m->info.keeps_empty = 1;
             else if (!strcmp(w.w[i], "zero_generation"))
                 m->info.zero_generation = 1;
-            else if (!strncmp(w.w[i], "labels_when=", 12) && valid_name(w.w[i] + 12) && !m->info.labels_when) {
-                m->info.labels_when = halo_strdup(w.w[i] + 12);
-                ctx->labels_when_line = line;
-                ctx->labels_when_col = w.col[i];
-            } else if (!strncmp(w.w[i], "interval=", 9) && valid_name(w.w[i] + 9) && !m->info.interval) {
-                m->info.interval = halo_strdup(w.w[i] + 9);
-                ctx->interval_line = line;
-                ctx->interval_col = w.col[i];
-            } else
-                ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[i],
-                            "'%s' is not a property 'is' takes (keeps_empty, zero_generation, labels_when=PARAM, "
-                            "interval=PARAM, once)",
-                            w.w[i]);
+            else {
+                int k = 0;
+                size_t n = strcspn(w.w[i], "=");
+                while (k < IS_PARAM_COUNT && !(strlen(is_params[k].key) == n && !strncmp(w.w[i], is_params[k].key, n)))
+                    k++;
+                const char **field = k < IS_PARAM_COUNT ? is_param_field(&m->info, k) : NULL;
+                if (field && w.w[i][n] == '=' && valid_name(w.w[i] + n + 1) && !*field) {
+                    *field = halo_strdup(w.w[i] + n + 1);
+                    ctx->is_param_line[k] = line;
+                    ctx->is_param_col[k] = w.col[i];
+                } else
+                    ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w.col[i],
+                                "'%s' is not a property 'is' takes (keeps_empty, zero_generation, labels_when=PARAM, "
+                                "interval=PARAM, strip_width=PARAM, core_fraction=PARAM, once each)",
+                                w.w[i]);
+            }
         }
     } else if (!strcmp(d, "declarations")) {
         ANNOT_ERROR(ctx, ANNOTATION_UNKNOWN, line, w.col[0],
@@ -1083,20 +1106,15 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
     }
     m->info.name = m->name;
     m->info.hook = m->hook;
-    if (m->info.labels_when && !halo_module_find_param(m, m->info.labels_when)) {
-        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, ctx.labels_when_line,
-                                ctx.labels_when_col, m->lines[ctx.labels_when_line - 1],
-                                "'is labels_when=%s': the module has no parameter '%s'", m->info.labels_when,
-                                m->info.labels_when);
-        ctx.errors++;
-    }
-    if (m->info.interval) {
-        const halo_param_info *pi = halo_module_find_param(m, m->info.interval);
-        if (!pi || pi->type != HALO_PARAM_INT || pi->components != 1) {
-            halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, ctx.interval_line,
-                                    ctx.interval_col, m->lines[ctx.interval_line - 1],
-                                    "'is interval=%s': the module has no int parameter '%s'", m->info.interval,
-                                    m->info.interval);
+    for (int k = 0; k < IS_PARAM_COUNT; ++k) {
+        const char *name = *is_param_field(&m->info, k);
+        const halo_param_info *pi = name ? halo_module_find_param(m, name) : NULL;
+        if (name && (!pi || (is_params[k].type >= 0 &&
+                             (pi->type != (halo_param_type)is_params[k].type || pi->array_size != 0)))) {
+            halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_ANNOTATION_SYNTAX, file, ctx.is_param_line[k],
+                                    ctx.is_param_col[k], m->lines[ctx.is_param_line[k] - 1],
+                                    "'is %s=%s': the module has no %sparameter '%s'", is_params[k].key, name,
+                                    is_params[k].type_name, name);
             ctx.errors++;
         }
     }
@@ -1193,8 +1211,8 @@ void halo_module_free(halo_module *m)
     if (!m)
         return;
     free(m->name);
-    free((char *)m->info.labels_when);
-    free((char *)m->info.interval);
+    for (int k = 0; k < IS_PARAM_COUNT; ++k)
+        free((char *)*is_param_field(&m->info, k));
     free(m->file);
     free(m->summary);
     halo_name_list_free(&m->needs);

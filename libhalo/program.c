@@ -470,6 +470,8 @@ char *halo_program_reflect_json(const halo_program *p)
         json_object_set_new(o, "zero_generation", json_boolean(in->zero_generation));
         json_object_set_new(o, "labels_when", in->labels_when ? json_string(in->labels_when) : json_null());
         json_object_set_new(o, "interval", in->interval ? json_string(in->interval) : json_null());
+        json_object_set_new(o, "strip_width", in->strip_width ? json_string(in->strip_width) : json_null());
+        json_object_set_new(o, "core_fraction", in->core_fraction ? json_string(in->core_fraction) : json_null());
         json_array_append_new(infos, o);
     }
     json_object_set_new(root, "stage_info", infos);

@@ -24,17 +24,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The built-in scene: black lines with white halos (the paper's look). */
-static const char default_scene[] =
-    "{\n"
-    "  \"halo_scene\": 1,\n"
-    "  \"description\": \"halo-lines' built-in scene: black lines, white depth-dependent halos\",\n"
-    "  \"stages\": [\n"
-    "    {\"line_strip\": {\"strip_width\": 0.025, \"depth_attenuation\": 0.5, \"taper\": 0.1}},\n"
-    "    {\"line_halo\": {\"core\": 0.4, \"d_max\": 0.05, \"profile\": 0}}\n"
-    "  ],\n"
-    "  \"render\": {\"azimuth\": 30, \"elevation\": 20, \"zoom\": 1.1, \"background\": [1, 1, 1]}\n"
-    "}\n";
+/* The built-in scene, embedded: black lines with white halos (the paper's look). */
+#define DEFAULT_SCENE "examples/scenes/lines-default.json"
 
 /* The paper's first data set has 260 836 vertices (11 306 lines). */
 #define BENCH_POINTS 260836
@@ -55,7 +46,8 @@ static void usage(FILE *out)
         "  --scene S          scene file (JSON); default: black lines with white halos\n"
         "  -o OUT             output image, .png or .exr; default halo-lines.png\n"
         "  --size WxH         image size, 1..16384 each (print: 4096x4096); default 800x800\n"
-        "  --no-halos         plain lines: line_halo off, the strip narrowed to the core\n"
+        "  --no-halos         plain lines: the fragment stages (the halo) off, the strip\n"
+        "                     narrowed to the line core\n"
         "  --stereo anaglyph  red (left eye) / cyan (right eye) stereo image\n"
         "  --azimuth A, --elevation E, --zoom Z   camera (default: the scene's)\n"
         "  --write-lines FILE write the line data in the text format and go on\n"
@@ -83,12 +75,32 @@ typedef struct options {
 /* Loads the scene (file or built-in) once per use: each host keeps the stages of its hook. */
 static halo_scene *load_scene(const options *o, const halo_library *lib, halo_diagnostics *diag)
 {
-    return o->scene_path ? halo_scene_load(o->scene_path, lib, diag)
-                         : halo_scene_parse(default_scene, "built-in scene", lib, diag);
+    if (o->scene_path)
+        return halo_scene_load(o->scene_path, lib, diag);
+    const char *text = halo_tool_embedded_scene(DEFAULT_SCENE);
+    if (!text) {
+        fprintf(stderr, "halo-lines: error: %s is not embedded\n", DEFAULT_SCENE);
+        return NULL;
+    }
+    return halo_scene_parse(text, DEFAULT_SCENE " (built in)", lib, diag);
 }
 
-/* Links both hosts. Without halos: line_halo (every fragment stage) off, and the strip
- * narrowed to the halo's core, so the lines keep their visible width. */
+/* The parameter a linked stage names with `is KEY=PARAM` (strip_width, core_fraction). */
+static const halo_uniform_info *stage_property(const halo_program *p, int core_fraction)
+{
+    for (size_t i = 0; p && i < halo_program_stage_count(p); ++i) {
+        const halo_stage_info *s = halo_program_stage_info(p, i);
+        const char *param = core_fraction ? s->core_fraction : s->strip_width;
+        const halo_uniform_info *u = param ? halo_program_find_uniform(p, s->name, param) : NULL;
+        if (u && u->count > 0)
+            return u;
+    }
+    return NULL;
+}
+
+/* Links both hosts. Without halos: every fragment stage off, and the strip (the vertex
+ * stage's `is strip_width=`) narrowed to the line core (the fragment stage's `is
+ * core_fraction=`), so the lines keep their visible width. */
 static int link_programs(const options *o, const halo_library *lib, int halos, halo_program **vp, halo_program **fp,
                          halo_diagnostics *diag)
 {
@@ -100,16 +112,20 @@ static int link_programs(const options *o, const halo_library *lib, int halos, h
         ok = halo_lines_link_scenes(lib, vs, fs, NULL, NULL, vp, fp, diag) == HALO_OK;
     }
     if (ok && !halos) {
-        const halo_uniform_info *width = halo_program_find_uniform(*vp, "line_strip", "strip_width");
-        const halo_uniform_info *core = halo_program_find_uniform(*fp, "line_halo", "core");
+        const halo_uniform_info *width = stage_property(*vp, 0), *core = stage_property(*fp, 1);
         double narrowed = width && core ? width->value[0] * core->value[0] : 0.0;
+        char stage[128] = "", param[128] = "";
+        if (width && core) {
+            snprintf(stage, sizeof stage, "%s", width->stage);
+            snprintf(param, sizeof param, "%s", width->param);
+        }
         halo_program_destroy(*vp);
         halo_program_destroy(*fp);
         *vp = *fp = NULL;
         halo_scene_destroy(fs);
         fs = halo_scene_create(lib);
-        if (width && core)
-            halo_scene_set(vs, "line_strip", "strip_width", &narrowed, 1, 0, diag);
+        if (stage[0])
+            halo_scene_set(vs, stage, param, &narrowed, 1, 0, diag);
         ok = fs && halo_lines_link_scenes(lib, vs, fs, NULL, NULL, vp, fp, diag) == HALO_OK;
     }
     halo_scene_destroy(vs);

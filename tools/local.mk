@@ -6,11 +6,12 @@
 # depends on tools/.
 # halo-render: volumes from NIfTI and raw files (volume_io), and its default scene
 # embedded from examples/scenes/default.json (one source for the file and the binary;
-# halo-feature's is feature-default.json).
-HALO_EMBEDDED_SCENES = examples/scenes/default.json examples/scenes/feature-default.json
+# halo-feature's is feature-default.json, halo-lines' lines-default.json).
+HALO_EMBEDDED_SCENES = examples/scenes/default.json examples/scenes/feature-default.json \
+	examples/scenes/lines-default.json
 BUILT_SOURCES += tools/embedded_scenes.c
 CLEANFILES += tools/embedded_scenes.c
-tools/embedded_scenes.c: $(HALO_EMBEDDED_SCENES) $(top_srcdir)/build-aux/embed.sh
+tools/embedded_scenes.c: $(HALO_EMBEDDED_SCENES) $(top_srcdir)/build-aux/embed.sh $(top_srcdir)/tools/local.mk
 	$(AM_V_GEN)$(MKDIR_P) tools && \
 	$(SHELL) $(top_srcdir)/build-aux/embed.sh halo_embedded_scenes $@ $(top_srcdir) $(HALO_EMBEDDED_SCENES)
 
@@ -32,6 +33,7 @@ dist_man_MANS += tools/halo-render.1
 bin_PROGRAMS += tools/halo-lines
 tools_halo_lines_SOURCES = tools/halo-lines.c tools/tool_options.c tools/tool_options.h validate/conform_lines.c validate/conform_lines.h \
 	validate/conform_harness.c validate/conform_harness.h
+nodist_tools_halo_lines_SOURCES = tools/embedded_scenes.c
 nodist_EXTRA_tools_halo_lines_SOURCES = build-aux/force-cxx-link.cc
 tools_halo_lines_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate
 tools_halo_lines_LDADD = $(HALO_TOOL_LIBS)

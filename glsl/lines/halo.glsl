@@ -1,6 +1,7 @@
 #pragma halo module line_halo
 #pragma halo summary "depth-dependent halo: line colour in the strip's core, background colour at its sides, depth pushed back away from the centre"
 #pragma halo hook line_fragment
+#pragma halo is core_fraction=core
 #pragma halo param core float default=0.4 min=0 max=1 "width of the line core, as a fraction of the strip width; the rest is halo"
 #pragma halo param d_max float default=0.05 min=0 max=1 "largest depth displacement, reached at the strip's edge (normalized depth: a fraction of the data's depth extent)"
 #pragma halo param profile int default=0 min=0 max=2 "displacement function f: 0 linear f(x) = x, 1 smooth f(x) = 3x^2 - 2x^3, 2 step (0 in the core, 1 in the halo)"

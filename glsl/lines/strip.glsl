@@ -2,6 +2,7 @@
 #pragma halo summary "view-aligned line strip: moves each duplicated polyline vertex sideways, perpendicular to the line and the view, with depth-attenuated, tapered width"
 #pragma halo hook line_vertex
 #pragma halo host_uniform depth_range vec2 "distance from the eye to the front and to the back of the line data's bounding sphere (world units); (0, 0) = unset: no depth attenuation"
+#pragma halo is strip_width=strip_width
 #pragma halo param strip_width float default=0.03 min=0 max=10 "strip width w_strip (line core and halo together), as a multiple of the host's length unit v.width"
 #pragma halo param depth_attenuation float default=0.5 min=0 max=1 "fraction of the width lost at the back of the data (normalized depth 1); 0 = constant width"
 #pragma halo param taper float default=0.1 min=0 max=0.5 "length of the taper at each line end, in the line's parameter u (0 = no taper)"

@@ -407,6 +407,36 @@ static int test_is_annotation(void)
                     "#pragma halo is interval=m\n"
                     "void apply(inout halo_sample s) {}\n",
                     HALO_MSG_ANNOTATION_SYNTAX, 4);
+    /* strip_width and core_fraction name a float scalar parameter; each property once */
+    CHECK_ONE_ERROR("user/is.glsl",
+                    "#pragma halo module is_width\n"
+                    "#pragma halo hook sample\n"
+                    "#pragma halo param w int default=4\n"
+                    "#pragma halo is strip_width=w\n"
+                    "void apply(inout halo_sample s) {}\n",
+                    HALO_MSG_ANNOTATION_SYNTAX, 4);
+    CHECK_ONE_ERROR("user/is.glsl",
+                    "#pragma halo module is_core\n"
+                    "#pragma halo hook sample\n"
+                    "#pragma halo param c float[2] default=[0.5]\n"
+                    "#pragma halo is core_fraction=c\n"
+                    "void apply(inout halo_sample s) {}\n",
+                    HALO_MSG_ANNOTATION_SYNTAX, 4);
+    CHECK_ONE_ERROR("user/is.glsl",
+                    "#pragma halo module is_twice\n"
+                    "#pragma halo hook sample\n"
+                    "#pragma halo param c float default=0.5\n"
+                    "#pragma halo is core_fraction=c core_fraction=c\n"
+                    "void apply(inout halo_sample s) {}\n",
+                    HALO_MSG_ANNOTATION_SYNTAX, 4);
+    CHECK_INT_EQ(add("user/is_lines.glsl",
+                     "#pragma halo module is_lines\n"
+                     "#pragma halo hook sample\n"
+                     "#pragma halo param c float default=0.5\n"
+                     "#pragma halo param w float default=0.1\n"
+                     "#pragma halo is core_fraction=c strip_width=w\n"
+                     "void apply(inout halo_sample s) {}\n"),
+                 HALO_OK);
     CHECK_INT_EQ(add("user/is_ok.glsl",
                      "#pragma halo module is_ok\n"
                      "#pragma halo hook sample\n"
