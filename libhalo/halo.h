@@ -877,6 +877,29 @@ HALO_API void halo_gl_frame_set_readback_bounds(halo_gl_frame *f, int on);
  * volume's footprint) must still draw this box: halos land outside the volume. */
 HALO_API int halo_gl_frame_read_region(const halo_gl_frame *f, int box[4]);
 
+/* The draws of one slice of a host that clips its slices to the volume (the slice host):
+ * scissor boxes per variant of its shader, which do not overlap, so their order does not
+ * matter. */
+typedef enum halo_gl_slice_variant {
+    HALO_GL_SLICE_SHADER = 0, /* the host shader: the section where the images it reads can be nonzero */
+    HALO_GL_SLICE_ZERO,       /* its variant built with #define HALO_IMAGES_ZERO (halo_gl_program_build's
+                               * defines): the rest of the section, where those reads are 0 */
+    HALO_GL_SLICE_OUTSIDE,    /* its variant for the pixels off the volume: the rest of the read region
+                               * (emissive halos land outside the volume) */
+    HALO_GL_SLICE_VARIANTS
+} halo_gl_slice_variant;
+typedef struct halo_gl_slice_plan {
+    int count[HALO_GL_SLICE_VARIANTS];     /* boxes per variant, 0..4 */
+    int box[HALO_GL_SLICE_VARIANTS][4][4]; /* {x0, y0, x1, y1}: frame pixels [x0, x1) x [y0, y1) */
+} halo_gl_slice_plan;
+/* Plans a slice whose plane meets the volume in the window box `section` (frame pixels,
+ * empty when it misses). variants 0: the shader draws the section. variants 1 (the host
+ * built the ZERO and OUTSIDE variants): the section splits at the frame's read region
+ * (halo_gl_frame_read_region) between the shader and the ZERO variant, and the OUTSIDE
+ * variant draws the read region's rest. Returns the number of boxes (0: nothing to draw). */
+HALO_API int halo_gl_frame_plan_slice(const halo_gl_frame *f, const int section[4], int variants,
+                                      halo_gl_slice_plan *plan);
+
 /* ---- Host contract 2: segmented ray casting (docs/host-contract.md) ---- */
 
 /* How a single-pass ray caster is drawn: its camera, its sampling, and a callback that

@@ -589,90 +589,41 @@ static int slice_section_box(const halo_slice *s, double distance, int box[4])
     return box[0] < box[2] && box[1] < box[3];
 }
 
-/* Pixel boxes {x0, y0, x1, y1}, [x0, x1) x [y0, y1); empty when x0 >= x1 or y0 >= y1. */
-static int box_empty(const int b[4]) { return b[0] >= b[2] || b[1] >= b[3]; }
-
-/* drawn becomes the box around drawn and b. */
-static void box_add(int drawn[4], const int b[4])
-{
-    if (box_empty(b))
-        return;
-    if (box_empty(drawn)) {
-        memcpy(drawn, b, 4 * sizeof *b);
-        return;
-    }
-    for (int c = 0; c < 2; ++c) {
-        drawn[c] = b[c] < drawn[c] ? b[c] : drawn[c];
-        drawn[c + 2] = b[c + 2] > drawn[c + 2] ? b[c + 2] : drawn[c + 2];
-    }
-}
-
-/* r less b as at most four boxes (above, below, left, right of b); returns their count. */
-static int box_subtract(const int r[4], const int b[4], int pieces[4][4])
-{
-    int lo = r[1] > b[1] ? r[1] : b[1], hi = r[3] < b[3] ? r[3] : b[3];
-    const int candidates[4][4] = {{r[0], r[1], r[2], b[1] < r[3] ? b[1] : r[3]},
-                                  {r[0], b[3] > r[1] ? b[3] : r[1], r[2], r[3]},
-                                  {r[0], lo, b[0] < r[2] ? b[0] : r[2], hi},
-                                  {b[2] > r[0] ? b[2] : r[0], lo, r[2], hi}};
-    int n = 0;
-    for (int k = 0; k < 4; ++k)
-        if (!box_empty(candidates[k]))
-            memcpy(pieces[n++], candidates[k], sizeof candidates[k]);
-    return n;
-}
-
-/* The box where a and b overlap (empty when they do not). */
-static void box_intersect(const int a[4], const int b[4], int out[4])
-{
-    for (int c = 0; c < 2; ++c) {
-        out[c] = a[c] > b[c] ? a[c] : b[c];
-        out[c + 2] = a[c + 2] < b[c + 2] ? a[c + 2] : b[c + 2];
-    }
-}
-
 /* Draws a clipped slice (slices_clippable) at `distance`. programs: the host shader and,
  * when it reads images, its HALO_IMAGES_ZERO and SLICE_OUTSIDE variants (else 0); at:
- * their slice_distance locations. The shader draws its plane's section of the cube where
- * the images read can be nonzero (halo_gl_frame_read_region), the zero variant the rest
- * of the section (the same values: those reads are 0 there, and it fetches none), the
- * outside variant the rest of the read region. The pieces do not overlap, so their order
- * does not matter: they start with the program in use (*current), and *current is left
- * the last one used. What it draws is added to drawn. Returns 0 when it draws nothing. */
+ * their slice_distance locations. The frame plans which pixels each draws
+ * (halo_gl_frame_plan_slice: the shader where the images read can be nonzero, the zero
+ * variant the rest of the section, the outside variant the rest of the read region; the
+ * boxes do not overlap, so their order does not matter): they start with the program in
+ * use (*current), and *current is left the last one used. Each box drawn is declared to
+ * the frame (halo_gl_frame_drawn_region). Returns 0 when it draws nothing. */
 static int draw_clipped_slice(const halo_slice *s, const GLuint programs[3], const GLint at[3], GLuint *current,
-                              float distance, int drawn[4])
+                              float distance)
 {
     const halo_glfuncs *f = s->f;
-    int section[4] = {0, 0, 0, 0}, read[4] = {0, 0, 0, 0}, inside[4], pieces[3][4][4], counts[3] = {0, 0, 0};
-    slice_section_box(s, distance, section);
-    int images = programs[1] && programs[2];
-    if (images && s->frame)
-        SLICE_RUNTIME(s, halo_gl_frame_read_region(s->frame, read));
-    if (!images) /* the shader over the section */
-        memcpy(inside, section, sizeof inside);
-    else
-        box_intersect(section, read, inside);
-    if (!box_empty(inside))
-        memcpy(pieces[0][counts[0]++], inside, sizeof inside);
-    if (images && !box_empty(section)) /* the rest of the section (all of it when no image can be nonzero) */
-        counts[1] = box_empty(inside) ? (memcpy(pieces[1][0], section, sizeof section), 1)
-                                      : box_subtract(section, inside, pieces[1]);
-    if (images && !box_empty(read))
-        counts[2] =
-            box_empty(section) ? (memcpy(pieces[2][0], read, sizeof read), 1) : box_subtract(read, section, pieces[2]);
+    int section[4] = {0, 0, 0, 0};
+    if (!slice_section_box(s, distance, section))
+        memset(section, 0, sizeof section);
+    halo_gl_slice_plan plan;
+    memset(&plan, 0, sizeof plan);
+    if (s->frame)
+        halo_gl_frame_plan_slice(s->frame, section, programs[1] && programs[2], &plan);
+    else if (section[0] < section[2] && section[1] < section[3])
+        plan = (halo_gl_slice_plan){{1, 0, 0}, {{{section[0], section[1], section[2], section[3]}}}};
     int first = programs[1] == *current ? 1 : programs[2] == *current ? 2 : 0, any = 0;
-    for (int i = 0; i < 3; ++i) {
-        int g = (first + i) % 3;
-        if (!counts[g])
+    for (int i = 0; i < HALO_GL_SLICE_VARIANTS; ++i) {
+        int g = (first + i) % HALO_GL_SLICE_VARIANTS;
+        if (!plan.count[g])
             continue;
         if (programs[g] != *current)
             f->UseProgram(*current = programs[g]);
         f->Uniform1f(at[g], distance);
-        for (int k = 0; k < counts[g]; ++k) {
-            f->Scissor(pieces[g][k][0], pieces[g][k][1], pieces[g][k][2] - pieces[g][k][0],
-                       pieces[g][k][3] - pieces[g][k][1]);
+        for (int k = 0; k < plan.count[g]; ++k) {
+            const int *b = plan.box[g][k];
+            f->Scissor(b[0], b[1], b[2] - b[0], b[3] - b[1]);
             f->DrawArrays(GL_TRIANGLES, 0, 3);
-            box_add(drawn, pieces[g][k]);
+            if (s->frame)
+                halo_gl_frame_drawn_region(s->frame, b[0], b[1], b[2], b[3]);
         }
         any = 1;
     }
@@ -819,25 +770,21 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
                              outside ? f->GetUniformLocation(outside, "slice_distance") : -1};
         GLuint current = program;
         int clip = slices_clippable(s);
-        int drawn[4] = {0, 0, 0, 0}; /* clipped: the box the slices since the last generation drew in */
         for (int k = 0; k < st.slice_count; ++k) {
             float distance = (float)(st.first_distance + k * st.step_size);
+            if (clip && s->frame && k % interval == 0) /* the slices of this interval draw nowhere else */
+                halo_gl_frame_drawn_region(s->frame, 0, 0, 0, 0);
             if (clip) {
                 f->Enable(GL_SCISSOR_TEST); /* a generation leaves it off */
-                s->draws += draw_clipped_slice(s, programs, at, &current, distance, drawn);
+                s->draws += draw_clipped_slice(s, programs, at, &current, distance);
             } else {
                 f->Uniform1f(at[0], distance);
                 f->DrawArrays(GL_TRIANGLES, 0, 3);
                 s->draws++;
             }
             generation_skip_drawn(&skip, &st, k, 1);
-            if (generate && (k + 1) % interval == 0 && k + 1 < st.slice_count) {
-                if (clip) { /* the seeds are inside (read back there on a software renderer) */
-                    halo_gl_frame_drawn_region(s->frame, drawn[0], drawn[1], drawn[2], drawn[3]);
-                    memset(drawn, 0, sizeof drawn);
-                }
-                generation_run(&skip, s);
-            }
+            if (generate && (k + 1) % interval == 0 && k + 1 < st.slice_count)
+                generation_run(&skip, s); /* clipped: the seeds are inside the boxes declared */
             if (s->progress)
                 s->progress(k + 1, st.slice_count, s->progress_user);
         }

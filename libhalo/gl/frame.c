@@ -31,6 +31,31 @@ static frame_box box_union(frame_box a, frame_box b)
                        a.y1 > b.y1 ? a.y1 : b.y1};
 }
 
+/* The box where a and b overlap (empty when they do not). */
+static frame_box box_intersect(frame_box a, frame_box b)
+{
+    return (frame_box){a.x0 > b.x0 ? a.x0 : b.x0, a.y0 > b.y0 ? a.y0 : b.y0, a.x1 < b.x1 ? a.x1 : b.x1,
+                       a.y1 < b.y1 ? a.y1 : b.y1};
+}
+
+/* r less b as at most four boxes (below, above, left, right of b) into pieces; returns their count. */
+static int box_subtract(frame_box r, frame_box b, int pieces[4][4])
+{
+    int lo = r.y0 > b.y0 ? r.y0 : b.y0, hi = r.y1 < b.y1 ? r.y1 : b.y1;
+    const frame_box candidates[4] = {{r.x0, r.y0, r.x1, b.y0 < r.y1 ? b.y0 : r.y1},
+                                     {r.x0, b.y1 > r.y0 ? b.y1 : r.y0, r.x1, r.y1},
+                                     {r.x0, lo, b.x0 < r.x1 ? b.x0 : r.x1, hi},
+                                     {b.x1 > r.x0 ? b.x1 : r.x0, lo, r.x1, hi}};
+    int n = 0;
+    for (int k = 0; k < 4; ++k)
+        if (!box_empty(candidates[k])) {
+            const frame_box c = candidates[k];
+            pieces[n][0] = c.x0, pieces[n][1] = c.y0, pieces[n][2] = c.x1, pieces[n][3] = c.y1;
+            n++;
+        }
+    return n;
+}
+
 /* b grown by r pixels on each side, within a width x height image. */
 static frame_box box_grow(frame_box b, int r, int width, int height)
 {
@@ -802,6 +827,46 @@ int halo_gl_frame_read_region(const halo_gl_frame *fr, int box[4])
     box[2] = region.x1;
     box[3] = region.y1;
     return !box_empty(region);
+}
+
+/* The one box b into plan's list of variant v (when not empty). */
+static void plan_add(halo_gl_slice_plan *plan, int v, frame_box b)
+{
+    if (box_empty(b))
+        return;
+    int *out = plan->box[v][plan->count[v]++];
+    out[0] = b.x0, out[1] = b.y0, out[2] = b.x1, out[3] = b.y1;
+}
+
+int halo_gl_frame_plan_slice(const halo_gl_frame *fr, const int section[4], int variants, halo_gl_slice_plan *plan)
+{
+    HALO_REFUSE_NULL(NULL, fr, "frame", 0);
+    HALO_REFUSE_NULL(NULL, section, "section", 0);
+    HALO_REFUSE_NULL(NULL, plan, "plan", 0);
+    memset(plan, 0, sizeof *plan);
+    frame_box cut = {section[0], section[1], section[2], section[3]}, read = {0, 0, 0, 0};
+    if (box_empty(cut))
+        cut = read;
+    if (!variants) {
+        plan_add(plan, HALO_GL_SLICE_SHADER, cut);
+        return plan->count[HALO_GL_SLICE_SHADER];
+    }
+    int r[4];
+    if (halo_gl_frame_read_region(fr, r))
+        read = (frame_box){r[0], r[1], r[2], r[3]};
+    frame_box inside = box_intersect(cut, read);
+    plan_add(plan, HALO_GL_SLICE_SHADER, inside);
+    /* the rest of the section (all of it when no image can be nonzero) */
+    if (box_empty(inside))
+        plan_add(plan, HALO_GL_SLICE_ZERO, cut);
+    else if (!box_empty(cut))
+        plan->count[HALO_GL_SLICE_ZERO] = box_subtract(cut, inside, plan->box[HALO_GL_SLICE_ZERO]);
+    /* the read region off the section */
+    if (box_empty(cut))
+        plan_add(plan, HALO_GL_SLICE_OUTSIDE, read);
+    else if (!box_empty(read))
+        plan->count[HALO_GL_SLICE_OUTSIDE] = box_subtract(read, cut, plan->box[HALO_GL_SLICE_OUTSIDE]);
+    return plan->count[0] + plan->count[1] + plan->count[2];
 }
 
 static void frame_run(halo_gl_frame *fr, halo_pass_at at)

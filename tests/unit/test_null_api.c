@@ -769,6 +769,17 @@ CASE(halo_gl_frame_drawn_region)
     REFUSES(DONE(halo_gl_frame_drawn_region(NULL, 0, 0, 1, 1)), "frame");
     return 0;
 }
+CASE(halo_gl_frame_plan_slice)
+{
+    int section[4] = {0, 0, 4, 4};
+    halo_gl_slice_plan plan;
+    REFUSES(halo_gl_frame_plan_slice(NULL, section, 0, &plan) == 0, "frame");
+    if (!fixture_gl())
+        return 0;
+    REFUSES(halo_gl_frame_plan_slice(gl_fixture.frame, NULL, 0, &plan) == 0, "section");
+    REFUSES(halo_gl_frame_plan_slice(gl_fixture.frame, section, 0, NULL) == 0, "plan");
+    return 0;
+}
 CASE(halo_gl_frame_read_region)
 {
     int box[4];
@@ -1092,6 +1103,7 @@ static const api_case cases[] = {
     ROW(halo_gl_frame_generate),
     ROW(halo_gl_frame_drawn_region),
     ROW(halo_gl_frame_read_region),
+    ROW(halo_gl_frame_plan_slice),
     ROW(halo_gl_frame_set_readback_bounds),
     ROW(halo_gl_frame_post),
     ROW(halo_gl_frame_texture),
