@@ -92,12 +92,10 @@ HALO_API halo_status halo_feature_emu_buffer(const float *values, const int dims
  * position (in [0,1]^3) of a buffer of dims texels, in double. */
 HALO_API double halo_feature_buffer_lookup(const double *buffer, const int dims[3], const double position[3]);
 
-/* halo_emu_apply for a program holding feature_halo: every stage as halo_emu_apply runs
- * it, with feature_halo reading buffer_value (the halo buffer at the sample, e.g. from
- * halo_feature_buffer_lookup) from its halo buffer. Without a frame, halo_emu_apply itself
- * reads the buffer as 0 (an unbound sampler). */
-HALO_API halo_status halo_feature_emu_apply(const halo_program *p, double buffer_value, halo_emu_sample *s,
-                                            halo_diagnostics *diag);
+/* The emulation (halo_emu_apply) reads the halo buffer through an emulated frame's host
+ * uniform: halo_emu_frame_set_host_uniform(frame, HALO_HOST_FEATURE_BUFFER, &value, 1) with
+ * the buffer's value at the sample (e.g. from halo_feature_buffer_lookup): the emulated
+ * frame has no 3D textures. Without a frame it reads 0 (an unbound sampler). */
 
 /* ---- The GPU halo buffer ----------------------------------------------------------- */
 

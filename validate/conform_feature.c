@@ -1,7 +1,7 @@
 /* Conformance of feature halos: the GPU halo buffer (libhalo/gl/feature_splat.c) against
  * halo_feature_emu_buffer, that emulation against the exact reference
  * (halo_feature_reference), and the stage feature_halo drawn through a probe against
- * halo_feature_emu_apply. */
+ * halo_emu_apply (the buffer value through the emulated frame's host uniform). */
 #include "conform_feature.h"
 
 #include "halo_feature.h"
@@ -322,6 +322,7 @@ static void run_apply_row(feature_context *c, const char *row, const char *scene
     halo_emu_sample *samples = malloc(count * sizeof *samples);
     float *rgba = malloc(count * 4 * sizeof *rgba), *buffer = malloc(texels * sizeof *buffer);
     double *buffer_double = malloc(texels * sizeof *buffer_double);
+    halo_emu_frame *frame = NULL;
     static const double view[3] = {0.3, 0.5, 0.81};
     if (!b || !samples || !rgba || !buffer || !buffer_double || halo_feature_buffer_build(b, view) != HALO_OK ||
         halo_feature_buffer_read(b, buffer) != HALO_OK) {
@@ -335,12 +336,20 @@ static void run_apply_row(feature_context *c, const char *row, const char *scene
         print_error(c, row);
         goto done;
     }
+    /* the emulated frame holds the halo buffer's value at the sample in the host uniform
+     * (it has no 3D textures) */
+    frame = halo_emu_frame_create(program, 1, 1, c->diag);
+    if (!frame) {
+        print_error(c, row);
+        goto done;
+    }
     stats s = {0};
     for (size_t i = 0; i < count; ++i) {
         halo_emu_sample e = samples[i];
         /* the emulation reads the GPU's own buffer: this row measures the stage alone */
         double value = halo_feature_buffer_lookup(buffer_double, dims, e.position);
-        if (halo_feature_emu_apply(program, value, &e, c->diag) != HALO_OK) {
+        if (halo_emu_frame_set_host_uniform(frame, HALO_HOST_FEATURE_BUFFER, &value, 1) != HALO_OK ||
+            halo_emu_apply(program, frame, &e, c->diag) != HALO_OK) {
             print_error(c, row);
             goto done;
         }
@@ -350,6 +359,7 @@ static void run_apply_row(feature_context *c, const char *row, const char *scene
     }
     feature_print_row(c, row, &s, FEATURE_APPLY_TOLERANCE, FEATURE_APPLY_WHY);
 done:
+    halo_emu_frame_destroy(frame);
     halo_feature_buffer_destroy(b);
     halo_program_destroy(program);
     halo_scene_destroy(scene);

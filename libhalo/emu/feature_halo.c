@@ -358,35 +358,4 @@ static void apply_stage(halo_emu_sample *s, const halo_emu_params *p, double buf
 /* The registered emulation (halo_emu_lookup "feature_halo"): the emulated frame cannot
  * hold a 3D texture, so its host uniform `feature_buffer` holds the buffer's value at
  * the sample, set by the caller per sample (0 without a frame, as an unbound sampler). */
-HALO_EMU_STAGE(feature_halo)
-{
-    apply_stage(s, p, halo_emu_host_uniform(p, "feature_buffer")[0]);
-}
-
-halo_status halo_feature_emu_apply(const halo_program *p, double buffer_value, halo_emu_sample *s,
-                                   halo_diagnostics *diag)
-{
-    HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
-    HALO_REFUSE_NULL(diag, s, "sample", HALO_ERROR_INPUT);
-    memset(s->normal, 0, sizeof s->normal);
-    s->gradient_magnitude = 0;
-    memset(s->seed, 0, sizeof s->seed);
-    for (size_t i = 0; i < p->stage_count; i++) {
-        const halo_linked_stage *st = &p->stages[i];
-        if (st->module->hook != HALO_HOOK_SAMPLE)
-            continue;
-        halo_emu_params params = {p, st, NULL};
-        if (!strcmp(st->module->name, "feature_halo")) {
-            apply_stage(s, &params, buffer_value);
-            continue;
-        }
-        halo_emu_stage_fn fn = halo_emu_lookup(st->module->name);
-        if (!fn) {
-            halo_diag_error(diag, EMU_MISSING, st->module->file, st->module->module_line, 1,
-                            "stage '%s' has no C emulation", st->module->name);
-            return HALO_ERROR_INPUT;
-        }
-        fn(s, &params);
-    }
-    return HALO_OK;
-}
+HALO_EMU_STAGE(feature_halo) { apply_stage(s, p, halo_emu_host_uniform(p, "feature_buffer")[0]); }

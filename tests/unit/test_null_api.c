@@ -911,13 +911,6 @@ CASE(halo_feature_buffer_lookup)
     REFUSES(halo_feature_buffer_lookup(doubles_out, dims, NULL) == 0.0, "position");
     return 0;
 }
-CASE(halo_feature_emu_apply)
-{
-    halo_emu_sample s = {.value = 0.5, .view = {0, 0, 1}};
-    REFUSES_D(halo_feature_emu_apply(NULL, 0.5, &s, d) == HALO_ERROR_INPUT, "program");
-    REFUSES_D(halo_feature_emu_apply(program, 0.5, NULL, d) == HALO_ERROR_INPUT, "sample");
-    return 0;
-}
 CASE(halo_feature_buffer_create)
 {
     REFUSES_D(halo_feature_buffer_create(NULL, volume, dims, NULL, d) == NULL, "gl");
@@ -1122,7 +1115,6 @@ static const api_case cases[] = {
     ROW(halo_feature_reference),
     ROW(halo_feature_emu_buffer),
     ROW(halo_feature_buffer_lookup),
-    ROW(halo_feature_emu_apply),
     ROW(halo_feature_buffer_create),
     ROW(halo_feature_buffer_destroy),
     ROW(halo_feature_buffer_build),
