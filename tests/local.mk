@@ -10,6 +10,9 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_scene \
 	tests/unit/test_scene_counts \
 	tests/unit/test_link \
+	tests/unit/test_emit \
+	tests/unit/test_program \
+	tests/unit/test_host_check \
 	tests/unit/test_compose \
 	tests/unit/test_host_scan \
 	tests/unit/test_emu \
@@ -19,7 +22,7 @@ HALO_UNIT_TESTS = \
 	tests/unit/test_amplify \
 	tests/unit/test_api_bounds
 check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
-noinst_HEADERS += tests/unit/check.h tests/gl_fixture.h
+noinst_HEADERS += tests/unit/check.h tests/unit/link_fixture.h tests/gl_fixture.h
 
 HALO_TEST_CORE_LIBS = libhalo/libhalo-core.la -lm
 
@@ -36,6 +39,9 @@ nodist_EXTRA_tests_unit_test_scene_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_unit_test_scene_counts_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_unit_test_compose_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_unit_test_link_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_emit_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_program_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_unit_test_host_check_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_unit_test_host_scan_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_unit_test_emu_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_unit_test_input_classes_SOURCES = $(HALO_TEST_CXX_LINK)
