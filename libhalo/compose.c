@@ -67,7 +67,7 @@ static void write_sample(halo_strbuf *b, const sample_names *n, const halo_piece
 static char *pieces_host(const halo_pieces_desc *d, const halo_link_desc *desc)
 {
     halo_strbuf b = {0};
-    if (desc->target == HALO_TARGET_GLSL150 && desc->location_extension && !desc->unlocated_outputs)
+    if (desc->target == HALO_TARGET_GLSL150 && desc->output_locations == HALO_LOCATIONS_EXTENSION)
         halo_strbuf_append(&b, "#extension GL_ARB_explicit_attrib_location : require\n");
     halo_strbuf_append(&b, "#pragma halo declarations\n");
     if (d->gradient_texture)
@@ -78,7 +78,8 @@ static char *pieces_host(const halo_pieces_desc *d, const halo_link_desc *desc)
         halo_strbuf_append(&b, "uniform sampler3D piece_gradient;\n");
     if (d->volume)
         halo_strbuf_append(&b, "uniform sampler3D piece_volume;\n");
-    int located = !desc->unlocated_outputs && (desc->target != HALO_TARGET_GLSL150 || desc->location_extension);
+    int located = desc->output_locations == HALO_LOCATIONS_EXTENSION ||
+                  (desc->output_locations == HALO_LOCATIONS_AUTO && desc->target != HALO_TARGET_GLSL150);
     halo_strbuf_printf(&b, "%sout vec4 piece_output;\n", located ? "layout(location = 0) " : "");
     halo_strbuf_append(&b,
                        "void main() {\n"
@@ -284,6 +285,10 @@ halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag)
     HALO_REFUSE_NULL(diag, desc->library, "desc.library", NULL);
     if (!desc->pieces)
         HALO_REFUSE_NULL(diag, desc->host_source, "desc.host_source (or desc.pieces)", NULL);
+    if ((unsigned)desc->output_locations >= HALO_LOCATIONS_COUNT) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: unknown output_locations %d", (int)desc->output_locations);
+        return NULL;
+    }
     if (desc->pieces && !desc->host_source)
         return halo_link_pieces(desc, diag);
     if (desc->pieces) {

@@ -417,6 +417,17 @@ typedef enum halo_piece {
     HALO_PIECE_COUNT
 } halo_piece;
 
+/* How a linked shader's extra outputs get their locations (halo_output_info.location). */
+typedef enum halo_output_locations {
+    HALO_LOCATIONS_AUTO = 0,  /* layout(location) where the target has it; GLSL 150 has not: bound by name */
+    HALO_LOCATIONS_BY_NAME,   /* no layout(location) under any target: bind them by name
+                               * (glBindFragDataLocation; halo_gl_program_build does) */
+    HALO_LOCATIONS_EXTENSION, /* layout(location) under GLSL 150 too, the shader enabling
+                               * GL_ARB_explicit_attrib_location after its #version (an engine that links the
+                               * program itself and cannot bind names, such as VTK) */
+    HALO_LOCATIONS_COUNT
+} halo_output_locations;
+
 typedef struct halo_link_desc {
     const halo_library *library; /* required */
     const halo_scene *scene;     /* NULL: no stage enabled */
@@ -438,15 +449,11 @@ typedef struct halo_link_desc {
                                   * halo_gl_segments_desc.volume_texture), early ray termination kept; its
                                   * halo_segment_begin/_end calls, if any, do nothing (docs/host-contract.md) */
     /* ---- For shader composers (docs/composers.md) ---- */
-    halo_version_mode version;      /* the #version line: the target's (default), the host's own, or none */
-    int engine_uniforms;            /* 1: live parameters are not declared: the engine declares them from the
+    halo_version_mode version;              /* the #version line: the target's (default), the host's own, or none */
+    int engine_uniforms;                    /* 1: live parameters are not declared: the engine declares them from the
                                   * reflection (halo_program_uniform_next), bools as int */
-    int unlocated_outputs;          /* 1: extra outputs without layout(location) (so for GLSL 150 unless
-                                  * location_extension); bind them by name (halo_output_info.location) */
-    int location_extension;         /* GLSL 150: keep layout(location); the shader enables
-                                  * GL_ARB_explicit_attrib_location after its #version (an engine that
-                                  * links the program itself and cannot bind names, such as VTK) */
-    const halo_pieces_desc *pieces; /* with host_source NULL: link no host text; the program's pieces
+    halo_output_locations output_locations; /* how the extra outputs get their locations */
+    const halo_pieces_desc *pieces;         /* with host_source NULL: link no host text; the program's pieces
                                   * (halo_program_piece) go into the composer's own shader */
 } halo_link_desc;
 

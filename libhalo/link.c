@@ -785,7 +785,8 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
     p->kind = desc->kind;
     p->version = desc->version;
     p->engine_uniforms = desc->engine_uniforms != 0;
-    p->unlocated_outputs = desc->unlocated_outputs || (p->target == HALO_TARGET_GLSL150 && !desc->location_extension);
+    p->unlocated_outputs = desc->output_locations == HALO_LOCATIONS_BY_NAME ||
+                           (p->target == HALO_TARGET_GLSL150 && desc->output_locations != HALO_LOCATIONS_EXTENSION);
     p->first_location = desc->pieces ? desc->pieces->first_output_location : 0;
     p->host_file = halo_strdup(desc->host_file ? desc->host_file : "host");
     /* a UTF-8 byte-order mark is no part of the shader */

@@ -472,7 +472,7 @@ static int cmd_link(int argc, char **argv)
         else if (!strcmp(a, "--engine-uniforms"))
             desc.engine_uniforms = 1;
         else if (!strcmp(a, "--unlocated-outputs"))
-            desc.unlocated_outputs = 1;
+            desc.output_locations = HALO_LOCATIONS_BY_NAME;
         else if (!strcmp(a, "--first-output-location") && has_value) {
             pieces_option = a;
             char *end;

@@ -1021,7 +1021,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
     link.all_live = desc->all_live;
     link.target = HALO_TARGET_GLSL150;
     link.engine_uniforms = 1;
-    link.location_extension = 1;
+    link.output_locations = HALO_LOCATIONS_EXTENSION;
     link.pieces = &names;
     link.one_draw = segmenting && !desc->segments;
     link.image_scale = desc->image_scale;

@@ -145,6 +145,29 @@ static int test_first_output_location(void)
     return 0;
 }
 
+/* output_locations past the enum: refused with USAGE, with host text and with pieces. */
+static int test_output_locations(void)
+{
+    halo_scene *scene = halo_scene_create(library);
+    SETUP(scene != NULL);
+    static const char host[] = "#version 330 core\n#pragma halo declarations\nvoid main() {}\n";
+    halo_pieces_desc pieces = {.gradient = "vec3(0.0)"};
+    for (int with_pieces = 0; with_pieces < 2; ++with_pieces) {
+        halo_diagnostics_clear(diags);
+        halo_program *p = halo_link(&(halo_link_desc){.library = library,
+                                                      .scene = scene,
+                                                      .host_source = with_pieces ? NULL : host,
+                                                      .pieces = with_pieces ? &pieces : NULL,
+                                                      .output_locations = HALO_LOCATIONS_COUNT},
+                                    diags);
+        halo_program_destroy(p);
+        CHECK(p == NULL);
+        CHECK_DIAG(diags, HALO_MSG_USAGE);
+    }
+    halo_scene_destroy(scene);
+    return 0;
+}
+
 /* A global and an array parameter with names of 150 characters: renamed as short ones are. */
 static int test_long_identifiers(void)
 {
@@ -191,7 +214,7 @@ int main(void)
 {
     static const check_test tests[] = {
         CHECK_TEST(test_emu_frame_size),        CHECK_TEST(test_repeat_bound),     CHECK_TEST(test_pass_reach),
-        CHECK_TEST(test_first_output_location), CHECK_TEST(test_long_identifiers),
+        CHECK_TEST(test_first_output_location), CHECK_TEST(test_output_locations), CHECK_TEST(test_long_identifiers),
     };
     return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);
 }

@@ -352,7 +352,7 @@ static int test_pieces_outputs(void)
                                     .scene = hs,
                                     .pieces = &segmented,
                                     .target = HALO_TARGET_GLSL150,
-                                    .location_extension = 1},
+                                    .output_locations = HALO_LOCATIONS_EXTENSION},
                   diags);
     halo_scene_destroy(hs);
     CHECK(p != NULL);
