@@ -62,11 +62,11 @@ static link_shape probe_link(const halo_library *lib, const char *const *stages,
            : NULL;
     if (p) {
         shape.ok = 1;
-        shape.outputs = halo_program_output_count(p);
-        shape.samplers = halo_program_sampler_count(p);
-        shape.passes = halo_program_pass_count(p);
-        for (size_t i = 0; i < halo_program_host_uniform_count(p); ++i)
-            shape.feature_buffer |= !strcmp(halo_program_host_uniform(p, i)->name, HALO_HOST_FEATURE_BUFFER);
+        shape.outputs = halo_program_reflection(p).output_count;
+        shape.samplers = halo_program_reflection(p).sampler_count;
+        shape.passes = halo_program_reflection(p).pass_count;
+        for (size_t i = 0; i < halo_program_reflection(p).host_uniform_count; ++i)
+            shape.feature_buffer |= !strcmp(halo_program_reflection(p).host_uniforms[i].name, HALO_HOST_FEATURE_BUFFER);
     }
     halo_program_destroy(p);
     halo_scene_destroy(scene);

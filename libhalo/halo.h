@@ -604,9 +604,7 @@ HALO_API int halo_program_interval(const halo_program *p);
  * declares it and, with labels_when, a value of that parameter is >= 0, or the parameter
  * is live: it may change). */
 HALO_API int halo_program_reads_labels(const halo_program *p);
-/* Every parameter of every linked stage, live or constant. */
-HALO_API size_t halo_program_uniform_count(const halo_program *p);
-HALO_API const halo_uniform_info *halo_program_uniform(const halo_program *p, size_t index);
+/* A parameter of a linked stage (halo_program_reflection: every one), or NULL. */
 HALO_API const halo_uniform_info *halo_program_find_uniform(const halo_program *p, const char *stage,
                                                             const char *param);
 /* Changes a parameter's value: a live one is uploaded by halo_gl_program_upload; the
@@ -628,24 +626,31 @@ typedef struct halo_uniform_decl {
     double storage[4]; /* value's storage where it is converted (a channels parameter) */
 } halo_uniform_decl;
 HALO_API int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_uniform_decl *out);
-HALO_API size_t halo_program_output_count(const halo_program *p);
-HALO_API const halo_output_info *halo_program_output(const halo_program *p, size_t index);
-HALO_API size_t halo_program_pass_count(const halo_program *p);
-HALO_API const halo_pass_info *halo_program_pass(const halo_program *p, size_t index);
-HALO_API size_t halo_program_image_count(const halo_program *p);
-HALO_API const halo_image_info *halo_program_image(const halo_program *p, size_t index);
-HALO_API size_t halo_program_sampler_count(const halo_program *p);
-HALO_API const halo_sampler_info *halo_program_sampler(const halo_program *p, size_t index);
-HALO_API size_t halo_program_host_uniform_count(const halo_program *p);
-HALO_API const halo_host_uniform_info *halo_program_host_uniform(const halo_program *p, size_t index);
-/* 1..4: halos (channels) in this program; 1 when it has none. */
-HALO_API int halo_program_channel_count(const halo_program *p);
-HALO_API int halo_program_image_precision(const halo_program *p);
-/* halo_link_desc.image_scale as linked: 1, 2 or 4. */
-HALO_API int halo_program_image_scale(const halo_program *p);
-/* Host contract 2: > 0 when the host is drawn in depth segments (halo_gl_frame_draw): the
- * location of the ray-state output halo_segment_state_out; 0 when it is drawn once. */
-HALO_API int halo_program_segment_location(const halo_program *p);
+/* What a linked program has, as arrays that live as long as the program (halo_program_set
+ * and halo_program_select_group change the values they point to): a copy of counts and
+ * pointers, cheap to take. A NULL program has none: every count 0 (so a loop over it does
+ * nothing), every pointer NULL. */
+typedef struct halo_reflection {
+    size_t uniform_count; /* every parameter of every linked stage, live or constant */
+    const halo_uniform_info *uniforms;
+    size_t output_count; /* extra fragment outputs */
+    const halo_output_info *outputs;
+    size_t pass_count; /* image passes, in schedule order */
+    const halo_pass_info *passes;
+    size_t image_count; /* screen-sized images */
+    const halo_image_info *images;
+    size_t sampler_count; /* images the linked shader reads */
+    const halo_sampler_info *samplers;
+    size_t host_uniform_count; /* uniforms the host sets (halo_gl_set_host_uniform) */
+    const halo_host_uniform_info *host_uniforms;
+    int channel_count;    /* 1..4: halos (channels) in this program; 1 when it has none */
+    int image_precision;  /* halo_link_desc.image_precision as linked: 32, 16 or 8 */
+    int image_scale;      /* halo_link_desc.image_scale as linked: 1, 2 or 4 */
+    int segment_location; /* host contract 2: > 0 when the host is drawn in depth segments
+                           * (halo_gl_frame_draw): the location of the ray-state output
+                           * halo_segment_state_out; 0 when it is drawn once */
+} halo_reflection;
+HALO_API halo_reflection halo_program_reflection(const halo_program *p);
 /* Feature groups (docs/image-passes.md, "Feature groups"): a stage annotated
  * `#pragma halo groups` (outline_feature, outlines) takes up to HALO_MAX_GROUP_CHANNELS
  * values per channels parameter; the linker splits them into groups of four. The host
@@ -978,7 +983,7 @@ typedef struct halo_gl_segments_desc {
 HALO_API halo_status halo_gl_set_camera(halo_gl *gl, unsigned gl_program, const halo_gl_segments_desc *desc,
                                         halo_diagnostics *diag);
 /* Draws one frame of a host: halo_gl_frame_begin, the camera, then the proxy geometry
- * once per depth segment (halo_program_segment_location > 0) with the ray state carried
+ * once per depth segment (halo_program_reflection(p).segment_location > 0) with the ray state carried
  * between segments and the image passes run between them, or once otherwise. Only the
  * last segment writes the host's colour (draw buffer 0). Then call halo_gl_frame_post
  * if the program has at=post passes. Restores the GL state it changes. */

@@ -26,7 +26,7 @@ extern "C" {
 #endif
 
 /* The host uniform (a sampler3D) through which a stage reads the halo buffer: a host
- * or driver that finds it in halo_program_host_uniform builds and binds the buffer. */
+ * or driver that finds it in the program's host uniforms (halo_program_reflection) builds and binds the buffer. */
 #define HALO_HOST_FEATURE_BUFFER "halo_host_feature_buffer"
 
 #define HALO_FEATURE_SPLAT_MIN 3

@@ -172,12 +172,6 @@ void halo_program_destroy(halo_program *p)
         HALO_REFUSE_NULL(NULL, p, "program", none_value);  \
         return expression;                                 \
     }
-#define PROGRAM_ITEM(type, name, count, items)        \
-    const type *name(const halo_program *p, size_t i) \
-    {                                                 \
-        HALO_REFUSE_NULL(NULL, p, "program", NULL);   \
-        return i < p->count ? &p->items[i] : NULL;    \
-    }
 PROGRAM_GETTER(const char *, halo_program_source, NULL, p->source)
 PROGRAM_GETTER(halo_target, halo_program_target, HALO_TARGET_COUNT, p->target)
 
@@ -238,8 +232,6 @@ int halo_program_reads_labels(const halo_program *p)
     }
     return 0;
 }
-PROGRAM_GETTER(size_t, halo_program_uniform_count, 0, p->uniform_count)
-PROGRAM_ITEM(halo_uniform_info, halo_program_uniform, uniform_count, uniforms)
 const halo_uniform_info *halo_program_find_uniform(const halo_program *p, const char *stage, const char *param)
 {
     HALO_REFUSE_NULL(NULL, p, "program", NULL);
@@ -349,18 +341,29 @@ halo_status halo_program_set(halo_program *p, const char *stage, const char *par
     return HALO_OK;
 }
 
-PROGRAM_GETTER(size_t, halo_program_output_count, 0, p->output_count)
-PROGRAM_ITEM(halo_output_info, halo_program_output, output_count, outputs)
-PROGRAM_GETTER(size_t, halo_program_image_count, 0, p->image_count)
-PROGRAM_ITEM(halo_image_info, halo_program_image, image_count, images)
-PROGRAM_GETTER(size_t, halo_program_sampler_count, 0, p->sampler_count)
-PROGRAM_ITEM(halo_sampler_info, halo_program_sampler, sampler_count, samplers)
-PROGRAM_GETTER(size_t, halo_program_host_uniform_count, 0, p->host_uniform_count)
-PROGRAM_ITEM(halo_host_uniform_info, halo_program_host_uniform, host_uniform_count, host_uniforms)
-PROGRAM_GETTER(int, halo_program_channel_count, 0, p->channel_count)
-PROGRAM_GETTER(int, halo_program_image_precision, 0, p->image_precision)
-PROGRAM_GETTER(int, halo_program_image_scale, 0, p->image_scale)
-PROGRAM_GETTER(int, halo_program_segment_location, 0, p->segment_location)
+halo_reflection halo_program_reflection(const halo_program *p)
+{
+    halo_reflection r = {0};
+    if (!p)
+        return r;
+    r.uniform_count = p->uniform_count;
+    r.uniforms = p->uniforms;
+    r.output_count = p->output_count;
+    r.outputs = p->outputs;
+    r.pass_count = p->pass_count;
+    r.passes = p->passes;
+    r.image_count = p->image_count;
+    r.images = p->images;
+    r.sampler_count = p->sampler_count;
+    r.samplers = p->samplers;
+    r.host_uniform_count = p->host_uniform_count;
+    r.host_uniforms = p->host_uniforms;
+    r.channel_count = p->channel_count;
+    r.image_precision = p->image_precision;
+    r.image_scale = p->image_scale;
+    r.segment_location = p->segment_location;
+    return r;
+}
 PROGRAM_GETTER(int, halo_program_group_count, 0, p->group_count > 1 ? p->group_count : 1)
 
 /* Group g's values of every grouped channels parameter: values 4g .. 4g + 3 of the
@@ -431,8 +434,6 @@ int halo_program_set_groups(halo_program *p)
     }
     return 0;
 }
-PROGRAM_GETTER(size_t, halo_program_pass_count, 0, p->pass_count)
-PROGRAM_ITEM(halo_pass_info, halo_program_pass, pass_count, passes)
 
 int halo_pass_reach(const halo_pass_info *pass, int repetition)
 {

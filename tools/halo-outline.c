@@ -34,16 +34,16 @@ static int check_post(const halo_program *program, halo_gl_frame *frame, int siz
         free(buffer);
         return 2;
     }
-    for (size_t i = 0; i < halo_program_pass_count(program); ++i) {
-        const halo_pass_info *pass = halo_program_pass(program, i);
-        for (size_t k = 0; pass->at && k < halo_program_image_count(program) && k < 64; ++k)
-            if (!strcmp(halo_program_image(program, k)->name, pass->output)) {
+    for (size_t i = 0; i < halo_program_reflection(program).pass_count; ++i) {
+        const halo_pass_info *pass = &halo_program_reflection(program).passes[i];
+        for (size_t k = 0; pass->at && k < halo_program_reflection(program).image_count && k < 64; ++k)
+            if (!strcmp(halo_program_reflection(program).images[k].name, pass->output)) {
                 written[k] = 1;
                 written_final[k] |= pass->at == HALO_PASS_AT_FINAL;
             }
     }
-    for (size_t k = 0; k < halo_program_image_count(program) && k < 64; ++k) {
-        const halo_image_info *info = halo_program_image(program, k);
+    for (size_t k = 0; k < halo_program_reflection(program).image_count && k < 64; ++k) {
+        const halo_image_info *info = &halo_program_reflection(program).images[k];
         if ((grouped ? written_final[k] : written[k]) || halo_gl_frame_read(frame, info->name, buffer) != HALO_OK)
             continue;
         double *dst = halo_emu_frame_image(emu, info->name);
@@ -58,8 +58,8 @@ static int check_post(const halo_program *program, halo_gl_frame *frame, int siz
         failed = 1;
     if (grouped)
         halo_program_select_group((halo_program *)program, 0);
-    for (size_t k = 0; !failed && k < halo_program_image_count(program) && k < 64; ++k) {
-        const halo_image_info *info = halo_program_image(program, k);
+    for (size_t k = 0; !failed && k < halo_program_reflection(program).image_count && k < 64; ++k) {
+        const halo_image_info *info = &halo_program_reflection(program).images[k];
         if (!written[k] || halo_gl_frame_read(frame, info->name, buffer) != HALO_OK)
             continue;
         const double *e = halo_emu_frame_image(emu, info->name);
@@ -173,9 +173,9 @@ int main(int argc, char **argv)
     int channels = 4;
     if (frame) {
         const halo_image_info *info = NULL;
-        for (size_t i = 0; i < halo_program_image_count(program); ++i)
-            if (!strcmp(halo_program_image(program, i)->name, image_name))
-                info = halo_program_image(program, i);
+        for (size_t i = 0; i < halo_program_reflection(program).image_count; ++i)
+            if (!strcmp(halo_program_reflection(program).images[i].name, image_name))
+                info = &halo_program_reflection(program).images[i];
         if (!info || halo_gl_frame_read(frame, image_name, out) != HALO_OK) {
             fprintf(stderr, "halo-outline: error: the program has no image '%s'\n", image_name);
             goto done;

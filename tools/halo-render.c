@@ -526,8 +526,8 @@ static char *budget_scene_text(const options *o, const char *scene_text)
  * passes (repeat=PARAM in its module: the spreading passes N), or NULL when none repeats. */
 static const halo_uniform_info *repeat_uniform(const halo_program *p)
 {
-    for (size_t i = 0; i < halo_program_pass_count(p); ++i) {
-        const halo_pass_info *pi = halo_program_pass(p, i);
+    for (size_t i = 0; i < halo_program_reflection(p).pass_count; ++i) {
+        const halo_pass_info *pi = &halo_program_reflection(p).passes[i];
         if (pi->repeat_param && pi->at == HALO_PASS_AT_GENERATE)
             return halo_program_find_uniform(p, pi->stage, pi->repeat_param);
     }

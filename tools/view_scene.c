@@ -500,9 +500,9 @@ static double nudge(double x, double direction) { return add(x, direction * 0.1 
 /* The program's index of the selected parameter, or -1. */
 static long selected_index(const viewer *v)
 {
-    size_t n = v->program ? halo_program_uniform_count(v->program) : 0;
+    size_t n = v->program ? halo_program_reflection(v->program).uniform_count : 0;
     for (size_t i = 0; i < n; ++i) {
-        const halo_uniform_info *u = halo_program_uniform(v->program, i);
+        const halo_uniform_info *u = &halo_program_reflection(v->program).uniforms[i];
         if (!strcmp(u->stage, v->selected.stage) && !strcmp(u->param, v->selected.param))
             return (long)i;
     }
@@ -511,7 +511,7 @@ static long selected_index(const viewer *v)
 
 void view_select_param(viewer *v, int step)
 {
-    size_t n = v->program ? halo_program_uniform_count(v->program) : 0;
+    size_t n = v->program ? halo_program_reflection(v->program).uniform_count : 0;
     if (!n) {
         fprintf(stderr, "halo-view: the linked stages have no parameters\n");
         return;
@@ -520,7 +520,7 @@ void view_select_param(viewer *v, int step)
     if (i < 0)
         i = step > 0 ? -1 : 0;
     i = ((i + step) % (long)n + (long)n) % (long)n;
-    const halo_uniform_info *u = halo_program_uniform(v->program, (size_t)i);
+    const halo_uniform_info *u = &halo_program_reflection(v->program).uniforms[(size_t)i];
     snprintf(v->selected.stage, sizeof v->selected.stage, "%s", u->stage);
     snprintf(v->selected.param, sizeof v->selected.param, "%s", u->param);
     printf("halo-view: selected %s.%s = %g (%g..%g): %s\n", u->stage, u->param, u->count > 0 ? u->value[0] : 0.0,
@@ -540,7 +540,7 @@ void view_step_param(viewer *v, int direction)
                 v->selected.stage[0] ? ": the selected one is not linked now" : "");
         return;
     }
-    const halo_uniform_info *u = halo_program_uniform(v->program, (size_t)i);
+    const halo_uniform_info *u = &halo_program_reflection(v->program).uniforms[(size_t)i];
     const halo_param_info *info = u->info;
     if (info->step > 0.0) {
         change_param(v, u->stage, u->param, add, direction * info->step);

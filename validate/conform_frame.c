@@ -57,8 +57,8 @@ static int emulate_frame_sample(const halo_program *p, halo_emu_frame *ef, halo_
 
 static int program_has_image(const halo_program *p, const char *name)
 {
-    for (size_t i = 0; i < halo_program_image_count(p); ++i)
-        if (!strcmp(halo_program_image(p, i)->name, name))
+    for (size_t i = 0; i < halo_program_reflection(p).image_count; ++i)
+        if (!strcmp(halo_program_reflection(p).images[i].name, name))
             return 1;
     return 0;
 }
@@ -97,11 +97,11 @@ static int emulate_output_pixel(const halo_program *p, halo_emu_frame *one, cons
         return 0;
     halo_emu_frame_finish(one, &s);
     int n = 0;
-    for (size_t i = 0; i < halo_program_image_count(p); ++i) {
-        const halo_image_info *info = halo_program_image(p, i);
+    for (size_t i = 0; i < halo_program_reflection(p).image_count; ++i) {
+        const halo_image_info *info = &halo_program_reflection(p).images[i];
         int written = 0;
-        for (size_t o = 0; o < halo_program_output_count(p); ++o)
-            written |= !strcmp(halo_program_output(p, o)->image, info->name);
+        for (size_t o = 0; o < halo_program_reflection(p).output_count; ++o)
+            written |= !strcmp(halo_program_reflection(p).outputs[o].image, info->name);
         const double *px = written ? halo_emu_frame_image(one, info->name) : NULL;
         for (int k = 0; px && k < info->channels && n < max_values; ++k)
             values[n++] = px[k];
@@ -120,7 +120,7 @@ static int compare_output_images(conform *c, const char *row, const halo_program
 {
     enum { MAX_VALUES = 64 };
     size_t count = (size_t)c->size * (size_t)c->size;
-    size_t images = halo_program_image_count(p);
+    size_t images = halo_program_reflection(p).image_count;
     float **gl_images = calloc(images ? images : 1, sizeof *gl_images);
     halo_emu_frame *one = halo_emu_frame_create(p, 1, 1, c->diag);
     int ok = 0;
@@ -129,10 +129,10 @@ static int compare_output_images(conform *c, const char *row, const halo_program
     emu_set_axes(one);
     emu_set_probe_volumes(p, one);
     for (size_t i = 0; i < images; ++i) {
-        const halo_image_info *info = halo_program_image(p, i);
+        const halo_image_info *info = &halo_program_reflection(p).images[i];
         int written = 0;
-        for (size_t o = 0; o < halo_program_output_count(p); ++o)
-            written |= !strcmp(halo_program_output(p, o)->image, info->name);
+        for (size_t o = 0; o < halo_program_reflection(p).output_count; ++o)
+            written |= !strcmp(halo_program_reflection(p).outputs[o].image, info->name);
         if (!written)
             continue;
         gl_images[i] = malloc(count * (size_t)info->channels * sizeof **gl_images);
@@ -161,8 +161,8 @@ static int compare_output_images(conform *c, const char *row, const halo_program
         for (size_t m = 0; m < images; ++m) {
             if (!gl_images[m])
                 continue;
-            int ch = halo_program_image(p, m)->channels;
-            const double *e = halo_emu_frame_image(eframe, halo_program_image(p, m)->name);
+            int ch = halo_program_reflection(p).images[m].channels;
+            const double *e = halo_emu_frame_image(eframe, halo_program_reflection(p).images[m].name);
             for (int k = 0; k < ch && n < 4 + MAX_VALUES; ++k)
                 emu[n] = e[i * (size_t)ch + (size_t)k], g[n++] = gl_images[m][i * (size_t)ch + (size_t)k];
         }
@@ -188,9 +188,9 @@ static int compare_output_images(conform *c, const char *row, const halo_program
         for (size_t m = 0; m < images; ++m) {
             if (!gl_images[m])
                 continue;
-            int ch = halo_program_image(p, m)->channels;
-            const double *e = halo_emu_frame_image(eframe, halo_program_image(p, m)->name);
-            fprintf(stderr, "    %-16s gpu", halo_program_image(p, m)->name);
+            int ch = halo_program_reflection(p).images[m].channels;
+            const double *e = halo_emu_frame_image(eframe, halo_program_reflection(p).images[m].name);
+            fprintf(stderr, "    %-16s gpu", halo_program_reflection(p).images[m].name);
             for (int k = 0; k < ch; ++k)
                 fprintf(stderr, " %.9g", gl_images[m][shown * (size_t)ch + (size_t)k]);
             fprintf(stderr, "  emulation");
@@ -257,7 +257,7 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
         conform_set_live_arrays(program, m, c->diag);
     if (halo_diagnostics_errors(c->diag) > 0)
         goto done;
-    int channels = halo_program_channel_count(program);
+    int channels = halo_program_reflection(program).channel_count;
     samples = malloc(count * sizeof *samples);
     gpu = malloc(count * 4 * sizeof *gpu);
     gpu_seed = malloc(count * 4 * sizeof *gpu_seed);
@@ -287,8 +287,8 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
     if (is_map) {
         /* generate on the GPU; the emulation continues from the GPU's images */
         halo_gl_frame_generate(gframe);
-        for (size_t i = 0; i < halo_program_image_count(program); ++i) {
-            const char *name = halo_program_image(program, i)->name;
+        for (size_t i = 0; i < halo_program_reflection(program).image_count; ++i) {
+            const char *name = halo_program_reflection(program).images[i].name;
             if (halo_gl_frame_read(gframe, name, image) != HALO_OK)
                 goto done;
             double *e = halo_emu_frame_image(eframe, name);

@@ -342,7 +342,8 @@ halo_emu_frame *conform_host_frame(const halo_program *p, int width, int height,
                                    const double screen_up[3], int *ok, halo_diagnostics *diag)
 {
     *ok = 1;
-    if (!halo_program_image_count(p) && !halo_program_output_count(p) && !halo_program_sampler_count(p))
+    if (!halo_program_reflection(p).image_count && !halo_program_reflection(p).output_count &&
+        !halo_program_reflection(p).sampler_count)
         return NULL;
     halo_emu_frame *frame = halo_emu_frame_create(p, width, height, diag);
     if (!frame) {
@@ -564,17 +565,17 @@ halo_status frame_probe_draw(conform *c, frame_probe *fp, const halo_program *p,
     host_axes(right, up);
     float fr[3] = {(float)right[0], (float)right[1], (float)right[2]},
           fu[3] = {(float)up[0], (float)up[1], (float)up[2]};
-    for (size_t i = 0; i < halo_program_host_uniform_count(p); ++i) {
-        const char *name = halo_program_host_uniform(p, i)->name;
+    for (size_t i = 0; i < halo_program_reflection(p).host_uniform_count; ++i) {
+        const char *name = halo_program_reflection(p).host_uniforms[i].name;
         if (strstr(name, "screen_right"))
             halo_gl_set_host_uniform(c->runtime, fp->program, name, fr, 3);
         else if (strstr(name, "screen_up"))
             halo_gl_set_host_uniform(c->runtime, fp->program, name, fu, 3);
-        else if (!strcmp(halo_program_host_uniform(p, i)->type, "sampler3D")) {
+        else if (!strcmp(halo_program_reflection(p).host_uniforms[i].type, "sampler3D")) {
             f->ActiveTexture(GL_TEXTURE0 + PROBE_UNIT_3D);
             f->BindTexture(GL_TEXTURE_3D, fp->host_textures[0]);
             halo_gl_set_host_uniform(c->runtime, fp->program, name, (const float[]){PROBE_UNIT_3D}, 1);
-        } else if (!strncmp(halo_program_host_uniform(p, i)->type, "sampler", 7)) {
+        } else if (!strncmp(halo_program_reflection(p).host_uniforms[i].type, "sampler", 7)) {
             f->ActiveTexture(GL_TEXTURE0 + PROBE_UNIT_2D);
             f->BindTexture(GL_TEXTURE_2D, fp->host_textures[1]);
             halo_gl_set_host_uniform(c->runtime, fp->program, name, (const float[]){PROBE_UNIT_2D}, 1);
@@ -620,9 +621,9 @@ void emu_set_axes(halo_emu_frame *ef)
 
 void emu_set_probe_volumes(const halo_program *p, halo_emu_frame *ef)
 {
-    for (size_t i = 0; i < halo_program_host_uniform_count(p); ++i)
-        if (!strcmp(halo_program_host_uniform(p, i)->type, "sampler3D"))
-            halo_emu_frame_set_volume(ef, halo_program_host_uniform(p, i)->name + strlen("halo_host_"),
+    for (size_t i = 0; i < halo_program_reflection(p).host_uniform_count; ++i)
+        if (!strcmp(halo_program_reflection(p).host_uniforms[i].type, "sampler3D"))
+            halo_emu_frame_set_volume(ef, halo_program_reflection(p).host_uniforms[i].name + strlen("halo_host_"),
                                       probe_label_volume(), PROBE_VOLUME_X, PROBE_VOLUME_Y, PROBE_VOLUME_Z);
 }
 

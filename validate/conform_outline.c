@@ -141,8 +141,8 @@ static void host_colour(int size, int x, int y, double out[4])
 
 static int post_written(const halo_program *p, const char *image)
 {
-    for (size_t i = 0; i < halo_program_pass_count(p); ++i) {
-        const halo_pass_info *pass = halo_program_pass(p, i);
+    for (size_t i = 0; i < halo_program_reflection(p).pass_count; ++i) {
+        const halo_pass_info *pass = &halo_program_reflection(p).passes[i];
         if (pass->at && !strcmp(pass->output, image))
             return 1;
     }
@@ -151,9 +151,9 @@ static int post_written(const halo_program *p, const char *image)
 
 static const halo_image_info *image_named(const halo_program *p, const char *name)
 {
-    for (size_t i = 0; i < halo_program_image_count(p); ++i)
-        if (!strcmp(halo_program_image(p, i)->name, name))
-            return halo_program_image(p, i);
+    for (size_t i = 0; i < halo_program_reflection(p).image_count; ++i)
+        if (!strcmp(halo_program_reflection(p).images[i].name, name))
+            return &halo_program_reflection(p).images[i];
     return NULL;
 }
 
@@ -248,7 +248,7 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
     int printed = 0; /* the row printed its line; else conform_row_end prints an error row */
     if (!program || !samples || !host || !gl_image || !importance || !final || halo_diagnostics_errors(c->diag) > 0)
         goto done;
-    int channels = halo_program_channel_count(program);
+    int channels = halo_program_reflection(program).channel_count;
     if (!frame_probe_open(c, program, size, &fp))
         goto done;
     gframe = fp.gl_frame;
@@ -324,8 +324,8 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
     size_t worst_over = SIZE_MAX;
     const char *worst_over_image = "";
     double worst_values[2] = {0, 0};
-    for (size_t m = 0; m < halo_program_image_count(program); ++m) {
-        const halo_image_info *info = halo_program_image(program, m);
+    for (size_t m = 0; m < halo_program_reflection(program).image_count; ++m) {
+        const halo_image_info *info = &halo_program_reflection(program).images[m];
         if (!post_written(program, info->name))
             continue;
         if (halo_gl_frame_read(gframe, info->name, gl_image) != HALO_OK)

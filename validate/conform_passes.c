@@ -99,7 +99,7 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
                         c->diag);
     if (!program || halo_diagnostics_errors(c->diag) > 0)
         goto done;
-    int channels = halo_program_channel_count(program);
+    int channels = halo_program_reflection(program).channel_count;
     if (!frame_probe_open(c, program, c->size, &fp))
         goto done;
     gframe = fp.gl_frame;
@@ -136,9 +136,9 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
                 goto done;
             const double *e = halo_emu_frame_image(eframe, r->compare[k]);
             int scale = 1;
-            for (size_t m = 0; m < halo_program_image_count(program); ++m)
-                if (!strcmp(halo_program_image(program, m)->name, r->compare[k]))
-                    scale = halo_program_image(program, m)->scale;
+            for (size_t m = 0; m < halo_program_reflection(program).image_count; ++m)
+                if (!strcmp(halo_program_reflection(program).images[m].name, r->compare[k]))
+                    scale = halo_program_reflection(program).images[m].scale;
             size_t side = (size_t)((c->size + scale - 1) / scale), compared = side * side;
             for (size_t i = 0; i < compared; ++i) {
                 int over = 0, nonfinite = 0;

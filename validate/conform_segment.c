@@ -323,8 +323,8 @@ static void field_stacks_free(field_stacks *st)
  * the host's samples write those). */
 static int feeds_generation(const halo_program *p, const char *image)
 {
-    for (size_t o = 0; o < halo_program_output_count(p); ++o)
-        if (!strcmp(halo_program_output(p, o)->image, image))
+    for (size_t o = 0; o < halo_program_reflection(p).output_count; ++o)
+        if (!strcmp(halo_program_reflection(p).outputs[o].image, image))
             return 0;
     return 1;
 }
@@ -333,14 +333,14 @@ static int feeds_generation(const halo_program *p, const char *image)
 static void copy_seeds(const halo_program *p, halo_emu_frame *from_frame, halo_emu_frame *to_frame, size_t pixels)
 {
     const halo_program *march = p->prepass;
-    for (size_t o = 0; o < halo_program_output_count(march); ++o) {
-        const halo_output_info *out = halo_program_output(march, o);
+    for (size_t o = 0; o < halo_program_reflection(march).output_count; ++o) {
+        const halo_output_info *out = &halo_program_reflection(march).outputs[o];
         if (!feeds_generation(p, out->image))
             continue;
         double *from = halo_emu_frame_image(from_frame, out->image), *to = halo_emu_frame_image(to_frame, out->image);
-        for (size_t k = 0; from && to && k < halo_program_image_count(march); ++k)
-            if (!strcmp(halo_program_image(march, k)->name, out->image))
-                memcpy(to, from, pixels * (size_t)halo_program_image(march, k)->channels * sizeof *to);
+        for (size_t k = 0; from && to && k < halo_program_reflection(march).image_count; ++k)
+            if (!strcmp(halo_program_reflection(march).images[k].name, out->image))
+                memcpy(to, from, pixels * (size_t)halo_program_reflection(march).images[k].channels * sizeof *to);
     }
 }
 
@@ -358,24 +358,24 @@ static int field_emulate(const halo_raycast_state *s, const halo_program *p, con
     memset(st, 0, sizeof *st);
     /* the march and the field at the halo images' scale (halo_link_desc.image_scale): a ray
      * through the centre of each 1/scale pixel, as gl/field.c's */
-    int scale = halo_program_image_scale(p) > 1 ? halo_program_image_scale(p) : 1;
+    int scale = halo_program_reflection(p).image_scale > 1 ? halo_program_reflection(p).image_scale : 1;
     st->scale = scale;
     st->frame_width = s->width;
     st->width = (s->width + scale - 1) / scale;
     st->height = (s->height + scale - 1) / scale;
     st->layers = plan->segments > 1 ? plan->segments - 1 : 1;
     size_t pixels = (size_t)st->width * (size_t)st->height;
-    for (size_t i = 0; i < halo_program_sampler_count(p) && st->count <= HALO_MAX_OUTPUT_LOCATION; ++i) {
-        const char *name = halo_program_sampler(p, i)->image;
-        for (size_t k = 0; k < halo_program_image_count(p); ++k)
-            if (!strcmp(halo_program_image(p, k)->name, name)) {
-                if (halo_program_image(p, k)->scale != scale) {
+    for (size_t i = 0; i < halo_program_reflection(p).sampler_count && st->count <= HALO_MAX_OUTPUT_LOCATION; ++i) {
+        const char *name = halo_program_reflection(p).samplers[i].image;
+        for (size_t k = 0; k < halo_program_reflection(p).image_count; ++k)
+            if (!strcmp(halo_program_reflection(p).images[k].name, name)) {
+                if (halo_program_reflection(p).images[k].scale != scale) {
                     HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0,
                                       "the one-draw emulation takes images at the program's image_scale only");
                     return 0;
                 }
                 st->images[st->count] = name;
-                st->channels[st->count] = halo_program_image(p, k)->channels;
+                st->channels[st->count] = halo_program_reflection(p).images[k].channels;
                 st->layer_data[st->count] =
                     calloc((size_t)st->layers * pixels * (size_t)st->channels[st->count], sizeof(double));
                 if (!st->layer_data[st->count++]) {
@@ -543,11 +543,11 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
         out[i] = 0.0;
     double exponent = s->step_size / s->unit_step;
     double threshold = m.host->threshold + m.threshold_move;
-    if (halo_program_output_count(p) > 0) /* HALO_RAY_MAY_END 0: the ray goes on to its end */
+    if (halo_program_reflection(p).output_count > 0) /* HALO_RAY_MAY_END 0: the ray goes on to its end */
         threshold = INFINITY;
     int ok = 1, generation = 0;
-    for (size_t i = 0; i < halo_program_pass_count(p); ++i)
-        generation |= halo_program_pass(p, i)->at == HALO_PASS_AT_GENERATE;
+    for (size_t i = 0; i < halo_program_reflection(p).pass_count; ++i)
+        generation |= halo_program_reflection(p).passes[i].at == HALO_PASS_AT_GENERATE;
     /* host contract 3: the field of every segment first, then the host in one draw */
     field_stacks stacks = {0};
     int one_draw = p->one_draw;

@@ -142,7 +142,8 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
                 acc[3] += (1.0 - acc[3]) * alpha;
             }
         }
-        if (ok && frame && halo_program_pass_count(p) > 0 && (k + 1) % interval == 0 && k + 1 < s->slice_count)
+        if (ok && frame && halo_program_reflection(p).pass_count > 0 && (k + 1) % interval == 0 &&
+            k + 1 < s->slice_count)
             ok = halo_emu_frame_generate(frame, diag) == HALO_OK;
     }
     conform_over_background(out, pixels, s->background);

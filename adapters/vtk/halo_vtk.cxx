@@ -279,7 +279,7 @@ std::string replacement(const halo_vtk *h, const splice &sp)
     case TEXT_SAMPLE:
         return h->sample;
     case TEXT_VISIBLE:
-        return halo_program_sampler_count(h->program) ? visible_test_images : visible_test_guarded;
+        return halo_program_reflection(h->program).sampler_count ? visible_test_images : visible_test_guarded;
     case TEXT_FINISH_OWN:
         return std::string(piece_clamp) + finish_point;
     case TEXT_FINISH_HALO:
@@ -740,8 +740,8 @@ vtkStandardNewMacro(haloVTKMapper);
  * piece spreads the same seeds; done before the passes run on them. */
 static void exchange_outputs(halo_vtk *h)
 {
-    for (size_t i = 0; i < halo_program_output_count(h->program); i++) {
-        const halo_output_info *o = halo_program_output(h->program, i);
+    for (size_t i = 0; i < halo_program_reflection(h->program).output_count; i++) {
+        const halo_output_info *o = &halo_program_reflection(h->program).outputs[i];
         unsigned texture = halo_gl_frame_texture(h->frame, o->image);
         if (!texture)
             continue;
@@ -767,7 +767,7 @@ void haloVTKMapper::draw(void *user)
      * VTK's blending of the volume leaves the shader's values as they are */
     static const float zero[4] = {0, 0, 0, 0};
     glClearBufferfv(GL_COLOR, 0, zero);
-    int state = halo_program_segment_location(h->program);
+    int state = halo_program_reflection(h->program).segment_location;
     if (state > 0)
         glClearBufferfv(GL_COLOR, state, zero);
     vtkOpenGLRenderWindow *win = vtkOpenGLRenderWindow::SafeDownCast(m->draw_renderer->GetRenderWindow());
@@ -1032,7 +1032,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
                                 "in depth segments (docs/hosts/vtk.md)");
     if (!program)
         return nullptr;
-    if (!segmenting && (halo_program_output_count(program) || halo_program_pass_count(program))) {
+    if (!segmenting && (halo_program_reflection(program).output_count || halo_program_reflection(program).pass_count)) {
         std::string stages;
         for (size_t i = 0; i < halo_program_stage_count(program); i++)
             stages += (stages.empty() ? "" : ", ") + std::string(halo_program_stage(program, i));
@@ -1044,14 +1044,14 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
         halo_program_destroy(program);
         return nullptr;
     }
-    for (size_t i = 0; i < halo_program_host_uniform_count(program); i++) {
-        const char *name = halo_program_host_uniform(program, i)->name;
+    for (size_t i = 0; i < halo_program_reflection(program).host_uniform_count; i++) {
+        const char *name = halo_program_reflection(program).host_uniforms[i].name;
         /* a segmentation is read only where the stage says so (halo_stage_info.labels_when) */
         int labels_unused = !strcmp(name, "halo_host_labels") && !halo_program_reads_labels(program);
         if (strcmp(name, "halo_host_screen_right") && strcmp(name, "halo_host_screen_up") && !labels_unused) {
             add_error(diag, HALO_MSG_ENGINE_UNSUPPORTED,
                       std::string("the scene's stages need the host uniform '") + name + "' (" +
-                          halo_program_host_uniform(program, i)->meaning +
+                          halo_program_reflection(program).host_uniforms[i].meaning +
                           "): the VTK adapter does not provide it yet (docs/hosts/vtk.md)");
             halo_program_destroy(program);
             return nullptr;
@@ -1099,21 +1099,21 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
     h->uniforms.push_back("halo_vtk_box_hi");
     upload_all(h, &h->uniforms);
     /* the pieces */
-    h->declarations = std::string(declarations_tag) + "\n" + conversions +
-                      "const bool halo_vtk_reads_images = " + (halo_program_sampler_count(program) ? "true" : "false") +
-                      ";\n" + halo_program_piece(program, HALO_PIECE_DECLARATIONS);
+    h->declarations = std::string(declarations_tag) + "\n" + conversions + "const bool halo_vtk_reads_images = " +
+                      (halo_program_reflection(program).sampler_count ? "true" : "false") + ";\n" +
+                      halo_program_piece(program, HALO_PIECE_DECLARATIONS);
     h->sample = std::string(
                     "// ---- libhalo-vtk: the stages, on the opacity per unit distance ----\n"
                     "g_srcColor.a = halo_vtk_correct(g_srcColor.a, 1.0 / halo_vtk_exponent());\n") +
                 halo_program_piece(program, HALO_PIECE_SAMPLE) +
                 "g_srcColor.a = halo_vtk_correct(g_srcColor.a, halo_vtk_exponent());\n" + splice_point;
     if (segmenting) {
-        h->segmented = halo_program_output_count(program) || halo_program_pass_count(program);
-        for (size_t i = 0; i < halo_program_pass_count(program) && link.one_draw; i++)
-            h->one_draw |= !halo_program_pass(program, i)->at; /* passes between slices: the field */
-        for (size_t i = 0; i < halo_program_pass_count(program); i++)
-            if (halo_program_pass(program, i)->at)
-                h->post_image = halo_program_pass(program, i)->output;
+        h->segmented = halo_program_reflection(program).output_count || halo_program_reflection(program).pass_count;
+        for (size_t i = 0; i < halo_program_reflection(program).pass_count && link.one_draw; i++)
+            h->one_draw |= !halo_program_reflection(program).passes[i].at; /* passes between slices: the field */
+        for (size_t i = 0; i < halo_program_reflection(program).pass_count; i++)
+            if (halo_program_reflection(program).passes[i].at)
+                h->post_image = halo_program_reflection(program).passes[i].output;
         segmenting->halo = h;
     }
     h->mode = !segmenting ? SPLICE_OWN : names.segmented ? SPLICE_SEGMENTS : SPLICE_DRAWN_ONCE;

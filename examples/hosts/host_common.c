@@ -740,12 +740,12 @@ void halo_host_camera_keep(const halo_host_camera *camera, float inverse_view_pr
 const halo_image_info *halo_host_post_image(const halo_program *p)
 {
     const char *name = NULL;
-    for (size_t i = 0; p && i < halo_program_pass_count(p); ++i)
-        if (halo_program_pass(p, i)->at)
-            name = halo_program_pass(p, i)->output;
-    for (size_t i = 0; name && i < halo_program_image_count(p); ++i)
-        if (!strcmp(halo_program_image(p, i)->name, name))
-            return halo_program_image(p, i);
+    for (size_t i = 0; p && i < halo_program_reflection(p).pass_count; ++i)
+        if (halo_program_reflection(p).passes[i].at)
+            name = halo_program_reflection(p).passes[i].output;
+    for (size_t i = 0; name && i < halo_program_reflection(p).image_count; ++i)
+        if (!strcmp(halo_program_reflection(p).images[i].name, name))
+            return &halo_program_reflection(p).images[i];
     return NULL;
 }
 

@@ -222,8 +222,8 @@ halo_raycast *halo_raycast_create(const halo_host_desc *desc, halo_diagnostics *
         return NULL;
     const halo_glfuncs *f = r->target.f;
     const halo_program *p = desc->program;
-    if (p && (halo_program_image_count(p) || halo_program_output_count(p) || halo_program_sampler_count(p) ||
-              halo_program_segment_location(p) > 0)) {
+    if (p && (halo_program_reflection(p).image_count || halo_program_reflection(p).output_count ||
+              halo_program_reflection(p).sampler_count || halo_program_reflection(p).segment_location > 0)) {
         r->frame = halo_gl_frame_create(desc->runtime, p, desc->width, desc->height, diag);
         if (!r->frame) {
             halo_raycast_destroy(r);

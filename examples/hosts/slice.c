@@ -82,7 +82,8 @@ halo_slice *halo_slice_create_mode(const halo_host_desc *desc, int slab, halo_di
     if (!halo_host_framebuffer(f, &s->framebuffer, s->textures[0], s->width, s->height, diag))
         goto fail;
     const halo_program *p = desc->program;
-    if (p && (halo_program_image_count(p) || halo_program_output_count(p) || halo_program_sampler_count(p))) {
+    if (p && (halo_program_reflection(p).image_count || halo_program_reflection(p).output_count ||
+              halo_program_reflection(p).sampler_count)) {
         s->frame = halo_gl_frame_create(desc->runtime, p, s->width, s->height, diag);
         if (!s->frame)
             goto fail;
@@ -92,8 +93,8 @@ halo_slice *halo_slice_create_mode(const halo_host_desc *desc, int slab, halo_di
     f->GenTextures(1, &s->gradient_texture);
     halo_slice_set_render(s, NULL, diag);
     halo_slice_set_camera(s, 30.0, 20.0, 1.0);
-    for (size_t i = 0; p && i < halo_program_host_uniform_count(p); ++i)
-        if (!strcmp(halo_program_host_uniform(p, i)->name, "halo_host_labels") &&
+    for (size_t i = 0; p && i < halo_program_reflection(p).host_uniform_count; ++i)
+        if (!strcmp(halo_program_reflection(p).host_uniforms[i].name, "halo_host_labels") &&
             halo_slice_set_labels(s, NULL, 0, 0, 0, diag) != HALO_OK)
             goto fail;
     return s;
@@ -439,8 +440,8 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
 static int generation_zero_from_zero(const halo_program *p)
 {
     int any = 0;
-    for (size_t i = 0; p && i < halo_program_pass_count(p); ++i) {
-        const halo_pass_info *pass = halo_program_pass(p, i);
+    for (size_t i = 0; p && i < halo_program_reflection(p).pass_count; ++i) {
+        const halo_pass_info *pass = &halo_program_reflection(p).passes[i];
         if (pass->at)
             continue;
         const halo_stage_info *info = NULL;
@@ -711,7 +712,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     /* clipped slices with halo images: the pixels of the section where the images read
      * are 0 and those outside the section get variants */
     GLuint outside = 0, zero_variant = 0;
-    if (slices_clippable(s) && s->frame && halo_program_sampler_count(s->linked) > 0 &&
+    if (slices_clippable(s) && s->frame && halo_program_reflection(s->linked).sampler_count > 0 &&
         (!(outside = shader_variant(s, &s->outside_program, "#define SLICE_OUTSIDE 1\n", diag)) ||
          !(zero_variant = shader_variant(s, &s->zero_program,
                                          s->packed ? "#define HALO_IMAGES_ZERO 1\n#define SLICE_PACKED_VOLUME 1\n"
@@ -742,7 +743,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
         f->BlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
     }
     int interval = st.interval;
-    int generate = s->frame && halo_program_pass_count(s->linked) > 0;
+    int generate = s->frame && halo_program_reflection(s->linked).pass_count > 0;
     if (s->frame) {
         if (group <= 0)
             SLICE_RUNTIME(s, halo_gl_frame_begin(s->frame));

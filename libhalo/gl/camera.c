@@ -165,7 +165,7 @@ int halo_segment_plan_make(const halo_gl_segments_desc *d, const halo_program *p
 {
     if (!p || !halo_segments_desc_valid(d, "halo_gl_frame_draw", diag))
         return 0;
-    int location = halo_program_segment_location(p);
+    int location = halo_program_reflection(p).segment_location;
     if (d->segments > 0 && location <= 0 && !p->one_draw) {
         halo_diag_error(diag, USAGE, "", 0, 0,
                         "halo_gl_frame_draw: segments = %d needs a program linked with force_segments from a host "

@@ -121,8 +121,8 @@ static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     halo_gl_field *field = halo_diag_calloc(diag, sizeof *field, "the field of a one-draw frame");
     if (!field)
         return NULL;
-    for (size_t i = 0; i < halo_program_sampler_count(p); ++i) {
-        const char *image = halo_program_sampler(p, i)->image;
+    for (size_t i = 0; i < halo_program_reflection(p).sampler_count; ++i) {
+        const char *image = halo_program_reflection(p).samplers[i].image;
         halo_gl_frame_image view;
         if (!halo_prepass_image(p, image) || !halo_gl_frame_image_view(fr, image, &view))
             continue;
@@ -191,9 +191,9 @@ static void field_destroy(halo_gl_frame *fr, halo_gl_field *field)
  * halo_gl_frame_bind binds the others. */
 static void field_bind(const halo_glfuncs *f, const halo_program *p, const halo_gl_field *field, int first_unit)
 {
-    for (size_t i = 0; i < halo_program_sampler_count(p); ++i)
+    for (size_t i = 0; i < halo_program_reflection(p).sampler_count; ++i)
         for (int s = 0; s < field->stack_count; ++s)
-            if (!strcmp(field->stacks[s].image, halo_program_sampler(p, i)->image)) {
+            if (!strcmp(field->stacks[s].image, halo_program_reflection(p).samplers[i].image)) {
                 f->ActiveTexture(GL_TEXTURE0 + (GLenum)(first_unit + (int)i));
                 f->BindTexture(GL_TEXTURE_2D_ARRAY, field->stacks[s].texture);
             }
@@ -265,7 +265,7 @@ static int field_reserve(const halo_glfuncs *f, const halo_program *p, halo_gl_f
         per_layer += (size_t)field->stacks[s].width * (size_t)field->stacks[s].height *
                      texel_bytes(field->stacks[s].internal_format);
     if (per_layer > 0 && (size_t)layers > max_bytes / per_layer) {
-        int scale = halo_program_image_scale(p) > 1 ? halo_program_image_scale(p) : 1;
+        int scale = halo_program_reflection(p).image_scale > 1 ? halo_program_reflection(p).image_scale : 1;
         double mib = 1.0 / (1024.0 * 1024.0), need = (double)layers * (double)per_layer;
         char fits[160] = "";
         for (int smaller = scale * 2; smaller <= 4 && !fits[0]; smaller *= 2)
@@ -533,7 +533,7 @@ static float field_skip_bound(const halo_program *march, float epsilon)
     if (!alpha || !scale || !alpha->value || !scale->value || alpha->count < 1 || scale->count < 1)
         return (float)exact;
     double bound = INFINITY;
-    for (int h = 0; h < halo_program_channel_count(march); ++h) {
+    for (int h = 0; h < halo_program_reflection(march).channel_count; ++h) {
         double a = alpha->value[h < alpha->count ? h : alpha->count - 1];
         double k = scale->value[h < scale->count ? h : scale->count - 1];
         double g = !(a > 0.0) ? exact : !(k > 0.0) ? INFINITY : pow((double)epsilon, 1.0 / a) / k;
@@ -676,10 +676,10 @@ static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_
 {
     if (layers <= field->seed_layers)
         return 1;
-    size_t n = halo_program_output_count(march);
+    size_t n = halo_program_reflection(march).output_count;
     for (size_t i = 0; i < n && i < FIELD_MAX_STACKS; ++i) {
         halo_gl_frame_image view;
-        if (!halo_gl_frame_image_view(fr, halo_program_output(march, i)->image, &view))
+        if (!halo_gl_frame_image_view(fr, halo_program_reflection(march).outputs[i].image, &view))
             continue;
         GLenum format, type;
         upload_format(view.internal_format, &format, &type);
@@ -711,10 +711,11 @@ static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_
 static void field_seed_copy(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field *field, const halo_program *march,
                             int j, int to_stack)
 {
-    size_t n = halo_program_output_count(march);
+    size_t n = halo_program_reflection(march).output_count;
     for (size_t i = 0; i < n && i < FIELD_MAX_STACKS; ++i) {
         halo_gl_frame_image view;
-        if (!field->seed_stacks[i] || !halo_gl_frame_image_view(fr, halo_program_output(march, i)->image, &view))
+        if (!field->seed_stacks[i] ||
+            !halo_gl_frame_image_view(fr, halo_program_reflection(march).outputs[i].image, &view))
             continue;
         if (to_stack) {
             f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, view.texture, 0);
@@ -738,10 +739,11 @@ static int field_seed_exchange(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl
                                const halo_program *march, const halo_gl_segments_desc *d, int layers,
                                halo_diagnostics *diag)
 {
-    size_t n = halo_program_output_count(march);
+    size_t n = halo_program_reflection(march).output_count;
     for (size_t i = 0; i < n && i < FIELD_MAX_STACKS; ++i) {
         halo_gl_frame_image view;
-        if (!field->seed_stacks[i] || !halo_gl_frame_image_view(fr, halo_program_output(march, i)->image, &view))
+        if (!field->seed_stacks[i] ||
+            !halo_gl_frame_image_view(fr, halo_program_reflection(march).outputs[i].image, &view))
             continue;
         size_t layer = (size_t)view.width * (size_t)view.height * 4;
         /* layers in groups of at most exchange_max_bytes (at least one a call) */
@@ -771,7 +773,7 @@ static int field_seed_exchange(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl
             }
             f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
             d->exchange(d->exchange_user, field->exchange_buffer, layer * (size_t)k,
-                        halo_program_output(march, i)->blend);
+                        halo_program_reflection(march).outputs[i].blend);
             f->BindTexture(GL_TEXTURE_2D_ARRAY, field->seed_stacks[i]);
             f->TexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, 0, 0, first, view.width, view.height, k, GL_RGBA, GL_FLOAT,
                              field->exchange_buffer);
@@ -805,9 +807,9 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit); /* the stacks are bound there to be made and filled */
     int layers = plan->segments > 1 ? plan->segments - 1 : 1;
     size_t max_bytes = d->field_max_bytes ? d->field_max_bytes : HALO_GL_FIELD_MAX_BYTES, seed_per_layer = 0;
-    for (size_t i = 0; d->exchange && i < halo_program_output_count(p->prepass); ++i) {
+    for (size_t i = 0; d->exchange && i < halo_program_reflection(p->prepass).output_count; ++i) {
         halo_gl_frame_image view; /* the seed stacks of the exchange (field_seed_reserve) count too */
-        if (halo_gl_frame_image_view(fr, halo_program_output(p->prepass, i)->image, &view))
+        if (halo_gl_frame_image_view(fr, halo_program_reflection(p->prepass).outputs[i].image, &view))
             seed_per_layer += (size_t)view.width * (size_t)view.height * texel_bytes(view.internal_format);
     }
     int reserved = field_reserve(f, p, field, layers, layers > max_layers - max_layers / 5 ? max_layers : 0, max_bytes,
@@ -876,7 +878,7 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     f->Uniform2f(field->viewport, (float)width, (float)height);
     /* the march at the seed images' scale (the halo images', halo_link_desc.image_scale): a
      * ray through the centre of each 1/s pixel */
-    int s = halo_program_image_scale(p) > 1 ? halo_program_image_scale(p) : 1;
+    int s = halo_program_reflection(p).image_scale > 1 ? halo_program_reflection(p).image_scale : 1;
     f->Uniform1f(field->scale, (float)s);
     f->Uniform3f(field->box_min, (float)sample_low[0], (float)sample_low[1], (float)sample_low[2]);
     f->Uniform3f(field->box_max, (float)sample_high[0], (float)sample_high[1], (float)sample_high[2]);
@@ -971,7 +973,7 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         halo_gl_frame_set_field(fr, made, field_destroy);
     }
     int first_unit = d->first_unit > 0 ? d->first_unit : FIELD_DEFAULT_FIRST_UNIT;
-    int march_unit = first_unit + (int)halo_program_sampler_count(p);
+    int march_unit = first_unit + (int)halo_program_reflection(p).sampler_count;
     field_saved saved;
     field_save(f, &saved, march_unit);
     halo_status status = field_compute(fr, d, &plan, march_unit, diag);

@@ -296,8 +296,8 @@ static void frame_take_host_draws(halo_gl_frame *fr, int read_back)
     /* with host contract 3, libhalo's march (the program's prepass) writes the seeds */
     const halo_program *writers[2] = {fr->program, fr->program->prepass};
     for (int w = 0; w < 2 && writers[w]; ++w)
-        for (size_t i = 0, n = halo_program_output_count(writers[w]); i < n; ++i) {
-            int k = frame_find_image(fr, halo_program_output(writers[w], i)->image);
+        for (size_t i = 0, n = halo_program_reflection(writers[w]).output_count; i < n; ++i) {
+            int k = frame_find_image(fr, halo_program_reflection(writers[w]).outputs[i].image);
             if (k < 0 || fr->images[k].host)
                 continue;
             frame_image *im = &fr->images[k];
@@ -367,7 +367,7 @@ static frame_box pass_reach_box(const halo_gl_frame *fr, const frame_pass *pass,
 
 static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, size_t index, halo_diagnostics *diag)
 {
-    const halo_pass_info *pass = halo_program_pass(p, index);
+    const halo_pass_info *pass = &halo_program_reflection(p).passes[index];
     char file[256];
     snprintf(file, sizeof file, "(image pass '%s' of %s)", pass->name ? pass->name : "?",
              pass->stage ? pass->stage : "?");
@@ -392,20 +392,21 @@ static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, siz
 static int frame_context_fits(halo_gl *gl, const halo_program *p, halo_diagnostics *diag)
 {
     const halo_glfuncs *f = &gl->f;
-    size_t outputs = halo_program_output_count(p);
+    size_t outputs = halo_program_reflection(p).output_count;
     if (outputs > 0 && !(f->Enablei && f->Disablei && f->BlendEquationi && f->BlendFunci && f->IsEnabledi)) {
         const char *version = (const char *)f->GetString(GL_VERSION);
         halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
                         "the program writes extra outputs (%s%s), which need per-draw-buffer blending "
                         "(glBlendFunci, glBlendEquationi: OpenGL 4.0 or OpenGL ES 3.2); this context is %s%s",
-                        halo_program_output(p, 0)->image, outputs > 1 ? ", ..." : "", version ? version : "older",
+                        halo_program_reflection(p).outputs[0].image, outputs > 1 ? ", ..." : "",
+                        version ? version : "older",
                         !f->BlendFunci && !p->prepass
                             ? ": volumetric halos on OpenGL ES 3.0 (WebGL 2) are drawn with host contract 3 "
                               "(halo_link_desc.one_draw), where only libhalo's own march writes outputs"
                             : "");
         return 0;
     }
-    if (!gl->es || halo_program_image_count(p) == 0)
+    if (!gl->es || halo_program_reflection(p).image_count == 0)
         return 1;
     if (gl->es < 32 && !halo_gl_has_extension(gl, "GL_EXT_color_buffer_float")) {
         halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
@@ -414,8 +415,9 @@ static int frame_context_fits(halo_gl *gl, const halo_program *p, halo_diagnosti
                         gl->es / 10, gl->es % 10);
         return 0;
     }
-    size_t blended = outputs + (p->prepass ? halo_program_output_count(p->prepass) : 0);
-    if (blended > 0 && halo_program_image_precision(p) == 32 && !halo_gl_has_extension(gl, "GL_EXT_float_blend")) {
+    size_t blended = outputs + (p->prepass ? halo_program_reflection(p->prepass).output_count : 0);
+    if (blended > 0 && halo_program_reflection(p).image_precision == 32 &&
+        !halo_gl_has_extension(gl, "GL_EXT_float_blend")) {
         halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
                         "the program's outputs blend into 32-bit float images, which OpenGL ES needs "
                         "GL_EXT_float_blend for; this context lacks it: link with image_precision 16");
@@ -444,8 +446,8 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
     halo_program_retain(p);
     fr->width = width;
     fr->height = height;
-    fr->image_count = halo_program_image_count(p);
-    fr->pass_count = halo_program_pass_count(p);
+    fr->image_count = halo_program_reflection(p).image_count;
+    fr->pass_count = halo_program_reflection(p).pass_count;
     fr->images = calloc(fr->image_count ? fr->image_count : 1, sizeof *fr->images);
     fr->passes = calloc(fr->pass_count ? fr->pass_count : 1, sizeof *fr->passes);
     if (!fr->images || !fr->passes) {
@@ -456,7 +458,7 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
     frame_saved saved;
     frame_save(f, &saved, 1);
     f->ActiveTexture(GL_TEXTURE0);
-    int precision = halo_program_image_precision(p);
+    int precision = halo_program_reflection(p).image_precision;
     int failed = 0;
     f->GenFramebuffers(1, &fr->framebuffer);
     f->GenVertexArrays(1, &fr->vertex_array);
@@ -465,7 +467,7 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
     f->DrawBuffers(1, &attachment0);
     f->ReadBuffer(GL_COLOR_ATTACHMENT0);
     for (size_t i = 0; i < fr->image_count && !failed; ++i) {
-        const halo_image_info *info = halo_program_image(p, i);
+        const halo_image_info *info = &halo_program_reflection(p).images[i];
         frame_image *image = &fr->images[i];
         image->name = info->name;
         image->channels = info->channels;
@@ -502,7 +504,7 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
             }
         }
     }
-    if (!failed && halo_program_segment_location(p) > 0) {
+    if (!failed && halo_program_reflection(p).segment_location > 0) {
         f->GenTextures(2, fr->state);
         for (int k = 0; k < 2; ++k) {
             f->BindTexture(GL_TEXTURE_2D, fr->state[k]);
@@ -514,7 +516,7 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
     f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
     f->BindTexture(GL_TEXTURE_2D, 0);
     for (size_t i = 0; i < fr->pass_count && !failed; ++i) {
-        const halo_pass_info *info = halo_program_pass(p, i);
+        const halo_pass_info *info = &halo_program_reflection(p).passes[i];
         frame_pass *pass = &fr->passes[i];
         pass->info = info;
         pass->repeat = info->repeat < 1 ? 1 : info->repeat;
@@ -644,9 +646,9 @@ static void frame_attach_textures(halo_gl_frame *fr)
 {
     const halo_glfuncs *f = &fr->gl->f;
     const halo_program *p = fr->attached_program ? fr->attached_program : fr->program;
-    size_t n = halo_program_output_count(p);
+    size_t n = halo_program_reflection(p).output_count;
     for (size_t i = 0; i < n; ++i) {
-        const halo_output_info *o = halo_program_output(p, i);
+        const halo_output_info *o = &halo_program_reflection(p).outputs[i];
         int image = frame_find_image(fr, o->image);
         if (image < 0 || o->location < 1)
             continue;
@@ -664,7 +666,7 @@ void halo_gl_frame_attach(halo_gl_frame *fr, unsigned host_framebuffer)
 
 void halo_gl_frame_attach_outputs(halo_gl_frame *fr, const halo_program *p, unsigned host_framebuffer, int colour)
 {
-    size_t n = halo_program_output_count(p);
+    size_t n = halo_program_reflection(p).output_count;
     if (n == 0)
         return;
     const halo_glfuncs *f = &fr->gl->f;
@@ -674,7 +676,7 @@ void halo_gl_frame_attach_outputs(halo_gl_frame *fr, const halo_program *p, unsi
     GLenum buffers[FRAME_MAX_BUFFERS * 4];
     int max_location = 0;
     for (size_t i = 0; i < n; ++i) {
-        int location = halo_program_output(p, i)->location;
+        int location = halo_program_reflection(p).outputs[i].location;
         if (location > max_location && location < (int)(sizeof buffers / sizeof buffers[0]))
             max_location = location;
     }
@@ -682,7 +684,7 @@ void halo_gl_frame_attach_outputs(halo_gl_frame *fr, const halo_program *p, unsi
     for (int k = 1; k <= max_location; ++k)
         buffers[k] = GL_NONE;
     for (size_t i = 0; i < n; ++i) {
-        const halo_output_info *o = halo_program_output(p, i);
+        const halo_output_info *o = &halo_program_reflection(p).outputs[i];
         if (o->location < 1 || o->location > max_location)
             continue;
         buffers[o->location] = GL_COLOR_ATTACHMENT0 + (GLenum)o->location;
@@ -717,9 +719,9 @@ void halo_gl_frame_attach_outputs(halo_gl_frame *fr, const halo_program *p, unsi
 static void frame_bind_textures(halo_gl_frame *fr, int first_unit)
 {
     const halo_glfuncs *f = &fr->gl->f;
-    size_t n = halo_program_sampler_count(fr->program);
+    size_t n = halo_program_reflection(fr->program).sampler_count;
     for (size_t i = 0; i < n; ++i) {
-        const char *name = halo_program_sampler(fr->program, i)->image;
+        const char *name = halo_program_reflection(fr->program).samplers[i].image;
         int image = frame_find_image(fr, name);
         if (image < 0)
             continue;
@@ -735,7 +737,7 @@ void halo_gl_frame_bind(halo_gl_frame *fr, unsigned gl_program, int first_unit)
     HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
     if (first_unit < 0)
         return;
-    size_t n = halo_program_sampler_count(fr->program);
+    size_t n = halo_program_reflection(fr->program).sampler_count;
     if (n == 0)
         return;
     const halo_glfuncs *f = &fr->gl->f;
@@ -743,7 +745,7 @@ void halo_gl_frame_bind(halo_gl_frame *fr, unsigned gl_program, int first_unit)
     f->GetIntegerv(GL_ACTIVE_TEXTURE, &active);
     frame_bind_textures(fr, first_unit);
     for (size_t i = 0; i < n; ++i)
-        f->Uniform1i(f->GetUniformLocation(gl_program, halo_program_sampler(fr->program, i)->name),
+        f->Uniform1i(f->GetUniformLocation(gl_program, halo_program_reflection(fr->program).samplers[i].name),
                      first_unit + (GLint)i);
     f->ActiveTexture((GLenum)active);
     fr->bound = 1;
@@ -806,8 +808,8 @@ int halo_gl_frame_read_region(const halo_gl_frame *fr, int box[4])
     HALO_REFUSE_NULL(NULL, fr, "frame", 0);
     HALO_REFUSE_NULL(NULL, box, "box", 0);
     frame_box all = {0, 0, fr->width, fr->height}, region = {0, 0, 0, 0};
-    for (size_t i = 0; i < halo_program_sampler_count(fr->program); ++i) {
-        int k = frame_find_image(fr, halo_program_sampler(fr->program, i)->image);
+    for (size_t i = 0; i < halo_program_reflection(fr->program).sampler_count; ++i) {
+        int k = frame_find_image(fr, halo_program_reflection(fr->program).samplers[i].image);
         const frame_image *im = k >= 0 ? &fr->images[k] : NULL;
         if (!im || im->host || im->clear != 0.0f) { /* support holds for images cleared to 0 */
             region = all;
@@ -989,7 +991,7 @@ int halo_gl_frame_image_view(const halo_gl_frame *fr, const char *name, halo_gl_
         return 0;
     const frame_image *im = &fr->images[i];
     GLenum format;
-    image_formats(im->channels, halo_program_image_precision(fr->program), &view->internal_format, &format);
+    image_formats(im->channels, halo_program_reflection(fr->program).image_precision, &view->internal_format, &format);
     view->texture = im->texture[im->current];
     view->width = im->width;
     view->height = im->height;

@@ -603,9 +603,9 @@ void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_prog
     if (!gl_program)
         return;
     const halo_glfuncs *f = &gl->f;
-    size_t n = halo_program_uniform_count(p);
+    size_t n = halo_program_reflection(p).uniform_count;
     for (size_t i = 0; i < n; ++i) {
-        const halo_uniform_info *u = halo_program_uniform(p, i);
+        const halo_uniform_info *u = &halo_program_reflection(p).uniforms[i];
         if (!u || !u->live || !u->info || !u->name || !u->value)
             continue;
         GLint location = f->GetUniformLocation(gl_program, u->name);
@@ -619,7 +619,7 @@ void halo_gl_program_upload(halo_gl *gl, const halo_program *p, unsigned gl_prog
         if (info->type == HALO_PARAM_CHANNELS) {
             /* one float per halo: halo_channels is float, vec2, vec3 or vec4 (docs/image-passes.md);
              * a shorter list repeats its last element */
-            int channels = halo_program_channel_count(p);
+            int channels = halo_program_reflection(p).channel_count;
             GLfloat values[4] = {0, 0, 0, 0};
             for (int k = 0; k < channels && u->count > 0; ++k)
                 values[k] = (GLfloat)u->value[k < u->count ? k : u->count - 1];

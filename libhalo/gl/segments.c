@@ -27,8 +27,8 @@ static void set_draw_buffers(const halo_glfuncs *f, const halo_program *p, int l
     buffers[0] = last ? GL_COLOR_ATTACHMENT0 : GL_NONE;
     for (int k = 1; k < MAX_LOCATIONS; ++k)
         buffers[k] = GL_NONE;
-    for (size_t i = 0; i < halo_program_output_count(p); ++i) {
-        int l = halo_program_output(p, i)->location;
+    for (size_t i = 0; i < halo_program_reflection(p).output_count; ++i) {
+        int l = halo_program_reflection(p).outputs[i].location;
         if (l > 0 && l < MAX_LOCATIONS) {
             buffers[l] = GL_COLOR_ATTACHMENT0 + (GLenum)l;
             count = l + 1 > count ? l + 1 : count;
@@ -71,7 +71,7 @@ static halo_status frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo
     halo_gl *gl = halo_gl_frame_runtime(fr);
     const halo_glfuncs *f = halo_gl_functions(gl);
     const halo_program *p = halo_gl_frame_program(fr);
-    int location = halo_program_segment_location(p);
+    int location = halo_program_reflection(p).segment_location;
     if (halo_program_group_count(p) > 1) {
         halo_diag_error(diag, USAGE, "", 0, 0,
                         "halo_gl_frame_draw: a program with %d feature groups is drawn once per group by the "
@@ -85,11 +85,11 @@ static halo_status frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo
     if (!halo_segment_plan_make(d, p, &plan, diag))
         return HALO_ERROR_INPUT;
     int first_unit = d->first_unit > 0 ? d->first_unit : DEFAULT_FIRST_UNIT;
-    int state_unit = first_unit + (int)halo_program_sampler_count(p);
+    int state_unit = first_unit + (int)halo_program_reflection(p).sampler_count;
     int segments = plan.segments;
     int generate = 0;
-    for (size_t i = 0; i < halo_program_pass_count(p); ++i)
-        generate |= halo_program_pass(p, i)->at == HALO_PASS_AT_GENERATE;
+    for (size_t i = 0; i < halo_program_reflection(p).pass_count; ++i)
+        generate |= halo_program_reflection(p).passes[i].at == HALO_PASS_AT_GENERATE;
 
     GLint saved_program = 0, saved_framebuffer = 0, saved_active = GL_TEXTURE0, saved_texture = 0;
     f->GetIntegerv(GL_CURRENT_PROGRAM, &saved_program);

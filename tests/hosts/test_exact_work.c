@@ -446,7 +446,7 @@ static int check_groups(halo_gl *runtime)
     float *out[2] = {NULL, NULL};
     int groups = p ? halo_program_group_count(p) : 0;
     for (int skip = 0; skip < 2 && p && volume && groups == 2; ++skip) {
-        size_t outputs = halo_program_output_count(p);
+        size_t outputs = halo_program_reflection(p).output_count;
         out[skip] = malloc(pixels * 4 * (outputs + 1) * sizeof(float));
         halo_host_desc desc = {
             .gl = halo_gl_functions(runtime), .runtime = runtime, .program = p, .width = PIXELS, .height = PIXELS};
@@ -461,11 +461,11 @@ static int check_groups(halo_gl *runtime)
         }
         floats = pixels * 4;
         for (size_t o = 0; ok && o < outputs; ++o) { /* each image after the colour, 4 floats a pixel at most */
-            const char *image = halo_program_output(p, o)->image;
+            const char *image = halo_program_reflection(p).outputs[o].image;
             const halo_image_info *info = NULL;
-            for (size_t k = 0; k < halo_program_image_count(p); ++k)
-                if (!strcmp(halo_program_image(p, k)->name, image))
-                    info = halo_program_image(p, k);
+            for (size_t k = 0; k < halo_program_reflection(p).image_count; ++k)
+                if (!strcmp(halo_program_reflection(p).images[k].name, image))
+                    info = &halo_program_reflection(p).images[k];
             ok = info && halo_gl_frame_read(halo_slice_frame(s), image, out[skip] + floats) == HALO_OK;
             floats += ok ? pixels * (size_t)info->channels : 0;
         }
@@ -481,7 +481,7 @@ static int check_groups(halo_gl *runtime)
     printf(
         "%s slice host, %d feature groups: colour written once against every group; %zu of %zu floats (colour and"
         " %zu images) differ\n",
-        ok ? "ok  " : "FAIL", groups, differing, floats, p ? halo_program_output_count(p) : 0);
+        ok ? "ok  " : "FAIL", groups, differing, floats, p ? halo_program_reflection(p).output_count : 0);
     if (!ok)
         halo_diagnostics_print(diag, stdout);
     failed += !ok;

@@ -136,9 +136,9 @@ static float *render_slice(env *e, const char *scene_file, int slab, int untidy,
     }
     if (ok && image && halo_slice_frame(s)) {
         const halo_image_info *info = NULL;
-        for (size_t i = 0; i < halo_program_image_count(p); ++i)
-            if (!strcmp(halo_program_image(p, i)->name, image))
-                info = halo_program_image(p, i);
+        for (size_t i = 0; i < halo_program_reflection(p).image_count; ++i)
+            if (!strcmp(halo_program_reflection(p).images[i].name, image))
+                info = &halo_program_reflection(p).images[i];
         CHECK(info, "%s has no image %s", scene_file, image);
         *read_count = info ? (size_t)((SIZE + info->scale - 1) / info->scale) *
                                  (size_t)((SIZE + info->scale - 1) / info->scale) * (size_t)info->channels

@@ -214,14 +214,14 @@ static int render(const context *c, const halo_program *program, const halo_scen
     o->drawn = halo_raycast_frame(r) ? halo_gl_frame_segment_count(halo_raycast_frame(r)) : 0;
     /* the post passes (outlines) on the host's image */
     const char *post = NULL;
-    for (size_t i = 0; program && i < halo_program_pass_count(program); ++i)
-        if (halo_program_pass(program, i)->at)
-            post = halo_program_pass(program, i)->output;
+    for (size_t i = 0; program && i < halo_program_reflection(program).pass_count; ++i)
+        if (halo_program_reflection(program).passes[i].at)
+            post = halo_program_reflection(program).passes[i].output;
     if (post) {
         const halo_image_info *info = NULL;
-        for (size_t i = 0; i < halo_program_image_count(program); ++i)
-            if (!strcmp(halo_program_image(program, i)->name, post))
-                info = halo_program_image(program, i);
+        for (size_t i = 0; i < halo_program_reflection(program).image_count; ++i)
+            if (!strcmp(halo_program_reflection(program).images[i].name, post))
+                info = &halo_program_reflection(program).images[i];
         float *out =
             info ? malloc((size_t)SIZE * SIZE * (size_t)(info->channels > 4 ? info->channels : 4) * sizeof *out) : NULL;
         if (!out || info->channels < 3) {
@@ -336,8 +336,8 @@ static int segment_renders(const context *c, const host_case *h, const char *sou
     halo_scene *scene = halo_scene_parse(per_sample_scene, "per-sample.json", c->lib, c->diag);
     halo_program *once = scene ? link_host(c, h->file, source, scene, h->render_target, 0) : NULL;
     halo_program *forced = scene ? link_host(c, h->file, source, scene, h->render_target, 1) : NULL;
-    if (report_diagnostics(c, h->file) || !once || !forced || halo_program_segment_location(once) != 0 ||
-        halo_program_segment_location(forced) <= 0) {
+    if (report_diagnostics(c, h->file) || !once || !forced || halo_program_reflection(once).segment_location != 0 ||
+        halo_program_reflection(forced).segment_location <= 0) {
         printf("%-60s FAIL\n", "segments: link");
         failed = 1;
     }

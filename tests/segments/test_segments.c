@@ -656,7 +656,8 @@ static void test_diagnostics(env *e)
         e->g.diag);
     CHECK(p != NULL, "with one_draw the single-pass host links");
     CHECK(p && strstr(halo_program_source(p), "#define HALO_RAY_MAY_END 1"), "one_draw: early ray termination kept");
-    CHECK(p && halo_program_output_count(p) == 0, "one_draw: the seeds are libhalo's march's, not the host's outputs");
+    CHECK(p && halo_program_reflection(p).output_count == 0,
+          "one_draw: the seeds are libhalo's march's, not the host's outputs");
     /* ... and a frame drawn without the volume the march needs is refused */
     halo_gl_frame *frame = p ? halo_gl_frame_create(e->g.runtime, p, SIZE, SIZE, e->g.diag) : NULL;
     CHECK(frame != NULL, "one_draw: a frame");

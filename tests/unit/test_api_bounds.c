@@ -103,9 +103,9 @@ static int test_pass_reach(void)
         check_print_diags(diags);
     CHECK(p != NULL);
     const halo_pass_info *grow = NULL;
-    for (size_t i = 0; i < halo_program_pass_count(p); i++)
-        if (!strcmp(halo_program_pass(p, i)->name, "grow"))
-            grow = halo_program_pass(p, i);
+    for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++)
+        if (!strcmp(halo_program_reflection(p).passes[i].name, "grow"))
+            grow = &halo_program_reflection(p).passes[i];
     int reach = grow ? halo_pass_reach(grow, 1) : -2, exponent = grow ? grow->reach_exponent : -2;
     halo_program_destroy(p);
     CHECK(grow != NULL);

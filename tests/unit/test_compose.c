@@ -338,11 +338,11 @@ static int test_pieces_outputs(void)
     CHECK(!strstr(decl, "layout(location"));
     CHECK(strstr(decl, "out halo_channels halo_output_seed;") != NULL);
     CHECK(strstr(decl, "void halo_segment_begin(") != NULL);
-    CHECK(halo_program_output_count(p) >= 1);
-    CHECK_INT_EQ(halo_program_output(p, 0)->location, 3);
-    CHECK(halo_program_segment_location(p) > 3);
-    for (size_t i = 0; i < halo_program_pass_count(p); i++)
-        CHECK(!strstr(halo_program_pass(p, i)->fragment_source, "layout(location"));
+    CHECK(halo_program_reflection(p).output_count >= 1);
+    CHECK_INT_EQ(halo_program_reflection(p).outputs[0].location, 3);
+    CHECK(halo_program_reflection(p).segment_location > 3);
+    for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++)
+        CHECK(!strstr(halo_program_reflection(p).passes[i].fragment_source, "layout(location"));
     halo_program_destroy(p);
     /* GLSL 150 with GL_ARB_explicit_attrib_location: located, and the pieces host enables it */
     halo_diagnostics_clear(diags);

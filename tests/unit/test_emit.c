@@ -101,9 +101,9 @@ static int test_constants_and_uniforms(void)
     CHECK_STR_CONTAINS(src, "uniform float halo_boundary_k_gs;");
     CHECK_STR_CONTAINS(src, "uniform vec3 halo_tone_shading_lights[4];");
     CHECK_STR_CONTAINS(src, "uniform int halo_tone_shading_lights_count;");
-    CHECK(halo_program_uniform_count(p) >= 3 + 5 + 0);
-    for (size_t i = 0; i < halo_program_uniform_count(p); i++) {
-        const halo_uniform_info *w = halo_program_uniform(p, i);
+    CHECK(halo_program_reflection(p).uniform_count >= 3 + 5 + 0);
+    for (size_t i = 0; i < halo_program_reflection(p).uniform_count; i++) {
+        const halo_uniform_info *w = &halo_program_reflection(p).uniforms[i];
         CHECK_INT_EQ(w->live, 1);
         CHECK(w->info != NULL);
     }

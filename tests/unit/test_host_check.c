@@ -177,7 +177,7 @@ static int test_compositing_mip(void)
         halo_program_destroy(p);
         CHECK_FAIL_AT("a '#pragma halo volume' host with image passes does not link and validate");
     }
-    CHECK(halo_program_segment_location(p) > 0);
+    CHECK(halo_program_reflection(p).segment_location > 0);
     halo_program_destroy(p);
     return 0;
 }

@@ -31,14 +31,15 @@ static int check_only_linked_in(const halo_program *p, const char *src);
 static int check_only_linked(const halo_program *p)
 {
     size_t len = strlen(halo_program_source(p)) + 1;
-    for (size_t i = 0; i < halo_program_pass_count(p); i++)
-        len += strlen(halo_program_pass(p, i)->fragment_source) + strlen(halo_program_pass(p, i)->vertex_source);
+    for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++)
+        len += strlen(halo_program_reflection(p).passes[i].fragment_source) +
+               strlen(halo_program_reflection(p).passes[i].vertex_source);
     char *all = malloc(len);
     SETUP(all != NULL);
     strcpy(all, halo_program_source(p));
-    for (size_t i = 0; i < halo_program_pass_count(p); i++) {
-        strcat(all, halo_program_pass(p, i)->fragment_source);
-        strcat(all, halo_program_pass(p, i)->vertex_source);
+    for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++) {
+        strcat(all, halo_program_reflection(p).passes[i].fragment_source);
+        strcat(all, halo_program_reflection(p).passes[i].vertex_source);
     }
     int status = check_only_linked_in(p, all);
     free(all);
@@ -156,7 +157,7 @@ static int test_empty_scene(void)
     halo_program *p = link_with(NULL, host_source, HALO_TARGET_DEFAULT, 0);
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_stage_count(p), 0);
-    CHECK_INT_EQ(halo_program_uniform_count(p), 0);
+    CHECK_INT_EQ(halo_program_reflection(p).uniform_count, 0);
     CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
     if (check_only_linked(p))
         return 1;
@@ -374,10 +375,10 @@ static int test_image_scale(void)
                                     diags);
         CHECK(p != NULL);
         CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
-        CHECK_INT_EQ(halo_program_image_scale(p), scale);
+        CHECK_INT_EQ(halo_program_reflection(p).image_scale, scale);
         int seen = 0;
-        for (size_t i = 0; i < halo_program_image_count(p); i++) {
-            const halo_image_info *im = halo_program_image(p, i);
+        for (size_t i = 0; i < halo_program_reflection(p).image_count; i++) {
+            const halo_image_info *im = &halo_program_reflection(p).images[i];
             int expected = !strcmp(im->name, "seed") ? 1 : scale;
             CHECK_INT_EQ(im->scale, expected);
             seen += !strcmp(im->name, "field") || !strcmp(im->name, "seed");
@@ -386,9 +387,9 @@ static int test_image_scale(void)
         if (scale > 1) {
             CHECK_STR_CONTAINS(halo_program_source(p), "floor(at)"); /* the bilinear read */
             const halo_pass_info *gradient = NULL;
-            for (size_t i = 0; i < halo_program_pass_count(p); i++)
-                if (!strcmp(halo_program_pass(p, i)->name, "gradient"))
-                    gradient = halo_program_pass(p, i);
+            for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++)
+                if (!strcmp(halo_program_reflection(p).passes[i].name, "gradient"))
+                    gradient = &halo_program_reflection(p).passes[i];
             CHECK(gradient != NULL);
             CHECK_STR_CONTAINS(gradient->fragment_source, "m = max(m, halo_fetch_0"); /* seed: block max */
         } else {
@@ -411,8 +412,8 @@ static int test_image_scale(void)
 /* Whether the program has a pass named name. */
 static int has_pass(const halo_program *p, const char *name)
 {
-    for (size_t i = 0; i < halo_program_pass_count(p); i++)
-        if (!strcmp(halo_program_pass(p, i)->name, name))
+    for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++)
+        if (!strcmp(halo_program_reflection(p).passes[i].name, name))
             return 1;
     return 0;
 }
@@ -448,9 +449,9 @@ static int test_occlusion_pass_when_occlusive(void)
                           cases[k].occlude ? "missing" : "linked");
         /* full size, fold off: the gradient pass, then spread from 1 */
         CHECK(has_pass(p, "spread") && !has_pass(p, "spread_seed") && has_pass(p, "gradient"));
-        for (size_t i = 0; i < halo_program_pass_count(p); i++)
-            if (!strcmp(halo_program_pass(p, i)->name, "spread"))
-                CHECK_INT_EQ(halo_program_pass(p, i)->start, 1);
+        for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++)
+            if (!strcmp(halo_program_reflection(p).passes[i].name, "spread"))
+                CHECK_INT_EQ(halo_program_reflection(p).passes[i].start, 1);
         halo_program_destroy(p);
     }
     return 0;
@@ -467,8 +468,8 @@ static int test_pass_reach_wide(void)
     char names[256] = "";
     if (!p)
         return 0;
-    for (size_t i = 0; i < halo_program_pass_count(p); i++) {
-        const halo_pass_info *pass = halo_program_pass(p, i);
+    for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++) {
+        const halo_pass_info *pass = &halo_program_reflection(p).passes[i];
         snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? "," : "", pass->name);
         if (!strcmp(pass->name, "gradient"))
             CHECK_INT_EQ(halo_pass_reach(pass, 1), 1);
@@ -518,9 +519,9 @@ static int test_generate_pass_lines(void)
         CHECK(p != NULL);
         if (!p)
             continue;
-        for (size_t i = 0; i < halo_program_pass_count(p); i++)
+        for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++)
             snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? "," : "",
-                     halo_program_pass(p, i)->name);
+                     halo_program_reflection(p).passes[i].name);
         if (strcmp(names, cases[k].names))
             CHECK_FAIL_AT("%s at 1/%d: passes %s, expected %s", json, cases[k].scale, names, cases[k].names);
         halo_program_destroy(p);
@@ -547,8 +548,8 @@ static int test_pass_reach(void)
         if (!p)
             return 0;
         char names[256] = "";
-        for (size_t i = 0; i < halo_program_pass_count(p); i++) {
-            const halo_pass_info *pass = halo_program_pass(p, i);
+        for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++) {
+            const halo_pass_info *pass = &halo_program_reflection(p).passes[i];
             snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", i ? "," : "", pass->name);
             if (!strcmp(pass->name, "gradient")) {
                 CHECK_INT_EQ(halo_pass_reach(pass, 1), 1);
@@ -586,7 +587,7 @@ static int test_feature_groups(void)
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
     CHECK_INT_EQ(halo_program_group_count(p), 2);
-    CHECK_INT_EQ(halo_program_channel_count(p), 4);
+    CHECK_INT_EQ(halo_program_reflection(p).channel_count, 4);
     const halo_uniform_info *vmin = halo_program_find_uniform(p, "outline_feature", "value_min");
     const halo_uniform_info *lambda = halo_program_find_uniform(p, "outlines", "lambda");
     CHECK(vmin && lambda && vmin->live && lambda->live);
@@ -619,9 +620,11 @@ static int test_feature_groups(void)
     CHECK_INT_EQ(halo_program_select_group(p, -1), HALO_ERROR_INPUT);
     /* an at=post reduce pass into the frame's accumulator, at=final compose */
     int reduce = 0, final = 0;
-    for (size_t i = 0; i < halo_program_pass_count(p); i++) {
-        reduce |= !strcmp(halo_program_pass(p, i)->name, "reduce") && halo_program_pass(p, i)->at == HALO_PASS_AT_POST;
-        final |= !strcmp(halo_program_pass(p, i)->name, "compose") && halo_program_pass(p, i)->at == HALO_PASS_AT_FINAL;
+    for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++) {
+        reduce |= !strcmp(halo_program_reflection(p).passes[i].name, "reduce") &&
+                  halo_program_reflection(p).passes[i].at == HALO_PASS_AT_POST;
+        final |= !strcmp(halo_program_reflection(p).passes[i].name, "compose") &&
+                 halo_program_reflection(p).passes[i].at == HALO_PASS_AT_FINAL;
     }
     CHECK(reduce && final);
     halo_program_destroy(p);

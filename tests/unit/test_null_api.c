@@ -447,14 +447,14 @@ CASE(halo_program_reads_labels)
     REFUSES(halo_program_reads_labels(NULL) == 0, "program");
     return 0;
 }
-CASE(halo_program_uniform_count)
+CASE(halo_program_reflection)
 {
-    REFUSES(halo_program_uniform_count(NULL) == 0, "program");
-    return 0;
-}
-CASE(halo_program_uniform)
-{
-    REFUSES(halo_program_uniform(NULL, 0) == NULL, "program");
+    /* NULL is a program with nothing: every count 0 */
+    ACCEPTS(halo_program_reflection(NULL).uniform_count == 0 && halo_program_reflection(NULL).uniforms == NULL &&
+            halo_program_reflection(NULL).output_count == 0 && halo_program_reflection(NULL).pass_count == 0 &&
+            halo_program_reflection(NULL).image_count == 0 && halo_program_reflection(NULL).sampler_count == 0 &&
+            halo_program_reflection(NULL).host_uniform_count == 0 && halo_program_reflection(NULL).channel_count == 0 &&
+            halo_program_reflection(NULL).segment_location == 0);
     return 0;
 }
 CASE(halo_program_find_uniform)
@@ -481,79 +481,9 @@ CASE(halo_program_uniform_next)
     REFUSES(halo_program_uniform_next(program, &cursor, NULL) == 0, "out");
     return 0;
 }
-CASE(halo_program_output_count)
-{
-    REFUSES(halo_program_output_count(NULL) == 0, "program");
-    return 0;
-}
-CASE(halo_program_output)
-{
-    REFUSES(halo_program_output(NULL, 0) == NULL, "program");
-    return 0;
-}
-CASE(halo_program_pass_count)
-{
-    REFUSES(halo_program_pass_count(NULL) == 0, "program");
-    return 0;
-}
-CASE(halo_program_pass)
-{
-    REFUSES(halo_program_pass(NULL, 0) == NULL, "program");
-    return 0;
-}
 CASE(halo_pass_reach)
 {
     REFUSES(halo_pass_reach(NULL, 1) == -1, "pass");
-    return 0;
-}
-CASE(halo_program_image_count)
-{
-    REFUSES(halo_program_image_count(NULL) == 0, "program");
-    return 0;
-}
-CASE(halo_program_image)
-{
-    REFUSES(halo_program_image(NULL, 0) == NULL, "program");
-    return 0;
-}
-CASE(halo_program_sampler_count)
-{
-    REFUSES(halo_program_sampler_count(NULL) == 0, "program");
-    return 0;
-}
-CASE(halo_program_sampler)
-{
-    REFUSES(halo_program_sampler(NULL, 0) == NULL, "program");
-    return 0;
-}
-CASE(halo_program_host_uniform_count)
-{
-    REFUSES(halo_program_host_uniform_count(NULL) == 0, "program");
-    return 0;
-}
-CASE(halo_program_host_uniform)
-{
-    REFUSES(halo_program_host_uniform(NULL, 0) == NULL, "program");
-    return 0;
-}
-CASE(halo_program_channel_count)
-{
-    REFUSES(halo_program_channel_count(NULL) == 0, "program");
-    return 0;
-}
-CASE(halo_program_image_precision)
-{
-    REFUSES(halo_program_image_precision(NULL) == 0, "program");
-    return 0;
-}
-CASE(halo_program_image_scale)
-{
-    REFUSES(halo_program_image_scale(NULL) == 0, "program");
-    return 0;
-}
-CASE(halo_program_segment_location)
-{
-    REFUSES(halo_program_segment_location(NULL) == 0, "program");
     return 0;
 }
 CASE(halo_program_group_count)
@@ -1042,26 +972,11 @@ static const api_case cases[] = {
     ROW(halo_program_stage_info),
     ROW(halo_program_interval),
     ROW(halo_program_reads_labels),
-    ROW(halo_program_uniform_count),
-    ROW(halo_program_uniform),
+    ROW(halo_program_reflection),
     ROW(halo_program_find_uniform),
     ROW(halo_program_set),
     ROW(halo_program_uniform_next),
-    ROW(halo_program_output_count),
-    ROW(halo_program_output),
-    ROW(halo_program_pass_count),
-    ROW(halo_program_pass),
     ROW(halo_pass_reach),
-    ROW(halo_program_image_count),
-    ROW(halo_program_image),
-    ROW(halo_program_sampler_count),
-    ROW(halo_program_sampler),
-    ROW(halo_program_host_uniform_count),
-    ROW(halo_program_host_uniform),
-    ROW(halo_program_channel_count),
-    ROW(halo_program_image_precision),
-    ROW(halo_program_image_scale),
-    ROW(halo_program_segment_location),
     ROW(halo_program_group_count),
     ROW(halo_program_select_group),
     ROW(halo_program_reflect_json),

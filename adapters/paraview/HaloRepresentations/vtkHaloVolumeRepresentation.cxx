@@ -360,11 +360,11 @@ void vtkHaloVolumeRepresentation::PrepareHalo(vtkRenderer *renderer, vtkVolume *
     I->Halo = halo_vtk_install(&desc, I->Diag);
     if (I->Halo && rank_count() > 1) {
         const halo_program *p = halo_vtk_program(I->Halo);
-        for (size_t i = 0; i < halo_program_pass_count(p); i++)
-            if (halo_program_pass(p, i)->at) {
+        for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++)
+            if (halo_program_reflection(p).passes[i].at) {
                 halo_diagnostics_report(
                     I->Diag, HALO_SEVERITY_ERROR, HALO_MSG_ENGINE_UNSUPPORTED, nullptr, 0, 0, nullptr, "%s",
-                    (std::string("the scene's stage ") + halo_program_pass(p, i)->stage +
+                    (std::string("the scene's stage ") + halo_program_reflection(p).passes[i].stage +
                      " runs image passes on the finished image (outlines): across ranks they need the composited "
                      "image, which ParaView makes after the volume mapper; run it on one rank (docs/distributed.md)")
                         .c_str());
