@@ -87,7 +87,7 @@ size_t halo_driver_find_halo_stages(const halo_library *lib, const halo_scene *s
         const char *name = halo_scene_stage(scene, i);
         const halo_module *m = halo_library_find(lib, name);
         is_halo[i] = 0;
-        if (m && halo_module_hook(m) == HALO_HOOK_IMAGE) {
+        if (m && halo_module_describe(m).hook == HALO_HOOK_IMAGE) {
             is_halo[i] = 1;
             continue;
         }

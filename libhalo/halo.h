@@ -335,14 +335,19 @@ HALO_API size_t halo_library_module_count(const halo_library *lib);
 HALO_API const halo_module *halo_library_module(const halo_library *lib, size_t index);
 HALO_API const halo_module *halo_library_find(const halo_library *lib, const char *name);
 
-HALO_API const char *halo_module_name(const halo_module *m);
-HALO_API const char *halo_module_file(const halo_module *m);
-HALO_API const char *halo_module_summary(const halo_module *m);
-HALO_API halo_hook halo_module_hook(const halo_module *m);
-HALO_API size_t halo_module_param_count(const halo_module *m);
-HALO_API const halo_param_info *halo_module_param(const halo_module *m, size_t index);
+/* What a module is, by value (strings and parameters live as long as the library holds the
+ * module). A NULL module: every field 0, hook HALO_HOOK_COUNT. */
+typedef struct halo_module_info {
+    const char *name;    /* "boundary"; the helper library: "halo_math" */
+    const char *file;    /* the file it was read from, or its name when added from a string */
+    const char *summary; /* one line */
+    halo_hook hook;
+    size_t param_count;
+    const halo_param_info *params;
+    int has_emulation; /* a C emulation of its per-sample code, or of every image pass */
+} halo_module_info;
+HALO_API halo_module_info halo_module_describe(const halo_module *m);
 HALO_API const halo_param_info *halo_module_find_param(const halo_module *m, const char *name);
-HALO_API int halo_module_has_emulation(const halo_module *m);
 
 /* ---- Scenes ----------------------------------------------------------------- */
 

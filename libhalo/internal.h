@@ -131,6 +131,8 @@ int halo_name_list_add(halo_name_list *l, const char *name, size_t n, int line);
 void halo_name_list_free(halo_name_list *l);
 /* The fields the host fills; never need a provider. */
 int halo_is_host_resource(const char *name);
+/* Whether the module has a C emulation (emu/apply.c): halo_module_info.has_emulation. */
+int halo_module_emulated(const halo_module *m);
 /* Library helpers (halo_math.glsl) found in lib. */
 const halo_module *halo_library_helpers(const halo_library *lib);
 /* Parses a parameter value from JSON text or a jansson value into info's layout. */

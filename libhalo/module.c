@@ -1272,35 +1272,20 @@ void halo_module_free(halo_module *m)
 }
 
 /* ---- Accessors ---- */
-const char *halo_module_name(const halo_module *m)
+halo_module_info halo_module_describe(const halo_module *m)
 {
-    HALO_REFUSE_NULL(NULL, m, "module", NULL);
-    return m->is_library ? "halo_math" : m->name;
-}
-const char *halo_module_file(const halo_module *m)
-{
-    HALO_REFUSE_NULL(NULL, m, "module", NULL);
-    return m->file;
-}
-const char *halo_module_summary(const halo_module *m)
-{
-    HALO_REFUSE_NULL(NULL, m, "module", NULL);
-    return m->summary;
-}
-halo_hook halo_module_hook(const halo_module *m)
-{
-    HALO_REFUSE_NULL(NULL, m, "module", HALO_HOOK_COUNT);
-    return m->hook;
-}
-size_t halo_module_param_count(const halo_module *m)
-{
-    HALO_REFUSE_NULL(NULL, m, "module", 0);
-    return m->param_count;
-}
-const halo_param_info *halo_module_param(const halo_module *m, size_t i)
-{
-    HALO_REFUSE_NULL(NULL, m, "module", NULL);
-    return i < m->param_count ? &m->params[i] : NULL;
+    halo_module_info info = {0};
+    info.hook = HALO_HOOK_COUNT;
+    if (!m)
+        return info;
+    info.name = m->is_library ? "halo_math" : m->name;
+    info.file = m->file;
+    info.summary = m->summary;
+    info.hook = m->hook;
+    info.param_count = m->param_count;
+    info.params = m->params;
+    info.has_emulation = halo_module_emulated(m);
+    return info;
 }
 const halo_param_info *halo_module_find_param(const halo_module *m, const char *name)
 {

@@ -222,7 +222,7 @@ out:
 static void run_frame_stage_row(conform *c, const halo_module *m, const char *row, const char *scene_json, int live,
                                 const conform_row *entry)
 {
-    const char *stage = halo_module_name(m);
+    const char *stage = halo_module_describe(m).name;
     if (!row_selected(c, row, stage))
         return;
     int is_map = m->image_count > 0;
@@ -367,7 +367,7 @@ void conform_frame_row(conform *c, const conform_row *row)
         }
         return;
     }
-    if (!halo_module_has_emulation(m))
+    if (!halo_module_describe(m).has_emulation)
         return; /* the per-sample family's "*" row says so */
     run_frame_stage_row(c, m, row->name, params ? params->scene : NULL, params ? params->live : 0, row);
 }
@@ -376,12 +376,12 @@ void conform_frame_other_rows(conform *c, const conform_row *row)
 {
     for (size_t i = 0; i < halo_library_module_count(c->lib); ++i) {
         const halo_module *m = halo_library_module(c->lib, i);
-        if (halo_module_hook(m) != HALO_HOOK_SAMPLE || conform_has_row(c, halo_module_name(m)) ||
-            !(m->output_count || m->image_count || m->host_uniform_count) || !halo_module_has_emulation(m))
+        if (halo_module_describe(m).hook != HALO_HOOK_SAMPLE || conform_has_row(c, halo_module_describe(m).name) ||
+            !(m->output_count || m->image_count || m->host_uniform_count) || !halo_module_describe(m).has_emulation)
             continue;
         char live[128];
-        snprintf(live, sizeof live, "%s@live", halo_module_name(m));
-        run_frame_stage_row(c, m, halo_module_name(m), NULL, 0, row);
+        snprintf(live, sizeof live, "%s@live", halo_module_describe(m).name);
+        run_frame_stage_row(c, m, halo_module_describe(m).name, NULL, 0, row);
         run_frame_stage_row(c, m, live, NULL, 1, row);
     }
 }

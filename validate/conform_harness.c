@@ -404,8 +404,8 @@ void conform_set_live_arrays(halo_program *p, const halo_module *m, halo_diagnos
 {
     static const double elements[4][4] = {
         {0.6, -0.8, 0.0, 1.0}, {0.0, 0.0, 0.0, 0.0}, {-0.3, 0.5, 0.8, 0.5}, {1.0, 1.0, -1.0, 0.25}};
-    for (size_t i = 0; i < halo_module_param_count(m); ++i) {
-        const halo_param_info *info = halo_module_param(m, i);
+    for (size_t i = 0; i < halo_module_describe(m).param_count; ++i) {
+        const halo_param_info *info = &halo_module_describe(m).params[i];
         if (info->array_size < 2)
             continue;
         int count = info->array_size < 4 ? info->array_size : 4;
@@ -415,7 +415,7 @@ void conform_set_live_arrays(halo_program *p, const halo_module *m, halo_diagnos
                 double v = elements[e][k];
                 values[e * info->components + k] = v < info->min ? info->min : v > info->max ? info->max : v;
             }
-        halo_program_set(p, halo_module_name(m), info->name, values, count, diag);
+        halo_program_set(p, halo_module_describe(m).name, info->name, values, count, diag);
     }
 }
 
@@ -726,7 +726,7 @@ static int stage_known(conform *c)
     if (at)
         *at = '\0';
     const halo_module *m = halo_library_find(c->lib, base);
-    if (!m || halo_module_hook(m) != HALO_HOOK_SAMPLE) {
+    if (!m || halo_module_describe(m).hook != HALO_HOOK_SAMPLE) {
         fprintf(stderr,
                 "halo-validate: conform: --stage: no per-sample stage '%s' (rows: empty, raycast, figure3,"
                 " pass:NAME, slice, slab, line_strip, line_halo, lines, or a stage of halo-validate list)\n",

@@ -89,8 +89,8 @@ static int is_exponent(const halo_param_info *info)
 
 static int has_exponent(const halo_module *m)
 {
-    for (size_t i = 0; i < halo_module_param_count(m); ++i)
-        if (is_exponent(halo_module_param(m, i)))
+    for (size_t i = 0; i < halo_module_describe(m).param_count; ++i)
+        if (is_exponent(&halo_module_describe(m).params[i]))
             return 1;
     return 0;
 }
@@ -99,7 +99,7 @@ static int has_exponent(const halo_module *m)
 /* One row: the stage m with a parameter variant, within the tolerance of entry. */
 static void run_stage_row(conform *c, const halo_module *m, enum variant variant, const conform_row *entry)
 {
-    const char *stage = halo_module_name(m);
+    const char *stage = halo_module_describe(m).name;
     char row[128];
     snprintf(row, sizeof row, "%s%s", stage, variant_suffix[variant]);
     if (!row_selected(c, row, stage))
@@ -118,8 +118,8 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
         goto done;
     if (variant == VARIANT_EXPONENT_0 || variant == VARIANT_EXPONENT_64) {
         double exponent = variant == VARIANT_EXPONENT_0 ? 0.0 : 64.0;
-        for (size_t i = 0; i < halo_module_param_count(m); ++i) {
-            const halo_param_info *info = halo_module_param(m, i);
+        for (size_t i = 0; i < halo_module_describe(m).param_count; ++i) {
+            const halo_param_info *info = &halo_module_describe(m).params[i];
             if (is_exponent(info) && halo_scene_set(scene, stage, info->name, &exponent, 1, 0, c->diag) != HALO_OK)
                 goto done;
         }
@@ -226,15 +226,15 @@ done:
  * those get no row). */
 static int has_emulation(conform *c, const halo_module *m)
 {
-    if (halo_module_has_emulation(m))
+    if (halo_module_describe(m).has_emulation)
         return 1;
     halo_scene *probe_scene = halo_scene_create(c->lib);
-    int is_stage = probe_scene && halo_scene_enable(probe_scene, halo_module_name(m), 1, NULL) == HALO_OK;
+    int is_stage = probe_scene && halo_scene_enable(probe_scene, halo_module_describe(m).name, 1, NULL) == HALO_OK;
     halo_scene_destroy(probe_scene);
-    if (is_stage && row_selected(c, halo_module_name(m), halo_module_name(m))) {
-        HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, halo_module_file(m), 0, 0, "stage '%s' has no C emulation",
-                          halo_module_name(m));
-        print_error_row(c, halo_module_name(m));
+    if (is_stage && row_selected(c, halo_module_describe(m).name, halo_module_describe(m).name)) {
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, halo_module_describe(m).file, 0, 0,
+                          "stage '%s' has no C emulation", halo_module_describe(m).name);
+        print_error_row(c, halo_module_describe(m).name);
     }
     return 0;
 }
@@ -266,7 +266,7 @@ void conform_sample_other_rows(conform *c, const conform_row *row)
 {
     for (size_t i = 0; i < halo_library_module_count(c->lib); ++i) {
         const halo_module *m = halo_library_module(c->lib, i);
-        if (halo_module_hook(m) != HALO_HOOK_SAMPLE || conform_has_row(c, halo_module_name(m)))
+        if (halo_module_describe(m).hook != HALO_HOOK_SAMPLE || conform_has_row(c, halo_module_describe(m).name))
             continue;
         if (m->output_count || m->image_count || m->host_uniform_count) {
             has_emulation(c, m); /* the frame family's "*" row runs those */

@@ -193,7 +193,7 @@ static int check_file(const char *path, const char *text, int module, halo_libra
         }
         const halo_module *m = NULL;
         for (size_t i = 0; i < halo_library_module_count(lib); i++)
-            if (!strcmp(halo_module_file(halo_library_module(lib, i)), path))
+            if (!strcmp(halo_module_describe(halo_library_module(lib, i)).file, path))
                 m = halo_library_module(lib, i);
         for (int t = 0; m && t < ct->count; t++) { /* printed once below, naming the targets */
             halo_diagnostics_set_run(d, halo_target_name(ct->list[t]));
@@ -605,10 +605,10 @@ static int cmd_list(void)
     static const char *const hooks[] = {"sample", "image", "line_vertex", "line_fragment"};
     for (size_t i = 0; i < halo_library_module_count(lib); i++) {
         const halo_module *m = halo_library_module(lib, i);
-        printf("%-18s %-8s %s\n    %s\n", halo_module_name(m), hooks[halo_module_hook(m)], halo_module_file(m),
-               halo_module_summary(m));
-        for (size_t k = 0; k < halo_module_param_count(m); k++) {
-            const halo_param_info *pi = halo_module_param(m, k);
+        printf("%-18s %-8s %s\n    %s\n", halo_module_describe(m).name, hooks[halo_module_describe(m).hook],
+               halo_module_describe(m).file, halo_module_describe(m).summary);
+        for (size_t k = 0; k < halo_module_describe(m).param_count; k++) {
+            const halo_param_info *pi = &halo_module_describe(m).params[k];
             printf("    %-10s %-6s", pi->name, pi->type == HALO_PARAM_FLOAT ? "float" : "");
             printf(" [%g, %g] %s\n", pi->min, pi->max, pi->meaning);
         }

@@ -87,8 +87,9 @@ WEB_API const char *halo_web_modules(void)
     json_t *list = json_array();
     for (size_t i = 0; i < halo_library_module_count(library) && list; ++i) {
         const halo_module *m = halo_library_module(library, i);
-        json_array_append_new(list, json_pack("{s:s, s:s, s:s}", "name", halo_module_name(m), "file",
-                                              halo_module_file(m), "summary", halo_module_summary(m)));
+        json_array_append_new(list,
+                              json_pack("{s:s, s:s, s:s}", "name", halo_module_describe(m).name, "file",
+                                        halo_module_describe(m).file, "summary", halo_module_describe(m).summary));
     }
     char *text = list ? json_dumps(list, JSON_COMPACT) : NULL;
     json_decref(list);

@@ -23,7 +23,7 @@ void halo_lines_scene_keep_hook(halo_scene *scene, const halo_library *lib, halo
     for (size_t i = halo_scene_stage_count(scene); i-- > 0;) {
         const char *name = halo_scene_stage(scene, i);
         const halo_module *m = halo_library_find(lib, name);
-        if (m && halo_module_hook(m) != hook)
+        if (m && halo_module_describe(m).hook != hook)
             halo_scene_enable(scene, name, 0, NULL);
     }
 }

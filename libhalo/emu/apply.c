@@ -87,9 +87,8 @@ halo_status halo_emu_apply(const halo_program *p, halo_emu_frame *f, halo_emu_sa
     return halo_emu_frame_fold(p, s, diag);
 }
 
-int halo_module_has_emulation(const halo_module *m)
+int halo_module_emulated(const halo_module *m)
 {
-    HALO_REFUSE_NULL(NULL, m, "module", 0);
     if (m->is_library)
         return 0;
     if (m->hook == HALO_HOOK_IMAGE) {

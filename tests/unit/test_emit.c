@@ -136,7 +136,7 @@ static int test_line_map(void)
         const char *file = NULL;
         int line = 0;
         CHECK_INT_EQ(halo_program_map_line(p, out, &file, &line), 1);
-        CHECK_STR_EQ(file, halo_module_file(m));
+        CHECK_STR_EQ(file, halo_module_describe(m).file);
         CHECK_INT_EQ(line, module_line);
     }
     /* A parameter maps to its annotation. */

@@ -458,8 +458,8 @@ static int test_no_emulation(void)
                            "#pragma halo module plain\n#pragma halo hook sample\n"
                            "void apply(inout halo_sample s) {}\n",
                            HALO_ADD_NEW, diags) == HALO_OK);
-    CHECK(!halo_module_has_emulation(halo_library_find(library, "plain")));
-    CHECK(halo_module_has_emulation(halo_library_find(library, "boundary")));
+    CHECK(!halo_module_describe(halo_library_find(library, "plain")).has_emulation);
+    CHECK(halo_module_describe(halo_library_find(library, "boundary")).has_emulation);
     halo_program *p = program_of("{\"stages\": [\"plain\"]}");
     halo_emu_sample s = sample(0.5, 0.1, 0.1, 0.1, 0.5, 0.5);
     CHECK_INT_EQ(halo_emu_apply(p, NULL, &s, diags), HALO_ERROR_INPUT);
@@ -481,7 +481,7 @@ static int test_outline_kernel_size(void)
         "{\"outlines\": {\"sigma\": 6, \"normal_sigma\": 6}}]}");
     const halo_linked_stage *stage = NULL;
     for (size_t i = 0; i < p->stage_count; i++)
-        if (!strcmp(halo_module_name(p->stages[i].module), "outlines"))
+        if (!strcmp(halo_module_describe(p->stages[i].module).name, "outlines"))
             stage = &p->stages[i];
     CHECK(stage != NULL);
     enum { side = 200 };

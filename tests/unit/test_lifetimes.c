@@ -190,7 +190,7 @@ static int test_override_in_use(void)
     halo_scene_destroy(scene);
     halo_diagnostics_clear(d);
     CHECK_INT_EQ(halo_library_add(lib, "other_boundary.glsl", other_boundary, HALO_ADD_REPLACE, d), HALO_OK);
-    CHECK_INT_EQ((int)halo_module_param(halo_library_find(lib, "boundary"), 0)->default_value[0], 7);
+    CHECK_INT_EQ((int)halo_module_describe(halo_library_find(lib, "boundary")).params[0].default_value[0], 7);
     halo_library_destroy(lib);
     halo_diagnostics_destroy(d);
     return 0;

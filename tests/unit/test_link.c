@@ -53,15 +53,15 @@ static int check_only_linked_in(const halo_program *p, const char *src)
         if (m->is_library)
             continue;
         char prefix[160], comment[160];
-        snprintf(prefix, sizeof prefix, "halo_%s_", halo_module_name(m));
-        snprintf(comment, sizeof comment, "// stage %s ", halo_module_name(m));
-        if (stage_index(p, halo_module_name(m)) >= 0) {
+        snprintf(prefix, sizeof prefix, "halo_%s_", halo_module_describe(m).name);
+        snprintf(comment, sizeof comment, "// stage %s ", halo_module_describe(m).name);
+        if (stage_index(p, halo_module_describe(m).name) >= 0) {
             CHECK_STR_CONTAINS(src, prefix);
             CHECK_STR_CONTAINS(src, comment);
         } else {
             CHECK_STR_NOT_CONTAINS(src, prefix);
             CHECK_STR_NOT_CONTAINS(src, comment);
-            CHECK_STR_NOT_CONTAINS(src, halo_module_file(m));
+            CHECK_STR_NOT_CONTAINS(src, halo_module_describe(m).file);
         }
     }
     const halo_module *helpers = halo_library_find(library, "halo_math");
@@ -103,13 +103,14 @@ static int test_only_enabled_code(void)
     /* Each stage alone. */
     for (size_t i = 0; i < halo_library_module_count(library); i++) {
         const halo_module *m = halo_library_module(library, i);
-        if (m->is_library || halo_module_hook(m) != HALO_HOOK_SAMPLE || strncmp(halo_module_file(m), "glsl/", 5))
+        if (m->is_library || halo_module_describe(m).hook != HALO_HOOK_SAMPLE ||
+            strncmp(halo_module_describe(m).file, "glsl/", 5))
             continue;
         char json[256];
-        snprintf(json, sizeof json, "{\"stages\": [\"%s\"]}", halo_module_name(m));
+        snprintf(json, sizeof json, "{\"stages\": [\"%s\"]}", halo_module_describe(m).name);
         p = link_valid(json);
         CHECK(p != NULL);
-        CHECK(stage_index(p, halo_module_name(m)) >= 0);
+        CHECK(stage_index(p, halo_module_describe(m).name) >= 0);
         if (check_only_linked(p))
             return 1;
         halo_program_destroy(p);
@@ -335,8 +336,9 @@ static int test_targets(void)
     SETUP(scene != NULL);
     for (size_t i = 0; i < halo_library_module_count(library); i++) {
         const halo_module *m = halo_library_module(library, i);
-        if (!m->is_library && halo_module_hook(m) == HALO_HOOK_SAMPLE && !strncmp(halo_module_file(m), "glsl/", 5))
-            SETUP(halo_scene_enable(scene, halo_module_name(m), 1, diags) == HALO_OK);
+        if (!m->is_library && halo_module_describe(m).hook == HALO_HOOK_SAMPLE &&
+            !strncmp(halo_module_describe(m).file, "glsl/", 5))
+            SETUP(halo_scene_enable(scene, halo_module_describe(m).name, 1, diags) == HALO_OK);
     }
     /* A host without #version gets one; a host with one has it replaced. */
     const char *no_version = strchr(host_source, '\n') + 1;

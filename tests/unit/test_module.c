@@ -40,13 +40,13 @@ static int test_valid_module(void)
     CHECK_INT_EQ(halo_library_module_count(library), before + 1);
     const halo_module *m = halo_library_find(library, "every_type");
     CHECK(m != NULL);
-    CHECK_STR_EQ(halo_module_name(m), "every_type");
-    CHECK_STR_EQ(halo_module_file(m), "user/every_type.glsl");
-    CHECK_STR_EQ(halo_module_summary(m), "a parameter of every type");
-    CHECK_INT_EQ(halo_module_hook(m), HALO_HOOK_SAMPLE);
-    CHECK_INT_EQ(halo_module_param_count(m), 8);
+    CHECK_STR_EQ(halo_module_describe(m).name, "every_type");
+    CHECK_STR_EQ(halo_module_describe(m).file, "user/every_type.glsl");
+    CHECK_STR_EQ(halo_module_describe(m).summary, "a parameter of every type");
+    CHECK_INT_EQ(halo_module_describe(m).hook, HALO_HOOK_SAMPLE);
+    CHECK_INT_EQ(halo_module_describe(m).param_count, 8);
 
-    const halo_param_info *p = halo_module_param(m, 0);
+    const halo_param_info *p = &halo_module_describe(m).params[0];
     CHECK_STR_EQ(p->name, "a");
     CHECK_INT_EQ(p->type, HALO_PARAM_FLOAT);
     CHECK_INT_EQ(p->array_size, 0);
@@ -60,7 +60,7 @@ static int test_valid_module(void)
     CHECK_NEAR(halo_module_find_param(m, "e")->step, 2, 0);
 
     p = halo_module_find_param(m, "b");
-    CHECK(p == halo_module_param(m, 1));
+    CHECK(p == &halo_module_describe(m).params[1]);
     CHECK_INT_EQ(p->type, HALO_PARAM_VEC2);
     CHECK_INT_EQ(p->components, 2);
     CHECK_NEAR(p->min, -5, 0);
@@ -111,8 +111,7 @@ static int test_valid_module(void)
     CHECK_NEAR(p->min, -1, 0);
 
     CHECK(halo_module_find_param(m, "nope") == NULL);
-    CHECK(halo_module_param(m, 8) == NULL);
-    CHECK(!halo_module_has_emulation(m));
+    CHECK(!halo_module_describe(m).has_emulation);
     return 0;
 }
 
@@ -121,7 +120,7 @@ static int test_builtin_modules(void)
 {
     const halo_module *b = halo_library_find(library, "boundary");
     CHECK(b != NULL);
-    CHECK_STR_EQ(halo_module_file(b), "glsl/sample/boundary.glsl");
+    CHECK_STR_EQ(halo_module_describe(b).file, "glsl/sample/boundary.glsl");
     const halo_param_info *k_gs = halo_module_find_param(b, "k_gs");
     CHECK(k_gs != NULL);
     CHECK_NEAR(k_gs->default_value[0], 10, 0);
@@ -136,11 +135,11 @@ static int test_builtin_modules(void)
     int stages = 0;
     for (size_t i = 0; i < halo_library_module_count(library); i++) {
         const halo_module *m = halo_library_module(library, i);
-        if (!strcmp(halo_module_name(m), "halo_math") || strncmp(halo_module_file(m), "glsl/", 5))
+        if (!strcmp(halo_module_describe(m).name, "halo_math") || strncmp(halo_module_describe(m).file, "glsl/", 5))
             continue;
         stages++;
-        if (halo_module_hook(m) == HALO_HOOK_SAMPLE && !halo_module_has_emulation(m))
-            CHECK_FAIL_AT("built-in stage %s has no emulation", halo_module_name(m));
+        if (halo_module_describe(m).hook == HALO_HOOK_SAMPLE && !halo_module_describe(m).has_emulation)
+            CHECK_FAIL_AT("built-in stage %s has no emulation", halo_module_describe(m).name);
     }
     CHECK(stages >= 9);
     return 0;
@@ -341,7 +340,7 @@ static int test_duplicate_module(void)
                     "#pragma halo hook sample\n"
                     "void apply(inout halo_sample s) {}\n",
                     HALO_MSG_MODULE_DUPLICATE, 1);
-    CHECK_STR_EQ(halo_module_file(halo_library_find(library, "boundary")), "glsl/sample/boundary.glsl");
+    CHECK_STR_EQ(halo_module_describe(halo_library_find(library, "boundary")).file, "glsl/sample/boundary.glsl");
     return 0;
 }
 
@@ -625,7 +624,7 @@ static int test_annotation_comments(void)
     CHECK_INT_EQ(halo_diagnostics_count(diags), 0);
     const halo_module *m = halo_library_find(library, "commented");
     CHECK(m != NULL);
-    CHECK(!strcmp(halo_module_summary(m), "a // in quotes stays"));
+    CHECK(!strcmp(halo_module_describe(m).summary, "a // in quotes stays"));
     CHECK_INT_EQ(add("user/comments.glsl",
                      "#pragma halo module Bad-Name\n"
                      "#pragma halo hook sample\n"

@@ -279,45 +279,17 @@ CASE(halo_library_find)
     return 0;
 }
 
-CASE(halo_module_name)
+CASE(halo_module_describe)
 {
-    REFUSES(halo_module_name(NULL) == NULL, "module");
-    return 0;
-}
-CASE(halo_module_file)
-{
-    REFUSES(halo_module_file(NULL) == NULL, "module");
-    return 0;
-}
-CASE(halo_module_summary)
-{
-    REFUSES(halo_module_summary(NULL) == NULL, "module");
-    return 0;
-}
-CASE(halo_module_hook)
-{
-    REFUSES(halo_module_hook(NULL) == HALO_HOOK_COUNT, "module");
-    return 0;
-}
-CASE(halo_module_param_count)
-{
-    REFUSES(halo_module_param_count(NULL) == 0, "module");
-    return 0;
-}
-CASE(halo_module_param)
-{
-    REFUSES(halo_module_param(NULL, 0) == NULL, "module");
+    /* NULL is a module with nothing: zero fields, hook HALO_HOOK_COUNT */
+    ACCEPTS(halo_module_describe(NULL).name == NULL && halo_module_describe(NULL).param_count == 0 &&
+            halo_module_describe(NULL).hook == HALO_HOOK_COUNT && !halo_module_describe(NULL).has_emulation);
     return 0;
 }
 CASE(halo_module_find_param)
 {
     REFUSES(halo_module_find_param(NULL, "k_gs") == NULL, "module");
     REFUSES(halo_module_find_param(module, NULL) == NULL, "name");
-    return 0;
-}
-CASE(halo_module_has_emulation)
-{
-    REFUSES(halo_module_has_emulation(NULL) == 0, "module");
     return 0;
 }
 
@@ -942,14 +914,8 @@ static const api_case cases[] = {
     ROW(halo_library_module_count),
     ROW(halo_library_module),
     ROW(halo_library_find),
-    ROW(halo_module_name),
-    ROW(halo_module_file),
-    ROW(halo_module_summary),
-    ROW(halo_module_hook),
-    ROW(halo_module_param_count),
-    ROW(halo_module_param),
+    ROW(halo_module_describe),
     ROW(halo_module_find_param),
-    ROW(halo_module_has_emulation),
     ROW(halo_scene_load),
     ROW(halo_scene_parse),
     ROW(halo_scene_create),

@@ -17,7 +17,7 @@ static const halo_param_value *value_of(const halo_scene *s, const char *stage, 
 {
     for (size_t i = 0; i < s->count; i++) {
         const halo_module *m = s->stages[i].module;
-        if (strcmp(halo_module_name(m), stage))
+        if (strcmp(halo_module_describe(m).name, stage))
             continue;
         const halo_param_info *info = halo_module_find_param(m, param);
         return info ? &s->stages[i].values[info - m->params] : NULL;
@@ -28,7 +28,7 @@ static const halo_param_value *value_of(const halo_scene *s, const char *stage, 
 static int enabled_of(const halo_scene *s, const char *stage)
 {
     for (size_t i = 0; i < s->count; i++)
-        if (!strcmp(halo_module_name(s->stages[i].module), stage))
+        if (!strcmp(halo_module_describe(s->stages[i].module).name, stage))
             return s->stages[i].enabled;
     return -1;
 }
