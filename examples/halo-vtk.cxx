@@ -363,8 +363,8 @@ int main(int argc, char **argv)
             status = 1;
         else if (h && !o.quiet)
             printf("halo-vtk: the stages are in VTK's shader (%zu stage%s, validated)\n",
-                   halo_program_stage_count(halo_vtk_program(h)),
-                   halo_program_stage_count(halo_vtk_program(h)) == 1 ? "" : "s");
+                   halo_program_reflection(halo_vtk_program(h)).stage_count,
+                   halo_program_reflection(halo_vtk_program(h)).stage_count == 1 ? "" : "s");
     }
     for (size_t i = 0; !status && i < o.sets.size(); i++) {
         std::string s = o.sets[i];

@@ -577,8 +577,6 @@ HALO_API int halo_program_piece_map_line(const halo_program *p, halo_piece piece
 HALO_API halo_target halo_program_target(const halo_program *p);
 /* Maps a 1-based line of the linked source to its origin; returns 0 when it has none. */
 HALO_API int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line);
-HALO_API size_t halo_program_stage_count(const halo_program *p);
-HALO_API const char *halo_program_stage(const halo_program *p, size_t index); /* in execution order */
 /* What a linked stage is, from its module's `#pragma halo is` annotation (docs/modules.md),
  * so that hosts and adapters ask the stage instead of naming it. */
 typedef struct halo_stage_info {
@@ -599,7 +597,8 @@ typedef struct halo_stage_info {
                                 * fraction of the strip that is the line itself, the rest its halo: a host
                                 * drawing plain lines without this stage narrows the strip by it */
 } halo_stage_info;
-/* NULL for an index past the stages. */
+/* The linked stages in execution order (halo_program_reflection: stage_count); NULL for an
+ * index past them. */
 HALO_API const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t index);
 /* M, the slices (planes) between two generations: the value of the first stage's `is
  * interval=` parameter (e.g. halo_generate.interval), or 0 when no stage states one (a host
@@ -636,6 +635,7 @@ HALO_API int halo_program_uniform_next(const halo_program *p, size_t *cursor, ha
  * pointers, cheap to take. A NULL program has none: every count 0 (so a loop over it does
  * nothing), every pointer NULL. */
 typedef struct halo_reflection {
+    size_t stage_count;   /* linked stages, in execution order: halo_program_stage_info */
     size_t uniform_count; /* every parameter of every linked stage, live or constant */
     const halo_uniform_info *uniforms;
     size_t output_count; /* extra fragment outputs */

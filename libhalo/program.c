@@ -188,12 +188,6 @@ int halo_program_map_line(const halo_program *p, int line, const char **file, in
     return o->file != halo_generated_file;
 }
 
-PROGRAM_GETTER(size_t, halo_program_stage_count, 0, p->stage_count)
-const char *halo_program_stage(const halo_program *p, size_t i)
-{
-    HALO_REFUSE_NULL(NULL, p, "program", NULL);
-    return i < p->stage_count ? p->stages[i].module->name : NULL;
-}
 const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t i)
 {
     HALO_REFUSE_NULL(NULL, p, "program", NULL);
@@ -346,6 +340,7 @@ halo_reflection halo_program_reflection(const halo_program *p)
     halo_reflection r = {0};
     if (!p)
         return r;
+    r.stage_count = p->stage_count;
     r.uniform_count = p->uniform_count;
     r.uniforms = p->uniforms;
     r.output_count = p->output_count;

@@ -887,11 +887,11 @@ int main(int argc, char **argv)
         goto done;
     }
     const halo_image_info *post = halo_driver_frame(&host) ? halo_host_post_image(program) : NULL;
-    size_t stages = halo_program_stage_count(program);
+    size_t stages = halo_program_reflection(program).stage_count;
     printf(TOOL ": wrote %s (%dx%d, %s host, %zu stage%s%s", o.output, o.width, o.height, halo_driver_host_names[kind],
            stages, stages == 1 ? "" : "s", stages ? ": " : "");
     for (size_t i = 0; i < stages; ++i)
-        printf("%s%s", i ? ", " : "", halo_program_stage(program, i));
+        printf("%s%s", i ? ", " : "", halo_program_stage_info(program, i)->name);
     if (post)
         printf("; image %s of the post passes", post->name);
     printf(")\n");

@@ -335,11 +335,11 @@ int view_load_scene(viewer *v, const char *path, int keep_camera)
     }
     v->error[0] = '\0';
     view_set_camera(v);
-    size_t linked = halo_program_stage_count(p);
+    size_t linked = halo_program_reflection(p).stage_count;
     printf("halo-view: loaded %s (%s host, %zu stage%s%s", path ? path : DEFAULT_SCENE " (built in)",
            halo_driver_host_names[kind], linked, linked == 1 ? "" : "s", linked ? ": " : "");
     for (size_t i = 0; i < linked; ++i)
-        printf("%s%s", i ? ", " : "", halo_program_stage(p, i));
+        printf("%s%s", i ? ", " : "", halo_program_stage_info(p, i)->name);
     printf(")\n");
     return 0;
 }
@@ -552,7 +552,7 @@ void view_step_param(viewer *v, int direction)
     }
     if (info->type == HALO_PARAM_INT) {
         int interval = 0;
-        for (size_t k = 0; k < halo_program_stage_count(v->program); ++k) {
+        for (size_t k = 0; k < halo_program_reflection(v->program).stage_count; ++k) {
             const halo_stage_info *s = halo_program_stage_info(v->program, k);
             interval |= !strcmp(s->name, u->stage) && s->interval && !strcmp(s->interval, u->param);
         }
@@ -586,8 +586,8 @@ void view_toggle_stage(viewer *v, size_t index)
     } else {
         v->toggle_on[index] = on;
         int linked = 0;
-        for (size_t i = 0; i < halo_program_stage_count(v->program); ++i)
-            linked |= !strcmp(halo_program_stage(v->program, i), name);
+        for (size_t i = 0; i < halo_program_reflection(v->program).stage_count; ++i)
+            linked |= !strcmp(halo_program_stage_info(v->program, i)->name, name);
         printf("halo-view: %s %s%s\n", name, on ? "enabled" : "disabled",
                !on && linked ? " (still linked: an enabled stage needs it)" : "");
     }

@@ -445,8 +445,8 @@ static int generation_zero_from_zero(const halo_program *p)
         if (pass->at)
             continue;
         const halo_stage_info *info = NULL;
-        for (size_t k = 0; k < halo_program_stage_count(p); ++k)
-            if (!strcmp(halo_program_stage(p, k), pass->stage))
+        for (size_t k = 0; k < halo_program_reflection(p).stage_count; ++k)
+            if (!strcmp(halo_program_stage_info(p, k)->name, pass->stage))
                 info = halo_program_stage_info(p, k);
         if (!info || !info->zero_generation)
             return 0;
@@ -525,7 +525,7 @@ static int slices_clippable(const halo_slice *s)
 {
     if (s->slab || s->run_every_generation)
         return 0;
-    for (size_t i = 0; s->linked && i < halo_program_stage_count(s->linked); ++i)
+    for (size_t i = 0; s->linked && i < halo_program_reflection(s->linked).stage_count; ++i)
         if (!halo_program_stage_info(s->linked, i)->keeps_empty)
             return 0;
     return 1;

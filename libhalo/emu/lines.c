@@ -124,8 +124,8 @@ halo_status halo_emu_line_vertex_apply(const halo_program *p, const double depth
     HALO_REFUSE_NULL(diag, v, "vertex", HALO_ERROR_INPUT);
     const double unset[2] = {0.0, 0.0};
     const double *range = depth_range ? depth_range : unset;
-    for (size_t i = 0; i < halo_program_stage_count(p); ++i) {
-        const char *stage = halo_program_stage(p, i);
+    for (size_t i = 0; i < halo_program_reflection(p).stage_count; ++i) {
+        const char *stage = halo_program_stage_info(p, i)->name;
         if (strcmp(stage, "line_strip") == 0)
             line_strip(p, range, v);
         else
@@ -138,8 +138,8 @@ halo_status halo_emu_line_fragment_apply(const halo_program *p, halo_emu_line_fr
 {
     HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, f, "fragment", HALO_ERROR_INPUT);
-    for (size_t i = 0; i < halo_program_stage_count(p); ++i) {
-        const char *stage = halo_program_stage(p, i);
+    for (size_t i = 0; i < halo_program_reflection(p).stage_count; ++i) {
+        const char *stage = halo_program_stage_info(p, i)->name;
         if (strcmp(stage, "line_halo") == 0)
             line_halo(p, f);
         else

@@ -77,8 +77,8 @@ static FIXTURE_UNUSED halo_program *link_valid(const char *json)
 
 static FIXTURE_UNUSED int stage_index(const halo_program *p, const char *stage)
 {
-    for (size_t i = 0; i < halo_program_stage_count(p); i++)
-        if (!strcmp(halo_program_stage(p, i), stage))
+    for (size_t i = 0; i < halo_program_reflection(p).stage_count; i++)
+        if (!strcmp(halo_program_stage_info(p, i)->name, stage))
             return (int)i;
     return -1;
 }

@@ -105,7 +105,7 @@ static int test_opacity_power(void)
 static int test_gradient_and_boundary(void)
 {
     halo_program *p = program_of("{\"stages\": [{\"boundary\": {\"k_gc\": 0.4, \"k_gs\": 12, \"k_ge\": 1.5}}]}");
-    CHECK_INT_EQ(halo_program_stage_count(p), 2); /* gradient, then boundary */
+    CHECK_INT_EQ(halo_program_reflection(p).stage_count, 2); /* gradient, then boundary */
     static const double g[][3] = {{0.03, -0.04, 0.12}, {0.3, 0.4, 0}, {0.001, 0, 0}, {-1, 2, -2}};
     static const double opacities[] = {0.2, 0.05, 0.9, 0.01};
     for (size_t i = 0; i < 4; i++) {

@@ -10,8 +10,8 @@ static int helper_needed(const halo_program *p, const halo_module *helpers, size
     unsigned char need[64] = {0};
     SETUP(helpers->chunk_count <= 64);
     for (size_t c = 0; c < helpers->chunk_count; c++)
-        for (size_t s = 0; s < halo_program_stage_count(p); s++) {
-            const halo_module *m = halo_library_find(library, halo_program_stage(p, s));
+        for (size_t s = 0; s < halo_program_reflection(p).stage_count; s++) {
+            const halo_module *m = halo_library_find(library, halo_program_stage_info(p, s)->name);
             if (halo_name_list_has(&m->calls, helpers->chunks[c].name))
                 need[c] = 1;
         }
@@ -82,8 +82,8 @@ static int test_only_enabled_code(void)
 {
     halo_program *p = link_valid("{\"stages\": [\"opacity_power\"]}");
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_stage_count(p), 1);
-    CHECK_STR_EQ(halo_program_stage(p, 0), "opacity_power");
+    CHECK_INT_EQ(halo_program_reflection(p).stage_count, 1);
+    CHECK_STR_EQ(halo_program_stage_info(p, 0)->name, "opacity_power");
     if (check_only_linked(p))
         return 1;
     /* opacity_power uses halo_pow and halo_saturate, not the colour helpers. */
@@ -94,7 +94,7 @@ static int test_only_enabled_code(void)
 
     p = link_valid("{\"stages\": [\"silhouette\"]}");
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_stage_count(p), 2); /* with gradient, which provides the normal */
+    CHECK_INT_EQ(halo_program_reflection(p).stage_count, 2); /* with gradient, which provides the normal */
     if (check_only_linked(p))
         return 1;
     CHECK_STR_NOT_CONTAINS(halo_program_source(p), "halo_hsv_to_rgb");
@@ -119,7 +119,7 @@ static int test_only_enabled_code(void)
     /* A disabled stage is not linked. */
     p = link_valid("{\"stages\": [\"opacity_power\", {\"sketch\": {\"enabled\": false}}]}");
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_stage_count(p), 1);
+    CHECK_INT_EQ(halo_program_reflection(p).stage_count, 1);
     if (check_only_linked(p))
         return 1;
     halo_program_destroy(p);
@@ -157,7 +157,7 @@ static int test_empty_scene(void)
 {
     halo_program *p = link_with(NULL, host_source, HALO_TARGET_DEFAULT, 0);
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_stage_count(p), 0);
+    CHECK_INT_EQ(halo_program_reflection(p).stage_count, 0);
     CHECK_INT_EQ(halo_program_reflection(p).uniform_count, 0);
     CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
     if (check_only_linked(p))
@@ -179,7 +179,7 @@ static int test_empty_scene(void)
     p = link_with(scene, host_source, HALO_TARGET_DEFAULT, 0);
     halo_scene_destroy(scene);
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_stage_count(p), 0);
+    CHECK_INT_EQ(halo_program_reflection(p).stage_count, 0);
     if (check_empty_apply(halo_program_source(p)))
         return 1;
     /* An empty scene and a scene of disabled stages link to the same text. */
@@ -195,9 +195,9 @@ static int test_order(void)
 {
     halo_program *p = link_valid("{\"stages\": [\"silhouette\"]}");
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_stage_count(p), 2);
-    CHECK_STR_EQ(halo_program_stage(p, 0), "gradient");
-    CHECK_STR_EQ(halo_program_stage(p, 1), "silhouette");
+    CHECK_INT_EQ(halo_program_reflection(p).stage_count, 2);
+    CHECK_STR_EQ(halo_program_stage_info(p, 0)->name, "gradient");
+    CHECK_STR_EQ(halo_program_stage_info(p, 1)->name, "silhouette");
     const char *src = halo_program_source(p);
     int g = line_containing(src, "halo_gradient_apply(s);"), s = line_containing(src, "halo_silhouette_apply(s);");
     CHECK(g > 0 && s > 0);
@@ -216,8 +216,8 @@ static int test_order(void)
         CHECK(tone >= 0 && blend >= 0);
         CHECK(tone < blend);
         /* Every stage runs after the stages it names in `after` and those providing what it needs. */
-        for (size_t k = 0; k < halo_program_stage_count(p); k++) {
-            const halo_module *m = halo_library_find(library, halo_program_stage(p, k));
+        for (size_t k = 0; k < halo_program_reflection(p).stage_count; k++) {
+            const halo_module *m = halo_library_find(library, halo_program_stage_info(p, k)->name);
             for (size_t a = 0; a < m->after.count; a++) {
                 int before = stage_index(p, m->after.items[a]);
                 if (before >= 0 && before > (int)k)
@@ -278,8 +278,8 @@ static int test_resolution_errors(void)
     /* Enabling one of them resolves it. */
     p = link_valid("{\"stages\": [\"needs_thing\", \"provider_b\"]}");
     CHECK(p != NULL);
-    CHECK_STR_EQ(halo_program_stage(p, 0), "provider_b");
-    CHECK_STR_EQ(halo_program_stage(p, 1), "needs_thing");
+    CHECK_STR_EQ(halo_program_stage_info(p, 0)->name, "provider_b");
+    CHECK_STR_EQ(halo_program_stage_info(p, 1)->name, "needs_thing");
     halo_program_destroy(p);
 
     scene = scene_of("{\"stages\": [\"cycle_a\", \"cycle_b\"]}");

@@ -393,16 +393,6 @@ CASE(halo_program_map_line)
     REFUSES(halo_program_map_line(NULL, 1, &file, &line) == 0, "program");
     return 0;
 }
-CASE(halo_program_stage_count)
-{
-    REFUSES(halo_program_stage_count(NULL) == 0, "program");
-    return 0;
-}
-CASE(halo_program_stage)
-{
-    REFUSES(halo_program_stage(NULL, 0) == NULL, "program");
-    return 0;
-}
 CASE(halo_program_stage_info)
 {
     REFUSES(halo_program_stage_info(NULL, 0) == NULL, "program");
@@ -422,11 +412,11 @@ CASE(halo_program_reads_labels)
 CASE(halo_program_reflection)
 {
     /* NULL is a program with nothing: every count 0 */
-    ACCEPTS(halo_program_reflection(NULL).uniform_count == 0 && halo_program_reflection(NULL).uniforms == NULL &&
-            halo_program_reflection(NULL).output_count == 0 && halo_program_reflection(NULL).pass_count == 0 &&
-            halo_program_reflection(NULL).image_count == 0 && halo_program_reflection(NULL).sampler_count == 0 &&
-            halo_program_reflection(NULL).host_uniform_count == 0 && halo_program_reflection(NULL).channel_count == 0 &&
-            halo_program_reflection(NULL).segment_location == 0);
+    ACCEPTS(halo_program_reflection(NULL).stage_count == 0 && halo_program_reflection(NULL).uniform_count == 0 &&
+            halo_program_reflection(NULL).uniforms == NULL && halo_program_reflection(NULL).output_count == 0 &&
+            halo_program_reflection(NULL).pass_count == 0 && halo_program_reflection(NULL).image_count == 0 &&
+            halo_program_reflection(NULL).sampler_count == 0 && halo_program_reflection(NULL).host_uniform_count == 0 &&
+            halo_program_reflection(NULL).channel_count == 0 && halo_program_reflection(NULL).segment_location == 0);
     return 0;
 }
 CASE(halo_program_find_uniform)
@@ -933,8 +923,6 @@ static const api_case cases[] = {
     ROW(halo_program_piece_map_line),
     ROW(halo_program_target),
     ROW(halo_program_map_line),
-    ROW(halo_program_stage_count),
-    ROW(halo_program_stage),
     ROW(halo_program_stage_info),
     ROW(halo_program_interval),
     ROW(halo_program_reads_labels),

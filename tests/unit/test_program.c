@@ -95,7 +95,7 @@ static int test_stage_info(void)
         CHECK_INT_EQ(info->zero_generation, expect[k].zero_generation);
         CHECK(info->labels_when == NULL);
     }
-    CHECK(halo_program_stage_info(p, halo_program_stage_count(p)) == NULL);
+    CHECK(halo_program_stage_info(p, halo_program_reflection(p).stage_count) == NULL);
     CHECK_INT_EQ(halo_program_reads_labels(p), 0);
     /* M from the stage that says which parameter is it (halo_generate: interval, default 4) */
     int generate = stage_index(p, "halo_generate");
