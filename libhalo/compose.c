@@ -7,10 +7,13 @@
  * in its own tags; halo_validate (composed) checks the shader the engine composed,
  * with errors mapped back to the modules and to the composer's pieces.
  *
- * How: the pieces are linked into a small host written here, the same way as any host
- * (so halo_validate checks them in a complete shader), and cut out of the
- * result by the origins of its lines. The sample snippet is written twice: with this
- * host's names for the program, with the composer's expressions for the piece. */
+ * How: the linker's product is libhalo's block and its tail (emit.c: halo_program.block,
+ * .tail, each line with its origin); linking into host text splices them into the host
+ * at its marker and after its last line. The pieces are linked against a small host
+ * written here (what the host declares and calls, and a complete shader for
+ * halo_validate), and the declarations piece is that product itself. The sample snippet
+ * is written twice: with this host's names for the program, with the composer's
+ * expressions for the piece. */
 #include "diag.h"
 #include "glsl_lex.h"
 #include "host_check.h"
@@ -130,43 +133,25 @@ static int count_lines(const char *text)
     return n + (*text && text[strlen(text) - 1] != '\n');
 }
 
-/* Cuts the declarations (the marker's block and the tail after the host's last line) out
- * of the linked pieces host. */
-static int cut_declarations(halo_program *p, const halo_pieces_desc *d, int marker_line)
+/* The declarations piece: the linker's product (libhalo's block, which replaced the pieces
+ * host's marker, and its tail), its two host-origin lines (the block's opening and closing
+ * comments) libhalo's own; the pieces host's sampler names become the composer's
+ * expressions. */
+static int set_declarations(halo_program *p, const halo_pieces_desc *d)
 {
-    int first = -1, last = -1, host_end = -1;
-    for (int i = 0; i < p->origin_count; i++) {
-        const halo_line_origin *o = &p->origins[i];
-        if (o->file != p->host_file)
-            continue;
-        if (o->line == marker_line) {
-            if (first < 0)
-                first = i;
-            last = i;
-        }
-        host_end = i;
-    }
-    if (first < 0 || host_end < 0)
-        return -1;
-    char *copy = halo_strdup(p->source);
-    char **lines = NULL;
-    int count = copy ? halo_split_lines(copy, &lines) : -1;
-    halo_line_origin *origins = count > 0 ? calloc((size_t)count, sizeof *origins) : NULL;
+    const halo_linked_text *parts[2] = {&p->block, &p->tail};
+    int n = p->block.count + p->tail.count;
+    halo_line_origin *origins = calloc((size_t)n + 1, sizeof *origins);
     halo_strbuf b = {0};
-    int n = 0;
-    for (int i = 0; origins && i < count && i < p->origin_count; i++) {
-        if (!((i >= first && i <= last) || i > host_end))
-            continue;
-        halo_strbuf_printf(&b, "%s\n", lines[i]);
-        origins[n] = p->origins[i];
-        if (origins[n].file == p->host_file)
-            origins[n] = (halo_line_origin){pieces_file, 0, NULL};
-        n++;
+    for (int k = 0, at = 0; origins && k < 2; k++) {
+        halo_strbuf_append(&b, parts[k]->text ? parts[k]->text : "");
+        for (int i = 0; i < parts[k]->count; i++, at++) {
+            origins[at] = parts[k]->origins[i];
+            if (origins[at].file == p->host_file)
+                origins[at] = (halo_line_origin){pieces_file, 0, NULL};
+        }
     }
-    free(lines);
-    free(copy);
-    char *text = halo_strbuf_take(&b);
-    /* the pieces host's sampler names become the composer's expressions */
+    char *text = b.failed ? (halo_strbuf_free(&b), NULL) : halo_strbuf_take(&b);
     char *named = text && d->volume ? replace_identifier(text, "piece_volume", d->volume) : text;
     if (named != text)
         free(text);
@@ -318,10 +303,6 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
     if (halo_pieces_check_expressions(d, desc->target, diag))
         return NULL;
     char *host = pieces_host(d, desc);
-    /* the marker's line in the pieces host: after its #extension line, if any */
-    int marker_line = 1;
-    for (const char *c = host; c && strncmp(c, "#pragma halo declarations", 25); c = strchr(c, '\n'), c = c ? c + 1 : c)
-        marker_line++;
     if (!host) {
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
         return NULL;
@@ -363,7 +344,7 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
     halo_strbuf sample = {0};
     write_sample(&sample, &names, d);
     char *finish = halo_strdup("halo_finish();\n");
-    if (sample.failed || cut_declarations(p, d, marker_line) || (p->engine_uniforms && declare_engine_uniforms(p)) ||
+    if (sample.failed || set_declarations(p, d) || (p->engine_uniforms && declare_engine_uniforms(p)) ||
         set_generated_piece(p, HALO_PIECE_SAMPLE, halo_strbuf_take(&sample)) ||
         set_generated_piece(p, HALO_PIECE_FINISH, finish)) {
         halo_strbuf_free(&sample);

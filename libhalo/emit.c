@@ -485,9 +485,110 @@ static void emit_text(halo_emitter *e, const halo_program *p, void (*fn)(halo_st
     halo_strbuf_free(&b);
 }
 
+/* Appends src's lines with their origins. */
+static void emit_append(halo_emitter *e, const halo_emitter *src)
+{
+    const char *t = src->text.data;
+    for (int i = 0; t && i < src->count; i++) {
+        const char *nl = strchr(t, '\n');
+        size_t n = nl ? (size_t)(nl - t) : strlen(t);
+        const halo_line_origin *o = &src->origins[i];
+        halo_emit(e, o->file, o->line, o->text, "%.*s", (int)n, t);
+        t = nl ? nl + 1 : t + n;
+    }
+    if (src->failed || src->text.failed)
+        e->failed = 1;
+}
+
+/* The emitter's text and origins as a halo_linked_text (the emitter is emptied). */
+static int take_text(halo_emitter *e, halo_linked_text *out)
+{
+    if (e->failed || e->text.failed) {
+        halo_strbuf_free(&e->text);
+        free(e->origins);
+        *e = (halo_emitter){0};
+        return -1;
+    }
+    out->count = e->count;
+    out->origins = e->origins;
+    out->text = e->count ? halo_strbuf_take(&e->text) : halo_strdup("");
+    *e = (halo_emitter){0};
+    return out->text ? 0 : -1;
+}
+
+/* libhalo's block: what replaces the host's marker line (marker: that line's text, at
+ * line marker_line of the host). */
+static void emit_block(halo_emitter *e, halo_program *p, const char *host_source, const halo_library *lib,
+                       int marker_line, const char *marker)
+{
+    halo_emit(e, p->host_file, marker_line, marker, "// ---- libhalo %s: %zu stage%s (contract %d) ----",
+              PACKAGE_VERSION, p->stage_count, p->stage_count == 1 ? "" : "s", HALO_CONTRACT_VERSION);
+    emit_declarations(e, p, host_source);
+    halo_emit_helpers(e, lib, p);
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        if (m->hook == HALO_HOOK_IMAGE)
+            continue;
+        halo_emit(e, m->file, m->module_line, m->lines[m->module_line - 1], "// stage %s (%s)", m->name, m->file);
+        halo_emit_params(e, p, &p->stages[s], p->engine_uniforms);
+        halo_emit_module_lines(e, m, 1, m->line_count, 1, p->engine_uniforms ? p : NULL);
+    }
+    for (size_t h = 0; h < halo_hook_struct_count; h++) {
+        const halo_hook_struct *hs = &halo_hook_structs[h];
+        if (!hook_needed(p, hs, host_source))
+            continue;
+        HALO_GEN(e, "void halo_apply(inout %s %s) {", hs->type, hs->var);
+        if (p->one_draw && hs->hook == HALO_HOOK_SAMPLE)
+            HALO_GEN(e, "    halo_stack_layer = halo_stack_layer_at(%s.position);", hs->var);
+        for (size_t s = 0; s < p->stage_count; s++) {
+            const halo_linked_stage *st = &p->stages[s];
+            /* host contract 3: the seeding stages run in libhalo's march, and only they */
+            if (st->module->hook == hs->hook && !(p->one_draw && st->prepass == 2) &&
+                !(p->prepass_only && !st->prepass))
+                HALO_GEN(e, "    halo_%s_apply(%s);", st->module->name, hs->var);
+        }
+        for (size_t o = 0; o < p->output_count && hs->hook == HALO_HOOK_SAMPLE; o++) {
+            const halo_output_info *out = &p->outputs[o];
+            const char *img = out->image;
+            halo_strbuf field_text = {0};
+            if (out->channel >= 0)
+                halo_strbuf_printf(&field_text, "s.%s[%d]", out->field, out->channel);
+            else
+                halo_strbuf_printf(&field_text, "s.%s", out->field);
+            const char *field = field_text.data ? field_text.data : "";
+            if (field_text.failed)
+                e->failed = 1;
+            if (out->blend == HALO_BLEND_MAX)
+                HALO_GEN(e, "    halo_accum_%s = max(halo_accum_%s, %s);", img, img, field);
+            else if (out->blend == HALO_BLEND_MIN)
+                HALO_GEN(e, "    halo_accum_%s = min(halo_accum_%s, %s);", img, img, field);
+            else if (out->blend == HALO_BLEND_FIRST) /* the first hit of the fragment wins */
+                HALO_GEN(e, "    if (halo_accum_%s.a <= 0.0) halo_accum_%s = %s;", img, img, field);
+            else
+                HALO_GEN(e, "    halo_accum_%s += %s;", img, field);
+            halo_strbuf_free(&field_text);
+        }
+        HALO_GEN(e, "}");
+    }
+    HALO_GEN(e, "void halo_finish() {");
+    for (size_t o = 0; o < p->output_count; o++)
+        HALO_GEN(e, "    %s = halo_accum_%s;", p->outputs[o].name, p->outputs[o].image);
+    HALO_GEN(e, "}");
+    emit_text(e, p, halo_segment_emit);
+    halo_emit(e, p->host_file, marker_line, marker, "// ---- end of libhalo declarations ----");
+}
+
 int halo_emit_program(halo_program *p, const char *host_source, char **host_lines, int host_count,
                       const halo_host_info *h, const halo_library *lib)
 {
+    /* the product: libhalo's block and its tail */
+    halo_emitter block = {0}, tail = {0};
+    if (h->marker_line >= 1 && h->marker_line <= host_count)
+        emit_block(&block, p, host_source, lib, h->marker_line, host_lines[h->marker_line - 1]);
+    emit_text(&tail, p, halo_segment_emit_tail);
+    if (take_text(&block, &p->block) || take_text(&tail, &p->tail))
+        return -1;
+    /* spliced into the host */
     halo_emitter e = {0};
     const char *ver = halo_target_version_line(p->target);
     int es = p->target == HALO_TARGET_ES300;
@@ -517,63 +618,11 @@ int halo_emit_program(halo_program *p, const char *host_source, char **host_line
             halo_emit(&e, p->host_file, i + 1, line, "%s", line);
             continue;
         }
-        halo_emit(&e, p->host_file, i + 1, line, "// ---- libhalo %s: %zu stage%s (contract %d) ----", PACKAGE_VERSION,
-                  p->stage_count, p->stage_count == 1 ? "" : "s", HALO_CONTRACT_VERSION);
-        emit_declarations(&e, p, host_source);
-        halo_emit_helpers(&e, lib, p);
-        for (size_t s = 0; s < p->stage_count; s++) {
-            const halo_module *m = p->stages[s].module;
-            if (m->hook == HALO_HOOK_IMAGE)
-                continue;
-            halo_emit(&e, m->file, m->module_line, m->lines[m->module_line - 1], "// stage %s (%s)", m->name, m->file);
-            halo_emit_params(&e, p, &p->stages[s], p->engine_uniforms);
-            halo_emit_module_lines(&e, m, 1, m->line_count, 1, p->engine_uniforms ? p : NULL);
-        }
-        for (size_t h = 0; h < halo_hook_struct_count; h++) {
-            const halo_hook_struct *hs = &halo_hook_structs[h];
-            if (!hook_needed(p, hs, host_source))
-                continue;
-            HALO_GEN(&e, "void halo_apply(inout %s %s) {", hs->type, hs->var);
-            if (p->one_draw && hs->hook == HALO_HOOK_SAMPLE)
-                HALO_GEN(&e, "    halo_stack_layer = halo_stack_layer_at(%s.position);", hs->var);
-            for (size_t s = 0; s < p->stage_count; s++) {
-                const halo_linked_stage *st = &p->stages[s];
-                /* host contract 3: the seeding stages run in libhalo's march, and only they */
-                if (st->module->hook == hs->hook && !(p->one_draw && st->prepass == 2) &&
-                    !(p->prepass_only && !st->prepass))
-                    HALO_GEN(&e, "    halo_%s_apply(%s);", st->module->name, hs->var);
-            }
-            for (size_t o = 0; o < p->output_count && hs->hook == HALO_HOOK_SAMPLE; o++) {
-                const halo_output_info *out = &p->outputs[o];
-                const char *img = out->image;
-                halo_strbuf field_text = {0};
-                if (out->channel >= 0)
-                    halo_strbuf_printf(&field_text, "s.%s[%d]", out->field, out->channel);
-                else
-                    halo_strbuf_printf(&field_text, "s.%s", out->field);
-                const char *field = field_text.data ? field_text.data : "";
-                if (field_text.failed)
-                    e.failed = 1;
-                if (out->blend == HALO_BLEND_MAX)
-                    HALO_GEN(&e, "    halo_accum_%s = max(halo_accum_%s, %s);", img, img, field);
-                else if (out->blend == HALO_BLEND_MIN)
-                    HALO_GEN(&e, "    halo_accum_%s = min(halo_accum_%s, %s);", img, img, field);
-                else if (out->blend == HALO_BLEND_FIRST) /* the first hit of the fragment wins */
-                    HALO_GEN(&e, "    if (halo_accum_%s.a <= 0.0) halo_accum_%s = %s;", img, img, field);
-                else
-                    HALO_GEN(&e, "    halo_accum_%s += %s;", img, field);
-                halo_strbuf_free(&field_text);
-            }
-            HALO_GEN(&e, "}");
-        }
-        HALO_GEN(&e, "void halo_finish() {");
-        for (size_t o = 0; o < p->output_count; o++)
-            HALO_GEN(&e, "    %s = halo_accum_%s;", p->outputs[o].name, p->outputs[o].image);
-        HALO_GEN(&e, "}");
-        emit_text(&e, p, halo_segment_emit);
-        halo_emit(&e, p->host_file, i + 1, line, "// ---- end of libhalo declarations ----");
+        emit_append(
+            &e, &(halo_emitter){.text = {.data = p->block.text}, .origins = p->block.origins, .count = p->block.count});
     }
-    emit_text(&e, p, halo_segment_emit_tail);
+    emit_append(&e,
+                &(halo_emitter){.text = {.data = p->tail.text}, .origins = p->tail.origins, .count = p->tail.count});
     if (e.failed || e.text.failed) {
         halo_strbuf_free(&e.text);
         free(e.origins);

@@ -29,8 +29,10 @@ void halo_emit_module_lines(halo_emitter *e, const halo_module *m, int first, in
 void halo_emit_helpers(halo_emitter *e, const halo_library *lib, const halo_program *p);
 /* The halo channel type definitions for c channels. */
 void halo_emit_channel_definitions(halo_emitter *e, int c);
-/* The whole program: version, the host with its marker replaced by the declarations.
- * 0, or -1 when memory runs out. */
+/* The linker's product, libhalo's block (what replaces the host's marker) and its tail (after
+ * the host's last line), into p->block and p->tail; then the whole program, p->source: the
+ * version, the host with the block spliced in at its marker and the tail after its last
+ * line. 0, or -1 when memory runs out. */
 int halo_emit_program(halo_program *p, const char *host_source, char **host_lines, int host_count,
                       const halo_host_info *h, const halo_library *lib);
 

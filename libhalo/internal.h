@@ -131,8 +131,8 @@ int halo_name_list_add(halo_name_list *l, const char *name, size_t n, int line);
 void halo_name_list_free(halo_name_list *l);
 /* The fields the host fills; never need a provider. */
 int halo_is_host_resource(const char *name);
-/* Whether the module has a C emulation (emu/apply.c): halo_module_info.has_emulation. */
-int halo_module_emulated(const halo_module *m);
+/* A module's name (halo_module_info.name) without the rest of halo_module_describe. */
+const char *halo_module_name_of(const halo_module *m);
 /* Library helpers (halo_math.glsl) found in lib. */
 const halo_module *halo_library_helpers(const halo_library *lib);
 /* Parses a parameter value from JSON text or a jansson value into info's layout. */
@@ -185,6 +185,13 @@ typedef struct halo_program_stage {
                   * provides what such a stage needs; 0, neither */
 } halo_linked_stage;
 
+/* Lines of text, each with its origin. */
+typedef struct halo_linked_text {
+    char *text;
+    halo_line_origin *origins;
+    int count;
+} halo_linked_text;
+
 struct halo_program {
     halo_target target;
     halo_shader_kind kind;
@@ -194,6 +201,10 @@ struct halo_program {
     char **host_lines;
     halo_line_origin *origins;
     int origin_count;
+    /* The linker's product (emit.c): libhalo's block, which replaces the host's marker line,
+     * and its tail, after the host's last line, each with its lines' origins. source is the
+     * host with them spliced in; a composer's declarations piece is the two together. */
+    halo_linked_text block, tail;
     halo_linked_stage *stages;
     size_t stage_count;
     halo_uniform_info *uniforms;

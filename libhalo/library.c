@@ -16,7 +16,7 @@ extern const struct halo_embedded_file halo_embedded_modules[];
 
 static halo_status add_module(halo_library *lib, halo_module *m, halo_diagnostics *diag)
 {
-    const char *name = halo_module_describe(m).name;
+    const char *name = halo_module_name_of(m);
     const halo_module *old = halo_library_find(lib, name);
     if (old) {
         halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_MODULE_DUPLICATE, m->file, m->module_line, 1,
@@ -71,12 +71,12 @@ static halo_status replace_or_add(halo_library *lib, halo_module *m, halo_diagno
         halo_diag_error(diag, USAGE, m->file, 0, 0,
                         "cannot replace module '%s': %ld scene%s or program%s made from this library still use its "
                         "modules; override modules before reading scenes or linking (halo.h, \"Lifetimes\")",
-                        halo_module_describe(m).name, users, users == 1 ? "" : "s", users == 1 ? "" : "s");
+                        halo_module_name_of(m), users, users == 1 ? "" : "s", users == 1 ? "" : "s");
         halo_module_free(m);
         return HALO_ERROR_INPUT;
     }
     for (size_t i = 0; i < lib->count; i++)
-        if (!strcmp(halo_module_describe(lib->modules[i]).name, halo_module_describe(m).name)) {
+        if (!strcmp(halo_module_name_of(lib->modules[i]), halo_module_name_of(m))) {
             halo_module_free(lib->modules[i]);
             lib->modules[i] = m;
             return HALO_OK;
@@ -160,7 +160,7 @@ const halo_module *halo_library_find(const halo_library *lib, const char *name)
     HALO_REFUSE_NULL(NULL, lib, "library", NULL);
     HALO_REFUSE_NULL(NULL, name, "name", NULL);
     for (size_t i = 0; i < lib->count; i++)
-        if (!strcmp(halo_module_describe(lib->modules[i]).name, name))
+        if (!strcmp(halo_module_name_of(lib->modules[i]), name))
             return lib->modules[i];
     return NULL;
 }

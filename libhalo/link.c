@@ -140,7 +140,7 @@ static int resolve(const halo_library *lib, const halo_scene *scene, halo_shader
             int before = 0;
             for (size_t r = 0; r < m->needs.count; r++)
                 before |= provides(nodes[b].module, m->needs.items[r]);
-            before |= halo_name_list_has(&m->after, halo_module_describe(nodes[b].module).name);
+            before |= halo_name_list_has(&m->after, halo_module_name_of(nodes[b].module));
             if (before && !edge[b * n + a]) {
                 edge[b * n + a] = 1;
                 nodes[a].indegree++;
@@ -155,7 +155,7 @@ static int resolve(const halo_library *lib, const halo_scene *scene, halo_shader
                 continue;
             if (best < 0 || nodes[i].rank < nodes[best].rank ||
                 (nodes[i].rank == nodes[best].rank &&
-                 strcmp(halo_module_describe(nodes[i].module).name, halo_module_describe(nodes[best].module).name) < 0))
+                 strcmp(halo_module_name_of(nodes[i].module), halo_module_name_of(nodes[best].module)) < 0))
                 best = i;
         }
         if (best < 0)
@@ -171,7 +171,7 @@ static int resolve(const halo_library *lib, const halo_scene *scene, halo_shader
         const halo_module *first = NULL;
         for (int i = 0; i < n; i++)
             if (!nodes[i].done) {
-                halo_strbuf_printf(&names, "%s%s", first ? ", " : "", halo_module_describe(nodes[i].module).name);
+                halo_strbuf_printf(&names, "%s%s", first ? ", " : "", halo_module_name_of(nodes[i].module));
                 if (!first)
                     first = nodes[i].module;
             }

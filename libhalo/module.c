@@ -1272,21 +1272,7 @@ void halo_module_free(halo_module *m)
 }
 
 /* ---- Accessors ---- */
-halo_module_info halo_module_describe(const halo_module *m)
-{
-    halo_module_info info = {0};
-    info.hook = HALO_HOOK_COUNT;
-    if (!m)
-        return info;
-    info.name = m->is_library ? "halo_math" : m->name;
-    info.file = m->file;
-    info.summary = m->summary;
-    info.hook = m->hook;
-    info.param_count = m->param_count;
-    info.params = m->params;
-    info.has_emulation = halo_module_emulated(m);
-    return info;
-}
+const char *halo_module_name_of(const halo_module *m) { return m->is_library ? "halo_math" : m->name; }
 const halo_param_info *halo_module_find_param(const halo_module *m, const char *name)
 {
     HALO_REFUSE_NULL(NULL, m, "module", NULL);

@@ -140,6 +140,10 @@ void halo_program_destroy(halo_program *p)
     free(p->host_storage);
     free(p->host_lines);
     free(p->origins);
+    free(p->block.text);
+    free(p->block.origins);
+    free(p->tail.text);
+    free(p->tail.origins);
     for (size_t s = 0; s < p->stage_count; s++) {
         free(p->stages[s].values);
         free(p->stages[s].group_values);

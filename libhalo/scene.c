@@ -60,7 +60,7 @@ void halo_scene_destroy(halo_scene *s)
 static halo_scene_entry *find_entry(halo_scene *s, const char *stage)
 {
     for (size_t i = 0; i < s->count; i++)
-        if (!strcmp(halo_module_describe(s->stages[i].module).name, stage))
+        if (!strcmp(halo_module_name_of(s->stages[i].module), stage))
             return &s->stages[i];
     return NULL;
 }
@@ -68,7 +68,7 @@ static halo_scene_entry *find_entry(halo_scene *s, const char *stage)
 /* Adds a stage with default values, or returns the existing entry. */
 static halo_scene_entry *add_entry(halo_scene *s, const halo_module *m)
 {
-    halo_scene_entry *e = find_entry(s, halo_module_describe(m).name);
+    halo_scene_entry *e = find_entry(s, halo_module_name_of(m));
     if (e)
         return e;
     halo_scene_entry *p = realloc(s->stages, (s->count + 1) * sizeof *p);
@@ -159,7 +159,7 @@ size_t halo_scene_stage_count(const halo_scene *s)
 const char *halo_scene_stage(const halo_scene *s, size_t i)
 {
     HALO_REFUSE_NULL(NULL, s, "scene", NULL);
-    return i < s->count ? halo_module_describe(s->stages[i].module).name : NULL;
+    return i < s->count ? halo_module_name_of(s->stages[i].module) : NULL;
 }
 const halo_render_settings *halo_scene_render(const halo_scene *s)
 {
@@ -353,8 +353,7 @@ static void read_param(reader *r, halo_scene_entry *e, const char *path, const c
         for (size_t i = 0; i < m->param_count; i++)
             halo_strbuf_printf(&names, "%s%s", i ? ", " : "", m->params[i].name);
         READ_ERROR(r, SCENE_PARAM_UNKNOWN, "%s.%s: unknown parameter of stage '%s' (it has: %s%s)", path, key,
-                   halo_module_describe(m).name, names.data ? names.data : "none",
-                   m->param_count ? ", live, enabled" : "");
+                   halo_module_name_of(m), names.data ? names.data : "none", m->param_count ? ", live, enabled" : "");
         halo_strbuf_free(&names);
         return;
     }

@@ -448,7 +448,7 @@ halo_status halo_validate_module(const halo_library *lib, const halo_module *m, 
     if (i == lib->count) {
         /* the check links by name: it would validate lib's module of that name instead */
         halo_diag_error(diag, USAGE, "", 0, 0, "halo_validate: module '%s' is not one of the library's",
-                        halo_module_describe(m).name);
+                        halo_module_name_of(m));
         return HALO_ERROR_INPUT;
     }
     return HALO_WITH_GLSLANG(diag, module_validate_held(lib, m, target, diag));

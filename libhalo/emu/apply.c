@@ -87,7 +87,7 @@ halo_status halo_emu_apply(const halo_program *p, halo_emu_frame *f, halo_emu_sa
     return halo_emu_frame_fold(p, s, diag);
 }
 
-int halo_module_emulated(const halo_module *m)
+static int module_emulated(const halo_module *m)
 {
     if (m->is_library)
         return 0;
@@ -98,4 +98,21 @@ int halo_module_emulated(const halo_module *m)
         return m->pass_count > 0;
     }
     return halo_emu_lookup(m->name) != NULL;
+}
+
+/* In the emulation's file: what a module is includes whether it has an emulation. */
+halo_module_info halo_module_describe(const halo_module *m)
+{
+    halo_module_info info = {0};
+    info.hook = HALO_HOOK_COUNT;
+    if (!m)
+        return info;
+    info.name = halo_module_name_of(m);
+    info.file = m->file;
+    info.summary = m->summary;
+    info.hook = m->hook;
+    info.param_count = m->param_count;
+    info.params = m->params;
+    info.has_emulation = module_emulated(m);
+    return info;
 }
