@@ -34,14 +34,16 @@
  *   halo_library      freed when the caller has destroyed it and every scene and program
  *                     made from it is destroyed too (reference counts). The halo_module
  *                     and halo_param_info pointers it hands out live as long as the library.
- *                     halo_library_override_* refuses (USAGE) to replace a module while a
- *                     scene or program made from the library lives: they point into it.
+ *                     halo_library_add with HALO_ADD_REPLACE refuses (USAGE) to replace a
+ *                     module while a scene or program made from the library lives: they
+ *                     point into it.
  *   halo_scene        keeps its library alive. It links only with that library: halo_link
  *                     refuses (USAGE) desc.scene with another desc.library.
  *   halo_program      keeps its library alive (not the scene: the program copies the
- *                     scene's values). Strings and structs of its reflection (halo_program_*,
- *                     halo_uniform_info, ...) live as long as the program; halo_program_set
- *                     and halo_program_select_group change the values they point to.
+ *                     scene's values). The arrays, strings and structs of its reflection
+ *                     (halo_program_reflection, halo_program_stage_info, ...) live as long
+ *                     as the program; halo_program_set and halo_program_select_group
+ *                     change the values they point to.
  *   halo_emu_frame, halo_gl_frame
  *                     keep their program (and a GL frame its halo_gl) alive. GL objects are
  *                     deleted in whatever GL context is current: destroy a GL frame while its
@@ -59,7 +61,7 @@
  * reach it (a thread that never called halo_setup has no logger). Objects: any number of
  * threads may read one object at once (link scenes of one library, read one program's
  * reflection, validate or emulate one program); a call that changes an object
- * (halo_library_add_*, _override_*, halo_scene_enable, _set, _render_mutable,
+ * (halo_library_add, halo_scene_enable, _set, _render_mutable,
  * halo_program_set, _select_group, a frame's functions, halo_diagnostics_* that add or
  * clear) needs that object to itself: no other thread may use it meanwhile. One
  * halo_diagnostics list belongs to one thread at a time. Creating and destroying objects
