@@ -30,7 +30,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (m) {
         size_t slot = library->count;
         for (size_t i = 0; i < library->count; i++)
-            if (!strcmp(halo_module_describe(library->modules[i]).name, halo_module_describe(m).name))
+            if (!strcmp(halo_module_name_of(library->modules[i]), halo_module_name_of(m)))
                 slot = i;
         halo_module **grown =
             slot == library->count ? realloc(library->modules, (library->count + 1) * sizeof *grown) : library->modules;
@@ -41,7 +41,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (!kept)
                 library->count++;
             halo_scene *scene = halo_scene_create(library);
-            if (scene && halo_scene_enable(scene, halo_module_describe(m).name, 1, diag) == HALO_OK) {
+            if (scene && halo_scene_enable(scene, halo_module_name_of(m), 1, diag) == HALO_OK) {
                 halo_program *p = halo_link(
                     &(halo_link_desc){
                         .library = library, .scene = scene, .host_source = host, .host_file = "host.frag"},
