@@ -12,7 +12,7 @@ cd "$(dirname "$0")"
 # files that paraview-dev does not depend on: libopenmpi-dev (MPI::MPI_C's include
 # folder), libfreetype-dev (VTK::freetype links Freetype::Freetype), libglew-dev (VTK's
 # GLEW, for the VTK adapter too).
-# tests/setup_deps.sh reads this list: keep it one packages="..." of plain names.
+# tests/tree/setup_deps.sh reads this list: keep it one packages="..." of plain names.
 packages="build-essential autoconf automake libtool pkg-config file
   glslang-dev libosmesa6-dev libegl-dev libegl-mesa0 mesa-common-dev libopenimageio-dev libjansson-dev
   clang libclang-rt-14-dev clang-format
@@ -60,12 +60,12 @@ components="--with-egl --with-osmesa --with-glfw --with-vtk --with-paraview --wi
 [ -f Makefile ] || ./configure $components ${HALO_CONFIGURE_FLAGS:-}
 make -j"$(nproc)"
 
-# The browser tests' packages (tests/web/browser.sh), from the lock file into
-# tests/web/node_modules: puppeteer-core (it drives Debian's chromium; it downloads no
+# The browser tests' packages (tests/adapters/web/browser.sh), from the lock file into
+# tests/adapters/web/node_modules: puppeteer-core (it drives Debian's chromium; it downloads no
 # browser) and three (the three.js ray caster, adapters/web/three.mjs).
 for module in puppeteer-core three; do
-  if [ ! -d "tests/web/node_modules/$module" ]; then
-    (cd tests/web && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
+  if [ ! -d "tests/adapters/web/node_modules/$module" ]; then
+    (cd tests/adapters/web && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
     break
   fi
 done

@@ -23,9 +23,9 @@
  * optional. A NULL halo_diagnostics list is always valid: diagnostics are then only
  * passed to the logger, and the halo_diagnostics_* functions treat it as an empty list.
  * The destroy functions take NULL and do nothing, as free() does.
- * tests/unit/test_null_api.c calls each function with each such argument NULL.
+ * tests/libhalo/test_null_api.c calls each function with each such argument NULL.
  *
- * Lifetimes (tests/unit/test_lifetimes.c): each object is created by its create, parse,
+ * Lifetimes (tests/libhalo/test_lifetimes.c): each object is created by its create, parse,
  * load or link function and given back with its destroy function, once; after that the
  * caller must not use the pointer. What an object is made from stays alive while the
  * object lives, whatever order the caller destroys them in:
@@ -52,7 +52,7 @@
  * Validation (halo_validate) needs halo_setup: without it, HALO_ERROR_INPUT and a
  * USAGE diagnostic. Everything else works without setup.
  *
- * Threads (tests/unit/test_threads.c, run under ThreadSanitizer in CI): halo_setup and
+ * Threads (tests/libhalo/test_threads.c, run under ThreadSanitizer in CI): halo_setup and
  * halo_shutdown may be called from any thread; they count (a mutex guards the count) and
  * glslang is finalized by the last halo_shutdown only after every validation in flight on
  * any thread has ended. Validation may run on several threads at once. The logger of

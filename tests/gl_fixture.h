@@ -1,5 +1,5 @@
 /* The set-up of the test programs that draw through a headless OpenGL context
- * (tests/hosts, tests/segments, tests/hard): diagnostics, libhalo's setup, the context,
+ * (tests/examples/hosts, tests/libhalo/gl): diagnostics, libhalo's setup, the context,
  * a library, the GL runtime and, when asked, the built-in volume. Each program includes
  * it once; gl_fixture_close releases what gl_fixture_open made. */
 #ifndef HALO_TEST_GL_FIXTURE_H

@@ -1,5 +1,5 @@
-# The shell tests' shared helpers, sourced by each folder's common.sh (tests/cli,
-# tests/render, tests/view, tests/outline, tests/lines) and tests/vtk/vtk.sh.
+# The shell tests' shared helpers, sourced by each folder's common.sh (tests/validate,
+# tests/tools/halo-render, tests/tools/halo-view, tests/tools/halo-outline, tests/tools/halo-lines) and tests/adapters/vtk/vtk.sh.
 #
 # harness_need VAR...: each variable is set (the harness sets them), else exit 99.
 # harness_program PATH: PATH is built and runnable, else exit 99.

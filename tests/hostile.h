@@ -1,6 +1,6 @@
 /* A host that leaves hostile GL state around libhalo's runtime calls (issue 26), for the
  * tests that require libhalo to set all it needs and give all it touched back
- * (tests/segments/test_segments.c: halo_gl_frame_draw; tests/hosts/test_host_state.c:
+ * (tests/libhalo/gl/test_segments.c: halo_gl_frame_draw; tests/examples/hosts/test_host_state.c:
  * the slice host's frame calls, the feature buffer, OpenGL ES contexts).
  *   hostile_set    every switch that would make a full-screen pass draw nothing or
  *                  something else, odd packing, bindings and per-buffer blending;

@@ -1,28 +1,37 @@
-# tests/: everything make check runs. Unit tests (no GL), module validation, bad-input
-# CLI tests, conformance (halo-validate conform, at a small size), render smoke tests,
-# fuzz replays, hard cases, and tree_clean.sh (the build leaves the checkout clean).
+# tests/: everything make check runs, laid out as the tree it tests (one axis: the test of
+# a file or program is found under its path):
+#   tests/libhalo/        libhalo's files (test_link.c for link.c, test_emit.c for emit.c, ...;
+#                         exports.sh, install_headers.sh), tests/libhalo/gl/ its GL runtime
+#   tests/glsl/           the modules (check_modules.sh)
+#   tests/validate/       halo-validate: check, link and its diagnostics, conform, bench rows
+#   tests/tools/NAME/     each tool (halo-render, halo-view, halo-lines, halo-feature, halo-outline)
+#   tests/examples/       the example hosts (hosts/) and the public-header rule
+#   tests/adapters/NAME/  VTK, ParaView, the web package
+#   tests/tree/           the whole tree: style, no circles, a clean checkout, setup.sh's packages
+#   tests/fuzz/           the fuzz targets, their driver and corpus (replayed here; CI fuzzes)
+# and the shared helpers (harness.sh, gl_fixture.h, hostile.h, xrun.sh) and data (tests/data).
 # Every test finds its data through $srcdir, so they run from a build directory other
 # than the source directory (make distcheck).
 
 # ---- Unit tests: C programs linked with the static core library (internal symbols) ----
 HALO_UNIT_TESTS = \
-	tests/unit/test_module \
-	tests/unit/test_scene \
-	tests/unit/test_scene_counts \
-	tests/unit/test_link \
-	tests/unit/test_emit \
-	tests/unit/test_program \
-	tests/unit/test_host_check \
-	tests/unit/test_compose \
-	tests/unit/test_host_scan \
-	tests/unit/test_emu \
-	tests/unit/test_input_classes \
-	tests/unit/test_lifetimes \
-	tests/unit/test_threads \
-	tests/unit/test_amplify \
-	tests/unit/test_api_bounds
-check_PROGRAMS += $(HALO_UNIT_TESTS) tests/unit/test_public
-noinst_HEADERS += tests/unit/check.h tests/unit/link_fixture.h tests/gl_fixture.h
+	tests/libhalo/test_module \
+	tests/libhalo/test_scene \
+	tests/libhalo/test_scene_counts \
+	tests/libhalo/test_link \
+	tests/libhalo/test_emit \
+	tests/libhalo/test_program \
+	tests/libhalo/test_host_check \
+	tests/libhalo/test_compose \
+	tests/libhalo/test_host_scan \
+	tests/libhalo/test_emu \
+	tests/libhalo/test_input_classes \
+	tests/libhalo/test_lifetimes \
+	tests/libhalo/test_threads \
+	tests/libhalo/test_amplify \
+	tests/libhalo/test_api_bounds
+check_PROGRAMS += $(HALO_UNIT_TESTS) tests/libhalo/test_public
+noinst_HEADERS += tests/libhalo/check.h tests/libhalo/link_fixture.h tests/gl_fixture.h
 
 HALO_TEST_CORE_LIBS = libhalo/libhalo-core.la -lm
 
@@ -34,74 +43,74 @@ HALO_TEST_CORE_LIBS = libhalo/libhalo-core.la -lm
 # without.)
 LDADD = $(HALO_TEST_CORE_LIBS)
 HALO_TEST_CXX_LINK = tests/cxx-link.cc
-nodist_EXTRA_tests_unit_test_module_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_scene_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_scene_counts_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_compose_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_link_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_emit_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_program_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_host_check_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_host_scan_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_emu_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_input_classes_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_lifetimes_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_amplify_SOURCES = $(HALO_TEST_CXX_LINK)
-nodist_EXTRA_tests_unit_test_api_bounds_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_module_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_scene_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_scene_counts_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_compose_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_link_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_emit_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_program_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_host_check_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_host_scan_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_emu_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_input_classes_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_lifetimes_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_amplify_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_api_bounds_SOURCES = $(HALO_TEST_CXX_LINK)
 # Two threads at once (halo.h, "Threads"); .ci/run also runs it under ThreadSanitizer.
-nodist_EXTRA_tests_unit_test_threads_SOURCES = $(HALO_TEST_CXX_LINK)
-tests_unit_test_threads_LDADD = $(HALO_TEST_CORE_LIBS) -lpthread
+nodist_EXTRA_tests_libhalo_test_threads_SOURCES = $(HALO_TEST_CXX_LINK)
+tests_libhalo_test_threads_LDADD = $(HALO_TEST_CORE_LIBS) -lpthread
 # The public API only, through the installed-style shared library.
-nodist_EXTRA_tests_unit_test_public_SOURCES = $(HALO_TEST_CXX_LINK)
-tests_unit_test_public_LDADD = libhalo/libhalo.la
+nodist_EXTRA_tests_libhalo_test_public_SOURCES = $(HALO_TEST_CXX_LINK)
+tests_libhalo_test_public_LDADD = libhalo/libhalo.la
 
-TESTS += $(HALO_UNIT_TESTS) tests/unit/test_public
+TESTS += $(HALO_UNIT_TESTS) tests/libhalo/test_public
 
 # Every public function given NULL where it expects an object (one row per HALO_API
 # function; the rows are checked against the headers). The GL calls with a valid
 # runtime need a headless context.
-check_PROGRAMS += tests/unit/test_null_api
-nodist_EXTRA_tests_unit_test_null_api_SOURCES = $(HALO_TEST_CXX_LINK)
-tests_unit_test_null_api_LDADD = $(HALO_TEST_CORE_LIBS) libhalo/libhalo-headless.la
-TESTS += tests/unit/test_null_api
+check_PROGRAMS += tests/libhalo/test_null_api
+nodist_EXTRA_tests_libhalo_test_null_api_SOURCES = $(HALO_TEST_CXX_LINK)
+tests_libhalo_test_null_api_LDADD = $(HALO_TEST_CORE_LIBS) libhalo/libhalo-headless.la
+TESTS += tests/libhalo/test_null_api
 
 # ---- Shell tests: the command-line tools on good and bad input ----
 HALO_SHELL_TESTS = \
-	tests/check_modules.sh \
-	tests/exports.sh \
-	tests/install_headers.sh \
-	tests/conform.sh \
-	tests/conform_egl.sh \
-	tests/conform_es.sh \
-	tests/render.sh \
-	tests/cli/link_ok.sh \
-	tests/cli/missing_file.sh \
-	tests/cli/bad_annotation.sh \
-	tests/cli/unknown_stage.sh \
-	tests/cli/cycle.sh \
-	tests/cli/host_no_marker.sh \
-	tests/cli/host_diagnostics.sh \
-	tests/cli/bad_json.sh \
-	tests/cli/out_of_range.sh \
-	tests/cli/nonfinite.sh \
-	tests/cli/usage.sh \
-	tests/cli/conform_list.sh \
-	tests/cli/accuracy_doc.sh \
-	tests/tree_clean.sh \
-	tests/cli/nul_byte.sh \
-	tests/cli/directory.sh \
-	tests/cli/bom.sh \
-	tests/cli/error_limit.sh \
-	tests/cli/glsl_diagnostics.sh \
-	tests/cli/glslang_agree.sh \
-	tests/cli/render_output.sh \
-	tests/cli/file_bounds.sh \
-	tests/cli/pieces_composed.sh \
-	tests/cli/pieces_versions.sh \
-	tests/cli/pieces_reflect.sh \
-	tests/cli/host_contract_rules.sh \
+	tests/glsl/check_modules.sh \
+	tests/libhalo/exports.sh \
+	tests/libhalo/install_headers.sh \
+	tests/validate/conform.sh \
+	tests/validate/conform_egl.sh \
+	tests/validate/conform_es.sh \
+	tests/tools/halo-render/default.sh \
+	tests/validate/link_ok.sh \
+	tests/validate/missing_file.sh \
+	tests/validate/bad_annotation.sh \
+	tests/validate/unknown_stage.sh \
+	tests/validate/cycle.sh \
+	tests/validate/host_no_marker.sh \
+	tests/validate/host_diagnostics.sh \
+	tests/validate/bad_json.sh \
+	tests/validate/out_of_range.sh \
+	tests/validate/nonfinite.sh \
+	tests/validate/usage.sh \
+	tests/validate/conform_list.sh \
+	tests/validate/accuracy_doc.sh \
+	tests/tree/tree_clean.sh \
+	tests/validate/nul_byte.sh \
+	tests/validate/directory.sh \
+	tests/validate/bom.sh \
+	tests/validate/error_limit.sh \
+	tests/validate/glsl_diagnostics.sh \
+	tests/validate/glslang_agree.sh \
+	tests/validate/render_output.sh \
+	tests/validate/file_bounds.sh \
+	tests/validate/pieces_composed.sh \
+	tests/validate/pieces_versions.sh \
+	tests/validate/pieces_reflect.sh \
+	tests/validate/host_contract_rules.sh \
 	tests/examples/public_headers.sh \
-	tests/style.sh
+	tests/tree/style.sh
 TESTS += $(HALO_SHELL_TESTS)
 
 TEST_EXTENSIONS = .sh
@@ -126,8 +135,8 @@ AM_TESTS_ENVIRONMENT = \
 
 # Test data: scenes, hosts and modules, good and bad.
 HALO_TEST_FILES = \
-	tests/cli/common.sh tests/harness.sh \
-	tests/conform_backend.sh \
+	tests/validate/common.sh tests/harness.sh \
+	tests/validate/conform_backend.sh \
 	tests/lsan.supp \
 	tests/tsan.supp \
 	tests/data/hosts/minimal.frag \
@@ -185,71 +194,71 @@ EXTRA_DIST += tests/fuzz/replay.sh tests/fuzz/run-libfuzzer.sh tests/fuzz/corpus
 
 # ---- Lines (Everts et al. 2009): halo-lines renders, conformance rows, bad polylines ----
 HALO_LINES_TESTS = \
-	tests/lines/depth_gap.sh \
-	tests/lines/conform.sh \
-	tests/lines/render.sh \
-	tests/lines/bad_polyline.sh
+	tests/tools/halo-lines/depth_gap.sh \
+	tests/tools/halo-lines/conform.sh \
+	tests/tools/halo-lines/render.sh \
+	tests/tools/halo-lines/bad_polyline.sh
 TESTS += $(HALO_LINES_TESTS)
-EXTRA_DIST += $(HALO_LINES_TESTS) tests/lines/common.sh
+EXTRA_DIST += $(HALO_LINES_TESTS) tests/tools/halo-lines/common.sh
 
 # ---- halo-render: every example scene, --no-halos, volume files (NIfTI, raw), the MRI
 # head of mricron-data (skipped without it), bad volumes and options, --max-error, feature
 # halos and outline post passes ----
 HALO_RENDER_TESTS = \
-	tests/render/scenes.sh \
-	tests/render/no_halos.sh \
-	tests/render/volumes.sh \
-	tests/render/bad_volumes.sh \
-	tests/render/nifti_header.sh \
-	tests/render/volume_memory.sh \
-	tests/render/mri.sh \
-	tests/render/max_error.sh \
-	tests/render/bench.sh \
-	tests/render/features.sh \
-	tests/render/gradient_format.sh \
-	tests/render/es.sh
+	tests/tools/halo-render/scenes.sh \
+	tests/tools/halo-render/no_halos.sh \
+	tests/tools/halo-render/volumes.sh \
+	tests/tools/halo-render/bad_volumes.sh \
+	tests/tools/halo-render/nifti_header.sh \
+	tests/tools/halo-render/volume_memory.sh \
+	tests/tools/halo-render/mri.sh \
+	tests/tools/halo-render/max_error.sh \
+	tests/tools/halo-render/bench.sh \
+	tests/tools/halo-render/features.sh \
+	tests/tools/halo-render/gradient_format.sh \
+	tests/tools/halo-render/es.sh
 TESTS += $(HALO_RENDER_TESTS)
-EXTRA_DIST += $(HALO_RENDER_TESTS) tests/render/common.sh \
+EXTRA_DIST += $(HALO_RENDER_TESTS) tests/tools/halo-render/common.sh \
 	tests/data/volumes/sphere.nii tests/data/volumes/sphere.nii.gz
 
 # ---- halo-view, the interactive viewer (needs GLFW and xvfb-run, else skipped): its
 # screenshot against halo-render's image of the same view, keys and saved scenes, and
 # reloading an edited or broken scene file ----
 HALO_VIEW_TESTS = \
-	tests/view/screenshot.sh \
-	tests/view/keys.sh \
-	tests/view/reload.sh
+	tests/tools/halo-view/screenshot.sh \
+	tests/tools/halo-view/keys.sh \
+	tests/tools/halo-view/reload.sh
 TESTS += $(HALO_VIEW_TESTS)
-EXTRA_DIST += $(HALO_VIEW_TESTS) tests/view/common.sh
-check_PROGRAMS += tests/view/image_compare
-tests_view_image_compare_SOURCES = tests/view/image_compare.cc
-tests_view_image_compare_CPPFLAGS = $(AM_CPPFLAGS) $(OIIO_CFLAGS)
-tests_view_image_compare_LDADD = $(OIIO_LIBS)
+EXTRA_DIST += $(HALO_VIEW_TESTS) tests/tools/halo-view/common.sh
+check_PROGRAMS += tests/tools/halo-view/image_compare
+tests_tools_halo_view_image_compare_SOURCES = tests/tools/halo-view/image_compare.cc
+tests_tools_halo_view_image_compare_CPPFLAGS = $(AM_CPPFLAGS) $(OIIO_CFLAGS)
+tests_tools_halo_view_image_compare_LDADD = $(OIIO_LIBS)
 if HALO_HAVE_GLFW
 AM_TESTS_ENVIRONMENT += HALO_VIEW='$(abs_top_builddir)/tools/halo-view'; export HALO_VIEW;
 endif
-AM_TESTS_ENVIRONMENT += HALO_IMAGE_COMPARE='$(abs_top_builddir)/tests/view/image_compare'; export HALO_IMAGE_COMPARE;
+AM_TESTS_ENVIRONMENT += HALO_IMAGE_COMPARE='$(abs_top_builddir)/tests/tools/halo-view/image_compare'; export HALO_IMAGE_COMPARE;
 
 # ---- Hard cases (docs/hard-cases.md): whole renders on the GPU path (slice host, slab
 # ray caster) against the emulation on fragile inputs, and the conformance rows that
 # already hold per-stage hard inputs ----
-check_PROGRAMS += tests/hard/test_hard_render
+check_PROGRAMS += tests/examples/hosts/test_hard_render
 # The programs that drive the example hosts: examples/ and validate/ headers, the tools'
 # libraries.
 HALO_TEST_HOST_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/examples -I$(top_srcdir)/validate
-tests_hard_test_hard_render_SOURCES = tests/hard/test_hard_render.c validate/conform_slice.c \
+tests_examples_hosts_test_hard_render_SOURCES = tests/examples/hosts/test_hard_render.c validate/conform_slice.c \
 	validate/conform_harness.c
-tests_hard_test_hard_render_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
-nodist_EXTRA_tests_hard_test_hard_render_SOURCES = $(HALO_TEST_CXX_LINK)
-tests_hard_test_hard_render_LDADD = $(HALO_TOOL_LIBS)
-check_PROGRAMS += tests/hard/test_budget
-nodist_EXTRA_tests_hard_test_budget_SOURCES = $(HALO_TEST_CXX_LINK)
-TESTS += tests/hard/test_hard_render tests/hard/test_budget tests/hard/conform_rows.sh
-EXTRA_DIST += tests/hard/conform_rows.sh
+tests_examples_hosts_test_hard_render_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
+nodist_EXTRA_tests_examples_hosts_test_hard_render_SOURCES = $(HALO_TEST_CXX_LINK)
+tests_examples_hosts_test_hard_render_LDADD = $(HALO_TOOL_LIBS)
+check_PROGRAMS += tests/libhalo/test_budget
+nodist_EXTRA_tests_libhalo_test_budget_SOURCES = $(HALO_TEST_CXX_LINK)
+TESTS += tests/examples/hosts/test_hard_render tests/libhalo/test_budget tests/validate/hard_rows.sh
+EXTRA_DIST += tests/validate/hard_rows.sh
 
 # ---- Feature halos (Svakhine & Ebert 2003, docs/feature-halos.md): conformance rows of
 # the GPU halo buffer and the stage, and the side-by-side scenes ----
-HALO_FEATURE_TESTS = tests/feature/conform.sh tests/feature/render.sh
+HALO_FEATURE_TESTS = tests/tools/halo-feature/conform.sh tests/tools/halo-feature/render.sh
 TESTS += $(HALO_FEATURE_TESTS)
 EXTRA_DIST += $(HALO_FEATURE_TESTS) glsl/feature/feature_halo.glsl
 AM_TESTS_ENVIRONMENT += HALO_FEATURE='$(abs_top_builddir)/tools/halo-feature'; export HALO_FEATURE;
@@ -257,22 +266,22 @@ AM_TESTS_ENVIRONMENT += HALO_FEATURE='$(abs_top_builddir)/tools/halo-feature'; e
 # ---- Outlines and depth enhancement (Svakhine et al. 2009, docs/outlines.md): every
 # outline/depth scene through halo-outline (GPU post passes against their emulation),
 # and the occlusion styles give different images ----
-HALO_OUTLINE_TESTS = tests/outline/render.sh tests/outline/occlusion.sh tests/outline/atlas.sh
+HALO_OUTLINE_TESTS = tests/tools/halo-outline/render.sh tests/tools/halo-outline/occlusion.sh tests/tools/halo-outline/atlas.sh
 TESTS += $(HALO_OUTLINE_TESTS)
-EXTRA_DIST += $(HALO_OUTLINE_TESTS) tests/outline/common.sh
+EXTRA_DIST += $(HALO_OUTLINE_TESTS) tests/tools/halo-outline/common.sh
 AM_TESTS_ENVIRONMENT += HALO_OUTLINE='$(abs_top_builddir)/tools/halo-outline'; export HALO_OUTLINE;
 
 # ---- Host contract 2 (docs/host-contract.md, "Segmented ray casting"): the ray caster in
 # depth segments against one draw and against the slab host; the single-pass diagnostics ----
-check_PROGRAMS += tests/segments/test_segments
-tests_segments_test_segments_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
-nodist_EXTRA_tests_segments_test_segments_SOURCES = $(HALO_TEST_CXX_LINK)
-tests_segments_test_segments_LDADD = $(HALO_TOOL_LIBS)
-TESTS += tests/segments/test_segments
-TESTS += tests/segments/link_cli.sh
-EXTRA_DIST += tests/segments/link_cli.sh tests/data/hosts/single_pass.frag
-TESTS += tests/segments/render_cli.sh
-EXTRA_DIST += tests/segments/render_cli.sh
+check_PROGRAMS += tests/libhalo/gl/test_segments
+tests_libhalo_gl_test_segments_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
+nodist_EXTRA_tests_libhalo_gl_test_segments_SOURCES = $(HALO_TEST_CXX_LINK)
+tests_libhalo_gl_test_segments_LDADD = $(HALO_TOOL_LIBS)
+TESTS += tests/libhalo/gl/test_segments
+TESTS += tests/libhalo/gl/link_cli.sh
+EXTRA_DIST += tests/libhalo/gl/link_cli.sh tests/data/hosts/single_pass.frag
+TESTS += tests/libhalo/gl/render_cli.sh
+EXTRA_DIST += tests/libhalo/gl/render_cli.sh
 
 # ---- tree_clean.sh: what the build writes is neither tracked nor left unignored; it
 # checks the names make builds, so it does not depend on the order the tests run in ----
@@ -283,64 +292,64 @@ AM_TESTS_ENVIRONMENT += HALO_BUILD_OUTPUTS='$(bin_PROGRAMS) $(check_PROGRAMS) $(
 # and validate per target, volumetric halos, outlines and feature halos through each, K
 # forced segments against one draw, the exit-point caster against the ray caster, and the
 # MIP variant's refusal of stages (HOST_COMPOSITING) ----
-check_PROGRAMS += tests/hosts/test_hosts
-tests_hosts_test_hosts_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
-nodist_EXTRA_tests_hosts_test_hosts_SOURCES = $(HALO_TEST_CXX_LINK)
-tests_hosts_test_hosts_LDADD = $(HALO_TOOL_LIBS)
-TESTS += tests/hosts/test_hosts
+check_PROGRAMS += tests/examples/hosts/test_hosts
+tests_examples_hosts_test_hosts_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
+nodist_EXTRA_tests_examples_hosts_test_hosts_SOURCES = $(HALO_TEST_CXX_LINK)
+tests_examples_hosts_test_hosts_LDADD = $(HALO_TOOL_LIBS)
+TESTS += tests/examples/hosts/test_hosts
 
 # ray@ortho at 128 and 256 pixels a side (issue 26).
-TESTS += tests/conform_sizes.sh
-EXTRA_DIST += tests/conform_sizes.sh
+TESTS += tests/validate/conform_sizes.sh
+EXTRA_DIST += tests/validate/conform_sizes.sh
 
 # libhalo's runtime in a host's hostile GL state (issue 26): the slice and slab hosts'
 # frame calls, the feature buffer, the ray caster; on OpenGL ES contexts too.
-check_PROGRAMS += tests/hosts/test_host_state
-tests_hosts_test_host_state_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
-nodist_EXTRA_tests_hosts_test_host_state_SOURCES = $(HALO_TEST_CXX_LINK)
-tests_hosts_test_host_state_LDADD = $(HALO_TOOL_LIBS)
-TESTS += tests/hosts/test_host_state tests/hosts/host_state_es.sh
-EXTRA_DIST += tests/hosts/host_state_es.sh tests/hostile.h
+check_PROGRAMS += tests/examples/hosts/test_host_state
+tests_examples_hosts_test_host_state_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
+nodist_EXTRA_tests_examples_hosts_test_host_state_SOURCES = $(HALO_TEST_CXX_LINK)
+tests_examples_hosts_test_host_state_LDADD = $(HALO_TOOL_LIBS)
+TESTS += tests/examples/hosts/test_host_state tests/examples/hosts/host_state_es.sh
+EXTRA_DIST += tests/examples/hosts/host_state_es.sh tests/hostile.h
 
 # The gradient texture built on the GPU against the CPU's central differences.
-check_PROGRAMS += tests/hosts/test_exact_work
-tests_hosts_test_exact_work_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
-nodist_EXTRA_tests_hosts_test_exact_work_SOURCES = $(HALO_TEST_CXX_LINK)
-tests_hosts_test_exact_work_LDADD = $(HALO_TOOL_LIBS)
-TESTS += tests/hosts/test_exact_work
+check_PROGRAMS += tests/examples/hosts/test_exact_work
+tests_examples_hosts_test_exact_work_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
+nodist_EXTRA_tests_examples_hosts_test_exact_work_SOURCES = $(HALO_TEST_CXX_LINK)
+tests_examples_hosts_test_exact_work_LDADD = $(HALO_TOOL_LIBS)
+TESTS += tests/examples/hosts/test_exact_work
 
 # ---- VTK (adapters/vtk, examples/halo-vtk): skipped (77) when configure found no VTK ----
-TESTS += tests/vtk/vtk.sh
-EXTRA_DIST += tests/vtk/vtk.sh tests/xrun.sh
-EXTRA_DIST += tests/vtk/test_vtk_lifetimes.cxx tests/vtk/test_vtk_two_volumes.cxx tests/vtk/test_ball.h
+TESTS += tests/adapters/vtk/vtk.sh
+EXTRA_DIST += tests/adapters/vtk/vtk.sh tests/xrun.sh
+EXTRA_DIST += tests/adapters/vtk/test_vtk_lifetimes.cxx tests/adapters/vtk/test_vtk_two_volumes.cxx tests/adapters/vtk/test_ball.h
 if HALO_HAVE_VTK
 AM_TESTS_ENVIRONMENT += HALO_VTK='$(abs_top_builddir)/examples/halo-vtk'; export HALO_VTK;
-# the adapter's lifetimes and misuse, run by tests/vtk/vtk.sh on its X server
-check_PROGRAMS += tests/vtk/test_vtk_lifetimes
-tests_vtk_test_vtk_lifetimes_SOURCES = tests/vtk/test_vtk_lifetimes.cxx adapters/vtk/halo_vtk.cxx
+# the adapter's lifetimes and misuse, run by tests/adapters/vtk/vtk.sh on its X server
+check_PROGRAMS += tests/adapters/vtk/test_vtk_lifetimes
+tests_adapters_vtk_test_vtk_lifetimes_SOURCES = tests/adapters/vtk/test_vtk_lifetimes.cxx adapters/vtk/halo_vtk.cxx
 HALO_VTK_TEST_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_srcdir)/adapters/vtk $(VTK_CPPFLAGS)
 HALO_VTK_TEST_CXXFLAGS = $(AM_CXXFLAGS) -Wno-deprecated-copy -Wno-extra-semi
 HALO_VTK_TEST_LDADD = $(HALO_TOOL_LIBS) $(VTK_LIBS)
-tests_vtk_test_vtk_lifetimes_CPPFLAGS = $(HALO_VTK_TEST_CPPFLAGS)
-tests_vtk_test_vtk_lifetimes_CXXFLAGS = $(HALO_VTK_TEST_CXXFLAGS)
-tests_vtk_test_vtk_lifetimes_LDADD = $(HALO_VTK_TEST_LDADD)
-AM_TESTS_ENVIRONMENT += HALO_VTK_LIFETIMES='$(abs_top_builddir)/tests/vtk/test_vtk_lifetimes'; export HALO_VTK_LIFETIMES;
+tests_adapters_vtk_test_vtk_lifetimes_CPPFLAGS = $(HALO_VTK_TEST_CPPFLAGS)
+tests_adapters_vtk_test_vtk_lifetimes_CXXFLAGS = $(HALO_VTK_TEST_CXXFLAGS)
+tests_adapters_vtk_test_vtk_lifetimes_LDADD = $(HALO_VTK_TEST_LDADD)
+AM_TESTS_ENVIRONMENT += HALO_VTK_LIFETIMES='$(abs_top_builddir)/tests/adapters/vtk/test_vtk_lifetimes'; export HALO_VTK_LIFETIMES;
 # two volumes in one renderer: the depth order with the adapter on either one
-check_PROGRAMS += tests/vtk/test_vtk_two_volumes
-tests_vtk_test_vtk_two_volumes_SOURCES = tests/vtk/test_vtk_two_volumes.cxx adapters/vtk/halo_vtk.cxx
-tests_vtk_test_vtk_two_volumes_CPPFLAGS = $(HALO_VTK_TEST_CPPFLAGS)
-tests_vtk_test_vtk_two_volumes_CXXFLAGS = $(HALO_VTK_TEST_CXXFLAGS)
-tests_vtk_test_vtk_two_volumes_LDADD = $(HALO_VTK_TEST_LDADD)
-AM_TESTS_ENVIRONMENT += HALO_VTK_TWO_VOLUMES='$(abs_top_builddir)/tests/vtk/test_vtk_two_volumes'; export HALO_VTK_TWO_VOLUMES;
+check_PROGRAMS += tests/adapters/vtk/test_vtk_two_volumes
+tests_adapters_vtk_test_vtk_two_volumes_SOURCES = tests/adapters/vtk/test_vtk_two_volumes.cxx adapters/vtk/halo_vtk.cxx
+tests_adapters_vtk_test_vtk_two_volumes_CPPFLAGS = $(HALO_VTK_TEST_CPPFLAGS)
+tests_adapters_vtk_test_vtk_two_volumes_CXXFLAGS = $(HALO_VTK_TEST_CXXFLAGS)
+tests_adapters_vtk_test_vtk_two_volumes_LDADD = $(HALO_VTK_TEST_LDADD)
+AM_TESTS_ENVIRONMENT += HALO_VTK_TWO_VOLUMES='$(abs_top_builddir)/tests/adapters/vtk/test_vtk_two_volumes'; export HALO_VTK_TWO_VOLUMES;
 endif
 
 # ---- The house: no circles between the C files of a folder (issue 12) ----
-TESTS += tests/no_circles.sh
-EXTRA_DIST += tests/no_circles.sh tests/tools/circles.py
+TESTS += tests/tree/no_circles.sh
+EXTRA_DIST += tests/tree/no_circles.sh tests/tools/circles.py
 
 # ---- ParaView (adapters/paraview): skipped (77) without the plugin, pvbatch or mpirun ----
-TESTS += tests/paraview/paraview.sh
-EXTRA_DIST += tests/paraview/paraview.sh
+TESTS += tests/adapters/paraview/paraview.sh
+EXTRA_DIST += tests/adapters/paraview/paraview.sh
 AM_TESTS_ENVIRONMENT += HALO_PVBATCH_SCRIPT='$(abs_top_srcdir)/adapters/paraview/halo_pvbatch.py'; export HALO_PVBATCH_SCRIPT;
 if HALO_HAVE_PARAVIEW
 AM_TESTS_ENVIRONMENT += HALO_PARAVIEW_PLUGIN='$(abs_top_builddir)/$(paraview_plugin)'; export HALO_PARAVIEW_PLUGIN;
@@ -349,16 +358,16 @@ endif
 # ---- setup.sh installs everything the build uses (issue 24): each library linked and
 # header included, by configure's, CMake's and ldd's account, is in a package setup.sh
 # installs or one of those depends on; skipped (77) without dpkg and apt ----
-TESTS += tests/setup_deps.sh
-EXTRA_DIST += tests/setup_deps.sh
+TESTS += tests/tree/setup_deps.sh
+EXTRA_DIST += tests/tree/setup_deps.sh
 
 # ---- The web package (adapters/web): its JavaScript API under node against the native
 # linker, and the example ray caster in headless Chromium against halo-render (skipped
 # when configure left the web package out, or without chromium or puppeteer-core) ----
-HALO_WEB_TESTS = tests/web/api.sh tests/web/browser.sh
+HALO_WEB_TESTS = tests/adapters/web/api.sh tests/adapters/web/browser.sh
 TESTS += $(HALO_WEB_TESTS)
-EXTRA_DIST += $(HALO_WEB_TESTS) tests/web/api.test.mjs tests/web/browser.mjs tests/web/raycast.html tests/web/three.html \
-	tests/web/package.json tests/web/package-lock.json
+EXTRA_DIST += $(HALO_WEB_TESTS) tests/adapters/web/api.test.mjs tests/adapters/web/browser.mjs tests/adapters/web/raycast.html tests/adapters/web/three.html \
+	tests/adapters/web/package.json tests/adapters/web/package-lock.json
 AM_TESTS_ENVIRONMENT += HALO_HAVE_WEB='$(HALO_HAVE_WEB)'; export HALO_HAVE_WEB; \
 	HALO_WEB_PACKAGE='$(abs_top_builddir)/adapters/web/package'; export HALO_WEB_PACKAGE; \
 	NODE='$(NODE)'; export NODE;

@@ -1,4 +1,4 @@
-# xrun, sourced by the tests that need an X display (tests/view/, tests/vtk/); needs $tmp.
+# xrun, sourced by the tests that need an X display (tests/tools/halo-view/, tests/adapters/vtk/); needs $tmp.
 # xrun COMMAND...: runs it on a private X server (Xvfb, 24-bit screen). xvfb-run -a
 # looks for a free display number from -n on, racing with other tests doing the same
 # (make -j check): each test starts from its own number, and a server that failed to

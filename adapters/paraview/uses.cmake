@@ -1,5 +1,5 @@
 # halo_write_uses(FILE): what this project's targets use from outside the tree, for
-# tests/setup_deps.sh (setup.sh installs everything the build uses): every imported target
+# tests/tree/setup_deps.sh (setup.sh installs everything the build uses): every imported target
 # they reach through the links CMake follows when it generates the build (link interfaces,
 # and the private libraries of shared ones, IMPORTED_LINK_DEPENDENT_LIBRARIES: CMake
 # checks their include folders exist, as ParaView's FindMPI's MPI::MPI_C shows), with its

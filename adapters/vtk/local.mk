@@ -1,6 +1,6 @@
 # adapters/vtk/: libhalo inside VTK (docs/hosts/vtk.md). libhalo-vtk installs a linked
 # scene into vtkGPUVolumeRayCastMapper through shader replacements and custom uniforms;
-# examples/halo-vtk renders with it; tests/vtk/ checks it under xvfb-run. Built only when
+# examples/halo-vtk renders with it; tests/adapters/vtk/ checks it under xvfb-run. Built only when
 # configure finds VTK (setup.sh installs Debian's libvtk9-dev).
 EXTRA_DIST += adapters/vtk/halo_vtk.cxx adapters/vtk/halo_vtk.h examples/halo-vtk.cxx adapters/vtk/libhalo-vtk.pc.in
 

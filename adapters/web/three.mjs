@@ -28,7 +28,7 @@
 // channel is already normalized to [0, 1]; the transfer function is N x 1 RGBA (linear
 // colour, opacity per unit step); depth is 0 at the front of the volume's bounding sphere
 // and 1 at its back, as in examples/hosts/raycast.frag, with which it is compared in the
-// browser tests (tests/web/browser.mjs).
+// browser tests (tests/adapters/web/browser.mjs).
 
 export const MARKERS = Object.freeze({
   declarations: '//halo:declarations',

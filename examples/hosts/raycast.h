@@ -116,7 +116,7 @@ void halo_raycast_set_exchange_max_bytes(halo_raycast *r, size_t bytes);
 /* The cap on a one-draw frame's halo field (halo_gl_segments_desc.field_max_bytes; 0:
  * libhalo's default). */
 void halo_raycast_set_field_max_bytes(halo_raycast *r, size_t bytes);
-/* A host that leaves its GL state untidy (tests/segments/test_segments, issue 26): with
+/* A host that leaves its GL state untidy (tests/libhalo/gl/test_segments, issue 26): with
  * untidy set, the host's draw sets the state it needs itself (no culling, depth, stencil,
  * blending, scissor or rasterizer discard, filled polygons, every colour written) and
  * afterwards calls untidy(user, 0), which may leave any state for the libhalo calls that

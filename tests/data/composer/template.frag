@@ -1,6 +1,6 @@
 #version 150
 // An engine's ray-casting template in the style of VTK's: tags the engine replaces with
-// libhalo's pieces (tests/cli/pieces_composed.sh composes it with compose.awk).
+// libhalo's pieces (tests/validate/pieces_composed.sh composes it with compose.awk).
 uniform sampler3D in_volume[1];
 uniform vec3 in_step;
 out vec4 fragOutput0;

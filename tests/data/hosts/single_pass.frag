@@ -1,6 +1,6 @@
 #version 330 core
 // A single-pass ray caster that never calls halo_segment_begin: it cannot run the
-// image passes of volumetric halos (tests/segments/link_cli.sh).
+// image passes of volumetric halos (tests/libhalo/gl/link_cli.sh).
 #pragma halo declarations
 uniform sampler3D volume;
 in vec2 ndc;

@@ -1,0 +1,118 @@
+// The web package's JavaScript API under node (tests/adapters/web/api.sh runs it): the WebAssembly
+// linker must write the same shaders and reflection as the native one (halo-validate link),
+// byte for byte, for every example scene in the example hosts and as composer pieces; its
+// errors are HaloErrors at file:line:col; live parameters reach WebGL's uniforms.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import fs from 'node:fs';
+import path from 'node:path';
+
+const srcdir = process.env.srcdir;
+const validate = process.env.HALO_VALIDATE;
+const { default: libhalo, HaloError } = await import(path.resolve(process.env.HALO_WEB_PACKAGE, 'libhalo.mjs'));
+const halo = await libhalo();
+const scenes = path.join(srcdir, 'examples/scenes');
+const hosts = path.join(srcdir, 'examples/hosts');
+
+function native(args) {
+  try {
+    return { out: execFileSync(validate, args, { encoding: 'utf8', stdio: ['ignore', 'pipe', 'pipe'] }) };
+  } catch (e) {
+    return { error: e.stderr };
+  }
+}
+
+test('every example scene links as the native linker links it (es300, raycast.frag and webgl_caster.frag)', () => {
+  let compared = 0, refused = 0;
+  for (const host of ['raycast.frag', 'webgl_caster.frag']) {
+    const hostPath = path.join(hosts, host);
+    const hostText = fs.readFileSync(hostPath, 'utf8');
+    for (const file of fs.readdirSync(scenes).filter((f) => f.endsWith('.json')).sort()) {
+      const scenePath = path.join(scenes, file);
+      const expected = native(['link', '--scene', scenePath, '--host', hostPath, '--target', 'es300']);
+      let program;
+      try {
+        program = halo.link({ scene: fs.readFileSync(scenePath, 'utf8'), sceneFile: scenePath, host: hostText,
+          hostFile: hostPath });
+      } catch (e) {
+        assert.ok(e instanceof HaloError, `${file}: ${e}`);
+        assert.ok(expected.error !== undefined, `${file} in ${host}: refused in WebAssembly (${e.message}), linked natively`);
+        assert.ok(expected.error.includes(e.diagnostics[0].message), `${file}: another error natively:\n${expected.error}`);
+        refused++;
+        continue;
+      }
+      assert.equal(expected.error, undefined, `${file} in ${host}: linked in WebAssembly, refused natively`);
+      assert.equal(program.source, expected.out, `${file} in ${host}: the linked source differs`);
+      const reflected = native(['link', '--scene', scenePath, '--host', hostPath, '--target', 'es300', '--reflect']);
+      assert.deepEqual(program.reflection, JSON.parse(reflected.out), `${file} in ${host}: the reflection differs`);
+      program.destroy();
+      compared++;
+    }
+  }
+  console.log(`${compared} programs identical to the native linker's, ${refused} refused by both`);
+  assert.ok(compared >= 40);
+});
+
+test('composer pieces are the native ones', () => {
+  const scenePath = path.join(scenes, 'boundary-silhouette.json');
+  const pieces = { volume: 'u_volume', color: 'halo_color' };
+  const program = halo.link({ scene: fs.readFileSync(scenePath, 'utf8'), sceneFile: scenePath, pieces });
+  const expected = native(['link', '--pieces', '--scene', scenePath, '--target', 'es300', '--sample', 'volume=u_volume',
+    '--sample', 'color=halo_color']);
+  assert.equal(expected.error, undefined, expected.error);
+  for (const [name, text] of Object.entries(program.pieces))
+    assert.ok(expected.out.includes(text.trimEnd()), `the ${name} piece is not in the native output`);
+  assert.deepEqual(Object.keys(program.pieces).sort(), ['declarations', 'finish', 'sample']);
+});
+
+test('errors are HaloErrors at file:line:col', () => {
+  const host = fs.readFileSync(path.join(hosts, 'raycast.frag'), 'utf8');
+  assert.throws(() => halo.link({ scene: '{"halo_scene": 1, "stages": [{"boundary": {"k_gs": "x"}}]}', sceneFile: 'bad.json', host }),
+    (e) => e instanceof HaloError && e.file === 'bad.json' && e.line === 1 && e.column > 1 &&
+      /^bad\.json:1:\d+: .*k_gs/.test(e.message));
+  assert.throws(() => halo.link({ scene: '{"halo_scene": 1, "stages": [{"no_such_stage": {}}]}', host }),
+    (e) => e instanceof HaloError && e.id !== undefined && /no_such_stage/.test(e.message));
+  assert.throws(() => halo.link({ host, target: 'es310' }), /target 'es310' is not 330, 450, es300 or 150/);
+  assert.throws(() => halo.link({ host, colour: 1 }), /unknown option 'colour'/);
+  assert.throws(() => halo.link({}), /give host/);
+  assert.throws(() => halo.link({ scene: '{"halo_scene": 1, "stages": [{"boundary": {}}]}', host: 'void main() {}', hostFile: 'mine.frag' }),
+    (e) => e instanceof HaloError && e.file === 'mine.frag');
+});
+
+test('live parameters: set checks the range, upload reaches the uniforms', () => {
+  const host = fs.readFileSync(path.join(hosts, 'raycast.frag'), 'utf8');
+  const program = halo.link({ scene: '{"halo_scene": 1, "stages": [{"tone_shading": {"live": ["k_ta", "lights"]}}]}', host });
+  const calls = [];
+  const gl = {
+    getUniformLocation: (p, name) => (program.source.includes(`uniform float ${name};`) || program.source.includes(`${name}[`) ||
+      program.source.includes(`uniform int ${name};`) ? name : null),
+    uniform1fv: (l, v) => calls.push(['1fv', l, Array.from(v)]),
+    uniform3fv: (l, v) => calls.push(['3fv', l, Array.from(v)]),
+    uniform1i: (l, v) => calls.push(['1i', l, v]),
+  };
+  program.upload(gl, {});
+  assert.deepEqual(calls.find((c) => c[1] === 'halo_tone_shading_k_ta'), ['1fv', 'halo_tone_shading_k_ta', [1]]);
+  calls.length = 0;
+  program.set('tone_shading.k_ta', 0.4);
+  program.set('tone_shading', 'lights', [[0, 0, 1], [1, 0, 0]]);
+  program.upload(gl, {});
+  assert.deepEqual(calls.find((c) => c[1] === 'halo_tone_shading_k_ta')[2].map((x) => +x.toFixed(6)), [0.4]);
+  assert.deepEqual(calls.find((c) => c[1] === 'halo_tone_shading_lights'), ['3fv', 'halo_tone_shading_lights', [0, 0, 1, 1, 0, 0]]);
+  assert.deepEqual(calls.find((c) => c[1] === 'halo_tone_shading_lights_count'), ['1i', 'halo_tone_shading_lights_count', 2]);
+  assert.throws(() => program.set('tone_shading.k_ta', 99), (e) => e instanceof HaloError && /above the maximum/.test(e.message));
+  assert.throws(() => program.set('tone_shading.k_td', 1), HaloError); // not live
+  assert.throws(() => program.set('k_ta', 1), /is not stage\.param/);
+});
+
+test('a WebGL compile log maps to the modules', () => {
+  const host = fs.readFileSync(path.join(hosts, 'raycast.frag'), 'utf8');
+  const program = halo.link({ scene: fs.readFileSync(path.join(scenes, 'default.json'), 'utf8'), host, hostFile: 'raycast.frag' });
+  const lines = program.source.split('\n');
+  const at = lines.findIndex((l) => l.includes('void halo_tone_shading_apply')) + 1;
+  assert.ok(at > 0);
+  assert.equal(program.mapLog(`ERROR: 0:${at}: 'x' : undeclared identifier`),
+    `ERROR: ${program.mapLine(at).file}:${program.mapLine(at).line}: 'x' : undeclared identifier`);
+  assert.match(program.mapLine(at).file, /tone_shading\.glsl$/);
+  assert.deepEqual(program.mapLine(1), { file: 'raycast.frag', line: 1 });
+});

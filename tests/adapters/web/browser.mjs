@@ -1,0 +1,118 @@
+// The web package in a real browser (tests/adapters/web/browser.sh): headless Chromium (WebGL 2 on
+// SwiftShader), driven by puppeteer-core, draws with a scene's per-sample stages, with the
+// inputs that halo-render --export-host wrote for the same scene, camera and volume:
+//   - examples/hosts/raycast.frag linked in the page (tests/adapters/web/raycast.html);
+//   - the web package's three.js ray caster with the stages put in by installHalo
+//     (adapters/web/three.mjs, tests/adapters/web/three.html), drawn by three.js.
+// Each image must be within LIMIT (mean abs) of halo-render's; the viewer without libhalo
+// must differ from it by more than EFFECT (the stages are visible); a deliberately wrong
+// reference must fail; in three.js, the stages installed and removed again must give the
+// caster alone (max abs 0).
+//   node browser.mjs CASE_DIR SCENE [CASE_DIR SCENE]...   (environment: srcdir,
+//   HALO_WEB_PACKAGE, HALO_CHROMIUM, HALO_WEB_LIMIT)
+import http from 'node:http';
+import fs from 'node:fs';
+import path from 'node:path';
+import { createRequire } from 'node:module';
+
+const require = createRequire(path.join(path.resolve(process.env.HALO_WEB_MODULES), 'package.json'));
+const puppeteer = require('puppeteer-core');
+const srcdir = path.resolve(process.env.srcdir);
+const packageDir = path.resolve(process.env.HALO_WEB_PACKAGE);
+const modulesDir = path.resolve(process.env.HALO_WEB_MODULES);
+const LIMIT = Number(process.env.HALO_WEB_LIMIT || 1e-4);
+const EFFECT = 0.01;
+const cases = [];
+for (let i = 2; i + 1 < process.argv.length + 1; i += 2) cases.push({ dir: path.resolve(process.argv[i]), scene: process.argv[i + 1] });
+
+const types = { '.html': 'text/html', '.mjs': 'text/javascript', '.js': 'text/javascript', '.wasm': 'application/wasm',
+  '.json': 'application/json' };
+let inputs = null; // the case being drawn: its folder is /in/
+const server = http.createServer((request, response) => {
+  const url = decodeURIComponent(new URL(request.url, 'http://localhost').pathname);
+  const roots = [['/pkg/', packageDir], ['/src/', srcdir], ['/in/', inputs], ['/modules/', modulesDir],
+    ['/', path.join(srcdir, 'tests/adapters/web')]];
+  for (const [prefix, root] of roots) {
+    if (!url.startsWith(prefix) || !root) continue;
+    const file = path.resolve(root, url.slice(prefix.length) || 'raycast.html');
+    if (!file.startsWith(root + path.sep) || !fs.existsSync(file) || !fs.statSync(file).isFile()) break;
+    response.writeHead(200, { 'content-type': types[path.extname(file)] || 'application/octet-stream' });
+    fs.createReadStream(file).pipe(response);
+    return;
+  }
+  response.writeHead(404);
+  response.end();
+});
+await new Promise((resolve) => server.listen(0, '127.0.0.1', resolve)); // loopback only
+const origin = `http://127.0.0.1:${server.address().port}`;
+
+function difference(a, b) {
+  let sum = 0, max = 0;
+  for (let i = 0; i < a.length; ++i) {
+    const d = Math.abs(a[i] - b[i]);
+    if (!(d <= max)) max = Number.isNaN(d) ? Infinity : d;
+    sum += Number.isNaN(d) ? Infinity : d;
+  }
+  return { mean: sum / a.length, max };
+}
+
+let failures = 0;
+const fail = (text) => { console.log(`FAIL: ${text}`); failures++; };
+const browser = await puppeteer.launch({
+  executablePath: process.env.HALO_CHROMIUM,
+  headless: true,
+  args: ['--headless=new', '--no-sandbox', '--enable-unsafe-swiftshader', '--use-angle=swiftshader',
+    '--ignore-gpu-blocklist', '--disable-gpu-sandbox'],
+});
+try {
+  const page = await browser.newPage();
+  page.on('console', (m) => console.log(`page: ${m.text()}`));
+  page.on('pageerror', (e) => console.log(`page error: ${e.message}`));
+  let casterAlone = null; // raycast.frag without libhalo, for the three.js caster's own difference
+  for (const c of cases) for (const viewer of ['raycast', 'three']) {
+    inputs = c.dir;
+    await page.goto(`${origin}/${viewer}.html`);
+    await page.waitForFunction('window.ready === true', { timeout: 30000 });
+    const staged = await page.evaluate((scene) => window.render({ scene }), c.scene);
+    const plain = await page.evaluate(() => window.render({ scene: null }));
+    const name = `${c.scene} in ${viewer === 'three' ? "the three.js caster" : 'raycast.frag'}`;
+    const reference = new Float32Array(fs.readFileSync(path.join(c.dir, 'image.f32')).buffer.slice(0));
+    if (reference.length !== staged.pixels.length) {
+      fail(`${name}: ${staged.pixels.length} values in the page, ${reference.length} in halo-render's image`);
+      continue;
+    }
+    const against = difference(staged.pixels, reference), effect = difference(plain.pixels, reference);
+    // the three.js caster is another ray caster: its samples are raycast.frag's up to float
+    // rounding (the ray from the camera, not from the near plane), and the box's rasterized
+    // back faces miss pixels whose ray only grazes it; the limit is its own difference from
+    // raycast.frag without libhalo, twice, plus LIMIT
+    let limit = LIMIT;
+    if (viewer === 'raycast') casterAlone = plain.pixels;
+    else {
+      const own = difference(plain.pixels, casterAlone);
+      limit = 2 * own.mean + LIMIT;
+      console.log(`${c.scene}: the three.js caster alone against raycast.frag alone: mean abs ${own.mean.toExponential(3)}, ` +
+        `max abs ${own.max.toExponential(3)}`);
+    }
+    console.log(`${name}: ${staged.renderer}; against halo-render: mean abs ${against.mean.toExponential(3)}, ` +
+      `max abs ${against.max.toExponential(3)} (limit ${limit.toExponential(3)} mean); the viewer without libhalo against it: mean abs ` +
+      `${effect.mean.toExponential(3)}; link ${staged.linkMs.toFixed(1)} ms, draw and read back ${staged.drawMs.toFixed(1)} ms ` +
+      `(${plain.drawMs.toFixed(1)} ms without the stages)`);
+    if (!(against.mean <= limit)) fail(`${name}: the page's image is ${against.mean} from halo-render's (mean abs)`);
+    if (!(effect.mean > EFFECT)) fail(`${name}: the stages change the image by only ${effect.mean}: not visible`);
+    // the control: the same comparison against a wrong reference (the image shifted by a row) fails
+    const shifted = reference.slice(4 * JSON.parse(fs.readFileSync(path.join(c.dir, 'host.json'))).width);
+    const control = difference(staged.pixels.slice(0, shifted.length), shifted);
+    if (control.mean <= limit) fail(`${name}: an image shifted by one row passes too (${control.mean}): the limit sees nothing`);
+    if (viewer === 'three') { // installed and removed: the caster alone again
+      const removed = await page.evaluate((scene) => window.render({ scene, removed: true }), c.scene);
+      const back = difference(removed.pixels, plain.pixels);
+      if (!(back.max === 0)) fail(`${name}: the stages removed again leave the image ${back.max} from the caster alone`);
+    }
+  }
+} finally {
+  await browser.close();
+  server.close();
+}
+console.log(failures ? `${failures} failed` : `${2 * cases.length} passed, 0 failed`);
+process.exit(failures ? 1 : 0);

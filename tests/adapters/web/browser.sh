@@ -1,0 +1,36 @@
+#!/bin/sh
+# The web package in headless Chromium (tests/adapters/web/browser.mjs): examples/hosts/raycast.frag
+# with a scene's per-sample stages, linked in the page by the WebAssembly linker and drawn
+# in WebGL 2, and the package's three.js ray caster with the stages put in by installHalo
+# (adapters/web/three.mjs), against halo-render --host raycast with the same inputs
+# (--export-host). Skipped (77) without the web package, Chromium, puppeteer-core or
+# three (setup.sh installs
+# them: Debian's chromium, npm ci in tests/adapters/web from its lock file).
+. "$srcdir/tests/tools/halo-render/common.sh"
+if test "${HALO_HAVE_WEB:-}" != yes; then
+    echo "the web package is not built (configure --with-web): skipping"
+    exit 77
+fi
+HALO_CHROMIUM=${HALO_CHROMIUM:-$(command -v chromium || true)}
+if test -z "$HALO_CHROMIUM"; then
+    echo "no chromium (the Debian package chromium): skipping"
+    exit 77
+fi
+HALO_WEB_MODULES=${HALO_WEB_MODULES:-$srcdir/tests/adapters/web/node_modules}
+for module in puppeteer-core three; do
+    if test ! -d "$HALO_WEB_MODULES/$module"; then
+        echo "no $module in $HALO_WEB_MODULES (setup.sh: npm ci --prefix tests/adapters/web): skipping"
+        exit 77
+    fi
+done
+export HALO_CHROMIUM HALO_WEB_MODULES srcdir HALO_WEB_PACKAGE
+set --
+for scene in boundary-silhouette.json distance.json orientation.json; do
+    mkdir -p "$tmp/$scene"
+    run 0 "$HALO_RENDER" --host raycast --scene "$srcdir/examples/scenes/$scene" --size 64x64 --volume-size 32 \
+        --quiet --export-host "$tmp/$scene" -o "$tmp/$scene/reference.png"
+    set -- "$@" "$tmp/$scene" "$scene"
+done
+echo "+ node browser.mjs $*"
+"$NODE" "$srcdir/tests/adapters/web/browser.mjs" "$@" || fail "the pages' images (above)"
+finish

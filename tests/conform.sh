@@ -1,5 +1,0 @@
-#!/bin/sh
-# Conformance through OSMesa: every stage rendered headless matches its C emulation
-# within the stated tolerance (tests/conform_backend.sh; EGL: tests/conform_egl.sh).
-. "${srcdir:-.}/tests/conform_backend.sh"
-conform_backend osmesa "${HALO_HAVE_OSMESA:-}"

@@ -1,0 +1,61 @@
+#!/bin/sh
+# The GL runtime on OpenGL ES (docs/host-contract.md, "OpenGL ES"): halo-render's raycast
+# host through an ES 3.0 context (the WebGL 2 feature set: no per-draw-buffer blending;
+# Mesa is made to report 3.0) and an ES 3.2 one, the shaders linked for GLSL ES 3.00.
+# - host contract 3 (--one-draw: libhalo's march writes the seeds with one blend for all
+#   its buffers) on ES 3.0 and 3.2, and host contract 2 (segments: the host's own seed
+#   output blends per buffer) on ES 3.2: each within LIMIT of the same render on desktop
+#   OpenGL (EGL); the halos must change the image far more than that (the control);
+# - contract 2 on ES 3.0 is refused with the way out; the slice host on ES is a usage error.
+# Skipped (77) without EGL or an ES context.
+. "$srcdir/tests/tools/halo-render/common.sh"
+test -x "${HALO_IMAGE_COMPARE:-}" || { echo "image_compare not built"; exit 99; }
+if test "${HALO_HAVE_EGL:-}" != yes; then
+    echo "this build has no EGL backend: skipping"
+    exit 77
+fi
+# Mesa 22.3's EGL leaks a little at eglTerminate (tests/validate/conform_backend.sh)
+ASAN_OPTIONS="detect_leaks=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
+export ASAN_OPTIONS
+LIMIT=1e-4
+render() { # BACKEND OUT [ARG]...
+    backend=$1 out=$2
+    shift 2
+    run 0 "$HALO_RENDER" --backend "$backend" --host raycast --size 48x48 --volume-size 24 --quiet \
+        -o "$tmp/$out.exr" "$@"
+}
+"$HALO_RENDER" --backend egl-es3.0 --host raycast --no-halos --size 8x8 --volume-size 8 --quiet \
+    -o "$tmp/probe.png" 2>"$tmp/probe" ||
+    { cat "$tmp/probe"; grep -q "no headless OpenGL context" "$tmp/probe" && exit 77; }
+
+render egl one-draw --one-draw
+render egl segments
+render egl plain --no-halos
+render egl-es3.0 one-draw-es30 --one-draw
+render egl-es3.2 one-draw-es32 --one-draw
+render egl-es3.2 segments-es32
+compare() { # A B LIMIT
+    echo "+ image_compare $1 $2 --max-abs $3"
+    "$HALO_IMAGE_COMPARE" "$tmp/$1.exr" "$tmp/$2.exr" --max-abs "$3" --max-share 0 ||
+        fail "$1 and $2 differ by more than $3"
+}
+compare one-draw one-draw-es30 $LIMIT
+compare one-draw one-draw-es32 $LIMIT
+compare segments segments-es32 $LIMIT
+# the control: the halos are visible, far above the limit
+if "$HALO_IMAGE_COMPARE" "$tmp/one-draw.exr" "$tmp/plain.exr" --max-abs 0.05 --max-share 0 >/dev/null; then
+    fail "the halos change the one-draw image by less than 0.05: the comparison above would not see them"
+fi
+
+# contract 2 on ES 3.0: its seed output would need glBlendFunci
+run 1 "$HALO_RENDER" --backend egl-es3.0 --host raycast --size 8x8 --volume-size 8 -o "$tmp/refused.png"
+expect_stderr "per-draw-buffer blending .*OpenGL ES 3.0.*host contract 3 \(halo_link_desc.one_draw\)"
+test ! -e "$tmp/refused.png" || fail "an image was written for a refused program"
+# without --host a halo scene takes the raycast host drawn once on ES
+run 0 "$HALO_RENDER" --backend egl-es3.0 --size 8x8 --volume-size 8 -o "$tmp/auto.png"
+expect_stderr "note: OpenGL ES: the raycast host, drawn once"
+run 2 "$HALO_RENDER" --backend egl-es3.2 --host slice --size 8x8 -o "$tmp/slice.png"
+expect_stderr "error: an OpenGL ES context .* draws the raycast host"
+run 2 "$HALO_RENDER" --backend gles -o "$tmp/bad.png"
+expect_stderr "'gles' is not egl, osmesa, auto, egl-es3.0 or egl-es3.2"
+finish
