@@ -103,7 +103,7 @@ size_t halo_driver_find_halo_stages(const halo_library *lib, const halo_scene *s
     }
     size_t base_count = 0;
     for (size_t i = 0; i < n; ++i)
-        if (is_halo[i])
+        if (is_halo[i] == HALO_DRIVER_HALO)
             base[base_count++] = halo_scene_stage(scene, i);
     link_shape without = probe_link(lib, base, base_count);
     for (size_t i = 0; i < n; ++i) {

@@ -14,11 +14,22 @@ halo_status halo_validate(const halo_validate_desc *d, halo_diagnostics *diag)
                         what ? "more than one" : "none");
         return HALO_ERROR_INPUT;
     }
+    int composed = d->composed || d->composed_file || d->composer_pieces || d->composer_piece_count;
+    if ((composed && !d->program) || (d->library && !d->module) || (d->file && !d->source)) {
+        halo_diag_error(diag, USAGE, "", 0, 0, "halo_validate: desc sets %s, which only %s takes",
+                        composed && !d->program    ? "composed fields"
+                        : d->library && !d->module ? "library"
+                                                   : "file",
+                        composed && !d->program    ? "program"
+                        : d->library && !d->module ? "module"
+                                                   : "source");
+        return HALO_ERROR_INPUT;
+    }
     if (d->module)
         return halo_validate_module(d->library, d->module, d->target, diag);
     if (d->source)
         return halo_validate_source(d->source, d->file, d->kind, d->target, diag);
-    if (d->composed || d->composer_piece_count || d->composer_pieces)
+    if (composed)
         return halo_validate_composed(d->program, d->composed, d->composed_file, d->composer_pieces,
                                       d->composer_piece_count, diag);
     return halo_validate_program(d->program, diag);

@@ -343,10 +343,9 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
     };
     halo_strbuf sample = {0};
     write_sample(&sample, &names, d);
-    char *finish = halo_strdup("halo_finish();\n");
     if (sample.failed || set_declarations(p, d) || (p->engine_uniforms && declare_engine_uniforms(p)) ||
         set_generated_piece(p, HALO_PIECE_SAMPLE, halo_strbuf_take(&sample)) ||
-        set_generated_piece(p, HALO_PIECE_FINISH, finish)) {
+        set_generated_piece(p, HALO_PIECE_FINISH, halo_strdup("halo_finish();\n"))) {
         halo_strbuf_free(&sample);
         halo_program_destroy(p);
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");

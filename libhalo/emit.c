@@ -586,7 +586,9 @@ int halo_emit_program(halo_program *p, const char *host_source, char **host_line
     if (h->marker_line >= 1 && h->marker_line <= host_count)
         emit_block(&block, p, host_source, lib, h->marker_line, host_lines[h->marker_line - 1]);
     emit_text(&tail, p, halo_segment_emit_tail);
-    if (take_text(&block, &p->block) || take_text(&tail, &p->tail))
+    int failed = take_text(&block, &p->block); /* both: each frees its emitter */
+    failed |= take_text(&tail, &p->tail);
+    if (failed)
         return -1;
     /* spliced into the host */
     halo_emitter e = {0};

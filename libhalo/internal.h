@@ -202,8 +202,10 @@ struct halo_program {
     halo_line_origin *origins;
     int origin_count;
     /* The linker's product (emit.c): libhalo's block, which replaces the host's marker line,
-     * and its tail, after the host's last line, each with its lines' origins. source is the
-     * host with them spliced in; a composer's declarations piece is the two together. */
+     * and its tail, after the host's last line, each with its lines' origins as emitted (the
+     * host's #line directives are applied to source's origins afterwards). source is the
+     * host with them spliced in (then, with engine_uniforms, a composer's declarations added);
+     * a composer's declarations piece is the block and the tail together. */
     halo_linked_text block, tail;
     halo_linked_stage *stages;
     size_t stage_count;

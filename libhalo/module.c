@@ -318,7 +318,7 @@ static const struct {
     {"strip_width", offsetof(halo_stage_info, strip_width), HALO_PARAM_FLOAT, "float "},
     {"core_fraction", offsetof(halo_stage_info, core_fraction), HALO_PARAM_FLOAT, "float "},
 };
-#define IS_PARAM_COUNT 4
+#define IS_PARAM_COUNT ((int)(sizeof is_params / sizeof is_params[0]))
 
 static const char **is_param_field(halo_stage_info *info, int k)
 {

@@ -248,8 +248,9 @@ static void print_keys(void)
         "  mouse: left drag orbit, wheel zoom; arrows orbit, + and - zoom, r the scene's camera\n"
         "  1-9    toggle the scene's stages (in scene order)\n"
         "  p / P  select the next / previous parameter of the linked stages (in the title)\n"
-        "  [ / ]  the selected parameter down / up: a bool flips, an int steps by 1 (a stage's\n"
-        "         interval M halves / doubles), a bounded float by a twentieth of its range\n"
+        "  [ / ]  the selected parameter down / up: a bool flips; else by the module's step=;\n"
+        "         else an int by 1 (a stage's interval M halves / doubles), a bounded float by\n"
+        "         a twentieth of its range\n"
         "  tab / shift+tab (pagedown / pageup)  next / previous scene in the scene's folder\n"
         "  s      save the image and the scene (--save-prefix)\n"
         "  h, F1  this help;  q, esc  quit\n",

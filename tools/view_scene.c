@@ -489,7 +489,8 @@ static double flip(double x, double unused)
 
 static double add(double x, double d)
 {
-    return round((x + d) * 1e6) / 1e6; /* 0.9 - 0.05 is 0.85, not 0.8500000000000001 */
+    /* 0.9 - 0.05 is 0.85, not 0.8500000000000001; a step finer than that is taken as it is */
+    return fabs(d) >= 1e-6 ? round((x + d) * 1e6) / 1e6 : x + d;
 }
 
 static double scale_int(double x, double factor) { return round(x * factor); }
@@ -528,7 +529,7 @@ void view_select_param(viewer *v, int step)
     view_update_title(v);
 }
 
-/* A step by what the reflection says of the parameter: its step= when it has one; a bool flips; an int steps by 1,
+/* A step by what the reflection says of the parameter: a bool flips; its step= when it has one; an int steps by 1,
  * or halves and doubles when it is a stage's interval (M: powers of two); a float (or
  * vector: every component) moves by a PARAM_STEPS-th of its range, or by 10 % when the
  * range is unbounded. */
@@ -542,12 +543,20 @@ void view_step_param(viewer *v, int direction)
     }
     const halo_uniform_info *u = &halo_program_reflection(v->program).uniforms[(size_t)i];
     const halo_param_info *info = u->info;
-    if (info->step > 0.0) {
-        change_param(v, u->stage, u->param, add, direction * info->step);
+    if (info->type == HALO_PARAM_CHANNELS && halo_program_group_count(v->program) > 1) {
+        /* the program holds one group of four features at a time: a change here would
+         * write that group back over the scene's others */
+        fprintf(stderr,
+                "halo-view: %s.%s has a value per feature in %d groups: edit it in the scene file (it reloads)\n",
+                u->stage, u->param, halo_program_group_count(v->program));
         return;
     }
     if (info->type == HALO_PARAM_BOOL) {
         change_param(v, u->stage, u->param, flip, 0.0);
+        return;
+    }
+    if (info->step > 0.0) {
+        change_param(v, u->stage, u->param, add, direction * info->step);
         return;
     }
     if (info->type == HALO_PARAM_INT) {

@@ -481,6 +481,10 @@ CASE(halo_validate)
     REFUSES_D(halo_validate(&(halo_validate_desc){.program = program, .source = composed}, d) == HALO_ERROR_INPUT,
               "more than one");
     REFUSES_D(halo_validate(&(halo_validate_desc){.module = module}, d) == HALO_ERROR_INPUT, "library");
+    REFUSES_D(halo_validate(&(halo_validate_desc){.source = composed, .composed = composed}, d) == HALO_ERROR_INPUT,
+              "composed fields");
+    REFUSES_D(halo_validate(&(halo_validate_desc){.program = program, .library = lib}, d) == HALO_ERROR_INPUT,
+              "library");
     return 0;
 }
 CASE(halo_source_kind_of)

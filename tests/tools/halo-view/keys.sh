@@ -34,6 +34,18 @@ run 0 xrun "$HALO_VIEW" --scene "$scenes/plain.json" $opts --keys "[ ] 7" --scre
 grep -q "no parameter selected" "$tmp/err" || fail "no message for [ before a parameter is selected"
 grep -q "no stage 7" "$tmp/err" || fail "no message for a stage key beyond the scene"
 
+# a per-feature parameter of a scene with six features (two groups of four): the
+# program holds one group at a time, so [ and ] refuse it with a message instead of
+# writing one group back over the scene's six values
+printf '%s\n' '{"halo_scene": 1, "stages": [' \
+    '  {"outline_feature": {"value_min": [0.5, 0.55, 0.6, 0.65, 0.7, 0.75], "value_max": [1, 1, 1, 1, 1, 1]}},' \
+    '  {"outlines": {}}]}' >"$tmp/six.json"
+run 0 xrun "$HALO_VIEW" --scene "$tmp/six.json" --size 64x48 --volume-size 24 --save-prefix "$tmp/six-" \
+    --keys "p ] s" --quit
+grep -q "outline_feature.value_min has a value per feature in 2 groups" "$tmp/err" ||
+    fail "no message for a grouped per-feature parameter"
+grep -q '0.75' "$tmp/six-001.json" || fail "the saved scene lost the sixth feature's value"
+
 # tab: the next scene of the folder (sorted by name), with its own camera
 mkdir "$tmp/folder"
 cp "$scenes/plain.json" "$tmp/folder/a.json"
