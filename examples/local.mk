@@ -38,7 +38,7 @@ HALO_SCENES = examples/scenes/default.json examples/scenes/plain.json examples/s
 	examples/scenes/halo-emissive.json examples/scenes/halo-occlusive.json examples/scenes/halo-directional.json \
 	examples/scenes/halo-focus.json examples/scenes/halo-multi.json examples/scenes/halo-transparent.json \
 	examples/scenes/halo-cartoon.json examples/scenes/mri-head.json examples/scenes/mri-vtk.json examples/scenes/mri-paraview.json \
-	examples/scenes/feature-halos.json examples/scenes/feature-volumetric.json
+	examples/scenes/feature-halos.json examples/scenes/feature-volumetric.json examples/scenes/feature-default.json
 EXTRA_DIST += $(HALO_SCENES)
 
 # Lines (Everts et al. 2009, docs/lines.md): the line host and line data.
