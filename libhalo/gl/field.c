@@ -11,7 +11,13 @@
  * either the new or the layer's old content can be nonzero. A sample of segment j reads
  * layer j - 1 (halo_stack_layer_at in the linked shader). The segments and the planes are
  * the slice host's and the segmented ray caster's (segments.c), so at equal M the field is
- * theirs; the occlusion image's running maximum is kept by the front-to-back order. */
+ * theirs; the occlusion image's running maximum is kept by the front-to-back order.
+ *
+ * On desktop OpenGL the march draws eight segments at once (field_batches): each ray is
+ * set up once for the eight and clipped to the volume's box once, and segment b's seeds go
+ * to layer j0 + b of a seed stack; each generation then starts from a copy of its layer.
+ * The samples, their order and the images are the same as one segment a draw
+ * (`halo-validate conform --stage segments` prints the same numbers). */
 #include "halo.h"
 #include "internal.h"
 #include "diag.h"
@@ -53,10 +59,21 @@ typedef struct field_gradient {
     int valid;
 } field_gradient;
 
-struct halo_gl_field {
-    GLuint march, framebuffer, vertex_array;
+/* A march program's uniform locations (range: march_range, or march_ranges of a batch). */
+typedef struct march_locations {
     GLint volume, gradient_sampler, bricks_sampler, skip, matrix, viewport, box_min, box_max, plane, planes, range;
     GLint piece_min, piece_scale, scale;
+} march_locations;
+
+#define FIELD_BATCH 8 /* segments a draw of the batched march (prepass.c: HALO_MARCH_BATCH) */
+
+struct halo_gl_field {
+    GLuint framebuffer, vertex_array;
+    /* the march of one segment a draw, and (0 where it cannot run: OpenGL ES, a march of
+     * another output than the seeds at location 1, fewer than 8 draw buffers) of
+     * FIELD_BATCH segments a draw into the seed stacks */
+    GLuint march, batch;
+    march_locations at, batch_at;
     field_gradient gradient;
     field_stack stacks[FIELD_MAX_STACKS];
     int stack_count;
@@ -112,6 +129,26 @@ static const char gradient_fragment_body[] =
 
 static void field_destroy(halo_gl_frame *fr, halo_gl_field *field);
 
+static march_locations march_locations_of(const halo_glfuncs *f, GLuint march, const char *range)
+{
+    return (march_locations){
+        .volume = f->GetUniformLocation(march, "march_volume"),
+        .gradient_sampler = f->GetUniformLocation(march, "march_gradient"),
+        .bricks_sampler = f->GetUniformLocation(march, "march_bricks"),
+        .skip = f->GetUniformLocation(march, "march_skip"),
+        .matrix = f->GetUniformLocation(march, "march_inverse_view_projection"),
+        .viewport = f->GetUniformLocation(march, "march_viewport"),
+        .scale = f->GetUniformLocation(march, "march_scale"),
+        .box_min = f->GetUniformLocation(march, "march_box_min"),
+        .box_max = f->GetUniformLocation(march, "march_box_max"),
+        .plane = f->GetUniformLocation(march, "march_plane"),
+        .planes = f->GetUniformLocation(march, "march_planes"),
+        .range = f->GetUniformLocation(march, range),
+        .piece_min = f->GetUniformLocation(march, "march_piece_min"),
+        .piece_scale = f->GetUniformLocation(march, "march_piece_scale"),
+    };
+}
+
 /* The field of a one_draw frame: its stacks and libhalo's march; NULL after a diagnostic. */
 static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
 {
@@ -144,20 +181,21 @@ static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
         field_destroy(fr, field);
         return NULL;
     }
-    field->volume = f->GetUniformLocation(field->march, "march_volume");
-    field->gradient_sampler = f->GetUniformLocation(field->march, "march_gradient");
-    field->bricks_sampler = f->GetUniformLocation(field->march, "march_bricks");
-    field->skip = f->GetUniformLocation(field->march, "march_skip");
-    field->matrix = f->GetUniformLocation(field->march, "march_inverse_view_projection");
-    field->viewport = f->GetUniformLocation(field->march, "march_viewport");
-    field->scale = f->GetUniformLocation(field->march, "march_scale");
-    field->box_min = f->GetUniformLocation(field->march, "march_box_min");
-    field->box_max = f->GetUniformLocation(field->march, "march_box_max");
-    field->plane = f->GetUniformLocation(field->march, "march_plane");
-    field->planes = f->GetUniformLocation(field->march, "march_planes");
-    field->range = f->GetUniformLocation(field->march, "march_range");
-    field->piece_min = f->GetUniformLocation(field->march, "march_piece_min");
-    field->piece_scale = f->GetUniformLocation(field->march, "march_piece_scale");
+    field->at = march_locations_of(f, field->march, "march_range");
+    GLint draw_buffers = 0, attachments = 0;
+    f->GetIntegerv(GL_MAX_DRAW_BUFFERS, &draw_buffers);
+    f->GetIntegerv(GL_MAX_COLOR_ATTACHMENTS, &attachments);
+    halo_reflection march = halo_program_reflection(p->prepass);
+    if (halo_program_target(p->prepass) != HALO_TARGET_ES300 && march.output_count == 1 &&
+        march.outputs[0].location == 1 && draw_buffers >= FIELD_BATCH && attachments >= FIELD_BATCH) {
+        field->batch = halo_gl_program_build(gl, p->prepass, march_vertex_330, "(libhalo's march, vertex shader)",
+                                             "#define HALO_MARCH_BATCH 1\n", diag);
+        if (!field->batch) {
+            field_destroy(fr, field);
+            return NULL;
+        }
+        field->batch_at = march_locations_of(f, field->batch, "march_ranges");
+    }
     f->GenFramebuffers(1, &field->framebuffer);
     f->GenVertexArrays(1, &field->vertex_array);
     halo_gl_use_saved_program(f, program);
@@ -178,6 +216,7 @@ static void field_destroy(halo_gl_frame *fr, halo_gl_field *field)
             f->DeleteTextures(1, &field->seed_stacks[s]);
     free(field->exchange_buffer);
     f->DeleteProgram(field->march);
+    f->DeleteProgram(field->batch);
     f->DeleteProgram(field->gradient.program);
     f->DeleteTextures(1, &field->gradient.texture);
     f->DeleteProgram(field->gradient.brick_program);
@@ -707,9 +746,10 @@ static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_
     return 1;
 }
 
-/* Copies the march's seed images into (to_stack) or out of layer j of their seed stacks. */
+/* Copies the march's seed images into (to_stack) or out of layer j of their seed stacks:
+ * the whole image, or (out of the stack) within box (x0 y0 x1 y1 of the seed image). */
 static void field_seed_copy(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field *field, const halo_program *march,
-                            int j, int to_stack)
+                            int j, int to_stack, const int box[4])
 {
     size_t n = halo_program_reflection(march).output_count;
     for (size_t i = 0; i < n && i < FIELD_MAX_STACKS; ++i) {
@@ -726,7 +766,9 @@ static void field_seed_copy(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_fi
             f->FramebufferTextureLayer(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, field->seed_stacks[i], 0, j);
             f->ReadBuffer(GL_COLOR_ATTACHMENT0);
             f->BindTexture(GL_TEXTURE_2D, view.texture);
-            f->CopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, view.width, view.height);
+            int all[4] = {0, 0, view.width, view.height};
+            const int *b = box ? box : all;
+            f->CopyTexSubImage2D(GL_TEXTURE_2D, 0, b[0], b[1], b[0], b[1], b[2] - b[0], b[3] - b[1]);
             f->BindTexture(GL_TEXTURE_2D, 0);
         }
     }
@@ -782,6 +824,142 @@ static int field_seed_exchange(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl
     return 1;
 }
 
+/* What a march program reads, set on it (which becomes current): the samplers on units
+ * unit .. unit + 2, the camera, the box, the planes. */
+static void march_setup(halo_gl_frame *fr, const halo_gl_segments_desc *d, const halo_segment_plan *plan, GLuint march,
+                        const march_locations *at, int unit, GLuint gradient, GLuint bricks, const double sample_low[3],
+                        const double sample_high[3], const float piece_min[3], const float piece_scale[3])
+{
+    halo_gl *gl = halo_gl_frame_runtime(fr);
+    const halo_glfuncs *f = halo_gl_functions(gl);
+    const halo_program *p = halo_gl_frame_program(fr);
+    int width, height;
+    halo_gl_frame_size(fr, &width, &height);
+    f->UseProgram(march);
+    halo_gl_program_upload(gl, p->prepass, march);
+    halo_segment_camera_set(f, march, plan);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+    f->BindTexture(GL_TEXTURE_3D, d->volume_texture);
+    f->Uniform1i(at->volume, unit);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 1);
+    f->BindTexture(GL_TEXTURE_3D, gradient);
+    f->Uniform1i(at->gradient_sampler, unit + 1);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 2);
+    f->BindTexture(GL_TEXTURE_3D, bricks);
+    f->Uniform1i(at->bricks_sampler, unit + 2);
+    f->Uniform1f(at->skip, field_skip_bound(p->prepass, d->seed_epsilon));
+    field_host_uniforms(f, d, march);
+    f->UniformMatrix4fv(at->matrix, 1, GL_FALSE, d->inverse_view_projection);
+    f->Uniform2f(at->viewport, (float)width, (float)height);
+    /* the march at the seed images' scale (the halo images', halo_link_desc.image_scale): a
+     * ray through the centre of each 1/s pixel */
+    int s = halo_program_reflection(p).image_scale > 1 ? halo_program_reflection(p).image_scale : 1;
+    f->Uniform1f(at->scale, (float)s);
+    f->Uniform3f(at->box_min, (float)sample_low[0], (float)sample_low[1], (float)sample_low[2]);
+    f->Uniform3f(at->box_max, (float)sample_high[0], (float)sample_high[1], (float)sample_high[2]);
+    f->Uniform3fv(at->piece_min, 1, piece_min);
+    f->Uniform3fv(at->piece_scale, 1, piece_scale);
+    f->Uniform4f(at->plane, (float)plan->plane[0], (float)plan->plane[1], (float)plan->plane[2], (float)plan->plane[3]);
+    f->Uniform2f(at->planes, (float)plan->front, d->step);
+}
+
+/* Segment j's planes [first, end) and where its seeds can be nonzero (box: frame pixels,
+ * x0 y0 x1 y1; all 0 when nowhere) for a march over [low, high]. */
+static void segment_reach(const halo_gl_frame *fr, const halo_gl_segments_desc *d, const halo_segment_plan *plan,
+                          const double view_projection[16], const double low[3], const double high[3], int planes,
+                          int j, int *first, int *end, int box[4])
+{
+    int width, height;
+    halo_gl_frame_size(fr, &width, &height);
+    segment_planes(plan, d->step, j, planes, first, end);
+    double lo = plan->front + *first * (double)d->step, hi = plan->front + (*end - 1) * (double)d->step;
+    double slack = 1e-6 * (plan->back - plan->front);
+    box[0] = box[1] = box[2] = box[3] = 0;
+    if (!(*end > *first &&
+          segment_footprint(view_projection, plan, low, high, lo - slack, hi + slack, width, height, box)))
+        box[0] = box[1] = box[2] = box[3] = 0;
+}
+
+/* Generation j of the frame: its seeds (in the frame's seed image), the passes, the stacks. */
+static void field_generate(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field *field, int unit, int j,
+                           const int box[4])
+{
+    halo_gl_frame_drawn_region(fr, box[0], box[1], box[2], box[3]);
+    halo_gl_frame_generate(fr);
+    f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
+    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+    field_store(f, fr, field, j);
+}
+
+/* The batched march (field->batch): the seeds of FIELD_BATCH segments a draw into layers of
+ * the seed stack (segment b of a draw to draw buffer b, but the last to 1: prepass.c), then
+ * each segment's generation from its layer, front to back. */
+static void field_batches(halo_gl_frame *fr, const halo_gl_segments_desc *d, const halo_segment_plan *plan,
+                          const double view_projection[16], const double low[3], const double high[3], int planes,
+                          int unit)
+{
+    halo_gl *gl = halo_gl_frame_runtime(fr);
+    const halo_glfuncs *f = halo_gl_functions(gl);
+    const halo_program *p = halo_gl_frame_program(fr);
+    halo_gl_field *field = halo_gl_frame_field(fr);
+    int s = halo_program_reflection(p).image_scale > 1 ? halo_program_reflection(p).image_scale : 1;
+    int width, height;
+    halo_gl_frame_size(fr, &width, &height);
+    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, field->framebuffer);
+    f->Viewport(0, 0, (width + s - 1) / s, (height + s - 1) / s);
+    f->Disable(GL_BLEND); /* each pixel of a layer is written once a frame, by its ray */
+    f->BindVertexArray(field->vertex_array);
+    for (int j0 = 0; j0 + 1 < plan->segments; j0 += FIELD_BATCH) {
+        GLint ranges[2 * FIELD_BATCH] = {0};
+        GLenum buffers[FIELD_BATCH];
+        int all[4] = {0, 0, 0, 0};
+        for (int b = 0; b < FIELD_BATCH; ++b) {
+            int j = j0 + b, location = b == FIELD_BATCH - 1 ? 1 : b == 0 ? 0 : b + 1, box[4];
+            GLenum attachment = GL_COLOR_ATTACHMENT0 + (GLenum)location;
+            buffers[location] = GL_NONE;
+            if (j + 1 >= plan->segments) {
+                f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, attachment, GL_TEXTURE_2D, 0, 0);
+                continue;
+            }
+            segment_reach(fr, d, plan, view_projection, low, high, planes, j, &ranges[2 * b], &ranges[2 * b + 1], box);
+            f->FramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, attachment, field->seed_stacks[0], 0, j);
+            buffers[location] = attachment;
+            if (box[0] < box[2] && box[1] < box[3]) {
+                int empty = !(all[0] < all[2] && all[1] < all[3]);
+                for (int k = 0; k < 4; ++k)
+                    all[k] = empty   ? box[k]
+                             : k < 2 ? (box[k] < all[k] ? box[k] : all[k])
+                                     : (box[k] > all[k] ? box[k] : all[k]);
+            }
+        }
+        if (!(all[0] < all[2] && all[1] < all[3]))
+            continue; /* no segment of these has seeds: nor are their layers read (below) */
+        f->DrawBuffers(FIELD_BATCH, buffers);
+        f->Uniform2iv(field->batch_at.range, FIELD_BATCH, ranges);
+        f->Enable(GL_SCISSOR_TEST);
+        /* the 1/s pixels whose blocks meet the footprints */
+        int x0 = all[0] / s, y0 = all[1] / s, x1 = (all[2] + s - 1) / s, y1 = (all[3] + s - 1) / s;
+        f->Scissor(x0, y0, x1 - x0, y1 - y0);
+        f->DrawArrays(GL_TRIANGLES, 0, 3);
+        f->Disable(GL_SCISSOR_TEST);
+    }
+    for (int b = 0; b < FIELD_BATCH; ++b)
+        f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)b, GL_TEXTURE_2D, 0, 0);
+    for (int j = 0; j + 1 < plan->segments; ++j) {
+        int first, end, box[4];
+        segment_reach(fr, d, plan, view_projection, low, high, planes, j, &first, &end, box);
+        f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
+        f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+        if (box[0] < box[2] && box[1] < box[3]) {
+            /* the layer's seeds where the segment can have any (the rest of the layer is
+             * stale); the frame's seed image holds 0 elsewhere */
+            int seed_box[4] = {box[0] / s, box[1] / s, (box[2] + s - 1) / s, (box[3] + s - 1) / s};
+            field_seed_copy(f, fr, field, p->prepass, j, 0, seed_box);
+        }
+        field_generate(f, fr, field, unit, j, box);
+    }
+}
+
 /* Seeds, generation and the stacks for every segment but the last (whose field no sample reads). */
 static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc *d, const halo_segment_plan *plan,
                                  int unit, halo_diagnostics *diag)
@@ -807,8 +985,8 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit); /* the stacks are bound there to be made and filled */
     int layers = plan->segments > 1 ? plan->segments - 1 : 1;
     size_t max_bytes = d->field_max_bytes ? d->field_max_bytes : HALO_GL_FIELD_MAX_BYTES, seed_per_layer = 0;
-    for (size_t i = 0; d->exchange && i < halo_program_reflection(p->prepass).output_count; ++i) {
-        halo_gl_frame_image view; /* the seed stacks of the exchange (field_seed_reserve) count too */
+    for (size_t i = 0; (d->exchange || field->batch) && i < halo_program_reflection(p->prepass).output_count; ++i) {
+        halo_gl_frame_image view; /* the seed stacks of the exchange or the batches (field_seed_reserve) count too */
         if (halo_gl_frame_image_view(fr, halo_program_reflection(p->prepass).outputs[i].image, &view))
             seed_per_layer += (size_t)view.width * (size_t)view.height * texel_bytes(view.internal_format);
     }
@@ -860,69 +1038,47 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     if (exchanged && !field_seed_reserve(f, fr, field, p->prepass, layers, diag))
         return HALO_ERROR_IO;
     halo_gl_frame_begin(fr);
-    f->UseProgram(field->march);
-    halo_gl_program_upload(gl, p->prepass, field->march);
-    halo_segment_camera_set(f, field->march, plan);
-    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
-    f->BindTexture(GL_TEXTURE_3D, d->volume_texture);
-    f->Uniform1i(field->volume, unit);
-    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 1);
-    f->BindTexture(GL_TEXTURE_3D, gradient);
-    f->Uniform1i(field->gradient_sampler, unit + 1);
-    f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit + 2);
-    f->BindTexture(GL_TEXTURE_3D, bricks);
-    f->Uniform1i(field->bricks_sampler, unit + 2);
-    f->Uniform1f(field->skip, field_skip_bound(p->prepass, d->seed_epsilon));
-    field_host_uniforms(f, d, field->march);
-    f->UniformMatrix4fv(field->matrix, 1, GL_FALSE, d->inverse_view_projection);
-    f->Uniform2f(field->viewport, (float)width, (float)height);
-    /* the march at the seed images' scale (the halo images', halo_link_desc.image_scale): a
-     * ray through the centre of each 1/s pixel */
-    int s = halo_program_reflection(p).image_scale > 1 ? halo_program_reflection(p).image_scale : 1;
-    f->Uniform1f(field->scale, (float)s);
-    f->Uniform3f(field->box_min, (float)sample_low[0], (float)sample_low[1], (float)sample_low[2]);
-    f->Uniform3f(field->box_max, (float)sample_high[0], (float)sample_high[1], (float)sample_high[2]);
-    f->Uniform3fv(field->piece_min, 1, piece_min);
-    f->Uniform3fv(field->piece_scale, 1, piece_scale);
-    f->Uniform4f(field->plane, (float)plan->plane[0], (float)plan->plane[1], (float)plan->plane[2],
-                 (float)plan->plane[3]);
-    f->Uniform2f(field->planes, (float)plan->front, d->step);
+    int batched = !exchanged && field->batch;
+    if (batched) {
+        /* the seed stack the batches write (its layers are the exchange's, below) */
+        if (!field_seed_reserve(f, fr, field, p->prepass, layers, diag))
+            return HALO_ERROR_IO;
+        march_setup(fr, d, plan, field->batch, &field->batch_at, unit, gradient, bricks, sample_low, sample_high,
+                    piece_min, piece_scale);
+        field_batches(fr, d, plan, view_projection, sample_low, sample_high, planes, unit);
+        return HALO_OK;
+    }
+    march_setup(fr, d, plan, field->march, &field->at, unit, gradient, bricks, sample_low, sample_high, piece_min,
+                piece_scale);
     halo_gl_frame_attach_outputs(fr, p->prepass, field->framebuffer, 0);
     f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
+    int s = halo_program_reflection(p).image_scale > 1 ? halo_program_reflection(p).image_scale : 1;
     f->Viewport(0, 0, (width + s - 1) / s, (height + s - 1) / s);
     f->BindVertexArray(field->vertex_array);
     for (int j = 0; j + 1 < plan->segments; ++j) {
-        int first, end, box[4] = {0, 0, 0, 0};
-        segment_planes(plan, d->step, j, planes, &first, &end);
-        double lo = plan->front + first * (double)d->step, hi = plan->front + (end - 1) * (double)d->step;
-        double slack = 1e-6 * (plan->back - plan->front);
+        int first, end, box[4];
+        segment_reach(fr, d, plan, view_projection, sample_low, sample_high, planes, j, &first, &end, box);
         if (exchanged && j > 0) { /* this segment's seeds alone: the frame's images cleared */
             halo_gl_frame_begin(fr);
             halo_gl_frame_attach_outputs(fr, p->prepass, field->framebuffer, 0);
             f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
         }
-        if (end > first && segment_footprint(view_projection, plan, sample_low, sample_high, lo - slack, hi + slack,
-                                             width, height, box)) {
+        if (box[0] < box[2] && box[1] < box[3]) {
             f->UseProgram(field->march);
             f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, field->framebuffer);
             f->Enable(GL_SCISSOR_TEST);
             /* the 1/s pixels whose blocks meet the footprint */
             int x0 = box[0] / s, y0 = box[1] / s, x1 = (box[2] + s - 1) / s, y1 = (box[3] + s - 1) / s;
             f->Scissor(x0, y0, x1 - x0, y1 - y0);
-            f->Uniform2i(field->range, first, end);
+            f->Uniform2i(field->at.range, first, end);
             f->DrawArrays(GL_TRIANGLES, 0, 3);
             f->Disable(GL_SCISSOR_TEST);
         }
         f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
-        if (exchanged) {
-            field_seed_copy(f, fr, field, p->prepass, j, 1);
-            continue;
-        }
-        halo_gl_frame_drawn_region(fr, box[0], box[1], box[2], box[3]);
-        halo_gl_frame_generate(fr);
-        f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
-        f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
-        field_store(f, fr, field, j);
+        if (exchanged)
+            field_seed_copy(f, fr, field, p->prepass, j, 1, NULL);
+        else
+            field_generate(f, fr, field, unit, j, box);
     }
     if (!exchanged)
         return HALO_OK;
@@ -932,21 +1088,12 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     for (int j = 0; j + 1 < plan->segments; ++j) {
         /* segment j's seeds of every piece; they can be nonzero where the segment's part of
          * the whole box projects */
-        int first, end, box[4] = {0, 0, 0, 0};
-        segment_planes(plan, d->step, j, planes, &first, &end);
-        double lo = plan->front + first * (double)d->step, hi = plan->front + (end - 1) * (double)d->step;
-        double slack = 1e-6 * (plan->back - plan->front);
-        if (!(end > first &&
-              segment_footprint(view_projection, plan, low, high, lo - slack, hi + slack, width, height, box)))
-            box[0] = box[1] = box[2] = box[3] = 0;
+        int first, end, box[4];
+        segment_reach(fr, d, plan, view_projection, low, high, planes, j, &first, &end, box);
         f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
         f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
-        field_seed_copy(f, fr, field, p->prepass, j, 0);
-        halo_gl_frame_drawn_region(fr, box[0], box[1], box[2], box[3]);
-        halo_gl_frame_generate(fr);
-        f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
-        f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
-        field_store(f, fr, field, j);
+        field_seed_copy(f, fr, field, p->prepass, j, 0, NULL);
+        field_generate(f, fr, field, unit, j, box);
     }
     return HALO_OK;
 }
