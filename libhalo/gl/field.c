@@ -891,9 +891,9 @@ static void field_generate(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_fie
     field_store(f, fr, field, j);
 }
 
-/* The batched march (field->batch): the seeds of FIELD_BATCH segments a draw into layers of
- * the seed stack (segment b of a draw to draw buffer b, but the last to 1: prepass.c), then
- * each segment's generation from its layer, front to back. */
+/* The batched march (field->batch): the seeds of FIELD_BATCH segments a draw into the layers
+ * of the seed stack (segment b of a draw to draw buffer b, but the last to 1: prepass.c),
+ * then those segments' generations, each from a copy of its layer; front to back. */
 static void field_batches(halo_gl_frame *fr, const halo_gl_segments_desc *d, const halo_segment_plan *plan,
                           const double view_projection[16], const double low[3], const double high[3], int planes,
                           int unit)
@@ -905,16 +905,18 @@ static void field_batches(halo_gl_frame *fr, const halo_gl_segments_desc *d, con
     int s = halo_program_reflection(p).image_scale > 1 ? halo_program_reflection(p).image_scale : 1;
     int width, height;
     halo_gl_frame_size(fr, &width, &height);
-    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, field->framebuffer);
-    f->Viewport(0, 0, (width + s - 1) / s, (height + s - 1) / s);
-    f->Disable(GL_BLEND); /* each pixel of a layer is written once a frame, by its ray */
-    f->BindVertexArray(field->vertex_array);
     for (int j0 = 0; j0 + 1 < plan->segments; j0 += FIELD_BATCH) {
+        /* the generations of the previous batch used the framebuffer and changed the state */
+        f->UseProgram(field->batch);
+        f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, field->framebuffer);
+        f->Viewport(0, 0, (width + s - 1) / s, (height + s - 1) / s);
+        f->Disable(GL_BLEND); /* each pixel of a layer is written once, by its ray */
+        f->BindVertexArray(field->vertex_array);
         GLint ranges[2 * FIELD_BATCH] = {0};
         GLenum buffers[FIELD_BATCH];
-        int all[4] = {0, 0, 0, 0};
+        int boxes[FIELD_BATCH][4] = {{0}}, all[4] = {0, 0, 0, 0};
         for (int b = 0; b < FIELD_BATCH; ++b) {
-            int j = j0 + b, location = b == FIELD_BATCH - 1 ? 1 : b == 0 ? 0 : b + 1, box[4];
+            int j = j0 + b, location = b == FIELD_BATCH - 1 ? 1 : b == 0 ? 0 : b + 1, *box = boxes[b];
             GLenum attachment = GL_COLOR_ATTACHMENT0 + (GLenum)location;
             buffers[location] = GL_NONE;
             if (j + 1 >= plan->segments) {
@@ -922,7 +924,7 @@ static void field_batches(halo_gl_frame *fr, const halo_gl_segments_desc *d, con
                 continue;
             }
             segment_reach(fr, d, plan, view_projection, low, high, planes, j, &ranges[2 * b], &ranges[2 * b + 1], box);
-            f->FramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, attachment, field->seed_stacks[0], 0, j);
+            f->FramebufferTextureLayer(GL_DRAW_FRAMEBUFFER, attachment, field->seed_stacks[0], 0, b);
             buffers[location] = attachment;
             if (box[0] < box[2] && box[1] < box[3]) {
                 int empty = !(all[0] < all[2] && all[1] < all[3]);
@@ -932,31 +934,30 @@ static void field_batches(halo_gl_frame *fr, const halo_gl_segments_desc *d, con
                                      : (box[k] > all[k] ? box[k] : all[k]);
             }
         }
-        if (!(all[0] < all[2] && all[1] < all[3]))
-            continue; /* no segment of these has seeds: nor are their layers read (below) */
-        f->DrawBuffers(FIELD_BATCH, buffers);
-        f->Uniform2iv(field->batch_at.range, FIELD_BATCH, ranges);
-        f->Enable(GL_SCISSOR_TEST);
-        /* the 1/s pixels whose blocks meet the footprints */
-        int x0 = all[0] / s, y0 = all[1] / s, x1 = (all[2] + s - 1) / s, y1 = (all[3] + s - 1) / s;
-        f->Scissor(x0, y0, x1 - x0, y1 - y0);
-        f->DrawArrays(GL_TRIANGLES, 0, 3);
-        f->Disable(GL_SCISSOR_TEST);
-    }
-    for (int b = 0; b < FIELD_BATCH; ++b)
-        f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)b, GL_TEXTURE_2D, 0, 0);
-    for (int j = 0; j + 1 < plan->segments; ++j) {
-        int first, end, box[4];
-        segment_reach(fr, d, plan, view_projection, low, high, planes, j, &first, &end, box);
-        f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
-        f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
-        if (box[0] < box[2] && box[1] < box[3]) {
-            /* the layer's seeds where the segment can have any (the rest of the layer is
-             * stale); the frame's seed image holds 0 elsewhere */
-            int seed_box[4] = {box[0] / s, box[1] / s, (box[2] + s - 1) / s, (box[3] + s - 1) / s};
-            field_seed_copy(f, fr, field, p->prepass, j, 0, seed_box);
+        if (all[0] < all[2] && all[1] < all[3]) {
+            f->DrawBuffers(FIELD_BATCH, buffers);
+            f->Uniform2iv(field->batch_at.range, FIELD_BATCH, ranges);
+            f->Enable(GL_SCISSOR_TEST);
+            /* the 1/s pixels whose blocks meet the footprints */
+            int x0 = all[0] / s, y0 = all[1] / s, x1 = (all[2] + s - 1) / s, y1 = (all[3] + s - 1) / s;
+            f->Scissor(x0, y0, x1 - x0, y1 - y0);
+            f->DrawArrays(GL_TRIANGLES, 0, 3);
+            f->Disable(GL_SCISSOR_TEST);
         }
-        field_generate(f, fr, field, unit, j, box);
+        for (int b = 0; b < FIELD_BATCH; ++b)
+            f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)b, GL_TEXTURE_2D, 0, 0);
+        for (int b = 0; b < FIELD_BATCH && j0 + b + 1 < plan->segments; ++b) {
+            const int *box = boxes[b];
+            f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
+            f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+            if (box[0] < box[2] && box[1] < box[3]) {
+                /* the layer's seeds where the segment can have any (the rest of the layer is
+                 * stale); the frame's seed image holds 0 elsewhere */
+                int seed_box[4] = {box[0] / s, box[1] / s, (box[2] + s - 1) / s, (box[3] + s - 1) / s};
+                field_seed_copy(f, fr, field, p->prepass, b, 0, seed_box);
+            }
+            field_generate(f, fr, field, unit, j0 + b, box);
+        }
     }
 }
 
@@ -985,8 +986,8 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit); /* the stacks are bound there to be made and filled */
     int layers = plan->segments > 1 ? plan->segments - 1 : 1;
     size_t max_bytes = d->field_max_bytes ? d->field_max_bytes : HALO_GL_FIELD_MAX_BYTES, seed_per_layer = 0;
-    for (size_t i = 0; (d->exchange || field->batch) && i < halo_program_reflection(p->prepass).output_count; ++i) {
-        halo_gl_frame_image view; /* the seed stacks of the exchange or the batches (field_seed_reserve) count too */
+    for (size_t i = 0; d->exchange && i < halo_program_reflection(p->prepass).output_count; ++i) {
+        halo_gl_frame_image view; /* the seed stacks of the exchange (field_seed_reserve) count too */
         if (halo_gl_frame_image_view(fr, halo_program_reflection(p->prepass).outputs[i].image, &view))
             seed_per_layer += (size_t)view.width * (size_t)view.height * texel_bytes(view.internal_format);
     }
@@ -1040,8 +1041,8 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     halo_gl_frame_begin(fr);
     int batched = !exchanged && field->batch;
     if (batched) {
-        /* the seed stack the batches write (its layers are the exchange's, below) */
-        if (!field_seed_reserve(f, fr, field, p->prepass, layers, diag))
+        /* the seed stack the batches write: a layer a segment of a batch */
+        if (!field_seed_reserve(f, fr, field, p->prepass, FIELD_BATCH, diag))
             return HALO_ERROR_IO;
         march_setup(fr, d, plan, field->batch, &field->batch_at, unit, gradient, bricks, sample_low, sample_high,
                     piece_min, piece_scale);
