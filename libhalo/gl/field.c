@@ -13,7 +13,7 @@
  * the slice host's and the segmented ray caster's (segments.c), so at equal M the field is
  * theirs; the occlusion image's running maximum is kept by the front-to-back order.
  *
- * On desktop OpenGL the march draws eight segments at once (field_batches): each ray is
+ * With eight draw buffers the march draws eight segments at once (field_batches): each ray is
  * set up once for the eight and clipped to the volume's box once, and segment b's seeds go
  * to layer j0 + b of a seed stack; each generation then starts from a copy of its layer.
  * The samples, their order and the images are the same as one segment a draw
@@ -69,7 +69,7 @@ typedef struct march_locations {
 
 struct halo_gl_field {
     GLuint framebuffer, vertex_array;
-    /* the march of one segment a draw, and (0 where it cannot run: OpenGL ES, a march of
+    /* the march of one segment a draw, and (0 where it cannot run: a march of
      * another output than the seeds at location 1, fewer than 8 draw buffers) of
      * FIELD_BATCH segments a draw into the seed stacks */
     GLuint march, batch;
@@ -186,10 +186,11 @@ static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     f->GetIntegerv(GL_MAX_DRAW_BUFFERS, &draw_buffers);
     f->GetIntegerv(GL_MAX_COLOR_ATTACHMENTS, &attachments);
     halo_reflection march = halo_program_reflection(p->prepass);
-    if (halo_program_target(p->prepass) != HALO_TARGET_ES300 && march.output_count == 1 &&
-        march.outputs[0].location == 1 && draw_buffers >= FIELD_BATCH && attachments >= FIELD_BATCH) {
-        field->batch = halo_gl_program_build(gl, p->prepass, march_vertex_330, "(libhalo's march, vertex shader)",
-                                             "#define HALO_MARCH_BATCH 1\n", diag);
+    if (march.output_count == 1 && march.outputs[0].location == 1 && draw_buffers >= FIELD_BATCH &&
+        attachments >= FIELD_BATCH) {
+        int es = halo_program_target(p->prepass) == HALO_TARGET_ES300;
+        field->batch = halo_gl_program_build(gl, p->prepass, es ? march_vertex_es300 : march_vertex_330,
+                                             "(libhalo's march, vertex shader)", "#define HALO_MARCH_BATCH 1\n", diag);
         if (!field->batch) {
             field_destroy(fr, field);
             return NULL;
@@ -708,10 +709,11 @@ static int field_piece(const halo_gl_segments_desc *d, const double low[3], cons
     return 1;
 }
 
-/* The seeds of every segment, for the exchange across pieces: one array texture a seed
- * image (the march's outputs), with at least `layers` layers. */
+/* The seeds of every segment, for the exchange across pieces (exchange 1), or of a batch
+ * of segments (field_batches): one array texture a seed image (the march's outputs), with
+ * at least `layers` layers. */
 static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field *field, const halo_program *march,
-                              int layers, halo_diagnostics *diag)
+                              int layers, int exchange, halo_diagnostics *diag)
 {
     if (layers <= field->seed_layers)
         return 1;
@@ -722,7 +724,7 @@ static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_
             continue;
         GLenum format, type;
         upload_format(view.internal_format, &format, &type);
-        if (halo_gl_es_version(halo_gl_frame_runtime(fr)) > 0 && view.internal_format != GL_RGBA32F &&
+        if (exchange && halo_gl_es_version(halo_gl_frame_runtime(fr)) > 0 && view.internal_format != GL_RGBA32F &&
             view.internal_format != GL_RGBA16F) {
             /* the exchange reads and writes RGBA floats: OpenGL ES takes them for RGBA images only */
             halo_diag_error(diag, USAGE, "", 0, 0,
@@ -1036,13 +1038,13 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
      * pieces once, then the generations */
     int exchanged = d->exchange != NULL;
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit); /* the seed stacks are made there too */
-    if (exchanged && !field_seed_reserve(f, fr, field, p->prepass, layers, diag))
+    if (exchanged && !field_seed_reserve(f, fr, field, p->prepass, layers, 1, diag))
         return HALO_ERROR_IO;
     halo_gl_frame_begin(fr);
     int batched = !exchanged && field->batch;
     if (batched) {
         /* the seed stack the batches write: a layer a segment of a batch */
-        if (!field_seed_reserve(f, fr, field, p->prepass, FIELD_BATCH, diag))
+        if (!field_seed_reserve(f, fr, field, p->prepass, FIELD_BATCH, 0, diag))
             return HALO_ERROR_IO;
         march_setup(fr, d, plan, field->batch, &field->batch_at, unit, gradient, bricks, sample_low, sample_high,
                     piece_min, piece_scale);
