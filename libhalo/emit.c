@@ -579,20 +579,14 @@ static void emit_block(halo_emitter *e, halo_program *p, const char *host_source
          * segment's seeds taken as a vec4, the accumulator reset for the next segment */
         const halo_output_info *out = &p->outputs[0];
         const char *type = output_type(p, out);
-        static const char *const widen[] = {"vec4(%s, 0.0, 0.0, 0.0)", "vec4(%s, 0.0, 0.0, 0.0)", "vec4(%s, 0.0, 0.0)",
-                                            "vec4(%s, 0.0)", "%s"};
-        char accum[96], value[160];
-        snprintf(accum, sizeof accum, "halo_accum_%s", out->image);
+        static const char *const zeros[] = {", 0.0, 0.0, 0.0", ", 0.0, 0.0, 0.0", ", 0.0, 0.0", ", 0.0", ""};
+        int n = out->components < 1 ? 1 : out->components > 4 ? 4 : out->components;
         if (!strcmp(type, "halo_channels"))
-            snprintf(value, sizeof value, "halo_channels_to_vec4(%s)", accum);
+            HALO_GEN(e, "vec4 halo_march_take() {\n    vec4 v = halo_channels_to_vec4(halo_accum_%s);", out->image);
         else
-            snprintf(value, sizeof value,
-                     widen[out->components < 1   ? 1
-                           : out->components > 4 ? 4
-                                                 : out->components],
-                     accum);
-        HALO_GEN(e, "vec4 halo_march_take() {\n    vec4 v = %s;\n    %s = %s(%s);\n    return v;\n}", value, accum,
-                 type, out->blend == HALO_BLEND_MIN ? "1.0" : "0.0");
+            HALO_GEN(e, "vec4 halo_march_take() {\n    vec4 v = vec4(halo_accum_%s%s);", out->image, zeros[n]);
+        HALO_GEN(e, "    halo_accum_%s = %s(%s);\n    return v;\n}", out->image, type,
+                 out->blend == HALO_BLEND_MIN ? "1.0" : "0.0");
     }
     emit_text(e, p, halo_segment_emit);
     halo_emit(e, p->host_file, marker_line, marker, "// ---- end of libhalo declarations ----");

@@ -319,6 +319,10 @@ void halo_prepass_drop_outputs(halo_program *p, int seeds);
 /* Whether the march reads only the host uniforms gl/field.c sets (the image-plane axes);
  * USAGE in diag otherwise. */
 int halo_prepass_host_uniforms_known(const halo_program *march, halo_diagnostics *diag);
+/* Whether a march may draw eight segments at once (gl/field.c's batches): one output at
+ * location 1, into an image that every generation starts from the blend's identity, and
+ * no discard in its stages; else it draws one segment at a time. */
+int halo_prepass_batchable(const halo_program *march);
 /* The desc of p's march (halo_link_prepass): desc's scene over libhalo's march host. */
 halo_link_desc halo_prepass_desc(const halo_program *p, const halo_link_desc *desc);
 /* Is image written by generation passes of a one_draw program (read from the stack)? */

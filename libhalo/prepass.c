@@ -13,6 +13,7 @@
  * the segments front to back. */
 #include "internal.h"
 #include "diag.h"
+#include "glsl_lex.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -25,10 +26,13 @@
  * 330 and ES 300.
  *
  * One segment a draw (march_range), or, compiled with HALO_MARCH_BATCH (gl/field.c, where
- * the march has one output at location 1 and the context 8 draw buffers), eight segments
- * a draw (march_ranges): a fragment's ray is set up once for the eight, and segment b's
- * seeds go to draw buffer b (0, 2 ... 7; the last through halo_finish at location 1), each
- * a layer of the runtime's seed stack. The samples and their order are the same. */
+ * halo_prepass_batchable and the context has 8 draw buffers), eight segments a draw
+ * (march_ranges): a fragment's ray is set up once for the eight, and segment b's seeds go
+ * to draw buffer 0 (b = 0), b + 1 (b = 1 .. 6) or 1 (b = 7, through halo_finish and the
+ * linked seed output, which the linker places at 1 after march_color), each a layer of the
+ * runtime's seed stack. Either way the ray is clipped to the box first, and an empty
+ * brick's planes are stepped over where the ray goes on to larger planes (the samples
+ * there are skipped by the test anyway). The samples and their order are the same. */
 static const char march_host[] =
     "#version 330 core\n"
     "// libhalo's march for host contract 3 (libhalo/gl/field.c): the seeds of depth\n"
@@ -64,17 +68,22 @@ static const char march_host[] =
     "#endif\n"
     "#ifdef HALO_LINKED\n"
     "// The planes where the ray origin + t direction, t in [0, 1], can be inside the box, with\n"
-    "// a plane to spare at each end (march_segment's tests decide each sample): [x, y).\n"
+    "// a plane to spare at each end (march_segment's tests decide each sample): [x, y). The\n"
+    "// box is widened by the rounding of a sample's position, origin + t direction, so that\n"
+    "// no plane whose rounded position is inside is left out.\n"
     "ivec2 march_clip(vec3 origin, vec3 direction, float phi_origin, float phi_rate)\n"
     "{\n"
     "    float t0 = 0.0, t1 = 1.0;\n"
     "    for (int a = 0; a < 3; ++a) {\n"
+    "        float widen = 1e-6 * (abs(origin[a]) + abs(direction[a]) +\n"
+    "                              max(abs(march_box_min[a]), abs(march_box_max[a])));\n"
+    "        float low = march_box_min[a] - widen, high = march_box_max[a] + widen;\n"
     "        if (abs(direction[a]) < 1e-20) {\n"
-    "            if (origin[a] < march_box_min[a] - 1e-6 || origin[a] > march_box_max[a] + 1e-6)\n"
+    "            if (origin[a] < low || origin[a] > high)\n"
     "                return ivec2(0);\n"
     "            continue;\n"
     "        }\n"
-    "        float ta = (march_box_min[a] - origin[a]) / direction[a], tb = (march_box_max[a] - origin[a]) / direction[a];\n"
+    "        float ta = (low - origin[a]) / direction[a], tb = (high - origin[a]) / direction[a];\n"
     "        t0 = max(t0, min(ta, tb));\n"
     "        t1 = min(t1, max(ta, tb));\n"
     "    }\n"
@@ -91,8 +100,7 @@ static const char march_host[] =
     "{\n"
     "    ivec3 bricks = textureSize(march_bricks, 0);\n"
     "    vec3 voxels = vec3(textureSize(march_volume, 0));\n"
-    "    // the ray in the volume texture's coordinates, T(t) = T0 + t dT\n"
-    "    vec3 T0 = (origin - march_piece_min) * march_piece_scale, dT = direction * march_piece_scale;\n"
+    "    vec3 dT = direction * march_piece_scale; // the ray's step in the volume texture's coordinates\n"
     "    for (int k = first; k < end;) {\n"
     "        float t = (march_planes.x + float(k) * march_planes.y - phi_origin) / phi_rate;\n"
     "        int next = k + 1;\n"
@@ -103,18 +111,19 @@ static const char march_host[] =
     "            // before the near plane or past the far one: no sample of the host's\n"
     "        } else if (any(lessThan(P, march_box_min)) || any(greaterThan(P, march_box_max))) {\n"
     "        } else if (texelFetch(march_bricks, brick, 0).r <= march_skip) {\n"
-    "            // empty space: no seed can be above the skip bound in this brick; on to the\n"
-    "            // plane before the one where the ray leaves it (its samples are tested again)\n"
-    "            vec3 low = vec3(brick * 4) / voxels, high = vec3(brick * 4 + 4) / voxels;\n"
-    "            float leave = 1e30;\n"
+    "            // empty space: no seed can be above the skip bound in this brick. Where the ray\n"
+    "            // goes on to larger planes (phi_rate > 0), on to the plane before the last one\n"
+    "            // that is surely still in the brick: its exit measured from this sample's own T,\n"
+    "            // the brick shrunk by far more than a position's rounding (the skipped planes'\n"
+    "            // samples would all be skipped; the planes from there on are tested again)\n"
+    "            vec3 low = vec3(brick * 4) / voxels + 1e-5, high = vec3(brick * 4 + 4) / voxels - 1e-5;\n"
+    "            float leave = 2.0;\n"
     "            for (int a = 0; a < 3; ++a)\n"
     "                if (abs(dT[a]) > 1e-20)\n"
-    "                    leave = min(leave, ((dT[a] > 0.0 ? high[a] : low[a]) - T0[a]) / dT[a]);\n"
-    "            float plane = (phi_origin + min(leave, 2.0) * phi_rate - march_planes.x) / march_planes.y;\n"
-    "            // planes k < plane lie before the exit (the phi of the plane grows with k one way\n"
-    "            // or the other: the exit is at the larger k along the ray only when phi_rate > 0)\n"
-    "            if (phi_rate > 0.0 && plane < 1e9)\n"
-    "                next = max(k + 1, int(floor(plane)) - 1);\n"
+    "                    leave = min(leave, t + max(0.0, ((dT[a] > 0.0 ? high[a] : low[a]) - T[a]) / dT[a]));\n"
+    "            float plane = (phi_origin + leave * phi_rate - march_planes.x) / march_planes.y;\n"
+    "            if (phi_rate > 0.0 && plane > float(k) + 2.0 && plane < 1e9)\n"
+    "                next = int(floor(plane)) - 1;\n"
     "        } else {\n"
     "            halo_sample s = halo_make_sample(P, texture(march_volume, T).r, texture(march_gradient, T).rgb,\n"
     "                                             halo_view_at(P), halo_depth_at(P), pixel, vec3(0.0), 0.0);\n"
@@ -267,6 +276,37 @@ int halo_prepass_host_uniforms_known(const halo_program *march, halo_diagnostics
                                 m->name, name);
                 return 0;
             }
+        }
+    }
+    return 1;
+}
+
+int halo_prepass_batchable(const halo_program *march)
+{
+    /* one output, at location 1 (prepass.c's batch writes the others around it) */
+    if (!march || !march->prepass_only || march->output_count != 1 || march->outputs[0].location != 1)
+        return 0;
+    /* the batch copies a segment's seeds over the seed image where one segment a draw
+     * blended them onto it: the same only when the image starts every generation from the
+     * blend's identity */
+    const halo_output_info *out = &march->outputs[0];
+    const halo_image_info *im = halo_program_image_named((halo_program *)march, out->image);
+    double identity = out->blend == HALO_BLEND_MIN ? 1.0 : 0.0;
+    if (!im || im->reset != HALO_RESET_GENERATION || im->clear != identity || out->blend == HALO_BLEND_FIRST)
+        return 0;
+    /* a discard would drop the pixel's seeds of all eight segments, not one */
+    for (size_t s = 0; s < march->stage_count; s++) {
+        const halo_module *m = march->stages[s].module;
+        for (int i = 0; march->stages[s].prepass && i < m->line_count; i++) {
+            halo_token_list toks = {0};
+            if (halo_lex(m->lines[i], &toks))
+                return 0;
+            int found = 0;
+            for (size_t t = 0; t < toks.count && !found; t++)
+                found = halo_token_is(m->lines[i], &toks.items[t], "discard");
+            halo_token_list_free(&toks);
+            if (found)
+                return 0;
         }
     }
     return 1;

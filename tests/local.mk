@@ -21,6 +21,7 @@ HALO_UNIT_TESTS = \
 	tests/libhalo/test_link \
 	tests/libhalo/test_emit \
 	tests/libhalo/test_program \
+	tests/libhalo/test_prepass \
 	tests/libhalo/test_host_check \
 	tests/libhalo/test_compose \
 	tests/libhalo/test_host_scan \
@@ -50,6 +51,7 @@ nodist_EXTRA_tests_libhalo_test_compose_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_libhalo_test_link_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_libhalo_test_emit_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_libhalo_test_program_SOURCES = $(HALO_TEST_CXX_LINK)
+nodist_EXTRA_tests_libhalo_test_prepass_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_libhalo_test_host_check_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_libhalo_test_host_scan_SOURCES = $(HALO_TEST_CXX_LINK)
 nodist_EXTRA_tests_libhalo_test_emu_SOURCES = $(HALO_TEST_CXX_LINK)

@@ -13,11 +13,16 @@
  * the slice host's and the segmented ray caster's (segments.c), so at equal M the field is
  * theirs; the occlusion image's running maximum is kept by the front-to-back order.
  *
- * With eight draw buffers the march draws eight segments at once (field_batches): each ray is
- * set up once for the eight and clipped to the volume's box once, and segment b's seeds go
- * to layer j0 + b of a seed stack; each generation then starts from a copy of its layer.
- * The samples, their order and the images are the same as one segment a draw
- * (`halo-validate conform --stage segments` prints the same numbers). */
+ * With eight draw buffers, where the march is batchable (halo_prepass_batchable: one seed
+ * output into an image every generation starts from the blend's identity, no discard) and
+ * the batch's seed stack is within a sixteenth of field_max_bytes, the march draws eight
+ * segments at once (field_batches): each ray is set up once for the eight, and the seeds
+ * of segment j0 + b go to layer b of an eight-layer seed stack; each of the eight
+ * generations then starts from a copy of its layer. Every march clips its rays to the
+ * volume's box and steps over empty bricks (prepass.c). The samples and the images are the
+ * same as one segment a draw (`halo-validate conform --stage segments` prints the same
+ * numbers), up to a sample whose rounded position differs from the exact one by more than
+ * the margins there. */
 #include "halo.h"
 #include "internal.h"
 #include "diag.h"
@@ -185,17 +190,13 @@ static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     GLint draw_buffers = 0, attachments = 0;
     f->GetIntegerv(GL_MAX_DRAW_BUFFERS, &draw_buffers);
     f->GetIntegerv(GL_MAX_COLOR_ATTACHMENTS, &attachments);
-    halo_reflection march = halo_program_reflection(p->prepass);
-    if (march.output_count == 1 && march.outputs[0].location == 1 && draw_buffers >= FIELD_BATCH &&
-        attachments >= FIELD_BATCH) {
+    if (halo_prepass_batchable(p->prepass) && draw_buffers >= FIELD_BATCH && attachments >= FIELD_BATCH) {
+        /* (a batch that does not build leaves the march of one segment a draw) */
         int es = halo_program_target(p->prepass) == HALO_TARGET_ES300;
         field->batch = halo_gl_program_build(gl, p->prepass, es ? march_vertex_es300 : march_vertex_330,
-                                             "(libhalo's march, vertex shader)", "#define HALO_MARCH_BATCH 1\n", diag);
-        if (!field->batch) {
-            field_destroy(fr, field);
-            return NULL;
-        }
-        field->batch_at = march_locations_of(f, field->batch, "march_ranges");
+                                             "(libhalo's march, vertex shader)", "#define HALO_MARCH_BATCH 1\n", NULL);
+        if (field->batch)
+            field->batch_at = march_locations_of(f, field->batch, "march_ranges");
     }
     f->GenFramebuffers(1, &field->framebuffer);
     f->GenVertexArrays(1, &field->vertex_array);
@@ -715,15 +716,11 @@ static int field_piece(const halo_gl_segments_desc *d, const double low[3], cons
 static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_field *field, const halo_program *march,
                               int layers, int exchange, halo_diagnostics *diag)
 {
-    if (layers <= field->seed_layers)
-        return 1;
     size_t n = halo_program_reflection(march).output_count;
     for (size_t i = 0; i < n && i < FIELD_MAX_STACKS; ++i) {
         halo_gl_frame_image view;
         if (!halo_gl_frame_image_view(fr, halo_program_reflection(march).outputs[i].image, &view))
             continue;
-        GLenum format, type;
-        upload_format(view.internal_format, &format, &type);
         if (exchange && halo_gl_es_version(halo_gl_frame_runtime(fr)) > 0 && view.internal_format != GL_RGBA32F &&
             view.internal_format != GL_RGBA16F) {
             /* the exchange reads and writes RGBA floats: OpenGL ES takes them for RGBA images only */
@@ -732,6 +729,10 @@ static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_
                             "not this program's (more halo channels or 32/16-bit images)");
             return 0;
         }
+        if (layers <= field->seed_layers)
+            continue; /* (a batch's stack, grown for an exchange, or the other way round) */
+        GLenum format, type;
+        upload_format(view.internal_format, &format, &type);
         if (!field->seed_stacks[i])
             f->GenTextures(1, &field->seed_stacks[i]);
         f->BindTexture(GL_TEXTURE_2D_ARRAY, field->seed_stacks[i]);
@@ -744,7 +745,8 @@ static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_
         halo_diag_error(diag, GL_LINK, "", 0, 0, "the seeds of %d depth segments could not be allocated", layers);
         return 0;
     }
-    field->seed_layers = layers;
+    if (layers > field->seed_layers)
+        field->seed_layers = layers;
     return 1;
 }
 
@@ -894,7 +896,8 @@ static void field_generate(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_fie
 }
 
 /* The batched march (field->batch): the seeds of FIELD_BATCH segments a draw into the layers
- * of the seed stack (segment b of a draw to draw buffer b, but the last to 1: prepass.c),
+ * of the seed stack (segment b of a draw to draw buffer 0 for b = 0, b + 1 for b = 1 .. 6, and
+ * 1 for the last, through the linked seed output: prepass.c),
  * then those segments' generations, each from a copy of its layer; front to back. */
 static void field_batches(halo_gl_frame *fr, const halo_gl_segments_desc *d, const halo_segment_plan *plan,
                           const double view_projection[16], const double low[3], const double high[3], int planes,
@@ -1041,15 +1044,23 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     if (exchanged && !field_seed_reserve(f, fr, field, p->prepass, layers, 1, diag))
         return HALO_ERROR_IO;
     halo_gl_frame_begin(fr);
-    int batched = !exchanged && field->batch;
-    if (batched) {
-        /* the seed stack the batches write: a layer a segment of a batch */
-        if (!field_seed_reserve(f, fr, field, p->prepass, FIELD_BATCH, 0, diag))
-            return HALO_ERROR_IO;
-        march_setup(fr, d, plan, field->batch, &field->batch_at, unit, gradient, bricks, sample_low, sample_high,
-                    piece_min, piece_scale);
-        field_batches(fr, d, plan, view_projection, sample_low, sample_high, planes, unit);
-        return HALO_OK;
+    /* the batches' seed stack, eight layers of the seed image, within a sixteenth of the
+     * field's cap (else, or where it cannot be had, one segment a draw) */
+    size_t batch_bytes = 0;
+    for (size_t i = 0; field->batch && i < halo_program_reflection(p->prepass).output_count; ++i) {
+        halo_gl_frame_image view;
+        if (halo_gl_frame_image_view(fr, halo_program_reflection(p->prepass).outputs[i].image, &view))
+            batch_bytes += FIELD_BATCH * (size_t)view.width * (size_t)view.height * texel_bytes(view.internal_format);
+    }
+    if (!exchanged && field->batch && batch_bytes <= max_bytes / 16) {
+        if (field_seed_reserve(f, fr, field, p->prepass, FIELD_BATCH, 0, NULL)) {
+            halo_gl_frame_attach_outputs(fr, p->prepass, field->framebuffer, 0);
+            march_setup(fr, d, plan, field->batch, &field->batch_at, unit, gradient, bricks, sample_low, sample_high,
+                        piece_min, piece_scale);
+            field_batches(fr, d, plan, view_projection, sample_low, sample_high, planes, unit);
+            return HALO_OK;
+        }
+        for (int k = 0; k < 8 && f->GetError() != GL_NO_ERROR; ++k) {}
     }
     march_setup(fr, d, plan, field->march, &field->at, unit, gradient, bricks, sample_low, sample_high, piece_min,
                 piece_scale);
