@@ -26,12 +26,10 @@ static halo_program *one_draw_program(void)
     return p;
 }
 
-static void test_batchable(void)
+static int test_batchable(void)
 {
     halo_program *p = one_draw_program();
     CHECK(p != NULL);
-    if (!p)
-        return;
     CHECK(p->prepass->prepass_only);
     CHECK_INT_EQ((int)p->prepass->output_count, 1);
     CHECK_INT_EQ(p->prepass->outputs[0].location, 1);
@@ -43,6 +41,7 @@ static void test_batchable(void)
     CHECK_INT_EQ(halo_prepass_batchable(p), 0);
     CHECK_INT_EQ(halo_prepass_batchable(NULL), 0);
     halo_program_destroy(p);
+    return 0;
 }
 
 /* A seeding stage that may discard: one segment a draw. */
@@ -59,15 +58,16 @@ static const char discarding_seed[] =
     "    s.seed = halo_channels(s.value);\n"
     "}\n";
 
-static void test_discard_not_batchable(void)
+static int test_discard_not_batchable(void)
 {
     CHECK_INT_EQ(halo_library_add(library, "halo_seed.glsl", discarding_seed, HALO_ADD_REPLACE, diags), HALO_OK);
     check_print_diags(diags);
     halo_program *p = one_draw_program();
     CHECK(p != NULL);
-    if (p)
-        CHECK_INT_EQ(halo_prepass_batchable(p->prepass), 0);
+    int batchable = halo_prepass_batchable(p->prepass);
     halo_program_destroy(p);
+    CHECK_INT_EQ(batchable, 0);
+    return 0;
 }
 
 int main(void)
