@@ -229,3 +229,126 @@ WEB_API const char *halo_web_map_line(const halo_program *p, int piece, int line
     json_decref(o);
     return keep(text);
 }
+
+/* ---- The GL runtime over WebGL 2 (host contract 3: the halo field before the host draws) ----
+ *
+ * The page's WebGL 2 context is registered with emscripten's GL layer by libhalo.mjs
+ * (GL.registerContext, then made current), and the page's WebGL objects that libhalo is
+ * handed (the host's program, volume texture, framebuffer) get names in its tables; these
+ * functions then run libhalo's C runtime on that context, as on OpenGL ES 3.0. */
+#ifdef __EMSCRIPTEN__
+#include <emscripten/html5_webgl.h>
+
+/* The host's proxy geometry, drawn by the page: libhalo.mjs's frame.draw sets Module.haloDraw. */
+EM_JS(void, web_draw_proxy, (void), { Module.haloDraw(); });
+
+static void draw_proxy(void *user)
+{
+    (void)user;
+    web_draw_proxy();
+}
+
+static void *get_proc_address(const char *name) { return emscripten_webgl_get_proc_address(name); }
+#endif
+
+/* libhalo's GL runtime on the current context (a registered WebGL 2 context), or NULL
+ * after diagnostics. */
+WEB_API halo_gl *halo_web_gl_create(void)
+{
+    halo_diagnostics *d = fresh();
+#ifdef __EMSCRIPTEN__
+    return halo_gl_create(&(halo_gl_desc){.get_proc_address = get_proc_address}, d);
+#else
+    usage(d, "the GL runtime needs the WebAssembly build");
+    return NULL;
+#endif
+}
+
+WEB_API void halo_web_gl_destroy(halo_gl *gl) { halo_gl_destroy(gl); }
+
+/* A frame of width x height for a linked program (with one_draw: its halo field), or NULL
+ * after diagnostics. */
+WEB_API halo_gl_frame *halo_web_frame_create(halo_gl *gl, const halo_program *p, int width, int height)
+{
+    return halo_gl_frame_create(gl, p, width, height, fresh());
+}
+
+WEB_API void halo_web_frame_destroy(halo_gl_frame *f) { halo_gl_frame_destroy(f); }
+
+static int float_array(json_t *o, const char *key, float *out, size_t count, int required, halo_diagnostics *d)
+{
+    json_t *a = json_object_get(o, key);
+    if (!a && !required)
+        return 1;
+    if (!json_is_array(a) || json_array_size(a) != count) {
+        usage(d, "frame.draw: %s must be an array of %zu numbers", key, count);
+        return 0;
+    }
+    for (size_t i = 0; i < count; ++i) {
+        json_t *v = json_array_get(a, i);
+        if (!json_is_number(v)) {
+            usage(d, "frame.draw: %s[%zu] is not a number", key, i);
+            return 0;
+        }
+        out[i] = (float)json_number_value(v);
+    }
+    return 1;
+}
+
+/* Draws one frame of the host's program (a GL name) through halo_gl_frame_draw: for a
+ * one_draw program the halo field of every depth segment, then the host's proxy once
+ * (Module.haloDraw). options (JSON): {inverse_view_projection: 16 numbers, step,
+ * box_min, box_max, interval, segments, framebuffer, first_unit, volume_texture,
+ * gradient_texture, gradient_precision, volume_version, volume_size: 3 numbers,
+ * seed_epsilon, field_max_bytes}. 1, or 0 after diagnostics. */
+WEB_API int halo_web_frame_draw(halo_gl_frame *f, unsigned gl_program, const char *options_text)
+{
+    halo_diagnostics *d = fresh();
+#ifdef __EMSCRIPTEN__
+    json_error_t error;
+    json_t *o = json_loads(options_text ? options_text : "", 0, &error);
+    float inverse[16], box_min[3] = {0}, box_max[3] = {0}, size[3] = {0};
+    int ok = 0;
+    if (!json_is_object(o)) {
+        usage(d, "frame.draw: the options are not a JSON object (%s)", error.text);
+        goto done;
+    }
+    json_t *step = json_object_get(o, "step"), *epsilon = json_object_get(o, "seed_epsilon");
+    if (!json_is_number(step)) {
+        usage(d, "frame.draw: step (the host's sample spacing) is required");
+        goto done;
+    }
+    if (!float_array(o, "inverse_view_projection", inverse, 16, 1, d) || !float_array(o, "box_min", box_min, 3, 0, d) ||
+        !float_array(o, "box_max", box_max, 3, 0, d) || !float_array(o, "volume_size", size, 3, 0, d))
+        goto done;
+    json_t *max_bytes = json_object_get(o, "field_max_bytes");
+    halo_gl_segments_desc desc = {
+        .inverse_view_projection = inverse,
+        .step = (float)json_number_value(step),
+        .box_min = {box_min[0], box_min[1], box_min[2]},
+        .box_max = {box_max[0], box_max[1], box_max[2]},
+        .interval = int_field(o, "interval", 0),
+        .segments = int_field(o, "segments", 0),
+        .framebuffer = (unsigned)int_field(o, "framebuffer", 0),
+        .first_unit = int_field(o, "first_unit", 0),
+        .draw = draw_proxy,
+        .volume_texture = (unsigned)int_field(o, "volume_texture", 0),
+        .gradient_texture = (unsigned)int_field(o, "gradient_texture", 0),
+        .gradient_precision = int_field(o, "gradient_precision", 0),
+        .volume_version = int_field(o, "volume_version", 0),
+        .volume_size = {(int)size[0], (int)size[1], (int)size[2]},
+        .seed_epsilon = json_is_number(epsilon) ? (float)json_number_value(epsilon) : 0.0f,
+        .field_max_bytes = json_is_number(max_bytes) ? (size_t)json_number_value(max_bytes) : 0,
+    };
+    ok = halo_gl_frame_draw(f, gl_program, &desc, d) == HALO_OK;
+done:
+    json_decref(o);
+    return ok;
+#else
+    usage(d, "the GL runtime needs the WebAssembly build");
+    return 0;
+#endif
+}
+
+/* Depth segments the last frame.draw drew its field in. */
+WEB_API int halo_web_frame_segment_count(const halo_gl_frame *f) { return halo_gl_frame_segment_count(f); }

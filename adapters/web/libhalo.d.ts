@@ -54,10 +54,37 @@ export interface Program {
   destroy(): void;
 }
 
+// Host contract 3 (a program linked with oneDraw): what frame.draw needs of the host.
+export interface FrameDrawOptions {
+  program: WebGLProgram;              // the host's program, linked from program.source
+  draw: () => void;                   // draws the host's proxy geometry once (the program is current)
+  inverseViewProjection: ArrayLike<number>; // 16, column-major: clip space -> the ray positions' space
+  step: number;                       // the host's sample spacing in that space
+  volume: WebGLTexture;               // TEXTURE_3D: the value at a position, in its red channel
+  volumeSize: [number, number, number]; // its voxels per axis
+  framebuffer?: WebGLFramebuffer | null; // null: the canvas
+  boxMin?: [number, number, number]; boxMax?: [number, number, number]; // default the unit cube
+  interval?: number;                  // M, planes per depth segment; default the scene's
+  firstUnit?: number;                 // libhalo's textures from this unit on (default 8)
+  gradientTexture?: WebGLTexture;     // the host's gradient, if it has one
+  gradientPrecision?: 16 | 32;
+  volumeVersion?: number;             // change it when the volume's contents change
+  seedEpsilon?: number;
+  fieldMaxBytes?: number;
+}
+
+// libhalo's GL runtime (WebAssembly) on the page's WebGL 2 context, for one program.
+export interface Frame {
+  draw(options: FrameDrawOptions): void; // the field, then the host once; WebGL state restored
+  readonly draws: number;             // host draws in the last frame: 1 with oneDraw
+  destroy(): void;
+}
+
 export interface Halo {
   readonly version: string;
   modules(): { name: string; file: string; summary: string }[];
   link(options: LinkOptions): Program;
+  frame(gl: WebGL2RenderingContext, program: Program, size: { width: number; height: number }): Frame;
 }
 
 export default function libhalo(options?: object): Promise<Halo>;

@@ -9,6 +9,11 @@
 //   program.set('tone_shading.k_ta', 0.4);      // a live parameter
 //   program.upload(gl, glProgram);              // the live parameters' uniforms
 //
+// Host contract 3 (oneDraw: volumetric halos in one draw of a single-pass ray caster):
+//   const frame = halo.frame(gl, program, { width, height });   // libhalo's GL runtime
+//   frame.draw({ program: glProgram, volume: volumeTexture, volumeSize: [nx, ny, nz],
+//                inverseViewProjection, step, framebuffer, draw: () => gl.drawArrays(...) });
+//
 // Errors are HaloError exceptions: message "file:line:col: text", with .diagnostics (every
 // one, as {severity, id, file, line, column, message, source}).
 import haloCore from './dist/libhalo-core.mjs';
@@ -137,6 +142,109 @@ class Program {
   }
 }
 
+// A WebGL object's name in emscripten's GL tables (the C runtime's GLuint), given once. A
+// program the page linked gets the bookkeeping emscripten's glCreateProgram and
+// glLinkProgram give their own (emscripten 3.1.6: the lazily filled uniform tables).
+function nameOf(GL, table, object) {
+  if (!object) return 0;
+  if (object.name && table[object.name] === object) return object.name;
+  const id = GL.getNewId(table);
+  table[id] = object;
+  object.name = id;
+  if (table === GL.programs) {
+    object.maxUniformLength = object.maxAttributeLength = object.maxUniformBlockNameLength = 0;
+    object.uniformIdCounter = 1;
+    object.uniformLocsById = 0;
+    object.uniformSizeAndIdsByName = {};
+  }
+  return id;
+}
+
+// The page's objects bound on gl, named in emscripten's tables before libhalo's C runtime
+// runs: it restores the bindings it changes by their names (unnamed ones would come back
+// unbound).
+function nameBindings(GL, gl) {
+  const unit = gl.getParameter(gl.ACTIVE_TEXTURE);
+  const units = gl.getParameter(gl.MAX_COMBINED_TEXTURE_IMAGE_UNITS);
+  for (let i = 0; i < units; ++i) {
+    gl.activeTexture(gl.TEXTURE0 + i);
+    for (const binding of [gl.TEXTURE_BINDING_2D, gl.TEXTURE_BINDING_3D, gl.TEXTURE_BINDING_2D_ARRAY, gl.TEXTURE_BINDING_CUBE_MAP])
+      nameOf(GL, GL.textures, gl.getParameter(binding));
+  }
+  gl.activeTexture(unit);
+  for (const binding of [gl.DRAW_FRAMEBUFFER_BINDING, gl.READ_FRAMEBUFFER_BINDING])
+    nameOf(GL, GL.framebuffers, gl.getParameter(binding));
+  nameOf(GL, GL.renderbuffers, gl.getParameter(gl.RENDERBUFFER_BINDING));
+  nameOf(GL, GL.programs, gl.getParameter(gl.CURRENT_PROGRAM));
+  nameOf(GL, GL.vaos, gl.getParameter(gl.VERTEX_ARRAY_BINDING));
+  for (const binding of [gl.ARRAY_BUFFER_BINDING, gl.PIXEL_PACK_BUFFER_BINDING, gl.PIXEL_UNPACK_BUFFER_BINDING])
+    nameOf(GL, GL.buffers, gl.getParameter(binding));
+}
+
+// libhalo's GL runtime on the page's WebGL 2 context with one program's frame: for a
+// program linked with oneDraw, the halo field of every depth segment computed before the
+// host draws (docs/host-contract.md, host contract 3).
+class Frame {
+  constructor(halo, gl, program, { width, height } = {}) {
+    if (!(program instanceof Program)) throw new HaloError([], 'frame: program must be a Program of halo.link');
+    if (!(width > 0 && height > 0)) throw new HaloError([], 'frame: width and height (the host\'s target in pixels) are required');
+    this._halo = halo;
+    this._gl = gl;
+    this._program = program;
+    program._live();
+    const core = halo._core;
+    this._runtime = halo._runtime(gl);
+    this._handle = core._halo_web_frame_create(this._runtime, program._handle, width, height);
+    if (!this._handle) throw halo._error('frame: halo_gl_frame_create failed');
+  }
+
+  // Draws one frame: the field (oneDraw), then the host's proxy once through draw(), with
+  // glProgram current and libhalo's textures bound from unit firstUnit (8) on. Options:
+  // program (the host's WebGLProgram), inverseViewProjection (16 numbers, column-major:
+  // clip space -> the ray positions' space), step (the host's sample spacing there),
+  // volume (its WebGLTexture, TEXTURE_3D), volumeSize ([nx, ny, nz]), framebuffer (null:
+  // the canvas), draw, and optionally boxMin, boxMax, interval (M), firstUnit,
+  // gradientTexture, gradientPrecision, volumeVersion (change it with the volume's
+  // contents), seedEpsilon, fieldMaxBytes. The WebGL state it changes is restored.
+  draw(options) {
+    if (!this._handle) throw new HaloError([], 'the frame was destroyed');
+    const { program, draw } = options;
+    if (typeof draw !== 'function') throw new HaloError([], 'frame.draw: draw (a function drawing the host\'s proxy) is required');
+    const core = this._halo._core, GL = core.GL;
+    this._halo._current(this._gl);
+    const desc = {
+      inverse_view_projection: Array.from(options.inverseViewProjection || []), step: options.step,
+      box_min: options.boxMin, box_max: options.boxMax, interval: options.interval, first_unit: options.firstUnit,
+      framebuffer: nameOf(GL, GL.framebuffers, options.framebuffer), volume_texture: nameOf(GL, GL.textures, options.volume),
+      gradient_texture: nameOf(GL, GL.textures, options.gradientTexture), gradient_precision: options.gradientPrecision,
+      volume_version: options.volumeVersion, volume_size: options.volumeSize, seed_epsilon: options.seedEpsilon,
+      field_max_bytes: options.fieldMaxBytes,
+    };
+    const name = nameOf(GL, GL.programs, program);
+    let thrown = null;
+    core.haloDraw = () => { try { draw(); } catch (e) { thrown = thrown || e; } };
+    try {
+      const ok = this._halo._withStrings([JSON.stringify(desc)], ([text]) => core._halo_web_frame_draw(this._handle, name, text));
+      if (thrown) throw thrown;
+      if (!ok) throw this._halo._error('frame.draw failed');
+    } finally {
+      core.haloDraw = null;
+    }
+  }
+
+  // The host's draws in the last frame.draw (halo_gl_frame_segment_count): 1 for a oneDraw
+  // program (its field's depth segments are libhalo's own draws).
+  get draws() { return this._handle ? this._halo._core._halo_web_frame_segment_count(this._handle) : 0; }
+
+  destroy() {
+    if (this._handle) {
+      this._halo._current(this._gl);
+      this._halo._core._halo_web_frame_destroy(this._handle);
+    }
+    this._handle = 0;
+  }
+}
+
 function componentsOf(type) {
   const m = /^(?:vec|ivec|bvec)(\d)$/.exec(type);
   return m ? Number(m[1]) : type === 'mat4' ? 16 : 1;
@@ -160,6 +268,37 @@ class Halo {
     this._core = core;
     if (!core._halo_web_init()) throw this._error('libhalo could not load its modules');
     this.version = core.UTF8ToString(core._halo_web_version());
+    this._contexts = new Map(); // WebGL 2 context -> {handle (emscripten's), runtime (halo_gl)}
+  }
+
+  // The context made current in emscripten's GL layer (registered on first use).
+  _current(gl) {
+    const GL = this._core.GL;
+    let entry = this._contexts.get(gl);
+    if (!entry) {
+      if (typeof WebGL2RenderingContext === 'undefined' || !(gl instanceof WebGL2RenderingContext))
+        throw new HaloError([], 'frame: gl must be a WebGL 2 context');
+      entry = { handle: GL.registerContext(gl, { majorVersion: 2, minorVersion: 0, enableExtensionsByDefault: true }), runtime: 0 };
+      this._contexts.set(gl, entry);
+    }
+    GL.makeContextCurrent(entry.handle);
+    nameBindings(GL, gl);
+    return entry;
+  }
+
+  // libhalo's GL runtime (halo_gl) on gl, made once per context.
+  _runtime(gl) {
+    const entry = this._current(gl);
+    if (!entry.runtime) {
+      entry.runtime = this._core._halo_web_gl_create();
+      if (!entry.runtime) throw this._error('frame: halo_gl_create failed on this WebGL 2 context');
+    }
+    return entry.runtime;
+  }
+
+  // A frame of the GL runtime for a linked program (class Frame).
+  frame(gl, program, size) {
+    return new Frame(this, gl, program, size);
   }
 
   _diagnostics() {

@@ -16,7 +16,16 @@ WEB_DEPS = adapters/web/deps
 # emscripten's tools run on node and need Debian's node-acorn, which a node of another
 # origin does not find by itself
 WEB_EMCC = NODE_PATH=/usr/share/nodejs$${NODE_PATH:+:$$NODE_PATH} $(EMCC)
-WEB_EXPORTS = _malloc _free _halo_web_init _halo_web_version _halo_web_diagnostics _halo_web_modules _halo_web_link _halo_web_program_destroy _halo_web_program_source _halo_web_program_piece _halo_web_program_reflect _halo_web_program_set _halo_web_map_line
+WEB_EXPORTS = _malloc _free _halo_web_init _halo_web_version _halo_web_diagnostics _halo_web_modules _halo_web_link _halo_web_program_destroy _halo_web_program_source _halo_web_program_piece _halo_web_program_reflect _halo_web_program_set _halo_web_map_line \
+	_halo_web_gl_create _halo_web_gl_destroy _halo_web_frame_create _halo_web_frame_destroy _halo_web_frame_draw _halo_web_frame_segment_count
+# libhalo's GL runtime (the image passes and host contract 3's halo field) over WebGL 2: the
+# same sources as the native runtime, which take OpenGL ES 3.0 entry points through
+# emscripten_webgl_get_proc_address. Their one header from outside, GL/glcorearb.h (types
+# and enums: emscripten has only GLES3/), comes from the system's (libgl-dev, which the
+# native build needs too), copied into the build tree.
+web_gl_files = libhalo/gl/glfuncs.c libhalo/gl/runtime.c libhalo/gl/frame.c libhalo/gl/camera.c libhalo/gl/segments.c \
+	libhalo/gl/field.c libhalo/gl/feature_splat.c
+WEB_GL_INCLUDE = adapters/web/gl-include
 web_comma = ,
 web_empty =
 web_space = $(web_empty) $(web_empty)
@@ -24,16 +33,22 @@ web_space = $(web_empty) $(web_empty)
 $(WEB_DEPS)/lib/libjansson.a: $(srcdir)/adapters/web/deps.sh
 	$(AM_V_GEN)EMCC="$(EMCC)" NODE="$(NODE)" $(SHELL) $(srcdir)/adapters/web/deps.sh $(WEB_DEPS)
 
-$(WEB_PACKAGE)/dist/libhalo-core.mjs: $(web_core_files) adapters/web/halo_web.c libhalo/embedded_modules.c \
-		libhalo/emu/registry_list.h \
+$(WEB_GL_INCLUDE)/GL/glcorearb.h:
+	@mkdir -p $(WEB_GL_INCLUDE)/GL
+	$(AM_V_GEN)header=`printf '#include <GL/glcorearb.h>\n' | $(CPP) -M - | tr ' \\\\' '\n\n' | grep 'GL/glcorearb\.h$$'` && \
+		test -n "$$header" && cp "$$header" $@
+
+$(WEB_PACKAGE)/dist/libhalo-core.mjs: $(web_core_files) $(web_gl_files) adapters/web/halo_web.c libhalo/embedded_modules.c \
+		libhalo/emu/registry_list.h $(WEB_GL_INCLUDE)/GL/glcorearb.h libhalo/gl/glfuncs.h libhalo/gl/runtime.h libhalo/gl/frame.h \
 		$(WEB_DEPS)/lib/libjansson.a libhalo/halo.h libhalo/internal.h $(srcdir)/adapters/web/local.mk
 	@mkdir -p $(WEB_PACKAGE)/dist
 	$(AM_V_GEN)$(WEB_EMCC) -O2 -std=gnu11 -DHALO_BUILDING -DPACKAGE_VERSION=\"$(PACKAGE_VERSION)\" \
-		-I$(srcdir)/libhalo -Ilibhalo -Ilibhalo/emu -I$(srcdir) -I$(WEB_DEPS)/include \
-		$(addprefix $(srcdir)/,$(web_core_files) adapters/web/halo_web.c) libhalo/embedded_modules.c \
+		-I$(srcdir)/libhalo -Ilibhalo -Ilibhalo/emu -I$(srcdir) -I$(WEB_DEPS)/include -I$(WEB_GL_INCLUDE) \
+		$(addprefix $(srcdir)/,$(web_core_files) $(web_gl_files) adapters/web/halo_web.c) libhalo/embedded_modules.c \
 		$(WEB_DEPS)/lib/libjansson.a -o $@ -sMODULARIZE=1 -sEXPORT_ES6=1 -sEXPORT_NAME=haloCore \
 		-sALLOW_MEMORY_GROWTH=1 -sENVIRONMENT=web,worker -sEXPORTED_FUNCTIONS=$(subst $(web_space),$(web_comma),$(WEB_EXPORTS)) \
-		-sEXPORTED_RUNTIME_METHODS=UTF8ToString,stringToUTF8,lengthBytesUTF8
+		-sMIN_WEBGL_VERSION=2 -sMAX_WEBGL_VERSION=2 \
+		-sEXPORTED_RUNTIME_METHODS=UTF8ToString,stringToUTF8,lengthBytesUTF8,GL
 
 # the package's own files, copied beside the WebAssembly
 $(WEB_PACKAGE)/stamp: $(srcdir)/adapters/web/libhalo.mjs $(srcdir)/adapters/web/libhalo.d.ts \
@@ -47,6 +62,6 @@ $(WEB_PACKAGE)/stamp: $(srcdir)/adapters/web/libhalo.mjs $(srcdir)/adapters/web/
 all-local: $(WEB_PACKAGE)/dist/libhalo-core.mjs $(WEB_PACKAGE)/stamp
 clean-local: clean-web
 clean-web:
-	rm -rf $(WEB_PACKAGE) $(WEB_DEPS)
+	rm -rf $(WEB_PACKAGE) $(WEB_DEPS) $(WEB_GL_INCLUDE)
 .PHONY: clean-web
 endif

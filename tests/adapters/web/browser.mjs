@@ -7,7 +7,10 @@
 // Each image must be within LIMIT (mean abs) of halo-render's; the viewer without libhalo
 // must differ from it by more than EFFECT (the stages are visible); a deliberately wrong
 // reference must fail; in three.js, the stages installed and removed again must give the
-// caster alone (max abs 0).
+// caster alone (max abs 0). A scene given as one-draw:SCENE is host contract 3: linked
+// with oneDraw, its halo field computed by libhalo's C runtime in WebAssembly on the page's
+// WebGL 2 context, the ray caster drawn once; its reference is halo-render --one-draw's
+// (raycast.frag only: the three.js caster has no field yet).
 //   node browser.mjs CASE_DIR SCENE [CASE_DIR SCENE]...   (environment: srcdir,
 //   HALO_WEB_PACKAGE, HALO_CHROMIUM, HALO_WEB_LIMIT)
 import http from 'node:http';
@@ -23,7 +26,10 @@ const modulesDir = path.resolve(process.env.HALO_WEB_MODULES);
 const LIMIT = Number(process.env.HALO_WEB_LIMIT || 1e-4);
 const EFFECT = 0.01;
 const cases = [];
-for (let i = 2; i + 1 < process.argv.length + 1; i += 2) cases.push({ dir: path.resolve(process.argv[i]), scene: process.argv[i + 1] });
+for (let i = 2; i + 1 < process.argv.length + 1; i += 2) {
+  const oneDraw = process.argv[i + 1].startsWith('one-draw:');
+  cases.push({ dir: path.resolve(process.argv[i]), scene: process.argv[i + 1].replace(/^one-draw:/, ''), oneDraw });
+}
 
 const types = { '.html': 'text/html', '.mjs': 'text/javascript', '.js': 'text/javascript', '.wasm': 'application/wasm',
   '.json': 'application/json' };
@@ -56,7 +62,7 @@ function difference(a, b) {
   return { mean: sum / a.length, max };
 }
 
-let failures = 0;
+let failures = 0, drawn = 0;
 const fail = (text) => { console.log(`FAIL: ${text}`); failures++; };
 const browser = await puppeteer.launch({
   executablePath: process.env.HALO_CHROMIUM,
@@ -69,13 +75,19 @@ try {
   page.on('console', (m) => console.log(`page: ${m.text()}`));
   page.on('pageerror', (e) => console.log(`page error: ${e.message}`));
   let casterAlone = null; // raycast.frag without libhalo, for the three.js caster's own difference
-  for (const c of cases) for (const viewer of ['raycast', 'three']) {
+
+  for (const c of cases) for (const viewer of c.oneDraw ? ['raycast'] : ['raycast', 'three']) {
     inputs = c.dir;
+    drawn++;
     await page.goto(`${origin}/${viewer}.html`);
     await page.waitForFunction('window.ready === true', { timeout: 30000 });
-    const staged = await page.evaluate((scene) => window.render({ scene }), c.scene);
-    const plain = await page.evaluate(() => window.render({ scene: null }));
-    const name = `${c.scene} in ${viewer === 'three' ? "the three.js caster" : 'raycast.frag'}`;
+    // a one-draw frame is drawn three times: its time is the third's (the first builds libhalo's programs)
+    const repeat = c.oneDraw ? 3 : 1;
+    const staged = await page.evaluate((scene, oneDraw, repeat) => window.render({ scene, oneDraw, repeat }), c.scene, c.oneDraw, repeat);
+    const plain = await page.evaluate((repeat) => window.render({ scene: null, repeat }), repeat);
+    const name = `${c.scene}${c.oneDraw ? ' drawn once (host contract 3)' : ''} in ` +
+      `${viewer === 'three' ? "the three.js caster" : 'raycast.frag'}`;
+    if (c.oneDraw && staged.draws !== 1) fail(`${name}: the host was drawn ${staged.draws} times, not once`);
     const reference = new Float32Array(fs.readFileSync(path.join(c.dir, 'image.f32')).buffer.slice(0));
     if (reference.length !== staged.pixels.length) {
       fail(`${name}: ${staged.pixels.length} values in the page, ${reference.length} in halo-render's image`);
@@ -88,6 +100,7 @@ try {
     // raycast.frag without libhalo, twice, plus LIMIT
     let limit = LIMIT;
     if (viewer === 'raycast') casterAlone = plain.pixels;
+    if (c.oneDraw) limit = Number(process.env.HALO_WEB_FIELD_LIMIT || LIMIT);
     else {
       const own = difference(plain.pixels, casterAlone);
       limit = 2 * own.mean + LIMIT;
@@ -104,6 +117,12 @@ try {
     const shifted = reference.slice(4 * JSON.parse(fs.readFileSync(path.join(c.dir, 'host.json'))).width);
     const control = difference(staged.pixels.slice(0, shifted.length), shifted);
     if (control.mean <= limit) fail(`${name}: an image shifted by one row passes too (${control.mean}): the limit sees nothing`);
+    if (c.oneDraw) { // the field matters: drawn with one plane a segment (M = 1), not the scene's M, it fails
+      const other = await page.evaluate((scene) => window.render({ scene, oneDraw: true, interval: 1 }), c.scene);
+      const m1 = difference(other.pixels, reference);
+      console.log(`${name}: its field at M = 1 against halo-render's at the scene's M: mean abs ${m1.mean.toExponential(3)}`);
+      if (m1.mean <= limit) fail(`${name}: a field of other segments passes too (${m1.mean}): the limit sees nothing`);
+    }
     if (viewer === 'three') { // installed and removed: the caster alone again
       const removed = await page.evaluate((scene) => window.render({ scene, removed: true }), c.scene);
       const back = difference(removed.pixels, plain.pixels);
@@ -114,5 +133,5 @@ try {
   await browser.close();
   server.close();
 }
-console.log(failures ? `${failures} failed` : `${2 * cases.length} passed, 0 failed`);
+console.log(failures ? `${failures} failed` : `${drawn} passed, 0 failed`);
 process.exit(failures ? 1 : 0);

@@ -3,7 +3,9 @@
 # with a scene's per-sample stages, linked in the page by the WebAssembly linker and drawn
 # in WebGL 2, and the package's three.js ray caster with the stages put in by installHalo
 # (adapters/web/three.mjs), against halo-render --host raycast with the same inputs
-# (--export-host). Skipped (77) without the web package, Chromium, puppeteer-core or
+# (--export-host); and the default scene's volumetric halos drawn once (host contract 3: the
+# field computed by libhalo's GL runtime in WebAssembly on the page's context) against
+# halo-render --one-draw. Skipped (77) without the web package, Chromium, puppeteer-core or
 # three (setup.sh installs
 # them: Debian's chromium, npm ci in tests/adapters/web from its lock file).
 . "$srcdir/tests/tools/halo-render/common.sh"
@@ -31,6 +33,11 @@ for scene in boundary-silhouette.json distance.json orientation.json; do
         --quiet --export-host "$tmp/$scene" -o "$tmp/$scene/reference.png"
     set -- "$@" "$tmp/$scene" "$scene"
 done
+# host contract 3 in the page: the halo field by libhalo's C runtime in WebAssembly
+mkdir -p "$tmp/one-draw"
+run 0 "$HALO_RENDER" --host raycast --one-draw --scene "$srcdir/examples/scenes/default.json" --size 64x64 \
+    --volume-size 32 --quiet --export-host "$tmp/one-draw" -o "$tmp/one-draw/reference.png"
+set -- "$@" "$tmp/one-draw" one-draw:default.json
 echo "+ node browser.mjs $*"
 "$NODE" "$srcdir/tests/adapters/web/browser.mjs" "$@" || fail "the pages' images (above)"
 finish
