@@ -35,7 +35,7 @@ $(WEB_DEPS)/lib/libjansson.a: $(srcdir)/adapters/web/deps.sh
 
 $(WEB_GL_INCLUDE)/GL/glcorearb.h:
 	@mkdir -p $(WEB_GL_INCLUDE)/GL
-	$(AM_V_GEN)header=`printf '#include <GL/glcorearb.h>\n' | $(CPP) -M - | tr ' \\\\' '\n\n' | grep 'GL/glcorearb\.h$$'` && \
+	$(AM_V_GEN)header=`printf '#include <GL/glcorearb.h>\n' | $(CC) -M -x c - | tr ' \\\\' '\n\n' | grep 'GL/glcorearb\.h$$'` && \
 		test -n "$$header" && cp "$$header" $@
 
 $(WEB_PACKAGE)/dist/libhalo-core.mjs: $(web_core_files) $(web_gl_files) adapters/web/halo_web.c libhalo/embedded_modules.c \
