@@ -267,10 +267,14 @@ WEB_API halo_gl *halo_web_gl_create(void)
 WEB_API void halo_web_gl_destroy(halo_gl *gl) { halo_gl_destroy(gl); }
 
 /* A frame of width x height for a linked program (with one_draw: its halo field), or NULL
- * after diagnostics. */
-WEB_API halo_gl_frame *halo_web_frame_create(halo_gl *gl, const halo_program *p, int width, int height)
+ * after diagnostics. readback 1: the passes' bounds read back (a software renderer: WebGL
+ * masks GL_RENDERER, so the page says so), 0: not, -1: the runtime's choice. */
+WEB_API halo_gl_frame *halo_web_frame_create(halo_gl *gl, const halo_program *p, int width, int height, int readback)
 {
-    return halo_gl_frame_create(gl, p, width, height, fresh());
+    halo_gl_frame *f = halo_gl_frame_create(gl, p, width, height, fresh());
+    if (f && readback >= 0)
+        halo_gl_frame_set_readback_bounds(f, readback);
+    return f;
 }
 
 WEB_API void halo_web_frame_destroy(halo_gl_frame *f) { halo_gl_frame_destroy(f); }

@@ -181,11 +181,20 @@ function nameBindings(GL, gl) {
     nameOf(GL, GL.buffers, gl.getParameter(binding));
 }
 
+// A renderer on the CPU (SwiftShader, llvmpipe), where reading back where the image passes'
+// results are nonzero is cheaper than passes over the whole frame. WebGL masks GL_RENDERER
+// from the C runtime's own test; WEBGL_debug_renderer_info tells it where the browser has it.
+function softwareRenderer(gl) {
+  const info = gl.getExtension('WEBGL_debug_renderer_info');
+  const name = info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : '';
+  return /SwiftShader|llvmpipe|softpipe|Software/i.test(name);
+}
+
 // libhalo's GL runtime on the page's WebGL 2 context with one program's frame: for a
 // program linked with oneDraw, the halo field of every depth segment computed before the
 // host draws (docs/host-contract.md, host contract 3).
 class Frame {
-  constructor(halo, gl, program, { width, height } = {}) {
+  constructor(halo, gl, program, { width, height, readback } = {}) {
     if (!(program instanceof Program)) throw new HaloError([], 'frame: program must be a Program of halo.link');
     if (!(width > 0 && height > 0)) throw new HaloError([], 'frame: width and height (the host\'s target in pixels) are required');
     this._halo = halo;
@@ -194,7 +203,8 @@ class Frame {
     program._live();
     const core = halo._core;
     this._runtime = halo._runtime(gl);
-    this._handle = core._halo_web_frame_create(this._runtime, program._handle, width, height);
+    this._handle = core._halo_web_frame_create(this._runtime, program._handle, width, height,
+      readback === undefined ? (softwareRenderer(gl) ? 1 : -1) : readback ? 1 : 0);
     if (!this._handle) throw halo._error('frame: halo_gl_frame_create failed');
   }
 

@@ -27,11 +27,16 @@ export interface InstallOptions {
   sceneFile?: string;
   names?: HaloPieces;              // another caster's expressions
   allLive?: boolean;
+  volume?: string;                 // volumetric halos: the material's volume texture uniform ('u_volume')
+  step?: string;                   // ... and its ray step uniform ('u_step')
+  interval?: number;               // ... M, planes a depth segment (default the scene's)
 }
 
 export interface Installed {
   program: Program;
   set(name: string, value: number | boolean | number[] | number[][]): void;
+  // renderer.render, with volumetric halos the frame's halo field first (host contract 3)
+  render(renderer: any, scene: any, camera: any): void;
   remove(): void;
 }
 

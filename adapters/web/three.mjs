@@ -9,9 +9,11 @@
 //   //halo:finish         after the loop
 // three's own VolumeShader (examples/jsm/shaders/VolumeShader.js) has only maximum
 // intensity projection and isosurfaces, which composite no samples: installHalo refuses
-// a material without the markers. Scenes with image passes, extra outputs or host
-// uniforms (volumetric halos, outlines, feature halos) need libhalo's GL runtime, which
-// the web package does not have yet: refused, naming the stages.
+// a material without the markers. Volumetric halos come through host contract 3: the
+// stages are linked with oneDraw, and stages.render(renderer, scene, camera) computes
+// the frame's halo field with libhalo's GL runtime (WebAssembly, on three's WebGL 2
+// context) and then lets three draw once. Scenes with extra outputs (outlines, feature
+// halos: further render targets and passes after the draw) are refused, naming the stages.
 //
 //   import * as THREE from 'three';
 //   import libhalo from '@libhalo/web';
@@ -21,6 +23,7 @@
 //   const halo = await libhalo();
 //   const stages = installHalo(halo, caster.material, { scene: sceneJson });
 //   stages.set('tone_shading.k_ta', 0.4);   // a live parameter: a uniform, no rebuild
+//   stages.render(renderer, scene, camera); // instead of renderer.render (halos: the field first)
 //
 // The caster's conventions are libhalo's host contract's (docs/host-contract.md): the
 // mesh spans the volume's texture space [0, 1]^3 in world units (a perspective camera: the
@@ -181,7 +184,10 @@ function uniformValue(type, values) {
 // Links the scene's per-sample stages as pieces and puts them into material's fragment
 // shader at MARKERS; the live parameters become material uniforms. options: scene (JSON
 // text or object), sceneFile (its name in diagnostics), names (overrides of CASTER_NAMES
-// for another caster's variables), allLive. Returns { program, set(name, value), remove() };
+// for another caster's variables), allLive; for volumetric halos volume and step (the
+// material's uniforms of the volume texture and the ray step: 'u_volume', 'u_step') and
+// interval (M, planes a depth segment; default the scene's). Returns { program, set(name,
+// value), render(renderer, scene, camera), remove() };
 // throws a HaloError with file:line:col on a scene error or a refused scene.
 export function installHalo(halo, material, options = {}) {
   const original = material.fragmentShader;
@@ -192,20 +198,28 @@ export function installHalo(halo, material, options = {}) {
         "end of its ray loop (three's VolumeShader, MIP and isosurfaces only, composites no samples)");
   if (material.glslVersion !== '300 es')
     throw new Error('installHalo: the material must be GLSL 3 (glslVersion: THREE.GLSL3): the pieces are GLSL ES 300');
-  const program = halo.link({
+  const link = (oneDraw) => halo.link({
     scene: options.scene, sceneFile: options.sceneFile || 'scene', target: 'es300', allLive: !!options.allLive,
-    pieces: { ...CASTER_NAMES, ...(options.names || {}) },
+    pieces: { ...CASTER_NAMES, ...(options.names || {}) }, oneDraw,
   });
+  let program;
+  try {
+    program = link(false);
+  } catch (e) { // passes between depth segments (volumetric halos): host contract 3, the field before the draw
+    if (e.id !== 'HOST_SINGLE_PASS') throw e;
+    program = link(true);
+  }
   const r = program.reflection;
-  const needs = [['image passes', r.passes], ['extra outputs', r.outputs], ['images', r.samplers],
-    // (halo_camera_*: the derived view and depth's, which the caster's own expressions replace)
-    ['host uniforms', (r.host_uniforms || []).filter((u) => !/^halo_camera_/.test(u.name))]]
+  const field = (r.passes || []).length > 0;
+  const needs = [['extra outputs', r.outputs], ['image passes after the draw', (r.passes || []).filter((p) => p.at)],
+    // (halo_camera_*, halo_stack_*: set by libhalo's runtime; halo_host_screen_*: by render)
+    ['host uniforms', (r.host_uniforms || []).filter((u) => !/^halo_(camera|stack|host_screen)_/.test(u.name))]]
     .filter(([, list]) => list && list.length);
   if (needs.length) {
     const stages = (r.stages || []).map((s) => (typeof s === 'string' ? s : s.name)).join(', ');
     program.destroy();
-    throw new Error(`installHalo: the scene's stages (${stages}) need ${needs.map(([what]) => what).join(', ')}: ` +
-      "libhalo's GL runtime, which the web package does not have yet (per-sample stages only in three.js)");
+    throw new Error(`installHalo: the scene's stages (${stages}) need ${needs.map(([what]) => what).join(', ')}, ` +
+      'which the three.js adapter does not serve yet (per-sample stages and volumetric halos only)');
   }
   const uniforms = [];
   for (const u of program.reflection.uniforms || []) {
@@ -221,7 +235,13 @@ export function installHalo(halo, material, options = {}) {
     .replace(MARKERS.declarations, program.pieces.declarations || '')
     .replace(MARKERS.sample, program.pieces.sample || '')
     .replace(MARKERS.finish, program.pieces.finish || '');
+  if (field)
+    for (const name of ['halo_host_screen_right', 'halo_host_screen_up']) {
+      material.uniforms[name] = { value: new Float32Array(3) };
+      uniforms.push(name);
+    }
   material.needsUpdate = true;
+  let frame = null; // libhalo's GL runtime for the field, made on the first render
   return {
     program,
     // a live parameter ("stage.param"): the uniform's new value, no shader rebuild
@@ -239,11 +259,51 @@ export function installHalo(halo, material, options = {}) {
         material.uniforms[`${u.name}_count`].value = Math.floor(values.length / components);
       }
     },
+    // Draws the scene as renderer.render does; with volumetric halos (field) the halo field
+    // of this frame first (host contract 3), computed by libhalo on three's context over the
+    // caster's volume texture, then three's one draw. The caster's conventions: the mesh
+    // spans the volume's texture space in world units; the volume and the step are the
+    // material's uniforms named by options.volume ('u_volume') and options.step ('u_step').
+    render(renderer, scene, camera) {
+      if (!field) {
+        renderer.render(scene, camera);
+        return;
+      }
+      const gl = renderer.getContext();
+      const target = renderer.getRenderTarget();
+      const width = target ? target.width : gl.drawingBufferWidth, height = target ? target.height : gl.drawingBufferHeight;
+      const volume = material.uniforms[options.volume || 'u_volume'].value;
+      const step = material.uniforms[options.step || 'u_step'].value;
+      camera.updateMatrixWorld();
+      const axes = camera.matrixWorld.elements; // the image plane's axes: the camera's x and y, in world space
+      material.uniforms.halo_host_screen_right.value = Float32Array.of(axes[0], axes[1], axes[2]);
+      material.uniforms.halo_host_screen_up.value = Float32Array.of(axes[4], axes[5], axes[6]);
+      renderer.compile(scene, camera); // the material's program, before libhalo sets its uniforms
+      renderer.initTexture(volume);
+      const glProgram = renderer.properties.get(material).currentProgram?.program;
+      const glVolume = renderer.properties.get(volume).__webglTexture;
+      if (!glProgram || !glVolume) throw new Error('stages.render: three.js has not built the material or the volume');
+      if (!frame || frame.width !== width || frame.height !== height) {
+        if (frame) frame.destroy();
+        frame = halo.frame(gl, program, { width, height });
+        frame.width = width;
+        frame.height = height;
+      }
+      const inverse = camera.projectionMatrix.clone().multiply(camera.matrixWorldInverse).invert();
+      frame.draw({
+        program: glProgram, volume: glVolume, volumeSize: [volume.image.width, volume.image.height, volume.image.depth],
+        volumeVersion: volume.version, framebuffer: target ? renderer.properties.get(target).__webglFramebuffer : null,
+        inverseViewProjection: inverse.elements, step, interval: options.interval,
+        draw: () => renderer.render(scene, camera),
+      });
+    },
     // the material's own shader again, without the stages
     remove() {
       material.fragmentShader = original;
       for (const name of uniforms) delete material.uniforms[name];
       material.needsUpdate = true;
+      if (frame) frame.destroy();
+      frame = null;
       program.destroy();
     },
   };

@@ -116,3 +116,21 @@ test('a WebGL compile log maps to the modules', () => {
   assert.match(program.mapLine(at).file, /tone_shading\.glsl$/);
   assert.deepEqual(program.mapLine(1), { file: 'raycast.frag', line: 1 });
 });
+
+test('installHalo: volumetric halos through the field (host contract 3), outlines refused by name', async () => {
+  const { installHalo, MARKERS } = await import(path.resolve(process.env.HALO_WEB_PACKAGE, 'three.mjs'));
+  const material = () => ({ glslVersion: '300 es', uniforms: {},
+    fragmentShader: `${MARKERS.declarations}\nvoid main() {\n${MARKERS.sample}\n${MARKERS.finish}\n}\n` });
+  const scene = (name) => fs.readFileSync(path.join(scenes, name), 'utf8');
+  const halos = material();
+  const stages = installHalo(halo, halos, { scene: scene('default.json') });
+  assert.ok(stages.program.reflection.passes.length > 0, 'the field passes are linked');
+  assert.match(halos.fragmentShader, /halo_image_field/); // the sample reads the field
+  assert.ok(halos.uniforms.halo_host_screen_right && halos.uniforms.halo_host_screen_up);
+  stages.remove();
+  assert.equal(halos.uniforms.halo_host_screen_right, undefined);
+  assert.throws(() => installHalo(halo, material(), { scene: scene('outline-depth.json') }),
+    /outlines.*extra outputs.*per-sample stages and volumetric halos only/);
+  assert.throws(() => installHalo(halo, { ...material(), fragmentShader: 'void main() {}' }, { scene: scene('default.json') }),
+    /no '\/\/halo:declarations' marker/);
+});
