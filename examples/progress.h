@@ -6,7 +6,7 @@
 #ifndef HALO_PROGRESS_H
 #define HALO_PROGRESS_H
 
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 
 #include <pthread.h>
 

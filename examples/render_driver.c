@@ -194,6 +194,7 @@ int halo_driver_create(halo_driver *d, halo_driver_host kind, const halo_host_de
     memset(d, 0, sizeof *d);
     d->kind = kind == HALO_DRIVER_AUTO ? HALO_DRIVER_SLICE : kind;
     d->runtime = desc->runtime;
+    d->gl = desc->gl;
     d->program = desc->program;
     d->width = desc->width;
     d->height = desc->height;
@@ -209,7 +210,7 @@ int halo_driver_create(halo_driver *d, halo_driver_host kind, const halo_host_de
 void halo_driver_destroy(halo_driver *d)
 {
     if (d->post_texture)
-        halo_gl_functions(d->runtime)->DeleteTextures(1, &d->post_texture);
+        d->gl->DeleteTextures(1, &d->post_texture);
     halo_feature_buffer_destroy(d->feature);
     halo_raycast_destroy(d->raycast);
     halo_slice_destroy(d->slice);
@@ -290,7 +291,7 @@ void halo_driver_eye(const halo_driver *d, double eye[3])
 
 void halo_driver_bind_feature(halo_driver *d, const halo_feature_buffer *buffer)
 {
-    const halo_glfuncs *f = halo_gl_functions(d->runtime);
+    const halo_glfuncs *f = d->gl;
     unsigned gl_program = d->raycast ? halo_raycast_gl_program(d->raycast) : halo_slice_gl_program(d->slice);
     f->UseProgram(gl_program);
     f->Uniform1i(f->GetUniformLocation(gl_program, HALO_HOST_FEATURE_BUFFER), FEATURE_BUFFER_UNIT);
@@ -324,7 +325,7 @@ int halo_driver_update_feature(halo_driver *d, const float *volume, const int di
         return 0;
     }
     halo_driver_bind_feature(d, d->feature);
-    halo_gl_functions(d->runtime)->Finish();
+    d->gl->Finish();
     if (d->tool && !d->quiet)
         fprintf(stderr, "%s: feature halo buffer: %zu qualified voxels, built in %.2f s\n", d->tool,
                 halo_feature_buffer_qualified(d->feature), halo_progress_now() - start);
@@ -339,7 +340,7 @@ int halo_driver_update_feature(halo_driver *d, const float *volume, const int di
  * after the frame (halo-outline --check). */
 static halo_status run_post_passes(halo_driver *d, halo_gl_frame *frame, float *rgba, halo_diagnostics *diag)
 {
-    const halo_glfuncs *f = halo_gl_functions(d->runtime);
+    const halo_glfuncs *f = d->gl;
     if (!d->post_texture) {
         f->GenTextures(1, &d->post_texture);
         halo_host_image_texture(f, d->post_texture, GL_RGBA32F, d->width, d->height, GL_RGBA, GL_FLOAT);
@@ -371,7 +372,7 @@ halo_status halo_driver_render(halo_driver *d, float *rgba, halo_diagnostics *di
     } else {
         /* progress per slice (slab) from the host; no timer thread */
         halo_progress_begin(&step, progress, what, 0);
-        step.gl = halo_gl_functions(d->runtime);
+        step.gl = d->gl;
         step.unit = d->kind == HALO_DRIVER_SLAB ? "slab" : "slice";
         halo_slice_set_progress(d->slice, progress ? halo_progress_count : NULL, progress ? &step : NULL);
         rendered = halo_slice_render(d->slice, rgba, diag);

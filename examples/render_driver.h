@@ -8,7 +8,7 @@
 
 #include "halo.h"
 #include "halo_feature.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "hosts/raycast.h"
 #include "hosts/slice.h"
 
@@ -57,6 +57,7 @@ typedef struct halo_driver {
     halo_raycast *raycast; /* the ray caster, or */
     halo_slice *slice;     /* the slice host or the slab caster */
     halo_gl *runtime;
+    const halo_glfuncs *gl; /* the GL functions (halo_host_desc.gl) */
     const halo_program *program;
     int width, height;
     const char *tool;             /* notes and progress on stderr under this name; NULL: none */

@@ -2,7 +2,7 @@
 # symbols); libhalo.la is the installed library exporting only halo_* symbols.
 # Installed as <libhalo/halo.h> ($(includedir)/libhalo: no clash with another halo.h);
 # libhalo.pc also puts that folder on the path, so #include <halo.h> keeps working.
-pkginclude_HEADERS += libhalo/halo.h libhalo/halo_feature.h
+pkginclude_HEADERS += libhalo/halo.h libhalo/halo_feature.h libhalo/halo_gl_loader.h
 noinst_HEADERS += libhalo/diag.h libhalo/strbuf.h libhalo/internal.h libhalo/glsl_lex.h libhalo/glsl_locate.h libhalo/glslang_parse.h libhalo/host_scan.h libhalo/host_check.h libhalo/emit.h \
 	libhalo/emu/emu.h libhalo/emu/stages.h libhalo/emu/feature_internal.h libhalo/gl/glfuncs.h libhalo/gl/headless.h
 

@@ -8,6 +8,7 @@
  * --check: copies the GL frame's inputs of the post passes (feature buffers, host colour)
  * into the C emulation, runs halo_emu_frame_post and prints the largest difference of
  * every image the post passes write (exit 1 above 1e-3). */
+#include "gl/glfuncs.h"
 #include "gl/headless.h"
 #include "halo.h"
 #include "image_write.h"

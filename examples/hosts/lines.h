@@ -7,7 +7,7 @@
 #define HALO_EXAMPLE_LINES_H
 
 #include "halo.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "linegen.h"
 
 /* ---- Scenes and programs -------------------------------------------------------- */

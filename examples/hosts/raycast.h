@@ -8,7 +8,7 @@
 #define HALO_EXAMPLE_RAYCAST_H
 
 #include "halo.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 
 /* ---- Host shader texts ------------------------------------------------------- */
 

@@ -1,4 +1,4 @@
-/* Loading the OpenGL entry point table (see glfuncs.h). */
+/* Loading the OpenGL entry point table (halo_gl_loader.h). */
 #include "gl/glfuncs.h"
 
 #include <string.h>
@@ -8,6 +8,11 @@ int halo_glfuncs_load(halo_glfuncs *f, void *(*get_proc_address)(const char *nam
     int complete = 1;
     if (missing_name)
         *missing_name = NULL;
+    if (!f) {
+        if (missing_name)
+            *missing_name = "f";
+        return 0;
+    }
     memset(f, 0, sizeof *f);
     if (!get_proc_address) {
         if (missing_name)

@@ -1,15 +1,12 @@
 #!/bin/sh
 # The example hosts and tools' sources (examples/) are what a user copies: they include
-# only libhalo's installed headers (halo.h, halo_feature.h, halo_vtk.h: pkginclude_HEADERS)
-# and the examples' own, never a header of libhalo's sources (internal.h, diag.h,
-# strbuf.h, emu/..., gl/...). One exception, named here until the examples have a GL
-# loader of their own: gl/glfuncs.h, the GL entry-point table the hosts share with
-# libhalo's runtime.
+# only libhalo's installed headers (halo.h, halo_feature.h, halo_gl_loader.h, halo_vtk.h:
+# pkginclude_HEADERS) and the examples' own, never a header of libhalo's sources
+# (internal.h, diag.h, strbuf.h, emu/..., gl/...).
 top=${top_srcdir:-${srcdir:-.}}
 cd "$top" || exit 99
 test -d examples && test -f libhalo/halo.h || { echo "broken setup: no examples/ in $top" >&2; exit 99; }
-installed="halo.h halo_feature.h halo_vtk.h"
-allowed_private="gl/glfuncs.h"
+installed="halo.h halo_feature.h halo_gl_loader.h halo_vtk.h"
 status=0
 for f in $(find examples -name '*.c' -o -name '*.h' -o -name '*.cc' -o -name '*.cxx' | sort); do
     dir=$(dirname "$f")
@@ -19,7 +16,6 @@ for f in $(find examples -name '*.c' -o -name '*.h' -o -name '*.cc' -o -name '*.
     while read -r line name; do
         base=${name#libhalo/}
         case " $installed " in *" $base "*) continue ;; esac
-        case " $allowed_private " in *" $name "*) continue ;; esac
         if test -f "$dir/$name" || test -f "examples/$name"; then
             continue # the examples' own header
         fi
@@ -32,5 +28,5 @@ for f in $(find examples -name '*.c' -o -name '*.h' -o -name '*.cc' -o -name '*.
     done <"${TMPDIR:-/tmp}/public_headers.$$"
 done
 rm -f "${TMPDIR:-/tmp}/public_headers.$$"
-test "$status" -eq 0 && echo "examples/ includes only installed headers and its own (and $allowed_private)"
+test "$status" -eq 0 && echo "examples/ includes only installed headers and its own"
 exit "$status"

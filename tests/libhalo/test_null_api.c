@@ -15,6 +15,7 @@
  * and NULL-frame calls run (the rest is reported as skipped). */
 #include "check.h"
 #include "halo_feature.h"
+#include "halo_gl_loader.h"
 #include "gl/headless.h"
 
 #include <signal.h>
@@ -570,6 +571,16 @@ CASE(halo_budget_choose)
     return 0;
 }
 
+/* No diagnostics list: the loader says what it missed through missing_name. */
+CASE(halo_glfuncs_load)
+{
+    const char *missing = NULL;
+    halo_glfuncs f;
+    ACCEPTS(halo_glfuncs_load(NULL, halo_headless_get_proc_address, &missing) == 0 && !strcmp(missing, "f"));
+    ACCEPTS(halo_glfuncs_load(&f, NULL, &missing) == 0 && !strcmp(missing, "get_proc_address"));
+    ACCEPTS(halo_glfuncs_load(NULL, NULL, NULL) == 0);
+    return 0;
+}
 CASE(halo_gl_create)
 {
     REFUSES_D(halo_gl_create(NULL, d) == NULL, "desc");
@@ -953,6 +964,7 @@ static const api_case cases[] = {
     ROW(halo_emu_frame_post),
     ROW(halo_emu_frame_set_volume),
     ROW(halo_budget_choose),
+    ROW(halo_glfuncs_load),
     ROW(halo_gl_create),
     ROW(halo_gl_destroy),
     ROW(halo_gl_es_version),
@@ -1044,9 +1056,9 @@ static int test_table_matches_headers(void)
     const char *srcdir = getenv("srcdir");
     if (!srcdir)
         srcdir = ".";
-    static const char *const headers[] = {"libhalo/halo.h", "libhalo/halo_feature.h"};
+    static const char *const headers[] = {"libhalo/halo.h", "libhalo/halo_feature.h", "libhalo/halo_gl_loader.h"};
     int total = 0, max = (int)(sizeof names / sizeof names[0]);
-    for (size_t h = 0; h < 2; h++) {
+    for (size_t h = 0; h < sizeof headers / sizeof headers[0]; h++) {
         char path[1024];
         snprintf(path, sizeof path, "%s/%s", srcdir, headers[h]);
         int n = header_functions(path, names + total, max - total);
