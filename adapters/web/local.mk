@@ -39,7 +39,7 @@ $(WEB_GL_INCLUDE)/GL/glcorearb.h:
 		test -n "$$header" && cp "$$header" $@
 
 $(WEB_PACKAGE)/dist/libhalo-core.mjs: $(web_core_files) $(web_gl_files) adapters/web/halo_web.c libhalo/embedded_modules.c \
-		libhalo/emu/registry_list.h $(WEB_GL_INCLUDE)/GL/glcorearb.h libhalo/gl/glfuncs.h libhalo/gl/runtime.h libhalo/gl/frame.h \
+		libhalo/emu/registry_list.h $(WEB_GL_INCLUDE)/GL/glcorearb.h libhalo/gl/glfuncs.h libhalo/halo_gl_loader.h libhalo/gl/runtime.h libhalo/gl/frame.h \
 		$(WEB_DEPS)/lib/libjansson.a libhalo/halo.h libhalo/internal.h $(srcdir)/adapters/web/local.mk
 	@mkdir -p $(WEB_PACKAGE)/dist
 	$(AM_V_GEN)$(WEB_EMCC) -O2 -std=gnu11 -DHALO_BUILDING -DPACKAGE_VERSION=\"$(PACKAGE_VERSION)\" \
