@@ -62,8 +62,9 @@ make -j"$(nproc)"
 
 # The browser tests' packages (tests/adapters/web/browser.sh), from the lock file into
 # tests/adapters/web/node_modules: puppeteer-core (it drives Debian's chromium; it downloads no
-# browser) and three (the three.js ray caster, adapters/web/three.mjs).
-for module in puppeteer-core three; do
+# browser), three (the three.js ray caster, adapters/web/three.mjs) and NiiVue (pinned: the
+# version adapters/web/niivue.mjs supports).
+for module in puppeteer-core three @niivue/niivue; do
   if [ ! -d "tests/adapters/web/node_modules/$module" ]; then
     (cd tests/adapters/web && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
     break

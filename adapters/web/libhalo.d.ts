@@ -84,7 +84,11 @@ export interface Halo {
   readonly version: string;
   modules(): { name: string; file: string; summary: string }[];
   link(options: LinkOptions): Program;
-  frame(gl: WebGL2RenderingContext, program: Program, size: { width: number; height: number }): Frame;
+  frame(gl: WebGL2RenderingContext, program: Program, size: { width: number; height: number; readback?: boolean }): Frame;
+  // for an engine adapter: pieces, with oneDraw when the stages need a halo field; what an
+  // engine drawn once cannot serve refused by name
+  linkForEngine(options: { scene?: string | object; sceneFile?: string; allLive?: boolean; pieces: HaloPieces },
+    engine: string): { program: Program; field: boolean };
 }
 
 export default function libhalo(options?: object): Promise<Halo>;

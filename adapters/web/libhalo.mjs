@@ -306,6 +306,36 @@ class Halo {
     return entry.runtime;
   }
 
+  // For an engine adapter: links a scene as pieces (options: scene, sceneFile, allLive,
+  // pieces), for host contract 3 (oneDraw) when its stages run passes between depth
+  // segments; refuses, naming the stages, what an engine drawn once with libhalo's field
+  // cannot serve: extra outputs, passes after the draw, host uniforms (but the camera's,
+  // the field's and the image-plane axes). Returns { program, field (it has a halo field) }.
+  linkForEngine(options, engine) {
+    const link = (oneDraw) => this.link({
+      scene: options.scene, sceneFile: options.sceneFile || 'scene', target: 'es300', allLive: !!options.allLive,
+      pieces: options.pieces, oneDraw,
+    });
+    let program;
+    try {
+      program = link(false);
+    } catch (e) { // passes between depth segments (volumetric halos): the field before the draw
+      if (e.id !== 'HOST_SINGLE_PASS') throw e;
+      program = link(true);
+    }
+    const r = program.reflection;
+    const needs = [['extra outputs', r.outputs], ['image passes after the draw', (r.passes || []).filter((p) => p.at)],
+      ['host uniforms', (r.host_uniforms || []).filter((u) => !/^halo_(camera|stack|host_screen)_/.test(u.name))]]
+      .filter(([, list]) => list && list.length);
+    if (needs.length) {
+      const stages = (r.stages || []).map((s) => (typeof s === 'string' ? s : s.name)).join(', ');
+      program.destroy();
+      throw new Error(`installHalo: the scene's stages (${stages}) need ${needs.map(([what]) => what).join(', ')}, ` +
+        `which the ${engine} adapter does not serve yet (per-sample stages and volumetric halos only)`);
+    }
+    return { program, field: (r.passes || []).length > 0 };
+  }
+
   // A frame of the GL runtime for a linked program (class Frame).
   frame(gl, program, size) {
     return new Frame(this, gl, program, size);

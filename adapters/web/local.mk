@@ -5,7 +5,8 @@
 # package (adapters/web/deps.sh). The package is assembled in $(WEB_PACKAGE): npm pack
 # there makes the installable tarball.
 web_package_files = adapters/web/halo_web.c adapters/web/libhalo.mjs adapters/web/libhalo.d.ts \
-	adapters/web/three.mjs adapters/web/three.d.ts adapters/web/package.json adapters/web/README.md
+	adapters/web/three.mjs adapters/web/three.d.ts adapters/web/niivue.mjs adapters/web/niivue.d.ts \
+	adapters/web/package.json adapters/web/README.md
 EXTRA_DIST += $(web_package_files) adapters/web/deps.sh adapters/web/local.mk
 
 if HALO_HAVE_WEB
@@ -53,10 +54,12 @@ $(WEB_PACKAGE)/dist/libhalo-core.mjs: $(web_core_files) $(web_gl_files) adapters
 # the package's own files, copied beside the WebAssembly
 $(WEB_PACKAGE)/stamp: $(srcdir)/adapters/web/libhalo.mjs $(srcdir)/adapters/web/libhalo.d.ts \
 		$(srcdir)/adapters/web/three.mjs $(srcdir)/adapters/web/three.d.ts \
+		$(srcdir)/adapters/web/niivue.mjs $(srcdir)/adapters/web/niivue.d.ts \
 		$(srcdir)/adapters/web/package.json $(srcdir)/adapters/web/README.md
 	@mkdir -p $(WEB_PACKAGE)
 	$(AM_V_GEN)cp $(srcdir)/adapters/web/libhalo.mjs $(srcdir)/adapters/web/libhalo.d.ts \
 		$(srcdir)/adapters/web/three.mjs $(srcdir)/adapters/web/three.d.ts \
+		$(srcdir)/adapters/web/niivue.mjs $(srcdir)/adapters/web/niivue.d.ts \
 		$(srcdir)/adapters/web/package.json $(srcdir)/adapters/web/README.md $(WEB_PACKAGE)/ && touch $@
 
 all-local: $(WEB_PACKAGE)/dist/libhalo-core.mjs $(WEB_PACKAGE)/stamp

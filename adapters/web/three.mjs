@@ -198,29 +198,8 @@ export function installHalo(halo, material, options = {}) {
         "end of its ray loop (three's VolumeShader, MIP and isosurfaces only, composites no samples)");
   if (material.glslVersion !== '300 es')
     throw new Error('installHalo: the material must be GLSL 3 (glslVersion: THREE.GLSL3): the pieces are GLSL ES 300');
-  const link = (oneDraw) => halo.link({
-    scene: options.scene, sceneFile: options.sceneFile || 'scene', target: 'es300', allLive: !!options.allLive,
-    pieces: { ...CASTER_NAMES, ...(options.names || {}) }, oneDraw,
-  });
-  let program;
-  try {
-    program = link(false);
-  } catch (e) { // passes between depth segments (volumetric halos): host contract 3, the field before the draw
-    if (e.id !== 'HOST_SINGLE_PASS') throw e;
-    program = link(true);
-  }
-  const r = program.reflection;
-  const field = (r.passes || []).length > 0;
-  const needs = [['extra outputs', r.outputs], ['image passes after the draw', (r.passes || []).filter((p) => p.at)],
-    // (halo_camera_*, halo_stack_*: set by libhalo's runtime; halo_host_screen_*: by render)
-    ['host uniforms', (r.host_uniforms || []).filter((u) => !/^halo_(camera|stack|host_screen)_/.test(u.name))]]
-    .filter(([, list]) => list && list.length);
-  if (needs.length) {
-    const stages = (r.stages || []).map((s) => (typeof s === 'string' ? s : s.name)).join(', ');
-    program.destroy();
-    throw new Error(`installHalo: the scene's stages (${stages}) need ${needs.map(([what]) => what).join(', ')}, ` +
-      'which the three.js adapter does not serve yet (per-sample stages and volumetric halos only)');
-  }
+  const { program, field } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+    allLive: options.allLive, pieces: { ...CASTER_NAMES, ...(options.names || {}) } }, 'three.js');
   const uniforms = [];
   for (const u of program.reflection.uniforms || []) {
     material.uniforms[u.name] = { value: uniformValue(u.type, u.value) };

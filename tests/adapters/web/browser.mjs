@@ -63,6 +63,58 @@ function difference(a, b) {
 }
 
 let failures = 0, drawn = 0;
+
+// NiiVue (its pinned version in package.json) with the MRI head that halo-render exported
+// (NIFTI_DIR: host.json and volume.f32, written here as NIfTI-1 for NiiVue to read):
+// NiiVue's own renderer is not raycast.frag (its jitter, its empty-space pass, its colormap
+// and opacity), so its image is compared with NiiVue's own: the stages must be visible, the
+// halos alone must be visible (the scene against itself without its halo_* stages), the
+// halo field must matter (M = 1 against the scene's M), and removed again they must give
+// NiiVue alone exactly.
+const niivueCase = process.env.HALO_WEB_NIIVUE ? path.resolve(process.env.HALO_WEB_NIIVUE) : null;
+function writeNifti(dir) {
+  const host = JSON.parse(fs.readFileSync(path.join(dir, 'host.json')));
+  const data = fs.readFileSync(path.join(dir, 'volume.f32'));
+  const header = Buffer.alloc(352);
+  header.writeInt32LE(348, 0);
+  [3, ...host.dims, 1, 1, 1, 1].forEach((v, i) => header.writeInt16LE(v, 40 + 2 * i));
+  header.writeInt16LE(16, 70); // float32
+  header.writeInt16LE(32, 72);
+  [1, 1, 1, 1, 1, 1, 1, 1].forEach((v, i) => header.writeFloatLE(v, 76 + 4 * i));
+  header.writeFloatLE(352, 108); // vox_offset
+  header.writeFloatLE(1, 112); // scl_slope
+  header.writeFloatLE(1, 124); // cal_max (cal_min 0): the values are halo-render's, in [0, 1]
+  header.writeInt16LE(1, 254); // sform_code: the identity below
+  [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0]].forEach((row, r) => row.forEach((v, c) => header.writeFloatLE(v, 280 + 16 * r + 4 * c)));
+  header.write('n+1\0', 344, 'latin1');
+  fs.writeFileSync(path.join(dir, 'head.nii'), Buffer.concat([header, data]));
+}
+async function niivue(page, dir) {
+  writeNifti(dir);
+  inputs = dir;
+  await page.goto(`${origin}/niivue.html`);
+  await page.waitForFunction('window.ready === true', { timeout: 60000 });
+  const scene = 'mri-head.json';
+  const draw = (options) => page.evaluate((o) => window.render(o), options);
+  const alone = await draw({ scene: null, repeat: 3 });
+  const staged = await draw({ scene, repeat: 3 });
+  const noHalos = await draw({ scene, withoutHalos: true, repeat: 3 });
+  const m1 = await draw({ scene, interval: 1 });
+  const removed = await draw({ scene, removed: true });
+  const version = JSON.parse(fs.readFileSync(path.join(modulesDir, '@niivue/niivue/package.json'))).version;
+  const name = `${scene} in NiiVue ${version} (${staged.renderer})`;
+  const stages = difference(staged.pixels, alone.pixels), halos = difference(staged.pixels, noHalos.pixels);
+  const field = difference(staged.pixels, m1.pixels), back = difference(removed.pixels, alone.pixels);
+  console.log(`${name}: against NiiVue alone mean abs ${stages.mean.toExponential(3)}; the halos (against its stages ` +
+    `without halo_*) ${halos.mean.toExponential(3)}; the field at M = 1 against the scene's M ${field.mean.toExponential(3)}; ` +
+    `removed against NiiVue alone max abs ${back.max}; draw and read back ${staged.drawMs.toFixed(1)} ms with the stages and halos, ` +
+    `${noHalos.drawMs.toFixed(1)} ms with the stages alone, ${alone.drawMs.toFixed(1)} ms NiiVue alone (${alone.width}x${alone.height})`);
+  if (!(stages.mean > EFFECT)) fail(`${name}: the stages change NiiVue's image by only ${stages.mean}`);
+  if (!(halos.mean > EFFECT / 4)) fail(`${name}: the halos change the image by only ${halos.mean}`);
+  if (!(field.mean > 1e-4)) fail(`${name}: the field of other segments gives the same image (${field.mean})`);
+  if (!(back.max === 0)) fail(`${name}: the stages removed again leave the image ${back.max} from NiiVue alone`);
+  drawn++;
+}
 const fail = (text) => { console.log(`FAIL: ${text}`); failures++; };
 const browser = await puppeteer.launch({
   executablePath: process.env.HALO_CHROMIUM,
@@ -129,6 +181,7 @@ try {
       if (!(back.max === 0)) fail(`${name}: the stages removed again leave the image ${back.max} from the caster alone`);
     }
   }
+  if (niivueCase) await niivue(page, niivueCase);
 } finally {
   await browser.close();
   server.close();

@@ -5,7 +5,8 @@
 # (adapters/web/three.mjs), against halo-render --host raycast with the same inputs
 # (--export-host); and the default scene's volumetric halos drawn once (host contract 3: the
 # field computed by libhalo's GL runtime in WebAssembly on the page's context) against
-# halo-render --one-draw. Skipped (77) without the web package, Chromium, puppeteer-core or
+# halo-render --one-draw; NiiVue with the MRI head's stages and halos through the package's
+# NiiVue adapter (adapters/web/niivue.mjs), against NiiVue alone. Skipped (77) without the web package, Chromium, puppeteer-core or
 # three (setup.sh installs
 # them: Debian's chromium, npm ci in tests/adapters/web from its lock file).
 . "$srcdir/tests/tools/halo-render/common.sh"
@@ -19,7 +20,7 @@ if test -z "$HALO_CHROMIUM"; then
     exit 77
 fi
 HALO_WEB_MODULES=${HALO_WEB_MODULES:-$srcdir/tests/adapters/web/node_modules}
-for module in puppeteer-core three; do
+for module in puppeteer-core three @niivue/niivue; do
     if test ! -d "$HALO_WEB_MODULES/$module"; then
         echo "no $module in $HALO_WEB_MODULES (setup.sh: npm ci --prefix tests/adapters/web): skipping"
         exit 77
@@ -33,11 +34,22 @@ for scene in boundary-silhouette.json distance.json orientation.json; do
         --quiet --export-host "$tmp/$scene" -o "$tmp/$scene/reference.png"
     set -- "$@" "$tmp/$scene" "$scene"
 done
+mri=/usr/share/mricron/templates/ch2better.nii.gz
+if test ! -f "$mri"; then
+    echo "no $mri (the Debian package mricron-data, which setup.sh installs): skipping"
+    exit 77
+fi
 # host contract 3 in the page: the halo field by libhalo's C runtime in WebAssembly
 mkdir -p "$tmp/one-draw"
 run 0 "$HALO_RENDER" --host raycast --one-draw --scene "$srcdir/examples/scenes/default.json" --size 64x64 \
     --volume-size 32 --quiet --export-host "$tmp/one-draw" -o "$tmp/one-draw/reference.png"
 set -- "$@" "$tmp/one-draw" one-draw:default.json
+# NiiVue: the MRI head at 96^3, as halo-render resamples it (browser.mjs writes it as NIfTI)
+mkdir -p "$tmp/niivue"
+run 0 "$HALO_RENDER" --host raycast --one-draw --scene "$srcdir/examples/scenes/mri-head.json" --volume "$mri" \
+    --size 32x32 --volume-size 96 --quiet --export-host "$tmp/niivue" -o "$tmp/niivue/reference.png"
+HALO_WEB_NIIVUE=$tmp/niivue
+export HALO_WEB_NIIVUE
 echo "+ node browser.mjs $*"
 "$NODE" "$srcdir/tests/adapters/web/browser.mjs" "$@" || fail "the pages' images (above)"
 finish

@@ -1,0 +1,21 @@
+// Type declarations of libhalo's NiiVue adapter (niivue.mjs; docs/hosts/web.md).
+import type { Halo, Program, HaloPieces } from './libhalo';
+
+export const SUPPORTED_VERSIONS: readonly string[];   // NiiVue versions whose render shader it knows
+export const NIIVUE_NAMES: Readonly<HaloPieces>;
+
+export interface NiivueInstallOptions {
+  scene?: string | object;
+  sceneFile?: string;
+  allLive?: boolean;
+  interval?: number;               // volumetric halos: M, planes a depth segment (default the scene's)
+  firstUnit?: number;              // libhalo's textures from this unit on (default 20; the value copy one below)
+}
+
+export interface NiivueInstalled {
+  program: Program;
+  set(name: string, value: number | boolean | number[] | number[][]): void;
+  remove(): void;                  // NiiVue's own shader and drawImage3D again
+}
+
+export function installHalo(halo: Halo, nv: any, options?: NiivueInstallOptions): NiivueInstalled;

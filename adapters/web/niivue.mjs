@@ -1,0 +1,267 @@
+// libhalo in NiiVue (docs/hosts/web.md): NiiVue's volume renderer has no public shader hook,
+// so installHalo wraps the render shader NiiVue builds. It reads the shader's text back from
+// WebGL, puts a scene's stages into its ray loop (linked as pieces, docs/composers.md),
+// builds it as a NiiVue Shader, and wraps the instance's drawImage3D so that libhalo's GL
+// runtime (WebAssembly) draws NiiVue's volume: for per-sample stages it sets their camera
+// and lets NiiVue draw; for volumetric halos (host contract 3) it computes the frame's
+// halo field first, over a float copy of the background volume in NiiVue's RAS texture
+// space, and then lets NiiVue draw once.
+//
+//   import { Niivue } from '@niivue/niivue';
+//   import libhalo from '@libhalo/web';
+//   import { installHalo } from '@libhalo/web/niivue';
+//   const nv = new Niivue(); await nv.attachToCanvas(canvas);
+//   await nv.loadVolumes([{ url: 'head.nii.gz' }]); nv.setSliceType(nv.sliceTypeRender);
+//   const stages = installHalo(await libhalo(), nv, { scene: sceneJson });
+//   nv.drawScene();                          // NiiVue draws as always
+//   stages.remove();                         // NiiVue's own shader again
+//
+// Supported: NiiVue 0.69 (SUPPORTED_VERSIONS), its default volume shader (no gradient
+// shading: with nv.setVolumeRenderIllumination(>0) NiiVue draws through another shader and
+// the stages are off, with a warning once). What the stages see: the sample's position in
+// NiiVue's texture space (samplePos), the background volume's value (cal_min..cal_max to
+// 0..1, read from the adapter's float copy), its gradient (central differences of that
+// value), and NiiVue's colour (colormap and opacity per voxel step). For halo scenes the
+// adapter turns off NiiVue's fast empty-space pass (halos land in empty space). Outlines and
+// feature halos (extra outputs, passes after the draw) are refused, naming the stages.
+
+export const SUPPORTED_VERSIONS = Object.freeze(['0.69.0']);
+
+// Where the pieces go in NiiVue's render shader (fragRenderShader of its shader-srcs.ts)
+const ANCHORS = Object.freeze({
+  declarations: 'out vec4 fColor;\n',
+  sample: 'vec4 colorSample = texture(volume, samplePos.xyz);\n',
+  finish: '\tif (firstHit.a < len)\n\t\tbackNearest = firstHit.a;',
+  fastPass: 'float val = texture(volume, samplePos.xyz).a;',
+});
+
+const VALUE_SAMPLER = 'halo_niivue_value';
+
+// NiiVue's names for the sample piece; view and depth come from the camera libhalo sets.
+export const NIIVUE_NAMES = Object.freeze({
+  position: 'samplePos.xyz',
+  value: `texture(${VALUE_SAMPLER}, samplePos.xyz).r`,
+  volume: VALUE_SAMPLER,
+  fragcoord: 'gl_FragCoord.xy',
+  color: 'colorSample',
+});
+
+// The values NiiVue gave its shader's uniforms (its samplers' units are set once, when it
+// builds the shader), copied to the same names in the staged shader.
+function copyUniforms(gl, from, to) {
+  const current = gl.getParameter(gl.CURRENT_PROGRAM);
+  gl.useProgram(to);
+  const count = gl.getProgramParameter(from, gl.ACTIVE_UNIFORMS);
+  for (let i = 0; i < count; ++i) {
+    const u = gl.getActiveUniform(from, i);
+    const base = u.name.replace(/\[0\]$/, '');
+    for (let e = 0; e < u.size; ++e) {
+      const name = u.size > 1 ? `${base}[${e}]` : u.name;
+      const source = gl.getUniformLocation(from, name), target = gl.getUniformLocation(to, name);
+      if (!source || !target) continue;
+      const v = gl.getUniform(from, source);
+      switch (u.type) {
+        case gl.FLOAT: gl.uniform1f(target, v); break;
+        case gl.FLOAT_VEC2: gl.uniform2fv(target, v); break;
+        case gl.FLOAT_VEC3: gl.uniform3fv(target, v); break;
+        case gl.FLOAT_VEC4: gl.uniform4fv(target, v); break;
+        case gl.FLOAT_MAT4: gl.uniformMatrix4fv(target, false, v); break;
+        case gl.FLOAT_MAT3: gl.uniformMatrix3fv(target, false, v); break;
+        case gl.INT_VEC2: case gl.BOOL_VEC2: gl.uniform2iv(target, Int32Array.from(v, Number)); break;
+        case gl.INT_VEC3: case gl.BOOL_VEC3: gl.uniform3iv(target, Int32Array.from(v, Number)); break;
+        case gl.INT_VEC4: case gl.BOOL_VEC4: gl.uniform4iv(target, Int32Array.from(v, Number)); break;
+        default: gl.uniform1i(target, Number(v)); // int, bool and the samplers
+      }
+    }
+  }
+  gl.useProgram(current);
+}
+
+function sourcesOf(gl, program) {
+  const shaders = gl.getAttachedShaders(program) || [];
+  const source = (type) => {
+    const s = shaders.find((x) => gl.getShaderParameter(x, gl.SHADER_TYPE) === type);
+    return s ? gl.getShaderSource(s) : null;
+  };
+  return { vertex: source(gl.VERTEX_SHADER), fragment: source(gl.FRAGMENT_SHADER) };
+}
+
+// a 4x4 column-major product and inverse (gl-matrix's layout)
+function multiply(a, b) {
+  const out = new Float64Array(16);
+  for (let c = 0; c < 4; ++c)
+    for (let r = 0; r < 4; ++r) {
+      let sum = 0;
+      for (let k = 0; k < 4; ++k) sum += a[k * 4 + r] * b[c * 4 + k];
+      out[c * 4 + r] = sum;
+    }
+  return out;
+}
+
+function invert(m) {
+  // Gauss-Jordan on the rows of the column-major matrix's transpose, in double precision
+  const a = [];
+  for (let r = 0; r < 4; ++r) a.push([m[r], m[4 + r], m[8 + r], m[12 + r], r === 0 ? 1 : 0, r === 1 ? 1 : 0, r === 2 ? 1 : 0, r === 3 ? 1 : 0]);
+  for (let c = 0; c < 4; ++c) {
+    let pivot = c;
+    for (let r = c + 1; r < 4; ++r) if (Math.abs(a[r][c]) > Math.abs(a[pivot][c])) pivot = r;
+    if (!(Math.abs(a[pivot][c]) > 0)) throw new Error('installHalo: NiiVue\'s view matrix is singular');
+    [a[c], a[pivot]] = [a[pivot], a[c]];
+    const p = a[c][c];
+    for (let k = 0; k < 8; ++k) a[c][k] /= p;
+    for (let r = 0; r < 4; ++r)
+      if (r !== c) {
+        const f = a[r][c];
+        for (let k = 0; k < 8; ++k) a[r][k] -= f * a[c][k];
+      }
+  }
+  const out = new Float64Array(16);
+  for (let r = 0; r < 4; ++r) for (let c = 0; c < 4; ++c) out[c * 4 + r] = a[r][4 + c];
+  return out;
+}
+
+// The background volume in NiiVue's RAS texture order, cal_min..cal_max to 0..1 (R32F).
+function valueTexture(gl, image, unit) {
+  const dims = image.dimsRAS.slice(1, 4);
+  const raw = image.img2RAS();
+  const slope = image.hdr && image.hdr.scl_slope ? image.hdr.scl_slope : 1, inter = image.hdr ? image.hdr.scl_inter || 0 : 0;
+  const low = image.cal_min, range = image.cal_max - image.cal_min;
+  const values = new Float32Array(dims[0] * dims[1] * dims[2]);
+  for (let i = 0; i < values.length; ++i) {
+    const v = range > 0 ? (raw[i] * slope + inter - low) / range : 0;
+    values[i] = v > 0 ? (v < 1 ? v : 1) : 0;
+  }
+  const previousUnit = gl.getParameter(gl.ACTIVE_TEXTURE);
+  gl.activeTexture(gl.TEXTURE0 + unit);
+  const previous = gl.getParameter(gl.TEXTURE_BINDING_3D);
+  const texture = gl.createTexture();
+  gl.bindTexture(gl.TEXTURE_3D, texture);
+  const alignment = gl.getParameter(gl.UNPACK_ALIGNMENT);
+  gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+  gl.texImage3D(gl.TEXTURE_3D, 0, gl.R32F, dims[0], dims[1], dims[2], 0, gl.RED, gl.FLOAT, values);
+  gl.pixelStorei(gl.UNPACK_ALIGNMENT, alignment);
+  const linear = gl.getExtension('OES_texture_float_linear') ? gl.LINEAR : gl.NEAREST;
+  for (const [p, v] of [[gl.TEXTURE_MIN_FILTER, linear], [gl.TEXTURE_MAG_FILTER, linear], [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE],
+    [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_R, gl.CLAMP_TO_EDGE]])
+    gl.texParameteri(gl.TEXTURE_3D, p, v);
+  gl.bindTexture(gl.TEXTURE_3D, previous);
+  gl.activeTexture(previousUnit);
+  return { texture, dims };
+}
+
+// NiiVue's texture space -> its mm space (the render cube's vertices), column-major.
+function textureToMm(image) {
+  const dims = image.dimsRAS;
+  const at = (t) => image.vox2mm([t[0] * dims[1] - 0.5, t[1] * dims[2] - 0.5, t[2] * dims[3] - 0.5], image.matRAS);
+  const o = at([0, 0, 0]), x = at([1, 0, 0]), y = at([0, 1, 0]), z = at([0, 0, 1]);
+  return Float64Array.of(x[0] - o[0], x[1] - o[1], x[2] - o[2], 0, y[0] - o[0], y[1] - o[1], y[2] - o[2], 0,
+    z[0] - o[0], z[1] - o[1], z[2] - o[2], 0, o[0], o[1], o[2], 1);
+}
+
+// Puts the scene's stages into nv's volume render shader. options: scene (JSON text or
+// object), sceneFile, interval (M for halos; default the scene's), firstUnit (libhalo's
+// textures from this unit on: 20; the value copy is one below), allLive. Returns
+// { program, set(name, value), remove() }; throws a HaloError or an Error that says why.
+export function installHalo(halo, nv, options = {}) {
+  const gl = nv.gl;
+  if (!gl || !nv.renderVolumeShader || !nv.back)
+    throw new Error('installHalo: attach NiiVue to a canvas and load a volume first (nv.renderVolumeShader, nv.back)');
+  const shader = nv.renderVolumeShader;
+  const { vertex, fragment } = sourcesOf(gl, shader.program);
+  for (const [what, anchor] of Object.entries(ANCHORS))
+    if (!fragment || !fragment.includes(anchor))
+      throw new Error(`installHalo: NiiVue's render shader has no '${anchor.trim()}' (the ${what} anchor): a NiiVue ` +
+        `version this adapter does not know (supported: ${SUPPORTED_VERSIONS.join(', ')})`);
+  const { program, field } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+    allLive: options.allLive, pieces: NIIVUE_NAMES }, 'NiiVue');
+  let text = fragment
+    .replace(ANCHORS.declarations, `${ANCHORS.declarations}uniform highp sampler3D ${VALUE_SAMPLER};\n${program.pieces.declarations || ''}\n`)
+    .replace(ANCHORS.sample, `${ANCHORS.sample}${program.pieces.sample || ''}\n`)
+    .replace(ANCHORS.finish, `${program.pieces.finish || ''}\n${ANCHORS.finish}`);
+  if (field) // halos land in empty space: no fast pass to the first opaque sample
+    text = text.replace(ANCHORS.fastPass, 'float val = 1.0; // libhalo: halos land in empty space');
+  let staged;
+  try {
+    staged = new shader.constructor(gl, vertex, text);
+  } catch (e) {
+    program.destroy();
+    throw new Error(`installHalo: NiiVue could not build its shader with the stages (${e.message})`);
+  }
+  copyUniforms(gl, shader.program, staged.program);
+  const firstUnit = options.firstUnit || 20;
+  const value = valueTexture(gl, nv.back, firstUnit - 1);
+  const mmFromTexture = textureToMm(nv.back);
+  const original = nv.renderVolumeShader;
+  const drawImage3D = Object.prototype.hasOwnProperty.call(nv, 'drawImage3D') ? nv.drawImage3D : null;
+  let frame = null, warned = false;
+  const size = () => [gl.drawingBufferWidth, gl.drawingBufferHeight];
+  nv.renderVolumeShader = staged;
+  if (nv.renderShader === original) nv.renderShader = staged;
+  nv.drawImage3D = function (mvpMatrix, azimuth, elevation) {
+    const draw = () => Object.getPrototypeOf(nv).drawImage3D.call(nv, mvpMatrix, azimuth, elevation);
+    if (nv.renderShader !== staged || nv.uiData?.mouseDepthPicker) {
+      if (nv.renderShader !== staged && !warned) {
+        console.warn('libhalo: NiiVue draws with another shader (illumination or slices in the render): the stages are off');
+        warned = true;
+      }
+      return draw();
+    }
+    const [width, height] = size();
+    if (!frame || frame.width !== width || frame.height !== height) {
+      if (frame) frame.destroy();
+      frame = halo.frame(gl, program, { width, height });
+      frame.width = width;
+      frame.height = height;
+    }
+    // the value copy on its unit (NiiVue binds its own textures on 0-10 itself)
+    const previousUnit = gl.getParameter(gl.ACTIVE_TEXTURE);
+    gl.activeTexture(gl.TEXTURE0 + firstUnit - 1);
+    const previous = gl.getParameter(gl.TEXTURE_BINDING_3D);
+    gl.bindTexture(gl.TEXTURE_3D, value.texture);
+    gl.useProgram(staged.program);
+    gl.uniform1i(gl.getUniformLocation(staged.program, VALUE_SAMPLER), firstUnit - 1);
+    gl.activeTexture(previousUnit);
+    const dims = value.dims;
+    try {
+      frame.draw({
+        program: staged.program, volume: value.texture, volumeSize: dims, framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING),
+        inverseViewProjection: Float32Array.from(invert(multiply(mvpMatrix, mmFromTexture))),
+        step: 1 / Math.max(dims[0], dims[1], dims[2]), interval: options.interval, firstUnit, draw,
+      });
+    } finally {
+      gl.activeTexture(gl.TEXTURE0 + firstUnit - 1);
+      gl.bindTexture(gl.TEXTURE_3D, previous);
+      gl.activeTexture(previousUnit);
+    }
+  };
+  { // the live parameters' first values
+    const current = gl.getParameter(gl.CURRENT_PROGRAM);
+    gl.useProgram(staged.program);
+    program.upload(gl, staged.program);
+    gl.useProgram(current);
+  }
+  return {
+    program,
+    // a live parameter ("stage.param"): the uniform's new value on the next draw
+    set(name, v) {
+      program.set(name, v);
+      const current = gl.getParameter(gl.CURRENT_PROGRAM);
+      gl.useProgram(staged.program);
+      program.upload(gl, staged.program);
+      gl.useProgram(current);
+    },
+    // NiiVue's own shader and drawImage3D again
+    remove() {
+      if (drawImage3D) nv.drawImage3D = drawImage3D;
+      else delete nv.drawImage3D;
+      if (nv.renderShader === staged) nv.renderShader = original;
+      nv.renderVolumeShader = original;
+      if (frame) frame.destroy();
+      frame = null;
+      gl.deleteTexture(value.texture);
+      if (gl.getParameter(gl.CURRENT_PROGRAM) === staged.program) gl.useProgram(original.program);
+      gl.deleteProgram(staged.program);
+      program.destroy();
+    },
+  };
+}
