@@ -61,6 +61,14 @@ class Program {
     if (!this._handle) throw new HaloError([], 'the program was destroyed');
   }
 
+  // A reflected type as GLSL declares it: 'channels' (a halo parameter, one value a halo
+  // channel) is float, vec2, vec3 or vec4 by the program's channel count.
+  _glslType(type) {
+    if (type !== 'channels') return type;
+    const n = this.reflection.channels || 1;
+    return n === 1 ? 'float' : `vec${n}`;
+  }
+
   // Sets a live parameter ("stage.param", or stage and param): a number, a boolean or an
   // array of numbers (vectors, arrays). Refused parameters throw a HaloError.
   set(name, a, b) {
@@ -80,9 +88,9 @@ class Program {
     // the C side counts elements (a vec3 is one): the components from the reflection
     const entry = [...(this.reflection.uniforms || []), ...(this.reflection.constants || [])]
       .find((u) => u.stage === stage && u.param === param);
-    const components = entry ? componentsOf(entry.type.replace(/\[\d+\]$/, '')) : 1;
+    const components = entry ? componentsOf(this._glslType(entry.type).replace(/\[\d+\]$/, '')) : 1;
     if (values.length % components)
-      throw new HaloError([], `set ${stage}.${param}: ${values.length} numbers are not whole ${entry.type} elements`);
+      throw new HaloError([], `set ${stage}.${param}: ${values.length} numbers are not whole ${this._glslType(entry.type)} elements`);
     const core = this._halo._core;
     const pointer = core._malloc(Math.max(values.length, 1) * 8);
     try {
@@ -105,7 +113,7 @@ class Program {
       const values = this._values.get(key) || (this._uploaded ? null : u.value);
       if (!values) continue;
       const array = /^(\w+)\[\d+\]$/.exec(u.type);
-      const type = array ? array[1] : u.type;
+      const type = this._glslType(array ? array[1] : u.type);
       const location = gl.getUniformLocation(glProgram, u.name);
       if (location !== null) uploadUniform(gl, location, type, values);
       if (array) { // an array parameter's element count: NAME_count

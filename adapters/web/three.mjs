@@ -177,7 +177,8 @@ export function createVolumeCaster(THREE, options) {
 function uniformValue(type, values) {
   const array = /\[\d+\]$/.test(type);
   const base = type.replace(/\[\d+\]$/, '');
-  if (!array && (base === 'float' || base === 'int' || base === 'bool')) return values[0];
+  if (!array && (base === 'float' || base === 'int' || base === 'bool' || (base === 'channels' && values.length === 1)))
+    return values[0];
   return base === 'int' || base === 'bool' ? Int32Array.from(values, Math.round) : Float32Array.from(values);
 }
 

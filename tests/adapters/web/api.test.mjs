@@ -105,6 +105,25 @@ test('live parameters: set checks the range, upload reaches the uniforms', () =>
   assert.throws(() => program.set('k_ta', 1), /is not stage\.param/);
 });
 
+test('halo parameters (type channels) upload as the channel count\'s vector', () => {
+  const host = fs.readFileSync(path.join(hosts, 'raycast.frag'), 'utf8');
+  const program = halo.link({ scene: fs.readFileSync(path.join(scenes, 'mri-head.json'), 'utf8'), host,
+    hostFile: 'raycast.frag', allLive: true, oneDraw: true });
+  assert.equal(program.reflection.channels, 2);
+  const calls = [];
+  const gl = { getUniformLocation: (p, name) => name, uniform2fv: (l, v) => calls.push(['2fv', l, Array.from(v)]),
+    uniform1fv: (l, v) => calls.push(['1fv', l, Array.from(v)]), uniform3fv: () => {}, uniform4fv: () => {},
+    uniform1iv: () => {}, uniform1i: () => {}, uniformMatrix4fv: () => {} };
+  program.upload(gl, {});
+  assert.deepEqual(calls.find((c) => c[1] === 'halo_halo_map_opacity'), ['2fv', 'halo_halo_map_opacity', [0.5, 0.3].map(Math.fround)]);
+  program.set('halo_map.opacity', [0.25, 0.75]);
+  calls.length = 0;
+  program.upload(gl, {});
+  assert.deepEqual(calls.find((c) => c[1] === 'halo_halo_map_opacity'), ['2fv', 'halo_halo_map_opacity', [0.25, 0.75]]);
+  assert.throws(() => program.set('halo_map.opacity', [0.25, 0.75, 0.5]), /whole vec2 elements/);
+  program.destroy();
+});
+
 test('a WebGL compile log maps to the modules', () => {
   const host = fs.readFileSync(path.join(hosts, 'raycast.frag'), 'utf8');
   const program = halo.link({ scene: fs.readFileSync(path.join(scenes, 'default.json'), 'utf8'), host, hostFile: 'raycast.frag' });

@@ -89,6 +89,46 @@ function writeNifti(dir) {
   header.write('n+1\0', 344, 'latin1');
   fs.writeFileSync(path.join(dir, 'head.nii'), Buffer.concat([header, data]));
 }
+// The demo page (docs/web/index.html, served by docs/web/serve.mjs as a user runs it): it
+// loads, makes its sliders from the reflection, a slider changes the image, and the stages
+// switched off give NiiVue alone.
+async function demo(page, volume) {
+  const { spawn } = await import('node:child_process');
+  const serve = spawn(process.execPath, [path.join(srcdir, 'docs/web/serve.mjs'), volume, '0'],
+    { env: { ...process.env, HALO_BUILD: path.resolve(packageDir, '../../..') }, stdio: ['ignore', 'pipe', 'inherit'] });
+  try {
+    const url = await new Promise((resolve, reject) => {
+      serve.stdout.on('data', (d) => { const m = /http:\/\/[\d.:]+\//.exec(String(d)); if (m) resolve(m[0]); });
+      serve.on('exit', (code) => reject(new Error(`serve.mjs exited with ${code}`)));
+    });
+    await page.goto(url);
+    await page.waitForFunction('window.demo && window.demo.ready', { timeout: 120000 });
+    const state = await page.evaluate(() => ({ error: window.demo.error, sliders: window.demo.sliders }));
+    const name = 'the demo page (docs/web/index.html)';
+    if (state.error) { fail(`${name}: ${state.error}`); return; }
+    const before = await page.evaluate(() => window.demo.pixels());
+    await page.evaluate(() => { // halo_map.opacity[1], the dark halo, to 1
+      const input = [...document.querySelectorAll('label')].find((l) => l.textContent.startsWith('halo_map.opacity[1]'))
+        .querySelector('input');
+      input.value = '1';
+      input.dispatchEvent(new Event('input'));
+    });
+    const after = await page.evaluate(() => window.demo.pixels());
+    await page.evaluate(() => { const box = document.getElementById('enabled'); box.checked = false; box.dispatchEvent(new Event('change')); });
+    const off = await page.evaluate(() => window.demo.pixels());
+    const slider = difference(after.map((v) => v / 255), before.map((v) => v / 255));
+    const stages = difference(before.map((v) => v / 255), off.map((v) => v / 255));
+    console.log(`${name}: ${state.sliders.length} sliders; halo_map.opacity[1] 0.3 -> 1 changes the image by ${slider.mean.toExponential(3)} ` +
+      `mean abs; the stages against NiiVue alone ${stages.mean.toExponential(3)}`);
+    if (!state.sliders.includes('halo_map.opacity[1]') || state.sliders.length < 8) fail(`${name}: sliders ${state.sliders}`);
+    if (!(slider.mean > 1e-3)) fail(`${name}: the halo opacity slider changes the image by only ${slider.mean}`);
+    if (!(stages.mean > EFFECT)) fail(`${name}: the stages change NiiVue's image by only ${stages.mean}`);
+    drawn++;
+  } finally {
+    serve.kill();
+  }
+}
+
 async function niivue(page, dir) {
   writeNifti(dir);
   inputs = dir;
@@ -182,6 +222,7 @@ try {
     }
   }
   if (niivueCase) await niivue(page, niivueCase);
+  if (niivueCase) await demo(page, path.join(niivueCase, 'head.nii'));
 } finally {
   await browser.close();
   server.close();
