@@ -150,28 +150,53 @@ class Program {
   }
 }
 
-// A WebGL object's name in emscripten's GL tables (the C runtime's GLuint), given once. A
-// program the page linked gets the bookkeeping emscripten's glCreateProgram and
-// glLinkProgram give their own (emscripten 3.1.6: the lazily filled uniform tables).
+// A WebGL object's name in emscripten's GL tables (the C runtime's GLuint), given once and
+// kept while the page's object lives (sweepNames drops deleted ones). A program the page
+// linked gets the bookkeeping emscripten's glCreateProgram and glLinkProgram give their own
+// (emscripten 3.1.6: the lazily filled uniform tables; forgetUniforms empties them).
+const pageNames = new WeakMap(); // GL (emscripten's) -> Map(id -> [table, isX]) of the page's objects named here
 function nameOf(GL, table, object) {
   if (!object) return 0;
   if (object.name && table[object.name] === object) return object.name;
   const id = GL.getNewId(table);
   table[id] = object;
   object.name = id;
-  if (table === GL.programs) {
-    object.maxUniformLength = object.maxAttributeLength = object.maxUniformBlockNameLength = 0;
-    object.uniformIdCounter = 1;
-    object.uniformLocsById = 0;
-    object.uniformSizeAndIdsByName = {};
-  }
+  if (table === GL.programs) forgetUniforms(object);
+  if (!pageNames.has(GL)) pageNames.set(GL, new Map());
+  pageNames.get(GL).set(id, table);
   return id;
+}
+
+// Empties emscripten's uniform tables of a page's program: they refill on the next lookup,
+// so a program the page linked again gets its new locations.
+function forgetUniforms(program) {
+  program.maxUniformLength = program.maxAttributeLength = program.maxUniformBlockNameLength = 0;
+  program.uniformIdCounter = 1;
+  program.uniformLocsById = 0;
+  program.uniformSizeAndIdsByName = {};
+}
+
+// The page's objects that the page has deleted since they were named: out of the tables.
+function sweepNames(GL, gl) {
+  const names = pageNames.get(GL);
+  if (!names) return;
+  for (const [id, table] of names) {
+    const object = table[id];
+    const alive = object && (table === GL.textures ? gl.isTexture(object) : table === GL.programs ? gl.isProgram(object)
+      : table === GL.framebuffers ? gl.isFramebuffer(object) : table === GL.renderbuffers ? gl.isRenderbuffer(object)
+        : table === GL.vaos ? gl.isVertexArray(object) : gl.isBuffer(object));
+    if (!alive) {
+      table[id] = null;
+      names.delete(id);
+    }
+  }
 }
 
 // The page's objects bound on gl, named in emscripten's tables before libhalo's C runtime
 // runs: it restores the bindings it changes by their names (unnamed ones would come back
 // unbound).
 function nameBindings(GL, gl) {
+  sweepNames(GL, gl);
   const unit = gl.getParameter(gl.ACTIVE_TEXTURE);
   const units = gl.getParameter(gl.MAX_COMBINED_TEXTURE_IMAGE_UNITS);
   for (let i = 0; i < units; ++i) {
@@ -188,6 +213,12 @@ function nameBindings(GL, gl) {
   for (const binding of [gl.ARRAY_BUFFER_BINDING, gl.PIXEL_PACK_BUFFER_BINDING, gl.PIXEL_UNPACK_BUFFER_BINDING])
     nameOf(GL, GL.buffers, gl.getParameter(binding));
 }
+
+// The WebGL extensions libhalo's runtime uses, enabled on the page's context where present
+// (float colour targets and their blending, linear filtering of float textures); the
+// context's other extensions are left as the page has them.
+const RUNTIME_EXTENSIONS = ['EXT_color_buffer_float', 'EXT_color_buffer_half_float', 'EXT_float_blend',
+  'OES_texture_float_linear'];
 
 // A renderer on the CPU (SwiftShader, llvmpipe), where reading back where the image passes'
 // results are nonzero is cheaper than passes over the whole frame. WebGL masks GL_RENDERER
@@ -226,27 +257,38 @@ class Frame {
   // contents), seedEpsilon, fieldMaxBytes. The WebGL state it changes is restored.
   draw(options) {
     if (!this._handle) throw new HaloError([], 'the frame was destroyed');
+    this._program._live(); // the C frame reads its program: not after program.destroy()
     const { program, draw } = options;
     if (typeof draw !== 'function') throw new HaloError([], 'frame.draw: draw (a function drawing the host\'s proxy) is required');
+    if (typeof WebGLProgram !== 'undefined' && !(program instanceof WebGLProgram))
+      throw new HaloError([], 'frame.draw: program (the host\'s WebGLProgram) is required');
+    const gl = this._gl;
+    if (gl.isContextLost()) throw new HaloError([], 'frame.draw: the WebGL context is lost');
+    // the page's own pending errors are the page's: reported here, not blamed on libhalo
+    for (let e = gl.getError(), n = 0; e && n < 8; e = gl.getError(), ++n)
+      console.warn(`libhalo: frame.draw found WebGL error 0x${e.toString(16)} pending from the page's own calls`);
     const core = this._halo._core, GL = core.GL;
-    this._halo._current(this._gl);
+    this._halo._current(gl);
+    const list = (v) => (v === undefined || v === null ? undefined : Array.from(v));
+    const programName = nameOf(GL, GL.programs, program);
+    forgetUniforms(program); // relinked since the last frame: its new locations
     const desc = {
       inverse_view_projection: Array.from(options.inverseViewProjection || []), step: options.step,
-      box_min: options.boxMin, box_max: options.boxMax, interval: options.interval, first_unit: options.firstUnit,
+      box_min: list(options.boxMin), box_max: list(options.boxMax), interval: options.interval, first_unit: options.firstUnit,
       framebuffer: nameOf(GL, GL.framebuffers, options.framebuffer), volume_texture: nameOf(GL, GL.textures, options.volume),
       gradient_texture: nameOf(GL, GL.textures, options.gradientTexture), gradient_precision: options.gradientPrecision,
-      volume_version: options.volumeVersion, volume_size: options.volumeSize, seed_epsilon: options.seedEpsilon,
+      volume_version: options.volumeVersion, volume_size: list(options.volumeSize), seed_epsilon: options.seedEpsilon,
       field_max_bytes: options.fieldMaxBytes,
     };
-    const name = nameOf(GL, GL.programs, program);
     let thrown = null;
+    const outer = core.haloDraw; // a draw callback may itself draw another frame
     core.haloDraw = () => { try { draw(); } catch (e) { thrown = thrown || e; } };
     try {
-      const ok = this._halo._withStrings([JSON.stringify(desc)], ([text]) => core._halo_web_frame_draw(this._handle, name, text));
+      const ok = this._halo._withStrings([JSON.stringify(desc)], ([text]) => core._halo_web_frame_draw(this._handle, programName, text));
       if (thrown) throw thrown;
       if (!ok) throw this._halo._error('frame.draw failed');
     } finally {
-      core.haloDraw = null;
+      core.haloDraw = outer;
     }
   }
 
@@ -296,7 +338,8 @@ class Halo {
     if (!entry) {
       if (typeof WebGL2RenderingContext === 'undefined' || !(gl instanceof WebGL2RenderingContext))
         throw new HaloError([], 'frame: gl must be a WebGL 2 context');
-      entry = { handle: GL.registerContext(gl, { majorVersion: 2, minorVersion: 0, enableExtensionsByDefault: true }), runtime: 0 };
+      for (const name of RUNTIME_EXTENSIONS) gl.getExtension(name);
+      entry = { handle: GL.registerContext(gl, { majorVersion: 2, minorVersion: 0, enableExtensionsByDefault: false }), runtime: 0 };
       this._contexts.set(gl, entry);
     }
     GL.makeContextCurrent(entry.handle);

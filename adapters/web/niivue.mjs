@@ -36,13 +36,15 @@ const ANCHORS = Object.freeze({
 });
 
 const VALUE_SAMPLER = 'halo_niivue_value';
+const ORIGIN = 'halo_niivue_origin'; // the 3D view's lower left corner in the canvas (gl.VIEWPORT)
+const INSTALLED = Symbol('libhalo');
 
 // NiiVue's names for the sample piece; view and depth come from the camera libhalo sets.
 export const NIIVUE_NAMES = Object.freeze({
   position: 'samplePos.xyz',
   value: `texture(${VALUE_SAMPLER}, samplePos.xyz).r`,
   volume: VALUE_SAMPLER,
-  fragcoord: 'gl_FragCoord.xy',
+  fragcoord: `(gl_FragCoord.xy - ${ORIGIN})`,
   color: 'colorSample',
 });
 
@@ -123,7 +125,7 @@ function invert(m) {
 // The background volume in NiiVue's RAS texture order, cal_min..cal_max to 0..1 (R32F).
 function valueTexture(gl, image, unit) {
   const dims = image.dimsRAS.slice(1, 4);
-  const raw = image.img2RAS();
+  const raw = image.img2RAS(image.frame4D || 0);
   const slope = image.hdr && image.hdr.scl_slope ? image.hdr.scl_slope : 1, inter = image.hdr ? image.hdr.scl_inter || 0 : 0;
   const low = image.cal_min, range = image.cal_max - image.cal_min;
   const values = new Float32Array(dims[0] * dims[1] * dims[2]);
@@ -149,6 +151,20 @@ function valueTexture(gl, image, unit) {
   return { texture, dims };
 }
 
+// NiiVue's ray step in texture space: one voxel along the ray, 1 / |dims (x) d| for the
+// unit direction d (its sliceSize); for the field, the view axis's (the centre's ray).
+function niivueStep(inverse, dims) {
+  const at = (z) => {
+    const p = [0, 1, 2, 3].map((r) => inverse[8 + r] * z + inverse[12 + r]);
+    return [p[0] / p[3], p[1] / p[3], p[2] / p[3]];
+  };
+  const near = at(-1), far = at(1);
+  const d = [far[0] - near[0], far[1] - near[1], far[2] - near[2]];
+  const length = Math.hypot(d[0], d[1], d[2]);
+  const voxels = Math.hypot(d[0] * dims[0], d[1] * dims[1], d[2] * dims[2]) / length;
+  return 1 / voxels;
+}
+
 // NiiVue's texture space -> its mm space (the render cube's vertices), column-major.
 function textureToMm(image) {
   const dims = image.dimsRAS;
@@ -172,73 +188,121 @@ export function installHalo(halo, nv, options = {}) {
     if (!fragment || !fragment.includes(anchor))
       throw new Error(`installHalo: NiiVue's render shader has no '${anchor.trim()}' (the ${what} anchor): a NiiVue ` +
         `version this adapter does not know (supported: ${SUPPORTED_VERSIONS.join(', ')})`);
+  if (nv[INSTALLED]) throw new Error('installHalo: this NiiVue already has libhalo\'s stages: remove() them first');
   const { program, field } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
     allLive: options.allLive, pieces: NIIVUE_NAMES }, 'NiiVue');
-  let text = fragment
-    .replace(ANCHORS.declarations, `${ANCHORS.declarations}uniform highp sampler3D ${VALUE_SAMPLER};\n${program.pieces.declarations || ''}\n`)
-    .replace(ANCHORS.sample, `${ANCHORS.sample}${program.pieces.sample || ''}\n`)
-    .replace(ANCHORS.finish, `${program.pieces.finish || ''}\n${ANCHORS.finish}`);
-  if (field) // halos land in empty space: no fast pass to the first opaque sample
-    text = text.replace(ANCHORS.fastPass, 'float val = 1.0; // libhalo: halos land in empty space');
-  let staged;
-  try {
-    staged = new shader.constructor(gl, vertex, text);
-  } catch (e) {
-    program.destroy();
-    throw new Error(`installHalo: NiiVue could not build its shader with the stages (${e.message})`);
-  }
-  copyUniforms(gl, shader.program, staged.program);
+  // everything that can fail, before NiiVue is touched; undone on failure
+  let staged = null, value = null;
   const firstUnit = options.firstUnit || 20;
-  const value = valueTexture(gl, nv.back, firstUnit - 1);
-  const mmFromTexture = textureToMm(nv.back);
+  try {
+    if (firstUnit + 4 > gl.getParameter(gl.MAX_COMBINED_TEXTURE_IMAGE_UNITS))
+      throw new Error(`installHalo: firstUnit ${firstUnit} leaves too few of this context's texture units for libhalo's`);
+    let text = fragment
+      .replace(ANCHORS.declarations, `${ANCHORS.declarations}uniform highp sampler3D ${VALUE_SAMPLER};\n` +
+        `uniform vec2 ${ORIGIN};\n${program.pieces.declarations || ''}\n`)
+      .replace(ANCHORS.sample, `${ANCHORS.sample}${program.pieces.sample || ''}\n`)
+      .replace(ANCHORS.finish, `${program.pieces.finish || ''}\n${ANCHORS.finish}`);
+    if (field) // halos land in empty space: no fast pass to the first opaque sample
+      text = text.replace(ANCHORS.fastPass, 'float val = 1.0; // libhalo: halos land in empty space');
+    try {
+      staged = new shader.constructor(gl, vertex, text);
+    } catch (e) {
+      throw new Error(`installHalo: NiiVue could not build its shader with the stages (${e.message}; the compile log ` +
+        'on the console: program.mapLog maps its lines to the modules)');
+    }
+    copyUniforms(gl, shader.program, staged.program);
+    value = valueTexture(gl, nv.back, firstUnit - 1);
+    const current = gl.getParameter(gl.CURRENT_PROGRAM);
+    gl.useProgram(staged.program);
+    program.upload(gl, staged.program); // the live parameters' first values
+    gl.useProgram(current);
+  } catch (e) {
+    if (value) gl.deleteTexture(value.texture);
+    if (staged) gl.deleteProgram(staged.program);
+    program.destroy();
+    throw e;
+  }
   const original = nv.renderVolumeShader;
-  const drawImage3D = Object.prototype.hasOwnProperty.call(nv, 'drawImage3D') ? nv.drawImage3D : null;
-  let frame = null, warned = false;
-  const size = () => [gl.drawingBufferWidth, gl.drawingBufferHeight];
+  const ownDraw = Object.prototype.hasOwnProperty.call(nv, 'drawImage3D') ? nv.drawImage3D : null;
+  const niivueDraw = ownDraw || Object.getPrototypeOf(nv).drawImage3D;
+  let frame = null, warned = new Set(), version = 0;
+  let volumeKey = [nv.back, nv.back.cal_min, nv.back.cal_max, nv.back.frame4D];
+  let mmFromTexture = textureToMm(nv.back);
+  const warnOnce = (why) => {
+    if (!warned.has(why)) console.warn(`libhalo: ${why}`);
+    warned.add(why);
+  };
   nv.renderVolumeShader = staged;
   if (nv.renderShader === original) nv.renderShader = staged;
+  nv[INSTALLED] = true;
   nv.drawImage3D = function (mvpMatrix, azimuth, elevation) {
-    const draw = () => Object.getPrototypeOf(nv).drawImage3D.call(nv, mvpMatrix, azimuth, elevation);
+    const draw = () => niivueDraw.call(nv, mvpMatrix, azimuth, elevation);
     if (nv.renderShader !== staged || nv.uiData?.mouseDepthPicker) {
-      if (nv.renderShader !== staged && !warned) {
-        console.warn('libhalo: NiiVue draws with another shader (illumination or slices in the render): the stages are off');
-        warned = true;
-      }
+      if (nv.renderShader !== staged) warnOnce('NiiVue draws with another shader (illumination or slices in the render): the stages are off');
       return draw();
     }
-    const [width, height] = size();
-    if (!frame || frame.width !== width || frame.height !== height) {
-      if (frame) frame.destroy();
-      frame = halo.frame(gl, program, { width, height });
-      frame.width = width;
-      frame.height = height;
+    // the background volume changed (another volume, its window, its 4D frame): a new copy
+    const key = [nv.back, nv.back.cal_min, nv.back.cal_max, nv.back.frame4D];
+    if (key.some((k, i) => k !== volumeKey[i])) {
+      const fresh = valueTexture(gl, nv.back, firstUnit - 1);
+      gl.deleteTexture(value.texture);
+      value = fresh;
+      mmFromTexture = textureToMm(nv.back);
+      volumeKey = key;
+      ++version;
+    }
+    // the 3D view's rectangle of the canvas (a quadrant in NiiVue's multiplanar layout):
+    // the field is made at its size and read at the fragment's place in it
+    const [x, y, width, height] = gl.getParameter(gl.VIEWPORT);
+    try {
+      if (!frame || frame.width !== width || frame.height !== height) {
+        if (frame) frame.destroy();
+        frame = null;
+        frame = halo.frame(gl, program, { width, height });
+        frame.width = width;
+        frame.height = height;
+      }
+    } catch (e) {
+      warnOnce(`the stages are off: ${e.message}`);
+      return drawAlone(draw);
     }
     // the value copy on its unit (NiiVue binds its own textures on 0-10 itself)
     const previousUnit = gl.getParameter(gl.ACTIVE_TEXTURE);
     gl.activeTexture(gl.TEXTURE0 + firstUnit - 1);
     const previous = gl.getParameter(gl.TEXTURE_BINDING_3D);
     gl.bindTexture(gl.TEXTURE_3D, value.texture);
+    const current = gl.getParameter(gl.CURRENT_PROGRAM);
     gl.useProgram(staged.program);
     gl.uniform1i(gl.getUniformLocation(staged.program, VALUE_SAMPLER), firstUnit - 1);
+    gl.uniform2f(gl.getUniformLocation(staged.program, ORIGIN), x, y);
+    gl.useProgram(current);
     gl.activeTexture(previousUnit);
     const dims = value.dims;
+    const inverse = invert(multiply(mvpMatrix, mmFromTexture));
     try {
       frame.draw({
-        program: staged.program, volume: value.texture, volumeSize: dims, framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING),
-        inverseViewProjection: Float32Array.from(invert(multiply(mvpMatrix, mmFromTexture))),
-        step: 1 / Math.max(dims[0], dims[1], dims[2]), interval: options.interval, firstUnit, draw,
+        program: staged.program, volume: value.texture, volumeSize: dims, volumeVersion: version,
+        framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING), inverseViewProjection: Float32Array.from(inverse),
+        step: niivueStep(inverse, dims), interval: options.interval, firstUnit, draw,
       });
+    } catch (e) { // NiiVue keeps drawing: without the stages, and a warning
+      warnOnce(`the stages are off: ${e.message}`);
+      drawAlone(draw);
     } finally {
       gl.activeTexture(gl.TEXTURE0 + firstUnit - 1);
       gl.bindTexture(gl.TEXTURE_3D, previous);
       gl.activeTexture(previousUnit);
     }
   };
-  { // the live parameters' first values
-    const current = gl.getParameter(gl.CURRENT_PROGRAM);
-    gl.useProgram(staged.program);
-    program.upload(gl, staged.program);
-    gl.useProgram(current);
+  // one frame with NiiVue's own shader (its uniforms as NiiVue last set them on the staged one)
+  function drawAlone(draw) {
+    copyUniforms(gl, staged.program, original.program);
+    nv.renderShader = original;
+    try {
+      draw();
+    } finally {
+      nv.renderShader = staged;
+    }
   }
   return {
     program,
@@ -250,12 +314,15 @@ export function installHalo(halo, nv, options = {}) {
       program.upload(gl, staged.program);
       gl.useProgram(current);
     },
-    // NiiVue's own shader and drawImage3D again
+    // NiiVue's own shader and drawImage3D again, with the uniform values NiiVue set meanwhile
     remove() {
-      if (drawImage3D) nv.drawImage3D = drawImage3D;
+      if (!nv[INSTALLED]) return;
+      copyUniforms(gl, staged.program, original.program);
+      if (ownDraw) nv.drawImage3D = ownDraw;
       else delete nv.drawImage3D;
       if (nv.renderShader === staged) nv.renderShader = original;
       nv.renderVolumeShader = original;
+      delete nv[INSTALLED];
       if (frame) frame.destroy();
       frame = null;
       gl.deleteTexture(value.texture);

@@ -222,6 +222,7 @@ export function installHalo(halo, material, options = {}) {
     }
   material.needsUpdate = true;
   let frame = null; // libhalo's GL runtime for the field, made on the first render
+  let compiledVersion = -1; // the material's version three last compiled for render
   return {
     program,
     // a live parameter ("stage.param"): the uniform's new value, no shader rebuild
@@ -258,13 +259,17 @@ export function installHalo(halo, material, options = {}) {
       const axes = camera.matrixWorld.elements; // the image plane's axes: the camera's x and y, in world space
       material.uniforms.halo_host_screen_right.value = Float32Array.of(axes[0], axes[1], axes[2]);
       material.uniforms.halo_host_screen_up.value = Float32Array.of(axes[4], axes[5], axes[6]);
-      renderer.compile(scene, camera); // the material's program, before libhalo sets its uniforms
+      if (!renderer.properties.get(material).currentProgram || material.version !== compiledVersion) {
+        renderer.compile(scene, camera); // the material's program, before libhalo sets its uniforms
+        compiledVersion = material.version;
+      }
       renderer.initTexture(volume);
       const glProgram = renderer.properties.get(material).currentProgram?.program;
       const glVolume = renderer.properties.get(volume).__webglTexture;
       if (!glProgram || !glVolume) throw new Error('stages.render: three.js has not built the material or the volume');
       if (!frame || frame.width !== width || frame.height !== height) {
         if (frame) frame.destroy();
+        frame = null;
         frame = halo.frame(gl, program, { width, height });
         frame.width = width;
         frame.height = height;
@@ -276,6 +281,11 @@ export function installHalo(halo, material, options = {}) {
         inverseViewProjection: inverse.elements, step, interval: options.interval,
         draw: () => renderer.render(scene, camera),
       });
+      // libhalo put back the bindings of before the call, not three's of its draw: three's
+      // state cache is told to forget, as after any foreign GL code (resetState also
+      // forgets the render target, which is set again)
+      renderer.resetState();
+      renderer.setRenderTarget(target);
     },
     // the material's own shader again, without the stages
     remove() {

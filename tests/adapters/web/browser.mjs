@@ -215,6 +215,10 @@ try {
       console.log(`${name}: its field at M = 1 against halo-render's at the scene's M: mean abs ${m1.mean.toExponential(3)}`);
       if (m1.mean <= limit) fail(`${name}: a field of other segments passes too (${m1.mean}): the limit sees nothing`);
     }
+    if (viewer === 'three' && staged.alone) { // the same renderer after the stages: the caster alone
+      const after = difference(staged.alone, plain.pixels);
+      if (!(after.max === 0)) fail(`${name}: renderer.render after the stages is ${after.max} from the caster alone (three's state)`);
+    }
     if (viewer === 'three') { // installed and removed: the caster alone again
       const removed = await page.evaluate((scene) => window.render({ scene, removed: true }), c.scene);
       const back = difference(removed.pixels, plain.pixels);
