@@ -12,6 +12,7 @@
 #define HALO_GL_LOADER_H
 
 #include <GL/glcorearb.h>
+#include <stddef.h>
 
 /* X(function pointer type from glcorearb.h, name without the "gl" prefix) */
 #define HALO_GL_FUNCTIONS(X)                                       \
@@ -156,11 +157,14 @@ typedef struct halo_glfuncs {
 extern "C" {
 #endif
 
-/* Fills f through get_proc_address ("glCreateShader", ...). Returns 1 when every required
- * entry point was found; otherwise 0, with *missing_name (if not NULL) the first one
- * missing ("f" or "get_proc_address" when that argument is NULL). Entry points that were
- * found are set even on failure; missing ones are NULL. */
-HALO_API int halo_glfuncs_load(halo_glfuncs *f, void *(*get_proc_address)(const char *name), const char **missing_name);
+/* Fills f through get_proc_address ("glCreateShader", ...); size is sizeof *f (the table
+ * of the header the caller was built with: a table of another libhalo version's header,
+ * whose size differs, is refused and not written). Returns 1 when every required entry
+ * point was found; otherwise 0, with *missing_name (if not NULL) the first one missing
+ * ("f", "size ..." or "get_proc_address" when that argument is wrong). Entry points that
+ * were found are set even on failure; missing ones are NULL. */
+HALO_API int halo_glfuncs_load(halo_glfuncs *f, size_t size, void *(*get_proc_address)(const char *name),
+                               const char **missing_name);
 
 #ifdef __cplusplus
 }

@@ -336,7 +336,7 @@ int main(int argc, char **argv)
     halo_program *vp = NULL, *fp = NULL;
     halo_lines *renderer = NULL;
     float *rgba = NULL;
-    if (!halo_glfuncs_load(&gl, halo_headless_get_proc_address, &missing)) {
+    if (!halo_glfuncs_load(&gl, sizeof gl, halo_headless_get_proc_address, &missing)) {
         fprintf(stderr, "halo-lines: error: OpenGL entry point %s missing\n", missing ? missing : "?");
         status = 2;
         goto done;

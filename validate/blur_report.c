@@ -398,7 +398,7 @@ int halo_blur_report_main(int argc, char **argv)
     }
     halo_glfuncs funcs;
     const char *missing = NULL;
-    if (!halo_glfuncs_load(&funcs, halo_headless_get_proc_address, &missing)) {
+    if (!halo_glfuncs_load(&funcs, sizeof funcs, halo_headless_get_proc_address, &missing)) {
         fprintf(stderr, "halo-validate blur: missing GL function %s\n", missing ? missing : "?");
         halo_headless_destroy(context);
         return 2;

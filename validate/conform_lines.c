@@ -668,7 +668,8 @@ static int run_rows(const char *only, int exact, int verbose, int *failed)
     rows r = {.only = only, .exact = exact, .verbose = verbose};
     r.diag = halo_diagnostics_create();
     const char *missing = NULL;
-    if (!halo_glfuncs_load(&r.f, halo_headless_get_proc_address, &missing) || !(r.lib = halo_library_create(r.diag))) {
+    if (!halo_glfuncs_load(&r.f, sizeof r.f, halo_headless_get_proc_address, &missing) ||
+        !(r.lib = halo_library_create(r.diag))) {
         if (missing)
             fprintf(stderr, "conform lines: OpenGL entry point %s missing\n", missing);
         lines_print_error_row(&r, "line_strip");

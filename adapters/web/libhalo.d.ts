@@ -75,7 +75,8 @@ export interface FrameDrawOptions {
 
 // libhalo's GL runtime (WebAssembly) on the page's WebGL 2 context, for one program.
 export interface Frame {
-  draw(options: FrameDrawOptions): void; // the field, then the host once; WebGL state restored
+  draw(options: FrameDrawOptions): void; // the field, then the host once; leaves the state it found
+                                         // (the field's textures stay bound on their units)
   readonly draws: number;             // host draws in the last frame: 1 with oneDraw
   destroy(): void;
 }

@@ -254,7 +254,10 @@ class Frame {
   // volume (its WebGLTexture, TEXTURE_3D), volumeSize ([nx, ny, nz]), framebuffer (null:
   // the canvas), draw, and optionally boxMin, boxMax, interval (M), firstUnit,
   // gradientTexture, gradientPrecision, volumeVersion (change it with the volume's
-  // contents), seedEpsilon, fieldMaxBytes. The WebGL state it changes is restored.
+  // contents), seedEpsilon, fieldMaxBytes. The bindings and state it finds when called are
+  // what it leaves (not those the draw callback made: an engine with a state cache resets
+  // it after, as three.js's renderer.resetState()); the field's textures stay bound on
+  // their units until the next call.
   draw(options) {
     if (!this._handle) throw new HaloError([], 'the frame was destroyed');
     this._program._live(); // the C frame reads its program: not after program.destroy()

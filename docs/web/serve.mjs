@@ -24,8 +24,19 @@ for (const need of [volume, path.join(build, 'adapters/web/package/libhalo.mjs')
     console.error(`serve.mjs: error: ${need} is missing (the volume; make; setup.sh's npm ci in tests/adapters/web)`);
     process.exit(1);
   }
+const realRoots = roots.map(([prefix, root]) => [prefix, fs.existsSync(root) ? fs.realpathSync(root) : root]);
 const server = http.createServer((request, response) => {
-  const url = decodeURIComponent(new URL(request.url, 'http://localhost').pathname);
+  const answer = (status) => {
+    response.writeHead(status);
+    response.end();
+  };
+  let url;
+  try {
+    url = decodeURIComponent(new URL(request.url, 'http://localhost').pathname);
+  } catch {
+    answer(400); // a malformed escape
+    return;
+  }
   let file = null;
   if (url === '/') { // the page, with the volume served here
     response.writeHead(302, { location: `/index.html?volume=/volumes/${encodeURIComponent(path.basename(volume))}` });
@@ -34,19 +45,24 @@ const server = http.createServer((request, response) => {
   }
   if (url === `/volumes/${path.basename(volume)}`) file = volume;
   else
-    for (const [prefix, root] of roots) {
+    for (const [prefix, root] of realRoots) {
       if (!url.startsWith(prefix)) continue;
       const candidate = path.resolve(root, url.slice(prefix.length) || 'index.html');
-      if (candidate.startsWith(root + path.sep) && fs.existsSync(candidate) && fs.statSync(candidate).isFile()) file = candidate;
+      // inside the root, links followed (a link in node_modules must not lead out of it)
+      const real = fs.existsSync(candidate) ? fs.realpathSync(candidate) : null;
+      if (real && real.startsWith(root + path.sep) && fs.statSync(real).isFile()) file = real;
       break;
     }
   if (!file) {
-    response.writeHead(404);
-    response.end();
+    answer(404);
     return;
   }
-  response.writeHead(200, { 'content-type': types[path.extname(file)] || 'application/octet-stream' });
-  fs.createReadStream(file).pipe(response);
+  const stream = fs.createReadStream(file);
+  stream.on('error', () => (response.headersSent ? response.destroy() : answer(500)));
+  stream.once('open', () => {
+    response.writeHead(200, { 'content-type': types[path.extname(file)] || 'application/octet-stream' });
+    stream.pipe(response);
+  });
 });
 server.listen(port, '127.0.0.1', () => console.log(`libhalo's NiiVue demo: http://127.0.0.1:${server.address().port}/`));
 export default server;

@@ -3,7 +3,8 @@
 
 #include <string.h>
 
-int halo_glfuncs_load(halo_glfuncs *f, void *(*get_proc_address)(const char *name), const char **missing_name)
+int halo_glfuncs_load(halo_glfuncs *f, size_t size, void *(*get_proc_address)(const char *name),
+                      const char **missing_name)
 {
     int complete = 1;
     if (missing_name)
@@ -11,6 +12,11 @@ int halo_glfuncs_load(halo_glfuncs *f, void *(*get_proc_address)(const char *nam
     if (!f) {
         if (missing_name)
             *missing_name = "f";
+        return 0;
+    }
+    if (size != sizeof *f) { /* a table of another libhalo's header: not written */
+        if (missing_name)
+            *missing_name = "size (the halo_glfuncs of another libhalo version's header)";
         return 0;
     }
     memset(f, 0, sizeof *f);

@@ -221,7 +221,7 @@ halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
     if (!gl)
         return NULL;
     const char *missing = NULL;
-    if (!halo_glfuncs_load(&gl->f, desc->get_proc_address, &missing)) {
+    if (!halo_glfuncs_load(&gl->f, sizeof gl->f, desc->get_proc_address, &missing)) {
         halo_diag_error(
             diag, GL_PROC_MISSING, "", 0, 0,
             "OpenGL entry point '%s' not found: an OpenGL 3.3 core or OpenGL ES 3.0 context must be current",

@@ -576,9 +576,13 @@ CASE(halo_glfuncs_load)
 {
     const char *missing = NULL;
     halo_glfuncs f;
-    ACCEPTS(halo_glfuncs_load(NULL, halo_headless_get_proc_address, &missing) == 0 && !strcmp(missing, "f"));
-    ACCEPTS(halo_glfuncs_load(&f, NULL, &missing) == 0 && !strcmp(missing, "get_proc_address"));
-    ACCEPTS(halo_glfuncs_load(NULL, NULL, NULL) == 0);
+    ACCEPTS(halo_glfuncs_load(NULL, sizeof f, halo_headless_get_proc_address, &missing) == 0 && !strcmp(missing, "f"));
+    ACCEPTS(halo_glfuncs_load(&f, sizeof f, NULL, &missing) == 0 && !strcmp(missing, "get_proc_address"));
+    ACCEPTS(halo_glfuncs_load(NULL, 0, NULL, NULL) == 0);
+    /* a table of another header's size is not written */
+    memset(&f, 0x5a, sizeof f);
+    ACCEPTS(halo_glfuncs_load(&f, sizeof f - sizeof(void (*)(void)), halo_headless_get_proc_address, &missing) == 0 &&
+            !strncmp(missing, "size", 4) && ((const unsigned char *)&f)[0] == 0x5a);
     return 0;
 }
 CASE(halo_gl_create)

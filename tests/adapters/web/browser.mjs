@@ -100,7 +100,13 @@ async function demo(page, volume) {
     const url = await new Promise((resolve, reject) => {
       serve.stdout.on('data', (d) => { const m = /http:\/\/[\d.:]+\//.exec(String(d)); if (m) resolve(m[0]); });
       serve.on('exit', (code) => reject(new Error(`serve.mjs exited with ${code}`)));
+      setTimeout(() => reject(new Error('serve.mjs printed no address in 30 s')), 30000);
     });
+    // the server refuses what is outside its roots, and survives a malformed request
+    for (const [bad, status] of [['/..%2f..%2fconfigure.ac', 404], ['/pkg/..%2f..%2f..%2fconfigure.ac', 404], ['/%E0%A4%A', 400]]) {
+      const got = (await fetch(url + bad.slice(1))).status;
+      if (got !== status) fail(`docs/web/serve.mjs: ${bad} answered ${got}, not ${status}`);
+    }
     await page.goto(url);
     await page.waitForFunction('window.demo && window.demo.ready', { timeout: 120000 });
     const state = await page.evaluate(() => ({ error: window.demo.error, sliders: window.demo.sliders }));
