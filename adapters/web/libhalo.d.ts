@@ -75,6 +75,8 @@ export interface FrameDrawOptions {
 
 // libhalo's GL runtime (WebAssembly) on the page's WebGL 2 context, for one program.
 export interface Frame {
+  readonly width: number;
+  readonly height: number;
   draw(options: FrameDrawOptions): void; // the field, then the host once; leaves the state it found
                                          // (the field's textures stay bound on their units)
   readonly draws: number;             // host draws in the last frame: 1 with oneDraw
@@ -86,6 +88,8 @@ export interface Halo {
   modules(): { name: string; file: string; summary: string }[];
   link(options: LinkOptions): Program;
   frame(gl: WebGL2RenderingContext, program: Program, size: { width: number; height: number; readback?: boolean }): Frame;
+  // frame while it has this size, else destroyed and a new one
+  frameOfSize(frame: Frame | null, gl: WebGL2RenderingContext, program: Program, width: number, height: number): Frame;
   // for an engine adapter: pieces, with oneDraw when the stages need a halo field; what an
   // engine drawn once cannot serve refused by name
   linkForEngine(options: { scene?: string | object; sceneFile?: string; allLive?: boolean; pieces: HaloPieces },

@@ -242,6 +242,8 @@ class Frame {
     program._live();
     const core = halo._core;
     this._runtime = halo._runtime(gl);
+    this.width = width;
+    this.height = height;
     this._handle = core._halo_web_frame_create(this._runtime, program._handle, width, height,
       readback === undefined ? (softwareRenderer(gl) ? 1 : -1) : readback ? 1 : 0);
     if (!this._handle) throw halo._error('frame: halo_gl_frame_create failed');
@@ -393,6 +395,14 @@ class Halo {
   // A frame of the GL runtime for a linked program (class Frame).
   frame(gl, program, size) {
     return new Frame(this, gl, program, size);
+  }
+
+  // For a frame kept across draws: frame while it is width x height, else it is destroyed
+  // and a new one made (null first, so a failure leaves no destroyed frame behind).
+  frameOfSize(frame, gl, program, width, height) {
+    if (frame && frame.width === width && frame.height === height) return frame;
+    if (frame) frame.destroy();
+    return this.frame(gl, program, { width, height });
   }
 
   _diagnostics() {

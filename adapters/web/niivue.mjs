@@ -255,13 +255,9 @@ export function installHalo(halo, nv, options = {}) {
     // the field is made at its size and read at the fragment's place in it
     const [x, y, width, height] = gl.getParameter(gl.VIEWPORT);
     try {
-      if (!frame || frame.width !== width || frame.height !== height) {
-        if (frame) frame.destroy();
-        frame = null;
-        frame = halo.frame(gl, program, { width, height });
-        frame.width = width;
-        frame.height = height;
-      }
+      const kept = frame;
+      frame = null;
+      frame = halo.frameOfSize(kept, gl, program, width, height);
     } catch (e) {
       warnOnce(`the stages are off: ${e.message}`);
       return drawAlone(draw);

@@ -267,13 +267,9 @@ export function installHalo(halo, material, options = {}) {
       const glProgram = renderer.properties.get(material).currentProgram?.program;
       const glVolume = renderer.properties.get(volume).__webglTexture;
       if (!glProgram || !glVolume) throw new Error('stages.render: three.js has not built the material or the volume');
-      if (!frame || frame.width !== width || frame.height !== height) {
-        if (frame) frame.destroy();
-        frame = null;
-        frame = halo.frame(gl, program, { width, height });
-        frame.width = width;
-        frame.height = height;
-      }
+      const kept = frame;
+      frame = null;
+      frame = halo.frameOfSize(kept, gl, program, width, height);
       const inverse = camera.projectionMatrix.clone().multiply(camera.matrixWorldInverse).invert();
       frame.draw({
         program: glProgram, volume: glVolume, volumeSize: [volume.image.width, volume.image.height, volume.image.depth],
