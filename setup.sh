@@ -62,9 +62,9 @@ make -j"$(nproc)"
 
 # The browser tests' packages (tests/adapters/web/browser.sh), from the lock file into
 # tests/adapters/web/node_modules: puppeteer-core (it drives Debian's chromium; it downloads no
-# browser), three (the three.js ray caster, adapters/web/three.mjs) and NiiVue (pinned: the
-# version adapters/web/niivue.mjs supports).
-for module in puppeteer-core three @niivue/niivue; do
+# browser), three (the three.js ray caster, adapters/web/three.mjs), NiiVue (pinned: the
+# version adapters/web/niivue.mjs supports) and vtk.js (its UMD bundle, adapters/web/vtkjs.mjs).
+for module in puppeteer-core three @niivue/niivue vtk.js; do
   if [ ! -d "tests/adapters/web/node_modules/$module" ]; then
     (cd tests/adapters/web && npm ci --ignore-scripts --no-audit --no-fund --loglevel=error)
     break

@@ -48,7 +48,8 @@ export interface Program {
   readonly reflection: any;                // halo_program_reflect_json: uniforms, constants, samplers, ...
   set(name: string, value: number | boolean | number[] | number[][]): void;      // "stage.param"
   set(stage: string, param: string, value: number | boolean | number[] | number[][]): void;
-  upload(gl: WebGL2RenderingContext, program: WebGLProgram): void;
+  /** all: every live parameter's current value (a program the engine built again), not only those set since the last upload */
+  upload(gl: WebGL2RenderingContext, program: WebGLProgram, options?: { all?: boolean }): void;
   mapLine(line: number, piece?: 'declarations' | 'sample' | 'finish'): { file: string; line: number };
   mapLog(log: string, piece?: 'declarations' | 'sample' | 'finish'): string;
   destroy(): void;
@@ -89,6 +90,9 @@ export interface Halo {
   link(options: LinkOptions): Program;
   frame(gl: WebGL2RenderingContext, program: Program, size: { width: number; height: number; readback?: boolean }): Frame;
   // frame while it has this size, else destroyed and a new one
+  /** for an engine adapter: raw values (raw * slope + intercept, low..high as 0..1) as an R32F 3D texture, made on unit */
+  valueTexture(gl: WebGL2RenderingContext, raw: ArrayLike<number>, dims: ArrayLike<number>,
+    window: { low: number; high: number; slope?: number; intercept?: number }, unit: number): { texture: WebGLTexture; dims: number[] };
   frameOfSize(frame: Frame | null, gl: WebGL2RenderingContext, program: Program, width: number, height: number): Frame;
   // for an engine adapter: pieces, with oneDraw when the stages need a halo field; what an
   // engine drawn once cannot serve refused by name

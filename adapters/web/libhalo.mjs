@@ -55,6 +55,7 @@ class Program {
       if (text) this.pieces[name] = text;
     }
     this._values = new Map(); // "stage.param" -> values set since the last upload
+    this._current = new Map(); // "stage.param" -> every value set, for a program built again
   }
 
   _live() {
@@ -102,15 +103,17 @@ class Program {
       core._free(pointer);
     }
     this._values.set(`${stage}.${param}`, values);
+    this._current.set(`${stage}.${param}`, values);
   }
 
-  // The uniforms of the live parameters set (all of them on the first call) into the
-  // WebGL program, which must be in use: gl.uniform* by the reflection's types.
-  upload(gl, glProgram) {
+  // The uniforms of the live parameters set (all of them on the first call, or with all:
+  // an engine's program built again) into the WebGL program, which must be in use:
+  // gl.uniform* by the reflection's types.
+  upload(gl, glProgram, { all = false } = {}) {
     this._live();
     for (const u of this.reflection.uniforms || []) { // the live parameters
       const key = `${u.stage}.${u.param}`;
-      const values = this._values.get(key) || (this._uploaded ? null : u.value);
+      const values = this._values.get(key) || (this._uploaded && !all ? null : this._current.get(key) || u.value);
       if (!values) continue;
       const array = /^(\w+)\[\d+\]$/.exec(u.type);
       const type = this._glslType(array ? array[1] : u.type);
@@ -390,6 +393,35 @@ class Halo {
         `which the ${engine} adapter does not serve yet (per-sample stages and volumetric halos only)`);
     }
     return { program, field: (r.passes || []).length > 0 };
+  }
+
+  // For an engine adapter: a volume's values as the stages read them (raw[i] * slope +
+  // intercept, with low..high as 0..1, clamped), an R32F 3D texture of dims (x fastest),
+  // linear where the context filters float textures; made on unit, whose binding is put
+  // back. Returns { texture, dims }.
+  valueTexture(gl, raw, dims, { low, high, slope = 1, intercept = 0 }, unit) {
+    const range = high - low;
+    const values = new Float32Array(dims[0] * dims[1] * dims[2]);
+    for (let i = 0; i < values.length; ++i) {
+      const v = range > 0 ? (raw[i] * slope + intercept - low) / range : 0;
+      values[i] = v > 0 ? (v < 1 ? v : 1) : 0;
+    }
+    const previousUnit = gl.getParameter(gl.ACTIVE_TEXTURE);
+    gl.activeTexture(gl.TEXTURE0 + unit);
+    const previous = gl.getParameter(gl.TEXTURE_BINDING_3D);
+    const texture = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_3D, texture);
+    const alignment = gl.getParameter(gl.UNPACK_ALIGNMENT);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    gl.texImage3D(gl.TEXTURE_3D, 0, gl.R32F, dims[0], dims[1], dims[2], 0, gl.RED, gl.FLOAT, values);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, alignment);
+    const linear = gl.getExtension('OES_texture_float_linear') ? gl.LINEAR : gl.NEAREST;
+    for (const [p, v] of [[gl.TEXTURE_MIN_FILTER, linear], [gl.TEXTURE_MAG_FILTER, linear], [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE],
+      [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_R, gl.CLAMP_TO_EDGE]])
+      gl.texParameteri(gl.TEXTURE_3D, p, v);
+    gl.bindTexture(gl.TEXTURE_3D, previous);
+    gl.activeTexture(previousUnit);
+    return { texture, dims: Array.from(dims) };
   }
 
   // A frame of the GL runtime for a linked program (class Frame).

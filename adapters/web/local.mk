@@ -6,6 +6,7 @@
 # there makes the installable tarball.
 web_package_files = adapters/web/halo_web.c adapters/web/libhalo.mjs adapters/web/libhalo.d.ts \
 	adapters/web/three.mjs adapters/web/three.d.ts adapters/web/niivue.mjs adapters/web/niivue.d.ts \
+	adapters/web/vtkjs.mjs adapters/web/vtkjs.d.ts \
 	adapters/web/package.json adapters/web/README.md
 EXTRA_DIST += $(web_package_files) adapters/web/deps.sh adapters/web/local.mk
 
@@ -55,11 +56,13 @@ $(WEB_PACKAGE)/dist/libhalo-core.mjs: $(web_core_files) $(web_gl_files) adapters
 $(WEB_PACKAGE)/stamp: $(srcdir)/adapters/web/libhalo.mjs $(srcdir)/adapters/web/libhalo.d.ts \
 		$(srcdir)/adapters/web/three.mjs $(srcdir)/adapters/web/three.d.ts \
 		$(srcdir)/adapters/web/niivue.mjs $(srcdir)/adapters/web/niivue.d.ts \
+		$(srcdir)/adapters/web/vtkjs.mjs $(srcdir)/adapters/web/vtkjs.d.ts \
 		$(srcdir)/adapters/web/package.json $(srcdir)/adapters/web/README.md
 	@mkdir -p $(WEB_PACKAGE)
 	$(AM_V_GEN)cp $(srcdir)/adapters/web/libhalo.mjs $(srcdir)/adapters/web/libhalo.d.ts \
 		$(srcdir)/adapters/web/three.mjs $(srcdir)/adapters/web/three.d.ts \
 		$(srcdir)/adapters/web/niivue.mjs $(srcdir)/adapters/web/niivue.d.ts \
+		$(srcdir)/adapters/web/vtkjs.mjs $(srcdir)/adapters/web/vtkjs.d.ts \
 		$(srcdir)/adapters/web/package.json $(srcdir)/adapters/web/README.md $(WEB_PACKAGE)/ && touch $@
 
 all-local: $(WEB_PACKAGE)/dist/libhalo-core.mjs $(WEB_PACKAGE)/stamp

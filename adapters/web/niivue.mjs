@@ -123,32 +123,10 @@ function invert(m) {
 }
 
 // The background volume in NiiVue's RAS texture order, cal_min..cal_max to 0..1 (R32F).
-function valueTexture(gl, image, unit) {
-  const dims = image.dimsRAS.slice(1, 4);
-  const raw = image.img2RAS(image.frame4D || 0);
-  const slope = image.hdr && image.hdr.scl_slope ? image.hdr.scl_slope : 1, inter = image.hdr ? image.hdr.scl_inter || 0 : 0;
-  const low = image.cal_min, range = image.cal_max - image.cal_min;
-  const values = new Float32Array(dims[0] * dims[1] * dims[2]);
-  for (let i = 0; i < values.length; ++i) {
-    const v = range > 0 ? (raw[i] * slope + inter - low) / range : 0;
-    values[i] = v > 0 ? (v < 1 ? v : 1) : 0;
-  }
-  const previousUnit = gl.getParameter(gl.ACTIVE_TEXTURE);
-  gl.activeTexture(gl.TEXTURE0 + unit);
-  const previous = gl.getParameter(gl.TEXTURE_BINDING_3D);
-  const texture = gl.createTexture();
-  gl.bindTexture(gl.TEXTURE_3D, texture);
-  const alignment = gl.getParameter(gl.UNPACK_ALIGNMENT);
-  gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
-  gl.texImage3D(gl.TEXTURE_3D, 0, gl.R32F, dims[0], dims[1], dims[2], 0, gl.RED, gl.FLOAT, values);
-  gl.pixelStorei(gl.UNPACK_ALIGNMENT, alignment);
-  const linear = gl.getExtension('OES_texture_float_linear') ? gl.LINEAR : gl.NEAREST;
-  for (const [p, v] of [[gl.TEXTURE_MIN_FILTER, linear], [gl.TEXTURE_MAG_FILTER, linear], [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE],
-    [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_R, gl.CLAMP_TO_EDGE]])
-    gl.texParameteri(gl.TEXTURE_3D, p, v);
-  gl.bindTexture(gl.TEXTURE_3D, previous);
-  gl.activeTexture(previousUnit);
-  return { texture, dims };
+function valueTexture(halo, gl, image, unit) {
+  const hdr = image.hdr || {};
+  return halo.valueTexture(gl, image.img2RAS(image.frame4D || 0), image.dimsRAS.slice(1, 4),
+    { low: image.cal_min, high: image.cal_max, slope: hdr.scl_slope || 1, intercept: hdr.scl_inter || 0 }, unit);
 }
 
 // NiiVue's ray step in texture space: one voxel along the ray, 1 / |dims (x) d| for the
@@ -211,7 +189,7 @@ export function installHalo(halo, nv, options = {}) {
         'on the console: program.mapLog maps its lines to the modules)');
     }
     copyUniforms(gl, shader.program, staged.program);
-    value = valueTexture(gl, nv.back, firstUnit - 1);
+    value = valueTexture(halo, gl, nv.back, firstUnit - 1);
     const current = gl.getParameter(gl.CURRENT_PROGRAM);
     gl.useProgram(staged.program);
     program.upload(gl, staged.program); // the live parameters' first values
@@ -244,7 +222,7 @@ export function installHalo(halo, nv, options = {}) {
     // the background volume changed (another volume, its window, its 4D frame): a new copy
     const key = [nv.back, nv.back.cal_min, nv.back.cal_max, nv.back.frame4D];
     if (key.some((k, i) => k !== volumeKey[i])) {
-      const fresh = valueTexture(gl, nv.back, firstUnit - 1);
+      const fresh = valueTexture(halo, gl, nv.back, firstUnit - 1);
       gl.deleteTexture(value.texture);
       value = fresh;
       mmFromTexture = textureToMm(nv.back);

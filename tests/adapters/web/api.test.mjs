@@ -100,6 +100,12 @@ test('live parameters: set checks the range, upload reaches the uniforms', () =>
   assert.deepEqual(calls.find((c) => c[1] === 'halo_tone_shading_k_ta')[2].map((x) => +x.toFixed(6)), [0.4]);
   assert.deepEqual(calls.find((c) => c[1] === 'halo_tone_shading_lights'), ['3fv', 'halo_tone_shading_lights', [0, 0, 1, 1, 0, 0]]);
   assert.deepEqual(calls.find((c) => c[1] === 'halo_tone_shading_lights_count'), ['1i', 'halo_tone_shading_lights_count', 2]);
+  calls.length = 0; // nothing set since: nothing uploaded; all (an engine's program built again): every current value
+  program.upload(gl, {});
+  assert.equal(calls.length, 0);
+  program.upload(gl, {}, { all: true });
+  assert.deepEqual(calls.find((c) => c[1] === 'halo_tone_shading_k_ta')[2].map((x) => +x.toFixed(6)), [0.4]);
+  assert.deepEqual(calls.find((c) => c[1] === 'halo_tone_shading_lights'), ['3fv', 'halo_tone_shading_lights', [0, 0, 1, 1, 0, 0]]);
   assert.throws(() => program.set('tone_shading.k_ta', 99), (e) => e instanceof HaloError && /above the maximum/.test(e.message));
   assert.throws(() => program.set('tone_shading.k_td', 1), HaloError); // not live
   assert.throws(() => program.set('k_ta', 1), /is not stage\.param/);

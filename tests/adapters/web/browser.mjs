@@ -64,14 +64,16 @@ function difference(a, b) {
 
 let failures = 0, drawn = 0;
 
-// NiiVue (its pinned version in package.json) with the MRI head that halo-render exported
-// (NIFTI_DIR: host.json and volume.f32, written here as NIfTI-1 for NiiVue to read):
-// NiiVue's own renderer is not raycast.frag (its jitter, its empty-space pass, its colormap
-// and opacity), so its image is compared with NiiVue's own: the stages must be visible, the
-// halos alone must be visible (the scene against itself without its halo_* stages), the
-// halo field must matter (M = 1 against the scene's M), and removed again they must give
-// NiiVue alone exactly.
-const niivueCase = process.env.HALO_WEB_NIIVUE ? path.resolve(process.env.HALO_WEB_NIIVUE) : null;
+// NiiVue and vtk.js (their pinned versions in package.json) with the MRI head that
+// halo-render exported (HALO_WEB_MRI: host.json and volume.f32, written here as NIfTI-1 for
+// the viewers to read), each through the package's adapter (HALO_WEB_ENGINES: niivue,
+// vtkjs). A viewer's own renderer is not raycast.frag (its jitter, its empty-space pass, its
+// transfer functions and opacity correction), so its image is compared with the viewer's
+// own: the stages must be visible, the halos alone must be visible (the scene against itself
+// without its halo_* stages), the halo field must matter (M = 1 against the scene's M), and
+// removed again they must give the viewer alone exactly.
+const mriCase = process.env.HALO_WEB_MRI ? path.resolve(process.env.HALO_WEB_MRI) : null;
+const engines = (process.env.HALO_WEB_ENGINES || '').split(/\s+/).filter(Boolean);
 function writeNifti(dir) {
   const host = JSON.parse(fs.readFileSync(path.join(dir, 'host.json')));
   const data = fs.readFileSync(path.join(dir, 'volume.f32'));
@@ -135,10 +137,15 @@ async function demo(page, volume) {
   }
 }
 
-async function niivue(page, dir) {
-  writeNifti(dir);
+const ENGINES = {
+  niivue: { page: 'niivue.html', module: '@niivue/niivue', name: 'NiiVue' },
+  vtkjs: { page: 'vtkjs.html', module: 'vtk.js', name: 'vtk.js' },
+};
+async function engine(page, dir, which) {
+  const viewer = ENGINES[which];
+  if (!viewer) { fail(`HALO_WEB_ENGINES: no viewer '${which}' (known: ${Object.keys(ENGINES).join(', ')})`); return; }
   inputs = dir;
-  await page.goto(`${origin}/niivue.html`);
+  await page.goto(`${origin}/${viewer.page}${process.env.HALO_WEB_SIZE ? `?size=${process.env.HALO_WEB_SIZE}` : ''}`);
   await page.waitForFunction('window.ready === true', { timeout: 60000 });
   const scene = 'mri-head.json';
   const draw = (options) => page.evaluate((o) => window.render(o), options);
@@ -147,18 +154,35 @@ async function niivue(page, dir) {
   const noHalos = await draw({ scene, withoutHalos: true, repeat: 3 });
   const m1 = await draw({ scene, interval: 1 });
   const removed = await draw({ scene, removed: true });
-  const version = JSON.parse(fs.readFileSync(path.join(modulesDir, '@niivue/niivue/package.json'))).version;
-  const name = `${scene} in NiiVue ${version} (${staged.renderer})`;
+  const version = JSON.parse(fs.readFileSync(path.join(modulesDir, viewer.module, 'package.json'))).version;
+  if (process.env.HALO_WEB_SAVE) // the images, for a look (PAM, bottom row first as WebGL reads them)
+    for (const [what, image] of Object.entries({ alone, staged, noHalos, m1 })) {
+      const rows = [];
+      for (let y = image.height - 1; y >= 0; --y)
+        rows.push(Buffer.from(image.pixels.slice(y * image.width * 4, (y + 1) * image.width * 4).map((v) => Math.round(v * 255))));
+      fs.writeFileSync(path.join(process.env.HALO_WEB_SAVE, `${which}-${what}.pam`), Buffer.concat([Buffer.from(
+        `P7\nWIDTH ${image.width}\nHEIGHT ${image.height}\nDEPTH 4\nMAXVAL 255\nTUPLTYPE RGB_ALPHA\nENDHDR\n`), ...rows]));
+    }
+  const name = `${scene} in ${viewer.name} ${version} (${staged.renderer})`;
   const stages = difference(staged.pixels, alone.pixels), halos = difference(staged.pixels, noHalos.pixels);
   const field = difference(staged.pixels, m1.pixels), back = difference(removed.pixels, alone.pixels);
-  console.log(`${name}: against NiiVue alone mean abs ${stages.mean.toExponential(3)}; the halos (against its stages ` +
+  console.log(`${name}: against ${viewer.name} alone mean abs ${stages.mean.toExponential(3)}; the halos (against its stages ` +
     `without halo_*) ${halos.mean.toExponential(3)}; the field at M = 1 against the scene's M ${field.mean.toExponential(3)}; ` +
-    `removed against NiiVue alone max abs ${back.max}; draw and read back ${staged.drawMs.toFixed(1)} ms with the stages and halos, ` +
-    `${noHalos.drawMs.toFixed(1)} ms with the stages alone, ${alone.drawMs.toFixed(1)} ms NiiVue alone (${alone.width}x${alone.height})`);
-  if (!(stages.mean > EFFECT)) fail(`${name}: the stages change NiiVue's image by only ${stages.mean}`);
+    `removed against ${viewer.name} alone max abs ${back.max}; draw and read back ${staged.drawMs.toFixed(1)} ms with the stages ` +
+    `and halos, ${noHalos.drawMs.toFixed(1)} ms with the stages alone, ${alone.drawMs.toFixed(1)} ms ${viewer.name} alone ` +
+    `(${alone.width}x${alone.height})`);
+  if (!(stages.mean > EFFECT)) fail(`${name}: the stages change ${viewer.name}'s image by only ${stages.mean}`);
   if (!(halos.mean > EFFECT / 4)) fail(`${name}: the halos change the image by only ${halos.mean}`);
   if (!(field.mean > 1e-4)) fail(`${name}: the field of other segments gives the same image (${field.mean})`);
-  if (!(back.max === 0)) fail(`${name}: the stages removed again leave the image ${back.max} from NiiVue alone`);
+  if (!(back.max === 0)) fail(`${name}: the stages removed again leave the image ${back.max} from ${viewer.name} alone`);
+  if (which === 'vtkjs') { // what it cannot serve: refused with a message, never drawn meaningless
+    const r = await page.evaluate(() => window.refusals());
+    console.log(`${viewer.name}: outlines: ${r.outlines}; maximum intensity: ${r.warnings.join(' / ')} (the image ` +
+      `${r.maxDifference} from vtk.js's own, max abs in 1/255)`);
+    if (!/outline/.test(r.outlines) || !/does not serve/.test(r.outlines)) fail(`${viewer.name}: a scene with outlines: ${r.outlines}`);
+    if (!r.warnings.some((w) => /blend mode is not composite/.test(w))) fail(`${viewer.name}: no warning for maximum intensity`);
+    if (r.maxDifference !== 0) fail(`${viewer.name}: maximum intensity with the stages off is not vtk.js's own image`);
+  }
   drawn++;
 }
 const fail = (text) => { console.log(`FAIL: ${text}`); failures++; };
@@ -231,8 +255,11 @@ try {
       if (!(back.max === 0)) fail(`${name}: the stages removed again leave the image ${back.max} from the caster alone`);
     }
   }
-  if (niivueCase) await niivue(page, niivueCase);
-  if (niivueCase) await demo(page, path.join(niivueCase, 'head.nii'));
+  if (mriCase) {
+    writeNifti(mriCase);
+    for (const which of engines) await engine(page, mriCase, which);
+    if (engines.includes('niivue')) await demo(page, path.join(mriCase, 'head.nii'));
+  }
 } finally {
   await browser.close();
   server.close();

@@ -5,10 +5,10 @@
 # (adapters/web/three.mjs), against halo-render --host raycast with the same inputs
 # (--export-host); and the default scene's volumetric halos drawn once (host contract 3: the
 # field computed by libhalo's GL runtime in WebAssembly on the page's context) against
-# halo-render --one-draw; NiiVue with the MRI head's stages and halos through the package's
-# NiiVue adapter (adapters/web/niivue.mjs), against NiiVue alone. Skipped (77) without the web package, Chromium, puppeteer-core or
-# three (setup.sh installs
-# them: Debian's chromium, npm ci in tests/adapters/web from its lock file).
+# halo-render --one-draw; NiiVue and vtk.js with the MRI head's stages and halos through the
+# package's adapters (adapters/web/niivue.mjs, vtkjs.mjs), against the viewer alone. Skipped
+# (77) without the web package, Chromium, puppeteer-core or three (setup.sh installs them:
+# Debian's chromium, npm ci in tests/adapters/web from its lock file).
 . "$srcdir/tests/tools/halo-render/common.sh"
 if test "${HALO_HAVE_WEB:-}" != yes; then
     echo "the web package is not built (configure --with-web): skipping"
@@ -39,19 +39,28 @@ mkdir -p "$tmp/one-draw"
 run 0 "$HALO_RENDER" --host raycast --one-draw --scene "$srcdir/examples/scenes/default.json" --size 64x64 \
     --volume-size 32 --quiet --export-host "$tmp/one-draw" -o "$tmp/one-draw/reference.png"
 set -- "$@" "$tmp/one-draw" one-draw:default.json
-# NiiVue: the MRI head at 96^3, as halo-render resamples it (browser.mjs writes it as NIfTI);
-# without NiiVue or the MRI the other viewers still run, and the log says what was left out
+# NiiVue and vtk.js: the MRI head at 96^3, as halo-render resamples it (browser.mjs writes it
+# as NIfTI); without a viewer or the MRI the others still run, and the log says what was left out
 mri=/usr/share/mricron/templates/ch2better.nii.gz
+HALO_WEB_ENGINES=
 if test ! -d "$HALO_WEB_MODULES/@niivue/niivue"; then
     echo "NOT TESTED: NiiVue and the demo page: no @niivue/niivue in $HALO_WEB_MODULES (setup.sh: npm ci)"
-elif test ! -f "$mri"; then
-    echo "NOT TESTED: NiiVue and the demo page: no $mri (the Debian package mricron-data, which setup.sh installs)"
 else
-    mkdir -p "$tmp/niivue"
+    HALO_WEB_ENGINES=niivue
+fi
+if test ! -d "$HALO_WEB_MODULES/vtk.js"; then
+    echo "NOT TESTED: vtk.js: no vtk.js in $HALO_WEB_MODULES (setup.sh: npm ci)"
+else
+    HALO_WEB_ENGINES="$HALO_WEB_ENGINES vtkjs"
+fi
+if test -n "$HALO_WEB_ENGINES" && test ! -f "$mri"; then
+    echo "NOT TESTED: $HALO_WEB_ENGINES: no $mri (the Debian package mricron-data, which setup.sh installs)"
+elif test -n "$HALO_WEB_ENGINES"; then
+    mkdir -p "$tmp/mri"
     run 0 "$HALO_RENDER" --host raycast --one-draw --scene "$srcdir/examples/scenes/mri-head.json" --volume "$mri" \
-        --size 32x32 --volume-size 96 --quiet --export-host "$tmp/niivue" -o "$tmp/niivue/reference.png"
-    HALO_WEB_NIIVUE=$tmp/niivue
-    export HALO_WEB_NIIVUE
+        --size 32x32 --volume-size 96 --quiet --export-host "$tmp/mri" -o "$tmp/mri/reference.png"
+    HALO_WEB_MRI=$tmp/mri
+    export HALO_WEB_MRI HALO_WEB_ENGINES
 fi
 echo "+ node browser.mjs $*"
 "$NODE" "$srcdir/tests/adapters/web/browser.mjs" "$@" || fail "the pages' images (above)"

@@ -1,0 +1,262 @@
+// libhalo in vtk.js (docs/hosts/web.md): a scene's stages go into vtk.js's own volume
+// mapper through its documented hook, the mapper's view-specific ShaderReplacements: the
+// sample piece after vtk.js classifies and lights a sample (getColorAtPos, which its
+// composite ray loop calls for every sample), the finish piece at the end of main. For
+// volumetric halos (host contract 3) libhalo's GL runtime (WebAssembly) computes the
+// frame's halo field on vtk.js's context, over a float copy of the mapper's volume, after
+// vtk.js has set its uniforms and before its one draw.
+//
+//   import libhalo from '@libhalo/web';
+//   import { installHalo } from '@libhalo/web/vtkjs';
+//   // mapper: a vtkVolumeMapper with its vtkImageData; view: the vtkOpenGLRenderWindow
+//   // (genericRenderWindow.getApiSpecificRenderWindow()); rendered once already
+//   const stages = installHalo(await libhalo(), mapper, { view, scene: sceneJson });
+//   renderWindow.render();                   // vtk.js draws as always, once
+//   stages.set('halo_map.opacity[1]', 0.8); renderWindow.render();
+//   stages.remove();                         // vtk.js's own shader again
+//
+// Supported: vtk.js 37 (its vtkVolumeFS; SUPPORTED_VERSIONS are the versions tested), the
+// composite blend mode, a single-component volume. What the stages see: the sample's
+// position in vtk.js's volume texture space (posIS), the value (the volume's first
+// component, options.window or its range to 0..1, read from the adapter's float copy), its
+// gradient (central differences of that value) and vtk.js's colour (its transfer functions,
+// gradient opacity and lighting). Other blend modes and clipping planes are refused with a
+// message; outlines and feature halos (extra outputs, passes after the draw) are refused,
+// naming the stages.
+
+export const SUPPORTED_VERSIONS = Object.freeze(['37.3.1']);
+
+const VALUE_SAMPLER = 'halo_vtkjs_value';
+const COMPOSITE_BLEND = 0; // vtk.js's BlendMode.COMPOSITE_BLEND
+const installed = new WeakSet(); // the mappers with libhalo's stages
+
+// vtk.js's texts the replacements are made at (its vtkVolumeFS.glsl)
+const SAMPLE_ANCHOR = 'vec4 getColorAtPos(vec3 posVC) {\n' +
+  '  vec3 posIS = posVCtoIS(posVC);\n' +
+  '  vec4 texValue = getTextureValue(posIS);\n' +
+  '  return getColorForValue(texValue, posVC, posIS);\n' +
+  '}';
+const FINISH_ANCHOR = 'applyBlend(rayOriginVC, rayDirVC, rayStartEndDistancesVC[0], rayStartEndDistancesVC[1]);';
+
+// vtk.js's names for the sample piece; view and depth come from the camera libhalo sets.
+export const VTKJS_NAMES = Object.freeze({
+  position: 'posIS',
+  value: `texture(${VALUE_SAMPLER}, posIS).r`,
+  volume: VALUE_SAMPLER,
+  fragcoord: '(gl_FragCoord.xy - vec2(vpOffsetX * vpWidth, vpOffsetY * vpHeight))',
+  color: 'haloColor',
+});
+
+// vtk.js's substitute() treats a replacement's text as String.replace's: '$' is special
+const literal = (text) => text.replace(/\$/g, '$$$$');
+
+function replacements(pieces) {
+  const sample = `uniform highp sampler3D ${VALUE_SAMPLER};\n${pieces.declarations || ''}\n` +
+    'vec4 getColorAtPos(vec3 posVC) {\n' +
+    '  vec3 posIS = posVCtoIS(posVC);\n' +
+    '  vec4 texValue = getTextureValue(posIS);\n' +
+    '  vec4 haloColor = getColorForValue(texValue, posVC, posIS);\n' +
+    `${pieces.sample || ''}\n` +
+    '  return haloColor;\n' +
+    '}';
+  return [SAMPLE_ANCHOR, sample, FINISH_ANCHOR, `${FINISH_ANCHOR}\n${pieces.finish || ''}`].reduce((list, text, i, all) => {
+    if (i % 2 === 0)
+      list.push({ shaderType: 'Fragment', originalValue: text, replacementValue: literal(all[i + 1]), replaceFirst: false,
+        replaceAll: false, libhalo: true });
+    return list;
+  }, []);
+}
+
+// The volume's first component, window [low, high] (default its range) to 0..1 (R32F).
+function valueTexture(halo, gl, imageData, window, unit) {
+  const scalars = imageData.getPointData().getScalars();
+  const [low, high] = window || scalars.getRange(0);
+  return halo.valueTexture(gl, scalars.getData(), imageData.getDimensions(), { low, high }, unit);
+}
+
+// vtk.js's camera as libhalo's: clip space -> its texture space (posIS = vecVCToISMatrix *
+// (posVC - originVC), posVC = PCVCMatrix * clip), and its step there along the view axis,
+// from the uniforms vtk.js has just set on its program.
+function cameraOf(gl, handle) {
+  const get = (name) => {
+    const location = gl.getUniformLocation(handle, name);
+    if (location === null) throw new Error(`installHalo: vtk.js's volume shader has no uniform ${name}`);
+    return gl.getUniform(handle, location);
+  };
+  const pcvc = get('PCVCMatrix'), vcis = get('volume.vecVCToISMatrix'), origin = get('volume.originVC');
+  const affine = new Float64Array(16); // column-major: [vcis, -vcis * origin; 0 0 0 1]
+  for (let c = 0; c < 3; ++c) for (let r = 0; r < 3; ++r) affine[c * 4 + r] = vcis[c * 3 + r];
+  for (let r = 0; r < 3; ++r) affine[12 + r] = -(vcis[r] * origin[0] + vcis[3 + r] * origin[1] + vcis[6 + r] * origin[2]);
+  affine[15] = 1;
+  const inverse = new Float32Array(16);
+  for (let c = 0; c < 4; ++c)
+    for (let r = 0; r < 4; ++r) {
+      let sum = 0;
+      for (let k = 0; k < 4; ++k) sum += affine[k * 4 + r] * pcvc[c * 4 + k];
+      inverse[c * 4 + r] = sum;
+    }
+  const axis = [vcis[6], vcis[7], vcis[8]]; // the view axis, VC (0, 0, -1), in texture space (up to sign)
+  return {
+    inverse, step: get('sampleDistance') * Math.hypot(axis[0], axis[1], axis[2]),
+    size: [Math.round(get('vpWidth')), Math.round(get('vpHeight'))],
+  };
+}
+
+// Puts the scene's stages into mapper's volume shader. options: view (the
+// vtkOpenGLRenderWindow that draws the mapper; required), scene (JSON text or object),
+// sceneFile, window ([low, high] of the volume's values that become 0..1; default their
+// range), interval (M for halos; default the scene's), allLive. Returns { program, set(name,
+// value), remove() }; throws a HaloError or an Error that says why.
+export function installHalo(halo, mapper, options = {}) {
+  const view = options.view;
+  if (!view || typeof view.getViewNodeFor !== 'function' || typeof view.getTextureUnitManager !== 'function')
+    throw new Error('installHalo: options.view must be the vtkOpenGLRenderWindow (genericRenderWindow.getApiSpecificRenderWindow())');
+  const glMapper = view.getViewNodeFor(mapper);
+  if (!glMapper || typeof glMapper.onEvent !== 'function' || typeof glMapper.getShaderTemplate !== 'function')
+    throw new Error('installHalo: vtk.js has not drawn this mapper yet: render once before installing the stages');
+  if (installed.has(mapper)) throw new Error('installHalo: this mapper already has libhalo\'s stages: remove() them first');
+  const shaders = {};
+  glMapper.getShaderTemplate(shaders);
+  for (const [what, anchor] of [['sample', SAMPLE_ANCHOR], ['finish', FINISH_ANCHOR]])
+    if (!shaders.Fragment || !shaders.Fragment.includes(anchor))
+      throw new Error(`installHalo: vtk.js's volume shader has no '${anchor.split('\n')[0]}' (the ${what} anchor): a vtk.js ` +
+        `version this adapter does not know (tested: ${SUPPORTED_VERSIONS.join(', ')})`);
+  const imageData = mapper.getInputData();
+  const scalars = imageData && imageData.getPointData().getScalars();
+  if (!scalars) throw new Error('installHalo: the mapper has no input image with scalars');
+  if (scalars.getNumberOfComponents() !== 1)
+    throw new Error(`installHalo: the volume has ${scalars.getNumberOfComponents()} components; the stages read one value a sample`);
+  const gl = view.getContext();
+  const { program, field } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+    allLive: options.allLive, pieces: VTKJS_NAMES }, 'vtk.js');
+  // libhalo's texture units, reserved in vtk.js's manager: the value copy, the field's
+  // samplers and the march's volume (halo_gl_frame_draw's first_unit on)
+  const manager = view.getTextureUnitManager();
+  const count = 2 + (program.reflection.samplers || []).length;
+  const units = [];
+  for (let unit = manager.getNumberOfTextureUnits() - 1; unit >= 0 && units.length < count; --unit)
+    if (manager.allocateUnit(unit) === unit) units.unshift(unit);
+    else break;
+  if (units.length < count) {
+    units.forEach((u) => manager.free(u));
+    program.destroy();
+    throw new Error(`installHalo: vtk.js uses the texture units libhalo needs (the top ${count} of ${manager.getNumberOfTextureUnits()})`);
+  }
+  const valueUnit = units[0], firstUnit = units[1];
+  let value = null;
+  try {
+    value = valueTexture(halo, gl, imageData, options.window, valueUnit);
+  } catch (e) {
+    units.forEach((u) => manager.free(u));
+    program.destroy();
+    throw e;
+  }
+  let volumeKey = [imageData, imageData.getMTime()];
+  let version = 0, frame = null;
+  const warned = new Set();
+  const warnOnce = (why) => {
+    if (!warned.has(why)) console.warn(`libhalo: ${why}`);
+    warned.add(why);
+  };
+  const spec = mapper.getViewSpecificProperties();
+  const ours = replacements(program.pieces);
+  const setReplacements = (list) => {
+    spec.OpenGL = { ...(spec.OpenGL || {}), ShaderReplacements: list }; // a new list: vtk.js rebuilds its shader
+    mapper.modified();
+  };
+  setReplacements([...((spec.OpenGL && spec.OpenGL.ShaderReplacements) || []), ...ours]);
+  const staged = new WeakSet(); // vtk.js programs checked to hold the stages, their uniforms uploaded
+  let enabled = true, armed = false;
+
+  // vtk.js's program is built and in use, its uniforms set, its VAO and textures bound: the
+  // stages' uniforms and, for halos, the frame's field, before vtk.js's one draw
+  function prepare(handle) {
+    if (!staged.has(handle)) {
+      const fragment = handle && (gl.getAttachedShaders(handle) || []).find((s) => gl.getShaderParameter(s, gl.SHADER_TYPE) === gl.FRAGMENT_SHADER);
+      if (!fragment || !gl.getShaderSource(fragment).includes(VALUE_SAMPLER))
+        throw new Error('vtk.js drew its volume without the stages in its shader (its ShaderReplacements were not applied)');
+      program.upload(gl, handle, { all: true });
+      staged.add(handle);
+    } else program.upload(gl, handle);
+    const key = [mapper.getInputData(), mapper.getInputData().getMTime()];
+    if (key.some((k, i) => k !== volumeKey[i])) { // another volume, or new values: a new copy
+      const fresh = valueTexture(halo, gl, key[0], options.window, valueUnit);
+      gl.deleteTexture(value.texture);
+      value = fresh;
+      volumeKey = key;
+      ++version;
+    }
+    const previousUnit = gl.getParameter(gl.ACTIVE_TEXTURE);
+    gl.activeTexture(gl.TEXTURE0 + valueUnit);
+    gl.bindTexture(gl.TEXTURE_3D, value.texture);
+    gl.activeTexture(previousUnit);
+    gl.uniform1i(gl.getUniformLocation(handle, VALUE_SAMPLER), valueUnit);
+    const camera = cameraOf(gl, handle);
+    const kept = frame;
+    frame = null;
+    frame = halo.frameOfSize(kept, gl, program, camera.size[0], camera.size[1]);
+    // libhalo's field now; vtk.js draws when this returns (the field stays bound on its units)
+    frame.draw({
+      program: handle, volume: value.texture, volumeSize: value.dims, volumeVersion: version,
+      framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING), inverseViewProjection: camera.inverse,
+      step: camera.step, interval: options.interval, firstUnit, draw: () => {},
+    });
+  }
+
+  function disable(why) { // vtk.js keeps drawing: without the stages from the next render on, and a warning
+    warnOnce(`the stages are off: ${why}`);
+    enabled = false;
+    setReplacements(((spec.OpenGL && spec.OpenGL.ShaderReplacements) || []).filter((r) => !r.libhalo));
+  }
+
+  // vtk.js's objects are frozen, and its mapper draws the volume with the first drawArrays
+  // after its EndEvent (renderPiece: the event, then renderPieceStart and renderPieceDraw:
+  // its shader built, bound and its uniforms set, then drawArrays). That one draw is
+  // where libhalo computes the field, through a drawArrays of the context's own for it alone.
+  const drawArrays = function (mode, first, count) {
+    delete gl.drawArrays; // the context's own again
+    armed = false;
+    if (enabled) {
+      try {
+        prepare(gl.getParameter(gl.CURRENT_PROGRAM));
+      } catch (e) {
+        disable(e.message);
+        return undefined; // this frame without the volume, rather than with stages whose inputs are unset
+      }
+    }
+    return gl.drawArrays(mode, first, count);
+  };
+  const subscription = glMapper.onEvent((event) => {
+    if (event.type !== 'EndEvent' || !enabled || armed) return;
+    if (mapper.getBlendMode() !== COMPOSITE_BLEND) disable('the mapper\'s blend mode is not composite: the stages apply to composited samples');
+    else if (mapper.getClippingPlanes().length) disable('the mapper has clipping planes, which libhalo\'s halo field does not clip');
+    else if (Object.prototype.hasOwnProperty.call(gl, 'drawArrays')) disable('the WebGL context\'s drawArrays is wrapped by another');
+    else {
+      gl.drawArrays = drawArrays;
+      armed = true;
+    }
+  });
+  installed.add(mapper);
+
+  return {
+    program,
+    // a live parameter ("stage.param"): the uniform's new value on the next render
+    set(name, v) {
+      program.set(name, v);
+    },
+    // vtk.js's own shader again (on the next render)
+    remove() {
+      if (!installed.has(mapper)) return;
+      installed.delete(mapper);
+      subscription.unsubscribe();
+      if (armed) delete gl.drawArrays;
+      armed = false;
+      setReplacements(((spec.OpenGL && spec.OpenGL.ShaderReplacements) || []).filter((r) => !r.libhalo));
+      if (frame) frame.destroy();
+      frame = null;
+      gl.deleteTexture(value.texture);
+      units.forEach((u) => manager.free(u));
+      program.destroy();
+    },
+  };
+}
