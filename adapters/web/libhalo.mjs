@@ -197,15 +197,22 @@ function sweepNames(GL, gl) {
 
 // The page's objects bound on gl, named in emscripten's tables before libhalo's C runtime
 // runs: it restores the bindings it changes by their names (unnamed ones would come back
-// unbound).
+// unbound). A texture deleted while bound on a unit that was not active stays bound there,
+// deleted (GLES 3.0, 3.8.1); binding it again is an error, so it is unbound here, which is
+// what it is in effect.
 function nameBindings(GL, gl) {
   sweepNames(GL, gl);
   const unit = gl.getParameter(gl.ACTIVE_TEXTURE);
   const units = gl.getParameter(gl.MAX_COMBINED_TEXTURE_IMAGE_UNITS);
   for (let i = 0; i < units; ++i) {
     gl.activeTexture(gl.TEXTURE0 + i);
-    for (const binding of [gl.TEXTURE_BINDING_2D, gl.TEXTURE_BINDING_3D, gl.TEXTURE_BINDING_2D_ARRAY, gl.TEXTURE_BINDING_CUBE_MAP])
-      nameOf(GL, GL.textures, gl.getParameter(binding));
+    for (const binding of [gl.TEXTURE_BINDING_2D, gl.TEXTURE_BINDING_3D, gl.TEXTURE_BINDING_2D_ARRAY, gl.TEXTURE_BINDING_CUBE_MAP]) {
+      const texture = gl.getParameter(binding);
+      if (texture && !gl.isTexture(texture)) gl.bindTexture(binding === gl.TEXTURE_BINDING_2D ? gl.TEXTURE_2D
+        : binding === gl.TEXTURE_BINDING_3D ? gl.TEXTURE_3D : binding === gl.TEXTURE_BINDING_2D_ARRAY ? gl.TEXTURE_2D_ARRAY
+          : gl.TEXTURE_CUBE_MAP, null);
+      else nameOf(GL, GL.textures, texture);
+    }
   }
   gl.activeTexture(unit);
   for (const binding of [gl.DRAW_FRAMEBUFFER_BINDING, gl.READ_FRAMEBUFFER_BINDING])

@@ -20,13 +20,15 @@
 // position in vtk.js's volume texture space (posIS), the value (the volume's first
 // component, options.window or its range to 0..1, read from the adapter's float copy), its
 // gradient (central differences of that value) and vtk.js's colour (its transfer functions,
-// gradient opacity and lighting). Other blend modes and clipping planes are refused with a
+// gradient opacity and lighting), its opacity per unit distance (vtk.js's correction for
+// its sample distance undone before the stages, done again after). Other blend modes and clipping planes are refused with a
 // message; outlines and feature halos (extra outputs, passes after the draw) are refused,
 // naming the stages.
 
 export const SUPPORTED_VERSIONS = Object.freeze(['37.3.1']);
 
 const VALUE_SAMPLER = 'halo_vtkjs_value';
+const EXPONENT = 'halo_vtkjs_opacity_exponent'; // vtk.js's sample distance / its opacity unit distance (> 0)
 const COMPOSITE_BLEND = 0; // vtk.js's BlendMode.COMPOSITE_BLEND
 const installed = new WeakSet(); // the mappers with libhalo's stages
 
@@ -51,12 +53,16 @@ export const VTKJS_NAMES = Object.freeze({
 const literal = (text) => text.replace(/\$/g, '$$$$');
 
 function replacements(pieces) {
-  const sample = `uniform highp sampler3D ${VALUE_SAMPLER};\n${pieces.declarations || ''}\n` +
+  const sample = `uniform highp sampler3D ${VALUE_SAMPLER};\nuniform float ${EXPONENT};\n${pieces.declarations || ''}\n` +
     'vec4 getColorAtPos(vec3 posVC) {\n' +
     '  vec3 posIS = posVCtoIS(posVC);\n' +
     '  vec4 texValue = getTextureValue(posIS);\n' +
     '  vec4 haloColor = getColorForValue(texValue, posVC, posIS);\n' +
+    // vtk.js's opacity is corrected for its sample distance; the stages take and give it
+    // per unit distance (the contract's convention): undone before, done again after
+    `  haloColor.a = 1.0 - pow(clamp(1.0 - haloColor.a, 0.0, 1.0), 1.0 / ${EXPONENT});\n` +
     `${pieces.sample || ''}\n` +
+    `  haloColor.a = 1.0 - pow(clamp(1.0 - haloColor.a, 0.0, 1.0), ${EXPONENT});\n` +
     '  return haloColor;\n' +
     '}';
   return [SAMPLE_ANCHOR, sample, FINISH_ANCHOR, `${FINISH_ANCHOR}\n${pieces.finish || ''}`].reduce((list, text, i, all) => {
@@ -97,7 +103,7 @@ function cameraOf(gl, handle) {
     }
   const axis = [vcis[6], vcis[7], vcis[8]]; // the view axis, VC (0, 0, -1), in texture space (up to sign)
   return {
-    inverse, step: get('sampleDistance') * Math.hypot(axis[0], axis[1], axis[2]),
+    inverse, sampleDistance: get('sampleDistance'), step: get('sampleDistance') * Math.hypot(axis[0], axis[1], axis[2]),
     size: [Math.round(get('vpWidth')), Math.round(get('vpHeight'))],
   };
 }
@@ -127,6 +133,11 @@ export function installHalo(halo, mapper, options = {}) {
   if (scalars.getNumberOfComponents() !== 1)
     throw new Error(`installHalo: the volume has ${scalars.getNumberOfComponents()} components; the stages read one value a sample`);
   const gl = view.getContext();
+  // the vtkVolume drawing the mapper (its opacity unit distance): vtk.js's OpenGL volume node above the mapper's
+  const volumeNode = glMapper.getFirstAncestorOfType && glMapper.getFirstAncestorOfType('vtkOpenGLVolume');
+  const actor = volumeNode && volumeNode.getRenderable();
+  if (!actor || typeof actor.getProperty !== 'function')
+    throw new Error('installHalo: vtk.js draws the mapper without a vtkVolume above it');
   const { program, field } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
     allLive: options.allLive, pieces: VTKJS_NAMES }, 'vtk.js');
   // libhalo's texture units, reserved in vtk.js's manager: the value copy, the field's
@@ -192,6 +203,8 @@ export function installHalo(halo, mapper, options = {}) {
     gl.activeTexture(previousUnit);
     gl.uniform1i(gl.getUniformLocation(handle, VALUE_SAMPLER), valueUnit);
     const camera = cameraOf(gl, handle);
+    const unit = actor ? actor.getProperty().getScalarOpacityUnitDistance(0) : 1;
+    gl.uniform1f(gl.getUniformLocation(handle, EXPONENT), camera.sampleDistance / (unit > 0 ? unit : 1));
     const kept = frame;
     frame = null;
     frame = halo.frameOfSize(kept, gl, program, camera.size[0], camera.size[1]);

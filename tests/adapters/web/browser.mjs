@@ -25,6 +25,10 @@ const packageDir = path.resolve(process.env.HALO_WEB_PACKAGE);
 const modulesDir = path.resolve(process.env.HALO_WEB_MODULES);
 const LIMIT = Number(process.env.HALO_WEB_LIMIT || 1e-4);
 const EFFECT = 0.01;
+// a viewer set up as raycast.frag samples against halo-render's image clamped to [0, 1] (a
+// canvas holds 8 bits a channel; tone shading lights past 1), its transfer functions sampled
+// into its own textures
+const MATCH_LIMIT = Number(process.env.HALO_WEB_MATCH_LIMIT || 2e-3);
 const cases = [];
 for (let i = 2; i + 1 < process.argv.length + 1; i += 2) {
   const oneDraw = process.argv[i + 1].startsWith('one-draw:');
@@ -139,13 +143,17 @@ async function demo(page, volume) {
 
 const ENGINES = {
   niivue: { page: 'niivue.html', module: '@niivue/niivue', name: 'NiiVue' },
-  vtkjs: { page: 'vtkjs.html', module: 'vtk.js', name: 'vtk.js' },
+  vtkjs: { page: 'vtkjs.html', module: 'vtk.js', name: 'vtk.js', match: true },
 };
 async function engine(page, dir, which) {
   const viewer = ENGINES[which];
   if (!viewer) { fail(`HALO_WEB_ENGINES: no viewer '${which}' (known: ${Object.keys(ENGINES).join(', ')})`); return; }
   inputs = dir;
-  await page.goto(`${origin}/${viewer.page}${process.env.HALO_WEB_SIZE ? `?size=${process.env.HALO_WEB_SIZE}` : ''}`);
+  // a viewer that can be set up as raycast.frag samples (vtk.js) is, and is compared with
+  // halo-render too
+  const stagesDir = viewer.match && process.env.HALO_WEB_MRI_STAGES ? path.resolve(process.env.HALO_WEB_MRI_STAGES) : null;
+  const query = stagesDir ? '?match' : process.env.HALO_WEB_SIZE ? `?size=${process.env.HALO_WEB_SIZE}` : '';
+  await page.goto(`${origin}/${viewer.page}${query}`);
   await page.waitForFunction('window.ready === true', { timeout: 60000 });
   const scene = 'mri-head.json';
   const draw = (options) => page.evaluate((o) => window.render(o), options);
@@ -175,6 +183,31 @@ async function engine(page, dir, which) {
   if (!(halos.mean > EFFECT / 4)) fail(`${name}: the halos change the image by only ${halos.mean}`);
   if (!(field.mean > 1e-4)) fail(`${name}: the field of other segments gives the same image (${field.mean})`);
   if (!(back.max === 0)) fail(`${name}: the stages removed again leave the image ${back.max} from ${viewer.name} alone`);
+  if (stagesDir) { // against halo-render --host raycast: the scene without its halos, and with them drawn once
+    const reference = (d) => new Float32Array(fs.readFileSync(path.join(d, 'image.f32')).buffer.slice(0))
+      .map((v) => (v > 0 ? (v < 1 ? v : 1) : 0));
+    const withStages = reference(stagesDir), withHalos = reference(dir);
+    const width = JSON.parse(fs.readFileSync(path.join(dir, 'host.json'))).width;
+    const rows = [
+      ['its stages without halo_*', noHalos, withStages, 'halo-render --host raycast'],
+      ['its stages and halos', staged, withHalos, 'halo-render --host raycast --one-draw'],
+    ];
+    for (const [what, image, ref, by] of rows) {
+      if (image.pixels.length !== ref.length) { fail(`${name}: ${image.pixels.length} values in the page, ${ref.length} in ${by}'s`); continue; }
+      const against = difference(image.pixels, ref);
+      const shifted = difference(image.pixels.slice(0, ref.length - 4 * width), ref.slice(4 * width)); // the control
+      console.log(`${name}, ${what}, set up as raycast.frag: against ${by}: mean abs ${against.mean.toExponential(3)}, ` +
+        `max abs ${against.max.toExponential(3)} (limit ${MATCH_LIMIT} mean); against its image shifted by a row ` +
+        `${shifted.mean.toExponential(3)} (must fail)`);
+      if (!(against.mean <= MATCH_LIMIT)) fail(`${name}, ${what}: ${against.mean} from ${by}'s image (mean abs)`);
+      if (!(shifted.mean > MATCH_LIMIT)) fail(`${name}, ${what}: the image shifted by a row passes too (${shifted.mean})`);
+    }
+    const plain = difference(alone.pixels, withStages), other = difference(m1.pixels, withHalos);
+    console.log(`${name}: vtk.js alone against halo-render's stages ${plain.mean.toExponential(3)}, its field at M = 1 ` +
+      `against halo-render's at the scene's M ${other.mean.toExponential(3)} (both must fail)`);
+    if (!(plain.mean > MATCH_LIMIT)) fail(`${name}: vtk.js alone passes against the stages' image too (${plain.mean})`);
+    if (!(other.mean > MATCH_LIMIT)) fail(`${name}: the field at M = 1 passes against the scene's M too (${other.mean})`);
+  }
   if (which === 'vtkjs') { // what it cannot serve: refused with a message, never drawn meaningless
     const r = await page.evaluate(() => window.refusals());
     console.log(`${viewer.name}: outlines: ${r.outlines}; maximum intensity: ${r.warnings.join(' / ')} (the image ` +

@@ -56,11 +56,20 @@ fi
 if test -n "$HALO_WEB_ENGINES" && test ! -f "$mri"; then
     echo "NOT TESTED: $HALO_WEB_ENGINES: no $mri (the Debian package mricron-data, which setup.sh installs)"
 elif test -n "$HALO_WEB_ENGINES"; then
-    mkdir -p "$tmp/mri"
+    # the scene drawn once with its halos, and without its halo_* stages (vtk.js, set up as
+    # raycast.frag samples, is compared with both at the page's 128^2)
+    mkdir -p "$tmp/mri" "$tmp/mri-stages"
     run 0 "$HALO_RENDER" --host raycast --one-draw --scene "$srcdir/examples/scenes/mri-head.json" --volume "$mri" \
-        --size 32x32 --volume-size 96 --quiet --export-host "$tmp/mri" -o "$tmp/mri/reference.png"
+        --size 128x128 --volume-size 96 --quiet --export-host "$tmp/mri" -o "$tmp/mri/reference.png"
+    "$NODE" -e 'const fs = require("fs"), scene = JSON.parse(fs.readFileSync(process.argv[1]));
+        scene.stages = scene.stages.filter((s) => !Object.keys(s).some((k) => k.startsWith("halo_")));
+        fs.writeFileSync(process.argv[2], JSON.stringify(scene));' "$srcdir/examples/scenes/mri-head.json" "$tmp/mri-stages/scene.json" ||
+        fail "writing the scene without its halo stages"
+    run 0 "$HALO_RENDER" --host raycast --scene "$tmp/mri-stages/scene.json" --volume "$mri" \
+        --size 128x128 --volume-size 96 --quiet --export-host "$tmp/mri-stages" -o "$tmp/mri-stages/reference.png"
     HALO_WEB_MRI=$tmp/mri
-    export HALO_WEB_MRI HALO_WEB_ENGINES
+    HALO_WEB_MRI_STAGES=$tmp/mri-stages
+    export HALO_WEB_MRI HALO_WEB_MRI_STAGES HALO_WEB_ENGINES
 fi
 echo "+ node browser.mjs $*"
 "$NODE" "$srcdir/tests/adapters/web/browser.mjs" "$@" || fail "the pages' images (above)"
