@@ -399,13 +399,23 @@ int main(int argc, char **argv)
     }
     if (!status && o.frames > 1) {
         auto t0 = std::chrono::steady_clock::now();
+        /* the camera turning 0.001 degrees back and forth, as a user turns the volume: the
+         * halo field is computed every frame (drawn again with an unchanged view, libhalo
+         * reuses it); the view is put back after */
+        double position[3], focal[3], up[3];
+        camera->GetPosition(position);
+        camera->GetFocalPoint(focal);
+        camera->GetViewUp(up);
         for (int f = 0; f < o.frames; f++) {
-            camera->Azimuth(0.0); /* a new frame of the same view */
+            camera->Azimuth(f % 2 ? -1e-3 : 1e-3);
             window->Render();
         }
         window->WaitForCompletion();
         double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         printf("halo-vtk: %.2f ms per frame (%d frames, %dx%d)\n", ms / o.frames, o.frames, o.width, o.height);
+        camera->SetPosition(position);
+        camera->SetFocalPoint(focal);
+        camera->SetViewUp(up);
     }
     std::vector<float> rgba;
     int out_width = o.width, out_height = o.height;

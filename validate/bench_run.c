@@ -139,6 +139,18 @@ static void close_case(halo_bench_case *c)
     c->times = NULL;
 }
 
+/* The camera of frame r (-1: the warm-up): the scene's, or 0.001 degrees of azimuth beside
+ * it, alternating so that every frame's view differs from the one before and the last
+ * timed frame (whose image the error columns read) is the scene's. A frame's cost is thus
+ * that of a user turning the volume: a one-draw frame computes its field every frame (drawn
+ * again with an unchanged view it would reuse it, gl/field.c). */
+static void bench_camera(const halo_bench_env *env, halo_bench_case *c, int r)
+{
+    const halo_render_settings *settings = halo_scene_render(c->scene);
+    double nudge = (env->repeat - 1 - r) % 2 ? 1e-3 : 0.0;
+    halo_driver_set_camera(c->host, settings->azimuth + nudge, settings->elevation, settings->zoom);
+}
+
 int halo_bench_run(const halo_bench_env *env, halo_bench_case *cases, size_t count)
 {
     int ok = 1;
@@ -149,12 +161,16 @@ int halo_bench_run(const halo_bench_env *env, halo_bench_case *cases, size_t cou
         if (env->progress)
             fprintf(env->progress, "bench: preparing %zu of %zu: %s\n", i + 1, count, name);
         /* one frame to warm up: shader compilation on the first draw, texture residency */
-        ok = open_case(env, &cases[i]) && halo_driver_render(cases[i].host, cases[i].image, env->diag) == HALO_OK;
+        ok = open_case(env, &cases[i]);
+        if (ok)
+            bench_camera(env, &cases[i], -1);
+        ok = ok && halo_driver_render(cases[i].host, cases[i].image, env->diag) == HALO_OK;
     }
     for (int r = 0; r < env->repeat && ok; ++r) {
         double round_start = halo_bench_now();
         for (size_t i = 0; i < count && ok; ++i) {
             halo_bench_case *c = &cases[i];
+            bench_camera(env, c, r);
             env->gl->Finish();
             double start = halo_bench_now();
             ok = halo_driver_render(c->host, c->image, env->diag) == HALO_OK;

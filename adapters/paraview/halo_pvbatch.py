@@ -126,10 +126,19 @@ def main():
 def render(view, output, frames, width, height, scale=1):
     Render(view)
     if frames > 1:
+        # the camera turning 0.001 degrees back and forth, as a user turns the volume: the
+        # halo field is computed every frame (drawn again with an unchanged view, libhalo
+        # reuses it); the view is put back after
+        camera = view.GetActiveCamera()
+        kept = (camera.GetPosition(), camera.GetFocalPoint(), camera.GetViewUp())
         t0 = time.time()
-        for _ in range(frames):
+        for f in range(frames):
+            camera.Azimuth(-1e-3 if f % 2 else 1e-3)
             view.StillRender()
         ms = (time.time() - t0) * 1000.0 / frames
+        camera.SetPosition(kept[0])
+        camera.SetFocalPoint(kept[1])
+        camera.SetViewUp(kept[2])
         ranks = servermanager.vtkProcessModule.GetProcessModule().GetNumberOfLocalPartitions()
         print("halo_pvbatch: %s: %.1f ms per frame (%d frames, %dx%d, %d rank%s)" %
               (output, ms, frames, width, height, ranks, "" if ranks == 1 else "s"))

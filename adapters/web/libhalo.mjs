@@ -415,19 +415,33 @@ class Halo {
     }
     const previousUnit = gl.getParameter(gl.ACTIVE_TEXTURE);
     gl.activeTexture(gl.TEXTURE0 + unit);
-    const previous = gl.getParameter(gl.TEXTURE_BINDING_3D);
+    let previous = gl.getParameter(gl.TEXTURE_BINDING_3D);
+    if (previous && !gl.isTexture(previous)) previous = null; // deleted while bound there: unbound in effect
     const texture = gl.createTexture();
     gl.bindTexture(gl.TEXTURE_3D, texture);
-    const alignment = gl.getParameter(gl.UNPACK_ALIGNMENT);
-    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    // the page's unpack state, set to tightly packed rows from the array and put back (an
+    // engine may leave UNPACK_FLIP_Y_WEBGL on, with which a 3D upload is an error)
+    const unpack = [[gl.UNPACK_ALIGNMENT, 1], [gl.UNPACK_ROW_LENGTH, 0], [gl.UNPACK_IMAGE_HEIGHT, 0],
+      [gl.UNPACK_SKIP_PIXELS, 0], [gl.UNPACK_SKIP_ROWS, 0], [gl.UNPACK_SKIP_IMAGES, 0], [gl.UNPACK_FLIP_Y_WEBGL, false],
+      [gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false]].map(([name, v]) => [name, gl.getParameter(name), v]);
+    const buffer = gl.getParameter(gl.PIXEL_UNPACK_BUFFER_BINDING);
+    for (const [name, , v] of unpack) gl.pixelStorei(name, v);
+    gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, null);
+    for (let e = gl.getError(), n = 0; e && n < 8; e = gl.getError(), ++n) {} // the page's, not this upload's
     gl.texImage3D(gl.TEXTURE_3D, 0, gl.R32F, dims[0], dims[1], dims[2], 0, gl.RED, gl.FLOAT, values);
-    gl.pixelStorei(gl.UNPACK_ALIGNMENT, alignment);
+    const error = gl.getError();
+    for (const [name, was] of unpack) gl.pixelStorei(name, was);
+    gl.bindBuffer(gl.PIXEL_UNPACK_BUFFER, buffer);
     const linear = gl.getExtension('OES_texture_float_linear') ? gl.LINEAR : gl.NEAREST;
     for (const [p, v] of [[gl.TEXTURE_MIN_FILTER, linear], [gl.TEXTURE_MAG_FILTER, linear], [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE],
       [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_R, gl.CLAMP_TO_EDGE]])
       gl.texParameteri(gl.TEXTURE_3D, p, v);
     gl.bindTexture(gl.TEXTURE_3D, previous);
     gl.activeTexture(previousUnit);
+    if (error) {
+      gl.deleteTexture(texture);
+      throw new HaloError([], `valueTexture: WebGL error 0x${error.toString(16)} uploading the ${dims.join('x')} volume`);
+    }
     return { texture, dims: Array.from(dims) };
   }
 

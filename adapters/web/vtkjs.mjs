@@ -39,6 +39,7 @@ const SAMPLE_ANCHOR = 'vec4 getColorAtPos(vec3 posVC) {\n' +
   '  return getColorForValue(texValue, posVC, posIS);\n' +
   '}';
 const FINISH_ANCHOR = 'applyBlend(rayOriginVC, rayDirVC, rayStartEndDistancesVC[0], rayStartEndDistancesVC[1]);';
+const FINISH_MARK = '// libhalo: the finish piece';
 
 // vtk.js's names for the sample piece; view and depth come from the camera libhalo sets.
 export const VTKJS_NAMES = Object.freeze({
@@ -60,12 +61,15 @@ function replacements(pieces) {
     '  vec4 haloColor = getColorForValue(texValue, posVC, posIS);\n' +
     // vtk.js's opacity is corrected for its sample distance; the stages take and give it
     // per unit distance (the contract's convention): undone before, done again after
+    // (0 where libhalo has not prepared the draw: vtk.js's own sample, no stages)
+    `  if (${EXPONENT} > 0.0) {\n` +
     `  haloColor.a = 1.0 - pow(clamp(1.0 - haloColor.a, 0.0, 1.0), 1.0 / ${EXPONENT});\n` +
     `${pieces.sample || ''}\n` +
     `  haloColor.a = 1.0 - pow(clamp(1.0 - haloColor.a, 0.0, 1.0), ${EXPONENT});\n` +
+    '  }\n' +
     '  return haloColor;\n' +
     '}';
-  return [SAMPLE_ANCHOR, sample, FINISH_ANCHOR, `${FINISH_ANCHOR}\n${pieces.finish || ''}`].reduce((list, text, i, all) => {
+  return [SAMPLE_ANCHOR, sample, FINISH_ANCHOR, `${FINISH_ANCHOR}\n${FINISH_MARK}\n${pieces.finish || ''}`].reduce((list, text, i, all) => {
     if (i % 2 === 0)
       list.push({ shaderType: 'Fragment', originalValue: text, replacementValue: literal(all[i + 1]), replaceFirst: false,
         replaceAll: false, libhalo: true });
@@ -104,8 +108,44 @@ function cameraOf(gl, handle) {
   const axis = [vcis[6], vcis[7], vcis[8]]; // the view axis, VC (0, 0, -1), in texture space (up to sign)
   return {
     inverse, sampleDistance: get('sampleDistance'), step: get('sampleDistance') * Math.hypot(axis[0], axis[1], axis[2]),
-    size: [Math.round(get('vpWidth')), Math.round(get('vpHeight'))],
+    size: gl.getParameter(gl.VIEWPORT).slice(2, 4), // vtk.js's render target (its small one while interacting)
   };
+}
+
+// What the adapter cannot serve in the mapper and its vtkVolume as they are now: null, or why.
+function refusal(mapper, actor) {
+  const image = mapper.getInputData();
+  const scalars = image && image.getPointData().getScalars();
+  if (!scalars) return 'the mapper has no input image with scalars';
+  if (scalars.getNumberOfComponents() !== 1)
+    return `the volume has ${scalars.getNumberOfComponents()} components; the stages read one value a sample`;
+  if (mapper.getBlendMode() !== COMPOSITE_BLEND) return 'the mapper\'s blend mode is not composite: the stages apply to composited samples';
+  if (mapper.getClippingPlanes().length) return 'the mapper has clipping planes, which libhalo\'s halo field does not clip';
+  const property = actor.getProperty();
+  if (typeof property.getUseLabelOutline === 'function' && property.getUseLabelOutline())
+    return 'the volume property draws label outlines, which the stages do not serve';
+  if (!(property.getScalarOpacityUnitDistance(0) > 0)) return 'the scalar opacity unit distance is not > 0';
+  return null;
+}
+
+// The vtkVolumes of the render window that draw mapper.
+function volumesOf(view, mapper) {
+  const window = typeof view.getRenderable === 'function' ? view.getRenderable() : null;
+  const renderers = window && typeof window.getRenderers === 'function' ? window.getRenderers() : [];
+  return renderers.flatMap((r) => r.getVolumes().filter((v) => v.getMapper() === mapper));
+}
+
+// The highest free block of count contiguous texture units in vtk.js's manager, reserved;
+// [] when there is none.
+function reserveUnits(manager, count) {
+  for (let top = manager.getNumberOfTextureUnits() - 1; top - count + 1 >= 0; --top) {
+    const block = Array.from({ length: count }, (_, i) => top - count + 1 + i);
+    if (block.every((u) => !manager.isAllocated(u))) {
+      block.forEach((u) => manager.allocateUnit(u));
+      return block;
+    }
+  }
+  return [];
 }
 
 // Puts the scene's stages into mapper's volume shader. options: view (the
@@ -127,42 +167,37 @@ export function installHalo(halo, mapper, options = {}) {
     if (!shaders.Fragment || !shaders.Fragment.includes(anchor))
       throw new Error(`installHalo: vtk.js's volume shader has no '${anchor.split('\n')[0]}' (the ${what} anchor): a vtk.js ` +
         `version this adapter does not know (tested: ${SUPPORTED_VERSIONS.join(', ')})`);
-  const imageData = mapper.getInputData();
-  const scalars = imageData && imageData.getPointData().getScalars();
-  if (!scalars) throw new Error('installHalo: the mapper has no input image with scalars');
-  if (scalars.getNumberOfComponents() !== 1)
-    throw new Error(`installHalo: the volume has ${scalars.getNumberOfComponents()} components; the stages read one value a sample`);
-  const gl = view.getContext();
-  // the vtkVolume drawing the mapper (its opacity unit distance): vtk.js's OpenGL volume node above the mapper's
+  // the vtkVolume drawing the mapper (its property): vtk.js's OpenGL volume node above the mapper's
   const volumeNode = glMapper.getFirstAncestorOfType && glMapper.getFirstAncestorOfType('vtkOpenGLVolume');
   const actor = volumeNode && volumeNode.getRenderable();
   if (!actor || typeof actor.getProperty !== 'function')
     throw new Error('installHalo: vtk.js draws the mapper without a vtkVolume above it');
+  const refused = refusal(mapper, actor) || (volumesOf(view, mapper).length > 1 ?
+    'the mapper is drawn by several vtkVolumes: the stages are prepared for one' : null);
+  if (refused) throw new Error(`installHalo: ${refused}`);
+  const gl = view.getContext();
   const { program, field } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
     allLive: options.allLive, pieces: VTKJS_NAMES }, 'vtk.js');
   // libhalo's texture units, reserved in vtk.js's manager: the value copy, the field's
   // samplers and the march's volume (halo_gl_frame_draw's first_unit on)
   const manager = view.getTextureUnitManager();
   const count = 2 + (program.reflection.samplers || []).length;
-  const units = [];
-  for (let unit = manager.getNumberOfTextureUnits() - 1; unit >= 0 && units.length < count; --unit)
-    if (manager.allocateUnit(unit) === unit) units.unshift(unit);
-    else break;
-  if (units.length < count) {
-    units.forEach((u) => manager.free(u));
+  const units = reserveUnits(manager, count);
+  if (!units.length) {
     program.destroy();
-    throw new Error(`installHalo: vtk.js uses the texture units libhalo needs (the top ${count} of ${manager.getNumberOfTextureUnits()})`);
+    throw new Error(`installHalo: vtk.js's texture unit manager has no ${count} free units in a row for libhalo ` +
+      `(of ${manager.getNumberOfTextureUnits()})`);
   }
   const valueUnit = units[0], firstUnit = units[1];
   let value = null;
   try {
-    value = valueTexture(halo, gl, imageData, options.window, valueUnit);
+    value = valueTexture(halo, gl, mapper.getInputData(), options.window, valueUnit);
   } catch (e) {
     units.forEach((u) => manager.free(u));
     program.destroy();
     throw e;
   }
-  let volumeKey = [imageData, imageData.getMTime()];
+  let volumeKey = [mapper.getInputData(), mapper.getInputData().getMTime()];
   let version = 0, frame = null;
   const warned = new Set();
   const warnOnce = (why) => {
@@ -170,25 +205,33 @@ export function installHalo(halo, mapper, options = {}) {
     warned.add(why);
   };
   const spec = mapper.getViewSpecificProperties();
-  const ours = replacements(program.pieces);
   const setReplacements = (list) => {
     spec.OpenGL = { ...(spec.OpenGL || {}), ShaderReplacements: list }; // a new list: vtk.js rebuilds its shader
     mapper.modified();
   };
-  setReplacements([...((spec.OpenGL && spec.OpenGL.ShaderReplacements) || []), ...ours]);
-  const staged = new WeakSet(); // vtk.js programs checked to hold the stages, their uniforms uploaded
-  let enabled = true, armed = false;
+  const withoutOurs = () => ((spec.OpenGL && spec.OpenGL.ShaderReplacements) || []).filter((r) => !r.libhalo);
+  setReplacements([...withoutOurs(), ...replacements(program.pieces)]);
+  const staged = new WeakSet(); // vtk.js programs checked to hold the stages
+  let enabled = true, armed = false, lastHandle = null;
+  // vtk.js builds its opacity table with its sample distance over the unit distance when the
+  // opacity function changes, and only then (its cache is keyed on the function's MTime): the
+  // exponent it applied is the one of that time
+  let opacity = { of: null, mtime: -1, exponent: 1 };
 
   // vtk.js's program is built and in use, its uniforms set, its VAO and textures bound: the
   // stages' uniforms and, for halos, the frame's field, before vtk.js's one draw
   function prepare(handle) {
     if (!staged.has(handle)) {
       const fragment = handle && (gl.getAttachedShaders(handle) || []).find((s) => gl.getShaderParameter(s, gl.SHADER_TYPE) === gl.FRAGMENT_SHADER);
-      if (!fragment || !gl.getShaderSource(fragment).includes(VALUE_SAMPLER))
+      const text = fragment ? gl.getShaderSource(fragment) : '';
+      if (!text.includes(VALUE_SAMPLER) || !text.includes(FINISH_MARK))
         throw new Error('vtk.js drew its volume without the stages in its shader (its ShaderReplacements were not applied)');
-      program.upload(gl, handle, { all: true });
       staged.add(handle);
-    } else program.upload(gl, handle);
+    }
+    // another of vtk.js's programs (it keeps one per shading, lights, sample count...): every
+    // live parameter's current value, not only those set since the last upload
+    program.upload(gl, handle, { all: handle !== lastHandle });
+    lastHandle = handle;
     const key = [mapper.getInputData(), mapper.getInputData().getMTime()];
     if (key.some((k, i) => k !== volumeKey[i])) { // another volume, or new values: a new copy
       const fresh = valueTexture(halo, gl, key[0], options.window, valueUnit);
@@ -203,8 +246,10 @@ export function installHalo(halo, mapper, options = {}) {
     gl.activeTexture(previousUnit);
     gl.uniform1i(gl.getUniformLocation(handle, VALUE_SAMPLER), valueUnit);
     const camera = cameraOf(gl, handle);
-    const unit = actor ? actor.getProperty().getScalarOpacityUnitDistance(0) : 1;
-    gl.uniform1f(gl.getUniformLocation(handle, EXPONENT), camera.sampleDistance / (unit > 0 ? unit : 1));
+    const property = actor.getProperty(), fn = property.getScalarOpacity(0);
+    if (fn !== opacity.of || fn.getMTime() !== opacity.mtime)
+      opacity = { of: fn, mtime: fn.getMTime(), exponent: camera.sampleDistance / property.getScalarOpacityUnitDistance(0) };
+    gl.uniform1f(gl.getUniformLocation(handle, EXPONENT), opacity.exponent);
     const kept = frame;
     frame = null;
     frame = halo.frameOfSize(kept, gl, program, camera.size[0], camera.size[1]);
@@ -216,22 +261,36 @@ export function installHalo(halo, mapper, options = {}) {
     });
   }
 
+  function release() { // libhalo's GL objects and units (the stages' uniforms in vtk.js's programs stay)
+    if (armed) delete gl.drawArrays;
+    armed = false;
+    if (frame) frame.destroy();
+    frame = null;
+    if (value) gl.deleteTexture(value.texture);
+    value = null;
+    units.forEach((u) => manager.free(u));
+    units.length = 0;
+  }
+
   function disable(why) { // vtk.js keeps drawing: without the stages from the next render on, and a warning
     warnOnce(`the stages are off: ${why}`);
     enabled = false;
-    setReplacements(((spec.OpenGL && spec.OpenGL.ShaderReplacements) || []).filter((r) => !r.libhalo));
+    setReplacements(withoutOurs());
+    release();
   }
 
   // vtk.js's objects are frozen, and its mapper draws the volume with the first drawArrays
   // after its EndEvent (renderPiece: the event, then renderPieceStart and renderPieceDraw:
   // its shader built, bound and its uniforms set, then drawArrays). That one draw is
   // where libhalo computes the field, through a drawArrays of the context's own for it alone.
+  const isVolumeProgram = (handle) => handle && gl.getUniformLocation(handle, 'volume.vecVCToISMatrix') !== null;
   const drawArrays = function (mode, first, count) {
     delete gl.drawArrays; // the context's own again
     armed = false;
-    if (enabled) {
+    const handle = gl.getParameter(gl.CURRENT_PROGRAM);
+    if (enabled && isVolumeProgram(handle)) {
       try {
-        prepare(gl.getParameter(gl.CURRENT_PROGRAM));
+        prepare(handle);
       } catch (e) {
         disable(e.message);
         return undefined; // this frame without the volume, rather than with stages whose inputs are unset
@@ -240,10 +299,18 @@ export function installHalo(halo, mapper, options = {}) {
     return gl.drawArrays(mode, first, count);
   };
   const subscription = glMapper.onEvent((event) => {
-    if (event.type !== 'EndEvent' || !enabled || armed) return;
-    if (mapper.getBlendMode() !== COMPOSITE_BLEND) disable('the mapper\'s blend mode is not composite: the stages apply to composited samples');
-    else if (mapper.getClippingPlanes().length) disable('the mapper has clipping planes, which libhalo\'s halo field does not clip');
-    else if (Object.prototype.hasOwnProperty.call(gl, 'drawArrays')) disable('the WebGL context\'s drawArrays is wrapped by another');
+    if (event.type === 'StartEvent' && armed) { // the last EndEvent had no volume draw after it
+      delete gl.drawArrays;
+      armed = false;
+      if (mapper.getInputData())
+        disable('vtk.js did not draw its volume (its shader with the stages did not build? program.mapLog maps a ' +
+          'compile log to the modules)');
+    }
+    if (event.type !== 'EndEvent' || !enabled || !mapper.getInputData()) return;
+    const why = refusal(mapper, actor) ||
+      (volumesOf(view, mapper).length > 1 ? 'the mapper is drawn by several vtkVolumes: the stages are prepared for one' : null) ||
+      (Object.prototype.hasOwnProperty.call(gl, 'drawArrays') ? 'the WebGL context\'s drawArrays is wrapped by another' : null);
+    if (why) disable(why);
     else {
       gl.drawArrays = drawArrays;
       armed = true;
@@ -262,13 +329,8 @@ export function installHalo(halo, mapper, options = {}) {
       if (!installed.has(mapper)) return;
       installed.delete(mapper);
       subscription.unsubscribe();
-      if (armed) delete gl.drawArrays;
-      armed = false;
-      setReplacements(((spec.OpenGL && spec.OpenGL.ShaderReplacements) || []).filter((r) => !r.libhalo));
-      if (frame) frame.destroy();
-      frame = null;
-      gl.deleteTexture(value.texture);
-      units.forEach((u) => manager.free(u));
+      if (enabled) setReplacements(withoutOurs());
+      release();
       program.destroy();
     },
   };

@@ -157,6 +157,7 @@ struct halo_raycast {
     GLuint volume_texture, transfer_texture;
     const float *volume;
     int dims[3];
+    int volume_version; /* halo_gl_segments_desc.volume_version: one more at every upload of a volume or a piece */
     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4];
     float inverse_view_projection[16];
     float eye[3];
@@ -265,6 +266,7 @@ halo_status halo_raycast_set_volume(halo_raycast *r, const float *data, int nx, 
     if (status != HALO_OK)
         return status;
     r->volume = data;
+    r->volume_version++;
     r->dims[0] = nx;
     r->dims[1] = ny;
     r->dims[2] = nz;
@@ -344,6 +346,7 @@ halo_status halo_raycast_set_piece(halo_raycast *r, const float *data, int nx, i
     if (!r->piece_texture)
         r->target.f->GenTextures(1, &r->piece_texture);
     halo_status status = halo_host_upload_volume(r->target.f, r->piece_texture, data, nx, ny, nz, diag);
+    r->volume_version++;
     if (status != HALO_OK)
         return status;
     r->piece_dims[0] = nx;
@@ -483,6 +486,7 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
                                       .segments = r->segments,
                                       .framebuffer = r->target.framebuffer,
                                       .volume_texture = r->exchange ? r->piece_texture : r->volume_texture,
+                                      .volume_version = r->volume_version,
                                       .volume_size = {r->exchange ? r->piece_dims[0] : r->dims[0],
                                                       r->exchange ? r->piece_dims[1] : r->dims[1],
                                                       r->exchange ? r->piece_dims[2] : r->dims[2]},

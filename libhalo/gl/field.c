@@ -31,6 +31,7 @@
 #include "gl/runtime.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <stdio.h>
 #include <string.h>
@@ -89,6 +90,10 @@ struct halo_gl_field {
     int seed_layers;
     float *exchange_buffer;
     size_t exchange_size;
+    /* field_key of the field the stacks hold (valid: they hold one), and how many fields
+     * this frame has computed */
+    uint64_t key;
+    int key_valid, computed;
 };
 
 static const char march_vertex_330[] =
@@ -1112,6 +1117,77 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     return HALO_OK;
 }
 
+static uint64_t key_add(uint64_t h, const void *data, size_t size)
+{
+    const unsigned char *b = data;
+    for (size_t i = 0; i < size; ++i)
+        h = (h ^ b[i]) * 1099511628211u; /* FNV-1a */
+    return h;
+}
+
+/* Does a stage of p feed the field: its samples run in the march (the seeds and what they
+ * need), or it has a generation pass (at=generate: it spreads the seeds)? */
+static int field_stage(const halo_program *p, const char *stage)
+{
+    for (size_t s = 0; s < p->stage_count; s++) {
+        const halo_module *m = p->stages[s].module;
+        if (strcmp(m->name, stage))
+            continue;
+        if (p->stages[s].prepass)
+            return 1;
+        for (size_t k = 0; k < m->pass_count; k++)
+            if (!m->passes[k].at)
+                return 1;
+    }
+    return 0;
+}
+
+/* What a frame's field depends on, hashed: the march's inputs in the desc (the camera, the
+ * step, the box, M, the volume and its version, the gradient, the cap), the frame's size,
+ * the feature group and the live parameters of the stages that feed it (field_stage). A
+ * frame drawn again with the same key reads the field it holds: a host redrawn for its own
+ * reasons (a per-sample stage's parameter, halo_map's opacity, a repaint) does not pay for
+ * the field again. The volume's contents are known by volume_version, as the derived
+ * gradient knows them. */
+static uint64_t field_key(const halo_gl_frame *fr, const halo_gl_segments_desc *d)
+{
+    const halo_program *p = halo_gl_frame_program(fr);
+    uint64_t h = 14695981039346656037u;
+    h = key_add(h, d->inverse_view_projection, 16 * sizeof *d->inverse_view_projection);
+    h = key_add(h, &d->step, sizeof d->step);
+    h = key_add(h, d->box_min, sizeof d->box_min);
+    h = key_add(h, d->box_max, sizeof d->box_max);
+    h = key_add(h, &d->interval, sizeof d->interval);
+    h = key_add(h, &d->segments, sizeof d->segments);
+    h = key_add(h, &d->volume_texture, sizeof d->volume_texture);
+    h = key_add(h, &d->gradient_texture, sizeof d->gradient_texture);
+    h = key_add(h, &d->gradient_precision, sizeof d->gradient_precision);
+    h = key_add(h, &d->volume_version, sizeof d->volume_version);
+    h = key_add(h, d->volume_size, sizeof d->volume_size);
+    h = key_add(h, &d->seed_epsilon, sizeof d->seed_epsilon);
+    h = key_add(h, d->piece_min, sizeof d->piece_min);
+    h = key_add(h, d->piece_max, sizeof d->piece_max);
+    h = key_add(h, &d->field_max_bytes, sizeof d->field_max_bytes);
+    int size[2];
+    halo_gl_frame_size(fr, &size[0], &size[1]);
+    h = key_add(h, size, sizeof size);
+    h = key_add(h, &p->group, sizeof p->group);
+    for (size_t i = 0; i < p->uniform_count; ++i) {
+        const halo_uniform_info *u = &p->uniforms[i];
+        if (!u->live || !field_stage(p, u->stage))
+            continue;
+        h = key_add(h, &u->count, sizeof u->count);
+        h = key_add(h, u->value, (size_t)u->count * (size_t)u->info->components * sizeof *u->value);
+    }
+    return h;
+}
+
+int halo_gl_field_computed(const halo_gl_frame *fr)
+{
+    const halo_gl_field *field = halo_gl_frame_field(fr);
+    return field ? field->computed : 0;
+}
+
 halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
                                halo_diagnostics *diag)
 {
@@ -1136,8 +1212,18 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
     int first_unit = d->first_unit > 0 ? d->first_unit : FIELD_DEFAULT_FIRST_UNIT;
     int march_unit = first_unit + (int)halo_program_reflection(p).sampler_count;
     field_saved saved;
+    halo_gl_field *field = halo_gl_frame_field(fr);
+    /* a distributed volume's exchange is a collective: every frame, on every piece */
+    uint64_t key = d->exchange ? 0 : field_key(fr, d);
+    halo_status status = HALO_OK;
     field_save(f, &saved, march_unit);
-    halo_status status = field_compute(fr, d, &plan, march_unit, diag);
+    if (d->exchange || !field->key_valid || field->key != key) {
+        field->key_valid = 0;
+        status = field_compute(fr, d, &plan, march_unit, diag);
+        field->key_valid = status == HALO_OK && !d->exchange;
+        field->key = key;
+        field->computed += status == HALO_OK;
+    }
     field_restore(f, &saved, march_unit); /* the host draws with its own state */
     if (status == HALO_OK) {
         f->UseProgram(gl_program);

@@ -46,8 +46,11 @@ int halo_segments_arguments_valid(const void *object, const char *object_name, c
                                   const char *function, halo_diagnostics *diag);
 /* camera.c: the camera uniforms of halo_view_at and halo_depth_at, from a plan. */
 void halo_segment_camera_set(const halo_glfuncs *f, unsigned program, const halo_segment_plan *plan);
-/* One frame: the field before the host draws, then the host drawn once (halo_gl_frame_draw). */
+/* One frame: the field before the host draws, then the host drawn once (halo_gl_frame_draw);
+ * the field is computed again only when what it depends on changed (field.c: field_key). */
 halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
                                halo_diagnostics *diag);
+/* The fields a one-draw frame has computed (its draws that reused the field are not counted). */
+int halo_gl_field_computed(const halo_gl_frame *fr);
 
 #endif

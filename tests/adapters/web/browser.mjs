@@ -177,8 +177,9 @@ async function engine(page, dir, which) {
   console.log(`${name}: against ${viewer.name} alone mean abs ${stages.mean.toExponential(3)}; the halos (against its stages ` +
     `without halo_*) ${halos.mean.toExponential(3)}; the field at M = 1 against the scene's M ${field.mean.toExponential(3)}; ` +
     `removed against ${viewer.name} alone max abs ${back.max}; draw and read back ${staged.drawMs.toFixed(1)} ms with the stages ` +
-    `and halos, ${noHalos.drawMs.toFixed(1)} ms with the stages alone, ${alone.drawMs.toFixed(1)} ms ${viewer.name} alone ` +
-    `(${alone.width}x${alone.height})`);
+    `and halos (${staged.stillMs.toFixed(1)} ms drawn again unchanged: the field reused), ${noHalos.drawMs.toFixed(1)} ms ` +
+    `with the stages alone, ${alone.drawMs.toFixed(1)} ms ${viewer.name} alone (${alone.width}x${alone.height}; the camera ` +
+    'turning between frames)');
   if (!(stages.mean > EFFECT)) fail(`${name}: the stages change ${viewer.name}'s image by only ${stages.mean}`);
   if (!(halos.mean > EFFECT / 4)) fail(`${name}: the halos change the image by only ${halos.mean}`);
   if (!(field.mean > 1e-4)) fail(`${name}: the field of other segments gives the same image (${field.mean})`);
@@ -208,13 +209,27 @@ async function engine(page, dir, which) {
     if (!(plain.mean > MATCH_LIMIT)) fail(`${name}: vtk.js alone passes against the stages' image too (${plain.mean})`);
     if (!(other.mean > MATCH_LIMIT)) fail(`${name}: the field at M = 1 passes against the scene's M too (${other.mean})`);
   }
+  for (const [what, image] of Object.entries({ alone, staged, noHalos, m1, removed })) {
+    if (image.warnings && image.warnings.length) fail(`${name}, ${what}: ${image.warnings.join(' / ')}`);
+    if (image.hooked) fail(`${name}, ${what}: the context's drawArrays is left libhalo's after the render`);
+  }
+  if (which === 'vtkjs') { // a live parameter set while vtk.js drew with another of its programs
+    const r = await page.evaluate(() => window.liveSwitch());
+    console.log(`${viewer.name}: halo_map.opacity set while vtk.js drew with shading on, then off: against the stages ` +
+      `installed with it ${r.againstFresh} max abs in 1/255 (the opacity changes the image by ${r.changed})`);
+    if (r.againstFresh !== 0) fail(`${viewer.name}: a live parameter set under another program is lost (${r.againstFresh})`);
+    if (!(r.changed > 0)) fail(`${viewer.name}: halo_map.opacity changes nothing`);
+  }
   if (which === 'vtkjs') { // what it cannot serve: refused with a message, never drawn meaningless
     const r = await page.evaluate(() => window.refusals());
-    console.log(`${viewer.name}: outlines: ${r.outlines}; maximum intensity: ${r.warnings.join(' / ')} (the image ` +
-      `${r.maxDifference} from vtk.js's own, max abs in 1/255)`);
+    console.log(`${viewer.name}: outlines: ${r.outlines}; maximum intensity at install: ${r.maximumAtInstall}; ` +
+      `maximum intensity after install: ${r.warnings.join(' / ')} (the image ${r.maxDifference} from vtk.js's own, max ` +
+      'abs in 1/255)');
     if (!/outline/.test(r.outlines) || !/does not serve/.test(r.outlines)) fail(`${viewer.name}: a scene with outlines: ${r.outlines}`);
+    if (!/blend mode is not composite/.test(r.maximumAtInstall)) fail(`${viewer.name}: maximum intensity at install: ${r.maximumAtInstall}`);
     if (!r.warnings.some((w) => /blend mode is not composite/.test(w))) fail(`${viewer.name}: no warning for maximum intensity`);
     if (r.maxDifference !== 0) fail(`${viewer.name}: maximum intensity with the stages off is not vtk.js's own image`);
+    if (r.hooked) fail(`${viewer.name}: the context's drawArrays is still libhalo's after remove()`);
   }
   drawn++;
 }
@@ -265,7 +280,8 @@ try {
     console.log(`${name}: ${staged.renderer}; against halo-render: mean abs ${against.mean.toExponential(3)}, ` +
       `max abs ${against.max.toExponential(3)} (limit ${limit.toExponential(3)} mean); the viewer without libhalo against it: mean abs ` +
       `${effect.mean.toExponential(3)}; link ${staged.linkMs.toFixed(1)} ms, draw and read back ${staged.drawMs.toFixed(1)} ms ` +
-      `(${plain.drawMs.toFixed(1)} ms without the stages)`);
+      `(${plain.drawMs.toFixed(1)} ms without the stages${c.oneDraw && viewer === 'raycast' ? `; ${staged.stillMs.toFixed(1)} ms drawn ` +
+        'again unchanged, the field reused' : ''})`);
     if (!(against.mean <= limit)) fail(`${name}: the page's image is ${against.mean} from halo-render's (mean abs)`);
     if (!(effect.mean > EFFECT)) fail(`${name}: the stages change the image by only ${effect.mean}: not visible`);
     // the control: the same comparison against a wrong reference (the image shifted by a row) fails

@@ -22,12 +22,17 @@
  *   6. Host contract 3 across the pieces of a distributed volume: two pieces' marches, the
  *      seeds of every segment combined once a frame by the exchange, against one
  *      renderer of the whole volume (control: a piece without the other's seeds).
+ *   7. Host contract 3's field kept across draws: drawn again, the frame reuses its field
+ *      unless the camera, the volume or a parameter of a stage that seeds or spreads it
+ *      changed, and each image is the one a new frame computes from scratch (max abs 0);
+ *      a parameter of halo_map (read in the host's draw) changes the image, not the field.
  *   1 again with an orthographic camera (segments of the clip z planes).
  * The segmented ray caster against its emulation is the conformance family "segments"
  * (validate/conform_segment.c, halo-validate conform --stage segments).
  * Exit 77 without OpenGL. */
 #include "../../gl_fixture.h"
 #include "../../hostile.h"
+#include "gl/frame.h" /* halo_gl_field_computed */
 #include "hosts/raycast.h"
 #include "hosts/slab.h"
 
@@ -699,6 +704,113 @@ static void test_diagnostics(env *e)
     halo_scene_destroy(scene);
 }
 
+/* 7: a one-draw frame drawn again reuses its field while what the field depends on is the
+ * same (gl/field.c: field_key), and every image equals a new frame's. */
+static const char live_scene[] =
+    "{\"halo_scene\": 1, \"stages\": ["
+    " {\"halo_seed\": {\"alpha\": 2, \"gradient_scale\": 6, \"value_0\": [[0.55, 0], [0.62, 1], [0.8, 1], [0.9, 0]],"
+    " \"live\": [\"gradient_scale\"]}},"
+    " {\"halo_generate\": {\"passes\": 5, \"delta\": 0.9, \"interval\": 4, \"live\": [\"delta\"]}},"
+    " {\"halo_map\": {\"mode\": 0, \"color_near\": [[0, 0, 0]], \"color_far\": [[0, 0, 0]], \"opacity\": 1,"
+    " \"full_at\": 0.25, \"live\": [\"opacity\"]}}], " HALO_RENDER "}";
+
+typedef struct reuse_step {
+    const char *what;
+    const char *stage, *param; /* a parameter set to value before the draw, or NULL */
+    double value;
+    double azimuth; /* the camera's azimuth (the scene's elevation and zoom) */
+    int upload;     /* the volume uploaded again (a new volume_version) */
+    int computes;   /* 1: this draw must compute the field; 0: reuse it */
+} reuse_step;
+
+/* One raycaster over program p with the settings; the steps' parameters set so far. */
+static halo_raycast *reuse_host(env *e, halo_program *p, const halo_render_settings *settings)
+{
+    const halo_host_desc desc = {.gl = e->g.gl, .runtime = e->g.runtime, .program = p, .width = SIZE, .height = SIZE};
+    halo_raycast *r = halo_raycast_create(&desc, e->g.diag);
+    if (r && (halo_raycast_set_volume(r, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag) != HALO_OK ||
+              halo_raycast_set_render(r, settings, e->g.diag) != HALO_OK)) {
+        halo_raycast_destroy(r);
+        r = NULL;
+    }
+    return r;
+}
+
+static void test_field_reuse(env *e)
+{
+    static const reuse_step steps[] = {
+        {"the first draw", NULL, NULL, 0, 35, 0, 1},
+        {"drawn again", NULL, NULL, 0, 35, 0, 0},
+        {"halo_map.opacity 0.4 (the host's draw reads it)", "halo_map", "opacity", 0.4, 35, 0, 0},
+        {"halo_seed.gradient_scale 3 (the march)", "halo_seed", "gradient_scale", 3, 35, 0, 1},
+        {"halo_generate.delta 0.8 (the passes)", "halo_generate", "delta", 0.8, 35, 0, 1},
+        {"drawn again", NULL, NULL, 0, 35, 0, 0},
+        {"another camera", NULL, NULL, 0, 50, 0, 1},
+        {"the volume uploaded again", NULL, NULL, 0, 50, 1, 1},
+    };
+    one_draw = 1;
+    halo_scene *scene = NULL, *fresh_scene = NULL;
+    halo_program *p = link_scene(e, live_scene, e->raycast, "raycast.frag", 0, &scene);
+    halo_program *q = link_scene(e, live_scene, e->raycast, "raycast.frag", 0, &fresh_scene);
+    one_draw = 0;
+    const halo_render_settings *settings = p ? halo_scene_render(scene) : NULL;
+    halo_raycast *r = settings && q ? reuse_host(e, p, settings) : NULL;
+    float *kept = malloc((size_t)SIZE * SIZE * 4 * sizeof *kept),
+          *fresh = malloc((size_t)SIZE * SIZE * 4 * sizeof *fresh);
+    CHECK(r && kept && fresh, "field reuse: the renderer");
+    int expected = 0;
+    float *previous = NULL;
+    for (size_t k = 0; r && kept && fresh && k < sizeof steps / sizeof *steps; ++k) {
+        const reuse_step *st = &steps[k];
+        if (st->stage) {
+            CHECK(halo_program_set(p, st->stage, st->param, &st->value, 1, e->g.diag) == HALO_OK &&
+                      halo_program_set(q, st->stage, st->param, &st->value, 1, e->g.diag) == HALO_OK,
+                  "field reuse: set %s.%s", st->stage, st->param);
+        }
+        if (st->upload)
+            halo_raycast_set_volume(r, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag);
+        halo_raycast_set_camera(r, st->azimuth, settings->elevation, settings->zoom);
+        int ok = halo_raycast_render(r, kept, e->g.diag) == HALO_OK;
+        expected += st->computes;
+        int computed = halo_gl_field_computed(halo_raycast_frame(r));
+        /* the same image from a new frame, which computes its field */
+        halo_raycast *other = reuse_host(e, q, settings);
+        if (other)
+            halo_raycast_set_camera(other, st->azimuth, settings->elevation, settings->zoom);
+        ok = ok && other && halo_raycast_render(other, fresh, e->g.diag) == HALO_OK;
+        halo_raycast_destroy(other);
+        if (!ok) {
+            halo_diagnostics_print(e->g.diag, stdout);
+            CHECK(0, "field reuse, %s: the renders", st->what);
+            break;
+        }
+        double max_abs, rmse, changed = 1.0;
+        difference(kept, fresh, &max_abs, &rmse);
+        if (previous)
+            difference(kept, previous, &changed, &rmse);
+        printf(
+            "field reuse, %s: fields computed %d (expected %d); against a new frame max abs %.3g; against the "
+            "previous image max abs %.3g\n",
+            st->what, computed, expected, max_abs, changed);
+        CHECK(computed == expected, "field reuse, %s: %d fields computed, not %d", st->what, computed, expected);
+        CHECK(max_abs == 0.0, "field reuse, %s: %.3g from a new frame's image", st->what, max_abs);
+        CHECK(!st->stage || changed > 1e-3, "field reuse, %s: the image did not change (%.3g)", st->what, changed);
+        if (!previous)
+            previous = malloc((size_t)SIZE * SIZE * 4 * sizeof *previous);
+        if (previous)
+            memcpy(previous, kept, (size_t)SIZE * SIZE * 4 * sizeof *previous);
+    }
+    halo_diagnostics_clear(e->g.diag);
+    free(previous);
+    free(kept);
+    free(fresh);
+    halo_raycast_destroy(r);
+    halo_program_destroy(p);
+    halo_program_destroy(q);
+    halo_scene_destroy(scene);
+    halo_scene_destroy(fresh_scene);
+}
+
 int main(void)
 {
     env e = {0};
@@ -723,6 +835,7 @@ int main(void)
     test_one_draw_matches(&e, halos_scene, "1/2 scale");
     image_scale = 0;
     test_field_memory(&e);
+    test_field_reuse(&e);
     orthographic = 1;
     test_segments_change_nothing(&e);
     test_one_draw_matches(&e, halos_scene, "orthographic");
