@@ -10,7 +10,7 @@
 // caster alone (max abs 0). A scene given as one-draw:SCENE is host contract 3: linked
 // with oneDraw, its halo field computed by libhalo's C runtime in WebAssembly on the page's
 // WebGL 2 context (three's in three.js: installHalo's stages.render), the ray caster drawn
-// once; its reference is halo-render --one-draw's.
+// once; its reference is halo-render --one-draw's. A SCENE from / is the case folder's (/in/).
 //   node browser.mjs CASE_DIR SCENE [CASE_DIR SCENE]...   (environment: srcdir,
 //   HALO_WEB_PACKAGE, HALO_CHROMIUM, HALO_WEB_LIMIT)
 import http from 'node:http';
@@ -256,7 +256,8 @@ try {
     const staged = await page.evaluate((scene, oneDraw, repeat) => window.render({ scene, oneDraw, repeat }), c.scene,
       c.oneDraw, repeat);
     const plain = await page.evaluate((repeat) => window.render({ scene: null, repeat }), repeat);
-    const name = `${c.scene}${c.oneDraw ? ' drawn once (host contract 3)' : ''} in ` +
+    const label = c.scene.startsWith('/in/') ? `${path.basename(c.dir)}/${c.scene.slice(4)}` : c.scene; // a case's own scene
+    const name = `${label}${c.oneDraw ? ' drawn once (host contract 3)' : ''} in ` +
       `${viewer === 'three' ? "the three.js caster" : 'raycast.frag'}`;
     if (c.oneDraw && viewer === 'raycast' && staged.draws !== 1) fail(`${name}: the host was drawn ${staged.draws} times, not once`);
     const reference = new Float32Array(fs.readFileSync(path.join(c.dir, 'image.f32')).buffer.slice(0));
@@ -274,7 +275,7 @@ try {
     else {
       const own = difference(plain.pixels, casterAlone);
       limit = 2 * own.mean + LIMIT;
-      console.log(`${c.scene}: the three.js caster alone against raycast.frag alone: mean abs ${own.mean.toExponential(3)}, ` +
+      console.log(`${label}: the three.js caster alone against raycast.frag alone: mean abs ${own.mean.toExponential(3)}, ` +
         `max abs ${own.max.toExponential(3)}`);
     }
     console.log(`${name}: ${staged.renderer}; against halo-render: mean abs ${against.mean.toExponential(3)}, ` +

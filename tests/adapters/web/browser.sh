@@ -69,6 +69,9 @@ elif test -n "$HALO_WEB_ENGINES"; then
         --size 128x128 --volume-size 96 --quiet --export-host "$tmp/mri-stages" -o "$tmp/mri-stages/reference.png"
     HALO_WEB_MRI=$tmp/mri
     HALO_WEB_MRI_STAGES=$tmp/mri-stages
+    # the same two in raycast.frag and the three.js caster (a scene path from / is the page's
+    # /in/, the case's folder)
+    set -- "$@" "$tmp/mri-stages" /in/scene.json "$tmp/mri" one-draw:mri-head.json
     export HALO_WEB_MRI HALO_WEB_MRI_STAGES HALO_WEB_ENGINES
 fi
 echo "+ node browser.mjs $*"
