@@ -4,7 +4,8 @@
 // composite ray loop calls for every sample), the finish piece at the end of main. For
 // volumetric halos (host contract 3) libhalo's GL runtime (WebAssembly) computes the
 // frame's halo field on vtk.js's context, over a float copy of the mapper's volume, after
-// vtk.js has set its uniforms and before its one draw.
+// vtk.js has set its uniforms and before its one draw (taken at the context's drawArrays:
+// vtk.js's objects are frozen).
 //
 //   import libhalo from '@libhalo/web';
 //   import { installHalo } from '@libhalo/web/vtkjs';
@@ -21,9 +22,10 @@
 // component, options.window or its range to 0..1, read from the adapter's float copy), its
 // gradient (central differences of that value) and vtk.js's colour (its transfer functions,
 // gradient opacity and lighting), its opacity per unit distance (vtk.js's correction for
-// its sample distance undone before the stages, done again after). Other blend modes and clipping planes are refused with a
-// message; outlines and feature halos (extra outputs, passes after the draw) are refused,
-// naming the stages.
+// its sample distance undone before the stages, done again after). Other blend modes,
+// clipping planes, several components and label outlines are refused with a message (at
+// install and at every draw); outlines and feature halos (extra outputs, passes after the
+// draw) are refused, naming the stages.
 
 export const SUPPORTED_VERSIONS = Object.freeze(['37.3.1']);
 
@@ -31,6 +33,8 @@ const VALUE_SAMPLER = 'halo_vtkjs_value';
 const EXPONENT = 'halo_vtkjs_opacity_exponent'; // vtk.js's sample distance / its opacity unit distance (> 0)
 const COMPOSITE_BLEND = 0; // vtk.js's BlendMode.COMPOSITE_BLEND
 const installed = new WeakSet(); // the mappers with libhalo's stages
+const INSTALL_MARK = '// libhalo: the stages of install '; // and its number, in the shaders vtk.js builds with them
+let installs = 0;
 
 // vtk.js's texts the replacements are made at (its vtkVolumeFS.glsl)
 const SAMPLE_ANCHOR = 'vec4 getColorAtPos(vec3 posVC) {\n' +
@@ -39,7 +43,7 @@ const SAMPLE_ANCHOR = 'vec4 getColorAtPos(vec3 posVC) {\n' +
   '  return getColorForValue(texValue, posVC, posIS);\n' +
   '}';
 const FINISH_ANCHOR = 'applyBlend(rayOriginVC, rayDirVC, rayStartEndDistancesVC[0], rayStartEndDistancesVC[1]);';
-const FINISH_MARK = '// libhalo: the finish piece';
+const FINISH_MARK = '// libhalo: the finish piece of install '; // and its number
 
 // vtk.js's names for the sample piece; view and depth come from the camera libhalo sets.
 export const VTKJS_NAMES = Object.freeze({
@@ -53,8 +57,9 @@ export const VTKJS_NAMES = Object.freeze({
 // vtk.js's substitute() treats a replacement's text as String.replace's: '$' is special
 const literal = (text) => text.replace(/\$/g, '$$$$');
 
-function replacements(pieces) {
-  const sample = `uniform highp sampler3D ${VALUE_SAMPLER};\nuniform float ${EXPONENT};\n${pieces.declarations || ''}\n` +
+function replacements(pieces, id) {
+  const sample = `${INSTALL_MARK}${id}\nuniform highp sampler3D ${VALUE_SAMPLER};\nuniform float ${EXPONENT};\n` +
+    `${pieces.declarations || ''}\n` +
     'vec4 getColorAtPos(vec3 posVC) {\n' +
     '  vec3 posIS = posVCtoIS(posVC);\n' +
     '  vec4 texValue = getTextureValue(posIS);\n' +
@@ -69,7 +74,7 @@ function replacements(pieces) {
     '  }\n' +
     '  return haloColor;\n' +
     '}';
-  return [SAMPLE_ANCHOR, sample, FINISH_ANCHOR, `${FINISH_ANCHOR}\n${FINISH_MARK}\n${pieces.finish || ''}`].reduce((list, text, i, all) => {
+  return [SAMPLE_ANCHOR, sample, FINISH_ANCHOR, `${FINISH_ANCHOR}\n${FINISH_MARK}${id}\n${pieces.finish || ''}`].reduce((list, text, i, all) => {
     if (i % 2 === 0)
       list.push({ shaderType: 'Fragment', originalValue: text, replacementValue: literal(all[i + 1]), replaceFirst: false,
         replaceAll: false, libhalo: true });
@@ -148,6 +153,54 @@ function reserveUnits(manager, count) {
   return [];
 }
 
+// The context's drawArrays, taken once for every install on it: { installs: id -> {
+// programs, prepareDraw }, owners: program -> id or 0 (not a program of libhalo's stages) }.
+// vtk.js hands out its context behind a Proxy (which caches getParameter and binds each
+// method it returns): the wrapper goes on the context itself.
+const hooks = new WeakMap();
+const underlying = (gl) => (typeof gl.__getUnderlyingContext === 'function' ? gl.__getUnderlyingContext() : gl);
+function hookContext(proxy) {
+  const gl = underlying(proxy);
+  let hook = hooks.get(gl);
+  if (hook) return hook;
+  const own = Object.prototype.hasOwnProperty.call(gl, 'drawArrays') ? gl.drawArrays : null;
+  const previous = own || Object.getPrototypeOf(gl).drawArrays;
+  hook = { installs: new Map(), owners: new WeakMap(), own };
+  hook.wrapper = function drawArrays(mode, first, count) {
+    const handle = hook.installs.size ? gl.getParameter(gl.CURRENT_PROGRAM) : null;
+    if (handle) {
+      let owner = hook.owners.get(handle);
+      if (owner === undefined) { // a program not seen yet: whose stages does vtk.js's shader hold?
+        const fragment = (gl.getAttachedShaders(handle) || []).find((x) => gl.getShaderParameter(x, gl.SHADER_TYPE) === gl.FRAGMENT_SHADER);
+        const text = fragment ? gl.getShaderSource(fragment) : '';
+        const match = new RegExp(`${INSTALL_MARK}(\\d+)\n`).exec(text);
+        // marked, but without the finish piece (another replacement took its anchor): -id
+        owner = match ? Number(match[1]) * (text.includes(`${FINISH_MARK}${match[1]}\n`) ? 1 : -1) : 0;
+        hook.owners.set(handle, owner);
+      }
+      const install = owner && hook.installs.get(Math.abs(owner));
+      if (install) {
+        install.programs.add(handle);
+        install.prepareDraw(handle, owner > 0);
+      }
+    }
+    return previous.call(this, mode, first, count);
+  };
+  gl.drawArrays = hook.wrapper;
+  hooks.set(gl, hook);
+  return hook;
+}
+// The last install on gl removed: its own drawArrays again (unless another wrapped it since,
+// whose wrapper then calls libhalo's, which passes every draw through).
+function unhookContext(proxy) {
+  const gl = underlying(proxy);
+  const hook = hooks.get(gl);
+  if (!hook || gl.drawArrays !== hook.wrapper) return;
+  if (hook.own) gl.drawArrays = hook.own;
+  else delete gl.drawArrays;
+  hooks.delete(gl);
+}
+
 // Puts the scene's stages into mapper's volume shader. options: view (the
 // vtkOpenGLRenderWindow that draws the mapper; required), scene (JSON text or object),
 // sceneFile, window ([low, high] of the volume's values that become 0..1; default their
@@ -210,9 +263,7 @@ export function installHalo(halo, mapper, options = {}) {
     mapper.modified();
   };
   const withoutOurs = () => ((spec.OpenGL && spec.OpenGL.ShaderReplacements) || []).filter((r) => !r.libhalo);
-  setReplacements([...withoutOurs(), ...replacements(program.pieces)]);
-  const staged = new WeakSet(); // vtk.js programs checked to hold the stages
-  let enabled = true, armed = false, lastHandle = null;
+  let enabled = true, lastHandle = null;
   // vtk.js builds its opacity table with its sample distance over the unit distance when the
   // opacity function changes, and only then (its cache is keyed on the function's MTime): the
   // exponent it applied is the one of that time
@@ -221,13 +272,6 @@ export function installHalo(halo, mapper, options = {}) {
   // vtk.js's program is built and in use, its uniforms set, its VAO and textures bound: the
   // stages' uniforms and, for halos, the frame's field, before vtk.js's one draw
   function prepare(handle) {
-    if (!staged.has(handle)) {
-      const fragment = handle && (gl.getAttachedShaders(handle) || []).find((s) => gl.getShaderParameter(s, gl.SHADER_TYPE) === gl.FRAGMENT_SHADER);
-      const text = fragment ? gl.getShaderSource(fragment) : '';
-      if (!text.includes(VALUE_SAMPLER) || !text.includes(FINISH_MARK))
-        throw new Error('vtk.js drew its volume without the stages in its shader (its ShaderReplacements were not applied)');
-      staged.add(handle);
-    }
     // another of vtk.js's programs (it keeps one per shading, lights, sample count...): every
     // live parameter's current value, not only those set since the last upload
     program.upload(gl, handle, { all: handle !== lastHandle });
@@ -262,8 +306,6 @@ export function installHalo(halo, mapper, options = {}) {
   }
 
   function release() { // libhalo's GL objects and units (the stages' uniforms in vtk.js's programs stay)
-    if (armed) delete gl.drawArrays;
-    armed = false;
     if (frame) frame.destroy();
     frame = null;
     if (value) gl.deleteTexture(value.texture);
@@ -272,50 +314,39 @@ export function installHalo(halo, mapper, options = {}) {
     units.length = 0;
   }
 
-  function disable(why) { // vtk.js keeps drawing: without the stages from the next render on, and a warning
+  // vtk.js's objects are frozen: no method of its mapper can be wrapped. libhalo takes the
+  // context's drawArrays instead (one wrapper a context, for every install on it): a draw
+  // whose program vtk.js built with this install's stages (its shader holds the install's
+  // mark) is prepared first; every other draw goes through untouched.
+  function prepareDraw(handle, complete) {
+    if (!enabled) return;
+    try {
+      const why = (complete ? null : 'vtk.js built its shader without the finish piece (another shader replacement ' +
+        `took its place: '${FINISH_ANCHOR}')`) || refusal(mapper, actor) ||
+        (volumesOf(view, mapper).length > 1 ? 'the mapper is drawn by several vtkVolumes: the stages are prepared for one' : null);
+      if (why) throw new Error(why);
+      prepare(handle);
+    } catch (e) { // this frame with vtk.js's own samples (the stages skipped), the next without them
+      disable(e.message);
+    }
+  }
+  function disable(why) { // vtk.js keeps drawing: without the stages, and a warning
     warnOnce(`the stages are off: ${why}`);
     enabled = false;
+    const current = gl.getParameter(gl.CURRENT_PROGRAM);
+    for (const handle of programs) { // the stages skipped in every program built with them
+      gl.useProgram(handle);
+      gl.uniform1f(gl.getUniformLocation(handle, EXPONENT), 0);
+    }
+    gl.useProgram(current);
     setReplacements(withoutOurs());
     release();
   }
-
-  // vtk.js's objects are frozen, and its mapper draws the volume with the first drawArrays
-  // after its EndEvent (renderPiece: the event, then renderPieceStart and renderPieceDraw:
-  // its shader built, bound and its uniforms set, then drawArrays). That one draw is
-  // where libhalo computes the field, through a drawArrays of the context's own for it alone.
-  const isVolumeProgram = (handle) => handle && gl.getUniformLocation(handle, 'volume.vecVCToISMatrix') !== null;
-  const drawArrays = function (mode, first, count) {
-    delete gl.drawArrays; // the context's own again
-    armed = false;
-    const handle = gl.getParameter(gl.CURRENT_PROGRAM);
-    if (enabled && isVolumeProgram(handle)) {
-      try {
-        prepare(handle);
-      } catch (e) {
-        disable(e.message);
-        return undefined; // this frame without the volume, rather than with stages whose inputs are unset
-      }
-    }
-    return gl.drawArrays(mode, first, count);
-  };
-  const subscription = glMapper.onEvent((event) => {
-    if (event.type === 'StartEvent' && armed) { // the last EndEvent had no volume draw after it
-      delete gl.drawArrays;
-      armed = false;
-      if (mapper.getInputData())
-        disable('vtk.js did not draw its volume (its shader with the stages did not build? program.mapLog maps a ' +
-          'compile log to the modules)');
-    }
-    if (event.type !== 'EndEvent' || !enabled || !mapper.getInputData()) return;
-    const why = refusal(mapper, actor) ||
-      (volumesOf(view, mapper).length > 1 ? 'the mapper is drawn by several vtkVolumes: the stages are prepared for one' : null) ||
-      (Object.prototype.hasOwnProperty.call(gl, 'drawArrays') ? 'the WebGL context\'s drawArrays is wrapped by another' : null);
-    if (why) disable(why);
-    else {
-      gl.drawArrays = drawArrays;
-      armed = true;
-    }
-  });
+  const programs = new Set(); // vtk.js's programs built with this install's stages
+  const hook = hookContext(gl);
+  const id = ++installs;
+  hook.installs.set(id, { programs, prepareDraw });
+  setReplacements([...withoutOurs(), ...replacements(program.pieces, id)]);
   installed.add(mapper);
 
   return {
@@ -328,7 +359,8 @@ export function installHalo(halo, mapper, options = {}) {
     remove() {
       if (!installed.has(mapper)) return;
       installed.delete(mapper);
-      subscription.unsubscribe();
+      hook.installs.delete(id);
+      if (!hook.installs.size) unhookContext(gl);
       if (enabled) setReplacements(withoutOurs());
       release();
       program.destroy();

@@ -219,6 +219,8 @@ async function engine(page, dir, which) {
       `installed with it ${r.againstFresh} max abs in 1/255 (the opacity changes the image by ${r.changed})`);
     if (r.againstFresh !== 0) fail(`${viewer.name}: a live parameter set under another program is lost (${r.againstFresh})`);
     if (!(r.changed > 0)) fail(`${viewer.name}: halo_map.opacity changes nothing`);
+    console.log(`${viewer.name}: the volume removed and added again: ${r.readded} max abs in 1/255 from before`);
+    if (r.readded !== 0) fail(`${viewer.name}: the volume added again is drawn otherwise (${r.readded})`);
   }
   if (which === 'vtkjs') { // what it cannot serve: refused with a message, never drawn meaningless
     const r = await page.evaluate(() => window.refusals());
