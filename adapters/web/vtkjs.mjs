@@ -33,7 +33,9 @@ const VALUE_SAMPLER = 'halo_vtkjs_value';
 const EXPONENT = 'halo_vtkjs_opacity_exponent'; // vtk.js's sample distance / its opacity unit distance (> 0)
 const COMPOSITE_BLEND = 0; // vtk.js's BlendMode.COMPOSITE_BLEND
 const installed = new WeakSet(); // the mappers with libhalo's stages
-const INSTALL_MARK = '// libhalo: the stages of install '; // and its number, in the shaders vtk.js builds with them
+const INSTALL_MARK = '// libhalo: the stages of install '; // and its id, in the shaders vtk.js builds with them
+// an install's id: this module's (two copies of the adapter in a page do not mix) and a count
+const MODULE_ID = Math.random().toString(36).slice(2, 10);
 let installs = 0;
 
 // vtk.js's texts the replacements are made at (its vtkVolumeFS.glsl)
@@ -57,7 +59,7 @@ export const VTKJS_NAMES = Object.freeze({
 // vtk.js's substitute() treats a replacement's text as String.replace's: '$' is special
 const literal = (text) => text.replace(/\$/g, '$$$$');
 
-function replacements(pieces, id) {
+function replacements(pieces, id) { // id: the install's
   const sample = `${INSTALL_MARK}${id}\nuniform highp sampler3D ${VALUE_SAMPLER};\nuniform float ${EXPONENT};\n` +
     `${pieces.declarations || ''}\n` +
     'vec4 getColorAtPos(vec3 posVC) {\n' +
@@ -162,9 +164,11 @@ const underlying = (gl) => (typeof gl.__getUnderlyingContext === 'function' ? gl
 function hookContext(proxy) {
   const gl = underlying(proxy);
   let hook = hooks.get(gl);
+  // one whose wrapper is no longer the context's, with no install left: made again over
+  // whatever drawArrays the context has now
+  if (hook && gl.drawArrays !== hook.wrapper && !hook.installs.size) hook = null;
   if (hook) return hook;
   const own = Object.prototype.hasOwnProperty.call(gl, 'drawArrays') ? gl.drawArrays : null;
-  const previous = own || Object.getPrototypeOf(gl).drawArrays;
   hook = { installs: new Map(), owners: new WeakMap(), own };
   hook.wrapper = function drawArrays(mode, first, count) {
     const handle = hook.installs.size ? gl.getParameter(gl.CURRENT_PROGRAM) : null;
@@ -173,18 +177,19 @@ function hookContext(proxy) {
       if (owner === undefined) { // a program not seen yet: whose stages does vtk.js's shader hold?
         const fragment = (gl.getAttachedShaders(handle) || []).find((x) => gl.getShaderParameter(x, gl.SHADER_TYPE) === gl.FRAGMENT_SHADER);
         const text = fragment ? gl.getShaderSource(fragment) : '';
-        const match = new RegExp(`${INSTALL_MARK}(\\d+)\n`).exec(text);
-        // marked, but without the finish piece (another replacement took its anchor): -id
-        owner = match ? Number(match[1]) * (text.includes(`${FINISH_MARK}${match[1]}\n`) ? 1 : -1) : 0;
+        const match = new RegExp(`${INSTALL_MARK}(\\w+-\\d+)\n`).exec(text);
+        // marked, but without the finish piece (another replacement took its anchor)
+        owner = match ? { id: match[1], complete: text.includes(`${FINISH_MARK}${match[1]}\n`) } : null;
         hook.owners.set(handle, owner);
       }
-      const install = owner && hook.installs.get(Math.abs(owner));
+      const install = owner && hook.installs.get(owner.id);
       if (install) {
         install.programs.add(handle);
-        install.prepareDraw(handle, owner > 0);
+        install.prepareDraw(handle, owner.complete);
       }
     }
-    return previous.call(this, mode, first, count);
+    // the drawArrays the context had (another's wrapper, or its own, looked up now)
+    return (hook.own || Object.getPrototypeOf(gl).drawArrays).call(gl, mode, first, count);
   };
   gl.drawArrays = hook.wrapper;
   hooks.set(gl, hook);
@@ -220,14 +225,19 @@ export function installHalo(halo, mapper, options = {}) {
     if (!shaders.Fragment || !shaders.Fragment.includes(anchor))
       throw new Error(`installHalo: vtk.js's volume shader has no '${anchor.split('\n')[0]}' (the ${what} anchor): a vtk.js ` +
         `version this adapter does not know (tested: ${SUPPORTED_VERSIONS.join(', ')})`);
-  // the vtkVolume drawing the mapper (its property): vtk.js's OpenGL volume node above the mapper's
-  const volumeNode = glMapper.getFirstAncestorOfType && glMapper.getFirstAncestorOfType('vtkOpenGLVolume');
-  const actor = volumeNode && volumeNode.getRenderable();
-  if (!actor || typeof actor.getProperty !== 'function')
-    throw new Error('installHalo: vtk.js draws the mapper without a vtkVolume above it');
-  const refused = refusal(mapper, actor) || (volumesOf(view, mapper).length > 1 ?
-    'the mapper is drawn by several vtkVolumes: the stages are prepared for one' : null);
+  // the vtkVolume drawing the mapper (its property), found again at every draw
+  let actor = null;
+  const refused = drawnBy();
   if (refused) throw new Error(`installHalo: ${refused}`);
+  // null and actor set, or why the mapper cannot be served as it is drawn now
+  function drawnBy() {
+    const volumes = volumesOf(view, mapper);
+    if (volumes.length !== 1)
+      return volumes.length ? 'the mapper is drawn by several vtkVolumes: the stages are prepared for one'
+        : 'the mapper is in no vtkVolume of the view\'s renderers';
+    actor = volumes[0];
+    return refusal(mapper, actor);
+  }
   const gl = view.getContext();
   const { program, field } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
     allLive: options.allLive, pieces: VTKJS_NAMES }, 'vtk.js');
@@ -322,10 +332,10 @@ export function installHalo(halo, mapper, options = {}) {
     if (!enabled) return;
     try {
       const why = (complete ? null : 'vtk.js built its shader without the finish piece (another shader replacement ' +
-        `took its place: '${FINISH_ANCHOR}')`) || refusal(mapper, actor) ||
-        (volumesOf(view, mapper).length > 1 ? 'the mapper is drawn by several vtkVolumes: the stages are prepared for one' : null);
+        `took its place: '${FINISH_ANCHOR}')`) || drawnBy();
       if (why) throw new Error(why);
       prepare(handle);
+      prepared = true;
     } catch (e) { // this frame with vtk.js's own samples (the stages skipped), the next without them
       disable(e.message);
     }
@@ -334,19 +344,46 @@ export function installHalo(halo, mapper, options = {}) {
     warnOnce(`the stages are off: ${why}`);
     enabled = false;
     const current = gl.getParameter(gl.CURRENT_PROGRAM);
+    const samplers = [VALUE_SAMPLER, ...(program.reflection.samplers || []).map((x) => x.name)];
     for (const handle of programs) { // the stages skipped in every program built with them
+      if (!gl.isProgram(handle)) { // vtk.js deleted it (its graphics resources released)
+        programs.delete(handle);
+        continue;
+      }
       gl.useProgram(handle);
       gl.uniform1f(gl.getUniformLocation(handle, EXPONENT), 0);
+      // samplers of other types on one unit fail the draw: each on a unit of its own
+      samplers.forEach((name, k) => gl.uniform1i(gl.getUniformLocation(handle, name), units[k] ?? 0));
     }
-    gl.useProgram(current);
+    gl.useProgram(gl.isProgram(current) ? current : null);
     setReplacements(withoutOurs());
     release();
   }
   const programs = new Set(); // vtk.js's programs built with this install's stages
   const hook = hookContext(gl);
-  const id = ++installs;
+  const id = `${MODULE_ID}-${++installs}`;
   hook.installs.set(id, { programs, prepareDraw });
-  setReplacements([...withoutOurs(), ...replacements(program.pieces, id)]);
+  // the mapper's node says when vtk.js is about to draw it (EndEvent, then its shader, its
+  // uniforms and drawArrays): a volume draw that did not reach libhalo's drawArrays (another
+  // library's replaced the context's since) is told at the next render
+  let prepared = true;
+  const subscription = glMapper.onEvent((event) => {
+    if (event.type === 'EndEvent' && enabled && mapper.getInputData()) {
+      if (!prepared) disable('vtk.js drew the volume without libhalo\'s drawArrays (the context\'s was replaced after ' +
+        'installHalo, or vtk.js did not build its shader with the stages)');
+      prepared = false;
+    }
+  });
+  try {
+    setReplacements([...withoutOurs(), ...replacements(program.pieces, id)]);
+  } catch (e) {
+    subscription.unsubscribe();
+    hook.installs.delete(id);
+    if (!hook.installs.size) unhookContext(gl);
+    release();
+    program.destroy();
+    throw e;
+  }
   installed.add(mapper);
 
   return {
@@ -359,6 +396,7 @@ export function installHalo(halo, mapper, options = {}) {
     remove() {
       if (!installed.has(mapper)) return;
       installed.delete(mapper);
+      subscription.unsubscribe();
       hook.installs.delete(id);
       if (!hook.installs.size) unhookContext(gl);
       if (enabled) setReplacements(withoutOurs());

@@ -231,6 +231,11 @@ async function engine(page, dir, which) {
     if (!/blend mode is not composite/.test(r.maximumAtInstall)) fail(`${viewer.name}: maximum intensity at install: ${r.maximumAtInstall}`);
     if (!r.warnings.some((w) => /blend mode is not composite/.test(w))) fail(`${viewer.name}: no warning for maximum intensity`);
     if (r.maxDifference !== 0) fail(`${viewer.name}: maximum intensity with the stages off is not vtk.js's own image`);
+    console.log(`${viewer.name}: a clipping plane added after install: ${r.warnings.filter((w) => /clipping/.test(w)).join(' / ')} ` +
+      `(that frame ${r.clipDifference} from vtk.js's own, max abs in 1/255; GL error ${r.clipError})`);
+    if (!r.warnings.some((w) => /clipping planes/.test(w))) fail(`${viewer.name}: no warning for a clipping plane`);
+    if (r.clipDifference !== 0 || r.clipError) fail(`${viewer.name}: the frame with a clipping plane is ${r.clipDifference} from ` +
+      `vtk.js's own (GL error ${r.clipError})`);
     if (r.hooked) fail(`${viewer.name}: the context's drawArrays is still libhalo's after remove()`);
   }
   drawn++;
