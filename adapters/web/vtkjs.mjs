@@ -45,7 +45,7 @@ const SAMPLE_ANCHOR = 'vec4 getColorAtPos(vec3 posVC) {\n' +
   '  return getColorForValue(texValue, posVC, posIS);\n' +
   '}';
 const FINISH_ANCHOR = 'applyBlend(rayOriginVC, rayDirVC, rayStartEndDistancesVC[0], rayStartEndDistancesVC[1]);';
-const FINISH_MARK = '// libhalo: the finish piece of install '; // and its number
+const FINISH_MARK = '// libhalo: the finish piece of install '; // and its id
 
 // vtk.js's names for the sample piece; view and depth come from the camera libhalo sets.
 export const VTKJS_NAMES = Object.freeze({
@@ -239,7 +239,7 @@ export function installHalo(halo, mapper, options = {}) {
     return refusal(mapper, actor);
   }
   const gl = view.getContext();
-  const { program, field } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+  const { program } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
     allLive: options.allLive, pieces: VTKJS_NAMES }, 'vtk.js');
   // libhalo's texture units, reserved in vtk.js's manager: the value copy, the field's
   // samplers and the march's volume (halo_gl_frame_draw's first_unit on)
