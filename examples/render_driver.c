@@ -297,7 +297,7 @@ void halo_driver_bind_feature(halo_driver *d, const halo_feature_buffer *buffer)
     f->Uniform1i(f->GetUniformLocation(gl_program, HALO_HOST_FEATURE_BUFFER), FEATURE_BUFFER_UNIT);
     f->UseProgram(0);
     f->ActiveTexture(GL_TEXTURE0 + FEATURE_BUFFER_UNIT);
-    f->BindTexture(GL_TEXTURE_3D, halo_feature_buffer_texture(buffer));
+    f->BindTexture(GL_TEXTURE_3D, halo_feature_buffer_describe(buffer).texture);
     f->ActiveTexture(GL_TEXTURE0);
 }
 
@@ -328,7 +328,7 @@ int halo_driver_update_feature(halo_driver *d, const float *volume, const int di
     d->gl->Finish();
     if (d->tool && !d->quiet)
         fprintf(stderr, "%s: feature halo buffer: %zu qualified voxels, built in %.2f s\n", d->tool,
-                halo_feature_buffer_qualified(d->feature), halo_progress_now() - start);
+                halo_feature_buffer_describe(d->feature).qualified, halo_progress_now() - start);
     return 1;
 }
 
@@ -366,9 +366,9 @@ halo_status halo_driver_render(halo_driver *d, float *rgba, halo_diagnostics *di
     halo_gl_frame *frame = halo_driver_frame(d);
     if (d->raycast) {
         halo_progress_begin(&step, progress, what, 1);
-        long before = frame ? halo_gl_frame_pass_draws(frame) : 0;
+        long before = frame ? halo_gl_frame_describe(frame).pass_draws : 0;
         rendered = halo_raycast_render(d->raycast, rgba, diag);
-        d->pass_draws = frame ? halo_gl_frame_pass_draws(frame) - before : 0;
+        d->pass_draws = frame ? halo_gl_frame_describe(frame).pass_draws - before : 0;
     } else {
         /* progress per slice (slab) from the host; no timer thread */
         halo_progress_begin(&step, progress, what, 0);
@@ -409,6 +409,6 @@ void halo_driver_counts(const halo_driver *d, long *draws, long *pass_draws, int
     halo_gl_frame *frame = halo_raycast_frame(d->raycast);
     if (slices)
         *slices = 0;
-    *draws = frame ? halo_gl_frame_segment_count(frame) : 1;
+    *draws = frame ? halo_gl_frame_describe(frame).segment_count : 1;
     *pass_draws = d->pass_draws;
 }

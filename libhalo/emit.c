@@ -406,7 +406,7 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
                    *xy = stacked ? ".xy" : "";
         const halo_image_info *im = halo_program_image_named((halo_program *)p, sm->image);
         int scale = im ? im->scale : 1;
-        /* HALO_IMAGES_ZERO (a host's variant for pixels outside halo_gl_frame_read_region,
+        /* HALO_IMAGES_ZERO (a host's variant for pixels outside halo_gl_frame_info.read_box,
          * where every image read holds 0): no fetch, the same value */
         if (stacked)
             HALO_GEN(e,

@@ -347,6 +347,12 @@ typedef struct halo_module_info {
     size_t param_count;
     const halo_param_info *params;
     int has_emulation; /* a C emulation of its per-sample code, or of every image pass */
+    /* What it adds to a frame beside the sample (a per-sample stage with any of them needs
+     * a frame: halo_emu_frame, halo_gl_frame): */
+    size_t output_count;       /* `#pragma halo output`: extra fragment outputs it folds into images */
+    size_t image_count;        /* `#pragma halo image`: a per-sample stage's images it reads; an
+                                * image-pass stage's images of its schedule */
+    size_t host_uniform_count; /* `#pragma halo host_uniform`: uniforms the host sets */
 } halo_module_info;
 HALO_API halo_module_info halo_module_describe(const halo_module *m);
 HALO_API const halo_param_info *halo_module_find_param(const halo_module *m, const char *name);
@@ -576,7 +582,6 @@ HALO_API const char *halo_program_source(const halo_program *p);
 HALO_API const char *halo_program_piece(const halo_program *p, halo_piece piece);
 HALO_API int halo_program_piece_map_line(const halo_program *p, halo_piece piece, int line, const char **file,
                                          int *origin_line);
-HALO_API halo_target halo_program_target(const halo_program *p);
 /* Maps a 1-based line of the linked source to its origin; returns 0 when it has none. */
 HALO_API int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line);
 /* What a linked stage is, from its module's `#pragma halo is` annotation (docs/modules.md),
@@ -592,7 +597,7 @@ typedef struct halo_stage_info {
     const char *labels_when;   /* `is labels_when=PARAM`: it reads halo_host_labels only for the values
                               * of PARAM that are >= 0; NULL: whenever it declares that host uniform */
     const char *interval;      /* `is interval=PARAM`: PARAM (an int) is M, the slices or planes a host
-                              * draws between two generations of its passes (halo_program_interval) */
+                              * draws between two generations of its passes (the reflection's interval) */
     const char *strip_width;   /* `is strip_width=PARAM` (a line vertex stage): PARAM (a float) is the strip's
                                 * whole width, line core and halo together */
     const char *core_fraction; /* `is core_fraction=PARAM` (a line fragment stage): PARAM (a float) is the
@@ -602,14 +607,6 @@ typedef struct halo_stage_info {
 /* The linked stages in execution order (halo_program_reflection: stage_count); NULL for an
  * index past them. */
 HALO_API const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t index);
-/* M, the slices (planes) between two generations: the value of the first stage's `is
- * interval=` parameter (e.g. halo_generate.interval), or 0 when no stage states one (a host
- * then takes its own, e.g. the paper's 4). */
-HALO_API int halo_program_interval(const halo_program *p);
-/* Whether the program reads halo_host_labels with its current parameter values (a stage
- * declares it and, with labels_when, a value of that parameter is >= 0, or the parameter
- * is live: it may change). */
-HALO_API int halo_program_reads_labels(const halo_program *p);
 /* A parameter of a linked stage (halo_program_reflection: every one), or NULL. */
 HALO_API const halo_uniform_info *halo_program_find_uniform(const halo_program *p, const char *stage,
                                                             const char *param);
@@ -656,6 +653,15 @@ typedef struct halo_reflection {
     int segment_location; /* host contract 2: > 0 when the host is drawn in depth segments
                            * (halo_gl_frame_draw): the location of the ray-state output
                            * halo_segment_state_out; 0 when it is drawn once */
+    halo_target target;   /* the target it was linked for (HALO_TARGET_COUNT for a NULL program) */
+    int group_count;      /* feature groups (below): 1 when the program has none, 0 for NULL */
+    /* From the current parameter values (take the reflection again after halo_program_set): */
+    int interval;     /* M, the slices (planes) between two generations: the value of the first
+                       * stage's `is interval=` parameter (e.g. halo_generate.interval), or 0
+                       * when no stage states one (a host then takes its own, e.g. the paper's 4) */
+    int reads_labels; /* whether the program reads halo_host_labels: a stage declares it and,
+                       * with labels_when, a value of that parameter is >= 0, or the parameter
+                       * is live (it may change) */
 } halo_reflection;
 HALO_API halo_reflection halo_program_reflection(const halo_program *p);
 /* Feature groups (docs/image-passes.md, "Feature groups"): a stage annotated
@@ -665,7 +671,6 @@ HALO_API halo_reflection halo_program_reflection(const halo_program *p);
  * values current (upload them: halo_gl_program_upload), then halo_gl_frame_begin_group,
  * the volume, halo_gl_frame_end_group; halo_gl_frame_post after the last. */
 #define HALO_MAX_GROUP_CHANNELS 16
-HALO_API int halo_program_group_count(const halo_program *p);
 HALO_API halo_status halo_program_select_group(halo_program *p, int group);
 /* Reflection as a JSON document (caller frees with free()). */
 HALO_API char *halo_program_reflect_json(const halo_program *p);
@@ -848,7 +853,7 @@ HALO_API halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p,
 HALO_API void halo_gl_frame_destroy(halo_gl_frame *f);
 /* Clears every image: call at the start of a frame. */
 HALO_API void halo_gl_frame_begin(halo_gl_frame *f);
-/* Feature groups (halo_program_group_count > 1): before the volume pass of each group,
+/* Feature groups (the reflection's group_count > 1): before the volume pass of each group,
  * clears every image but the frame's accumulators (reset=frame-only); after it, runs the
  * at=post passes (halo_gl_frame_post then runs only the at=final ones). */
 HALO_API void halo_gl_frame_begin_group(halo_gl_frame *f);
@@ -874,8 +879,6 @@ HALO_API unsigned halo_gl_frame_texture(const halo_gl_frame *f, const char *imag
 /* Reads an image back: width * height * channels floats, row 0 at the bottom (an image of
  * scale s, halo_image_info.scale: ceil(width / s) * ceil(height / s) * channels). */
 HALO_API halo_status halo_gl_frame_read(halo_gl_frame *f, const char *image, float *out);
-/* Passes drawn by halo_gl_frame_generate since creation (for benchmarks). */
-HALO_API long halo_gl_frame_pass_draws(const halo_gl_frame *f);
 /* The host's promise for its draws since the last halo_gl_frame_generate (or _begin):
  * they changed the frame's images (the program's outputs) only inside the pixels
  * [x0, x1) x [y0, y1) (calls add up; an empty box: nowhere). The next generation then
@@ -889,12 +892,20 @@ HALO_API void halo_gl_frame_drawn_region(halo_gl_frame *f, int x0, int y0, int x
  * host declared, when it did). A frame starts with its runtime's policy
  * (halo_gl_desc.readback); this changes one frame's. */
 HALO_API void halo_gl_frame_set_readback_bounds(halo_gl_frame *f, int on);
-/* Where the images the linked shader reads (its samplers, e.g. halo_map's field) can be
- * nonzero now: box = {x0, y0, x1, y1}, frame pixels [x0, x1) x [y0, y1); returns 0 when
- * they hold 0 everywhere. Known after scissored generations (see drawn_region); otherwise
- * the whole frame. A host that skips fragments whose sample is empty (e.g. outside the
- * volume's footprint) must still draw this box: halos land outside the volume. */
-HALO_API int halo_gl_frame_read_region(const halo_gl_frame *f, int box[4]);
+/* What a frame has done so far: a copy, cheap to take. A NULL frame: every field 0. */
+typedef struct halo_gl_frame_info {
+    long pass_draws;   /* passes drawn by halo_gl_frame_generate since creation (for benchmarks) */
+    int segment_count; /* segments drawn by the last halo_gl_frame_draw (1 when drawn once) */
+    /* Where the images the linked shader reads (its samplers, e.g. halo_map's field) can be
+     * nonzero now: frame pixels [x0, x1) x [y0, y1) of read_box = {x0, y0, x1, y1}, and
+     * read_any 0 when they hold 0 everywhere. Known after scissored generations (see
+     * drawn_region); otherwise the whole frame. A host that skips fragments whose sample is
+     * empty (e.g. outside the volume's footprint) must still draw this box: halos land
+     * outside the volume. */
+    int read_box[4];
+    int read_any;
+} halo_gl_frame_info;
+HALO_API halo_gl_frame_info halo_gl_frame_describe(const halo_gl_frame *f);
 
 /* The draws of one slice of a host that clips its slices to the volume (the slice host):
  * scissor boxes per variant of its shader, which do not overlap, so their order does not
@@ -914,7 +925,7 @@ typedef struct halo_gl_slice_plan {
 /* Plans a slice whose plane meets the volume in the window box `section` (frame pixels,
  * empty when it misses). variants 0: the shader draws the section. variants 1 (the host
  * built the ZERO and OUTSIDE variants): the section splits at the frame's read region
- * (halo_gl_frame_read_region) between the shader and the ZERO variant, and the OUTSIDE
+ * (halo_gl_frame_info.read_box) between the shader and the ZERO variant, and the OUTSIDE
  * variant draws the read region's rest. Returns the number of boxes (0: nothing to draw). */
 HALO_API int halo_gl_frame_plan_slice(const halo_gl_frame *f, const int section[4], int variants,
                                       halo_gl_slice_plan *plan);
@@ -939,12 +950,12 @@ typedef struct halo_gl_segments_desc {
     float step;                           /* required: the host's sample spacing along a ray, in that space; segment
                             * planes are this far apart, as the slice host's slices */
     float box_min[3], box_max[3];         /* the volume's box in that space; all zero: the unit cube */
-    int interval;                         /* M, planes per segment; 0: the program's (halo_program_interval), or 4 */
-    int segments;                         /* > 0: exactly this many segments (a program linked with force_segments),
+    int interval;             /* M, planes per segment; 0: the program's (the reflection's interval), or 4 */
+    int segments;             /* > 0: exactly this many segments (a program linked with force_segments),
                             * at most HALO_SEGMENTS_MAX (more: USAGE) */
-    unsigned framebuffer;                 /* the host's framebuffer: its colour attachment 0 gets the host's output */
-    int first_unit;                       /* libhalo's textures from this unit on; 0: unit 8 */
-    void (*draw)(void *user);             /* draws the host's proxy geometry once; the host's program is current */
+    unsigned framebuffer;     /* the host's framebuffer: its colour attachment 0 gets the host's output */
+    int first_unit;           /* libhalo's textures from this unit on; 0: unit 8 */
+    void (*draw)(void *user); /* draws the host's proxy geometry once; the host's program is current */
     void *user;
     unsigned volume_texture;   /* host contract 3 (a one_draw program): the host's volume (GL_TEXTURE_3D, the
                               * value halo_make_sample gets in its red channel, at that position) that
@@ -996,8 +1007,6 @@ HALO_API halo_status halo_gl_set_camera(halo_gl *gl, unsigned gl_program, const 
  * if the program has at=post passes. Restores the GL state it changes. */
 HALO_API halo_status halo_gl_frame_draw(halo_gl_frame *f, unsigned gl_program, const halo_gl_segments_desc *desc,
                                         halo_diagnostics *diag);
-/* Segments drawn by the last halo_gl_frame_draw. */
-HALO_API int halo_gl_frame_segment_count(const halo_gl_frame *f);
 
 /* ---- Lines (Everts et al. 2009) ---- */
 

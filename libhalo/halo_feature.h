@@ -4,7 +4,7 @@
  *
  * The per-sample stage `feature_halo` (glsl/feature/feature_halo.glsl) reads the buffer
  * through its host uniform `halo_host_feature_buffer` (a sampler3D): build the buffer
- * for the current view with halo_feature_buffer_build, bind halo_feature_buffer_texture
+ * for the current view with halo_feature_buffer_build, bind halo_feature_buffer_describe(b).texture
  * to a free texture unit and set the sampler to that unit (glUniform1i). Rebuild it
  * whenever the view direction changes. docs/feature-halos.md has the formulas, the
  * conventions and the measured costs and errors.
@@ -113,13 +113,14 @@ HALO_API void halo_feature_buffer_destroy(halo_feature_buffer *b);
  * additive blending. Saves and restores the GL state it touches (framebuffer, viewport,
  * program, blending, vertex array). */
 HALO_API halo_status halo_feature_buffer_build(halo_feature_buffer *b, const double view[3]);
-/* The GL texture name of the buffer (GL_TEXTURE_3D, R32F, GL_LINEAR, CLAMP_TO_EDGE). */
-HALO_API unsigned halo_feature_buffer_texture(const halo_feature_buffer *b);
-HALO_API void halo_feature_buffer_get_dims(const halo_feature_buffer *b, int out[3]);
-/* Voxels that splat (|grad f| above the cutoff, at the buffer's resolution) and points
- * drawn by the last build (each qualified voxel once per layer it reaches). */
-HALO_API size_t halo_feature_buffer_qualified(const halo_feature_buffer *b);
-HALO_API size_t halo_feature_buffer_points_drawn(const halo_feature_buffer *b);
+/* What a buffer is: a copy, cheap to take. A NULL buffer: every field 0. */
+typedef struct halo_feature_buffer_info {
+    unsigned texture;    /* its GL texture name (GL_TEXTURE_3D, R32F, GL_LINEAR, CLAMP_TO_EDGE) */
+    int dims[3];         /* its size in texels (halo_feature_buffer_dims of the volume's) */
+    size_t qualified;    /* voxels that splat (|grad f| above the cutoff, at the buffer's resolution) */
+    size_t points_drawn; /* points drawn by the last build (each qualified voxel once per layer it reaches) */
+} halo_feature_buffer_info;
+HALO_API halo_feature_buffer_info halo_feature_buffer_describe(const halo_feature_buffer *b);
 /* Reads the buffer back: dims[0]*dims[1]*dims[2] floats, x fastest. */
 HALO_API halo_status halo_feature_buffer_read(halo_feature_buffer *b, float *out);
 

@@ -177,7 +177,6 @@ void halo_program_destroy(halo_program *p)
         return expression;                                 \
     }
 PROGRAM_GETTER(const char *, halo_program_source, NULL, p->source)
-PROGRAM_GETTER(halo_target, halo_program_target, HALO_TARGET_COUNT, p->target)
 
 int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line)
 {
@@ -197,9 +196,9 @@ const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t i)
     HALO_REFUSE_NULL(NULL, p, "program", NULL);
     return i < p->stage_count ? &p->stages[i].module->info : NULL;
 }
-int halo_program_interval(const halo_program *p)
+/* The reflection's interval and reads_labels. */
+static int program_interval(const halo_program *p)
 {
-    HALO_REFUSE_NULL(NULL, p, "program", 0);
     for (size_t i = 0; i < p->stage_count; i++) {
         const halo_module *m = p->stages[i].module;
         const halo_uniform_info *u = m->info.interval ? halo_program_find_uniform(p, m->name, m->info.interval) : NULL;
@@ -209,9 +208,8 @@ int halo_program_interval(const halo_program *p)
     return 0;
 }
 
-int halo_program_reads_labels(const halo_program *p)
+static int program_reads_labels(const halo_program *p)
 {
-    HALO_REFUSE_NULL(NULL, p, "program", 0);
     for (size_t i = 0; i < p->stage_count; i++) {
         const halo_module *m = p->stages[i].module;
         int declares = 0;
@@ -341,7 +339,7 @@ halo_status halo_program_set(halo_program *p, const char *stage, const char *par
 
 halo_reflection halo_program_reflection(const halo_program *p)
 {
-    halo_reflection r = {0};
+    halo_reflection r = {.target = HALO_TARGET_COUNT};
     if (!p)
         return r;
     r.stage_count = p->stage_count;
@@ -361,9 +359,12 @@ halo_reflection halo_program_reflection(const halo_program *p)
     r.image_precision = p->image_precision;
     r.image_scale = p->image_scale;
     r.segment_location = p->segment_location;
+    r.target = p->target;
+    r.group_count = p->group_count > 1 ? p->group_count : 1;
+    r.interval = program_interval(p);
+    r.reads_labels = program_reads_labels(p);
     return r;
 }
-PROGRAM_GETTER(int, halo_program_group_count, 0, p->group_count > 1 ? p->group_count : 1)
 
 /* Group g's values of every grouped channels parameter: values 4g .. 4g + 3 of the
  * scene's list (the last value repeated where the list ends), padded to the channel
@@ -394,7 +395,7 @@ void halo_program_load_group(halo_program *p, int g)
 halo_status halo_program_select_group(halo_program *p, int group)
 {
     HALO_REFUSE_NULL(NULL, p, "program", HALO_ERROR_INPUT);
-    if (group < 0 || group >= halo_program_group_count(p))
+    if (group < 0 || group >= (p->group_count > 1 ? p->group_count : 1))
         return HALO_ERROR_INPUT;
     if (p->group_count > 1)
         halo_program_load_group(p, group);

@@ -235,8 +235,8 @@ static int render_main(int argc, char **argv)
     }
     printf("%s: %d^3 volume, %dx%d, %s host", o.output, size, o.size, o.size, use_slice ? "slice" : "raycast");
     if (feature)
-        printf(", halo buffer: %zu qualified, preprocess %.1f ms, build %.1f ms", halo_feature_buffer_qualified(buffer),
-               create_ms, build_ms);
+        printf(", halo buffer: %zu qualified, preprocess %.1f ms, build %.1f ms",
+               halo_feature_buffer_describe(buffer).qualified, create_ms, build_ms);
     printf(", render %.1f ms (first %.1f ms)\n", render_ms[1], render_ms[0]);
     status = 0;
 done:

@@ -29,7 +29,7 @@ static int check_post(const halo_program *program, halo_gl_frame *frame, int siz
     int written[64] = {0}, written_final[64] = {0}, failed = 0;
     /* feature groups: the GL frame's per-group images hold the last group, and its
      * accumulator (written by an at=post pass) all of them: copy it too */
-    int grouped = halo_program_group_count(program) > 1;
+    int grouped = halo_program_reflection(program).group_count > 1;
     if (!emu || !buffer) {
         halo_emu_frame_destroy(emu);
         free(buffer);
@@ -52,7 +52,7 @@ static int check_post(const halo_program *program, halo_gl_frame *frame, int siz
             dst[n] = buffer[n];
     }
     /* the per-group passes ran last with the last group's values */
-    int groups = halo_program_group_count(program);
+    int groups = halo_program_reflection(program).group_count;
     if (grouped)
         halo_program_select_group((halo_program *)program, groups - 1);
     if (halo_emu_frame_post(emu, diag) != HALO_OK)

@@ -699,12 +699,12 @@ static int set_up_host(const options *o, halo_driver *host, const halo_render_se
     const char *gradient = halo_driver_gradient_name(host);
     if (!o->quiet && gradient)
         fprintf(stderr, TOOL ": gradient texture: %s\n", gradient);
-    if (!labels && halo_program_reads_labels(host->program))
+    if (!labels && halo_program_reflection(host->program).reads_labels)
         fprintf(stderr, TOOL
                 ": warning: the scene's label features (outline_feature label >= 0) need "
                 "--labels FILE: without it they are empty\n");
     if (labels) {
-        if (!halo_program_reads_labels(host->program) && !o->quiet)
+        if (!halo_program_reflection(host->program).reads_labels && !o->quiet)
             fprintf(stderr, TOOL ": note: --labels: the scene has no label feature (outline_feature label)\n");
         if (halo_driver_set_labels(host, labels, dims, diag) != HALO_OK)
             return 2;

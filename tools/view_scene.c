@@ -543,12 +543,12 @@ void view_step_param(viewer *v, int direction)
     }
     const halo_uniform_info *u = &halo_program_reflection(v->program).uniforms[(size_t)i];
     const halo_param_info *info = u->info;
-    if (info->type == HALO_PARAM_CHANNELS && halo_program_group_count(v->program) > 1) {
+    if (info->type == HALO_PARAM_CHANNELS && halo_program_reflection(v->program).group_count > 1) {
         /* the program holds one group of four features at a time: a change here would
          * write that group back over the scene's others */
         fprintf(stderr,
                 "halo-view: %s.%s has a value per feature in %d groups: edit it in the scene file (it reloads)\n",
-                u->stage, u->param, halo_program_group_count(v->program));
+                u->stage, u->param, halo_program_reflection(v->program).group_count);
         return;
     }
     if (info->type == HALO_PARAM_BOOL) {

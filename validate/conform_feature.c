@@ -332,7 +332,7 @@ static void run_apply_row(feature_context *c, const char *row, const char *scene
     for (size_t i = 0; i < texels; ++i)
         buffer_double[i] = buffer[i];
     fill_samples(samples);
-    if (!draw_probe(c, program, halo_feature_buffer_texture(b), samples, rgba)) {
+    if (!draw_probe(c, program, halo_feature_buffer_describe(b).texture, samples, rgba)) {
         print_error(c, row);
         goto done;
     }

@@ -4,7 +4,6 @@
 #include "conform_frame.h"
 
 #include "halo.h"
-#include "internal.h" /* the module's outputs, images and host uniforms */
 
 #include <math.h>
 #include <stdint.h>
@@ -225,7 +224,7 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
     const char *stage = halo_module_describe(m).name;
     if (!row_selected(c, row, stage))
         return;
-    int is_map = m->image_count > 0;
+    int is_map = halo_module_describe(m).image_count > 0;
     double tol_abs = entry->tolerance_abs, tol_rel = entry->tolerance_rel;
     char tolerance_text[32];
     conform_tolerance_text(entry, tolerance_text, sizeof tolerance_text);
@@ -377,7 +376,9 @@ void conform_frame_other_rows(conform *c, const conform_row *row)
     for (size_t i = 0; i < halo_library_module_count(c->lib); ++i) {
         const halo_module *m = halo_library_module(c->lib, i);
         if (halo_module_describe(m).hook != HALO_HOOK_SAMPLE || conform_has_row(c, halo_module_describe(m).name) ||
-            !(m->output_count || m->image_count || m->host_uniform_count) || !halo_module_describe(m).has_emulation)
+            !(halo_module_describe(m).output_count || halo_module_describe(m).image_count ||
+              halo_module_describe(m).host_uniform_count) ||
+            !halo_module_describe(m).has_emulation)
             continue;
         char live[128];
         snprintf(live, sizeof live, "%s@live", halo_module_describe(m).name);

@@ -262,7 +262,7 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
         }
     halo_gl_frame_begin(gframe);
     halo_emu_frame_begin(eframe);
-    int draws = oc->occluder_band ? 2 : 1, groups = halo_program_group_count(program);
+    int draws = oc->occluder_band ? 2 : 1, groups = halo_program_reflection(program).group_count;
     for (int g = 0; g < groups; ++g) {
         /* feature groups: the volume (here: the probe's samples) once per group */
         if (groups > 1) {

@@ -4,7 +4,6 @@
 #include "conform_sample.h"
 
 #include "halo.h"
-#include "internal.h" /* the module's outputs, images and host uniforms */
 #include "hosts/raycast.h"
 
 #include <math.h>
@@ -268,7 +267,8 @@ void conform_sample_other_rows(conform *c, const conform_row *row)
         const halo_module *m = halo_library_module(c->lib, i);
         if (halo_module_describe(m).hook != HALO_HOOK_SAMPLE || conform_has_row(c, halo_module_describe(m).name))
             continue;
-        if (m->output_count || m->image_count || m->host_uniform_count) {
+        halo_module_info info = halo_module_describe(m);
+        if (info.output_count || info.image_count || info.host_uniform_count) {
             has_emulation(c, m); /* the frame family's "*" row runs those */
             continue;
         }

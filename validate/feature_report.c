@@ -127,8 +127,9 @@ static int measure(report *r, const char *volume, const float *values, int n, co
             }
     free(magnitude);
     printf("| %s | %s | %zu (%.2f %%) | %zu | %.1f | %.1f | %.4f | %.2e | %.3f %% |\n", volume, label,
-           halo_feature_buffer_qualified(b), 100.0 * (double)halo_feature_buffer_qualified(b) / (double)texels,
-           halo_feature_buffer_points_drawn(b), create_ms, times[r->repeat / 2], max_abs / (exact_max / sum),
+           halo_feature_buffer_describe(b).qualified,
+           100.0 * (double)halo_feature_buffer_describe(b).qualified / (double)texels,
+           halo_feature_buffer_describe(b).points_drawn, create_ms, times[r->repeat / 2], max_abs / (exact_max / sum),
            sqrt(sum_squares / (double)count), 100.0 * (double)over / (double)count);
     fflush(stdout);
     halo_feature_buffer_destroy(b);

@@ -1047,7 +1047,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
     for (size_t i = 0; i < halo_program_reflection(program).host_uniform_count; i++) {
         const char *name = halo_program_reflection(program).host_uniforms[i].name;
         /* a segmentation is read only where the stage says so (halo_stage_info.labels_when) */
-        int labels_unused = !strcmp(name, "halo_host_labels") && !halo_program_reads_labels(program);
+        int labels_unused = !strcmp(name, "halo_host_labels") && !halo_program_reflection(program).reads_labels;
         if (strcmp(name, "halo_host_screen_right") && strcmp(name, "halo_host_screen_up") && !labels_unused) {
             add_error(diag, HALO_MSG_ENGINE_UNSUPPORTED,
                       std::string("the scene's stages need the host uniform '") + name + "' (" +

@@ -354,6 +354,6 @@ done:
 #endif
 }
 
-/* The host's draws in the last frame.draw (halo_gl_frame_segment_count): 1 for a one_draw
+/* The host's draws in the last frame.draw (halo_gl_frame_info.segment_count): 1 for a one_draw
  * program, whose field's depth segments are libhalo's own draws. */
-WEB_API int halo_web_frame_segment_count(const halo_gl_frame *f) { return halo_gl_frame_segment_count(f); }
+WEB_API int halo_web_frame_segment_count(const halo_gl_frame *f) { return halo_gl_frame_describe(f).segment_count; }

@@ -307,7 +307,7 @@ class Frame {
     }
   }
 
-  // The host's draws in the last frame.draw (halo_gl_frame_segment_count): 1 for a oneDraw
+  // The host's draws in the last frame.draw (halo_gl_frame_info.segment_count): 1 for a oneDraw
   // program (its field's depth segments are libhalo's own draws).
   get draws() { return this._handle ? this._halo._core._halo_web_frame_segment_count(this._handle) : 0; }
 

@@ -165,7 +165,7 @@ GLuint halo_host_program_build(const halo_host_desc *desc, const char *default_v
                           default_vertex);
         return 0;
     }
-    if (desc->program && halo_program_target(desc->program) == HALO_TARGET_ES300 &&
+    if (desc->program && halo_program_reflection(desc->program).target == HALO_TARGET_ES300 &&
         !strncmp(vertex_source, "#version 330 core\n", 18)) {
         /* the example vertex shaders are in the common subset of GLSL 330 and ES 300 */
         size_t length = strlen(vertex_source) + 64;

@@ -176,7 +176,7 @@ int halo_slice_interval(const halo_slice *s)
         return 1;
     if (s->interval_override > 0)
         return s->interval_override;
-    int m = s->linked ? halo_program_interval(s->linked) : 0;
+    int m = s->linked ? halo_program_reflection(s->linked).interval : 0;
     return m > 0 ? m : 4;
 }
 
@@ -385,7 +385,7 @@ void halo_slice_get_state(const halo_slice *s, halo_slice_state *st)
 
 static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagnostics *diag);
 
-/* A program with feature groups (halo_program_group_count > 1, e.g. more than four
+/* A program with feature groups (the reflection's group_count > 1, e.g. more than four
  * outline features) renders the volume once per group: the group's values uploaded,
  * its feature images cleared before and reduced after (halo_gl_frame_begin_group,
  * _end_group); the colour is the same every time, so the slice host writes it in the
@@ -414,7 +414,7 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
             s->f->BindTexture(GL_TEXTURE_3D, 0);
         }
     }
-    int groups = s->linked && s->frame ? halo_program_group_count(s->linked) : 1;
+    int groups = s->linked && s->frame ? halo_program_reflection(s->linked).group_count : 1;
     if (groups == 1)
         return render_pass(s, rgba, -1, diag);
     long draws = 0, pass_draws = 0;
@@ -518,7 +518,7 @@ static void generation_run(generation_skip *g, const halo_slice *s)
  * (halo_stage_info.keeps_empty: gradient, halo_seed, halo_map, halo_generate and
  * boundary do) adds nothing there: with only such stages linked (or none), a slice's
  * pixels outside its plane's section of the cube and outside the images' nonzero box
- * (halo_gl_frame_read_region) add nothing to any buffer, so the slice is scissored to
+ * (halo_gl_frame_info.read_box) add nothing to any buffer, so the slice is scissored to
  * the rest, or not drawn when that is empty. Other stages may make an empty sample
  * visible (opacity_power's pow(0, 0), distance cues...): their slices are drawn whole. */
 static int slices_clippable(const halo_slice *s)
@@ -705,7 +705,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     const halo_glfuncs *f = s->f;
     GLuint program = s->program;
     static const GLfloat zero[4] = {0, 0, 0, 0};
-    long pass_draws_before = halo_gl_frame_pass_draws(s->frame);
+    long pass_draws_before = halo_gl_frame_describe(s->frame).pass_draws;
     s->draws = 0;
     /* a group after the first: rgba and colour buffer 0 hold the colour already */
     int colour_written = group > 0 && !s->slab && !s->run_every_generation && f->ColorMaski;
@@ -842,7 +842,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     f->ActiveTexture(GL_TEXTURE0);
     f->BindTexture(GL_TEXTURE_3D, 0);
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
-    s->pass_draws = halo_gl_frame_pass_draws(s->frame) - pass_draws_before;
+    s->pass_draws = halo_gl_frame_describe(s->frame).pass_draws - pass_draws_before;
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
         HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0, "OpenGL error 0x%x while rendering slices", error);

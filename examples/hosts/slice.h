@@ -74,7 +74,7 @@ int halo_gradient_format_option(const char *text, halo_gradient_format *format, 
  * software renderer, the pixels of each pass that stay zero (the seeds' box grown by the
  * passes' reach: halo_gl_frame_set_readback_bounds), and the slice host's pixels whose
  * samples are empty: each slice is scissored to its plane's section of the volume (with
- * the box where the halo images read can be nonzero, halo_gl_frame_read_region) when
+ * the box where the halo images read can be nonzero, halo_gl_frame_info.read_box) when
  * every linked per-sample stage leaves an empty sample empty, and the colour of a program
  * with feature groups, written in the first group's pass only. docs/performance.md,
  * "Work skipped". Off runs every generation and draws every slice and pass over the

@@ -114,5 +114,8 @@ halo_module_info halo_module_describe(const halo_module *m)
     info.param_count = m->param_count;
     info.params = m->params;
     info.has_emulation = module_emulated(m);
+    info.output_count = m->output_count;
+    info.image_count = m->image_count;
+    info.host_uniform_count = m->host_uniform_count;
     return info;
 }

@@ -151,12 +151,12 @@ halo_status halo_gl_set_camera(halo_gl *gl, unsigned gl_program, const halo_gl_s
     return HALO_OK;
 }
 
-/* M: the desc's, the program's (halo_program_interval), or the paper's 4. */
+/* M: the desc's, the program's (its reflection's interval), or the paper's 4. */
 static int segment_interval(const halo_program *p, const halo_gl_segments_desc *d)
 {
     if (d->interval > 0)
         return d->interval;
-    int m = halo_program_interval(p);
+    int m = halo_program_reflection(p).interval;
     return m > 0 ? m : 4;
 }
 

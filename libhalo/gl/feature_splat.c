@@ -404,30 +404,16 @@ halo_status halo_feature_buffer_build(halo_feature_buffer *b, const double view[
     return status;
 }
 
-unsigned halo_feature_buffer_texture(const halo_feature_buffer *b)
+halo_feature_buffer_info halo_feature_buffer_describe(const halo_feature_buffer *b)
 {
-    HALO_REFUSE_NULL(NULL, b, "buffer", 0);
-    return b->texture;
-}
-
-void halo_feature_buffer_get_dims(const halo_feature_buffer *b, int out[3])
-{
-    HALO_REFUSE_NULL_VOID(NULL, out, "out");
+    halo_feature_buffer_info info = {0};
+    HALO_REFUSE_NULL(NULL, b, "buffer", info);
+    info.texture = b->texture;
     for (int k = 0; k < 3; ++k)
-        out[k] = b ? b->dims[k] : 0;
-    HALO_REFUSE_NULL_VOID(NULL, b, "buffer");
-}
-
-size_t halo_feature_buffer_qualified(const halo_feature_buffer *b)
-{
-    HALO_REFUSE_NULL(NULL, b, "buffer", 0);
-    return b->qualified;
-}
-
-size_t halo_feature_buffer_points_drawn(const halo_feature_buffer *b)
-{
-    HALO_REFUSE_NULL(NULL, b, "buffer", 0);
-    return b->points_drawn;
+        info.dims[k] = b->dims[k];
+    info.qualified = b->qualified;
+    info.points_drawn = b->points_drawn;
+    return info;
 }
 
 halo_status halo_feature_buffer_read(halo_feature_buffer *b, float *out)

@@ -185,7 +185,7 @@ static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     GLint program = 0;
     f->GetIntegerv(GL_CURRENT_PROGRAM, &program);
     field->march = halo_gl_program_build(
-        gl, p->prepass, halo_program_target(p->prepass) == HALO_TARGET_ES300 ? march_vertex_es300 : march_vertex_330,
+        gl, p->prepass, p->prepass->target == HALO_TARGET_ES300 ? march_vertex_es300 : march_vertex_330,
         "(libhalo's march, vertex shader)", NULL, diag);
     if (!field->march) {
         field_destroy(fr, field);
@@ -197,7 +197,7 @@ static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     f->GetIntegerv(GL_MAX_COLOR_ATTACHMENTS, &attachments);
     if (halo_prepass_batchable(p->prepass) && draw_buffers >= FIELD_BATCH && attachments >= FIELD_BATCH) {
         /* (a batch that does not build leaves the march of one segment a draw) */
-        int es = halo_program_target(p->prepass) == HALO_TARGET_ES300;
+        int es = p->prepass->target == HALO_TARGET_ES300;
         field->batch = halo_gl_program_build(gl, p->prepass, es ? march_vertex_es300 : march_vertex_330,
                                              "(libhalo's march, vertex shader)", "#define HALO_MARCH_BATCH 1\n", NULL);
         if (field->batch)
@@ -429,7 +429,7 @@ static int segment_footprint(const double view_projection[16], const halo_segmen
 static GLuint field_program(const halo_glfuncs *f, const halo_program *march, const char *body, const char *file,
                             halo_diagnostics *diag)
 {
-    int es = halo_program_target(march) == HALO_TARGET_ES300;
+    int es = march->target == HALO_TARGET_ES300;
     char source[2048];
     snprintf(source, sizeof source, "%s%s",
              es ? "#version 300 es\nprecision highp float;\nprecision highp int;\nprecision highp sampler3D;\n"

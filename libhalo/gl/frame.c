@@ -156,11 +156,6 @@ void halo_gl_frame_state_flip(halo_gl_frame *fr)
     fr->segments_drawn++;
 }
 void halo_gl_frame_segments_reset(halo_gl_frame *fr) { fr->segments_drawn = 0; }
-int halo_gl_frame_segment_count(const halo_gl_frame *fr)
-{
-    HALO_REFUSE_NULL(NULL, fr, "frame", 0);
-    return fr->segments_drawn;
-}
 
 static int frame_find_image(const halo_gl_frame *f, const char *name)
 {
@@ -803,10 +798,9 @@ void halo_gl_frame_drawn_region(halo_gl_frame *fr, int x0, int y0, int x1, int y
     fr->drawn_known = 1;
 }
 
-int halo_gl_frame_read_region(const halo_gl_frame *fr, int box[4])
+/* halo_gl_frame_info.read_box and read_any. */
+static int frame_read_region(const halo_gl_frame *fr, int box[4])
 {
-    HALO_REFUSE_NULL(NULL, fr, "frame", 0);
-    HALO_REFUSE_NULL(NULL, box, "box", 0);
     frame_box all = {0, 0, fr->width, fr->height}, region = {0, 0, 0, 0};
     for (size_t i = 0; i < halo_program_reflection(fr->program).sampler_count; ++i) {
         int k = frame_find_image(fr, halo_program_reflection(fr->program).samplers[i].image);
@@ -854,7 +848,7 @@ int halo_gl_frame_plan_slice(const halo_gl_frame *fr, const int section[4], int 
         return plan->count[HALO_GL_SLICE_SHADER];
     }
     int r[4];
-    if (halo_gl_frame_read_region(fr, r))
+    if (frame_read_region(fr, r))
         read = (frame_box){r[0], r[1], r[2], r[3]};
     frame_box inside = box_intersect(cut, read);
     plan_add(plan, HALO_GL_SLICE_SHADER, inside);
@@ -977,10 +971,14 @@ halo_status halo_gl_frame_read(halo_gl_frame *fr, const char *name, float *out)
     return f->GetError() == GL_NO_ERROR && read ? HALO_OK : HALO_ERROR_IO;
 }
 
-long halo_gl_frame_pass_draws(const halo_gl_frame *fr)
+halo_gl_frame_info halo_gl_frame_describe(const halo_gl_frame *fr)
 {
-    HALO_REFUSE_NULL(NULL, fr, "frame", 0);
-    return fr->pass_draws;
+    halo_gl_frame_info info = {0};
+    HALO_REFUSE_NULL(NULL, fr, "frame", info);
+    info.pass_draws = fr->pass_draws;
+    info.segment_count = fr->segments_drawn;
+    info.read_any = frame_read_region(fr, info.read_box);
+    return info;
 }
 
 /* For field.c (host contract 3). */

@@ -72,11 +72,11 @@ static halo_status frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo
     const halo_glfuncs *f = halo_gl_functions(gl);
     const halo_program *p = halo_gl_frame_program(fr);
     int location = halo_program_reflection(p).segment_location;
-    if (halo_program_group_count(p) > 1) {
+    if (halo_program_reflection(p).group_count > 1) {
         halo_diag_error(diag, USAGE, "", 0, 0,
                         "halo_gl_frame_draw: a program with %d feature groups is drawn once per group by the "
                         "host (halo_gl_frame_begin_group/end_group around its draws); not by halo_gl_frame_draw",
-                        halo_program_group_count(p));
+                        halo_program_reflection(p).group_count);
         return HALO_ERROR_INPUT;
     }
     if (p->one_draw) /* host contract 3 */

@@ -302,7 +302,7 @@ static int link_target(const halo_scene *scene, const char *host, halo_target ta
 {
     halo_program *p = link_with(scene, host, target, all_live);
     CHECK(p != NULL);
-    CHECK_INT_EQ(halo_program_target(p), target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : target);
+    CHECK_INT_EQ(halo_program_reflection(p).target, target == HALO_TARGET_DEFAULT ? HALO_TARGET_GLSL330 : target);
     if (halo_validate(&(halo_validate_desc){.program = p}, diags) != HALO_OK) {
         check_print_diags(diags);
         CHECK_FAIL_AT("does not validate for target %s (all_live %d)", halo_target_name(target), all_live);
@@ -588,7 +588,7 @@ static int test_feature_groups(void)
         diags);
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
-    CHECK_INT_EQ(halo_program_group_count(p), 2);
+    CHECK_INT_EQ(halo_program_reflection(p).group_count, 2);
     CHECK_INT_EQ(halo_program_reflection(p).channel_count, 4);
     const halo_uniform_info *vmin = halo_program_find_uniform(p, "outline_feature", "value_min");
     const halo_uniform_info *lambda = halo_program_find_uniform(p, "outlines", "lambda");
@@ -635,7 +635,7 @@ static int test_feature_groups(void)
     halo_program *q =
         link_valid("{\"stages\": [{\"outline_feature\": {\"value_min\": [0.1, 0.2, 0.3, 0.4]}}, \"outlines\"]}");
     CHECK(q != NULL);
-    CHECK_INT_EQ(halo_program_group_count(q), 1);
+    CHECK_INT_EQ(halo_program_reflection(q).group_count, 1);
     CHECK(!halo_program_find_uniform(q, "outline_feature", "value_min")->live);
     CHECK_INT_EQ(halo_program_select_group(q, 0), HALO_OK);
     CHECK_INT_EQ(halo_program_select_group(q, 1), HALO_ERROR_INPUT);

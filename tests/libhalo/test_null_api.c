@@ -382,11 +382,6 @@ CASE(halo_program_piece_map_line)
     REFUSES(halo_program_piece_map_line(NULL, HALO_PIECE_SAMPLE, 1, &file, &line) == 0, "program");
     return 0;
 }
-CASE(halo_program_target)
-{
-    REFUSES(halo_program_target(NULL) == HALO_TARGET_COUNT, "program");
-    return 0;
-}
 CASE(halo_program_map_line)
 {
     const char *file;
@@ -399,17 +394,6 @@ CASE(halo_program_stage_info)
     REFUSES(halo_program_stage_info(NULL, 0) == NULL, "program");
     return 0;
 }
-CASE(halo_program_interval)
-{
-    REFUSES(halo_program_interval(NULL) == 0, "program");
-    return 0;
-}
-
-CASE(halo_program_reads_labels)
-{
-    REFUSES(halo_program_reads_labels(NULL) == 0, "program");
-    return 0;
-}
 CASE(halo_program_reflection)
 {
     /* NULL is a program with nothing: every count 0 */
@@ -417,7 +401,10 @@ CASE(halo_program_reflection)
             halo_program_reflection(NULL).uniforms == NULL && halo_program_reflection(NULL).output_count == 0 &&
             halo_program_reflection(NULL).pass_count == 0 && halo_program_reflection(NULL).image_count == 0 &&
             halo_program_reflection(NULL).sampler_count == 0 && halo_program_reflection(NULL).host_uniform_count == 0 &&
-            halo_program_reflection(NULL).channel_count == 0 && halo_program_reflection(NULL).segment_location == 0);
+            halo_program_reflection(NULL).channel_count == 0 && halo_program_reflection(NULL).segment_location == 0 &&
+            halo_program_reflection(NULL).target == HALO_TARGET_COUNT &&
+            halo_program_reflection(NULL).group_count == 0 && halo_program_reflection(NULL).interval == 0 &&
+            halo_program_reflection(NULL).reads_labels == 0);
     return 0;
 }
 CASE(halo_program_find_uniform)
@@ -447,11 +434,6 @@ CASE(halo_program_uniform_next)
 CASE(halo_pass_reach)
 {
     REFUSES(halo_pass_reach(NULL, 1) == -1, "pass");
-    return 0;
-}
-CASE(halo_program_group_count)
-{
-    REFUSES(halo_program_group_count(NULL) == 0, "program");
     return 0;
 }
 CASE(halo_program_select_group)
@@ -691,13 +673,12 @@ CASE(halo_gl_frame_plan_slice)
     REFUSES(halo_gl_frame_plan_slice(gl_fixture.frame, section, 0, NULL) == 0, "plan");
     return 0;
 }
-CASE(halo_gl_frame_read_region)
+CASE(halo_gl_frame_describe)
 {
-    int box[4];
-    REFUSES(halo_gl_frame_read_region(NULL, box) == 0, "frame");
-    if (!fixture_gl())
-        return 0;
-    REFUSES(halo_gl_frame_read_region(gl_fixture.frame, NULL) == 0, "box");
+    halo_gl_frame_info i;
+    REFUSES((i = halo_gl_frame_describe(NULL),
+             i.pass_draws == 0 && i.segment_count == 0 && i.read_any == 0 && i.read_box[2] == 0),
+            "frame");
     return 0;
 }
 CASE(halo_gl_frame_set_readback_bounds)
@@ -727,11 +708,6 @@ CASE(halo_gl_frame_read)
     REFUSES(halo_gl_frame_read(gl_fixture.frame, "final", NULL) == HALO_ERROR_INPUT, "out");
     return 0;
 }
-CASE(halo_gl_frame_pass_draws)
-{
-    REFUSES(halo_gl_frame_pass_draws(NULL) == 0, "frame");
-    return 0;
-}
 static const float identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 CASE(halo_gl_set_camera)
 {
@@ -754,12 +730,6 @@ CASE(halo_gl_frame_draw)
     REFUSES_D(halo_gl_frame_draw(gl_fixture.frame, 1, NULL, d) == HALO_ERROR_INPUT, "desc");
     return 0;
 }
-CASE(halo_gl_frame_segment_count)
-{
-    REFUSES(halo_gl_frame_segment_count(NULL) == 0, "frame");
-    return 0;
-}
-
 CASE(halo_emu_line_vertex_apply)
 {
     halo_emu_line_vertex v = {.width = 1};
@@ -845,28 +815,12 @@ CASE(halo_feature_buffer_build)
     REFUSES(halo_feature_buffer_build(gl_fixture.buffer, NULL) == HALO_ERROR_INPUT, "view");
     return 0;
 }
-CASE(halo_feature_buffer_texture)
+CASE(halo_feature_buffer_describe)
 {
-    REFUSES(halo_feature_buffer_texture(NULL) == 0, "buffer");
-    return 0;
-}
-CASE(halo_feature_buffer_get_dims)
-{
-    int out[3] = {1, 1, 1};
-    REFUSES(DONE(halo_feature_buffer_get_dims(NULL, out)) && out[0] == 0, "buffer");
-    if (!fixture_gl())
-        return 0;
-    REFUSES(DONE(halo_feature_buffer_get_dims(gl_fixture.buffer, NULL)), "out");
-    return 0;
-}
-CASE(halo_feature_buffer_qualified)
-{
-    REFUSES(halo_feature_buffer_qualified(NULL) == 0, "buffer");
-    return 0;
-}
-CASE(halo_feature_buffer_points_drawn)
-{
-    REFUSES(halo_feature_buffer_points_drawn(NULL) == 0, "buffer");
+    halo_feature_buffer_info i;
+    REFUSES((i = halo_feature_buffer_describe(NULL),
+             i.texture == 0 && i.dims[0] == 0 && i.qualified == 0 && i.points_drawn == 0),
+            "buffer");
     return 0;
 }
 CASE(halo_feature_buffer_read)
@@ -940,17 +894,13 @@ static const api_case cases[] = {
     ROW(halo_program_source),
     ROW(halo_program_piece),
     ROW(halo_program_piece_map_line),
-    ROW(halo_program_target),
     ROW(halo_program_map_line),
     ROW(halo_program_stage_info),
-    ROW(halo_program_interval),
-    ROW(halo_program_reads_labels),
     ROW(halo_program_reflection),
     ROW(halo_program_find_uniform),
     ROW(halo_program_set),
     ROW(halo_program_uniform_next),
     ROW(halo_pass_reach),
-    ROW(halo_program_group_count),
     ROW(halo_program_select_group),
     ROW(halo_program_reflect_json),
     ROW(halo_validate),
@@ -984,16 +934,14 @@ static const api_case cases[] = {
     ROW(halo_gl_frame_bind),
     ROW(halo_gl_frame_generate),
     ROW(halo_gl_frame_drawn_region),
-    ROW(halo_gl_frame_read_region),
+    ROW(halo_gl_frame_describe),
     ROW(halo_gl_frame_plan_slice),
     ROW(halo_gl_frame_set_readback_bounds),
     ROW(halo_gl_frame_post),
     ROW(halo_gl_frame_texture),
     ROW(halo_gl_frame_read),
-    ROW(halo_gl_frame_pass_draws),
     ROW(halo_gl_set_camera),
     ROW(halo_gl_frame_draw),
-    ROW(halo_gl_frame_segment_count),
     ROW(halo_emu_line_vertex_apply),
     ROW(halo_emu_line_fragment_apply),
     ROW(halo_feature_desc_effective),
@@ -1007,10 +955,7 @@ static const api_case cases[] = {
     ROW(halo_feature_buffer_create),
     ROW(halo_feature_buffer_destroy),
     ROW(halo_feature_buffer_build),
-    ROW(halo_feature_buffer_texture),
-    ROW(halo_feature_buffer_get_dims),
-    ROW(halo_feature_buffer_qualified),
-    ROW(halo_feature_buffer_points_drawn),
+    ROW(halo_feature_buffer_describe),
     ROW(halo_feature_buffer_read),
 };
 #define CASE_COUNT (sizeof cases / sizeof cases[0])

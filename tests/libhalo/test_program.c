@@ -1,5 +1,5 @@
 /* libhalo/program.c: a linked program's parameters (halo_program_set) and what its
- * stages are (halo_program_stage_info, halo_program_reads_labels). No GL. */
+ * stages are (halo_program_stage_info, the reflection's reads_labels). No GL. */
 #include "link_fixture.h"
 
 /* (k) Changing parameters of a linked program. */
@@ -96,12 +96,12 @@ static int test_stage_info(void)
         CHECK(info->labels_when == NULL);
     }
     CHECK(halo_program_stage_info(p, halo_program_reflection(p).stage_count) == NULL);
-    CHECK_INT_EQ(halo_program_reads_labels(p), 0);
+    CHECK_INT_EQ(halo_program_reflection(p).reads_labels, 0);
     /* M from the stage that says which parameter is it (halo_generate: interval, default 4) */
     int generate = stage_index(p, "halo_generate");
     const halo_stage_info *gen = generate >= 0 ? halo_program_stage_info(p, (size_t)generate) : NULL;
     CHECK(gen && gen->interval && !strcmp(gen->interval, "interval"));
-    CHECK_INT_EQ(halo_program_interval(p), 4);
+    CHECK_INT_EQ(halo_program_reflection(p).interval, 4);
     char *json = halo_program_reflect_json(p);
     CHECK(json && strstr(json, "\"stage_info\"") && strstr(json, "\"zero_generation\": true"));
     free(json);
@@ -109,10 +109,10 @@ static int test_stage_info(void)
     p = link_valid(
         "{\"halo_scene\": 1, \"stages\": [\"halo_seed\", {\"halo_generate\": {\"interval\": 7}}, "
         "\"halo_map\"]}");
-    CHECK(p && halo_program_interval(p) == 7);
+    CHECK(p && halo_program_reflection(p).interval == 7);
     halo_program_destroy(p);
     p = link_valid("{\"halo_scene\": 1, \"stages\": [\"boundary\"]}");
-    CHECK(p && halo_program_interval(p) == 0);
+    CHECK(p && halo_program_reflection(p).interval == 0);
     halo_program_destroy(p);
     /* outline_feature reads the labels only for a feature with label >= 0 */
     p = link_valid(
@@ -122,7 +122,7 @@ static int test_stage_info(void)
     if (p) {
         const halo_stage_info *info = halo_program_stage_info(p, (size_t)stage_index(p, "outline_feature"));
         CHECK(info && info->labels_when && !strcmp(info->labels_when, "label"));
-        CHECK_INT_EQ(halo_program_reads_labels(p), 0);
+        CHECK_INT_EQ(halo_program_reflection(p).reads_labels, 0);
         halo_program_destroy(p);
     }
     p = link_valid(
@@ -130,7 +130,7 @@ static int test_stage_info(void)
         "\"outlines\"]}");
     CHECK(p != NULL);
     if (p) {
-        CHECK_INT_EQ(halo_program_reads_labels(p), 1);
+        CHECK_INT_EQ(halo_program_reflection(p).reads_labels, 1);
         halo_program_destroy(p);
     }
     return 0;

@@ -444,7 +444,7 @@ static int check_groups(halo_gl *runtime)
     }
     size_t pixels = (size_t)PIXELS * PIXELS, floats = 0, differing = 0;
     float *out[2] = {NULL, NULL};
-    int groups = p ? halo_program_group_count(p) : 0;
+    int groups = p ? halo_program_reflection(p).group_count : 0;
     for (int skip = 0; skip < 2 && p && volume && groups == 2; ++skip) {
         size_t outputs = halo_program_reflection(p).output_count;
         out[skip] = malloc(pixels * 4 * (outputs + 1) * sizeof(float));
@@ -492,7 +492,7 @@ static int check_groups(halo_gl *runtime)
     return failed;
 }
 
-/* halo_gl_frame_read_region of halo images at 1/4 of a narrow frame (9 x 100: 3 x 25
+/* halo_gl_frame_info.read_box of halo images at 1/4 of a narrow frame (9 x 100: 3 x 25
  * texels): after a generation with no read-back and no declared region (the seeds may be
  * anywhere) the images may be nonzero anywhere, and the region is the whole frame in both
  * directions; with the read-back, nothing was drawn, so nothing can be nonzero. The
@@ -510,9 +510,13 @@ static int check_read_region(halo_gl *runtime, const char *policy, int setter, i
         if (setter >= 0)
             halo_gl_frame_set_readback_bounds(frame, setter);
         halo_gl_frame_begin(frame);
-        any[0] = halo_gl_frame_read_region(frame, before);
+        halo_gl_frame_info info0 = halo_gl_frame_describe(frame);
+        any[0] = info0.read_any;
+        memcpy(before, info0.read_box, sizeof before);
         halo_gl_frame_generate(frame);
-        any[1] = halo_gl_frame_read_region(frame, after);
+        halo_gl_frame_info info1 = halo_gl_frame_describe(frame);
+        any[1] = info1.read_any;
+        memcpy(after, info1.read_box, sizeof after);
     }
     int ok = frame && any[0] == 0 &&
              (expect_readback ? any[1] == 0

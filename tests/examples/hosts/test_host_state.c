@@ -208,10 +208,10 @@ static float *feature_buffer(env *e, int untidy, size_t *count)
 {
     const int dims[3] = {VOLUME, VOLUME, VOLUME};
     halo_feature_buffer *b = halo_feature_buffer_create(e->g.runtime, e->g.volume, dims, NULL, e->g.diag);
-    int out[3] = {0, 0, 0};
+    halo_feature_buffer_info info = {0};
     if (b)
-        halo_feature_buffer_get_dims(b, out);
-    *count = (size_t)out[0] * (size_t)out[1] * (size_t)out[2];
+        info = halo_feature_buffer_describe(b);
+    *count = (size_t)info.dims[0] * (size_t)info.dims[1] * (size_t)info.dims[2];
     float *values = b ? malloc(*count * sizeof *values) : NULL;
     const double view[3] = {0.3, 0.5, 0.8};
     if (untidy)

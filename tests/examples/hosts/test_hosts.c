@@ -206,12 +206,12 @@ static int render(const context *c, const halo_program *program, const halo_scen
         c->gl->Uniform1i(c->gl->GetUniformLocation(gl_program, "halo_host_feature_buffer"), FEATURE_UNIT);
         c->gl->UseProgram(0);
         c->gl->ActiveTexture(GL_TEXTURE0 + FEATURE_UNIT);
-        c->gl->BindTexture(GL_TEXTURE_3D, halo_feature_buffer_texture(buffer));
+        c->gl->BindTexture(GL_TEXTURE_3D, halo_feature_buffer_describe(buffer).texture);
         c->gl->ActiveTexture(GL_TEXTURE0);
     }
     if (halo_raycast_render(r, rgba, c->diag) != HALO_OK)
         goto done;
-    o->drawn = halo_raycast_frame(r) ? halo_gl_frame_segment_count(halo_raycast_frame(r)) : 0;
+    o->drawn = halo_raycast_frame(r) ? halo_gl_frame_describe(halo_raycast_frame(r)).segment_count : 0;
     /* the post passes (outlines) on the host's image */
     const char *post = NULL;
     for (size_t i = 0; program && i < halo_program_reflection(program).pass_count; ++i)

@@ -185,7 +185,7 @@ static float *render_host(env *e, const char *scene_text, int slab, int force, i
         halo_raycast_set_field_max_bytes(r, field_max_bytes);
         ok = ok && halo_raycast_render(r, rgba, e->g.diag) == HALO_OK;
         if (drawn)
-            *drawn = halo_raycast_frame(r) ? halo_gl_frame_segment_count(halo_raycast_frame(r)) : 1;
+            *drawn = halo_raycast_frame(r) ? halo_gl_frame_describe(halo_raycast_frame(r)).segment_count : 1;
     } else if (ok) {
         const halo_render_settings *settings = halo_scene_render(scene);
         ok = halo_slice_set_volume(s, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag) == HALO_OK &&
