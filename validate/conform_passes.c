@@ -188,3 +188,168 @@ void conform_pass_row(conform *c, const conform_row *row)
     run_pass_row(c, lib, row);
     halo_library_destroy(lib);
 }
+
+/* ---- Every other image-pass stage: its passes on noise ---------------------------------- */
+
+/* A value in [0, 1) for texel i of image k: the inputs of the generic image rows. */
+static double image_noise(size_t i, size_t k)
+{
+    uint64_t z = (uint64_t)i * 0x9e3779b97f4a7c15ull + (uint64_t)(k + 1) * 0xda942042e4dd58b5ull;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return (double)(float)((double)(z >> 11) / 9007199254740992.0);
+}
+
+/* Whether one of the program's passes writes the image. */
+static int pass_written(const halo_program *p, const char *image)
+{
+    halo_reflection r = halo_program_reflection(p);
+    for (size_t i = 0; i < r.pass_count; ++i)
+        if (!strcmp(r.passes[i].output, image))
+            return 1;
+    return 0;
+}
+
+/* The image's texel count and the GL format of its channels. */
+static size_t image_texels(const halo_image_info *info, int size)
+{
+    size_t side = (size_t)((size + info->scale - 1) / info->scale);
+    return side * side;
+}
+
+/* Stage m alone, through the frame probe: every image no pass writes (the host's colour,
+ * the outputs of the sample stages it reads) filled with the same noise in GL and in the
+ * emulation, the generation passes, then the post and final ones; every image its passes
+ * write compared. */
+static void run_image_stage_row(conform *c, const halo_module *m, const conform_row *row)
+{
+    const char *stage = halo_module_describe(m).name;
+    char name[128], tolerance_text[32];
+    snprintf(name, sizeof name, "pass:%s", stage);
+    if (!row_selected(c, name, stage))
+        return;
+    conform_tolerance_text(row, tolerance_text, sizeof tolerance_text);
+    halo_scene *scene = halo_scene_create(c->lib);
+    halo_program *program = NULL;
+    frame_probe fp = {0};
+    const halo_glfuncs *f = c->gl;
+    GLuint host_texture = 0;
+    float *texels = NULL;
+    int printed = 0;
+    size_t most = (size_t)c->size * (size_t)c->size * 4;
+    if (!halo_module_describe(m).has_emulation) {
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_EMU_MISSING, halo_module_describe(m).file, 0, 0,
+                          "stage '%s' has no C emulation of every pass", stage);
+        goto done;
+    }
+    if (!scene || halo_scene_enable(scene, stage, 1, c->diag) != HALO_OK)
+        goto done;
+    program = halo_link(&(halo_link_desc){.library = c->lib,
+                                          .scene = scene,
+                                          .host_source = c->probe_source,
+                                          .host_file = "probe.frag",
+                                          .target = c->target},
+                        c->diag);
+    if (!program || halo_diagnostics_errors(c->diag) > 0 || !frame_probe_open(c, program, c->size, &fp))
+        goto done;
+    texels = malloc(most * sizeof *texels);
+    if (!texels)
+        goto done;
+    halo_reflection r = halo_program_reflection(program);
+    halo_gl_frame_begin(fp.gl_frame);
+    halo_emu_frame_begin(fp.emu_frame);
+    for (size_t k = 0; k < r.image_count; ++k) {
+        const halo_image_info *info = &r.images[k];
+        if (pass_written(program, info->name))
+            continue;
+        double *e = halo_emu_frame_image(fp.emu_frame, info->name);
+        size_t n = image_texels(info, c->size) * (size_t)info->channels;
+        if (!e || n > most)
+            goto done;
+        for (size_t i = 0; i < n; ++i)
+            texels[i] = (float)(e[i] = image_noise(i, k));
+        static const GLenum formats[5] = {0, GL_RED, GL_RG, GL_RGB, GL_RGBA};
+        int side = (c->size + info->scale - 1) / info->scale;
+        GLuint texture = info->host ? 0 : halo_gl_frame_texture(fp.gl_frame, info->name);
+        if (info->host) {
+            f->GenTextures(1, &host_texture);
+            texture = host_texture;
+            f->BindTexture(GL_TEXTURE_2D, texture);
+            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            f->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, side, side, 0, formats[info->channels], GL_FLOAT, texels);
+        } else if (texture) {
+            f->BindTexture(GL_TEXTURE_2D, texture);
+            f->TexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, side, side, formats[info->channels], GL_FLOAT, texels);
+        }
+        f->BindTexture(GL_TEXTURE_2D, 0);
+    }
+    int generates = 0;
+    for (size_t i = 0; i < r.pass_count; ++i)
+        generates |= r.passes[i].at == HALO_PASS_AT_GENERATE;
+    if (generates) {
+        halo_gl_frame_generate(fp.gl_frame);
+        if (halo_emu_frame_generate(fp.emu_frame, c->diag) != HALO_OK)
+            goto done;
+    }
+    halo_gl_frame_post(fp.gl_frame, host_texture);
+    if (halo_emu_frame_post(fp.emu_frame, c->diag) != HALO_OK)
+        goto done;
+    GLenum gl_error = f->GetError();
+    if (gl_error != GL_NO_ERROR) {
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_GL_LINK, "", 0, 0, "OpenGL error 0x%x in the passes of %s", gl_error,
+                          stage);
+        goto done;
+    }
+    row_stats stats = {0};
+    const char *worst_image = "";
+    for (size_t k = 0; k < r.image_count; ++k) {
+        const halo_image_info *info = &r.images[k];
+        if (!pass_written(program, info->name))
+            continue;
+        if (halo_gl_frame_read(fp.gl_frame, info->name, texels) != HALO_OK)
+            goto done;
+        const double *e = halo_emu_frame_image(fp.emu_frame, info->name);
+        size_t n = image_texels(info, c->size) * (size_t)info->channels;
+        for (size_t i = 0; i < n; ++i) {
+            double g = texels[i];
+            if (!isfinite(g) || !isfinite(e[i])) {
+                stats.nonfinite++;
+                continue;
+            }
+            double error = fabs(g - e[i]);
+            if (row_stats_note(&stats, i / (size_t)info->channels, error))
+                worst_image = info->name;
+            if (error > row->tolerance_abs + row->tolerance_rel * fabs(e[i]))
+                stats.over++;
+        }
+    }
+    int pass = stats.over == 0 && stats.nonfinite == 0;
+    print_row(c, name, &stats, tolerance_text, pass);
+    if ((c->verbose || !pass) && stats.values)
+        fprintf(stderr, "  largest error at texel %zu of image %s; tolerance: %s\n", stats.worst, worst_image,
+                row->why);
+    printed = 1;
+done:
+    if (host_texture)
+        f->DeleteTextures(1, &host_texture);
+    free(texels);
+    frame_probe_release(&fp);
+    conform_row_end(c, name, printed, program, scene);
+}
+
+void conform_image_other_rows(conform *c, const conform_row *row)
+{
+    const char *const *own = row->params; /* the image stages with families of their own */
+    for (size_t i = 0; i < halo_library_module_count(c->lib); ++i) {
+        const halo_module *m = halo_library_module(c->lib, i);
+        if (halo_module_describe(m).hook != HALO_HOOK_IMAGE)
+            continue;
+        int listed = 0;
+        for (size_t k = 0; own && own[k]; ++k)
+            listed |= !strcmp(own[k], halo_module_describe(m).name);
+        if (!listed)
+            run_image_stage_row(c, m, row);
+    }
+}

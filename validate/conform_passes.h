@@ -16,4 +16,9 @@ typedef struct conform_pass_params {
  * noise): every image of params->compare within row->tolerance_abs. */
 void conform_pass_row(conform *c, const conform_row *row);
 
+/* Every image-pass stage not in row->params (a NULL-terminated list of the stages with
+ * families of their own), alone: the images no pass writes filled with noise, every image
+ * its passes write against the emulation within tolerance_abs + tolerance_rel |emu|. */
+void conform_image_other_rows(conform *c, const conform_row *row);
+
 #endif

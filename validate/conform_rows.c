@@ -257,6 +257,10 @@ const conform_row conform_rows[] = {
     {"*", "frame", "every other stage with outputs, images or host uniforms: defaults and @live", "%.0e+%.0er+cond",
      SEED_ABS, SEED_REL, "a stage not in the table", conform_frame_other_rows, NULL},
 
+    {"pass:*", "pass", "every other image-pass stage alone, its inputs noise: every image its passes write",
+     "%.0e+%.0er", 1e-5, 1e-5, "a stage not in the table: a few float32 operations a texel", conform_image_other_rows,
+     (const char *const[]){"halo_generate", "outlines", NULL}},
+
     /* with delta 0 the field is H_0; @fold: at the frame's size H_0 not stored, the
      * spreading passes read it from the seed image (halo_generate's fold) */
     PASS_ROW("pass:median", "halo_generate's median pass and H_0 (delta 0: the field is H_0)", 3e-7,

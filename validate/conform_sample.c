@@ -74,6 +74,32 @@ static int perturbed_output(const halo_program *p, const halo_emu_sample *input,
     return 1;
 }
 
+/* `#pragma halo is keeps_empty` is a promise hosts act on (the slice host skips empty
+ * samples outside the volume when every stage makes it): when every linked stage makes it,
+ * an empty sample (value, colour, opacity and gradient 0) must come out empty. Returns 1
+ * when it does or nothing promises it; 0 with the sample that came out in out. */
+static int keeps_empty_kept(const halo_program *p, double out[4])
+{
+    size_t n = halo_program_reflection(p).stage_count;
+    for (size_t i = 0; i < n; ++i)
+        if (!halo_program_stage_info(p, i)->keeps_empty)
+            return 1;
+    static const double views[2][3] = {{0, 0, 1}, {0.6, 0, 0.8}};
+    for (int v = 0; v < 2; ++v) {
+        halo_emu_sample s;
+        memset(&s, 0, sizeof s);
+        s.position[0] = s.position[1] = s.position[2] = 0.5;
+        memcpy(s.view, views[v], sizeof s.view);
+        s.depth = 0.5;
+        s.fragcoord[0] = s.fragcoord[1] = 0.5;
+        if (halo_emu_apply(p, NULL, &s, NULL) != HALO_OK)
+            return 1; /* the row reports the emulation's failure */
+        emulated_output(&s, out);
+        if (out[0] != 0.0 || out[1] != 0.0 || out[2] != 0.0 || out[3] != 0.0)
+            return 0;
+    }
+    return 1;
+}
 
 /* The parameter variants of a stage's rows. */
 enum variant { VARIANT_DEFAULT, VARIANT_EXPONENT_0, VARIANT_EXPONENT_64, VARIANT_LIVE, VARIANT_COUNT };
@@ -195,8 +221,15 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
         stats.over += (size_t)over;
         stats.nonfinite += (size_t)nonfinite;
     }
-    int pass = stats.over == 0 && stats.nonfinite == 0;
+    double empty[4];
+    int kept = keeps_empty_kept(program, empty);
+    int pass = stats.over == 0 && stats.nonfinite == 0 && kept;
     print_row(c, row, &stats, tolerance_text, pass);
+    if (!kept)
+        fprintf(stderr,
+                "  %s says `#pragma halo is keeps_empty`, but an empty sample (value, colour, opacity and gradient 0) "
+                "comes out as colour (%g, %g, %g), opacity %g\n",
+                stage, empty[0], empty[1], empty[2], empty[3]);
     if (c->verbose || !pass) {
         size_t shown[2] = {stats.worst, worst_over};
         const char *labels[2] = {"largest error", "furthest over tolerance"};
