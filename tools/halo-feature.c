@@ -11,7 +11,7 @@
  * times. report: the tables of docs/feature-halos.md. conform: the conformance rows. */
 #include "halo.h"
 #include "halo_feature.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "gl/headless.h"
 #include "image_write.h"
 #include "render_driver.h"
@@ -183,8 +183,8 @@ static int render_main(int argc, char **argv)
     if (!program)
         goto done;
     const halo_host_desc desc = {
-        .gl = halo_gl_functions(runtime), .runtime = runtime, .program = program, .width = o.size, .height = o.size};
-    const halo_glfuncs *f = halo_gl_functions(runtime);
+        .gl = halo_headless_functions(), .runtime = runtime, .program = program, .width = o.size, .height = o.size};
+    const halo_glfuncs *f = halo_headless_functions();
     image = malloc((size_t)o.size * o.size * 4 * sizeof *image);
     if (!image)
         goto done;

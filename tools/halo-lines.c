@@ -11,7 +11,7 @@
  * I/O failure. */
 #include "halo.h"
 #include "conform_lines.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "gl/headless.h"
 #include "hosts/lines.h"
 #include "image_write.h"

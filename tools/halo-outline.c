@@ -8,7 +8,7 @@
  * --check: copies the GL frame's inputs of the post passes (feature buffers, host colour)
  * into the C emulation, runs halo_emu_frame_post and prints the largest difference of
  * every image the post passes write (exit 1 above 1e-3). */
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "gl/headless.h"
 #include "halo.h"
 #include "image_write.h"
@@ -149,13 +149,12 @@ int main(int argc, char **argv)
         goto done;
     }
     runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, diag);
-    if (!runtime || !halo_driver_create(&slice, HALO_DRIVER_SLICE,
-                                        &(halo_host_desc){.gl = halo_gl_functions(runtime),
-                                                          .runtime = runtime,
-                                                          .program = program,
-                                                          .width = size,
-                                                          .height = size},
-                                        diag))
+    if (!runtime ||
+        !halo_driver_create(
+            &slice, HALO_DRIVER_SLICE,
+            &(halo_host_desc){
+                .gl = halo_headless_functions(), .runtime = runtime, .program = program, .width = size, .height = size},
+            diag))
         goto done;
     volume = halo_volume_create(volume_size);
     rgba = malloc((size_t)size * size * 4 * sizeof *rgba);

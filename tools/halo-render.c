@@ -10,7 +10,7 @@
  * volume contents), 2 usage or I/O failure (bad options, missing or truncated files). */
 #define _POSIX_C_SOURCE 200809L
 #include "halo.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "gl/headless.h"
 #include "image_write.h"
 #include "json_file.h"
@@ -550,7 +550,7 @@ static int apply_budget(const options *o, const char *scene_text, halo_library *
     }
     halo_bench_env env = {.lib = lib,
                           .runtime = runtime,
-                          .gl = halo_gl_functions(runtime),
+                          .gl = halo_headless_functions(),
                           .diag = diag,
                           .width = o->width,
                           .height = o->height,
@@ -847,7 +847,7 @@ int main(int argc, char **argv)
         settings = halo_scene_render(scene);
     }
     const halo_host_desc desc = {
-        .gl = halo_gl_functions(runtime), .runtime = runtime, .program = program, .width = o.width, .height = o.height};
+        .gl = halo_headless_functions(), .runtime = runtime, .program = program, .width = o.width, .height = o.height};
     if (!halo_driver_create(&host, kind, &desc, diag))
         goto done;
     host.tool = TOOL;

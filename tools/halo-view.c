@@ -16,7 +16,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "view.h"
 #include "halo.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "hosts/host_common.h"
 #include "image_write.h"
 #include "json_file.h"
@@ -593,7 +593,12 @@ int main(int argc, char **argv)
         halo_diagnostics_print(v->diag, stderr);
         goto done;
     }
-    v->f = halo_gl_functions(v->runtime);
+    const char *missing = NULL;
+    if (!halo_glfuncs_load(&v->functions, sizeof v->functions, get_proc_address, &missing)) {
+        fprintf(stderr, "halo-view: error: the window's OpenGL context lacks %s\n", missing);
+        goto done;
+    }
+    v->f = &v->functions;
     fprintf(stderr, "halo-view: OpenGL %s, %s\n", (const char *)v->f->GetString(GL_VERSION),
             (const char *)v->f->GetString(GL_RENDERER));
     size_t pixels = (size_t)v->width * (size_t)v->height;

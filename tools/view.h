@@ -86,7 +86,8 @@ typedef struct viewer {
     /* Window and GL */
     GLFWwindow *window;
     halo_gl *runtime;
-    const halo_glfuncs *f;
+    const halo_glfuncs *f; /* &functions */
+    halo_glfuncs functions;
     unsigned display_texture, display_framebuffer;
     int width, height;
     float *image, *display;

@@ -841,7 +841,7 @@ int halo_bench_main(int argc, char **argv)
         halo_diagnostics_print(env.diag, stderr);
         goto cleanup;
     }
-    env.gl = halo_gl_functions(env.runtime);
+    env.gl = halo_headless_functions();
     /* what was measured: the backend and the renderer ("egl backend, llvmpipe (LLVM 15.0.6, 256 bits)") */
     char renderer[320];
     snprintf(renderer, sizeof renderer, "%s backend, %s", halo_headless_backend(context),

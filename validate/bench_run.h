@@ -6,7 +6,7 @@
 #define HALO_BENCH_RUN_H
 
 #include "halo.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 
 #include <stdio.h>
 

@@ -18,7 +18,7 @@
  * CPU: one thread), after one untimed warm-up run. */
 #include "blur_report.h"
 
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "gl/headless.h"
 
 #include <math.h>

@@ -5,7 +5,7 @@
 #include "conform_feature.h"
 
 #include "halo_feature.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "gl/headless.h"
 #include "emu/feature_internal.h"
 #include "hosts/raycast.h"
@@ -395,7 +395,7 @@ static int run_rows(const char *only, int verbose, int *failed)
             if (WANT(rows[i]))
                 print_error(&c, rows[i]);
     } else {
-        c.f = halo_gl_functions(c.runtime);
+        c.f = halo_headless_functions();
         static const double oblique[3] = {0.3, 0.5, 0.81}, axis[3] = {0, 0, 1}, side[3] = {1, 0, 0};
         if (WANT("feature_splat"))
             run_splat_row(&c, "feature_splat", volume, n, &(halo_feature_desc){0}, oblique);

@@ -2,7 +2,7 @@
 #include "conform_harness.h"
 
 #include "halo.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "gl/headless.h"
 #include "hosts/host_common.h"
 #include "hosts/raycast.h"
@@ -104,7 +104,7 @@ halo_gl *conform_gl_current_or_headless(halo_headless **context, halo_diagnostic
 {
     *context = NULL;
     halo_gl *runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, NULL);
-    if (runtime && halo_gl_functions(runtime)->GetString(GL_VERSION))
+    if (runtime && halo_headless_functions()->GetString(GL_VERSION))
         return runtime;
     halo_gl_destroy(runtime);
     *context = halo_headless_create(64, 64, err, size);
@@ -761,7 +761,7 @@ int conform_open(conform *c)
     c->runtime = halo_gl_create(&(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address}, c->diag);
     if (!c->runtime)
         goto failed;
-    c->gl = halo_gl_functions(c->runtime);
+    c->gl = halo_headless_functions();
     c->es = halo_gl_es_version(c->runtime);
     c->target = c->es ? HALO_TARGET_ES300 : HALO_TARGET_DEFAULT;
     if (c->verbose)

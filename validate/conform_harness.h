@@ -11,7 +11,7 @@
 #define HALO_CONFORM_HARNESS_H
 
 #include "halo.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "gl/headless.h"
 
 #include <stddef.h>

@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "halo.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "gl/headless.h"
 #include "hosts/host_common.h"
 #include "hosts/lines.h"

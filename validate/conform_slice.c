@@ -5,7 +5,7 @@
 #include "conform_slice.h"
 
 #include "halo.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "hosts/slab.h"
 #include "hosts/slice.h"
 #include "volume.h"

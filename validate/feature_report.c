@@ -4,7 +4,7 @@
 #include "conform_feature.h"
 #include "conform_harness.h"
 #include "halo_feature.h"
-#include "gl/glfuncs.h"
+#include "halo_gl_loader.h"
 #include "gl/headless.h"
 #include "volume.h"
 #include "volume_io.h"
@@ -235,7 +235,7 @@ int halo_feature_report_main(int argc, char **argv)
     halo_volume_file file = {0};
     if (!r.runtime)
         goto done;
-    r.f = halo_gl_functions(r.runtime);
+    r.f = halo_headless_functions();
     fprintf(stderr, "feature report: %s\n", (const char *)r.f->GetString(GL_RENDERER));
     builtin = halo_volume_create(size);
     if (!builtin)

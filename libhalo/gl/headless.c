@@ -1,6 +1,8 @@
 /* Headless OpenGL contexts: EGL and OSMesa, each when built (see headless.h). */
 #include "gl/headless.h"
 
+#include "halo_gl_loader.h"
+
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -183,6 +185,19 @@ void *halo_headless_get_proc_address(const char *name)
     (void)name;
 #endif
     return address;
+}
+
+/* The tools' table, loaded again for each backend the process switches to. */
+const halo_glfuncs *halo_headless_functions(void)
+{
+    static halo_glfuncs table;
+    static int loaded_for = -1;
+    if (loaded_for != (int)current_backend) {
+        if (!halo_glfuncs_load(&table, sizeof table, halo_headless_get_proc_address, NULL))
+            return NULL;
+        loaded_for = (int)current_backend;
+    }
+    return &table;
 }
 
 /* GL_RENDERER of the current context, through the current backend. */

@@ -70,6 +70,11 @@ halo_headless *halo_headless_create(int width, int height, char *err, size_t err
 void halo_headless_destroy(halo_headless *h);
 /* The loader to pass to halo_gl_create / halo_glfuncs_load. */
 void *halo_headless_get_proc_address(const char *name);
+/* The entry points of the current context (the public halo_gl_loader.h's table, loaded
+ * through halo_headless_get_proc_address): what the tools call GL through. NULL when a
+ * required one is missing. */
+struct halo_glfuncs;
+const struct halo_glfuncs *halo_headless_functions(void);
 /* GL_RENDERER of the context ("llvmpipe (LLVM 15.0.6, 256 bits)"). */
 const char *halo_headless_renderer(halo_headless *h);
 /* "osmesa" or "egl". */

@@ -1,14 +1,29 @@
 #!/bin/sh
-# The example hosts and tools' sources (examples/) are what a user copies: they include
-# only libhalo's installed headers (halo.h, halo_feature.h, halo_gl_loader.h, halo_vtk.h:
-# pkginclude_HEADERS) and the examples' own, never a header of libhalo's sources
-# (internal.h, diag.h, strbuf.h, emu/..., gl/...).
+# The example hosts (examples/) are what a user copies, and the tools (tools/, validate/)
+# are built the way a user would build them: they include only libhalo's installed
+# headers (halo.h, halo_feature.h, halo_gl_loader.h, halo_vtk.h: pkginclude_HEADERS) and
+# their own (their directory's, the examples'; the tools also validate's), never a header of libhalo's sources
+# (internal.h, diag.h, strbuf.h, emu/..., gl/...). Allowed beyond that, each for its
+# reason:
+#   tools/, validate/: gl/headless.h, the headless context of the tools and tests (a
+#     static library of their own, not libhalo: libhalo/gl/headless.h says why)
+#   white-box conformance of the emulation's internals, which it checks against the GPU:
+#     validate/figure3.c (halo_generate's single passes, the paper's Fig. 3),
+#     validate/conform_segment.h (the segment plan the GL runtime draws),
+#     validate/conform_feature.c (the feature buffer's gradient at a voxel)
+#   validate/halo-validate.c: strbuf.h, the library's own file reader and NUL finder, so
+#     that halo-validate reads a shader with the library's limits and messages
 top=${top_srcdir:-${srcdir:-.}}
 cd "$top" || exit 99
 test -d examples && test -f libhalo/halo.h || { echo "broken setup: no examples/ in $top" >&2; exit 99; }
 installed="halo.h halo_feature.h halo_gl_loader.h halo_vtk.h"
+allowed="tools/*:gl/headless.h validate/*:gl/headless.h validate/figure3.c:internal.h validate/figure3.c:emu/emu.h
+validate/conform_segment.h:internal.h validate/conform_feature.c:emu/feature_internal.h
+validate/halo-validate.c:strbuf.h"
 status=0
-for f in $(find examples -name '*.c' -o -name '*.h' -o -name '*.cc' -o -name '*.cxx' | sort); do
+files=0
+for f in $(find examples tools validate -name '*.c' -o -name '*.h' -o -name '*.cc' -o -name '*.cxx' | sort); do
+    files=$((files + 1))
     dir=$(dirname "$f")
     # the quoted includes, with their line numbers
     grep -n '^[[:space:]]*#[[:space:]]*include[[:space:]]*"' "$f" |
@@ -17,16 +32,24 @@ for f in $(find examples -name '*.c' -o -name '*.h' -o -name '*.cc' -o -name '*.
         base=${name#libhalo/}
         case " $installed " in *" $base "*) continue ;; esac
         if test -f "$dir/$name" || test -f "examples/$name"; then
-            continue # the examples' own header
+            continue # its own header, or the examples'
         fi
+        case "$f" in tools/*) test -f "validate/$name" && continue ;; esac # the tools share validate's
+        ok=0
+        for a in $allowed; do
+            # shellcheck disable=SC2254
+            case "$f:$name" in $a) ok=1 ;; esac
+        done
+        test "$ok" -eq 1 && continue
         if test -f "libhalo/$base" || test -f "libhalo/$name"; then
             echo "$f:$line:1: error: includes \"$name\", a private header of libhalo (not installed)" >&2
         else
-            echo "$f:$line:1: error: includes \"$name\", which is neither an installed header nor the examples' own" >&2
+            echo "$f:$line:1: error: includes \"$name\", which is neither an installed header nor its own" >&2
         fi
         status=1
     done <"${TMPDIR:-/tmp}/public_headers.$$"
 done
 rm -f "${TMPDIR:-/tmp}/public_headers.$$"
-test "$status" -eq 0 && echo "examples/ includes only installed headers and its own"
+test "$files" -gt 0 || { echo "broken setup: no sources found" >&2; exit 99; }
+test "$status" -eq 0 && echo "examples/, tools/ and validate/ ($files files) include only installed headers, their own and the allowed ones"
 exit "$status"
