@@ -63,6 +63,42 @@ static int program_has_image(const halo_program *p, const char *name)
 }
 
 
+/* `#pragma halo is keeps_empty` with a frame (as conform_sample.c checks it without one):
+ * when every linked stage makes the promise, an empty sample through a 1x1 frame whose
+ * images are cleared comes out with colour, opacity and every output 0. Returns 1 when
+ * it does or nothing promises it; 0 with colour and opacity in out. */
+static int frame_keeps_empty(const halo_program *p, double out[4])
+{
+    size_t n = halo_program_reflection(p).stage_count;
+    for (size_t i = 0; i < n; ++i)
+        if (!halo_program_stage_info(p, i)->keeps_empty)
+            return 1;
+    halo_emu_frame *one = halo_emu_frame_create(p, 1, 1, NULL);
+    if (!one)
+        return 1; /* the row reports the emulation's failure */
+    emu_set_axes(one);
+    emu_set_probe_volumes(p, one);
+    halo_emu_frame_begin(one);
+    halo_emu_sample s;
+    memset(&s, 0, sizeof s);
+    s.position[0] = s.position[1] = s.position[2] = 0.5;
+    s.view[2] = 1.0;
+    s.depth = 0.5;
+    s.fragcoord[0] = s.fragcoord[1] = 0.5;
+    int kept = 1;
+    if (halo_emu_apply(p, one, &s, NULL) == HALO_OK) {
+        out[0] = s.color[0], out[1] = s.color[1], out[2] = s.color[2], out[3] = s.opacity;
+        kept = out[0] == 0.0 && out[1] == 0.0 && out[2] == 0.0 && out[3] == 0.0;
+        for (int k = 0; k < 4; ++k) {
+            kept &= s.output_accum[k] == 0.0;
+            for (int o = 0; o < 15; ++o)
+                kept &= s.output_accum_next[o][k] == 0.0;
+        }
+    }
+    halo_emu_frame_destroy(one);
+    return kept;
+}
+
 /* Prints a frame row; with -v or when it failed, the sample over tolerance (else the one
  * of the largest error) with the GPU's and the emulation's colour. Returns that sample's
  * index, its emulated values in emu (8), or SIZE_MAX when nothing more is to be shown. */
@@ -70,8 +106,16 @@ static size_t print_frame_row(conform *c, const char *row, const row_stats *stat
                               size_t worst_over, const halo_program *p, halo_emu_frame *eframe,
                               const halo_emu_sample *samples, const float *gpu, double emu[8])
 {
-    int pass = stats->over == 0 && stats->nonfinite == 0;
+    double empty[4];
+    int kept = frame_keeps_empty(p, empty);
+    int pass = stats->over == 0 && stats->nonfinite == 0 && kept;
     print_row(c, row, stats, tolerance_text, pass);
+    if (!kept)
+        fprintf(stderr,
+                "  a stage says `#pragma halo is keeps_empty`, but an empty sample (value, colour, opacity and "
+                "gradient 0) through a cleared frame comes out as colour (%g, %g, %g), opacity %g, or an output "
+                "not 0\n",
+                empty[0], empty[1], empty[2], empty[3]);
     if (!c->verbose && pass)
         return SIZE_MAX;
     size_t shown = worst_over != SIZE_MAX ? worst_over : stats->worst;
