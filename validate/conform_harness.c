@@ -726,6 +726,14 @@ static int stage_known(conform *c)
     if (at)
         *at = '\0';
     const halo_module *m = halo_library_find(c->lib, base);
+    if (m && halo_module_describe(m).hook == HALO_HOOK_IMAGE) {
+        fprintf(stderr,
+                "halo-validate: conform: --stage: '%s' is an image-pass stage: its rows are 'pass:%s' when it has no "
+                "family of its own, else its family's (halo_generate: the pass: rows; outlines: outline); "
+                "conform --list names them\n",
+                only, base);
+        return 0;
+    }
     if (!m || halo_module_describe(m).hook != HALO_HOOK_SAMPLE) {
         fprintf(stderr,
                 "halo-validate: conform: --stage: no per-sample stage '%s' (rows: empty, raycast, figure3,"

@@ -12,6 +12,12 @@ expect_stderr "bogus"
 run 2 "$HALO_VALIDATE" check --target 999 "$srcdir/glsl/sample/boundary.glsl"
 run 2 "$HALO_VALIDATE" check "$data/scenes/good.json"
 expect_error_in good.json
+# conform --stage: a name that is no row, family or stage; an image-pass stage's name
+# points at its rows
+run 2 "$HALO_VALIDATE" conform --stage no_such_stage
+expect_stderr "no per-sample stage 'no_such_stage'"
+run 2 "$HALO_VALIDATE" conform --stage halo_generate
+expect_stderr "'halo_generate' is an image-pass stage: its rows are"
 run 2 "$HALO_VALIDATE" link --bogus
 expect_stderr "bogus"
 run 2 "$HALO_VALIDATE" link --scene "$data/scenes/good.json"
