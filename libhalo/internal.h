@@ -226,7 +226,11 @@ struct halo_program {
     size_t host_uniform_count;
     int channel_count;
     int group_count; /* feature groups: ceil(features / 4) of the grouped stages, at least 1 */
-    int group;       /* the selected one */
+    /* the reflection's interval and reads_labels, from the current values: kept by
+     * halo_program_derive (link, halo_program_set, group loads), so that the reflection,
+     * which the runtime takes in its loops, stays a copy of fields */
+    int derived_interval, derived_reads_labels;
+    int group; /* the selected one */
     int image_precision;
     int image_scale;
     /* host contract 2 (libhalo/segment.c) */
@@ -335,6 +339,8 @@ char *halo_program_own(halo_program *p, const char *fmt, ...) __attribute__((for
 int halo_program_build_uniforms(halo_program *p, int all_live);
 int halo_program_set_groups(halo_program *p);
 void halo_program_load_group(halo_program *p, int g);
+/* Computes the program's derived_* fields from its current values. */
+void halo_program_derive(halo_program *p);
 /* program.c: the program's image of that name, or NULL. */
 halo_image_info *halo_program_image_named(halo_program *p, const char *name);
 /* Does no sample stage read image, and no pass of another image? (Its readers all declare

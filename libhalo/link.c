@@ -919,6 +919,7 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
     }
     if (passes)
         goto oom;
+    halo_program_derive(p);
     return p;
 oom:
     halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");

@@ -331,6 +331,7 @@ halo_status halo_program_set(halo_program *p, const char *stage, const char *par
         for (size_t i = 0; i < p->stages[s].module->param_count; i++)
             if (p->stages[s].values[i].value == w->value)
                 p->stages[s].values[i].count = count;
+    halo_program_derive(p);
     /* host contract 3: the march, linked from the same scene, has the same live parameters */
     if (p->prepass) /* the same stages and parameters: checked above */
         halo_program_set(p->prepass, stage, param, values, count, NULL);
@@ -361,8 +362,8 @@ halo_reflection halo_program_reflection(const halo_program *p)
     r.segment_location = p->segment_location;
     r.target = p->target;
     r.group_count = p->group_count > 1 ? p->group_count : 1;
-    r.interval = program_interval(p);
-    r.reads_labels = program_reads_labels(p);
+    r.interval = p->derived_interval;
+    r.reads_labels = p->derived_reads_labels;
     return r;
 }
 
@@ -390,6 +391,13 @@ void halo_program_load_group(halo_program *p, int g)
         }
     }
     p->group = g;
+    halo_program_derive(p);
+}
+
+void halo_program_derive(halo_program *p)
+{
+    p->derived_interval = program_interval(p);
+    p->derived_reads_labels = program_reads_labels(p);
 }
 
 halo_status halo_program_select_group(halo_program *p, int group)

@@ -111,6 +111,14 @@ static int test_stage_info(void)
         "\"halo_map\"]}");
     CHECK(p && halo_program_reflection(p).interval == 7);
     halo_program_destroy(p);
+    /* the reflection follows a live parameter's new value */
+    p = link_valid(
+        "{\"halo_scene\": 1, \"stages\": [\"halo_seed\", {\"halo_generate\": {\"interval\": 7, \"live\": "
+        "[\"interval\"]}}, \"halo_map\"]}");
+    const double five = 5;
+    CHECK(p && halo_program_set(p, "halo_generate", "interval", &five, 1, NULL) == HALO_OK &&
+          halo_program_reflection(p).interval == 5);
+    halo_program_destroy(p);
     p = link_valid("{\"halo_scene\": 1, \"stages\": [\"boundary\"]}");
     CHECK(p && halo_program_reflection(p).interval == 0);
     halo_program_destroy(p);
