@@ -211,7 +211,7 @@ static int pass_written(const halo_program *p, const char *image)
     return 0;
 }
 
-/* The image's texel count and the GL format of its channels. */
+/* The image's texel count (an image at 1/scale of the frame has fewer). */
 static size_t image_texels(const halo_image_info *info, int size)
 {
     size_t side = (size_t)((size + info->scale - 1) / info->scale);
