@@ -60,6 +60,9 @@ const char usage_text[] =
     "                      only) instead of halo_vtk_mapper_new's\n"
     "  --segments          halo_vtk_mapper_new's mapper draws VTK's volume once per depth\n"
     "                      segment (host contract 2) instead of once over the halo field\n"
+    "  --shade             VTK's own shading on (Phong, its headlight); the stages then read\n"
+    "                      VTK's gradient instead of the adapter's (docs/hosts/vtk.md)\n"
+    "  --own-gradient      the stages read the adapter's gradient even with --shade\n"
     "  --blend MODE        composite (default), mip or additive: VTK's blend mode\n"
     "  --set STAGE.PARAM=V[,V...]  after a first render, change a live parameter and\n"
     "                      render again (prints whether VTK rebuilt its shader)\n"
@@ -86,7 +89,7 @@ struct options {
                *export_to = nullptr;
     double window[2] = {0, 0};
     int have_window = 0, volume_size = 0, width = 256, height = 256, frames = 1, quiet = 0, no_stages = 0,
-        plain_mapper = 0;
+        plain_mapper = 0, shade = 0, own_gradient = 0;
     int segments = 0, tile_scale = 1, halo_scale = 1;
     std::vector<std::string> sets;
 };
@@ -106,6 +109,10 @@ int parse(int argc, char **argv, options *o)
             o->no_stages = 1;
         } else if (a == "--plain-mapper") {
             o->plain_mapper = 1;
+        } else if (a == "--shade") {
+            o->shade = 1;
+        } else if (a == "--own-gradient") {
+            o->own_gradient = 1;
         } else if (a == "--segments") {
             o->segments = 1;
         } else if (a == "--scene" && need()) {
@@ -300,7 +307,10 @@ int main(int argc, char **argv)
     property->SetColor(color);
     property->SetScalarOpacity(opacity);
     property->SetInterpolationTypeToLinear();
-    property->ShadeOff();
+    if (o.shade)
+        property->ShadeOn();
+    else
+        property->ShadeOff();
     property->SetScalarOpacityUnitDistance(1.0 / size);
 
     /* libhalo-vtk's mapper: VTK's own, drawn in depth segments when the scene has halos */
@@ -353,6 +363,7 @@ int main(int argc, char **argv)
         desc.all_live = !o.sets.empty();
         desc.segments = o.segments;
         desc.image_scale = o.halo_scale;
+        desc.own_gradient = o.own_gradient;
         h = halo_vtk_install(&desc, diag);
         if (!h)
             status = 1; /* the diagnostics are printed at the end */

@@ -10,7 +10,8 @@
  * Facts about VTK 9.1 used here (read from its shader template and composer): the
  * value in `scalar` is normalised over the input's scalar range; computeOpacity already
  * holds 1 - (1 - a)^(in_sampleDistance / unit distance); the gradient exists only with
- * shading on, so the stages get their own (central differences of in_volume[0]). */
+ * shading on (in computeLighting), so the stages get their own (central differences of
+ * in_volume[0]), or with shading on take VTK's from computeLighting. */
 #include "halo_vtk.h"
 
 #include <vtkCallbackCommand.h>
@@ -120,6 +121,24 @@ const char visible_test_guarded[] = "if (g_srcColor.a > 0.0 || HALO_RAY_MAY_END 
 /* ... and while they read images made by passes (the halo field, drawn once: host contract
  * 3): a transparent sample where the field is nonzero becomes the halo */
 const char visible_test_images[] = "if (g_srcColor.a > 0.0 || HALO_RAY_MAY_END == 0 || halo_vtk_reads_images)";
+/* VTK's gradient, computed for its lighting with shading on (VTK 9.1, 9.2: in computeLighting,
+ * which computeColor calls just before the splice point): kept for the stages. The #define
+ * tells the sample piece that it exists (where VTK's text differs, the stages read the
+ * adapter's gradient texture). */
+const char shading_gradient_text[] = "vec4 shading_gradient = computeGradient(g_dataPos, component, in_volume[0], 0);";
+const char shading_gradient_kept[] =
+    "vec4 shading_gradient = computeGradient(g_dataPos, component, in_volume[0], 0);\n"
+    "#define HALO_VTK_SHADING_GRADIENT\n"
+    "  halo_vtk_shading_gradient = shading_gradient.xyz;";
+/* The sample's gradient: VTK's (g1 - g2) / spacing of the scaled values at +-1 voxel, as
+ * the contract's (central differences halved, per voxel step, of the value over the window) */
+const char sample_gradient[] =
+    "#ifdef HALO_VTK_SHADING_GRADIENT\n"
+    "#define halo_vtk_sample_gradient(p) (halo_vtk_shading_gradient * in_cellSpacing[0] * (0.5 / (halo_vtk_window.y - "
+    "halo_vtk_window.x)))\n"
+    "#else\n"
+    "#define halo_vtk_sample_gradient(p) halo_vtk_gradient(p)\n"
+    "#endif\n";
 const char finish_point[] = "gl_FragData[0] = g_fragColor;";
 const char finish_text[] = "gl_FragData[0] = g_fragColor;\n  halo_finish();";
 /* A piece of a distributed volume (halo_vtk_set_whole_extent): ParaView composites the
@@ -140,26 +159,36 @@ enum splice_mode : unsigned {
     SPLICE_HALO = SPLICE_DRAWN_ONCE | SPLICE_SEGMENTS,
     SPLICE_ALL = SPLICE_OWN | SPLICE_HALO,
 };
-enum splice_text { TEXT_DECLARATIONS, TEXT_SAMPLE, TEXT_FIXED, TEXT_VISIBLE, TEXT_FINISH_OWN, TEXT_FINISH_HALO };
+enum splice_text {
+    TEXT_DECLARATIONS,
+    TEXT_SAMPLE,
+    TEXT_FIXED,
+    TEXT_VISIBLE,
+    TEXT_FINISH_OWN,
+    TEXT_FINISH_HALO,
+    TEXT_SHADING_GRADIENT
+};
 struct splice {
     const char *vtk_text; /* what VTK's shader holds */
     bool all;             /* every occurrence (VTK's tags) or the first */
     unsigned modes;
     splice_text kind;
     const char *fixed; /* TEXT_FIXED: the replacement */
+    bool optional;     /* VTK's text may be absent (halo_vtk_check does not ask for it) */
 };
 const splice splices[] = {
-    {declarations_tag, true, SPLICE_ALL, TEXT_DECLARATIONS, nullptr},
-    {splice_point, false, SPLICE_ALL, TEXT_SAMPLE, nullptr},
-    {extension_tag, true, SPLICE_OWN, TEXT_FIXED, extension_text},
-    {extension_tag, true, SPLICE_HALO, TEXT_FIXED, extension_segmented_text},
-    {begin_tag, true, SPLICE_OWN | SPLICE_DRAWN_ONCE, TEXT_FIXED, align_text},
-    {begin_tag, true, SPLICE_SEGMENTS, TEXT_FIXED, begin_text},
-    {end_tag, true, SPLICE_SEGMENTS, TEXT_FIXED, end_text},
-    {termination_text, false, SPLICE_HALO, TEXT_FIXED, termination_guarded},
-    {finish_point, false, SPLICE_OWN, TEXT_FINISH_OWN, nullptr},
-    {finish_point, false, SPLICE_HALO, TEXT_FINISH_HALO, nullptr},
-    {visible_test, false, SPLICE_HALO, TEXT_VISIBLE, nullptr},
+    {declarations_tag, true, SPLICE_ALL, TEXT_DECLARATIONS, nullptr, false},
+    {splice_point, false, SPLICE_ALL, TEXT_SAMPLE, nullptr, false},
+    {extension_tag, true, SPLICE_OWN, TEXT_FIXED, extension_text, false},
+    {extension_tag, true, SPLICE_HALO, TEXT_FIXED, extension_segmented_text, false},
+    {begin_tag, true, SPLICE_OWN | SPLICE_DRAWN_ONCE, TEXT_FIXED, align_text, false},
+    {begin_tag, true, SPLICE_SEGMENTS, TEXT_FIXED, begin_text, false},
+    {end_tag, true, SPLICE_SEGMENTS, TEXT_FIXED, end_text, false},
+    {termination_text, false, SPLICE_HALO, TEXT_FIXED, termination_guarded, false},
+    {finish_point, false, SPLICE_OWN, TEXT_FINISH_OWN, nullptr, false},
+    {finish_point, false, SPLICE_HALO, TEXT_FINISH_HALO, nullptr, false},
+    {visible_test, false, SPLICE_HALO, TEXT_VISIBLE, nullptr, false},
+    {shading_gradient_text, false, SPLICE_ALL, TEXT_SHADING_GRADIENT, shading_gradient_kept, true},
 };
 const int first_unit = 20;    /* libhalo's images: above the units VTK's volume mapper takes */
 const int gradient_unit = 19; /* the adapter's gradient texture: the binding in conversions */
@@ -176,6 +205,8 @@ const char conversions[] =
     "// the points (the adapter computes them once a volume), filtered as VTK's volume\n"
     "layout(binding = 19) uniform sampler3D halo_vtk_gradient_texture;\n"
     "vec3 halo_vtk_gradient(vec3 p) { return texture(halo_vtk_gradient_texture, p).rgb; }\n"
+    "// VTK's own gradient with its shading on, kept by computeLighting (halo_vtk_sample_gradient)\n"
+    "vec3 halo_vtk_shading_gradient = vec3(0.0);\n"
     "// the whole dataset's texture space: a piece of it (a brick of a distributed volume, ParaView)\n"
     "// has its own texture space, which halo_vtk_global_scale and _offset map into the whole one\n"
     "vec3 halo_vtk_global(vec3 p) { return p * halo_vtk_global_scale + halo_vtk_global_offset; }\n"
@@ -207,7 +238,7 @@ const char conversions[] =
 const halo_pieces_desc vtk_names = {
     /* position */ "halo_vtk_global(g_dataPos)",
     /* value */ "halo_vtk_value(scalar)",
-    /* gradient */ "halo_vtk_gradient(g_dataPos)",
+    /* gradient */ "halo_vtk_sample_gradient(g_dataPos)",
     /* view */ "halo_vtk_view()",
     /* depth */ "halo_vtk_depth(g_dataPos)",
     /* fragcoord */ "gl_FragCoord.xy",
@@ -257,6 +288,7 @@ struct halo_vtk {
     int one_draw = 0;
     double window_data[2] = {0, 1};                   /* the window in the input's units */
     unsigned value_texture = 0, gradient_texture = 0; /* the gradient: RGBA16F, also the stages' in VTK */
+    bool own_gradient = false;                        /* halo_vtk_desc.own_gradient: never VTK's shading gradient */
     vtkMTimeType value_time = 0;
     int value_version = 0, value_size[3] = {0, 0, 0};
     halo_diagnostics *diag = nullptr; /* the install's: GL errors of the segmented draws */
@@ -284,6 +316,8 @@ std::string replacement(const halo_vtk *h, const splice &sp)
         return std::string(piece_clamp) + finish_point;
     case TEXT_FINISH_HALO:
         return std::string(piece_clamp) + finish_text;
+    case TEXT_SHADING_GRADIENT:
+        return h->own_gradient ? shading_gradient_text : sp.fixed;
     case TEXT_FIXED:
         break;
     }
@@ -1070,6 +1104,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
     h->property = property;
     h->program = program;
     h->diag = diag; /* the draws' diagnostics (GL errors, the adapter's textures) */
+    h->own_gradient = desc->own_gradient != 0;
     /* the value window, in VTK's normalisation over the input's range */
     double range[2];
     input->GetScalarRange(range);
@@ -1105,7 +1140,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
     h->sample = std::string(
                     "// ---- libhalo-vtk: the stages, on the opacity per unit distance ----\n"
                     "g_srcColor.a = halo_vtk_correct(g_srcColor.a, 1.0 / halo_vtk_exponent());\n") +
-                halo_program_piece(program, HALO_PIECE_SAMPLE) +
+                sample_gradient + halo_program_piece(program, HALO_PIECE_SAMPLE) +
                 "g_srcColor.a = halo_vtk_correct(g_srcColor.a, halo_vtk_exponent());\n" + splice_point;
     if (segmenting) {
         h->segmented = halo_program_reflection(program).output_count || halo_program_reflection(program).pass_count;
@@ -1227,7 +1262,7 @@ halo_status halo_vtk_check(halo_vtk *h, halo_diagnostics *diag)
     }
     /* every other replacement of the install's mode: what it adds to VTK's text is there */
     for (const splice &sp : splices) {
-        if (!(sp.modes & h->mode))
+        if (!(sp.modes & h->mode) || sp.optional)
             continue;
         /* the parts of the replacement around VTK's own text (a tag VTK fills in later) */
         std::string text = replacement(h, sp);

@@ -35,6 +35,9 @@ typedef struct halo_vtk_desc {
     int image_scale;                   /* halo images at 1/image_scale of VTK's frame per side (halo_link_desc.
                                         * image_scale): 0 or 1 full, 2, 4; drawn once, libhalo's march at that
                                         * scale too (docs/performance.md: the cheaper halo frame, its error) */
+    int own_gradient;                  /* with VTK's shading on, the stages read the gradient VTK computes for
+                                        * its lighting (no fetch of their own); 1: the adapter's gradient
+                                        * texture always (docs/hosts/vtk.md, "The gradient") */
 } halo_vtk_desc;
 
 /* Installs the scene. Returns NULL, with the reason in diag, when the mapper or the

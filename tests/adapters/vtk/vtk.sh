@@ -11,6 +11,8 @@
 #    VTK's shader and the shader VTK composed validates. Measured at 96x96: 3e-4 to
 #    1.6e-3, sketch 1.8e-2; without the adapter's opacity conversion 2.2e-2 (colour cue);
 #  - a control that must fail that: tone shading with the light negated;
+#  - with VTK's shading on, the stages read VTK's gradient (kept from its lighting) and
+#    match the stages on the adapter's gradient texture (mean abs 1e-3);
 #  - live parameters: --set changes the image to exactly a fresh render with the new
 #    values, with no shader rebuild;
 #  - volumetric halos and outlines through halo_vtk_mapper_new (VTK's mapper drawn once
@@ -132,6 +134,27 @@ for scene in boundary-silhouette orientation sketch tone distance color-cue; do
     test "$scene" = sketch && limit=0.02
     awk -v b="$between" -v e="$effect" -v l="$limit" 'BEGIN { exit !(b != "" && e != "" && e > 0.005 && b <= e / 4 && b <= l) }' ||
         fail "$scene: VTK and halo-render differ by $between: over $limit or a quarter of the stages' effect $effect"
+done
+
+# VTK's shading on: the stages take the gradient VTK computes for its lighting (the shader
+# keeps it) instead of the adapter's texture; the two differ by the texture's half floats
+# and VTK's clamped reads at the volume's faces. Limit: mean abs 1e-3 and a tenth of what
+# the stages change (measured at 96x96, 64^3: 1.9e-4 and 2.7e-4 against effects of 0.087 and 0.024;
+# with the gradient taken at twice its size: 8.0e-3 and 1.2e-2, which fails)
+for scene in boundary-silhouette tone; do
+    HALO_VTK_DUMP="$tmp/$scene-shade.frag"
+    export HALO_VTK_DUMP
+    vtk "$scene-shade" "$scenes/$scene.json" --plain-mapper --shade
+    unset HALO_VTK_DUMP
+    vtk "$scene-shade-own" "$scenes/$scene.json" --plain-mapper --shade --own-gradient
+    vtk "$scene-shade-alone" "$scenes/$scene.json" --plain-mapper --shade --no-stages
+    grep -q "halo_vtk_shading_gradient = shading_gradient" "$tmp/$scene-shade.frag" ||
+        fail "$scene --shade: VTK's shader does not keep its shading gradient for the stages"
+    between=$(mean_abs "$scene-shade" "$scene-shade-own")
+    effect=$(mean_abs "$scene-shade" "$scene-shade-alone")
+    echo "$scene --shade: VTK's gradient against the adapter's $between (mean abs); the stages change VTK's image by $effect"
+    awk -v b="$between" -v e="$effect" 'BEGIN { exit !(b != "" && e != "" && e > 0.005 && b <= e / 10 && b <= 0.001) }' ||
+        fail "$scene --shade: VTK's gradient and the adapter's differ by $between: over 1e-3 or a tenth of the stages' effect $effect"
 done
 
 # the control: the light negated in VTK only must fail the same test
