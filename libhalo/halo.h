@@ -653,6 +653,9 @@ typedef struct halo_reflection {
     int segment_location; /* host contract 2: > 0 when the host is drawn in depth segments
                            * (halo_gl_frame_draw): the location of the ray-state output
                            * halo_segment_state_out; 0 when it is drawn once */
+    int one_draw;         /* host contract 3: 1 when linked with one_draw and the program has a field
+                           * (images made by passes between slices): halo_gl_frame_draw computes the
+                           * field of every depth segment, then calls the host's draw once */
     halo_target target;   /* the target it was linked for (HALO_TARGET_COUNT for a NULL program) */
     int group_count;      /* feature groups (below): 1 when the program has none, 0 for NULL */
     /* From the current parameter values (take the reflection again after halo_program_set): */

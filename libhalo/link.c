@@ -870,8 +870,11 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
     set_image_scales(p);
     /* host contract 3: the stages that seed the generation passes run in libhalo's march */
     if (desc->one_draw && !prepass_only && halo_program_has_generation_passes(p)) {
+        /* a slice host (one sample a fragment) draws all its slices over the field; a slab
+         * host marches each slab's rays, with the passes between the slabs */
+        int slab = h->slices && (halo_host_uses(host_source, "for") || halo_host_uses(host_source, "while"));
         const char *why = desc->force_segments ? "force_segments draws the host in segments"
-                          : h->slices          ? "a slice or slab host ('#pragma halo slices') runs the passes itself"
+                          : slab ? "a slab host ('#pragma halo slices' with a sample loop) runs the passes itself"
                           : p->kind != HALO_SHADER_FRAGMENT ? "it is for fragment shaders"
                           : !halo_prepass_mark(p)           ? "no stage seeds the passes from its samples"
                                                             : NULL;

@@ -360,6 +360,7 @@ halo_reflection halo_program_reflection(const halo_program *p)
     r.image_precision = p->image_precision;
     r.image_scale = p->image_scale;
     r.segment_location = p->segment_location;
+    r.one_draw = p->one_draw;
     r.target = p->target;
     r.group_count = p->group_count > 1 ? p->group_count : 1;
     r.interval = p->derived_interval;
@@ -517,6 +518,8 @@ char *halo_program_reflect_json(const halo_program *p)
     /* host contract 2: drawn in depth segments (halo_gl_frame_draw), the ray state at this location */
     json_object_set_new(root, "segment_state_location",
                         p->segment_location > 0 ? json_integer(p->segment_location) : json_null());
+    /* host contract 3: the field computed before the host is drawn once */
+    json_object_set_new(root, "one_draw", json_boolean(p->one_draw));
     json_t *samplers = json_array();
     for (size_t i = 0; i < p->sampler_count; i++)
         json_array_append_new(samplers,

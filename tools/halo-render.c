@@ -52,8 +52,9 @@ static void usage(FILE *out)
         "                     halo stages, else raycast\n"
         "  --no-halos         switch the halo stages (image passes, images, extra outputs,\n"
         "                     feature_halo) off: the same scene and host without halos\n"
-        "  --one-draw         with --host raycast: host contract 3, volumetric halos computed\n"
-        "                     by libhalo before the ray caster is drawn once (docs/host-contract.md)\n"
+        "  --one-draw         with --host raycast or slice: host contract 3, volumetric halos\n"
+        "                     computed by libhalo before the ray caster is drawn once, or the\n"
+        "                     slices all at once (docs/host-contract.md)\n"
         "  --halo-scale S     halo images at 1/S of the image per side: 1 (default), 2 or 4\n"
         "                     (faster image passes; docs/performance.md)\n"
         "  --gradient-format F  the slice and slab hosts' gradient texture: float (RGB32F),\n"
@@ -306,8 +307,10 @@ static int check_options(const options *o)
         why = "--labels needs --volume FILE (the labels are on that volume's grid)";
     else if (o->export_dir && o->host != HALO_DRIVER_RAYCAST)
         why = "--export-host writes the raycast host's inputs: it needs --host raycast";
-    else if (o->one_draw && o->host != HALO_DRIVER_RAYCAST)
-        why = "--one-draw is a way to draw the ray caster (host contract 3): it needs --host raycast";
+    else if (o->one_draw && o->host != HALO_DRIVER_RAYCAST && o->host != HALO_DRIVER_SLICE)
+        why =
+            "--one-draw draws the host once over the halo field (host contract 3): it needs --host raycast or "
+            "slice";
     else if (o->labels_path && o->host == HALO_DRIVER_RAYCAST)
         why = "--labels: the raycast host has no label texture; use slice or slab";
     else if (o->gradient_format && o->have_max_error)

@@ -60,7 +60,7 @@
     {                                                                                                         \
         name, "slice", renders, "%.0e", tolerance, 0.0, why, conform_slice_row, &(const conform_slice_params) \
         {                                                                                                     \
-            halos, slab, interval, scale                                                                      \
+            halos, slab, interval, scale, 0                                                                   \
         }                                                                                                     \
     }
 #define SLICE_HALOS_TOL 5e-4
@@ -362,6 +362,13 @@ const conform_row conform_rows[] = {
     SLICE_ROW("slab@M4", "the slab ray caster with two halos, M = 4", SLICE_HALOS_TOL, SLICE_HALOS_WHY, 1, 1, 4, 1),
     /* halo images at 1/2 and 1/4 of the frame (halo_link_desc.image_scale): the
      * max-downsampled seed, the spreading at the low size, the bilinear read */
+    {"slice@one_draw", "slice",
+     "the slice host with two halos, M = 4, its slices drawn at once over the field "
+     "(host contract 3)",
+     "%.0e", SLICE_HALOS_TOL, 0.0,
+     SLICE_HALOS_WHY " (the field from libhalo's march on the "
+                     "slices' planes)",
+     conform_slice_row, &(const conform_slice_params){1, 0, 4, 0, 1}},
     SLICE_ROW("slice@half", "the slice host, halo images at 1/2", SLICE_HALOS_TOL, SLICE_HALOS_WHY, 1, 0, 0, 2),
     SLICE_ROW("slab@quarter", "the slab ray caster, M = 4, halo images at 1/4", SLICE_HALOS_TOL, SLICE_HALOS_WHY, 1, 1,
               4, 4),

@@ -156,11 +156,11 @@ int halo_conform_slice_emulate(const halo_slice_state *s, const halo_program *p,
 /* One row: render with the slice host (slab = 0) or slab caster at interval M (0: the
  * program's), emulate, compare. */
 static void run_row(conform *c, const char *row, const char *scene_text, int slab, int interval, int scale,
-                    double tolerance, const char *tolerance_text, const char *reason, const float *volume,
+                    int one_draw, double tolerance, const char *tolerance_text, const char *reason, const float *volume,
                     int volume_size)
 {
     halo_scene *scene = halo_scene_parse(scene_text, "(conformance slice scene)", c->lib, c->diag);
-    halo_program *program = NULL;
+    halo_program *program = NULL, *interleaved = NULL;
     halo_slice *host = NULL;
     float *gpu = NULL;
     double *reference = NULL;
@@ -177,7 +177,8 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
                                           .host_source = source,
                                           .host_file = slab ? "slab.frag" : "slice.frag",
                                           .target = c->target,
-                                          .image_scale = scale},
+                                          .image_scale = scale,
+                                          .one_draw = one_draw},
                         c->diag);
     if (!program)
         goto done;
@@ -202,7 +203,18 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
         goto done;
     halo_slice_state state;
     halo_slice_get_state(host, &state);
-    if (!halo_conform_slice_emulate(&state, program, state.interval, reference, c->diag))
+    /* one_draw: the program's seeding stages run in libhalo's march, not in its samples; the
+     * emulation is the slice host's with the generations between its slices (the same
+     * algorithm on the same planes: docs/host-contract.md, "Host contract 3") */
+    if (one_draw && !(interleaved = halo_link(&(halo_link_desc){.library = c->lib,
+                                                                .scene = scene,
+                                                                .host_source = source,
+                                                                .host_file = "slice.frag",
+                                                                .target = c->target,
+                                                                .image_scale = scale},
+                                              c->diag)))
+        goto done;
+    if (!halo_conform_slice_emulate(&state, one_draw ? interleaved : program, state.interval, reference, c->diag))
         goto done;
     row_stats stats = {0};
     for (size_t i = 0; i < pixels; ++i) {
@@ -223,6 +235,7 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
     printed = 1;
 done:
     halo_slice_destroy(host);
+    halo_program_destroy(interleaved);
     free(gpu);
     free(reference);
     free(source);
@@ -247,6 +260,6 @@ void conform_slice_row(conform *c, const conform_row *row)
     char tolerance_text[32];
     conform_tolerance_text(row, tolerance_text, sizeof tolerance_text);
     run_row(c, row->name, params->halos ? slice_scene_halos : slice_scene_plain, params->slab, params->interval,
-            params->scale, row->tolerance_abs, tolerance_text, row->why, volume, volume_size);
+            params->scale, params->one_draw, row->tolerance_abs, tolerance_text, row->why, volume, volume_size);
     free(volume);
 }

@@ -9,6 +9,7 @@
  * the slice host) at interval M (0: the program's), the halo images at 1/scale. */
 typedef struct conform_slice_params {
     int halos, slab, interval, scale;
+    int one_draw; /* host contract 3: the slices drawn at once over the field libhalo computes first */
 } conform_slice_params;
 
 /* A whole small render (size x size) against the C emulation of the renderer, within

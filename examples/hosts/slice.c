@@ -42,6 +42,7 @@ struct halo_slice {
     char *vertex_source;    /* for building the variant */
     halo_gl *runtime_for_variant;
     int run_every_generation; /* halo_slice_set_generation_skip(s, 0) */
+    int volume_version;       /* halo_gl_segments_desc.volume_version: one more at every upload */
     long draws, pass_draws;
     halo_slice_progress_fn progress;
     void *progress_user;
@@ -320,6 +321,7 @@ halo_status halo_slice_set_volume(halo_slice *s, const float *data, int nx, int 
         }
     }
     s->volume = data;
+    s->volume_version++;
     s->dims[0] = nx;
     s->dims[1] = ny;
     s->dims[2] = nz;
@@ -697,6 +699,53 @@ static GLuint shader_variant(halo_slice *s, GLuint *program, const char *defines
     return *program;
 }
 
+/* Host contract 3 (a program linked with one_draw): halo_gl_frame_draw computes the halo
+ * field of every depth segment with libhalo's march over this host's volume, on the
+ * slices' own planes, then calls draw_slices once: every slice, front to back, with no
+ * generation between them; each sample reads its segment's layer of the field. */
+typedef struct slice_draw {
+    halo_slice *s;
+    const halo_slice_state *st;
+    GLint distance;
+} slice_draw;
+
+static void draw_slices(void *user)
+{
+    const slice_draw *d = user;
+    halo_slice *s = d->s;
+    for (int k = 0; k < d->st->slice_count; ++k) {
+        s->f->Uniform1f(d->distance, (float)(d->st->first_distance + k * d->st->step_size));
+        s->f->DrawArrays(GL_TRIANGLES, 0, 3);
+        s->draws++;
+        if (s->progress)
+            s->progress(k + 1, d->st->slice_count, s->progress_user);
+    }
+}
+
+static halo_status draw_over_field(halo_slice *s, const halo_slice_state *st, GLuint program, halo_diagnostics *diag)
+{
+    if (s->packed) { /* its values live in the packed texture, which the march does not read */
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0,
+                          "slice host: drawn once over the halo field (one_draw), libhalo's march reads the R32F "
+                          "volume, which the packed gradient formats free: use float, half or snorm8");
+        return HALO_ERROR_INPUT;
+    }
+    slice_draw d = {s, st, s->f->GetUniformLocation(program, "slice_distance")};
+    const halo_gl_segments_desc desc = {.inverse_view_projection = s->inverse_view_projection,
+                                        .step = (float)st->step_size,
+                                        .interval = st->interval,
+                                        .framebuffer = s->framebuffer,
+                                        .first_unit = 3, /* below the gradient's and labels' units */
+                                        .volume_texture = s->volume_texture,
+                                        .volume_version = s->volume_version,
+                                        .volume_size = {s->dims[0], s->dims[1], s->dims[2]},
+                                        .draw = draw_slices,
+                                        .user = &d};
+    halo_status status = HALO_OK;
+    SLICE_RUNTIME(s, status = halo_gl_frame_draw(s->frame, program, &desc, diag));
+    return status;
+}
+
 /* One pass over the volume; group >= 0: feature group `group` of a grouped program. */
 static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagnostics *diag)
 {
@@ -707,12 +756,19 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     static const GLfloat zero[4] = {0, 0, 0, 0};
     long pass_draws_before = halo_gl_frame_describe(s->frame).pass_draws;
     s->draws = 0;
+    int one_draw = s->frame && halo_program_reflection(s->linked).one_draw;
+    if (one_draw && (s->slab || group >= 0)) {
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0,
+                          "slice host: one_draw (the slices drawn once over the halo field) %s",
+                          s->slab ? "is for the slice host, not the slab host" : "takes no feature groups");
+        return HALO_ERROR_INPUT;
+    }
     /* a group after the first: rgba and colour buffer 0 hold the colour already */
     int colour_written = group > 0 && !s->slab && !s->run_every_generation && f->ColorMaski;
     /* clipped slices with halo images: the pixels of the section where the images read
      * are 0 and those outside the section get variants */
     GLuint outside = 0, zero_variant = 0;
-    if (slices_clippable(s) && s->frame && halo_program_reflection(s->linked).sampler_count > 0 &&
+    if (!one_draw && slices_clippable(s) && s->frame && halo_program_reflection(s->linked).sampler_count > 0 &&
         (!(outside = shader_variant(s, &s->outside_program, "#define SLICE_OUTSIDE 1\n", diag)) ||
          !(zero_variant = shader_variant(s, &s->zero_program,
                                          s->packed ? "#define HALO_IMAGES_ZERO 1\n#define SLICE_PACKED_VOLUME 1\n"
@@ -744,7 +800,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     }
     int interval = st.interval;
     int generate = s->frame && halo_program_reflection(s->linked).pass_count > 0;
-    if (s->frame) {
+    if (s->frame && !one_draw) {
         if (group <= 0)
             SLICE_RUNTIME(s, halo_gl_frame_begin(s->frame));
         if (group >= 0)
@@ -764,7 +820,17 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     int current = 0;
     generation_skip skip;
     generation_skip_start(&skip, s, &st);
-    if (!s->slab) {
+    if (one_draw) {
+        halo_status drawn = draw_over_field(s, &st, program, diag);
+        if (drawn != HALO_OK) {
+            f->Disable(GL_BLEND);
+            f->BindVertexArray(0);
+            f->UseProgram(0);
+            f->BindFramebuffer(GL_FRAMEBUFFER, 0);
+            return drawn;
+        }
+        f->Disable(GL_BLEND);
+    } else if (!s->slab) {
         const GLuint programs[3] = {program, zero_variant, outside};
         const GLint at[3] = {f->GetUniformLocation(program, "slice_distance"),
                              zero_variant ? f->GetUniformLocation(zero_variant, "slice_distance") : -1,

@@ -52,13 +52,13 @@ if test -n "${HALO_RENDER:-}" && test -x "$HALO_RENDER"; then
     run 2 "$HALO_RENDER" --bogus
     run 2 "$HALO_RENDER" --size 0x0
     run 2 "$HALO_RENDER" --size
-    # host contract 3 is a way to draw the ray caster: not with another host
+    # host contract 3 draws the ray caster or the slice host once: not the slab host
     run 2 "$HALO_RENDER" --export-host "$tmp" --host slab
     expect_stderr "export-host writes the raycast host's inputs: it needs --host raycast"
     run 2 "$HALO_RENDER" --export-host "$tmp/no/such/folder" --host raycast --size 8x8 --volume-size 8 -o "$tmp/e.png"
     expect_stderr "export-host: cannot write .*no/such/folder/host.json"
     run 2 "$HALO_RENDER" --one-draw --host slab
-    expect_stderr "one-draw is a way to draw the ray caster .host contract 3.: it needs --host raycast"
+    expect_stderr "one-draw draws the host once over the halo field .host contract 3.: it needs --host raycast or slice"
     run 2 "$HALO_RENDER" --one-draw
 fi
 finish

@@ -12,7 +12,8 @@
  *      computes before the draw agrees with the slab host at equal M as the segmented one
  *      does, emissive, occlusive, directional and with halo images at 1/2; it is drawn
  *      once, keeps early ray termination, links a single-pass host without segment calls,
- *      refuses force_segments and slab hosts, and says what it needs.
+ *      refuses force_segments and slab hosts, links the slice host (its slices drawn at
+ *      once), and says what it needs.
  *   5. A host that leaves hostile GL state between its draws (issue 26: culling, depth and
  *      stencil tests that pass nothing, blending to zero, a one-pixel scissor and
  *      viewport, colour writes off, lines, rasterizer discard, sRGB, odd packing and
@@ -654,12 +655,26 @@ static void test_diagnostics(env *e)
     CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_USAGE), "one_draw with a slab host is refused");
     halo_program_destroy(p);
     halo_diagnostics_clear(e->g.diag);
+    /* a slice host (one sample a fragment) draws its slices at once over the field */
+    char *slice = halo_host_load("slice.frag", NULL, e->g.diag);
+    p = slice ? halo_link(&(halo_link_desc){.library = e->g.lib,
+                                            .scene = scene,
+                                            .host_source = slice,
+                                            .host_file = "slice.frag",
+                                            .one_draw = 1},
+                          e->g.diag)
+              : NULL;
+    CHECK(p && halo_program_reflection(p).one_draw && halo_program_reflection(p).output_count == 0,
+          "one_draw with the slice host links: drawn once over the field, no seed output");
+    halo_program_destroy(p);
+    free(slice);
+    halo_diagnostics_clear(e->g.diag);
     /* host contract 3: the single-pass host links, rays may end, no seed output is left */
     p = halo_link(
         &(halo_link_desc){
             .library = e->g.lib, .scene = scene, .host_source = single_pass, .host_file = "single.frag", .one_draw = 1},
         e->g.diag);
-    CHECK(p != NULL, "with one_draw the single-pass host links");
+    CHECK(p != NULL && halo_program_reflection(p).one_draw, "with one_draw the single-pass host links");
     CHECK(p && strstr(halo_program_source(p), "#define HALO_RAY_MAY_END 1"), "one_draw: early ray termination kept");
     CHECK(p && halo_program_reflection(p).output_count == 0,
           "one_draw: the seeds are libhalo's march's, not the host's outputs");
