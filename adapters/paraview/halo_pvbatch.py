@@ -35,6 +35,8 @@ def main():
     p.add_argument("--frames", type=int, default=1, help="render this many frames and print the mean time")
     p.add_argument("--paraview-volume", action="store_true",
                    help="ParaView's own \"Volume\" representation instead of \"Halo Volume\" (no scene)")
+    p.add_argument("--shade", action="store_true",
+                   help="the representation's Shade on (VTK's lighting; the stages then take VTK's gradient)")
     p.add_argument("-o", "--output", help="the image (.png)")
     p.add_argument("--jobs", help="a file of renders, one a line: OUTPUT SCENE|- [EXCHANGE [SETTINGS]] "
                    "(one pvbatch start for many images)")
@@ -94,6 +96,7 @@ def main():
     rep.LookupTable = ctf
     rep.ScalarOpacityFunction = otf
     rep.ScalarOpacityUnitDistance = 1.0 / n
+    rep.Shade = 1 if a.shade else 0
     if not a.paraview_volume:
         rep.HaloWindow = [0.0, 1.0]
 
