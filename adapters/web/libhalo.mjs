@@ -250,13 +250,28 @@ class Frame {
     this._gl = gl;
     this._program = program;
     program._live();
-    const core = halo._core;
-    this._runtime = halo._runtime(gl);
     this.width = width;
     this.height = height;
-    this._handle = core._halo_web_frame_create(this._runtime, program._handle, width, height,
+    this._readback = readback;
+    this._make();
+  }
+
+  // The C frame on the context's runtime (again after a lost context was restored: the
+  // field's textures and programs went with it).
+  _make() {
+    const halo = this._halo, gl = this._gl, readback = this._readback;
+    this._runtime = halo._runtime(gl);
+    this._handle = halo._core._halo_web_frame_create(this._runtime, this._program._handle, this.width, this.height,
       readback === undefined ? (softwareRenderer(gl) ? 1 : -1) : readback ? 1 : 0);
     if (!this._handle) throw halo._error('frame: halo_gl_frame_create failed');
+    halo._contexts.get(gl).frames.add(this);
+  }
+
+  // The context was lost and restored: the C frame's GL names are out of emscripten's tables
+  // already; its memory goes, and the next draw makes it again.
+  _drop() {
+    if (this._handle) this._halo._core._halo_web_frame_destroy(this._handle);
+    this._handle = 0;
   }
 
   // Draws one frame: the field (oneDraw), then the host's proxy once through draw(), with
@@ -271,7 +286,7 @@ class Frame {
   // it after, as three.js's renderer.resetState()); the field's textures stay bound on
   // their units until the next call.
   draw(options) {
-    if (!this._handle) throw new HaloError([], 'the frame was destroyed');
+    if (this._destroyed) throw new HaloError([], 'the frame was destroyed');
     this._program._live(); // the C frame reads its program: not after program.destroy()
     const { program, draw } = options;
     if (typeof draw !== 'function') throw new HaloError([], 'frame.draw: draw (a function drawing the host\'s proxy) is required');
@@ -283,7 +298,8 @@ class Frame {
     for (let e = gl.getError(), n = 0; e && n < 8; e = gl.getError(), ++n)
       console.warn(`libhalo: frame.draw found WebGL error 0x${e.toString(16)} pending from the page's own calls`);
     const core = this._halo._core, GL = core.GL;
-    this._halo._current(gl);
+    this._halo._current(gl); // a context restored since the last draw: this frame made again
+    if (!this._handle) this._make();
     const list = (v) => (v === undefined || v === null ? undefined : Array.from(v));
     const programName = nameOf(GL, GL.programs, program);
     forgetUniforms(program); // relinked since the last frame: its new locations
@@ -316,7 +332,10 @@ class Frame {
       this._halo._current(this._gl);
       this._halo._core._halo_web_frame_destroy(this._handle);
     }
+    const entry = this._halo._contexts.get(this._gl);
+    if (entry) entry.frames.delete(this);
     this._handle = 0;
+    this._destroyed = true;
   }
 }
 
@@ -343,23 +362,68 @@ class Halo {
     this._core = core;
     if (!core._halo_web_init()) throw this._error('libhalo could not load its modules');
     this.version = core.UTF8ToString(core._halo_web_version());
-    this._contexts = new Map(); // WebGL 2 context -> {handle (emscripten's), runtime (halo_gl)}
+    // WebGL 2 context -> {handle (emscripten's), runtime (halo_gl), frames, names, probe}
+    this._contexts = new Map();
+    // The names emscripten's GL layer gives while a context is current (the C runtime's
+    // objects, and the page's named here), kept per context: when the context is lost and
+    // restored, its objects are gone, and these names leave the tables with them.
+    const GL = core.GL, getNewId = GL.getNewId, halo = this;
+    GL.getNewId = function (table) {
+      const id = getNewId.call(GL, table);
+      const entry = halo._naming;
+      if (entry) {
+        entry.names.push(table, id);
+        if (entry.names.length > 2 * entry.compactAt) { // the deleted ones out (names are never reused)
+          entry.names = entry.names.filter((v, i, a) => (i % 2 ? a[i - 1][v] : v[a[i + 1]]));
+          entry.compactAt = Math.max(4096, entry.names.length);
+        }
+      }
+      return id;
+    };
   }
 
-  // The context made current in emscripten's GL layer (registered on first use).
+  // The context made current in emscripten's GL layer (registered on first use; again,
+  // with libhalo's objects made anew, after it was lost and restored).
   _current(gl) {
     const GL = this._core.GL;
     let entry = this._contexts.get(gl);
+    if (entry && entry.probe && !gl.isContextLost() && !gl.isVertexArray(entry.probe)) entry = this._restored(gl, entry);
     if (!entry) {
       if (typeof WebGL2RenderingContext === 'undefined' || !(gl instanceof WebGL2RenderingContext))
         throw new HaloError([], 'frame: gl must be a WebGL 2 context');
       for (const name of RUNTIME_EXTENSIONS) gl.getExtension(name);
-      entry = { handle: GL.registerContext(gl, { majorVersion: 2, minorVersion: 0, enableExtensionsByDefault: false }), runtime: 0 };
+      entry = { handle: GL.registerContext(gl, { majorVersion: 2, minorVersion: 0, enableExtensionsByDefault: false }),
+        runtime: 0, frames: new Set(), names: [], compactAt: 4096, probe: null };
+      // a vertex array made (and bound once) on the context: gone when the context is
+      // restored after a loss, which is how a later call knows (no event needed)
+      const vao = gl.getParameter(gl.VERTEX_ARRAY_BINDING);
+      entry.probe = gl.createVertexArray();
+      gl.bindVertexArray(entry.probe);
+      gl.bindVertexArray(vao);
       this._contexts.set(gl, entry);
     }
     GL.makeContextCurrent(entry.handle);
+    this._naming = entry;
     nameBindings(GL, gl);
     return entry;
+  }
+
+  // gl was lost and restored: its names leave emscripten's tables (so that the C runtime's
+  // deletes of them do nothing), its frames' C objects and its runtime are freed, and the
+  // context is registered again; the frames are made again at their next draw.
+  _restored(gl, entry) {
+    const core = this._core, GL = core.GL;
+    for (let i = 0; i < entry.names.length; i += 2) entry.names[i][entry.names[i + 1]] = null;
+    GL.makeContextCurrent(entry.handle);
+    this._naming = null;
+    for (const frame of entry.frames) frame._drop();
+    if (entry.runtime) core._halo_web_gl_destroy(entry.runtime);
+    GL.lastError = 0; // glDeleteProgram of a name no longer in the table records INVALID_VALUE
+    GL.deleteContext(entry.handle);
+    this._contexts.delete(gl);
+    const fresh = this._current(gl);
+    for (const frame of entry.frames) fresh.frames.add(frame);
+    return fresh;
   }
 
   // libhalo's GL runtime (halo_gl) on gl, made once per context.

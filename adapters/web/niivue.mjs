@@ -219,11 +219,12 @@ export function installHalo(halo, nv, options = {}) {
       if (nv.renderShader !== staged) warnOnce('NiiVue draws with another shader (illumination or slices in the render): the stages are off');
       return draw();
     }
-    // the background volume changed (another volume, its window, its 4D frame): a new copy
+    // the background volume changed (another volume, its window, its 4D frame), or the
+    // context was lost and restored (the copy went with it): a new copy
     const key = [nv.back, nv.back.cal_min, nv.back.cal_max, nv.back.frame4D];
-    if (key.some((k, i) => k !== volumeKey[i])) {
+    if (key.some((k, i) => k !== volumeKey[i]) || !gl.isTexture(value.texture)) {
       const fresh = valueTexture(halo, gl, nv.back, firstUnit - 1);
-      gl.deleteTexture(value.texture);
+      if (gl.isTexture(value.texture)) gl.deleteTexture(value.texture);
       value = fresh;
       mmFromTexture = textureToMm(nv.back);
       volumeKey = key;

@@ -287,9 +287,10 @@ export function installHalo(halo, mapper, options = {}) {
     program.upload(gl, handle, { all: handle !== lastHandle });
     lastHandle = handle;
     const key = [mapper.getInputData(), mapper.getInputData().getMTime()];
-    if (key.some((k, i) => k !== volumeKey[i])) { // another volume, or new values: a new copy
+    // another volume, new values, or the context lost and restored (the copy gone): a new copy
+    if (key.some((k, i) => k !== volumeKey[i]) || !gl.isTexture(value.texture)) {
       const fresh = valueTexture(halo, gl, key[0], options.window, valueUnit);
-      gl.deleteTexture(value.texture);
+      if (gl.isTexture(value.texture)) gl.deleteTexture(value.texture);
       value = fresh;
       volumeKey = key;
       ++version;

@@ -10,7 +10,10 @@
 // caster alone (max abs 0). A scene given as one-draw:SCENE is host contract 3: linked
 // with oneDraw, its halo field computed by libhalo's C runtime in WebAssembly on the page's
 // WebGL 2 context (three's in three.js: installHalo's stages.render), the ray caster drawn
-// once; its reference is halo-render --one-draw's. A SCENE from / is the case folder's (/in/).
+// once; its reference is halo-render --one-draw's. In raycast.html the one-draw frame also
+// draws after the context was lost (frame.draw says so) and restored (WEBGL_lose_context):
+// the same frame object, the page's objects made again, the same image (max abs 0). A SCENE
+// from / is the case folder's (/in/).
 //   node browser.mjs CASE_DIR SCENE [CASE_DIR SCENE]...   (environment: srcdir,
 //   HALO_WEB_PACKAGE, HALO_CHROMIUM, HALO_WEB_LIMIT)
 import http from 'node:http';
@@ -301,6 +304,14 @@ try {
       const m1 = difference(other.pixels, reference);
       console.log(`${name}: its field at M = 1 against halo-render's at the scene's M: mean abs ${m1.mean.toExponential(3)}`);
       if (m1.mean <= limit) fail(`${name}: a field of other segments passes too (${m1.mean}): the limit sees nothing`);
+    }
+    if (c.oneDraw && viewer === 'raycast') { // the context lost and restored: the same frame draws the same image
+      const r = await page.evaluate((scene) => window.render({ scene, oneDraw: true, restore: true }), c.scene);
+      const again = r.restored ? difference(r.restored, r.pixels) : { max: NaN };
+      console.log(`${name}: the WebGL context lost (frame.draw: ${r.whileLost}) and restored: the same frame drawn ` +
+        `again, max abs ${again.max} against before the loss`);
+      if (!/context is lost/.test(r.whileLost || '')) fail(`${name}: frame.draw on a lost context did not say so`);
+      if (!(again.max === 0)) fail(`${name}: after the context was restored the frame draws ${again.max} from before`);
     }
     if (viewer === 'three' && staged.alone) { // the same renderer after the stages: the caster alone
       const after = difference(staged.alone, plain.pixels);
