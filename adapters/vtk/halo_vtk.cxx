@@ -121,24 +121,34 @@ const char visible_test_guarded[] = "if (g_srcColor.a > 0.0 || HALO_RAY_MAY_END 
 /* ... and while they read images made by passes (the halo field, drawn once: host contract
  * 3): a transparent sample where the field is nonzero becomes the halo */
 const char visible_test_images[] = "if (g_srcColor.a > 0.0 || HALO_RAY_MAY_END == 0 || halo_vtk_reads_images)";
-/* VTK's gradient, computed for its lighting with shading on (VTK 9.1, 9.2: in computeLighting,
- * which computeColor calls just before the splice point): kept for the stages. The #define
- * tells the sample piece that it exists (where VTK's text differs, the stages read the
- * adapter's gradient texture). */
+/* VTK's gradient, computed for its lighting with shading on (VTK 9.2: in computeLighting,
+ * which computeColor calls just before the splice point, for every sample that reaches it):
+ * kept for the stages. The #define tells the sample piece that it exists; where VTK's text
+ * differs (VTK 9.1 names it otherwise), nothing is replaced and the stages read the
+ * adapter's gradient texture. */
 const char shading_gradient_text[] = "vec4 shading_gradient = computeGradient(g_dataPos, component, in_volume[0], 0);";
 const char shading_gradient_kept[] =
     "vec4 shading_gradient = computeGradient(g_dataPos, component, in_volume[0], 0);\n"
     "#define HALO_VTK_SHADING_GRADIENT\n"
-    "  halo_vtk_shading_gradient = shading_gradient.xyz;";
-/* The sample's gradient: VTK's (g1 - g2) / spacing of the scaled values at +-1 voxel, as
- * the contract's (central differences halved, per voxel step, of the value over the window) */
+    "  halo_vtk_shading_gradient = shading_gradient;";
+/* The sample's gradient. VTK's lighting-only computeGradient returns (g1 - g2) / spacing
+ * with w = -1, g1 and g2 the scaled values at +-in_cellStep (1 / (N - 1) of the texture:
+ * N / (N - 1) voxels); with gradient opacity it returns a unit vector and its magnitude
+ * (w >= 0), and a sample whose lighting did not run leaves w = 0 (reset after each
+ * sample): then the adapter's texture. As the contract's gradient (central differences
+ * halved, per voxel step, of the value over the window): times the spacing, over
+ * 2 in_cellStep N voxels, over the window's width. */
 const char sample_gradient[] =
     "#ifdef HALO_VTK_SHADING_GRADIENT\n"
-    "#define halo_vtk_sample_gradient(p) (halo_vtk_shading_gradient * in_cellSpacing[0] * (0.5 / (halo_vtk_window.y - "
-    "halo_vtk_window.x)))\n"
+    "#define halo_vtk_sample_gradient(p) (halo_vtk_shading_gradient.w < 0.0 ? halo_vtk_shading_gradient.xyz * "
+    "in_cellSpacing[0] / (in_cellStep[0] * vec3(textureSize(in_volume[0], 0))) * (0.5 / (halo_vtk_window.y - "
+    "halo_vtk_window.x)) : halo_vtk_gradient(p))\n"
     "#else\n"
     "#define halo_vtk_sample_gradient(p) halo_vtk_gradient(p)\n"
     "#endif\n";
+/* after the stages: the kept gradient is this sample's only */
+const char sample_gradient_used[] =
+    "#ifdef HALO_VTK_SHADING_GRADIENT\nhalo_vtk_shading_gradient = vec4(0.0);\n#endif\n";
 const char finish_point[] = "gl_FragData[0] = g_fragColor;";
 const char finish_text[] = "gl_FragData[0] = g_fragColor;\n  halo_finish();";
 /* A piece of a distributed volume (halo_vtk_set_whole_extent): ParaView composites the
@@ -206,7 +216,7 @@ const char conversions[] =
     "layout(binding = 19) uniform sampler3D halo_vtk_gradient_texture;\n"
     "vec3 halo_vtk_gradient(vec3 p) { return texture(halo_vtk_gradient_texture, p).rgb; }\n"
     "// VTK's own gradient with its shading on, kept by computeLighting (halo_vtk_sample_gradient)\n"
-    "vec3 halo_vtk_shading_gradient = vec3(0.0);\n"
+    "vec4 halo_vtk_shading_gradient = vec4(0.0);\n"
     "// the whole dataset's texture space: a piece of it (a brick of a distributed volume, ParaView)\n"
     "// has its own texture space, which halo_vtk_global_scale and _offset map into the whole one\n"
     "vec3 halo_vtk_global(vec3 p) { return p * halo_vtk_global_scale + halo_vtk_global_offset; }\n"
@@ -1140,7 +1150,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
     h->sample = std::string(
                     "// ---- libhalo-vtk: the stages, on the opacity per unit distance ----\n"
                     "g_srcColor.a = halo_vtk_correct(g_srcColor.a, 1.0 / halo_vtk_exponent());\n") +
-                sample_gradient + halo_program_piece(program, HALO_PIECE_SAMPLE) +
+                sample_gradient + halo_program_piece(program, HALO_PIECE_SAMPLE) + sample_gradient_used +
                 "g_srcColor.a = halo_vtk_correct(g_srcColor.a, halo_vtk_exponent());\n" + splice_point;
     if (segmenting) {
         h->segmented = halo_program_reflection(program).output_count || halo_program_reflection(program).pass_count;

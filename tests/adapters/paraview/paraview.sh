@@ -153,7 +153,19 @@ test $# -eq 2 && awk -v m="$1" 'BEGIN { exit !(m > 0) }' || fail "HaloImageScale
 # the shading takes effect (measured at 96x96: 2 ranks against 1 1.2e-3, 7.7 %; on against
 # off 2.2e-3)
 pv shade-one 1 "$tmp/default-shade-1.png $scenes/default.json" --shade
+HALO_VTK_DUMP="$tmp/shade-two.frag" # the shader VTK built on a rank (halo_vtk_check writes it)
+export HALO_VTK_DUMP
 pv shade-two 2 "$tmp/default-shade-2.png $scenes/default.json 1" --shade
+unset HALO_VTK_DUMP
+if ! test -s "$tmp/shade-two.frag"; then
+    fail "halos with shading on 2 ranks: no shader written by halo_vtk_check (HALO_VTK_DUMP)"
+elif grep -q "halo_vtk_shading_gradient = shading_gradient" "$tmp/shade-two.frag"; then
+    echo "halos with shading on 2 ranks: the stages take VTK's gradient (kept from its lighting)"
+elif grep -q "shading_gradient" "$tmp/shade-two.frag"; then
+    fail "halos with shading on 2 ranks: VTK's shader computes shading_gradient, but does not keep it for the stages"
+else
+    echo "halos with shading on 2 ranks: this VTK's lighting has no shading_gradient: the adapter's texture"
+fi
 set -- $(metrics default-shade-1 default-shade-2)
 echo "halos with shading on: 2 ranks against 1: mean abs $1, $2 % over 1/255"
 test $# -eq 2 && within "$1" "$2" $halo_mean $halo_share ||

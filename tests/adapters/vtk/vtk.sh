@@ -137,19 +137,29 @@ for scene in boundary-silhouette orientation sketch tone distance color-cue; do
 done
 
 # VTK's shading on: the stages take the gradient VTK computes for its lighting (the shader
-# keeps it) instead of the adapter's texture; the two differ by the texture's half floats
-# and VTK's clamped reads at the volume's faces. Limit: mean abs 1e-3 and a tenth of what
-# the stages change (measured at 96x96, 64^3: 1.9e-4 and 2.7e-4 against effects of 0.087 and 0.024;
-# with the gradient taken at twice its size: 8.0e-3 and 1.2e-2, which fails)
-for scene in boundary-silhouette tone; do
+# keeps it: VTK 9.2) instead of the adapter's texture; the two differ by the texture's half
+# floats and VTK's clamped reads at the volume's faces. Per-sample stages (VTK's mapper) and
+# volumetric halos drawn once (halo_vtk_mapper_new's). Limit: mean abs 1e-3 and a tenth of
+# what the stages change (measured at 96x96, 64^3: boundary-silhouette 8.8e-5, tone 1.3e-4,
+# against effects of 0.087 and 0.024; with the gradient taken at twice its size 8.0e-3 and
+# 1.2e-2, which fails). A VTK whose lighting names its gradient otherwise (9.1) keeps the
+# adapter's texture: said, not failed.
+for case in boundary-silhouette:--plain-mapper tone:--plain-mapper default:; do
+    scene=${case%%:*} mode=${case#*:}
     HALO_VTK_DUMP="$tmp/$scene-shade.frag"
     export HALO_VTK_DUMP
-    vtk "$scene-shade" "$scenes/$scene.json" --plain-mapper --shade
+    vtk "$scene-shade" "$scenes/$scene.json" $mode --shade
     unset HALO_VTK_DUMP
-    vtk "$scene-shade-own" "$scenes/$scene.json" --plain-mapper --shade --own-gradient
-    vtk "$scene-shade-alone" "$scenes/$scene.json" --plain-mapper --shade --no-stages
-    grep -q "halo_vtk_shading_gradient = shading_gradient" "$tmp/$scene-shade.frag" ||
-        fail "$scene --shade: VTK's shader does not keep its shading gradient for the stages"
+    if ! grep -q "halo_vtk_shading_gradient = shading_gradient" "$tmp/$scene-shade.frag"; then
+        if grep -q "shading_gradient" "$tmp/$scene-shade.frag"; then
+            fail "$scene --shade: VTK's shader computes shading_gradient, but does not keep it for the stages"
+        else
+            echo "$scene --shade: this VTK's lighting has no shading_gradient (VTK 9.1): the stages read the adapter's texture"
+        fi
+        continue
+    fi
+    vtk "$scene-shade-own" "$scenes/$scene.json" $mode --shade --own-gradient
+    vtk "$scene-shade-alone" "$scenes/$scene.json" $mode --shade --no-stages
     between=$(mean_abs "$scene-shade" "$scene-shade-own")
     effect=$(mean_abs "$scene-shade" "$scene-shade-alone")
     echo "$scene --shade: VTK's gradient against the adapter's $between (mean abs); the stages change VTK's image by $effect"
