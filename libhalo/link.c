@@ -874,7 +874,8 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
          * host marches each slab's rays, with the passes between the slabs */
         int slab = h->slices && (halo_host_uses(host_source, "for") || halo_host_uses(host_source, "while"));
         const char *why = desc->force_segments ? "force_segments draws the host in segments"
-                          : slab ? "a slab host ('#pragma halo slices' with a sample loop) runs the passes itself"
+                          : slab ? "a host with '#pragma halo slices' and a loop (for, while) is taken for a slab "
+                                   "host, which marches its slabs' rays with the passes between them"
                           : p->kind != HALO_SHADER_FRAGMENT ? "it is for fragment shaders"
                           : !halo_prepass_mark(p)           ? "no stage seeds the passes from its samples"
                                                             : NULL;

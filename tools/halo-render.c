@@ -313,6 +313,11 @@ static int check_options(const options *o)
             "slice";
     else if (o->labels_path && o->host == HALO_DRIVER_RAYCAST)
         why = "--labels: the raycast host has no label texture; use slice or slab";
+    else if (o->one_draw &&
+             (o->gradient_format == HALO_GRADIENT_PACKED16 || o->gradient_format == HALO_GRADIENT_PACKED32))
+        why =
+            "--one-draw: libhalo's march reads the slice host's R32F volume, which the packed gradient formats "
+            "free: use float, half or snorm8";
     else if (o->gradient_format && o->have_max_error)
         why = "--max-error chooses the gradient format: not with --gradient-format";
     else if (o->have_halo_scale && o->have_max_error)

@@ -199,10 +199,22 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
         HALO_REPORT_ERROR(c->diag, HALO_MSG_OUT_OF_MEMORY, "", 0, 0, "out of memory");
         goto done;
     }
+    if (one_draw && !halo_program_reflection(program).one_draw) {
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_USAGE, "", 0, 0, "%s: the program was not linked for one draw", row);
+        goto done;
+    }
     if (halo_slice_render(host, gpu, c->diag) != HALO_OK)
         goto done;
     halo_slice_state state;
     halo_slice_get_state(host, &state);
+    if (one_draw && (halo_slice_draws(host) != state.slice_count ||
+                     halo_gl_frame_describe(halo_slice_frame(host)).segment_count != 1)) {
+        HALO_REPORT_ERROR(c->diag, HALO_MSG_USAGE, "", 0, 0,
+                          "%s: not drawn once over the field (%ld slices drawn of %d, %d host draws)", row,
+                          halo_slice_draws(host), state.slice_count,
+                          halo_gl_frame_describe(halo_slice_frame(host)).segment_count);
+        goto done;
+    }
     /* one_draw: the program's seeding stages run in libhalo's march, not in its samples; the
      * emulation is the slice host's with the generations between its slices (the same
      * algorithm on the same planes: docs/host-contract.md, "Host contract 3") */

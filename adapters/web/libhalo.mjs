@@ -371,12 +371,12 @@ class Halo {
     GL.getNewId = function (table) {
       const id = getNewId.call(GL, table);
       const entry = halo._naming;
-      if (entry) {
-        entry.names.push(table, id);
-        if (entry.names.length > 2 * entry.compactAt) { // the deleted ones out (names are never reused)
+      if (entry && table !== GL.contexts) { // a context's handle is no object of the context
+        if (entry.names.length >= entry.compactAt) { // the deleted ones out (names are never reused)
           entry.names = entry.names.filter((v, i, a) => (i % 2 ? a[i - 1][v] : v[a[i + 1]]));
-          entry.compactAt = Math.max(4096, entry.names.length);
+          entry.compactAt = Math.max(8192, 2 * entry.names.length);
         }
+        entry.names.push(table, id); // after: its object is put in the table when this returns
       }
       return id;
     };
@@ -392,8 +392,9 @@ class Halo {
       if (typeof WebGL2RenderingContext === 'undefined' || !(gl instanceof WebGL2RenderingContext))
         throw new HaloError([], 'frame: gl must be a WebGL 2 context');
       for (const name of RUNTIME_EXTENSIONS) gl.getExtension(name);
+      this._naming = null; // not another context's
       entry = { handle: GL.registerContext(gl, { majorVersion: 2, minorVersion: 0, enableExtensionsByDefault: false }),
-        runtime: 0, frames: new Set(), names: [], compactAt: 4096, probe: null };
+        runtime: 0, frames: new Set(), names: [], compactAt: 8192, probe: null };
       // a vertex array made (and bound once) on the context: gone when the context is
       // restored after a loss, which is how a later call knows (no event needed)
       const vao = gl.getParameter(gl.VERTEX_ARRAY_BINDING);

@@ -722,15 +722,15 @@ static void draw_slices(void *user)
     }
 }
 
+/* halo_gl_frame_draw calls the host's draw, with the host's state: not in the untidy
+ * hook's hostile state (the ray caster's test covers halo_gl_frame_draw in it). The
+ * march reads this host's gradient texture where it holds the contract's gradient as
+ * floats (format float: scale 1), else derives its own from the volume. */
 static halo_status draw_over_field(halo_slice *s, const halo_slice_state *st, GLuint program, halo_diagnostics *diag)
 {
-    if (s->packed) { /* its values live in the packed texture, which the march does not read */
-        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0,
-                          "slice host: drawn once over the halo field (one_draw), libhalo's march reads the R32F "
-                          "volume, which the packed gradient formats free: use float, half or snorm8");
-        return HALO_ERROR_INPUT;
-    }
     slice_draw d = {s, st, s->f->GetUniformLocation(program, "slice_distance")};
+    int own_gradient = s->reads_gradients && halo_slice_gradient_format(s) == HALO_GRADIENT_FLOAT &&
+                       s->gradient_scale == 1.0f && !s->gradient_pending;
     const halo_gl_segments_desc desc = {.inverse_view_projection = s->inverse_view_projection,
                                         .step = (float)st->step_size,
                                         .interval = st->interval,
@@ -739,11 +739,10 @@ static halo_status draw_over_field(halo_slice *s, const halo_slice_state *st, GL
                                         .volume_texture = s->volume_texture,
                                         .volume_version = s->volume_version,
                                         .volume_size = {s->dims[0], s->dims[1], s->dims[2]},
+                                        .gradient_texture = own_gradient ? s->gradient_texture : 0,
                                         .draw = draw_slices,
                                         .user = &d};
-    halo_status status = HALO_OK;
-    SLICE_RUNTIME(s, status = halo_gl_frame_draw(s->frame, program, &desc, diag));
-    return status;
+    return halo_gl_frame_draw(s->frame, program, &desc, diag);
 }
 
 /* One pass over the volume; group >= 0: feature group `group` of a grouped program. */
@@ -757,10 +756,13 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     long pass_draws_before = halo_gl_frame_describe(s->frame).pass_draws;
     s->draws = 0;
     int one_draw = s->frame && halo_program_reflection(s->linked).one_draw;
-    if (one_draw && (s->slab || group >= 0)) {
+    if (one_draw && (s->slab || group >= 0 || s->packed)) {
         HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0,
                           "slice host: one_draw (the slices drawn once over the halo field) %s",
-                          s->slab ? "is for the slice host, not the slab host" : "takes no feature groups");
+                          s->slab     ? "is for the slice host, not the slab host"
+                          : s->packed ? "needs the R32F volume that libhalo's march reads, which the packed gradient "
+                                        "formats free: use float, half or snorm8"
+                                      : "takes no feature groups");
         return HALO_ERROR_INPUT;
     }
     /* a group after the first: rgba and colour buffer 0 hold the colour already */
@@ -820,15 +822,9 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     int current = 0;
     generation_skip skip;
     generation_skip_start(&skip, s, &st);
+    halo_status drawn = HALO_OK; /* one_draw: the field and the slices (on failure: no image) */
     if (one_draw) {
-        halo_status drawn = draw_over_field(s, &st, program, diag);
-        if (drawn != HALO_OK) {
-            f->Disable(GL_BLEND);
-            f->BindVertexArray(0);
-            f->UseProgram(0);
-            f->BindFramebuffer(GL_FRAMEBUFFER, 0);
-            return drawn;
-        }
+        drawn = draw_over_field(s, &st, program, diag);
         f->Disable(GL_BLEND);
     } else if (!s->slab) {
         const GLuint programs[3] = {program, zero_variant, outside};
@@ -887,7 +883,7 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     colour_mask(s, colour_written, 1);
     if (group >= 0)
         SLICE_RUNTIME(s, halo_gl_frame_end_group(s->frame));
-    if (!colour_written) {
+    if (!colour_written && drawn == HALO_OK) {
         f->BindFramebuffer(GL_READ_FRAMEBUFFER, s->framebuffer);
         f->ReadBuffer(GL_COLOR_ATTACHMENT0);
         f->PixelStorei(GL_PACK_ALIGNMENT, 4);
@@ -909,6 +905,8 @@ static halo_status render_pass(halo_slice *s, float *rgba, int group, halo_diagn
     f->BindTexture(GL_TEXTURE_3D, 0);
     f->BindFramebuffer(GL_FRAMEBUFFER, 0);
     s->pass_draws = halo_gl_frame_describe(s->frame).pass_draws - pass_draws_before;
+    if (drawn != HALO_OK)
+        return drawn;
     GLenum error = f->GetError();
     if (error != GL_NO_ERROR) {
         HALO_REPORT_ERROR(diag, HALO_MSG_GL_LINK, "", 0, 0, "OpenGL error 0x%x while rendering slices", error);

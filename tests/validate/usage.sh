@@ -60,5 +60,7 @@ if test -n "${HALO_RENDER:-}" && test -x "$HALO_RENDER"; then
     run 2 "$HALO_RENDER" --one-draw --host slab
     expect_stderr "one-draw draws the host once over the halo field .host contract 3.: it needs --host raycast or slice"
     run 2 "$HALO_RENDER" --one-draw
+    run 2 "$HALO_RENDER" --one-draw --host slice --gradient-format packed32
+    expect_stderr "one-draw: libhalo's march reads the slice host's R32F volume, which the packed gradient formats free"
 fi
 finish
