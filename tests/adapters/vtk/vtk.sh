@@ -57,16 +57,20 @@ vtk() { # OUT SCENE [ARG]...
 # Under load with other X servers beside it (make -j check), Xvfb here has refused a new
 # client now and then ("bad X server connection", VTK aborts: 4 of 9 runs of three
 # parallel xvfb-run loops under CI load, 2026-12-02). A program whose log says so is run
-# once more, with a note; any other failure counts at once.
+# again, with a note; any other failure counts at once.
+# A refusal can come twice in a row (test_vtk_two_volumes, CI's fresh root, 2026-12-05):
+# up to three more tries, a little later each time.
 xretry() { # LOG COMMAND...
-    r_log=$1
+    r_log=$1 r_try=1
     shift
-    "$@" >"$r_log" 2>&1 && return 0
-    r_status=$?
-    grep -q "bad X server connection" "$r_log" || return "$r_status"
-    echo "    (the X server refused a connection: $1 once more)"
-    sleep 1
-    "$@" >"$r_log" 2>&1
+    while :; do
+        "$@" >"$r_log" 2>&1 && return 0
+        r_status=$?
+        test $r_try -le 3 && grep -q "bad X server connection" "$r_log" || return "$r_status"
+        echo "    (the X server refused a connection: $1 once more)"
+        sleep $r_try
+        r_try=$((r_try + 1))
+    done
 }
 ray() { # OUT SCENE
     "$HALO_RENDER" --scene "$2" --host raycast --size $size --volume-size $vsize --quiet -o "$tmp/$1.exr" \
