@@ -96,6 +96,15 @@ metrics() {
 within() {
     awk -v m="$1" -v s="$2" -v mm="$3" -v ms="$4" 'BEGIN { exit !(m <= mm && s <= ms) }'
 }
+# halo_ranks ONE TWO WHAT: the halos of image TWO (2 ranks) against ONE (1 rank) within
+# the halos' tolerance (halo_mean, halo_share below), said and checked
+halo_ranks() {
+    h_what=$3
+    set -- $(metrics "$1" "$2")
+    echo "halos $h_what: 2 ranks against 1: mean abs $1, $2 % over 1/255"
+    test $# -eq 2 && within "$1" "$2" $halo_mean $halo_share ||
+        fail "halos $h_what: 2 ranks differ from 1 by mean abs $1, $2 % over 1/255 (tolerance $halo_mean, $halo_share %)"
+}
 
 # tolerances (docs/distributed.md): per-sample stages, and halos
 sample_mean=2.5e-3 sample_share=10
@@ -128,10 +137,7 @@ set -- $(metrics distance-1 distance-local-2)
 echo "control, the distance cue in each brick's own space: mean abs $1, $2 % over 1/255"
 test $# -eq 2 && within "$1" "$2" $sample_mean $sample_share && fail "control: the brick-space distance cue passed"
 
-set -- $(metrics default-1 default-2)
-echo "halos, the seeds combined over the ranks: 2 ranks against 1: mean abs $1, $2 % over 1/255"
-test $# -eq 2 && within "$1" "$2" $halo_mean $halo_share ||
-    fail "halos: 2 ranks differ from 1 by mean abs $1, $2 % over 1/255 (tolerance $halo_mean, $halo_share %)"
+halo_ranks default-1 default-2 "(the seeds combined over the ranks)"
 set -- $(metrics default-1 default-naive-2)
 echo "control, each rank's own seeds: mean abs $1, $2 % over 1/255"
 test $# -eq 2 && within "$1" "$2" $halo_mean $halo_share && fail "control: the naive halos passed the halo tolerance"
@@ -140,10 +146,7 @@ test $# -eq 2 && within "$1" "$2" $halo_mean $halo_share && fail "control: the n
 # same tolerance; and the property takes effect (1/2 is not the full-size image)
 pv half-one 1 "$tmp/default-half-1.png $scenes/default.json" --image-scale 2
 pv half-two 2 "$tmp/default-half-2.png $scenes/default.json 1" --image-scale 2
-set -- $(metrics default-half-1 default-half-2)
-echo "halos at 1/2 (HaloImageScale 2): 2 ranks against 1: mean abs $1, $2 % over 1/255"
-test $# -eq 2 && within "$1" "$2" $halo_mean $halo_share ||
-    fail "halos at 1/2: 2 ranks differ from 1 by mean abs $1, $2 % over 1/255 (tolerance $halo_mean, $halo_share %)"
+halo_ranks default-half-1 default-half-2 "at 1/2 (HaloImageScale 2)"
 set -- $(metrics default-1 default-half-1)
 echo "halos at 1/2 against full size, 1 rank: mean abs $1, $2 % over 1/255"
 test $# -eq 2 && awk -v m="$1" 'BEGIN { exit !(m > 0) }' || fail "HaloImageScale 2 changed nothing"
@@ -166,10 +169,7 @@ elif grep -q "shading_gradient" "$tmp/shade-two.frag"; then
 else
     echo "halos with shading on 2 ranks: this VTK's lighting has no shading_gradient: the adapter's texture"
 fi
-set -- $(metrics default-shade-1 default-shade-2)
-echo "halos with shading on: 2 ranks against 1: mean abs $1, $2 % over 1/255"
-test $# -eq 2 && within "$1" "$2" $halo_mean $halo_share ||
-    fail "halos with shading: 2 ranks differ from 1 by mean abs $1, $2 % over 1/255 (tolerance $halo_mean, $halo_share %)"
+halo_ranks default-shade-1 default-shade-2 "with shading on"
 set -- $(metrics default-1 default-shade-1)
 echo "shading on against off, 1 rank: mean abs $1"
 test $# -eq 2 && awk -v m="$1" 'BEGIN { exit !(m > 5e-4) }' || fail "--shade changed nothing (mean abs $1)"
