@@ -98,16 +98,26 @@ void halo_diagnostics_destroy(halo_diagnostics *d)
     free(d);
 }
 
-size_t halo_diagnostics_count(const halo_diagnostics *d) { return d ? d->count : 0; }
-
 const halo_diagnostic *halo_diagnostics_get(const halo_diagnostics *d, size_t i)
 {
     return d && i < d->count ? &d->items[i] : NULL;
 }
 
-size_t halo_diagnostics_errors(const halo_diagnostics *d)
+static size_t diag_limit(const halo_diagnostics *d)
 {
-    return d ? d->kept_errors + d->dropped[HALO_SEVERITY_ERROR] : 0;
+    return d && d->limit_set ? d->limit : HALO_DIAGNOSTICS_DEFAULT_LIMIT;
+}
+
+halo_diagnostics_info halo_diagnostics_describe(const halo_diagnostics *d)
+{
+    halo_diagnostics_info info = {0};
+    info.limit = diag_limit(d);
+    if (!d)
+        return info;
+    info.count = d->count;
+    info.errors = d->kept_errors + d->dropped[HALO_SEVERITY_ERROR];
+    info.dropped = d->dropped[0] + d->dropped[1] + d->dropped[2];
+    return info;
 }
 
 int halo_diagnostics_has(const halo_diagnostics *d, halo_message_id id)
@@ -123,19 +133,9 @@ void halo_diagnostics_set_limit(halo_diagnostics *d, size_t limit)
     d->limit_set = 1;
 }
 
-size_t halo_diagnostics_limit(const halo_diagnostics *d)
-{
-    return d && d->limit_set ? d->limit : HALO_DIAGNOSTICS_DEFAULT_LIMIT;
-}
-
-size_t halo_diagnostics_dropped(const halo_diagnostics *d)
-{
-    return d ? d->dropped[0] + d->dropped[1] + d->dropped[2] : 0;
-}
-
 int halo_diag_kept(const halo_diagnostics *d, halo_severity severity)
 {
-    size_t limit = halo_diagnostics_limit(d);
+    size_t limit = diag_limit(d);
     size_t kept = !d ? 0 : severity == HALO_SEVERITY_ERROR ? d->kept_errors : d->count - d->kept_errors;
     return !d || !limit || kept < limit;
 }
@@ -393,7 +393,7 @@ void halo_diagnostics_print(const halo_diagnostics *d, FILE *out)
     for (int s = 0; d && s < 3; s++)
         if (d->dropped[s])
             fprintf(out, "%zu more %s not shown (the limit is %zu per kind)\n", d->dropped[s],
-                    kinds[s][d->dropped[s] != 1], halo_diagnostics_limit(d));
+                    kinds[s][d->dropped[s] != 1], diag_limit(d));
 }
 
 void halo_diag_read_failed(halo_diagnostics *d, const char *path, const char *what)

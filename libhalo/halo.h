@@ -186,9 +186,16 @@ typedef struct halo_diagnostics halo_diagnostics;
 
 HALO_API halo_diagnostics *halo_diagnostics_create(void);
 HALO_API void halo_diagnostics_destroy(halo_diagnostics *d);
-HALO_API size_t halo_diagnostics_count(const halo_diagnostics *d);
+/* What a list holds: a copy, cheap to take. A NULL list: every field 0 but limit. */
+typedef struct halo_diagnostics_info {
+    size_t count;   /* kept: halo_diagnostics_get(d, 0 .. count - 1) */
+    size_t errors;  /* every error reported, kept or left out by the cap */
+    size_t dropped; /* how many the cap left out (0 when none) */
+    size_t limit;   /* the cap (halo_diagnostics_set_limit; 0: none) */
+} halo_diagnostics_info;
+HALO_API halo_diagnostics_info halo_diagnostics_describe(const halo_diagnostics *d);
+/* The index-th kept diagnostic, or NULL past the last. */
 HALO_API const halo_diagnostic *halo_diagnostics_get(const halo_diagnostics *d, size_t index);
-HALO_API size_t halo_diagnostics_errors(const halo_diagnostics *d);
 HALO_API int halo_diagnostics_has(const halo_diagnostics *d, halo_message_id id);
 HALO_API void halo_diagnostics_clear(halo_diagnostics *d);
 /* Adds a diagnostic, as libhalo adds its own (for hosts, adapters and tools built on
@@ -220,15 +227,12 @@ HALO_API const char *halo_message_name(halo_message_id id); /* "SCENE_JSON" */
 /* A cap on what a list keeps, as clang's -ferror-limit: past `limit` errors (and
  * past `limit` warnings and notes) a diagnostic is counted but neither kept nor
  * passed to the setup logger, and halo_diagnostics_print ends with "N more errors
- * not shown". halo_diagnostics_errors and halo_diagnostics_has still count every
- * one. 0 means no cap. The default, 100, lets a module or scene with many mistakes
+ * not shown". halo_diagnostics_describe's errors and halo_diagnostics_has still count
+ * every one. 0 means no cap. The default, 100, lets a module or scene with many mistakes
  * show them all in one go while a runaway input (100 000 markers, a million stages)
  * prints a screenful, not hundreds of megabytes. */
 #define HALO_DIAGNOSTICS_DEFAULT_LIMIT 100
 HALO_API void halo_diagnostics_set_limit(halo_diagnostics *d, size_t limit);
-HALO_API size_t halo_diagnostics_limit(const halo_diagnostics *d);
-/* How many diagnostics the cap left out (0 when none). */
-HALO_API size_t halo_diagnostics_dropped(const halo_diagnostics *d);
 /* One input checked several times (halo-validate check: once per target). After
  * halo_diagnostics_set_run(d, "330") every diagnostic added belongs to run "330"; one
  * equal to a diagnostic of an earlier run (same severity, id, file, line, column and

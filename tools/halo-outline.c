@@ -204,7 +204,7 @@ int main(int argc, char **argv)
     printf("halo-outline: wrote %s (%dx%d, image %s)\n", output, size, size, frame ? image_name : "host colour");
     status = 0;
 done:
-    if (halo_diagnostics_count(diag) > 0)
+    if (halo_diagnostics_describe(diag).count > 0)
         halo_diagnostics_print(diag, stderr);
     halo_driver_release(&slice, &program, &scene);
     halo_gl_destroy(runtime);

@@ -906,11 +906,11 @@ int main(int argc, char **argv)
     status = 0;
 
 done:
-    if (status != 0 && halo_diagnostics_count(diag) > 0) {
+    if (status != 0 && halo_diagnostics_describe(diag).count > 0) {
         halo_diagnostics_print(diag, stderr);
         if (status == 1)
             status = failure_status(diag);
-    } else if (status == 0 && halo_diagnostics_count(diag) > 0) {
+    } else if (status == 0 && halo_diagnostics_describe(diag).count > 0) {
         halo_diagnostics_print(diag, stderr); /* warnings */
     }
     halo_driver_release(&host, &program, &scene);

@@ -69,7 +69,7 @@ void view_report_diagnostics(viewer *v, const char *fallback)
 {
     halo_diagnostics_print(v->diag, stderr);
     const halo_diagnostic *first = NULL;
-    for (size_t i = 0; i < halo_diagnostics_count(v->diag) && !first; ++i) {
+    for (size_t i = 0; i < halo_diagnostics_describe(v->diag).count && !first; ++i) {
         const halo_diagnostic *d = halo_diagnostics_get(v->diag, i);
         if (d->severity == HALO_SEVERITY_ERROR)
             first = d;

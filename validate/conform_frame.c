@@ -298,7 +298,7 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
         goto done;
     if (live)
         conform_set_live_arrays(program, m, c->diag);
-    if (halo_diagnostics_errors(c->diag) > 0)
+    if (halo_diagnostics_describe(c->diag).errors > 0)
         goto done;
     int channels = halo_program_reflection(program).channel_count;
     samples = malloc(count * sizeof *samples);

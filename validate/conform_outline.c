@@ -246,7 +246,8 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
     float *importance = malloc(count * 4 * sizeof *importance), *final = malloc(count * 4 * sizeof *final);
     unsigned host_texture = 0;
     int printed = 0; /* the row printed its line; else conform_row_end prints an error row */
-    if (!program || !samples || !host || !gl_image || !importance || !final || halo_diagnostics_errors(c->diag) > 0)
+    if (!program || !samples || !host || !gl_image || !importance || !final ||
+        halo_diagnostics_describe(c->diag).errors > 0)
         goto done;
     int channels = halo_program_reflection(program).channel_count;
     if (!frame_probe_open(c, program, size, &fp))

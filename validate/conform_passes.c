@@ -97,7 +97,7 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
                                           .image_scale = r->scale,
                                           .target = c->target},
                         c->diag);
-    if (!program || halo_diagnostics_errors(c->diag) > 0)
+    if (!program || halo_diagnostics_describe(c->diag).errors > 0)
         goto done;
     int channels = halo_program_reflection(program).channel_count;
     if (!frame_probe_open(c, program, c->size, &fp))
@@ -251,7 +251,7 @@ static void run_image_stage_row(conform *c, const halo_module *m, const conform_
                                           .host_file = "probe.frag",
                                           .target = c->target},
                         c->diag);
-    if (!program || halo_diagnostics_errors(c->diag) > 0 || !frame_probe_open(c, program, c->size, &fp))
+    if (!program || halo_diagnostics_describe(c->diag).errors > 0 || !frame_probe_open(c, program, c->size, &fp))
         goto done;
     texels = malloc(most * sizeof *texels);
     if (!texels)

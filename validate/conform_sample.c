@@ -160,7 +160,7 @@ static void run_stage_row(conform *c, const halo_module *m, enum variant variant
         goto done;
     if (variant == VARIANT_LIVE)
         conform_set_live_arrays(program, m, c->diag);
-    if (halo_diagnostics_errors(c->diag) > 0)
+    if (halo_diagnostics_describe(c->diag).errors > 0)
         goto done;
     probe = halo_probe_create(
         &(halo_host_desc){.gl = c->gl, .runtime = c->runtime, .program = program, .width = c->size, .height = c->size},

@@ -75,7 +75,7 @@ static int usage_error(const char *fmt, const char *arg)
 static int status_of(const halo_diagnostics *d)
 {
     int status = 0;
-    for (size_t i = 0; i < halo_diagnostics_count(d); i++) {
+    for (size_t i = 0; i < halo_diagnostics_describe(d).count; i++) {
         const halo_diagnostic *g = halo_diagnostics_get(d, i);
         if (g->severity != HALO_SEVERITY_ERROR)
             continue;
@@ -216,7 +216,7 @@ static int check_file(const char *path, const char *text, int module, halo_libra
         }
     }
     int implied = 0;
-    for (size_t i = 0; i < halo_diagnostics_count(d); i++)
+    for (size_t i = 0; i < halo_diagnostics_describe(d).count; i++)
         if (halo_diagnostics_get(d, i)->id == HALO_MSG_GLSL_VERSION_IMPLIED)
             implied = 1;
     halo_diagnostics_print(d, stderr);
@@ -528,7 +528,7 @@ static int cmd_link(int argc, char **argv)
     int status = 0;
     for (int i = 0; lib && i < nmodules; i++)
         halo_library_add(lib, modules[i], NULL, HALO_ADD_REPLACE, d);
-    if (!lib || halo_diagnostics_errors(d))
+    if (!lib || halo_diagnostics_describe(d).errors)
         goto done;
     scene = scene_path ? halo_scene_load(scene_path, lib, d) : halo_scene_create(lib);
     if (!scene)

@@ -65,7 +65,7 @@ WEB_API const char *halo_web_version(void) { return halo_version(); }
 WEB_API const char *halo_web_diagnostics(void)
 {
     json_t *list = json_array();
-    size_t n = diagnostics ? halo_diagnostics_count(diagnostics) : 0;
+    size_t n = diagnostics ? halo_diagnostics_describe(diagnostics).count : 0;
     for (size_t i = 0; i < n && list; ++i) {
         const halo_diagnostic *g = halo_diagnostics_get(diagnostics, i);
         json_array_append_new(list, json_pack("{s:s, s:s, s:s, s:i, s:i, s:s, s:s?}", "severity",

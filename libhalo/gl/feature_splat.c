@@ -275,7 +275,7 @@ halo_feature_buffer *halo_feature_buffer_create(halo_gl *gl, const float *values
     f->ActiveTexture(GL_TEXTURE0);
     f->GetIntegerv(GL_TEXTURE_BINDING_3D, &saved_texture);
     if (!build_program(b) || !build_splat_texture(b) || !build_vertices(b, values, dims)) {
-        if (!halo_diagnostics_errors(diag))
+        if (!halo_diagnostics_describe(diag).errors)
             halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory");
         f->BindTexture(GL_TEXTURE_3D, (GLuint)saved_texture);
         f->ActiveTexture((GLenum)saved_active);

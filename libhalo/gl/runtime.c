@@ -501,9 +501,9 @@ GLuint halo_gl_link_attached(const halo_glfuncs *f, GLuint program, GLuint verte
     if (!log) {
         halo_diag_error(diag, OUT_OF_MEMORY, file, 0, 0, "out of memory reading the driver's log");
     } else {
-        size_t errors_before = halo_diagnostics_errors(diag);
+        size_t errors_before = halo_diagnostics_describe(diag).errors;
         halo_gl_report_log(diag, HALO_MSG_GL_LINK, log, NULL, NULL, file);
-        if (!diag || halo_diagnostics_errors(diag) == errors_before)
+        if (!diag || halo_diagnostics_describe(diag).errors == errors_before)
             halo_diag_error(diag, GL_LINK, file, 0, 0, "%s", what);
     }
     free(log);

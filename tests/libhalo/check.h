@@ -23,7 +23,7 @@ static inline void check_print_diags(const halo_diagnostics *d)
 {
     if (!d)
         return;
-    size_t n = halo_diagnostics_count(d);
+    size_t n = halo_diagnostics_describe(d).count;
     fprintf(stderr, "    %zu diagnostic%s:\n", n, n == 1 ? "" : "s");
     for (size_t i = 0; i < n; i++) {
         const halo_diagnostic *g = halo_diagnostics_get(d, i);
@@ -34,7 +34,7 @@ static inline void check_print_diags(const halo_diagnostics *d)
 /* The first diagnostic with this id (and this line, when line > 0), or NULL. */
 static inline const halo_diagnostic *check_find_diag(const halo_diagnostics *d, halo_message_id id, int line)
 {
-    for (size_t i = 0; i < halo_diagnostics_count(d); i++) {
+    for (size_t i = 0; i < halo_diagnostics_describe(d).count; i++) {
         const halo_diagnostic *g = halo_diagnostics_get(d, i);
         if (g->id == id && (line <= 0 || g->line == line))
             return g;
@@ -46,7 +46,7 @@ static inline const halo_diagnostic *check_find_diag(const halo_diagnostics *d, 
 static inline int check_count_diag(const halo_diagnostics *d, halo_message_id id)
 {
     int n = 0;
-    for (size_t i = 0; i < halo_diagnostics_count(d); i++)
+    for (size_t i = 0; i < halo_diagnostics_describe(d).count; i++)
         n += halo_diagnostics_get(d, i)->id == id;
     return n;
 }
@@ -148,7 +148,7 @@ static inline int check_count_diag(const halo_diagnostics *d, halo_message_id id
 #define CHECK_NO_ERRORS(diags)                                                                  \
     do {                                                                                        \
         const halo_diagnostics *check_d_ = (diags);                                             \
-        if (halo_diagnostics_errors(check_d_)) {                                                \
+        if (halo_diagnostics_describe(check_d_).errors) {                                       \
             fprintf(stderr, "%s:%d: CHECK_NO_ERRORS(%s) failed\n", __FILE__, __LINE__, #diags); \
             check_print_diags(check_d_);                                                        \
             return 1;                                                                           \

@@ -82,8 +82,8 @@ static int test_long_line_echo(void)
     len += (size_t)snprintf(text + len, cap - len, "]}");
     halo_diagnostics_clear(diags);
     CHECK(halo_scene_parse(text, "long.json", library, diags) == NULL);
-    CHECK_INT_EQ(halo_diagnostics_count(diags), HALO_DIAGNOSTICS_DEFAULT_LIMIT);
-    for (size_t i = 0; i < halo_diagnostics_count(diags); i++) {
+    CHECK_INT_EQ(halo_diagnostics_describe(diags).count, HALO_DIAGNOSTICS_DEFAULT_LIMIT);
+    for (size_t i = 0; i < halo_diagnostics_describe(diags).count; i++) {
         const halo_diagnostic *g = halo_diagnostics_get(diags, i);
         CHECK(g->source_line != NULL);
         CHECK_INT_EQ(g->line, 1);

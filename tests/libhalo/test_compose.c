@@ -360,7 +360,7 @@ static int test_pieces_outputs(void)
     CHECK(strstr(halo_program_source(p), "#extension GL_ARB_explicit_attrib_location : require") != NULL);
     if (halo_validate(&(halo_validate_desc){.program = p}, diags) != HALO_OK)
         check_print_diags(diags);
-    CHECK_INT_EQ(halo_diagnostics_errors(diags), 0);
+    CHECK_INT_EQ(halo_diagnostics_describe(diags).errors, 0);
     halo_program_destroy(p);
     /* the same under 330: located outputs */
     p = link_pieces(halo_json, &segmented, HALO_TARGET_GLSL330, 0);

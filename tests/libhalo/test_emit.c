@@ -222,7 +222,7 @@ static int test_glsl_errors_mapped(void)
     CHECK(g != NULL);
     CHECK_STR_EQ(g->file, "test.frag");
     /* Every error is at the host's or a module's line, none at the linked text's. */
-    for (size_t i = 0; i < halo_diagnostics_count(diags); i++)
+    for (size_t i = 0; i < halo_diagnostics_describe(diags).count; i++)
         CHECK_STR_EQ(halo_diagnostics_get(diags, i)->file, "test.frag");
     halo_program_destroy(p);
     return 0;

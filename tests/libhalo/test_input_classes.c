@@ -161,7 +161,7 @@ static int test_diagnostics_limit(void)
 {
     halo_diagnostics *d = halo_diagnostics_create();
     SETUP(d);
-    CHECK_INT_EQ(halo_diagnostics_limit(d), HALO_DIAGNOSTICS_DEFAULT_LIMIT);
+    CHECK_INT_EQ(halo_diagnostics_describe(d).limit, HALO_DIAGNOSTICS_DEFAULT_LIMIT);
     /* a host with 1000 markers: 999 duplicates */
     size_t n = 1000;
     char *host = malloc(64 + n * 32);
@@ -177,13 +177,13 @@ static int test_diagnostics_limit(void)
         halo_diagnostics_clear(d);
         if (k)
             halo_diagnostics_set_limit(d, limits[k]);
-        CHECK_INT_EQ(halo_diagnostics_limit(d), limits[k]);
+        CHECK_INT_EQ(halo_diagnostics_describe(d).limit, limits[k]);
         halo_program *p = halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host}, d);
         CHECK(p == NULL);
         size_t kept = limits[k] ? limits[k] : n - 1;
-        CHECK_INT_EQ(halo_diagnostics_count(d), kept);
-        CHECK_INT_EQ(halo_diagnostics_errors(d), n - 1); /* every error counted */
-        CHECK_INT_EQ(halo_diagnostics_dropped(d), n - 1 - kept);
+        CHECK_INT_EQ(halo_diagnostics_describe(d).count, kept);
+        CHECK_INT_EQ(halo_diagnostics_describe(d).errors, n - 1); /* every error counted */
+        CHECK_INT_EQ(halo_diagnostics_describe(d).dropped, n - 1 - kept);
         CHECK(halo_diagnostics_has(d, HALO_MSG_HOST_MARKER_DUPLICATE));
         char *text = NULL;
         size_t text_len = 0;
@@ -201,15 +201,15 @@ static int test_diagnostics_limit(void)
     }
     /* clearing forgets what was left out */
     halo_diagnostics_clear(d);
-    CHECK_INT_EQ(halo_diagnostics_errors(d), 0);
-    CHECK_INT_EQ(halo_diagnostics_dropped(d), 0);
+    CHECK_INT_EQ(halo_diagnostics_describe(d).errors, 0);
+    CHECK_INT_EQ(halo_diagnostics_describe(d).dropped, 0);
     CHECK(!halo_diagnostics_has(d, HALO_MSG_HOST_MARKER_DUPLICATE));
     halo_scene_destroy(scene);
     free(host);
     halo_diagnostics_destroy(d);
     /* NULL is no list: nothing to do, nothing to crash */
     halo_diagnostics_set_limit(NULL, 3);
-    CHECK_INT_EQ(halo_diagnostics_dropped(NULL), 0);
+    CHECK_INT_EQ(halo_diagnostics_describe(NULL).dropped, 0);
     return 0;
 }
 

@@ -53,7 +53,7 @@ static int test_validate_before_setup(void)
                                d),
                  HALO_ERROR_INPUT);
     CHECK_DIAG(d, HALO_MSG_USAGE);
-    CHECK_INT_EQ(halo_diagnostics_count(d), 1);
+    CHECK_INT_EQ(halo_diagnostics_describe(d).count, 1);
     CHECK_STR_CONTAINS(halo_diagnostics_get(d, 0)->text, "halo_setup");
     halo_diagnostics_clear(d);
     /* A library and a program need no setup; their validation does. */

@@ -219,7 +219,7 @@ static int test_malformed_param(void)
                      "#pragma halo param k float min=0 max=1\n"
                      "void apply(inout halo_sample s) {}\n"),
                  HALO_ERROR_INPUT);
-    CHECK(halo_diagnostics_errors(diags) >= 1);
+    CHECK(halo_diagnostics_describe(diags).errors >= 1);
     CHECK(check_find_diag(diags, HALO_MSG_ANNOTATION_MISSING, 3) ||
           check_find_diag(diags, HALO_MSG_ANNOTATION_SYNTAX, 3));
     return 0;
@@ -468,8 +468,8 @@ static int test_all_errors_reported(void)
     CHECK_DIAG_LINE(diags, HALO_MSG_PARAM_DUPLICATE, 7);
     CHECK_DIAG_LINE(diags, HALO_MSG_ANNOTATION_SYNTAX, 8);
     CHECK_DIAG_LINE(diags, HALO_MSG_ANNOTATION_DUPLICATE, 9);
-    CHECK_INT_EQ(halo_diagnostics_errors(diags), 6);
-    for (size_t i = 0; i < halo_diagnostics_count(diags); i++) {
+    CHECK_INT_EQ(halo_diagnostics_describe(diags).errors, 6);
+    for (size_t i = 0; i < halo_diagnostics_describe(diags).count; i++) {
         const halo_diagnostic *g = halo_diagnostics_get(diags, i);
         CHECK_STR_EQ(g->file, "user/many.glsl");
         CHECK(g->column >= 1);
@@ -544,7 +544,7 @@ static int test_pass_reach_syntax(void)
         int column = refused_at(source, bad[i].id, 6);
         if (column != (bad[i].id == HALO_MSG_ANNOTATION_SYNTAX ? 47 : 1))
             CHECK_FAIL_AT("%s: no error at line 6 (column %d)", bad[i].word, column);
-        CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
+        CHECK_INT_EQ(halo_diagnostics_describe(diags).errors, 1);
     }
     CHECK_INT_EQ(add("user/reach.glsl",
                      "#pragma halo module reach_ok\n"
@@ -578,7 +578,7 @@ static int test_reserved_param_names(void)
                  names[i]);
         if (refused_at(source, HALO_MSG_ANNOTATION_SYNTAX, 3) != 20)
             CHECK_FAIL_AT("no ANNOTATION_SYNTAX at line 3, column 20 for the parameter name '%s'", names[i]);
-        CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
+        CHECK_INT_EQ(halo_diagnostics_describe(diags).errors, 1);
     }
     /* a built-in function's name is no keyword: the linker renames parameters */
     CHECK_INT_EQ(add("user/reserved.glsl",
@@ -600,7 +600,7 @@ static int test_annotation_words(void)
                             "void apply(inout halo_sample s) {}\n",
                             HALO_MSG_ANNOTATION_SYNTAX, 3),
                  66); /* "y", the 25th word */
-    CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
+    CHECK_INT_EQ(halo_diagnostics_describe(diags).errors, 1);
     CHECK_INT_EQ(refused_at("#pragma halo module unclosed\n"
                             "#pragma halo hook sample\n"
                             "#pragma halo summary \"no end\n"
@@ -621,7 +621,7 @@ static int test_annotation_comments(void)
                      "#pragma halo param k float default=1 \"k\" // its meaning\n"
                      "void apply(inout halo_sample s) { s.opacity *= k; }\n"),
                  HALO_OK);
-    CHECK_INT_EQ(halo_diagnostics_count(diags), 0);
+    CHECK_INT_EQ(halo_diagnostics_describe(diags).count, 0);
     const halo_module *m = halo_library_find(library, "commented");
     CHECK(m != NULL);
     CHECK(!strcmp(halo_module_describe(m).summary, "a // in quotes stays"));
@@ -630,13 +630,13 @@ static int test_annotation_comments(void)
                      "#pragma halo hook sample\n"
                      "void apply(inout halo_sample s) {}\n"),
                  HALO_ERROR_INPUT);
-    CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
+    CHECK_INT_EQ(halo_diagnostics_describe(diags).errors, 1);
     CHECK_INT_EQ(add("user/comments.glsl",
                      "#pragma halo module bad_hook\n"
                      "#pragma halo hook sample per sample\n"
                      "void apply(inout halo_sample s) {}\n"),
                  HALO_ERROR_INPUT);
-    CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
+    CHECK_INT_EQ(halo_diagnostics_describe(diags).errors, 1);
     return 0;
 }
 
@@ -651,7 +651,7 @@ static int test_add_file(void)
 int main(void)
 {
     library = check_library_setup(&diags);
-    if (halo_diagnostics_count(diags)) {
+    if (halo_diagnostics_describe(diags).count) {
         check_print_diags(diags);
         SETUP_FAIL("the embedded modules gave diagnostics");
     }

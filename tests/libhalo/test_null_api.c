@@ -59,9 +59,9 @@ static int refuse_reported(const char *fn, const char *argument, halo_diagnostic
                 logged.count ? halo_message_name(logged.id) : "-", logged.text, fn, argument);
         return 0;
     }
-    if (takes_list && d && (halo_diagnostics_count(d) != 1 || !halo_diagnostics_has(d, HALO_MSG_USAGE))) {
+    if (takes_list && d && (halo_diagnostics_describe(d).count != 1 || !halo_diagnostics_has(d, HALO_MSG_USAGE))) {
         fprintf(stderr, "    %s with %s NULL: the list holds %zu diagnostics, want one USAGE\n", fn, argument,
-                halo_diagnostics_count(d));
+                halo_diagnostics_describe(d).count);
         check_print_diags(d);
         return 0;
     }
@@ -153,19 +153,15 @@ CASE(halo_diagnostics_destroy)
     ACCEPTS(DONE(halo_diagnostics_destroy(NULL)));
     return 0;
 }
-CASE(halo_diagnostics_count)
+CASE(halo_diagnostics_describe)
 {
-    ACCEPTS(halo_diagnostics_count(NULL) == 0);
+    halo_diagnostics_info info = halo_diagnostics_describe(NULL);
+    ACCEPTS(info.count == 0 && info.errors == 0 && info.dropped == 0 && info.limit == HALO_DIAGNOSTICS_DEFAULT_LIMIT);
     return 0;
 }
 CASE(halo_diagnostics_get)
 {
     ACCEPTS(halo_diagnostics_get(NULL, 0) == NULL);
-    return 0;
-}
-CASE(halo_diagnostics_errors)
-{
-    ACCEPTS(halo_diagnostics_errors(NULL) == 0);
     return 0;
 }
 CASE(halo_diagnostics_has)
@@ -194,7 +190,7 @@ CASE(halo_read_text_file)
     halo_diagnostics *list = halo_diagnostics_create();
     SETUP(list != NULL);
     CHECK_INT_EQ(halo_read_text_file("/nonexistent/halo.txt", "host shader", NULL, list) == NULL, 1);
-    CHECK_INT_EQ(halo_diagnostics_count(list), 1);
+    CHECK_INT_EQ(halo_diagnostics_describe(list).count, 1);
     CHECK_INT_EQ(halo_diagnostics_has(list, HALO_MSG_IO_READ), 1);
     halo_diagnostics_destroy(list);
     return 0;
@@ -212,16 +208,6 @@ CASE(halo_diagnostics_print)
 CASE(halo_diagnostics_set_limit)
 {
     ACCEPTS(DONE(halo_diagnostics_set_limit(NULL, 5)));
-    return 0;
-}
-CASE(halo_diagnostics_limit)
-{
-    ACCEPTS(halo_diagnostics_limit(NULL) == HALO_DIAGNOSTICS_DEFAULT_LIMIT);
-    return 0;
-}
-CASE(halo_diagnostics_dropped)
-{
-    ACCEPTS(halo_diagnostics_dropped(NULL) == 0);
     return 0;
 }
 CASE(halo_diagnostics_set_run)
@@ -853,9 +839,8 @@ typedef struct api_case {
 static const api_case cases[] = {
     NO_POINTER(halo_diagnostics_create),
     ROW(halo_diagnostics_destroy),
-    ROW(halo_diagnostics_count),
+    ROW(halo_diagnostics_describe),
     ROW(halo_diagnostics_get),
-    ROW(halo_diagnostics_errors),
     ROW(halo_diagnostics_has),
     ROW(halo_diagnostics_clear),
     ROW(halo_diagnostics_report),
@@ -863,8 +848,6 @@ static const api_case cases[] = {
     ROW(halo_diagnostics_print),
     NO_POINTER(halo_message_name),
     ROW(halo_diagnostics_set_limit),
-    ROW(halo_diagnostics_limit),
-    ROW(halo_diagnostics_dropped),
     ROW(halo_diagnostics_set_run),
     ROW(halo_setup),
     NO_POINTER(halo_shutdown),

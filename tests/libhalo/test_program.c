@@ -45,14 +45,14 @@ static int test_program_set(void)
     v = 1;
     halo_diagnostics_clear(diags);
     CHECK_INT_EQ(halo_program_set(p, "boundary", "k_ge", &v, 1, diags), HALO_ERROR_INPUT);
-    CHECK(halo_diagnostics_errors(diags) >= 1);
+    CHECK(halo_diagnostics_describe(diags).errors >= 1);
     CHECK_NEAR(halo_program_find_uniform(p, "boundary", "k_ge")->value[0], 2, 0);
     halo_diagnostics_clear(diags);
     CHECK_INT_EQ(halo_program_set(p, "boundary", "k_zz", &v, 1, diags), HALO_ERROR_INPUT);
     CHECK_DIAG(diags, HALO_MSG_SCENE_PARAM_UNKNOWN);
     halo_diagnostics_clear(diags);
     CHECK_INT_EQ(halo_program_set(p, "sketch", "k_le", &v, 1, diags), HALO_ERROR_INPUT);
-    CHECK(halo_diagnostics_errors(diags) >= 1);
+    CHECK(halo_diagnostics_describe(diags).errors >= 1);
     /* Arrays: the count changes with the values. */
     const double lights[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
     halo_diagnostics_clear(diags);

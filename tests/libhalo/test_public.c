@@ -50,7 +50,7 @@ static int test_pipeline(void)
         free(json);
         halo_program_destroy(p);
     }
-    CHECK_INT_EQ(halo_diagnostics_errors(d), 0);
+    CHECK_INT_EQ(halo_diagnostics_describe(d).errors, 0);
     /* Errors come back as ids. */
     halo_scene *bad = halo_scene_parse("{\"stages\": [\"nope\"]}", "bad.json", lib, d);
     CHECK(bad == NULL);
@@ -77,7 +77,7 @@ static int test_logger(void)
     CHECK(lib != NULL);
     CHECK(halo_scene_parse("not json", "bad.json", lib, d) == NULL);
     CHECK_INT_EQ(logged, 1);
-    CHECK_INT_EQ(halo_diagnostics_count(d), 1);
+    CHECK_INT_EQ(halo_diagnostics_describe(d).count, 1);
     halo_library_destroy(lib);
     halo_diagnostics_destroy(d);
     return 0;

@@ -243,7 +243,7 @@ static int test_nonfinite(void)
     /* Numbers JSON cannot hold as a finite double. */
     s = parse("{\"stages\": [{\"boundary\": {\"k_gs\": 1e999}}]}");
     CHECK(s == NULL);
-    CHECK(halo_diagnostics_errors(diags) >= 1);
+    CHECK(halo_diagnostics_describe(diags).errors >= 1);
     s = parse("{\"stages\": [{\"boundary\": {\"k_gs\": NaN}}]}");
     CHECK(s == NULL);
     CHECK_DIAG(diags, HALO_MSG_SCENE_JSON);
@@ -257,7 +257,7 @@ static int test_counts(void)
     halo_scene *rejected =
         parse("{\"stages\": [{\"tone_shading\": {\"lights\": [[1,0,0],[0,1,0],[0,0,1],[1,1,0],[0,1,1]]}}]}");
     CHECK(rejected == NULL);
-    CHECK_INT_EQ(halo_diagnostics_errors(diags), 1);
+    CHECK_INT_EQ(halo_diagnostics_describe(diags).errors, 1);
     CHECK_STR_CONTAINS(halo_diagnostics_get(diags, 0)->text, "stages[0].tone_shading.lights");
     rejected = parse("{\"stages\": [{\"tone_shading\": {\"lights\": []}}]}");
     CHECK(rejected == NULL);
@@ -298,11 +298,11 @@ static int test_render_errors(void)
     /* Window end not above its start; transfer points out of order. */
     halo_scene *s = parse("{\"render\": {\"window\": [0.5, 0.5]}}");
     CHECK(s == NULL);
-    CHECK(halo_diagnostics_errors(diags) >= 1);
+    CHECK(halo_diagnostics_describe(diags).errors >= 1);
     CHECK_STR_CONTAINS(halo_diagnostics_get(diags, 0)->text, "render.window");
     s = parse("{\"render\": {\"transfer\": [[0.5,0,0,0,0], [0.25,1,1,1,1]]}}");
     CHECK(s == NULL);
-    CHECK(halo_diagnostics_errors(diags) >= 1);
+    CHECK(halo_diagnostics_describe(diags).errors >= 1);
     CHECK_STR_CONTAINS(halo_diagnostics_get(diags, 0)->text, "render.transfer[1]");
     return 0;
 }
@@ -342,7 +342,7 @@ static int test_all_errors_reported(void)
     CHECK_DIAG(diags, HALO_MSG_SCENE_PARAM_UNKNOWN);
     CHECK_DIAG(diags, HALO_MSG_SCENE_VALUE_ABOVE_MAX);
     CHECK_DIAG(diags, HALO_MSG_SCENE_KEY_UNKNOWN);
-    CHECK_INT_EQ(halo_diagnostics_errors(diags), 5);
+    CHECK_INT_EQ(halo_diagnostics_describe(diags).errors, 5);
     return 0;
 }
 
@@ -423,7 +423,7 @@ static int test_error_places(void)
     }
     /* background[1] = 2, after the elevation's error on the same line */
     int found = 0;
-    for (size_t i = 0; i < halo_diagnostics_count(diags); i++) {
+    for (size_t i = 0; i < halo_diagnostics_describe(diags).count; i++) {
         const halo_diagnostic *g = halo_diagnostics_get(diags, i);
         found |= g->id == HALO_MSG_SCENE_VALUE_ABOVE_MAX && g->line == 7 && g->column == 50;
     }

@@ -57,7 +57,7 @@ static int work(worker *w)
         CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, d), HALO_OK);
         halo_program_destroy(p);
         halo_scene_destroy(scene);
-        w->diagnostics += halo_diagnostics_count(d) + halo_diagnostics_dropped(d);
+        w->diagnostics += halo_diagnostics_describe(d).count + halo_diagnostics_describe(d).dropped;
         halo_diagnostics_destroy(d);
         halo_shutdown();
     }

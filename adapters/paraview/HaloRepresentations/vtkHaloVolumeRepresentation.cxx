@@ -130,7 +130,7 @@ class vtkHaloVolumeRepresentation::vtkInternals
     /* diagnostics on stderr, prefixed with the rank (ParaView's ranks share a terminal) */
     void Flush()
     {
-        if (halo_diagnostics_count(this->Diag)) {
+        if (halo_diagnostics_describe(this->Diag).count) {
             vtkMultiProcessController *c = vtkMultiProcessController::GetGlobalController();
             fprintf(stderr, "HaloVolume (rank %d):\n", c ? c->GetLocalProcessId() : 0);
             halo_diagnostics_print(this->Diag, stderr);
@@ -414,7 +414,7 @@ void vtkHaloVolumeRepresentation::CheckHalo()
     /* what the adapter refused during a render (an image larger than the view, drawn in
      * tiles: the volume is not drawn) is said on stderr and kept in the status until the
      * scene is installed again: ParaView renders the view once more after a screenshot */
-    if (halo_diagnostics_errors(I->Diag) > 0)
+    if (halo_diagnostics_describe(I->Diag).errors > 0)
         I->FrameFailed = 1;
     I->Flush();
 }

@@ -120,7 +120,7 @@ int main(void)
         CHECK(!install(o, lib, plain, diag), "a second install on the same mapper is refused");
         CHECK(halo_diagnostics_has(diag, HALO_MSG_USAGE), "... with USAGE");
         halo_diagnostics_clear(diag);
-        CHECK(halo_vtk_check(first, diag) != HALO_OK && halo_diagnostics_count(diag) > 0,
+        CHECK(halo_vtk_check(first, diag) != HALO_OK && halo_diagnostics_describe(diag).count > 0,
               "halo_vtk_check before a render says so");
         halo_diagnostics_clear(diag);
         o.window->Render();

@@ -222,7 +222,7 @@ static int run_case(halo_library *lib, halo_gl *runtime, const halo_glfuncs *gl,
            pass ? "PASS" : "FAIL");
     ok = pass;
 done:
-    if (halo_diagnostics_errors(diag)) {
+    if (halo_diagnostics_describe(diag).errors) {
         printf("%-30s ERROR\n", c->name);
         halo_diagnostics_print(diag, stdout);
         ok = 0;

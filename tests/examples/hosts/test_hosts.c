@@ -124,7 +124,7 @@ static halo_program *link_host(const context *c, const char *file, const char *s
 
 static int report_diagnostics(const context *c, const char *what)
 {
-    if (!halo_diagnostics_errors(c->diag))
+    if (!halo_diagnostics_describe(c->diag).errors)
         return 0;
     printf("%s: ERROR\n", what);
     halo_diagnostics_print(c->diag, stdout);
@@ -475,7 +475,7 @@ static int mip_variant_checks(const context *c, const char *iso_source)
         halo_scene *scene = scenes[i] ? load_scene(c, scenes[i])
                                       : halo_scene_parse(per_sample_scene, "per-sample.json", c->lib, c->diag);
         halo_program *p = scene ? link_host(c, "mip_iso_caster.frag", mip, scene, HALO_TARGET_GLSL330, 0) : NULL;
-        const halo_diagnostic *d = halo_diagnostics_count(c->diag) ? halo_diagnostics_get(c->diag, 0) : NULL;
+        const halo_diagnostic *d = halo_diagnostics_describe(c->diag).count ? halo_diagnostics_get(c->diag, 0) : NULL;
         int ok = !p && d && d->id == HALO_MSG_HOST_COMPOSITING && d->line == pragma_line &&
                  strstr(d->text, named[i]) != NULL;
         printf("%-60s %s:%d %s: %s\n", "mip variant refuses", scenes[i] ? scenes[i] : "per-sample scene",
@@ -543,9 +543,10 @@ static int build_defines_checks(const context *c, const char *file, const char *
         unsigned program = halo_gl_program_build(c->runtime, p, vertex, "raycast.vert", defines[k], c->diag);
         int ok;
         if (k < 2) {
-            ok = program != 0 && halo_diagnostics_errors(c->diag) == 0;
+            ok = program != 0 && halo_diagnostics_describe(c->diag).errors == 0;
         } else {
-            const halo_diagnostic *d = halo_diagnostics_count(c->diag) ? halo_diagnostics_get(c->diag, 0) : NULL;
+            const halo_diagnostic *d =
+                halo_diagnostics_describe(c->diag).count ? halo_diagnostics_get(c->diag, 0) : NULL;
             ok = program == 0 && d && d->file && strstr(d->file, file) && d->line == line;
             if (!ok && d)
                 printf("  got %s:%d, expected %s:%d\n", d->file ? d->file : "?", d->line, file, line);

@@ -205,7 +205,7 @@ static float *render_host(env *e, const char *scene_text, int slab, int force, i
     halo_program_destroy(p);
     halo_scene_destroy(scene);
     field_message[0] = '\0';
-    for (size_t i = 0; i < halo_diagnostics_count(e->g.diag); ++i)
+    for (size_t i = 0; i < halo_diagnostics_describe(e->g.diag).count; ++i)
         if (halo_diagnostics_get(e->g.diag, i)->id == HALO_MSG_FIELD_MEMORY)
             snprintf(field_message, sizeof field_message, "%s", halo_diagnostics_get(e->g.diag, i)->text);
     halo_diagnostics_clear(e->g.diag);
@@ -600,7 +600,7 @@ static void test_diagnostics(env *e)
     halo_program *p = halo_link(
         &(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = single_pass, .host_file = "single.frag"},
         e->g.diag);
-    const halo_diagnostic *d = halo_diagnostics_count(e->g.diag) ? halo_diagnostics_get(e->g.diag, 0) : NULL;
+    const halo_diagnostic *d = halo_diagnostics_describe(e->g.diag).count ? halo_diagnostics_get(e->g.diag, 0) : NULL;
     CHECK(!p && halo_diagnostics_has(e->g.diag, HALO_MSG_HOST_SINGLE_PASS),
           "a halo scene in a single-pass ray caster is refused with HOST_SINGLE_PASS");
     CHECK(d && !strcmp(d->file, "single.frag") && d->line == 2, "at the host's marker (single.frag:2): %s:%d",
@@ -693,7 +693,7 @@ static void test_diagnostics(env *e)
                   frame, 0,
                   &(halo_gl_segments_desc){.inverse_view_projection = identity, .step = 0.01f, .draw = draw_nothing},
                   e->g.diag) == HALO_ERROR_INPUT &&
-              halo_diagnostics_count(e->g.diag) == 1 &&
+              halo_diagnostics_describe(e->g.diag).count == 1 &&
               strstr(halo_diagnostics_get(e->g.diag, 0)->text, "volume_texture"),
           "one_draw: halo_gl_frame_draw without desc.volume_texture says so");
     halo_gl_frame_destroy(frame);
