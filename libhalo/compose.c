@@ -354,16 +354,10 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
     return p;
 }
 
-const char *halo_program_piece(const halo_program *p, halo_piece piece)
+/* halo_program_map_line for a piece (p not NULL). */
+int halo_compose_map_line(const halo_program *p, halo_piece piece, int line, const char **file, int *origin_line)
 {
-    HALO_REFUSE_NULL(NULL, p, "program", NULL);
-    return (unsigned)piece < HALO_PIECE_COUNT ? p->pieces[piece] : NULL;
-}
-
-int halo_program_piece_map_line(const halo_program *p, halo_piece piece, int line, const char **file, int *origin_line)
-{
-    HALO_REFUSE_NULL(NULL, p, "program", 0);
-    if (!halo_program_piece(p, piece) || line < 1 || line > p->piece_origin_counts[piece])
+    if ((unsigned)piece >= HALO_PIECE_COUNT || !p->pieces[piece] || line < 1 || line > p->piece_origin_counts[piece])
         return 0;
     const halo_line_origin *o = &p->piece_origins[piece][line - 1];
     if (o->file == halo_generated_file || o->file == pieces_file || !o->line)

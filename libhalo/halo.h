@@ -428,6 +428,7 @@ typedef struct halo_pieces_desc {
 
 /* The pieces of a program linked from a halo_pieces_desc. */
 typedef enum halo_piece {
+    HALO_PIECE_WHOLE = -1,       /* halo_program_source, _map_line: the whole linked shader */
     HALO_PIECE_DECLARATIONS = 0, /* global scope, after the engine's samplers, before main */
     HALO_PIECE_SAMPLE,           /* per sample, after classification, before compositing */
     HALO_PIECE_FINISH,           /* once per fragment, before main returns */
@@ -471,7 +472,7 @@ typedef struct halo_link_desc {
                                   * reflection (halo_program_uniform_next), bools as int */
     halo_output_locations output_locations; /* how the extra outputs get their locations */
     const halo_pieces_desc *pieces;         /* with host_source NULL: link no host text; the program's pieces
-                                  * (halo_program_piece) go into the composer's own shader */
+                                  * (halo_program_source) go into the composer's own shader */
 } halo_link_desc;
 
 typedef enum halo_uniform_kind { HALO_UNIFORM_PARAM = 0, HALO_UNIFORM_COUNT_OF_ARRAY } halo_uniform_kind;
@@ -580,14 +581,14 @@ typedef struct halo_program halo_program;
 
 HALO_API halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag);
 HALO_API void halo_program_destroy(halo_program *p);
-HALO_API const char *halo_program_source(const halo_program *p);
-/* A piece of a program linked from pieces (NULL for a program linked into host text, or
- * for an unknown piece), and its line map: line is 1-based within the piece. */
-HALO_API const char *halo_program_piece(const halo_program *p, halo_piece piece);
-HALO_API int halo_program_piece_map_line(const halo_program *p, halo_piece piece, int line, const char **file,
-                                         int *origin_line);
-/* Maps a 1-based line of the linked source to its origin; returns 0 when it has none. */
-HALO_API int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line);
+/* The linked text: HALO_PIECE_WHOLE, the whole fragment shader (for a program linked from
+ * pieces, the pieces in a stand-in host); a piece, one piece of a program linked from
+ * pieces (NULL for a program linked into host text, or for an unknown piece). */
+HALO_API const char *halo_program_source(const halo_program *p, halo_piece piece);
+/* Maps a 1-based line of that text (of the whole shader, or within the piece) to its
+ * origin, a module or host file and line; returns 0 when it has none (generated code). */
+HALO_API int halo_program_map_line(const halo_program *p, halo_piece piece, int line, const char **file,
+                                   int *origin_line);
 /* What a linked stage is, from its module's `#pragma halo is` annotation (docs/modules.md),
  * so that hosts and adapters ask the stage instead of naming it. */
 typedef struct halo_stage_info {

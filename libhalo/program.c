@@ -169,18 +169,20 @@ void halo_program_destroy(halo_program *p)
     free(p);
 }
 
-/* A reflection getter: refuses a NULL program with none_value. */
-#define PROGRAM_GETTER(type, name, none_value, expression) \
-    type name(const halo_program *p)                       \
-    {                                                      \
-        HALO_REFUSE_NULL(NULL, p, "program", none_value);  \
-        return expression;                                 \
-    }
-PROGRAM_GETTER(const char *, halo_program_source, NULL, p->source)
 
-int halo_program_map_line(const halo_program *p, int line, const char **file, int *origin_line)
+const char *halo_program_source(const halo_program *p, halo_piece piece)
+{
+    HALO_REFUSE_NULL(NULL, p, "program", NULL);
+    if (piece == HALO_PIECE_WHOLE)
+        return p->source;
+    return (unsigned)piece < HALO_PIECE_COUNT ? p->pieces[piece] : NULL;
+}
+
+int halo_program_map_line(const halo_program *p, halo_piece piece, int line, const char **file, int *origin_line)
 {
     HALO_REFUSE_NULL(NULL, p, "program", 0);
+    if (piece != HALO_PIECE_WHOLE)
+        return halo_compose_map_line(p, piece, line, file, origin_line);
     if (line < 1 || line > p->origin_count)
         return 0;
     const halo_line_origin *o = &p->origins[line - 1];

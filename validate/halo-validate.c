@@ -416,7 +416,7 @@ static int print_pieces(const halo_program *p, const char *dir, const char *out_
         FILE *out = out_path ? fopen(out_path, "w") : stdout;
         int bad = !out;
         for (int k = 0; out && k < HALO_PIECE_COUNT; k++) {
-            const char *text = halo_program_piece(p, (halo_piece)k);
+            const char *text = halo_program_source(p, (halo_piece)k);
             bad |= fprintf(out, "// ==== libhalo piece: %s ====\n%s", names[k], text ? text : "") < 0;
         }
         if (out && out != stdout)
@@ -426,7 +426,7 @@ static int print_pieces(const halo_program *p, const char *dir, const char *out_
         return bad ? EXIT_USAGE : 0;
     }
     for (int k = 0; k < HALO_PIECE_COUNT; k++) {
-        const char *text = halo_program_piece(p, (halo_piece)k);
+        const char *text = halo_program_source(p, (halo_piece)k);
         char path[4096];
         snprintf(path, sizeof path, "%s/%s.glsl", dir, names[k]);
         int st = write_text(path, text ? text : "");
@@ -562,11 +562,11 @@ static int cmd_link(int argc, char **argv)
         if (status)
             goto done;
     } else if (out_path) {
-        status = write_text(out_path, halo_program_source(p));
+        status = write_text(out_path, halo_program_source(p, HALO_PIECE_WHOLE));
         if (status)
             goto done;
     } else if (!reflect) {
-        fputs(halo_program_source(p), stdout);
+        fputs(halo_program_source(p, HALO_PIECE_WHOLE), stdout);
     }
     if (reflect) {
         char *json = halo_program_reflect_json(p);

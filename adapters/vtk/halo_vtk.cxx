@@ -421,7 +421,7 @@ void note_program(halo_vtk *h, vtkShaderProgram *program)
         return;
     h->last_handle = handle;
     h->last_source = program->GetFragmentShader()->GetSource();
-    h->took = h->last_source.find(halo_program_piece(h->program, HALO_PIECE_SAMPLE)) != std::string::npos;
+    h->took = h->last_source.find(halo_program_source(h->program, HALO_PIECE_SAMPLE)) != std::string::npos;
     h->builds++;
 }
 
@@ -1146,11 +1146,11 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
     /* the pieces */
     h->declarations = std::string(declarations_tag) + "\n" + conversions + "const bool halo_vtk_reads_images = " +
                       (halo_program_reflection(program).sampler_count ? "true" : "false") + ";\n" +
-                      halo_program_piece(program, HALO_PIECE_DECLARATIONS);
+                      halo_program_source(program, HALO_PIECE_DECLARATIONS);
     h->sample = std::string(
                     "// ---- libhalo-vtk: the stages, on the opacity per unit distance ----\n"
                     "g_srcColor.a = halo_vtk_correct(g_srcColor.a, 1.0 / halo_vtk_exponent());\n") +
-                sample_gradient + halo_program_piece(program, HALO_PIECE_SAMPLE) + sample_gradient_used +
+                sample_gradient + halo_program_source(program, HALO_PIECE_SAMPLE) + sample_gradient_used +
                 "g_srcColor.a = halo_vtk_correct(g_srcColor.a, halo_vtk_exponent());\n" + splice_point;
     if (segmenting) {
         h->segmented = halo_program_reflection(program).output_count || halo_program_reflection(program).pass_count;

@@ -197,14 +197,14 @@ WEB_API void halo_web_program_destroy(halo_program *p) { halo_program_destroy(p)
 
 WEB_API const char *halo_web_program_source(const halo_program *p)
 {
-    const char *s = halo_program_source(p);
+    const char *s = halo_program_source(p, HALO_PIECE_WHOLE);
     return s ? s : "";
 }
 
 /* piece: 0 declarations, 1 sample, 2 finish ("" when the program has none). */
 WEB_API const char *halo_web_program_piece(const halo_program *p, int piece)
 {
-    const char *s = piece >= 0 && piece < HALO_PIECE_COUNT ? halo_program_piece(p, (halo_piece)piece) : NULL;
+    const char *s = piece >= 0 && piece < HALO_PIECE_COUNT ? halo_program_source(p, (halo_piece)piece) : NULL;
     return s ? s : "";
 }
 
@@ -222,8 +222,7 @@ WEB_API const char *halo_web_map_line(const halo_program *p, int piece, int line
 {
     const char *file = NULL;
     int origin = 0;
-    int ok = piece < 0 ? halo_program_map_line(p, line, &file, &origin)
-                       : halo_program_piece_map_line(p, (halo_piece)piece, line, &file, &origin);
+    int ok = halo_program_map_line(p, piece < 0 ? HALO_PIECE_WHOLE : (halo_piece)piece, line, &file, &origin);
     json_t *o = json_pack("{s:s, s:i}", "file", ok && file ? file : "", "line", ok ? origin : 0);
     char *text = o ? json_dumps(o, JSON_COMPACT) : NULL;
     json_decref(o);

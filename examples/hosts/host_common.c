@@ -68,7 +68,7 @@ static void report_log(halo_diagnostics *diag, halo_message_id id, const halo_pr
             while (*text == ' ')
                 ++text;
             int origin_line = line;
-            if (program && !halo_program_map_line(program, line, &origin_file, &origin_line))
+            if (program && !halo_program_map_line(program, HALO_PIECE_WHOLE, line, &origin_file, &origin_line))
                 origin_file = file;
             line = origin_line;
         } else {

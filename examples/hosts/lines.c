@@ -109,9 +109,9 @@ unsigned halo_lines_build_program(const halo_glfuncs *f, const halo_program *ver
     vertex_file = vertex_file ? vertex_file : "vertex shader";
     fragment_file = fragment_file ? fragment_file : "fragment shader";
     if (vertex_program)
-        vertex_source = halo_program_source(vertex_program);
+        vertex_source = halo_program_source(vertex_program, HALO_PIECE_WHOLE);
     if (fragment_program)
-        fragment_source = halo_program_source(fragment_program);
+        fragment_source = halo_program_source(fragment_program, HALO_PIECE_WHOLE);
     if (!vertex_source || !fragment_source) {
         const char *file = vertex_source ? fragment_file : vertex_file;
         HALO_REPORT_ERROR(diag, HALO_MSG_GL_COMPILE, file, 0, 0, "no shader text for '%s'", file);

@@ -414,7 +414,7 @@ static void report_log_mapped(halo_diagnostics *diag, halo_message_id id, char *
             int mapped_line = 0;
             int mapped = 0;
             if (p) {
-                mapped = halo_program_map_line(p, m.line, &mapped_file, &mapped_line);
+                mapped = halo_program_map_line(p, HALO_PIECE_WHOLE, m.line, &mapped_file, &mapped_line);
             } else if (m.line <= origin_count && origins[m.line - 1].file != halo_generated_file) {
                 mapped_file = origins[m.line - 1].file;
                 mapped_line = origins[m.line - 1].line;
@@ -569,7 +569,7 @@ unsigned halo_gl_program_build(halo_gl *gl, const halo_program *p, const char *v
     const halo_glfuncs *f = &gl->f;
     if (!vertex_file)
         vertex_file = "vertex";
-    const char *fragment_source = halo_program_source(p);
+    const char *fragment_source = halo_program_source(p, HALO_PIECE_WHOLE);
     char *variant = fragment_source && defines && *defines ? source_with_defines(fragment_source, defines) : NULL;
     if (fragment_source && defines && *defines && !variant) {
         halo_diag_error(diag, OUT_OF_MEMORY, "", 0, 0, "out of memory building a variant of the program");

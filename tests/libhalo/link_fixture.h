@@ -68,7 +68,7 @@ static FIXTURE_UNUSED halo_program *link_valid(const char *json)
         fprintf(stderr, "link or validation failed for %s\n", json);
         check_print_diags(diags);
         if (p)
-            fprintf(stderr, "%s", halo_program_source(p));
+            fprintf(stderr, "%s", halo_program_source(p, HALO_PIECE_WHOLE));
         halo_program_destroy(p);
         return NULL;
     }

@@ -190,7 +190,7 @@ static int test_long_identifiers(void)
     if (!p)
         check_print_diags(diags);
     CHECK(p != NULL);
-    const char *text = halo_program_source(p);
+    const char *text = halo_program_source(p, HALO_PIECE_WHOLE);
     char want[512]; /* two names of up to 150 bytes and the text around them */
     int failed = 0;
     snprintf(want, sizeof want, "float halo_long_names_%s = 0.5;", global);

@@ -65,9 +65,9 @@ static char *replace_tag(const char *source, const char *tag, const char *text)
 static char *compose(const halo_program *p, const char *uniforms, const char *template_text)
 {
     char *a = replace_tag(template_text, "//ENGINE::Uniforms", uniforms);
-    char *b = a ? replace_tag(a, "//ENGINE::Declarations", halo_program_piece(p, HALO_PIECE_DECLARATIONS)) : NULL;
-    char *c = b ? replace_tag(b, "//ENGINE::Sample", halo_program_piece(p, HALO_PIECE_SAMPLE)) : NULL;
-    char *d = c ? replace_tag(c, "//ENGINE::Finish", halo_program_piece(p, HALO_PIECE_FINISH)) : NULL;
+    char *b = a ? replace_tag(a, "//ENGINE::Declarations", halo_program_source(p, HALO_PIECE_DECLARATIONS)) : NULL;
+    char *c = b ? replace_tag(b, "//ENGINE::Sample", halo_program_source(p, HALO_PIECE_SAMPLE)) : NULL;
+    char *d = c ? replace_tag(c, "//ENGINE::Finish", halo_program_source(p, HALO_PIECE_FINISH)) : NULL;
     free(a);
     free(b);
     free(c);
@@ -124,9 +124,9 @@ static int test_pieces_compose(void)
     halo_program *p = link_pieces(per_sample_scene, &engine_names, HALO_TARGET_GLSL150, 0);
     CHECK(p != NULL);
     CHECK(halo_validate(&(halo_validate_desc){.program = p}, diags) == HALO_OK);
-    const char *decl = halo_program_piece(p, HALO_PIECE_DECLARATIONS);
-    const char *sample = halo_program_piece(p, HALO_PIECE_SAMPLE);
-    CHECK(decl && sample && halo_program_piece(p, HALO_PIECE_FINISH));
+    const char *decl = halo_program_source(p, HALO_PIECE_DECLARATIONS);
+    const char *sample = halo_program_source(p, HALO_PIECE_SAMPLE);
+    CHECK(decl && sample && halo_program_source(p, HALO_PIECE_FINISH));
     CHECK(!strstr(decl, "#version"));
     CHECK(strstr(decl, "texture(volume_textures[0]") != NULL); /* the derived gradient reads the engine's volume */
     CHECK(!strstr(decl, "piece_volume"));
@@ -138,12 +138,12 @@ static int test_pieces_compose(void)
     for (int line = 1; line < 400; line++) {
         const char *file = NULL;
         int origin = 0;
-        if (halo_program_piece_map_line(p, HALO_PIECE_DECLARATIONS, line, &file, &origin) &&
-            strstr(file, "boundary.glsl") && origin > 0)
+        if (halo_program_map_line(p, HALO_PIECE_DECLARATIONS, line, &file, &origin) && strstr(file, "boundary.glsl") &&
+            origin > 0)
             mapped++;
     }
     CHECK(mapped > 0);
-    CHECK_INT_EQ(halo_program_piece(p, HALO_PIECE_COUNT) == NULL, 1);
+    CHECK_INT_EQ(halo_program_source(p, HALO_PIECE_COUNT) == NULL, 1);
     int n = 0;
     char *composed = compose(p, engine_uniform_declarations(p, &n), engine_template);
     CHECK(composed != NULL);
@@ -249,7 +249,7 @@ static int test_engine_uniforms(void)
         " {\"boundary\": {\"live\": [\"k_gs\"]}}]}",
         &engine_names, HALO_TARGET_GLSL150, 1);
     CHECK(p != NULL);
-    const char *decl = halo_program_piece(p, HALO_PIECE_DECLARATIONS);
+    const char *decl = halo_program_source(p, HALO_PIECE_DECLARATIONS);
     CHECK(!strstr(decl, "\nuniform float halo_boundary_k_gs"));
     CHECK(!strstr(decl, "\nuniform int halo_engine_test_enabled") && !strstr(decl, "\nuniform bool"));
     CHECK(strstr(decl, "(halo_engine_test_enabled != 0)") != NULL);
@@ -334,7 +334,7 @@ static int test_pieces_outputs(void)
     p = link_pieces(halo_json, &segmented, HALO_TARGET_GLSL150, 0);
     CHECK(p != NULL);
     CHECK(halo_validate(&(halo_validate_desc){.program = p}, diags) == HALO_OK);
-    const char *decl = halo_program_piece(p, HALO_PIECE_DECLARATIONS);
+    const char *decl = halo_program_source(p, HALO_PIECE_DECLARATIONS);
     CHECK(!strstr(decl, "layout(location"));
     CHECK(strstr(decl, "out halo_channels halo_output_seed;") != NULL);
     CHECK(strstr(decl, "void halo_segment_begin(") != NULL);
@@ -356,8 +356,9 @@ static int test_pieces_outputs(void)
                   diags);
     halo_scene_destroy(hs);
     CHECK(p != NULL);
-    CHECK(strstr(halo_program_piece(p, HALO_PIECE_DECLARATIONS), "layout(location = 3) out") != NULL);
-    CHECK(strstr(halo_program_source(p), "#extension GL_ARB_explicit_attrib_location : require") != NULL);
+    CHECK(strstr(halo_program_source(p, HALO_PIECE_DECLARATIONS), "layout(location = 3) out") != NULL);
+    CHECK(strstr(halo_program_source(p, HALO_PIECE_WHOLE), "#extension GL_ARB_explicit_attrib_location : require") !=
+          NULL);
     if (halo_validate(&(halo_validate_desc){.program = p}, diags) != HALO_OK)
         check_print_diags(diags);
     CHECK_INT_EQ(halo_diagnostics_describe(diags).errors, 0);
@@ -365,7 +366,7 @@ static int test_pieces_outputs(void)
     /* the same under 330: located outputs */
     p = link_pieces(halo_json, &segmented, HALO_TARGET_GLSL330, 0);
     CHECK(p != NULL);
-    CHECK(strstr(halo_program_piece(p, HALO_PIECE_DECLARATIONS), "layout(location = 3) out") != NULL);
+    CHECK(strstr(halo_program_source(p, HALO_PIECE_DECLARATIONS), "layout(location = 3) out") != NULL);
     halo_program_destroy(p);
     /* no gradient from anywhere: refused */
     halo_pieces_desc none = {.position = "p", .value = "v", .color = "c"};
@@ -406,7 +407,7 @@ static int test_version_modes(void)
                                                       .version = (halo_version_mode)mode},
                                     diags);
         CHECK(p != NULL);
-        CHECK(!strncmp(halo_program_source(p), first_lines[mode], strlen(first_lines[mode])));
+        CHECK(!strncmp(halo_program_source(p, HALO_PIECE_WHOLE), first_lines[mode], strlen(first_lines[mode])));
         if (mode != HALO_VERSION_NONE)
             CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
         halo_program_destroy(p);
@@ -546,7 +547,8 @@ static int test_engine_channels(void)
                               all_live);
             }
             if (targets[t] == HALO_TARGET_ES300) {
-                const char *src = halo_program_source(p), *precision = strstr(src, "precision highp float;");
+                const char *src = halo_program_source(p, HALO_PIECE_WHOLE),
+                           *precision = strstr(src, "precision highp float;");
                 const char *uniform = strstr(src, "uniform vec2 halo_halo_generate_delta;");
                 CHECK(precision && uniform && precision < uniform);
             }

@@ -38,13 +38,13 @@ static int test_renaming(void)
         CHECK_NO_ERRORS(diags);
         if (halo_validate(&(halo_validate_desc){.program = p}, diags) != HALO_OK) {
             check_print_diags(diags);
-            fprintf(stderr, "%s", halo_program_source(p));
+            fprintf(stderr, "%s", halo_program_source(p, HALO_PIECE_WHOLE));
             CHECK_FAIL_AT("renamed program does not validate (all_live = %d)", live);
         }
-        CHECK_STR_CONTAINS(halo_program_source(p), "halo_distance_cue_depth_map(");
-        CHECK_STR_CONTAINS(halo_program_source(p), "halo_weight_a_weight(");
-        CHECK_STR_CONTAINS(halo_program_source(p), "halo_weight_b_weight(");
-        CHECK_STR_CONTAINS(halo_program_source(p), "halo_boundary_apply(s);");
+        CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_distance_cue_depth_map(");
+        CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_weight_a_weight(");
+        CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_weight_b_weight(");
+        CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_boundary_apply(s);");
         halo_program_destroy(p);
     }
     halo_scene_destroy(scene);
@@ -59,7 +59,7 @@ static int test_constants_and_uniforms(void)
         "{\"stages\": [{\"boundary\": {\"k_gs\": 12.5, \"live\": [\"k_gc\"]}},"
         " {\"tone_shading\": {\"lights\": [[1,0,0],[0,1,0]]}}]}");
     CHECK(p != NULL);
-    const char *src = halo_program_source(p);
+    const char *src = halo_program_source(p, HALO_PIECE_WHOLE);
     CHECK_STR_CONTAINS(src, "uniform float halo_boundary_k_gc;");
     CHECK_STR_NOT_CONTAINS(src, "const float halo_boundary_k_gc");
     CHECK_STR_CONTAINS(src, "const float halo_boundary_k_gs = 12.5;");
@@ -94,7 +94,7 @@ static int test_constants_and_uniforms(void)
     halo_scene_destroy(scene);
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
-    src = halo_program_source(p);
+    src = halo_program_source(p, HALO_PIECE_WHOLE);
     CHECK_STR_NOT_CONTAINS(src, "const float halo_");
     CHECK_STR_NOT_CONTAINS(src, "const int halo_");
     CHECK_STR_NOT_CONTAINS(src, "const vec3 halo_");
@@ -118,7 +118,7 @@ static int test_line_map(void)
 {
     halo_program *p = link_valid("{\"stages\": [\"boundary\", \"tone_shading\", \"distance_cue\"]}");
     CHECK(p != NULL);
-    const char *src = halo_program_source(p);
+    const char *src = halo_program_source(p, HALO_PIECE_WHOLE);
     static const char *const statements[][2] = {
         {"boundary", "s.opacity = halo_saturate(s.opacity * enhancement);"},
         {"tone_shading", "float toward = (1.0 + n_dot_l) * 0.5;"},
@@ -135,7 +135,7 @@ static int test_line_map(void)
         CHECK(out > 0);
         const char *file = NULL;
         int line = 0;
-        CHECK_INT_EQ(halo_program_map_line(p, out, &file, &line), 1);
+        CHECK_INT_EQ(halo_program_map_line(p, HALO_PIECE_WHOLE, out, &file, &line), 1);
         CHECK_STR_EQ(file, halo_module_describe(m).file);
         CHECK_INT_EQ(line, module_line);
     }
@@ -144,12 +144,12 @@ static int test_line_map(void)
     const halo_module *boundary = halo_library_find(library, "boundary");
     const char *file = NULL;
     int line = 0;
-    CHECK_INT_EQ(halo_program_map_line(p, out, &file, &line), 1);
+    CHECK_INT_EQ(halo_program_map_line(p, HALO_PIECE_WHOLE, out, &file, &line), 1);
     CHECK_STR_EQ(file, "glsl/sample/boundary.glsl");
     CHECK_STR_CONTAINS(boundary->lines[line - 1], "param k_gs");
     /* A helper maps to halo_math.glsl. */
     out = line_containing(src, "float halo_pow(");
-    CHECK_INT_EQ(halo_program_map_line(p, out, &file, &line), 1);
+    CHECK_INT_EQ(halo_program_map_line(p, HALO_PIECE_WHOLE, out, &file, &line), 1);
     CHECK_STR_EQ(file, "glsl/halo_math.glsl");
     CHECK_STR_CONTAINS(halo_library_find(library, "halo_math")->lines[line - 1], "float halo_pow(");
     /* Host lines map to themselves, with the same text (but #version and the marker). */
@@ -160,7 +160,7 @@ static int test_line_map(void)
     unsigned char seen[64] = {0};
     SETUP(host_count < 64);
     for (int l = 1; l <= count; l++) {
-        if (!halo_program_map_line(p, l, &file, &line) || strcmp(file, "test.frag"))
+        if (!halo_program_map_line(p, HALO_PIECE_WHOLE, l, &file, &line) || strcmp(file, "test.frag"))
             continue;
         CHECK(line >= 1 && line <= host_count);
         seen[line] = 1;
@@ -176,9 +176,10 @@ static int test_line_map(void)
     free(host_copy);
     free(text_copy);
     /* Generated lines have no origin; out-of-range lines neither. */
-    CHECK_INT_EQ(halo_program_map_line(p, line_containing(src, "struct halo_sample {"), &file, &line), 0);
-    CHECK_INT_EQ(halo_program_map_line(p, 0, &file, &line), 0);
-    CHECK_INT_EQ(halo_program_map_line(p, 1000000, &file, &line), 0);
+    CHECK_INT_EQ(halo_program_map_line(p, HALO_PIECE_WHOLE, line_containing(src, "struct halo_sample {"), &file, &line),
+                 0);
+    CHECK_INT_EQ(halo_program_map_line(p, HALO_PIECE_WHOLE, 0, &file, &line), 0);
+    CHECK_INT_EQ(halo_program_map_line(p, HALO_PIECE_WHOLE, 1000000, &file, &line), 0);
     halo_program_destroy(p);
     return 0;
 }

@@ -273,11 +273,11 @@ static int expect_glsl_error(const char *host, const char *file, int line)
 /* Line of the linked source holding text (1-based), mapped back through the program. */
 static int map_line_of(const halo_program *p, const char *text, const char **file)
 {
-    const char *src = halo_program_source(p), *hit = strstr(src, text);
+    const char *src = halo_program_source(p, HALO_PIECE_WHOLE), *hit = strstr(src, text);
     int out = 1, line = 0;
     for (const char *c = src; hit && c < hit; c++)
         out += *c == '\n';
-    if (!hit || !halo_program_map_line(p, out, file, &line))
+    if (!hit || !halo_program_map_line(p, HALO_PIECE_WHOLE, out, file, &line))
         return 0;
     return line;
 }
@@ -300,7 +300,7 @@ static int test_line_directive(void)
         return 1;
     halo_program *p = link_host(sample_scene, host, HALO_TARGET_GLSL330);
     CHECK(p != NULL);
-    CHECK_STR_NOT_CONTAINS(halo_program_source(p), "\n#line");
+    CHECK_STR_NOT_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "\n#line");
     const char *file = NULL;
     int line = map_line_of(p, "float y = vec2", &file);
     int same = file && !strcmp(file, "test.frag");

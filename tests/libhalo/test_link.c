@@ -30,13 +30,13 @@ static int check_only_linked_in(const halo_program *p, const char *src);
 /* The program's text: the host's source and every image pass's programs. */
 static int check_only_linked(const halo_program *p)
 {
-    size_t len = strlen(halo_program_source(p)) + 1;
+    size_t len = strlen(halo_program_source(p, HALO_PIECE_WHOLE)) + 1;
     for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++)
         len += strlen(halo_program_reflection(p).passes[i].fragment_source) +
                strlen(halo_program_reflection(p).passes[i].vertex_source);
     char *all = malloc(len);
     SETUP(all != NULL);
-    strcpy(all, halo_program_source(p));
+    strcpy(all, halo_program_source(p, HALO_PIECE_WHOLE));
     for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++) {
         strcat(all, halo_program_reflection(p).passes[i].fragment_source);
         strcat(all, halo_program_reflection(p).passes[i].vertex_source);
@@ -87,9 +87,9 @@ static int test_only_enabled_code(void)
     if (check_only_linked(p))
         return 1;
     /* opacity_power uses halo_pow and halo_saturate, not the colour helpers. */
-    CHECK_STR_CONTAINS(halo_program_source(p), "halo_pow(");
-    CHECK_STR_NOT_CONTAINS(halo_program_source(p), "halo_rgb_to_hsv");
-    CHECK_STR_NOT_CONTAINS(halo_program_source(p), "halo_normalize");
+    CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_pow(");
+    CHECK_STR_NOT_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_rgb_to_hsv");
+    CHECK_STR_NOT_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_normalize");
     halo_program_destroy(p);
 
     p = link_valid("{\"stages\": [\"silhouette\"]}");
@@ -97,7 +97,7 @@ static int test_only_enabled_code(void)
     CHECK_INT_EQ(halo_program_reflection(p).stage_count, 2); /* with gradient, which provides the normal */
     if (check_only_linked(p))
         return 1;
-    CHECK_STR_NOT_CONTAINS(halo_program_source(p), "halo_hsv_to_rgb");
+    CHECK_STR_NOT_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_hsv_to_rgb");
     halo_program_destroy(p);
 
     /* Each stage alone. */
@@ -132,8 +132,8 @@ static int test_unused_param(void)
 {
     halo_program *p = link_valid("{\"stages\": [\"unused_param\"]}");
     CHECK(p != NULL);
-    CHECK_STR_CONTAINS(halo_program_source(p), "halo_unused_param_used");
-    CHECK_STR_NOT_CONTAINS(halo_program_source(p), "halo_unused_param_spare");
+    CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_unused_param_used");
+    CHECK_STR_NOT_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_unused_param_spare");
     halo_program_destroy(p);
     return 0;
 }
@@ -162,17 +162,17 @@ static int test_empty_scene(void)
     CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
     if (check_only_linked(p))
         return 1;
-    if (check_empty_apply(halo_program_source(p)))
+    if (check_empty_apply(halo_program_source(p, HALO_PIECE_WHOLE)))
         return 1;
-    CHECK_STR_CONTAINS(halo_program_source(p), "#define HALO_LINKED");
-    CHECK_STR_CONTAINS(halo_program_source(p), "struct halo_sample");
-    CHECK_STR_CONTAINS(halo_program_source(p), "halo_make_sample");
-    CHECK_STR_NOT_CONTAINS(halo_program_source(p), "halo_pow");
-    CHECK_STR_NOT_CONTAINS(halo_program_source(p), "halo_saturate");
-    CHECK_STR_NOT_CONTAINS(halo_program_source(p), "uniform");
+    CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "#define HALO_LINKED");
+    CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "struct halo_sample");
+    CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_make_sample");
+    CHECK_STR_NOT_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_pow");
+    CHECK_STR_NOT_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "halo_saturate");
+    CHECK_STR_NOT_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "uniform");
     /* No provided fields either. */
-    CHECK_STR_NOT_CONTAINS(halo_program_source(p), "gradient_magnitude");
-    char *empty_scene_text = strdup(halo_program_source(p));
+    CHECK_STR_NOT_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "gradient_magnitude");
+    char *empty_scene_text = strdup(halo_program_source(p, HALO_PIECE_WHOLE));
     halo_program_destroy(p);
 
     halo_scene *scene = scene_of("{\"stages\": [{\"boundary\": {\"enabled\": false}}]}");
@@ -180,10 +180,10 @@ static int test_empty_scene(void)
     halo_scene_destroy(scene);
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_reflection(p).stage_count, 0);
-    if (check_empty_apply(halo_program_source(p)))
+    if (check_empty_apply(halo_program_source(p, HALO_PIECE_WHOLE)))
         return 1;
     /* An empty scene and a scene of disabled stages link to the same text. */
-    CHECK_STR_EQ(halo_program_source(p), empty_scene_text);
+    CHECK_STR_EQ(halo_program_source(p, HALO_PIECE_WHOLE), empty_scene_text);
     free(empty_scene_text);
     halo_program_destroy(p);
     return 0;
@@ -198,7 +198,7 @@ static int test_order(void)
     CHECK_INT_EQ(halo_program_reflection(p).stage_count, 2);
     CHECK_STR_EQ(halo_program_stage_info(p, 0)->name, "gradient");
     CHECK_STR_EQ(halo_program_stage_info(p, 1)->name, "silhouette");
-    const char *src = halo_program_source(p);
+    const char *src = halo_program_source(p, HALO_PIECE_WHOLE);
     int g = line_containing(src, "halo_gradient_apply(s);"), s = line_containing(src, "halo_silhouette_apply(s);");
     CHECK(g > 0 && s > 0);
     CHECK(g < s);
@@ -226,7 +226,7 @@ static int test_order(void)
             if (m->needs.count)
                 CHECK(stage_index(p, "gradient") < (int)k);
         }
-        src = halo_program_source(p);
+        src = halo_program_source(p, HALO_PIECE_WHOLE);
         CHECK(line_containing(src, "halo_tone_shading_apply(s);") <
               line_containing(src, "halo_distance_blend_apply(s);"));
         /* Deterministic: linking again gives the same text. */
@@ -234,7 +234,7 @@ static int test_order(void)
         halo_program *again = link_with(scene, host_source, HALO_TARGET_DEFAULT, 0);
         halo_scene_destroy(scene);
         CHECK(again != NULL);
-        CHECK_STR_EQ(halo_program_source(again), halo_program_source(p));
+        CHECK_STR_EQ(halo_program_source(again, HALO_PIECE_WHOLE), halo_program_source(p, HALO_PIECE_WHOLE));
         halo_program_destroy(again);
         halo_program_destroy(p);
     }
@@ -244,7 +244,7 @@ static int test_order(void)
     halo_scene *b = scene_of(scenes[1]);
     halo_program *pb = link_with(b, host_source, HALO_TARGET_DEFAULT, 0);
     CHECK(pa && pb);
-    CHECK_STR_EQ(halo_program_source(pa), halo_program_source(pb));
+    CHECK_STR_EQ(halo_program_source(pa, HALO_PIECE_WHOLE), halo_program_source(pb, HALO_PIECE_WHOLE));
     halo_program_destroy(pa);
     halo_program_destroy(pb);
     halo_scene_destroy(a);
@@ -307,7 +307,7 @@ static int link_target(const halo_scene *scene, const char *host, halo_target ta
         check_print_diags(diags);
         CHECK_FAIL_AT("does not validate for target %s (all_live %d)", halo_target_name(target), all_live);
     }
-    const char *src = halo_program_source(p);
+    const char *src = halo_program_source(p, HALO_PIECE_WHOLE);
     switch (target) {
     case HALO_TARGET_DEFAULT:
     case HALO_TARGET_GLSL330:
@@ -387,7 +387,7 @@ static int test_image_scale(void)
         }
         CHECK_INT_EQ(seen, 2);
         if (scale > 1) {
-            CHECK_STR_CONTAINS(halo_program_source(p), "floor(at)"); /* the bilinear read */
+            CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "floor(at)"); /* the bilinear read */
             const halo_pass_info *gradient = NULL;
             for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++)
                 if (!strcmp(halo_program_reflection(p).passes[i].name, "gradient"))
@@ -395,7 +395,7 @@ static int test_image_scale(void)
             CHECK(gradient != NULL);
             CHECK_STR_CONTAINS(gradient->fragment_source, "m = max(m, halo_fetch_0"); /* seed: block max */
         } else {
-            CHECK_STR_NOT_CONTAINS(halo_program_source(p), "floor(at)");
+            CHECK_STR_NOT_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "floor(at)");
         }
         halo_program_destroy(p);
     }

@@ -353,26 +353,16 @@ CASE(halo_program_destroy)
 }
 CASE(halo_program_source)
 {
-    REFUSES(halo_program_source(NULL) == NULL, "program");
-    return 0;
-}
-CASE(halo_program_piece)
-{
-    REFUSES(halo_program_piece(NULL, HALO_PIECE_SAMPLE) == NULL, "program");
-    return 0;
-}
-CASE(halo_program_piece_map_line)
-{
-    const char *file;
-    int line;
-    REFUSES(halo_program_piece_map_line(NULL, HALO_PIECE_SAMPLE, 1, &file, &line) == 0, "program");
+    REFUSES(halo_program_source(NULL, HALO_PIECE_WHOLE) == NULL, "program");
+    REFUSES(halo_program_source(NULL, HALO_PIECE_SAMPLE) == NULL, "program");
     return 0;
 }
 CASE(halo_program_map_line)
 {
     const char *file;
     int line;
-    REFUSES(halo_program_map_line(NULL, 1, &file, &line) == 0, "program");
+    REFUSES(halo_program_map_line(NULL, HALO_PIECE_WHOLE, 1, &file, &line) == 0, "program");
+    REFUSES(halo_program_map_line(NULL, HALO_PIECE_SAMPLE, 1, &file, &line) == 0, "program");
     return 0;
 }
 CASE(halo_program_stage_info)
@@ -435,7 +425,7 @@ CASE(halo_program_reflect_json)
 
 CASE(halo_validate)
 {
-    const char *composed = halo_program_source(program);
+    const char *composed = halo_program_source(program, HALO_PIECE_WHOLE);
     REFUSES_D(halo_validate(NULL, d) == HALO_ERROR_INPUT, "desc");
     REFUSES_D(halo_validate(&(halo_validate_desc){0}, d) == HALO_ERROR_INPUT, "program");
     REFUSES_D(halo_validate(&(halo_validate_desc){.composed = composed, .composed_file = "c.frag"}, d) ==
@@ -875,8 +865,6 @@ static const api_case cases[] = {
     ROW(halo_link),
     ROW(halo_program_destroy),
     ROW(halo_program_source),
-    ROW(halo_program_piece),
-    ROW(halo_program_piece_map_line),
     ROW(halo_program_map_line),
     ROW(halo_program_stage_info),
     ROW(halo_program_reflection),

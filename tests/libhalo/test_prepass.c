@@ -35,8 +35,8 @@ static int test_batchable(void)
     CHECK_INT_EQ(p->prepass->outputs[0].location, 1);
     CHECK_INT_EQ(halo_prepass_batchable(p->prepass), 1);
     /* the batch's names are in the march's text, and libhalo's march may use them */
-    CHECK(strstr(halo_program_source(p->prepass), "vec4 halo_march_take()") != NULL);
-    CHECK(strstr(halo_program_source(p->prepass), "#ifdef HALO_MARCH_BATCH") != NULL);
+    CHECK(strstr(halo_program_source(p->prepass, HALO_PIECE_WHOLE), "vec4 halo_march_take()") != NULL);
+    CHECK(strstr(halo_program_source(p->prepass, HALO_PIECE_WHOLE), "#ifdef HALO_MARCH_BATCH") != NULL);
     /* not a march, or none */
     CHECK_INT_EQ(halo_prepass_batchable(p), 0);
     CHECK_INT_EQ(halo_prepass_batchable(NULL), 0);

@@ -33,7 +33,7 @@ static int test_pipeline(void)
             CHECK_FAIL_AT("does not validate for %s", halo_target_name((halo_target)t));
         }
         CHECK_INT_EQ(halo_program_reflection(p).stage_count, 4); /* with gradient */
-        CHECK_STR_CONTAINS(halo_program_source(p), "uniform float halo_boundary_k_gc;");
+        CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "uniform float halo_boundary_k_gc;");
         const halo_uniform_info *u = halo_program_find_uniform(p, "boundary", "k_gc");
         CHECK(u && u->live);
         halo_emu_sample s = {.value = 0.5,

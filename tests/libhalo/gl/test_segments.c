@@ -675,7 +675,8 @@ static void test_diagnostics(env *e)
             .library = e->g.lib, .scene = scene, .host_source = single_pass, .host_file = "single.frag", .one_draw = 1},
         e->g.diag);
     CHECK(p != NULL && halo_program_reflection(p).one_draw, "with one_draw the single-pass host links");
-    CHECK(p && strstr(halo_program_source(p), "#define HALO_RAY_MAY_END 1"), "one_draw: early ray termination kept");
+    CHECK(p && strstr(halo_program_source(p, HALO_PIECE_WHOLE), "#define HALO_RAY_MAY_END 1"),
+          "one_draw: early ray termination kept");
     CHECK(p && halo_program_reflection(p).output_count == 0,
           "one_draw: the seeds are libhalo's march's, not the host's outputs");
     /* ... and a frame drawn without the volume the march needs is refused */
