@@ -268,7 +268,7 @@ int main(int argc, char **argv)
         halo_diagnostics_print(diag, stderr);
         return 1;
     }
-    const halo_render_settings *settings = halo_scene_render(scene);
+    const halo_render_settings *settings = halo_scene_describe(scene).render;
     int size = 0;
     float *cube = load_volume(o, settings, &size);
     if (!cube)

@@ -75,7 +75,8 @@ static link_shape probe_link(const halo_library *lib, const char *const *stages,
 
 size_t halo_driver_find_halo_stages(const halo_library *lib, const halo_scene *scene, int *is_halo)
 {
-    size_t n = halo_scene_stage_count(scene), found = 0;
+    halo_scene_info info = halo_scene_describe(scene);
+    size_t n = info.stage_count, found = 0;
     const char **base = calloc(n + 1, sizeof *base);
     int *pending = calloc(n + 1, sizeof *pending);
     if (!base || !pending) {
@@ -84,7 +85,7 @@ size_t halo_driver_find_halo_stages(const halo_library *lib, const halo_scene *s
         return 0;
     }
     for (size_t i = 0; i < n; ++i) {
-        const char *name = halo_scene_stage(scene, i);
+        const char *name = info.stages[i];
         const halo_module *m = halo_library_find(lib, name);
         is_halo[i] = 0;
         if (m && halo_module_describe(m).hook == HALO_HOOK_IMAGE) {
@@ -104,12 +105,12 @@ size_t halo_driver_find_halo_stages(const halo_library *lib, const halo_scene *s
     size_t base_count = 0;
     for (size_t i = 0; i < n; ++i)
         if (is_halo[i] == HALO_DRIVER_HALO)
-            base[base_count++] = halo_scene_stage(scene, i);
+            base[base_count++] = info.stages[i];
     link_shape without = probe_link(lib, base, base_count);
     for (size_t i = 0; i < n; ++i) {
         if (!pending[i] || !without.ok)
             continue;
-        base[base_count] = halo_scene_stage(scene, i);
+        base[base_count] = info.stages[i];
         link_shape with = probe_link(lib, base, base_count + 1);
         is_halo[i] = with.ok && (with.outputs > without.outputs || with.samplers > without.samplers ||
                                  with.passes > without.passes);
@@ -123,7 +124,7 @@ size_t halo_driver_find_halo_stages(const halo_library *lib, const halo_scene *s
 
 halo_driver_host halo_driver_choose_host(const halo_library *lib, const halo_scene *scene)
 {
-    int *is_halo = calloc(halo_scene_stage_count(scene) + 1, sizeof *is_halo);
+    int *is_halo = calloc(halo_scene_describe(scene).stage_count + 1, sizeof *is_halo);
     size_t found = is_halo ? halo_driver_find_halo_stages(lib, scene, is_halo) : 0;
     free(is_halo);
     return found ? HALO_DRIVER_SLICE : HALO_DRIVER_RAYCAST;
@@ -131,8 +132,9 @@ halo_driver_host halo_driver_choose_host(const halo_library *lib, const halo_sce
 
 int halo_driver_has_feature_halos(const halo_library *lib, const halo_scene *scene)
 {
-    for (size_t i = 0; i < halo_scene_stage_count(scene); ++i) {
-        const char *name = halo_scene_stage(scene, i);
+    halo_scene_info info = halo_scene_describe(scene);
+    for (size_t i = 0; i < info.stage_count; ++i) {
+        const char *name = info.stages[i];
         if (probe_link(lib, &name, 1).feature_buffer)
             return 1;
     }
@@ -142,12 +144,13 @@ int halo_driver_has_feature_halos(const halo_library *lib, const halo_scene *sce
 int halo_driver_disable_halo_stages(halo_scene *scene, const int *is_halo, halo_diagnostics *diag)
 {
     /* Collect the names first: disabling changes the scene's stage list. */
-    size_t n = halo_scene_stage_count(scene), count = 0;
+    halo_scene_info info = halo_scene_describe(scene);
+    size_t n = info.stage_count, count = 0;
     char **names = calloc(n + 1, sizeof *names);
     int ok = names != NULL;
     for (size_t i = 0; ok && i < n; ++i)
         if (is_halo[i])
-            ok = (names[count++] = strdup(halo_scene_stage(scene, i))) != NULL;
+            ok = (names[count++] = strdup(info.stages[i])) != NULL;
     for (size_t i = 0; ok && i < count; ++i)
         ok = halo_scene_enable(scene, names[i], 0, diag) == HALO_OK;
     for (size_t i = 0; names && i < count; ++i)

@@ -390,10 +390,15 @@ HALO_API halo_status halo_scene_enable(halo_scene *scene, const char *stage, int
 /* Fixes a parameter (stage.param) to values; live marks it a uniform the host may change. */
 HALO_API halo_status halo_scene_set(halo_scene *scene, const char *stage, const char *param, const double *values,
                                     int count, int live, halo_diagnostics *diag);
-HALO_API size_t halo_scene_stage_count(const halo_scene *scene);
-HALO_API const char *halo_scene_stage(const halo_scene *scene, size_t index);
-HALO_API const halo_render_settings *halo_scene_render(const halo_scene *scene);
-HALO_API halo_render_settings *halo_scene_render_mutable(halo_scene *scene);
+/* What a scene holds: a copy of counts and pointers into the scene, valid until it is
+ * changed or destroyed. A NULL scene: every field 0. */
+typedef struct halo_scene_info {
+    size_t stage_count;
+    const char *const *stages;          /* module names, in the scene's order (enabled or not) */
+    const halo_render_settings *render; /* the "render" object (halo_scene_set_render replaces it) */
+} halo_scene_info;
+HALO_API halo_scene_info halo_scene_describe(const halo_scene *scene);
+HALO_API void halo_scene_set_render(halo_scene *scene, const halo_render_settings *render);
 
 /* ---- Linking ---------------------------------------------------------------- */
 

@@ -155,6 +155,7 @@ typedef struct halo_scene_stage {
 struct halo_scene {
     const halo_library *library;
     halo_scene_entry *stages;
+    const char **names; /* stages[i]'s module name, for halo_scene_describe */
     size_t count;
     halo_render_settings render;
 };

@@ -53,6 +53,7 @@ void halo_scene_destroy(halo_scene *s)
     for (size_t i = 0; i < s->count; i++)
         free(s->stages[i].values);
     free(s->stages);
+    free(s->names);
     halo_library_release(s->library);
     free(s);
 }
@@ -71,10 +72,15 @@ static halo_scene_entry *add_entry(halo_scene *s, const halo_module *m)
     halo_scene_entry *e = find_entry(s, halo_module_name_of(m));
     if (e)
         return e;
+    const char **names = realloc(s->names, (s->count + 1) * sizeof *names);
+    if (!names)
+        return NULL;
+    s->names = names;
     halo_scene_entry *p = realloc(s->stages, (s->count + 1) * sizeof *p);
     if (!p)
         return NULL;
     s->stages = p;
+    names[s->count] = halo_module_name_of(m);
     e = &p[s->count];
     e->module = m;
     e->enabled = 1;
@@ -151,25 +157,21 @@ halo_status halo_scene_set(halo_scene *s, const char *stage, const char *param, 
     return HALO_OK;
 }
 
-size_t halo_scene_stage_count(const halo_scene *s)
+halo_scene_info halo_scene_describe(const halo_scene *s)
 {
-    HALO_REFUSE_NULL(NULL, s, "scene", 0);
-    return s->count;
+    halo_scene_info info = {0};
+    HALO_REFUSE_NULL(NULL, s, "scene", info);
+    info.stage_count = s->count;
+    info.stages = s->names;
+    info.render = &s->render;
+    return info;
 }
-const char *halo_scene_stage(const halo_scene *s, size_t i)
+
+void halo_scene_set_render(halo_scene *s, const halo_render_settings *render)
 {
-    HALO_REFUSE_NULL(NULL, s, "scene", NULL);
-    return i < s->count ? halo_module_name_of(s->stages[i].module) : NULL;
-}
-const halo_render_settings *halo_scene_render(const halo_scene *s)
-{
-    HALO_REFUSE_NULL(NULL, s, "scene", NULL);
-    return &s->render;
-}
-halo_render_settings *halo_scene_render_mutable(halo_scene *s)
-{
-    HALO_REFUSE_NULL(NULL, s, "scene", NULL);
-    return &s->render;
+    HALO_REFUSE_NULL_VOID(NULL, s, "scene");
+    HALO_REFUSE_NULL_VOID(NULL, render, "render");
+    s->render = *render;
 }
 
 /* ---- Reading JSON ---- */

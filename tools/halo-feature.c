@@ -160,7 +160,7 @@ static int render_main(int argc, char **argv)
     if (!scene)
         goto done;
     int feature = halo_driver_has_feature_halos(lib, scene);
-    const halo_render_settings *settings = halo_scene_render(scene);
+    const halo_render_settings *settings = halo_scene_describe(scene).render;
     int size = 0;
     volume = load_volume(&o, settings, &size);
     if (!volume)

@@ -355,7 +355,7 @@ int main(int argc, char **argv)
         status = 2;
         goto done;
     }
-    const halo_render_settings *rs = halo_scene_render(scene);
+    const halo_render_settings *rs = halo_scene_describe(scene).render;
     if (o.bench) {
         char measured[320];
         snprintf(measured, sizeof measured, "%s backend, %s", halo_headless_backend(context),

@@ -161,7 +161,7 @@ int main(int argc, char **argv)
     out = malloc((size_t)size * size * 4 * sizeof *out);
     if (!volume || !rgba || !out)
         goto done;
-    const halo_render_settings *settings = halo_scene_render(scene);
+    const halo_render_settings *settings = halo_scene_describe(scene).render;
     if (halo_driver_set_volume(&slice, volume, (const int[3]){volume_size, volume_size, volume_size}, settings, 0,
                                diag) != HALO_OK)
         goto done;

@@ -600,8 +600,11 @@ static int apply_budget(const options *o, const char *scene_text, halo_library *
         if (halo_scene_set(scene, n_param->stage, n_param->param, &passes, 1, 0, diag) != HALO_OK)
             return 1;
     }
-    if (choice.step > 0.0)
-        halo_scene_render_mutable(scene)->step = choice.step;
+    if (choice.step > 0.0) {
+        halo_render_settings render = *halo_scene_describe(scene).render;
+        render.step = choice.step;
+        halo_scene_set_render(scene, &render);
+    }
     *kind = choice.slab ? HALO_DRIVER_SLAB : HALO_DRIVER_SLICE;
     *precision = choice.precision;
     *scale = choice.scale;
@@ -765,7 +768,7 @@ int main(int argc, char **argv)
 
     /* The halo stages decide the default host; --no-halos keeps that host. Feature
      * halos (a halo buffer read per sample) go with any host: the ray caster by default. */
-    is_halo = calloc(halo_scene_stage_count(scene) + 1, sizeof *is_halo);
+    is_halo = calloc(halo_scene_describe(scene).stage_count + 1, sizeof *is_halo);
     if (!is_halo) {
         status = 2;
         goto done;
@@ -811,7 +814,7 @@ int main(int argc, char **argv)
     if (!program)
         goto done;
 
-    const halo_render_settings *settings = halo_scene_render(scene);
+    const halo_render_settings *settings = halo_scene_describe(scene).render;
     int size = 0;
     status = prepare_volume(&o, settings, scene_sets_window(o.scene_path, scene_text), &volume, &labels, &size);
     if (status)
@@ -852,7 +855,7 @@ int main(int argc, char **argv)
         program = link_scene(lib, scene, kind, precision, scale, 0, target, diag);
         if (!program)
             goto done;
-        settings = halo_scene_render(scene);
+        settings = halo_scene_describe(scene).render;
     }
     const halo_host_desc desc = {
         .gl = halo_headless_functions(), .runtime = runtime, .program = program, .width = o.width, .height = o.height};

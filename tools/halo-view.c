@@ -325,7 +325,7 @@ static void handle_key(viewer *v, int key)
         break;
     case 'r':
     case 'R': {
-        const halo_render_settings *r = halo_scene_render(v->scene);
+        const halo_render_settings *r = halo_scene_describe(v->scene).render;
         v->azimuth = r->azimuth;
         v->elevation = r->elevation;
         v->zoom = r->zoom;

@@ -216,7 +216,7 @@ static int relink(viewer *v)
     halo_diagnostics_clear(v->diag);
     halo_program *p = link_program(v, v->scene, v->kind);
     halo_driver h = {0};
-    if (!p || !build_host(v, v->kind, p, halo_scene_render(v->scene), v->volume, v->volume_size, &h)) {
+    if (!p || !build_host(v, v->kind, p, halo_scene_describe(v->scene).render, v->volume, v->volume_size, &h)) {
         view_report_diagnostics(v, "cannot relink the scene");
         halo_program_destroy(p);
         return 0;
@@ -286,7 +286,7 @@ int view_load_scene(viewer *v, const char *path, int keep_camera)
     /* halo-render's choice: the slice host when the scene has halo stages */
     halo_driver_host kind = halo_driver_choose_host(v->lib, scene);
     halo_program *p = link_program(v, scene, kind);
-    const halo_render_settings *settings = halo_scene_render(scene);
+    const halo_render_settings *settings = halo_scene_describe(scene).render;
     int status = 1, size = v->volume_size;
     float *cube = NULL;
     double window[2] = {0.0, 1.0};
@@ -305,9 +305,9 @@ int view_load_scene(viewer *v, const char *path, int keep_camera)
     }
 
     /* Success: the new scene replaces the old one. */
-    int same_camera = v->scene && halo_scene_render(v->scene)->azimuth == settings->azimuth &&
-                      halo_scene_render(v->scene)->elevation == settings->elevation &&
-                      halo_scene_render(v->scene)->zoom == settings->zoom;
+    const halo_render_settings *old = v->scene ? halo_scene_describe(v->scene).render : NULL;
+    int same_camera = old && old->azimuth == settings->azimuth && old->elevation == settings->elevation &&
+                      old->zoom == settings->zoom;
     if (!(keep_camera && same_camera)) {
         v->azimuth = settings->azimuth;
         v->elevation = settings->elevation;
@@ -325,9 +325,9 @@ int view_load_scene(viewer *v, const char *path, int keep_camera)
     v->kind = kind;
     v->touched_count = 0;
     view_free_toggles(v);
-    size_t stages = halo_scene_stage_count(scene);
+    size_t stages = halo_scene_describe(scene).stage_count;
     for (size_t i = 0; i < stages && v->toggle_count < MAX_TOGGLE_STAGES; ++i) {
-        const char *name = halo_scene_stage(scene, i);
+        const char *name = halo_scene_describe(scene).stages[i];
         v->toggle_names[v->toggle_count] = strdup(name);
         v->toggle_on[v->toggle_count] = !json_stage_disabled(root, name);
         if (v->toggle_names[v->toggle_count])

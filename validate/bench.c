@@ -399,9 +399,9 @@ static int run_sweep(const bench_options *o, halo_bench_env *env, const char *re
         halo_scene *scene = halo_scene_load(o->scene, env->lib, env->diag);
         if (!scene)
             return 1;
-        size_t n = halo_scene_stage_count(scene);
+        size_t n = halo_scene_describe(scene).stage_count;
         for (size_t i = 0; i < n; ++i)
-            if (!strcmp(halo_scene_stage(scene, i), "halo_generate")) {
+            if (!strcmp(halo_scene_describe(scene).stages[i], "halo_generate")) {
                 /* the scene's N: link it to read the effective value */
                 char *source = halo_host_load("slice.frag", NULL, env->diag);
                 halo_program *p =

@@ -51,14 +51,14 @@ static int configure_scene(const halo_bench_env *env, halo_bench_case *c)
 {
     halo_scene *scene = c->scene;
     if (!c->config.halos) {
-        size_t n = halo_scene_stage_count(scene);
+        size_t n = halo_scene_describe(scene).stage_count;
         for (size_t i = 0; i < n; ++i)
-            if (halo_scene_enable(scene, halo_scene_stage(scene, i), 0, env->diag) != HALO_OK)
+            if (halo_scene_enable(scene, halo_scene_describe(scene).stages[i], 0, env->diag) != HALO_OK)
                 return 0;
     } else if (c->config.passes > 0) {
         int has_generate = 0;
-        for (size_t i = 0; i < halo_scene_stage_count(scene); ++i)
-            has_generate |= strcmp(halo_scene_stage(scene, i), "halo_generate") == 0;
+        for (size_t i = 0; i < halo_scene_describe(scene).stage_count; ++i)
+            has_generate |= strcmp(halo_scene_describe(scene).stages[i], "halo_generate") == 0;
         double passes = c->config.passes, on = 1.0;
         if (has_generate && halo_scene_set(scene, "halo_generate", "passes", &passes, 1, 0, env->diag) != HALO_OK)
             return 0;
@@ -69,8 +69,11 @@ static int configure_scene(const halo_bench_env *env, halo_bench_case *c)
             halo_scene_set(scene, "halo_generate", "fold", &on, 1, 0, env->diag) != HALO_OK)
             return 0;
     }
-    if (c->config.step > 0.0)
-        halo_scene_render_mutable(scene)->step = c->config.step;
+    if (c->config.step > 0.0) {
+        halo_render_settings render = *halo_scene_describe(scene).render;
+        render.step = c->config.step;
+        halo_scene_set_render(scene, &render);
+    }
     return 1;
 }
 
@@ -113,7 +116,7 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
     c->host = host;
     if (!host || !halo_driver_create(host, kind, &desc, env->diag))
         return 0;
-    const halo_render_settings *settings = halo_scene_render(c->scene);
+    const halo_render_settings *settings = halo_scene_describe(c->scene).render;
     if (halo_driver_set_volume(host, env->volume, env->dims, settings, (halo_gradient_format)c->config.gradient,
                                env->diag) != HALO_OK)
         return 0;
@@ -146,7 +149,7 @@ static void close_case(halo_bench_case *c)
  * again with an unchanged view it would reuse it, gl/field.c). */
 static void bench_camera(const halo_bench_env *env, halo_bench_case *c, int r)
 {
-    const halo_render_settings *settings = halo_scene_render(c->scene);
+    const halo_render_settings *settings = halo_scene_describe(c->scene).render;
     double nudge = (env->repeat - 1 - r) % 2 ? 1e-3 : 0.0;
     halo_driver_set_camera(c->host, settings->azimuth + nudge, settings->elevation, settings->zoom);
 }

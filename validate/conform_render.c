@@ -37,7 +37,7 @@ static float *render_raycast(conform *c, const halo_program *program, const char
         return NULL;
     }
     float *image = malloc((size_t)c->size * (size_t)c->size * 4 * sizeof *image);
-    const halo_render_settings *settings = halo_scene_render(scene);
+    const halo_render_settings *settings = halo_scene_describe(scene).render;
     const int dims[3] = {volume_size, volume_size, volume_size};
     if (!image || halo_driver_set_volume(&r, volume, dims, settings, 0, c->diag) != HALO_OK) {
         if (!image)

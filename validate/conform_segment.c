@@ -729,7 +729,7 @@ void conform_segment_row(conform *c, const conform_row *row)
     int ok = source && scene &&
              (program = link_host(c, scene, host, source, params->segments > 0, params->one_draw,
                                   params->image_scale)) != NULL;
-    const halo_render_settings *settings = ok ? halo_scene_render(scene) : NULL;
+    const halo_render_settings *settings = ok ? halo_scene_describe(scene).render : NULL;
     ok = ok && (gpu = render(c, program, settings, volume, volume_size, params, params->segments, &state, transfer,
                              &plan)) != NULL;
     row_stats stats = {0};

@@ -187,7 +187,7 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
     if (!host)
         goto done;
     halo_slice_set_gradient_format(host, (halo_gradient_format)c->gradient_format);
-    const halo_render_settings *settings = halo_scene_render(scene);
+    const halo_render_settings *settings = halo_scene_describe(scene).render;
     if (halo_slice_set_volume(host, volume, volume_size, volume_size, volume_size, c->diag) != HALO_OK ||
         halo_slice_set_render(host, settings, c->diag) != HALO_OK)
         goto done;

@@ -20,8 +20,10 @@ void halo_lines_scene_keep_hook(halo_scene *scene, const halo_library *lib, halo
 {
     if (!scene || !lib)
         return;
-    for (size_t i = halo_scene_stage_count(scene); i-- > 0;) {
-        const char *name = halo_scene_stage(scene, i);
+    /* disabling a stage keeps it in the scene's list: info stays valid */
+    halo_scene_info info = halo_scene_describe(scene);
+    for (size_t i = info.stage_count; i-- > 0;) {
+        const char *name = info.stages[i];
         const halo_module *m = halo_library_find(lib, name);
         if (m && halo_module_describe(m).hook != hook)
             halo_scene_enable(scene, name, 0, NULL);

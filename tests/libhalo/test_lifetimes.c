@@ -96,7 +96,7 @@ static int test_library_destroyed_first(void)
     filler_take(filler);
     CHECK_INT_EQ(halo_scene_enable(scene, "silhouette", 1, d), HALO_OK);
     CHECK_INT_EQ(halo_scene_set(scene, "boundary", "k_gs", (const double[]){12}, 1, 0, d), HALO_OK);
-    CHECK_STR_EQ(halo_scene_stage(scene, 1), "silhouette");
+    CHECK_STR_EQ(halo_scene_describe(scene).stages[1], "silhouette");
     const halo_uniform_info *u = halo_program_find_uniform(p, "boundary", "k_gs");
     CHECK(u != NULL);
     CHECK_STR_EQ(u->info->name, "k_gs");

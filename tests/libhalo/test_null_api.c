@@ -316,24 +316,20 @@ CASE(halo_scene_set)
     REFUSES_D(halo_scene_set(scene, "boundary", "k_gs", NULL, 1, 0, d) == HALO_ERROR_INPUT, "values");
     return 0;
 }
-CASE(halo_scene_stage_count)
+CASE(halo_scene_describe)
 {
-    REFUSES(halo_scene_stage_count(NULL) == 0, "scene");
+    REFUSES(halo_scene_describe(NULL).render == NULL, "scene");
     return 0;
 }
-CASE(halo_scene_stage)
+CASE(halo_scene_set_render)
 {
-    REFUSES(halo_scene_stage(NULL, 0) == NULL, "scene");
-    return 0;
-}
-CASE(halo_scene_render)
-{
-    REFUSES(halo_scene_render(NULL) == NULL, "scene");
-    return 0;
-}
-CASE(halo_scene_render_mutable)
-{
-    REFUSES(halo_scene_render_mutable(NULL) == NULL, "scene");
+    REFUSES(DONE(halo_scene_set_render(NULL, &(halo_render_settings){0})), "scene");
+    halo_library *lib = halo_library_create(NULL);
+    halo_scene *scene = lib ? halo_scene_create(lib) : NULL;
+    SETUP(scene != NULL);
+    REFUSES(DONE(halo_scene_set_render(scene, NULL)), "render");
+    halo_scene_destroy(scene);
+    halo_library_destroy(lib);
     return 0;
 }
 
@@ -858,10 +854,8 @@ static const api_case cases[] = {
     ROW(halo_scene_destroy),
     ROW(halo_scene_enable),
     ROW(halo_scene_set),
-    ROW(halo_scene_stage_count),
-    ROW(halo_scene_stage),
-    ROW(halo_scene_render),
-    ROW(halo_scene_render_mutable),
+    ROW(halo_scene_describe),
+    ROW(halo_scene_set_render),
     ROW(halo_link),
     ROW(halo_program_destroy),
     ROW(halo_program_source),

@@ -19,7 +19,7 @@ static int test_pipeline(void)
         " [\"k_gc\"]}}, \"silhouette\", \"tone_shading\"]}",
         "public.json", lib, d);
     CHECK(scene != NULL);
-    CHECK_INT_EQ(halo_scene_stage_count(scene), 3);
+    CHECK_INT_EQ(halo_scene_describe(scene).stage_count, 3);
     for (int t = HALO_TARGET_GLSL330; t < HALO_TARGET_COUNT; t++) {
         halo_program *p = halo_link(&(halo_link_desc){.library = lib,
                                                       .scene = scene,

@@ -61,13 +61,12 @@ static int test_valid_scene(void)
         "   \"transfer\":[[0,0,0,0,0],[0.5,1,0.5,0.25,0.1],[1,1,1,1,1]]}}\n");
     CHECK_NO_ERRORS(diags);
     CHECK(s != NULL);
-    CHECK_INT_EQ(halo_scene_stage_count(s), 5);
-    CHECK_STR_EQ(halo_scene_stage(s, 0), "silhouette");
-    CHECK_STR_EQ(halo_scene_stage(s, 1), "boundary");
-    CHECK_STR_EQ(halo_scene_stage(s, 2), "tone_shading");
-    CHECK_STR_EQ(halo_scene_stage(s, 3), "distance_blend");
-    CHECK_STR_EQ(halo_scene_stage(s, 4), "sketch");
-    CHECK(halo_scene_stage(s, 5) == NULL);
+    CHECK_INT_EQ(halo_scene_describe(s).stage_count, 5);
+    CHECK_STR_EQ(halo_scene_describe(s).stages[0], "silhouette");
+    CHECK_STR_EQ(halo_scene_describe(s).stages[1], "boundary");
+    CHECK_STR_EQ(halo_scene_describe(s).stages[2], "tone_shading");
+    CHECK_STR_EQ(halo_scene_describe(s).stages[3], "distance_blend");
+    CHECK_STR_EQ(halo_scene_describe(s).stages[4], "sketch");
 
     const halo_param_value *v = value_of(s, "boundary", "k_gs");
     CHECK(v != NULL);
@@ -91,7 +90,7 @@ static int test_valid_scene(void)
     CHECK_INT_EQ(value_of(s, "sketch", "k_le")->live, 1);
     CHECK_INT_EQ(value_of(s, "sketch", "line_color")->live, 1);
 
-    const halo_render_settings *r = halo_scene_render(s);
+    const halo_render_settings *r = halo_scene_describe(s).render;
     CHECK_NEAR(r->azimuth, 45, 0);
     CHECK_NEAR(r->elevation, -10, 0);
     CHECK_NEAR(r->zoom, 2, 0);
@@ -109,14 +108,14 @@ static int test_minimal_scenes(void)
 {
     halo_scene *s = parse("{}");
     CHECK(s != NULL);
-    CHECK_INT_EQ(halo_scene_stage_count(s), 0);
-    const halo_render_settings *r = halo_scene_render(s);
+    CHECK_INT_EQ(halo_scene_describe(s).stage_count, 0);
+    const halo_render_settings *r = halo_scene_describe(s).render;
     CHECK(r->zoom > 0);
     CHECK(r->transfer_count >= 1);
     halo_scene_destroy(s);
     s = parse("{\"halo_scene\": 1, \"stages\": []}");
     CHECK(s != NULL);
-    CHECK_INT_EQ(halo_scene_stage_count(s), 0);
+    CHECK_INT_EQ(halo_scene_describe(s).stage_count, 0);
     halo_scene_destroy(s);
     /* An integer-valued parameter given as 10 or 10.0 is the same. */
     s = parse("{\"stages\": [{\"boundary\": {\"k_gs\": 10.0, \"k_ge\": 3}}]}");
@@ -233,7 +232,7 @@ static int test_nonfinite(void)
     CHECK_INT_EQ(halo_scene_set(s, "distance_blend", "background", color, 1, 0, diags), HALO_ERROR_INPUT);
     CHECK_DIAG(diags, HALO_MSG_SCENE_VALUE_NONFINITE);
     /* The scene is unchanged by the rejected values. */
-    CHECK_INT_EQ(halo_scene_stage_count(s), 0);
+    CHECK_INT_EQ(halo_scene_describe(s).stage_count, 0);
     const double ok = 20;
     halo_diagnostics_clear(diags);
     CHECK_INT_EQ(halo_scene_set(s, "boundary", "k_gs", &ok, 1, 0, diags), HALO_OK);
@@ -367,16 +366,17 @@ static int test_api(void)
     halo_diagnostics_clear(diags);
     CHECK_INT_EQ(halo_scene_enable(s, "sketch", 1, diags), HALO_OK);
     CHECK_INT_EQ(halo_scene_enable(s, "sketch", 0, diags), HALO_OK);
-    CHECK_INT_EQ(halo_scene_stage_count(s), 1);
+    CHECK_INT_EQ(halo_scene_describe(s).stage_count, 1);
     CHECK_INT_EQ(enabled_of(s, "sketch"), 0);
     v = 5;
     CHECK_INT_EQ(halo_scene_set(s, "boundary", "k_gs", &v, 1, 1, diags), HALO_OK);
     CHECK_NO_ERRORS(diags);
     CHECK_INT_EQ(enabled_of(s, "boundary"), 1);
     CHECK_INT_EQ(value_of(s, "boundary", "k_gs")->live, 1);
-    halo_render_settings *r = halo_scene_render_mutable(s);
-    r->zoom = 3;
-    CHECK_NEAR(halo_scene_render(s)->zoom, 3, 0);
+    halo_render_settings r = *halo_scene_describe(s).render;
+    r.zoom = 3;
+    halo_scene_set_render(s, &r);
+    CHECK_NEAR(halo_scene_describe(s).render->zoom, 3, 0);
     halo_scene_destroy(s);
     halo_scene_destroy(NULL);
     return 0;

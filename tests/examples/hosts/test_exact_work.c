@@ -289,8 +289,8 @@ static int check_skip_case(halo_gl *runtime, const halo_program *p, const halo_s
     float *image[3] = {NULL, NULL, NULL};
     int variants = p && !slab ? 3 : 2;
     for (int skip = 0; skip < variants; ++skip)
-        image[skip] =
-            render_skips(runtime, p, halo_scene_render(scene), volume, side, slab, skip, camera, draws[skip], diag);
+        image[skip] = render_skips(runtime, p, halo_scene_describe(scene).render, volume, side, slab, skip, camera,
+                                   draws[skip], diag);
     size_t differing = 0, n = (size_t)48 * 48 * 4;
     for (int v = 1; v < variants; ++v)
         for (size_t i = 0; image[0] && image[v] && i < n; ++i)
@@ -451,7 +451,7 @@ static int check_groups(halo_gl *runtime)
         halo_host_desc desc = {
             .gl = halo_gl_functions(runtime), .runtime = runtime, .program = p, .width = PIXELS, .height = PIXELS};
         halo_slice *s = halo_slice_create(&desc, diag);
-        const halo_render_settings *settings = halo_scene_render(scene);
+        const halo_render_settings *settings = halo_scene_describe(scene).render;
         int ok = s && out[skip] && halo_slice_set_volume(s, volume, SIDE, SIDE, SIDE, diag) == HALO_OK &&
                  halo_slice_set_render(s, settings, diag) == HALO_OK;
         if (ok) {

@@ -159,7 +159,7 @@ static int run_case(halo_library *lib, halo_gl *runtime, const halo_glfuncs *gl,
     host = c->slab ? halo_slab_create(&desc, diag) : halo_slice_create(&desc, diag);
     if (!host)
         goto done;
-    const halo_render_settings *settings = halo_scene_render(scene);
+    const halo_render_settings *settings = halo_scene_describe(scene).render;
     if (halo_slice_set_volume(host, volume, c->side, c->side, c->side, diag) != HALO_OK ||
         halo_slice_set_render(host, settings, diag) != HALO_OK)
         goto done;

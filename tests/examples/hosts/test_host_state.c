@@ -126,7 +126,7 @@ static float *render_slice(env *e, const char *scene_file, int slab, int untidy,
     halo_slice *s = !p ? NULL : slab ? halo_slab_create(&desc, e->g.diag) : halo_slice_create(&desc, e->g.diag);
     int ok = s && rgba;
     if (ok) {
-        const halo_render_settings *settings = halo_scene_render(scene);
+        const halo_render_settings *settings = halo_scene_describe(scene).render;
         ok = halo_slice_set_volume(s, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag) == HALO_OK &&
              halo_slice_set_render(s, settings, e->g.diag) == HALO_OK;
         halo_slice_set_camera(s, settings->azimuth, settings->elevation, settings->zoom);
@@ -279,7 +279,7 @@ static float *render_ray(env *e, const char *scene_file, int one_draw, int untid
     halo_raycast *r = p ? halo_raycast_create(&desc, e->g.diag) : NULL;
     int ok = r && rgba;
     if (ok) {
-        const halo_render_settings *settings = halo_scene_render(scene);
+        const halo_render_settings *settings = halo_scene_describe(scene).render;
         ok = halo_raycast_set_volume(r, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag) == HALO_OK &&
              halo_raycast_set_render(r, settings, e->g.diag) == HALO_OK;
         halo_raycast_set_camera(r, settings->azimuth, settings->elevation, settings->zoom);

@@ -104,7 +104,7 @@ static halo_scene *empty_like(const context *c, const halo_scene *scene)
 {
     halo_scene *empty = halo_scene_create(c->lib);
     if (empty && scene)
-        *halo_scene_render_mutable(empty) = *halo_scene_render(scene);
+        halo_scene_set_render(empty, halo_scene_describe(scene).render);
     return empty;
 }
 
@@ -179,7 +179,7 @@ static int render(const context *c, const halo_program *program, const halo_scen
                                           c->diag);
     if (!r)
         goto done;
-    const halo_render_settings *settings = halo_scene_render(scene);
+    const halo_render_settings *settings = halo_scene_describe(scene).render;
     if (halo_raycast_set_volume(r, c->volume, VOLUME, VOLUME, VOLUME, c->diag) != HALO_OK ||
         halo_raycast_set_render(r, settings, c->diag) != HALO_OK)
         goto done;

@@ -169,7 +169,7 @@ static float *render_host(env *e, const char *scene_text, int slab, int force, i
     halo_slab *s = p && slab ? halo_slab_create(&desc, e->g.diag) : NULL;
     int ok = (r || s) && rgba;
     if (ok && r) {
-        const halo_render_settings *settings = halo_scene_render(scene);
+        const halo_render_settings *settings = halo_scene_describe(scene).render;
         ok = halo_raycast_set_volume(r, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag) == HALO_OK &&
              halo_raycast_set_render(r, settings, e->g.diag) == HALO_OK;
         halo_raycast_set_orthographic(r, orthographic);
@@ -188,7 +188,7 @@ static float *render_host(env *e, const char *scene_text, int slab, int force, i
         if (drawn)
             *drawn = halo_raycast_frame(r) ? halo_gl_frame_describe(halo_raycast_frame(r)).segment_count : 1;
     } else if (ok) {
-        const halo_render_settings *settings = halo_scene_render(scene);
+        const halo_render_settings *settings = halo_scene_describe(scene).render;
         ok = halo_slice_set_volume(s, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag) == HALO_OK &&
              halo_slice_set_render(s, settings, e->g.diag) == HALO_OK;
         halo_slice_set_camera(s, settings->azimuth, settings->elevation, settings->zoom);
@@ -769,7 +769,7 @@ static void test_field_reuse(env *e)
     halo_program *p = link_scene(e, live_scene, e->raycast, "raycast.frag", 0, &scene);
     halo_program *q = link_scene(e, live_scene, e->raycast, "raycast.frag", 0, &fresh_scene);
     one_draw = 0;
-    const halo_render_settings *settings = p ? halo_scene_render(scene) : NULL;
+    const halo_render_settings *settings = p ? halo_scene_describe(scene).render : NULL;
     halo_raycast *r = settings && q ? reuse_host(e, p, settings) : NULL;
     float *kept = malloc((size_t)SIZE * SIZE * 4 * sizeof *kept),
           *fresh = malloc((size_t)SIZE * SIZE * 4 * sizeof *fresh);
