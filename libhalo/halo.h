@@ -337,8 +337,14 @@ typedef enum halo_add_mode {
  * or, with source NULL, read from the file at the path `file` (bounded: HALO_MAX_FILE_BYTES). */
 HALO_API halo_status halo_library_add(halo_library *lib, const char *file, const char *source, halo_add_mode mode,
                                       halo_diagnostics *diag);
-HALO_API size_t halo_library_module_count(const halo_library *lib);
-HALO_API const halo_module *halo_library_module(const halo_library *lib, size_t index);
+/* The modules a library holds, in the order they were added (the built-in ones first): a
+ * copy of the count and a pointer into the library, valid until a module is added. A NULL
+ * library: every field 0. */
+typedef struct halo_library_info {
+    size_t module_count;
+    const halo_module *const *modules;
+} halo_library_info;
+HALO_API halo_library_info halo_library_describe(const halo_library *lib);
 HALO_API const halo_module *halo_library_find(const halo_library *lib, const char *name);
 
 /* What a module is, by value (strings and parameters live as long as the library holds the

@@ -143,16 +143,13 @@ void halo_library_release(const halo_library *lib)
 
 void halo_library_destroy(halo_library *lib) { halo_library_release(lib); }
 
-size_t halo_library_module_count(const halo_library *lib)
+halo_library_info halo_library_describe(const halo_library *lib)
 {
-    HALO_REFUSE_NULL(NULL, lib, "library", 0);
-    return lib->count;
-}
-
-const halo_module *halo_library_module(const halo_library *lib, size_t i)
-{
-    HALO_REFUSE_NULL(NULL, lib, "library", NULL);
-    return i < lib->count ? lib->modules[i] : NULL;
+    halo_library_info info = {0};
+    HALO_REFUSE_NULL(NULL, lib, "library", info);
+    info.module_count = lib->count;
+    info.modules = (const halo_module *const *)lib->modules;
+    return info;
 }
 
 const halo_module *halo_library_find(const halo_library *lib, const char *name)

@@ -417,8 +417,8 @@ void conform_frame_row(conform *c, const conform_row *row)
 
 void conform_frame_other_rows(conform *c, const conform_row *row)
 {
-    for (size_t i = 0; i < halo_library_module_count(c->lib); ++i) {
-        const halo_module *m = halo_library_module(c->lib, i);
+    for (size_t i = 0; i < halo_library_describe(c->lib).module_count; ++i) {
+        const halo_module *m = halo_library_describe(c->lib).modules[i];
         if (halo_module_describe(m).hook != HALO_HOOK_SAMPLE || conform_has_row(c, halo_module_describe(m).name) ||
             !(halo_module_describe(m).output_count || halo_module_describe(m).image_count ||
               halo_module_describe(m).host_uniform_count) ||

@@ -342,8 +342,8 @@ done:
 void conform_image_other_rows(conform *c, const conform_row *row)
 {
     const char *const *own = row->params; /* the image stages with families of their own */
-    for (size_t i = 0; i < halo_library_module_count(c->lib); ++i) {
-        const halo_module *m = halo_library_module(c->lib, i);
+    for (size_t i = 0; i < halo_library_describe(c->lib).module_count; ++i) {
+        const halo_module *m = halo_library_describe(c->lib).modules[i];
         if (halo_module_describe(m).hook != HALO_HOOK_IMAGE)
             continue;
         int listed = 0;

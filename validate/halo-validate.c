@@ -192,9 +192,9 @@ static int check_file(const char *path, const char *text, int module, halo_libra
             return st == HALO_ERROR_IO ? EXIT_USAGE : EXIT_INPUT;
         }
         const halo_module *m = NULL;
-        for (size_t i = 0; i < halo_library_module_count(lib); i++)
-            if (!strcmp(halo_module_describe(halo_library_module(lib, i)).file, path))
-                m = halo_library_module(lib, i);
+        for (size_t i = 0; i < halo_library_describe(lib).module_count; i++)
+            if (!strcmp(halo_module_describe(halo_library_describe(lib).modules[i]).file, path))
+                m = halo_library_describe(lib).modules[i];
         for (int t = 0; m && t < ct->count; t++) { /* printed once below, naming the targets */
             halo_diagnostics_set_run(d, halo_target_name(ct->list[t]));
             if (crashed && crashed[t])
@@ -603,8 +603,8 @@ static int cmd_list(void)
         return EXIT_USAGE;
     }
     static const char *const hooks[] = {"sample", "image", "line_vertex", "line_fragment"};
-    for (size_t i = 0; i < halo_library_module_count(lib); i++) {
-        const halo_module *m = halo_library_module(lib, i);
+    for (size_t i = 0; i < halo_library_describe(lib).module_count; i++) {
+        const halo_module *m = halo_library_describe(lib).modules[i];
         printf("%-18s %-8s %s\n    %s\n", halo_module_describe(m).name, hooks[halo_module_describe(m).hook],
                halo_module_describe(m).file, halo_module_describe(m).summary);
         for (size_t k = 0; k < halo_module_describe(m).param_count; k++) {

@@ -85,8 +85,8 @@ WEB_API const char *halo_web_modules(void)
     if (!halo_web_init())
         return "[]";
     json_t *list = json_array();
-    for (size_t i = 0; i < halo_library_module_count(library) && list; ++i) {
-        const halo_module *m = halo_library_module(library, i);
+    for (size_t i = 0; i < halo_library_describe(library).module_count && list; ++i) {
+        const halo_module *m = halo_library_describe(library).modules[i];
         json_array_append_new(list,
                               json_pack("{s:s, s:s, s:s}", "name", halo_module_describe(m).name, "file",
                                         halo_module_describe(m).file, "summary", halo_module_describe(m).summary));

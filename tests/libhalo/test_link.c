@@ -48,8 +48,8 @@ static int check_only_linked(const halo_program *p)
 
 static int check_only_linked_in(const halo_program *p, const char *src)
 {
-    for (size_t i = 0; i < halo_library_module_count(library); i++) {
-        const halo_module *m = halo_library_module(library, i);
+    for (size_t i = 0; i < halo_library_describe(library).module_count; i++) {
+        const halo_module *m = halo_library_describe(library).modules[i];
         if (m->is_library)
             continue;
         char prefix[160], comment[160];
@@ -101,8 +101,8 @@ static int test_only_enabled_code(void)
     halo_program_destroy(p);
 
     /* Each stage alone. */
-    for (size_t i = 0; i < halo_library_module_count(library); i++) {
-        const halo_module *m = halo_library_module(library, i);
+    for (size_t i = 0; i < halo_library_describe(library).module_count; i++) {
+        const halo_module *m = halo_library_describe(library).modules[i];
         if (m->is_library || halo_module_describe(m).hook != HALO_HOOK_SAMPLE ||
             strncmp(halo_module_describe(m).file, "glsl/", 5))
             continue;
@@ -334,8 +334,8 @@ static int test_targets(void)
 {
     halo_scene *scene = halo_scene_create(library);
     SETUP(scene != NULL);
-    for (size_t i = 0; i < halo_library_module_count(library); i++) {
-        const halo_module *m = halo_library_module(library, i);
+    for (size_t i = 0; i < halo_library_describe(library).module_count; i++) {
+        const halo_module *m = halo_library_describe(library).modules[i];
         if (!m->is_library && halo_module_describe(m).hook == HALO_HOOK_SAMPLE &&
             !strncmp(halo_module_describe(m).file, "glsl/", 5))
             SETUP(halo_scene_enable(scene, halo_module_describe(m).name, 1, diags) == HALO_OK);

@@ -34,10 +34,10 @@ static const char valid_module[] =
 
 static int test_valid_module(void)
 {
-    size_t before = halo_library_module_count(library);
+    size_t before = halo_library_describe(library).module_count;
     CHECK_INT_EQ(add("user/every_type.glsl", valid_module), HALO_OK);
     CHECK_NO_ERRORS(diags);
-    CHECK_INT_EQ(halo_library_module_count(library), before + 1);
+    CHECK_INT_EQ(halo_library_describe(library).module_count, before + 1);
     const halo_module *m = halo_library_find(library, "every_type");
     CHECK(m != NULL);
     CHECK_STR_EQ(halo_module_describe(m).name, "every_type");
@@ -133,8 +133,8 @@ static int test_builtin_modules(void)
     CHECK_INT_EQ(lights->array_size, 4);
     CHECK_INT_EQ(lights->default_count, 1);
     int stages = 0;
-    for (size_t i = 0; i < halo_library_module_count(library); i++) {
-        const halo_module *m = halo_library_module(library, i);
+    for (size_t i = 0; i < halo_library_describe(library).module_count; i++) {
+        const halo_module *m = halo_library_describe(library).modules[i];
         if (!strcmp(halo_module_describe(m).name, "halo_math") || strncmp(halo_module_describe(m).file, "glsl/", 5))
             continue;
         stages++;
@@ -146,13 +146,13 @@ static int test_builtin_modules(void)
 }
 
 /* One error: status, id, file and line. */
-#define CHECK_ONE_ERROR(FILE_, SOURCE_, ID, LINE)                        \
-    do {                                                                 \
-        size_t count_before_ = halo_library_module_count(library);       \
-        CHECK_INT_EQ(add(FILE_, SOURCE_), HALO_ERROR_INPUT);             \
-        CHECK_DIAG_LINE(diags, ID, LINE);                                \
-        CHECK_STR_EQ(check_find_diag(diags, ID, LINE)->file, FILE_);     \
-        CHECK_INT_EQ(halo_library_module_count(library), count_before_); \
+#define CHECK_ONE_ERROR(FILE_, SOURCE_, ID, LINE)                                 \
+    do {                                                                          \
+        size_t count_before_ = halo_library_describe(library).module_count;       \
+        CHECK_INT_EQ(add(FILE_, SOURCE_), HALO_ERROR_INPUT);                      \
+        CHECK_DIAG_LINE(diags, ID, LINE);                                         \
+        CHECK_STR_EQ(check_find_diag(diags, ID, LINE)->file, FILE_);              \
+        CHECK_INT_EQ(halo_library_describe(library).module_count, count_before_); \
     } while (0)
 
 /* Each of the lines, put into a sample module after head (so at line `line`), is refused

@@ -249,14 +249,9 @@ CASE(halo_library_add)
     REFUSES_D(halo_library_add(lib, "m.glsl", "x", (halo_add_mode)2, d) == HALO_ERROR_INPUT, "mode");
     return 0;
 }
-CASE(halo_library_module_count)
+CASE(halo_library_describe)
 {
-    REFUSES(halo_library_module_count(NULL) == 0, "library");
-    return 0;
-}
-CASE(halo_library_module)
-{
-    REFUSES(halo_library_module(NULL, 0) == NULL, "library");
+    REFUSES(halo_library_describe(NULL).modules == NULL, "library");
     return 0;
 }
 CASE(halo_library_find)
@@ -843,8 +838,7 @@ static const api_case cases[] = {
     ROW(halo_library_create),
     ROW(halo_library_destroy),
     ROW(halo_library_add),
-    ROW(halo_library_module_count),
-    ROW(halo_library_module),
+    ROW(halo_library_describe),
     ROW(halo_library_find),
     ROW(halo_module_describe),
     ROW(halo_module_find_param),

@@ -12,7 +12,7 @@ static int test_pipeline(void)
     CHECK(d != NULL);
     halo_library *lib = halo_library_create(d);
     CHECK(lib != NULL);
-    CHECK(halo_library_module_count(lib) >= 9);
+    CHECK(halo_library_describe(lib).module_count >= 9);
     CHECK(halo_library_find(lib, "boundary") != NULL);
     halo_scene *scene = halo_scene_parse(
         "{\"halo_scene\": 1, \"stages\": [{\"boundary\": {\"k_gs\": 10, \"live\":"
