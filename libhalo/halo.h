@@ -41,7 +41,7 @@
  *                     refuses (USAGE) desc.scene with another desc.library.
  *   halo_program      keeps its library alive (not the scene: the program copies the
  *                     scene's values). The arrays, strings and structs of its reflection
- *                     (halo_program_reflection, halo_program_stage_info, ...) live as long
+ *                     (halo_program_reflection, halo_program_find_uniform, ...) live as long
  *                     as the program; halo_program_set and halo_program_select_group
  *                     change the values they point to.
  *   halo_emu_frame, halo_gl_frame
@@ -620,9 +620,6 @@ typedef struct halo_stage_info {
                                 * fraction of the strip that is the line itself, the rest its halo: a host
                                 * drawing plain lines without this stage narrows the strip by it */
 } halo_stage_info;
-/* The linked stages in execution order (halo_program_reflection: stage_count); NULL for an
- * index past them. */
-HALO_API const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t index);
 /* A parameter of a linked stage (halo_program_reflection: every one), or NULL. */
 HALO_API const halo_uniform_info *halo_program_find_uniform(const halo_program *p, const char *stage,
                                                             const char *param);
@@ -650,7 +647,8 @@ HALO_API int halo_program_uniform_next(const halo_program *p, size_t *cursor, ha
  * pointers, cheap to take. A NULL program has none: every count 0 (so a loop over it does
  * nothing), every pointer NULL. */
 typedef struct halo_reflection {
-    size_t stage_count;   /* linked stages, in execution order: halo_program_stage_info */
+    size_t stage_count; /* linked stages, in execution order */
+    const halo_stage_info *stages;
     size_t uniform_count; /* every parameter of every linked stage, live or constant */
     const halo_uniform_info *uniforms;
     size_t output_count; /* extra fragment outputs */

@@ -103,7 +103,7 @@ struct halo_module {
     halo_pass_decl *passes;
     size_t pass_count;
     halo_name_list per_halo;
-    halo_stage_info info; /* #pragma halo is: what hosts read (halo_program_stage_info) */
+    halo_stage_info info; /* #pragma halo is: what hosts read (the reflection's stages) */
     int groups;           /* #pragma halo groups: channels parameters take up to HALO_MAX_GROUP_CHANNELS values,
                           * linked four at a time (feature groups, halo_program_select_group) */
 };
@@ -209,6 +209,7 @@ struct halo_program {
      * a composer's declarations piece is the block and the tail together. */
     halo_linked_text block, tail;
     halo_linked_stage *stages;
+    halo_stage_info *stage_infos; /* stages[i].module->info, for the reflection */
     size_t stage_count;
     halo_uniform_info *uniforms;
     size_t uniform_count;

@@ -815,12 +815,14 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
     }
     /* 3. Parameters: the scene's values, or the defaults. */
     p->stages = calloc((size_t)n + 1, sizeof *p->stages);
-    if (!p->stages) {
+    p->stage_infos = calloc((size_t)n + 1, sizeof *p->stage_infos);
+    if (!p->stages || !p->stage_infos) {
         free(order);
         goto oom;
     }
     for (int i = 0; i < n; i++) {
         const halo_module *m = order[i].module;
+        p->stage_infos[p->stage_count] = m->info;
         halo_linked_stage *st = &p->stages[p->stage_count++];
         st->module = m;
         st->values = calloc(m->param_count + 1, sizeof *st->values);

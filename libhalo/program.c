@@ -149,6 +149,7 @@ void halo_program_destroy(halo_program *p)
         free(p->stages[s].group_values);
     }
     free(p->stages);
+    free(p->stage_infos);
     for (size_t i = 0; i < p->uniform_count; i++)
         free(p->uniform_names[i]);
     free(p->uniform_names);
@@ -193,11 +194,6 @@ int halo_program_map_line(const halo_program *p, halo_piece piece, int line, con
     return o->file != halo_generated_file;
 }
 
-const halo_stage_info *halo_program_stage_info(const halo_program *p, size_t i)
-{
-    HALO_REFUSE_NULL(NULL, p, "program", NULL);
-    return i < p->stage_count ? &p->stages[i].module->info : NULL;
-}
 /* The reflection's interval and reads_labels. */
 static int program_interval(const halo_program *p)
 {
@@ -346,6 +342,7 @@ halo_reflection halo_program_reflection(const halo_program *p)
     if (!p)
         return r;
     r.stage_count = p->stage_count;
+    r.stages = p->stage_infos;
     r.uniform_count = p->uniform_count;
     r.uniforms = p->uniforms;
     r.output_count = p->output_count;

@@ -89,7 +89,7 @@ static halo_scene *load_scene(const options *o, const halo_library *lib, halo_di
 static const halo_uniform_info *stage_property(const halo_program *p, int core_fraction)
 {
     for (size_t i = 0; p && i < halo_program_reflection(p).stage_count; ++i) {
-        const halo_stage_info *s = halo_program_stage_info(p, i);
+        const halo_stage_info *s = &halo_program_reflection(p).stages[i];
         const char *param = core_fraction ? s->core_fraction : s->strip_width;
         const halo_uniform_info *u = param ? halo_program_find_uniform(p, s->name, param) : NULL;
         if (u && u->count > 0)

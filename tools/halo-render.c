@@ -902,7 +902,7 @@ int main(int argc, char **argv)
     printf(TOOL ": wrote %s (%dx%d, %s host, %zu stage%s%s", o.output, o.width, o.height, halo_driver_host_names[kind],
            stages, stages == 1 ? "" : "s", stages ? ": " : "");
     for (size_t i = 0; i < stages; ++i)
-        printf("%s%s", i ? ", " : "", halo_program_stage_info(program, i)->name);
+        printf("%s%s", i ? ", " : "", halo_program_reflection(program).stages[i].name);
     if (post)
         printf("; image %s of the post passes", post->name);
     printf(")\n");

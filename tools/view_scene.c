@@ -339,7 +339,7 @@ int view_load_scene(viewer *v, const char *path, int keep_camera)
     printf("halo-view: loaded %s (%s host, %zu stage%s%s", path ? path : DEFAULT_SCENE " (built in)",
            halo_driver_host_names[kind], linked, linked == 1 ? "" : "s", linked ? ": " : "");
     for (size_t i = 0; i < linked; ++i)
-        printf("%s%s", i ? ", " : "", halo_program_stage_info(p, i)->name);
+        printf("%s%s", i ? ", " : "", halo_program_reflection(p).stages[i].name);
     printf(")\n");
     return 0;
 }
@@ -562,7 +562,7 @@ void view_step_param(viewer *v, int direction)
     if (info->type == HALO_PARAM_INT) {
         int interval = 0;
         for (size_t k = 0; k < halo_program_reflection(v->program).stage_count; ++k) {
-            const halo_stage_info *s = halo_program_stage_info(v->program, k);
+            const halo_stage_info *s = &halo_program_reflection(v->program).stages[k];
             interval |= !strcmp(s->name, u->stage) && s->interval && !strcmp(s->interval, u->param);
         }
         if (interval)
@@ -596,7 +596,7 @@ void view_toggle_stage(viewer *v, size_t index)
         v->toggle_on[index] = on;
         int linked = 0;
         for (size_t i = 0; i < halo_program_reflection(v->program).stage_count; ++i)
-            linked |= !strcmp(halo_program_stage_info(v->program, i)->name, name);
+            linked |= !strcmp(halo_program_reflection(v->program).stages[i].name, name);
         printf("halo-view: %s %s%s\n", name, on ? "enabled" : "disabled",
                !on && linked ? " (still linked: an enabled stage needs it)" : "");
     }

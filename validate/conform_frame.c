@@ -71,7 +71,7 @@ static int frame_keeps_empty(const halo_program *p, double out[4])
 {
     size_t n = halo_program_reflection(p).stage_count;
     for (size_t i = 0; i < n; ++i)
-        if (!halo_program_stage_info(p, i)->keeps_empty)
+        if (!halo_program_reflection(p).stages[i].keeps_empty)
             return 1;
     halo_emu_frame *one = halo_emu_frame_create(p, 1, 1, NULL);
     if (!one)

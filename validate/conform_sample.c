@@ -82,7 +82,7 @@ static int keeps_empty_kept(const halo_program *p, double out[4])
 {
     size_t n = halo_program_reflection(p).stage_count;
     for (size_t i = 0; i < n; ++i)
-        if (!halo_program_stage_info(p, i)->keeps_empty)
+        if (!halo_program_reflection(p).stages[i].keeps_empty)
             return 1;
     static const double views[2][3] = {{0, 0, 1}, {0.6, 0, 0.8}};
     for (int v = 0; v < 2; ++v) {

@@ -1079,7 +1079,7 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
     if (!segmenting && (halo_program_reflection(program).output_count || halo_program_reflection(program).pass_count)) {
         std::string stages;
         for (size_t i = 0; i < halo_program_reflection(program).stage_count; i++)
-            stages += (stages.empty() ? "" : ", ") + std::string(halo_program_stage_info(program, i)->name);
+            stages += (stages.empty() ? "" : ", ") + std::string(halo_program_reflection(program).stages[i].name);
         add_error(diag, HALO_MSG_HOST_SINGLE_PASS,
                   "the scene's stages (" + stages +
                       ") include some that write extra outputs or run image passes (volumetric halos, outlines, "

@@ -442,14 +442,15 @@ halo_status halo_slice_render(halo_slice *s, float *rgba, halo_diagnostics *diag
 static int generation_zero_from_zero(const halo_program *p)
 {
     int any = 0;
-    for (size_t i = 0; p && i < halo_program_reflection(p).pass_count; ++i) {
-        const halo_pass_info *pass = &halo_program_reflection(p).passes[i];
+    halo_reflection r = halo_program_reflection(p);
+    for (size_t i = 0; i < r.pass_count; ++i) {
+        const halo_pass_info *pass = &r.passes[i];
         if (pass->at)
             continue;
         const halo_stage_info *info = NULL;
-        for (size_t k = 0; k < halo_program_reflection(p).stage_count; ++k)
-            if (!strcmp(halo_program_stage_info(p, k)->name, pass->stage))
-                info = halo_program_stage_info(p, k);
+        for (size_t k = 0; k < r.stage_count; ++k)
+            if (!strcmp(r.stages[k].name, pass->stage))
+                info = &r.stages[k];
         if (!info || !info->zero_generation)
             return 0;
         any = 1;
@@ -528,7 +529,7 @@ static int slices_clippable(const halo_slice *s)
     if (s->slab || s->run_every_generation)
         return 0;
     for (size_t i = 0; s->linked && i < halo_program_reflection(s->linked).stage_count; ++i)
-        if (!halo_program_stage_info(s->linked, i)->keeps_empty)
+        if (!halo_program_reflection(s->linked).stages[i].keeps_empty)
             return 0;
     return 1;
 }

@@ -125,7 +125,7 @@ halo_status halo_emu_line_vertex_apply(const halo_program *p, const double depth
     const double unset[2] = {0.0, 0.0};
     const double *range = depth_range ? depth_range : unset;
     for (size_t i = 0; i < halo_program_reflection(p).stage_count; ++i) {
-        const char *stage = halo_program_stage_info(p, i)->name;
+        const char *stage = halo_program_reflection(p).stages[i].name;
         if (strcmp(stage, "line_strip") == 0)
             line_strip(p, range, v);
         else
@@ -139,7 +139,7 @@ halo_status halo_emu_line_fragment_apply(const halo_program *p, halo_emu_line_fr
     HALO_REFUSE_NULL(diag, p, "program", HALO_ERROR_INPUT);
     HALO_REFUSE_NULL(diag, f, "fragment", HALO_ERROR_INPUT);
     for (size_t i = 0; i < halo_program_reflection(p).stage_count; ++i) {
-        const char *stage = halo_program_stage_info(p, i)->name;
+        const char *stage = halo_program_reflection(p).stages[i].name;
         if (strcmp(stage, "line_halo") == 0)
             line_halo(p, f);
         else

@@ -78,7 +78,7 @@ static FIXTURE_UNUSED halo_program *link_valid(const char *json)
 static FIXTURE_UNUSED int stage_index(const halo_program *p, const char *stage)
 {
     for (size_t i = 0; i < halo_program_reflection(p).stage_count; i++)
-        if (!strcmp(halo_program_stage_info(p, i)->name, stage))
+        if (!strcmp(halo_program_reflection(p).stages[i].name, stage))
             return (int)i;
     return -1;
 }

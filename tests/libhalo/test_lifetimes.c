@@ -111,7 +111,7 @@ static int test_library_destroyed_first(void)
     CHECK_FINITE(s.opacity);
     filler_free(filler);
     halo_scene_destroy(scene);
-    CHECK_STR_EQ(halo_program_stage_info(p, 0)->name, "gradient"); /* the program still holds the library */
+    CHECK_STR_EQ(halo_program_reflection(p).stages[0].name, "gradient"); /* the program still holds the library */
     halo_program_destroy(p);
     CHECK_NO_ERRORS(d);
     halo_diagnostics_destroy(d);

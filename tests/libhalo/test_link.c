@@ -11,7 +11,7 @@ static int helper_needed(const halo_program *p, const halo_module *helpers, size
     SETUP(helpers->chunk_count <= 64);
     for (size_t c = 0; c < helpers->chunk_count; c++)
         for (size_t s = 0; s < halo_program_reflection(p).stage_count; s++) {
-            const halo_module *m = halo_library_find(library, halo_program_stage_info(p, s)->name);
+            const halo_module *m = halo_library_find(library, halo_program_reflection(p).stages[s].name);
             if (halo_name_list_has(&m->calls, helpers->chunks[c].name))
                 need[c] = 1;
         }
@@ -83,7 +83,7 @@ static int test_only_enabled_code(void)
     halo_program *p = link_valid("{\"stages\": [\"opacity_power\"]}");
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_reflection(p).stage_count, 1);
-    CHECK_STR_EQ(halo_program_stage_info(p, 0)->name, "opacity_power");
+    CHECK_STR_EQ(halo_program_reflection(p).stages[0].name, "opacity_power");
     if (check_only_linked(p))
         return 1;
     /* opacity_power uses halo_pow and halo_saturate, not the colour helpers. */
@@ -196,8 +196,8 @@ static int test_order(void)
     halo_program *p = link_valid("{\"stages\": [\"silhouette\"]}");
     CHECK(p != NULL);
     CHECK_INT_EQ(halo_program_reflection(p).stage_count, 2);
-    CHECK_STR_EQ(halo_program_stage_info(p, 0)->name, "gradient");
-    CHECK_STR_EQ(halo_program_stage_info(p, 1)->name, "silhouette");
+    CHECK_STR_EQ(halo_program_reflection(p).stages[0].name, "gradient");
+    CHECK_STR_EQ(halo_program_reflection(p).stages[1].name, "silhouette");
     const char *src = halo_program_source(p, HALO_PIECE_WHOLE);
     int g = line_containing(src, "halo_gradient_apply(s);"), s = line_containing(src, "halo_silhouette_apply(s);");
     CHECK(g > 0 && s > 0);
@@ -217,7 +217,7 @@ static int test_order(void)
         CHECK(tone < blend);
         /* Every stage runs after the stages it names in `after` and those providing what it needs. */
         for (size_t k = 0; k < halo_program_reflection(p).stage_count; k++) {
-            const halo_module *m = halo_library_find(library, halo_program_stage_info(p, k)->name);
+            const halo_module *m = halo_library_find(library, halo_program_reflection(p).stages[k].name);
             for (size_t a = 0; a < m->after.count; a++) {
                 int before = stage_index(p, m->after.items[a]);
                 if (before >= 0 && before > (int)k)
@@ -278,8 +278,8 @@ static int test_resolution_errors(void)
     /* Enabling one of them resolves it. */
     p = link_valid("{\"stages\": [\"needs_thing\", \"provider_b\"]}");
     CHECK(p != NULL);
-    CHECK_STR_EQ(halo_program_stage_info(p, 0)->name, "provider_b");
-    CHECK_STR_EQ(halo_program_stage_info(p, 1)->name, "needs_thing");
+    CHECK_STR_EQ(halo_program_reflection(p).stages[0].name, "provider_b");
+    CHECK_STR_EQ(halo_program_reflection(p).stages[1].name, "needs_thing");
     halo_program_destroy(p);
 
     scene = scene_of("{\"stages\": [\"cycle_a\", \"cycle_b\"]}");

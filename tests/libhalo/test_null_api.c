@@ -356,11 +356,6 @@ CASE(halo_program_map_line)
     REFUSES(halo_program_map_line(NULL, HALO_PIECE_SAMPLE, 1, &file, &line) == 0, "program");
     return 0;
 }
-CASE(halo_program_stage_info)
-{
-    REFUSES(halo_program_stage_info(NULL, 0) == NULL, "program");
-    return 0;
-}
 CASE(halo_program_reflection)
 {
     /* NULL is a program with nothing: every count 0 */
@@ -854,7 +849,6 @@ static const api_case cases[] = {
     ROW(halo_program_destroy),
     ROW(halo_program_source),
     ROW(halo_program_map_line),
-    ROW(halo_program_stage_info),
     ROW(halo_program_reflection),
     ROW(halo_program_find_uniform),
     ROW(halo_program_set),

@@ -1,5 +1,5 @@
 /* libhalo/program.c: a linked program's parameters (halo_program_set) and what its
- * stages are (halo_program_stage_info, the reflection's reads_labels). No GL. */
+ * stages are (the reflection's stages and reads_labels). No GL. */
 #include "link_fixture.h"
 
 /* (k) Changing parameters of a linked program. */
@@ -86,7 +86,7 @@ static int test_stage_info(void)
                   {"halo_seed", 1, 0}, {"halo_generate", 1, 1}, {"halo_map", 1, 0}};
     for (size_t k = 0; k < sizeof expect / sizeof expect[0]; k++) {
         int i = stage_index(p, expect[k].name);
-        const halo_stage_info *info = i >= 0 ? halo_program_stage_info(p, (size_t)i) : NULL;
+        const halo_stage_info *info = i >= 0 ? &halo_program_reflection(p).stages[(size_t)i] : NULL;
         CHECK(info != NULL);
         if (!info)
             continue;
@@ -95,11 +95,10 @@ static int test_stage_info(void)
         CHECK_INT_EQ(info->zero_generation, expect[k].zero_generation);
         CHECK(info->labels_when == NULL);
     }
-    CHECK(halo_program_stage_info(p, halo_program_reflection(p).stage_count) == NULL);
     CHECK_INT_EQ(halo_program_reflection(p).reads_labels, 0);
     /* M from the stage that says which parameter is it (halo_generate: interval, default 4) */
     int generate = stage_index(p, "halo_generate");
-    const halo_stage_info *gen = generate >= 0 ? halo_program_stage_info(p, (size_t)generate) : NULL;
+    const halo_stage_info *gen = generate >= 0 ? &halo_program_reflection(p).stages[(size_t)generate] : NULL;
     CHECK(gen && gen->interval && !strcmp(gen->interval, "interval"));
     CHECK_INT_EQ(halo_program_reflection(p).interval, 4);
     char *json = halo_program_reflect_json(p);
@@ -128,7 +127,7 @@ static int test_stage_info(void)
         "\"outlines\"]}");
     CHECK(p != NULL);
     if (p) {
-        const halo_stage_info *info = halo_program_stage_info(p, (size_t)stage_index(p, "outline_feature"));
+        const halo_stage_info *info = &halo_program_reflection(p).stages[(size_t)stage_index(p, "outline_feature")];
         CHECK(info && info->labels_when && !strcmp(info->labels_when, "label"));
         CHECK_INT_EQ(halo_program_reflection(p).reads_labels, 0);
         halo_program_destroy(p);
