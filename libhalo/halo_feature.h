@@ -32,7 +32,7 @@ extern "C" {
 #define HALO_FEATURE_SPLAT_MIN 3
 #define HALO_FEATURE_SPLAT_MAX 9
 
-/* Zero means "use the default" for every field (halo_feature_desc_effective). */
+/* Zero means "use the default" for every field (halo_feature_desc_layout: desc). */
 typedef struct halo_feature_desc {
     int splat_size;        /* n: the neighbourhood is the n x n x n cube around a voxel, odd, 3..9; default 5 */
     double threshold;      /* low-gradient cutoff: only voxels with |grad f| > threshold splat (value per
@@ -49,21 +49,24 @@ typedef struct halo_feature_desc {
                             * 2000 with the normalized gradient (the default) */
 } halo_feature_desc;
 
-/* The values a desc runs with (defaults patched in, splat size forced odd and into range). */
-HALO_API void halo_feature_desc_effective(const halo_feature_desc *desc, halo_feature_desc *out);
+/* What a desc makes, by value. desc may be NULL (every default); dims (a volume's voxels)
+ * may be NULL (buffer_dims 0). */
+typedef struct halo_feature_layout {
+    halo_feature_desc desc;  /* the values it runs with: defaults patched in, splat size forced odd and
+                             * into range */
+    int buffer_dims[3];      /* the buffer's size in texels (ceil(dims/2) at half resolution) */
+    int splat_radius;        /* in buffer texels: (n - 1)/2, halved and rounded up at half resolution */
+    double splat_weight_sum; /* S: the sum of 1/|d|^2 over the offsets d != 0 of the n x n x n
+                              * neighbourhood (voxel units). A splat texel's weight is (1/|d|^2)/S, so
+                              * one splat's weights sum to 1 and the buffer holds the paper's neighbour
+                              * sum divided by S (docs/feature-halos.md) */
+} halo_feature_layout;
+HALO_API halo_feature_layout halo_feature_desc_layout(const halo_feature_desc *desc, const int dims[3]);
 
 /* The desc a linked program's feature_halo stage asks for (its parameters k_hpe, k_hse,
  * splat_size, threshold, half_resolution, gradient_weighted, current values).
  * HALO_ERROR_INPUT when the program has no feature_halo stage. */
 HALO_API halo_status halo_feature_desc_from_program(const halo_program *p, halo_feature_desc *out);
-
-/* The buffer's size in texels for a volume of dims voxels. */
-HALO_API void halo_feature_buffer_dims(const int dims[3], const halo_feature_desc *desc, int out[3]);
-
-/* S: the sum of 1/|d|^2 over the offsets d != 0 of an n x n x n splat (voxel units). A
- * splat texel's weight is (1/|d|^2)/S, so one splat's weights sum to 1 and the buffer
- * holds the paper's neighbour sum divided by S (docs/feature-halos.md). */
-HALO_API double halo_feature_splat_weight_sum(int splat_size);
 
 /* ---- Reference and emulation (double precision, CPU) ---------------------------- */
 
@@ -71,22 +74,22 @@ HALO_API double halo_feature_splat_weight_sum(int splat_size);
  * arguments. */
 HALO_API halo_status halo_feature_gradient_magnitudes(const float *values, const int dims[3], float *out);
 
-/* The exact reference, Ebert & Rheingans 2000, Sec. 5.2, at every voxel P_i:
+/* What halo_feature_compute computes, in double precision:
+ * HALO_FEATURE_REFERENCE: the exact reference, Ebert & Rheingans 2000, Sec. 5.2, at every
+ * voxel P_i:
  *   h_i = ( sum_{n in cube, n != i} h_n / |P_i - P_n|^2 ) (1 - |grad f(P_i)|)
  *   h_n = max(0, n(P_n).e)^k_hpe (1 - |n(P_n).V|)^k_hse,  e = (P_i - P_n)/|P_i - P_n|
  * (times |grad f(P_n)|^k_hpe with desc->gradient_weighted)
  * with n = -grad f/|grad f| (points out of dense material) and V the unit view vector
  * (sample -> eye, voxel space, one direction for the whole volume). Neighbours without a
  * gradient direction (|grad f| <= 1e-10) and outside the volume contribute nothing. No
- * cutoff, full resolution, unnormalized weights. out: dims[0]*dims[1]*dims[2] doubles. */
-HALO_API halo_status halo_feature_reference(const float *values, const int dims[3], const halo_feature_desc *desc,
-                                            const double view[3], double *out);
-
-/* The emulation of halo_feature_buffer_build: the normalized, cut-off (and optionally
- * half-resolution) neighbour sum the GPU splats, in double. out: the buffer's texels
- * (halo_feature_buffer_dims), x fastest. */
-HALO_API halo_status halo_feature_emu_buffer(const float *values, const int dims[3], const halo_feature_desc *desc,
-                                             const double view[3], double *out);
+ * cutoff, full resolution, unnormalized weights. out: dims[0]*dims[1]*dims[2] doubles.
+ * HALO_FEATURE_EMULATED_BUFFER: the emulation of halo_feature_buffer_build, the
+ * normalized, cut-off (and optionally half-resolution) neighbour sum the GPU splats. out:
+ * the buffer's texels (halo_feature_layout.buffer_dims), x fastest. */
+typedef enum halo_feature_result { HALO_FEATURE_REFERENCE = 0, HALO_FEATURE_EMULATED_BUFFER } halo_feature_result;
+HALO_API halo_status halo_feature_compute(halo_feature_result result, const float *values, const int dims[3],
+                                          const halo_feature_desc *desc, const double view[3], double *out);
 
 /* The buffer read as the stage reads it: GL_LINEAR with CLAMP_TO_EDGE at texture-space
  * position (in [0,1]^3) of a buffer of dims texels, in double. */
@@ -116,7 +119,7 @@ HALO_API halo_status halo_feature_buffer_build(halo_feature_buffer *b, const dou
 /* What a buffer is: a copy, cheap to take. A NULL buffer: every field 0. */
 typedef struct halo_feature_buffer_info {
     unsigned texture;    /* its GL texture name (GL_TEXTURE_3D, R32F, GL_LINEAR, CLAMP_TO_EDGE) */
-    int dims[3];         /* its size in texels (halo_feature_buffer_dims of the volume's) */
+    int dims[3];         /* its size in texels (halo_feature_layout.buffer_dims of the volume) */
     size_t qualified;    /* voxels that splat (|grad f| above the cutoff, at the buffer's resolution) */
     size_t points_drawn; /* points drawn by the last build (each qualified voxel once per layer it reaches) */
 } halo_feature_buffer_info;

@@ -1,6 +1,6 @@
 /* Conformance of feature halos: the GPU halo buffer (libhalo/gl/feature_splat.c) against
- * halo_feature_emu_buffer, that emulation against the exact reference
- * (halo_feature_reference), and the stage feature_halo drawn through a probe against
+ * halo_feature_compute's emulated buffer, that emulation against the exact reference
+ * (HALO_FEATURE_REFERENCE), and the stage feature_halo drawn through a probe against
  * halo_emu_apply (the buffer value through the emulated frame's host uniform). */
 #include "conform_feature.h"
 
@@ -131,15 +131,16 @@ static float *edge_volume(int n)
 static void run_splat_row(feature_context *c, const char *row, const float *values, int n,
                           const halo_feature_desc *desc, const double view[3])
 {
-    int dims[3] = {n, n, n}, bd[3];
-    halo_feature_buffer_dims(dims, desc, bd);
+    int dims[3] = {n, n, n};
+    halo_feature_layout layout = halo_feature_desc_layout(desc, dims);
+    const int *bd = layout.buffer_dims;
     size_t count = (size_t)bd[0] * bd[1] * bd[2];
     float *gpu = malloc(count * sizeof *gpu);
     double *emu = malloc(count * sizeof *emu);
     halo_feature_buffer *b = values ? halo_feature_buffer_create(c->runtime, values, dims, desc, c->diag) : NULL;
     if (!gpu || !emu || !b || halo_feature_buffer_build(b, view) != HALO_OK ||
         halo_feature_buffer_read(b, gpu) != HALO_OK ||
-        halo_feature_emu_buffer(values, dims, desc, view, emu) != HALO_OK) {
+        halo_feature_compute(HALO_FEATURE_EMULATED_BUFFER, values, dims, desc, view, emu) != HALO_OK) {
         print_error(c, row);
     } else {
         stats s = {0};
@@ -159,11 +160,12 @@ static void run_reference_row(feature_context *c, const float *values, int n, co
     size_t count = (size_t)n * n * n;
     halo_feature_desc desc = {.splat_size = 5, .threshold = -1};
     double *emu = malloc(count * sizeof *emu), *exact = malloc(count * sizeof *exact);
-    if (!emu || !exact || halo_feature_emu_buffer(values, dims, &desc, view, emu) != HALO_OK ||
-        halo_feature_reference(values, dims, &desc, view, exact) != HALO_OK) {
+    if (!emu || !exact ||
+        halo_feature_compute(HALO_FEATURE_EMULATED_BUFFER, values, dims, &desc, view, emu) != HALO_OK ||
+        halo_feature_compute(HALO_FEATURE_REFERENCE, values, dims, &desc, view, exact) != HALO_OK) {
         print_error(c, "feature_reference");
     } else {
-        double sum = halo_feature_splat_weight_sum(5);
+        double sum = halo_feature_desc_layout(&desc, NULL).splat_weight_sum;
         stats s = {0};
         size_t i = 0;
         for (int z = 0; z < n; ++z)

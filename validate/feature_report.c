@@ -72,9 +72,10 @@ static void gradient_table_row(const char *name, const float *values, int n)
 static int measure(report *r, const char *volume, const float *values, int n, const halo_feature_desc *desc,
                    const double *exact, double exact_max, const char *label)
 {
-    int dims[3] = {n, n, n}, bd[3];
+    int dims[3] = {n, n, n};
     size_t count = (size_t)n * n * n;
-    halo_feature_buffer_dims(dims, desc, bd);
+    halo_feature_layout layout = halo_feature_desc_layout(desc, dims);
+    const int *bd = layout.buffer_dims;
     size_t texels = (size_t)bd[0] * bd[1] * bd[2];
     double t0 = now_ms();
     halo_feature_buffer *b = halo_feature_buffer_create(r->runtime, values, dims, desc, r->diag);
@@ -108,7 +109,7 @@ static int measure(report *r, const char *volume, const float *values, int n, co
     qsort(times, (size_t)r->repeat, sizeof *times, compare_double);
     for (size_t i = 0; i < texels; ++i)
         buffer_double[i] = buffer[i];
-    double sum = halo_feature_splat_weight_sum(desc->splat_size ? desc->splat_size : 5);
+    double sum = halo_feature_desc_layout(desc, NULL).splat_weight_sum;
     double max_abs = 0.0, sum_squares = 0.0;
     size_t i = 0, over = 0;
     float *magnitude = malloc(count * sizeof *magnitude);
@@ -150,7 +151,8 @@ static int report_volume(report *r, const char *name, const float *values, int n
     double *exact = malloc(count * sizeof *exact);
     halo_feature_desc reference_desc = {.splat_size = r->splat, .gradient_weighted = weighted};
     double t0 = now_ms();
-    if (!exact || halo_feature_reference(values, dims, &reference_desc, report_view, exact) != HALO_OK) {
+    if (!exact ||
+        halo_feature_compute(HALO_FEATURE_REFERENCE, values, dims, &reference_desc, report_view, exact) != HALO_OK) {
         free(exact);
         return 0;
     }
@@ -158,7 +160,7 @@ static int report_volume(report *r, const char *name, const float *values, int n
     double exact_max = 0.0;
     for (size_t i = 0; i < count; ++i)
         exact_max = exact[i] > exact_max ? exact[i] : exact_max;
-    double sum = halo_feature_splat_weight_sum(r->splat);
+    double sum = halo_feature_desc_layout(&reference_desc, NULL).splat_weight_sum;
     fprintf(stderr, "%s%s: exact reference (CPU, 1 thread) %.0f ms; max h_i %.4f (= %.4f after / S, S = %.4f)\n", name,
             weighted ? " (gradient-weighted)" : "", reference_ms, exact_max, exact_max / sum, sum);
     static const variant ebert[] = {{-1, 0, "Ebert, no cutoff"},

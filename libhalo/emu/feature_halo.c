@@ -14,9 +14,8 @@
 
 #include "feature_internal.h"
 
-void halo_feature_desc_effective(const halo_feature_desc *desc, halo_feature_desc *out)
+void halo_feature_effective(const halo_feature_desc *desc, halo_feature_desc *out)
 {
-    HALO_REFUSE_NULL_VOID(NULL, out, "out");
     halo_feature_desc d = desc ? *desc : (halo_feature_desc){0};
     if (d.splat_size == 0)
         d.splat_size = 5;
@@ -37,14 +36,11 @@ void halo_feature_desc_effective(const halo_feature_desc *desc, halo_feature_des
     *out = d;
 }
 
-void halo_feature_buffer_dims(const int dims[3], const halo_feature_desc *desc, int out[3])
+/* The buffer's texels for a volume of dims voxels, for an effective desc. */
+static void buffer_dims(const int dims[3], const halo_feature_desc *effective, int out[3])
 {
-    HALO_REFUSE_NULL_VOID(NULL, dims, "dims");
-    HALO_REFUSE_NULL_VOID(NULL, out, "out");
-    halo_feature_desc d;
-    halo_feature_desc_effective(desc, &d);
     for (int k = 0; k < 3; ++k)
-        out[k] = d.half_resolution ? (dims[k] + 1) / 2 : dims[k];
+        out[k] = effective->half_resolution ? (dims[k] + 1) / 2 : dims[k];
 }
 
 int halo_feature_splat_radius(const halo_feature_desc *effective)
@@ -53,7 +49,7 @@ int halo_feature_splat_radius(const halo_feature_desc *effective)
     return effective->half_resolution ? (r + 1) / 2 : r;
 }
 
-double halo_feature_splat_weight_sum(int splat_size)
+double halo_feature_weight_sum(int splat_size)
 {
     int r = (splat_size - 1) / 2;
     if (r < 1)
@@ -65,6 +61,18 @@ double halo_feature_splat_weight_sum(int splat_size)
                 if (x || y || z)
                     sum += 1.0 / (double)(x * x + y * y + z * z);
     return sum;
+}
+
+halo_feature_layout halo_feature_desc_layout(const halo_feature_desc *desc, const int dims[3])
+{
+    halo_feature_layout layout;
+    memset(&layout, 0, sizeof layout);
+    halo_feature_effective(desc, &layout.desc);
+    if (dims)
+        buffer_dims(dims, &layout.desc, layout.buffer_dims);
+    layout.splat_radius = halo_feature_splat_radius(&layout.desc);
+    layout.splat_weight_sum = halo_feature_weight_sum(layout.desc.splat_size);
+    return layout;
 }
 
 static int dims_ok(const int dims[3])
@@ -113,7 +121,7 @@ halo_status halo_feature_buffer_gradients(const float *values, const int dims[3]
                                           double *out)
 {
     int bd[3];
-    halo_feature_buffer_dims(dims, effective, bd);
+    buffer_dims(dims, effective, bd);
     if (!effective->half_resolution) {
         size_t i = 0;
         for (int z = 0; z < dims[2]; ++z)
@@ -232,11 +240,11 @@ static halo_status feature_buffer(const float *values, const int dims[3], const 
     if (!dims_ok(dims))
         return HALO_ERROR_INPUT;
     halo_feature_desc d;
-    halo_feature_desc_effective(desc, &d);
+    halo_feature_effective(desc, &d);
     if (reference)
         d.half_resolution = 0;
     int bd[3];
-    halo_feature_buffer_dims(dims, &d, bd);
+    buffer_dims(dims, &d, bd);
     size_t count = voxel_count(bd);
     double *gradients = malloc(count * 3 * sizeof *gradients);
     if (!gradients)
@@ -255,7 +263,7 @@ static halo_status feature_buffer(const float *values, const int dims[3], const 
         int radius = halo_feature_splat_radius(&d);
         double cutoff = d.threshold < 0.0 ? 1e-10 : d.threshold;
         scatter(gradients, bd, radius, cutoff, v, d.k_hpe, d.k_hse, d.gradient_weighted,
-                1.0 / halo_feature_splat_weight_sum(2 * radius + 1), out);
+                1.0 / halo_feature_weight_sum(2 * radius + 1), out);
     }
     free(gradients);
     return HALO_OK;
@@ -270,18 +278,16 @@ static halo_status feature_buffer(const float *values, const int dims[3], const 
         HALO_REFUSE_NULL(NULL, out, "out", HALO_ERROR_INPUT);       \
     } while (0)
 
-halo_status halo_feature_reference(const float *values, const int dims[3], const halo_feature_desc *desc,
-                                   const double view[3], double *out)
+halo_status halo_feature_compute(halo_feature_result result, const float *values, const int dims[3],
+                                 const halo_feature_desc *desc, const double view[3], double *out)
 {
     REFUSE_NULL_BUFFER_ARGUMENTS();
-    return feature_buffer(values, dims, desc, view, 1, out);
-}
-
-halo_status halo_feature_emu_buffer(const float *values, const int dims[3], const halo_feature_desc *desc,
-                                    const double view[3], double *out)
-{
-    REFUSE_NULL_BUFFER_ARGUMENTS();
-    return feature_buffer(values, dims, desc, view, 0, out);
+    if (result != HALO_FEATURE_REFERENCE && result != HALO_FEATURE_EMULATED_BUFFER) {
+        HALO_REPORT_ERROR(NULL, HALO_MSG_USAGE, "", 0, 0,
+                          "halo_feature_compute: result %d is not a halo_feature_result", (int)result);
+        return HALO_ERROR_INPUT;
+    }
+    return feature_buffer(values, dims, desc, view, result == HALO_FEATURE_REFERENCE, out);
 }
 
 double halo_feature_buffer_lookup(const double *buffer, const int dims[3], const double position[3])
@@ -335,7 +341,7 @@ halo_status halo_feature_desc_from_program(const halo_program *p, halo_feature_d
             d.threshold = -1.0; /* 0 in a scene: every voxel with a gradient */
         d.half_resolution = halo_emu_scalar(&params, "half_resolution") != 0.0;
         d.gradient_weighted = halo_emu_scalar(&params, "gradient_weighted") != 0.0;
-        halo_feature_desc_effective(&d, out);
+        halo_feature_effective(&d, out);
         return HALO_OK;
     }
     return HALO_ERROR_INPUT;

@@ -5,6 +5,10 @@
 
 #include "halo_feature.h"
 
+/* The values a desc runs with (halo_feature_layout.desc); desc may be NULL. */
+void halo_feature_effective(const halo_feature_desc *desc, halo_feature_desc *out);
+/* S of an n x n x n splat (halo_feature_layout.splat_weight_sum). */
+double halo_feature_weight_sum(int splat_size);
 /* The splat radius in buffer texels of an effective desc (halved, rounded up, at half
  * resolution). */
 int halo_feature_splat_radius(const halo_feature_desc *effective);

@@ -153,7 +153,7 @@ static int build_splat_texture(halo_feature_buffer *b)
     float *texels = malloc((size_t)n * (size_t)n * (size_t)n * 4 * sizeof *texels);
     if (!texels)
         return 0;
-    double sum = halo_feature_splat_weight_sum(n);
+    double sum = halo_feature_weight_sum(n);
     size_t i = 0;
     for (int z = -b->radius; z <= b->radius; ++z)
         for (int y = -b->radius; y <= b->radius; ++y)
@@ -253,8 +253,9 @@ halo_feature_buffer *halo_feature_buffer_create(halo_gl *gl, const float *values
     b->gl = gl;
     b->f = halo_gl_functions(gl);
     b->diag = diag;
-    halo_feature_desc_effective(desc, &b->desc);
-    halo_feature_buffer_dims(dims, &b->desc, b->dims);
+    halo_feature_layout layout = halo_feature_desc_layout(desc, dims);
+    b->desc = layout.desc;
+    memcpy(b->dims, layout.buffer_dims, sizeof b->dims);
     b->radius = halo_feature_splat_radius(&b->desc);
     const halo_glfuncs *f = b->f;
     if (!f->FramebufferTextureLayer) {

@@ -707,9 +707,14 @@ CASE(halo_emu_line_fragment_apply)
     return 0;
 }
 
-CASE(halo_feature_desc_effective)
+CASE(halo_feature_desc_layout)
 {
-    REFUSES(DONE(halo_feature_desc_effective(NULL, NULL)), "out");
+    /* NULL desc and dims are the defaults and no buffer */
+    halo_feature_layout layout;
+    ACCEPTS((layout = halo_feature_desc_layout(NULL, NULL)).desc.splat_size == 5);
+    CHECK_INT_EQ(layout.buffer_dims[0], 0);
+    CHECK_INT_EQ(layout.splat_radius, 2);
+    CHECK(layout.splat_weight_sum > 0.0);
     return 0;
 }
 CASE(halo_feature_desc_from_program)
@@ -719,13 +724,6 @@ CASE(halo_feature_desc_from_program)
     REFUSES(halo_feature_desc_from_program(program, NULL) == HALO_ERROR_INPUT, "out");
     return 0;
 }
-CASE(halo_feature_buffer_dims)
-{
-    int out[3];
-    REFUSES(DONE(halo_feature_buffer_dims(NULL, NULL, out)), "dims");
-    REFUSES(DONE(halo_feature_buffer_dims(dims, NULL, NULL)), "out");
-    return 0;
-}
 CASE(halo_feature_gradient_magnitudes)
 {
     REFUSES(halo_feature_gradient_magnitudes(NULL, dims, floats_out) == HALO_ERROR_INPUT, "values");
@@ -733,19 +731,16 @@ CASE(halo_feature_gradient_magnitudes)
     REFUSES(halo_feature_gradient_magnitudes(volume, dims, NULL) == HALO_ERROR_INPUT, "out");
     return 0;
 }
-/* halo_feature_reference and halo_feature_emu_buffer: the same arguments. */
-typedef halo_status (*feature_volume_fn)(const float *, const int[3], const halo_feature_desc *, const double[3],
-                                         double *);
-static int refuses_feature_volume(const char *fn, halo_diagnostics *d, feature_volume_fn call)
+CASE(halo_feature_compute)
 {
-    REFUSES(call(NULL, dims, NULL, view, doubles_out) == HALO_ERROR_INPUT, "values");
-    REFUSES(call(volume, NULL, NULL, view, doubles_out) == HALO_ERROR_INPUT, "dims");
-    REFUSES(call(volume, dims, NULL, NULL, doubles_out) == HALO_ERROR_INPUT, "view");
-    REFUSES(call(volume, dims, NULL, view, NULL) == HALO_ERROR_INPUT, "out");
+    for (int r = HALO_FEATURE_REFERENCE; r <= HALO_FEATURE_EMULATED_BUFFER; ++r) {
+        REFUSES(halo_feature_compute(r, NULL, dims, NULL, view, doubles_out) == HALO_ERROR_INPUT, "values");
+        REFUSES(halo_feature_compute(r, volume, NULL, NULL, view, doubles_out) == HALO_ERROR_INPUT, "dims");
+        REFUSES(halo_feature_compute(r, volume, dims, NULL, NULL, doubles_out) == HALO_ERROR_INPUT, "view");
+        REFUSES(halo_feature_compute(r, volume, dims, NULL, view, NULL) == HALO_ERROR_INPUT, "out");
+    }
     return 0;
 }
-CASE(halo_feature_reference) { return refuses_feature_volume(fn, d, halo_feature_reference); }
-CASE(halo_feature_emu_buffer) { return refuses_feature_volume(fn, d, halo_feature_emu_buffer); }
 CASE(halo_feature_buffer_lookup)
 {
     const double position[3] = {0.5, 0.5, 0.5};
@@ -897,13 +892,10 @@ static const api_case cases[] = {
     ROW(halo_gl_frame_draw),
     ROW(halo_emu_line_vertex_apply),
     ROW(halo_emu_line_fragment_apply),
-    ROW(halo_feature_desc_effective),
+    ROW(halo_feature_desc_layout),
     ROW(halo_feature_desc_from_program),
-    ROW(halo_feature_buffer_dims),
-    NO_POINTER(halo_feature_splat_weight_sum),
     ROW(halo_feature_gradient_magnitudes),
-    ROW(halo_feature_reference),
-    ROW(halo_feature_emu_buffer),
+    ROW(halo_feature_compute),
     ROW(halo_feature_buffer_lookup),
     ROW(halo_feature_buffer_create),
     ROW(halo_feature_buffer_destroy),
