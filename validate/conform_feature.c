@@ -7,7 +7,6 @@
 #include "halo_feature.h"
 #include "halo_gl_loader.h"
 #include "gl/headless.h"
-#include "emu/feature_internal.h"
 #include "hosts/raycast.h"
 #include "volume.h"
 
@@ -153,6 +152,24 @@ static void run_splat_row(feature_context *c, const char *row, const float *valu
     free(emu);
 }
 
+/* |grad f| at a voxel, the host contract's gradient written out here (not the library's):
+ * central differences over +-1 voxel, halved, the neighbours clamped at the faces. */
+static double gradient_magnitude_at(const float *values, const int dims[3], int x, int y, int z)
+{
+    const int at[3] = {x, y, z};
+    double sum = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        int lo[3] = {x, y, z}, hi[3] = {x, y, z};
+        lo[k] = at[k] > 0 ? at[k] - 1 : 0;
+        hi[k] = at[k] < dims[k] - 1 ? at[k] + 1 : dims[k] - 1;
+        double a = values[((size_t)lo[2] * (size_t)dims[1] + (size_t)lo[1]) * (size_t)dims[0] + (size_t)lo[0]];
+        double b = values[((size_t)hi[2] * (size_t)dims[1] + (size_t)hi[1]) * (size_t)dims[0] + (size_t)hi[0]];
+        double g = 0.5 * (b - a);
+        sum += g * g;
+    }
+    return sqrt(sum);
+}
+
 /* The emulated buffer without cutoff, times S and (1 - |grad f|), is the paper's sum. */
 static void run_reference_row(feature_context *c, const float *values, int n, const double view[3])
 {
@@ -171,9 +188,7 @@ static void run_reference_row(feature_context *c, const float *values, int n, co
         for (int z = 0; z < n; ++z)
             for (int y = 0; y < n; ++y)
                 for (int x = 0; x < n; ++x, ++i) {
-                    double g[3];
-                    halo_feature_gradient_at(values, dims, x, y, z, g);
-                    double factor = 1.0 - sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+                    double factor = 1.0 - gradient_magnitude_at(values, dims, x, y, z);
                     factor = factor < 0.0 ? 0.0 : factor > 1.0 ? 1.0 : factor;
                     add_value(&s, emu[i] * sum * factor, exact[i], FEATURE_REFERENCE_TOLERANCE, i);
                 }
