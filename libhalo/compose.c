@@ -263,30 +263,6 @@ static int declare_engine_uniforms(halo_program *p)
     return 0;
 }
 
-/* The public entry: host text (link.c) or pieces (here). */
-halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag)
-{
-    HALO_REFUSE_NULL(diag, desc, "desc", NULL);
-    HALO_REFUSE_NULL(diag, desc->library, "desc.library", NULL);
-    if (!desc->pieces)
-        HALO_REFUSE_NULL(diag, desc->host_source, "desc.host_source (or desc.pieces)", NULL);
-    if ((unsigned)desc->output_locations >= HALO_LOCATIONS_COUNT) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: unknown output_locations %d", (int)desc->output_locations);
-        return NULL;
-    }
-    if (desc->pieces && !desc->host_source)
-        return halo_link_pieces(desc, diag);
-    if (desc->pieces) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: give host_source or pieces, not both");
-        return NULL;
-    }
-    if ((unsigned)desc->version > HALO_VERSION_NONE) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: unknown version mode %d", (int)desc->version);
-        return NULL;
-    }
-    return halo_link_host(desc, diag);
-}
-
 halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag)
 {
     const halo_pieces_desc *d = desc->pieces;
