@@ -21,6 +21,7 @@
     X(PFNGLGETSTRINGPROC, GetString)                               \
     X(PFNGLGETSTRINGIPROC, GetStringi)                             \
     X(PFNGLGETINTEGERVPROC, GetIntegerv)                           \
+    X(PFNGLGETFLOATVPROC, GetFloatv)                               \
     X(PFNGLENABLEPROC, Enable)                                     \
     X(PFNGLDISABLEPROC, Disable)                                   \
     X(PFNGLBLENDFUNCPROC, BlendFunc)                               \

@@ -7,7 +7,13 @@
  * The splat texture holds, per offset d from the splat's centre, the unit vector
  * e = d/|d| and the weight (1/|d|^2)/S (S: the sum over the splat), as the paper's
  * Fig. 4. The view-dependent factor of h_n is computed in the fragment shader, so a
- * new view only redraws. Every GL call goes through the runtime's function table. */
+ * new view only redraws. Every GL call goes through the runtime's function table.
+ *
+ * On OpenGL ES 3.x (WebGL 2) the shaders are GLSL ES 3.00, point sizes always come from
+ * the shader, and the buffer is R32F where the context can render into it, blend it and
+ * filter it (GL_EXT_color_buffer_float before 3.2, GL_EXT_float_blend,
+ * GL_OES_texture_float_linear), else R16F (renderable, blendable and filterable there),
+ * with a note; it is read back as RGBA floats, the format ES must read. */
 #include "diag.h"
 #include "gl/glfuncs.h"
 #include "gl/runtime.h"
@@ -29,10 +35,19 @@ struct halo_feature_buffer {
     size_t *layer_first; /* dims[2] + 1 offsets into the vertex buffer, by source z */
     GLuint texture, splat_texture, framebuffer, program, vertex_array, vertex_buffer;
     GLint u_layer, u_view, u_k_hpe, u_k_hse, u_radius, u_buffer_size, u_splat_size, u_splat, u_weighted;
+    int es;               /* halo_gl_es_version: 0 desktop, 30..32 OpenGL ES */
+    GLenum buffer_format; /* GL_R32F, or GL_R16F on an ES context that cannot take R32F */
 };
 
+/* What the shaders below start with: their #version line (and, on ES, precisions). */
+static const char desktop_header[] = "#version 330 core\n";
+static const char es_header[] =
+    "#version 300 es\n"
+    "precision highp float;\n"
+    "precision highp int;\n"
+    "precision highp sampler3D;\n";
+
 static const char splat_vertex_source[] =
-    "#version 330 core\n"
     "// One qualified voxel: a point of the splat's size centred on its texel.\n"
     "layout(location = 0) in vec3 source; // the voxel's buffer texel (integers)\n"
     "layout(location = 1) in vec3 normal; // its outward gradient -grad f (unnormalized)\n"
@@ -49,7 +64,6 @@ static const char splat_vertex_source[] =
     "}\n";
 
 static const char splat_fragment_source[] =
-    "#version 330 core\n"
     "// Adds weight(d) h_n to the texel at offset d from the splatting voxel, with\n"
     "// h_n = max(0, n.e)^k_hpe (1 - |n.V|)^k_hse (Ebert & Rheingans 2000, Sec. 5.2, with the\n"
     "// |n.V| of Svakhine & Ebert 2003, Eq. 2). Neighbours facing away add nothing.\n"
@@ -94,7 +108,8 @@ static GLuint compile(halo_feature_buffer *b, GLenum kind, const char *source, c
 {
     const halo_glfuncs *f = b->f;
     GLuint shader = f->CreateShader(kind);
-    f->ShaderSource(shader, 1, &source, NULL);
+    const char *texts[2] = {b->es ? es_header : desktop_header, source};
+    f->ShaderSource(shader, 2, texts, NULL);
     f->CompileShader(shader);
     GLint ok = 0;
     f->GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
@@ -237,6 +252,45 @@ static int build_vertices(halo_feature_buffer *b, const float *values, const int
     return 1;
 }
 
+/* The buffer's format, and on ES whether the context can draw the splats at all (points
+ * of the splat's size; a float format it renders into, blends and filters). 0 after a
+ * diagnostic. */
+static int choose_format(halo_feature_buffer *b)
+{
+    const halo_glfuncs *f = b->f;
+    b->buffer_format = GL_R32F;
+    if (!b->es)
+        return 1;
+    GLfloat sizes[2] = {0, 0};
+    if (f->GetFloatv)
+        f->GetFloatv(0x846D /* GL_ALIASED_POINT_SIZE_RANGE */, sizes);
+    int splat = 2 * b->radius + 1;
+    if (sizes[1] < (GLfloat)splat) {
+        halo_diag_error(b->diag, ENGINE_UNSUPPORTED, "", 0, 0,
+                        "feature halos: this OpenGL ES context draws points of at most %g pixels, the halo buffer's "
+                        "splats are %d (feature_halo.splat_size %d%s): a smaller splat_size, or half_resolution",
+                        (double)sizes[1], splat, b->desc.splat_size,
+                        b->desc.half_resolution ? ", half resolution" : "");
+        return 0;
+    }
+    int renders_float = b->es >= 32 || halo_gl_has_extension(b->gl, "GL_EXT_color_buffer_float");
+    if (renders_float && halo_gl_has_extension(b->gl, "GL_EXT_float_blend") &&
+        halo_gl_has_extension(b->gl, "GL_OES_texture_float_linear"))
+        return 1;
+    if (renders_float || halo_gl_has_extension(b->gl, "GL_EXT_color_buffer_half_float")) {
+        b->buffer_format = GL_R16F;
+        halo_diagnostics_report(b->diag, HALO_SEVERITY_NOTE, HALO_MSG_ENGINE_UNSUPPORTED, "", 0, 0, NULL,
+                                "feature halos: the halo buffer is R16F (half floats): this OpenGL ES context cannot "
+                                "render, blend and filter R32F (GL_EXT_color_buffer_float, GL_EXT_float_blend, "
+                                "GL_OES_texture_float_linear)");
+        return 1;
+    }
+    halo_diag_error(b->diag, ENGINE_UNSUPPORTED, "", 0, 0,
+                    "feature halos: the halo buffer is drawn into a float texture, which this OpenGL ES context "
+                    "cannot render into (GL_EXT_color_buffer_float or GL_EXT_color_buffer_half_float)");
+    return 0;
+}
+
 halo_feature_buffer *halo_feature_buffer_create(halo_gl *gl, const float *values, const int dims[3],
                                                 const halo_feature_desc *desc, halo_diagnostics *diag)
 {
@@ -257,9 +311,14 @@ halo_feature_buffer *halo_feature_buffer_create(halo_gl *gl, const float *values
     b->desc = layout.desc;
     memcpy(b->dims, layout.buffer_dims, sizeof b->dims);
     b->radius = halo_feature_splat_radius(&b->desc);
+    b->es = halo_gl_es_version(gl);
     const halo_glfuncs *f = b->f;
     if (!f->FramebufferTextureLayer) {
         halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0, "glFramebufferTextureLayer is missing");
+        free(b);
+        return NULL;
+    }
+    if (!choose_format(b)) {
         free(b);
         return NULL;
     }
@@ -290,7 +349,8 @@ halo_feature_buffer *halo_feature_buffer_create(halo_gl *gl, const float *values
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     f->TexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
-    f->TexImage3D(GL_TEXTURE_3D, 0, GL_R32F, b->dims[0], b->dims[1], b->dims[2], 0, GL_RED, GL_FLOAT, NULL);
+    f->TexImage3D(GL_TEXTURE_3D, 0, (GLint)b->buffer_format, b->dims[0], b->dims[1], b->dims[2], 0, GL_RED, GL_FLOAT,
+                  NULL);
     f->BindTexture(GL_TEXTURE_3D, (GLuint)saved_texture);
     f->ActiveTexture((GLenum)saved_active);
     f->GenFramebuffers(1, &b->framebuffer);
@@ -328,19 +388,21 @@ typedef struct saved_state {
     GLboolean point_size;
 } saved_state;
 
-static void save_state(const halo_glfuncs *f, saved_state *s)
+static void save_state(const halo_glfuncs *f, int es, saved_state *s)
 {
     halo_gl_state_save(f, &s->state);
     halo_gl_state_neutral(f, &s->state);
     f->ActiveTexture(GL_TEXTURE0);
     f->GetIntegerv(GL_TEXTURE_BINDING_3D, &s->texture_3d);
-    s->point_size = f->IsEnabled && f->IsEnabled(GL_PROGRAM_POINT_SIZE);
+    /* ES has no such switch: its point sizes always come from the shader */
+    s->point_size = !es && f->IsEnabled && f->IsEnabled(GL_PROGRAM_POINT_SIZE);
 }
 
-static void restore_state(const halo_glfuncs *f, const saved_state *s)
+static void restore_state(const halo_glfuncs *f, int es, const saved_state *s)
 {
     f->BindTexture(GL_TEXTURE_3D, (GLuint)s->texture_3d); /* on unit 0, before the saved unit is restored */
-    (s->point_size ? f->Enable : f->Disable)(GL_PROGRAM_POINT_SIZE);
+    if (!es)
+        (s->point_size ? f->Enable : f->Disable)(GL_PROGRAM_POINT_SIZE);
     halo_gl_state_restore(f, &s->state);
 }
 
@@ -355,10 +417,11 @@ halo_status halo_feature_buffer_build(halo_feature_buffer *b, const double view[
     }
     const halo_glfuncs *f = b->f;
     saved_state saved;
-    save_state(f, &saved);
+    save_state(f, b->es, &saved);
     f->BindFramebuffer(GL_FRAMEBUFFER, b->framebuffer);
     f->Viewport(0, 0, b->dims[0], b->dims[1]);
-    f->Enable(GL_PROGRAM_POINT_SIZE);
+    if (!b->es)
+        f->Enable(GL_PROGRAM_POINT_SIZE);
     f->Enable(GL_BLEND);
     f->BlendEquation(GL_FUNC_ADD);
     f->BlendFunc(GL_ONE, GL_ONE);
@@ -396,7 +459,7 @@ halo_status halo_feature_buffer_build(halo_feature_buffer *b, const double view[
         b->points_drawn += count;
     }
     f->FramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0);
-    restore_state(f, &saved);
+    restore_state(f, b->es, &saved);
     GLenum error = f->GetError();
     if (status == HALO_OK && error != GL_NO_ERROR) {
         halo_diag_error(b->diag, GL_LINK, "", 0, 0, "OpenGL error 0x%x while splatting the halo buffer", error);
@@ -428,10 +491,25 @@ halo_status halo_feature_buffer_read(halo_feature_buffer *b, float *out)
     f->BindFramebuffer(GL_FRAMEBUFFER, b->framebuffer);
     f->ReadBuffer(GL_COLOR_ATTACHMENT0);
     size_t layer = (size_t)b->dims[0] * (size_t)b->dims[1];
+    /* ES reads floats as RGBA only: a layer at a time, its red kept */
+    float *rgba = b->es ? malloc(layer * 4 * sizeof *rgba) : NULL;
+    if (b->es && !rgba) {
+        halo_gl_bindings_restore(f, &saved);
+        halo_diag_error(b->diag, OUT_OF_MEMORY, "", 0, 0, "out of memory reading the halo buffer");
+        return HALO_ERROR_IO;
+    }
     for (int z = 0; z < b->dims[2]; ++z) {
         f->FramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, b->texture, 0, z);
-        f->ReadPixels(0, 0, b->dims[0], b->dims[1], GL_RED, GL_FLOAT, out + layer * (size_t)z);
+        float *to = out + layer * (size_t)z;
+        if (!rgba) {
+            f->ReadPixels(0, 0, b->dims[0], b->dims[1], GL_RED, GL_FLOAT, to);
+            continue;
+        }
+        f->ReadPixels(0, 0, b->dims[0], b->dims[1], GL_RGBA, GL_FLOAT, rgba);
+        for (size_t i = 0; i < layer; ++i)
+            to[i] = rgba[i * 4];
     }
+    free(rgba);
     f->FramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0);
     halo_gl_bindings_restore(f, &saved);
     GLenum error = f->GetError();

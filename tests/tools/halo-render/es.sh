@@ -6,6 +6,10 @@
 #   its buffers) on ES 3.0 and 3.2, and host contract 2 (segments: the host's own seed
 #   output blends per buffer) on ES 3.2: each within LIMIT of the same render on desktop
 #   OpenGL (EGL); the halos must change the image far more than that (the control);
+# - feature halos (the halo buffer splatted by libhalo: GLSL ES 3.00, points sized by the
+#   shader) on ES 3.0 and 3.2, within LIMIT of desktop; with GL_EXT_float_blend taken away
+#   the buffer is R16F, with a note, within HALF_LIMIT (any pixel may differ: half floats); the feature halos must change the
+#   image far more than either (the control);
 # - contract 2 on ES 3.0 is refused with the way out; the slice host on ES is a usage error.
 # Skipped (77) without EGL or an ES context.
 . "$srcdir/tests/tools/halo-render/common.sh"
@@ -18,6 +22,7 @@ fi
 ASAN_OPTIONS="detect_leaks=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}"
 export ASAN_OPTIONS
 LIMIT=1e-4
+HALF_LIMIT=1e-2
 render() { # BACKEND OUT [ARG]...
     backend=$1 out=$2
     shift 2
@@ -34,9 +39,9 @@ render egl plain --no-halos
 render egl-es3.0 one-draw-es30 --one-draw
 render egl-es3.2 one-draw-es32 --one-draw
 render egl-es3.2 segments-es32
-compare() { # A B LIMIT
+compare() { # A B LIMIT [SHARE: of the pixels that may differ at all; default 0]
     echo "+ image_compare $1 $2 --max-abs $3"
-    "$HALO_IMAGE_COMPARE" "$tmp/$1.exr" "$tmp/$2.exr" --max-abs "$3" --max-share 0 ||
+    "$HALO_IMAGE_COMPARE" "$tmp/$1.exr" "$tmp/$2.exr" --max-abs "$3" --max-share "${4:-0}" ||
         fail "$1 and $2 differ by more than $3"
 }
 compare one-draw one-draw-es30 $LIMIT
@@ -45,6 +50,24 @@ compare segments segments-es32 $LIMIT
 # the control: the halos are visible, far above the limit
 if "$HALO_IMAGE_COMPARE" "$tmp/one-draw.exr" "$tmp/plain.exr" --max-abs 0.05 --max-share 0 >/dev/null; then
     fail "the halos change the one-draw image by less than 0.05: the comparison above would not see them"
+fi
+
+# feature halos: the halo buffer drawn by the ES context
+features=$srcdir/examples/scenes/feature-halos.json
+render egl features --scene "$features"
+render egl features-plain --scene "$features" --no-halos
+render egl-es3.0 features-es30 --scene "$features"
+render egl-es3.2 features-es32 --scene "$features"
+compare features features-es30 $LIMIT
+compare features features-es32 $LIMIT
+MESA_EXTENSION_OVERRIDE=-GL_EXT_float_blend
+export MESA_EXTENSION_OVERRIDE
+render egl-es3.0 features-half --scene "$features"
+unset MESA_EXTENSION_OVERRIDE
+expect_stderr "note: feature halos: the halo buffer is R16F"
+compare features features-half $HALF_LIMIT 1
+if "$HALO_IMAGE_COMPARE" "$tmp/features.exr" "$tmp/features-plain.exr" --max-abs 0.05 --max-share 0 >/dev/null; then
+    fail "the feature halos change the image by less than 0.05: the comparisons above would not see them"
 fi
 
 # contract 2 on ES 3.0: its seed output would need glBlendFunci
