@@ -7,6 +7,7 @@
  * Every function that can fail leaves its diagnostics for halo_web_diagnostics (a JSON
  * array of {severity, id, file, line, column, message, source}), cleared by the next call. */
 #include <halo.h>
+#include <halo_feature.h>
 
 #include <jansson.h>
 #include <stdarg.h>
@@ -356,3 +357,33 @@ done:
 /* The host's draws in the last frame.draw (halo_gl_frame_info.segment_count): 1 for a one_draw
  * program, whose field's depth segments are libhalo's own draws. */
 WEB_API int halo_web_frame_segment_count(const halo_gl_frame *f) { return halo_gl_frame_describe(f).segment_count; }
+
+/* Feature halos (docs/feature-halos.md): the halo buffer of the program's feature_halo
+ * stage (its parameters), splatted by the GL runtime from values (nx*ny*nz floats in
+ * [0, 1], x fastest: the volume as the stages read it). NULL after diagnostics. */
+WEB_API halo_feature_buffer *halo_web_feature_create(halo_gl *gl, const halo_program *p, const float *values, int nx,
+                                                     int ny, int nz)
+{
+    halo_diagnostics *d = fresh();
+    halo_feature_desc desc;
+    if (halo_feature_desc_from_program(p, &desc) != HALO_OK) {
+        usage(d, "featureBuffer: the program has no feature_halo stage");
+        return NULL;
+    }
+    const int dims[3] = {nx, ny, nz};
+    return halo_feature_buffer_create(gl, values, dims, &desc, d);
+}
+
+/* Splats the buffer for the unit view vector (sample -> eye, the volume's texture space,
+ * one direction for the volume). 1, or 0 after diagnostics. */
+WEB_API int halo_web_feature_build(halo_feature_buffer *b, double x, double y, double z)
+{
+    fresh();
+    const double view[3] = {x, y, z};
+    return halo_feature_buffer_build(b, view) == HALO_OK;
+}
+
+/* The buffer's GL texture (a name in emscripten's tables: GL.textures). */
+WEB_API unsigned halo_web_feature_texture(const halo_feature_buffer *b) { return halo_feature_buffer_describe(b).texture; }
+
+WEB_API void halo_web_feature_destroy(halo_feature_buffer *b) { halo_feature_buffer_destroy(b); }

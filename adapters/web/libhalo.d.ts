@@ -84,11 +84,24 @@ export interface Frame {
   destroy(): void;
 }
 
+// Feature halos: the halo buffer of a program's feature_halo stage, splatted on the context.
+export const FEATURE_BUFFER_UNIFORM: 'halo_host_feature_buffer';
+export interface FeatureBuffer {
+  readonly dims: number[];
+  readonly view: number[] | null;          // the view of the last build
+  readonly texture: WebGLTexture | null;   // TEXTURE_3D, null before the first build
+  build(view: ArrayLike<number>): void;    // sample -> eye, the volume's texture space
+  bind(glProgram: WebGLProgram, unit: number): void; // the texture on unit, the sampler pointed there
+  destroy(): void;
+}
+
 export interface Halo {
   readonly version: string;
   modules(): { name: string; file: string; summary: string }[];
   link(options: LinkOptions): Program;
   frame(gl: WebGL2RenderingContext, program: Program, size: { width: number; height: number; readback?: boolean }): Frame;
+  featureBuffer(gl: WebGL2RenderingContext, program: Program,
+    volume: { values: ArrayLike<number>; dims: ArrayLike<number> }): FeatureBuffer;
   // frame while it has this size, else destroyed and a new one
   /** for an engine adapter: raw values (raw * slope + intercept, low..high as 0..1) as an R32F 3D texture, made on unit */
   valueTexture(gl: WebGL2RenderingContext, raw: ArrayLike<number>, dims: ArrayLike<number>,
@@ -97,7 +110,7 @@ export interface Halo {
   // for an engine adapter: pieces, with oneDraw when the stages need a halo field; what an
   // engine drawn once cannot serve refused by name
   linkForEngine(options: { scene?: string | object; sceneFile?: string; allLive?: boolean; pieces: HaloPieces },
-    engine: string): { program: Program; field: boolean };
+    engine: string, serves?: string[]): { program: Program; field: boolean; features: boolean };
 }
 
 export default function libhalo(options?: object): Promise<Halo>;

@@ -339,6 +339,95 @@ class Frame {
   }
 }
 
+// The host uniform through which the feature_halo stage reads the halo buffer.
+export const FEATURE_BUFFER_UNIFORM = 'halo_host_feature_buffer';
+
+// Feature halos (docs/feature-halos.md): the halo buffer of a program's feature_halo stage
+// (its parameters), splatted by libhalo's GL runtime on gl from the volume's values (dims[0]
+// x dims[1] x dims[2] numbers, x fastest, in [0, 1]: the volume as the stages read it).
+// build(view) splats it for a view direction (sample -> eye, in the volume's texture space;
+// again whenever it changes); bind(glProgram, unit) binds it on that texture unit and points
+// the program's sampler halo_host_feature_buffer there (the program is left current). A
+// context lost and restored: the next build makes it again.
+class FeatureBuffer {
+  constructor(halo, gl, program, { values, dims } = {}) {
+    if (!(program instanceof Program)) throw new HaloError([], 'featureBuffer: program must be a Program of halo.link');
+    if (!dims || dims.length !== 3 || !dims.every((n) => Number.isInteger(n) && n > 0))
+      throw new HaloError([], 'featureBuffer: dims must be three positive integers');
+    if (!values || values.length !== dims[0] * dims[1] * dims[2])
+      throw new HaloError([], `featureBuffer: values must hold ${dims.join(' x ')} numbers`);
+    this._halo = halo;
+    this._gl = gl;
+    this._program = program;
+    program._live();
+    this._values = Float32Array.from(values);
+    this.dims = Array.from(dims);
+    this.view = null; // the view of the last build
+    this._make();
+  }
+
+  _make() {
+    const halo = this._halo, core = halo._core;
+    const runtime = halo._runtime(this._gl);
+    const pointer = core._malloc(this._values.length * 4);
+    if (!pointer) throw new HaloError([], 'featureBuffer: out of memory');
+    try {
+      core.HEAPF32.set(this._values, pointer / 4);
+      this._handle = core._halo_web_feature_create(runtime, this._program._handle, pointer, this.dims[0], this.dims[1],
+        this.dims[2]);
+    } finally {
+      core._free(pointer);
+    }
+    if (!this._handle) throw halo._error('featureBuffer: halo_feature_buffer_create failed');
+    halo._contexts.get(this._gl).frames.add(this);
+    this.view = null;
+  }
+
+  _drop() {
+    if (this._handle) this._halo._core._halo_web_feature_destroy(this._handle);
+    this._handle = 0;
+  }
+
+  build(view) {
+    if (this._destroyed) throw new HaloError([], 'the feature buffer was destroyed');
+    if (!view || view.length !== 3) throw new HaloError([], 'featureBuffer.build: view must be three numbers');
+    if (this._gl.isContextLost()) throw new HaloError([], 'featureBuffer.build: the WebGL context is lost');
+    this._program._live();
+    this._halo._current(this._gl);
+    if (!this._handle) this._make();
+    if (!this._halo._core._halo_web_feature_build(this._handle, view[0], view[1], view[2]))
+      throw this._halo._error('featureBuffer.build failed');
+    this.view = Array.from(view);
+  }
+
+  // The buffer's WebGLTexture (TEXTURE_3D, R32F or R16F), null before the first build.
+  get texture() {
+    if (!this._handle || !this.view) return null;
+    return this._halo._core.GL.textures[this._halo._core._halo_web_feature_texture(this._handle)] || null;
+  }
+
+  bind(glProgram, unit) {
+    const gl = this._gl, texture = this.texture;
+    if (!texture) throw new HaloError([], 'featureBuffer.bind: build it first');
+    gl.useProgram(glProgram);
+    gl.uniform1i(gl.getUniformLocation(glProgram, FEATURE_BUFFER_UNIFORM), unit);
+    const active = gl.getParameter(gl.ACTIVE_TEXTURE);
+    gl.activeTexture(gl.TEXTURE0 + unit);
+    gl.bindTexture(gl.TEXTURE_3D, texture);
+    gl.activeTexture(active);
+  }
+
+  destroy() {
+    if (this._handle) {
+      this._halo._current(this._gl);
+      this._drop();
+    }
+    const entry = this._halo._contexts.get(this._gl);
+    if (entry) entry.frames.delete(this);
+    this._destroyed = true;
+  }
+}
+
 function componentsOf(type) {
   const m = /^(?:vec|ivec|bvec)(\d)$/.exec(type);
   return m ? Number(m[1]) : type === 'mat4' ? 16 : 1;
@@ -441,8 +530,10 @@ class Halo {
   // pieces), for host contract 3 (oneDraw) when its stages run passes between depth
   // segments; refuses, naming the stages, what an engine drawn once with libhalo's field
   // cannot serve: extra outputs, passes after the draw, host uniforms (but the camera's,
-  // the field's and the image-plane axes). Returns { program, field (it has a halo field) }.
-  linkForEngine(options, engine) {
+  // the field's, the image-plane axes and those the adapter names in serves, e.g. the
+  // feature buffer's). Returns { program, field (it has a halo field), features (it reads
+  // the feature buffer) }.
+  linkForEngine(options, engine, serves = []) {
     const link = (oneDraw) => this.link({
       scene: options.scene, sceneFile: options.sceneFile || 'scene', target: 'es300', allLive: !!options.allLive,
       pieces: options.pieces, oneDraw,
@@ -456,15 +547,18 @@ class Halo {
     }
     const r = program.reflection;
     const needs = [['extra outputs', r.outputs], ['image passes after the draw', (r.passes || []).filter((p) => p.at)],
-      ['host uniforms', (r.host_uniforms || []).filter((u) => !/^halo_(camera|stack|host_screen)_/.test(u.name))]]
+      ['host uniforms', (r.host_uniforms || []).filter((u) => !/^halo_(camera|stack|host_screen)_/.test(u.name) &&
+        !serves.includes(u.name))]]
       .filter(([, list]) => list && list.length);
     if (needs.length) {
       const stages = (r.stages || []).map((s) => (typeof s === 'string' ? s : s.name)).join(', ');
       program.destroy();
       throw new Error(`installHalo: the scene's stages (${stages}) need ${needs.map(([what]) => what).join(', ')}, ` +
-        `which the ${engine} adapter does not serve yet (per-sample stages and volumetric halos only)`);
+        `which the ${engine} adapter does not serve yet (it serves per-sample stages, volumetric halos` +
+        `${serves.includes(FEATURE_BUFFER_UNIFORM) ? ' and feature halos' : ''})`);
     }
-    return { program, field: (r.passes || []).length > 0 };
+    return { program, field: (r.passes || []).length > 0,
+      features: (r.host_uniforms || []).some((u) => u.name === FEATURE_BUFFER_UNIFORM) };
   }
 
   // For an engine adapter: a volume's values as the stages read them (raw[i] * slope +
@@ -508,6 +602,11 @@ class Halo {
       throw new HaloError([], `valueTexture: WebGL error 0x${error.toString(16)} uploading the ${dims.join('x')} volume`);
     }
     return { texture, dims: Array.from(dims) };
+  }
+
+  // The halo buffer of a program's feature halos (class FeatureBuffer).
+  featureBuffer(gl, program, volume) {
+    return new FeatureBuffer(this, gl, program, volume);
   }
 
   // A frame of the GL runtime for a linked program (class Frame).

@@ -19,7 +19,8 @@ WEB_DEPS = adapters/web/deps
 # origin does not find by itself
 WEB_EMCC = NODE_PATH=/usr/share/nodejs$${NODE_PATH:+:$$NODE_PATH} $(EMCC)
 WEB_EXPORTS = _malloc _free _halo_web_init _halo_web_version _halo_web_diagnostics _halo_web_modules _halo_web_link _halo_web_program_destroy _halo_web_program_source _halo_web_program_piece _halo_web_program_reflect _halo_web_program_set _halo_web_map_line \
-	_halo_web_gl_create _halo_web_gl_destroy _halo_web_frame_create _halo_web_frame_destroy _halo_web_frame_draw _halo_web_frame_segment_count
+	_halo_web_gl_create _halo_web_gl_destroy _halo_web_frame_create _halo_web_frame_destroy _halo_web_frame_draw _halo_web_frame_segment_count \
+	_halo_web_feature_create _halo_web_feature_build _halo_web_feature_texture _halo_web_feature_destroy
 # libhalo's GL runtime (the image passes and host contract 3's halo field) over WebGL 2: the
 # same sources as the native runtime, which take OpenGL ES 3.0 entry points through
 # emscripten_webgl_get_proc_address. Their one header from outside, GL/glcorearb.h (types
@@ -42,7 +43,7 @@ $(WEB_GL_INCLUDE)/GL/glcorearb.h:
 
 $(WEB_PACKAGE)/dist/libhalo-core.mjs: $(web_core_files) $(web_gl_files) adapters/web/halo_web.c libhalo/embedded_modules.c \
 		libhalo/emu/registry_list.h $(WEB_GL_INCLUDE)/GL/glcorearb.h libhalo/gl/glfuncs.h libhalo/halo_gl_loader.h libhalo/gl/runtime.h libhalo/gl/frame.h \
-		$(WEB_DEPS)/lib/libjansson.a libhalo/halo.h libhalo/internal.h $(srcdir)/adapters/web/local.mk
+		$(WEB_DEPS)/lib/libjansson.a libhalo/halo.h libhalo/halo_feature.h libhalo/internal.h $(srcdir)/adapters/web/local.mk
 	@mkdir -p $(WEB_PACKAGE)/dist
 	$(AM_V_GEN)$(WEB_EMCC) -O2 -std=gnu11 -DHALO_BUILDING -DPACKAGE_VERSION=\"$(PACKAGE_VERSION)\" \
 		-I$(srcdir)/libhalo -Ilibhalo -Ilibhalo/emu -I$(srcdir) -I$(WEB_DEPS)/include -I$(WEB_GL_INCLUDE) \

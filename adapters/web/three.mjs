@@ -12,8 +12,11 @@
 // a material without the markers. Volumetric halos come through host contract 3: the
 // stages are linked with oneDraw, and stages.render(renderer, scene, camera) computes
 // the frame's halo field with libhalo's GL runtime (WebAssembly, on three's WebGL 2
-// context) and then lets three draw once. Scenes with extra outputs (outlines, feature
-// halos: further render targets and passes after the draw) are refused, naming the stages.
+// context) and then lets three draw once. Feature halos: stages.render splats the halo
+// buffer with libhalo's runtime from the volume texture's data (again when the view
+// direction changes) and binds it on the context's last texture unit. Scenes with extra
+// outputs (outlines: further render targets and passes after the draw) are refused,
+// naming the stages.
 //
 //   import * as THREE from 'three';
 //   import libhalo from '@libhalo/web';
@@ -199,8 +202,9 @@ export function installHalo(halo, material, options = {}) {
         "end of its ray loop (three's VolumeShader, MIP and isosurfaces only, composites no samples)");
   if (material.glslVersion !== '300 es')
     throw new Error('installHalo: the material must be GLSL 3 (glslVersion: THREE.GLSL3): the pieces are GLSL ES 300');
-  const { program, field } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
-    allLive: options.allLive, pieces: { ...CASTER_NAMES, ...(options.names || {}) } }, 'three.js');
+  const { program, field, features } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+    allLive: options.allLive, pieces: { ...CASTER_NAMES, ...(options.names || {}) } }, 'three.js',
+  ['halo_host_feature_buffer']);
   const uniforms = [];
   for (const u of program.reflection.uniforms || []) {
     material.uniforms[u.name] = { value: uniformValue(u.type, u.value) };
@@ -222,6 +226,7 @@ export function installHalo(halo, material, options = {}) {
     }
   material.needsUpdate = true;
   let frame = null; // libhalo's GL runtime for the field, made on the first render
+  let feature = null; // the feature halos' buffer, made on the first render
   let compiledVersion = -1; // the material's version three last compiled for render
   return {
     program,
@@ -246,7 +251,7 @@ export function installHalo(halo, material, options = {}) {
     // spans the volume's texture space in world units; the volume and the step are the
     // material's uniforms named by options.volume ('u_volume') and options.step ('u_step').
     render(renderer, scene, camera) {
-      if (!field) {
+      if (!field && !features) {
         renderer.render(scene, camera);
         return;
       }
@@ -257,8 +262,10 @@ export function installHalo(halo, material, options = {}) {
       const step = material.uniforms[options.step || 'u_step'].value;
       camera.updateMatrixWorld();
       const axes = camera.matrixWorld.elements; // the image plane's axes: the camera's x and y, in world space
-      material.uniforms.halo_host_screen_right.value = Float32Array.of(axes[0], axes[1], axes[2]);
-      material.uniforms.halo_host_screen_up.value = Float32Array.of(axes[4], axes[5], axes[6]);
+      if (field) {
+        material.uniforms.halo_host_screen_right.value = Float32Array.of(axes[0], axes[1], axes[2]);
+        material.uniforms.halo_host_screen_up.value = Float32Array.of(axes[4], axes[5], axes[6]);
+      }
       if (!renderer.properties.get(material).currentProgram || material.version !== compiledVersion) {
         renderer.compile(scene, camera); // the material's program, before libhalo sets its uniforms
         compiledVersion = material.version;
@@ -267,6 +274,29 @@ export function installHalo(halo, material, options = {}) {
       const glProgram = renderer.properties.get(material).currentProgram?.program;
       const glVolume = renderer.properties.get(volume).__webglTexture;
       if (!glProgram || !glVolume) throw new Error('stages.render: three.js has not built the material or the volume');
+      if (features) { // the halo buffer for the view from the volume's centre to the eye
+        const p = camera.getWorldPosition(new camera.position.constructor());
+        const v = [p.x - 0.5, p.y - 0.5, p.z - 0.5], length = Math.hypot(...v);
+        const view = v.map((e) => e / length);
+        if (feature && feature.volumeVersion !== volume.version) { // the volume's data changed: splat it anew
+          feature.destroy();
+          feature = null;
+        }
+        if (!feature) {
+          feature = halo.featureBuffer(gl, program, { values: volume.image.data,
+            dims: [volume.image.width, volume.image.height, volume.image.depth] });
+          feature.volumeVersion = volume.version;
+        }
+        if (!feature.view || feature.view.some((e, k) => e !== view[k])) feature.build(view);
+        // the last unit: three takes its units from 0 on, libhalo's field from 8 on
+        feature.bind(glProgram, gl.getParameter(gl.MAX_TEXTURE_IMAGE_UNITS) - 1);
+        renderer.resetState(); // three's caches: the program and texture unit changed under them
+        renderer.setRenderTarget(target);
+      }
+      if (!field) {
+        renderer.render(scene, camera);
+        return;
+      }
       const kept = frame;
       frame = null;
       frame = halo.frameOfSize(kept, gl, program, width, height);
@@ -290,6 +320,8 @@ export function installHalo(halo, material, options = {}) {
       material.needsUpdate = true;
       if (frame) frame.destroy();
       frame = null;
+      if (feature) feature.destroy();
+      feature = null;
       program.destroy();
     },
   };

@@ -155,7 +155,23 @@ test('installHalo: volumetric halos through the field (host contract 3), outline
   stages.remove();
   assert.equal(halos.uniforms.halo_host_screen_right, undefined);
   assert.throws(() => installHalo(halo, material(), { scene: scene('outline-depth.json') }),
-    /outlines.*extra outputs.*per-sample stages and volumetric halos only/);
+    /outlines.*extra outputs.*serves per-sample stages, volumetric halos and feature halos\)/);
+  // feature halos: served (the halo buffer is splatted at render), the stage reads it
+  const features = material();
+  const featureStages = installHalo(halo, features, { scene: scene('feature-halos.json') });
+  assert.match(features.fragmentShader, /halo_host_feature_buffer/);
+  featureStages.remove();
   assert.throws(() => installHalo(halo, { ...material(), fragmentShader: 'void main() {}' }, { scene: scene('default.json') }),
     /no '\/\/halo:declarations' marker/);
+});
+
+test('featureBuffer refuses what it cannot splat before it touches the context', () => {
+  const program = halo.link({ scene: fs.readFileSync(path.join(scenes, 'feature-halos.json'), 'utf8'),
+    host: fs.readFileSync(path.join(hosts, 'raycast.frag'), 'utf8'), hostFile: 'raycast.frag' });
+  assert.ok(program.reflection.host_uniforms.some((u) => u.name === 'halo_host_feature_buffer'));
+  const gl = {}; // never reached: every refusal comes first
+  assert.throws(() => halo.featureBuffer(gl, {}, { values: [0], dims: [1, 1, 1] }), (e) => e instanceof HaloError && /Program/.test(e.message));
+  assert.throws(() => halo.featureBuffer(gl, program, { values: [0], dims: [1, 1] }), /three positive integers/);
+  assert.throws(() => halo.featureBuffer(gl, program, { values: [0, 0], dims: [1, 1, 1] }), /must hold 1 x 1 x 1 numbers/);
+  program.destroy();
 });

@@ -28,7 +28,7 @@ for module in puppeteer-core three; do
 done
 export HALO_CHROMIUM HALO_WEB_MODULES srcdir HALO_WEB_PACKAGE
 set --
-for scene in boundary-silhouette.json distance.json orientation.json; do
+for scene in boundary-silhouette.json distance.json orientation.json feature-halos.json; do
     mkdir -p "$tmp/$scene"
     run 0 "$HALO_RENDER" --host raycast --scene "$srcdir/examples/scenes/$scene" --size 64x64 --volume-size 32 \
         --quiet --export-host "$tmp/$scene" -o "$tmp/$scene/reference.png"
