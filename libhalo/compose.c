@@ -25,7 +25,6 @@
 #include <string.h>
 
 static const char pieces_host_file[] = "(libhalo pieces host)";
-static const char pieces_file[] = "(libhalo piece)";
 
 /* The names the pieces host declares: also the defaults of halo_pieces_desc. */
 typedef struct sample_names {
@@ -148,7 +147,7 @@ static int set_declarations(halo_program *p, const halo_pieces_desc *d)
         for (int i = 0; i < parts[k]->count; i++, at++) {
             origins[at] = parts[k]->origins[i];
             if (origins[at].file == p->host_file)
-                origins[at] = (halo_line_origin){pieces_file, 0, NULL};
+                origins[at] = (halo_line_origin){halo_pieces_file, 0, NULL};
         }
     }
     char *text = b.failed ? (halo_strbuf_free(&b), NULL) : halo_strbuf_take(&b);
@@ -182,7 +181,7 @@ static int set_generated_piece(halo_program *p, halo_piece piece, char *text)
         return -1;
     }
     for (int i = 0; i < n; i++)
-        origins[i] = (halo_line_origin){pieces_file, i + 1, NULL};
+        origins[i] = (halo_line_origin){halo_pieces_file, i + 1, NULL};
     p->pieces[piece] = text;
     p->piece_origins[piece] = origins;
     p->piece_origin_counts[piece] = n;
@@ -330,21 +329,6 @@ halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *dia
     return p;
 }
 
-/* halo_program_map_line for a piece (p not NULL). */
-int halo_compose_map_line(const halo_program *p, halo_piece piece, int line, const char **file, int *origin_line)
-{
-    if ((unsigned)piece >= HALO_PIECE_COUNT || !p->pieces[piece] || line < 1 || line > p->piece_origin_counts[piece])
-        return 0;
-    const halo_line_origin *o = &p->piece_origins[piece][line - 1];
-    if (o->file == halo_generated_file || o->file == pieces_file || !o->line)
-        return 0;
-    if (file)
-        *file = o->file;
-    if (origin_line)
-        *origin_line = o->line;
-    return 1;
-}
-
 /* The line (0-based) of offset in text. */
 static int line_of(const char *text, size_t offset)
 {
@@ -455,7 +439,7 @@ static halo_status validate_composed_held(const halo_program *p, const char *com
         int first = line_of(text, (size_t)(at - text));
         for (int i = 0; i < p->piece_origin_counts[k] && first + i < count; i++) {
             halo_line_origin o = p->piece_origins[k][i];
-            if (o.file != pieces_file && o.file != halo_generated_file && o.line)
+            if (o.file != halo_pieces_file && o.file != halo_generated_file && o.line)
                 origins[first + i] = o;
         }
     }

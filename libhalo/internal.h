@@ -308,8 +308,9 @@ extern const size_t halo_hook_struct_count;
 
 /* compose.c: a program linked from pieces (halo_link_desc.pieces, host_source NULL). */
 halo_program *halo_link_pieces(const halo_link_desc *desc, halo_diagnostics *diag);
-/* halo_program_map_line for one of its pieces (p not NULL). */
-int halo_compose_map_line(const halo_program *p, halo_piece piece, int line, const char **file, int *origin_line);
+/* The origin of the lines libhalo writes into the pieces itself (program.c): they map to
+ * no module line. */
+extern const char halo_pieces_file[];
 /* piece_expression.c: each expression of d is one GLSL expression of its field's kind
  * (PIECE_EXPRESSION at "NAME=EXPR":1:column otherwise); returns the error count. */
 int halo_pieces_check_expressions(const halo_pieces_desc *d, halo_target target, halo_diagnostics *diag);

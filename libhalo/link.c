@@ -1,8 +1,8 @@
 /* The linker: scene + modules + host shader → one program, emitting only what the
  * scene needs. A straight pipeline: check the host → resolve and order the stages →
- * gather parameters → emit, each line with its origin. halo_link, the front door, is
- * here: host text goes down that pipeline; pieces for a shader composer (compose.c) go
- * down it too, in a stand-in host, and are cut back out of its product. */
+ * gather parameters → emit, each line with its origin (halo_link_host). halo_link, the
+ * front door (link_entry.c), sends host text down it; pieces for a shader composer
+ * (compose.c) go down it too, in a stand-in host, and are cut back out of its product. */
 #include "diag.h"
 #include "emit.h"
 #include "host_check.h"
@@ -731,31 +731,6 @@ static int plan_segments(halo_program *p, const halo_link_desc *desc, const halo
         p->segment_location = location;
     }
     return 0;
-}
-
-/* The public entry: host text (halo_link_host, below) or pieces (compose.c, which links
- * them into a stand-in host through halo_link_host). */
-halo_program *halo_link(const halo_link_desc *desc, halo_diagnostics *diag)
-{
-    HALO_REFUSE_NULL(diag, desc, "desc", NULL);
-    HALO_REFUSE_NULL(diag, desc->library, "desc.library", NULL);
-    if (!desc->pieces)
-        HALO_REFUSE_NULL(diag, desc->host_source, "desc.host_source (or desc.pieces)", NULL);
-    if ((unsigned)desc->output_locations >= HALO_LOCATIONS_COUNT) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: unknown output_locations %d", (int)desc->output_locations);
-        return NULL;
-    }
-    if (desc->pieces && !desc->host_source)
-        return halo_link_pieces(desc, diag);
-    if (desc->pieces) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: give host_source or pieces, not both");
-        return NULL;
-    }
-    if ((unsigned)desc->version > HALO_VERSION_NONE) {
-        halo_diag_error(diag, USAGE, "", 0, 0, "halo_link: unknown version mode %d", (int)desc->version);
-        return NULL;
-    }
-    return halo_link_host(desc, diag);
 }
 
 static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *h, int prepass_only,

@@ -21,7 +21,7 @@ halo_emu_stage_files = \
 # the emulation (the web package builds these for WebAssembly: adapters/web/local.mk).
 halo_portable_files = \
 	libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c \
-	libhalo/scene.c libhalo/link.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c \
+	libhalo/scene.c libhalo/link.c libhalo/link_entry.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c \
 	libhalo/prepass.c libhalo/compose.c libhalo/piece_expression.c libhalo/contract.c libhalo/host_scan.c \
 	libhalo/target.c libhalo/budget.c \
 	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c libhalo/emu/lines.c \

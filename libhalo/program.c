@@ -171,6 +171,23 @@ void halo_program_destroy(halo_program *p)
 }
 
 
+const char halo_pieces_file[] = "(libhalo piece)";
+
+/* halo_program_map_line for one of its pieces (p not NULL). */
+static int piece_map_line(const halo_program *p, halo_piece piece, int line, const char **file, int *origin_line)
+{
+    if ((unsigned)piece >= HALO_PIECE_COUNT || !p->pieces[piece] || line < 1 || line > p->piece_origin_counts[piece])
+        return 0;
+    const halo_line_origin *o = &p->piece_origins[piece][line - 1];
+    if (o->file == halo_generated_file || o->file == halo_pieces_file || !o->line)
+        return 0;
+    if (file)
+        *file = o->file;
+    if (origin_line)
+        *origin_line = o->line;
+    return 1;
+}
+
 const char *halo_program_source(const halo_program *p, halo_piece piece)
 {
     HALO_REFUSE_NULL(NULL, p, "program", NULL);
@@ -183,7 +200,7 @@ int halo_program_map_line(const halo_program *p, halo_piece piece, int line, con
 {
     HALO_REFUSE_NULL(NULL, p, "program", 0);
     if (piece != HALO_PIECE_WHOLE)
-        return halo_compose_map_line(p, piece, line, file, origin_line);
+        return piece_map_line(p, piece, line, file, origin_line);
     if (line < 1 || line > p->origin_count)
         return 0;
     const halo_line_origin *o = &p->origins[line - 1];

@@ -384,6 +384,9 @@ WEB_API int halo_web_feature_build(halo_feature_buffer *b, double x, double y, d
 }
 
 /* The buffer's GL texture (a name in emscripten's tables: GL.textures). */
-WEB_API unsigned halo_web_feature_texture(const halo_feature_buffer *b) { return halo_feature_buffer_describe(b).texture; }
+WEB_API unsigned halo_web_feature_texture(const halo_feature_buffer *b)
+{
+    return halo_feature_buffer_describe(b).texture;
+}
 
 WEB_API void halo_web_feature_destroy(halo_feature_buffer *b) { halo_feature_buffer_destroy(b); }
