@@ -105,7 +105,7 @@ export interface Halo {
   // frame while it has this size, else destroyed and a new one
   /** for an engine adapter: raw values (raw * slope + intercept, low..high as 0..1) as an R32F 3D texture, made on unit */
   valueTexture(gl: WebGL2RenderingContext, raw: ArrayLike<number>, dims: ArrayLike<number>,
-    window: { low: number; high: number; slope?: number; intercept?: number }, unit: number): { texture: WebGLTexture; dims: number[] };
+    window: { low: number; high: number; slope?: number; intercept?: number }, unit: number): { texture: WebGLTexture; dims: number[]; values: Float32Array };
   frameOfSize(frame: Frame | null, gl: WebGL2RenderingContext, program: Program, width: number, height: number): Frame;
   // for an engine adapter: pieces, with oneDraw when the stages need a halo field; what an
   // engine drawn once cannot serve refused by name

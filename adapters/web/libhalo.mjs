@@ -564,7 +564,8 @@ class Halo {
   // For an engine adapter: a volume's values as the stages read them (raw[i] * slope +
   // intercept, with low..high as 0..1, clamped), an R32F 3D texture of dims (x fastest),
   // linear where the context filters float textures; made on unit, whose binding is put
-  // back. Returns { texture, dims }.
+  // back. Returns { texture, dims, values (the Float32Array uploaded: a feature buffer's
+  // input) }.
   valueTexture(gl, raw, dims, { low, high, slope = 1, intercept = 0 }, unit) {
     const range = high - low;
     const values = new Float32Array(dims[0] * dims[1] * dims[2]);
@@ -601,7 +602,7 @@ class Halo {
       gl.deleteTexture(texture);
       throw new HaloError([], `valueTexture: WebGL error 0x${error.toString(16)} uploading the ${dims.join('x')} volume`);
     }
-    return { texture, dims: Array.from(dims) };
+    return { texture, dims: Array.from(dims), values };
   }
 
   // The halo buffer of a program's feature halos (class FeatureBuffer).

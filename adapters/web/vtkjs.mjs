@@ -24,12 +24,16 @@
 // gradient opacity and lighting), its opacity per unit distance (vtk.js's correction for
 // its sample distance undone before the stages, done again after). Other blend modes,
 // clipping planes, several components and label outlines are refused with a message (at
-// install and at every draw); outlines and feature halos (extra outputs, passes after the
-// draw) are refused, naming the stages.
+// install and at every draw); outlines (extra outputs, passes after the draw) are refused,
+// naming the stages. Feature halos: libhalo's runtime splats the halo buffer from the
+// adapter's float copy of the volume (again when it changes), for the view from the
+// volume's centre to vtk.js's eye (in voxel space; again when it turns), bound on a unit of
+// its own.
 
 export const SUPPORTED_VERSIONS = Object.freeze(['37.3.1']);
 
 const VALUE_SAMPLER = 'halo_vtkjs_value';
+const FEATURE_BUFFER = 'halo_host_feature_buffer'; // the feature_halo stage's host uniform
 const EXPONENT = 'halo_vtkjs_opacity_exponent'; // vtk.js's sample distance / its opacity unit distance (> 0)
 const COMPOSITE_BLEND = 0; // vtk.js's BlendMode.COMPOSITE_BLEND
 const installed = new WeakSet(); // the mappers with libhalo's stages
@@ -117,6 +121,16 @@ function cameraOf(gl, handle) {
     inverse, sampleDistance: get('sampleDistance'), step: get('sampleDistance') * Math.hypot(axis[0], axis[1], axis[2]),
     size: gl.getParameter(gl.VIEWPORT).slice(2, 4), // vtk.js's render target (its small one while interacting)
   };
+}
+
+// The unit view vector from the volume's centre to the eye, in voxel space (the halo
+// buffer's), from the camera's clip space -> texture space mapping: the eye is the point
+// clip (0, 0, 1, 0) maps to (a perspective camera; an orthographic one: its direction).
+function voxelView(inverse, dims) {
+  const eye = [inverse[8], inverse[9], inverse[10], inverse[11]];
+  const v = eye[3] !== 0 ? [0, 1, 2].map((k) => (eye[k] / eye[3] - 0.5) * dims[k]) : [0, 1, 2].map((k) => -eye[k] * dims[k]);
+  const length = Math.hypot(...v);
+  return v.map((e) => e / length);
 }
 
 // What the adapter cannot serve in the mapper and its vtkVolume as they are now: null, or why.
@@ -239,19 +253,20 @@ export function installHalo(halo, mapper, options = {}) {
     return refusal(mapper, actor);
   }
   const gl = view.getContext();
-  const { program } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
-    allLive: options.allLive, pieces: VTKJS_NAMES }, 'vtk.js');
-  // libhalo's texture units, reserved in vtk.js's manager: the value copy, the field's
-  // samplers and the march's volume (halo_gl_frame_draw's first_unit on)
+  const { program, features } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+    allLive: options.allLive, pieces: VTKJS_NAMES }, 'vtk.js', [FEATURE_BUFFER]);
+  // libhalo's texture units, reserved in vtk.js's manager: the value copy, the feature
+  // buffer (with feature halos), the field's samplers and the march's volume
+  // (halo_gl_frame_draw's first_unit on)
   const manager = view.getTextureUnitManager();
-  const count = 2 + (program.reflection.samplers || []).length;
+  const count = 2 + (features ? 1 : 0) + (program.reflection.samplers || []).length;
   const units = reserveUnits(manager, count);
   if (!units.length) {
     program.destroy();
     throw new Error(`installHalo: vtk.js's texture unit manager has no ${count} free units in a row for libhalo ` +
       `(of ${manager.getNumberOfTextureUnits()})`);
   }
-  const valueUnit = units[0], firstUnit = units[1];
+  const valueUnit = units[0], featureUnit = features ? units[1] : -1, firstUnit = units[features ? 2 : 1];
   let value = null;
   try {
     value = valueTexture(halo, gl, mapper.getInputData(), options.window, valueUnit);
@@ -261,7 +276,7 @@ export function installHalo(halo, mapper, options = {}) {
     throw e;
   }
   let volumeKey = [mapper.getInputData(), mapper.getInputData().getMTime()];
-  let version = 0, frame = null;
+  let version = 0, frame = null, feature = null;
   const warned = new Set();
   const warnOnce = (why) => {
     if (!warned.has(why)) console.warn(`libhalo: ${why}`);
@@ -305,6 +320,19 @@ export function installHalo(halo, mapper, options = {}) {
     if (fn !== opacity.of || fn.getMTime() !== opacity.mtime)
       opacity = { of: fn, mtime: fn.getMTime(), exponent: camera.sampleDistance / property.getScalarOpacityUnitDistance(0) };
     gl.uniform1f(gl.getUniformLocation(handle, EXPONENT), opacity.exponent);
+    if (features) { // the halo buffer of this volume copy, for the view from its centre to the eye
+      if (feature && feature.volumeVersion !== version) {
+        feature.destroy();
+        feature = null;
+      }
+      if (!feature) {
+        feature = halo.featureBuffer(gl, program, { values: value.values, dims: value.dims });
+        feature.volumeVersion = version;
+      }
+      const view = voxelView(camera.inverse, value.dims);
+      if (!feature.view || feature.view.some((e, k) => e !== view[k])) feature.build(view);
+      feature.bind(handle, featureUnit); // vtk.js's program stays current
+    }
     const kept = frame;
     frame = null;
     frame = halo.frameOfSize(kept, gl, program, camera.size[0], camera.size[1]);
@@ -319,6 +347,8 @@ export function installHalo(halo, mapper, options = {}) {
   function release() { // libhalo's GL objects and units (the stages' uniforms in vtk.js's programs stay)
     if (frame) frame.destroy();
     frame = null;
+    if (feature) feature.destroy();
+    feature = null;
     if (value) gl.deleteTexture(value.texture);
     value = null;
     units.forEach((u) => manager.free(u));
@@ -345,7 +375,7 @@ export function installHalo(halo, mapper, options = {}) {
     warnOnce(`the stages are off: ${why}`);
     enabled = false;
     const current = gl.getParameter(gl.CURRENT_PROGRAM);
-    const samplers = [VALUE_SAMPLER, ...(program.reflection.samplers || []).map((x) => x.name)];
+    const samplers = [VALUE_SAMPLER, ...(features ? [FEATURE_BUFFER] : []), ...(program.reflection.samplers || []).map((x) => x.name)];
     for (const handle of programs) { // the stages skipped in every program built with them
       if (!gl.isProgram(handle)) { // vtk.js deleted it (its graphics resources released)
         programs.delete(handle);

@@ -155,6 +155,7 @@ async function engine(page, dir, which) {
   // a viewer that can be set up as raycast.frag samples (vtk.js) is, and is compared with
   // halo-render too
   const stagesDir = viewer.match && process.env.HALO_WEB_MRI_STAGES ? path.resolve(process.env.HALO_WEB_MRI_STAGES) : null;
+  const featuresDir = stagesDir && process.env.HALO_WEB_MRI_FEATURES ? path.resolve(process.env.HALO_WEB_MRI_FEATURES) : null;
   const query = stagesDir ? '?match' : process.env.HALO_WEB_SIZE ? `?size=${process.env.HALO_WEB_SIZE}` : '';
   await page.goto(`${origin}/${viewer.page}${query}`);
   await page.waitForFunction('window.ready === true', { timeout: 60000 });
@@ -165,9 +166,12 @@ async function engine(page, dir, which) {
   const noHalos = await draw({ scene, withoutHalos: true, repeat: 3 });
   const m1 = await draw({ scene, interval: 1 });
   const removed = await draw({ scene, removed: true });
+  // the stages without halo_* and with feature halos (the halo buffer splatted in the page)
+  const features = featuresDir ? await draw({ scene: 'mri-features.json', repeat: 3,
+    sceneJson: JSON.parse(fs.readFileSync(path.join(featuresDir, 'scene.json'))) }) : null;
   const version = JSON.parse(fs.readFileSync(path.join(modulesDir, viewer.module, 'package.json'))).version;
   if (process.env.HALO_WEB_SAVE) // the images, for a look (PAM, bottom row first as WebGL reads them)
-    for (const [what, image] of Object.entries({ alone, staged, noHalos, m1 })) {
+    for (const [what, image] of Object.entries({ alone, staged, noHalos, m1, ...(features ? { features } : {}) })) {
       const rows = [];
       for (let y = image.height - 1; y >= 0; --y)
         rows.push(Buffer.from(image.pixels.slice(y * image.width * 4, (y + 1) * image.width * 4).map((v) => Math.round(v * 255))));
@@ -196,15 +200,28 @@ async function engine(page, dir, which) {
       ['its stages without halo_*', noHalos, withStages, 'halo-render --host raycast'],
       ['its stages and halos', staged, withHalos, 'halo-render --host raycast --one-draw'],
     ];
-    for (const [what, image, ref, by] of rows) {
+    if (features) {
+      // feature halos change within a voxel beside a feature: where vtk.js's samples lie
+      // (its stages alone: about 1e-3 from raycast.frag's) they differ more, on the rims;
+      // raycast.frag's page and the three.js caster give halo-render's image on this scene
+      // to 1e-7 (the cases above), so libhalo's buffer is not the difference
+      rows.push(['its stages without halo_* and with feature halos', features, reference(featuresDir), 'halo-render --host raycast',
+        2 * MATCH_LIMIT]);
+      const effect = difference(features.pixels, noHalos.pixels);
+      console.log(`${name}: feature halos (against its stages without them) mean abs ${effect.mean.toExponential(3)}; draw ` +
+        `and read back ${features.drawMs.toFixed(1)} ms with them, ${noHalos.drawMs.toFixed(1)} ms without (the camera ` +
+        'turning between frames: the buffer splatted each frame)');
+      if (!(effect.mean > EFFECT / 4)) fail(`${name}: the feature halos change the image by only ${effect.mean}`);
+    }
+    for (const [what, image, ref, by, limit = MATCH_LIMIT] of rows) {
       if (image.pixels.length !== ref.length) { fail(`${name}: ${image.pixels.length} values in the page, ${ref.length} in ${by}'s`); continue; }
       const against = difference(image.pixels, ref);
       const shifted = difference(image.pixels.slice(0, ref.length - 4 * width), ref.slice(4 * width)); // the control
       console.log(`${name}, ${what}, set up as raycast.frag: against ${by}: mean abs ${against.mean.toExponential(3)}, ` +
-        `max abs ${against.max.toExponential(3)} (limit ${MATCH_LIMIT} mean); against its image shifted by a row ` +
+        `max abs ${against.max.toExponential(3)} (limit ${limit} mean); against its image shifted by a row ` +
         `${shifted.mean.toExponential(3)} (must fail)`);
-      if (!(against.mean <= MATCH_LIMIT)) fail(`${name}, ${what}: ${against.mean} from ${by}'s image (mean abs)`);
-      if (!(shifted.mean > MATCH_LIMIT)) fail(`${name}, ${what}: the image shifted by a row passes too (${shifted.mean})`);
+      if (!(against.mean <= limit)) fail(`${name}, ${what}: ${against.mean} from ${by}'s image (mean abs)`);
+      if (!(shifted.mean > limit)) fail(`${name}, ${what}: the image shifted by a row passes too (${shifted.mean})`);
     }
     const plain = difference(alone.pixels, withStages), other = difference(m1.pixels, withHalos);
     console.log(`${name}: vtk.js alone against halo-render's stages ${plain.mean.toExponential(3)}, its field at M = 1 ` +
@@ -212,7 +229,7 @@ async function engine(page, dir, which) {
     if (!(plain.mean > MATCH_LIMIT)) fail(`${name}: vtk.js alone passes against the stages' image too (${plain.mean})`);
     if (!(other.mean > MATCH_LIMIT)) fail(`${name}: the field at M = 1 passes against the scene's M too (${other.mean})`);
   }
-  for (const [what, image] of Object.entries({ alone, staged, noHalos, m1, removed })) {
+  for (const [what, image] of Object.entries({ alone, staged, noHalos, m1, removed, ...(features ? { features } : {}) })) {
     if (image.warnings && image.warnings.length) fail(`${name}, ${what}: ${image.warnings.join(' / ')}`);
     if (image.hooked) fail(`${name}, ${what}: the context's drawArrays is left libhalo's after the render`);
   }

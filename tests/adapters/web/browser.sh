@@ -67,12 +67,22 @@ elif test -n "$HALO_WEB_ENGINES"; then
         fail "writing the scene without its halo stages"
     run 0 "$HALO_RENDER" --host raycast --scene "$tmp/mri-stages/scene.json" --volume "$mri" \
         --size 128x128 --volume-size 96 --quiet --export-host "$tmp/mri-stages" -o "$tmp/mri-stages/reference.png"
+    # its stages without halo_* and with feature halos instead (vtk.js, set up as raycast.frag)
+    mkdir -p "$tmp/mri-features"
+    "$NODE" -e 'const fs = require("fs"), scene = JSON.parse(fs.readFileSync(process.argv[1]));
+        scene.stages = scene.stages.filter((s) => !Object.keys(s).some((k) => k.startsWith("halo_")));
+        scene.stages.push({ feature_halo: { opacity_gain: 2, darkening: 4, threshold: 0.02, gradient_weighted: true } });
+        fs.writeFileSync(process.argv[2], JSON.stringify(scene));' "$srcdir/examples/scenes/mri-head.json" "$tmp/mri-features/scene.json" ||
+        fail "writing the scene with feature halos"
+    run 0 "$HALO_RENDER" --host raycast --scene "$tmp/mri-features/scene.json" --volume "$mri" \
+        --size 128x128 --volume-size 96 --quiet --export-host "$tmp/mri-features" -o "$tmp/mri-features/reference.png"
     HALO_WEB_MRI=$tmp/mri
     HALO_WEB_MRI_STAGES=$tmp/mri-stages
-    # the same two in raycast.frag and the three.js caster (a scene path from / is the page's
+    HALO_WEB_MRI_FEATURES=$tmp/mri-features
+    # the same three in raycast.frag and the three.js caster (a scene path from / is the page's
     # /in/, the case's folder)
-    set -- "$@" "$tmp/mri-stages" /in/scene.json "$tmp/mri" one-draw:mri-head.json
-    export HALO_WEB_MRI HALO_WEB_MRI_STAGES HALO_WEB_ENGINES
+    set -- "$@" "$tmp/mri-stages" /in/scene.json "$tmp/mri" one-draw:mri-head.json "$tmp/mri-features" /in/scene.json
+    export HALO_WEB_MRI HALO_WEB_MRI_STAGES HALO_WEB_MRI_FEATURES HALO_WEB_ENGINES
 fi
 echo "+ node browser.mjs $*"
 "$NODE" "$srcdir/tests/adapters/web/browser.mjs" "$@" || fail "the pages' images (above)"
