@@ -102,6 +102,8 @@ export interface Halo {
   frame(gl: WebGL2RenderingContext, program: Program, size: { width: number; height: number; readback?: boolean }): Frame;
   featureBuffer(gl: WebGL2RenderingContext, program: Program,
     volume: { values: ArrayLike<number>; dims: ArrayLike<number> }): FeatureBuffer;
+  // for an engine adapter: the view to build a feature buffer for, from clip -> texture space
+  featureView(inverseViewProjection: ArrayLike<number>, dims: ArrayLike<number>): number[];
   // frame while it has this size, else destroyed and a new one
   /** for an engine adapter: raw values (raw * slope + intercept, low..high as 0..1) as an R32F 3D texture, made on unit */
   valueTexture(gl: WebGL2RenderingContext, raw: ArrayLike<number>, dims: ArrayLike<number>,

@@ -610,6 +610,20 @@ class Halo {
     return new FeatureBuffer(this, gl, program, volume);
   }
 
+  // For an engine adapter: the view a feature buffer is built for, the unit vector from the
+  // volume's centre to the eye in voxel space, from the camera's clip space -> texture space
+  // mapping (16 numbers, column-major) and the volume's dims: the eye is the point clip
+  // (0, 0, 1, 0) maps to (a perspective camera; an orthographic one: its direction, whose
+  // sign the buffer does not see).
+  featureView(inverseViewProjection, dims) {
+    const m = inverseViewProjection;
+    const eye = [m[8], m[9], m[10], m[11]];
+    const v = eye[3] !== 0 ? [0, 1, 2].map((k) => (eye[k] / eye[3] - 0.5) * dims[k]) : [0, 1, 2].map((k) => -eye[k] * dims[k]);
+    const length = Math.hypot(...v);
+    if (!(length > 0)) throw new HaloError([], 'featureView: the eye is at the volume\'s centre');
+    return v.map((e) => e / length);
+  }
+
   // A frame of the GL runtime for a linked program (class Frame).
   frame(gl, program, size) {
     return new Frame(this, gl, program, size);

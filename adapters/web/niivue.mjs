@@ -22,8 +22,11 @@
 // NiiVue's texture space (samplePos), the background volume's value (cal_min..cal_max to
 // 0..1, read from the adapter's float copy), its gradient (central differences of that
 // value), and NiiVue's colour (colormap and opacity per voxel step). For halo scenes the
-// adapter turns off NiiVue's fast empty-space pass (halos land in empty space). Outlines and
-// feature halos (extra outputs, passes after the draw) are refused, naming the stages.
+// adapter turns off NiiVue's fast empty-space pass (halos land in empty space). Feature
+// halos: libhalo's runtime splats the halo buffer from the float copy (again when it is made
+// anew), for the view from the volume's centre to the eye in voxel space (again when it
+// turns), bound two units below firstUnit. Outlines (extra outputs, passes after the draw)
+// are refused, naming the stages.
 
 export const SUPPORTED_VERSIONS = Object.freeze(['0.69.0']);
 
@@ -36,6 +39,7 @@ const ANCHORS = Object.freeze({
 });
 
 const VALUE_SAMPLER = 'halo_niivue_value';
+const FEATURE_BUFFER = 'halo_host_feature_buffer'; // the feature_halo stage's host uniform
 const ORIGIN = 'halo_niivue_origin'; // the 3D view's lower left corner in the canvas (gl.VIEWPORT)
 const INSTALLED = Symbol('libhalo');
 
@@ -154,7 +158,7 @@ function textureToMm(image) {
 
 // Puts the scene's stages into nv's volume render shader. options: scene (JSON text or
 // object), sceneFile, interval (M for halos; default the scene's), firstUnit (libhalo's
-// textures from this unit on: 20; the value copy is one below), allLive. Returns
+// textures from this unit on: 20; the value copy is one below, the feature buffer two), allLive. Returns
 // { program, set(name, value), remove() }; throws a HaloError or an Error that says why.
 export function installHalo(halo, nv, options = {}) {
   const gl = nv.gl;
@@ -167,8 +171,8 @@ export function installHalo(halo, nv, options = {}) {
       throw new Error(`installHalo: NiiVue's render shader has no '${anchor.trim()}' (the ${what} anchor): a NiiVue ` +
         `version this adapter does not know (supported: ${SUPPORTED_VERSIONS.join(', ')})`);
   if (nv[INSTALLED]) throw new Error('installHalo: this NiiVue already has libhalo\'s stages: remove() them first');
-  const { program, field } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
-    allLive: options.allLive, pieces: NIIVUE_NAMES }, 'NiiVue');
+  const { program, field, features } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+    allLive: options.allLive, pieces: NIIVUE_NAMES }, 'NiiVue', [FEATURE_BUFFER]);
   // everything that can fail, before NiiVue is touched; undone on failure
   let staged = null, value = null;
   const firstUnit = options.firstUnit || 20;
@@ -203,7 +207,7 @@ export function installHalo(halo, nv, options = {}) {
   const original = nv.renderVolumeShader;
   const ownDraw = Object.prototype.hasOwnProperty.call(nv, 'drawImage3D') ? nv.drawImage3D : null;
   const niivueDraw = ownDraw || Object.getPrototypeOf(nv).drawImage3D;
-  let frame = null, warned = new Set(), version = 0;
+  let frame = null, feature = null, warned = new Set(), version = 0;
   let volumeKey = [nv.back, nv.back.cal_min, nv.back.cal_max, nv.back.frame4D];
   let mmFromTexture = textureToMm(nv.back);
   const warnOnce = (why) => {
@@ -254,7 +258,25 @@ export function installHalo(halo, nv, options = {}) {
     gl.activeTexture(previousUnit);
     const dims = value.dims;
     const inverse = invert(multiply(mvpMatrix, mmFromTexture));
+    const featureUnit = firstUnit - 2;
+    gl.activeTexture(gl.TEXTURE0 + featureUnit);
+    const previousFeature = gl.getParameter(gl.TEXTURE_BINDING_3D);
+    gl.activeTexture(previousUnit);
     try {
+      if (features) { // the halo buffer of this copy, for the view from its centre to the eye
+        if (feature && feature.volumeVersion !== version) {
+          feature.destroy();
+          feature = null;
+        }
+        if (!feature) {
+          feature = halo.featureBuffer(gl, program, { values: value.values, dims });
+          feature.volumeVersion = version;
+        }
+        const view = halo.featureView(inverse, dims);
+        if (!feature.view || feature.view.some((e, k) => e !== view[k])) feature.build(view);
+        feature.bind(staged.program, featureUnit);
+        gl.useProgram(current);
+      }
       frame.draw({
         program: staged.program, volume: value.texture, volumeSize: dims, volumeVersion: version,
         framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING), inverseViewProjection: Float32Array.from(inverse),
@@ -266,6 +288,8 @@ export function installHalo(halo, nv, options = {}) {
     } finally {
       gl.activeTexture(gl.TEXTURE0 + firstUnit - 1);
       gl.bindTexture(gl.TEXTURE_3D, previous);
+      gl.activeTexture(gl.TEXTURE0 + featureUnit);
+      gl.bindTexture(gl.TEXTURE_3D, previousFeature);
       gl.activeTexture(previousUnit);
     }
   };
@@ -298,6 +322,8 @@ export function installHalo(halo, nv, options = {}) {
       if (nv.renderShader === staged) nv.renderShader = original;
       nv.renderVolumeShader = original;
       delete nv[INSTALLED];
+      if (feature) feature.destroy();
+      feature = null;
       if (frame) frame.destroy();
       frame = null;
       gl.deleteTexture(value.texture);

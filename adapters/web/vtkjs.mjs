@@ -123,16 +123,6 @@ function cameraOf(gl, handle) {
   };
 }
 
-// The unit view vector from the volume's centre to the eye, in voxel space (the halo
-// buffer's), from the camera's clip space -> texture space mapping: the eye is the point
-// clip (0, 0, 1, 0) maps to (a perspective camera; an orthographic one: its direction).
-function voxelView(inverse, dims) {
-  const eye = [inverse[8], inverse[9], inverse[10], inverse[11]];
-  const v = eye[3] !== 0 ? [0, 1, 2].map((k) => (eye[k] / eye[3] - 0.5) * dims[k]) : [0, 1, 2].map((k) => -eye[k] * dims[k]);
-  const length = Math.hypot(...v);
-  return v.map((e) => e / length);
-}
-
 // What the adapter cannot serve in the mapper and its vtkVolume as they are now: null, or why.
 function refusal(mapper, actor) {
   const image = mapper.getInputData();
@@ -329,7 +319,7 @@ export function installHalo(halo, mapper, options = {}) {
         feature = halo.featureBuffer(gl, program, { values: value.values, dims: value.dims });
         feature.volumeVersion = version;
       }
-      const view = voxelView(camera.inverse, value.dims);
+      const view = halo.featureView(camera.inverse, value.dims);
       if (!feature.view || feature.view.some((e, k) => e !== view[k])) feature.build(view);
       feature.bind(handle, featureUnit); // vtk.js's program stays current
     }
