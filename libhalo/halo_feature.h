@@ -105,9 +105,10 @@ HALO_API double halo_feature_buffer_lookup(const double *buffer, const int dims[
 typedef struct halo_feature_buffer halo_feature_buffer;
 
 /* Preprocesses the volume once (gradients, the qualified voxels sorted by z, a vertex
- * buffer) and creates the R32F 3D texture, its framebuffer and the splat program in the
+ * buffer) and creates the R32F 3D texture (on an OpenGL ES context that cannot render,
+ * blend and filter R32F: R16F, with a note), its framebuffer and the splat program in the
  * current context of gl. The volume is copied. NULL with diagnostics (USAGE,
- * OUT_OF_MEMORY, GL_COMPILE, GL_LINK) on failure. */
+ * OUT_OF_MEMORY, GL_COMPILE, GL_LINK, ENGINE_UNSUPPORTED) on failure. */
 HALO_API halo_feature_buffer *halo_feature_buffer_create(halo_gl *gl, const float *values, const int dims[3],
                                                          const halo_feature_desc *desc, halo_diagnostics *diag);
 HALO_API void halo_feature_buffer_destroy(halo_feature_buffer *b);
@@ -118,7 +119,7 @@ HALO_API void halo_feature_buffer_destroy(halo_feature_buffer *b);
 HALO_API halo_status halo_feature_buffer_build(halo_feature_buffer *b, const double view[3]);
 /* What a buffer is: a copy, cheap to take. A NULL buffer: every field 0. */
 typedef struct halo_feature_buffer_info {
-    unsigned texture;    /* its GL texture name (GL_TEXTURE_3D, R32F, GL_LINEAR, CLAMP_TO_EDGE) */
+    unsigned texture;    /* its GL texture name (GL_TEXTURE_3D, R32F or R16F, GL_LINEAR, CLAMP_TO_EDGE) */
     int dims[3];         /* its size in texels (halo_feature_layout.buffer_dims of the volume) */
     size_t qualified;    /* voxels that splat (|grad f| above the cutoff, at the buffer's resolution) */
     size_t points_drawn; /* points drawn by the last build (each qualified voxel once per layer it reaches) */

@@ -374,7 +374,7 @@ WEB_API halo_feature_buffer *halo_web_feature_create(halo_gl *gl, const halo_pro
     return halo_feature_buffer_create(gl, values, dims, &desc, d);
 }
 
-/* Splats the buffer for the unit view vector (sample -> eye, the volume's texture space,
+/* Splats the buffer for the unit view vector (sample -> eye, the volume's voxel space,
  * one direction for the volume). 1, or 0 after diagnostics. */
 WEB_API int halo_web_feature_build(halo_feature_buffer *b, double x, double y, double z)
 {

@@ -90,7 +90,7 @@ export interface FeatureBuffer {
   readonly dims: number[];
   readonly view: number[] | null;          // the view of the last build
   readonly texture: WebGLTexture | null;   // TEXTURE_3D, null before the first build
-  build(view: ArrayLike<number>): void;    // sample -> eye, the volume's texture space
+  build(view: ArrayLike<number>): void;    // sample -> eye, voxel space; at once when it holds this view
   bind(glProgram: WebGLProgram, unit: number): void; // the texture on unit, the sampler pointed there
   destroy(): void;
 }

@@ -345,10 +345,11 @@ export const FEATURE_BUFFER_UNIFORM = 'halo_host_feature_buffer';
 // Feature halos (docs/feature-halos.md): the halo buffer of a program's feature_halo stage
 // (its parameters), splatted by libhalo's GL runtime on gl from the volume's values (dims[0]
 // x dims[1] x dims[2] numbers, x fastest, in [0, 1]: the volume as the stages read it).
-// build(view) splats it for a view direction (sample -> eye, in the volume's texture space;
-// again whenever it changes); bind(glProgram, unit) binds it on that texture unit and points
+// build(view) splats it for a view direction (sample -> eye, in the volume's voxel space:
+// halo.featureView), and returns at once when the buffer already holds that view: call it
+// every frame, before bind(glProgram, unit), which binds it on that texture unit and points
 // the program's sampler halo_host_feature_buffer there (the program is left current). A
-// context lost and restored: the next build makes it again.
+// context lost and restored: the next build makes the buffer again.
 class FeatureBuffer {
   constructor(halo, gl, program, { values, dims } = {}) {
     if (!(program instanceof Program)) throw new HaloError([], 'featureBuffer: program must be a Program of halo.link');
@@ -386,6 +387,7 @@ class FeatureBuffer {
   _drop() {
     if (this._handle) this._halo._core._halo_web_feature_destroy(this._handle);
     this._handle = 0;
+    this.view = null; // the next build splats it anew
   }
 
   build(view) {
@@ -393,8 +395,9 @@ class FeatureBuffer {
     if (!view || view.length !== 3) throw new HaloError([], 'featureBuffer.build: view must be three numbers');
     if (this._gl.isContextLost()) throw new HaloError([], 'featureBuffer.build: the WebGL context is lost');
     this._program._live();
-    this._halo._current(this._gl);
+    this._halo._current(this._gl); // a context restored since: the buffer dropped, made again here
     if (!this._handle) this._make();
+    if (this.view && this.view.every((e, k) => e === view[k])) return; // it holds this view
     if (!this._halo._core._halo_web_feature_build(this._handle, view[0], view[1], view[2]))
       throw this._halo._error('featureBuffer.build failed');
     this.view = Array.from(view);
@@ -407,8 +410,10 @@ class FeatureBuffer {
   }
 
   bind(glProgram, unit) {
-    const gl = this._gl, texture = this.texture;
-    if (!texture) throw new HaloError([], 'featureBuffer.bind: build it first');
+    const gl = this._gl;
+    this._halo._current(gl); // a context restored since: no texture until the next build
+    const texture = this.texture;
+    if (!texture) throw new HaloError([], 'featureBuffer.bind: build it first (after a lost context too)');
     gl.useProgram(glProgram);
     gl.uniform1i(gl.getUniformLocation(glProgram, FEATURE_BUFFER_UNIFORM), unit);
     const active = gl.getParameter(gl.ACTIVE_TEXTURE);

@@ -273,7 +273,7 @@ export function installHalo(halo, nv, options = {}) {
           feature.volumeVersion = version;
         }
         const view = halo.featureView(inverse, dims);
-        if (!feature.view || feature.view.some((e, k) => e !== view[k])) feature.build(view);
+        feature.build(view); // at once when it holds this view
         feature.bind(staged.program, featureUnit);
         gl.useProgram(current);
       }

@@ -274,9 +274,10 @@ export function installHalo(halo, material, options = {}) {
       const glProgram = renderer.properties.get(material).currentProgram?.program;
       const glVolume = renderer.properties.get(volume).__webglTexture;
       if (!glProgram || !glVolume) throw new Error('stages.render: three.js has not built the material or the volume');
-      if (features) { // the halo buffer for the view from the volume's centre to the eye
+      if (features) { // the halo buffer for the view from the volume's centre to the eye, in voxels
         const p = camera.getWorldPosition(new camera.position.constructor());
-        const v = [p.x - 0.5, p.y - 0.5, p.z - 0.5], length = Math.hypot(...v);
+        const size = [volume.image.width, volume.image.height, volume.image.depth];
+        const v = [(p.x - 0.5) * size[0], (p.y - 0.5) * size[1], (p.z - 0.5) * size[2]], length = Math.hypot(...v);
         const view = v.map((e) => e / length);
         if (feature && feature.volumeVersion !== volume.version) { // the volume's data changed: splat it anew
           feature.destroy();
@@ -287,7 +288,7 @@ export function installHalo(halo, material, options = {}) {
             dims: [volume.image.width, volume.image.height, volume.image.depth] });
           feature.volumeVersion = volume.version;
         }
-        if (!feature.view || feature.view.some((e, k) => e !== view[k])) feature.build(view);
+        feature.build(view); // at once when it holds this view
         // the last unit: three takes its units from 0 on, libhalo's field from 8 on
         feature.bind(glProgram, gl.getParameter(gl.MAX_TEXTURE_IMAGE_UNITS) - 1);
         renderer.resetState(); // three's caches: the program and texture unit changed under them

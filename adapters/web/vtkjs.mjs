@@ -320,7 +320,7 @@ export function installHalo(halo, mapper, options = {}) {
         feature.volumeVersion = version;
       }
       const view = halo.featureView(camera.inverse, value.dims);
-      if (!feature.view || feature.view.some((e, k) => e !== view[k])) feature.build(view);
+      feature.build(view); // at once when it holds this view
       feature.bind(handle, featureUnit); // vtk.js's program stays current
     }
     const kept = frame;

@@ -15,7 +15,7 @@ cflags="-g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefin
   -DPACKAGE_VERSION=\"fuzz\" -Ilibhalo -Itests/fuzz $(pkg-config --cflags jansson glslang)"
 libs="$(pkg-config --libs jansson glslang) -lSPIRV -lglslang-default-resource-limits -lm -lstdc++ -lpthread"
 sources="libhalo/diag.c libhalo/strbuf.c libhalo/glsl_lex.c libhalo/module.c libhalo/library.c libhalo/scene.c
-  libhalo/link.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c libhalo/prepass.c libhalo/compose.c libhalo/piece_expression.c libhalo/contract.c libhalo/host_scan.c libhalo/validate.c libhalo/check.c libhalo/glsl_locate.c libhalo/setup.c libhalo/target.c
+  libhalo/link.c libhalo/link_entry.c libhalo/emit.c libhalo/host_check.c libhalo/program.c libhalo/segment.c libhalo/prepass.c libhalo/compose.c libhalo/piece_expression.c libhalo/contract.c libhalo/host_scan.c libhalo/validate.c libhalo/check.c libhalo/glsl_locate.c libhalo/setup.c libhalo/target.c
   libhalo/embedded_modules.c $out/glslang_parse.o"
 mkdir -p tests/fuzz/crashes
 # glslang's C++ interface: without RTTI, as glslang is built (UBSan's vptr check would

@@ -127,7 +127,8 @@ static int test_stage_info(void)
         "\"outlines\"]}");
     CHECK(p != NULL);
     if (p) {
-        const halo_stage_info *info = &halo_program_reflection(p).stages[(size_t)stage_index(p, "outline_feature")];
+        int at = stage_index(p, "outline_feature");
+        const halo_stage_info *info = at >= 0 ? &halo_program_reflection(p).stages[at] : NULL;
         CHECK(info && info->labels_when && !strcmp(info->labels_when, "label"));
         CHECK_INT_EQ(halo_program_reflection(p).reads_labels, 0);
         halo_program_destroy(p);
