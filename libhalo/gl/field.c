@@ -1223,6 +1223,8 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         field->key_valid = status == HALO_OK && !d->exchange;
         field->key = key;
         field->computed += status == HALO_OK;
+    } else {
+        halo_gl_frame_begin_host(fr); /* the host's outputs and the passes after its draw start anew */
     }
     field_restore(f, &saved, march_unit); /* the host draws with its own state */
     if (status == HALO_OK) {

@@ -596,20 +596,29 @@ void halo_gl_frame_destroy(halo_gl_frame *fr)
     free(fr);
 }
 
-static void frame_clear(halo_gl_frame *fr, int group);
+/* Which images a clear resets: all; a feature group's (not the frame's accumulators,
+ * reset=frame-only); all but a one_draw program's field (read from its stacks). */
+typedef enum { FRAME_CLEAR_ALL, FRAME_CLEAR_GROUP, FRAME_CLEAR_HOST } frame_clear_what;
+static void frame_clear(halo_gl_frame *fr, frame_clear_what what);
 static void frame_run(halo_gl_frame *fr, halo_pass_at at);
 
 void halo_gl_frame_begin(halo_gl_frame *fr)
 {
     HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
     fr->groups_ended = 0;
-    frame_clear(fr, 0);
+    frame_clear(fr, FRAME_CLEAR_ALL);
+}
+
+void halo_gl_frame_begin_host(halo_gl_frame *fr)
+{
+    fr->groups_ended = 0;
+    frame_clear(fr, FRAME_CLEAR_HOST);
 }
 
 void halo_gl_frame_begin_group(halo_gl_frame *fr)
 {
     HALO_REFUSE_NULL_VOID(NULL, fr, "frame");
-    frame_clear(fr, 1);
+    frame_clear(fr, FRAME_CLEAR_GROUP);
 }
 
 void halo_gl_frame_end_group(halo_gl_frame *fr)
@@ -619,8 +628,8 @@ void halo_gl_frame_end_group(halo_gl_frame *fr)
     fr->groups_ended++;
 }
 
-/* Clears every image (group: all but the frame's accumulators, reset=frame-only). */
-static void frame_clear(halo_gl_frame *fr, int group)
+/* Clears the images `what` says. */
+static void frame_clear(halo_gl_frame *fr, frame_clear_what what)
 {
     if (!fr || fr->image_count == 0)
         return;
@@ -630,7 +639,8 @@ static void frame_clear(halo_gl_frame *fr, int group)
     frame_save(f, &saved, 0); /* a clear obeys the scissor, the colour mask, rasterizer discard */
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, fr->framebuffer);
     for (size_t i = 0; i < fr->image_count; ++i)
-        if (!group || fr->images[i].reset != HALO_RESET_FRAME_ONLY)
+        if (what == FRAME_CLEAR_ALL || (what == FRAME_CLEAR_GROUP && fr->images[i].reset != HALO_RESET_FRAME_ONLY) ||
+            (what == FRAME_CLEAR_HOST && !halo_prepass_image(fr->program, fr->images[i].name)))
             frame_clear_image(fr, (int)i);
     f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
     frame_restore(f, &saved);

@@ -19,6 +19,9 @@ void halo_gl_frame_state_flip(halo_gl_frame *fr);
  * change -1 only queries: -1 when a destroy was asked for. */
 int halo_gl_frame_drawing(halo_gl_frame *fr, int change);
 void halo_gl_frame_segments_reset(halo_gl_frame *fr);
+/* Host contract 3, a frame that reuses its field: every image but the field's (read from
+ * its stacks) back to its clear value, as halo_gl_frame_begin would. */
+void halo_gl_frame_begin_host(halo_gl_frame *fr);
 
 /* Host contract 3 (field.c): a one_draw program's stacks of the depth segments' images. */
 typedef struct halo_gl_field halo_gl_field;

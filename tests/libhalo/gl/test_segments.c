@@ -721,14 +721,18 @@ static void test_diagnostics(env *e)
 }
 
 /* 7: a one-draw frame drawn again reuses its field while what the field depends on is the
- * same (gl/field.c: field_key), and every image equals a new frame's. */
+ * same (gl/field.c: field_key), and every image equals a new frame's: the outlines' too,
+ * whose images (the host's outputs, the passes after its draw) start from their clear
+ * values in every frame. */
 static const char live_scene[] =
     "{\"halo_scene\": 1, \"stages\": ["
     " {\"halo_seed\": {\"alpha\": 2, \"gradient_scale\": 6, \"value_0\": [[0.55, 0], [0.62, 1], [0.8, 1], [0.9, 0]],"
     " \"live\": [\"gradient_scale\"]}},"
     " {\"halo_generate\": {\"passes\": 5, \"delta\": 0.9, \"interval\": 4, \"live\": [\"delta\"]}},"
     " {\"halo_map\": {\"mode\": 0, \"color_near\": [[0, 0, 0]], \"color_far\": [[0, 0, 0]], \"opacity\": 1,"
-    " \"full_at\": 0.25, \"live\": [\"opacity\"]}}], " HALO_RENDER "}";
+    " \"full_at\": 0.25, \"live\": [\"opacity\"]}},"
+    " {\"outline_feature\": {\"value_min\": 0.3, \"value_max\": 1}},"
+    " {\"outlines\": {\"sigma\": 6, \"lambda\": 4, \"live\": [\"lambda\"]}}], " HALO_RENDER "}";
 
 typedef struct reuse_step {
     const char *what;
@@ -758,6 +762,7 @@ static void test_field_reuse(env *e)
         {"the first draw", NULL, NULL, 0, 35, 0, 1},
         {"drawn again", NULL, NULL, 0, 35, 0, 0},
         {"halo_map.opacity 0.4 (the host's draw reads it)", "halo_map", "opacity", 0.4, 35, 0, 0},
+        {"outlines.lambda 1 (the passes after the host's draw read it)", "outlines", "lambda", 1, 35, 0, 0},
         {"halo_seed.gradient_scale 3 (the march)", "halo_seed", "gradient_scale", 3, 35, 0, 1},
         {"halo_generate.delta 0.8 (the passes)", "halo_generate", "delta", 0.8, 35, 0, 1},
         {"drawn again", NULL, NULL, 0, 35, 0, 0},
