@@ -676,6 +676,10 @@ static int plan_segments(halo_program *p, const halo_link_desc *desc, const halo
     int segmenting = halo_host_uses(host, "halo_segment_begin");
     p->v2_host = segmenting || h->volume || h->gradient || halo_host_uses(host, "halo_view_at") ||
                  halo_host_uses(host, "halo_depth_at");
+    /* a host that draws one sample per fragment (a slice host, a probe) runs the passes
+     * between its draws; one that loops over samples marches whole rays */
+    int marches = halo_host_uses(host, "for") || halo_host_uses(host, "while");
+    p->single_pass = !h->slices && (desc->one_draw || marches); /* and not drawn in segments (segment_location) */
     /* host contract 3: libhalo computes what the passes between slices make before the host draws */
     int generation = halo_program_has_generation_passes(p) && !desc->one_draw;
     if (h->compositing_mip && p->stage_count) {
@@ -699,9 +703,6 @@ static int plan_segments(halo_program *p, const halo_link_desc *desc, const halo
                                 "\"Segmented ray casting\")");
         return 1;
     }
-    /* a host that draws one sample per fragment (a slice host, a probe) runs the passes
-     * between its draws; one that loops over samples marches whole rays */
-    int marches = halo_host_uses(host, "for") || halo_host_uses(host, "while");
     if (generation && marches && !segmenting && !h->slices && p->kind == HALO_SHADER_FRAGMENT) {
         halo_strbuf names = {0};
         for (size_t s = 0; s < p->stage_count; s++) {

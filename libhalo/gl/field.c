@@ -1235,6 +1235,8 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         f->Uniform3f(f->GetUniformLocation(gl_program, "halo_stack_slabs"), (float)plan.start,
                      (float)(1.0 / plan.length), (float)plan.segments);
         f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, d->framebuffer);
+        /* one blend for all buffers (OpenGL ES 3.0): the outputs' attach turns it off */
+        GLboolean blend = f->IsEnabled(GL_BLEND);
         halo_gl_frame_attach(fr, d->framebuffer);
         halo_gl_frame_bind(fr, gl_program, first_unit);
         GLint active = GL_TEXTURE0;
@@ -1244,6 +1246,8 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         halo_gl_frame_segments_reset(fr);
         d->draw(d->user);
         halo_gl_frame_state_flip(fr); /* counts the one draw */
+        if (!f->BlendFunci && halo_program_reflection(p).output_count > 0)
+            (blend ? f->Enable : f->Disable)(GL_BLEND);
         f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)saved.state.bindings.draw_framebuffer);
         halo_gl_use_saved_program(f, saved.state.bindings.program);
     }

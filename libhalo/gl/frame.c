@@ -380,25 +380,26 @@ static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, siz
 }
 
 /* Has the context what the program's images and outputs need? The host's extra outputs
- * blend per draw buffer (OpenGL 4.0, ES 3.2); libhalo's own march for host contract 3
- * writes only seeds, with one blend for all its buffers (OpenGL ES 3.0 too). On ES the
- * images must be colour-renderable floats (EXT_color_buffer_float before 3.2), and
- * blending into 32-bit ones needs EXT_float_blend. */
+ * blend per draw buffer (OpenGL 4.0, ES 3.2), but for a ray caster drawn once (single_pass):
+ * a ray writes its pixel once, and its outputs are written unblended where a context has
+ * one blend for all buffers (OpenGL ES 3.0; halo_gl_frame_attach_outputs). libhalo's own march writes
+ * only seeds, with one blend for all its buffers. On ES the images must be
+ * colour-renderable floats (EXT_color_buffer_float before 3.2), and blending into 32-bit
+ * ones needs EXT_float_blend. */
 static int frame_context_fits(halo_gl *gl, const halo_program *p, halo_diagnostics *diag)
 {
     const halo_glfuncs *f = &gl->f;
     size_t outputs = halo_program_reflection(p).output_count;
-    if (outputs > 0 && !(f->Enablei && f->Disablei && f->BlendEquationi && f->BlendFunci && f->IsEnabledi)) {
+    int per_buffer = f->Enablei && f->Disablei && f->BlendEquationi && f->BlendFunci && f->IsEnabledi;
+    if (outputs > 0 && !per_buffer && !(p->single_pass && halo_program_reflection(p).segment_location <= 0)) {
         const char *version = (const char *)f->GetString(GL_VERSION);
         halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
                         "the program writes extra outputs (%s%s), which need per-draw-buffer blending "
                         "(glBlendFunci, glBlendEquationi: OpenGL 4.0 or OpenGL ES 3.2); this context is %s%s",
                         halo_program_reflection(p).outputs[0].image, outputs > 1 ? ", ..." : "",
                         version ? version : "older",
-                        !f->BlendFunci && !p->prepass
-                            ? ": volumetric halos on OpenGL ES 3.0 (WebGL 2) are drawn with host contract 3 "
-                              "(halo_link_desc.one_draw), where only libhalo's own march writes outputs"
-                            : "");
+                        ": on OpenGL ES 3.0 (WebGL 2) a ray caster is drawn once (host contract 3, "
+                        "halo_link_desc.one_draw) and its outputs written unblended; a slice host's are not");
         return 0;
     }
     if (!gl->es || halo_program_reflection(p).image_count == 0)
@@ -410,7 +411,7 @@ static int frame_context_fits(halo_gl *gl, const halo_program *p, halo_diagnosti
                         gl->es / 10, gl->es % 10);
         return 0;
     }
-    size_t blended = outputs + (p->prepass ? halo_program_reflection(p->prepass).output_count : 0);
+    size_t blended = (per_buffer ? outputs : 0) + (p->prepass ? halo_program_reflection(p->prepass).output_count : 0);
     if (blended > 0 && halo_program_reflection(p).image_precision == 32 &&
         !halo_gl_has_extension(gl, "GL_EXT_float_blend")) {
         halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
@@ -697,13 +698,16 @@ void halo_gl_frame_attach_outputs(halo_gl_frame *fr, const halo_program *p, unsi
         /* first: front to back by coverage, the first hit stays */
         GLenum source = o->blend == HALO_BLEND_FIRST ? GL_ONE_MINUS_DST_ALPHA : GL_ONE;
         if (!f->Enablei || !f->BlendEquationi || !f->BlendFunci) {
-            /* one blend for every buffer (OpenGL ES 3.0): only libhalo's march, whose
-             * buffer 0 is not drawn and whose outputs are seeds (halo_gl_frame_create
-             * refuses the host's outputs there) */
+            /* one blend for every buffer (OpenGL ES 3.0): libhalo's march, whose buffer 0
+             * is not drawn and whose outputs are seeds; or a ray caster drawn once, which
+             * writes each pixel once (halo_gl_frame_create refuses others' outputs there):
+             * unblended, as a blend of the one value into the image's clear value gives */
             if (!colour) {
                 (o->blend == HALO_BLEND_NONE ? f->Disable : f->Enable)(GL_BLEND);
                 f->BlendEquation(equation);
                 f->BlendFunc(source, GL_ONE);
+            } else {
+                f->Disable(GL_BLEND);
             }
             continue;
         }

@@ -103,6 +103,8 @@ static halo_status frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo
     halo_gl_frame_begin(fr);
     halo_gl_frame_segments_reset(fr);
     f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, d->framebuffer);
+    /* one blend for all buffers (OpenGL ES 3.0): the outputs' attach turns it off */
+    GLboolean blend = f->IsEnabled(GL_BLEND);
     halo_gl_frame_attach(fr, d->framebuffer);
     halo_gl_frame_bind(fr, gl_program, first_unit);
     GLint flags_location = f->GetUniformLocation(gl_program, "halo_segment_flags");
@@ -144,6 +146,8 @@ static halo_status frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo
     } else if (segments == 1) {
         halo_gl_frame_state_flip(fr); /* counts the one draw */
     }
+    if (!f->BlendFunci && halo_program_reflection(p).output_count > 0)
+        (blend ? f->Enable : f->Disable)(GL_BLEND);
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)state_unit);
     f->BindTexture(GL_TEXTURE_2D, (GLuint)saved_texture);
     f->ActiveTexture((GLenum)saved_active);

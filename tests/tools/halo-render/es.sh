@@ -10,6 +10,10 @@
 #   shader) on ES 3.0 and 3.2, within LIMIT of desktop; with GL_EXT_float_blend taken away
 #   the buffer is R16F, with a note, within HALF_LIMIT (any pixel may differ: half floats); the feature halos must change the
 #   image far more than either (the control);
+# - outlines (the host's extra outputs and the passes after its draw), alone and with halos,
+#   the ray caster drawn once on ES 3.0 (one blend for all buffers: the outputs written
+#   unblended, each pixel once) and 3.2, within LIMIT of desktop; the outlines must change
+#   the image far more (the control);
 # - contract 2 on ES 3.0 is refused with the way out; the slice host on ES is a usage error.
 # Skipped (77) without EGL or an ES context.
 . "$srcdir/tests/tools/halo-render/common.sh"
@@ -70,9 +74,31 @@ if "$HALO_IMAGE_COMPARE" "$tmp/features.exr" "$tmp/features-plain.exr" --max-abs
     fail "the feature halos change the image by less than 0.05: the comparisons above would not see them"
 fi
 
+# outlines: the ray caster's extra outputs, drawn once, and the passes after its draw; with
+# halos too (the scene /tmp-made from default.json and outline-depth.json's outline stages)
+outline=$srcdir/examples/scenes/outline-depth.json
+sed -e 's|"stages": \[|&{"outline_feature": {"value_min": 0.55, "value_max": 1}}, {"outlines": {"sigma": 6, "lambda": 4}},|' \
+    "$srcdir/examples/scenes/default.json" >"$tmp/halo-outline.json"
+for scene in outline "$tmp/halo-outline.json"; do
+    name=$(basename "$scene" .json)
+    test "$scene" = outline && scene=$outline && name=outline
+    render egl "$name" --one-draw --scene "$scene"
+    render egl-es3.0 "$name-es30" --one-draw --scene "$scene"
+    render egl-es3.2 "$name-es32" --one-draw --scene "$scene"
+    compare "$name" "$name-es30" $LIMIT
+    compare "$name" "$name-es32" $LIMIT
+done
+render egl outline-plain --one-draw --scene "$outline" --no-halos
+if "$HALO_IMAGE_COMPARE" "$tmp/outline.exr" "$tmp/outline-plain.exr" --max-abs 0.05 --max-share 0 >/dev/null; then
+    fail "the outlines change the image by less than 0.05: the comparisons above would not see them"
+fi
+if "$HALO_IMAGE_COMPARE" "$tmp/halo-outline.exr" "$tmp/one-draw.exr" --max-abs 0.05 --max-share 0 >/dev/null; then
+    fail "the outlines change the halo image by less than 0.05: the comparison above would not see them"
+fi
+
 # contract 2 on ES 3.0: its seed output would need glBlendFunci
 run 1 "$HALO_RENDER" --backend egl-es3.0 --host raycast --size 8x8 --volume-size 8 -o "$tmp/refused.png"
-expect_stderr "per-draw-buffer blending .*OpenGL ES 3.0.*host contract 3 \(halo_link_desc.one_draw\)"
+expect_stderr "per-draw-buffer blending .*OpenGL ES 3.0.*ray caster is drawn once \(host contract 3, halo_link_desc.one_draw\)"
 test ! -e "$tmp/refused.png" || fail "an image was written for a refused program"
 # without --host a halo scene takes the raycast host drawn once on ES
 run 0 "$HALO_RENDER" --backend egl-es3.0 --size 8x8 --volume-size 8 -o "$tmp/auto.png"
