@@ -354,6 +354,34 @@ done:
 #endif
 }
 
+/* The passes after the host's draw (at=post and final: outlines) over the host's colour
+ * texture of this frame (a GL name), through halo_gl_frame_post (p: the frame's program). The GL name of the image
+ * the last of them writes (RGBA, the frame's size), or 0 when the program has no such pass. */
+WEB_API unsigned halo_web_frame_post(halo_gl_frame *f, const halo_program *p, unsigned color_texture)
+{
+    fresh();
+    const halo_reflection r = halo_program_reflection(p);
+    const char *name = NULL;
+    for (size_t i = 0; i < r.pass_count; ++i)
+        if (r.passes[i].at != HALO_PASS_AT_GENERATE)
+            name = r.passes[i].output;
+    if (!name)
+        return 0;
+    halo_gl_frame_post(f, color_texture);
+    return halo_gl_frame_texture(f, name);
+}
+
+/* Reads image (the frame's size, its channels a pixel, rows from the bottom) into out as
+ * floats. 1, or 0 after diagnostics. */
+WEB_API int halo_web_frame_read(halo_gl_frame *f, const char *image, float *out)
+{
+    halo_diagnostics *d = fresh();
+    if (halo_gl_frame_read(f, image, out) == HALO_OK)
+        return 1;
+    usage(d, "frame.read: the frame has no image '%s', or it could not be read", image ? image : "(null)");
+    return 0;
+}
+
 /* The host's draws in the last frame.draw (halo_gl_frame_info.segment_count): 1 for a one_draw
  * program, whose field's depth segments are libhalo's own draws. */
 WEB_API int halo_web_frame_segment_count(const halo_gl_frame *f) { return halo_gl_frame_describe(f).segment_count; }

@@ -81,6 +81,11 @@ export interface Frame {
   draw(options: FrameDrawOptions): void; // the field, then the host once; leaves the state it found
                                          // (the field's textures stay bound on their units)
   readonly draws: number;             // host draws in the last frame: 1 with oneDraw
+  readonly postImage: string | null;  // the image the passes after the draw (outlines) end in
+  // after draw: those passes over the host's image (RGBA, the frame's size, over its
+  // background); their result's texture, or null without such passes
+  post(colorTexture: WebGLTexture): WebGLTexture | null;
+  read(image: string): Float32Array;  // width * height * channels floats, rows from the bottom
   destroy(): void;
 }
 

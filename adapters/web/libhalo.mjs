@@ -323,6 +323,51 @@ class Frame {
     }
   }
 
+  // The image the passes after the host's draw (outlines: at=post and final) end in, or null
+  // for a program without them.
+  get postImage() {
+    const passes = this._program.reflection.passes || [];
+    const last = passes.filter((p) => p.at).pop();
+    return last ? last.output : null;
+  }
+
+  // After draw: the passes after the host's draw (outlines) over colorTexture, the host's
+  // image of this frame over its background (a WebGLTexture, RGBA, the frame's size). Returns
+  // the WebGLTexture of their result (postImage, RGBA, the frame's size; the host shows it),
+  // or null for a program without such passes. The bindings and state it finds are what it
+  // leaves.
+  post(colorTexture) {
+    if (this._destroyed) throw new HaloError([], 'the frame was destroyed');
+    if (!this.postImage) return null;
+    const gl = this._gl;
+    if (gl.isContextLost()) throw new HaloError([], 'frame.post: the WebGL context is lost');
+    if (!this._handle) throw new HaloError([], 'frame.post: draw the frame first');
+    const core = this._halo._core, GL = core.GL;
+    const name = core._halo_web_frame_post(this._handle, this._program._handle, nameOf(GL, GL.textures, colorTexture));
+    if (!name) throw this._halo._error('frame.post failed');
+    return GL.textures[name] || null;
+  }
+
+  // One of the frame's images (e.g. postImage after post) as floats: width * height *
+  // channels (the reflection's), rows from the bottom.
+  read(image) {
+    if (this._destroyed) throw new HaloError([], 'the frame was destroyed');
+    if (!this._handle) throw new HaloError([], 'frame.read: draw the frame first');
+    const info = (this._program.reflection.images || []).find((i) => i.name === image);
+    if (!info) throw new HaloError([], `frame.read: the program has no image '${image}'`);
+    const scale = info.scale || 1;
+    const count = Math.ceil(this.width / scale) * Math.ceil(this.height / scale) * info.channels;
+    const core = this._halo._core;
+    const pointer = core._malloc(count * 4);
+    try {
+      const ok = this._halo._withStrings([image], ([text]) => core._halo_web_frame_read(this._handle, text, pointer));
+      if (!ok) throw this._halo._error('frame.read failed');
+      return new Float32Array(core.HEAPF32.buffer, pointer, count).slice();
+    } finally {
+      core._free(pointer);
+    }
+  }
+
   // The host's draws in the last frame.draw (halo_gl_frame_info.segment_count): 1 for a oneDraw
   // program (its field's depth segments are libhalo's own draws).
   get draws() { return this._handle ? this._halo._core._halo_web_frame_segment_count(this._handle) : 0; }

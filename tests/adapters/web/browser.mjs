@@ -13,7 +13,8 @@
 // once; its reference is halo-render --one-draw's. In raycast.html the one-draw frame also
 // draws after the context was lost (frame.draw says so) and restored (WEBGL_lose_context):
 // the same frame object, the page's objects made again, the same image (max abs 0). A SCENE
-// from / is the case folder's (/in/).
+// from / is the case folder's (/in/). A scene with outlines (extra outputs, the passes after
+// the draw: frame.post in raycast.html) is refused by the three.js caster, naming the stages.
 //   node browser.mjs CASE_DIR SCENE [CASE_DIR SCENE]...   (environment: srcdir,
 //   HALO_WEB_PACKAGE, HALO_CHROMIUM, HALO_WEB_LIMIT)
 import http from 'node:http';
@@ -287,6 +288,12 @@ try {
     drawn++;
     await page.goto(`${origin}/${viewer}.html`);
     await page.waitForFunction('window.ready === true', { timeout: 30000 });
+    if (viewer === 'three' && /outline/.test(c.scene)) { // three's draw has no further targets: refused, saying why
+      const why = await page.evaluate((scene) => window.render({ scene }).then(() => null, (e) => String(e.message || e)), c.scene);
+      console.log(`${c.scene} in the three.js caster: refused: ${why}`);
+      if (!/outline/.test(why || '')) fail(`${c.scene} in the three.js caster: not refused with the outline stages named (${why})`);
+      continue;
+    }
     // a one-draw frame is drawn three times: its time is the third's (the first builds libhalo's programs)
     const repeat = c.oneDraw ? 3 : 1;
     const staged = await page.evaluate((scene, oneDraw, repeat) => window.render({ scene, oneDraw, repeat }), c.scene,

@@ -39,6 +39,15 @@ mkdir -p "$tmp/one-draw"
 run 0 "$HALO_RENDER" --host raycast --one-draw --scene "$srcdir/examples/scenes/default.json" --size 64x64 \
     --volume-size 32 --quiet --export-host "$tmp/one-draw" -o "$tmp/one-draw/reference.png"
 set -- "$@" "$tmp/one-draw" one-draw:default.json
+# outlines in the page: the ray caster's extra outputs (unblended on WebGL 2) and the passes
+# after its draw, with halos drawn once (the scene: default.json with outline-depth.json's
+# outline stages)
+mkdir -p "$tmp/outline"
+sed -e 's|"stages": \[|&{"outline_feature": {"value_min": 0.55, "value_max": 1}}, {"outlines": {"sigma": 6, "lambda": 4}},|' \
+    "$srcdir/examples/scenes/default.json" >"$tmp/outline/halo-outline.json"
+run 0 "$HALO_RENDER" --host raycast --one-draw --scene "$tmp/outline/halo-outline.json" --size 64x64 \
+    --volume-size 32 --quiet --export-host "$tmp/outline" -o "$tmp/outline/reference.png"
+set -- "$@" "$tmp/outline" one-draw:/in/halo-outline.json
 # NiiVue and vtk.js: the MRI head at 96^3, as halo-render resamples it (browser.mjs writes it
 # as NIfTI); without a viewer or the MRI the others still run, and the log says what was left out
 mri=/usr/share/mricron/templates/ch2better.nii.gz
