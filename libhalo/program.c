@@ -536,6 +536,8 @@ char *halo_program_reflect_json(const halo_program *p)
                         p->segment_location > 0 ? json_integer(p->segment_location) : json_null());
     /* host contract 3: the field computed before the host is drawn once */
     json_object_set_new(root, "one_draw", json_boolean(p->one_draw));
+    /* a stage reads halo_host_labels (halo_reflection.reads_labels): else the sampler is unread */
+    json_object_set_new(root, "reads_labels", json_boolean(p->derived_reads_labels));
     json_t *samplers = json_array();
     for (size_t i = 0; i < p->sampler_count; i++)
         json_array_append_new(samplers,

@@ -91,6 +91,7 @@ export interface Frame {
 
 // Feature halos: the halo buffer of a program's feature_halo stage, splatted on the context.
 export const FEATURE_BUFFER_UNIFORM: 'halo_host_feature_buffer';
+export const LABELS_UNIFORM: 'halo_host_labels'; // outline_feature's segmentation (reflection.reads_labels)
 export interface FeatureBuffer {
   readonly dims: number[];
   readonly view: number[] | null;          // the view of the last build
@@ -114,10 +115,11 @@ export interface Halo {
   valueTexture(gl: WebGL2RenderingContext, raw: ArrayLike<number>, dims: ArrayLike<number>,
     window: { low: number; high: number; slope?: number; intercept?: number }, unit: number): { texture: WebGLTexture; dims: number[]; values: Float32Array };
   frameOfSize(frame: Frame | null, gl: WebGL2RenderingContext, program: Program, width: number, height: number): Frame;
-  // for an engine adapter: pieces, with oneDraw when the stages need a halo field; what an
-  // engine drawn once cannot serve refused by name
+  // for an engine adapter: pieces, with oneDraw when the stages need a halo field or write
+  // outputs; what an engine drawn once cannot serve refused by name (outlines unless served)
   linkForEngine(options: { scene?: string | object; sceneFile?: string; allLive?: boolean; pieces: HaloPieces },
-    engine: string, serves?: string[]): { program: Program; field: boolean; features: boolean };
+    engine: string, serves?: string[], what?: { outlines?: boolean }):
+    { program: Program; field: boolean; features: boolean; outlines: boolean };
 }
 
 export default function libhalo(options?: object): Promise<Halo>;

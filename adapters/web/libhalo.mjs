@@ -386,6 +386,9 @@ class Frame {
 
 // The host uniform through which the feature_halo stage reads the halo buffer.
 export const FEATURE_BUFFER_UNIFORM = 'halo_host_feature_buffer';
+// outline_feature's segmentation (a sampler3D), read only for features with a label
+// (reflection.reads_labels); unread, an adapter points it at a unit with a 3D texture
+export const LABELS_UNIFORM = 'halo_host_labels';
 
 // Feature halos (docs/feature-halos.md): the halo buffer of a program's feature_halo stage
 // (its parameters), splatted by libhalo's GL runtime on gl from the volume's values (dims[0]
@@ -578,12 +581,14 @@ class Halo {
 
   // For an engine adapter: links a scene as pieces (options: scene, sceneFile, allLive,
   // pieces), for host contract 3 (oneDraw) when its stages run passes between depth
-  // segments; refuses, naming the stages, what an engine drawn once with libhalo's field
-  // cannot serve: extra outputs, passes after the draw, host uniforms (but the camera's,
-  // the field's, the image-plane axes and those the adapter names in serves, e.g. the
-  // feature buffer's). Returns { program, field (it has a halo field), features (it reads
-  // the feature buffer) }.
-  linkForEngine(options, engine, serves = []) {
+  // segments or write extra outputs (drawn once, a ray writes them once: unblended on
+  // WebGL 2); refuses, naming the stages, what an engine drawn once with libhalo's field
+  // cannot serve: extra outputs and passes after the draw (outlines) unless the adapter
+  // serves them ({ outlines: true }), host uniforms (but the camera's, the field's, the
+  // image-plane axes and those the adapter names in serves, e.g. the feature buffer's).
+  // Returns { program, field (it has a halo field), features (it reads the feature buffer),
+  // outlines (it has passes after the draw: frame.post) }.
+  linkForEngine(options, engine, serves = [], { outlines = false } = {}) {
     const link = (oneDraw) => this.link({
       scene: options.scene, sceneFile: options.sceneFile || 'scene', target: 'es300', allLive: !!options.allLive,
       pieces: options.pieces, oneDraw,
@@ -595,20 +600,26 @@ class Halo {
       if (e.id !== 'HOST_SINGLE_PASS') throw e;
       program = link(true);
     }
+    if (outlines && (program.reflection.outputs || []).length && !program.reflection.one_draw) {
+      program.destroy(); // drawn once: the outputs written unblended (WebGL 2 has one blend for all buffers)
+      program = link(true);
+    }
     const r = program.reflection;
-    const needs = [['extra outputs', r.outputs], ['image passes after the draw', (r.passes || []).filter((p) => p.at)],
+    const needs = [['extra outputs', outlines ? [] : r.outputs],
+      ['image passes after the draw', outlines ? [] : (r.passes || []).filter((p) => p.at)],
       ['host uniforms', (r.host_uniforms || []).filter((u) => !/^halo_(camera|stack|host_screen)_/.test(u.name) &&
-        !serves.includes(u.name))]]
+        !serves.includes(u.name) && !(u.name === LABELS_UNIFORM && !r.reads_labels))]]
       .filter(([, list]) => list && list.length);
     if (needs.length) {
       const stages = (r.stages || []).map((s) => (typeof s === 'string' ? s : s.name)).join(', ');
       program.destroy();
       throw new Error(`installHalo: the scene's stages (${stages}) need ${needs.map(([what]) => what).join(', ')}, ` +
         `which the ${engine} adapter does not serve yet (it serves per-sample stages, volumetric halos` +
-        `${serves.includes(FEATURE_BUFFER_UNIFORM) ? ' and feature halos' : ''})`);
+        `${serves.includes(FEATURE_BUFFER_UNIFORM) ? ', feature halos' : ''}${outlines ? ', outlines' : ''})`);
     }
-    return { program, field: (r.passes || []).length > 0,
-      features: (r.host_uniforms || []).some((u) => u.name === FEATURE_BUFFER_UNIFORM) };
+    return { program, field: (r.passes || []).some((p) => !p.at),
+      features: (r.host_uniforms || []).some((u) => u.name === FEATURE_BUFFER_UNIFORM),
+      outlines: (r.passes || []).some((p) => p.at) };
   }
 
   // For an engine adapter: a volume's values as the stages read them (raw[i] * slope +

@@ -23,9 +23,12 @@
 // gradient (central differences of that value) and vtk.js's colour (its transfer functions,
 // gradient opacity and lighting), its opacity per unit distance (vtk.js's correction for
 // its sample distance undone before the stages, done again after). Other blend modes,
-// clipping planes, several components and label outlines are refused with a message (at
-// install and at every draw); outlines (extra outputs, passes after the draw) are refused,
-// naming the stages. Feature halos: libhalo's runtime splats the halo buffer from the
+// clipping planes, several components and vtk.js's label outlines are refused with a message
+// (at install and at every draw); outlines of segmentation labels are refused, naming the
+// stages. Outlines: the adapter draws vtk.js's volume itself into libhalo's target (its
+// colour and the stages' outputs), composites it over vtk.js's framebuffer with vtk.js's
+// blend and runs the passes after the draw over vtk.js's whole image (frame.post); vtk.js's
+// rays then run to their end (the outputs need hidden samples too). Feature halos: libhalo's runtime splats the halo buffer from the
 // adapter's float copy of the volume (again when it changes), for the view from the
 // volume's centre to vtk.js's eye (in voxel space; again when it turns), bound on a unit of
 // its own.
@@ -34,6 +37,7 @@ export const SUPPORTED_VERSIONS = Object.freeze(['37.3.1']);
 
 const VALUE_SAMPLER = 'halo_vtkjs_value';
 const FEATURE_BUFFER = 'halo_host_feature_buffer'; // the feature_halo stage's host uniform
+const LABELS_UNIFORM = 'halo_host_labels'; // outline_feature's segmentation (libhalo.mjs's LABELS_UNIFORM)
 const EXPONENT = 'halo_vtkjs_opacity_exponent'; // vtk.js's sample distance / its opacity unit distance (> 0)
 const COMPOSITE_BLEND = 0; // vtk.js's BlendMode.COMPOSITE_BLEND
 const installed = new WeakSet(); // the mappers with libhalo's stages
@@ -50,6 +54,10 @@ const SAMPLE_ANCHOR = 'vec4 getColorAtPos(vec3 posVC) {\n' +
   '}';
 const FINISH_ANCHOR = 'applyBlend(rayOriginVC, rayDirVC, rayStartEndDistancesVC[0], rayStartEndDistancesVC[1]);';
 const FINISH_MARK = '// libhalo: the finish piece of install '; // and its id
+// vtk.js's composite loop, before its early ray termination (color.a > 0.99)
+const LOOP_ANCHOR = '      color = color + vec4(tColor.rgb * tColor.a, tColor.a) * (1.0 - color.a);\n' +
+  '      stepsTraveled++;\n' +
+  '      posVC += stepVC;\n';
 
 // vtk.js's names for the sample piece; view and depth come from the camera libhalo sets.
 export const VTKJS_NAMES = Object.freeze({
@@ -80,7 +88,11 @@ function replacements(pieces, id) { // id: the install's
     '  }\n' +
     '  return haloColor;\n' +
     '}';
-  return [SAMPLE_ANCHOR, sample, FINISH_ANCHOR, `${FINISH_ANCHOR}\n${FINISH_MARK}${id}\n${pieces.finish || ''}`].reduce((list, text, i, all) => {
+  // the stages' extra outputs (outlines) need every sample of a ray, hidden ones too
+  // (HALO_RAY_MAY_END 0): vtk.js's rays then run to their end
+  const loop = `${LOOP_ANCHOR}#if defined(HALO_RAY_MAY_END) && !HALO_RAY_MAY_END\n      if (color.a > 0.99) continue;\n#endif\n`;
+  return [SAMPLE_ANCHOR, sample, FINISH_ANCHOR, `${FINISH_ANCHOR}\n${FINISH_MARK}${id}\n${pieces.finish || ''}`,
+    LOOP_ANCHOR, loop].reduce((list, text, i, all) => {
     if (i % 2 === 0)
       list.push({ shaderType: 'Fragment', originalValue: text, replacementValue: literal(all[i + 1]), replaceFirst: false,
         replaceAll: false, libhalo: true });
@@ -187,12 +199,13 @@ function hookContext(proxy) {
         hook.owners.set(handle, owner);
       }
       const install = owner && hook.installs.get(owner.id);
+      // the drawArrays the context had (another's wrapper, or its own, looked up now)
+      const draw = () => (hook.own || Object.getPrototypeOf(gl).drawArrays).call(gl, mode, first, count);
       if (install) {
         install.programs.add(handle);
-        install.prepareDraw(handle, owner.complete);
+        if (install.prepareDraw(handle, owner.complete, draw)) return undefined; // drawn by the install (outlines)
       }
     }
-    // the drawArrays the context had (another's wrapper, or its own, looked up now)
     return (hook.own || Object.getPrototypeOf(gl).drawArrays).call(gl, mode, first, count);
   };
   gl.drawArrays = hook.wrapper;
@@ -210,6 +223,109 @@ function unhookContext(proxy) {
   hooks.delete(gl);
 }
 
+// The blend vtk.js set for its draw (WebGL 2: one for all draw buffers).
+function blendOf(gl) {
+  return { on: gl.isEnabled(gl.BLEND), equation: [gl.BLEND_EQUATION_RGB, gl.BLEND_EQUATION_ALPHA].map((p) => gl.getParameter(p)),
+    func: [gl.BLEND_SRC_RGB, gl.BLEND_DST_RGB, gl.BLEND_SRC_ALPHA, gl.BLEND_DST_ALPHA].map((p) => gl.getParameter(p)) };
+}
+function setBlend(gl, b) {
+  (b.on ? gl.enable : gl.disable).call(gl, gl.BLEND);
+  gl.blendEquationSeparate(...b.equation);
+  gl.blendFuncSeparate(...b.func);
+}
+
+// Outlines' GL objects for a width x height view (made again over old, whose objects go; 0 x
+// 0: only freed): the framebuffer vtk.js's volume is drawn into (its colour RGBA32F: vtk.js's
+// output as it is), an RGBA8 copy of vtk.js's whole image (a blit's target: the canvas is
+// RGBA8) and the program that shows a texture.
+function outlineTargets(gl, old, width, height) {
+  if (old) {
+    for (const t of [old.color, old.hostColor]) gl.deleteTexture(t);
+    for (const f of [old.framebuffer, old.copyFramebuffer]) gl.deleteFramebuffer(f);
+    if (!width) {
+      gl.deleteProgram(old.program);
+      gl.deleteVertexArray(old.vertexArray);
+    }
+  }
+  if (!width) return null;
+  const texture = (format, type) => {
+    const t = gl.createTexture();
+    const bound = gl.getParameter(gl.TEXTURE_BINDING_2D);
+    gl.bindTexture(gl.TEXTURE_2D, t);
+    gl.texStorage2D(gl.TEXTURE_2D, 1, format, width, height);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.bindTexture(gl.TEXTURE_2D, bound);
+    return t;
+  };
+  const framebuffer = (t) => {
+    const f = gl.createFramebuffer(), bound = gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING);
+    gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, f);
+    gl.framebufferTexture2D(gl.DRAW_FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, t, 0);
+    gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, bound);
+    return f;
+  };
+  if (!gl.getExtension('EXT_color_buffer_float')) throw new Error('outlines: this WebGL 2 context cannot render into float textures (EXT_color_buffer_float)');
+  const own = { width, height, color: texture(gl.RGBA32F), hostColor: texture(gl.RGBA8) };
+  own.framebuffer = framebuffer(own.color);
+  own.copyFramebuffer = framebuffer(own.hostColor);
+  if (old && old.program) {
+    own.program = old.program;
+    own.vertexArray = old.vertexArray;
+  } else { // a triangle over the viewport, each pixel the texture's texel
+    const shader = (type, text) => {
+      const x = gl.createShader(type);
+      gl.shaderSource(x, text);
+      gl.compileShader(x);
+      return x;
+    };
+    const vertex = shader(gl.VERTEX_SHADER, '#version 300 es\nvoid main() {\n  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, ' +
+      'gl_VertexID == 2 ? 3.0 : -1.0);\n  gl_Position = vec4(p, 0.0, 1.0);\n}\n');
+    const fragment = shader(gl.FRAGMENT_SHADER, '#version 300 es\nprecision highp float;\nuniform highp sampler2D image;\n' +
+      'out vec4 color;\nvoid main() { color = texelFetch(image, ivec2(gl_FragCoord.xy), 0); }\n');
+    own.program = gl.createProgram();
+    gl.attachShader(own.program, vertex);
+    gl.attachShader(own.program, fragment);
+    gl.linkProgram(own.program);
+    gl.deleteShader(vertex);
+    gl.deleteShader(fragment);
+    if (!gl.getProgramParameter(own.program, gl.LINK_STATUS))
+      throw new Error(`outlines: the program showing their image did not link: ${gl.getProgramInfoLog(own.program)}`);
+    own.vertexArray = gl.createVertexArray();
+  }
+  return own;
+}
+
+// Draws texture (the view's size) over framebuffer in viewport, with blend (or none); every
+// binding and switch it changes given back.
+function show(gl, own, texture, framebuffer, viewport, blend) {
+  const saved = {
+    framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING), program: gl.getParameter(gl.CURRENT_PROGRAM),
+    vertexArray: gl.getParameter(gl.VERTEX_ARRAY_BINDING), unit: gl.getParameter(gl.ACTIVE_TEXTURE),
+    viewport: gl.getParameter(gl.VIEWPORT), blend: blendOf(gl),
+    switches: [gl.DEPTH_TEST, gl.CULL_FACE, gl.STENCIL_TEST, gl.RASTERIZER_DISCARD].map((s) => [s, gl.isEnabled(s)]),
+  };
+  gl.activeTexture(gl.TEXTURE0);
+  const bound = gl.getParameter(gl.TEXTURE_BINDING_2D);
+  gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, framebuffer);
+  gl.viewport(...viewport);
+  gl.useProgram(own.program);
+  gl.bindVertexArray(own.vertexArray);
+  gl.bindTexture(gl.TEXTURE_2D, texture);
+  gl.uniform1i(gl.getUniformLocation(own.program, 'image'), 0);
+  setBlend(gl, blend || { ...saved.blend, on: false });
+  for (const [s] of saved.switches) gl.disable(s);
+  Object.getPrototypeOf(gl).drawArrays.call(gl, gl.TRIANGLES, 0, 3);
+  gl.bindTexture(gl.TEXTURE_2D, bound);
+  gl.activeTexture(saved.unit);
+  for (const [s, on] of saved.switches) (on ? gl.enable : gl.disable).call(gl, s);
+  setBlend(gl, saved.blend);
+  gl.viewport(...saved.viewport);
+  gl.bindVertexArray(saved.vertexArray);
+  gl.useProgram(saved.program);
+  gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, saved.framebuffer);
+}
+
 // Puts the scene's stages into mapper's volume shader. options: view (the
 // vtkOpenGLRenderWindow that draws the mapper; required), scene (JSON text or object),
 // sceneFile, window ([low, high] of the volume's values that become 0..1; default their
@@ -225,7 +341,7 @@ export function installHalo(halo, mapper, options = {}) {
   if (installed.has(mapper)) throw new Error('installHalo: this mapper already has libhalo\'s stages: remove() them first');
   const shaders = {};
   glMapper.getShaderTemplate(shaders);
-  for (const [what, anchor] of [['sample', SAMPLE_ANCHOR], ['finish', FINISH_ANCHOR]])
+  for (const [what, anchor] of [['sample', SAMPLE_ANCHOR], ['finish', FINISH_ANCHOR], ['ray loop', LOOP_ANCHOR]])
     if (!shaders.Fragment || !shaders.Fragment.includes(anchor))
       throw new Error(`installHalo: vtk.js's volume shader has no '${anchor.split('\n')[0]}' (the ${what} anchor): a vtk.js ` +
         `version this adapter does not know (tested: ${SUPPORTED_VERSIONS.join(', ')})`);
@@ -243,8 +359,8 @@ export function installHalo(halo, mapper, options = {}) {
     return refusal(mapper, actor);
   }
   const gl = view.getContext();
-  const { program, features } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
-    allLive: options.allLive, pieces: VTKJS_NAMES }, 'vtk.js', [FEATURE_BUFFER]);
+  const { program, features, outlines } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+    allLive: options.allLive, pieces: VTKJS_NAMES }, 'vtk.js', [FEATURE_BUFFER], { outlines: true });
   // libhalo's texture units, reserved in vtk.js's manager: the value copy, the feature
   // buffer (with feature halos), the field's samplers and the march's volume
   // (halo_gl_frame_draw's first_unit on)
@@ -266,7 +382,7 @@ export function installHalo(halo, mapper, options = {}) {
     throw e;
   }
   let volumeKey = [mapper.getInputData(), mapper.getInputData().getMTime()];
-  let version = 0, frame = null, feature = null;
+  let version = 0, frame = null, feature = null, own = null; // own: outlines' targets and program
   const warned = new Set();
   const warnOnce = (why) => {
     if (!warned.has(why)) console.warn(`libhalo: ${why}`);
@@ -285,8 +401,9 @@ export function installHalo(halo, mapper, options = {}) {
   let opacity = { of: null, mtime: -1, exponent: 1 };
 
   // vtk.js's program is built and in use, its uniforms set, its VAO and textures bound: the
-  // stages' uniforms and, for halos, the frame's field, before vtk.js's one draw
-  function prepare(handle) {
+  // stages' uniforms and, for halos, the frame's field, before vtk.js's one draw. With
+  // outlines the install draws vtk.js's volume itself (drawVtk) and returns true.
+  function prepare(handle, drawVtk) {
     // another of vtk.js's programs (it keeps one per shading, lights, sample count...): every
     // live parameter's current value, not only those set since the last upload
     program.upload(gl, handle, { all: handle !== lastHandle });
@@ -305,6 +422,8 @@ export function installHalo(halo, mapper, options = {}) {
     gl.bindTexture(gl.TEXTURE_3D, value.texture);
     gl.activeTexture(previousUnit);
     gl.uniform1i(gl.getUniformLocation(handle, VALUE_SAMPLER), valueUnit);
+    // outline_feature's segmentation, unread (label outlines are refused): a 3D unit of its own type
+    gl.uniform1i(gl.getUniformLocation(handle, LABELS_UNIFORM), valueUnit);
     const camera = cameraOf(gl, handle);
     const property = actor.getProperty(), fn = property.getScalarOpacity(0);
     if (fn !== opacity.of || fn.getMTime() !== opacity.mtime)
@@ -326,17 +445,53 @@ export function installHalo(halo, mapper, options = {}) {
     const kept = frame;
     frame = null;
     frame = halo.frameOfSize(kept, gl, program, camera.size[0], camera.size[1]);
-    // libhalo's field now; vtk.js draws when this returns (the field stays bound on its units)
-    frame.draw({
-      program: handle, volume: value.texture, volumeSize: value.dims, volumeVersion: version,
+    const desc = { program: handle, volume: value.texture, volumeSize: value.dims, volumeVersion: version,
       framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING), inverseViewProjection: camera.inverse,
-      step: camera.step, interval: options.interval, firstUnit, draw: () => {},
-    });
+      step: camera.step, interval: options.interval, firstUnit, draw: () => {} };
+    if (outlines) {
+      drawWithOutlines(desc, drawVtk);
+      return true;
+    }
+    // libhalo's field now; vtk.js draws when this returns (the field stays bound on its units)
+    frame.draw(desc);
+    return false;
+  }
+
+  // Outlines: vtk.js's volume drawn once into libhalo's target (its colour, RGBA32F, and the
+  // stages' outputs, unblended), composited over vtk.js's framebuffer with the blend vtk.js
+  // set for it; then the passes after the draw over a copy of vtk.js's whole image, whose
+  // result replaces it. vtk.js's state is given back as found.
+  function drawWithOutlines(desc, drawVtk) {
+    const raw = underlying(gl);
+    const viewport = raw.getParameter(raw.VIEWPORT);
+    if (viewport[0] || viewport[1])
+      throw new Error(`outlines need vtk.js's renderer at the canvas's origin (its viewport starts at ${viewport[0]}, ` +
+        `${viewport[1]}): the passes after the draw read whole images`);
+    const [width, height] = [viewport[2], viewport[3]];
+    if (!own || own.width !== width || own.height !== height || !raw.isTexture(own.color)) own = outlineTargets(raw, own, width, height);
+    const target = desc.framebuffer;
+    const blend = blendOf(raw);
+    frame.draw({ ...desc, framebuffer: own.framebuffer, draw: () => {
+      raw.clearBufferfv(raw.COLOR, 0, [0, 0, 0, 0]); // what vtk.js's draw leaves outside its proxy: blends as nothing
+      drawVtk();
+    } });
+    show(raw, own, own.color, target, viewport, blend); // the volume, as vtk.js would have blended it
+    const reading = raw.getParameter(raw.READ_FRAMEBUFFER_BINDING), drawing = raw.getParameter(raw.DRAW_FRAMEBUFFER_BINDING);
+    raw.bindFramebuffer(raw.READ_FRAMEBUFFER, target); // vtk.js's whole image (resolved when multisampled)
+    raw.bindFramebuffer(raw.DRAW_FRAMEBUFFER, own.copyFramebuffer);
+    raw.blitFramebuffer(0, 0, width, height, 0, 0, width, height, raw.COLOR_BUFFER_BIT, raw.NEAREST);
+    raw.bindFramebuffer(raw.READ_FRAMEBUFFER, reading);
+    raw.bindFramebuffer(raw.DRAW_FRAMEBUFFER, drawing);
+    const error = raw.getError();
+    if (error) throw new Error(`outlines: vtk.js's image could not be copied for the passes after the draw (WebGL error 0x${error.toString(16)})`);
+    show(raw, own, frame.post(own.hostColor), target, viewport, null);
   }
 
   function release() { // libhalo's GL objects and units (the stages' uniforms in vtk.js's programs stay)
     if (frame) frame.destroy();
     frame = null;
+    if (own) outlineTargets(underlying(gl), own, 0, 0);
+    own = null;
     if (feature) feature.destroy();
     feature = null;
     if (value) gl.deleteTexture(value.texture);
@@ -349,16 +504,17 @@ export function installHalo(halo, mapper, options = {}) {
   // context's drawArrays instead (one wrapper a context, for every install on it): a draw
   // whose program vtk.js built with this install's stages (its shader holds the install's
   // mark) is prepared first; every other draw goes through untouched.
-  function prepareDraw(handle, complete) {
-    if (!enabled) return;
+  function prepareDraw(handle, complete, drawVtk) {
+    if (!enabled) return false;
     try {
       const why = (complete ? null : 'vtk.js built its shader without the finish piece (another shader replacement ' +
         `took its place: '${FINISH_ANCHOR}')`) || drawnBy();
       if (why) throw new Error(why);
-      prepare(handle);
       prepared = true;
+      return prepare(handle, drawVtk);
     } catch (e) { // this frame with vtk.js's own samples (the stages skipped), the next without them
       disable(e.message);
+      return false;
     }
   }
   function disable(why) { // vtk.js keeps drawing: without the stages, and a warning
@@ -375,6 +531,7 @@ export function installHalo(halo, mapper, options = {}) {
       gl.uniform1f(gl.getUniformLocation(handle, EXPONENT), 0);
       // samplers of other types on one unit fail the draw: each on a unit of its own
       samplers.forEach((name, k) => gl.uniform1i(gl.getUniformLocation(handle, name), units[k] ?? 0));
+      gl.uniform1i(gl.getUniformLocation(handle, LABELS_UNIFORM), units[0] ?? 0); // 3D, as the value's
     }
     gl.useProgram(gl.isProgram(current) ? current : null);
     setReplacements(withoutOurs());

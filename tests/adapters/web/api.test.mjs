@@ -155,7 +155,7 @@ test('installHalo: volumetric halos through the field (host contract 3), outline
   stages.remove();
   assert.equal(halos.uniforms.halo_host_screen_right, undefined);
   assert.throws(() => installHalo(halo, material(), { scene: scene('outline-depth.json') }),
-    /outlines.*extra outputs.*serves per-sample stages, volumetric halos and feature halos\)/);
+    /outlines.*extra outputs.*serves per-sample stages, volumetric halos, feature halos\)/);
   // feature halos: served (the halo buffer is splatted at render), the stage reads it
   const features = material();
   const featureStages = installHalo(halo, features, { scene: scene('feature-halos.json') });

@@ -85,13 +85,22 @@ elif test -n "$HALO_WEB_ENGINES"; then
         fail "writing the scene with feature halos"
     run 0 "$HALO_RENDER" --host raycast --scene "$tmp/mri-features/scene.json" --volume "$mri" \
         --size 128x128 --volume-size 96 --quiet --export-host "$tmp/mri-features" -o "$tmp/mri-features/reference.png"
+    # its stages and halos with outlines (vtk.js, set up as raycast.frag, drawn once)
+    mkdir -p "$tmp/mri-outlines"
+    "$NODE" -e 'const fs = require("fs"), scene = JSON.parse(fs.readFileSync(process.argv[1]));
+        scene.stages.push({ outline_feature: { value_min: 0.4, value_max: 1 } }, { outlines: { sigma: 4, lambda: 6 } });
+        fs.writeFileSync(process.argv[2], JSON.stringify(scene));' "$srcdir/examples/scenes/mri-head.json" "$tmp/mri-outlines/scene.json" ||
+        fail "writing the scene with outlines"
+    run 0 "$HALO_RENDER" --host raycast --one-draw --scene "$tmp/mri-outlines/scene.json" --volume "$mri" \
+        --size 128x128 --volume-size 96 --quiet --export-host "$tmp/mri-outlines" -o "$tmp/mri-outlines/reference.png"
+    HALO_WEB_MRI_OUTLINES=$tmp/mri-outlines
     HALO_WEB_MRI=$tmp/mri
     HALO_WEB_MRI_STAGES=$tmp/mri-stages
     HALO_WEB_MRI_FEATURES=$tmp/mri-features
     # the same three in raycast.frag and the three.js caster (a scene path from / is the page's
     # /in/, the case's folder)
     set -- "$@" "$tmp/mri-stages" /in/scene.json "$tmp/mri" one-draw:mri-head.json "$tmp/mri-features" /in/scene.json
-    export HALO_WEB_MRI HALO_WEB_MRI_STAGES HALO_WEB_MRI_FEATURES HALO_WEB_ENGINES
+    export HALO_WEB_MRI HALO_WEB_MRI_STAGES HALO_WEB_MRI_FEATURES HALO_WEB_MRI_OUTLINES HALO_WEB_ENGINES
 fi
 echo "+ node browser.mjs $*"
 "$NODE" "$srcdir/tests/adapters/web/browser.mjs" "$@" || fail "the pages' images (above)"
