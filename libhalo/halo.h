@@ -877,7 +877,11 @@ HALO_API void halo_gl_frame_begin_group(halo_gl_frame *f);
 HALO_API void halo_gl_frame_end_group(halo_gl_frame *f);
 /* Attaches the output images to the host's framebuffer (bound as GL_DRAW_FRAMEBUFFER) at
  * their locations, sets the draw buffers and each output's blend; draw buffer 0 keeps
- * the host's blend state. */
+ * the host's blend state. On OpenGL ES 3.0 and 3.1 (one blend switch for all draw
+ * buffers) only a program linked with one_draw has outputs, which a ray caster drawn once
+ * writes once a pixel: blending is turned off for every buffer, 0 included, and
+ * halo_gl_frame_draw turns it back as it was after the draw (a host calling this itself
+ * does so). */
 HALO_API void halo_gl_frame_attach(halo_gl_frame *f, unsigned host_framebuffer);
 /* Binds the images the stages read to the host program's samplers, from texture unit
  * first_unit on. The host program must be current. */

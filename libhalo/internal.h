@@ -243,8 +243,8 @@ struct halo_program {
      * scene) and read per sample from a stack of depth-segment layers; prepass_only: this is
      * such a march (only the stages with prepass != 0 run) */
     int one_draw;
-    /* the host writes each pixel once a frame: a ray caster drawn once (one_draw asked, or a
-     * sample loop without segments), not a slice host (gl/frame.c: unblended outputs on ES 3.0) */
+    /* the host writes each pixel once a frame: linked with one_draw (host contract 3: the host
+     * says so), not a slice host (gl/frame.c: unblended outputs on ES 3.0) */
     int single_pass;
     int prepass_only;
     struct halo_program *prepass;

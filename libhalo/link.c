@@ -679,7 +679,7 @@ static int plan_segments(halo_program *p, const halo_link_desc *desc, const halo
     /* a host that draws one sample per fragment (a slice host, a probe) runs the passes
      * between its draws; one that loops over samples marches whole rays */
     int marches = halo_host_uses(host, "for") || halo_host_uses(host, "while");
-    p->single_pass = !h->slices && (desc->one_draw || marches); /* and not drawn in segments (segment_location) */
+    p->single_pass = !h->slices && desc->one_draw; /* and not drawn in segments (segment_location) */
     /* host contract 3: libhalo computes what the passes between slices make before the host draws */
     int generation = halo_program_has_generation_passes(p) && !desc->one_draw;
     if (h->compositing_mip && p->stage_count) {

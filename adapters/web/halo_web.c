@@ -361,10 +361,11 @@ WEB_API unsigned halo_web_frame_post(halo_gl_frame *f, const halo_program *p, un
 {
     fresh();
     const halo_reflection r = halo_program_reflection(p);
-    const char *name = NULL;
-    for (size_t i = 0; i < r.pass_count; ++i)
-        if (r.passes[i].at != HALO_PASS_AT_GENERATE)
-            name = r.passes[i].output;
+    const char *name = NULL; /* the at=post passes run first, then the at=final ones */
+    for (int at = HALO_PASS_AT_POST; at <= HALO_PASS_AT_FINAL; ++at)
+        for (size_t i = 0; i < r.pass_count; ++i)
+            if ((int)r.passes[i].at == at)
+                name = r.passes[i].output;
     if (!name)
         return 0;
     halo_gl_frame_post(f, color_texture);

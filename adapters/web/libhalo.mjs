@@ -325,9 +325,9 @@ class Frame {
 
   // The image the passes after the host's draw (outlines: at=post and final) end in, or null
   // for a program without them.
-  get postImage() {
+  get postImage() { // the at=post passes run first, then the at=final ones
     const passes = this._program.reflection.passes || [];
-    const last = passes.filter((p) => p.at).pop();
+    const last = [...passes.filter((p) => p.at === 'post'), ...passes.filter((p) => p.at === 'final')].pop();
     return last ? last.output : null;
   }
 
@@ -338,6 +338,7 @@ class Frame {
   // leaves.
   post(colorTexture) {
     if (this._destroyed) throw new HaloError([], 'the frame was destroyed');
+    this._program._live(); // the frame's images are named by its program
     if (!this.postImage) return null;
     const gl = this._gl;
     if (gl.isContextLost()) throw new HaloError([], 'frame.post: the WebGL context is lost');
@@ -352,6 +353,7 @@ class Frame {
   // channels (the reflection's), rows from the bottom.
   read(image) {
     if (this._destroyed) throw new HaloError([], 'the frame was destroyed');
+    this._program._live();
     if (!this._handle) throw new HaloError([], 'frame.read: draw the frame first');
     const info = (this._program.reflection.images || []).find((i) => i.name === image);
     if (!info) throw new HaloError([], `frame.read: the program has no image '${image}'`);

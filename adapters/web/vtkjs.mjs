@@ -269,7 +269,7 @@ function outlineTargets(gl, old, width, height) {
   const own = { width, height, color: texture(gl.RGBA32F), hostColor: texture(gl.RGBA8) };
   own.framebuffer = framebuffer(own.color);
   own.copyFramebuffer = framebuffer(own.hostColor);
-  if (old && old.program) {
+  if (old && gl.isProgram(old.program) && gl.isVertexArray(old.vertexArray)) { // not after a lost context
     own.program = old.program;
     own.vertexArray = old.vertexArray;
   } else { // a triangle over the viewport, each pixel the texture's texel
@@ -470,12 +470,21 @@ export function installHalo(halo, mapper, options = {}) {
     const [width, height] = [viewport[2], viewport[3]];
     if (!own || own.width !== width || own.height !== height || !raw.isTexture(own.color)) own = outlineTargets(raw, own, width, height);
     const target = desc.framebuffer;
+    // vtk.js's whole image: its renderer covers the canvas (not its reduced viewport while the
+    // user interacts, a framebuffer of its own holding the volume alone)
+    const whole = width === raw.drawingBufferWidth && height === raw.drawingBufferHeight;
     const blend = blendOf(raw);
     frame.draw({ ...desc, framebuffer: own.framebuffer, draw: () => {
       raw.clearBufferfv(raw.COLOR, 0, [0, 0, 0, 0]); // what vtk.js's draw leaves outside its proxy: blends as nothing
       drawVtk();
     } });
     show(raw, own, own.color, target, viewport, blend); // the volume, as vtk.js would have blended it
+    if (!whole) {
+      warnOnce(`outlines are left out of the frames vtk.js draws at ${width}x${height} (its reduced viewport while ` +
+        `interacting, or a renderer smaller than the canvas's ${raw.drawingBufferWidth}x${raw.drawingBufferHeight}): ` +
+        'the passes after the draw read the whole image');
+      return;
+    }
     const reading = raw.getParameter(raw.READ_FRAMEBUFFER_BINDING), drawing = raw.getParameter(raw.DRAW_FRAMEBUFFER_BINDING);
     raw.bindFramebuffer(raw.READ_FRAMEBUFFER, target); // vtk.js's whole image (resolved when multisampled)
     raw.bindFramebuffer(raw.DRAW_FRAMEBUFFER, own.copyFramebuffer);
@@ -506,15 +515,16 @@ export function installHalo(halo, mapper, options = {}) {
   // mark) is prepared first; every other draw goes through untouched.
   function prepareDraw(handle, complete, drawVtk) {
     if (!enabled) return false;
+    let drew = false; // vtk.js's volume drawn by the install: not again when it fails after
     try {
       const why = (complete ? null : 'vtk.js built its shader without the finish piece (another shader replacement ' +
         `took its place: '${FINISH_ANCHOR}')`) || drawnBy();
       if (why) throw new Error(why);
       prepared = true;
-      return prepare(handle, drawVtk);
+      return prepare(handle, () => { drew = true; drawVtk(); });
     } catch (e) { // this frame with vtk.js's own samples (the stages skipped), the next without them
       disable(e.message);
-      return false;
+      return drew;
     }
   }
   function disable(why) { // vtk.js keeps drawing: without the stages, and a warning

@@ -1246,7 +1246,7 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         halo_gl_frame_segments_reset(fr);
         d->draw(d->user);
         halo_gl_frame_state_flip(fr); /* counts the one draw */
-        if (!f->BlendFunci && halo_program_reflection(p).output_count > 0)
+        if (!halo_gl_blend_per_buffer(f) && halo_program_reflection(p).output_count > 0)
             (blend ? f->Enable : f->Disable)(GL_BLEND);
         f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)saved.state.bindings.draw_framebuffer);
         halo_gl_use_saved_program(f, saved.state.bindings.program);

@@ -386,11 +386,16 @@ static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, siz
  * only seeds, with one blend for all its buffers. On ES the images must be
  * colour-renderable floats (EXT_color_buffer_float before 3.2), and blending into 32-bit
  * ones needs EXT_float_blend. */
+int halo_gl_blend_per_buffer(const halo_glfuncs *f)
+{
+    return f->Enablei && f->Disablei && f->BlendEquationi && f->BlendFunci && f->IsEnabledi;
+}
+
 static int frame_context_fits(halo_gl *gl, const halo_program *p, halo_diagnostics *diag)
 {
     const halo_glfuncs *f = &gl->f;
     size_t outputs = halo_program_reflection(p).output_count;
-    int per_buffer = f->Enablei && f->Disablei && f->BlendEquationi && f->BlendFunci && f->IsEnabledi;
+    int per_buffer = halo_gl_blend_per_buffer(f);
     if (outputs > 0 && !per_buffer && !(p->single_pass && halo_program_reflection(p).segment_location <= 0)) {
         const char *version = (const char *)f->GetString(GL_VERSION);
         halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
@@ -398,8 +403,10 @@ static int frame_context_fits(halo_gl *gl, const halo_program *p, halo_diagnosti
                         "(glBlendFunci, glBlendEquationi: OpenGL 4.0 or OpenGL ES 3.2); this context is %s%s",
                         halo_program_reflection(p).outputs[0].image, outputs > 1 ? ", ..." : "",
                         version ? version : "older",
-                        ": on OpenGL ES 3.0 (WebGL 2) a ray caster is drawn once (host contract 3, "
-                        "halo_link_desc.one_draw) and its outputs written unblended; a slice host's are not");
+                        gl->es ? ": on OpenGL ES 3.0 (WebGL 2) link a ray caster with host contract 3 "
+                                 "(halo_link_desc.one_draw): drawn once, it writes its outputs unblended; a slice "
+                                 "host's are not"
+                               : "");
         return 0;
     }
     if (!gl->es || halo_program_reflection(p).image_count == 0)
@@ -697,7 +704,7 @@ void halo_gl_frame_attach_outputs(halo_gl_frame *fr, const halo_program *p, unsi
         GLenum equation = o->blend == HALO_BLEND_MAX ? GL_MAX : o->blend == HALO_BLEND_MIN ? GL_MIN : GL_FUNC_ADD;
         /* first: front to back by coverage, the first hit stays */
         GLenum source = o->blend == HALO_BLEND_FIRST ? GL_ONE_MINUS_DST_ALPHA : GL_ONE;
-        if (!f->Enablei || !f->BlendEquationi || !f->BlendFunci) {
+        if (!halo_gl_blend_per_buffer(f)) {
             /* one blend for every buffer (OpenGL ES 3.0): libhalo's march, whose buffer 0
              * is not drawn and whose outputs are seeds; or a ray caster drawn once, which
              * writes each pixel once (halo_gl_frame_create refuses others' outputs there):

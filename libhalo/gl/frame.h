@@ -41,6 +41,9 @@ void halo_gl_frame_set_field(halo_gl_frame *fr, halo_gl_field *field,
 /* halo_gl_frame_attach for the outputs of program p (the frame's, or its march); colour 0:
  * draw buffer 0 is GL_NONE. */
 void halo_gl_frame_attach_outputs(halo_gl_frame *fr, const halo_program *p, unsigned framebuffer, int colour);
+/* Blending per draw buffer (OpenGL 4.0, ES 3.2); else one switch for all (ES 3.0), which
+ * halo_gl_frame_attach_outputs turns off for the host's outputs: the draw gives it back. */
+int halo_gl_blend_per_buffer(const halo_glfuncs *f);
 /* camera.c: the volume's box of a segments desc (all zero: the unit cube). */
 void halo_segments_box(const halo_gl_segments_desc *d, double low[3], double high[3]);
 /* camera.c: the checks of a segments desc (USAGE in diag, as function's). */

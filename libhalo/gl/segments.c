@@ -146,7 +146,7 @@ static halo_status frame_draw(halo_gl_frame *fr, unsigned gl_program, const halo
     } else if (segments == 1) {
         halo_gl_frame_state_flip(fr); /* counts the one draw */
     }
-    if (!f->BlendFunci && halo_program_reflection(p).output_count > 0)
+    if (!halo_gl_blend_per_buffer(f) && halo_program_reflection(p).output_count > 0)
         (blend ? f->Enable : f->Disable)(GL_BLEND);
     f->ActiveTexture(GL_TEXTURE0 + (GLenum)state_unit);
     f->BindTexture(GL_TEXTURE_2D, (GLuint)saved_texture);

@@ -284,6 +284,10 @@ async function engine(page, dir, which) {
     if (r.clipDifference !== 0 || r.clipError) fail(`${viewer.name}: the frame with a clipping plane is ${r.clipDifference} from ` +
       `vtk.js's own (GL error ${r.clipError})`);
     if (r.hooked) fail(`${viewer.name}: the context's drawArrays is still libhalo's after remove()`);
+    console.log(`${viewer.name}: outlines with the renderer over half the canvas: ` +
+      `${r.warnings.filter((w) => /outlines are left out/.test(w)).join(' / ')} (GL error ${r.partError})`);
+    if (!r.warnings.some((w) => /outlines are left out/.test(w)) || r.partError)
+      fail(`${viewer.name}: outlines in a renderer smaller than the canvas: no warning, or GL error ${r.partError}`);
   }
   drawn++;
 }

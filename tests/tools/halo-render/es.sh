@@ -14,7 +14,7 @@
 #   the ray caster drawn once on ES 3.0 (one blend for all buffers: the outputs written
 #   unblended, each pixel once) and 3.2, within LIMIT of desktop; the outlines must change
 #   the image far more (the control);
-# - contract 2 on ES 3.0 is refused with the way out; the slice host on ES is a usage error.
+# - contract 2 on ES 3.0 is refused with the way out, and so are outlines without one_draw; the slice host on ES is a usage error.
 # Skipped (77) without EGL or an ES context.
 . "$srcdir/tests/tools/halo-render/common.sh"
 test -x "${HALO_IMAGE_COMPARE:-}" || { echo "image_compare not built"; exit 99; }
@@ -98,7 +98,10 @@ fi
 
 # contract 2 on ES 3.0: its seed output would need glBlendFunci
 run 1 "$HALO_RENDER" --backend egl-es3.0 --host raycast --size 8x8 --volume-size 8 -o "$tmp/refused.png"
-expect_stderr "per-draw-buffer blending .*OpenGL ES 3.0.*ray caster is drawn once \(host contract 3, halo_link_desc.one_draw\)"
+expect_stderr "per-draw-buffer blending .*OpenGL ES 3.0.*link a ray caster with host contract 3 \(halo_link_desc.one_draw\)"
+# outlines on ES 3.0 without one_draw: the host has not said it draws each pixel once
+run 1 "$HALO_RENDER" --backend egl-es3.0 --host raycast --scene "$outline" --size 8x8 --volume-size 8 -o "$tmp/refused.png"
+expect_stderr "extra outputs \(feature_depth, ...\).*OpenGL ES 3.0.*halo_link_desc.one_draw"
 test ! -e "$tmp/refused.png" || fail "an image was written for a refused program"
 # without --host a halo scene takes the raycast host drawn once on ES
 run 0 "$HALO_RENDER" --backend egl-es3.0 --size 8x8 --volume-size 8 -o "$tmp/auto.png"
