@@ -67,32 +67,30 @@ if test -n "$HALO_WEB_ENGINES" && test ! -f "$mri"; then
 elif test -n "$HALO_WEB_ENGINES"; then
     # the scene drawn once with its halos, and without its halo_* stages (vtk.js, set up as
     # raycast.frag samples, is compared with both at the page's 128^2)
-    mkdir -p "$tmp/mri" "$tmp/mri-stages"
+    mkdir -p "$tmp/mri"
     run 0 "$HALO_RENDER" --host raycast --one-draw --scene "$srcdir/examples/scenes/mri-head.json" --volume "$mri" \
         --size 128x128 --volume-size 96 --quiet --export-host "$tmp/mri" -o "$tmp/mri/reference.png"
-    "$NODE" -e 'const fs = require("fs"), scene = JSON.parse(fs.readFileSync(process.argv[1]));
-        scene.stages = scene.stages.filter((s) => !Object.keys(s).some((k) => k.startsWith("halo_")));
-        fs.writeFileSync(process.argv[2], JSON.stringify(scene));' "$srcdir/examples/scenes/mri-head.json" "$tmp/mri-stages/scene.json" ||
-        fail "writing the scene without its halo stages"
-    run 0 "$HALO_RENDER" --host raycast --scene "$tmp/mri-stages/scene.json" --volume "$mri" \
-        --size 128x128 --volume-size 96 --quiet --export-host "$tmp/mri-stages" -o "$tmp/mri-stages/reference.png"
+    # a variant of the MRI scene (JS changes `scene`; halos() drops its halo_* stages) and
+    # halo-render's image of it: mri_case NAME WHAT JS [HALO_RENDER ARGS]...
+    mri_case() {
+        name=$1 what=$2 change=$3
+        shift 3
+        mkdir -p "$tmp/$name"
+        "$NODE" -e 'const fs = require("fs"), scene = JSON.parse(fs.readFileSync(process.argv[1]));
+            const halos = () => { scene.stages = scene.stages.filter((s) => !Object.keys(s).some((k) => k.startsWith("halo_"))); };
+            eval(process.argv[3]);
+            fs.writeFileSync(process.argv[2], JSON.stringify(scene));' \
+            "$srcdir/examples/scenes/mri-head.json" "$tmp/$name/scene.json" "$change" || fail "writing the scene $what"
+        run 0 "$HALO_RENDER" --host raycast --scene "$tmp/$name/scene.json" --volume "$mri" --size 128x128 \
+            --volume-size 96 --quiet --export-host "$tmp/$name" -o "$tmp/$name/reference.png" "$@"
+    }
+    mri_case mri-stages "without its halo stages" 'halos()'
     # its stages without halo_* and with feature halos instead (vtk.js, set up as raycast.frag)
-    mkdir -p "$tmp/mri-features"
-    "$NODE" -e 'const fs = require("fs"), scene = JSON.parse(fs.readFileSync(process.argv[1]));
-        scene.stages = scene.stages.filter((s) => !Object.keys(s).some((k) => k.startsWith("halo_")));
-        scene.stages.push({ feature_halo: { opacity_gain: 2, darkening: 4, threshold: 0.02, gradient_weighted: true } });
-        fs.writeFileSync(process.argv[2], JSON.stringify(scene));' "$srcdir/examples/scenes/mri-head.json" "$tmp/mri-features/scene.json" ||
-        fail "writing the scene with feature halos"
-    run 0 "$HALO_RENDER" --host raycast --scene "$tmp/mri-features/scene.json" --volume "$mri" \
-        --size 128x128 --volume-size 96 --quiet --export-host "$tmp/mri-features" -o "$tmp/mri-features/reference.png"
+    mri_case mri-features "with feature halos" 'halos(); scene.stages.push({ feature_halo: { opacity_gain: 2,
+        darkening: 4, threshold: 0.02, gradient_weighted: true } })'
     # its stages and halos with outlines (vtk.js, set up as raycast.frag, drawn once)
-    mkdir -p "$tmp/mri-outlines"
-    "$NODE" -e 'const fs = require("fs"), scene = JSON.parse(fs.readFileSync(process.argv[1]));
-        scene.stages.push({ outline_feature: { value_min: 0.4, value_max: 1 } }, { outlines: { sigma: 4, lambda: 6 } });
-        fs.writeFileSync(process.argv[2], JSON.stringify(scene));' "$srcdir/examples/scenes/mri-head.json" "$tmp/mri-outlines/scene.json" ||
-        fail "writing the scene with outlines"
-    run 0 "$HALO_RENDER" --host raycast --one-draw --scene "$tmp/mri-outlines/scene.json" --volume "$mri" \
-        --size 128x128 --volume-size 96 --quiet --export-host "$tmp/mri-outlines" -o "$tmp/mri-outlines/reference.png"
+    mri_case mri-outlines "with outlines" 'scene.stages.push({ outline_feature: { value_min: 0.4, value_max: 1 } },
+        { outlines: { sigma: 4, lambda: 6 } })' --one-draw
     HALO_WEB_MRI_OUTLINES=$tmp/mri-outlines
     HALO_WEB_MRI=$tmp/mri
     HALO_WEB_MRI_STAGES=$tmp/mri-stages
