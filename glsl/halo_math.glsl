@@ -12,14 +12,22 @@ float halo_saturate(float x)
 }
 
 // x^e with C's pow(0, 0) = 1; a base at or below zero gives 0 (e != 0) instead of NaN.
-// A whole exponent 1..64 (alpha = 32, profile exponents) multiplies by repeated squaring:
-// with a compile-time exponent the branch and the loop fold into a few multiplications
-// (g^32: 5), where pow is exp2(e log2 x) with its approximations. Both are within a few
-// float ulps of x^e; the emulation keeps the exact pow (docs/accuracy.md).
+// A whole exponent 1..64 (alpha = 32, profile exponents) multiplies by repeated squaring,
+// and e = 1/2, 1/4, 1/8 (beta = 0.125) takes square roots: with a compile-time exponent
+// the branches and the loop fold into a few multiplications (g^32: 5) or roots, where pow
+// is exp2(e log2 x) with its approximations (on llvmpipe the 1/8 power costs about 6 ms of
+// an 86 ms march, docs/performance.md). All are within a few float ulps of x^e; the
+// emulation keeps the exact pow (docs/accuracy.md).
 float halo_pow(float x, float e)
 {
     if (x <= 0.0)
         return e == 0.0 ? 1.0 : 0.0;
+    if (e == 0.5)
+        return sqrt(x);
+    if (e == 0.25)
+        return sqrt(sqrt(x));
+    if (e == 0.125)
+        return sqrt(sqrt(sqrt(x)));
     if (e >= 1.0 && e <= 64.0 && e == floor(e)) {
         int n = int(e);
         float result = 1.0, power = x;

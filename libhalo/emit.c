@@ -421,7 +421,19 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
                      "    return halo_channels(0.0);\n"
                      "#else",
                      sm->image);
-        if (scale > 1)
+        if (scale > 1 && halo_program_image_filtered(p, im))
+            /* a 1/scale image through the unit's bilinear filter (GL_LINEAR, CLAMP_TO_EDGE:
+             * the runtime's textures): one fetch, the same weights as the four fetches
+             * below where the filter computes them in float (llvmpipe); a GPU's filter
+             * rounds them to its subtexel precision (8 bits on most) */
+            HALO_GEN(e,
+                     "    ivec2 size = textureSize(%s, 0)%s;\n"
+                     "    if (any(greaterThanEqual(uvec2(ivec2(fragcoord)), uvec2(size * %d)))) // also pixel < 0\n"
+                     "        return halo_channels(0.0);\n"
+                     "    vec2 at = fragcoord / vec2(size * %d);\n"
+                     "    return halo_channels_from(texture(%s, %s));",
+                     n, xy, scale, scale, n, stacked ? "vec3(at, float(halo_stack_layer))" : "at");
+        else if (scale > 1)
             /* a 1/scale image: bilinear between its four nearest pixel centres (clamped to
              * the image), written out so that the emulation can match it */
             HALO_GEN(

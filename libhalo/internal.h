@@ -355,6 +355,10 @@ halo_image_info *halo_program_image_named(halo_program *p, const char *name);
  * `image NAME read_when=PARAM` with the parameter off: e.g. the occlusion image of a scene
  * without occlusive halos.) Its passes are not built and its reads are zero. */
 int halo_program_image_unread(const halo_program *p, const char *image);
+/* Whether the host's samples read a 1/scale image (im: scale > 1) through the texture
+ * unit's bilinear filter, one fetch, rather than four texel fetches (emit.c); the runtime
+ * gives those images' textures and stacks GL_LINEAR (gl/frame.c, gl/field.c). */
+int halo_program_image_filtered(const halo_program *p, const halo_image_info *im);
 /* emit.c: is name used (as an identifier, not a field) in the module's code? */
 int halo_module_uses(const halo_module *m, const char *name);
 /* segment.c: "layout(location = N) " or "" for a program whose outputs carry none. */

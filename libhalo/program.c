@@ -56,6 +56,16 @@ static int param_may_be_on(const halo_linked_stage *st, const char *name)
     return 1;
 }
 
+/* Desktop GLSL filters every float format linearly; OpenGL ES 3.0 filters 16-bit floats and
+ * 8-bit normalized images, but 32-bit floats only with OES_texture_float_linear, which the
+ * linked text cannot ask for: there the four fetches stay. */
+int halo_program_image_filtered(const halo_program *p, const halo_image_info *im)
+{
+    if (!im || im->scale <= 1)
+        return 0;
+    return p->target != HALO_TARGET_ES300 || p->image_precision == 16 || p->image_precision == 8;
+}
+
 /* An image that only conditional readers declare (`image NAME read_when=PARAM`), each with
  * its condition off, and that no pass of another image reads: the passes writing it are
  * dead work (e.g. the occlusion image of a scene without occlusive halos). */

@@ -146,11 +146,11 @@ static void close_case(halo_bench_case *c)
  * it, alternating so that every frame's view differs from the one before and the last
  * timed frame (whose image the error columns read) is the scene's. A frame's cost is thus
  * that of a user turning the volume: a one-draw frame computes its field every frame (drawn
- * again with an unchanged view it would reuse it, gl/field.c). */
+ * again with an unchanged view it reuses it, gl/field.c: config.same_view measures that). */
 static void bench_camera(const halo_bench_env *env, halo_bench_case *c, int r)
 {
     const halo_render_settings *settings = halo_scene_describe(c->scene).render;
-    double nudge = (env->repeat - 1 - r) % 2 ? 1e-3 : 0.0;
+    double nudge = (env->repeat - 1 - r) % 2 && !c->config.same_view ? 1e-3 : 0.0;
     halo_driver_set_camera(c->host, settings->azimuth + nudge, settings->elevation, settings->zoom);
 }
 

@@ -20,6 +20,8 @@ typedef struct halo_bench_config {
     int fold;            /* halo_generate's fold: H_0 computed by the first spreading pass, no gradient pass */
     int one_draw;        /* the ray caster linked with one_draw: the field before one host draw (host contract 3) */
     double seed_epsilon; /* with one_draw: the march's empty-space bound (halo_gl_segments_desc.seed_epsilon) */
+    int same_view;       /* with one_draw: every frame at the scene's view, so that each reuses the field of the
+                          * warm-up: the host's draw over the field alone (gl/field.c) */
     int precision;       /* halo image precision: 32, 16 or 8 (halo_link_desc.image_precision) */
     int scale;           /* halo image resolution 1/scale of the frame: 1 (0), 2 or 4 (halo_link_desc.image_scale) */
     double step;         /* sampling distance in voxels; 0: the scene's */

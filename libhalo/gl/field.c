@@ -350,8 +350,14 @@ static int field_reserve(const halo_glfuncs *f, const halo_program *p, halo_gl_f
         if (!st->texture)
             f->GenTextures(1, &st->texture);
         f->BindTexture(GL_TEXTURE_2D_ARRAY, st->texture);
-        f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-        f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        /* a 1/s image's layers are read through the filter (emit.c), within a layer */
+        GLint filter = halo_program_image_filtered(p, halo_program_image_named((halo_program *)p, st->image))
+                           ? GL_LINEAR
+                           : GL_NEAREST;
+        f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, filter);
+        f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, filter);
+        f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+        f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
         f->TexImage3D(GL_TEXTURE_2D_ARRAY, 0, st->internal_format, st->width, st->height, count, 0, format, type, NULL);
     }
     if (f->GetError() != GL_NO_ERROR) {

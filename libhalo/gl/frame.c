@@ -487,11 +487,13 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
         GLint internal;
         GLenum format;
         image_formats(image->channels, precision, &internal, &format);
+        /* a 1/s image the samples read through the filter (the passes' texelFetch ignores it) */
+        GLint filter = halo_program_image_filtered(p, info) ? GL_LINEAR : GL_NEAREST;
         f->GenTextures(2, image->texture);
         for (int k = 0; k < 2; ++k) {
             f->BindTexture(GL_TEXTURE_2D, image->texture[k]);
-            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+            f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
             f->TexImage2D(GL_TEXTURE_2D, 0, internal, image->width, image->height, 0, format, GL_FLOAT, NULL);

@@ -387,7 +387,26 @@ static int test_image_scale(void)
         }
         CHECK_INT_EQ(seen, 2);
         if (scale > 1) {
-            CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "floor(at)"); /* the bilinear read */
+            /* the bilinear read: through the unit's filter on desktop GLSL (one fetch) */
+            CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "texture(halo_image_field, at)");
+            CHECK_STR_NOT_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "floor(at)");
+            /* OpenGL ES: 32-bit float images written out with four fetches (ES 3.0 filters
+             * them only with OES_texture_float_linear), 16-bit ones filtered */
+            for (int precision = 16; precision <= 32; precision += 16) {
+                halo_program *es = halo_link(&(halo_link_desc){.library = library,
+                                                               .scene = scene,
+                                                               .host_source = host_source,
+                                                               .host_file = "test.frag",
+                                                               .target = HALO_TARGET_ES300,
+                                                               .image_precision = precision,
+                                                               .image_scale = scale},
+                                             diags);
+                CHECK(es != NULL);
+                if (es)
+                    CHECK_INT_EQ(strstr(halo_program_source(es, HALO_PIECE_WHOLE), "floor(at)") != NULL,
+                                 precision == 32);
+                halo_program_destroy(es);
+            }
             const halo_pass_info *gradient = NULL;
             for (size_t i = 0; i < halo_program_reflection(p).pass_count; i++)
                 if (!strcmp(halo_program_reflection(p).passes[i].name, "gradient"))
