@@ -431,7 +431,7 @@ static void emit_declarations(halo_emitter *e, const halo_program *p, const char
                      "    if (any(greaterThanEqual(uvec2(ivec2(fragcoord)), uvec2(size * %d)))) // also pixel < 0\n"
                      "        return halo_channels(0.0);\n"
                      "    vec2 at = fragcoord / vec2(size * %d);\n"
-                     "    return halo_channels_from(texture(%s, %s));",
+                     "    return halo_channels_from(textureLod(%s, %s, 0.0)); // (level 0: no derivatives)",
                      n, xy, scale, scale, n, stacked ? "vec3(at, float(halo_stack_layer))" : "at");
         else if (scale > 1)
             /* a 1/scale image: bilinear between its four nearest pixel centres (clamped to

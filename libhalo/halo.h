@@ -1014,7 +1014,10 @@ typedef struct halo_gl_segments_desc {
                                 * segment: width x height x bytes a texel of each image the samples read,
                                 * at the halo images' scale); 0: HALO_GL_FIELD_MAX_BYTES. Above it
                                 * halo_gl_frame_draw draws nothing and reports FIELD_MEMORY with the
-                                * bytes needed and what fits (image_scale 2 or 4, a larger M) */
+                                * bytes needed and what fits (image_scale 2 or 4, a larger M). The
+                                * generations' atlas (one draw a pass over every segment) takes at
+                                * most a quarter of it beside the stacks; where it does not fit, the
+                                * generations run a segment at a time (docs/performance.md) */
 } halo_gl_segments_desc;
 
 /* Sets the camera uniforms of halo_view_at and halo_depth_at (the program must be current).

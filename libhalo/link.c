@@ -511,12 +511,33 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     int out_scale = out_image ? out_image->scale : 1;
     HALO_GEN(&e, "const int halo_pass_scale = %d; // the output image is 1/halo_pass_scale of the frame per side",
              out_scale);
-    int down[HALO_MAX_PASS_INPUTS], up[HALO_MAX_PASS_INPUTS];
+    int down[HALO_MAX_PASS_INPUTS], up[HALO_MAX_PASS_INPUTS], tiled = 1;
     for (int k = 0; k < input_count; k++) {
         const halo_image_info *in = strcmp(inputs[k], "previous") ? halo_program_image_named(p, inputs[k]) : out_image;
         int in_scale = in ? in->scale : out_scale;
         down[k] = in_scale < out_scale ? out_scale / in_scale : 1;
         up[k] = in_scale > out_scale ? in_scale / out_scale : 1;
+        tiled &= down[k] == 1 && up[k] == 1;
+    }
+    /* HALO_PASS_TILES (inputs and output of one size): the images are atlases of equal
+     * tiles, one a depth segment, and one draw runs the pass on every tile
+     * (gl/field_atlas.c); each tile is an image of its own, 0 outside it */
+    if (tiled)
+        HALO_GEN(&e,
+                 "#ifdef HALO_PASS_TILES\n"
+                 "uniform ivec2 halo_tile_size; // a tile's pixels\n"
+                 "ivec2 halo_tile_origin = ivec2(0); // the fragment's tile's first pixel in the atlas\n"
+                 "#endif");
+    for (int k = 0; k < input_count; k++) {
+        if (tiled)
+            HALO_GEN(&e,
+                     "#ifdef HALO_PASS_TILES\n"
+                     "vec4 halo_fetch_%d(ivec2 pixel) {\n"
+                     "    if (any(greaterThanEqual(uvec2(pixel), uvec2(halo_tile_size)))) // also pixel < 0\n"
+                     "        return vec4(0.0);\n"
+                     "    return texelFetch(halo_input_%d, halo_tile_origin + pixel, 0);\n}\n"
+                     "#else",
+                     k, k);
         HALO_GEN(
             &e,
             "vec4 halo_fetch_%d(ivec2 pixel) {\n"
@@ -524,6 +545,8 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
             "        return vec4(0.0);\n"
             "    return texelFetch(halo_input_%d, pixel, 0);\n}",
             k, k, k);
+        if (tiled)
+            HALO_GEN(&e, "#endif");
     }
     HALO_GEN(&e,
              "// All four components of input k (images of components=N, host_color) at a pixel of the\n"
@@ -558,8 +581,12 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
                  up[0], down[0] - 1, down[0]);
     else
         HALO_GEN(&e,
-                 "// The output's size in pixels (input 0 has it).\n"
-                 "ivec2 halo_image_size() { return textureSize(halo_input_0, 0); }");
+                 "// The output's size in pixels (input 0 has it; an atlas's: a tile's).\n"
+                 "#ifdef HALO_PASS_TILES\n"
+                 "ivec2 halo_image_size() { return halo_tile_size; }\n"
+                 "#else\n"
+                 "ivec2 halo_image_size() { return textureSize(halo_input_0, 0); }\n"
+                 "#endif");
     /* The helpers this module calls. */
     halo_program one = *p;
     halo_linked_stage only = *st;
@@ -568,8 +595,20 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     halo_emit_helpers(&e, lib, &one);
     halo_emit_params(&e, p, st, 0);
     halo_emit_module_lines(&e, m, 1, m->line_count, 1, NULL);
+    if (tiled)
+        HALO_GEN(&e,
+                 "#ifdef HALO_PASS_TILES\n"
+                 "void main() {\n"
+                 "    ivec2 fragment = ivec2(gl_FragCoord.xy);\n"
+                 "    halo_tile_origin = fragment / halo_tile_size * halo_tile_size;\n"
+                 "    halo_pass_output = halo_pass_vec4(halo_%s_%s(fragment - halo_tile_origin));\n"
+                 "}\n"
+                 "#else",
+                 m->name, pd->entry);
     HALO_GEN(&e, "void main() {\n    halo_pass_output = halo_pass_vec4(halo_%s_%s(ivec2(gl_FragCoord.xy)));\n}",
              m->name, pd->entry);
+    if (tiled)
+        HALO_GEN(&e, "#endif");
     if (e.failed || e.text.failed) {
         halo_strbuf_free(&e.text);
         free(e.origins);

@@ -37,7 +37,7 @@ noinst_LTLIBRARIES += libhalo/libhalo-core.la
 libhalo_libhalo_core_la_SOURCES = $(halo_portable_files) \
 	libhalo/validate.c libhalo/check.c libhalo/glsl_locate.c libhalo/setup.c libhalo/glslang_parse.cpp \
 	libhalo/gl/glfuncs.c libhalo/gl/runtime.c libhalo/gl/runtime.h libhalo/gl/frame.c libhalo/gl/camera.c \
-	libhalo/gl/segments.c libhalo/gl/field.c libhalo/gl/frame.h libhalo/gl/feature_splat.c
+	libhalo/gl/segments.c libhalo/gl/field.c libhalo/gl/field_atlas.c libhalo/gl/field_atlas.h libhalo/gl/frame.h libhalo/gl/feature_splat.c
 nodist_libhalo_libhalo_core_la_SOURCES = libhalo/embedded_modules.c
 libhalo_libhalo_core_la_CPPFLAGS = $(AM_CPPFLAGS) -I$(top_builddir)/libhalo/emu -DHALO_BUILDING $(JANSSON_CFLAGS) $(GLSLANG_CFLAGS)
 libhalo_libhalo_core_la_CFLAGS = $(AM_CFLAGS) -fvisibility=hidden

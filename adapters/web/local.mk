@@ -27,7 +27,7 @@ WEB_EXPORTS = _malloc _free _halo_web_init _halo_web_version _halo_web_diagnosti
 # and enums: emscripten has only GLES3/), comes from the system's (libgl-dev, which the
 # native build needs too), copied into the build tree.
 web_gl_files = libhalo/gl/glfuncs.c libhalo/gl/runtime.c libhalo/gl/frame.c libhalo/gl/camera.c libhalo/gl/segments.c \
-	libhalo/gl/field.c libhalo/gl/feature_splat.c
+	libhalo/gl/field.c libhalo/gl/field_atlas.c libhalo/gl/feature_splat.c
 WEB_GL_INCLUDE = adapters/web/gl-include
 web_comma = ,
 web_empty =

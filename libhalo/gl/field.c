@@ -26,6 +26,7 @@
 #include "halo.h"
 #include "internal.h"
 #include "diag.h"
+#include "gl/field_atlas.h"
 #include "gl/frame.h"
 #include "gl/glfuncs.h"
 #include "gl/runtime.h"
@@ -80,6 +81,10 @@ struct halo_gl_field {
      * FIELD_BATCH segments a draw into the seed stacks */
     GLuint march, batch;
     march_locations at, batch_at;
+    /* the batched march's generations as atlases, each pass one draw over every segment
+     * (field_atlas.c); NULL where they do not suit one */
+    halo_gl_field_atlas *atlas;
+    int atlas_off;
     field_gradient gradient;
     field_stack stacks[FIELD_MAX_STACKS];
     int stack_count;
@@ -222,6 +227,7 @@ static void field_destroy(halo_gl_frame *fr, halo_gl_field *field)
         if (field->seed_stacks[s])
             f->DeleteTextures(1, &field->seed_stacks[s]);
     free(field->exchange_buffer);
+    halo_gl_field_atlas_destroy(f, field->atlas);
     f->DeleteProgram(field->march);
     f->DeleteProgram(field->batch);
     f->DeleteProgram(field->gradient.program);
@@ -962,7 +968,12 @@ static void field_batches(halo_gl_frame *fr, const halo_gl_segments_desc *d, con
         }
         for (int b = 0; b < FIELD_BATCH; ++b)
             f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)b, GL_TEXTURE_2D, 0, 0);
-        for (int b = 0; b < FIELD_BATCH && j0 + b + 1 < plan->segments; ++b) {
+        for (int b = 0; field->atlas && b < FIELD_BATCH && j0 + b + 1 < plan->segments; ++b) {
+            const int *box = boxes[b];
+            int seed_box[4] = {box[0] / s, box[1] / s, (box[2] + s - 1) / s, (box[3] + s - 1) / s};
+            halo_gl_field_atlas_seed(field->atlas, j0 + b, field->seed_stacks[0], b, seed_box);
+        }
+        for (int b = 0; !field->atlas && b < FIELD_BATCH && j0 + b + 1 < plan->segments; ++b) {
             const int *box = boxes[b];
             f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
             f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
@@ -975,6 +986,65 @@ static void field_batches(halo_gl_frame *fr, const halo_gl_segments_desc *d, con
             field_generate(f, fr, field, unit, j0 + b, box);
         }
     }
+}
+
+/* The atlas's images after the generations of segments [0, layers) into the stacks, inside
+ * the box where either the new or the layer's old content can be nonzero (field_store). */
+static void field_store_atlas(const halo_glfuncs *f, halo_gl_field *field, int layers)
+{
+    f->BindFramebuffer(GL_READ_FRAMEBUFFER, field->framebuffer);
+    for (int s = 0; s < field->stack_count; ++s) {
+        field_stack *st = &field->stacks[s];
+        f->BindTexture(GL_TEXTURE_2D_ARRAY, st->texture);
+        GLuint attached = 0;
+        for (int j = 0; j < layers; ++j) {
+            int origin[2], box[4], copy[4], *old = st->boxes[j];
+            GLuint texture = halo_gl_field_atlas_tile(field->atlas, st->image, j, origin, box);
+            int fresh = box[0] < box[2] && box[1] < box[3], stale = old[0] < old[2] && old[1] < old[3];
+            if (!texture || (!fresh && !stale))
+                continue;
+            for (int k = 0; k < 4; ++k)
+                copy[k] = !stale   ? box[k]
+                          : !fresh ? old[k]
+                          : k < 2  ? (box[k] < old[k] ? box[k] : old[k])
+                                   : (box[k] > old[k] ? box[k] : old[k]);
+            if (texture != attached) {
+                f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
+                f->ReadBuffer(GL_COLOR_ATTACHMENT0);
+                attached = texture;
+            }
+            f->CopyTexSubImage3D(GL_TEXTURE_2D_ARRAY, 0, copy[0], copy[1], j, origin[0] + copy[0], origin[1] + copy[1],
+                                 copy[2] - copy[0], copy[3] - copy[1]);
+            memcpy(old, box, sizeof box);
+        }
+    }
+    f->FramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+}
+
+/* The atlas for the batched march's generations, within a quarter of max_bytes and what the
+ * stacks leave of it: NULL (and none kept from then on) where it cannot serve every stack. */
+static halo_gl_field_atlas *field_atlas(halo_gl_frame *fr, halo_gl_field *field, int layers, size_t max_bytes)
+{
+    size_t stacks = 0;
+    for (int s = 0; s < field->stack_count; ++s)
+        stacks += (size_t)field->stacks[s].width * (size_t)field->stacks[s].height *
+                  texel_bytes(field->stacks[s].internal_format) * (size_t)field->layers;
+    if (field->atlas_off)
+        return NULL;
+    /* (reserve destroys an atlas it cannot grow) */
+    size_t budget = stacks < max_bytes ? max_bytes - stacks : 0;
+    field->atlas =
+        halo_gl_field_atlas_reserve(fr, field->atlas, layers, budget < max_bytes / 4 ? budget : max_bytes / 4);
+    for (int s = 0; field->atlas && s < field->stack_count; ++s) {
+        int origin[2], box[4];
+        if (!halo_gl_field_atlas_tile(field->atlas, field->stacks[s].image, 0, origin, box)) {
+            /* a stacked image the generations do not make */
+            halo_gl_field_atlas_destroy(halo_gl_functions(halo_gl_frame_runtime(fr)), field->atlas);
+            field->atlas = NULL;
+        }
+    }
+    field->atlas_off = !field->atlas; /* the per-segment generations from now on */
+    return field->atlas;
 }
 
 /* Seeds, generation and the stacks for every segment but the last (whose field no sample reads). */
@@ -1066,9 +1136,18 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     if (!exchanged && field->batch && batch_bytes <= max_bytes / 16) {
         if (field_seed_reserve(f, fr, field, p->prepass, FIELD_BATCH, 0, NULL)) {
             halo_gl_frame_attach_outputs(fr, p->prepass, field->framebuffer, 0);
+            if (field_atlas(fr, field, layers, max_bytes)) {
+                halo_gl_field_atlas_begin(field->atlas);
+                halo_gl_frame_attach_outputs(fr, p->prepass, field->framebuffer, 0);
+            }
             march_setup(fr, d, plan, field->batch, &field->batch_at, unit, gradient, bricks, sample_low, sample_high,
                         piece_min, piece_scale);
             field_batches(fr, d, plan, view_projection, sample_low, sample_high, planes, unit);
+            if (field->atlas) {
+                halo_gl_field_atlas_generate(field->atlas, layers);
+                f->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+                field_store_atlas(f, field, layers);
+            }
             return HALO_OK;
         }
         for (int k = 0; k < 8 && f->GetError() != GL_NO_ERROR; ++k) {}

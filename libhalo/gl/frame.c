@@ -225,10 +225,34 @@ static frame_box image_full(const frame_image *im) { return (frame_box){0, 0, im
 /* The box of the pixels of image im's current texture inside `within` that differ from 0
  * (NaN included), read back through the frame's framebuffer (bound as GL_FRAMEBUFFER);
  * `within` when the scratch memory is missing. */
+static frame_box frame_nonzero_box(halo_gl_frame *fr, int channels, int image_width, int image_height,
+                                   frame_box within);
+
 static frame_box image_nonzero_box(halo_gl_frame *fr, frame_image *im, frame_box within)
 {
+    fr->gl->f.FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, im->texture[im->current], 0);
+    fr->gl->f.ReadBuffer(GL_COLOR_ATTACHMENT0);
+    return frame_nonzero_box(fr, im->channels, im->width, im->height, within);
+}
+
+int halo_gl_frame_nonzero_box(halo_gl_frame *fr, int channels, int width, int height, int box[4])
+{
+    if (!fr->readback_bounds)
+        return 0;
+    frame_box b = frame_nonzero_box(fr, channels, width, height, (frame_box){box[0], box[1], box[2], box[3]});
+    box[0] = b.x0;
+    box[1] = b.y0;
+    box[2] = b.x1;
+    box[3] = b.y1;
+    return 1;
+}
+
+/* The nonzero box inside `within` of the read framebuffer's colour attachment 0 (an image
+ * of width x height, `channels` floats a pixel). */
+static frame_box frame_nonzero_box(halo_gl_frame *fr, int channels, int image_width, int image_height, frame_box within)
+{
     const halo_glfuncs *f = &fr->gl->f;
-    within = box_grow(within, 0, im->width, im->height);
+    within = box_grow(within, 0, image_width, image_height);
     if (box_empty(within))
         return (frame_box){0, 0, 0, 0};
     if (!fr->readback)
@@ -239,14 +263,12 @@ static frame_box image_nonzero_box(halo_gl_frame *fr, frame_image *im, frame_box
     GLint pack = 4;
     f->GetIntegerv(GL_PACK_ALIGNMENT, &pack);
     f->PixelStorei(GL_PACK_ALIGNMENT, 4);
-    f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, im->texture[im->current], 0);
-    f->ReadBuffer(GL_COLOR_ATTACHMENT0);
-    int read = halo_gl_read_floats(fr->gl, within.x0, within.y0, width, height, im->channels, fr->readback);
+    int read = halo_gl_read_floats(fr->gl, within.x0, within.y0, width, height, channels, fr->readback);
     f->PixelStorei(GL_PACK_ALIGNMENT, pack);
     if (!read)
         return within;
-    frame_box b = {im->width, im->height, 0, 0};
-    size_t row = (size_t)width * (size_t)im->channels;
+    frame_box b = {image_width, image_height, 0, 0};
+    size_t row = (size_t)width * (size_t)channels;
     for (int y = 0; y < height; ++y) {
         const float *line = fr->readback + (size_t)y * row;
         size_t first = 0, last = row;
@@ -256,8 +278,8 @@ static frame_box image_nonzero_box(halo_gl_frame *fr, frame_image *im, frame_box
             continue;
         while (line[last - 1] == 0.0f)
             --last;
-        int x0 = within.x0 + (int)(first / (size_t)im->channels);
-        int x1 = within.x0 + (int)((last - 1) / (size_t)im->channels) + 1;
+        int x0 = within.x0 + (int)(first / (size_t)channels);
+        int x1 = within.x0 + (int)((last - 1) / (size_t)channels) + 1;
         b.x0 = x0 < b.x0 ? x0 : b.x0;
         b.x1 = x1 > b.x1 ? x1 : b.x1;
         b.y0 = within.y0 + y < b.y0 ? within.y0 + y : b.y0;
@@ -360,7 +382,8 @@ static frame_box pass_reach_box(const halo_gl_frame *fr, const frame_pass *pass,
     return box_grow(in, reach, out->width, out->height);
 }
 
-static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, size_t index, halo_diagnostics *diag)
+GLuint halo_gl_pass_build(const halo_glfuncs *f, const halo_program *p, size_t index, const char *vertex_source,
+                          const char *define, halo_diagnostics *diag)
 {
     const halo_pass_info *pass = &halo_program_reflection(p).passes[index];
     char file[256];
@@ -368,15 +391,37 @@ static GLuint frame_build_pass(const halo_glfuncs *f, const halo_program *p, siz
              pass->stage ? pass->stage : "?");
     const halo_line_origin *origins = p->pass_origins ? p->pass_origins[index] : NULL;
     int origin_count = origins && p->pass_origin_counts ? p->pass_origin_counts[index] : 0;
-    GLuint vertex = halo_gl_compile_mapped(f, GL_VERTEX_SHADER, pass->vertex_source, NULL, NULL, 0, file, diag);
-    GLuint fragment =
-        halo_gl_compile_mapped(f, GL_FRAGMENT_SHADER, pass->fragment_source, NULL, origins, origin_count, file, diag);
+    /* a define goes after the #version line; #line 2 keeps the lines the origins map */
+    const char *source = pass->fragment_source, *end = strchr(source, '\n');
+    char *defined = NULL;
+    if (define && end) {
+        size_t size = strlen(source) + strlen(define) + 32;
+        defined = malloc(size);
+        if (!defined)
+            return 0;
+        snprintf(defined, size, "%.*s#define %s 1\n#line 2\n%s", (int)(end - source) + 1, source, define, end + 1);
+        source = defined;
+    }
+    GLuint vertex = halo_gl_compile_mapped(f, GL_VERTEX_SHADER, vertex_source ? vertex_source : pass->vertex_source,
+                                           NULL, NULL, 0, file, diag);
+    GLuint fragment = halo_gl_compile_mapped(f, GL_FRAGMENT_SHADER, source, NULL, origins, origin_count, file, diag);
+    free(defined);
     GLuint program = halo_gl_program_attach(f, vertex, fragment, file, diag);
     if (!program)
         return 0;
     if ((p->unlocated_outputs || p->target == HALO_TARGET_GLSL150) && f->BindFragDataLocation)
         f->BindFragDataLocation(program, 0, "halo_pass_output");
-    return halo_gl_link_attached(f, program, vertex, fragment, file, "the driver could not link the image pass", diag);
+    program =
+        halo_gl_link_attached(f, program, vertex, fragment, file, "the driver could not link the image pass", diag);
+    if (!program)
+        return 0;
+    f->UseProgram(program);
+    for (int k = 0; k < pass->input_count; ++k) {
+        char name[32];
+        snprintf(name, sizeof name, "halo_input_%d", k);
+        f->Uniform1i(f->GetUniformLocation(program, name), k);
+    }
+    return program;
 }
 
 /* Has the context what the program's images and outputs need? The host's extra outputs
@@ -546,16 +591,10 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
             fr->max_inputs = info->input_count;
         if (failed)
             break;
-        pass->program = frame_build_pass(f, p, i, diag);
+        pass->program = halo_gl_pass_build(f, p, i, NULL, NULL, diag);
         if (!pass->program) {
             failed = 1;
             break;
-        }
-        f->UseProgram(pass->program);
-        for (int k = 0; k < info->input_count; ++k) {
-            char name[32];
-            snprintf(name, sizeof name, "halo_input_%d", k);
-            f->Uniform1i(f->GetUniformLocation(pass->program, name), k);
         }
         pass->index_location = f->GetUniformLocation(pass->program, "halo_pass_index");
         pass->count_location = f->GetUniformLocation(pass->program, "halo_pass_count");
@@ -1024,6 +1063,8 @@ int halo_gl_frame_image_view(const halo_gl_frame *fr, const char *name, halo_gl_
 }
 
 halo_gl_field *halo_gl_frame_field(const halo_gl_frame *fr) { return fr->field; }
+
+void halo_gl_frame_count_pass_draws(halo_gl_frame *fr, long draws) { fr->pass_draws += draws; }
 
 void halo_gl_frame_set_field(halo_gl_frame *fr, halo_gl_field *field,
                              void (*destroy)(halo_gl_frame *fr, halo_gl_field *field))

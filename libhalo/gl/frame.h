@@ -56,6 +56,18 @@ void halo_segment_camera_set(const halo_glfuncs *f, unsigned program, const halo
  * the field is computed again only when what it depends on changed (field.c: field_key). */
 halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
                                halo_diagnostics *diag);
+/* Where the frame reads its images back to bound them (halo_gl_frame_set_readback_bounds):
+ * box (x0 y0 x1 y1) shrunk to the nonzero pixels of the read framebuffer's colour
+ * attachment 0 (an image of width x height, channels floats a pixel), 1; else 0, the box
+ * unchanged. */
+int halo_gl_frame_nonzero_box(halo_gl_frame *fr, int channels, int width, int height, int box[4]);
+/* Pass index of p's reflection compiled and linked (vertex_source NULL: the pass's own;
+ * define: a name #defined in its fragment shader, or NULL), its inputs' samplers set to
+ * units 0, 1, ... (the program is left current); 0 after a diagnostic in diag. */
+GLuint halo_gl_pass_build(const halo_glfuncs *f, const halo_program *p, size_t index, const char *vertex_source,
+                          const char *define, halo_diagnostics *diag);
+/* Pass draws made outside frame.c (field_atlas.c), counted as the frame's (its info). */
+void halo_gl_frame_count_pass_draws(halo_gl_frame *fr, long draws);
 /* The fields a one-draw frame has computed (its draws that reused the field are not counted). */
 int halo_gl_field_computed(const halo_gl_frame *fr);
 

@@ -388,7 +388,7 @@ static int test_image_scale(void)
         CHECK_INT_EQ(seen, 2);
         if (scale > 1) {
             /* the bilinear read: through the unit's filter on desktop GLSL (one fetch) */
-            CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "texture(halo_image_field, at)");
+            CHECK_STR_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "textureLod(halo_image_field, at, 0.0)");
             CHECK_STR_NOT_CONTAINS(halo_program_source(p, HALO_PIECE_WHOLE), "floor(at)");
             /* OpenGL ES: 32-bit float images written out with four fetches (ES 3.0 filters
              * them only with OES_texture_float_linear), 16-bit ones filtered */

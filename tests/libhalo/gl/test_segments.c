@@ -106,6 +106,7 @@ static int untidy;               /* the next ray caster renders leave hostile GL
 static int image_scale;          /* halo_link_desc.image_scale of the next renders */
 static size_t field_max_bytes;   /* halo_gl_segments_desc.field_max_bytes of the next ray caster renders */
 static char field_message[1024]; /* the last render's FIELD_MEMORY diagnostic, or "" */
+static long pass_draws;          /* the last ray caster render's generation pass draws */
 /* a piece of the volume that the next ray caster renders' march reads (test_pieces) */
 typedef struct piece_setup {
     const float *data;
@@ -187,6 +188,7 @@ static float *render_host(env *e, const char *scene_text, int slab, int force, i
         ok = ok && halo_raycast_render(r, rgba, e->g.diag) == HALO_OK;
         if (drawn)
             *drawn = halo_raycast_frame(r) ? halo_gl_frame_describe(halo_raycast_frame(r)).segment_count : 1;
+        pass_draws = halo_raycast_frame(r) ? halo_gl_frame_describe(halo_raycast_frame(r)).pass_draws : 0;
     } else if (ok) {
         const halo_render_settings *settings = halo_scene_describe(scene).render;
         ok = halo_slice_set_volume(s, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag) == HALO_OK &&
@@ -301,6 +303,7 @@ static void test_one_draw_matches(env *e, const char *scene_text, const char *wh
     int drawn = 0, segmented_drawn = 0, scale = image_scale;
     one_draw = 1;
     float *ray = render_ray(e, scene_text, 0, 4, 0, &drawn);
+    long one_draw_passes = pass_draws;
     one_draw = 0;
     image_scale = 0;
     float *segmented = render_ray(e, scene_text, 0, 4, 0, &segmented_drawn);
@@ -342,6 +345,11 @@ static void test_one_draw_matches(env *e, const char *scene_text, const char *wh
               " differ (%.3g)",
               what, r_effect, r_reference);
         CHECK(drawn == 1, "%s: one draw of the host (%d)", what, drawn);
+        /* an emissive scene's generations on the atlas (gl/field_atlas.c): each pass one draw
+         * over every segment, H_0 and the five spreading passes, however many segments */
+        if (scene_text == halos_scene)
+            CHECK(one_draw_passes > 0 && one_draw_passes <= 6, "%s: generation pass draws of the frame %ld, not <= 6",
+                  what, one_draw_passes);
     }
     free(ray);
     free(segmented);

@@ -1,0 +1,34 @@
+/* Host contract 3's generations in a constant number of draws (field_atlas.c): the images
+ * of the generation passes as atlases of one tile per depth segment, each pass one draw
+ * over every tile. Internal; field.c drives it. */
+#ifndef HALO_GL_FIELD_ATLAS_H
+#define HALO_GL_FIELD_ATLAS_H
+
+#include "gl/frame.h"
+
+typedef struct halo_gl_field_atlas halo_gl_field_atlas;
+
+/* An atlas of at least `tiles` tiles for the frame's generation passes, or NULL without a
+ * diagnostic where they cannot run on one: a pass that reads its own output from the
+ * generation before (the occlusion image's running maximum), a pass with no declared
+ * reach, images of different sizes, no tiled variant of a pass, an atlas over the
+ * context's largest texture, or more than max_bytes. A given atlas that fits is kept
+ * (or grown). */
+halo_gl_field_atlas *halo_gl_field_atlas_reserve(halo_gl_frame *fr, halo_gl_field_atlas *atlas, int tiles,
+                                                 size_t max_bytes);
+void halo_gl_field_atlas_destroy(const halo_glfuncs *f, halo_gl_field_atlas *atlas);
+/* A new frame's seeds: every tile of the seed image 0. */
+void halo_gl_field_atlas_begin(halo_gl_field_atlas *atlas);
+/* Tile t's seeds: footprint (x0 y0 x1 y1, the tile's pixels) of layer `layer` of seed_stack
+ * (an array texture of the seed image's format), the rest of the tile 0; where the frame
+ * reads back (halo_gl_frame_nonzero_box), only the nonzero box is taken. */
+void halo_gl_field_atlas_seed(halo_gl_field_atlas *atlas, int t, unsigned seed_stack, int layer,
+                              const int footprint[4]);
+/* Every generation pass, one draw each (a repetition each), over tiles [0, tiles). */
+void halo_gl_field_atlas_generate(halo_gl_field_atlas *atlas, int tiles);
+/* Image `name` after the generations: its atlas texture (0 if the atlas has no such
+ * image), the tile's origin in it, and where tile t can be nonzero (its pixels). */
+unsigned halo_gl_field_atlas_tile(const halo_gl_field_atlas *atlas, const char *name, int t, int origin[2],
+                                  int box[4]);
+
+#endif
