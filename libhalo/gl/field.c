@@ -251,60 +251,6 @@ static void field_bind(const halo_glfuncs *f, const halo_program *p, const halo_
             }
 }
 
-/* The format and type glTexImage3D takes with an internal format of the frame's images. */
-static void upload_format(GLint internal, GLenum *format, GLenum *type)
-{
-    switch (internal) {
-    case GL_R32F:
-    case GL_R16F:
-        *format = GL_RED;
-        *type = GL_FLOAT;
-        break;
-    case GL_RG32F:
-    case GL_RG16F:
-        *format = GL_RG;
-        *type = GL_FLOAT;
-        break;
-    case GL_R8:
-        *format = GL_RED;
-        *type = GL_UNSIGNED_BYTE;
-        break;
-    case GL_RG8:
-        *format = GL_RG;
-        *type = GL_UNSIGNED_BYTE;
-        break;
-    case GL_RGBA8:
-        *format = GL_RGBA;
-        *type = GL_UNSIGNED_BYTE;
-        break;
-    default:
-        *format = GL_RGBA;
-        *type = GL_FLOAT;
-        break;
-    }
-}
-
-/* Bytes a texel of a stack's internal format. */
-static size_t texel_bytes(GLint internal_format)
-{
-    switch (internal_format) {
-    case GL_R8:
-        return 1;
-    case GL_RG8:
-    case GL_R16F:
-        return 2;
-    case GL_RGBA8:
-    case GL_RG16F:
-    case GL_R32F:
-        return 4;
-    case GL_RGBA16F:
-    case GL_RG32F:
-        return 8;
-    default:
-        return 16; /* GL_RGBA32F */
-    }
-}
-
 /* At least `layers` layers in every stack (a quarter more, so that a moving camera does not
  * reallocate every frame, where the cap on their bytes allows); a new layer's content is
  * unknown: its box is the whole image. 1; 0 out of memory; -1 over max_bytes (FIELD_MEMORY,
@@ -315,7 +261,7 @@ static int field_reserve(const halo_glfuncs *f, const halo_program *p, halo_gl_f
     size_t per_layer = seed_per_layer; /* the exchange's seed stacks, when there is one */
     for (int s = 0; s < field->stack_count; ++s)
         per_layer += (size_t)field->stacks[s].width * (size_t)field->stacks[s].height *
-                     texel_bytes(field->stacks[s].internal_format);
+                     halo_gl_image_texel_bytes(field->stacks[s].internal_format);
     if (per_layer > 0 && (size_t)layers > max_bytes / per_layer) {
         int scale = halo_program_reflection(p).image_scale > 1 ? halo_program_reflection(p).image_scale : 1;
         double mib = 1.0 / (1024.0 * 1024.0), need = (double)layers * (double)per_layer;
@@ -352,7 +298,7 @@ static int field_reserve(const halo_glfuncs *f, const halo_program *p, halo_gl_f
             boxes[k][3] = st->height;
         }
         GLenum format, type;
-        upload_format(st->internal_format, &format, &type);
+        halo_gl_image_upload_format(st->internal_format, &format, &type);
         if (!st->texture)
             f->GenTextures(1, &st->texture);
         f->BindTexture(GL_TEXTURE_2D_ARRAY, st->texture);
@@ -749,7 +695,7 @@ static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_
         if (layers <= field->seed_layers)
             continue; /* (a batch's stack, grown for an exchange, or the other way round) */
         GLenum format, type;
-        upload_format(view.internal_format, &format, &type);
+        halo_gl_image_upload_format(view.internal_format, &format, &type);
         if (!field->seed_stacks[i])
             f->GenTextures(1, &field->seed_stacks[i]);
         f->BindTexture(GL_TEXTURE_2D_ARRAY, field->seed_stacks[i]);
@@ -1028,7 +974,7 @@ static halo_gl_field_atlas *field_atlas(halo_gl_frame *fr, halo_gl_field *field,
     size_t stacks = 0;
     for (int s = 0; s < field->stack_count; ++s)
         stacks += (size_t)field->stacks[s].width * (size_t)field->stacks[s].height *
-                  texel_bytes(field->stacks[s].internal_format) * (size_t)field->layers;
+                  halo_gl_image_texel_bytes(field->stacks[s].internal_format) * (size_t)field->layers;
     if (field->atlas_off)
         return NULL;
     /* (reserve destroys an atlas it cannot grow) */
@@ -1075,7 +1021,8 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     for (size_t i = 0; d->exchange && i < halo_program_reflection(p->prepass).output_count; ++i) {
         halo_gl_frame_image view; /* the seed stacks of the exchange (field_seed_reserve) count too */
         if (halo_gl_frame_image_view(fr, halo_program_reflection(p->prepass).outputs[i].image, &view))
-            seed_per_layer += (size_t)view.width * (size_t)view.height * texel_bytes(view.internal_format);
+            seed_per_layer +=
+                (size_t)view.width * (size_t)view.height * halo_gl_image_texel_bytes(view.internal_format);
     }
     int reserved = field_reserve(f, p, field, layers, layers > max_layers - max_layers / 5 ? max_layers : 0, max_bytes,
                                  seed_per_layer, diag);
@@ -1131,7 +1078,8 @@ static halo_status field_compute(halo_gl_frame *fr, const halo_gl_segments_desc 
     for (size_t i = 0; field->batch && i < halo_program_reflection(p->prepass).output_count; ++i) {
         halo_gl_frame_image view;
         if (halo_gl_frame_image_view(fr, halo_program_reflection(p->prepass).outputs[i].image, &view))
-            batch_bytes += FIELD_BATCH * (size_t)view.width * (size_t)view.height * texel_bytes(view.internal_format);
+            batch_bytes += FIELD_BATCH * (size_t)view.width * (size_t)view.height *
+                           halo_gl_image_texel_bytes(view.internal_format);
     }
     if (!exchanged && field->batch && batch_bytes <= max_bytes / 16) {
         if (field_seed_reserve(f, fr, field, p->prepass, FIELD_BATCH, 0, NULL)) {

@@ -51,12 +51,14 @@ struct halo_gl_field_atlas {
     size_t vertex_capacity; /* floats */
 };
 
-static const char atlas_vertex_330[] = "#version 330 core\n"
-                                       "layout(location = 0) in vec2 corner;\n"
-                                       "void main() { gl_Position = vec4(corner, 0.0, 1.0); }\n";
-static const char atlas_vertex_es300[] = "#version 300 es\n"
-                                         "layout(location = 0) in vec2 corner;\n"
-                                         "void main() { gl_Position = vec4(corner, 0.0, 1.0); }\n";
+static const char atlas_vertex_330[] =
+    "#version 330 core\n"
+    "layout(location = 0) in vec2 corner;\n"
+    "void main() { gl_Position = vec4(corner, 0.0, 1.0); }\n";
+static const char atlas_vertex_es300[] =
+    "#version 300 es\n"
+    "layout(location = 0) in vec2 corner;\n"
+    "void main() { gl_Position = vec4(corner, 0.0, 1.0); }\n";
 
 static int box_empty(const int b[4]) { return b[0] >= b[2] || b[1] >= b[3]; }
 
@@ -134,11 +136,11 @@ static int atlas_plan(halo_gl_field_atlas *a)
                 return 0;
         }
         /* the pass's tiled variant, with a vertex shader of the tiles' corners */
-        pass->program = info->fragment_source && strstr(info->fragment_source, "HALO_PASS_TILES")
-                            ? halo_gl_pass_build(f, p, i,
-                                                 p->target == HALO_TARGET_ES300 ? atlas_vertex_es300 : atlas_vertex_330,
-                                                 "HALO_PASS_TILES", NULL)
-                            : 0;
+        pass->program =
+            info->fragment_source && strstr(info->fragment_source, "HALO_PASS_TILES")
+                ? halo_gl_pass_build(f, p, i, p->target == HALO_TARGET_ES300 ? atlas_vertex_es300 : atlas_vertex_330,
+                                     "HALO_PASS_TILES", NULL)
+                : 0;
         if (!pass->program)
             return 0;
         pass->index_location = f->GetUniformLocation(pass->program, "halo_pass_index");
@@ -161,17 +163,6 @@ static int atlas_plan(halo_gl_field_atlas *a)
         a->images[i].internal_format = view.internal_format;
     }
     return a->width > 0 && a->height > 0;
-}
-
-static size_t atlas_texel_bytes(GLint internal)
-{
-    switch (internal) {
-    case GL_R8: return 1;
-    case GL_RG8: case GL_R16F: return 2;
-    case GL_RGBA8: case GL_RG16F: case GL_R32F: return 4;
-    case GL_RGBA16F: case GL_RG32F: return 8;
-    default: return 16;
-    }
 }
 
 static int atlas_is_output(const halo_gl_field_atlas *a, int image)
@@ -199,7 +190,7 @@ static int atlas_allocate(halo_gl_field_atlas *a, int tiles, size_t max_bytes)
         return 0;
     size_t bytes = 0, pixels = (size_t)columns * (size_t)a->width * (size_t)rows * (size_t)a->height;
     for (int i = 0; i < a->image_count; ++i)
-        bytes += (atlas_is_output(a, i) ? 2 : 1) * pixels * atlas_texel_bytes(a->images[i].internal_format);
+        bytes += (atlas_is_output(a, i) ? 2 : 1) * pixels * halo_gl_image_texel_bytes(a->images[i].internal_format);
     if (bytes > max_bytes)
         return 0;
     for (int i = 0; i < a->image_count; ++i) {
@@ -219,12 +210,8 @@ static int atlas_allocate(halo_gl_field_atlas *a, int tiles, size_t max_bytes)
             f->BindTexture(GL_TEXTURE_2D, im->texture[k]);
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-            GLenum format = GL_RGBA, type = GL_FLOAT;
-            switch (im->internal_format) {
-            case GL_R8: case GL_R16F: case GL_R32F: format = GL_RED; break;
-            case GL_RG8: case GL_RG16F: case GL_RG32F: format = GL_RG; break;
-            default: break;
-            }
+            GLenum format, type;
+            halo_gl_image_upload_format(im->internal_format, &format, &type);
             f->TexImage2D(GL_TEXTURE_2D, 0, im->internal_format, columns * a->width, rows * a->height, 0, format, type,
                           NULL);
         }
@@ -303,10 +290,9 @@ void halo_gl_field_atlas_seed(halo_gl_field_atlas *a, int t, unsigned seed_stack
     /* where the frame reads its images back (llvmpipe: halo_gl_desc.readback), the seeds'
      * nonzero box, as the per-segment generations take it (gl/frame.c) */
     int box[4] = {footprint[0], footprint[1], footprint[2], footprint[3]};
-    GLint internal = seed->internal_format;
-    int channels = internal == GL_R8 || internal == GL_R16F || internal == GL_R32F      ? 1
-                   : internal == GL_RG8 || internal == GL_RG16F || internal == GL_RG32F ? 2
-                                                                                        : 4;
+    GLenum format, type;
+    halo_gl_image_upload_format(seed->internal_format, &format, &type);
+    int channels = format == GL_RED ? 1 : format == GL_RG ? 2 : 4;
     halo_gl_frame_nonzero_box(a->frame, channels, a->width, a->height, box);
     if (box_empty(box)) {
         f->FramebufferTextureLayer(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, 0, 0, 0);
@@ -327,8 +313,9 @@ static void atlas_reach(const halo_gl_field_atlas *a, const atlas_pass *pass, in
 {
     int in[4] = {0, 0, 0, 0};
     for (int k = 0; k < pass->info->input_count; ++k) {
-        int i = pass->inputs[k] >= 0 ? pass->inputs[k] : rep == pass->start && pass->first >= 0 ? pass->first
-                                                                                                 : pass->output;
+        int i = pass->inputs[k] >= 0                     ? pass->inputs[k]
+                : rep == pass->start && pass->first >= 0 ? pass->first
+                                                         : pass->output;
         const atlas_image *im = &a->images[i];
         box_union(in, im->support[im->current][t]);
     }

@@ -28,7 +28,6 @@ void halo_gl_field_atlas_seed(halo_gl_field_atlas *atlas, int t, unsigned seed_s
 void halo_gl_field_atlas_generate(halo_gl_field_atlas *atlas, int tiles);
 /* Image `name` after the generations: its atlas texture (0 if the atlas has no such
  * image), the tile's origin in it, and where tile t can be nonzero (its pixels). */
-unsigned halo_gl_field_atlas_tile(const halo_gl_field_atlas *atlas, const char *name, int t, int origin[2],
-                                  int box[4]);
+unsigned halo_gl_field_atlas_tile(const halo_gl_field_atlas *atlas, const char *name, int t, int origin[2], int box[4]);
 
 #endif

@@ -176,6 +176,47 @@ static void image_formats(int channels, int precision, GLint *internal, GLenum *
     *format = formats[c - 1];
 }
 
+void halo_gl_image_upload_format(GLint internal, GLenum *format, GLenum *type)
+{
+    switch (internal) {
+    case GL_R32F:
+    case GL_R16F:
+    case GL_R8:
+        *format = GL_RED;
+        break;
+    case GL_RG32F:
+    case GL_RG16F:
+    case GL_RG8:
+        *format = GL_RG;
+        break;
+    default:
+        *format = GL_RGBA;
+        break;
+    }
+    /* OpenGL ES takes the normalized 8-bit formats only as bytes */
+    *type = internal == GL_R8 || internal == GL_RG8 || internal == GL_RGBA8 ? GL_UNSIGNED_BYTE : GL_FLOAT;
+}
+
+size_t halo_gl_image_texel_bytes(GLint internal)
+{
+    switch (internal) {
+    case GL_R8:
+        return 1;
+    case GL_RG8:
+    case GL_R16F:
+        return 2;
+    case GL_RGBA8:
+    case GL_RG16F:
+    case GL_R32F:
+        return 4;
+    case GL_RGBA16F:
+    case GL_RG32F:
+        return 8;
+    default:
+        return 16; /* GL_RGBA32F */
+    }
+}
+
 /* The GL state the frame functions change, saved and restored around them: the host's
  * (halo_gl_state, made neutral for the frame's draws) and the 2D textures of the units
  * its passes bind. */
@@ -541,7 +582,9 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
             f->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-            f->TexImage2D(GL_TEXTURE_2D, 0, internal, image->width, image->height, 0, format, GL_FLOAT, NULL);
+            GLenum type;
+            halo_gl_image_upload_format(internal, &format, &type);
+            f->TexImage2D(GL_TEXTURE_2D, 0, internal, image->width, image->height, 0, format, type, NULL);
             f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, image->texture[k], 0);
             GLenum status = f->CheckFramebufferStatus(GL_FRAMEBUFFER);
             if (status != GL_FRAMEBUFFER_COMPLETE) {

@@ -61,6 +61,10 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
  * attachment 0 (an image of width x height, channels floats a pixel), 1; else 0, the box
  * unchanged. */
 int halo_gl_frame_nonzero_box(halo_gl_frame *fr, int channels, int width, int height, int box[4]);
+/* The format and type glTexImage takes with an internal format of the frame's images (R,
+ * RG, RGBA at 8, 16 or 32 bits), and bytes a texel. */
+void halo_gl_image_upload_format(GLint internal, GLenum *format, GLenum *type);
+size_t halo_gl_image_texel_bytes(GLint internal);
 /* Pass index of p's reflection compiled and linked (vertex_source NULL: the pass's own;
  * define: a name #defined in its fragment shader, or NULL), its inputs' samplers set to
  * units 0, 1, ... (the program is left current); 0 after a diagnostic in diag. */
