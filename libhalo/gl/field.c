@@ -84,7 +84,10 @@ struct halo_gl_field {
     /* the batched march's generations as atlases, each pass one draw over every segment
      * (field_atlas.c); NULL where they do not suit one */
     halo_gl_field_atlas *atlas;
-    int atlas_off;
+    int atlas_unsuited; /* the program's generations cannot run on an atlas */
+    /* the layers an atlas did not fit for, and did at its last success: a frame with no more
+     * than the latter, or half the former, tries again (each try compiles its passes) */
+    int atlas_failed, atlas_fit;
     field_gradient gradient;
     field_stack stacks[FIELD_MAX_STACKS];
     int stack_count;
@@ -968,28 +971,31 @@ static void field_store_atlas(const halo_glfuncs *f, halo_gl_field *field, int l
 }
 
 /* The atlas for the batched march's generations, within a quarter of max_bytes and what the
- * stacks leave of it: NULL (and none kept from then on) where it cannot serve every stack. */
+ * stacks leave of it: NULL where it cannot serve every stack (never again for this
+ * program), or not this many layers (tried again with fewer). */
 static halo_gl_field_atlas *field_atlas(halo_gl_frame *fr, halo_gl_field *field, int layers, size_t max_bytes)
 {
     size_t stacks = 0;
     for (int s = 0; s < field->stack_count; ++s)
         stacks += (size_t)field->stacks[s].width * (size_t)field->stacks[s].height *
                   halo_gl_image_texel_bytes(field->stacks[s].internal_format) * (size_t)field->layers;
-    if (field->atlas_off)
+    if (field->atlas_unsuited || (field->atlas_failed && layers > field->atlas_fit && layers > field->atlas_failed / 2))
         return NULL;
     /* (reserve destroys an atlas it cannot grow) */
     size_t budget = stacks < max_bytes ? max_bytes - stacks : 0;
-    field->atlas =
-        halo_gl_field_atlas_reserve(fr, field->atlas, layers, budget < max_bytes / 4 ? budget : max_bytes / 4);
+    field->atlas = halo_gl_field_atlas_reserve(fr, field->atlas, layers,
+                                               budget < max_bytes / 4 ? budget : max_bytes / 4, &field->atlas_unsuited);
     for (int s = 0; field->atlas && s < field->stack_count; ++s) {
         int origin[2], box[4];
         if (!halo_gl_field_atlas_tile(field->atlas, field->stacks[s].image, 0, origin, box)) {
             /* a stacked image the generations do not make */
             halo_gl_field_atlas_destroy(halo_gl_functions(halo_gl_frame_runtime(fr)), field->atlas);
             field->atlas = NULL;
+            field->atlas_unsuited = 1;
         }
     }
-    field->atlas_off = !field->atlas; /* the per-segment generations from now on */
+    field->atlas_failed = field->atlas ? 0 : layers;
+    field->atlas_fit = field->atlas ? (layers > field->atlas_fit ? layers : field->atlas_fit) : field->atlas_fit;
     return field->atlas;
 }
 

@@ -114,6 +114,11 @@ static int atlas_plan(halo_gl_field_atlas *a)
     if (!p->prepass || halo_program_reflection(p->prepass).output_count != 1)
         return 0;
     a->seed = atlas_find_image(a, halo_program_reflection(p->prepass).outputs[0].image, 1);
+    /* written[i]: image i holds this frame's content before the pass that reads it (the
+     * seeds, or an earlier pass's output); an image read before it is written would be the
+     * generation before's (a running image) or never written */
+    int written[ATLAS_MAX_IMAGES] = {0};
+    written[a->seed] = 1;
     for (size_t i = 0; i < r.pass_count; ++i) {
         const halo_pass_info *info = &r.passes[i];
         if (info->at != HALO_PASS_AT_GENERATE)
@@ -126,15 +131,19 @@ static int atlas_plan(halo_gl_field_atlas *a)
         pass->start = info->start < 1 ? 1 : info->start;
         pass->output = atlas_find_image(a, info->output, 1);
         pass->first = info->first ? atlas_find_image(a, info->first, 1) : -1;
-        if (pass->output < 0 || (info->first && pass->first < 0))
+        if (pass->output < 0 || (info->first && (pass->first < 0 || !written[pass->first])))
             return 0;
         for (int k = 0; k < info->input_count; ++k) {
             int previous = !strcmp(info->inputs[k], "previous");
             pass->inputs[k] = previous ? -1 : atlas_find_image(a, info->inputs[k], 1);
-            /* the image of the generation before (a running maximum): not per tile */
-            if (!previous && (pass->inputs[k] < 0 || pass->inputs[k] == pass->output))
+            /* the image of the generation before (the occlusion's running maximum, a median
+             * of the seeds into themselves): not per tile */
+            if (!previous && (pass->inputs[k] < 0 || pass->inputs[k] == pass->output || !written[pass->inputs[k]]))
+                return 0;
+            if (previous && !info->first && !written[pass->output])
                 return 0;
         }
+        written[pass->output] = 1;
         /* the pass's tiled variant, with a vertex shader of the tiles' corners */
         pass->program =
             info->fragment_source && strstr(info->fragment_source, "HALO_PASS_TILES")
@@ -178,8 +187,11 @@ static int atlas_is_output(const halo_gl_field_atlas *a, int image)
 static int atlas_allocate(halo_gl_field_atlas *a, int tiles, size_t max_bytes)
 {
     const halo_glfuncs *f = halo_gl_functions(halo_gl_frame_runtime(a->frame));
-    GLint largest = 2048;
+    GLint largest = 2048, viewport[2] = {2048, 2048};
     f->GetIntegerv(GL_MAX_TEXTURE_SIZE, &largest);
+    f->GetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport); /* one draw covers the atlas */
+    largest = viewport[0] < largest ? viewport[0] : largest;
+    largest = viewport[1] < largest ? viewport[1] : largest;
     int columns = 1;
     while (columns * columns < tiles)
         ++columns;
@@ -226,9 +238,10 @@ static int atlas_allocate(halo_gl_field_atlas *a, int tiles, size_t max_bytes)
 }
 
 halo_gl_field_atlas *halo_gl_field_atlas_reserve(halo_gl_frame *fr, halo_gl_field_atlas *atlas, int tiles,
-                                                 size_t max_bytes)
+                                                 size_t max_bytes, int *unsuited)
 {
     const halo_glfuncs *f = halo_gl_functions(halo_gl_frame_runtime(fr));
+    *unsuited = 0;
     if (atlas && atlas->tiles >= tiles)
         return atlas;
     if (!atlas) {
@@ -242,6 +255,7 @@ halo_gl_field_atlas *halo_gl_field_atlas_reserve(halo_gl_frame *fr, halo_gl_fiel
         int planned = atlas_plan(atlas);
         halo_gl_use_saved_program(f, program);
         if (!planned) {
+            *unsuited = 1;
             halo_gl_field_atlas_destroy(f, atlas);
             return NULL;
         }

@@ -9,13 +9,14 @@
 typedef struct halo_gl_field_atlas halo_gl_field_atlas;
 
 /* An atlas of at least `tiles` tiles for the frame's generation passes, or NULL without a
- * diagnostic where they cannot run on one: a pass that reads its own output from the
- * generation before (the occlusion image's running maximum), a pass with no declared
- * reach, images of different sizes, no tiled variant of a pass, an atlas over the
- * context's largest texture, or more than max_bytes. A given atlas that fits is kept
- * (or grown). */
+ * diagnostic where they cannot run on one. *unsuited 1: never, for this program (a pass
+ * that reads an image before this generation writes it: the occlusion image's running
+ * maximum, a median of the seeds; a pass with no declared reach; images of different
+ * sizes; no tiled variant of a pass); 0: not at this size (an atlas over the context's
+ * largest texture or viewport, or over max_bytes). A given atlas that fits is kept (or
+ * grown); one that cannot grow is destroyed. */
 halo_gl_field_atlas *halo_gl_field_atlas_reserve(halo_gl_frame *fr, halo_gl_field_atlas *atlas, int tiles,
-                                                 size_t max_bytes);
+                                                 size_t max_bytes, int *unsuited);
 void halo_gl_field_atlas_destroy(const halo_glfuncs *f, halo_gl_field_atlas *atlas);
 /* A new frame's seeds: every tile of the seed image 0. */
 void halo_gl_field_atlas_begin(halo_gl_field_atlas *atlas);
