@@ -327,10 +327,8 @@ static void atlas_reach(const halo_gl_field_atlas *a, const atlas_pass *pass, in
 {
     int in[4] = {0, 0, 0, 0};
     for (int k = 0; k < pass->info->input_count; ++k) {
-        int i = pass->inputs[k] >= 0                     ? pass->inputs[k]
-                : rep == pass->start && pass->first >= 0 ? pass->first
-                                                         : pass->output;
-        const atlas_image *im = &a->images[i];
+        const atlas_image *im =
+            &a->images[halo_gl_pass_input(pass->inputs[k], rep, pass->start, pass->first, pass->output)];
         box_union(in, im->support[im->current][t]);
     }
     int r = halo_pass_reach(pass->info, rep);
@@ -384,17 +382,12 @@ void halo_gl_field_atlas_generate(halo_gl_field_atlas *a, int tiles)
         f->Uniform2i(pass->tile_location, a->width, a->height);
         for (int rep = pass->start; rep <= pass->repeat; ++rep) {
             for (int i = 0; i < pass->info->input_count; ++i) {
-                int image = pass->inputs[i] >= 0                     ? pass->inputs[i]
-                            : rep == pass->start && pass->first >= 0 ? pass->first
-                                                                     : pass->output;
-                const atlas_image *in = &a->images[image];
+                const atlas_image *in =
+                    &a->images[halo_gl_pass_input(pass->inputs[i], rep, pass->start, pass->first, pass->output)];
                 f->ActiveTexture(GL_TEXTURE0 + (GLenum)i);
                 f->BindTexture(GL_TEXTURE_2D, in->texture[in->current]);
             }
-            if (pass->index_location >= 0)
-                f->Uniform1i(pass->index_location, rep);
-            if (pass->count_location >= 0)
-                f->Uniform1i(pass->count_location, pass->repeat);
+            halo_gl_pass_repetition(f, pass->index_location, pass->count_location, rep, pass->repeat);
             /* a rectangle a tile: where the pass can write a nonzero, and where the target
              * held one (it becomes the pass's 0) */
             size_t n = 0;

@@ -415,9 +415,8 @@ static frame_box pass_reach_box(const halo_gl_frame *fr, const frame_pass *pass,
         return image_full(out);
     frame_box in = {0, 0, 0, 0};
     for (int k = 0; k < pass->info->input_count; ++k) {
-        const frame_image *im = pass->inputs[k] >= 0                     ? &fr->images[pass->inputs[k]]
-                                : rep == pass->start && pass->first >= 0 ? &fr->images[pass->first]
-                                                                         : out;
+        const frame_image *im =
+            &fr->images[halo_gl_pass_input(pass->inputs[k], rep, pass->start, pass->first, pass->output)];
         in = box_union(in, box_to_scale(im->support[im->current], im->scale, out->scale));
     }
     return box_grow(in, reach, out->width, out->height);
@@ -995,16 +994,12 @@ static void frame_run(halo_gl_frame *fr, halo_pass_at at)
         f->Viewport(0, 0, out->width, out->height);
         for (int rep = pass->start; rep <= pass->repeat; ++rep) {
             for (int k = 0; k < pass->info->input_count; ++k) {
-                const frame_image *in = pass->inputs[k] >= 0                     ? &fr->images[pass->inputs[k]]
-                                        : rep == pass->start && pass->first >= 0 ? &fr->images[pass->first]
-                                                                                 : out;
+                const frame_image *in =
+                    &fr->images[halo_gl_pass_input(pass->inputs[k], rep, pass->start, pass->first, pass->output)];
                 f->ActiveTexture(GL_TEXTURE0 + (GLenum)k);
                 f->BindTexture(GL_TEXTURE_2D, in->texture[in->current]);
             }
-            if (pass->index_location >= 0)
-                f->Uniform1i(pass->index_location, rep);
-            if (pass->count_location >= 0)
-                f->Uniform1i(pass->count_location, pass->repeat);
+            halo_gl_pass_repetition(f, pass->index_location, pass->count_location, rep, pass->repeat);
             /* Scissored: the pixels that can be nonzero, and those the target texture
              * holds nonzero from before (they become the pass's zeros); none: no draw. */
             frame_box *target = &out->support[1 - out->current];
@@ -1106,6 +1101,19 @@ int halo_gl_frame_image_view(const halo_gl_frame *fr, const char *name, halo_gl_
 }
 
 halo_gl_field *halo_gl_frame_field(const halo_gl_frame *fr) { return fr->field; }
+
+int halo_gl_pass_input(int named, int rep, int start, int first, int output)
+{
+    return named >= 0 ? named : rep == start && first >= 0 ? first : output;
+}
+
+void halo_gl_pass_repetition(const halo_glfuncs *f, GLint index_location, GLint count_location, int rep, int repeat)
+{
+    if (index_location >= 0)
+        f->Uniform1i(index_location, rep);
+    if (count_location >= 0)
+        f->Uniform1i(count_location, repeat);
+}
 
 void halo_gl_frame_count_pass_draws(halo_gl_frame *fr, long draws) { fr->pass_draws += draws; }
 

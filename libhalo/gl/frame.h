@@ -70,6 +70,12 @@ size_t halo_gl_image_texel_bytes(GLint internal);
  * units 0, 1, ... (the program is left current); 0 after a diagnostic in diag. */
 GLuint halo_gl_pass_build(const halo_glfuncs *f, const halo_program *p, size_t index, const char *vertex_source,
                           const char *define, halo_diagnostics *diag);
+/* The image a pass reads as its input k at repetition rep (the frame's and the atlas's rule):
+ * `named`, the input's own image index; for "previous" (named < 0), `first` at the first
+ * repetition drawn (start) where the pass has one (>= 0), else its output. */
+int halo_gl_pass_input(int named, int rep, int start, int first, int output);
+/* A pass program's repetition uniforms (halo_pass_index, halo_pass_count; -1: unused). */
+void halo_gl_pass_repetition(const halo_glfuncs *f, GLint index_location, GLint count_location, int rep, int repeat);
 /* Pass draws made outside frame.c (field_atlas.c), counted as the frame's (its info). */
 void halo_gl_frame_count_pass_draws(halo_gl_frame *fr, long draws);
 /* The fields a one-draw frame has computed (its draws that reused the field are not counted). */
