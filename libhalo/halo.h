@@ -579,6 +579,11 @@ typedef struct halo_pass_info {
                          * negative PARAM gives B^0, as B^(PARAM-i) is 1 for i >= PARAM */
     int reach_factor;   /* M of reach=M*B^(PARAM-i)+K (1 without M*) */
     int reach_base;     /* B of reach=M*B^(PARAM-i)+K: 2 or 4 */
+    int running;        /* 1: running=associative: output = (the output of the generation before)
+                         * op (input 0), op associative in the image's floats with identity 0
+                         * (halo_generate's occlusion: a maximum of non-negative values), so a
+                         * runtime may compute it for many generations at once as a prefix scan
+                         * (docs/image-passes.md) */
 } halo_pass_info;
 #define HALO_MAX_PASS_REPEAT 1024
 

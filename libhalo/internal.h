@@ -65,6 +65,7 @@ typedef struct halo_pass_decl {
     int line;
     halo_pass_at at;              /* at=post, final: runs in halo_*_frame_post, not between slices */
     int each_channel;             /* each=channel: one pass per channel; '*' names that channel's image */
+    int running;                  /* running=associative (halo_pass_info.running) */
     int start;                    /* start=K: repetitions K..repeat only (0: 1) */
     int reach;                    /* reach=: -1 undeclared; else K of reach=K or reach=[M*]B^(PARAM-i)+K */
     char *reach_param;            /* PARAM of reach=[M*]B^(PARAM-i)[+K]; NULL for reach=K */

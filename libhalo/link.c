@@ -528,16 +528,27 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
                  "uniform ivec2 halo_tile_size; // a tile's pixels\n"
                  "ivec2 halo_tile_origin = ivec2(0); // the fragment's tile's first pixel in the atlas\n"
                  "#endif");
+    /* a running=associative pass on an atlas is a step of a prefix scan over the tiles:
+     * input 1 is the tile halo_tile_back tiles before the fragment's (0 before the first) */
+    int scan = tiled && pd->running && input_count == 2;
+    if (scan)
+        HALO_GEN(&e,
+                 "#ifdef HALO_PASS_TILES\n"
+                 "uniform int halo_tile_columns; // tiles per row of the atlas\n"
+                 "uniform int halo_tile_back; // the scan's step: input 1 reads this many tiles back\n"
+                 "ivec2 halo_tile_before = ivec2(-1); // that tile's first pixel; -1: before the first tile\n"
+                 "#endif");
     for (int k = 0; k < input_count; k++) {
         if (tiled)
             HALO_GEN(&e,
                      "#ifdef HALO_PASS_TILES\n"
                      "vec4 halo_fetch_%d(ivec2 pixel) {\n"
-                     "    if (any(greaterThanEqual(uvec2(pixel), uvec2(halo_tile_size)))) // also pixel < 0\n"
+                     "    if (%sany(greaterThanEqual(uvec2(pixel), uvec2(halo_tile_size)))) // also pixel < 0\n"
                      "        return vec4(0.0);\n"
-                     "    return texelFetch(halo_input_%d, halo_tile_origin + pixel, 0);\n}\n"
+                     "    return texelFetch(halo_input_%d, %s + pixel, 0);\n}\n"
                      "#else",
-                     k, k);
+                     k, scan && k == 1 ? "halo_tile_before.x < 0 || " : "", k,
+                     scan && k == 1 ? "halo_tile_before" : "halo_tile_origin");
         HALO_GEN(
             &e,
             "vec4 halo_fetch_%d(ivec2 pixel) {\n"
@@ -600,10 +611,16 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
                  "#ifdef HALO_PASS_TILES\n"
                  "void main() {\n"
                  "    ivec2 fragment = ivec2(gl_FragCoord.xy);\n"
-                 "    halo_tile_origin = fragment / halo_tile_size * halo_tile_size;\n"
+                 "    halo_tile_origin = fragment / halo_tile_size * halo_tile_size;%s\n"
                  "    halo_pass_output = halo_pass_vec4(halo_%s_%s(fragment - halo_tile_origin));\n"
                  "}\n"
                  "#else",
+                 scan ? "\n    ivec2 tile = fragment / halo_tile_size;\n"
+                        "    int before = tile.y * halo_tile_columns + tile.x - halo_tile_back;\n"
+                        "    if (before >= 0)\n"
+                        "        halo_tile_before = ivec2(before % halo_tile_columns, before / halo_tile_columns) * "
+                        "halo_tile_size;"
+                      : "",
                  m->name, pd->entry);
     HALO_GEN(&e, "void main() {\n    halo_pass_output = halo_pass_vec4(halo_%s_%s(ivec2(gl_FragCoord.xy)));\n}",
              m->name, pd->entry);
@@ -651,6 +668,7 @@ static int build_pass(halo_program *p, const halo_library *lib, const halo_linke
     pi->reach_exponent = pd->reach >= 0 && pd->reach_param ? (exponent < 0 ? 0 : exponent) : -1;
     pi->reach_factor = pd->reach_factor > 0 ? pd->reach_factor : 1;
     pi->reach_base = pd->reach_base == 4 ? 4 : 2;
+    pi->running = pd->running;
     pi->vertex_source = halo_program_own(p, "%s\n%s\n", halo_target_version_line(p->target), pass_vertex_body);
     pi->fragment_source = frag_owned;
     p->pass_origins[p->pass_count] = e.origins;

@@ -611,6 +611,14 @@ static void parse_pass(parse_ctx *ctx, words *w, int line)
                     "the nonzero pixels "
                     "of its inputs repetition i can write a nonzero pixel");
             continue;
+        } else if (k == 7 && !strncmp(a, "running", 7)) {
+            if (!strcmp(v, "associative"))
+                pd.running = 1;
+            else
+                ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i],
+                            "running= takes associative: the pass combines input 0 with its own output of the "
+                            "generation before (input 1) by an associative operation whose identity is 0");
+            continue;
         } else if (k == 4 && !strncmp(a, "each", 4)) {
             if (!strcmp(v, "channel"))
                 pd.each_channel = 1;
@@ -633,7 +641,7 @@ static void parse_pass(parse_ctx *ctx, words *w, int line)
         } else {
             ANNOT_ERROR(ctx, ANNOTATION_SYNTAX, line, w->col[i],
                         "unknown pass key '%.*s' (entry, inputs, output, "
-                        "repeat, first, start, when, at, each)",
+                        "repeat, first, start, when, at, each, reach, running)",
                         (int)k, a);
             continue;
         }
@@ -1150,6 +1158,20 @@ halo_module *halo_module_parse(const char *file, const char *source, halo_diagno
                     "pass '%s': repeat=%s: the parameter's max is %g; declare max=N with N at most %d "
                     "(HALO_MAX_PASS_REPEAT)",
                     pd->name, pd->repeat, rp->max, HALO_MAX_PASS_REPEAT);
+                ctx.errors++;
+            }
+            /* running=associative: output = (its own output of the generation before) op (input 0),
+             * computed by a runtime as a prefix over generations */
+            if (pd->running && (pd->input_count != 2 || !pd->output || strcmp(pd->inputs[1], pd->output) ||
+                                !strcmp(pd->inputs[0], pd->output) || !strcmp(pd->inputs[0], "previous") ||
+                                pd->repeat || pd->first || pd->reach != 0 || pd->reach_param || pd->start > 1 ||
+                                pd->each_channel || pd->at != HALO_PASS_AT_GENERATE)) {
+                halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_PASS_INVALID, file, pd->line, 1,
+                                        m->lines[pd->line - 1],
+                                        "pass '%s': running=associative needs inputs=IMAGE,OUTPUT (another image, "
+                                        "then its own output of the generation before), reach=0, no repeat=, first=, "
+                                        "start= or each=, and no at=post or final",
+                                        pd->name);
                 ctx.errors++;
             }
             /* when=!PARAM negates; when=halo_full_size: the halo images at the frame's size */

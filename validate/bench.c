@@ -391,14 +391,17 @@ static int write_plot(const char *png, const halo_bench_env *env, const halo_ben
     return ok;
 }
 
-static int run_sweep(const bench_options *o, halo_bench_env *env, const char *renderer)
+/* The spreading passes N of --scene's halo_generate (4 without a scene or the stage); 0
+ * when the scene cannot be loaded (diagnosed). */
+static int scene_passes(const bench_options *o, halo_bench_env *env)
 {
-    halo_bench_case cases[48];
     int passes = 4;
     if (o->scene) {
         halo_scene *scene = halo_scene_load(o->scene, env->lib, env->diag);
-        if (!scene)
-            return 1;
+        if (!scene) {
+            halo_diagnostics_print(env->diag, stderr);
+            return 0;
+        }
         size_t n = halo_scene_describe(scene).stage_count;
         for (size_t i = 0; i < n; ++i)
             if (!strcmp(halo_scene_describe(scene).stages[i], "halo_generate")) {
@@ -416,6 +419,15 @@ static int run_sweep(const bench_options *o, halo_bench_env *env, const char *re
             }
         halo_scene_destroy(scene);
     }
+    return passes;
+}
+
+static int run_sweep(const bench_options *o, halo_bench_env *env, const char *renderer)
+{
+    halo_bench_case cases[48];
+    int passes = scene_passes(o, env);
+    if (!passes)
+        return 1;
     size_t count = halo_bench_sweep(cases, sizeof cases / sizeof cases[0], passes, o->finest);
     int status = 2;
     /* before the timed frames, which it would disturb */
@@ -480,7 +492,12 @@ done:
 
 static int run_table1(const bench_options *o, halo_bench_env *env, const char *renderer)
 {
-    const halo_bench_config halo = {.halos = 1, .interval = 4, .passes = 4, .precision = 32, .step = 0.5};
+    /* with --scene, its halo rows draw that scene at its N (the gradient and seed rows keep
+     * their own stages) */
+    int passes = scene_passes(o, env);
+    if (!passes)
+        return 1;
+    const halo_bench_config halo = {.halos = 1, .interval = 4, .passes = passes, .precision = 32, .step = 0.5};
     halo_bench_case cases[48];
     memset(cases, 0, sizeof cases);
     size_t n = 0;
@@ -538,7 +555,6 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
      * section): the reference issue 16's goal was set against */
     ROW("ref-full", NULL, cases[n].config.halos = 0; cases[n].config.interval = 1; cases[n].config.no_skip = 1);
 #undef ROW
-    env->scene_text = bench_halo_scene;
     if (!halo_bench_run(env, cases, n)) {
         halo_diagnostics_print(env->diag, stderr);
         halo_bench_cases_free(cases, n);
@@ -564,8 +580,9 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
     }
     printf(
         "# halo-validate bench --table1: %dx%d image, %d^3 built-in volume, %d slices (sample distance 0.5 voxel),\n"
-        "# median of %d interleaved frames, %s\n",
-        env->width, env->height, o->volume_size, cases[0].slices, env->repeat, renderer ? renderer : "?");
+        "# %s, median of %d interleaved frames, %s\n",
+        env->width, env->height, o->volume_size, cases[0].slices, o->scene ? o->scene : "built-in one-halo scene",
+        env->repeat, renderer ? renderer : "?");
     printf(
         "# gradient: the gradient fetched and used (boundary with neutral live parameters); seed: seeding into the"
         " seed image instead; seed+map: + mapping (M = -: no generation; the field stays 0, so the slice host draws"

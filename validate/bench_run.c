@@ -29,10 +29,13 @@ static void describe(const halo_bench_case *c, char *out, size_t size)
     else if (k->no_generation)
         snprintf(out, size, "%s, seeding and mapping only", halo_bench_host_name(k));
     else
-        snprintf(out, size, "%s, M = %d, N = %d%s%s, %d-bit, %s resolution, step %g, %s gradients%s",
-                 halo_bench_host_name(k), k->interval, k->passes, k->wide ? " wide" : "", k->fold ? " fold" : "",
-                 k->precision, halo_bench_resolution(k), k->step, halo_bench_gradient(k),
-                 k->all_live ? ", all live" : "");
+        snprintf(out, size, "%s%s, M = %d, N = %d%s%s, %d-bit, %s resolution, step %g, %s gradients%s",
+                 halo_bench_host_name(k),
+                 !k->one_draw   ? ""
+                 : k->same_view ? " drawn once, the field reused (the same view)"
+                                : " drawn once",
+                 k->interval, k->passes, k->wide ? " wide" : "", k->fold ? " fold" : "", k->precision,
+                 halo_bench_resolution(k), k->step, halo_bench_gradient(k), k->all_live ? ", all live" : "");
 }
 
 const char *halo_bench_gradient(const halo_bench_config *k)

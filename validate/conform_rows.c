@@ -180,6 +180,13 @@
     " {\"halo_generate\": {\"passes\": 3, \"delta\": [0.8, 0.9], \"interval\": 4}}," \
     " {\"halo_map\": {\"mode\": [0, 1], \"color_near\": [[1, 0.9, 0.4], [0, 0, 0]]," \
     "   \"color_far\": [[1, 0.3, 0.1], [0, 0, 0]], \"opacity\": [0.8, 0.7]}}], " SEGMENT_RENDER "}"
+/* the same with the seeds' 3x3 median (a pass that writes the image it reads) */
+#define SEGMENT_MEDIAN_SCENE                                                                           \
+    "{\"halo_scene\": 1, \"stages\": ["                                                                \
+    " {\"halo_seed\": {\"alpha\": [1, 2], \"beta\": 0.125, \"gradient_scale\": 4}},"                   \
+    " {\"halo_generate\": {\"passes\": 3, \"delta\": [0.8, 0.9], \"interval\": 4, \"median\": true}}," \
+    " {\"halo_map\": {\"mode\": [0, 1], \"color_near\": [[1, 0.9, 0.4], [0, 0, 0]],"                   \
+    "   \"color_far\": [[1, 0.3, 0.1], [0, 0, 0]], \"opacity\": [0.8, 0.7]}}], " SEGMENT_RENDER "}"
 #define SEGMENT_OUTLINES_SCENE                                                                       \
     "{\"halo_scene\": 1, \"stages\": ["                                                              \
     " {\"halo_seed\": {\"alpha\": 2, \"gradient_scale\": 4}}, {\"halo_generate\": {\"passes\": 3}}," \
@@ -391,6 +398,8 @@ const conform_row conform_rows[] = {
                 SEGMENT_HALOS_WHY, SEGMENT_OUTLINES_SCENE, 0, 0),
     ONE_DRAW_ROW("ray@one_draw", "the one-draw ray caster (host contract 3) with two halos, M = 4", SLICE_HALOS_TOL,
                  ONE_DRAW_WHY, SEGMENT_HALOS_SCENE, 0, 32, 1),
+    ONE_DRAW_ROW("ray@one_draw_median", "the one-draw ray caster, two halos, M = 4, the seeds' 3x3 median",
+                 SLICE_HALOS_TOL, ONE_DRAW_WHY, SEGMENT_MEDIAN_SCENE, 0, 32, 1),
     ONE_DRAW_ROW("ray@one_draw_ortho", "the one-draw ray caster with two halos, orthographic", SLICE_HALOS_TOL,
                  ONE_DRAW_WHY, SEGMENT_HALOS_SCENE, 1, 32, 1),
     ONE_DRAW_ROW("ray@one_draw_outlines", "the one-draw ray caster with a halo and outlines (post passes)",

@@ -24,7 +24,7 @@
 #pragma halo pass spread_seed entry=spread_seed_pass inputs=seed output=field when=halo_full_size,fold,!wide reach=2^(passes-i)+1
 #pragma halo pass spread entry=spread_on_pass inputs=previous,seed output=field repeat=passes start=2 when=halo_full_size,fold,!wide reach=2^(passes-i)
 #pragma halo pass spread_wide entry=spread_wide_pass inputs=previous,initial output=field repeat=passes first=initial when=wide reach=3*4^(passes-i)
-#pragma halo pass occlude entry=occlusion_pass inputs=field,occlusion output=occlusion reach=0
+#pragma halo pass occlude entry=occlusion_pass inputs=field,occlusion output=occlusion reach=0 running=associative
 
 // Volumetric halos, step 2 (Bruckner & Groller 2007, Sec. 3.2; docs/stages/halo_generate.md):
 //   H_0 = |grad S| (central differences, not halved, clamped to [0, 1]);

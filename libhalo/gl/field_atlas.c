@@ -7,8 +7,10 @@
  * tile keeps its support box as gl/frame.c keeps an image's (outside it the texture holds
  * 0; a pass writes the tile where its inputs' support grown by its reach can be nonzero,
  * and where the target held a nonzero from before), so the draw covers a rectangle a tile,
- * in one vertex buffer. What the generations compute is the per-segment path's: the same
- * programs, the same floats (conformance: `halo-validate conform --stage ray`). */
+ * in one vertex buffer. A running=associative pass (O_t = O_(t-1) op I_t: the occlusion
+ * image's running maximum) is a prefix scan over the tiles in log2 draws. What the
+ * generations compute is the per-segment path's: the same programs, the same floats
+ * (conformance: `halo-validate conform --stage segments`). */
 #include "gl/field_atlas.h"
 
 #include "diag.h"
@@ -24,8 +26,11 @@ typedef struct atlas_image {
     const char *name;
     GLint internal_format;
     GLenum format;
-    GLuint texture[2]; /* [1] only for a pass's output */
+    GLuint texture[2]; /* [1] only where `count` is 2 */
+    int count;         /* textures: 2 where a pass reads the image it writes, or it is written
+                        * more than once a generation (the field); else 1 (the seeds, H_0) */
     int current;
+    int alternate;        /* tile t's content in texture t % 2 (a running pass a tile a draw) */
     int (*support[2])[4]; /* per tile, in the tile's pixels */
 } atlas_image;
 
@@ -33,8 +38,9 @@ typedef struct atlas_pass {
     const halo_pass_info *info;
     GLuint program;
     GLint index_location, count_location, tile_location;
-    int inputs[HALO_MAX_PASS_INPUTS]; /* image index; -1: previous */
-    int output, first;                /* first: -1 for the output itself */
+    GLint columns_location, back_location; /* a running pass's scan (link.c) */
+    int inputs[HALO_MAX_PASS_INPUTS];      /* image index; -1: previous */
+    int output, first;                     /* first: -1 for the output itself */
     int repeat, start;
 } atlas_pass;
 
@@ -49,6 +55,7 @@ struct halo_gl_field_atlas {
     GLuint framebuffer, vertex_array, buffer;
     float *vertices;
     size_t vertex_capacity; /* floats */
+    int (*boxes)[4];        /* a draw's rectangle per tile */
 };
 
 static const char atlas_vertex_330[] =
@@ -102,7 +109,37 @@ void halo_gl_field_atlas_destroy(const halo_glfuncs *f, halo_gl_field_atlas *a)
     f->DeleteVertexArrays(1, &a->vertex_array);
     f->DeleteBuffers(1, &a->buffer);
     free(a->vertices);
+    free(a->boxes);
     free(a);
+}
+
+/* The passes of the generation that write image, or read it. */
+static int atlas_users(const halo_gl_field_atlas *a, int image)
+{
+    int n = 0;
+    for (int k = 0; k < a->pass_count; ++k) {
+        int uses = a->passes[k].output == image;
+        for (int i = 0; i < a->passes[k].info->input_count; ++i)
+            uses |= a->passes[k].inputs[i] == image;
+        n += uses;
+    }
+    return n;
+}
+
+/* The textures image needs (atlas_image.count). */
+static int atlas_texture_count(const halo_gl_field_atlas *a, int image)
+{
+    int writes = 0;
+    for (int k = 0; k < a->pass_count; ++k) {
+        const atlas_pass *pass = &a->passes[k];
+        if (pass->output != image)
+            continue;
+        writes += pass->repeat - pass->start + 1;
+        for (int i = 0; i < pass->info->input_count; ++i)
+            if (pass->inputs[i] < 0 || pass->inputs[i] == image)
+                return 2;
+    }
+    return writes > 1 ? 2 : 1;
 }
 
 /* The passes and images of the frame's generations; 0 where they do not suit an atlas. */
@@ -136,9 +173,10 @@ static int atlas_plan(halo_gl_field_atlas *a)
         for (int k = 0; k < info->input_count; ++k) {
             int previous = !strcmp(info->inputs[k], "previous");
             pass->inputs[k] = previous ? -1 : atlas_find_image(a, info->inputs[k], 1);
-            /* the image of the generation before (the occlusion's running maximum, a median
-             * of the seeds into themselves): not per tile */
-            if (!previous && (pass->inputs[k] < 0 || pass->inputs[k] == pass->output || !written[pass->inputs[k]]))
+            /* an image of the generation before is not per tile, but for a running pass's
+             * own output (a prefix scan over the tiles: halo_gl_field_atlas_generate) */
+            int running = info->running && k == 1 && pass->inputs[k] == pass->output;
+            if (!previous && (pass->inputs[k] < 0 || (!written[pass->inputs[k]] && !running)))
                 return 0;
             if (previous && !info->first && !written[pass->output])
                 return 0;
@@ -155,14 +193,28 @@ static int atlas_plan(halo_gl_field_atlas *a)
         pass->index_location = f->GetUniformLocation(pass->program, "halo_pass_index");
         pass->count_location = f->GetUniformLocation(pass->program, "halo_pass_count");
         pass->tile_location = f->GetUniformLocation(pass->program, "halo_tile_size");
+        pass->columns_location = f->GetUniformLocation(pass->program, "halo_tile_columns");
+        pass->back_location = f->GetUniformLocation(pass->program, "halo_tile_back");
+        if (info->running && (pass->inputs[1] != pass->output || pass->back_location < 0))
+            return 0;
     }
     if (a->pass_count == 0)
         return 0;
-    /* every image of one size (the tile), kept at 0 outside its support by the passes */
+    /* every image of one size (the tile), cleared to 0 and kept at 0 outside its support by
+     * the passes */
     for (int i = 0; i < a->image_count; ++i) {
         halo_gl_frame_image view;
-        if (!halo_gl_frame_image_view(a->frame, a->images[i].name, &view))
+        const halo_image_info *info = NULL;
+        for (size_t k = 0; k < r.image_count && !info; ++k)
+            info = !strcmp(r.images[k].name, a->images[i].name) ? &r.images[k] : NULL;
+        if (!info || info->clear != 0.0 || !halo_gl_frame_image_view(a->frame, a->images[i].name, &view))
             return 0;
+        /* a running pass's output: the generation before's carries over (not reset), and no
+         * other pass writes or reads it (a tile a draw leaves its tiles in two textures) */
+        for (int k = 0; k < a->pass_count; ++k)
+            if (a->passes[k].output == i && a->passes[k].info->running &&
+                (info->reset == HALO_RESET_GENERATION || atlas_users(a, i) != 1))
+                return 0;
         if (i == 0) {
             a->width = view.width;
             a->height = view.height;
@@ -170,20 +222,18 @@ static int atlas_plan(halo_gl_field_atlas *a)
             return 0;
         }
         a->images[i].internal_format = view.internal_format;
+        a->images[i].count = atlas_texture_count(a, i);
     }
+    /* the scan's first step reads input 0 as the output's own tiles */
+    for (int k = 0; k < a->pass_count; ++k)
+        if (a->passes[k].info->running &&
+            a->images[a->passes[k].inputs[0]].internal_format != a->images[a->passes[k].output].internal_format)
+            return 0;
     return a->width > 0 && a->height > 0;
 }
 
-static int atlas_is_output(const halo_gl_field_atlas *a, int image)
-{
-    for (int k = 0; k < a->pass_count; ++k)
-        if (a->passes[k].output == image)
-            return 1;
-    return 0;
-}
-
-/* Textures of `tiles` tiles (a grid as near square as the largest texture allows); 0 when it
- * does not fit. New tiles' content is unknown: their support is the whole tile. */
+/* Textures of `tiles` tiles (a grid as near square as the largest texture allows), cleared
+ * (0 everywhere: every tile's support empty); 0 when it does not fit. */
 static int atlas_allocate(halo_gl_field_atlas *a, int tiles, size_t max_bytes)
 {
     const halo_glfuncs *f = halo_gl_functions(halo_gl_frame_runtime(a->frame));
@@ -202,21 +252,25 @@ static int atlas_allocate(halo_gl_field_atlas *a, int tiles, size_t max_bytes)
         return 0;
     size_t bytes = 0, pixels = (size_t)columns * (size_t)a->width * (size_t)rows * (size_t)a->height;
     for (int i = 0; i < a->image_count; ++i)
-        bytes += (atlas_is_output(a, i) ? 2 : 1) * pixels * halo_gl_image_texel_bytes(a->images[i].internal_format);
+        bytes += (size_t)a->images[i].count * pixels * halo_gl_image_texel_bytes(a->images[i].internal_format);
     if (bytes > max_bytes)
         return 0;
-    for (int i = 0; i < a->image_count; ++i) {
+    GLint framebuffer = 0;
+    f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
+    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, a->framebuffer);
+    GLenum buffer = GL_COLOR_ATTACHMENT0;
+    f->DrawBuffers(1, &buffer);
+    int allocated = 1;
+    for (int i = 0; allocated && i < a->image_count; ++i) {
         atlas_image *im = &a->images[i];
-        for (int k = 0; k < (atlas_is_output(a, i) ? 2 : 1); ++k) {
+        for (int k = 0; k < im->count; ++k) {
             int(*support)[4] = realloc(im->support[k], (size_t)columns * (size_t)rows * sizeof *support);
-            if (!support)
-                return 0;
-            im->support[k] = support;
-            for (int t = 0; t < columns * rows; ++t) {
-                support[t][0] = support[t][1] = 0;
-                support[t][2] = a->width;
-                support[t][3] = a->height;
+            if (!support) {
+                allocated = 0;
+                break;
             }
+            im->support[k] = support;
+            memset(support, 0, (size_t)columns * (size_t)rows * sizeof *support);
             if (!im->texture[k])
                 f->GenTextures(1, &im->texture[k]);
             f->BindTexture(GL_TEXTURE_2D, im->texture[k]);
@@ -226,10 +280,17 @@ static int atlas_allocate(halo_gl_field_atlas *a, int tiles, size_t max_bytes)
             halo_gl_image_upload_format(im->internal_format, &format, &type);
             f->TexImage2D(GL_TEXTURE_2D, 0, im->internal_format, columns * a->width, rows * a->height, 0, format, type,
                           NULL);
+            /* (a clear obeys the scissor and colour mask: the caller's, field.c: field_save) */
+            const GLfloat zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+            f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, im->texture[k], 0);
+            f->ClearBufferfv(GL_COLOR, 0, zero);
         }
         im->current = 0;
+        im->alternate = 0;
     }
-    if (f->GetError() != GL_NO_ERROR)
+    f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    f->BindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)framebuffer);
+    if (!allocated || f->GetError() != GL_NO_ERROR)
         return 0;
     a->columns = columns;
     a->rows = rows;
@@ -341,6 +402,98 @@ static void atlas_reach(const halo_gl_field_atlas *a, const atlas_pass *pass, in
     box[3] = in[3] + r > a->height ? a->height : in[3] + r;
 }
 
+/* One draw of the bound pass into out's texture `to`, over a->boxes[t] of each tile t in
+ * [first, end) and where that texture held a nonzero (it becomes the pass's 0); the boxes
+ * become its support. 1 when it drew. */
+static int atlas_draw(halo_gl_field_atlas *a, atlas_image *out, int first, int end, int to)
+{
+    const halo_glfuncs *f = halo_gl_functions(halo_gl_frame_runtime(a->frame));
+    float sx = 2.0f / (float)(a->columns * a->width), sy = 2.0f / (float)(a->rows * a->height);
+    size_t n = 0;
+    int(*target)[4] = out->support[to];
+    for (int t = first; t < end; ++t) {
+        int write[4];
+        memcpy(write, a->boxes[t], sizeof write);
+        box_union(write, target[t]);
+        memcpy(target[t], a->boxes[t], sizeof write);
+        if (box_empty(write))
+            continue;
+        float x0 = (float)((t % a->columns) * a->width + write[0]) * sx - 1.0f;
+        float x1 = (float)((t % a->columns) * a->width + write[2]) * sx - 1.0f;
+        float y0 = (float)((t / a->columns) * a->height + write[1]) * sy - 1.0f;
+        float y1 = (float)((t / a->columns) * a->height + write[3]) * sy - 1.0f;
+        const float quad[12] = {x0, y0, x1, y0, x1, y1, x0, y0, x1, y1, x0, y1};
+        memcpy(a->vertices + n, quad, sizeof quad);
+        n += 12;
+    }
+    if (n > 0) {
+        f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, out->texture[to], 0);
+        f->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * sizeof *a->vertices), a->vertices, GL_STREAM_DRAW);
+        f->DrawArrays(GL_TRIANGLES, 0, (GLsizei)(n / 2));
+    }
+    return n > 0;
+}
+
+/* One draw of the bound pass over every tile, into out's other texture (its one texture
+ * where it has one, which the pass does not read), which becomes out's current. */
+static int atlas_draw_all(halo_gl_field_atlas *a, atlas_image *out, int tiles)
+{
+    int to = out->count == 2 ? 1 - out->current : 0, drew = atlas_draw(a, out, 0, tiles, to);
+    out->current = to;
+    out->alternate = 0;
+    return drew;
+}
+
+/* A running pass (running=associative: O_t = O_(t-1) op I_t, op associative with identity
+ * 0) over the tiles. On a GPU, an inclusive prefix scan (Hillis and Steele): step j
+ * combines each tile with the tile 2^j before it, ceil(log2(tiles)) draws (at least one,
+ * which gives O_0 = 0 op I_0); the first step reads input 0's tiles, the others the
+ * output's. Where the frame reads back (a software renderer, whose cost is the pixels, not
+ * the draws: the scan computes each tile log2(tiles) times), a tile a draw in order, each
+ * from the tile before in the other texture: tile t ends in texture t % 2 (alternate). */
+static long atlas_running(halo_gl_field_atlas *a, atlas_pass *pass, int tiles)
+{
+    const halo_glfuncs *f = halo_gl_functions(halo_gl_frame_runtime(a->frame));
+    atlas_image *out = &a->images[pass->output];
+    const atlas_image *in = &a->images[pass->inputs[0]];
+    f->Uniform1i(pass->columns_location, a->columns);
+    halo_gl_pass_repetition(f, pass->index_location, pass->count_location, 1, 1);
+    long draws = 0;
+    if (halo_gl_frame_reads_back(a->frame)) {
+        f->Uniform1i(pass->back_location, 1);
+        f->ActiveTexture(GL_TEXTURE0);
+        f->BindTexture(GL_TEXTURE_2D, in->texture[in->current]);
+        for (int t = 0; t < tiles; ++t) {
+            int to = t % 2;
+            f->ActiveTexture(GL_TEXTURE1);
+            f->BindTexture(GL_TEXTURE_2D, out->texture[1 - to]); /* tile t - 1 (none for t = 0) */
+            memcpy(a->boxes[t], in->support[in->current][t], sizeof a->boxes[t]);
+            if (t > 0)
+                box_union(a->boxes[t], out->support[1 - to][t - 1]);
+            draws += atlas_draw(a, out, t, t + 1, to);
+        }
+        out->alternate = 1;
+        return draws;
+    }
+    for (int back = 1;; back *= 2) {
+        for (int i = 0; i < 2; ++i) {
+            f->ActiveTexture(GL_TEXTURE0 + (GLenum)i);
+            f->BindTexture(GL_TEXTURE_2D, in->texture[in->current]);
+        }
+        f->Uniform1i(pass->back_location, back);
+        for (int t = 0; t < tiles; ++t) {
+            memcpy(a->boxes[t], in->support[in->current][t], sizeof a->boxes[t]);
+            if (t >= back)
+                box_union(a->boxes[t], in->support[in->current][t - back]);
+        }
+        draws += atlas_draw_all(a, out, tiles);
+        in = out;
+        if (back >= tiles - back) /* 2 back tiles combined: every tile holds its whole prefix */
+            break;
+    }
+    return draws;
+}
+
 void halo_gl_field_atlas_generate(halo_gl_field_atlas *a, int tiles)
 {
     halo_gl *gl = halo_gl_frame_runtime(a->frame);
@@ -350,9 +503,13 @@ void halo_gl_field_atlas_generate(halo_gl_field_atlas *a, int tiles)
     size_t need = (size_t)tiles * 12;
     if (need > a->vertex_capacity) {
         float *v = realloc(a->vertices, need * sizeof *v);
-        if (!v)
+        int(*boxes)[4] = realloc(a->boxes, (size_t)tiles * sizeof *boxes);
+        if (v)
+            a->vertices = v;
+        if (boxes)
+            a->boxes = boxes;
+        if (!v || !boxes)
             return;
-        a->vertices = v;
         a->vertex_capacity = need;
     }
     /* the host's: the buffer binding and the 2D textures of the units the passes bind (the
@@ -372,14 +529,16 @@ void halo_gl_field_atlas_generate(halo_gl_field_atlas *a, int tiles)
     f->BindBuffer(GL_ARRAY_BUFFER, a->buffer);
     f->EnableVertexAttribArray(0);
     f->VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
-    float sx = 2.0f / (float)(a->columns * a->width), sy = 2.0f / (float)(a->rows * a->height);
     long draws = 0;
     for (int k = 0; k < a->pass_count; ++k) {
         atlas_pass *pass = &a->passes[k];
-        atlas_image *out = &a->images[pass->output];
         f->UseProgram(pass->program);
         halo_gl_program_upload(gl, p, pass->program);
         f->Uniform2i(pass->tile_location, a->width, a->height);
+        if (pass->info->running) {
+            draws += atlas_running(a, pass, tiles);
+            continue;
+        }
         for (int rep = pass->start; rep <= pass->repeat; ++rep) {
             for (int i = 0; i < pass->info->input_count; ++i) {
                 const atlas_image *in =
@@ -388,34 +547,10 @@ void halo_gl_field_atlas_generate(halo_gl_field_atlas *a, int tiles)
                 f->BindTexture(GL_TEXTURE_2D, in->texture[in->current]);
             }
             halo_gl_pass_repetition(f, pass->index_location, pass->count_location, rep, pass->repeat);
-            /* a rectangle a tile: where the pass can write a nonzero, and where the target
-             * held one (it becomes the pass's 0) */
-            size_t n = 0;
-            int(*target)[4] = out->support[1 - out->current];
-            for (int t = 0; t < tiles; ++t) {
-                int reach[4], write[4];
-                atlas_reach(a, pass, rep, t, reach);
-                memcpy(write, reach, sizeof write);
-                box_union(write, target[t]);
-                memcpy(target[t], reach, sizeof reach);
-                if (box_empty(write))
-                    continue;
-                float x0 = (float)((t % a->columns) * a->width + write[0]) * sx - 1.0f;
-                float x1 = (float)((t % a->columns) * a->width + write[2]) * sx - 1.0f;
-                float y0 = (float)((t / a->columns) * a->height + write[1]) * sy - 1.0f;
-                float y1 = (float)((t / a->columns) * a->height + write[3]) * sy - 1.0f;
-                const float quad[12] = {x0, y0, x1, y0, x1, y1, x0, y0, x1, y1, x0, y1};
-                memcpy(a->vertices + n, quad, sizeof quad);
-                n += 12;
-            }
-            if (n > 0) {
-                f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
-                                        out->texture[1 - out->current], 0);
-                f->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(n * sizeof *a->vertices), a->vertices, GL_STREAM_DRAW);
-                f->DrawArrays(GL_TRIANGLES, 0, (GLsizei)(n / 2));
-                ++draws;
-            }
-            out->current = 1 - out->current;
+            /* a rectangle a tile: where the pass can write a nonzero */
+            for (int t = 0; t < tiles; ++t)
+                atlas_reach(a, pass, rep, t, a->boxes[t]);
+            draws += atlas_draw_all(a, &a->images[pass->output], tiles);
         }
     }
     f->FramebufferTexture2D(GL_DRAW_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
@@ -437,8 +572,9 @@ unsigned halo_gl_field_atlas_tile(const halo_gl_field_atlas *a, const char *name
             continue;
         origin[0] = (t % a->columns) * a->width;
         origin[1] = (t / a->columns) * a->height;
-        memcpy(box, im->support[im->current][t], 4 * sizeof *box);
-        return im->texture[im->current];
+        int k = im->alternate ? t % 2 : im->current;
+        memcpy(box, im->support[k][t], 4 * sizeof *box);
+        return im->texture[k];
     }
     return 0;
 }

@@ -10,9 +10,9 @@ typedef struct halo_gl_field_atlas halo_gl_field_atlas;
 
 /* An atlas of at least `tiles` tiles for the frame's generation passes, or NULL without a
  * diagnostic where they cannot run on one. *unsuited 1: never, for this program (a pass
- * that reads an image before this generation writes it: the occlusion image's running
- * maximum, a median of the seeds; a pass with no declared reach; images of different
- * sizes; no tiled variant of a pass); 0: not at this size (an atlas over the context's
+ * that reads an image of the generation before, but for a running=associative pass's own
+ * output; a pass with no declared reach; images of different sizes; no tiled variant of a
+ * pass); 0: not at this size (an atlas over the context's
  * largest texture or viewport, or over max_bytes). A given atlas that fits is kept (or
  * grown); one that cannot grow is destroyed. */
 halo_gl_field_atlas *halo_gl_field_atlas_reserve(halo_gl_frame *fr, halo_gl_field_atlas *atlas, int tiles,
@@ -25,7 +25,10 @@ void halo_gl_field_atlas_begin(halo_gl_field_atlas *atlas);
  * reads back (halo_gl_frame_nonzero_box), only the nonzero box is taken. */
 void halo_gl_field_atlas_seed(halo_gl_field_atlas *atlas, int t, unsigned seed_stack, int layer,
                               const int footprint[4]);
-/* Every generation pass, one draw each (a repetition each), over tiles [0, tiles). */
+/* Every generation pass, one draw each (a repetition each), over tiles [0, tiles); a
+ * running=associative pass (the occlusion image's running maximum) as a prefix scan over
+ * the tiles, ceil(log2(tiles)) draws (at least 1), or a tile a draw where the frame reads
+ * back (halo_gl_frame_reads_back: a software renderer). */
 void halo_gl_field_atlas_generate(halo_gl_field_atlas *atlas, int tiles);
 /* Image `name` after the generations: its atlas texture (0 if the atlas has no such
  * image), the tile's origin in it, and where tile t can be nonzero (its pixels). */

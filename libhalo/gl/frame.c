@@ -886,6 +886,8 @@ unsigned halo_gl_frame_texture(const halo_gl_frame *fr, const char *image)
     return im->texture[im->current];
 }
 
+int halo_gl_frame_reads_back(const halo_gl_frame *fr) { return fr->readback_bounds; }
+
 void halo_gl_frame_set_readback_bounds(halo_gl_frame *fr, int on)
 {
     HALO_REFUSE_NULL_VOID(NULL, fr, "frame");

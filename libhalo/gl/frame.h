@@ -56,6 +56,9 @@ void halo_segment_camera_set(const halo_glfuncs *f, unsigned program, const halo
  * the field is computed again only when what it depends on changed (field.c: field_key). */
 halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const halo_gl_segments_desc *d,
                                halo_diagnostics *diag);
+/* 1 where the frame reads its images back to bound them (halo_gl_desc.readback: by default
+ * on a software renderer, whose cost is the pixels, not the draws). */
+int halo_gl_frame_reads_back(const halo_gl_frame *fr);
 /* Where the frame reads its images back to bound them (halo_gl_frame_set_readback_bounds):
  * box (x0 y0 x1 y1) shrunk to the nonzero pixels of the read framebuffer's colour
  * attachment 0 (an image of width x height, channels floats a pixel), 1; else 0, the box

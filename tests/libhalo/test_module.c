@@ -529,7 +529,10 @@ static int test_pass_reach_syntax(void)
                {"when=!on,n", HALO_MSG_PASS_INVALID},
                {"reach=2^(nope-i)", HALO_MSG_PASS_INVALID},
                {"reach=2^(on-i)", HALO_MSG_PASS_INVALID},
-               {"reach=3*4^(on-i)+1", HALO_MSG_PASS_INVALID}};
+               {"reach=3*4^(on-i)+1", HALO_MSG_PASS_INVALID},
+               {"running=max", HALO_MSG_ANNOTATION_SYNTAX},
+               /* running=: inputs=IMAGE,OUTPUT (below) */
+               {"reach=0 running=associative", HALO_MSG_PASS_INVALID}};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         char source[512];
         snprintf(source, sizeof source,
@@ -554,11 +557,39 @@ static int test_pass_reach_syntax(void)
                      "#pragma halo image a\n"
                      "#pragma halo pass p entry=f inputs=a output=a reach=2^(n-i)+1\n"
                      "#pragma halo pass q entry=f inputs=a output=a reach=0\n"
+                     "#pragma halo image b\n"
+                     "#pragma halo pass m entry=f inputs=a,b output=b reach=0 running=associative\n"
                      "#pragma halo pass r entry=f inputs=a output=a reach=3*4^(n-i)+1 when=on\n"
                      "#pragma halo pass s entry=f inputs=a output=a reach=4^(n-i) "
                      "when=!on,halo_full_size\n"
                      "halo_channels f(ivec2 pixel) { return halo_input(0, pixel); }\n"),
                  HALO_OK);
+    return 0;
+}
+
+/* running=associative: a pass inputs=IMAGE,OUTPUT with reach=0 at the generation, one a
+ * generation; anything else at the pass's line. */
+static int test_pass_running(void)
+{
+    static const char *const bad[] = {"inputs=b,a output=b reach=0",          "inputs=a,b output=b",
+                                      "inputs=a,b output=b reach=1",          "inputs=a,b output=b reach=2^(n-i)",
+                                      "inputs=a,b output=b reach=0 repeat=n", "inputs=a,b output=b reach=0 first=a",
+                                      "inputs=a,b output=b reach=0 start=2",  "inputs=a,b output=b reach=0 at=post",
+                                      "inputs=a,a output=a reach=0",          "inputs=a,b,b output=b reach=0"};
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        char source[512];
+        snprintf(source, sizeof source,
+                 "#pragma halo module running\n"
+                 "#pragma halo hook image\n"
+                 "#pragma halo param n int default=2 min=1 max=4\n"
+                 "#pragma halo image a\n"
+                 "#pragma halo image b\n"
+                 "#pragma halo pass p entry=f %s running=associative\n"
+                 "halo_channels f(ivec2 pixel) { return halo_input(0, pixel); }\n",
+                 bad[i]);
+        if (refused_at(source, HALO_MSG_PASS_INVALID, 6) != 1)
+            CHECK_FAIL_AT("%s running=associative: no PASS_INVALID at line 6", bad[i]);
+    }
     return 0;
 }
 
@@ -671,6 +702,7 @@ int main(void)
     RUN_TEST(test_columns);
     RUN_TEST(test_reserved_param_names);
     RUN_TEST(test_pass_reach_syntax);
+    RUN_TEST(test_pass_running);
     RUN_TEST(test_annotation_words);
     RUN_TEST(test_annotation_comments);
     RUN_TEST(test_add_file);

@@ -331,10 +331,10 @@ static void test_one_draw_matches(env *e, const char *scene_text, const char *wh
             tolerance = r_scaled; /* an approximation: no worse than the slab host's own */
         }
         printf(
-            "%s halos at M = 4, one draw (%d drawn; segmented: %d): against the slab host RMSE %.3g (max %.3g),"
+            "%s halos at M = 4, one draw (%d drawn, %ld generation pass draws; segmented: %d): against the slab host RMSE %.3g (max %.3g),"
             " tolerance %.3g; against the segmented ray caster RMSE %.3g (max %.3g); the halos' own effect RMSE"
             " %.3g\n",
-            what, drawn, segmented_drawn, r_halo, m_halo, tolerance, r_seg, m_seg, r_effect);
+            what, drawn, one_draw_passes, segmented_drawn, r_halo, m_halo, tolerance, r_seg, m_seg, r_effect);
         /* the slab host has no orthographic camera: there the segmented ray caster is the reference */
         CHECK(orthographic || r_halo <= tolerance, "%s: one draw against slab host: RMSE %.3g > %.3g", what, r_halo,
               tolerance);
@@ -350,6 +350,33 @@ static void test_one_draw_matches(env *e, const char *scene_text, const char *wh
         if (scene_text == halos_scene)
             CHECK(one_draw_passes > 0 && one_draw_passes <= 6, "%s: generation pass draws of the frame %ld, not <= 6",
                   what, one_draw_passes);
+        /* and the occlusion image's running maximum on the atlas too: where the frame reads
+         * back (llvmpipe: the pixels are the cost), a tile a draw, at most 20 for 21
+         * segments; on a GPU (read-back off) a prefix scan, a draw each doubling of the
+         * tiles it combines, at most 5; the same floats */
+        if (scene_text == occlusive_scene) {
+            CHECK(one_draw_passes > 0 && one_draw_passes <= 6 + 20,
+                  "%s: generation pass draws of the frame %ld, not <= 6 + 20", what, one_draw_passes);
+            halo_gl *runtime = e->g.runtime;
+            e->g.runtime = halo_gl_create(
+                &(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address, .readback = HALO_GL_READBACK_OFF},
+                e->g.diag);
+            one_draw = 1;
+            float *scan = e->g.runtime ? render_ray(e, scene_text, 0, 4, 0, NULL) : NULL;
+            long scan_passes = pass_draws;
+            one_draw = 0;
+            halo_gl_destroy(e->g.runtime);
+            e->g.runtime = runtime;
+            double m_scan = 1.0, r_scan = 1.0;
+            if (scan)
+                difference(scan, ray, &m_scan, &r_scan);
+            printf("%s, read-back off: %ld generation pass draws, against read-back on max abs %.3g\n", what,
+                   scan_passes, m_scan);
+            CHECK(scan && m_scan == 0.0, "%s: the scan against a tile a draw: max abs %.3g", what, m_scan);
+            CHECK(scan_passes > 0 && scan_passes <= 6 + 5,
+                  "%s, read-back off: generation pass draws of the frame %ld, not <= 6 + 5", what, scan_passes);
+            free(scan);
+        }
     }
     free(ray);
     free(segmented);
