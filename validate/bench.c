@@ -519,7 +519,8 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
     ROW("halo-p32", NULL, cases[n].config.gradient = HALO_GRADIENT_PACKED32);
     ROW("halo1/2", NULL, cases[n].config.scale = 2);
     ROW("halo1/4", NULL, cases[n].config.scale = 4);
-    ROW("halo-wide", NULL, cases[n].config.passes = 2; cases[n].config.wide = 1);
+    /* wide N/2 reaches as far as exact N (an odd N: (N + 1)/2, a little farther) */
+    ROW("halo-wide", NULL, cases[n].config.passes = (passes + 1) / 2; cases[n].config.wide = 1);
     ROW("halo-fold", NULL, cases[n].config.fold = 1);
     ROW("reference", NULL, cases[n].config.halos = 0; cases[n].config.slab = 1; cases[n].config.interval = 8);
     for (int k = 0; k < 4; ++k)
@@ -590,12 +591,13 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
         " against 32-bit M = 4); halo1/2, halo1/4: M = 4 with halo images at 1/2, 1/4 of the frame per side (error"
         " against M = 1 at full size); halo-p32: M = 4 with the packed32 gradient format (value and gradient in"
         " one RGBA32F texture, one fetch; error against M = 1 with the default, %s); halo-wide: M = 4 with"
-        " halo_generate's approximation wide at N = 2 (2 passes of 49 taps, reach 15 px as N = 4; error against"
-        " M = 1, exact N = 4); halo-fold: M = 4 with halo_generate's fold (H_0 computed at the first spreading"
+        " halo_generate's approximation wide at N = %d (%d passes of 49 taps, reach %d px; exact N = %d: %d px;"
+        " error against M = 1, exact N = %d); halo-fold: M = 4 with halo_generate's fold (H_0 computed at the first spreading"
         " pass's taps, no gradient pass: the same image, one draw fewer a generation); one-reuse: the"
         " one-draw ray caster at M = 4 drawn at the same view every frame (its field reused: the host's draw over"
         " it alone)\n",
-        halo_gradient_format_name(HALO_GRADIENT_FORMAT_DEFAULT));
+        halo_gradient_format_name(HALO_GRADIENT_FORMAT_DEFAULT), (passes + 1) / 2, (passes + 1) / 2,
+        (1 << (2 * ((passes + 1) / 2))) - 1, passes, (1 << passes) - 1, passes);
     printf("%-9s %-5s %3s %6s %7s %10s %8s %9s %7s %10s %10s %8s\n", "row", "host", "M", "draws", "passes", "ms/frame",
            "fps", "%ref", "paper%", "max_abs", "rmse", ">1/255");
     double reference = cases[0].seconds, ray_reference = reference;

@@ -8,7 +8,8 @@
  * 0; a pass writes the tile where its inputs' support grown by its reach can be nonzero,
  * and where the target held a nonzero from before), so the draw covers a rectangle a tile,
  * in one vertex buffer. A running=associative pass (O_t = O_(t-1) op I_t: the occlusion
- * image's running maximum) is a prefix scan over the tiles in log2 draws. What the
+ * image's running maximum) is a prefix scan over the tiles in log2 draws, or a tile a draw
+ * where the frame reads back (a software renderer: the pixels are the cost). What the
  * generations compute is the per-segment path's: the same programs, the same floats
  * (conformance: `halo-validate conform --stage segments`). */
 #include "gl/field_atlas.h"
@@ -53,9 +54,8 @@ struct halo_gl_field_atlas {
     atlas_pass passes[ATLAS_MAX_PASSES];
     int pass_count;
     GLuint framebuffer, vertex_array, buffer;
-    float *vertices;
-    size_t vertex_capacity; /* floats */
-    int (*boxes)[4];        /* a draw's rectangle per tile */
+    float *vertices; /* 12 floats a tile */
+    int (*boxes)[4]; /* a draw's rectangle per tile */
 };
 
 static const char atlas_vertex_330[] =
@@ -254,6 +254,15 @@ static int atlas_allocate(halo_gl_field_atlas *a, int tiles, size_t max_bytes)
     for (int i = 0; i < a->image_count; ++i)
         bytes += (size_t)a->images[i].count * pixels * halo_gl_image_texel_bytes(a->images[i].internal_format);
     if (bytes > max_bytes)
+        return 0;
+    /* a draw's rectangles: two triangles a tile */
+    float *vertices = realloc(a->vertices, (size_t)columns * (size_t)rows * 12 * sizeof *vertices);
+    if (vertices)
+        a->vertices = vertices;
+    int(*boxes)[4] = realloc(a->boxes, (size_t)columns * (size_t)rows * sizeof *boxes);
+    if (boxes)
+        a->boxes = boxes;
+    if (!vertices || !boxes)
         return 0;
     GLint framebuffer = 0;
     f->GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &framebuffer);
@@ -499,19 +508,7 @@ void halo_gl_field_atlas_generate(halo_gl_field_atlas *a, int tiles)
     halo_gl *gl = halo_gl_frame_runtime(a->frame);
     const halo_glfuncs *f = halo_gl_functions(gl);
     const halo_program *p = halo_gl_frame_program(a->frame);
-    tiles = tiles < a->tiles ? tiles : a->tiles;
-    size_t need = (size_t)tiles * 12;
-    if (need > a->vertex_capacity) {
-        float *v = realloc(a->vertices, need * sizeof *v);
-        int(*boxes)[4] = realloc(a->boxes, (size_t)tiles * sizeof *boxes);
-        if (v)
-            a->vertices = v;
-        if (boxes)
-            a->boxes = boxes;
-        if (!v || !boxes)
-            return;
-        a->vertex_capacity = need;
-    }
+    tiles = tiles < a->tiles ? tiles : a->tiles; /* (the vertices and boxes of a->tiles: atlas_allocate) */
     /* the host's: the buffer binding and the 2D textures of the units the passes bind (the
      * caller keeps the rest, field.c: field_save) */
     GLint array_buffer = 0, active = GL_TEXTURE0, textures[HALO_MAX_PASS_INPUTS];

@@ -11,10 +11,12 @@ typedef struct halo_gl_field_atlas halo_gl_field_atlas;
 /* An atlas of at least `tiles` tiles for the frame's generation passes, or NULL without a
  * diagnostic where they cannot run on one. *unsuited 1: never, for this program (a pass
  * that reads an image of the generation before, but for a running=associative pass's own
- * output; a pass with no declared reach; images of different sizes; no tiled variant of a
- * pass); 0: not at this size (an atlas over the context's
+ * output, which no other pass may write or read and which is not reset each generation; a
+ * pass with no declared reach; images of different sizes, or not cleared to 0; no tiled
+ * variant of a pass); 0: not at this size (an atlas over the context's
  * largest texture or viewport, or over max_bytes). A given atlas that fits is kept (or
- * grown); one that cannot grow is destroyed. */
+ * grown); one that cannot grow is destroyed. Its textures are cleared when made: the
+ * caller has the scissor test off and every colour written (field.c: field_save). */
 halo_gl_field_atlas *halo_gl_field_atlas_reserve(halo_gl_frame *fr, halo_gl_field_atlas *atlas, int tiles,
                                                  size_t max_bytes, int *unsuited);
 void halo_gl_field_atlas_destroy(const halo_glfuncs *f, halo_gl_field_atlas *atlas);
