@@ -267,6 +267,14 @@ void halo_driver_set_interval(halo_driver *d, int interval)
         halo_slice_set_interval(d->slice, interval);
 }
 
+void halo_driver_set_field_max_bytes(halo_driver *d, size_t bytes)
+{
+    if (d->raycast)
+        halo_raycast_set_field_max_bytes(d->raycast, bytes);
+    if (d->slice)
+        halo_slice_set_field_max_bytes(d->slice, bytes);
+}
+
 const char *halo_driver_gradient_name(const halo_driver *d)
 {
     if (!d->slice || !halo_slice_reads_gradients(d->slice))

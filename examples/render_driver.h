@@ -84,6 +84,9 @@ halo_status halo_driver_set_labels(halo_driver *d, const float *labels, const in
 void halo_driver_set_camera(halo_driver *d, double azimuth, double elevation, double zoom);
 /* M: slices between halo generations (slab: samples per draw; ray caster: per segment); 0: the default. */
 void halo_driver_set_interval(halo_driver *d, int interval);
+/* The cap on a frame's halo field drawn once (halo_gl_segments_desc.field_max_bytes; 0:
+ * libhalo's default, 1 GiB). */
+void halo_driver_set_field_max_bytes(halo_driver *d, size_t bytes);
 /* Builds feature_halo's halo buffer for the current view (from the volume's centre
  * towards the eye) and binds it; again after every camera change. Returns 0 on failure. */
 int halo_driver_update_feature(halo_driver *d, const float *volume, const int dims[3], halo_diagnostics *diag);

@@ -218,7 +218,8 @@ HALO_RENDER_TESTS = \
 	tests/tools/halo-render/bench.sh \
 	tests/tools/halo-render/features.sh \
 	tests/tools/halo-render/gradient_format.sh \
-	tests/tools/halo-render/es.sh
+	tests/tools/halo-render/es.sh \
+	tests/tools/halo-render/field_cap.sh
 TESTS += $(HALO_RENDER_TESTS)
 EXTRA_DIST += $(HALO_RENDER_TESTS) tests/tools/halo-render/common.sh \
 	tests/data/volumes/sphere.nii tests/data/volumes/sphere.nii.gz

@@ -56,7 +56,10 @@ static void usage(FILE *out)
         "                     computed by libhalo before the ray caster is drawn once, or the\n"
         "                     slices all at once (docs/host-contract.md)\n"
         "  --halo-scale S     halo images at 1/S of the image per side: 1 (default), 2 or 4\n"
-        "                     (faster image passes; docs/performance.md)\n"
+        "                     (faster image passes; docs/performance.md). Without it, a\n"
+        "                     --one-draw field over its cap is drawn at 1/2, else 1/4, with a note\n"
+        "  --field-max-mib N  with --one-draw: the cap on the frame's halo field, in MiB\n"
+        "                     (0.01..1048576; default 1024)\n"
         "  --gradient-format F  the slice and slab hosts' gradient texture: float (RGB32F),\n"
         "                     half (RGB16F, the default), snorm8 (RGB8_SNORM, scaled to the\n"
         "                     volume's largest gradient), packed16 or packed32 (RGBA16_SNORM,\n"
@@ -114,6 +117,7 @@ typedef struct options {
     halo_driver_host host;
     int raw, have_raw_type, have_raw_extra;
     int halo_scale, have_halo_scale, one_draw;
+    double field_max_mib; /* 0: libhalo's cap */
     const char *export_dir;
     halo_gradient_format gradient_format;
     halo_raw_desc raw_desc;
@@ -142,7 +146,8 @@ enum {
     OPT_HALO_SCALE,
     OPT_GRADIENT_FORMAT,
     OPT_ONE_DRAW,
-    OPT_EXPORT_HOST
+    OPT_EXPORT_HOST,
+    OPT_FIELD_MAX_MIB
 };
 static const halo_tool_option option_table[] = {[OPT_NO_HALOS] = {"--no-halos", NULL, 0},
                                                 [OPT_QUIET] = {"--quiet", "-q", 0},
@@ -167,6 +172,7 @@ static const halo_tool_option option_table[] = {[OPT_NO_HALOS] = {"--no-halos", 
                                                 [OPT_GRADIENT_FORMAT] = {"--gradient-format", NULL, 1},
                                                 [OPT_ONE_DRAW] = {"--one-draw", NULL, 0},
                                                 [OPT_EXPORT_HOST] = {"--export-host", NULL, 1},
+                                                [OPT_FIELD_MAX_MIB] = {"--field-max-mib", NULL, 1},
                                                 {NULL, NULL, 0}};
 
 /* One option's value into o. Returns 0 after a message. */
@@ -181,6 +187,9 @@ static int take_option(options *o, int option, const char *a, const char *value)
         break;
     case OPT_ONE_DRAW:
         o->one_draw = 1;
+        break;
+    case OPT_FIELD_MAX_MIB:
+        ok = halo_tool_number(TOOL, a, value, 0.01, 1048576, &o->field_max_mib);
         break;
     case OPT_EXPORT_HOST:
         o->export_dir = value;
@@ -307,6 +316,8 @@ static int check_options(const options *o)
         why = "--labels needs --volume FILE (the labels are on that volume's grid)";
     else if (o->export_dir && o->host != HALO_DRIVER_RAYCAST)
         why = "--export-host writes the raycast host's inputs: it needs --host raycast";
+    else if (o->field_max_mib > 0.0 && !o->one_draw && !halo_headless_choice_es())
+        why = "--field-max-mib caps the halo field of a frame drawn once: it needs --one-draw";
     else if (o->one_draw && o->host != HALO_DRIVER_RAYCAST && o->host != HALO_DRIVER_SLICE)
         why =
             "--one-draw draws the host once over the halo field (host contract 3): it needs --host raycast or "
@@ -857,36 +868,64 @@ int main(int argc, char **argv)
             goto done;
         settings = halo_scene_describe(scene).render;
     }
-    const halo_host_desc desc = {
-        .gl = halo_headless_functions(), .runtime = runtime, .program = program, .width = o.width, .height = o.height};
-    if (!halo_driver_create(&host, kind, &desc, diag))
-        goto done;
-    host.tool = TOOL;
-    host.quiet = o.quiet;
-    image = malloc((size_t)o.width * (size_t)o.height * 4 * sizeof *image);
-    if (!image) {
-        fprintf(stderr, TOOL ": error: out of memory for a %dx%d image\n", o.width, o.height);
-        status = 2;
-        goto done;
-    }
-    status = set_up_host(&o, &host, settings, volume, labels, size, interval, diag);
-    if (status)
-        goto done;
-    status = 1;
-    if (o.export_dir && !export_host_inputs(o.export_dir, &host)) {
-        status = 2;
-        goto done;
-    }
-    /* the feature halo buffer, for this view (rebuilt after every camera change) */
-    if (feature && !halo_driver_update_feature(&host, volume, (const int[3]){size, size, size}, diag))
-        goto done;
-    /* the hosts have the volume in textures and the feature buffer has its own copy:
-     * nothing reads the float copy any more (4 bytes a voxel) */
-    free(volume);
-    volume = NULL;
-    if (halo_driver_render(&host, image, diag) != HALO_OK) {
-        status = 2;
-        goto done;
+    /* a field over its cap (--one-draw; FIELD_MEMORY names the scale that fits): without
+     * --halo-scale, the halo images at 1/2, else 1/4, linked again, with a note */
+    int scale = o.halo_scale > 1 ? o.halo_scale : 1;
+    for (;;) {
+        const halo_host_desc desc = {.gl = halo_headless_functions(),
+                                     .runtime = runtime,
+                                     .program = program,
+                                     .width = o.width,
+                                     .height = o.height};
+        if (!halo_driver_create(&host, kind, &desc, diag))
+            goto done;
+        host.tool = TOOL;
+        host.quiet = o.quiet;
+        halo_driver_set_field_max_bytes(&host, (size_t)(o.field_max_mib * 1048576.0));
+        if (!image)
+            image = malloc((size_t)o.width * (size_t)o.height * 4 * sizeof *image);
+        if (!image) {
+            fprintf(stderr, TOOL ": error: out of memory for a %dx%d image\n", o.width, o.height);
+            status = 2;
+            goto done;
+        }
+        status = set_up_host(&o, &host, settings, volume, labels, size, interval, diag);
+        if (status)
+            goto done;
+        status = 1;
+        if (o.export_dir && !export_host_inputs(o.export_dir, &host)) {
+            status = 2;
+            goto done;
+        }
+        /* the feature halo buffer, for this view (rebuilt after every camera change) */
+        if (feature && !halo_driver_update_feature(&host, volume, (const int[3]){size, size, size}, diag))
+            goto done;
+        /* the hosts have the volume in textures and the feature buffer has its own copy:
+         * nothing reads the float copy any more (4 bytes a voxel) */
+        free(volume);
+        volume = NULL;
+        if (halo_driver_render(&host, image, diag) == HALO_OK)
+            break;
+        if (o.have_halo_scale || o.have_max_error || scale >= 4 || !halo_diagnostics_has(diag, HALO_MSG_FIELD_MEMORY)) {
+            status = 2;
+            goto done;
+        }
+        scale *= 2;
+        if (!o.quiet)
+            for (size_t i = 0; i < halo_diagnostics_describe(diag).count; ++i)
+                if (halo_diagnostics_get(diag, i)->id == HALO_MSG_FIELD_MEMORY)
+                    fprintf(stderr, TOOL ": note: %s: drawing with halo images at 1/%d (--halo-scale %d)\n",
+                            halo_diagnostics_get(diag, i)->text, scale, scale);
+        halo_diagnostics_clear(diag);
+        halo_driver_destroy(&host);
+        halo_program_destroy(program);
+        program = link_scene(lib, scene, kind, 0, scale, o.one_draw, target, diag);
+        free(labels);
+        labels = NULL;
+        if (!program || (status = prepare_volume(&o, settings, scene_sets_window(o.scene_path, scene_text), &volume,
+                                                 &labels, &size)) != 0)
+            goto done;
+        status = 1;
     }
     if (o.export_dir && !export_floats(o.export_dir, "image.f32", image, (size_t)o.width * (size_t)o.height * 4)) {
         status = 2;

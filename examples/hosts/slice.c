@@ -27,6 +27,7 @@ struct halo_slice {
     float step_voxels;
     float background[3];
     int interval_override;
+    size_t field_max_bytes; /* halo_gl_segments_desc.field_max_bytes (drawn over the field) */
     halo_gradient_format gradient_format;
     float gradient_scale;   /* the texture holds gradient / gradient_scale */
     GLint gradient_pending; /* the internal format of gradients still to build on the GPU; 0: none */
@@ -142,6 +143,12 @@ void halo_slice_set_interval(halo_slice *s, int interval)
 {
     if (s)
         s->interval_override = interval > 0 ? interval : 0;
+}
+
+void halo_slice_set_field_max_bytes(halo_slice *s, size_t bytes)
+{
+    if (s)
+        s->field_max_bytes = bytes;
 }
 
 void halo_slice_set_untidy(halo_slice *s, void (*untidy)(void *user, int returned), void *user)
@@ -741,6 +748,7 @@ static halo_status draw_over_field(halo_slice *s, const halo_slice_state *st, GL
                                         .volume_version = s->volume_version,
                                         .volume_size = {s->dims[0], s->dims[1], s->dims[2]},
                                         .gradient_texture = own_gradient ? s->gradient_texture : 0,
+                                        .field_max_bytes = s->field_max_bytes,
                                         .draw = draw_slices,
                                         .user = &d};
     return halo_gl_frame_draw(s->frame, program, &desc, diag);

@@ -100,6 +100,9 @@ halo_status halo_slice_set_labels(halo_slice *s, const float *labels, int nx, in
  * program has none. */
 void halo_slice_set_interval(halo_slice *s, int interval);
 int halo_slice_interval(const halo_slice *s);
+/* The cap on the halo field of a frame drawn over it (one_draw: halo_gl_segments_desc.
+ * field_max_bytes; 0: libhalo's default). */
+void halo_slice_set_field_max_bytes(halo_slice *s, size_t bytes);
 /* Progress of a render: after each slice (slab caster: each slab) is drawn, and the
  * halo images regenerated where due, fn(done, total, user) with done = 1..total, the
  * slices (slabs) drawn so far and in all. The draws are queued, not necessarily
