@@ -57,7 +57,7 @@ static void usage(FILE *out)
         "                     slices all at once (docs/host-contract.md)\n"
         "  --halo-scale S     halo images at 1/S of the image per side: 1 (default), 2 or 4\n"
         "                     (faster image passes; docs/performance.md). Without it, a\n"
-        "                     --one-draw field over its cap is drawn at 1/2, else 1/4, with a note\n"
+        "                     --one-draw field over its cap is drawn at 1/2, else 1/4, with a warning\n"
         "  --field-max-mib N  with --one-draw: the cap on the frame's halo field, in MiB\n"
         "                     (0.01..1048576; default 1024)\n"
         "  --gradient-format F  the slice and slab hosts' gradient texture: float (RGB32F),\n"
@@ -911,11 +911,11 @@ int main(int argc, char **argv)
             goto done;
         }
         scale *= 2;
-        if (!o.quiet)
-            for (size_t i = 0; i < halo_diagnostics_describe(diag).count; ++i)
-                if (halo_diagnostics_get(diag, i)->id == HALO_MSG_FIELD_MEMORY)
-                    fprintf(stderr, TOOL ": note: %s: drawing with halo images at 1/%d (--halo-scale %d)\n",
-                            halo_diagnostics_get(diag, i)->text, scale, scale);
+        /* (a warning, with --quiet too: the image is not the one asked for) */
+        for (size_t i = 0; i < halo_diagnostics_describe(diag).count; ++i)
+            if (halo_diagnostics_get(diag, i)->id == HALO_MSG_FIELD_MEMORY)
+                fprintf(stderr, TOOL ": warning: %s: drawing with halo images at 1/%d (--halo-scale %d)\n",
+                        halo_diagnostics_get(diag, i)->text, scale, scale);
         halo_diagnostics_clear(diag);
         halo_driver_destroy(&host);
         halo_program_destroy(program);

@@ -1,7 +1,8 @@
 #!/bin/sh
 # Host contract 3's memory cap in halo-render (docs/host-contract.md, "Memory"): a frame
 # drawn once whose halo field is over --field-max-mib is drawn with halo images at 1/2
-# (else 1/4), with a note naming what the field needed: the image --halo-scale 2 gives.
+# (else 1/4), with a warning naming what the field needed (with --quiet too): the image
+# --halo-scale 2 gives.
 # With --halo-scale given the scale is the user's: the field is refused (FIELD_MEMORY).
 # --field-max-mib without --one-draw is a usage error.
 . "$srcdir/tests/tools/halo-render/common.sh"
@@ -12,9 +13,9 @@ render() { # OUT EXIT [ARG]...
     run "$code" "$HALO_RENDER" --host raycast --one-draw --size 128x128 --volume-size 32 -o "$tmp/$out.png" "$@"
 }
 # the default scene at 128^2: 27 layers of 64 KiB, 1.69 MiB; at 1/2 0.42 MiB
-render capped 0 --field-max-mib 1
+render capped 0 --quiet --field-max-mib 1
 expect_png "$tmp/capped.png"
-expect_stderr "note: .*over field_max_bytes 1 MiB.*drawing with halo images at 1/2 \(--halo-scale 2\)"
+expect_stderr "warning: .*over field_max_bytes 1 MiB.*drawing with halo images at 1/2 \(--halo-scale 2\)"
 render half 0 --quiet --halo-scale 2
 if ! cmp -s "$tmp/capped.png" "$tmp/half.png"; then
     fail "the capped frame is not --halo-scale 2's image"
