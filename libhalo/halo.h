@@ -930,6 +930,11 @@ typedef struct halo_gl_frame_info {
      * outside the volume. */
     int read_box[4];
     int read_any;
+    /* The GPU memory the frame holds now, in bytes: its images' textures (two a pass
+     * writes), the rays' state between segments (host contract 2) and, drawn once (host
+     * contract 3), the halo field: the stacks the host reads, the seeds' stacks, the
+     * atlas of the generations, libhalo's derived gradient and its bricks. */
+    size_t gpu_bytes;
 } halo_gl_frame_info;
 HALO_API halo_gl_frame_info halo_gl_frame_describe(const halo_gl_frame *f);
 

@@ -595,11 +595,13 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
         " error against M = 1, exact N = %d); halo-fold: M = 4 with halo_generate's fold (H_0 computed at the first spreading"
         " pass's taps, no gradient pass: the same image, one draw fewer a generation); one-reuse: the"
         " one-draw ray caster at M = 4 drawn at the same view every frame (its field reused: the host's draw over"
-        " it alone)\n",
+        " it alone); MiB: libhalo's GPU memory after the row's last frame (halo_gl_frame_info.gpu_bytes: the"
+        " halo images, the rays' state between segments, drawn once the halo field's stacks, seeds, atlas and"
+        " derived gradient; not the host's own volume and gradient textures)\n",
         halo_gradient_format_name(HALO_GRADIENT_FORMAT_DEFAULT), (passes + 1) / 2, (passes + 1) / 2,
         (1 << (2 * ((passes + 1) / 2))) - 1, passes, (1 << passes) - 1, passes);
-    printf("%-9s %-5s %3s %6s %7s %10s %8s %9s %7s %10s %10s %8s\n", "row", "host", "M", "draws", "passes", "ms/frame",
-           "fps", "%ref", "paper%", "max_abs", "rmse", ">1/255");
+    printf("%-9s %-5s %3s %6s %7s %7s %10s %8s %9s %7s %10s %10s %8s\n", "row", "host", "M", "draws", "passes", "MiB",
+           "ms/frame", "fps", "%ref", "paper%", "max_abs", "rmse", ">1/255");
     double reference = cases[0].seconds, ray_reference = reference;
     for (size_t i = 0; i < n; ++i)
         if (!strcmp(cases[i].axis, "reference") && cases[i].config.slab == HALO_BENCH_RAYCAST)
@@ -614,9 +616,9 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
                 snprintf(paper, sizeof paper, "%.2f", paper_percent[k]);
         format_error(errors, sizeof errors, c);
         snprintf(interval, sizeof interval, "%d", c->config.interval);
-        printf("%-9s %-5s %3s %6ld %7ld %10.1f %8.3f %8.2f%% %7s %s\n", c->axis, host_name(&c->config),
-               c->config.no_generation ? "-" : interval, c->draws, c->pass_draws, c->seconds * 1e3, 1.0 / c->seconds,
-               100.0 * own / c->seconds, paper, errors);
+        printf("%-9s %-5s %3s %6ld %7ld %7.1f %10.1f %8.3f %8.2f%% %7s %s\n", c->axis, host_name(&c->config),
+               c->config.no_generation ? "-" : interval, c->draws, c->pass_draws, (double)c->gpu_bytes / 1048576.0,
+               c->seconds * 1e3, 1.0 / c->seconds, 100.0 * own / c->seconds, paper, errors);
     }
     /* issue 16's goal: the slice host's M = 4 row (default gradients, full-size 32-bit images),
      * against the reference it was set with (slices drawn whole) and the clipped one */

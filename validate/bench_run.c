@@ -194,6 +194,8 @@ int halo_bench_run(const halo_bench_env *env, halo_bench_case *cases, size_t cou
             qsort(c->times, (size_t)n, sizeof *c->times, compare_doubles);
             c->seconds = n % 2 ? c->times[n / 2] : 0.5 * (c->times[n / 2 - 1] + c->times[n / 2]);
             halo_driver_counts(c->host, &c->draws, &c->pass_draws, &c->slices);
+            c->gpu_bytes =
+                halo_driver_frame(c->host) ? halo_gl_frame_describe(halo_driver_frame(c->host)).gpu_bytes : 0;
             c->nonfinite = 0;
             for (size_t v = 0; v < values; ++v)
                 c->nonfinite += !isfinite(c->image[v]);

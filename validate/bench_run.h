@@ -40,6 +40,7 @@ typedef struct halo_bench_case {
     /* results */
     double seconds;         /* median frame time */
     long draws, pass_draws; /* per frame */
+    size_t gpu_bytes;       /* libhalo's GPU memory after the last frame (halo_gl_frame_info.gpu_bytes) */
     int slices;
     float *image;                     /* width*height*4, the last frame (caller frees with halo_bench_cases_free) */
     double max_abs, rmse, share_over; /* against the reference image; NaN when not compared */

@@ -95,6 +95,7 @@ struct halo_gl_field {
     /* a piece of a distributed volume (halo_gl_segments_desc.exchange): the seeds of every
      * segment, kept to be combined across the pieces once a frame */
     GLuint seed_stacks[FIELD_MAX_STACKS];
+    size_t seed_stack_bytes[FIELD_MAX_STACKS];
     int seed_layers;
     float *exchange_buffer;
     size_t exchange_size;
@@ -215,6 +216,25 @@ static halo_gl_field *field_create(halo_gl_frame *fr, halo_diagnostics *diag)
     f->GenVertexArrays(1, &field->vertex_array);
     halo_gl_use_saved_program(f, program);
     return field;
+}
+
+/* The GPU memory field holds: its stacks, the seeds' stacks, the atlas, the derived
+ * gradient and its bricks (halo_gl_frame_info.gpu_bytes). */
+static size_t field_bytes(const halo_gl_field *field)
+{
+    size_t bytes = 0;
+    for (int s = 0; s < field->stack_count; ++s)
+        bytes += (size_t)field->stacks[s].width * (size_t)field->stacks[s].height * (size_t)field->layers *
+                 halo_gl_image_texel_bytes(field->stacks[s].internal_format);
+    for (int s = 0; s < FIELD_MAX_STACKS; ++s)
+        bytes += field->seed_stacks[s] ? field->seed_stack_bytes[s] : 0;
+    const field_gradient *g = &field->gradient;
+    if (g->texture)
+        bytes += (size_t)g->size[0] * (size_t)g->size[1] * (size_t)g->size[2] *
+                 (g->internal_format == GL_RGBA16F ? 8u : 16u);
+    if (g->bricks)
+        bytes += (size_t)g->brick_size[0] * (size_t)g->brick_size[1] * (size_t)g->brick_size[2] * 4u;
+    return bytes + halo_gl_field_atlas_bytes(field->atlas);
 }
 
 static void field_destroy(halo_gl_frame *fr, halo_gl_field *field)
@@ -706,6 +726,8 @@ static int field_seed_reserve(const halo_glfuncs *f, halo_gl_frame *fr, halo_gl_
         f->TexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         f->TexImage3D(GL_TEXTURE_2D_ARRAY, 0, view.internal_format, view.width, view.height, layers, 0, format, type,
                       NULL);
+        field->seed_stack_bytes[i] =
+            (size_t)view.width * (size_t)view.height * (size_t)layers * halo_gl_image_texel_bytes(view.internal_format);
     }
     if (f->GetError() != GL_NO_ERROR) {
         halo_diag_error(diag, GL_LINK, "", 0, 0, "the seeds of %d depth segments could not be allocated", layers);
@@ -1246,7 +1268,7 @@ halo_status halo_gl_field_draw(halo_gl_frame *fr, unsigned gl_program, const hal
         halo_gl_field *made = field_create(fr, diag);
         if (!made)
             return HALO_ERROR_IO;
-        halo_gl_frame_set_field(fr, made, field_destroy);
+        halo_gl_frame_set_field(fr, made, field_destroy, field_bytes);
     }
     int first_unit = d->first_unit > 0 ? d->first_unit : FIELD_DEFAULT_FIRST_UNIT;
     int march_unit = first_unit + (int)halo_program_reflection(p).sampler_count;

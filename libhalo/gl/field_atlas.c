@@ -113,6 +113,15 @@ void halo_gl_field_atlas_destroy(const halo_glfuncs *f, halo_gl_field_atlas *a)
     free(a);
 }
 
+size_t halo_gl_field_atlas_bytes(const halo_gl_field_atlas *a)
+{
+    size_t bytes = 0;
+    for (int i = 0; a && a->tiles > 0 && i < a->image_count; ++i)
+        bytes += (size_t)a->images[i].count * (size_t)a->columns * (size_t)a->width * (size_t)a->rows *
+                 (size_t)a->height * halo_gl_image_texel_bytes(a->images[i].internal_format);
+    return bytes;
+}
+
 /* The passes of the generation that write image, or read it. */
 static int atlas_users(const halo_gl_field_atlas *a, int image)
 {

@@ -20,6 +20,8 @@ typedef struct halo_gl_field_atlas halo_gl_field_atlas;
 halo_gl_field_atlas *halo_gl_field_atlas_reserve(halo_gl_frame *fr, halo_gl_field_atlas *atlas, int tiles,
                                                  size_t max_bytes, int *unsuited);
 void halo_gl_field_atlas_destroy(const halo_glfuncs *f, halo_gl_field_atlas *atlas);
+/* The bytes of the atlas's textures (0 for NULL). */
+size_t halo_gl_field_atlas_bytes(const halo_gl_field_atlas *atlas);
 /* A new frame's seeds: every tile of the seed image 0. */
 void halo_gl_field_atlas_begin(halo_gl_field_atlas *atlas);
 /* Tile t's seeds: footprint (x0 y0 x1 y1, the tile's pixels) of layer `layer` of seed_stack

@@ -110,6 +110,7 @@ struct halo_gl_frame {
     /* host contract 3: the stacks of a one_draw program, made by field.c at its first draw */
     halo_gl_field *field;
     void (*field_destroy)(halo_gl_frame *fr, halo_gl_field *field);
+    size_t (*field_bytes)(const halo_gl_field *field);
     int bound; /* samplers bound by halo_gl_frame_bind from bound_first_unit */
     int bound_first_unit;
     GLuint state[2];   /* host contract 2: the rays' state between segments (RGBA32F), ping-ponged */
@@ -1080,6 +1081,20 @@ halo_gl_frame_info halo_gl_frame_describe(const halo_gl_frame *fr)
     info.pass_draws = fr->pass_draws;
     info.segment_count = fr->segments_drawn;
     info.read_any = frame_read_region(fr, info.read_box);
+    /* the GPU memory: the images' textures, the rays' state (contract 2), the field */
+    for (size_t i = 0; i < fr->image_count; ++i) {
+        const frame_image *im = &fr->images[i];
+        GLint internal;
+        GLenum format;
+        image_formats(im->channels, halo_program_reflection(fr->program).image_precision, &internal, &format);
+        for (int k = 0; k < 2 && !im->host; ++k)
+            info.gpu_bytes +=
+                im->texture[k] ? (size_t)im->width * (size_t)im->height * halo_gl_image_texel_bytes(internal) : 0;
+    }
+    for (int k = 0; k < 2; ++k)
+        info.gpu_bytes += fr->state[k] ? (size_t)fr->width * (size_t)fr->height * 16u : 0;
+    if (fr->field && fr->field_bytes)
+        info.gpu_bytes += fr->field_bytes(fr->field);
     return info;
 }
 
@@ -1120,8 +1135,10 @@ void halo_gl_pass_repetition(const halo_glfuncs *f, GLint index_location, GLint 
 void halo_gl_frame_count_pass_draws(halo_gl_frame *fr, long draws) { fr->pass_draws += draws; }
 
 void halo_gl_frame_set_field(halo_gl_frame *fr, halo_gl_field *field,
-                             void (*destroy)(halo_gl_frame *fr, halo_gl_field *field))
+                             void (*destroy)(halo_gl_frame *fr, halo_gl_field *field),
+                             size_t (*bytes)(const halo_gl_field *field))
 {
     fr->field = field;
     fr->field_destroy = destroy;
+    fr->field_bytes = bytes;
 }

@@ -35,9 +35,11 @@ typedef struct halo_gl_frame_image {
  * halo_gl_frame_texture); 0 for an unknown or host image. */
 int halo_gl_frame_image_view(const halo_gl_frame *fr, const char *name, halo_gl_frame_image *view);
 halo_gl_field *halo_gl_frame_field(const halo_gl_frame *fr);
-/* The frame keeps field (field.c makes it at the first draw) and destroys it with destroy. */
+/* The frame keeps field (field.c makes it at the first draw), destroys it with destroy, and
+ * counts its GPU memory with bytes (halo_gl_frame_info.gpu_bytes). */
 void halo_gl_frame_set_field(halo_gl_frame *fr, halo_gl_field *field,
-                             void (*destroy)(halo_gl_frame *fr, halo_gl_field *field));
+                             void (*destroy)(halo_gl_frame *fr, halo_gl_field *field),
+                             size_t (*bytes)(const halo_gl_field *field));
 /* halo_gl_frame_attach for the outputs of program p (the frame's, or its march); colour 0:
  * draw buffer 0 is GL_NONE. */
 void halo_gl_frame_attach_outputs(halo_gl_frame *fr, const halo_program *p, unsigned framebuffer, int colour);

@@ -107,6 +107,7 @@ static int image_scale;          /* halo_link_desc.image_scale of the next rende
 static size_t field_max_bytes;   /* halo_gl_segments_desc.field_max_bytes of the next ray caster renders */
 static char field_message[1024]; /* the last render's FIELD_MEMORY diagnostic, or "" */
 static long pass_draws;          /* the last ray caster render's generation pass draws */
+static size_t gpu_bytes;         /* and its frame's GPU memory (halo_gl_frame_info.gpu_bytes) */
 /* a piece of the volume that the next ray caster renders' march reads (test_pieces) */
 typedef struct piece_setup {
     const float *data;
@@ -189,6 +190,7 @@ static float *render_host(env *e, const char *scene_text, int slab, int force, i
         if (drawn)
             *drawn = halo_raycast_frame(r) ? halo_gl_frame_describe(halo_raycast_frame(r)).segment_count : 1;
         pass_draws = halo_raycast_frame(r) ? halo_gl_frame_describe(halo_raycast_frame(r)).pass_draws : 0;
+        gpu_bytes = halo_raycast_frame(r) ? halo_gl_frame_describe(halo_raycast_frame(r)).gpu_bytes : 0;
     } else if (ok) {
         const halo_render_settings *settings = halo_scene_describe(scene).render;
         ok = halo_slice_set_volume(s, e->g.volume, VOLUME, VOLUME, VOLUME, e->g.diag) == HALO_OK &&
@@ -322,6 +324,7 @@ static void test_one_draw_matches(env *e, const char *scene_text, const char *wh
     one_draw = 1;
     float *ray = render_ray(e, scene_text, 0, 4, 0, &drawn);
     long one_draw_passes = pass_draws;
+    size_t one_draw_bytes = gpu_bytes;
     one_draw = 0;
     image_scale = 0;
     float *segmented = render_ray(e, scene_text, 0, 4, 0, &segmented_drawn);
@@ -368,6 +371,14 @@ static void test_one_draw_matches(env *e, const char *scene_text, const char *wh
         if (scene_text == halos_scene)
             CHECK(one_draw_passes > 0 && one_draw_passes <= 6, "%s: generation pass draws of the frame %ld, not <= 6",
                   what, one_draw_passes);
+        /* the memory the frame reports holds at least the field's stack (20 layers of a
+         * one-channel float image, at the halo images' size) and the atlas beside it */
+        size_t side = (size_t)(SIZE + (scale > 1 ? scale : 1) - 1) / (size_t)(scale > 1 ? scale : 1),
+               stack = 20 * side * side * 4;
+        printf("%s: the frame's GPU memory %.3g MiB, the field's stack %.3g MiB\n", what,
+               (double)one_draw_bytes / 1048576.0, (double)stack / 1048576.0);
+        CHECK(one_draw_bytes >= 2 * stack, "%s: the frame's GPU memory %zu bytes, under the stack and atlas's %zu",
+              what, one_draw_bytes, 2 * stack);
         /* and the occlusion image's running maximum on the atlas too: where the frame reads
          * back (a software renderer: the pixels are the cost), a tile a draw, at most 20 for
          * 21 segments; without (a GPU) a prefix scan, a draw each doubling of the tiles it
