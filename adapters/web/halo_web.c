@@ -386,6 +386,8 @@ WEB_API int halo_web_frame_read(halo_gl_frame *f, const char *image, float *out)
 /* The host's draws in the last frame.draw (halo_gl_frame_info.segment_count): 1 for a one_draw
  * program, whose field's depth segments are libhalo's own draws. */
 WEB_API int halo_web_frame_segment_count(const halo_gl_frame *f) { return halo_gl_frame_describe(f).segment_count; }
+/* The frame's GPU memory in bytes (halo_gl_frame_info.gpu_bytes), as a double: exact below 2^53. */
+WEB_API double halo_web_frame_gpu_bytes(const halo_gl_frame *f) { return (double)halo_gl_frame_describe(f).gpu_bytes; }
 
 /* Feature halos (docs/feature-halos.md): the halo buffer of the program's feature_halo
  * stage (its parameters), splatted by the GL runtime from values (nx*ny*nz floats in

@@ -81,6 +81,7 @@ export interface Frame {
   draw(options: FrameDrawOptions): void; // the field, then the host once; leaves the state it found
                                          // (the field's textures stay bound on their units)
   readonly draws: number;             // host draws in the last frame: 1 with oneDraw
+  readonly gpuBytes: number;          // GPU memory the frame holds (its images; with oneDraw the halo field)
   readonly postImage: string | null;  // the image the passes after the draw (outlines) end in
   // after draw: those passes over the host's image (RGBA, the frame's size, over its
   // background); their result's texture, or null without such passes

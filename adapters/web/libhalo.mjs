@@ -374,6 +374,10 @@ class Frame {
   // program (its field's depth segments are libhalo's own draws).
   get draws() { return this._handle ? this._halo._core._halo_web_frame_segment_count(this._handle) : 0; }
 
+  // The GPU memory the frame holds, in bytes (halo_gl_frame_info.gpu_bytes): its images and,
+  // with oneDraw, the halo field (stacks, atlas, derived gradient).
+  get gpuBytes() { return this._handle ? this._halo._core._halo_web_frame_gpu_bytes(this._handle) : 0; }
+
   destroy() {
     if (this._handle) {
       this._halo._current(this._gl);

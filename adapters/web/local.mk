@@ -19,7 +19,7 @@ WEB_DEPS = adapters/web/deps
 # origin does not find by itself
 WEB_EMCC = NODE_PATH=/usr/share/nodejs$${NODE_PATH:+:$$NODE_PATH} $(EMCC)
 WEB_EXPORTS = _malloc _free _halo_web_init _halo_web_version _halo_web_diagnostics _halo_web_modules _halo_web_link _halo_web_program_destroy _halo_web_program_source _halo_web_program_piece _halo_web_program_reflect _halo_web_program_set _halo_web_map_line \
-	_halo_web_gl_create _halo_web_gl_destroy _halo_web_frame_create _halo_web_frame_destroy _halo_web_frame_draw _halo_web_frame_segment_count _halo_web_frame_post _halo_web_frame_read \
+	_halo_web_gl_create _halo_web_gl_destroy _halo_web_frame_create _halo_web_frame_destroy _halo_web_frame_draw _halo_web_frame_segment_count _halo_web_frame_gpu_bytes _halo_web_frame_post _halo_web_frame_read \
 	_halo_web_feature_create _halo_web_feature_build _halo_web_feature_texture _halo_web_feature_destroy
 # libhalo's GL runtime (the image passes and host contract 3's halo field) over WebGL 2: the
 # same sources as the native runtime, which take OpenGL ES 3.0 entry points through

@@ -324,6 +324,10 @@ try {
     const name = `${label}${c.oneDraw ? ' drawn once (host contract 3)' : ''} in ` +
       `${viewer === 'three' ? "the three.js caster" : 'raycast.frag'}`;
     if (c.oneDraw && viewer === 'raycast' && staged.draws !== 1) fail(`${name}: the host was drawn ${staged.draws} times, not once`);
+    // the frame's memory holds at least the halo field's stack: a float a pixel, a layer a segment
+    if (c.oneDraw && viewer === 'raycast' && !(staged.gpuBytes >= staged.pixels.length)) {
+      fail(`${name}: the frame reports ${staged.gpuBytes} bytes of GPU memory, under one float a pixel`);
+    }
     const reference = new Float32Array(fs.readFileSync(path.join(c.dir, 'image.f32')).buffer.slice(0));
     if (reference.length !== staged.pixels.length) {
       fail(`${name}: ${staged.pixels.length} values in the page, ${reference.length} in halo-render's image`);
