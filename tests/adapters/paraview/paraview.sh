@@ -45,7 +45,8 @@ export OMPI_ALLOW_RUN_AS_ROOT OMPI_ALLOW_RUN_AS_ROOT_CONFIRM
 # returns its exit status. A new X connection is sometimes refused ("bad X server
 # connection"; seen right after the server starts and now and then later), and a rank
 # without one can leave the others waiting: the run is stopped as soon as its output
-# says so, and tried again (at most 4 times, each at most 5 minutes).
+# says so, and tried again (at most 6 times, each at most 5 minutes, waiting 1, 2, ... 5 s
+# between: on a loaded machine the refusals came four times in a row once, session 25).
 pvrun() {
     p_name=$1 p_ranks=$2 p_try=1
     shift 2
@@ -63,11 +64,11 @@ pvrun() {
         done
         wait "$p_pid"
         p_status=$?
-        if test $p_try -lt 4 &&
+        if test $p_try -lt 6 &&
             { test $p_status -eq 124 || grep -E -q "bad X server connection|remote rendering which" "$tmp/$p_name.log"; }; then
             echo "    (pvbatch on $p_ranks ranks: no X connection on a rank; trying again)"
+            sleep $p_try
             p_try=$((p_try + 1))
-            sleep 1
             continue
         fi
         return $p_status
