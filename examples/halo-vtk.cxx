@@ -68,6 +68,8 @@ const char usage_text[] =
     "                      render again (prints whether VTK rebuilt its shader)\n"
     "  --halo-scale S      halo images (and libhalo's march) at 1/S of the image per side:\n"
     "                      1 (default), 2 or 4\n"
+    "  --field-max-mib N   drawn once: the cap on the frame's halo field in MiB (default 1024);\n"
+    "                      a field over it is drawn at twice the scale, with a warning\n"
     "  --frames N          render N frames and print the mean frame time\n"
     "  --tile-scale N      write the image N times the size, rendered by VTK in N x N tiles\n"
     "                      (vtkWindowToImageFilter, as a screenshot larger than the window)\n"
@@ -91,6 +93,7 @@ struct options {
     int have_window = 0, volume_size = 0, width = 256, height = 256, frames = 1, quiet = 0, no_stages = 0,
         plain_mapper = 0, shade = 0, own_gradient = 0;
     int segments = 0, tile_scale = 1, halo_scale = 1;
+    double field_max_mib = 0.0;
     std::vector<std::string> sets;
 };
 
@@ -149,6 +152,12 @@ int parse(int argc, char **argv, options *o)
             if (strcmp(v, "1") && strcmp(v, "2") && strcmp(v, "4"))
                 return usage_error(std::string("--halo-scale takes 1, 2 or 4, not '") + v + "'");
             o->halo_scale = atoi(v);
+        } else if (a == "--field-max-mib" && need()) {
+            char *end;
+            double n = strtod(v, &end);
+            if (*end || !(n >= 0.01 && n <= 1048576.0))
+                return usage_error(std::string("--field-max-mib takes 0.01..1048576, not '") + v + "'");
+            o->field_max_mib = n;
         } else if (a == "--frames" && need()) {
             char *end;
             long n = strtol(v, &end, 10);
@@ -363,6 +372,7 @@ int main(int argc, char **argv)
         desc.all_live = !o.sets.empty();
         desc.segments = o.segments;
         desc.image_scale = o.halo_scale;
+        desc.field_max_bytes = (size_t)(o.field_max_mib * 1048576.0);
         desc.own_gradient = o.own_gradient;
         h = halo_vtk_install(&desc, diag);
         if (!h)

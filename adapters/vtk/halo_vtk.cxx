@@ -307,6 +307,13 @@ struct halo_vtk {
     halo_vtk_exchange_fn exchange = nullptr; /* halo_vtk_set_exchange */
     void *exchange_user = nullptr;
     std::vector<float> exchange_buffer;
+    /* drawn once: the scene linked at the install with halo images at 1/2 and 1/4 too (the
+     * scene may be gone later), taken when a frame's halo field is over its cap
+     * (relink_smaller); that cap */
+    int image_scale = 1;
+    halo_program *smaller[2] = {nullptr, nullptr};
+    size_t field_max_bytes = 0;
+    int one_draw_linked = 0; /* linked with one_draw */
 };
 
 namespace
@@ -779,6 +786,83 @@ class haloVTKMapper : public vtkOpenGLGPUVolumeRayCastMapper
 };
 vtkStandardNewMacro(haloVTKMapper);
 
+namespace
+{
+
+/* The linked program's pieces, and what it draws with halo_vtk_mapper_new's mapper (in
+ * segments, over the field drawn once, the at=post passes' image). */
+void take_program(halo_vtk *h, halo_program *program)
+{
+    h->program = program;
+    h->declarations = std::string(declarations_tag) + "\n" + conversions + "const bool halo_vtk_reads_images = " +
+                      (halo_program_reflection(program).sampler_count ? "true" : "false") + ";\n" +
+                      halo_program_source(program, HALO_PIECE_DECLARATIONS);
+    h->sample = std::string(
+                    "// ---- libhalo-vtk: the stages, on the opacity per unit distance ----\n"
+                    "g_srcColor.a = halo_vtk_correct(g_srcColor.a, 1.0 / halo_vtk_exponent());\n") +
+                sample_gradient + halo_program_source(program, HALO_PIECE_SAMPLE) + sample_gradient_used +
+                "g_srcColor.a = halo_vtk_correct(g_srcColor.a, halo_vtk_exponent());\n" + splice_point;
+    h->segmented = h->one_draw = 0;
+    h->post_image = nullptr;
+    if (!haloVTKMapper::SafeDownCast(h->mapper))
+        return;
+    halo_reflection r = halo_program_reflection(program);
+    h->segmented = r.output_count || r.pass_count;
+    for (size_t i = 0; i < r.pass_count && h->one_draw_linked; i++)
+        h->one_draw |= !r.passes[i].at; /* passes between slices: the field */
+    for (size_t i = 0; i < r.pass_count; i++)
+        if (r.passes[i].at)
+            h->post_image = r.passes[i].output;
+}
+
+/* The replacements of h's splices in VTK's shader: every VTK text of the table cleared once
+ * (clearing one that is not there does nothing), then, with add, h's mode's set again. */
+void replace_splices(halo_vtk *h, bool add)
+{
+    for (size_t i = 0; i < sizeof splices / sizeof splices[0]; i++) {
+        bool seen = false;
+        for (size_t k = 0; k < i; k++)
+            seen |= splices[k].vtk_text == splices[i].vtk_text;
+        if (!seen)
+            h->property->ClearFragmentShaderReplacement(splices[i].vtk_text, splices[i].all);
+    }
+    for (const splice &sp : splices)
+        if (add && (sp.modes & h->mode))
+            h->property->AddFragmentShaderReplacement(sp.vtk_text, sp.all, replacement(h, sp), false);
+}
+
+/* A frame drawn once whose halo field is over its cap (FIELD_MEMORY): the scene linked
+ * again with halo images at twice the scale (at most 4), the live values set since the
+ * install kept, the replacements and uniforms replaced, the frame made again; VTK builds
+ * its shader anew at the next draw. false when it cannot (already at 1/4). */
+bool relink_smaller(halo_vtk *h)
+{
+    /* smaller[0] halves the install's scale, smaller[1] halves it again */
+    int k = 0;
+    while (k < 2 && !h->smaller[k])
+        k++;
+    halo_program *program = k < 2 && h->one_draw ? h->smaller[k] : nullptr;
+    if (!program)
+        return false;
+    h->smaller[k] = nullptr;
+    halo_reflection r = halo_program_reflection(h->program);
+    for (size_t i = 0; i < r.uniform_count; i++)
+        if (r.uniforms[i].live && r.uniforms[i].info)
+            halo_program_set(program, r.uniforms[i].stage, r.uniforms[i].param, r.uniforms[i].value,
+                             r.uniforms[i].count * r.uniforms[i].info->components, nullptr);
+    halo_program_destroy(h->program);
+    h->image_scale = halo_program_reflection(program).image_scale;
+    take_program(h, program);
+    replace_splices(h, true);
+    upload_all(h, nullptr);
+    halo_gl_frame_destroy(h->frame);
+    h->frame = nullptr;
+    h->program_handle = -1;
+    return true;
+}
+
+} // namespace
+
 /* Volumetric halos across pieces (halo_vtk_set_exchange): after a segment, each output
  * image the pieces drew (the seeds) combined over all pieces by its blend, so that every
  * piece spreads the same seeds; done before the passes run on them. */
@@ -959,7 +1043,32 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol)
         memcpy(sd.volume_size, h->value_size, sizeof sd.volume_size);
     }
     set_screen_axes(ren, vol, image, (unsigned)h->program_handle);
-    if (halo_gl_frame_draw(h->frame, (unsigned)h->program_handle, &sd, h->diag) != HALO_OK)
+    sd.field_max_bytes = h->field_max_bytes;
+    /* a field over its cap (its diagnostic taken apart): linked again with smaller halo
+     * images, with a warning, and this frame drawn anew (nothing of it drawn yet) */
+    halo_diagnostics *draw_diag = halo_diagnostics_create();
+    halo_status drawn = halo_gl_frame_draw(h->frame, (unsigned)h->program_handle, &sd, draw_diag ? draw_diag : h->diag);
+    if (drawn != HALO_OK && draw_diag && halo_diagnostics_has(draw_diag, HALO_MSG_FIELD_MEMORY) &&
+        halo_diagnostics_describe(draw_diag).errors == 1) {
+        std::string why = halo_diagnostics_get(draw_diag, 0)->text;
+        if (relink_smaller(h)) {
+            halo_diagnostics_report(h->diag, HALO_SEVERITY_WARNING, HALO_MSG_FIELD_MEMORY, nullptr, 0, 0, nullptr,
+                                    "libhalo-vtk: %s: drawn with halo images at 1/%d (halo_vtk_desc.image_scale %d)",
+                                    why.c_str(), h->image_scale, h->image_scale);
+            halo_diagnostics_destroy(draw_diag);
+            ostate->PopFramebufferBindings();
+            ostate->Pop();
+            this->GPURender(ren, vol);
+            return;
+        }
+    }
+    for (size_t i = 0; draw_diag && i < halo_diagnostics_describe(draw_diag).count; i++) {
+        const halo_diagnostic *g = halo_diagnostics_get(draw_diag, i);
+        halo_diagnostics_report(h->diag, g->severity, g->id, g->file, g->line, g->column, g->source_line, "%s",
+                                g->text);
+    }
+    halo_diagnostics_destroy(draw_diag);
+    if (drawn != HALO_OK)
         h->failed = 1;
     /* the volume over VTK's framebuffer */
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, (GLuint)vtk_framebuffer);
@@ -1115,6 +1224,9 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
     h->program = program;
     h->diag = diag; /* the draws' diagnostics (GL errors, the adapter's textures) */
     h->own_gradient = desc->own_gradient != 0;
+    h->field_max_bytes = desc->field_max_bytes;
+    h->one_draw_linked = link.one_draw;
+    h->image_scale = link.image_scale > 1 ? link.image_scale : 1;
     /* the value window, in VTK's normalisation over the input's range */
     double range[2];
     input->GetScalarRange(range);
@@ -1143,28 +1255,17 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
     h->uniforms.push_back("halo_vtk_box_lo");
     h->uniforms.push_back("halo_vtk_box_hi");
     upload_all(h, &h->uniforms);
-    /* the pieces */
-    h->declarations = std::string(declarations_tag) + "\n" + conversions + "const bool halo_vtk_reads_images = " +
-                      (halo_program_reflection(program).sampler_count ? "true" : "false") + ";\n" +
-                      halo_program_source(program, HALO_PIECE_DECLARATIONS);
-    h->sample = std::string(
-                    "// ---- libhalo-vtk: the stages, on the opacity per unit distance ----\n"
-                    "g_srcColor.a = halo_vtk_correct(g_srcColor.a, 1.0 / halo_vtk_exponent());\n") +
-                sample_gradient + halo_program_source(program, HALO_PIECE_SAMPLE) + sample_gradient_used +
-                "g_srcColor.a = halo_vtk_correct(g_srcColor.a, halo_vtk_exponent());\n" + splice_point;
-    if (segmenting) {
-        h->segmented = halo_program_reflection(program).output_count || halo_program_reflection(program).pass_count;
-        for (size_t i = 0; i < halo_program_reflection(program).pass_count && link.one_draw; i++)
-            h->one_draw |= !halo_program_reflection(program).passes[i].at; /* passes between slices: the field */
-        for (size_t i = 0; i < halo_program_reflection(program).pass_count; i++)
-            if (halo_program_reflection(program).passes[i].at)
-                h->post_image = halo_program_reflection(program).passes[i].output;
+    if (segmenting)
         segmenting->halo = h;
+    take_program(h, program);
+    /* drawn once: the same scene with smaller halo images, for a field over its cap */
+    for (int k = 0, scale = h->image_scale * 2; h->one_draw && scale <= 4; k++, scale *= 2) {
+        halo_link_desc smaller = link;
+        smaller.image_scale = scale;
+        h->smaller[k] = halo_link(&smaller, diag);
     }
     h->mode = !segmenting ? SPLICE_OWN : names.segmented ? SPLICE_SEGMENTS : SPLICE_DRAWN_ONCE;
-    for (const splice &sp : splices)
-        if (sp.modes & h->mode)
-            property->AddFragmentShaderReplacement(sp.vtk_text, sp.all, replacement(h, sp), false);
+    replace_splices(h, true);
     h->observer = vtkSmartPointer<vtkCallbackCommand>::New();
     h->observer->SetCallback(on_render_end);
     h->observer->SetClientData(h);
@@ -1181,14 +1282,7 @@ void halo_vtk_remove(halo_vtk *h)
 {
     if (!installed(h))
         return; /* NULL, or removed already: nothing to do, silently */
-    /* every VTK text of the table, once (clearing one that is not there does nothing) */
-    for (size_t i = 0; i < sizeof splices / sizeof splices[0]; i++) {
-        bool seen = false;
-        for (size_t k = 0; k < i; k++)
-            seen |= splices[k].vtk_text == splices[i].vtk_text;
-        if (!seen)
-            h->property->ClearFragmentShaderReplacement(splices[i].vtk_text, splices[i].all);
-    }
+    replace_splices(h, false);
     if (haloVTKMapper *m = haloVTKMapper::SafeDownCast(h->mapper))
         m->halo = nullptr;
     if (h->value_texture)
@@ -1215,6 +1309,8 @@ void halo_vtk_remove(halo_vtk *h)
     h->mapper->RemoveObserver(h->observer_tag);
     h->mapper->RemoveObserver(h->start_observer_tag);
     halo_program_destroy(h->program);
+    halo_program_destroy(h->smaller[0]);
+    halo_program_destroy(h->smaller[1]);
     std::vector<halo_vtk *> &list = installs();
     for (size_t i = 0; i < list.size(); i++)
         if (list[i] == h)

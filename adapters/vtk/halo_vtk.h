@@ -34,7 +34,11 @@ typedef struct halo_vtk_desc {
                                         * the pieces of a distributed volume, halo_vtk_set_exchange) */
     int image_scale;                   /* halo images at 1/image_scale of VTK's frame per side (halo_link_desc.
                                         * image_scale): 0 or 1 full, 2, 4; drawn once, libhalo's march at that
-                                        * scale too (docs/performance.md: the cheaper halo frame, its error) */
+                                        * scale too (docs/performance.md: the cheaper halo frame, its error).
+                                        * Drawn once, a frame whose halo field is over field_max_bytes is
+                                        * drawn at twice this scale (at most 4), with a warning (FIELD_MEMORY) */
+    size_t field_max_bytes;            /* drawn once: the cap on the frame's halo field
+                                        * (halo_gl_segments_desc.field_max_bytes); 0: libhalo's, 1 GiB */
     int own_gradient;                  /* with VTK's shading on, the stages read the gradient VTK computes for
                                         * its lighting (no fetch of their own); 1: the adapter's gradient
                                         * texture always (docs/hosts/vtk.md, "The gradient") */
