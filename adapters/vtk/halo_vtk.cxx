@@ -815,11 +815,12 @@ void take_program(halo_vtk *h, halo_program *program)
             h->post_image = r.passes[i].output;
 }
 
-/* The replacements of h's splices in VTK's shader: every VTK text of the table cleared once
- * (clearing one that is not there does nothing), then, with add, h's mode's set again. */
+/* The replacements of h's splices in VTK's shader: with add, those of h's mode set (a text
+ * set again replaces its old replacement); without, every VTK text of the table cleared
+ * once (clearing one that is not there does nothing). */
 void replace_splices(halo_vtk *h, bool add)
 {
-    for (size_t i = 0; i < sizeof splices / sizeof splices[0]; i++) {
+    for (size_t i = 0; !add && i < sizeof splices / sizeof splices[0]; i++) {
         bool seen = false;
         for (size_t k = 0; k < i; k++)
             seen |= splices[k].vtk_text == splices[i].vtk_text;
@@ -847,9 +848,9 @@ bool relink_smaller(halo_vtk *h)
     h->smaller[k] = nullptr;
     halo_reflection r = halo_program_reflection(h->program);
     for (size_t i = 0; i < r.uniform_count; i++)
-        if (r.uniforms[i].live && r.uniforms[i].info)
+        if (r.uniforms[i].live) /* count: elements (halo_program_set) */
             halo_program_set(program, r.uniforms[i].stage, r.uniforms[i].param, r.uniforms[i].value,
-                             r.uniforms[i].count * r.uniforms[i].info->components, nullptr);
+                             r.uniforms[i].count, h->diag);
     halo_program_destroy(h->program);
     h->image_scale = halo_program_reflection(program).image_scale;
     take_program(h, program);
@@ -1048,26 +1049,26 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol)
      * images, with a warning, and this frame drawn anew (nothing of it drawn yet) */
     halo_diagnostics *draw_diag = halo_diagnostics_create();
     halo_status drawn = halo_gl_frame_draw(h->frame, (unsigned)h->program_handle, &sd, draw_diag ? draw_diag : h->diag);
-    if (drawn != HALO_OK && draw_diag && halo_diagnostics_has(draw_diag, HALO_MSG_FIELD_MEMORY) &&
-        halo_diagnostics_describe(draw_diag).errors == 1) {
-        std::string why = halo_diagnostics_get(draw_diag, 0)->text;
-        if (relink_smaller(h)) {
-            halo_diagnostics_report(h->diag, HALO_SEVERITY_WARNING, HALO_MSG_FIELD_MEMORY, nullptr, 0, 0, nullptr,
-                                    "libhalo-vtk: %s: drawn with halo images at 1/%d (halo_vtk_desc.image_scale %d)",
-                                    why.c_str(), h->image_scale, h->image_scale);
-            halo_diagnostics_destroy(draw_diag);
-            ostate->PopFramebufferBindings();
-            ostate->Pop();
-            this->GPURender(ren, vol);
-            return;
-        }
-    }
+    int relinked = drawn != HALO_OK && draw_diag && halo_diagnostics_has(draw_diag, HALO_MSG_FIELD_MEMORY) &&
+                   halo_diagnostics_describe(draw_diag).errors == 1 && relink_smaller(h);
     for (size_t i = 0; draw_diag && i < halo_diagnostics_describe(draw_diag).count; i++) {
         const halo_diagnostic *g = halo_diagnostics_get(draw_diag, i);
-        halo_diagnostics_report(h->diag, g->severity, g->id, g->file, g->line, g->column, g->source_line, "%s",
-                                g->text);
+        if (relinked && g->id == HALO_MSG_FIELD_MEMORY)
+            halo_diagnostics_report(h->diag, HALO_SEVERITY_WARNING, HALO_MSG_FIELD_MEMORY, nullptr, 0, 0, nullptr,
+                                    "libhalo-vtk: %s: linked again with halo images at 1/%d "
+                                    "(halo_vtk_desc.image_scale %d)",
+                                    g->text, h->image_scale, h->image_scale);
+        else
+            halo_diagnostics_report(h->diag, g->severity, g->id, g->file, g->line, g->column, g->source_line, "%s",
+                                    g->text);
     }
     halo_diagnostics_destroy(draw_diag);
+    if (relinked) {
+        ostate->PopFramebufferBindings();
+        ostate->Pop();
+        this->GPURender(ren, vol);
+        return;
+    }
     if (drawn != HALO_OK)
         h->failed = 1;
     /* the volume over VTK's framebuffer */
@@ -1262,7 +1263,9 @@ halo_vtk *halo_vtk_install(const halo_vtk_desc *desc, halo_diagnostics *diag)
     for (int k = 0, scale = h->image_scale * 2; h->one_draw && scale <= 4; k++, scale *= 2) {
         halo_link_desc smaller = link;
         smaller.image_scale = scale;
-        h->smaller[k] = halo_link(&smaller, diag);
+        halo_diagnostics *scratch = halo_diagnostics_create(); /* a failure here is only no fallback */
+        h->smaller[k] = scratch ? halo_link(&smaller, scratch) : nullptr;
+        halo_diagnostics_destroy(scratch);
     }
     h->mode = !segmenting ? SPLICE_OWN : names.segmented ? SPLICE_SEGMENTS : SPLICE_DRAWN_ONCE;
     replace_splices(h, true);

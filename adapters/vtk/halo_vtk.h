@@ -36,12 +36,13 @@ typedef struct halo_vtk_desc {
                                         * image_scale): 0 or 1 full, 2, 4; drawn once, libhalo's march at that
                                         * scale too (docs/performance.md: the cheaper halo frame, its error).
                                         * Drawn once, a frame whose halo field is over field_max_bytes is
-                                        * drawn at twice this scale (at most 4), with a warning (FIELD_MEMORY) */
-    size_t field_max_bytes;            /* drawn once: the cap on the frame's halo field
-                                        * (halo_gl_segments_desc.field_max_bytes); 0: libhalo's, 1 GiB */
+                                        * drawn at twice this scale (at most 4), with a warning (FIELD_MEMORY),
+                                        * and so are the frames after it (halo_vtk_program: the new program) */
     int own_gradient;                  /* with VTK's shading on, the stages read the gradient VTK computes for
                                         * its lighting (no fetch of their own); 1: the adapter's gradient
                                         * texture always (docs/hosts/vtk.md, "The gradient") */
+    size_t field_max_bytes;            /* drawn once: the cap on the frame's halo field
+                                        * (halo_gl_segments_desc.field_max_bytes); 0: libhalo's, 1 GiB */
 } halo_vtk_desc;
 
 /* Installs the scene. Returns NULL, with the reason in diag, when the mapper or the

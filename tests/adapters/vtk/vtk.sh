@@ -271,9 +271,10 @@ awk -v b="$between" 'BEGIN { exit !(b > 0.005) }' || fail "control: VTK without 
 # 128^2, the field about 5 MiB, 1.3 at 1/2): the adapter takes the scene linked at 1/2 at
 # the install, with a warning: --halo-scale 2's image (max abs 0), not the full size's
 vtk default-capped "$scenes/default.json" --field-max-mib 2
-grep -q "warning: libhalo-vtk: .*over field_max_bytes 2 MiB.*drawn with halo images at 1/2" "$tmp/default-capped.log" ||
+vtk default-full "$scenes/default.json"
+grep -q "warning: libhalo-vtk: .*over field_max_bytes 2 MiB.*linked again with halo images at 1/2" "$tmp/default-capped.log" ||
     { fail "a field over its cap: no warning that it is drawn at 1/2"; sed 's/^/    /' "$tmp/default-capped.log" >&2; }
-capped=$(max_abs default-capped default-half) full=$(max_abs default-capped default-halos)
+capped=$(max_abs default-capped default-half) full=$(max_abs default-capped default-full)
 echo "default over a 2 MiB field cap: against --halo-scale 2 max abs $capped, against full size $full"
 awk -v c="$capped" -v f="$full" 'BEGIN { exit !(c != "" && c + 0 == 0 && f > 0) }' ||
     fail "a field over its cap: not --halo-scale 2's image ($capped; full size $full)"
