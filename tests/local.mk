@@ -369,7 +369,7 @@ EXTRA_DIST += tests/tree/setup_deps.sh
 # when configure left the web package out, or without chromium or puppeteer-core) ----
 HALO_WEB_TESTS = tests/adapters/web/api.sh tests/adapters/web/browser.sh
 TESTS += $(HALO_WEB_TESTS)
-EXTRA_DIST += $(HALO_WEB_TESTS) tests/adapters/web/api.test.mjs tests/adapters/web/browser.mjs tests/adapters/web/raycast.html tests/adapters/web/three.html tests/adapters/web/niivue.html tests/adapters/web/vtkjs.html \
+EXTRA_DIST += $(HALO_WEB_TESTS) tests/adapters/web/api.test.mjs tests/adapters/web/browser.mjs tests/adapters/web/raycast.html tests/adapters/web/warnings.mjs tests/adapters/web/three.html tests/adapters/web/niivue.html tests/adapters/web/vtkjs.html \
 	tests/adapters/web/package.json tests/adapters/web/package-lock.json
 AM_TESTS_ENVIRONMENT += HALO_HAVE_WEB='$(HALO_HAVE_WEB)'; export HALO_HAVE_WEB; \
 	HALO_WEB_PACKAGE='$(abs_top_builddir)/adapters/web/package'; export HALO_WEB_PACKAGE; \

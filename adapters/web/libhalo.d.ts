@@ -118,9 +118,13 @@ export interface Halo {
   frameOfSize(frame: Frame | null, gl: WebGL2RenderingContext, program: Program, width: number, height: number): Frame;
   // for an engine adapter: pieces, with oneDraw when the stages need a halo field or write
   // outputs; what an engine drawn once cannot serve refused by name (outlines unless served)
-  linkForEngine(options: { scene?: string | object; sceneFile?: string; allLive?: boolean; pieces: HaloPieces },
-    engine: string, serves?: string[], what?: { outlines?: boolean }):
+  linkForEngine(options: { scene?: string | object; sceneFile?: string; allLive?: boolean; pieces: HaloPieces;
+    imageScale?: 1 | 2 | 4 }, engine: string, serves?: string[], what?: { outlines?: boolean }):
     { program: Program; field: boolean; features: boolean; outlines: boolean };
+  // for an engine adapter, after frame.draw threw error: for FIELD_MEMORY (a oneDraw program of
+  // linkForEngine, no explicit imageScale, under 1/4) the scene linked at twice the halo
+  // scale with the live values carried over, and the warning to print; otherwise null
+  smallerProgram(program: Program, error: unknown): { program: Program; warning: string } | null;
 }
 
 export default function libhalo(options?: object): Promise<Halo>;

@@ -586,7 +586,7 @@ class Halo {
   }
 
   // For an engine adapter: links a scene as pieces (options: scene, sceneFile, allLive,
-  // pieces), for host contract 3 (oneDraw) when its stages run passes between depth
+  // pieces, imageScale), for host contract 3 (oneDraw) when its stages run passes between depth
   // segments or write extra outputs (drawn once, a ray writes them once: unblended on
   // WebGL 2); refuses, naming the stages, what an engine drawn once with libhalo's field
   // cannot serve: extra outputs and passes after the draw (outlines) unless the adapter
@@ -597,7 +597,7 @@ class Halo {
   linkForEngine(options, engine, serves = [], { outlines = false } = {}) {
     const link = (oneDraw) => this.link({
       scene: options.scene, sceneFile: options.sceneFile || 'scene', target: 'es300', allLive: !!options.allLive,
-      pieces: options.pieces, oneDraw,
+      pieces: options.pieces, oneDraw, ...(options.imageScale ? { imageScale: options.imageScale } : {}),
     });
     let program;
     try {
@@ -623,9 +623,35 @@ class Halo {
         `which the ${engine} adapter does not serve yet (it serves per-sample stages, volumetric halos` +
         `${serves.includes(FEATURE_BUFFER_UNIFORM) ? ', feature halos' : ''}${outlines ? ', outlines' : ''})`);
     }
+    program._engine = { options, engine, serves, outlines }; // for smallerProgram
     return { program, field: (r.passes || []).some((p) => !p.at),
       features: (r.host_uniforms || []).some((u) => u.name === FEATURE_BUFFER_UNIFORM),
       outlines: (r.passes || []).some((p) => p.at) };
+  }
+
+  // For an engine adapter, after frame.draw threw error: when it is FIELD_MEMORY (the halo
+  // field over its cap) for a oneDraw program of linkForEngine linked without an explicit
+  // imageScale, the same scene linked again with halo images at twice the scale (1/2, then
+  // 1/4 of the frame per side), the live values set on program carried over: { program (the
+  // new one; the adapter puts its pieces in and destroys the old), warning (the text for
+  // console.warn: the cap's diagnostic and the new scale) }. Otherwise null: the adapter
+  // goes on with error. An explicit imageScale is the user's: kept, the frame refused.
+  smallerProgram(program, error) {
+    const engine = program && program._engine, r = program && program.reflection;
+    const scale = (r && r.image_scale) || 1;
+    if (!error || error.id !== 'FIELD_MEMORY' || !engine || engine.options.imageScale || !r.one_draw || scale >= 4)
+      return null;
+    const options = { ...engine.options, imageScale: scale * 2 };
+    const { program: smaller } = this.linkForEngine(options, engine.engine, engine.serves, { outlines: engine.outlines });
+    smaller._engine.options = { ...engine.options }; // still the library's choice: 1/4 next, if 1/2 is over the cap too
+    try {
+      for (const [name, values] of program._current) smaller.set(name, values);
+    } catch (e) {
+      smaller.destroy();
+      throw e;
+    }
+    return { program: smaller, warning: `${error.message}; linked again with halo images at 1/${scale * 2} of the ` +
+      'frame per side (imageScale ' + (scale * 2) + '): give imageScale to choose, or raise fieldMaxBytes' };
   }
 
   // For an engine adapter: a volume's values as the stages read them (raw[i] * slope +

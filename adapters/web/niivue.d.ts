@@ -9,11 +9,13 @@ export interface NiivueInstallOptions {
   sceneFile?: string;
   allLive?: boolean;
   interval?: number;               // volumetric halos: M, planes a depth segment (default the scene's)
+  fieldMaxBytes?: number;          // the cap on the halo field (default libhalo's)
+  imageScale?: 1 | 2 | 4;          // halo images at 1/S per side; without it a field over the cap is linked at 1/2, then 1/4
   firstUnit?: number;              // libhalo's textures from this unit on (default 20; the value copy one below)
 }
 
 export interface NiivueInstalled {
-  program: Program;
+  readonly program: Program;     // the one drawn now (another after a field over its cap)
   set(name: string, value: number | boolean | number[] | number[][]): void;
   remove(): void;                  // NiiVue's own shader and drawImage3D again
 }

@@ -158,8 +158,11 @@ function textureToMm(image) {
 
 // Puts the scene's stages into nv's volume render shader. options: scene (JSON text or
 // object), sceneFile, interval (M for halos; default the scene's), firstUnit (libhalo's
-// textures from this unit on: 20; the value copy is one below, the feature buffer two), allLive. Returns
-// { program, set(name, value), remove() }; throws a HaloError or an Error that says why.
+// textures from this unit on: 20; the value copy is one below, the feature buffer two), allLive,
+// fieldMaxBytes (the cap on the halo field; libhalo's default) and imageScale (the halo
+// images at 1/2 or 1/4 of the frame per side; without it a field over the cap is linked
+// again at 1/2, then 1/4, and the frame drawn with it, with a warning). Returns { program
+// (the one drawn now), set(name, value), remove() }; throws a HaloError or an Error that says why.
 export function installHalo(halo, nv, options = {}) {
   const gl = nv.gl;
   if (!gl || !nv.renderVolumeShader || !nv.back)
@@ -171,14 +174,11 @@ export function installHalo(halo, nv, options = {}) {
       throw new Error(`installHalo: NiiVue's render shader has no '${anchor.trim()}' (the ${what} anchor): a NiiVue ` +
         `version this adapter does not know (supported: ${SUPPORTED_VERSIONS.join(', ')})`);
   if (nv[INSTALLED]) throw new Error('installHalo: this NiiVue already has libhalo\'s stages: remove() them first');
-  const { program, field, features } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
-    allLive: options.allLive, pieces: NIIVUE_NAMES }, 'NiiVue', [FEATURE_BUFFER]);
-  // everything that can fail, before NiiVue is touched; undone on failure
-  let staged = null, value = null;
-  const firstUnit = options.firstUnit || 20;
-  try {
-    if (firstUnit + 4 > gl.getParameter(gl.MAX_COMBINED_TEXTURE_IMAGE_UNITS))
-      throw new Error(`installHalo: firstUnit ${firstUnit} leaves too few of this context's texture units for libhalo's`);
+  let { program, field, features } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+    allLive: options.allLive, imageScale: options.imageScale, pieces: NIIVUE_NAMES }, 'NiiVue', [FEATURE_BUFFER]);
+  // NiiVue's shader with the program's pieces, NiiVue's uniform values copied from its
+  // program from, the live parameters' values (all that were set) uploaded
+  const stage = (from) => {
     let text = fragment
       .replace(ANCHORS.declarations, `${ANCHORS.declarations}uniform highp sampler3D ${VALUE_SAMPLER};\n` +
         `uniform vec2 ${ORIGIN};\n${program.pieces.declarations || ''}\n`)
@@ -186,18 +186,28 @@ export function installHalo(halo, nv, options = {}) {
       .replace(ANCHORS.finish, `${program.pieces.finish || ''}\n${ANCHORS.finish}`);
     if (field) // halos land in empty space: no fast pass to the first opaque sample
       text = text.replace(ANCHORS.fastPass, 'float val = 1.0; // libhalo: halos land in empty space');
+    let made;
     try {
-      staged = new shader.constructor(gl, vertex, text);
+      made = new shader.constructor(gl, vertex, text);
     } catch (e) {
       throw new Error(`installHalo: NiiVue could not build its shader with the stages (${e.message}; the compile log ` +
         'on the console: program.mapLog maps its lines to the modules)');
     }
-    copyUniforms(gl, shader.program, staged.program);
-    value = valueTexture(halo, gl, nv.back, firstUnit - 1);
+    copyUniforms(gl, from, made.program);
     const current = gl.getParameter(gl.CURRENT_PROGRAM);
-    gl.useProgram(staged.program);
-    program.upload(gl, staged.program); // the live parameters' first values
+    gl.useProgram(made.program);
+    program.upload(gl, made.program, { all: true });
     gl.useProgram(current);
+    return made;
+  };
+  // everything that can fail, before NiiVue is touched; undone on failure
+  let staged = null, value = null;
+  const firstUnit = options.firstUnit || 20;
+  try {
+    if (firstUnit + 4 > gl.getParameter(gl.MAX_COMBINED_TEXTURE_IMAGE_UNITS))
+      throw new Error(`installHalo: firstUnit ${firstUnit} leaves too few of this context's texture units for libhalo's`);
+    staged = stage(shader.program);
+    value = valueTexture(halo, gl, nv.back, firstUnit - 1);
   } catch (e) {
     if (value) gl.deleteTexture(value.texture);
     if (staged) gl.deleteProgram(staged.program);
@@ -237,6 +247,7 @@ export function installHalo(halo, nv, options = {}) {
     // the 3D view's rectangle of the canvas (a quadrant in NiiVue's multiplanar layout):
     // the field is made at its size and read at the fragment's place in it
     const [x, y, width, height] = gl.getParameter(gl.VIEWPORT);
+    let redraw = null; // the scene linked at a smaller halo scale: its field fits the cap
     try {
       const kept = frame;
       frame = null;
@@ -280,17 +291,50 @@ export function installHalo(halo, nv, options = {}) {
       frame.draw({
         program: staged.program, volume: value.texture, volumeSize: dims, volumeVersion: version,
         framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING), inverseViewProjection: Float32Array.from(inverse),
-        step: niivueStep(inverse, dims), interval: options.interval, firstUnit, draw,
+        step: niivueStep(inverse, dims), interval: options.interval, fieldMaxBytes: options.fieldMaxBytes, firstUnit, draw,
       });
-    } catch (e) { // NiiVue keeps drawing: without the stages, and a warning
-      warnOnce(`the stages are off: ${e.message}`);
-      drawAlone(draw);
+    } catch (e) {
+      let smaller = null;
+      try {
+        smaller = halo.smallerProgram(program, e);
+      } catch (again) {
+        e = again;
+      }
+      if (smaller) // the field over its cap: the scene at a smaller halo scale
+        redraw = smaller;
+      else { // NiiVue keeps drawing: without the stages, and a warning
+        warnOnce(`the stages are off: ${e.message}`);
+        drawAlone(draw);
+      }
     } finally {
       gl.activeTexture(gl.TEXTURE0 + firstUnit - 1);
       gl.bindTexture(gl.TEXTURE_3D, previous);
       gl.activeTexture(gl.TEXTURE0 + featureUnit);
       gl.bindTexture(gl.TEXTURE_3D, previousFeature);
       gl.activeTexture(previousUnit);
+    }
+    if (redraw) { // NiiVue's shader built again with the smaller scale's pieces; this frame drawn with it
+      console.warn(`libhalo: ${redraw.warning}`);
+      const old = program, oldStaged = staged;
+      program = redraw.program;
+      try {
+        staged = stage(oldStaged.program);
+      } catch (e) {
+        program.destroy();
+        program = old;
+        warnOnce(`the stages are off: ${e.message}`);
+        return drawAlone(draw);
+      }
+      if (nv.renderShader === oldStaged) nv.renderShader = staged;
+      nv.renderVolumeShader = staged;
+      if (gl.getParameter(gl.CURRENT_PROGRAM) === oldStaged.program) gl.useProgram(staged.program);
+      gl.deleteProgram(oldStaged.program);
+      old.destroy();
+      if (feature) feature.destroy();
+      feature = null;
+      frame.destroy();
+      frame = null;
+      return nv.drawImage3D(mvpMatrix, azimuth, elevation);
     }
   };
   // one frame with NiiVue's own shader (its uniforms as NiiVue last set them on the staged one)
@@ -304,7 +348,7 @@ export function installHalo(halo, nv, options = {}) {
     }
   }
   return {
-    program,
+    get program() { return program; }, // another after a field over its cap (linked at a smaller scale)
     // a live parameter ("stage.param"): the uniform's new value on the next draw
     set(name, v) {
       program.set(name, v);

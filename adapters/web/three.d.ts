@@ -30,10 +30,12 @@ export interface InstallOptions {
   volume?: string;                 // volumetric halos: the material's volume texture uniform ('u_volume')
   step?: string;                   // ... and its ray step uniform ('u_step')
   interval?: number;               // ... M, planes a depth segment (default the scene's)
+  fieldMaxBytes?: number;          // the cap on the halo field (default libhalo's)
+  imageScale?: 1 | 2 | 4;          // halo images at 1/S per side; without it a field over the cap is linked at 1/2, then 1/4
 }
 
 export interface Installed {
-  program: Program;
+  readonly program: Program;     // the one drawn now (another after a field over its cap)
   set(name: string, value: number | boolean | number[] | number[][]): void;
   // renderer.render, with volumetric halos the frame's halo field first (host contract 3)
   render(renderer: any, scene: any, camera: any): void;

@@ -190,9 +190,12 @@ function uniformValue(type, values) {
 // text or object), sceneFile (its name in diagnostics), names (overrides of CASTER_NAMES
 // for another caster's variables), allLive; for volumetric halos volume and step (the
 // material's uniforms of the volume texture and the ray step: 'u_volume', 'u_step') and
-// interval (M, planes a depth segment; default the scene's). Returns { program, set(name,
-// value), render(renderer, scene, camera), remove() };
-// throws a HaloError with file:line:col on a scene error or a refused scene.
+// interval (M, planes a depth segment; default the scene's), fieldMaxBytes (the cap on the
+// halo field; libhalo's default) and imageScale (the halo images at 1/2 or 1/4 of the frame
+// per side; without it a field over the cap is linked again at 1/2, then 1/4, with a
+// warning). Returns { program (the one drawn now), set(name, value), render(renderer,
+// scene, camera), remove() }; throws a HaloError with file:line:col on a scene error or a
+// refused scene.
 export function installHalo(halo, material, options = {}) {
   const original = material.fragmentShader;
   for (const [piece, marker] of Object.entries(MARKERS))
@@ -202,34 +205,42 @@ export function installHalo(halo, material, options = {}) {
         "end of its ray loop (three's VolumeShader, MIP and isosurfaces only, composites no samples)");
   if (material.glslVersion !== '300 es')
     throw new Error('installHalo: the material must be GLSL 3 (glslVersion: THREE.GLSL3): the pieces are GLSL ES 300');
-  const { program, field, features } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
-    allLive: options.allLive, pieces: { ...CASTER_NAMES, ...(options.names || {}) } }, 'three.js',
-  ['halo_host_feature_buffer']);
+  let { program, field, features } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+    allLive: options.allLive, imageScale: options.imageScale, pieces: { ...CASTER_NAMES, ...(options.names || {}) } },
+  'three.js', ['halo_host_feature_buffer']);
   const uniforms = [];
-  for (const u of program.reflection.uniforms || []) {
-    material.uniforms[u.name] = { value: uniformValue(u.type, u.value) };
-    uniforms.push(u.name);
-    if (/\[\d+\]$/.test(u.type)) {
-      const components = /vec(\d)/.exec(u.type) ? Number(/vec(\d)/.exec(u.type)[1]) : 1;
-      material.uniforms[`${u.name}_count`] = { value: Math.floor(u.value.length / components) };
-      uniforms.push(`${u.name}_count`);
+  // the program's pieces into the material's shader, its live parameters' values (those set
+  // since the install: the program's) into the material's uniforms
+  const put = () => {
+    for (const name of uniforms) delete material.uniforms[name];
+    uniforms.length = 0;
+    for (const u of program.reflection.uniforms || []) {
+      const values = program._current.get(`${u.stage}.${u.param}`) || u.value;
+      material.uniforms[u.name] = { value: uniformValue(u.type, values) };
+      uniforms.push(u.name);
+      if (/\[\d+\]$/.test(u.type)) {
+        const components = /vec(\d)/.exec(u.type) ? Number(/vec(\d)/.exec(u.type)[1]) : 1;
+        material.uniforms[`${u.name}_count`] = { value: Math.floor(values.length / components) };
+        uniforms.push(`${u.name}_count`);
+      }
     }
-  }
-  material.fragmentShader = original
-    .replace(MARKERS.declarations, program.pieces.declarations || '')
-    .replace(MARKERS.sample, program.pieces.sample || '')
-    .replace(MARKERS.finish, program.pieces.finish || '');
-  if (field)
-    for (const name of ['halo_host_screen_right', 'halo_host_screen_up']) {
-      material.uniforms[name] = { value: new Float32Array(3) };
-      uniforms.push(name);
-    }
-  material.needsUpdate = true;
+    material.fragmentShader = original
+      .replace(MARKERS.declarations, program.pieces.declarations || '')
+      .replace(MARKERS.sample, program.pieces.sample || '')
+      .replace(MARKERS.finish, program.pieces.finish || '');
+    if (field)
+      for (const name of ['halo_host_screen_right', 'halo_host_screen_up']) {
+        material.uniforms[name] = { value: new Float32Array(3) };
+        uniforms.push(name);
+      }
+    material.needsUpdate = true;
+  };
+  put();
   let frame = null; // libhalo's GL runtime for the field, made on the first render
   let feature = null; // the feature halos' buffer, made on the first render
   let compiledVersion = -1; // the material's version three last compiled for render
-  return {
-    program,
+  const stages = {
+    get program() { return program; }, // another after a field over its cap (linked at a smaller scale)
     // a live parameter ("stage.param"): the uniform's new value, no shader rebuild
     set(name, value) {
       program.set(name, value);
@@ -302,17 +313,34 @@ export function installHalo(halo, material, options = {}) {
       frame = null;
       frame = halo.frameOfSize(kept, gl, program, width, height);
       const inverse = camera.projectionMatrix.clone().multiply(camera.matrixWorldInverse).invert();
-      frame.draw({
-        program: glProgram, volume: glVolume, volumeSize: [volume.image.width, volume.image.height, volume.image.depth],
-        volumeVersion: volume.version, framebuffer: target ? renderer.properties.get(target).__webglFramebuffer : null,
-        inverseViewProjection: inverse.elements, step, interval: options.interval,
-        draw: () => renderer.render(scene, camera),
-      });
-      // libhalo put back the bindings of before the call, not three's of its draw: three's
-      // state cache is told to forget, as after any foreign GL code (resetState also
-      // forgets the render target, which is set again)
-      renderer.resetState();
-      renderer.setRenderTarget(target);
+      let smaller = null;
+      try {
+        frame.draw({
+          program: glProgram, volume: glVolume, volumeSize: [volume.image.width, volume.image.height, volume.image.depth],
+          volumeVersion: volume.version, framebuffer: target ? renderer.properties.get(target).__webglFramebuffer : null,
+          inverseViewProjection: inverse.elements, step, interval: options.interval, fieldMaxBytes: options.fieldMaxBytes,
+          draw: () => renderer.render(scene, camera),
+        });
+      } catch (e) { // the field over its cap: the scene at a smaller halo scale, drawn at once
+        if (!(smaller = halo.smallerProgram(program, e))) throw e;
+      } finally {
+        // libhalo put back the bindings of before the call, not three's of its draw: three's
+        // state cache is told to forget, as after any foreign GL code (resetState also
+        // forgets the render target, which is set again)
+        renderer.resetState();
+        renderer.setRenderTarget(target);
+      }
+      if (smaller) {
+        console.warn(`libhalo: ${smaller.warning}`);
+        frame.destroy();
+        frame = null;
+        if (feature) feature.destroy();
+        feature = null;
+        program.destroy();
+        program = smaller.program;
+        put();
+        stages.render(renderer, scene, camera);
+      }
     },
     // the material's own shader again, without the stages
     remove() {
@@ -326,4 +354,5 @@ export function installHalo(halo, material, options = {}) {
       program.destroy();
     },
   };
+  return stages;
 }

@@ -329,8 +329,11 @@ function show(gl, own, texture, framebuffer, viewport, blend) {
 // Puts the scene's stages into mapper's volume shader. options: view (the
 // vtkOpenGLRenderWindow that draws the mapper; required), scene (JSON text or object),
 // sceneFile, window ([low, high] of the volume's values that become 0..1; default their
-// range), interval (M for halos; default the scene's), allLive. Returns { program, set(name,
-// value), remove() }; throws a HaloError or an Error that says why.
+// range), interval (M for halos; default the scene's), allLive, fieldMaxBytes (the cap on
+// the halo field; libhalo's default) and imageScale (the halo images at 1/2 or 1/4 of the
+// frame per side; without it a field over the cap is linked again at 1/2, then 1/4, with a
+// warning: that frame is drawn without the stages, the next with them). Returns { program
+// (the one drawn now), set(name, value), remove() }; throws a HaloError or an Error that says why.
 export function installHalo(halo, mapper, options = {}) {
   const view = options.view;
   if (!view || typeof view.getViewNodeFor !== 'function' || typeof view.getTextureUnitManager !== 'function')
@@ -359,8 +362,9 @@ export function installHalo(halo, mapper, options = {}) {
     return refusal(mapper, actor);
   }
   const gl = view.getContext();
-  const { program, features, outlines } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
-    allLive: options.allLive, pieces: VTKJS_NAMES }, 'vtk.js', [FEATURE_BUFFER], { outlines: true });
+  let { program, features, outlines } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+    allLive: options.allLive, imageScale: options.imageScale, pieces: VTKJS_NAMES }, 'vtk.js', [FEATURE_BUFFER],
+  { outlines: true });
   // libhalo's texture units, reserved in vtk.js's manager: the value copy, the feature
   // buffer (with feature halos), the field's samplers and the march's volume
   // (halo_gl_frame_draw's first_unit on)
@@ -447,14 +451,40 @@ export function installHalo(halo, mapper, options = {}) {
     frame = halo.frameOfSize(kept, gl, program, camera.size[0], camera.size[1]);
     const desc = { program: handle, volume: value.texture, volumeSize: value.dims, volumeVersion: version,
       framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING), inverseViewProjection: camera.inverse,
-      step: camera.step, interval: options.interval, firstUnit, draw: () => {} };
-    if (outlines) {
-      drawWithOutlines(desc, drawVtk);
-      return true;
+      step: camera.step, interval: options.interval, fieldMaxBytes: options.fieldMaxBytes, firstUnit, draw: () => {} };
+    try {
+      if (outlines) {
+        drawWithOutlines(desc, drawVtk);
+        return true;
+      }
+      // libhalo's field now; vtk.js draws when this returns (the field stays bound on its units)
+      frame.draw(desc);
+    } catch (e) {
+      const smaller = halo.smallerProgram(program, e); // a field over its cap (FIELD_MEMORY, before any draw)
+      if (!smaller) throw e;
+      relink(smaller, handle);
     }
-    // libhalo's field now; vtk.js draws when this returns (the field stays bound on its units)
-    frame.draw(desc);
     return false;
+  }
+
+  // The scene linked again at a smaller halo scale (its field fits the cap): vtk.js draws
+  // this frame without the stages (its program holds the full scale's), builds its shader
+  // with the new pieces at the next render, and is asked for that render at the next
+  // animation frame.
+  function relink(smaller, handle) {
+    console.warn(`libhalo: ${smaller.warning}; this frame without the stages, the next with them`);
+    skipStages(handle);
+    program.destroy();
+    program = smaller.program;
+    lastHandle = null;
+    frame.destroy();
+    frame = null;
+    if (feature) feature.destroy();
+    feature = null;
+    setReplacements([...withoutOurs(), ...replacements(program.pieces, id)]);
+    const renderWindow = view.getRenderable();
+    if (typeof requestAnimationFrame === 'function' && renderWindow && typeof renderWindow.render === 'function')
+      requestAnimationFrame(() => { if (installed.has(mapper) && enabled) renderWindow.render(); });
   }
 
   // Outlines: vtk.js's volume drawn once into libhalo's target (its colour, RGBA32F, and the
@@ -531,21 +561,26 @@ export function installHalo(halo, mapper, options = {}) {
     warnOnce(`the stages are off: ${why}`);
     enabled = false;
     const current = gl.getParameter(gl.CURRENT_PROGRAM);
-    const samplers = [VALUE_SAMPLER, ...(features ? [FEATURE_BUFFER] : []), ...(program.reflection.samplers || []).map((x) => x.name)];
     for (const handle of programs) { // the stages skipped in every program built with them
       if (!gl.isProgram(handle)) { // vtk.js deleted it (its graphics resources released)
         programs.delete(handle);
         continue;
       }
-      gl.useProgram(handle);
-      gl.uniform1f(gl.getUniformLocation(handle, EXPONENT), 0);
-      // samplers of other types on one unit fail the draw: each on a unit of its own
-      samplers.forEach((name, k) => gl.uniform1i(gl.getUniformLocation(handle, name), units[k] ?? 0));
-      gl.uniform1i(gl.getUniformLocation(handle, LABELS_UNIFORM), units[0] ?? 0); // 3D, as the value's
+      skipStages(handle);
     }
     gl.useProgram(gl.isProgram(current) ? current : null);
     setReplacements(withoutOurs());
     release();
+  }
+  // vtk.js's program handle draws its own samples: the stages skipped (their exponent 0),
+  // the samplers each on a unit of their own (samplers of other types on one unit fail the
+  // draw). The program is left current.
+  function skipStages(handle) {
+    const samplers = [VALUE_SAMPLER, ...(features ? [FEATURE_BUFFER] : []), ...(program.reflection.samplers || []).map((x) => x.name)];
+    gl.useProgram(handle);
+    gl.uniform1f(gl.getUniformLocation(handle, EXPONENT), 0);
+    samplers.forEach((name, k) => gl.uniform1i(gl.getUniformLocation(handle, name), units[k] ?? 0));
+    gl.uniform1i(gl.getUniformLocation(handle, LABELS_UNIFORM), units[0] ?? 0); // 3D, as the value's
   }
   const programs = new Set(); // vtk.js's programs built with this install's stages
   const hook = hookContext(gl);
@@ -575,7 +610,7 @@ export function installHalo(halo, mapper, options = {}) {
   installed.add(mapper);
 
   return {
-    program,
+    get program() { return program; }, // another after a field over its cap (linked at a smaller scale)
     // a live parameter ("stage.param"): the uniform's new value on the next render
     set(name, v) {
       program.set(name, v);

@@ -175,3 +175,26 @@ test('featureBuffer refuses what it cannot splat before it touches the context',
   assert.throws(() => halo.featureBuffer(gl, program, { values: [0, 0], dims: [1, 1, 1] }), /must hold 1 x 1 x 1 numbers/);
   program.destroy();
 });
+
+test('smallerProgram: a field over its cap links the scene at 1/2, then 1/4, the live values kept', () => {
+  const names = { position: 'P', value: 'v', volume: 'u_volume', view: 'w', depth: 'd', fragcoord: 'gl_FragCoord.xy', color: 'c' };
+  const scene = fs.readFileSync(path.join(scenes, 'default.json'), 'utf8');
+  const over = new HaloError([{ severity: 'error', id: 'FIELD_MEMORY', file: '', line: 0, column: 0,
+    message: 'halo_gl_frame_draw: the halo field ... over field_max_bytes' }]);
+  const { program } = halo.linkForEngine({ scene, pieces: names, allLive: true }, 'test');
+  assert.equal(program.reflection.image_scale, 1);
+  program.set('halo_map.opacity', [0.25, 0.75]);
+  const half = halo.smallerProgram(program, over);
+  assert.equal(half.program.reflection.image_scale, 2);
+  assert.match(half.warning, /over field_max_bytes; linked again with halo images at 1\/2/);
+  assert.deepEqual(half.program._current.get('halo_map.opacity'), [0.25, 0.75]);
+  assert.notEqual(half.program.pieces.declarations, program.pieces.declarations); // the field read at 1/2 (bilinear)
+  const quarter = halo.smallerProgram(half.program, over);
+  assert.equal(quarter.program.reflection.image_scale, 4);
+  assert.deepEqual(quarter.program._current.get('halo_map.opacity'), [0.25, 0.75]);
+  assert.equal(halo.smallerProgram(quarter.program, over), null, 'no smaller scale than 1/4');
+  assert.equal(halo.smallerProgram(program, new HaloError([], 'another error')), null, 'only FIELD_MEMORY');
+  const { program: chosen } = halo.linkForEngine({ scene, pieces: names, imageScale: 2 }, 'test');
+  assert.equal(halo.smallerProgram(chosen, over), null, 'an explicit imageScale is kept');
+  for (const p of [program, half.program, quarter.program, chosen]) p.destroy();
+});

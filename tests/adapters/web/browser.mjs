@@ -15,6 +15,8 @@
 // the same frame object, the page's objects made again, the same image (max abs 0). A SCENE
 // from / is the case folder's (/in/). A scene with outlines (extra outputs, the passes after
 // the draw: frame.post in raycast.html) is refused by the three.js caster, naming the stages.
+// In the three.js caster, NiiVue and vtk.js a halo field over its cap is linked again at 1/2
+// (fieldCap).
 //   node browser.mjs CASE_DIR SCENE [CASE_DIR SCENE]...   (environment: srcdir,
 //   HALO_WEB_PACKAGE, HALO_CHROMIUM, HALO_WEB_LIMIT)
 import http from 'node:http';
@@ -71,6 +73,39 @@ function difference(a, b) {
 }
 
 let failures = 0, drawn = 0;
+
+// A halo field over its cap (fieldMaxBytes) in an adapter: linked again at 1/2 with a
+// warning, drawn as the same scene installed with imageScale 2 (max abs 0); an explicit
+// imageScale over the cap is refused, not linked again. render(options) draws in the page
+// (the adapter's options: fieldMaxBytes, imageScale; repeat) and resolves to { pixels,
+// warnings, imageScale } or rejects with the adapter's error; full: the scene's image at
+// full size (it must differ: the scale is seen).
+async function fieldCap(name, render, full) {
+  // the field's bytes at 1/2 from the refusal of an explicit scale over a cap of one byte
+  const probe = await render({ imageScale: 2, fieldMaxBytes: 1 }).then((r) => r.warnings.join(' / '), (e) => String(e.message || e));
+  const m = /halo field of (\d+) layers .*?\((\d+) bytes a layer/.exec(probe);
+  if (!m || /linked again/.test(probe)) {
+    fail(`${name}: imageScale 2 over a cap of one byte: not refused with the field's size (${probe.slice(0, 300)})`);
+    return;
+  }
+  const cap = Math.floor(Number(m[1]) * Number(m[2]) * 1.25); // 1/2 fits, full size (4x) does not
+  let capped, explicit;
+  try {
+    capped = await render({ fieldMaxBytes: cap, repeat: 3 });
+    explicit = await render({ imageScale: 2, repeat: 3 });
+  } catch (e) {
+    fail(`${name}: a field over a cap of ${cap} bytes: ${e.message || e}`);
+    return;
+  }
+  const same = difference(capped.pixels, explicit.pixels), scale = difference(capped.pixels, full.pixels);
+  const warning = capped.warnings.find((w) => /FIELD_MEMORY|over field_max_bytes/.test(w) && /linked again/.test(w)) || '';
+  console.log(`${name}: the field over a cap of ${cap} bytes: linked again at 1/${capped.imageScale} ("${warning.slice(0, 160)}..."); ` +
+    `against imageScale 2 max abs ${same.max}, against full size mean abs ${scale.mean.toExponential(3)} (must differ)`);
+  if (capped.imageScale !== 2 || !warning) fail(`${name}: a field over its cap was not linked again at 1/2 with a warning`);
+  if (!(same.max === 0)) fail(`${name}: the field over its cap draws ${same.max} from imageScale 2's image`);
+  if (!(scale.mean > 0)) fail(`${name}: 1/2 and full size give the same image: the test sees no scale`);
+  if (explicit.warnings.length) fail(`${name}, imageScale 2: ${explicit.warnings.join(' / ')}`);
+}
 
 // NiiVue and vtk.js (their pinned versions in package.json) with the MRI head that
 // halo-render exported (HALO_WEB_MRI: host.json and volume.f32, written here as NIfTI-1 for
@@ -167,6 +202,7 @@ async function engine(page, dir, which) {
   const noHalos = await draw({ scene, withoutHalos: true, repeat: 3 });
   const m1 = await draw({ scene, interval: 1 });
   const removed = await draw({ scene, removed: true });
+  await fieldCap(`${scene} in ${viewer.name}`, (o) => draw({ scene, ...o }), staged);
   // the stages without halo_* and with feature halos (the halo buffer splatted in the page)
   const features = featuresDir ? await draw({ scene: 'mri-features.json', repeat: 3,
     sceneJson: JSON.parse(fs.readFileSync(path.join(featuresDir, 'scene.json'))) }) : null;
@@ -377,6 +413,8 @@ try {
       const after = difference(staged.alone, plain.pixels);
       if (!(after.max === 0)) fail(`${name}: renderer.render after the stages is ${after.max} from the caster alone (three's state)`);
     }
+    if (viewer === 'three' && c.oneDraw)
+      await fieldCap(name, (o) => page.evaluate((scene, options) => window.render({ scene, ...options }), c.scene, o), staged);
     if (viewer === 'three') { // installed and removed: the caster alone again
       const removed = await page.evaluate((scene) => window.render({ scene, removed: true }), c.scene);
       const back = difference(removed.pixels, plain.pixels);
