@@ -9,7 +9,10 @@
  *  - NULL arguments and a NULL diagnostics list: a NULL result or HALO_ERROR_INPUT, no crash;
  *  - halo_vtk_check before any render says so;
  *  - the texture units the adapter binds by number: held during the render, given back,
- *    a unit the application holds refused. */
+ *    a unit the application holds refused;
+ *  - a halo field over its cap (field_max_bytes): the scene linked again at 1/2 keeps a
+ *    vec3 live value set before the first render (the image of an install at 1/2 with
+ *    the same value, exactly; without the value it differs). */
 #include "halo.h"
 #include "halo_vtk.h"
 #include "test_ball.h"
@@ -29,6 +32,8 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <vector>
 
 VTK_MODULE_INIT(vtkRenderingOpenGL2);
 VTK_MODULE_INIT(vtkRenderingVolumeOpenGL2);
@@ -87,6 +92,48 @@ static halo_vtk *install(const scene_objects &o, const halo_library *lib, const 
     desc.library = lib;
     desc.scene = scene;
     return halo_vtk_install(&desc, diag);
+}
+
+/* An install of the halos scene with every parameter live, halo images at 1/image_scale and
+ * the field capped at max_bytes; color_near (NULL: the scene's) set before the first
+ * render. The window's pixels after one render (empty when the install failed), the
+ * program's image scale then. */
+static std::vector<unsigned char> capped_render(const halo_library *lib, const halo_scene *scene, int image_scale,
+                                                size_t max_bytes, const double *color_near, int *scale_after,
+                                                halo_diagnostics *diag)
+{
+    scene_objects o = make_objects(1);
+    halo_vtk_desc desc = {};
+    desc.mapper = o.mapper;
+    desc.volume = o.volume;
+    desc.renderer = o.renderer;
+    desc.library = lib;
+    desc.scene = scene;
+    desc.all_live = 1;
+    desc.image_scale = image_scale;
+    desc.field_max_bytes = max_bytes;
+    halo_vtk *h = halo_vtk_install(&desc, diag);
+    std::vector<unsigned char> pixels;
+    if (!h)
+        return pixels;
+    if (!color_near || halo_vtk_set(h, "halo_map", "color_near", color_near, 1, diag) == HALO_OK) {
+        o.window->Render();
+        unsigned char *data = o.window->GetRGBACharPixelData(0, 0, 31, 31, 0);
+        if (data)
+            pixels.assign(data, data + 32 * 32 * 4);
+        delete[] data;
+    }
+    *scale_after = halo_program_reflection(halo_vtk_program(h)).image_scale;
+    halo_vtk_remove(h);
+    return pixels;
+}
+
+static int max_difference(const std::vector<unsigned char> &a, const std::vector<unsigned char> &b)
+{
+    int worst = a.size() == b.size() && !a.empty() ? 0 : 256;
+    for (size_t i = 0; i < a.size() && i < b.size(); i++)
+        worst = abs(a[i] - b[i]) > worst ? abs(a[i] - b[i]) : worst;
+    return worst;
 }
 
 int main(void)
@@ -190,6 +237,48 @@ int main(void)
             units->Free(19);
         halo_vtk_remove(h);
     }
+
+    /* a field over its cap, linked again at 1/2: a vec3 live value set before the first
+     * render stays. The cap: 1.25 x the field at 1/2, from the field at 1/4 (8 x 8 pixels
+     * a layer, 1/4 of 16 x 16) that an install at 1/4 over a cap of one byte reports */
+    halo_scene *seen =
+        halo_scene_parse(/* halos seeded on the ramp ball's edge (|grad| 0.2 a voxel) */
+                         "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"gradient_scale\": 6, \"alpha\": 1}}, "
+                         "{\"halo_generate\": {}}, {\"halo_map\": {\"full_at\": 0.25}}]}",
+                         "seen halos", lib, diag);
+    CHECK(seen, "the scene of visible halos");
+    if (seen) {
+        int scale = 0, layers = 0;
+        size_t bytes = 0;
+        capped_render(lib, seen, 4, 1, nullptr, &scale, diag);
+        for (size_t i = 0; i < halo_diagnostics_describe(diag).count; i++) {
+            const char *text = halo_diagnostics_get(diag, i)->text, *at = strstr(text, "field of ");
+            const char *per = strstr(text, " MiB (");
+            if (halo_diagnostics_get(diag, i)->id == HALO_MSG_FIELD_MEMORY && at && per)
+                sscanf(at, "field of %d layers", &layers), sscanf(per, " MiB (%zu bytes a layer", &bytes);
+        }
+        CHECK(layers > 0 && bytes > 0, "a field at 1/4 over a cap of one byte: FIELD_MEMORY with its layers and bytes");
+        halo_diagnostics_clear(diag);
+        size_t cap = (size_t)layers * bytes * 4 * 5 / 4;
+        static const double red[3] = {1.0, 0.0, 0.0};
+        int capped_scale = 0, half_scale = 0;
+        std::vector<unsigned char> capped = capped_render(lib, seen, 0, cap, red, &capped_scale, diag);
+        CHECK(halo_diagnostics_has(diag, HALO_MSG_FIELD_MEMORY) && capped_scale == 2,
+              "a field over its cap: linked again at 1/2, with a warning");
+        halo_diagnostics_clear(diag);
+        std::vector<unsigned char> half = capped_render(lib, seen, 2, 0, red, &half_scale, diag);
+        std::vector<unsigned char> plain_half = capped_render(lib, seen, 2, 0, nullptr, &half_scale, diag);
+        halo_diagnostics_print(diag, stderr);
+        halo_diagnostics_clear(diag);
+        int kept = max_difference(capped, half), value = max_difference(half, plain_half);
+        printf(
+            "a field over a cap of %zu bytes, linked again at 1/%d: color_near set before it, against an install at "
+            "1/2 with it: max abs %d/255; the value's effect %d/255\n",
+            cap, capped_scale, kept, value);
+        CHECK(kept == 0, "the live value set before the relink is kept");
+        CHECK(value > 0 && value < 256, "color_near changes the image (else the check above sees nothing)");
+    }
+    halo_scene_destroy(seen);
 
     /* NULL arguments, NULL diagnostics */
     CHECK(!halo_vtk_install(nullptr, nullptr), "halo_vtk_install(NULL, NULL)");
