@@ -82,8 +82,7 @@ static scene_objects make_objects(int halo_mapper)
     return o;
 }
 
-static halo_vtk *install(const scene_objects &o, const halo_library *lib, const halo_scene *scene,
-                         halo_diagnostics *diag)
+static halo_vtk_desc desc_for(const scene_objects &o, const halo_library *lib, const halo_scene *scene)
 {
     halo_vtk_desc desc = {};
     desc.mapper = o.mapper;
@@ -91,6 +90,13 @@ static halo_vtk *install(const scene_objects &o, const halo_library *lib, const 
     desc.renderer = o.renderer;
     desc.library = lib;
     desc.scene = scene;
+    return desc;
+}
+
+static halo_vtk *install(const scene_objects &o, const halo_library *lib, const halo_scene *scene,
+                         halo_diagnostics *diag)
+{
+    halo_vtk_desc desc = desc_for(o, lib, scene);
     return halo_vtk_install(&desc, diag);
 }
 
@@ -103,12 +109,7 @@ static std::vector<unsigned char> capped_render(const halo_library *lib, const h
                                                 halo_diagnostics *diag)
 {
     scene_objects o = make_objects(1);
-    halo_vtk_desc desc = {};
-    desc.mapper = o.mapper;
-    desc.volume = o.volume;
-    desc.renderer = o.renderer;
-    desc.library = lib;
-    desc.scene = scene;
+    halo_vtk_desc desc = desc_for(o, lib, scene);
     desc.all_live = 1;
     desc.image_scale = image_scale;
     desc.field_max_bytes = max_bytes;
