@@ -623,7 +623,9 @@ class Halo {
         `which the ${engine} adapter does not serve yet (it serves per-sample stages, volumetric halos` +
         `${serves.includes(FEATURE_BUFFER_UNIFORM) ? ', feature halos' : ''}${outlines ? ', outlines' : ''})`);
     }
-    program._engine = { options, engine, serves, outlines }; // for smallerProgram
+    // for smallerProgram: the scene as linked now (a caller's object may change after)
+    const scene = options.scene === undefined || typeof options.scene === 'string' ? options.scene : JSON.stringify(options.scene);
+    program._engine = { options: { ...options, scene }, engine, serves, outlines };
     return { program, field: (r.passes || []).some((p) => !p.at),
       features: (r.host_uniforms || []).some((u) => u.name === FEATURE_BUFFER_UNIFORM),
       outlines: (r.passes || []).some((p) => p.at) };

@@ -43,6 +43,13 @@ const FEATURE_BUFFER = 'halo_host_feature_buffer'; // the feature_halo stage's h
 const ORIGIN = 'halo_niivue_origin'; // the 3D view's lower left corner in the canvas (gl.VIEWPORT)
 const INSTALLED = Symbol('libhalo');
 
+// A program of the adapter's (a NiiVue Shader's, built with the stages) and its shaders,
+// which NiiVue's Shader leaves attached.
+function deleteStaged(gl, program) {
+  for (const shader of gl.getAttachedShaders(program) || []) gl.deleteShader(shader);
+  gl.deleteProgram(program);
+}
+
 // NiiVue's names for the sample piece; view and depth come from the camera libhalo sets.
 export const NIIVUE_NAMES = Object.freeze({
   position: 'samplePos.xyz',
@@ -193,11 +200,17 @@ export function installHalo(halo, nv, options = {}) {
       throw new Error(`installHalo: NiiVue could not build its shader with the stages (${e.message}; the compile log ` +
         'on the console: program.mapLog maps its lines to the modules)');
     }
-    copyUniforms(gl, from, made.program);
     const current = gl.getParameter(gl.CURRENT_PROGRAM);
-    gl.useProgram(made.program);
-    program.upload(gl, made.program, { all: true });
-    gl.useProgram(current);
+    try {
+      copyUniforms(gl, from, made.program);
+      gl.useProgram(made.program);
+      program.upload(gl, made.program, { all: true });
+    } catch (e) {
+      deleteStaged(gl, made.program);
+      throw e;
+    } finally {
+      gl.useProgram(gl.isProgram(current) ? current : null);
+    }
     return made;
   };
   // everything that can fail, before NiiVue is touched; undone on failure
@@ -210,7 +223,7 @@ export function installHalo(halo, nv, options = {}) {
     value = valueTexture(halo, gl, nv.back, firstUnit - 1);
   } catch (e) {
     if (value) gl.deleteTexture(value.texture);
-    if (staged) gl.deleteProgram(staged.program);
+    if (staged) deleteStaged(gl, staged.program);
     program.destroy();
     throw e;
   }
@@ -218,6 +231,7 @@ export function installHalo(halo, nv, options = {}) {
   const ownDraw = Object.prototype.hasOwnProperty.call(nv, 'drawImage3D') ? nv.drawImage3D : null;
   const niivueDraw = ownDraw || Object.getPrototypeOf(nv).drawImage3D;
   let frame = null, feature = null, warned = new Set(), version = 0;
+  let relinkFailed = false; // a field over its cap could not be linked again: no more tries
   let volumeKey = [nv.back, nv.back.cal_min, nv.back.cal_max, nv.back.frame4D];
   let mmFromTexture = textureToMm(nv.back);
   const warnOnce = (why) => {
@@ -295,9 +309,10 @@ export function installHalo(halo, nv, options = {}) {
       });
     } catch (e) {
       let smaller = null;
-      try {
-        smaller = halo.smallerProgram(program, e);
+      try { // not again after a relink that failed: the stages stay off with their one warning
+        smaller = relinkFailed ? null : halo.smallerProgram(program, e);
       } catch (again) {
+        relinkFailed = true;
         e = again;
       }
       if (smaller) // the field over its cap: the scene at a smaller halo scale
@@ -314,7 +329,6 @@ export function installHalo(halo, nv, options = {}) {
       gl.activeTexture(previousUnit);
     }
     if (redraw) { // NiiVue's shader built again with the smaller scale's pieces; this frame drawn with it
-      console.warn(`libhalo: ${redraw.warning}`);
       const old = program, oldStaged = staged;
       program = redraw.program;
       try {
@@ -322,13 +336,15 @@ export function installHalo(halo, nv, options = {}) {
       } catch (e) {
         program.destroy();
         program = old;
-        warnOnce(`the stages are off: ${e.message}`);
+        relinkFailed = true;
+        warnOnce(`the stages are off: ${redraw.warning}; but NiiVue's shader with the new pieces: ${e.message}`);
         return drawAlone(draw);
       }
+      console.warn(`libhalo: ${redraw.warning}`);
       if (nv.renderShader === oldStaged) nv.renderShader = staged;
       nv.renderVolumeShader = staged;
       if (gl.getParameter(gl.CURRENT_PROGRAM) === oldStaged.program) gl.useProgram(staged.program);
-      gl.deleteProgram(oldStaged.program);
+      deleteStaged(gl, oldStaged.program);
       old.destroy();
       if (feature) feature.destroy();
       feature = null;
@@ -372,7 +388,7 @@ export function installHalo(halo, nv, options = {}) {
       frame = null;
       gl.deleteTexture(value.texture);
       if (gl.getParameter(gl.CURRENT_PROGRAM) === staged.program) gl.useProgram(original.program);
-      gl.deleteProgram(staged.program);
+      deleteStaged(gl, staged.program);
       program.destroy();
     },
   };
