@@ -143,7 +143,11 @@
     X(PFNGLGETINTEGERI_VPROC, GetIntegeri_v)                   \
     X(PFNGLGETBOOLEANI_VPROC, GetBooleani_v)                   \
     X(PFNGLBINDFRAGDATALOCATIONPROC, BindFragDataLocation)     \
-    X(PFNGLPOLYGONMODEPROC, PolygonMode)
+    X(PFNGLPOLYGONMODEPROC, PolygonMode)                       \
+    X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                 \
+    X(PFNGLBINDBUFFERRANGEPROC, BindBufferRange)               \
+    X(PFNGLGETINTEGER64I_VPROC, GetInteger64i_v)               \
+    X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)
 
 typedef struct halo_glfuncs {
 #define HALO_X_GLFUNC_MEMBER(type, name) type name;

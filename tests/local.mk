@@ -281,6 +281,12 @@ tests_libhalo_gl_test_segments_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
 nodist_EXTRA_tests_libhalo_gl_test_segments_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_libhalo_gl_test_segments_LDADD = $(HALO_TOOL_LIBS)
 TESTS += tests/libhalo/gl/test_segments
+# ---- halo_gl_desc.count_fetches: the passes' fetches against their definitions ----
+check_PROGRAMS += tests/libhalo/gl/test_fetch_count
+tests_libhalo_gl_test_fetch_count_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
+nodist_EXTRA_tests_libhalo_gl_test_fetch_count_SOURCES = $(HALO_TEST_CXX_LINK)
+tests_libhalo_gl_test_fetch_count_LDADD = $(HALO_TOOL_LIBS)
+TESTS += tests/libhalo/gl/test_fetch_count
 TESTS += tests/libhalo/gl/link_cli.sh
 EXTRA_DIST += tests/libhalo/gl/link_cli.sh tests/data/hosts/single_pass.frag
 TESTS += tests/libhalo/gl/render_cli.sh

@@ -595,13 +595,15 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
         " error against M = 1, exact N = %d); halo-fold: M = 4 with halo_generate's fold (H_0 computed at the first spreading"
         " pass's taps, no gradient pass: the same image, one draw fewer a generation); one-reuse: the"
         " one-draw ray caster at M = 4 drawn at the same view every frame (its field reused: the host's draw over"
-        " it alone); MiB: libhalo's GPU memory after the row's last frame (halo_gl_frame_info.gpu_bytes: the"
+        " it alone); fetch/px: the image passes' texel reads in one frame a frame pixel (halo_gl_desc.count_fetches:"
+        " the row's last view drawn again on a runtime that counts them; not the host's samples or libhalo's march;"
+        " nan: not counted); MiB: libhalo's GPU memory after the row's last frame (halo_gl_frame_info.gpu_bytes: the"
         " halo images, the rays' state between segments, drawn once the halo field's stacks, seeds, atlas and"
         " derived gradient; not the host's own volume and gradient textures)\n",
         halo_gradient_format_name(HALO_GRADIENT_FORMAT_DEFAULT), (passes + 1) / 2, (passes + 1) / 2,
         (1 << (2 * ((passes + 1) / 2))) - 1, passes, (1 << passes) - 1, passes);
-    printf("%-9s %-5s %3s %6s %7s %7s %10s %8s %9s %7s %10s %10s %8s\n", "row", "host", "M", "draws", "passes", "MiB",
-           "ms/frame", "fps", "%ref", "paper%", "max_abs", "rmse", ">1/255");
+    printf("%-9s %-5s %3s %6s %7s %9s %7s %10s %8s %9s %7s %10s %10s %8s\n", "row", "host", "M", "draws", "passes",
+           "fetch/px", "MiB", "ms/frame", "fps", "%ref", "paper%", "max_abs", "rmse", ">1/255");
     double reference = cases[0].seconds, ray_reference = reference;
     for (size_t i = 0; i < n; ++i)
         if (!strcmp(cases[i].axis, "reference") && cases[i].config.slab == HALO_BENCH_RAYCAST)
@@ -616,9 +618,10 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
                 snprintf(paper, sizeof paper, "%.2f", paper_percent[k]);
         format_error(errors, sizeof errors, c);
         snprintf(interval, sizeof interval, "%d", c->config.interval);
-        printf("%-9s %-5s %3s %6ld %7ld %7.1f %10.1f %8.3f %8.2f%% %7s %s\n", c->axis, host_name(&c->config),
-               c->config.no_generation ? "-" : interval, c->draws, c->pass_draws, (double)c->gpu_bytes / 1048576.0,
-               c->seconds * 1e3, 1.0 / c->seconds, 100.0 * own / c->seconds, paper, errors);
+        printf("%-9s %-5s %3s %6ld %7ld %9.1f %7.1f %10.1f %8.3f %8.2f%% %7s %s\n", c->axis, host_name(&c->config),
+               c->config.no_generation ? "-" : interval, c->draws, c->pass_draws, c->fetches,
+               (double)c->gpu_bytes / 1048576.0, c->seconds * 1e3, 1.0 / c->seconds, 100.0 * own / c->seconds, paper,
+               errors);
     }
     /* issue 16's goal: the slice host's M = 4 row (default gradients, full-size 32-bit images),
      * against the reference it was set with (slices drawn whole) and the clipped one */
@@ -908,15 +911,23 @@ int halo_bench_main(int argc, char **argv)
     char renderer[320];
     snprintf(renderer, sizeof renderer, "%s backend, %s", halo_headless_backend(context),
              (const char *)env.gl->GetString(GL_RENDERER));
-    if (o.table1)
+    if (o.table1) { /* the fetches column: each row's frame again on a runtime that counts them */
+        halo_diagnostics *why = halo_diagnostics_create();
+        env.counting = halo_gl_create(
+            &(halo_gl_desc){.get_proc_address = halo_headless_get_proc_address, .count_fetches = 1}, why);
+        if (!env.counting && halo_diagnostics_get(why, 0))
+            fprintf(stderr, "halo-validate: bench: the fetches are not counted: %s\n",
+                    halo_diagnostics_get(why, 0)->text);
+        halo_diagnostics_destroy(why);
         status = run_table1(&o, &env, renderer);
-    else if (o.specialize)
+    } else if (o.specialize)
         status = run_specialize(&o, &env, renderer);
     else
         status = run_sweep(&o, &env, renderer);
 cleanup:
     free(volume);
     halo_gl_destroy(env.runtime);
+    halo_gl_destroy(env.counting);
     halo_headless_destroy(context);
     halo_library_destroy(env.lib);
     halo_diagnostics_destroy(env.diag);

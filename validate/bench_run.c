@@ -80,16 +80,23 @@ static int configure_scene(const halo_bench_env *env, halo_bench_case *c)
     return 1;
 }
 
+static halo_driver *open_host(const halo_bench_env *env, const halo_bench_case *c, halo_gl *runtime);
+
+static halo_driver_host case_kind(const halo_bench_case *c)
+{
+    return c->config.slab == HALO_BENCH_RAYCAST ? HALO_DRIVER_RAYCAST
+           : c->config.slab                     ? HALO_DRIVER_SLAB
+                                                : HALO_DRIVER_SLICE;
+}
+
 static int open_case(const halo_bench_env *env, halo_bench_case *c)
 {
+    halo_driver_host kind = case_kind(c);
     const char *text = c->scene_text ? c->scene_text : env->scene_text;
     c->scene = text ? halo_scene_parse(text, "(bench scene)", env->lib, env->diag)
                     : halo_scene_load(env->scene_path, env->lib, env->diag);
     if (!c->scene || !configure_scene(env, c))
         return 0;
-    halo_driver_host kind = c->config.slab == HALO_BENCH_RAYCAST ? HALO_DRIVER_RAYCAST
-                            : c->config.slab                     ? HALO_DRIVER_SLAB
-                                                                 : HALO_DRIVER_SLICE;
     const halo_link_desc link = {.library = env->lib,
                                  .scene = c->scene,
                                  .all_live = c->config.all_live,
@@ -113,16 +120,32 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
     }
     if (!c->program)
         return 0;
+    c->host = open_host(env, c, env->runtime);
+    size_t values = (size_t)env->width * (size_t)env->height * 4;
+    c->image = c->image ? c->image : malloc(values * sizeof(float));
+    c->times = calloc((size_t)env->repeat, sizeof *c->times);
+    return c->host && c->image && c->times;
+}
+
+/* The case's host (its program, volume, camera and interval) on runtime; NULL after
+ * diagnostics. */
+static halo_driver *open_host(const halo_bench_env *env, const halo_bench_case *c, halo_gl *runtime)
+{
+    halo_driver_host kind = case_kind(c);
     halo_host_desc desc = {
-        .gl = env->gl, .runtime = env->runtime, .program = c->program, .width = env->width, .height = env->height};
+        .gl = env->gl, .runtime = runtime, .program = c->program, .width = env->width, .height = env->height};
     halo_driver *host = calloc(1, sizeof *host);
-    c->host = host;
-    if (!host || !halo_driver_create(host, kind, &desc, env->diag))
-        return 0;
+    if (!host || !halo_driver_create(host, kind, &desc, env->diag)) {
+        free(host);
+        return NULL;
+    }
     const halo_render_settings *settings = halo_scene_describe(c->scene).render;
     if (halo_driver_set_volume(host, env->volume, env->dims, settings, (halo_gradient_format)c->config.gradient,
-                               env->diag) != HALO_OK)
-        return 0;
+                               env->diag) != HALO_OK) {
+        halo_driver_destroy(host);
+        free(host);
+        return NULL;
+    }
     halo_driver_set_camera(host, settings->azimuth, settings->elevation, settings->zoom);
     /* beyond the last slice: the field is never generated */
     halo_driver_set_interval(host, c->config.no_generation ? 1 << 20 : c->config.interval);
@@ -130,10 +153,7 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
         halo_slice_set_generation_skip(host->slice, !c->config.no_skip);
     if (host->raycast)
         halo_raycast_set_seed_epsilon(host->raycast, (float)c->config.seed_epsilon);
-    size_t values = (size_t)env->width * (size_t)env->height * 4;
-    c->image = c->image ? c->image : malloc(values * sizeof(float));
-    c->times = calloc((size_t)env->repeat, sizeof *c->times);
-    return c->image && c->times;
+    return host;
 }
 
 static void close_case(halo_bench_case *c)
@@ -155,6 +175,35 @@ static void bench_camera(const halo_bench_env *env, halo_bench_case *c, int r)
     const halo_render_settings *settings = halo_scene_describe(c->scene).render;
     double nudge = (env->repeat - 1 - r) % 2 && !c->config.same_view ? 1e-3 : 0.0;
     halo_driver_set_camera(c->host, settings->azimuth + nudge, settings->elevation, settings->zoom);
+}
+
+/* The image passes' texel fetches a frame pixel in the case's last timed frame, on a host
+ * of its own over env->counting (halo_gl_desc.count_fetches): the frame before it drawn
+ * too, so that a frame that reuses the field (same_view) counts as the timed ones do.
+ * NAN without a counting runtime or when it fails (reported). */
+static double count_fetches(const halo_bench_env *env, halo_bench_case *c)
+{
+    if (!env->counting)
+        return NAN;
+    halo_driver *host = open_host(env, c, env->counting);
+    halo_driver *timed = c->host;
+    c->host = host;                                                                      /* bench_camera's */
+    float *image = malloc((size_t)env->width * (size_t)env->height * 4 * sizeof *image); /* not the case's */
+    long long before = 0, after = -1;
+    if (host && image) {
+        bench_camera(env, c, env->repeat - 2);
+        if (halo_driver_render(host, image, env->diag) == HALO_OK && halo_driver_frame(host))
+            before = halo_gl_frame_describe(halo_driver_frame(host)).pass_fetches;
+        bench_camera(env, c, env->repeat - 1);
+        if (halo_driver_render(host, image, env->diag) == HALO_OK && halo_driver_frame(host))
+            after = halo_gl_frame_describe(halo_driver_frame(host)).pass_fetches;
+    }
+    if (host)
+        halo_driver_destroy(host);
+    free(host);
+    free(image);
+    c->host = timed;
+    return after >= before ? (double)(after - before) / ((double)env->width * (double)env->height) : NAN;
 }
 
 int halo_bench_run(const halo_bench_env *env, halo_bench_case *cases, size_t count)
@@ -196,6 +245,7 @@ int halo_bench_run(const halo_bench_env *env, halo_bench_case *cases, size_t cou
             halo_driver_counts(c->host, &c->draws, &c->pass_draws, &c->slices);
             c->gpu_bytes =
                 halo_driver_frame(c->host) ? halo_gl_frame_describe(halo_driver_frame(c->host)).gpu_bytes : 0;
+            c->fetches = count_fetches(env, c);
             c->nonfinite = 0;
             for (size_t v = 0; v < values; ++v)
                 c->nonfinite += !isfinite(c->image[v]);

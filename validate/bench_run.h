@@ -41,6 +41,7 @@ typedef struct halo_bench_case {
     double seconds;         /* median frame time */
     long draws, pass_draws; /* per frame */
     size_t gpu_bytes;       /* libhalo's GPU memory after the last frame (halo_gl_frame_info.gpu_bytes) */
+    double fetches;         /* the image passes' texel fetches a frame pixel in a frame (env.counting), or NAN */
     int slices;
     float *image;                     /* width*height*4, the last frame (caller frees with halo_bench_cases_free) */
     double max_abs, rmse, share_over; /* against the reference image; NaN when not compared */
@@ -67,6 +68,7 @@ typedef struct halo_bench_env {
     const char *scene_text; /* the scene (JSON text), or */
     const char *scene_path; /* a scene file (when scene_text is NULL) */
     FILE *progress;         /* progress lines (stderr), or NULL */
+    halo_gl *counting;      /* a runtime with halo_gl_desc.count_fetches (case.fetches), or NULL */
 } halo_bench_env;
 
 /* Renders every case: one warm-up frame each, then env->repeat rounds over all cases

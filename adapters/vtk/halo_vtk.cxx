@@ -936,7 +936,9 @@ void haloVTKMapper::GPURender(vtkRenderer *ren, vtkVolume *vol)
         return;
     }
     if (!h->gl) {
-        halo_gl_desc gd = {gl_proc, HALO_GL_READBACK_AUTO};
+        halo_gl_desc gd = {};
+        gd.get_proc_address = gl_proc;
+        gd.readback = HALO_GL_READBACK_AUTO;
         h->gl = halo_gl_create(&gd, h->diag);
         if (!h->gl)
             return;

@@ -192,11 +192,11 @@ static int atlas_plan(halo_gl_field_atlas *a)
         }
         written[pass->output] = 1;
         /* the pass's tiled variant, with a vertex shader of the tiles' corners */
-        pass->program =
-            info->fragment_source && strstr(info->fragment_source, "HALO_PASS_TILES")
-                ? halo_gl_pass_build(f, p, i, p->target == HALO_TARGET_ES300 ? atlas_vertex_es300 : atlas_vertex_330,
-                                     "HALO_PASS_TILES", NULL)
-                : 0;
+        pass->program = info->fragment_source && strstr(info->fragment_source, "HALO_PASS_TILES")
+                            ? halo_gl_pass_build(halo_gl_frame_runtime(a->frame), p, i,
+                                                 p->target == HALO_TARGET_ES300 ? atlas_vertex_es300 : atlas_vertex_330,
+                                                 "HALO_PASS_TILES", NULL)
+                            : 0;
         if (!pass->program)
             return 0;
         pass->index_location = f->GetUniformLocation(pass->program, "halo_pass_index");
@@ -535,6 +535,8 @@ void halo_gl_field_atlas_generate(halo_gl_field_atlas *a, int tiles)
     f->BindBuffer(GL_ARRAY_BUFFER, a->buffer);
     f->EnableVertexAttribArray(0);
     f->VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
+    halo_gl_fetch_binding counting;
+    halo_gl_frame_fetches_begin(a->frame, &counting);
     long draws = 0;
     for (int k = 0; k < a->pass_count; ++k) {
         atlas_pass *pass = &a->passes[k];
@@ -567,6 +569,7 @@ void halo_gl_field_atlas_generate(halo_gl_field_atlas *a, int tiles)
         f->BindTexture(GL_TEXTURE_2D, (GLuint)textures[i]);
     }
     f->ActiveTexture((GLenum)active);
+    halo_gl_frame_fetches_end(a->frame, &counting);
     halo_gl_frame_count_pass_draws(a->frame, draws);
 }
 

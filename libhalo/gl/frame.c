@@ -103,6 +103,9 @@ struct halo_gl_frame {
     int max_inputs;
     GLuint framebuffer, vertex_array;
     long pass_draws;
+    /* halo_gl_desc.count_fetches: the atomic counter of the passes' texel fetches, and their sum */
+    GLuint fetch_counter;
+    long long pass_fetches;
     int groups_ended; /* halo_gl_frame_end_group calls since halo_gl_frame_begin */
     int attached;     /* outputs attached to attached_framebuffer by halo_gl_frame_attach */
     GLuint attached_framebuffer;
@@ -423,24 +426,28 @@ static frame_box pass_reach_box(const halo_gl_frame *fr, const frame_pass *pass,
     return box_grow(in, reach, out->width, out->height);
 }
 
-GLuint halo_gl_pass_build(const halo_glfuncs *f, const halo_program *p, size_t index, const char *vertex_source,
+GLuint halo_gl_pass_build(const halo_gl *gl, const halo_program *p, size_t index, const char *vertex_source,
                           const char *define, halo_diagnostics *diag)
 {
+    const halo_glfuncs *f = &gl->f;
     const halo_pass_info *pass = &halo_program_reflection(p).passes[index];
     char file[256];
     snprintf(file, sizeof file, "(image pass '%s' of %s)", pass->name ? pass->name : "?",
              pass->stage ? pass->stage : "?");
     const halo_line_origin *origins = p->pass_origins ? p->pass_origins[index] : NULL;
     int origin_count = origins && p->pass_origin_counts ? p->pass_origin_counts[index] : 0;
-    /* a define goes after the #version line; #line 2 keeps the lines the origins map */
+    /* a define (and the fetch counting) go after the #version line; #line 2 keeps the
+     * lines the origins map */
     const char *source = pass->fragment_source, *end = strchr(source, '\n');
+    const char *counting = gl->count_fetches ? halo_gl_fetch_counting : "";
     char *defined = NULL;
-    if (define && end) {
-        size_t size = strlen(source) + strlen(define) + 32;
+    if ((define || *counting) && end) {
+        size_t size = strlen(source) + (define ? strlen(define) : 0) + strlen(counting) + 32;
         defined = malloc(size);
         if (!defined)
             return 0;
-        snprintf(defined, size, "%.*s#define %s 1\n#line 2\n%s", (int)(end - source) + 1, source, define, end + 1);
+        snprintf(defined, size, "%.*s%s%s%s%s#line 2\n%s", (int)(end - source) + 1, source, define ? "#define " : "",
+                 define ? define : "", define ? " 1\n" : "", counting, end + 1);
         source = defined;
     }
     GLuint vertex = halo_gl_compile_mapped(f, GL_VERTEX_SHADER, vertex_source ? vertex_source : pass->vertex_source,
@@ -608,6 +615,14 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
     }
     f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
     f->BindTexture(GL_TEXTURE_2D, 0);
+    if (!failed && gl->count_fetches) { /* the passes' fetch counter: one GLuint */
+        GLint bound = 0;
+        f->GetIntegerv(GL_ATOMIC_COUNTER_BUFFER_BINDING, &bound);
+        f->GenBuffers(1, &fr->fetch_counter);
+        f->BindBuffer(GL_ATOMIC_COUNTER_BUFFER, fr->fetch_counter);
+        f->BufferData(GL_ATOMIC_COUNTER_BUFFER, sizeof(GLuint), NULL, GL_DYNAMIC_READ);
+        f->BindBuffer(GL_ATOMIC_COUNTER_BUFFER, (GLuint)bound);
+    }
     for (size_t i = 0; i < fr->pass_count && !failed; ++i) {
         const halo_pass_info *info = &halo_program_reflection(p).passes[i];
         frame_pass *pass = &fr->passes[i];
@@ -634,7 +649,7 @@ halo_gl_frame *halo_gl_frame_create(halo_gl *gl, const halo_program *p, int widt
             fr->max_inputs = info->input_count;
         if (failed)
             break;
-        pass->program = halo_gl_pass_build(f, p, i, NULL, NULL, diag);
+        pass->program = halo_gl_pass_build(gl, p, i, NULL, NULL, diag);
         if (!pass->program) {
             failed = 1;
             break;
@@ -680,6 +695,8 @@ void halo_gl_frame_destroy(halo_gl_frame *fr)
         f->DeleteFramebuffers(1, &fr->framebuffer);
     if (fr->vertex_array)
         f->DeleteVertexArrays(1, &fr->vertex_array);
+    if (fr->fetch_counter)
+        f->DeleteBuffers(1, &fr->fetch_counter);
     free(fr->images);
     free(fr->passes);
     free(fr->readback);
@@ -980,6 +997,8 @@ static void frame_run(halo_gl_frame *fr, halo_pass_at at)
     const halo_glfuncs *f = &gl->f;
     frame_saved saved;
     frame_save(f, &saved, fr->max_inputs);
+    halo_gl_fetch_binding counting;
+    halo_gl_frame_fetches_begin(fr, &counting);
     f->BindFramebuffer(GL_FRAMEBUFFER, fr->framebuffer);
     f->Viewport(0, 0, fr->width, fr->height);
     f->Disable(GL_BLEND);
@@ -1037,6 +1056,7 @@ static void frame_run(halo_gl_frame *fr, halo_pass_at at)
     }
     f->Disable(GL_SCISSOR_TEST);
     f->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, 0, 0);
+    halo_gl_frame_fetches_end(fr, &counting);
     frame_restore(f, &saved);
     /* Passes flip images: the host framebuffer and the samplers get the new current textures. */
     if (fr->attached) {
@@ -1079,6 +1099,7 @@ halo_gl_frame_info halo_gl_frame_describe(const halo_gl_frame *fr)
     halo_gl_frame_info info = {0};
     HALO_REFUSE_NULL(NULL, fr, "frame", info);
     info.pass_draws = fr->pass_draws;
+    info.pass_fetches = fr->pass_fetches;
     info.segment_count = fr->segments_drawn;
     info.read_any = frame_read_region(fr, info.read_box);
     /* the GPU memory: the images' textures, the rays' state (contract 2), the field */
@@ -1133,6 +1154,18 @@ void halo_gl_pass_repetition(const halo_glfuncs *f, GLint index_location, GLint 
 }
 
 void halo_gl_frame_count_pass_draws(halo_gl_frame *fr, long draws) { fr->pass_draws += draws; }
+
+void halo_gl_frame_fetches_begin(halo_gl_frame *fr, halo_gl_fetch_binding *saved)
+{
+    if (fr->fetch_counter)
+        halo_gl_fetches_begin(fr->gl, fr->fetch_counter, saved);
+}
+
+void halo_gl_frame_fetches_end(halo_gl_frame *fr, const halo_gl_fetch_binding *saved)
+{
+    if (fr->fetch_counter)
+        fr->pass_fetches += halo_gl_fetches_end(fr->gl, fr->fetch_counter, saved);
+}
 
 void halo_gl_frame_set_field(halo_gl_frame *fr, halo_gl_field *field,
                              void (*destroy)(halo_gl_frame *fr, halo_gl_field *field),

@@ -7,6 +7,7 @@
 #include "halo.h"
 #include "internal.h"
 #include "gl/glfuncs.h"
+#include "gl/runtime.h" /* halo_gl_fetch_binding */
 
 halo_gl *halo_gl_frame_runtime(const halo_gl_frame *fr);
 const halo_program *halo_gl_frame_program(const halo_gl_frame *fr);
@@ -71,9 +72,10 @@ int halo_gl_frame_nonzero_box(halo_gl_frame *fr, int channels, int width, int he
 void halo_gl_image_upload_format(GLint internal, GLenum *format, GLenum *type);
 size_t halo_gl_image_texel_bytes(GLint internal);
 /* Pass index of p's reflection compiled and linked (vertex_source NULL: the pass's own;
- * define: a name #defined in its fragment shader, or NULL), its inputs' samplers set to
- * units 0, 1, ... (the program is left current); 0 after a diagnostic in diag. */
-GLuint halo_gl_pass_build(const halo_glfuncs *f, const halo_program *p, size_t index, const char *vertex_source,
+ * define: a name #defined in its fragment shader, or NULL; counting its fetches where
+ * the runtime does: halo_gl_desc.count_fetches), its inputs' samplers set to units 0, 1,
+ * ... (the program is left current); 0 after a diagnostic in diag. */
+GLuint halo_gl_pass_build(const halo_gl *gl, const halo_program *p, size_t index, const char *vertex_source,
                           const char *define, halo_diagnostics *diag);
 /* The image a pass reads as its input k at repetition rep (the frame's and the atlas's rule):
  * `named`, the input's own image index; for "previous" (named < 0), `first` at the first
@@ -83,6 +85,11 @@ int halo_gl_pass_input(int named, int rep, int start, int first, int output);
 void halo_gl_pass_repetition(const halo_glfuncs *f, GLint index_location, GLint count_location, int rep, int repeat);
 /* Pass draws made outside frame.c (field_atlas.c), counted as the frame's (its info). */
 void halo_gl_frame_count_pass_draws(halo_gl_frame *fr, long draws);
+/* Around pass draws (frame.c, field_atlas.c): with halo_gl_desc.count_fetches the frame's
+ * counter bound and zeroed, then read into its pass_fetches and the binding put back;
+ * otherwise nothing. */
+void halo_gl_frame_fetches_begin(halo_gl_frame *fr, halo_gl_fetch_binding *saved);
+void halo_gl_frame_fetches_end(halo_gl_frame *fr, const halo_gl_fetch_binding *saved);
 /* The fields a one-draw frame has computed (its draws that reused the field are not counted). */
 int halo_gl_field_computed(const halo_gl_frame *fr);
 

@@ -211,6 +211,8 @@ static int renderer_is_software(const char *renderer)
     return 0;
 }
 
+static int fetch_counting_supported(const halo_gl *gl);
+
 halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
 {
     if (!desc || !desc->get_proc_address) {
@@ -243,8 +245,64 @@ halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
     gl->readback =
         desc->readback == HALO_GL_READBACK_ON ||
         (desc->readback == HALO_GL_READBACK_AUTO && renderer_is_software((const char *)gl->f.GetString(GL_RENDERER)));
+    if (desc->count_fetches && !fetch_counting_supported(gl)) {
+        halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
+                        "halo_gl_create: count_fetches needs desktop OpenGL 4.2 or GL_ARB_shader_atomic_counters, "
+                        "and glGetBufferSubData; this context is %s",
+                        (const char *)gl->f.GetString(GL_VERSION));
+        free(gl);
+        return NULL;
+    }
+    gl->count_fetches = desc->count_fetches != 0;
     atomic_init(&gl->refs, 1);
     return gl;
+}
+
+/* ---- Counting the image passes' fetches (halo_gl_desc.count_fetches) -------- */
+
+/* After #version: an atomic counter at binding 0, one increment a texelFetch (a
+ * function-like macro: the texelFetch inside it is the built-in). */
+const char halo_gl_fetch_counting[] =
+    "#extension GL_ARB_shader_atomic_counters : enable\n"
+    "layout(binding = 0, offset = 0) uniform atomic_uint halo_fetch_count;\n"
+    "#define texelFetch(s, p, l) (atomicCounterIncrement(halo_fetch_count), texelFetch(s, p, l))\n";
+
+static int fetch_counting_supported(const halo_gl *gl)
+{
+    const halo_glfuncs *f = &gl->f;
+    int major = 0, minor = 0;
+    const char *version = (const char *)f->GetString(GL_VERSION);
+    if (gl->es || !version || sscanf(version, "%d.%d", &major, &minor) != 2 || !f->BindBufferBase ||
+        !f->BindBufferRange || !f->GetBufferSubData || !f->GetInteger64i_v || !f->GetIntegeri_v)
+        return 0;
+    return major * 10 + minor >= 42 || halo_gl_has_extension(gl, "GL_ARB_shader_atomic_counters");
+}
+
+void halo_gl_fetches_begin(const halo_gl *gl, GLuint counter, halo_gl_fetch_binding *saved)
+{
+    const halo_glfuncs *f = &gl->f;
+    f->GetIntegerv(GL_ATOMIC_COUNTER_BUFFER_BINDING, &saved->buffer);
+    f->GetIntegeri_v(GL_ATOMIC_COUNTER_BUFFER_BINDING, 0, &saved->indexed);
+    f->GetInteger64i_v(GL_ATOMIC_COUNTER_BUFFER_START, 0, &saved->start);
+    f->GetInteger64i_v(GL_ATOMIC_COUNTER_BUFFER_SIZE, 0, &saved->size);
+    const GLuint zero = 0;
+    f->BindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, counter);
+    f->BufferSubData(GL_ATOMIC_COUNTER_BUFFER, 0, sizeof zero, &zero);
+}
+
+long long halo_gl_fetches_end(const halo_gl *gl, GLuint counter, const halo_gl_fetch_binding *saved)
+{
+    const halo_glfuncs *f = &gl->f;
+    GLuint count = 0;
+    f->BindBuffer(GL_ATOMIC_COUNTER_BUFFER, counter);
+    f->GetBufferSubData(GL_ATOMIC_COUNTER_BUFFER, 0, sizeof count, &count);
+    if (saved->indexed && saved->size > 0)
+        f->BindBufferRange(GL_ATOMIC_COUNTER_BUFFER, 0, (GLuint)saved->indexed, (GLintptr)saved->start,
+                           (GLsizeiptr)saved->size);
+    else
+        f->BindBufferBase(GL_ATOMIC_COUNTER_BUFFER, 0, (GLuint)saved->indexed);
+    f->BindBuffer(GL_ATOMIC_COUNTER_BUFFER, (GLuint)saved->buffer);
+    return (long long)count;
 }
 
 int halo_gl_es_version(const halo_gl *gl) { return gl ? gl->es : 0; }

@@ -9,12 +9,25 @@
 #include "gl/glfuncs.h"
 
 struct halo_gl {
-    halo_glfuncs f; /* entry points the context lacks are NULL (halo_gl_create) */
-    int es;         /* 30, 31, 32: OpenGL ES 3.x; 0: desktop OpenGL */
-    int readback;   /* halo_gl_desc.readback resolved at creation: the frames' read-back bounds, 1 or 0 */
+    halo_glfuncs f;    /* entry points the context lacks are NULL (halo_gl_create) */
+    int es;            /* 30, 31, 32: OpenGL ES 3.x; 0: desktop OpenGL */
+    int readback;      /* halo_gl_desc.readback resolved at creation: the frames' read-back bounds, 1 or 0 */
+    int count_fetches; /* halo_gl_desc.count_fetches: the image passes count their texel fetches */
     /* The creator's reference (halo_gl_destroy) and one per frame made with it. */
     _Atomic long refs;
 };
+
+/* Counting fetches (halo_gl_desc.count_fetches): the text after an image pass's #version
+ * line that makes every texelFetch add one to the atomic counter at binding 0. */
+extern const char halo_gl_fetch_counting[];
+/* Binds counter (a buffer of one GLuint) at index 0 of GL_ATOMIC_COUNTER_BUFFER, zeroed,
+ * keeping what was bound there in saved; _end reads it and puts the bindings back. */
+typedef struct halo_gl_fetch_binding {
+    GLint buffer, indexed;
+    GLint64 start, size;
+} halo_gl_fetch_binding;
+void halo_gl_fetches_begin(const halo_gl *gl, GLuint counter, halo_gl_fetch_binding *saved);
+long long halo_gl_fetches_end(const halo_gl *gl, GLuint counter, const halo_gl_fetch_binding *saved);
 
 /* Reads width x height pixels of the read framebuffer's read buffer as channels floats
  * each (1..4, pack alignment 4); OpenGL ES reads them as RGBA, the one float format it

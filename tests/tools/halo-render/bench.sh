@@ -52,6 +52,9 @@ expect_stdout "^halo1/2 +slice +4 "
 expect_stdout "^# target: .*(MET|NOT MET)"
 # host contract 3: the one-draw ray caster's rows (1 host draw) and the goal line
 expect_stdout "^one-draw +ray +4 +1 "
+# the image passes' fetches a pixel, counted (halo_gl_desc.count_fetches): a number, not nan
+expect_stdout "^row +host +M +draws +passes +fetch/px +MiB "
+expect_stdout "^one-draw +ray +4 +1 +[0-9]+ +[0-9]*[1-9][0-9]*\\.[0-9] "
 expect_stdout "^# goal \\(issue 25\\): .*(MET|NOT MET)"
 run 0 "$HALO_VALIDATE" bench --specialize --size 16 --volume-size 16 --repeat 1
 expect_stdout "all_live"
