@@ -842,9 +842,9 @@ typedef struct halo_gl_desc {
     halo_gl_readback readback;                   /* the policy of every frame made with this runtime (one frame's:
                                                   * halo_gl_frame_set_readback_bounds) */
     int count_fetches; /* for benchmarks: the image passes of every frame made with this runtime count the
-                        * texels they read (an atomic counter a fetch: much slower; desktop OpenGL 4.2 or
-                        * GL_ARB_shader_atomic_counters, else halo_gl_create fails with GL_PROC_MISSING):
-                        * halo_gl_frame_info.pass_fetches */
+                        * texelFetch calls they make (an atomic counter a call: much slower; desktop OpenGL
+                        * 4.2 with GL_ARB_shader_atomic_counters, else halo_gl_create fails with
+                        * GL_PROC_MISSING): halo_gl_frame_info.pass_fetches */
 } halo_gl_desc;
 
 /* The context current at creation must be OpenGL 3.3 core or later, or OpenGL ES 3.0 or
@@ -939,9 +939,11 @@ typedef struct halo_gl_frame_info {
      * contract 3), the halo field: the stacks the host reads, the seeds' stacks, the
      * atlas of the generations, libhalo's derived gradient and its bricks. */
     size_t gpu_bytes;
-    /* With halo_gl_desc.count_fetches: the texels the image passes read since creation
-     * (every texelFetch a pass fragment ran: a tap outside its image reads none); else 0.
-     * Not the host's draws or libhalo's march. */
+    /* With halo_gl_desc.count_fetches: the texelFetch calls the image passes' fragments made
+     * since creation (a tap outside its image makes none; calls a compiler would otherwise
+     * merge count each); else 0. Not the host's draws or libhalo's march. The counter is 32
+     * bits, summed a generation at a time (a frame drawn once: all its generations): past
+     * 2^32 - 1 calls in one it wraps. */
     long long pass_fetches;
 } halo_gl_frame_info;
 HALO_API halo_gl_frame_info halo_gl_frame_describe(const halo_gl_frame *f);

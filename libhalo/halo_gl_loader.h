@@ -147,7 +147,8 @@
     X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                 \
     X(PFNGLBINDBUFFERRANGEPROC, BindBufferRange)               \
     X(PFNGLGETINTEGER64I_VPROC, GetInteger64i_v)               \
-    X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)
+    X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)             \
+    X(PFNGLMEMORYBARRIERPROC, MemoryBarrier)
 
 typedef struct halo_glfuncs {
 #define HALO_X_GLFUNC_MEMBER(type, name) type name;

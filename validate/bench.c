@@ -595,9 +595,9 @@ static int run_table1(const bench_options *o, halo_bench_env *env, const char *r
         " error against M = 1, exact N = %d); halo-fold: M = 4 with halo_generate's fold (H_0 computed at the first spreading"
         " pass's taps, no gradient pass: the same image, one draw fewer a generation); one-reuse: the"
         " one-draw ray caster at M = 4 drawn at the same view every frame (its field reused: the host's draw over"
-        " it alone); fetch/px: the image passes' texel reads in one frame a frame pixel (halo_gl_desc.count_fetches:"
+        " it alone); fetch/px: the image passes' texelFetch calls in one frame a frame pixel (halo_gl_desc.count_fetches:"
         " the row's last view drawn again on a runtime that counts them; not the host's samples or libhalo's march;"
-        " nan: not counted); MiB: libhalo's GPU memory after the row's last frame (halo_gl_frame_info.gpu_bytes: the"
+        " nan: not counted, the reason on stderr); MiB: libhalo's GPU memory after the row's last frame (halo_gl_frame_info.gpu_bytes: the"
         " halo images, the rays' state between segments, drawn once the halo field's stacks, seeds, atlas and"
         " derived gradient; not the host's own volume and gradient textures)\n",
         halo_gradient_format_name(HALO_GRADIENT_FORMAT_DEFAULT), (passes + 1) / 2, (passes + 1) / 2,

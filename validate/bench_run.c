@@ -177,10 +177,11 @@ static void bench_camera(const halo_bench_env *env, halo_bench_case *c, int r)
     halo_driver_set_camera(c->host, settings->azimuth + nudge, settings->elevation, settings->zoom);
 }
 
-/* The image passes' texel fetches a frame pixel in the case's last timed frame, on a host
- * of its own over env->counting (halo_gl_desc.count_fetches): the frame before it drawn
- * too, so that a frame that reuses the field (same_view) counts as the timed ones do.
- * NAN without a counting runtime or when it fails (reported). */
+/* The image passes' texelFetch calls a frame pixel in the case's last timed frame, on a
+ * host of its own over env->counting (halo_gl_desc.count_fetches): the frame before it
+ * drawn too, so that a frame that reuses the field (same_view) counts as the timed ones
+ * do; 0 for a host without image passes (no frame). NAN without a counting runtime, or
+ * when it fails (its diagnostics printed on stderr). */
 static double count_fetches(const halo_bench_env *env, halo_bench_case *c)
 {
     if (!env->counting)
@@ -189,21 +190,25 @@ static double count_fetches(const halo_bench_env *env, halo_bench_case *c)
     halo_driver *timed = c->host;
     c->host = host;                                                                      /* bench_camera's */
     float *image = malloc((size_t)env->width * (size_t)env->height * 4 * sizeof *image); /* not the case's */
-    long long before = 0, after = -1;
-    if (host && image) {
-        bench_camera(env, c, env->repeat - 2);
-        if (halo_driver_render(host, image, env->diag) == HALO_OK && halo_driver_frame(host))
-            before = halo_gl_frame_describe(halo_driver_frame(host)).pass_fetches;
-        bench_camera(env, c, env->repeat - 1);
-        if (halo_driver_render(host, image, env->diag) == HALO_OK && halo_driver_frame(host))
-            after = halo_gl_frame_describe(halo_driver_frame(host)).pass_fetches;
+    long long fetched[2] = {-1, -1};
+    for (int k = 0; k < 2 && host && image; ++k) {
+        bench_camera(env, c, env->repeat - 2 + k);
+        if (halo_driver_render(host, image, env->diag) != HALO_OK)
+            break;
+        fetched[k] = halo_driver_frame(host) ? halo_gl_frame_describe(halo_driver_frame(host)).pass_fetches : 0;
     }
     if (host)
         halo_driver_destroy(host);
     free(host);
     free(image);
     c->host = timed;
-    return after >= before ? (double)(after - before) / ((double)env->width * (double)env->height) : NAN;
+    if (fetched[1] < 0) {
+        fprintf(stderr, "halo-validate: bench: the fetches of a row are not counted (nan):\n");
+        halo_diagnostics_print(env->diag, stderr);
+        halo_diagnostics_clear(env->diag);
+        return NAN;
+    }
+    return (double)(fetched[1] - fetched[0]) / ((double)env->width * (double)env->height);
 }
 
 int halo_bench_run(const halo_bench_env *env, halo_bench_case *cases, size_t count)

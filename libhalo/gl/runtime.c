@@ -188,7 +188,7 @@ static int runtime_context(halo_gl *gl, halo_diagnostics *diag)
         f->BlendEquationSeparatei = NULL;
         f->BlendFuncSeparatei = NULL;
         f->ColorMaski = NULL;
-        f->GetIntegeri_v = NULL; /* used for the indexed blend state only */
+        f->GetIntegeri_v = NULL; /* the indexed blend state's (count_fetches needs OpenGL 4.2) */
         f->GetBooleani_v = NULL;
     }
     if (gl->es) {
@@ -247,8 +247,8 @@ halo_gl *halo_gl_create(const halo_gl_desc *desc, halo_diagnostics *diag)
         (desc->readback == HALO_GL_READBACK_AUTO && renderer_is_software((const char *)gl->f.GetString(GL_RENDERER)));
     if (desc->count_fetches && !fetch_counting_supported(gl)) {
         halo_diag_error(diag, GL_PROC_MISSING, "", 0, 0,
-                        "halo_gl_create: count_fetches needs desktop OpenGL 4.2 or GL_ARB_shader_atomic_counters, "
-                        "and glGetBufferSubData; this context is %s",
+                        "halo_gl_create: count_fetches needs desktop OpenGL 4.2 or later with "
+                        "GL_ARB_shader_atomic_counters; this context is %s",
                         (const char *)gl->f.GetString(GL_VERSION));
         free(gl);
         return NULL;
@@ -272,10 +272,12 @@ static int fetch_counting_supported(const halo_gl *gl)
     const halo_glfuncs *f = &gl->f;
     int major = 0, minor = 0;
     const char *version = (const char *)f->GetString(GL_VERSION);
-    if (gl->es || !version || sscanf(version, "%d.%d", &major, &minor) != 2 || !f->BindBufferBase ||
-        !f->BindBufferRange || !f->GetBufferSubData || !f->GetInteger64i_v || !f->GetIntegeri_v)
+    if (gl->es || !version || sscanf(version, "%d.%d", &major, &minor) != 2 || major * 10 + minor < 42 ||
+        !f->BindBufferBase || !f->BindBufferRange || !f->GetBufferSubData || !f->GetInteger64i_v || !f->GetIntegeri_v ||
+        !f->MemoryBarrier)
         return 0;
-    return major * 10 + minor >= 42 || halo_gl_has_extension(gl, "GL_ARB_shader_atomic_counters");
+    /* the passes' GLSL (330 and up) takes the counter through the extension's directive */
+    return halo_gl_has_extension(gl, "GL_ARB_shader_atomic_counters");
 }
 
 void halo_gl_fetches_begin(const halo_gl *gl, GLuint counter, halo_gl_fetch_binding *saved)
@@ -294,6 +296,7 @@ long long halo_gl_fetches_end(const halo_gl *gl, GLuint counter, const halo_gl_f
 {
     const halo_glfuncs *f = &gl->f;
     GLuint count = 0;
+    f->MemoryBarrier(GL_ATOMIC_COUNTER_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT); /* the shaders' increments */
     f->BindBuffer(GL_ATOMIC_COUNTER_BUFFER, counter);
     f->GetBufferSubData(GL_ATOMIC_COUNTER_BUFFER, 0, sizeof count, &count);
     if (saved->indexed && saved->size > 0)

@@ -305,6 +305,18 @@ async function engine(page, dir, which) {
     console.log(`${viewer.name}: the volume removed and added again: ${r.readded} max abs in 1/255 from before`);
     if (r.readded !== 0) fail(`${viewer.name}: the volume added again is drawn otherwise (${r.readded})`);
   }
+  if (which === 'vtkjs') { // its reduced viewport while the user interacts
+    const r = await page.evaluate(() => window.smallViewport());
+    console.log(`${viewer.name}: drawn at 1/2 while interacting: its stages and halos against them drawn whole mean abs ` +
+      `${r.stagedSmallVsWhole.toExponential(3)} (vtk.js alone ${r.aloneSmallVsWhole.toExponential(3)}); the stages ` +
+      `against vtk.js alone at 1/2 ${r.effectSmall.toExponential(3)} (whole ${r.effectWhole.toExponential(3)}); GL error ` +
+      `${r.error}${r.warnings.length ? `; ${r.warnings.join(' / ')}` : ''}`);
+    if (r.error || r.warnings.length) fail(`${viewer.name}: drawn at 1/2 while interacting: GL error ${r.error}, ${r.warnings.join(' / ')}`);
+    if (!(r.aloneSmallVsWhole > 0)) fail(`${viewer.name}: vtk.js did not draw at 1/2 while interacting (the test sees nothing)`);
+    if (!(r.effectSmall > EFFECT / 4)) fail(`${viewer.name}: the stages change the image at 1/2 by only ${r.effectSmall}`);
+    if (!(r.stagedSmallVsWhole <= 2 * r.aloneSmallVsWhole + 2e-3))
+      fail(`${viewer.name}: the stages at 1/2 are ${r.stagedSmallVsWhole} from them drawn whole (vtk.js alone: ${r.aloneSmallVsWhole})`);
+  }
   if (which === 'vtkjs') { // what it cannot serve: refused with a message, never drawn meaningless
     const r = await page.evaluate(() => window.refusals());
     console.log(`${viewer.name}: outlines of segmentation labels: ${r.outlines}; maximum intensity at install: ${r.maximumAtInstall}; ` +
