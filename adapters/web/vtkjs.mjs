@@ -39,6 +39,10 @@ const VALUE_SAMPLER = 'halo_vtkjs_value';
 const FEATURE_BUFFER = 'halo_host_feature_buffer'; // the feature_halo stage's host uniform
 const LABELS_UNIFORM = 'halo_host_labels'; // outline_feature's segmentation (libhalo.mjs's LABELS_UNIFORM)
 const EXPONENT = 'halo_vtkjs_opacity_exponent'; // vtk.js's sample distance / its opacity unit distance (> 0)
+// the renderer's whole size over vtk.js's render target's: (2, 2) in its reduced viewport
+// while the user interacts, (1, 1) otherwise; the fragment's pixel in the whole frame, where
+// the halo field is made
+const PIXEL_SCALE = 'halo_vtkjs_pixel_scale';
 const COMPOSITE_BLEND = 0; // vtk.js's BlendMode.COMPOSITE_BLEND
 const installed = new WeakSet(); // the mappers with libhalo's stages
 const INSTALL_MARK = '// libhalo: the stages of install '; // and its id, in the shaders vtk.js builds with them
@@ -64,7 +68,7 @@ export const VTKJS_NAMES = Object.freeze({
   position: 'posIS',
   value: `texture(${VALUE_SAMPLER}, posIS).r`,
   volume: VALUE_SAMPLER,
-  fragcoord: '(gl_FragCoord.xy - vec2(vpOffsetX * vpWidth, vpOffsetY * vpHeight))',
+  fragcoord: `((gl_FragCoord.xy - vec2(vpOffsetX * vpWidth, vpOffsetY * vpHeight)) * ${PIXEL_SCALE})`,
   color: 'haloColor',
 });
 
@@ -73,6 +77,7 @@ const literal = (text) => text.replace(/\$/g, '$$$$');
 
 function replacements(pieces, id) { // id: the install's
   const sample = `${INSTALL_MARK}${id}\nuniform highp sampler3D ${VALUE_SAMPLER};\nuniform float ${EXPONENT};\n` +
+    `uniform vec2 ${PIXEL_SCALE};\n` +
     `${pieces.declarations || ''}\n` +
     'vec4 getColorAtPos(vec3 posVC) {\n' +
     '  vec3 posIS = posVCtoIS(posVC);\n' +
@@ -153,9 +158,21 @@ function refusal(mapper, actor) {
 
 // The vtkVolumes of the render window that draw mapper.
 function volumesOf(view, mapper) {
+  return renderersOf(view).flatMap((r) => r.getVolumes().filter((v) => v.getMapper() === mapper));
+}
+function renderersOf(view) {
   const window = typeof view.getRenderable === 'function' ? view.getRenderable() : null;
-  const renderers = window && typeof window.getRenderers === 'function' ? window.getRenderers() : [];
-  return renderers.flatMap((r) => r.getVolumes().filter((v) => v.getMapper() === mapper));
+  return window && typeof window.getRenderers === 'function' ? window.getRenderers() : [];
+}
+
+// The size in pixels of the renderer that draws actor (vtk.js's tiled size: its viewport of
+// the canvas), or null.
+function rendererSize(view, actor) {
+  const renderer = renderersOf(view).find((r) => r.getVolumes().includes(actor));
+  const node = renderer && view.getViewNodeFor(renderer);
+  if (!node || typeof node.getTiledSizeAndOrigin !== 'function') return null;
+  const { usize, vsize } = node.getTiledSizeAndOrigin();
+  return usize > 0 && vsize > 0 ? [usize, vsize] : null;
 }
 
 // The highest free block of count contiguous texture units in vtk.js's manager, reserved;
@@ -446,9 +463,13 @@ export function installHalo(halo, mapper, options = {}) {
       feature.build(view); // at once when it holds this view
       feature.bind(handle, featureUnit); // vtk.js's program stays current
     }
+    // the field at the renderer's whole size, also when vtk.js draws at a reduced one while
+    // the user interacts: the halos keep their size on the screen (their reach is in pixels)
+    const whole = (!outlines && rendererSize(view, actor)) || camera.size;
+    gl.uniform2f(gl.getUniformLocation(handle, PIXEL_SCALE), whole[0] / camera.size[0], whole[1] / camera.size[1]);
     const kept = frame;
     frame = null;
-    frame = halo.frameOfSize(kept, gl, program, camera.size[0], camera.size[1]);
+    frame = halo.frameOfSize(kept, gl, program, whole[0], whole[1]);
     const desc = { program: handle, volume: value.texture, volumeSize: value.dims, volumeVersion: version,
       framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING), inverseViewProjection: camera.inverse,
       step: camera.step, interval: options.interval, fieldMaxBytes: options.fieldMaxBytes, firstUnit, draw: () => {} };

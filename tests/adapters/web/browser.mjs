@@ -306,7 +306,10 @@ async function engine(page, dir, which) {
     if (r.readded !== 0) fail(`${viewer.name}: the volume added again is drawn otherwise (${r.readded})`);
   }
   if (which === 'vtkjs') { // its reduced viewport while the user interacts
-    const r = await page.evaluate(() => window.smallViewport());
+    const r = await page.evaluate((keep) => window.smallViewport(keep), !!process.env.HALO_WEB_SAVE);
+    for (const [what, image] of Object.entries(r.images || {})) // for a look: PAM, bottom row first
+      fs.writeFileSync(path.join(process.env.HALO_WEB_SAVE, `vtkjs-interacting-${what}.pam`), Buffer.concat([Buffer.from(
+        `P7\nWIDTH ${r.width}\nHEIGHT ${image.length / 4 / r.width}\nDEPTH 4\nMAXVAL 255\nTUPLTYPE RGB_ALPHA\nENDHDR\n`), Buffer.from(image)]));
     console.log(`${viewer.name}: drawn at 1/2 while interacting: its stages and halos against them drawn whole mean abs ` +
       `${r.stagedSmallVsWhole.toExponential(3)} (vtk.js alone ${r.aloneSmallVsWhole.toExponential(3)}); the stages ` +
       `against vtk.js alone at 1/2 ${r.effectSmall.toExponential(3)} (whole ${r.effectWhole.toExponential(3)}); GL error ` +
