@@ -39,9 +39,10 @@ const VALUE_SAMPLER = 'halo_vtkjs_value';
 const FEATURE_BUFFER = 'halo_host_feature_buffer'; // the feature_halo stage's host uniform
 const LABELS_UNIFORM = 'halo_host_labels'; // outline_feature's segmentation (libhalo.mjs's LABELS_UNIFORM)
 const EXPONENT = 'halo_vtkjs_opacity_exponent'; // vtk.js's sample distance / its opacity unit distance (> 0)
-// the renderer's whole size over vtk.js's render target's: (2, 2) in its reduced viewport
-// while the user interacts, (1, 1) otherwise; the fragment's pixel in the whole frame, where
-// the halo field is made
+// the renderer's whole size over vtk.js's render target's: above 1 in its reduced viewport
+// while the user interacts ((2, 2) at its interaction scale 4), (1, 1) otherwise and with
+// outlines (drawn into libhalo's target at vtk.js's size); the fragment's pixel in the
+// frame where the halo field is made
 const PIXEL_SCALE = 'halo_vtkjs_pixel_scale';
 const COMPOSITE_BLEND = 0; // vtk.js's BlendMode.COMPOSITE_BLEND
 const installed = new WeakSet(); // the mappers with libhalo's stages
