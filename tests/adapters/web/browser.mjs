@@ -74,6 +74,16 @@ function difference(a, b) {
 
 let failures = 0, drawn = 0;
 
+// An image for a look (HALO_WEB_SAVE): a PAM of its RGBA values times scale (255 for values
+// in [0, 1], 1 for bytes), its rows turned top first (WebGL reads the bottom row first).
+function savePam(name, values, width, height, scale) {
+  const rows = [];
+  for (let y = height - 1; y >= 0; --y)
+    rows.push(Buffer.from(Array.from(values.slice(y * width * 4, (y + 1) * width * 4), (v) => Math.round(v * scale))));
+  fs.writeFileSync(path.join(process.env.HALO_WEB_SAVE, `${name}.pam`), Buffer.concat([Buffer.from(
+    `P7\nWIDTH ${width}\nHEIGHT ${height}\nDEPTH 4\nMAXVAL 255\nTUPLTYPE RGB_ALPHA\nENDHDR\n`), ...rows]));
+}
+
 // A halo field over its cap (fieldMaxBytes) in an adapter: linked again at 1/2 with a
 // warning, drawn as the same scene installed with imageScale 2 (max abs 0); an explicit
 // imageScale over the cap is refused, not linked again. render(options) draws in the page
@@ -211,15 +221,10 @@ async function engine(page, dir, which) {
   const outlined = outlinesDir ? await draw({ scene: 'mri-outlines.json', repeat: 3,
     sceneJson: JSON.parse(fs.readFileSync(path.join(outlinesDir, 'scene.json'))) }) : null;
   const version = JSON.parse(fs.readFileSync(path.join(modulesDir, viewer.module, 'package.json'))).version;
-  if (process.env.HALO_WEB_SAVE) // the images, for a look (PAM, bottom row first as WebGL reads them)
+  if (process.env.HALO_WEB_SAVE) // the images, for a look
     for (const [what, image] of Object.entries({ alone, staged, noHalos, m1, ...(features ? { features } : {}),
-      ...(outlined ? { outlined } : {}) })) {
-      const rows = [];
-      for (let y = image.height - 1; y >= 0; --y)
-        rows.push(Buffer.from(image.pixels.slice(y * image.width * 4, (y + 1) * image.width * 4).map((v) => Math.round(v * 255))));
-      fs.writeFileSync(path.join(process.env.HALO_WEB_SAVE, `${which}-${what}.pam`), Buffer.concat([Buffer.from(
-        `P7\nWIDTH ${image.width}\nHEIGHT ${image.height}\nDEPTH 4\nMAXVAL 255\nTUPLTYPE RGB_ALPHA\nENDHDR\n`), ...rows]));
-    }
+      ...(outlined ? { outlined } : {}) }))
+      savePam(`${which}-${what}`, image.pixels, image.width, image.height, 255);
   const name = `${scene} in ${viewer.name} ${version} (${staged.renderer})`;
   const stages = difference(staged.pixels, alone.pixels), halos = difference(staged.pixels, noHalos.pixels);
   const field = difference(staged.pixels, m1.pixels), back = difference(removed.pixels, alone.pixels);
@@ -307,9 +312,8 @@ async function engine(page, dir, which) {
   }
   if (which === 'vtkjs') { // its reduced viewport while the user interacts
     const r = await page.evaluate((keep) => window.smallViewport(keep), !!process.env.HALO_WEB_SAVE);
-    for (const [what, image] of Object.entries(r.images || {})) // for a look: PAM, bottom row first
-      fs.writeFileSync(path.join(process.env.HALO_WEB_SAVE, `vtkjs-interacting-${what}.pam`), Buffer.concat([Buffer.from(
-        `P7\nWIDTH ${r.width}\nHEIGHT ${image.length / 4 / r.width}\nDEPTH 4\nMAXVAL 255\nTUPLTYPE RGB_ALPHA\nENDHDR\n`), Buffer.from(image)]));
+    for (const [what, image] of Object.entries(r.images || {})) // for a look (bytes)
+      savePam(`vtkjs-interacting-${what}`, image, r.width, image.length / 4 / r.width, 1);
     console.log(`${viewer.name}: drawn at 1/2 while interacting: its stages and halos against them drawn whole mean abs ` +
       `${r.stagedSmallVsWhole.toExponential(3)} (vtk.js alone ${r.aloneSmallVsWhole.toExponential(3)}); the stages ` +
       `against vtk.js alone at 1/2 ${r.effectSmall.toExponential(3)} (whole ${r.effectWhole.toExponential(3)}); GL error ` +
