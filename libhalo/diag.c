@@ -412,9 +412,35 @@ void halo_diag_read_failed(halo_diagnostics *d, const char *path, const char *wh
 char *halo_read_text_file(const char *path, const char *what, size_t *len, halo_diagnostics *d)
 {
     HALO_REFUSE_NULL(d, path, "path", NULL);
-    char *text = halo_read_file(path, len);
-    if (!text)
+    return halo_read_text(path, what, len, NULL, d);
+}
+
+char *halo_read_text(const char *path, const char *what, size_t *len, int *not_text, halo_diagnostics *d)
+{
+    if (not_text)
+        *not_text = 0;
+    size_t length = 0;
+    char *text = halo_read_file(path, &length);
+    if (!text) {
         halo_diag_read_failed(d, path, what ? what : "file");
+        return NULL;
+    }
+    int line, column;
+    if (halo_find_nul(text, length, &line, &column)) {
+        /* the text up to the NUL is the line to show */
+        const char *start = text;
+        for (int l = 1; l < line; l++)
+            start = strchr(start, '\n') + 1;
+        halo_diagnostics_report(d, HALO_SEVERITY_ERROR, HALO_MSG_INPUT_NUL_BYTE, path, line, column,
+                                halo_skip_bom(start), "the %s contains a NUL byte: not a text file",
+                                what ? what : "file");
+        free(text);
+        if (not_text)
+            *not_text = 1;
+        return NULL;
+    }
+    if (len)
+        *len = length;
     return text;
 }
 

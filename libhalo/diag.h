@@ -38,6 +38,9 @@ void halo_diag_null(halo_diagnostics *d, const char *function, const char *argum
  * (EFBIG: INPUT_TOO_LARGE naming HALO_MAX_FILE_BYTES; ENOMEM: OUT_OF_MEMORY; else
  * IO_READ "cannot read WHAT: reason"). what: "scene", "module", "polyline file". */
 void halo_diag_read_failed(halo_diagnostics *d, const char *path, const char *what);
+/* halo_read_text_file without the NULL check: *not_text (may be NULL) 1 when the file was read
+ * and holds a NUL byte (INPUT_NUL_BYTE at its line and column), else 0. */
+char *halo_read_text(const char *path, const char *what, size_t *len, int *not_text, halo_diagnostics *d);
 
 /* calloc(1, size), or NULL after OUT_OF_MEMORY "out of memory creating WHAT" in d. */
 void *halo_diag_calloc(halo_diagnostics *d, size_t size, const char *what);

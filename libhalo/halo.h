@@ -217,7 +217,8 @@ HALO_API void halo_diagnostics_report(halo_diagnostics *d, halo_severity severit
 /* Reads a text file whole, as libhalo reads its scenes and modules: at most
  * HALO_MAX_FILE_BYTES, NUL-terminated (caller frees with free()), *len (may be NULL) its
  * length without the NUL. NULL after one error naming the file and why (IO_READ,
- * INPUT_TOO_LARGE, OUT_OF_MEMORY); `what` names the file in it ("host shader"). */
+ * INPUT_TOO_LARGE, OUT_OF_MEMORY; INPUT_NUL_BYTE at its line and column: a file that
+ * holds a NUL byte is no text); `what` names the file in it ("host shader"). */
 HALO_API char *halo_read_text_file(const char *path, const char *what, size_t *len, halo_diagnostics *d);
 /* Writes `file:line:col: error: text` (`file:line:` where the column is unknown, as
  * GCC without columns), then the source line and a caret under the column; the gutter
@@ -675,8 +676,13 @@ typedef struct halo_reflection {
     int one_draw;         /* host contract 3: 1 when linked with one_draw and the program has a field
                            * (images made by passes between slices): halo_gl_frame_draw computes the
                            * field of every depth segment, then calls the host's draw once */
-    halo_target target;   /* the target it was linked for (HALO_TARGET_COUNT for a NULL program) */
-    int group_count;      /* feature groups (below): 1 when the program has none, 0 for NULL */
+    /* with one_draw: the program of libhalo's own march over the volume, linked from the
+     * same scene (the stages whose outputs are the seeds, e.g. halo_seed), which
+     * halo_gl_frame_draw runs before the host's draw; for its emulation (halo_emu_apply)
+     * and its reflection. Owned by p. Else NULL. */
+    const halo_program *march;
+    halo_target target; /* the target it was linked for (HALO_TARGET_COUNT for a NULL program) */
+    int group_count;    /* feature groups (below): 1 when the program has none, 0 for NULL */
     /* From the current parameter values (take the reflection again after halo_program_set): */
     int interval;     /* M, the slices (planes) between two generations: the value of the first
                        * stage's `is interval=` parameter (e.g. halo_generate.interval), or 0

@@ -38,23 +38,11 @@ static halo_status add_module(halo_library *lib, halo_module *m, halo_diagnostic
 
 static halo_module *read_module(const char *path, halo_diagnostics *diag, halo_status *status)
 {
-    size_t len = 0;
-    char *text = halo_read_file(path, &len);
+    int not_text;
+    char *text = halo_read_text(path, "module", NULL, &not_text, diag);
     if (!text) {
-        halo_diag_read_failed(diag, path, "module");
-        *status = HALO_ERROR_IO;
-        return NULL;
-    }
-    int line, column;
-    if (halo_find_nul(text, len, &line, &column)) {
-        /* the text up to the NUL is the line to show */
-        const char *start = text;
-        for (int l = 1; l < line; l++)
-            start = strchr(start, '\n') + 1;
-        halo_diagnostics_report(diag, HALO_SEVERITY_ERROR, HALO_MSG_INPUT_NUL_BYTE, path, line, column,
-                                halo_skip_bom(start), "the module contains a NUL byte: not a text file");
-        free(text);
-        *status = HALO_ERROR_INPUT;
+        /* a NUL byte is an error in the input; the rest, that the file cannot be read */
+        *status = not_text ? HALO_ERROR_INPUT : HALO_ERROR_IO;
         return NULL;
     }
     halo_module *m = halo_module_parse(path, text, diag);

@@ -387,6 +387,7 @@ halo_reflection halo_program_reflection(const halo_program *p)
     r.image_scale = p->image_scale;
     r.segment_location = p->segment_location;
     r.one_draw = p->one_draw;
+    r.march = p->one_draw ? p->prepass : NULL;
     r.target = p->target;
     r.group_count = p->group_count > 1 ? p->group_count : 1;
     r.interval = p->derived_interval;

@@ -2,7 +2,7 @@
  * halo_gl_frame_draw in depth segments, against a double-precision emulation of the same
  * renderer: the same rays, samples and compositing as the one-draw emulation of the
  * raycast row, the samples of each segment chosen by the same plan as the runtime's
- * (halo_segment_plan_make), halo_emu_apply with the frame per sample, the fragment's outputs
+ * (conform_segment_plan_make), halo_emu_apply with the frame per sample, the fragment's outputs
  * finished once per segment, halo_emu_frame_generate between segments.
  *
  * The hosts in the styles of the wild (examples/hosts/webgl_caster.frag,
@@ -13,6 +13,7 @@
  * the row brackets the decisions float32 may take the other way. */
 #include "conform_segment.h"
 
+#include "hosts/host_common.h"
 #include "volume.h"
 
 #include <math.h>
@@ -96,7 +97,7 @@ static double pixel_hash(int x, int y)
 
 enum { MAX_STEPS = 4096 }; /* the ray caster's loop bound */
 
-static void make_ray(const halo_raycast_state *s, const halo_segment_plan *plan, const conform_segment_model *m,
+static void make_ray(const halo_raycast_state *s, const conform_segment_plan *plan, const conform_segment_model *m,
                      int max_steps, int x, int y, segment_ray *r)
 {
     conform_pixel_ray(s->inverse_view_projection, s->width, s->height, x, y, r->origin, r->direction);
@@ -131,7 +132,7 @@ static void make_ray(const halo_raycast_state *s, const halo_segment_plan *plan,
 /* What make_ray needs besides the pixel, for conform_host_frame_rays. */
 typedef struct ray_context {
     const halo_raycast_state *s;
-    const halo_segment_plan *plan;
+    const conform_segment_plan *plan;
     const conform_segment_model *m;
 } ray_context;
 
@@ -227,7 +228,7 @@ static void shade_iso(int hit, double gradient[3], const double view[3], double 
 /* A sample of the model's host: position P at ray parameter t; fills the halo_sample
  * fields the host passes (value, gradient, view, depth, colour, opacity). raycast.frag's
  * arithmetic comes first and stays as it was; the others change what they do otherwise. */
-static void host_sample(const halo_raycast_state *s, const halo_segment_plan *plan, const conform_segment_model *m,
+static void host_sample(const halo_raycast_state *s, const conform_segment_plan *plan, const conform_segment_model *m,
                         const double P[3], halo_emu_sample *sample)
 {
     const conform_segment_host *host = m->host;
@@ -332,7 +333,7 @@ static int feeds_generation(const halo_program *p, const char *image)
 /* The seed images (the march's outputs that feed generation) from one frame to the other. */
 static void copy_seeds(const halo_program *p, halo_emu_frame *from_frame, halo_emu_frame *to_frame, size_t pixels)
 {
-    const halo_program *march = p->prepass;
+    const halo_program *march = halo_program_reflection(p).march;
     for (size_t o = 0; o < halo_program_reflection(march).output_count; ++o) {
         const halo_output_info *out = &halo_program_reflection(march).outputs[o];
         if (!feeds_generation(p, out->image))
@@ -351,10 +352,10 @@ static void copy_seeds(const halo_program *p, halo_emu_frame *from_frame, halo_e
  * and depth derived, colour and opacity 0) seeds the march frame's outputs; they go into
  * the host frame's images of the same names, which generate; the images the host reads
  * are kept as layer j. */
-static int field_emulate(const halo_raycast_state *s, const halo_program *p, const halo_segment_plan *plan,
+static int field_emulate(const halo_raycast_state *s, const halo_program *p, const conform_segment_plan *plan,
                          halo_emu_frame *host, field_stacks *st, halo_diagnostics *diag)
 {
-    const halo_program *march = p->prepass;
+    const halo_program *march = halo_program_reflection(p).march;
     memset(st, 0, sizeof *st);
     /* the march and the field at the halo images' scale (halo_link_desc.image_scale): a ray
      * through the centre of each 1/scale pixel, as gl/field.c's */
@@ -486,7 +487,7 @@ static double plane_move(const conform_segment_model *m, long b)
     return ((unsigned long)b >> (m->layer_pattern - 1)) & 1u ? m->layer_move : -m->layer_move;
 }
 
-static void field_at_sample(const field_stacks *st, const halo_segment_plan *plan, const conform_segment_model *m,
+static void field_at_sample(const field_stacks *st, const conform_segment_plan *plan, const conform_segment_model *m,
                             halo_emu_frame *host, const double P[3], size_t i)
 {
     double phi = plan->plane[0] * P[0] + plan->plane[1] * P[1] + plan->plane[2] * P[2] + plan->plane[3];
@@ -520,7 +521,7 @@ static void field_at_sample(const field_stacks *st, const halo_segment_plan *pla
     }
 }
 
-int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program *p, const halo_segment_plan *plan,
+int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program *p, const conform_segment_plan *plan,
                                  const conform_segment_model *model, double *out, halo_diagnostics *diag)
 {
     conform_segment_model m = *model;
@@ -550,7 +551,7 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
         generation |= halo_program_reflection(p).passes[i].at == HALO_PASS_AT_GENERATE;
     /* host contract 3: the field of every segment first, then the host in one draw */
     field_stacks stacks = {0};
-    int one_draw = p->one_draw;
+    int one_draw = halo_program_reflection(p).one_draw;
     if (one_draw)
         ok = frame && field_emulate(s, p, plan, frame, &stacks, diag);
     int segments = one_draw ? 1 : plan->segments;
@@ -628,6 +629,60 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
     return ok;
 }
 
+/* ---- The depth segments (docs/host-contract.md, "Host contract 2") ------------------------ */
+
+int conform_segment_plan_make(const float inverse_view_projection[16], float step, int segments, const halo_program *p,
+                              conform_segment_plan *plan)
+{
+    double inverse[16], m[16];
+    for (int i = 0; i < 16; ++i)
+        inverse[i] = inverse_view_projection[i];
+    if (!halo_host_matrix_invert(inverse, m) || !(step > 0.0f))
+        return 0;
+    /* phi: clip w (perspective, the distance along the view axis) or, where w is
+     * constant (orthographic), clip z; each row of the view-projection, made unit */
+    const double w[4] = {m[3], m[7], m[11], m[15]}, z[4] = {m[2], m[6], m[10], m[14]};
+    double w_length = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+    double z_length = sqrt(z[0] * z[0] + z[1] * z[1] + z[2] * z[2]);
+    int perspective = w_length > 1e-9 * z_length;
+    double length = perspective ? w_length : z_length;
+    if (!(length > 0.0) || !isfinite(length))
+        return 0;
+    for (int k = 0; k < 4; ++k)
+        plan->plane[k] = (perspective ? w : z)[k] / length;
+    /* the eye: where clip x, y and w are 0, inverse * (0, 0, 1, 0); orthographic: -plane */
+    plan->eye[3] = perspective ? 1.0 : 0.0;
+    for (int k = 0; k < 3; ++k)
+        plan->eye[k] = perspective ? inverse[8 + k] / inverse[11] : -plan->plane[k];
+    /* the unit box's bounding sphere: centre (0.5, 0.5, 0.5), radius sqrt(3) / 2 */
+    double centre = plan->plane[3], radius = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        centre += plan->plane[k] * 0.5;
+        radius += 0.25;
+    }
+    radius = sqrt(radius);
+    plan->front = centre - radius;
+    plan->back = centre + radius;
+    /* the planes front + k step, k < floor((back - front) / step) + 1; a sample belongs
+     * to the segment of its nearest plane, so the segments start half a step before */
+    double depth = plan->back - plan->front, planes = floor(depth / step) + 1.0;
+    plan->start = plan->front - 0.5 * step;
+    plan->length = depth + step;
+    plan->segments = 1;
+    halo_reflection r = halo_program_reflection(p);
+    if (r.segment_location > 0 || r.one_draw) {
+        int interval = r.interval > 0 ? r.interval : 4; /* M: the program's, or the paper's 4 */
+        double wanted = segments > 0 ? segments : ceil(planes / interval);
+        double count = fmin(fmax(wanted, 1.0), HALO_SEGMENTS_MAX);
+        plan->segments = (int)count;
+        plan->length = segments > 0 || wanted > HALO_SEGMENTS_MAX ? planes * step / count : interval * (double)step;
+    }
+    for (int k = 0; k < 4; ++k)
+        if (!isfinite(plan->eye[k]) || !isfinite(plan->plane[k]))
+            return 0;
+    return isfinite(plan->front) && isfinite(plan->back);
+}
+
 /* ---- The rows (conform_rows.c) ------------------------------------------------------------ */
 
 /* Renders the row's host as the program needs (segments 0) or in exactly `segments`; fills
@@ -635,7 +690,7 @@ int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program
  * NULL with diagnostics on failure. */
 static float *render(conform *c, const halo_program *p, const halo_render_settings *settings, const float *volume,
                      int volume_size, const conform_segment_params *params, int segments, halo_raycast_state *state,
-                     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4], halo_segment_plan *plan)
+                     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4], conform_segment_plan *plan)
 {
     const conform_segment_host *host = params->host ? params->host : &conform_segment_raycast;
     size_t values = (size_t)c->size * (size_t)c->size * 4;
@@ -664,7 +719,10 @@ static float *render(conform *c, const halo_program *p, const halo_render_settin
         halo_gl_segments_desc desc = {.inverse_view_projection = inverse,
                                       .step = (float)state->step_size,
                                       .segments = segments > 0 ? segments : 0};
-        ok = ok && halo_segment_plan_make(&desc, p, plan, c->diag);
+        if (ok && !conform_segment_plan_make(inverse, desc.step, desc.segments, p, plan)) {
+            HALO_REPORT_ERROR(c->diag, HALO_MSG_USAGE, "", 0, 0, "the host's camera cannot be inverted");
+            ok = 0;
+        }
     }
     halo_raycast_destroy(r);
     if (!ok) {
@@ -724,7 +782,7 @@ void conform_segment_row(conform *c, const conform_row *row)
     const char *source = host_source(c, host, &owned_source);
     halo_scene *scene = volume ? halo_scene_parse(params->scene, "(conformance segment scene)", c->lib, c->diag) : NULL;
     halo_raycast_state state;
-    halo_segment_plan plan;
+    conform_segment_plan plan;
     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4];
     int ok = source && scene &&
              (program = link_host(c, scene, host, source, params->segments > 0, params->one_draw,
@@ -735,7 +793,7 @@ void conform_segment_row(conform *c, const conform_row *row)
     row_stats stats = {0};
     if (ok && params->segments > 0) {
         /* the same host in one draw: the segments alone must change nothing */
-        halo_segment_plan once;
+        conform_segment_plan once;
         ok = (plain = link_host(c, scene, host, source, 0, 0, params->image_scale)) != NULL &&
              (single = render(c, plain, settings, volume, volume_size, params, 0, &state, transfer, &once)) != NULL;
         for (size_t i = 0; ok && i < values / 4; ++i) {

@@ -6,7 +6,6 @@
 
 #include "conform_harness.h"
 #include "halo.h"
-#include "internal.h"
 #include "hosts/raycast.h"
 
 /* How a host classifies and shades a sample. */
@@ -50,10 +49,28 @@ typedef struct conform_segment_model {
                         * its own float rounding, not one direction for all) */
 } conform_segment_model;
 
-/* The frame of the model's host drawn by the plan (halo_segment_plan_make with the state's
+/* The depth segments of a frame as docs/host-contract.md defines them, derived here from the
+ * contract, apart from the runtime's own plan (so a row checks the runtime's planes too):
+ * phi(P) = dot(plane.xyz, P) + plane.w grows away from the eye; the planes phi = front +
+ * k step from the front of the box's bounding sphere; segment j takes the samples with
+ * start + j length <= phi < start + (j + 1) length. */
+typedef struct conform_segment_plan {
+    double eye[4];      /* the eye (w = 1), or the unit direction towards the viewer (w = 0) */
+    double plane[4];    /* |xyz| = 1 */
+    double front, back; /* phi at the front and back of the unit box's bounding sphere */
+    int segments;       /* 1: drawn once */
+    double start, length;
+} conform_segment_plan;
+/* The plan of a host drawn with this camera (clip space -> volume texture space, as the
+ * host hands it: float) and step, in `segments` (0: as the program asks). 0 for a camera
+ * that cannot be inverted. */
+int conform_segment_plan_make(const float inverse_view_projection[16], float step, int segments, const halo_program *p,
+                              conform_segment_plan *plan);
+
+/* The frame of the model's host drawn by the plan (conform_segment_plan_make with the state's
  * camera and step), in double: out gets width*height*4 values over the background.
  * Returns 0 with diagnostics (a stage without emulation, out of memory). */
-int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program *p, const halo_segment_plan *plan,
+int halo_conform_segment_emulate(const halo_raycast_state *s, const halo_program *p, const conform_segment_plan *plan,
                                  const conform_segment_model *model, double *out, halo_diagnostics *diag);
 
 /* A row: a host (NULL: raycast.frag) with the scene; segments > 0: linked with

@@ -5,14 +5,12 @@
  *   grad S (libhalo's halo_generate: N = 4, delta = 0.8).
  * The feature-preservation ratio is the mean intensity in a ring 2..6 px outside the
  * smallest feature's edge over that of the largest; the paper's claim is that (f)
- * equalizes (ratio near 1) where (b) loses small features (ratio << 1). Computed with
- * the C emulation of halo_generate's passes (the conformance rows pass:* tie it to the
- * GPU). Printed by `halo-validate conform` (docs/volumetric-halos.md). */
+ * equalizes (ratio near 1) where (b) loses small features (ratio << 1). (f) is libhalo's
+ * emulation of halo_generate through its public frame (the conformance rows pass:* tie it
+ * to the GPU); (b) to (e), the strategies the paper sets it against, are written out here. Printed by `halo-validate conform` (docs/volumetric-halos.md). */
 #include "figure3.h"
 
 #include "halo.h"
-#include "internal.h"
-#include "emu/emu.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -85,27 +83,39 @@ static void lowpass(const double *in, double *out, double *tmp)
         }
 }
 
-/* One emulated pass over the whole image. */
-static void run_pass(halo_emu_pass_fn fn, const halo_emu_params *params, int index, int count, const double *in0,
-                     const double *in1, double *out)
+/* The image at (x, y), 0 outside it (the passes' zero padding). */
+static double at(const double *img, int x, int y)
 {
-    halo_emu_pass_context c = {params, FIG_SIZE, FIG_SIZE, 1,   index, count, in1 ? 2 : 1, {in0, in1},
-                               {0},    0,        1,        {0}, {0},   {0},   {0}};
+    return x < 0 || y < 0 || x >= FIG_SIZE || y >= FIG_SIZE ? 0.0 : img[y * FIG_SIZE + x];
+}
+
+/* (d): |grad S| by unhalved central differences, clamped to 1, 0 outside the image:
+ * halo_generate's H_0 (docs/stages/halo_generate.md), written out for the figure. */
+static void gradient_magnitude(const double *s, double *out)
+{
     for (int y = 0; y < FIG_SIZE; ++y)
         for (int x = 0; x < FIG_SIZE; ++x) {
-            double v[4] = {0, 0, 0, 0};
-            fn(&c, x, y, v);
-            out[y * FIG_SIZE + x] = v[0];
+            double gx = at(s, x + 1, y) - at(s, x - 1, y), gy = at(s, x, y + 1) - at(s, x, y - 1);
+            out[y * FIG_SIZE + x] = fmin(fmax(sqrt(gx * gx + gy * gy), 0.0), 1.0);
         }
 }
 
-/* The spreading process with H_0 = initial (N passes of spread_pass). */
-static void spread(const halo_emu_params *params, int passes, const double *initial, double *out, double *tmp)
+/* (c): halo_generate's spreading (docs/stages/halo_generate.md) started from S itself
+ * instead of |grad S|: N passes H_i = d F_i + (1 - d F_i) H_0, F_i the 3x3 kernel
+ * [1 2 1; 2 4 2; 1 2 1] / 16 over H_(i-1) with its taps 2^(N - i) pixels apart. */
+static void spread(int passes, double delta, const double *initial, double *out, double *tmp)
 {
-    halo_emu_pass_fn fn = halo_emu_lookup_pass("halo_generate", "spread_pass");
     memcpy(tmp, initial, FIG_SIZE * FIG_SIZE * sizeof *tmp);
     for (int i = 1; i <= passes; ++i) {
-        run_pass(fn, params, i, passes, tmp, initial, out);
+        int k = 1 << (passes - i);
+        for (int y = 0; y < FIG_SIZE; ++y)
+            for (int x = 0; x < FIG_SIZE; ++x) {
+                double corners =
+                    at(tmp, x - k, y - k) + at(tmp, x + k, y - k) + at(tmp, x - k, y + k) + at(tmp, x + k, y + k);
+                double edges = at(tmp, x, y - k) + at(tmp, x - k, y) + at(tmp, x + k, y) + at(tmp, x, y + k);
+                double amount = delta * ((corners + 2.0 * edges + 4.0 * at(tmp, x, y)) * (1.0 / 16.0));
+                out[y * FIG_SIZE + x] = amount + (1.0 - amount) * initial[y * FIG_SIZE + x];
+            }
         memcpy(tmp, out, FIG_SIZE * FIG_SIZE * sizeof *tmp);
     }
 }
@@ -147,28 +157,19 @@ int halo_figure3_run(const halo_library *lib, FILE *out, double ratios[4], halo_
     frame = halo_emu_frame_create(program, FIG_SIZE, FIG_SIZE, diag);
     if (!frame)
         goto done;
-    const halo_linked_stage *stage = NULL;
-    for (size_t i = 0; i < program->stage_count; ++i)
-        if (!strcmp(program->stages[i].module->name, "halo_generate"))
-            stage = &program->stages[i];
-    halo_emu_pass_fn gradient = halo_emu_lookup_pass("halo_generate", "gradient_pass");
-    if (!stage || !gradient || program->channel_count != 1)
-        goto done;
-    halo_emu_params params = {program, stage, NULL};
-    double *S = buffers, *grad = buffers + n, *tmp = buffers + 2 * n, *tmp2 = buffers + 3 * n;
+    double *S = buffers, *grad = buffers + n, *tmp = buffers + 2 * n;
     double *results[4] = {buffers + 4 * n, buffers + 5 * n, buffers + 6 * n, buffers + 7 * n};
     seed_image(S);
-    lowpass(S, results[0], tmp);                      /* (b) */
-    spread(&params, 4, S, results[1], tmp);           /* (c) */
-    run_pass(gradient, &params, 1, 1, S, NULL, grad); /* (d) */
-    lowpass(grad, results[2], tmp);                   /* (e) */
+    lowpass(S, results[0], tmp);        /* (b) */
+    spread(4, 0.8, S, results[1], tmp); /* (c) */
+    gradient_magnitude(S, grad);        /* (d) */
+    lowpass(grad, results[2], tmp);     /* (e) */
     /* (f): libhalo's schedule, as a host runs it: the seed image, then one generation. */
     halo_emu_frame_begin(frame);
     memcpy(halo_emu_frame_image(frame, "seed"), S, n * sizeof *S);
     if (halo_emu_frame_generate(frame, diag) != HALO_OK)
         goto done;
     memcpy(results[3], halo_emu_frame_image(frame, "field"), n * sizeof *S);
-    (void)tmp2;
 
     static const char *const names[4] = {"(b) low-pass of S", "(c) spreading of S", "(e) low-pass of grad S",
                                          "(f) spreading of grad S"};

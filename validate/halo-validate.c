@@ -5,7 +5,6 @@
 #include "conform.h"
 #include "halo.h"
 #include "gl/headless.h"
-#include "strbuf.h"
 
 #include <errno.h>
 #include <stdint.h>
@@ -106,32 +105,19 @@ static const char *extension(const char *path)
     return dot ? dot + 1 : "";
 }
 
-/* Reads a shader. NULL with *status EXIT_USAGE when the file cannot be read, or
- * EXIT_INPUT when it is no text (a NUL byte: an error in the input, at its place). */
+/* Reads a shader as libhalo reads its files (halo_read_text_file). NULL, with the message
+ * on stderr, and *status EXIT_INPUT when the file is no text (a NUL byte: an error in the
+ * input, at its place), else EXIT_USAGE (it cannot be read). */
 static char *read_text(const char *path, int *status)
 {
-    *status = EXIT_USAGE;
-    size_t len = 0;
-    char *buf = halo_read_file(path, &len);
-    if (!buf) {
-        if (errno == EFBIG)
-            fprintf(stderr,
-                    "%s: error: cannot read: the file is larger than the %zu MiB that libhalo reads "
-                    "(HALO_MAX_FILE_BYTES)\n",
-                    path, HALO_MAX_FILE_BYTES >> 20);
-        else
-            fprintf(stderr, "%s: error: cannot read: %s\n", path, errno == ENOMEM ? "out of memory" : strerror(errno));
-        return NULL;
-    }
-    int line, column;
-    if (halo_find_nul(buf, len, &line, &column)) {
-        fprintf(stderr, "%s:%d:%d: error: the file contains a NUL byte; not a text shader\n", path, line, column);
-        free(buf);
-        *status = EXIT_INPUT;
-        return NULL;
-    }
-    *status = 0;
-    return buf;
+    halo_diagnostics *d = halo_diagnostics_create();
+    char *text = d ? halo_read_text_file(path, "file", NULL, d) : NULL;
+    *status = !text && halo_diagnostics_has(d, HALO_MSG_INPUT_NUL_BYTE) ? EXIT_INPUT : text ? 0 : EXIT_USAGE;
+    if (!d)
+        fprintf(stderr, "%s: error: cannot read: out of memory\n", path);
+    halo_diagnostics_print(d, stderr);
+    halo_diagnostics_destroy(d);
+    return text;
 }
 
 static int parse_targets(const char *arg, halo_target *targets, int *count)

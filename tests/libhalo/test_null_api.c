@@ -192,6 +192,20 @@ CASE(halo_read_text_file)
     CHECK_INT_EQ(halo_read_text_file("/nonexistent/halo.txt", "host shader", NULL, list) == NULL, 1);
     CHECK_INT_EQ(halo_diagnostics_describe(list).count, 1);
     CHECK_INT_EQ(halo_diagnostics_has(list, HALO_MSG_IO_READ), 1);
+    /* a NUL byte: no text; NULL and INPUT_NUL_BYTE at its line and column */
+    char path[] = "/tmp/halo_nul_XXXXXX";
+    int fd = mkstemp(path);
+    SETUP(fd >= 0);
+    SETUP(write(fd, "ab\n c\0d\n", 8) == 8);
+    close(fd);
+    halo_diagnostics_clear(list);
+    size_t len = 99;
+    CHECK(halo_read_text_file(path, "host shader", &len, list) == NULL);
+    unlink(path);
+    CHECK_INT_EQ(halo_diagnostics_describe(list).count, 1);
+    CHECK(halo_diagnostics_get(list, 0) && halo_diagnostics_get(list, 0)->id == HALO_MSG_INPUT_NUL_BYTE);
+    CHECK_INT_EQ(halo_diagnostics_get(list, 0)->line, 2);
+    CHECK_INT_EQ(halo_diagnostics_get(list, 0)->column, 3);
     halo_diagnostics_destroy(list);
     return 0;
 }

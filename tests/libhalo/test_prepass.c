@@ -31,6 +31,17 @@ static int test_batchable(void)
     halo_program *p = one_draw_program();
     CHECK(p != NULL);
     CHECK(p->prepass->prepass_only);
+    /* the reflection hands the march out (its emulation: validate/conform_segment.c) */
+    CHECK(halo_program_reflection(p).march == p->prepass);
+    CHECK(halo_program_reflection(p->prepass).march == NULL);
+    halo_scene *plain_scene = scene_of(one_draw_scene);
+    halo_program *plain = halo_link(
+        &(halo_link_desc){
+            .library = library, .scene = plain_scene, .host_source = host_source, .host_file = "test.frag"},
+        diags);
+    CHECK(plain != NULL && halo_program_reflection(plain).march == NULL);
+    halo_program_destroy(plain);
+    halo_scene_destroy(plain_scene);
     CHECK_INT_EQ((int)p->prepass->output_count, 1);
     CHECK_INT_EQ(p->prepass->outputs[0].location, 1);
     CHECK_INT_EQ(halo_prepass_batchable(p->prepass), 1);

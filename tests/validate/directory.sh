@@ -4,9 +4,9 @@
 . "$srcdir/tests/validate/common.sh"
 mkdir "$tmp/folder.json" "$tmp/folder.frag"
 run 2 "$HALO_VALIDATE" check "$tmp/folder.frag"
-expect_stderr "folder\.frag: error: cannot read: Is a directory"
+expect_stderr "folder\.frag: error: cannot read file: Is a directory"
 run 2 "$HALO_VALIDATE" link --host "$tmp/folder.frag"
-expect_stderr "folder\.frag: error: cannot read: Is a directory"
+expect_stderr "folder\.frag: error: cannot read file: Is a directory"
 run 2 "$HALO_RENDER" --scene "$tmp/folder.json" --size 8x8 --quiet -o "$tmp/x.png"
 expect_stderr "folder\.json: error: cannot read scene: Is a directory"
 finish
