@@ -91,6 +91,16 @@ export interface Frame {
 }
 
 // Feature halos: the halo buffer of a program's feature_halo stage, splatted on the context.
+// For engine adapters that show libhalo's images in the engine's framebuffer (outlines).
+export interface Blend { on: boolean; equation: number[]; func: number[] }
+export function blendOf(gl: WebGL2RenderingContext): Blend;
+export function setBlend(gl: WebGL2RenderingContext, blend: Blend): void;
+export interface TextureShower { program: WebGLProgram; vertexArray: WebGLVertexArrayObject }
+// old when still alive on gl, else made; keep false: old's objects deleted, null returned
+export function textureShower(gl: WebGL2RenderingContext, old?: TextureShower | null, keep?: boolean): TextureShower | null;
+// texture drawn over framebuffer (null: the canvas) in viewport [x, y, width, height], with blend or none
+export function showTexture(gl: WebGL2RenderingContext, shower: TextureShower, texture: WebGLTexture,
+  framebuffer: WebGLFramebuffer | null, viewport: ArrayLike<number>, blend: Blend | null): void;
 export const FEATURE_BUFFER_UNIFORM: 'halo_host_feature_buffer';
 export const LABELS_UNIFORM: 'halo_host_labels'; // outline_feature's segmentation (reflection.reads_labels)
 export interface FeatureBuffer {

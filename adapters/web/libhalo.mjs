@@ -390,6 +390,88 @@ class Frame {
   }
 }
 
+// For engine adapters that show libhalo's images (outlines: the passes after the draw) in
+// the engine's framebuffer. The blend the engine set (WebGL 2: one for all draw buffers), and
+// setting one back.
+export function blendOf(gl) {
+  return { on: gl.isEnabled(gl.BLEND), equation: [gl.BLEND_EQUATION_RGB, gl.BLEND_EQUATION_ALPHA].map((p) => gl.getParameter(p)),
+    func: [gl.BLEND_SRC_RGB, gl.BLEND_DST_RGB, gl.BLEND_SRC_ALPHA, gl.BLEND_DST_ALPHA].map((p) => gl.getParameter(p)) };
+}
+export function setBlend(gl, b) {
+  (b.on ? gl.enable : gl.disable).call(gl, gl.BLEND);
+  gl.blendEquationSeparate(...b.equation);
+  gl.blendFuncSeparate(...b.func);
+}
+
+// The program (and its empty vertex array) that showTexture draws with: old when it is still
+// one on gl (not after a lost context), else made; keep false: old's objects deleted, null.
+export function textureShower(gl, old, keep = true) {
+  const alive = old && gl.isProgram(old.program) && gl.isVertexArray(old.vertexArray);
+  if (!keep) {
+    if (alive) {
+      gl.deleteProgram(old.program);
+      gl.deleteVertexArray(old.vertexArray);
+    }
+    return null;
+  }
+  if (alive) return old;
+  // a triangle over the viewport, each pixel the texture's texel
+  const shader = (type, text) => {
+    const x = gl.createShader(type);
+    gl.shaderSource(x, text);
+    gl.compileShader(x);
+    return x;
+  };
+  const vertex = shader(gl.VERTEX_SHADER, '#version 300 es\nvoid main() {\n  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, ' +
+    'gl_VertexID == 2 ? 3.0 : -1.0);\n  gl_Position = vec4(p, 0.0, 1.0);\n}\n');
+  const fragment = shader(gl.FRAGMENT_SHADER, '#version 300 es\nprecision highp float;\nuniform highp sampler2D image;\n' +
+    'uniform ivec2 origin;\nout vec4 color;\nvoid main() { color = texelFetch(image, ivec2(gl_FragCoord.xy) - origin, 0); }\n');
+  const program = gl.createProgram();
+  gl.attachShader(program, vertex);
+  gl.attachShader(program, fragment);
+  gl.linkProgram(program);
+  gl.deleteShader(vertex);
+  gl.deleteShader(fragment);
+  if (!gl.getProgramParameter(program, gl.LINK_STATUS)) {
+    const log = gl.getProgramInfoLog(program);
+    gl.deleteProgram(program);
+    throw new Error(`the program showing libhalo's images did not link: ${log}`);
+  }
+  return { program, vertexArray: gl.createVertexArray() };
+}
+
+// Draws texture (viewport's size) over framebuffer (null: the canvas) in viewport
+// ([x, y, width, height]), with blend (or none), through shower (textureShower's); every
+// binding and switch it changes given back.
+export function showTexture(gl, shower, texture, framebuffer, viewport, blend) {
+  const saved = {
+    framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING), program: gl.getParameter(gl.CURRENT_PROGRAM),
+    vertexArray: gl.getParameter(gl.VERTEX_ARRAY_BINDING), unit: gl.getParameter(gl.ACTIVE_TEXTURE),
+    viewport: gl.getParameter(gl.VIEWPORT), blend: blendOf(gl),
+    switches: [gl.DEPTH_TEST, gl.CULL_FACE, gl.STENCIL_TEST, gl.RASTERIZER_DISCARD, gl.SCISSOR_TEST].map((s) => [s, gl.isEnabled(s)]),
+  };
+  gl.activeTexture(gl.TEXTURE0);
+  const bound = gl.getParameter(gl.TEXTURE_BINDING_2D);
+  gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, framebuffer);
+  gl.viewport(...viewport);
+  gl.useProgram(shower.program);
+  gl.bindVertexArray(shower.vertexArray);
+  gl.bindTexture(gl.TEXTURE_2D, texture);
+  gl.uniform1i(gl.getUniformLocation(shower.program, 'image'), 0);
+  gl.uniform2i(gl.getUniformLocation(shower.program, 'origin'), viewport[0], viewport[1]);
+  setBlend(gl, blend || { ...saved.blend, on: false });
+  for (const [s] of saved.switches) gl.disable(s);
+  Object.getPrototypeOf(gl).drawArrays.call(gl, gl.TRIANGLES, 0, 3);
+  gl.bindTexture(gl.TEXTURE_2D, bound);
+  gl.activeTexture(saved.unit);
+  for (const [s, on] of saved.switches) (on ? gl.enable : gl.disable).call(gl, s);
+  setBlend(gl, saved.blend);
+  gl.viewport(...saved.viewport);
+  gl.bindVertexArray(saved.vertexArray);
+  gl.useProgram(saved.program);
+  gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, saved.framebuffer);
+}
+
 // The host uniform through which the feature_halo stage reads the halo buffer.
 export const FEATURE_BUFFER_UNIFORM = 'halo_host_feature_buffer';
 // outline_feature's segmentation (a sampler3D), read only for features with a label

@@ -32,12 +32,15 @@ export interface InstallOptions {
   interval?: number;               // ... M, planes a depth segment (default the scene's)
   fieldMaxBytes?: number;          // the cap on the halo field (default libhalo's)
   imageScale?: 1 | 2 | 4;          // halo images at 1/S per side; without it a field over the cap is linked at 1/2, then 1/4
+  three?: any;                     // the THREE module: outlines' render targets (required for a scene with outlines)
 }
 
 export interface Installed {
   readonly program: Program;     // the one drawn now (another after a field over its cap)
   set(name: string, value: number | boolean | number[] | number[][]): void;
-  // renderer.render, with volumetric halos the frame's halo field first (host contract 3)
+  // renderer.render, with volumetric halos the frame's halo field first (host contract 3); with
+  // outlines the scene under the caster, the caster with its outputs, the passes after the draw,
+  // then the objects of a greater renderOrder than the caster's over them
   render(renderer: any, scene: any, camera: any): void;
   remove(): void;
 }

@@ -14,9 +14,13 @@
 // the frame's halo field with libhalo's GL runtime (WebAssembly, on three's WebGL 2
 // context) and then lets three draw once. Feature halos: stages.render splats the halo
 // buffer with libhalo's runtime from the volume texture's data (again when the view
-// direction changes) and binds it on the context's last texture unit. Scenes with extra
-// outputs (outlines: further render targets and passes after the draw) are refused,
-// naming the stages.
+// direction changes) and binds it on the context's last texture unit. Outlines (the
+// stages' extra outputs and the passes after the draw; installHalo's options.three, the
+// THREE module, makes their render targets): stages.render draws the scene without the
+// caster, then the caster alone, once, into a render target of its image and the stages'
+// outputs, puts its image over the frame (as three would have drawn it), and replaces the
+// frame's image with the passes' result over it. The objects with a greater renderOrder than
+// the caster's (overlays) are drawn over that; the rest of the scene under the caster.
 //
 //   import * as THREE from 'three';
 //   import libhalo from '@libhalo/web';
@@ -35,6 +39,8 @@
 // colour, opacity per unit step); depth is 0 at the front of the volume's bounding sphere
 // and 1 at its back, as in examples/hosts/raycast.frag, with which it is compared in the
 // browser tests (tests/adapters/web/browser.mjs).
+
+import { showTexture, textureShower } from './libhalo.mjs';
 
 export const MARKERS = Object.freeze({
   declarations: '//halo:declarations',
@@ -193,7 +199,8 @@ function uniformValue(type, values) {
 // interval (M, planes a depth segment; default the scene's), fieldMaxBytes (the cap on the
 // halo field; libhalo's default) and imageScale (the halo images at 1/2 or 1/4 of the frame
 // per side; without it a field over the cap is linked again at 1/2, then 1/4, with a
-// warning). Returns { program (the one drawn now), set(name, value), render(renderer,
+// warning); three (the THREE module) for a scene with outlines. Returns { program (the one
+// drawn now), set(name, value), render(renderer,
 // scene, camera), remove() }; throws a HaloError with file:line:col on a scene error or a
 // refused scene.
 export function installHalo(halo, material, options = {}) {
@@ -205,9 +212,16 @@ export function installHalo(halo, material, options = {}) {
         "end of its ray loop (three's VolumeShader, MIP and isosurfaces only, composites no samples)");
   if (material.glslVersion !== '300 es')
     throw new Error('installHalo: the material must be GLSL 3 (glslVersion: THREE.GLSL3): the pieces are GLSL ES 300');
-  let { program, field, features } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+  let { program, field, features, outlines } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
     allLive: options.allLive, imageScale: options.imageScale, pieces: { ...CASTER_NAMES, ...(options.names || {}) } },
-  'three.js', ['halo_host_feature_buffer']);
+  'three.js', ['halo_host_feature_buffer'], { outlines: true });
+  const THREE = options.three;
+  if (outlines && !(THREE && typeof THREE.WebGLRenderTarget === 'function')) {
+    const stages = (program.reflection.stages || []).map((s) => (typeof s === 'string' ? s : s.name)).join(', ');
+    program.destroy();
+    throw new Error(`installHalo: the scene's stages (${stages}) draw outlines, which need render targets of their own: ` +
+      'pass options.three, the THREE module (import * as THREE from \'three\')');
+  }
   const uniforms = [];
   // the program's pieces into the material's shader, its live parameters' values (those set
   // since the install: the program's) into the material's uniforms
@@ -237,6 +251,7 @@ export function installHalo(halo, material, options = {}) {
   };
   put();
   let frame = null; // libhalo's GL runtime for the field, made on the first render
+  let own = null; // outlines: three's render targets of the caster's image and outputs, and of the whole image
   let feature = null; // the feature halos' buffer, made on the first render
   let compiledVersion = -1; // the material's version three last compiled for render
   const stages = {
@@ -262,7 +277,7 @@ export function installHalo(halo, material, options = {}) {
     // spans the volume's texture space in world units; the volume and the step are the
     // material's uniforms named by options.volume ('u_volume') and options.step ('u_step').
     render(renderer, scene, camera) {
-      if (!field && !features) {
+      if (!field && !features && !outlines) {
         renderer.render(scene, camera);
         return;
       }
@@ -305,10 +320,31 @@ export function installHalo(halo, material, options = {}) {
         renderer.resetState(); // three's caches: the program and texture unit changed under them
         renderer.setRenderTarget(target);
       }
-      if (!field) {
+      if (!field && !outlines) {
         renderer.render(scene, camera);
         return;
       }
+      const framebuffer = target ? renderer.properties.get(target).__webglFramebuffer : null;
+      // outlines: the scene's layers under the caster (drawn as three draws them), the caster
+      // alone into a target of its own, its image and the stages' outputs (drawOutlined), put
+      // over them, the passes after the draw over that, then the objects over the caster
+      const layers = outlines ? outlineLayers(scene, material) : null;
+      if (layers) {
+        const attachments = 1 + Math.max(0, ...(program.reflection.outputs || []).map((o) => o.location));
+        own = outlineTargets(THREE, own, width, height, target, attachments);
+        drawWithout(renderer, scene, camera, [...layers.casters, ...layers.over], false);
+        renderer.setRenderTarget(own.caster); // three makes its framebuffer
+      }
+      const drawOutlined = () => { // over transparent black: what the caster leaves undrawn lets the scene through
+        gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, 0]);
+        const autoClear = renderer.autoClear;
+        renderer.autoClear = false; // three's clear would clear the stages' outputs too
+        try {
+          for (const o of layers.casters) renderer.render(o, camera);
+        } finally {
+          renderer.autoClear = autoClear;
+        }
+      };
       const kept = frame;
       frame = null;
       frame = halo.frameOfSize(kept, gl, program, width, height);
@@ -317,10 +353,16 @@ export function installHalo(halo, material, options = {}) {
       try {
         frame.draw({
           program: glProgram, volume: glVolume, volumeSize: [volume.image.width, volume.image.height, volume.image.depth],
-          volumeVersion: volume.version, framebuffer: target ? renderer.properties.get(target).__webglFramebuffer : null,
+          volumeVersion: volume.version, framebuffer: own ? renderer.properties.get(own.caster).__webglFramebuffer : framebuffer,
           inverseViewProjection: inverse.elements, step, interval: options.interval, fieldMaxBytes: options.fieldMaxBytes,
-          draw: () => renderer.render(scene, camera),
+          draw: own ? drawOutlined : () => renderer.render(scene, camera),
         });
+        if (layers) {
+          showOutlined(gl, own, frame, renderer, framebuffer, width, height);
+          renderer.resetState();
+          renderer.setRenderTarget(target);
+          if (layers.over.length) drawWithout(renderer, scene, camera, layers.under, true);
+        }
       } catch (e) { // the field over its cap: the scene at a smaller halo scale, drawn at once
         if (!(smaller = halo.smallerProgram(program, e))) throw e;
       } finally {
@@ -351,8 +393,92 @@ export function installHalo(halo, material, options = {}) {
       frame = null;
       if (feature) feature.destroy();
       feature = null;
+      if (own) outlineTargets(THREE, own, 0, 0, null, 0);
+      own = null;
       program.destroy();
     },
   };
   return stages;
+}
+
+// Outlines' render targets for a width x height frame drawn into target (null: the canvas),
+// made again over old when they differ (0 x 0: old's freed, null): caster, the caster's image
+// (RGBA32F: its output as it is) and, at attachments 1 to attachments - 1, the stages'
+// outputs (libhalo attaches its own textures there for the draw); whole, a copy of the
+// frame's whole image in the target's format, which the passes after the draw read; shower,
+// the program that shows a texture.
+function outlineTargets(THREE, old, width, height, target, attachments) {
+  const type = target ? target.texture.type : THREE.UnsignedByteType;
+  if (old && old.width === width && old.height === height && old.type === type && old.attachments === attachments)
+    return old;
+  if (old) {
+    old.caster.dispose();
+    old.whole.dispose();
+    if (!width) textureShower(old.gl, old.shower, false);
+  }
+  if (!width) return null;
+  const options = { depthBuffer: false, minFilter: THREE.NearestFilter, magFilter: THREE.NearestFilter,
+    generateMipmaps: false };
+  const caster = new THREE.WebGLRenderTarget(width, height, { ...options, type: THREE.FloatType, count: attachments });
+  if (!Array.isArray(caster.textures) || caster.textures.length !== attachments) {
+    caster.dispose();
+    throw new Error(`outlines: this three.js (r${THREE.REVISION}) makes no render target of several textures ` +
+      '(WebGLRenderTarget\'s count, three r163 and later)');
+  }
+  return { width, height, type, attachments, gl: old && old.gl, shower: old && old.shower, caster,
+    whole: new THREE.WebGLRenderTarget(width, height, { ...options, type }) };
+}
+
+// A scene's layers around the caster (the objects drawn with material): casters; over, the
+// objects three draws after them (a greater renderOrder: overlays); under, every other visible
+// object, drawn before them.
+function outlineLayers(scene, material) {
+  const casters = [], over = [], under = [];
+  scene.traverseVisible((o) => { if (o.material === material) casters.push(o); });
+  const order = Math.max(...casters.map((o) => o.renderOrder));
+  scene.traverseVisible((o) => {
+    if (o.material !== material && (o.isMesh || o.isLine || o.isPoints || o.isSprite)) (o.renderOrder > order ? over : under).push(o);
+  });
+  return { casters, over, under };
+}
+
+// The scene drawn by three without the objects hidden; onTop: over the target as it is (no
+// clear, no background).
+function drawWithout(renderer, scene, camera, hidden, onTop) {
+  const { autoClear } = renderer, { background } = scene;
+  for (const o of hidden) o.visible = false;
+  if (onTop) {
+    renderer.autoClear = false;
+    scene.background = null; // a colour background clears the target, whatever autoClear says
+  }
+  try {
+    renderer.render(scene, camera);
+  } finally {
+    for (const o of hidden) o.visible = true;
+    renderer.autoClear = autoClear;
+    scene.background = background;
+  }
+}
+
+// After frame.draw into own.caster: its image over the frame (as three would have drawn the
+// caster, opaque where it drew), the frame's whole image copied, the passes after the draw
+// over it (frame.post), and their result as the frame's image. Three's state is reset after.
+function showOutlined(gl, own, frame, renderer, framebuffer, width, height) {
+  const texture = (t) => renderer.properties.get(t).__webglTexture;
+  renderer.setRenderTarget(own.whole); // three makes its framebuffer and texture
+  renderer.resetState();
+  own.gl = gl;
+  own.shower = textureShower(gl, own.shower);
+  const viewport = [0, 0, width, height];
+  const over = { on: true, equation: [gl.FUNC_ADD, gl.FUNC_ADD], func: [gl.ONE, gl.ONE_MINUS_SRC_ALPHA, gl.ONE, gl.ONE_MINUS_SRC_ALPHA] };
+  showTexture(gl, own.shower, texture(own.caster.textures[0]), framebuffer, viewport, over);
+  const reading = gl.getParameter(gl.READ_FRAMEBUFFER_BINDING), drawing = gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING);
+  gl.bindFramebuffer(gl.READ_FRAMEBUFFER, framebuffer); // the frame's whole image (resolved when multisampled)
+  gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, renderer.properties.get(own.whole).__webglFramebuffer);
+  gl.blitFramebuffer(0, 0, width, height, 0, 0, width, height, gl.COLOR_BUFFER_BIT, gl.NEAREST);
+  gl.bindFramebuffer(gl.READ_FRAMEBUFFER, reading);
+  gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, drawing);
+  const error = gl.getError();
+  if (error) throw new Error(`outlines: the frame's image could not be copied for the passes after the draw (WebGL error 0x${error.toString(16)})`);
+  showTexture(gl, own.shower, frame.post(texture(own.whole.texture)), framebuffer, viewport, null);
 }

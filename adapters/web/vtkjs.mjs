@@ -33,6 +33,8 @@
 // volume's centre to vtk.js's eye (in voxel space; again when it turns), bound on a unit of
 // its own.
 
+import { blendOf, showTexture, textureShower } from './libhalo.mjs';
+
 export const SUPPORTED_VERSIONS = Object.freeze(['37.3.1']);
 
 const VALUE_SAMPLER = 'halo_vtkjs_value';
@@ -241,29 +243,15 @@ function unhookContext(proxy) {
   hooks.delete(gl);
 }
 
-// The blend vtk.js set for its draw (WebGL 2: one for all draw buffers).
-function blendOf(gl) {
-  return { on: gl.isEnabled(gl.BLEND), equation: [gl.BLEND_EQUATION_RGB, gl.BLEND_EQUATION_ALPHA].map((p) => gl.getParameter(p)),
-    func: [gl.BLEND_SRC_RGB, gl.BLEND_DST_RGB, gl.BLEND_SRC_ALPHA, gl.BLEND_DST_ALPHA].map((p) => gl.getParameter(p)) };
-}
-function setBlend(gl, b) {
-  (b.on ? gl.enable : gl.disable).call(gl, gl.BLEND);
-  gl.blendEquationSeparate(...b.equation);
-  gl.blendFuncSeparate(...b.func);
-}
-
 // Outlines' GL objects for a width x height view (made again over old, whose objects go; 0 x
 // 0: only freed): the framebuffer vtk.js's volume is drawn into (its colour RGBA32F: vtk.js's
 // output as it is), an RGBA8 copy of vtk.js's whole image (a blit's target: the canvas is
-// RGBA8) and the program that shows a texture.
+// RGBA8) and the program that shows a texture (libhalo.mjs's textureShower).
 function outlineTargets(gl, old, width, height) {
   if (old) {
     for (const t of [old.color, old.hostColor]) gl.deleteTexture(t);
     for (const f of [old.framebuffer, old.copyFramebuffer]) gl.deleteFramebuffer(f);
-    if (!width) {
-      gl.deleteProgram(old.program);
-      gl.deleteVertexArray(old.vertexArray);
-    }
+    if (!width) textureShower(gl, old.shower, false);
   }
   if (!width) return null;
   const texture = (format, type) => {
@@ -287,61 +275,8 @@ function outlineTargets(gl, old, width, height) {
   const own = { width, height, color: texture(gl.RGBA32F), hostColor: texture(gl.RGBA8) };
   own.framebuffer = framebuffer(own.color);
   own.copyFramebuffer = framebuffer(own.hostColor);
-  if (old && gl.isProgram(old.program) && gl.isVertexArray(old.vertexArray)) { // not after a lost context
-    own.program = old.program;
-    own.vertexArray = old.vertexArray;
-  } else { // a triangle over the viewport, each pixel the texture's texel
-    const shader = (type, text) => {
-      const x = gl.createShader(type);
-      gl.shaderSource(x, text);
-      gl.compileShader(x);
-      return x;
-    };
-    const vertex = shader(gl.VERTEX_SHADER, '#version 300 es\nvoid main() {\n  vec2 p = vec2(gl_VertexID == 1 ? 3.0 : -1.0, ' +
-      'gl_VertexID == 2 ? 3.0 : -1.0);\n  gl_Position = vec4(p, 0.0, 1.0);\n}\n');
-    const fragment = shader(gl.FRAGMENT_SHADER, '#version 300 es\nprecision highp float;\nuniform highp sampler2D image;\n' +
-      'out vec4 color;\nvoid main() { color = texelFetch(image, ivec2(gl_FragCoord.xy), 0); }\n');
-    own.program = gl.createProgram();
-    gl.attachShader(own.program, vertex);
-    gl.attachShader(own.program, fragment);
-    gl.linkProgram(own.program);
-    gl.deleteShader(vertex);
-    gl.deleteShader(fragment);
-    if (!gl.getProgramParameter(own.program, gl.LINK_STATUS))
-      throw new Error(`outlines: the program showing their image did not link: ${gl.getProgramInfoLog(own.program)}`);
-    own.vertexArray = gl.createVertexArray();
-  }
+  own.shower = textureShower(gl, old && old.shower); // not after a lost context: made again
   return own;
-}
-
-// Draws texture (the view's size) over framebuffer in viewport, with blend (or none); every
-// binding and switch it changes given back.
-function show(gl, own, texture, framebuffer, viewport, blend) {
-  const saved = {
-    framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING), program: gl.getParameter(gl.CURRENT_PROGRAM),
-    vertexArray: gl.getParameter(gl.VERTEX_ARRAY_BINDING), unit: gl.getParameter(gl.ACTIVE_TEXTURE),
-    viewport: gl.getParameter(gl.VIEWPORT), blend: blendOf(gl),
-    switches: [gl.DEPTH_TEST, gl.CULL_FACE, gl.STENCIL_TEST, gl.RASTERIZER_DISCARD].map((s) => [s, gl.isEnabled(s)]),
-  };
-  gl.activeTexture(gl.TEXTURE0);
-  const bound = gl.getParameter(gl.TEXTURE_BINDING_2D);
-  gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, framebuffer);
-  gl.viewport(...viewport);
-  gl.useProgram(own.program);
-  gl.bindVertexArray(own.vertexArray);
-  gl.bindTexture(gl.TEXTURE_2D, texture);
-  gl.uniform1i(gl.getUniformLocation(own.program, 'image'), 0);
-  setBlend(gl, blend || { ...saved.blend, on: false });
-  for (const [s] of saved.switches) gl.disable(s);
-  Object.getPrototypeOf(gl).drawArrays.call(gl, gl.TRIANGLES, 0, 3);
-  gl.bindTexture(gl.TEXTURE_2D, bound);
-  gl.activeTexture(saved.unit);
-  for (const [s, on] of saved.switches) (on ? gl.enable : gl.disable).call(gl, s);
-  setBlend(gl, saved.blend);
-  gl.viewport(...saved.viewport);
-  gl.bindVertexArray(saved.vertexArray);
-  gl.useProgram(saved.program);
-  gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, saved.framebuffer);
 }
 
 // Puts the scene's stages into mapper's volume shader. options: view (the
@@ -530,7 +465,7 @@ export function installHalo(halo, mapper, options = {}) {
       raw.clearBufferfv(raw.COLOR, 0, [0, 0, 0, 0]); // what vtk.js's draw leaves outside its proxy: blends as nothing
       drawVtk();
     } });
-    show(raw, own, own.color, target, viewport, blend); // the volume, as vtk.js would have blended it
+    showTexture(raw, own.shower, own.color, target, viewport, blend); // the volume, as vtk.js would have blended it
     if (!whole) {
       warnOnce(`outlines are left out of the frames vtk.js draws at ${width}x${height} (its reduced viewport while ` +
         `interacting, or a renderer smaller than the canvas's ${raw.drawingBufferWidth}x${raw.drawingBufferHeight}): ` +
@@ -545,7 +480,7 @@ export function installHalo(halo, mapper, options = {}) {
     raw.bindFramebuffer(raw.DRAW_FRAMEBUFFER, drawing);
     const error = raw.getError();
     if (error) throw new Error(`outlines: vtk.js's image could not be copied for the passes after the draw (WebGL error 0x${error.toString(16)})`);
-    show(raw, own, frame.post(own.hostColor), target, viewport, null);
+    showTexture(raw, own.shower, frame.post(own.hostColor), target, viewport, null);
   }
 
   function release() { // libhalo's GL objects and units (the stages' uniforms in vtk.js's programs stay)
