@@ -142,7 +142,7 @@ test('a WebGL compile log maps to the modules', () => {
   assert.deepEqual(program.mapLine(1), { file: 'raycast.frag', line: 1 });
 });
 
-test('installHalo: volumetric halos through the field (host contract 3), outlines refused by name', async () => {
+test('installHalo: volumetric halos through the field (host contract 3), outlines with the THREE module', async () => {
   const { installHalo, MARKERS } = await import(path.resolve(process.env.HALO_WEB_PACKAGE, 'three.mjs'));
   const material = () => ({ glslVersion: '300 es', uniforms: {},
     fragmentShader: `${MARKERS.declarations}\nvoid main() {\n${MARKERS.sample}\n${MARKERS.finish}\n}\n` });
@@ -154,8 +154,13 @@ test('installHalo: volumetric halos through the field (host contract 3), outline
   assert.ok(halos.uniforms.halo_host_screen_right && halos.uniforms.halo_host_screen_up);
   stages.remove();
   assert.equal(halos.uniforms.halo_host_screen_right, undefined);
+  // outlines: served with the THREE module (their render targets); without it refused, saying so
   assert.throws(() => installHalo(halo, material(), { scene: scene('outline-depth.json') }),
-    /outlines.*extra outputs.*serves per-sample stages, volumetric halos, feature halos\)/);
+    /stages \(.*outlines\) draw outlines, which need render targets of their own: pass options\.three/);
+  const outlined = material();
+  const outlineStages = installHalo(halo, outlined, { scene: scene('outline-depth.json'), three: { WebGLRenderTarget() {} } });
+  assert.ok(outlineStages.program.reflection.outputs.length > 0, 'the outputs are linked');
+  outlineStages.remove();
   // feature halos: served (the halo buffer is splatted at render), the stage reads it
   const features = material();
   const featureStages = installHalo(halo, features, { scene: scene('feature-halos.json') });
