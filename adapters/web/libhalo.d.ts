@@ -95,6 +95,10 @@ export interface Frame {
 export interface Blend { on: boolean; equation: number[]; func: number[] }
 export function blendOf(gl: WebGL2RenderingContext): Blend;
 export function setBlend(gl: WebGL2RenderingContext, blend: Blend): void;
+// a width x height texture of format and a framebuffer with it as its colour; deleteColorTarget frees them
+export interface ColorTarget { texture: WebGLTexture; framebuffer: WebGLFramebuffer }
+export function colorTarget(gl: WebGL2RenderingContext, format: number, width: number, height: number): ColorTarget;
+export function deleteColorTarget(gl: WebGL2RenderingContext, target: ColorTarget | null): void;
 export interface TextureShower { program: WebGLProgram; vertexArray: WebGLVertexArrayObject }
 // old when still alive on gl, else made; keep false: old's objects deleted, null returned
 export function textureShower(gl: WebGL2RenderingContext, old?: TextureShower | null, keep?: boolean): TextureShower | null;

@@ -403,6 +403,28 @@ export function setBlend(gl, b) {
   gl.blendFuncSeparate(...b.func);
 }
 
+// A width x height texture of format (nearest filtering) and a framebuffer with it as its
+// colour: { texture, framebuffer }; the bindings it changes given back. deleteColorTarget
+// frees one (null: nothing).
+export function colorTarget(gl, format, width, height) {
+  const texture = gl.createTexture(), boundTexture = gl.getParameter(gl.TEXTURE_BINDING_2D);
+  gl.bindTexture(gl.TEXTURE_2D, texture);
+  gl.texStorage2D(gl.TEXTURE_2D, 1, format, width, height);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+  gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+  gl.bindTexture(gl.TEXTURE_2D, boundTexture);
+  const framebuffer = gl.createFramebuffer(), boundFramebuffer = gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING);
+  gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, framebuffer);
+  gl.framebufferTexture2D(gl.DRAW_FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, texture, 0);
+  gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, boundFramebuffer);
+  return { texture, framebuffer };
+}
+export function deleteColorTarget(gl, target) {
+  if (!target) return;
+  gl.deleteFramebuffer(target.framebuffer);
+  gl.deleteTexture(target.texture);
+}
+
 // The program (and its empty vertex array) that showTexture draws with: old when it is still
 // one on gl (not after a lost context), else made; keep false: old's objects deleted, null.
 export function textureShower(gl, old, keep = true) {

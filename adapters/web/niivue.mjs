@@ -25,8 +25,14 @@
 // adapter turns off NiiVue's fast empty-space pass (halos land in empty space). Feature
 // halos: libhalo's runtime splats the halo buffer from the float copy (again when it is made
 // anew), for the view from the volume's centre to the eye in voxel space (again when it
-// turns), bound two units below firstUnit. Outlines (extra outputs, passes after the draw)
-// are refused, naming the stages.
+// turns), bound two units below firstUnit. Outlines (the stages' extra outputs and the
+// passes after the draw): NiiVue's volume is drawn into libhalo's target (its colour, RGBA32F,
+// and the outputs, unblended; NiiVue's rays run to their end, the outputs need hidden samples
+// too), put over NiiVue's framebuffer with the blend NiiVue set for it, and the passes after
+// the draw run over a copy of the 3D view's image, whose result replaces it; what NiiVue
+// draws after its volume (crosshairs, meshes, the orientation cube) comes over that.
+
+import { blendOf, colorTarget, deleteColorTarget, setBlend, showTexture, textureShower } from './libhalo.mjs';
 
 export const SUPPORTED_VERSIONS = Object.freeze(['0.69.0']);
 
@@ -37,6 +43,11 @@ const ANCHORS = Object.freeze({
   finish: '\tif (firstHit.a < len)\n\t\tbackNearest = firstHit.a;',
   fastPass: 'float val = texture(volume, samplePos.xyz).a;',
 });
+// With outlines: the fragment output declared at location 0 (the outputs take 1 on), and the
+// ray's early termination waits for HALO_RAY_MAY_END (docs/host-contract.md)
+const OUTPUT = 'out vec4 fColor;\n';
+const TERMINATION = 'if ( colAcc.a > earlyTermination )\n';
+const MAIN = 'void main() {';
 
 const VALUE_SAMPLER = 'halo_niivue_value';
 const FEATURE_BUFFER = 'halo_host_feature_buffer'; // the feature_halo stage's host uniform
@@ -163,6 +174,34 @@ function textureToMm(image) {
     z[0] - o[0], z[1] - o[1], z[2] - o[2], 0, o[0], o[1], o[2], 1);
 }
 
+// Outlines' GL objects for a width x height 3D view drawn into target (null: the canvas),
+// made again over old when they differ (0 x 0: old's freed, null): volume, the target NiiVue's
+// volume is drawn into (its colour RGBA32F, as its shader writes it; libhalo attaches the
+// outputs); view, the 3D view's image copied in target's format (RGBA8, or RGBA32F for a float
+// target), which the passes after the draw read; shower, the program that shows a texture.
+function outlineTargets(gl, old, width, height, target) {
+  let float = false;
+  if (width && target) {
+    const reading = gl.getParameter(gl.READ_FRAMEBUFFER_BINDING);
+    gl.bindFramebuffer(gl.READ_FRAMEBUFFER, target);
+    float = gl.getFramebufferAttachmentParameter(gl.READ_FRAMEBUFFER, gl.COLOR_ATTACHMENT0,
+      gl.FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE) === gl.FLOAT;
+    gl.bindFramebuffer(gl.READ_FRAMEBUFFER, reading);
+  }
+  if (old && old.width === width && old.height === height && old.float === float && gl.isTexture(old.volume.texture))
+    return old;
+  if (old) {
+    deleteColorTarget(gl, old.volume);
+    deleteColorTarget(gl, old.view);
+    if (!width) textureShower(gl, old.shower, false);
+  }
+  if (!width) return null;
+  if (!gl.getExtension('EXT_color_buffer_float'))
+    throw new Error('outlines: this WebGL 2 context cannot render into float textures (EXT_color_buffer_float)');
+  return { width, height, float, volume: colorTarget(gl, gl.RGBA32F, width, height),
+    view: colorTarget(gl, float ? gl.RGBA32F : gl.RGBA8, width, height), shower: textureShower(gl, old && old.shower) };
+}
+
 // Puts the scene's stages into nv's volume render shader. options: scene (JSON text or
 // object), sceneFile, interval (M for halos; default the scene's), firstUnit (libhalo's
 // textures from this unit on: 20; the value copy is one below, the feature buffer two), allLive,
@@ -181,8 +220,15 @@ export function installHalo(halo, nv, options = {}) {
       throw new Error(`installHalo: NiiVue's render shader has no '${anchor.trim()}' (the ${what} anchor): a NiiVue ` +
         `version this adapter does not know (supported: ${SUPPORTED_VERSIONS.join(', ')})`);
   if (nv[INSTALLED]) throw new Error('installHalo: this NiiVue already has libhalo\'s stages: remove() them first');
-  let { program, field, features } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
-    allLive: options.allLive, imageScale: options.imageScale, pieces: NIIVUE_NAMES }, 'NiiVue', [FEATURE_BUFFER]);
+  let { program, field, features, outlines } = halo.linkForEngine({ scene: options.scene, sceneFile: options.sceneFile,
+    allLive: options.allLive, imageScale: options.imageScale, pieces: NIIVUE_NAMES }, 'NiiVue', [FEATURE_BUFFER],
+  { outlines: true });
+  const missing = [OUTPUT, TERMINATION, MAIN].find((anchor) => !fragment.includes(anchor));
+  if (outlines && missing) {
+    program.destroy();
+    throw new Error(`installHalo: NiiVue's render shader has no '${missing.trim()}' ` +
+      `(where outlines change it): a NiiVue version this adapter does not know (supported: ${SUPPORTED_VERSIONS.join(', ')})`);
+  }
   // NiiVue's shader with the program's pieces, NiiVue's uniform values copied from its
   // program from, the live parameters' values (all that were set) uploaded
   const stage = (from) => {
@@ -193,6 +239,15 @@ export function installHalo(halo, nv, options = {}) {
       .replace(ANCHORS.finish, `${program.pieces.finish || ''}\n${ANCHORS.finish}`);
     if (field) // halos land in empty space: no fast pass to the first opaque sample
       text = text.replace(ANCHORS.fastPass, 'float val = 1.0; // libhalo: halos land in empty space');
+    if (outlines) { // the outputs at locations 1 on; they need every sample of a ray, hidden ones too
+      text = text.replace(OUTPUT, `layout(location = 0) ${OUTPUT}`)
+        .replace(TERMINATION, 'if ( colAcc.a > earlyTermination && HALO_RAY_MAY_END != 0 ) // libhalo\n');
+      // a ray NiiVue ends before its loop (too short, nothing to sample) writes the outputs too
+      // (as none: unwritten, a draw buffer's value is undefined, and a feature appeared there)
+      const main = text.indexOf(MAIN), end = text.indexOf(ANCHORS.finish, main);
+      text = text.slice(0, main) + text.slice(main, end).replace(/\breturn;/g, `{ ${(program.pieces.finish || '').trim()} return; }`) +
+        text.slice(end);
+    }
     let made;
     try {
       made = new shader.constructor(gl, vertex, text);
@@ -231,6 +286,7 @@ export function installHalo(halo, nv, options = {}) {
   const ownDraw = Object.prototype.hasOwnProperty.call(nv, 'drawImage3D') ? nv.drawImage3D : null;
   const niivueDraw = ownDraw || Object.getPrototypeOf(nv).drawImage3D;
   let frame = null, feature = null, warned = new Set(), version = 0;
+  let own = null; // outlines: libhalo's target for NiiVue's volume, the copy of the 3D view, the shower
   let relinkFailed = false; // a field over its cap could not be linked again: no more tries
   let volumeKey = [nv.back, nv.back.cal_min, nv.back.cal_max, nv.back.frame4D];
   let mmFromTexture = textureToMm(nv.back);
@@ -278,7 +334,8 @@ export function installHalo(halo, nv, options = {}) {
     const current = gl.getParameter(gl.CURRENT_PROGRAM);
     gl.useProgram(staged.program);
     gl.uniform1i(gl.getUniformLocation(staged.program, VALUE_SAMPLER), firstUnit - 1);
-    gl.uniform2f(gl.getUniformLocation(staged.program, ORIGIN), x, y);
+    // with outlines NiiVue's volume is drawn at the origin of libhalo's target
+    gl.uniform2f(gl.getUniformLocation(staged.program, ORIGIN), outlines ? 0 : x, outlines ? 0 : y);
     gl.useProgram(current);
     gl.activeTexture(previousUnit);
     const dims = value.dims;
@@ -302,11 +359,50 @@ export function installHalo(halo, nv, options = {}) {
         feature.bind(staged.program, featureUnit);
         gl.useProgram(current);
       }
+      const target = gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING);
+      if (outlines) own = outlineTargets(gl, own, width, height, target);
+      let blend = null; // the blend NiiVue set for its volume (outlines)
+      const drawOutlined = () => { // NiiVue's volume into libhalo's target, unblended, over transparent black
+        gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, 0]);
+        const viewport = gl.getParameter(gl.VIEWPORT);
+        const ownDrawElements = Object.prototype.hasOwnProperty.call(gl, 'drawElements') ? gl.drawElements : null;
+        gl.drawElements = function drawElements(...args) { // NiiVue turns its blend on just before
+          blend = blendOf(gl);
+          gl.disable(gl.BLEND); // one blend for all draw buffers: the outputs are written as they are
+          try {
+            return (ownDrawElements || Object.getPrototypeOf(gl).drawElements).apply(gl, args);
+          } finally {
+            setBlend(gl, blend);
+          }
+        };
+        gl.viewport(0, 0, width, height);
+        try {
+          draw();
+        } finally {
+          if (ownDrawElements) gl.drawElements = ownDrawElements;
+          else delete gl.drawElements;
+          gl.viewport(...viewport);
+        }
+      };
       frame.draw({
         program: staged.program, volume: value.texture, volumeSize: dims, volumeVersion: version,
-        framebuffer: gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING), inverseViewProjection: Float32Array.from(inverse),
-        step: niivueStep(inverse, dims), interval: options.interval, fieldMaxBytes: options.fieldMaxBytes, firstUnit, draw,
+        framebuffer: outlines ? own.volume.framebuffer : target, inverseViewProjection: Float32Array.from(inverse),
+        step: niivueStep(inverse, dims), interval: options.interval, fieldMaxBytes: options.fieldMaxBytes, firstUnit,
+        draw: outlines ? drawOutlined : draw,
       });
+      if (outlines && blend) { // NiiVue drew: its volume as it would have blended it, then the passes over the view
+        const view = [x, y, width, height];
+        showTexture(gl, own.shower, own.volume.texture, target, view, blend);
+        const reading = gl.getParameter(gl.READ_FRAMEBUFFER_BINDING), drawing = gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING);
+        gl.bindFramebuffer(gl.READ_FRAMEBUFFER, target);
+        gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, own.view.framebuffer);
+        gl.blitFramebuffer(x, y, x + width, y + height, 0, 0, width, height, gl.COLOR_BUFFER_BIT, gl.NEAREST);
+        gl.bindFramebuffer(gl.READ_FRAMEBUFFER, reading);
+        gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, drawing);
+        const error = gl.getError();
+        if (error) throw new Error(`outlines: NiiVue's image could not be copied for the passes after the draw (WebGL error 0x${error.toString(16)})`);
+        showTexture(gl, own.shower, frame.post(own.view.texture), target, view, null);
+      }
     } catch (e) {
       let smaller = null;
       try { // not again after a relink that failed: the stages stay off with their one warning
@@ -386,6 +482,8 @@ export function installHalo(halo, nv, options = {}) {
       feature = null;
       if (frame) frame.destroy();
       frame = null;
+      if (own) outlineTargets(gl, own, 0, 0, null);
+      own = null;
       gl.deleteTexture(value.texture);
       if (gl.getParameter(gl.CURRENT_PROGRAM) === staged.program) gl.useProgram(original.program);
       deleteStaged(gl, staged.program);

@@ -33,7 +33,7 @@
 // volume's centre to vtk.js's eye (in voxel space; again when it turns), bound on a unit of
 // its own.
 
-import { blendOf, showTexture, textureShower } from './libhalo.mjs';
+import { blendOf, colorTarget, deleteColorTarget, showTexture, textureShower } from './libhalo.mjs';
 
 export const SUPPORTED_VERSIONS = Object.freeze(['37.3.1']);
 
@@ -244,39 +244,19 @@ function unhookContext(proxy) {
 }
 
 // Outlines' GL objects for a width x height view (made again over old, whose objects go; 0 x
-// 0: only freed): the framebuffer vtk.js's volume is drawn into (its colour RGBA32F: vtk.js's
-// output as it is), an RGBA8 copy of vtk.js's whole image (a blit's target: the canvas is
-// RGBA8) and the program that shows a texture (libhalo.mjs's textureShower).
+// 0: only freed): volume, the target vtk.js's volume is drawn into (its colour RGBA32F: vtk.js's
+// output as it is), whole, an RGBA8 copy of vtk.js's whole image (a blit's target: the canvas
+// is RGBA8), and shower, the program that shows a texture (libhalo.mjs's textureShower).
 function outlineTargets(gl, old, width, height) {
   if (old) {
-    for (const t of [old.color, old.hostColor]) gl.deleteTexture(t);
-    for (const f of [old.framebuffer, old.copyFramebuffer]) gl.deleteFramebuffer(f);
+    deleteColorTarget(gl, old.volume);
+    deleteColorTarget(gl, old.whole);
     if (!width) textureShower(gl, old.shower, false);
   }
   if (!width) return null;
-  const texture = (format, type) => {
-    const t = gl.createTexture();
-    const bound = gl.getParameter(gl.TEXTURE_BINDING_2D);
-    gl.bindTexture(gl.TEXTURE_2D, t);
-    gl.texStorage2D(gl.TEXTURE_2D, 1, format, width, height);
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
-    gl.bindTexture(gl.TEXTURE_2D, bound);
-    return t;
-  };
-  const framebuffer = (t) => {
-    const f = gl.createFramebuffer(), bound = gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING);
-    gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, f);
-    gl.framebufferTexture2D(gl.DRAW_FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, t, 0);
-    gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, bound);
-    return f;
-  };
   if (!gl.getExtension('EXT_color_buffer_float')) throw new Error('outlines: this WebGL 2 context cannot render into float textures (EXT_color_buffer_float)');
-  const own = { width, height, color: texture(gl.RGBA32F), hostColor: texture(gl.RGBA8) };
-  own.framebuffer = framebuffer(own.color);
-  own.copyFramebuffer = framebuffer(own.hostColor);
-  own.shower = textureShower(gl, old && old.shower); // not after a lost context: made again
-  return own;
+  return { width, height, volume: colorTarget(gl, gl.RGBA32F, width, height), whole: colorTarget(gl, gl.RGBA8, width, height),
+    shower: textureShower(gl, old && old.shower) }; // not after a lost context: made again
 }
 
 // Puts the scene's stages into mapper's volume shader. options: view (the
@@ -455,17 +435,17 @@ export function installHalo(halo, mapper, options = {}) {
       throw new Error(`outlines need vtk.js's renderer at the canvas's origin (its viewport starts at ${viewport[0]}, ` +
         `${viewport[1]}): the passes after the draw read whole images`);
     const [width, height] = [viewport[2], viewport[3]];
-    if (!own || own.width !== width || own.height !== height || !raw.isTexture(own.color)) own = outlineTargets(raw, own, width, height);
+    if (!own || own.width !== width || own.height !== height || !raw.isTexture(own.volume.texture)) own = outlineTargets(raw, own, width, height);
     const target = desc.framebuffer;
     // vtk.js's whole image: its renderer covers the canvas (not its reduced viewport while the
     // user interacts, a framebuffer of its own holding the volume alone)
     const whole = width === raw.drawingBufferWidth && height === raw.drawingBufferHeight;
     const blend = blendOf(raw);
-    frame.draw({ ...desc, framebuffer: own.framebuffer, draw: () => {
+    frame.draw({ ...desc, framebuffer: own.volume.framebuffer, draw: () => {
       raw.clearBufferfv(raw.COLOR, 0, [0, 0, 0, 0]); // what vtk.js's draw leaves outside its proxy: blends as nothing
       drawVtk();
     } });
-    showTexture(raw, own.shower, own.color, target, viewport, blend); // the volume, as vtk.js would have blended it
+    showTexture(raw, own.shower, own.volume.texture, target, viewport, blend); // the volume, as vtk.js would have blended it
     if (!whole) {
       warnOnce(`outlines are left out of the frames vtk.js draws at ${width}x${height} (its reduced viewport while ` +
         `interacting, or a renderer smaller than the canvas's ${raw.drawingBufferWidth}x${raw.drawingBufferHeight}): ` +
@@ -474,13 +454,13 @@ export function installHalo(halo, mapper, options = {}) {
     }
     const reading = raw.getParameter(raw.READ_FRAMEBUFFER_BINDING), drawing = raw.getParameter(raw.DRAW_FRAMEBUFFER_BINDING);
     raw.bindFramebuffer(raw.READ_FRAMEBUFFER, target); // vtk.js's whole image (resolved when multisampled)
-    raw.bindFramebuffer(raw.DRAW_FRAMEBUFFER, own.copyFramebuffer);
+    raw.bindFramebuffer(raw.DRAW_FRAMEBUFFER, own.whole.framebuffer);
     raw.blitFramebuffer(0, 0, width, height, 0, 0, width, height, raw.COLOR_BUFFER_BIT, raw.NEAREST);
     raw.bindFramebuffer(raw.READ_FRAMEBUFFER, reading);
     raw.bindFramebuffer(raw.DRAW_FRAMEBUFFER, drawing);
     const error = raw.getError();
     if (error) throw new Error(`outlines: vtk.js's image could not be copied for the passes after the draw (WebGL error 0x${error.toString(16)})`);
-    showTexture(raw, own.shower, frame.post(own.hostColor), target, viewport, null);
+    showTexture(raw, own.shower, frame.post(own.whole.texture), target, viewport, null);
   }
 
   function release() { // libhalo's GL objects and units (the stages' uniforms in vtk.js's programs stay)

@@ -191,7 +191,7 @@ async function demo(page, volume) {
 }
 
 const ENGINES = {
-  niivue: { page: 'niivue.html', module: '@niivue/niivue', name: 'NiiVue' },
+  niivue: { page: 'niivue.html', module: '@niivue/niivue', name: 'NiiVue', outlines: true },
   vtkjs: { page: 'vtkjs.html', module: 'vtk.js', name: 'vtk.js', match: true, outlines: true },
 };
 async function engine(page, dir, which) {
@@ -251,6 +251,43 @@ async function engine(page, dir, which) {
     if (!(effect.mean > EFFECT / 4)) fail(`${name}: the feature halos change the image by only ${effect.mean}`);
     if (!(effect.mean >= theirs / 2 && effect.mean <= 2 * theirs))
       fail(`${name}: the feature halos change the image by ${effect.mean}, not within half and twice halo-render's ${theirs}`);
+  }
+  if (outlined && !stagesDir) {
+    // a viewer that cannot be set up as raycast.frag (NiiVue): its outlines' lines against
+    // halo-render's, by count, on the scene's background as halo-render draws it: the pixels
+    // the outlines make dark (every channel under 0.15) that were not (one at 0.3 or more);
+    // NiiVue's view is another, so the count must be within half and twice halo-render's
+    const image = (d) => new Float32Array(fs.readFileSync(path.join(d, 'image.f32')).buffer.slice(0)).map((v) => (v > 0 ? (v < 1 ? v : 1) : 0));
+    const lines = (before, after) => {
+      let n = 0;
+      for (let k = 0; k < after.length; k += 4)
+        n += Math.max(after[k], after[k + 1], after[k + 2]) < 0.15 && Math.max(before[k], before[k + 1], before[k + 2]) >= 0.3;
+      return n;
+    };
+    const sceneJson = JSON.parse(fs.readFileSync(path.join(outlinesDir, 'scene.json')));
+    const { background } = sceneJson.render;
+    const onBackground = await draw({ scene, background }), outlinedOn = await draw({ scene: 'mri-outlines.json', sceneJson, background });
+    if (process.env.HALO_WEB_SAVE) {
+      savePam(`${which}-outlined-on-background`, outlinedOn.pixels, outlinedOn.width, outlinedOn.height, 255);
+      savePam(`${which}-staged-on-background`, onBackground.pixels, onBackground.width, onBackground.height, 255);
+    }
+    const ours = lines(onBackground.pixels, outlinedOn.pixels), theirs = lines(image(dir), image(outlinesDir));
+    const effect = difference(outlinedOn.pixels, onBackground.pixels);
+    console.log(`${name}: outlines: ${ours} pixels of lines (halo-render's image: ${theirs}; within half and twice it), ` +
+      `mean abs ${effect.mean.toExponential(3)} against its stages and halos without them; draw and read back ` +
+      `${outlined.drawMs.toFixed(1)} ms with them, ${staged.drawMs.toFixed(1)} ms without (the camera turning between frames)`);
+    if (!(theirs > 0 && ours >= theirs / 2 && ours <= 2 * theirs))
+      fail(`${name}: the outlines draw ${ours} pixels of lines, not within half and twice halo-render's ${theirs}`);
+    // where the view is the background alone (its rays saw nothing), the outlines change nothing:
+    // no feature where there is none (a ray NiiVue ends early writes the outputs too)
+    let empty = 0, changed = 0;
+    for (let k = 0; k < onBackground.pixels.length; k += 4) {
+      if (![0, 1, 2].every((c) => Math.abs(onBackground.pixels[k + c] - background[c]) <= 1 / 255)) continue;
+      ++empty;
+      changed = Math.max(changed, ...[0, 1, 2].map((c) => Math.abs(outlinedOn.pixels[k + c] - onBackground.pixels[k + c])));
+    }
+    console.log(`${name}: outlines: over the ${empty} pixels of background alone they change the image by max abs ${changed}`);
+    if (!(empty > 0 && changed === 0)) fail(`${name}: the outlines change the background alone by ${changed} (${empty} pixels)`);
   }
   if (stagesDir) { // against halo-render --host raycast: the scene without its halos, and with them drawn once
     const reference = (d) => new Float32Array(fs.readFileSync(path.join(d, 'image.f32')).buffer.slice(0))
