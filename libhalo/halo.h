@@ -676,13 +676,8 @@ typedef struct halo_reflection {
     int one_draw;         /* host contract 3: 1 when linked with one_draw and the program has a field
                            * (images made by passes between slices): halo_gl_frame_draw computes the
                            * field of every depth segment, then calls the host's draw once */
-    /* with one_draw: the program of libhalo's own march over the volume, linked from the
-     * same scene (the stages whose outputs are the seeds, e.g. halo_seed), which
-     * halo_gl_frame_draw runs before the host's draw; for its emulation (halo_emu_apply)
-     * and its reflection. Owned by p. Else NULL. */
-    const halo_program *march;
-    halo_target target; /* the target it was linked for (HALO_TARGET_COUNT for a NULL program) */
-    int group_count;    /* feature groups (below): 1 when the program has none, 0 for NULL */
+    halo_target target;   /* the target it was linked for (HALO_TARGET_COUNT for a NULL program) */
+    int group_count;      /* feature groups (below): 1 when the program has none, 0 for NULL */
     /* From the current parameter values (take the reflection again after halo_program_set): */
     int interval;     /* M, the slices (planes) between two generations: the value of the first
                        * stage's `is interval=` parameter (e.g. halo_generate.interval), or 0
@@ -690,6 +685,11 @@ typedef struct halo_reflection {
     int reads_labels; /* whether the program reads halo_host_labels: a stage declares it and,
                        * with labels_when, a value of that parameter is >= 0, or the parameter
                        * is live (it may change) */
+    /* with one_draw: the program of libhalo's own march over the volume, linked from the
+     * same scene (the stages whose outputs are the seeds, e.g. halo_seed), which
+     * halo_gl_frame_draw runs before the host's draw; for its emulation (halo_emu_apply)
+     * and its reflection. Owned by p. Else NULL. */
+    const halo_program *march;
 } halo_reflection;
 HALO_API halo_reflection halo_program_reflection(const halo_program *p);
 /* Feature groups (docs/image-passes.md, "Feature groups"): a stage annotated

@@ -355,9 +355,6 @@ endif
 # ---- The house: no circles between the C files of a folder (issue 12) ----
 TESTS += tests/tree/no_circles.sh
 EXTRA_DIST += tests/tree/no_circles.sh tests/tools/circles.py
-# ... and what a user copies includes only installed headers (issue 28)
-TESTS += tests/tree/public_headers.sh
-EXTRA_DIST += tests/tree/public_headers.sh
 
 # ---- ParaView (adapters/paraview): skipped (77) without the plugin, pvbatch or mpirun ----
 TESTS += tests/adapters/paraview/paraview.sh

@@ -178,7 +178,8 @@ function textureToMm(image) {
 // made again over old when they differ (0 x 0: old's freed, null): volume, the target NiiVue's
 // volume is drawn into (its colour RGBA32F, as its shader writes it; libhalo attaches the
 // outputs); view, the 3D view's image copied in target's format (RGBA8, or RGBA32F for a float
-// target), which the passes after the draw read; shower, the program that shows a texture.
+// target), which the passes after the draw read (whole: copyView's); shower, the program that
+// shows a texture.
 function outlineTargets(gl, old, width, height, target) {
   let float = false;
   if (width && target) {
@@ -193,6 +194,7 @@ function outlineTargets(gl, old, width, height, target) {
   if (old) {
     deleteColorTarget(gl, old.volume);
     deleteColorTarget(gl, old.view);
+    deleteColorTarget(gl, old.whole);
     if (!width) textureShower(gl, old.shower, false);
   }
   if (!width) return null;
@@ -200,6 +202,33 @@ function outlineTargets(gl, old, width, height, target) {
     throw new Error('outlines: this WebGL 2 context cannot render into float textures (EXT_color_buffer_float)');
   return { width, height, float, volume: colorTarget(gl, gl.RGBA32F, width, height),
     view: colorTarget(gl, float ? gl.RGBA32F : gl.RGBA8, width, height), shower: textureShower(gl, old && old.shower) };
+}
+
+// The 3D view [x, y, width, height] of target (null: the canvas) copied into own.view; a
+// multisampled canvas (NiiVue's antialias) is resolved only by a blit of the same rectangle,
+// so a view off the origin goes through own.whole, the size of the view's top right corner.
+// Returns the WebGL error, 0 when copied; the bindings it changes given back.
+function copyView(gl, own, target, [x, y, width, height]) {
+  const reading = gl.getParameter(gl.READ_FRAMEBUFFER_BINDING), drawing = gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING);
+  for (let e = gl.getError(), n = 0; e && n < 8; e = gl.getError(), ++n) // not ours: said, not taken for ours
+    console.warn(`libhalo: found WebGL error 0x${e.toString(16)} pending from NiiVue's own calls`);
+  gl.bindFramebuffer(gl.READ_FRAMEBUFFER, target);
+  if (x || y) {
+    if (!own.whole || own.wholeWidth !== x + width || own.wholeHeight !== y + height) {
+      deleteColorTarget(gl, own.whole);
+      own.whole = colorTarget(gl, own.float ? gl.RGBA32F : gl.RGBA8, x + width, y + height);
+      own.wholeWidth = x + width;
+      own.wholeHeight = y + height;
+    }
+    gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, own.whole.framebuffer);
+    gl.blitFramebuffer(0, 0, x + width, y + height, 0, 0, x + width, y + height, gl.COLOR_BUFFER_BIT, gl.NEAREST);
+    gl.bindFramebuffer(gl.READ_FRAMEBUFFER, own.whole.framebuffer);
+  }
+  gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, own.view.framebuffer);
+  gl.blitFramebuffer(x, y, x + width, y + height, 0, 0, width, height, gl.COLOR_BUFFER_BIT, gl.NEAREST);
+  gl.bindFramebuffer(gl.READ_FRAMEBUFFER, reading);
+  gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, drawing);
+  return gl.getError();
 }
 
 // Puts the scene's stages into nv's volume render shader. options: scene (JSON text or
@@ -360,7 +389,12 @@ export function installHalo(halo, nv, options = {}) {
         gl.useProgram(current);
       }
       const target = gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING);
-      if (outlines) own = outlineTargets(gl, own, width, height, target);
+      if (outlines) {
+        own = outlineTargets(gl, own, width, height, target);
+        if ((nv.meshes && nv.meshes.length) || nv.opts.show3Dcrosshair)
+          warnOnce('outlines: NiiVue\'s volume is drawn into libhalo\'s target, which keeps no depth: its meshes and 3D ' +
+            'crosshair are not hidden behind the volume\'s surface in these frames');
+      }
       let blend = null; // the blend NiiVue set for its volume (outlines)
       const drawOutlined = () => { // NiiVue's volume into libhalo's target, unblended, over transparent black
         gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, 0]);
@@ -393,15 +427,11 @@ export function installHalo(halo, nv, options = {}) {
       if (outlines && blend) { // NiiVue drew: its volume as it would have blended it, then the passes over the view
         const view = [x, y, width, height];
         showTexture(gl, own.shower, own.volume.texture, target, view, blend);
-        const reading = gl.getParameter(gl.READ_FRAMEBUFFER_BINDING), drawing = gl.getParameter(gl.DRAW_FRAMEBUFFER_BINDING);
-        gl.bindFramebuffer(gl.READ_FRAMEBUFFER, target);
-        gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, own.view.framebuffer);
-        gl.blitFramebuffer(x, y, x + width, y + height, 0, 0, width, height, gl.COLOR_BUFFER_BIT, gl.NEAREST);
-        gl.bindFramebuffer(gl.READ_FRAMEBUFFER, reading);
-        gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, drawing);
-        const error = gl.getError();
-        if (error) throw new Error(`outlines: NiiVue's image could not be copied for the passes after the draw (WebGL error 0x${error.toString(16)})`);
-        showTexture(gl, own.shower, frame.post(own.view.texture), target, view, null);
+        const error = copyView(gl, own, target, view);
+        if (error) // the volume is drawn: this frame goes on without its outlines, said once
+          warnOnce(`outlines are left out: NiiVue's image could not be copied for the passes after the draw (WebGL error 0x${error.toString(16)})`);
+        else
+          showTexture(gl, own.shower, frame.post(own.view.texture), target, view, null);
       }
     } catch (e) {
       let smaller = null;

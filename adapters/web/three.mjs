@@ -20,7 +20,10 @@
 // caster, then the caster alone, once, into a render target of its image and the stages'
 // outputs, puts its image over the frame (as three would have drawn it), and replaces the
 // frame's image with the passes' result over it. The objects with a greater renderOrder than
-// the caster's (overlays) are drawn over that; the rest of the scene under the caster.
+// the caster's (overlays) are drawn over that; the rest of the scene under the caster. The
+// caster's render target holds
+// a float texture for each attachment, three's own from 1 on unused (libhalo attaches its
+// images there): about 33 MB each at 1920x1080.
 //
 //   import * as THREE from 'three';
 //   import libhalo from '@libhalo/web';
@@ -325,43 +328,39 @@ export function installHalo(halo, material, options = {}) {
         return;
       }
       const framebuffer = target ? renderer.properties.get(target).__webglFramebuffer : null;
+      const kept = frame;
+      frame = null;
+      frame = halo.frameOfSize(kept, gl, program, width, height);
       // outlines: the scene's layers under the caster (drawn as three draws them), the caster
       // alone into a target of its own, its image and the stages' outputs (drawOutlined), put
       // over them, the passes after the draw over that, then the objects over the caster
       const layers = outlines ? outlineLayers(scene, material) : null;
       if (layers) {
+        refuseOutlines(THREE, renderer, material, target, width, height);
         const attachments = 1 + Math.max(0, ...(program.reflection.outputs || []).map((o) => o.location));
         own = outlineTargets(THREE, own, width, height, target, attachments);
         drawWithout(renderer, scene, camera, [...layers.casters, ...layers.over], false);
-        renderer.setRenderTarget(own.caster); // three makes its framebuffer
       }
       const drawOutlined = () => { // over transparent black: what the caster leaves undrawn lets the scene through
         gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, 0]);
-        const autoClear = renderer.autoClear;
-        renderer.autoClear = false; // three's clear would clear the stages' outputs too
-        try {
-          for (const o of layers.casters) renderer.render(o, camera);
-        } finally {
-          renderer.autoClear = autoClear;
-        }
+        // the caster alone; no clear (three's would clear the stages' outputs too)
+        drawWithout(renderer, scene, camera, [...layers.under, ...layers.over], true);
       };
-      const kept = frame;
-      frame = null;
-      frame = halo.frameOfSize(kept, gl, program, width, height);
       const inverse = camera.projectionMatrix.clone().multiply(camera.matrixWorldInverse).invert();
       let smaller = null;
       try {
+        if (layers) renderer.setRenderTarget(own.caster); // three makes its framebuffer
         frame.draw({
           program: glProgram, volume: glVolume, volumeSize: [volume.image.width, volume.image.height, volume.image.depth],
-          volumeVersion: volume.version, framebuffer: own ? renderer.properties.get(own.caster).__webglFramebuffer : framebuffer,
+          volumeVersion: volume.version, framebuffer: layers ? renderer.properties.get(own.caster).__webglFramebuffer : framebuffer,
           inverseViewProjection: inverse.elements, step, interval: options.interval, fieldMaxBytes: options.fieldMaxBytes,
-          draw: own ? drawOutlined : () => renderer.render(scene, camera),
+          draw: layers ? drawOutlined : () => renderer.render(scene, camera),
         });
         if (layers) {
           showOutlined(gl, own, frame, renderer, framebuffer, width, height);
           renderer.resetState();
           renderer.setRenderTarget(target);
-          if (layers.over.length) drawWithout(renderer, scene, camera, layers.under, true);
+          if (layers.over.length) drawWithout(renderer, scene, camera, [...layers.under, ...layers.casters], true);
         }
       } catch (e) { // the field over its cap: the scene at a smaller halo scale, drawn at once
         if (!(smaller = halo.smallerProgram(program, e))) throw e;
@@ -429,6 +428,23 @@ function outlineTargets(THREE, old, width, height, target, attachments) {
     whole: new THREE.WebGLRenderTarget(width, height, { ...options, type }) };
 }
 
+// What outlines do not serve, refused with the reason: a caster that blends (WebGL 2 has one
+// blend for all draw buffers: the stages' outputs would blend too; createVolumeCaster's is
+// opaque), a multisampled render target (three draws into another framebuffer than the one
+// the passes' result goes to), a viewport or scissor smaller than the target (the passes read
+// the whole image).
+function refuseOutlines(THREE, renderer, material, target, width, height) {
+  const why = [];
+  if (material.transparent || ![THREE.NormalBlending, THREE.NoBlending].includes(material.blending))
+    why.push('the caster\'s material blends (transparent, or a blending of its own): it must be opaque');
+  if (target && target.samples > 0) why.push(`the render target is multisampled (samples ${target.samples})`);
+  const viewport = renderer.getCurrentViewport(new THREE.Vector4());
+  if (viewport.x || viewport.y || viewport.z !== width || viewport.w !== height || renderer.getScissorTest())
+    why.push(`the viewport (${viewport.x}, ${viewport.y}, ${viewport.z}, ${viewport.w}) or the scissor is not the whole ` +
+      `${width}x${height} target: the passes after the draw read the whole image`);
+  if (why.length) throw new Error(`stages.render: outlines: ${why.join('; ')}`);
+}
+
 // A scene's layers around the caster (the objects drawn with material): casters; over, the
 // objects three draws after them (a greater renderOrder: overlays); under, every other visible
 // object, drawn before them.
@@ -442,11 +458,13 @@ function outlineLayers(scene, material) {
   return { casters, over, under };
 }
 
-// The scene drawn by three without the objects hidden; onTop: over the target as it is (no
-// clear, no background).
+// The scene drawn by three without the objects hidden (their layers' mask 0 for the draw:
+// their children are drawn as their own layers say, where visible = false would hide them
+// too); onTop: over the target as it is (no clear, no background).
 function drawWithout(renderer, scene, camera, hidden, onTop) {
   const { autoClear } = renderer, { background } = scene;
-  for (const o of hidden) o.visible = false;
+  const masks = hidden.map((o) => o.layers.mask);
+  for (const o of hidden) o.layers.mask = 0;
   if (onTop) {
     renderer.autoClear = false;
     scene.background = null; // a colour background clears the target, whatever autoClear says
@@ -454,7 +472,7 @@ function drawWithout(renderer, scene, camera, hidden, onTop) {
   try {
     renderer.render(scene, camera);
   } finally {
-    for (const o of hidden) o.visible = true;
+    hidden.forEach((o, i) => { o.layers.mask = masks[i]; });
     renderer.autoClear = autoClear;
     scene.background = background;
   }

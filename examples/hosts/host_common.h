@@ -116,7 +116,7 @@ int halo_host_max_dimension(const int dims[3]);
 
 /* 4x4 matrices, column-major (m[column * 4 + row]) as OpenGL takes them. */
 void halo_host_matrix_multiply(const double a[16], const double b[16], double out[16]);
-/* Gauss-Jordan with partial pivoting; returns 0 for a singular matrix. */
+/* By cofactors over the determinant; returns 0 for a singular matrix. */
 int halo_host_matrix_invert(const double m[16], double out[16]);
 
 /* The ray caster's orbit camera around the unit volume's centre. */

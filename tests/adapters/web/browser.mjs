@@ -288,6 +288,12 @@ async function engine(page, dir, which) {
     }
     console.log(`${name}: outlines: over the ${empty} pixels of background alone they change the image by max abs ${changed}`);
     if (!(empty > 0 && changed === 0)) fail(`${name}: the outlines change the background alone by ${changed} (${empty} pixels)`);
+    // in NiiVue's multiplanar layout, the render in a tile off the canvas's origin: outlined too
+    const tiled = await draw({ scene, background, multiplanar: true });
+    const outlinedTile = await draw({ scene: 'mri-outlines.json', sceneJson, background, multiplanar: true });
+    const tileLines = lines(tiled.pixels, outlinedTile.pixels), said = (outlinedTile.warnings || []).join(' / ');
+    console.log(`${name}: outlines in the multiplanar layout: ${tileLines} pixels of lines; warnings: ${said || 'none'}`);
+    if (!(tileLines > theirs / 8) || /left out/.test(said)) fail(`${name}: the outlines in a tile off the origin: ${tileLines} lines (${said})`);
   }
   if (stagesDir) { // against halo-render --host raycast: the scene without its halos, and with them drawn once
     const reference = (d) => new Float32Array(fs.readFileSync(path.join(d, 'image.f32')).buffer.slice(0))
@@ -475,6 +481,14 @@ try {
           `outlines, ${red(quadAlone.pixels)} with three.js alone`);
         if (!(red(quadAlone.pixels) > 0) || red(quad.pixels) !== red(quadAlone.pixels))
           fail(`${name}: the scene's other object (renderOrder ${renderOrder}) is not drawn as three.js draws it`);
+        // and the rest of the image is the one without the quad (the caster, its halos and outlines)
+        let rest = 0;
+        for (let k = 0; k < quad.pixels.length; k += 4) {
+          const isRed = quadAlone.pixels[k] === 1 && quadAlone.pixels[k + 1] === 0 && quadAlone.pixels[k + 2] === 0;
+          if (!isRed) for (let c = 0; c < 4; ++c) rest = Math.max(rest, Math.abs(quad.pixels[k + c] - staged.pixels[k + c]));
+        }
+        console.log(`${name}: renderOrder ${renderOrder}: beside the quad, max abs ${rest} from the image without it`);
+        if (renderOrder > 0 && !(rest === 0)) fail(`${name}: an overlay changes the image beside it by ${rest}`);
       }
     }
     if (viewer === 'three' && c.oneDraw)
