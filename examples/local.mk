@@ -7,7 +7,7 @@ HALO_HOST_SHADERS = examples/hosts/raycast.vert examples/hosts/raycast.frag exam
 	examples/hosts/slice.vert examples/hosts/slice.frag examples/hosts/slab.frag \
 	examples/hosts/webgl_caster.frag examples/hosts/exit_point_caster.frag examples/hosts/exit_points.vert \
 	examples/hosts/exit_points.frag examples/hosts/tf2d_caster.frag examples/hosts/mip_iso_caster.frag \
-	examples/hosts/gradient.frag
+	examples/hosts/gradient.frag examples/hosts/niivue_caster.frag
 EXTRA_DIST += $(HALO_HOST_SHADERS)
 BUILT_SOURCES += examples/hosts/embedded_hosts.c
 CLEANFILES += examples/hosts/embedded_hosts.c

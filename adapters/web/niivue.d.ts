@@ -14,8 +14,16 @@ export interface NiivueInstallOptions {
   firstUnit?: number;              // libhalo's textures from this unit on (default 20; the value copy one below)
 }
 
+export interface NiivueView {
+  readonly inverseViewProjection: Float64Array; // clip space -> NiiVue's texture space, column-major
+  readonly step: number;           // the ray step given to libhalo, texture units
+  readonly width: number;          // the 3D view's size in pixels
+  readonly height: number;
+}
+
 export interface NiivueInstalled {
   readonly program: Program;     // the one drawn now (another after a field over its cap)
+  readonly view: NiivueView | null; // the camera of the last frame drawn with the stages
   set(name: string, value: number | boolean | number[] | number[][]): void;
   remove(): void;                  // NiiVue's own shader and drawImage3D again
 }

@@ -315,6 +315,7 @@ export function installHalo(halo, nv, options = {}) {
   const ownDraw = Object.prototype.hasOwnProperty.call(nv, 'drawImage3D') ? nv.drawImage3D : null;
   const niivueDraw = ownDraw || Object.getPrototypeOf(nv).drawImage3D;
   let frame = null, feature = null, warned = new Set(), version = 0;
+  let lastView = null; // the camera of the last frame drawn with the stages (the view getter)
   let own = null; // outlines: libhalo's target for NiiVue's volume, the copy of the 3D view, the shower
   let relinkFailed = false; // a field over its cap could not be linked again: no more tries
   let volumeKey = [nv.back, nv.back.cal_min, nv.back.cal_max, nv.back.frame4D];
@@ -418,10 +419,12 @@ export function installHalo(halo, nv, options = {}) {
           gl.viewport(...viewport);
         }
       };
+      lastView = Object.freeze({ inverseViewProjection: Float64Array.from(inverse), step: niivueStep(inverse, dims),
+        width, height });
       frame.draw({
         program: staged.program, volume: value.texture, volumeSize: dims, volumeVersion: version,
         framebuffer: outlines ? own.volume.framebuffer : target, inverseViewProjection: Float32Array.from(inverse),
-        step: niivueStep(inverse, dims), interval: options.interval, fieldMaxBytes: options.fieldMaxBytes, firstUnit,
+        step: lastView.step, interval: options.interval, fieldMaxBytes: options.fieldMaxBytes, firstUnit,
         draw: outlines ? drawOutlined : draw,
       });
       if (outlines && blend) { // NiiVue drew: its volume as it would have blended it, then the passes over the view
@@ -491,6 +494,10 @@ export function installHalo(halo, nv, options = {}) {
   }
   return {
     get program() { return program; }, // another after a field over its cap (linked at a smaller scale)
+    // the camera libhalo's runtime drew the last frame with: { inverseViewProjection (clip
+    // space -> NiiVue's texture space, column-major), step (texture units), width, height (the
+    // 3D view's) }, null before the first; to draw the same view elsewhere
+    get view() { return lastView; },
     // a live parameter ("stage.param"): the uniform's new value on the next draw
     set(name, v) {
       program.set(name, v);

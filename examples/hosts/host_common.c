@@ -247,6 +247,12 @@ halo_status halo_host_upload_volume(const halo_glfuncs *f, GLuint texture, const
     return upload_volume(f, texture, data, nx, ny, nz, GL_LINEAR, GL_R32F, "volume", diag);
 }
 
+halo_status halo_host_upload_classified(const halo_glfuncs *f, GLuint texture, const float *rgba, int nx, int ny,
+                                        int nz, halo_diagnostics *diag)
+{
+    return upload_volume(f, texture, rgba, nx, ny, nz, GL_LINEAR, GL_RGBA8, "classified volume", diag);
+}
+
 halo_status halo_host_upload_labels(const halo_glfuncs *f, GLuint texture, const float *labels, int nx, int ny, int nz,
                                     halo_diagnostics *diag)
 {
@@ -490,7 +496,8 @@ static halo_status build_on_gpu(const halo_glfuncs *f, GLuint texture, GLuint vo
 static halo_status upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
                                  GLint filter, GLint internal_format, const char *what, halo_diagnostics *diag)
 {
-    int rgb = internal_format != GL_R32F, rgba = internal_format == GL_RGBA16_SNORM || internal_format == GL_RGBA32F;
+    int rgb = internal_format != GL_R32F,
+        rgba = internal_format == GL_RGBA16_SNORM || internal_format == GL_RGBA32F || internal_format == GL_RGBA8;
     if (!f || (!data && !rgb) || nx < 2 || ny < 2 || nz < 2 || nx > 2048 || ny > 2048 || nz > 2048) {
         HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "%s of %dx%dx%d voxels: each side must be 2..2048", what, nx,
                           ny, nz);

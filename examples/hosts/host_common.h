@@ -56,6 +56,10 @@ int halo_host_framebuffer(const halo_glfuncs *f, GLuint *framebuffer, GLuint col
  * HALO_ERROR_INPUT (USAGE) for no f or data or a side outside 2..2048. */
 halo_status halo_host_upload_volume(const halo_glfuncs *f, GLuint texture, const float *data, int nx, int ny, int nz,
                                     halo_diagnostics *diag);
+/* The same for a volume classified before it is interpolated (nx*ny*nz RGBA texels as
+ * floats in [0,1]): GL_RGBA8, colour and opacity per voxel, filtered linearly. */
+halo_status halo_host_upload_classified(const halo_glfuncs *f, GLuint texture, const float *rgba, int nx, int ny,
+                                        int nz, halo_diagnostics *diag);
 /* The same for a segmentation (integer label ids as floats), read with texelFetch:
  * GL_NEAREST, so that no two labels are ever blended. */
 halo_status halo_host_upload_labels(const halo_glfuncs *f, GLuint texture, const float *labels, int nx, int ny, int nz,

@@ -178,6 +178,8 @@ struct halo_raycast {
     size_t exchange_max_bytes;
     size_t field_max_bytes;                              /* halo_gl_segments_desc.field_max_bytes */
     GLuint exit_program, exit_texture, exit_framebuffer; /* halo_raycast_set_exit_points */
+    GLuint classified_texture;                           /* halo_raycast_set_classified, 0: none */
+    float view_step;                                     /* halo_raycast_set_view's step, 0: the settings' */
     void (*untidy)(void *user, int before_draw);         /* halo_raycast_set_untidy */
     void *untidy_user;
 };
@@ -252,6 +254,8 @@ void halo_raycast_destroy(halo_raycast *r)
         f->DeleteProgram(r->exit_program);
         f->DeleteTextures(1, &r->exit_texture);
         f->DeleteFramebuffers(1, &r->exit_framebuffer);
+        if (r->classified_texture)
+            f->DeleteTextures(1, &r->classified_texture);
     }
     host_target_release(&r->target);
     free(r);
@@ -292,6 +296,26 @@ void halo_raycast_set_camera(halo_raycast *r, double azimuth, double elevation, 
                                            &camera))
         return;
     halo_host_camera_keep(&camera, r->inverse_view_projection, r->eye, r->screen_right, r->screen_up);
+    r->view_step = 0.0f;
+}
+
+void halo_raycast_set_view(halo_raycast *r, const double inverse_view_projection[16], double step)
+{
+    if (!r || !inverse_view_projection)
+        return;
+    float *axes[2] = {r->screen_right, r->screen_up};
+    for (int i = 0; i < 16; ++i)
+        r->inverse_view_projection[i] = (float)inverse_view_projection[i];
+    for (int a = 0; a < 2; ++a) { /* column a: where clip (1, 0, 0, 0) or (0, 1, 0, 0) goes */
+        const double *v = inverse_view_projection + 4 * a;
+        double length = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        for (int c = 0; c < 3; ++c)
+            axes[a][c] = (float)(length > 0.0 ? v[c] / length : 0.0);
+    }
+    const double *e = inverse_view_projection + 8; /* clip (0, 0, -1, 0): the eye, at w != 0 */
+    for (int c = 0; c < 3; ++c)
+        r->eye[c] = e[3] != 0.0 ? (float)(e[c] / e[3]) : 0.5f;
+    r->view_step = step > 0.0 && isfinite(step) ? (float)step : 0.0f;
 }
 
 halo_gl_frame *halo_raycast_frame(const halo_raycast *r) { return r ? r->frame : NULL; }
@@ -397,6 +421,16 @@ halo_status halo_raycast_set_exit_points(halo_raycast *r, halo_diagnostics *diag
     return HALO_OK;
 }
 
+halo_status halo_raycast_set_classified(halo_raycast *r, const float *rgba, int nx, int ny, int nz,
+                                        halo_diagnostics *diag)
+{
+    if (!r)
+        return HALO_ERROR_INPUT;
+    if (!r->classified_texture)
+        r->target.f->GenTextures(1, &r->classified_texture);
+    return halo_host_upload_classified(r->target.f, r->classified_texture, rgba, nx, ny, nz, diag);
+}
+
 /* The first pass of a two-pass caster: the box's back faces into the exit-point
  * texture, which is left bound to unit 2. */
 static void draw_exit_points(halo_raycast *r)
@@ -442,7 +476,7 @@ void halo_raycast_get_state(const halo_raycast *r, halo_raycast_state *s)
         s->dims[c] = r->dims[c];
     }
     s->unit_step = unit_step;
-    s->step_size = (float)(r->step_voxels * unit_step);
+    s->step_size = r->view_step > 0.0f ? r->view_step : (float)(r->step_voxels * unit_step);
     s->transfer_texels = HALO_RAYCAST_TRANSFER_TEXELS;
     s->transfer = r->transfer;
     s->volume = r->volume;
@@ -479,6 +513,12 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
     f->Uniform3fv(f->GetUniformLocation(program, "background"), 1, r->background);
     f->Uniform1f(f->GetUniformLocation(program, "jitter"), r->jitter);
     f->Uniform1i(f->GetUniformLocation(program, "exit_points"), 2);
+    if (r->classified_texture) {
+        f->ActiveTexture(GL_TEXTURE3);
+        f->BindTexture(GL_TEXTURE_3D, r->classified_texture);
+        f->ActiveTexture(GL_TEXTURE0);
+        f->Uniform1i(f->GetUniformLocation(program, "color_volume"), 3);
+    }
     halo_status status = HALO_OK;
     halo_gl_segments_desc segments = {.inverse_view_projection = r->inverse_view_projection,
                                       .step = (float)s.step_size,
@@ -523,6 +563,8 @@ halo_status halo_raycast_render(halo_raycast *r, float *rgba, halo_diagnostics *
         if (status == HALO_OK)
             status = host_target_draw(&r->target, rgba, diag);
     }
+    f->ActiveTexture(GL_TEXTURE3);
+    f->BindTexture(GL_TEXTURE_3D, 0);
     f->ActiveTexture(GL_TEXTURE2);
     f->BindTexture(GL_TEXTURE_2D, 0);
     f->ActiveTexture(GL_TEXTURE1);

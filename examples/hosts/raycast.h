@@ -130,6 +130,17 @@ void halo_raycast_set_jitter(halo_raycast *r, float jitter);
  * volume box's back faces into a texture of texture-space exit points, bound to unit 2
  * as the uniform `exit_points` (xyz, a = 1 where the box covers the pixel). */
 halo_status halo_raycast_set_exit_points(halo_raycast *r, halo_diagnostics *diag);
+/* Hosts that classify before they interpolate (niivue_caster.frag): colour and opacity per
+ * voxel (nx * ny * nz RGBA texels as floats in [0,1], x fastest; stored RGBA8, filtered
+ * linearly), bound to unit 3 as the uniform `color_volume` from now on. */
+halo_status halo_raycast_set_classified(halo_raycast *r, const float *rgba, int nx, int ny, int nz,
+                                        halo_diagnostics *diag);
+/* Another renderer's camera instead of the orbit camera (a viewer's, to draw what it drew):
+ * inverse_view_projection (column-major, clip space -> volume texture space), and the step
+ * in texture units (> 0; else the render settings' step stays). The screen axes are the
+ * directions clip +x and +y map to; the eye, for a perspective camera, the point clip
+ * (0, 0, -1, 0) maps to. Until the next halo_raycast_set_camera. */
+void halo_raycast_set_view(halo_raycast *r, const double inverse_view_projection[16], double step);
 unsigned halo_raycast_gl_program(const halo_raycast *r);
 
 /* ---- The conformance probe ----------------------------------------------------- */

@@ -190,8 +190,70 @@ async function demo(page, volume) {
   }
 }
 
+// A viewer that cannot be set up as raycast.frag samples (NiiVue: it classifies before it
+// interpolates, jitters, skips empty space) against libhalo's C runtime drawing a host in its
+// style (examples/hosts/niivue_caster.frag) with the viewer's own inputs: the camera the
+// adapter gave libhalo, the viewer's classified volume, each pixel's jitter as the page's GPU
+// computes it and the background (exported by the page with the frame), the values
+// halo-render exported (dir); the step is NiiVue's, which the reference derives. The scene's
+// stages without halo_* (images.noHalos), and with its halos drawn once (images.staged).
+// Controls that must fail: the image shifted by a row, the viewer alone against the stages'
+// reference, the field at M = 1 against the scene's M.
+const REDRAW_LIMIT = Number(process.env.HALO_WEB_REDRAW_LIMIT || 2e-3);
+async function redrawn(name, program, dir, images) {
+  const { execFileSync } = await import('node:child_process');
+  const draw = (what, image, sceneFile) => {
+    const out = path.join(dir, `redrawn-${what}`);
+    fs.mkdirSync(out, { recursive: true });
+    const r = image.reference;
+    if (!r) { fail(`${name}, ${what}: the page exported nothing to draw again`); return null; }
+    if (image.imageScale !== 1) fail(`${name}, ${what}: the page drew its halo images at 1/${image.imageScale}`);
+    fs.writeFileSync(path.join(out, 'view.txt'), `size ${r.view.width} ${r.view.height}\ndims ${r.dims.join(' ')}\n` +
+      `background ${r.background.join(' ')}\ninverse ${r.view.inverseViewProjection.join(' ')}\n`);
+    fs.writeFileSync(path.join(out, 'color.u8'), Buffer.from(r.color, 'base64'));
+    if (process.env.HALO_WEB_REDRAW_HASH) fs.rmSync(path.join(out, 'jitter.f32'), { force: true }); // the jitter computed there
+    else fs.writeFileSync(path.join(out, 'jitter.f32'), Buffer.from(r.jitter, 'base64'));
+    fs.copyFileSync(path.join(dir, 'volume.f32'), path.join(out, 'volume.f32'));
+    try {
+      execFileSync(program, [sceneFile, out, path.join(out, 'image.f32')], { stdio: ['ignore', 'inherit', 'inherit'] });
+    } catch (e) {
+      fail(`${name}, ${what}: ${program} failed (${e.message})`);
+      return null;
+    }
+    return new Float32Array(fs.readFileSync(path.join(out, 'image.f32')).buffer.slice(0));
+  };
+  const stagesScene = path.join(dir, 'stages.json');
+  const full = JSON.parse(fs.readFileSync(path.join(srcdir, 'examples/scenes/mri-head.json')));
+  fs.writeFileSync(stagesScene, JSON.stringify({ ...full,
+    stages: full.stages.filter((st) => !Object.keys(st).some((k) => k.startsWith('halo_'))) }));
+  const withStages = draw('stages', images.noHalos, stagesScene);
+  const withHalos = draw('halos', images.staged, path.join(srcdir, 'examples/scenes/mri-head.json'));
+  if (!withStages || !withHalos) return;
+  if (process.env.HALO_WEB_SAVE) {
+    savePam('niivue-redrawn-stages', withStages, images.noHalos.width, images.noHalos.height, 255);
+    savePam('niivue-redrawn-halos', withHalos, images.staged.width, images.staged.height, 255);
+  }
+  const width = images.staged.width;
+  for (const [what, image, ref] of [['its stages without halo_*', images.noHalos, withStages],
+    ['its stages and halos, drawn once', images.staged, withHalos]]) {
+    if (image.pixels.length !== ref.length) { fail(`${name}: ${image.pixels.length} values in the page, ${ref.length} redrawn`); continue; }
+    const against = difference(image.pixels, ref);
+    const shifted = difference(image.pixels.slice(0, ref.length - 4 * width), ref.slice(4 * width));
+    console.log(`${name}, ${what}: against libhalo's C runtime drawing niivue_caster.frag with NiiVue's inputs: mean abs ` +
+      `${against.mean.toExponential(3)}, max abs ${against.max.toExponential(3)} (limit ${REDRAW_LIMIT} mean); shifted by a ` +
+      `row ${shifted.mean.toExponential(3)} (must fail)`);
+    if (!(against.mean <= REDRAW_LIMIT)) fail(`${name}, ${what}: ${against.mean} from the image drawn again (mean abs)`);
+    if (!(shifted.mean > REDRAW_LIMIT)) fail(`${name}, ${what}: the image shifted by a row passes too (${shifted.mean})`);
+  }
+  const plain = difference(images.alone.pixels, withStages), other = difference(images.m1.pixels, withHalos);
+  console.log(`${name}: NiiVue alone against the stages drawn again ${plain.mean.toExponential(3)}, its field at M = 1 ` +
+    `against the scene's M drawn again ${other.mean.toExponential(3)} (both must fail)`);
+  if (!(plain.mean > REDRAW_LIMIT)) fail(`${name}: NiiVue alone passes against the stages drawn again (${plain.mean})`);
+  if (!(other.mean > REDRAW_LIMIT)) fail(`${name}: the field at M = 1 passes against the scene's M drawn again (${other.mean})`);
+}
+
 const ENGINES = {
-  niivue: { page: 'niivue.html', module: '@niivue/niivue', name: 'NiiVue', outlines: true },
+  niivue: { page: 'niivue.html', module: '@niivue/niivue', name: 'NiiVue', outlines: true, reference: 'HALO_WEB_NIIVUE_REFERENCE' },
   vtkjs: { page: 'vtkjs.html', module: 'vtk.js', name: 'vtk.js', match: true, outlines: true },
 };
 async function engine(page, dir, which) {
@@ -208,8 +270,11 @@ async function engine(page, dir, which) {
   const scene = 'mri-head.json';
   const draw = (options) => page.evaluate((o) => window.render(o), options);
   const alone = await draw({ scene: null, repeat: 3 });
-  const staged = await draw({ scene, repeat: 3 });
-  const noHalos = await draw({ scene, withoutHalos: true, repeat: 3 });
+  // a viewer drawn again by libhalo's C runtime (NiiVue: tests/adapters/web/niivue_reference)
+  // exports what that needs with these two
+  const reference = viewer.reference && process.env[viewer.reference] ? process.env[viewer.reference] : null;
+  const staged = await draw({ scene, repeat: 3, reference: !!reference });
+  const noHalos = await draw({ scene, withoutHalos: true, repeat: 3, reference: !!reference });
   const m1 = await draw({ scene, interval: 1 });
   const removed = await draw({ scene, removed: true });
   await fieldCap(`${scene} in ${viewer.name}`, (o) => draw({ scene, ...o }), staged);
@@ -295,6 +360,7 @@ async function engine(page, dir, which) {
     console.log(`${name}: outlines in the multiplanar layout: ${tileLines} pixels of lines; warnings: ${said || 'none'}`);
     if (!(tileLines > theirs / 8) || /left out/.test(said)) fail(`${name}: the outlines in a tile off the origin: ${tileLines} lines (${said})`);
   }
+  if (reference) await redrawn(name, reference, dir, { alone, staged, noHalos, m1 });
   if (stagesDir) { // against halo-render --host raycast: the scene without its halos, and with them drawn once
     const reference = (d) => new Float32Array(fs.readFileSync(path.join(d, 'image.f32')).buffer.slice(0))
       .map((v) => (v > 0 ? (v < 1 ? v : 1) : 0));

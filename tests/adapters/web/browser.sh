@@ -6,7 +6,9 @@
 # (--export-host); and the default scene's volumetric halos drawn once (host contract 3: the
 # field computed by libhalo's GL runtime in WebAssembly on the page's context) against
 # halo-render --one-draw; NiiVue and vtk.js with the MRI head's stages and halos through the
-# package's adapters (adapters/web/niivue.mjs, vtkjs.mjs), against the viewer alone. Skipped
+# package's adapters (adapters/web/niivue.mjs, vtkjs.mjs), against the viewer alone, vtk.js
+# against halo-render, NiiVue against libhalo's C runtime drawing a host in its style with the
+# inputs the page exports (tests/adapters/web/niivue_reference). Skipped
 # (77) without the web package, Chromium, puppeteer-core or three (setup.sh installs them:
 # Debian's chromium, npm ci in tests/adapters/web from its lock file).
 . "$srcdir/tests/tools/halo-render/common.sh"
@@ -61,6 +63,12 @@ if test ! -d "$HALO_WEB_MODULES/vtk.js"; then
     echo "NOT TESTED: vtk.js: no vtk.js in $HALO_WEB_MODULES (setup.sh: npm ci)"
 else
     HALO_WEB_ENGINES="$HALO_WEB_ENGINES vtkjs"
+fi
+# NiiVue's frames drawn again by libhalo's C runtime (a host in NiiVue's style, with the
+# inputs the page exports), which browser.mjs compares NiiVue's with
+if test -n "${HALO_WEB_NIIVUE_REFERENCE:-}"; then
+    harness_program "$HALO_WEB_NIIVUE_REFERENCE"
+    export HALO_WEB_NIIVUE_REFERENCE
 fi
 if test -n "$HALO_WEB_ENGINES" && test ! -f "$mri"; then
     echo "NOT TESTED: $HALO_WEB_ENGINES: no $mri (the Debian package mricron-data, which setup.sh installs)"
