@@ -419,14 +419,15 @@ export function installHalo(halo, nv, options = {}) {
           gl.viewport(...viewport);
         }
       };
-      lastView = Object.freeze({ inverseViewProjection: Float64Array.from(inverse), step: niivueStep(inverse, dims),
+      const camera = Object.freeze({ inverseViewProjection: Float64Array.from(inverse), step: niivueStep(inverse, dims),
         width, height });
       frame.draw({
         program: staged.program, volume: value.texture, volumeSize: dims, volumeVersion: version,
         framebuffer: outlines ? own.volume.framebuffer : target, inverseViewProjection: Float32Array.from(inverse),
-        step: lastView.step, interval: options.interval, fieldMaxBytes: options.fieldMaxBytes, firstUnit,
+        step: camera.step, interval: options.interval, fieldMaxBytes: options.fieldMaxBytes, firstUnit,
         draw: outlines ? drawOutlined : draw,
       });
+      lastView = camera;
       if (outlines && blend) { // NiiVue drew: its volume as it would have blended it, then the passes over the view
         const view = [x, y, width, height];
         showTexture(gl, own.shower, own.volume.texture, target, view, blend);

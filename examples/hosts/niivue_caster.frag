@@ -58,6 +58,9 @@ void main()
     vec4 far_point = inverse_view_projection * vec4(ndc, 1.0, 1.0);
     vec3 origin = near_point.xyz / near_point.w;
     vec3 direction = normalize(far_point.xyz / far_point.w - origin);
+    // as NiiVue: no component under 5e-5 in size, so that 1/direction stays finite
+    vec3 signs = vec3(greaterThanEqual(direction, vec3(0.0))) * 2.0 - 1.0;
+    direction = signs * max(abs(direction), vec3(5e-5));
     vec3 inverse_direction = 1.0 / direction;
     vec3 t_low = -origin * inverse_direction;
     vec3 t_high = (vec3(1.0) - origin) * inverse_direction;

@@ -312,9 +312,12 @@ void halo_raycast_set_view(halo_raycast *r, const double inverse_view_projection
         for (int c = 0; c < 3; ++c)
             axes[a][c] = (float)(length > 0.0 ? v[c] / length : 0.0);
     }
-    const double *e = inverse_view_projection + 8; /* clip (0, 0, -1, 0): the eye, at w != 0 */
+    /* the eye: where clip (0, 0, 1, 0) maps to for a perspective camera (w != 0); for an
+     * orthographic one a point ten units back from the volume's centre against the view */
+    const double *e = inverse_view_projection + 8;
+    double length = sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
     for (int c = 0; c < 3; ++c)
-        r->eye[c] = e[3] != 0.0 ? (float)(e[c] / e[3]) : 0.5f;
+        r->eye[c] = e[3] != 0.0 ? (float)(e[c] / e[3]) : length > 0.0 ? (float)(0.5 - 10.0 * e[c] / length) : 0.5f;
     r->view_step = step > 0.0 && isfinite(step) ? (float)step : 0.0f;
 }
 
@@ -424,8 +427,10 @@ halo_status halo_raycast_set_exit_points(halo_raycast *r, halo_diagnostics *diag
 halo_status halo_raycast_set_classified(halo_raycast *r, const float *rgba, int nx, int ny, int nz,
                                         halo_diagnostics *diag)
 {
-    if (!r)
+    if (!r || !rgba) {
+        HALO_REPORT_ERROR(diag, HALO_MSG_USAGE, "", 0, 0, "classified volume: no ray caster or no texels");
         return HALO_ERROR_INPUT;
+    }
     if (!r->classified_texture)
         r->target.f->GenTextures(1, &r->classified_texture);
     return halo_host_upload_classified(r->target.f, r->classified_texture, rgba, nx, ny, nz, diag);

@@ -139,7 +139,8 @@ halo_status halo_raycast_set_classified(halo_raycast *r, const float *rgba, int 
  * inverse_view_projection (column-major, clip space -> volume texture space), and the step
  * in texture units (> 0; else the render settings' step stays). The screen axes are the
  * directions clip +x and +y map to; the eye, for a perspective camera, the point clip
- * (0, 0, -1, 0) maps to. Until the next halo_raycast_set_camera. */
+ * (0, 0, 1, 0) maps to, for an orthographic one a point ten units back from the volume's
+ * centre against the view. Until the next halo_raycast_set_camera. */
 void halo_raycast_set_view(halo_raycast *r, const double inverse_view_projection[16], double step);
 unsigned halo_raycast_gl_program(const halo_raycast *r);
 

@@ -12,8 +12,10 @@
  * width * height floats, rows bottom-up); and writes OUT: width * height RGBA floats, rows bottom-up as readPixels gives
  * them, the host's output blended over the background as NiiVue's framebuffer blends it
  * (source alpha, one minus source alpha; the output clamped to [0,1] first, as a fixed-point
- * framebuffer does). Exit 0, 1 for a failed draw (diagnostics on stderr), 2 for bad input,
- * 77 without an OpenGL context. */
+ * framebuffer does). view.txt may also say `empty_space_pass 0` or `1` (default: NiiVue's,
+ * off for halos), for a control. Only NiiVue's render layout (the 3D view at the canvas's
+ * origin: the jitter's pixel coordinates). Exit 0, 1 for a failed draw (diagnostics on
+ * stderr), 2 for bad input, 77 without an OpenGL context, 99 for a broken set-up. */
 #include "../../gl_fixture.h"
 #include "hosts/raycast.h"
 
@@ -22,6 +24,7 @@
 
 typedef struct view {
     int width, height, dims[3];
+    int empty_space_pass; /* -1: as the adapter (off with halos); 0 or 1: so (a test's control) */
     double inverse[16], step, background[3];
 } view;
 
@@ -44,6 +47,8 @@ static int read_view(const char *dir, view *v)
             ok = fscanf(in, "%d %d %d", &v->dims[0], &v->dims[1], &v->dims[2]) == 3, seen |= 2;
         else if (!strcmp(word, "background"))
             ok = fscanf(in, "%lf %lf %lf", &v->background[0], &v->background[1], &v->background[2]) == 3, seen |= 8;
+        else if (!strcmp(word, "empty_space_pass"))
+            ok = fscanf(in, "%d", &v->empty_space_pass) == 1 && v->empty_space_pass >= 0 && v->empty_space_pass <= 1;
         else if (!strcmp(word, "inverse")) {
             for (int i = 0; i < 16 && ok; ++i)
                 ok = fscanf(in, "%lf", &v->inverse[i]) == 1;
@@ -90,13 +95,17 @@ static void *read_exact(const char *dir, const char *name, size_t size, int opti
     char path[4096];
     snprintf(path, sizeof path, "%s/%s", dir, name);
     FILE *in = fopen(path, "rb");
-    if (!in && optional)
+    if (!in) {
+        if (!optional)
+            fprintf(stderr, "niivue_reference: cannot open %s\n", path);
         return NULL;
+    }
     void *data = malloc(size + 1);
-    size_t got = in && data ? fread(data, 1, size + 1, in) : 0;
-    if (in)
-        fclose(in);
-    if (got != size) {
+    size_t got = data ? fread(data, 1, size + 1, in) : 0;
+    fclose(in);
+    if (!data)
+        fprintf(stderr, "niivue_reference: out of memory for %s\n", path);
+    else if (got != size) {
         fprintf(stderr, "niivue_reference: %s: not %zu bytes\n", path, size);
         free(data);
         return NULL;
@@ -110,7 +119,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: niivue_reference SCENE DIR OUT\n");
         return 2;
     }
-    view v = {0};
+    view v = {.empty_space_pass = -1};
     if (!read_view(argv[2], &v))
         return 2;
     size_t voxels = (size_t)v.dims[0] * v.dims[1] * v.dims[2], pixels = (size_t)v.width * v.height;
@@ -118,6 +127,8 @@ int main(int argc, char **argv)
     float *values = read_exact(argv[2], "volume.f32", voxels * sizeof(float), 0);
     float *color = malloc(voxels * 4 * sizeof *color), *rgba = malloc(pixels * 4 * sizeof *rgba);
     if (!bytes || !values || !color || !rgba) {
+        if (bytes && values && (!color || !rgba))
+            fprintf(stderr, "niivue_reference: out of memory\n");
         free(bytes), free(values), free(color), free(rgba);
         return 2;
     }
@@ -127,9 +138,9 @@ int main(int argc, char **argv)
     char jitter_path[4096];
     snprintf(jitter_path, sizeof jitter_path, "%s/jitter.f32", argv[2]);
     FILE *probe = fopen(jitter_path, "rb");
-    float *jitter = probe ? read_exact(argv[2], "jitter.f32", pixels * sizeof(float), 0) : NULL;
     if (probe)
         fclose(probe);
+    float *jitter = probe ? read_exact(argv[2], "jitter.f32", pixels * sizeof(float), 0) : NULL;
     if (probe && !jitter) {
         free(values), free(color), free(rgba);
         return 2;
@@ -165,7 +176,9 @@ int main(int argc, char **argv)
         unsigned gl_program = halo_raycast_gl_program(r);
         fx.gl->UseProgram(gl_program);
         fx.gl->Uniform1f(fx.gl->GetUniformLocation(gl_program, "empty_space_pass"),
-                         halo_program_reflection(program).march ? 0.0f : 1.0f);
+                         v.empty_space_pass >= 0                  ? (float)v.empty_space_pass
+                         : halo_program_reflection(program).march ? 0.0f
+                                                                  : 1.0f);
         /* the page's jitter, on unit 4 (the ray caster's textures are on 0-3, libhalo's from 8) */
         unsigned jitter_texture = 0;
         fx.gl->Uniform1f(fx.gl->GetUniformLocation(gl_program, "jitter_from_image"), jitter ? 1.0f : 0.0f);
@@ -181,7 +194,9 @@ int main(int argc, char **argv)
             fx.gl->TexImage2D(GL_TEXTURE_2D, 0, GL_R32F, v.width, v.height, 0, GL_RED, GL_FLOAT, jitter);
             fx.gl->ActiveTexture(GL_TEXTURE0);
         }
-        if (halo_raycast_render(r, rgba, fx.diag) == HALO_OK)
+        if (jitter && fx.gl->GetError() != GL_NO_ERROR)
+            fprintf(stderr, "niivue_reference: cannot upload the %dx%d jitter image\n", v.width, v.height);
+        else if (halo_raycast_render(r, rgba, fx.diag) == HALO_OK)
             status = 0;
         if (jitter_texture) {
             fx.gl->ActiveTexture(GL_TEXTURE4);
