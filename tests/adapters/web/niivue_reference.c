@@ -8,7 +8,9 @@
  * gave its runtime, the background, the volume's size; the step is NiiVue's, a voxel along
  * the view), color.u8 (NiiVue's
  * classified volume, RGBA8, x fastest) and volume.f32 (the values the stages see, x
- * fastest), and optionally jitter.f32 (each pixel's jitter as the page's GPU computed it,
+ * fastest; for feature halos libhalo's runtime splats their buffer from them, for the view
+ * from the volume's centre to the eye in voxel space, as the adapter does), and optionally
+ * jitter.f32 (each pixel's jitter as the page's GPU computed it,
  * width * height floats, rows bottom-up); and writes OUT: width * height RGBA floats, rows bottom-up as readPixels gives
  * them, the host's output blended over the background as NiiVue's framebuffer blends it
  * (source alpha, one minus source alpha; the output clamped to [0,1] first, as a fixed-point
@@ -17,6 +19,7 @@
  * origin: the jitter's pixel coordinates). Exit 0, 1 for a failed draw (diagnostics on
  * stderr), 2 for bad input, 77 without an OpenGL context, 99 for a broken set-up. */
 #include "../../gl_fixture.h"
+#include "halo_feature.h"
 #include "hosts/raycast.h"
 
 #include <math.h>
@@ -163,6 +166,7 @@ int main(int argc, char **argv)
                                                                         .one_draw = 1},
                                                       fx.diag)
                                           : NULL;
+    halo_feature_buffer *buffer = NULL; /* feature halos: their buffer */
     halo_raycast *r =
         program ? halo_raycast_create(
                       &(halo_host_desc){
@@ -194,10 +198,41 @@ int main(int argc, char **argv)
             fx.gl->TexImage2D(GL_TEXTURE_2D, 0, GL_R32F, v.width, v.height, 0, GL_RED, GL_FLOAT, jitter);
             fx.gl->ActiveTexture(GL_TEXTURE0);
         }
-        if (jitter && fx.gl->GetError() != GL_NO_ERROR)
+        halo_feature_desc fd;
+        int feature_failed = 0;
+        if (halo_feature_desc_from_program(program, &fd) == HALO_OK) {
+            /* the view as the adapter's (halo.featureView): from the centre to the eye, in
+             * voxels; an orthographic camera's direction towards the viewer */
+            const double *e = v.inverse + 8;
+            double view[3], length = 0.0;
+            for (int c = 0; c < 3; ++c) {
+                view[c] = (e[3] != 0.0 ? e[c] / e[3] - 0.5 : -e[c]) * v.dims[c];
+                length += view[c] * view[c];
+            }
+            for (int c = 0; c < 3; ++c)
+                view[c] /= length > 0.0 ? sqrt(length) : 1.0;
+            buffer = halo_feature_buffer_create(fx.runtime, values, v.dims, &fd, fx.diag);
+            if (buffer && halo_feature_buffer_build(buffer, view) == HALO_OK) {
+                fx.gl->UseProgram(gl_program);
+                fx.gl->Uniform1i(fx.gl->GetUniformLocation(gl_program, "halo_host_feature_buffer"), 5);
+                fx.gl->UseProgram(0);
+                fx.gl->ActiveTexture(GL_TEXTURE5);
+                fx.gl->BindTexture(GL_TEXTURE_3D, halo_feature_buffer_describe(buffer).texture);
+                fx.gl->ActiveTexture(GL_TEXTURE0);
+            } else
+                feature_failed = 1; /* the diagnostics say why */
+        }
+        if (feature_failed)
+            fprintf(stderr, "niivue_reference: no buffer for the feature halos\n");
+        else if (jitter && fx.gl->GetError() != GL_NO_ERROR)
             fprintf(stderr, "niivue_reference: cannot upload the %dx%d jitter image\n", v.width, v.height);
         else if (halo_raycast_render(r, rgba, fx.diag) == HALO_OK)
             status = 0;
+        if (buffer) {
+            fx.gl->ActiveTexture(GL_TEXTURE5);
+            fx.gl->BindTexture(GL_TEXTURE_3D, 0);
+            fx.gl->ActiveTexture(GL_TEXTURE0);
+        }
         if (jitter_texture) {
             fx.gl->ActiveTexture(GL_TEXTURE4);
             fx.gl->BindTexture(GL_TEXTURE_2D, 0);
@@ -224,6 +259,7 @@ int main(int argc, char **argv)
             status = 2;
     } else
         halo_diagnostics_print(fx.diag, stderr);
+    halo_feature_buffer_destroy(buffer);
     halo_raycast_destroy(r);
     halo_program_destroy(program);
     free(host);
