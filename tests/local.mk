@@ -380,7 +380,7 @@ tests_adapters_web_niivue_reference_CPPFLAGS = $(HALO_TEST_HOST_CPPFLAGS)
 nodist_EXTRA_tests_adapters_web_niivue_reference_SOURCES = $(HALO_TEST_CXX_LINK)
 tests_adapters_web_niivue_reference_LDADD = $(HALO_TOOL_LIBS)
 TESTS += $(HALO_WEB_TESTS)
-EXTRA_DIST += $(HALO_WEB_TESTS) tests/adapters/web/api.test.mjs tests/adapters/web/browser.mjs tests/adapters/web/raycast.html tests/adapters/web/warnings.mjs tests/adapters/web/three.html tests/adapters/web/niivue.html tests/adapters/web/vtkjs.html \
+EXTRA_DIST += $(HALO_WEB_TESTS) tests/adapters/web/api.test.mjs tests/adapters/web/browser.mjs tests/adapters/web/raycast.html tests/adapters/web/warnings.mjs tests/adapters/web/nifti.mjs tests/adapters/web/three.html tests/adapters/web/niivue.html tests/adapters/web/vtkjs.html \
 	tests/adapters/web/package.json tests/adapters/web/package-lock.json
 AM_TESTS_ENVIRONMENT += HALO_HAVE_WEB='$(HALO_HAVE_WEB)'; export HALO_HAVE_WEB; \
 	HALO_WEB_PACKAGE='$(abs_top_builddir)/adapters/web/package'; export HALO_WEB_PACKAGE; \

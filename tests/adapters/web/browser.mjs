@@ -513,6 +513,7 @@ try {
   page.on('pageerror', (e) => console.log(`page error: ${e.message}`));
   let casterAlone = null; // raycast.frag without libhalo, for the three.js caster's own difference
 
+  for (const c of cases) writeNifti(c.dir); // the three.js caster's page reads the volume as NIfTI
   for (const c of cases) for (const viewer of ['raycast', 'three']) {
     inputs = c.dir;
     drawn++;
