@@ -271,7 +271,9 @@ int main(int argc, char **argv)
     halo_setup(&setup);
     halo_diagnostics *diag = halo_diagnostics_create();
     halo_library *lib = halo_library_create(diag);
-    halo_scene *scene = lib && o.scene ? halo_scene_load(o.scene, lib, diag) : lib ? halo_scene_create(lib) : nullptr;
+    halo_scene *scene = lib && o.scene ? halo_scene_load(o.scene, nullptr, lib, diag)
+                        : lib          ? halo_scene_create(lib)
+                                       : nullptr;
     int status = 0;
     if (!scene) {
         halo_diagnostics_print(diag, stderr);

@@ -211,20 +211,19 @@ static int declares_uniform(const char *text, const char *name)
 }
 
 /* With engine_uniforms, the pieces host declares the live parameters as the engine would
- * (from halo_program_uniform_next), after its #version line, so that it validates. */
+ * (from the reflection's declarations), after its #version line, so that it validates. */
 static int declare_engine_uniforms(halo_program *p)
 {
     halo_strbuf b = {0};
-    size_t cursor = 0;
-    halo_uniform_decl u;
     int added = 0;
-    while (halo_program_uniform_next(p, &cursor, &u)) {
-        if (u.name && u.array_size)
-            halo_strbuf_printf(&b, "uniform %s %s[%d];\n", u.glsl_type, u.name, u.array_size), added++;
-        else if (u.name)
-            halo_strbuf_printf(&b, "uniform %s %s;\n", u.glsl_type, u.name), added++;
-        if (u.count_name)
-            halo_strbuf_printf(&b, "uniform int %s;\n", u.count_name), added++;
+    for (size_t i = 0; i < p->declaration_count; ++i) {
+        const halo_uniform_decl *u = &p->declarations[i];
+        if (u->name && u->array_size)
+            halo_strbuf_printf(&b, "uniform %s %s[%d];\n", u->glsl_type, u->name, u->array_size), added++;
+        else if (u->name)
+            halo_strbuf_printf(&b, "uniform %s %s;\n", u->glsl_type, u->name), added++;
+        if (u->count_name)
+            halo_strbuf_printf(&b, "uniform int %s;\n", u->count_name), added++;
     }
     if (!added)
         return 0;
@@ -475,57 +474,4 @@ static halo_status validate_composed_held(const halo_program *p, const char *com
     free(copy);
     free(text);
     return st;
-}
-
-/* ---- The uniforms an engine declares ---- */
-
-int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_uniform_decl *out)
-{
-    HALO_REFUSE_NULL(NULL, p, "program", 0);
-    HALO_REFUSE_NULL(NULL, cursor, "cursor", 0);
-    HALO_REFUSE_NULL(NULL, out, "out", 0);
-    while (*cursor < p->uniform_count) {
-        const halo_uniform_info *u = &p->uniforms[(*cursor)++];
-        const halo_param_info *info = u->info;
-        const halo_module *m = NULL;
-        for (size_t s = 0; s < p->stage_count && !m; s++)
-            if (!strcmp(p->stages[s].module->name, u->stage))
-                m = p->stages[s].module;
-        if (!u->live || !m)
-            continue;
-        char count_name[160];
-        snprintf(count_name, sizeof count_name, "%s_count", info->name);
-        int used = halo_module_uses(m, info->name), count_used = info->array_size && halo_module_uses(m, count_name);
-        if (!used && !count_used)
-            continue;
-        static const char *const channel_types[] = {"float", "float", "vec2", "vec3", "vec4"};
-        memset(out, 0, sizeof *out);
-        out->name = u->name;
-        out->param = u;
-        out->components = info->components;
-        out->count = u->count;
-        out->value = u->value;
-        if (info->type == HALO_PARAM_BOOL)
-            out->glsl_type = "int";
-        else if (info->type == HALO_PARAM_CHANNELS) {
-            /* halo_channels, the type the stages read: one float or vector of the program's
-             * channels (its values a list of up to 4 in the module, no array in GLSL) */
-            out->glsl_type = channel_types[p->channel_count];
-            out->components = p->channel_count;
-            out->count = 1; /* one value per channel; fewer set: the last repeats */
-            for (int k = 0; k < p->channel_count && u->count > 0; k++)
-                out->storage[k] = u->value[k < u->count ? k : u->count - 1];
-            out->value = out->storage;
-            return 1;
-        } else
-            out->glsl_type = halo_param_type_name(info->type);
-        if (info->array_size) {
-            out->array_size = used ? info->array_size : 0;
-            out->count_name = count_used ? u->count_name : NULL;
-            if (!used)
-                out->name = NULL; /* only the companion is read */
-        }
-        return 1;
-    }
-    return 0;
 }

@@ -120,7 +120,7 @@ void halo_emit_params(halo_emitter *e, const halo_program *p, const halo_linked_
         int line = m->param_lines[i];
         const char *orig = m->lines[line - 1];
         if (u->live && engine) {
-            /* declared by the engine from the reflection (halo_program_uniform_next) */
+            /* declared by the engine from the reflection (halo_reflection.declarations) */
             halo_emit(e, m->file, line, orig, "// uniform %s %s%s; (declared by the engine%s)",
                       info->type == HALO_PARAM_BOOL       ? "int"
                       : info->type == HALO_PARAM_CHANNELS ? "halo_channels"

@@ -25,8 +25,8 @@
  * The destroy functions take NULL and do nothing, as free() does.
  * tests/libhalo/test_null_api.c calls each function with each such argument NULL.
  *
- * Lifetimes (tests/libhalo/test_lifetimes.c): each object is created by its create, parse,
- * load or link function and given back with its destroy function, once; after that the
+ * Lifetimes (tests/libhalo/test_lifetimes.c): each object is created by its create, load
+ * or link function and given back with its destroy function, once; after that the
  * caller must not use the pointer. What an object is made from stays alive while the
  * object lives, whatever order the caller destroys them in:
  *   halo_diagnostics  owned by the caller; the halo_diagnostic items and their strings
@@ -357,7 +357,7 @@ typedef struct halo_module_info {
     halo_hook hook;
     size_t param_count;
     const halo_param_info *params;
-    int has_emulation; /* a C emulation of its per-sample code, or of every image pass */
+    int has_emulation; /* a C emulation of its per-sample (or line) code, or of every image pass */
     /* What it adds to a frame beside the sample (a per-sample stage with any of them needs
      * a frame: halo_emu_frame, halo_gl_frame): */
     size_t output_count;       /* `#pragma halo output`: extra fragment outputs it folds into images */
@@ -384,12 +384,13 @@ typedef struct halo_render_settings {
 
 typedef struct halo_scene halo_scene;
 
-/* Reads a scene file (docs/scene.md) and checks it against the library's modules.
- * Returns NULL when it has errors; every error is in diag with the JSON path. The scene
+/* A scene (docs/scene.md): parsed from json_text, with file its name in diagnostics (NULL:
+ * "scene"); or, with json_text NULL, read from the file at the path file (bounded:
+ * HALO_MAX_FILE_BYTES), as halo_library_add takes a module. Checked against the library's
+ * modules; NULL when it has errors, every error in diag with the JSON path. The scene
  * keeps the library alive and links only with it. */
-HALO_API halo_scene *halo_scene_load(const char *path, const halo_library *lib, halo_diagnostics *diag);
-HALO_API halo_scene *halo_scene_parse(const char *json_text, const char *file, const halo_library *lib,
-                                      halo_diagnostics *diag);
+HALO_API halo_scene *halo_scene_load(const char *file, const char *json_text, const halo_library *lib,
+                                     halo_diagnostics *diag);
 /* An empty scene: no stage enabled, default render settings. */
 HALO_API halo_scene *halo_scene_create(const halo_library *lib);
 HALO_API void halo_scene_destroy(halo_scene *scene);
@@ -481,7 +482,7 @@ typedef struct halo_link_desc {
     /* ---- For shader composers (docs/composers.md) ---- */
     halo_version_mode version;              /* the #version line: the target's (default), the host's own, or none */
     int engine_uniforms;                    /* 1: live parameters are not declared: the engine declares them from the
-                                  * reflection (halo_program_uniform_next), bools as int */
+                                  * reflection (halo_reflection.declarations), bools as int */
     halo_output_locations output_locations; /* how the extra outputs get their locations */
     const halo_pieces_desc *pieces;         /* with host_source NULL: link no host text; the program's pieces
                                   * (halo_program_source) go into the composer's own shader */
@@ -633,9 +634,9 @@ HALO_API const halo_uniform_info *halo_program_find_uniform(const halo_program *
  * emulation always uses the current value. Values are range-checked. */
 HALO_API halo_status halo_program_set(halo_program *p, const char *stage, const char *param, const double *values,
                                       int count, halo_diagnostics *diag);
-/* Every uniform an engine that declares uniforms itself (halo_link_desc.engine_uniforms)
- * must declare and set: the live parameters, a bool one as int, an array one with its
- * count companion. Start with *cursor = 0; returns 0 after the last one. */
+/* A uniform an engine that declares uniforms itself (halo_link_desc.engine_uniforms) must
+ * declare and set (halo_reflection.declarations below: every one): a live parameter that a
+ * linked stage reads, a bool one as int, an array one with its count companion. */
 typedef struct halo_uniform_decl {
     const char *name;       /* "halo_boundary_k_gs" */
     const char *glsl_type;  /* "float", "vec3", "int" (a bool parameter is int), ... */
@@ -647,7 +648,6 @@ typedef struct halo_uniform_decl {
     const halo_uniform_info *param;
     double storage[4]; /* value's storage where it is converted (a channels parameter) */
 } halo_uniform_decl;
-HALO_API int halo_program_uniform_next(const halo_program *p, size_t *cursor, halo_uniform_decl *out);
 /* What a linked program has, as arrays that live as long as the program (halo_program_set
  * and halo_program_select_group change the values they point to): a copy of counts and
  * pointers, cheap to take. A NULL program has none: every count 0 (so a loop over it does
@@ -685,6 +685,11 @@ typedef struct halo_reflection {
     int reads_labels; /* whether the program reads halo_host_labels: a stage declares it and,
                        * with labels_when, a value of that parameter is >= 0, or the parameter
                        * is live (it may change) */
+    /* The uniforms an engine that declares uniforms itself (halo_link_desc.engine_uniforms)
+     * declares and sets, fixed at link; their count and value follow halo_program_set and
+     * halo_program_select_group in place. */
+    size_t declaration_count;
+    const halo_uniform_decl *declarations;
     /* with one_draw: the program of libhalo's own march over the volume, linked from the
      * same scene (the stages whose outputs are the seeds, e.g. halo_seed), which
      * halo_gl_frame_draw runs before the host's draw; for its emulation (halo_emu_apply)
@@ -751,6 +756,27 @@ HALO_API halo_status halo_validate(const halo_validate_desc *desc, halo_diagnost
 
 /* ---- C emulation (double precision) ---------------------------------------- */
 
+/* What a line host fills (docs/lines.md, Everts et al. 2009), in double precision: the
+ * fields of the GLSL structs halo_line_vertex and halo_line_fragment. */
+typedef struct halo_emu_line_vertex {
+    double position[3];  /* the polyline vertex (world space); the stage moves it sideways */
+    double direction[3]; /* averaged line direction D at the vertex (any length, or 0) */
+    double uv[2];        /* u along the line 0..1, v across the strip: 0 or 1 */
+    double eye[3];       /* eye position (world space) */
+    double width;        /* the host's length unit for strip widths; the stage writes the strip width */
+    double color[3];
+    double opacity;
+} halo_emu_line_vertex;
+
+typedef struct halo_emu_line_fragment {
+    double uv[2]; /* interpolated strip coordinates: v = 0.5 at the line's centre */
+    double depth; /* normalized linear depth: 0 front, 1 back of the data; the host writes it */
+    double fragcoord[2];
+    double color[3]; /* line colour; becomes the background colour in the halo */
+    double opacity;
+    double background[3];
+} halo_emu_line_fragment;
+
 typedef struct halo_emu_sample {
     /* filled by the caller, as a host fills halo_sample */
     double position[3];
@@ -776,15 +802,25 @@ typedef struct halo_emu_sample {
     /* accumulators of outputs 1.. (output 0: output_accum); a min output holds
      * clear - value, so that zero means "nothing yet" here too */
     double output_accum_next[15][4];
+    /* A program linked into a line host (docs/lines.md) applies its stages to the struct
+     * of its hook instead of the fields above: line_vertex (a vertex host) or
+     * line_fragment (a fragment host). */
+    halo_emu_line_vertex line_vertex;
+    halo_emu_line_fragment line_fragment;
 } halo_emu_sample;
 
 /* Screen-sized images of a program with image passes, outputs or samplers, in double
- * precision: the reference for the GL runtime's frame (docs/image-passes.md). */
+ * precision: the reference for the GL runtime's frame (docs/image-passes.md); and the
+ * host uniforms of any program (e.g. a line program's: it has no images). */
 typedef struct halo_emu_frame halo_emu_frame;
 
-/* Applies the program's stages, in its order, with its current parameter values. With a
- * frame (halo_emu_frame_create below; NULL: none), the frame's images and host uniforms
- * are available to the stages and the outputs are folded into s->output_accum. */
+/* Applies the program's stages, in its order, with its current parameter values, to the
+ * sample; a line host's program, to s->line_vertex or s->line_fragment. With a frame
+ * (halo_emu_frame_create below; NULL: none), the frame's images and host uniforms are
+ * available to the stages and the outputs are folded into s->output_accum. Without one,
+ * host uniforms read as zero vectors, as unset GL uniforms: line_strip's depth range is
+ * then (0, 0), unset; give it with halo_emu_frame_set_host_uniform(f, "depth_range",
+ * range, 2). EMU_MISSING for a stage without emulation. */
 HALO_API halo_status halo_emu_apply(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s,
                                     halo_diagnostics *diag);
 
@@ -1057,39 +1093,6 @@ HALO_API halo_status halo_gl_set_camera(halo_gl *gl, unsigned gl_program, const 
  * if the program has at=post passes. Restores the GL state it changes. */
 HALO_API halo_status halo_gl_frame_draw(halo_gl_frame *f, unsigned gl_program, const halo_gl_segments_desc *desc,
                                         halo_diagnostics *diag);
-
-/* ---- Lines (Everts et al. 2009) ---- */
-
-/* What a line host fills (docs/lines.md), in double precision: the fields of the GLSL
- * structs halo_line_vertex and halo_line_fragment. */
-typedef struct halo_emu_line_vertex {
-    double position[3];  /* the polyline vertex (world space); the stage moves it sideways */
-    double direction[3]; /* averaged line direction D at the vertex (any length, or 0) */
-    double uv[2];        /* u along the line 0..1, v across the strip: 0 or 1 */
-    double eye[3];       /* eye position (world space) */
-    double width;        /* the host's length unit for strip widths; the stage writes the strip width */
-    double color[3];
-    double opacity;
-} halo_emu_line_vertex;
-
-typedef struct halo_emu_line_fragment {
-    double uv[2]; /* interpolated strip coordinates: v = 0.5 at the line's centre */
-    double depth; /* normalized linear depth: 0 front, 1 back of the data; the host writes it */
-    double fragcoord[2];
-    double color[3]; /* line colour; becomes the background colour in the halo */
-    double opacity;
-    double background[3];
-} halo_emu_line_fragment;
-
-/* Applies the program's line_vertex stages (program linked into a vertex host) to v,
- * with their current parameters; depth_range is the host uniform halo_host_depth_range
- * (distance from the eye to the front and back of the data; NULL = unset, (0, 0)).
- * EMU_MISSING for a stage without emulation. */
-HALO_API halo_status halo_emu_line_vertex_apply(const halo_program *p, const double depth_range[2],
-                                                halo_emu_line_vertex *v, halo_diagnostics *diag);
-/* Applies the program's line_fragment stages to f (fragment host). */
-HALO_API halo_status halo_emu_line_fragment_apply(const halo_program *p, halo_emu_line_fragment *f,
-                                                  halo_diagnostics *diag);
 
 #ifdef __cplusplus
 }

@@ -233,7 +233,9 @@ struct halo_program {
      * halo_program_derive (link, halo_program_set, group loads), so that the reflection,
      * which the runtime takes in its loops, stays a copy of fields */
     int derived_interval, derived_reads_labels;
-    int group; /* the selected one */
+    halo_uniform_decl *declarations; /* the reflection's, kept by halo_program_derive too (room for */
+    size_t declaration_count;        /* every uniform: allocated at link) */
+    int group;                       /* the selected one */
     int image_precision;
     int image_scale;
     /* host contract 2 (libhalo/segment.c) */

@@ -810,6 +810,53 @@ halo_program *halo_link_prepass(const halo_link_desc *desc, halo_diagnostics *di
     return p;
 }
 
+/* The reflection's declarations, which uniforms an engine declares (halo_link_desc.
+ * engine_uniforms) and as what: the live parameters a stage reads, a bool one as int, a
+ * channels one as the program's halo_channels type. Fixed at link; their values follow
+ * the program's (halo_program_derive). 0 when out of memory. */
+static int link_declarations(halo_program *p)
+{
+    static const char *const channel_types[] = {"float", "float", "vec2", "vec3", "vec4"};
+    if (!(p->declarations = calloc(p->uniform_count + 1, sizeof *p->declarations)))
+        return 0;
+    for (size_t i = 0; i < p->uniform_count; ++i) {
+        const halo_uniform_info *u = &p->uniforms[i];
+        const halo_param_info *info = u->info;
+        const halo_module *m = NULL;
+        for (size_t s = 0; s < p->stage_count && !m; s++)
+            if (!strcmp(p->stages[s].module->name, u->stage))
+                m = p->stages[s].module;
+        if (!u->live || !m)
+            continue;
+        char count_name[160];
+        snprintf(count_name, sizeof count_name, "%s_count", info->name);
+        int used = halo_module_uses(m, info->name), count_used = info->array_size && halo_module_uses(m, count_name);
+        if (!used && !count_used)
+            continue;
+        halo_uniform_decl *d = &p->declarations[p->declaration_count++];
+        d->name = u->name;
+        d->param = u;
+        d->components = info->components;
+        if (info->type == HALO_PARAM_BOOL)
+            d->glsl_type = "int";
+        else if (info->type == HALO_PARAM_CHANNELS) {
+            /* halo_channels, the type the stages read: one float or vector of the program's
+             * channels (its values a list of up to 4 in the module, no array in GLSL) */
+            d->glsl_type = channel_types[p->channel_count];
+            d->components = p->channel_count;
+            continue;
+        } else
+            d->glsl_type = halo_param_type_name(info->type);
+        if (info->array_size) {
+            d->array_size = used ? info->array_size : 0;
+            d->count_name = count_used ? u->count_name : NULL;
+            if (!used)
+                d->name = NULL; /* only the companion is read */
+        }
+    }
+    return 1;
+}
+
 static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *h, int prepass_only,
                                     halo_diagnostics *diag)
 {
@@ -984,6 +1031,8 @@ static halo_program *link_with_host(const halo_link_desc *desc, halo_host_info *
         return NULL;
     }
     if (passes)
+        goto oom;
+    if (!link_declarations(p))
         goto oom;
     halo_program_derive(p);
     return p;

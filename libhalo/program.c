@@ -164,6 +164,7 @@ void halo_program_destroy(halo_program *p)
         free(p->uniform_names[i]);
     free(p->uniform_names);
     free(p->uniforms);
+    free(p->declarations);
     free(p->outputs);
     free(p->passes);
     for (size_t i = 0; i < p->pass_count; i++)
@@ -392,6 +393,8 @@ halo_reflection halo_program_reflection(const halo_program *p)
     r.group_count = p->group_count > 1 ? p->group_count : 1;
     r.interval = p->derived_interval;
     r.reads_labels = p->derived_reads_labels;
+    r.declaration_count = p->declaration_count;
+    r.declarations = p->declarations;
     return r;
 }
 
@@ -422,10 +425,31 @@ void halo_program_load_group(halo_program *p, int g)
     halo_program_derive(p);
 }
 
+/* The values of the reflection's declarations (built at link: halo_link_declarations):
+ * a parameter's current ones, a channels one converted to the program's halo_channels. */
+static void refresh_declarations(halo_program *p)
+{
+    for (size_t i = 0; i < p->declaration_count; ++i) {
+        halo_uniform_decl *d = &p->declarations[i];
+        const halo_uniform_info *u = d->param;
+        if (u->info->type != HALO_PARAM_CHANNELS) {
+            d->count = u->count;
+            d->value = u->value;
+            continue;
+        }
+        /* one value per channel; fewer set: the last repeats */
+        for (int k = 0; k < p->channel_count && u->count > 0; k++)
+            d->storage[k] = u->value[k < u->count ? k : u->count - 1];
+        d->count = 1;
+        d->value = d->storage;
+    }
+}
+
 void halo_program_derive(halo_program *p)
 {
     p->derived_interval = program_interval(p);
     p->derived_reads_labels = program_reads_labels(p);
+    refresh_declarations(p);
 }
 
 halo_status halo_program_select_group(halo_program *p, int group)

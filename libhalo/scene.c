@@ -561,10 +561,8 @@ static void read_render(reader *r, json_t *obj)
     }
 }
 
-halo_scene *halo_scene_parse(const char *text, const char *file, const halo_library *lib, halo_diagnostics *diag)
+static halo_scene *scene_parse(const char *text, const char *file, const halo_library *lib, halo_diagnostics *diag)
 {
-    HALO_REFUSE_NULL(diag, text, "json_text", NULL);
-    HALO_REFUSE_NULL(diag, lib, "library", NULL);
     if (!file)
         file = "scene";
     text = halo_skip_bom(text); /* editors write it; JSON has no place for it */
@@ -619,10 +617,13 @@ halo_scene *halo_scene_parse(const char *text, const char *file, const halo_libr
     return scene;
 }
 
-halo_scene *halo_scene_load(const char *path, const halo_library *lib, halo_diagnostics *diag)
+halo_scene *halo_scene_load(const char *file, const char *json_text, const halo_library *lib, halo_diagnostics *diag)
 {
-    HALO_REFUSE_NULL(diag, path, "path", NULL);
     HALO_REFUSE_NULL(diag, lib, "library", NULL);
+    if (json_text)
+        return scene_parse(json_text, file, lib, diag);
+    HALO_REFUSE_NULL(diag, file, "file (or json_text)", NULL);
+    const char *path = file;
     size_t len = 0;
     char *text = halo_read_file(path, &len);
     if (!text) {
@@ -634,7 +635,7 @@ halo_scene *halo_scene_load(const char *path, const halo_library *lib, halo_diag
         free(text);
         return NULL;
     }
-    halo_scene *s = halo_scene_parse(text, path, lib, diag);
+    halo_scene *s = scene_parse(text, path, lib, diag);
     free(text);
     return s;
 }

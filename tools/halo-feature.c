@@ -155,8 +155,8 @@ static int render_main(int argc, char **argv)
         fprintf(stderr, "halo-feature: error: %s is not embedded\n", DEFAULT_SCENE);
         goto done;
     }
-    scene = o.scene ? halo_scene_load(o.scene, lib, diag)
-                    : halo_scene_parse(builtin, DEFAULT_SCENE " (built in)", lib, diag);
+    scene = o.scene ? halo_scene_load(o.scene, NULL, lib, diag)
+                    : halo_scene_load(DEFAULT_SCENE " (built in)", builtin, lib, diag);
     if (!scene)
         goto done;
     int feature = halo_driver_has_feature_halos(lib, scene);

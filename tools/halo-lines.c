@@ -76,13 +76,13 @@ typedef struct options {
 static halo_scene *load_scene(const options *o, const halo_library *lib, halo_diagnostics *diag)
 {
     if (o->scene_path)
-        return halo_scene_load(o->scene_path, lib, diag);
+        return halo_scene_load(o->scene_path, NULL, lib, diag);
     const char *text = halo_tool_embedded_scene(DEFAULT_SCENE);
     if (!text) {
         fprintf(stderr, "halo-lines: error: %s is not embedded\n", DEFAULT_SCENE);
         return NULL;
     }
-    return halo_scene_parse(text, DEFAULT_SCENE " (built in)", lib, diag);
+    return halo_scene_load(DEFAULT_SCENE " (built in)", text, lib, diag);
 }
 
 /* The parameter a linked stage names with `is KEY=PARAM` (strip_width, core_fraction). */

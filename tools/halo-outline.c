@@ -133,7 +133,7 @@ int main(int argc, char **argv)
         return 2;
     int status = 1;
     halo_library *lib = halo_library_create(diag);
-    halo_scene *scene = lib ? halo_scene_load(scene_path, lib, diag) : NULL;
+    halo_scene *scene = lib ? halo_scene_load(scene_path, NULL, lib, diag) : NULL;
     halo_program *program =
         scene ? halo_driver_link(&(halo_link_desc){.library = lib, .scene = scene}, HALO_DRIVER_SLICE, 1, diag) : NULL;
     halo_headless *context = NULL;

@@ -772,8 +772,8 @@ int main(int argc, char **argv)
             goto done;
         }
     }
-    scene = o.scene_path ? halo_scene_load(o.scene_path, lib, diag)
-                         : halo_scene_parse(scene_text, DEFAULT_SCENE " (built in)", lib, diag);
+    scene = o.scene_path ? halo_scene_load(o.scene_path, NULL, lib, diag)
+                         : halo_scene_load(DEFAULT_SCENE " (built in)", scene_text, lib, diag);
     if (!scene)
         goto done;
 

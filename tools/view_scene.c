@@ -267,8 +267,8 @@ int view_load_scene(viewer *v, const char *path, int keep_camera)
             return 2;
         }
     }
-    halo_scene *scene = path ? halo_scene_load(path, v->lib, v->diag)
-                             : halo_scene_parse(text, DEFAULT_SCENE " (built in)", v->lib, v->diag);
+    halo_scene *scene = path ? halo_scene_load(path, NULL, v->lib, v->diag)
+                             : halo_scene_load(DEFAULT_SCENE " (built in)", text, v->lib, v->diag);
     if (!scene) {
         view_report_diagnostics(v, "cannot read the scene");
         return halo_diagnostics_has(v->diag, HALO_MSG_IO_READ) ||

@@ -397,7 +397,7 @@ static int scene_passes(const bench_options *o, halo_bench_env *env)
 {
     int passes = 4;
     if (o->scene) {
-        halo_scene *scene = halo_scene_load(o->scene, env->lib, env->diag);
+        halo_scene *scene = halo_scene_load(o->scene, NULL, env->lib, env->diag);
         if (!scene) {
             halo_diagnostics_print(env->diag, stderr);
             return 0;

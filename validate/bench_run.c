@@ -93,8 +93,8 @@ static int open_case(const halo_bench_env *env, halo_bench_case *c)
 {
     halo_driver_host kind = case_kind(c);
     const char *text = c->scene_text ? c->scene_text : env->scene_text;
-    c->scene = text ? halo_scene_parse(text, "(bench scene)", env->lib, env->diag)
-                    : halo_scene_load(env->scene_path, env->lib, env->diag);
+    c->scene = text ? halo_scene_load("(bench scene)", text, env->lib, env->diag)
+                    : halo_scene_load(env->scene_path, NULL, env->lib, env->diag);
     if (!c->scene || !configure_scene(env, c))
         return 0;
     const halo_link_desc link = {.library = env->lib,

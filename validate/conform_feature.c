@@ -320,7 +320,7 @@ static int draw_probe(feature_context *c, const halo_program *program, unsigned 
 static void run_apply_row(feature_context *c, const char *row, const char *scene_json, int live, double gain,
                           double darkening, const float *volume, int n)
 {
-    halo_scene *scene = halo_scene_parse(scene_json, "(conformance feature scene)", c->lib, c->diag);
+    halo_scene *scene = halo_scene_load("(conformance feature scene)", scene_json, c->lib, c->diag);
     halo_program *program = scene ? halo_link(&(halo_link_desc){.library = c->lib,
                                                                 .scene = scene,
                                                                 .host_source = halo_host_embedded("probe.frag"),

@@ -282,7 +282,7 @@ static void run_frame_stage_row(conform *c, const halo_module *m, const char *ro
     size_t count = (size_t)c->size * (size_t)c->size;
     int printed = 0; /* the row printed its line; else conform_row_end prints an error row */
     if (scene_json)
-        scene = halo_scene_parse(scene_json, "(conformance frame scene)", c->lib, c->diag);
+        scene = halo_scene_load("(conformance frame scene)", scene_json, c->lib, c->diag);
     else if ((scene = halo_scene_create(c->lib)) && halo_scene_enable(scene, stage, 1, c->diag) != HALO_OK)
         goto done;
     if (!scene)

@@ -123,7 +123,7 @@ static void target_read(rows *r, target *t, float *out0, float *out1)
 /* Links one probe host with a scene (JSON text) into a vertex or fragment program. */
 static halo_program *link_probe(rows *r, const char *host, halo_shader_kind kind, const char *scene_text)
 {
-    halo_scene *scene = halo_scene_parse(scene_text, "conform-lines", r->lib, r->diag);
+    halo_scene *scene = halo_scene_load("conform-lines", scene_text, r->lib, r->diag);
     if (!scene)
         return NULL;
     const char *source = halo_host_embedded(host);
@@ -192,7 +192,7 @@ static void close_probe(rows *r, probe *pr)
 }
 
 /* Runs n <= PROBE_SIDE^2 vertices through line_probe.vert linked with the program and
- * compares them with halo_emu_line_vertex_apply. Inputs are float-rounded first. */
+ * compares them with the emulation (halo_emu_apply). Inputs are float-rounded first. */
 static void vertex_row(rows *r, const char *row, const char *scene_text, halo_emu_line_vertex *in, size_t n,
                        const double depth_range[2])
 {
@@ -258,13 +258,22 @@ static void vertex_row(rows *r, const char *row, const char *scene_text, halo_em
     target_read(r, &pr.t, out0, out1);
     double range[2] = {f32(depth_range[0]), f32(depth_range[1])};
     stats s = {0};
-    int emu_failed = 0;
-    for (size_t i = 0; i < n; ++i) {
-        halo_emu_line_vertex v = in[i];
-        if (halo_emu_line_vertex_apply(pr.linked, range, &v, r->diag) != HALO_OK) {
+    /* the emulation's host uniform: the frame's (a line program has no images) */
+    halo_emu_frame *frame = halo_emu_frame_create(pr.linked, 1, 1, r->diag);
+    int emu_failed = !frame;
+    if (frame && halo_emu_frame_set_host_uniform(frame, "depth_range", range, 2) != HALO_OK) {
+        HALO_REPORT_ERROR(r->diag, HALO_MSG_EMU_MISSING, "", 0, 0,
+                          "%s: the linked program has no host uniform depth_range for its emulation", row);
+        emu_failed = 1;
+    }
+    halo_emu_sample sample = {0};
+    for (size_t i = 0; i < n && !emu_failed; ++i) {
+        sample.line_vertex = in[i];
+        if (halo_emu_apply(pr.linked, frame, &sample, r->diag) != HALO_OK) {
             emu_failed = 1;
             break;
         }
+        const halo_emu_line_vertex v = sample.line_vertex;
         const float *g = &out0[i * 4], *gc = &out1[i * 4];
         double scale = 1.0 + fabs(in[i].position[0]) + fabs(in[i].position[1]) + fabs(in[i].position[2]) +
                        fabs(in[i].eye[0]) + fabs(in[i].eye[1]) + fabs(in[i].eye[2]);
@@ -287,6 +296,7 @@ static void vertex_row(rows *r, const char *row, const char *scene_text, halo_em
     f->DeleteBuffers(1, &buffer);
     f->DeleteVertexArrays(1, &vao);
     free(attributes), free(out0), free(out1);
+    halo_emu_frame_destroy(frame);
     close_probe(r, &pr);
     if (emu_failed)
         lines_print_error_row(r, row);
@@ -483,6 +493,7 @@ static void run_halo_row(rows *r, int profile)
         stats s = {0};
         size_t excluded = 0;
         int emu_failed = 0;
+        halo_emu_sample sample = {0};
         for (size_t i = 0; i < n && !emu_failed; ++i) {
             /* where 2|v - 0.5| is within float rounding of the core's edge, the branch may
              * go either way: leave the pixel out */
@@ -491,11 +502,12 @@ static void run_halo_row(rows *r, int profile)
                 excluded++;
                 continue;
             }
-            halo_emu_line_fragment e = in[i];
-            if (halo_emu_line_fragment_apply(pr.linked, &e, r->diag) != HALO_OK) {
+            sample.line_fragment = in[i];
+            if (halo_emu_apply(pr.linked, NULL, &sample, r->diag) != HALO_OK) {
                 emu_failed = 1;
                 break;
             }
+            const halo_emu_line_fragment e = sample.line_fragment;
             const float *gc = &out0[i * 4], *gd = &out1[i * 4];
             double before = s.over;
             for (int c = 0; c < 3; ++c)

@@ -230,7 +230,7 @@ static void run_case(conform *c, const outline_case *oc, const char *probe_sourc
                     : ONE_FEATURE,
              oc->outlines);
     snprintf(tolerance_text, sizeof tolerance_text, "%.0e+%.0er", oc->tol_abs, oc->tol_rel); /* conform_rows.c */
-    halo_scene *scene = halo_scene_parse(json, oc->name, c->lib, c->diag);
+    halo_scene *scene = halo_scene_load(oc->name, json, c->lib, c->diag);
     halo_program *program = scene ? halo_link(&(halo_link_desc){.library = c->lib,
                                                                 .scene = scene,
                                                                 .host_source = probe_source,

@@ -79,7 +79,7 @@ static void run_pass_row(conform *c, halo_library *lib, const conform_row *row)
     snprintf(json, sizeof json, "{\"halo_scene\": 1, \"stages\": [\"conform_seed\", {\"halo_generate\": %s}]}",
              r->generate);
     conform_tolerance_text(row, tolerance_text, sizeof tolerance_text);
-    halo_scene *scene = halo_scene_parse(json, "(conformance pass scene)", lib, c->diag);
+    halo_scene *scene = halo_scene_load("(conformance pass scene)", json, lib, c->diag);
     halo_program *program = NULL;
     halo_gl_frame *gframe = NULL;
     halo_emu_frame *eframe = NULL;

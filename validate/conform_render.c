@@ -225,7 +225,7 @@ void conform_raycast_row(conform *c, const conform_row *row)
     float *gpu = NULL;
     double *reference = NULL, *allowed = NULL;
     int printed = 0;
-    if (!raycast_input_open(c, halo_scene_parse(raycast_scene, "(conformance ray cast scene)", c->lib, c->diag), &in))
+    if (!raycast_input_open(c, halo_scene_load("(conformance ray cast scene)", raycast_scene, c->lib, c->diag), &in))
         goto done;
     const halo_program *program = in.program;
     halo_raycast_state state;

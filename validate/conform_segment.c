@@ -780,7 +780,7 @@ void conform_segment_row(conform *c, const conform_row *row)
     const conform_segment_host *host = params->host ? params->host : &conform_segment_raycast;
     char *owned_source = NULL;
     const char *source = host_source(c, host, &owned_source);
-    halo_scene *scene = volume ? halo_scene_parse(params->scene, "(conformance segment scene)", c->lib, c->diag) : NULL;
+    halo_scene *scene = volume ? halo_scene_load("(conformance segment scene)", params->scene, c->lib, c->diag) : NULL;
     halo_raycast_state state;
     conform_segment_plan plan;
     float transfer[HALO_RAYCAST_TRANSFER_TEXELS * 4];

@@ -159,7 +159,7 @@ static void run_row(conform *c, const char *row, const char *scene_text, int sla
                     int one_draw, double tolerance, const char *tolerance_text, const char *reason, const float *volume,
                     int volume_size)
 {
-    halo_scene *scene = halo_scene_parse(scene_text, "(conformance slice scene)", c->lib, c->diag);
+    halo_scene *scene = halo_scene_load("(conformance slice scene)", scene_text, c->lib, c->diag);
     halo_program *program = NULL, *interleaved = NULL;
     halo_slice *host = NULL;
     float *gpu = NULL;

@@ -143,8 +143,8 @@ int halo_figure3_run(const halo_library *lib, FILE *out, double ratios[4], halo_
     int status = -1;
     const size_t n = FIG_SIZE * FIG_SIZE;
     double *buffers = calloc(8 * n, sizeof *buffers);
-    halo_scene *scene = halo_scene_parse("{\"stages\": [{\"halo_generate\": {\"passes\": 4, \"delta\": 0.8}}]}",
-                                         "(figure 3 scene)", lib, diag);
+    halo_scene *scene = halo_scene_load(
+        "(figure 3 scene)", "{\"stages\": [{\"halo_generate\": {\"passes\": 4, \"delta\": 0.8}}]}", lib, diag);
     halo_program *program = NULL;
     halo_emu_frame *frame = NULL;
     if (!buffers || !scene)
@@ -227,7 +227,7 @@ static int field_of(const halo_library *lib, const char *generate, const double 
 {
     char json[256];
     snprintf(json, sizeof json, "{\"stages\": [{\"halo_generate\": %s}]}", generate);
-    halo_scene *scene = halo_scene_parse(json, "(wide field scene)", lib, diag);
+    halo_scene *scene = halo_scene_load("(wide field scene)", json, lib, diag);
     halo_program *program = scene ? halo_link(&(halo_link_desc){.library = lib,
                                                                 .scene = scene,
                                                                 .host_source = figure3_host,

@@ -516,7 +516,7 @@ static int cmd_link(int argc, char **argv)
         halo_library_add(lib, modules[i], NULL, HALO_ADD_REPLACE, d);
     if (!lib || halo_diagnostics_describe(d).errors)
         goto done;
-    scene = scene_path ? halo_scene_load(scene_path, lib, d) : halo_scene_create(lib);
+    scene = scene_path ? halo_scene_load(scene_path, NULL, lib, d) : halo_scene_create(lib);
     if (!scene)
         goto done;
     if (host_path) {

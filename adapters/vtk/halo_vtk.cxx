@@ -410,10 +410,9 @@ void set_uniform(vtkUniforms *u, const halo_uniform_decl &d, std::vector<std::st
 void upload_all(halo_vtk *h, std::vector<std::string> *names)
 {
     vtkUniforms *u = h->property->GetFragmentCustomUniforms();
-    size_t cursor = 0;
-    halo_uniform_decl d;
-    while (halo_program_uniform_next(h->program, &cursor, &d))
-        set_uniform(u, d, names);
+    const halo_reflection r = halo_program_reflection(h->program);
+    for (size_t i = 0; i < r.declaration_count; ++i)
+        set_uniform(u, r.declarations[i], names);
 }
 
 /* Notes the program VTK drew the volume with, and whether the stages are in it. */

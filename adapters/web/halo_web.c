@@ -147,7 +147,7 @@ WEB_API halo_program *halo_web_link(const char *options_text)
     }
     if (scene_text) {
         const char *file = string_field(o, "scene_file");
-        scene = halo_scene_parse(scene_text, file ? file : "scene.json", library, d);
+        scene = halo_scene_load(file ? file : "scene.json", scene_text, library, d);
         if (!scene)
             goto done;
     }

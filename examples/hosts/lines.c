@@ -33,8 +33,8 @@ void halo_lines_scene_keep_hook(halo_scene *scene, const halo_library *lib, halo
 static halo_scene *scene_for_hook(const halo_library *lib, const char *path, const char *text, halo_hook hook,
                                   halo_diagnostics *diag)
 {
-    halo_scene *scene = path   ? halo_scene_load(path, lib, diag)
-                        : text ? halo_scene_parse(text, "scene", lib, diag)
+    halo_scene *scene = path   ? halo_scene_load(path, NULL, lib, diag)
+                        : text ? halo_scene_load("scene", text, lib, diag)
                                : halo_scene_create(lib);
     halo_lines_scene_keep_hook(scene, lib, hook);
     return scene;

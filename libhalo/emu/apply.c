@@ -54,7 +54,8 @@ int halo_emu_channel_count(const halo_emu_params *p)
     return c < 1 ? 1 : c > 4 ? 4 : c;
 }
 
-/* The stages of the program in order; image-hook stages have no per-sample code. */
+/* The stages of the program in order: each runs on the sample (a line host's stages on
+ * its line_vertex or line_fragment); image-hook stages have no per-sample code. */
 static halo_status run_stages(const halo_program *p, halo_emu_frame *f, halo_emu_sample *s, halo_diagnostics *diag)
 {
     memset(s->normal, 0, sizeof s->normal);
@@ -62,7 +63,7 @@ static halo_status run_stages(const halo_program *p, halo_emu_frame *f, halo_emu
     memset(s->seed, 0, sizeof s->seed);
     for (size_t i = 0; i < p->stage_count; i++) {
         const halo_linked_stage *st = &p->stages[i];
-        if (st->module->hook != HALO_HOOK_SAMPLE)
+        if (st->module->hook == HALO_HOOK_IMAGE)
             continue;
         halo_emu_stage_fn fn = halo_emu_lookup(st->module->name);
         if (!fn) {

@@ -4,19 +4,19 @@
 #include "feature_internal.h"
 #include "stages.h"
 
-/* The per-sample stages with an emulation, by module name: HALO_EMU_SAMPLE_STAGES(X),
+/* The per-sample and line stages with an emulation, by module name: HALO_EMU_STAGES(X),
  * generated from the HALO_EMU_STAGE(name) definitions of libhalo/local.mk's
  * halo_emu_stage_files (build-aux/emu_registry.sh). */
 #include "registry_list.h"
 
 #define HALO_EMU_DECLARE(name) HALO_EMU_STAGE(name);
-HALO_EMU_SAMPLE_STAGES(HALO_EMU_DECLARE)
+HALO_EMU_STAGES(HALO_EMU_DECLARE)
 #define HALO_EMU_ENTRY(name) {#name, halo_emu_##name},
 
 static const struct {
     const char *name;
     halo_emu_stage_fn fn;
-} halo_emu_stages[] = {HALO_EMU_SAMPLE_STAGES(HALO_EMU_ENTRY)};
+} halo_emu_stages[] = {HALO_EMU_STAGES(HALO_EMU_ENTRY)};
 
 halo_emu_stage_fn halo_emu_lookup(const char *name)
 {

@@ -1,11 +1,11 @@
-/* The per-sample stage emulations (one file each in emu/), and the few guards they share
+/* The per-sample and line stage emulations (one file each in emu/), and the few guards they share
  * beyond emu.h. Internal: not installed. */
 #ifndef HALO_EMU_STAGES_H
 #define HALO_EMU_STAGES_H
 
 #include "emu.h"
 
-/* A per-sample stage's emulation, defined in its own file as HALO_EMU_STAGE(name) { ... }
+/* A per-sample or line stage's emulation, defined in its own file as HALO_EMU_STAGE(name) { ... }
  * at the start of a line, the file listed in libhalo/local.mk's halo_emu_stage_files:
  * the registry's list is generated from those definitions (build-aux/emu_registry.sh),
  * so adding a stage touches no other place of the emulation. */

@@ -12,7 +12,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     if (!library) {
         library = halo_library_create(NULL);
-        scene = library ? halo_scene_parse("{\"stages\": [\"silhouette\", \"tone_shading\"]}", "s.json", library, NULL)
+        scene = library ? halo_scene_load("s.json", "{\"stages\": [\"silhouette\", \"tone_shading\"]}", library, NULL)
                         : NULL;
     }
     if (!scene)

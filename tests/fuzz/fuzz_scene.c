@@ -17,7 +17,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (!text)
         return 0;
     halo_diagnostics *diag = halo_diagnostics_create();
-    halo_scene *scene = halo_scene_parse(text, "fuzz.json", library, diag);
+    halo_scene *scene = halo_scene_load("fuzz.json", text, library, diag);
     if (scene) {
         static const char host[] =
             "#pragma halo declarations\nlayout(location = 0) out vec4 c;\n"

@@ -37,7 +37,7 @@ static FIXTURE_UNUSED const char host_source[] =
 static FIXTURE_UNUSED halo_scene *scene_of(const char *json)
 {
     halo_diagnostics_clear(diags);
-    halo_scene *s = halo_scene_parse(json, "test.json", library, diags);
+    halo_scene *s = halo_scene_load("test.json", json, library, diags);
     if (!s) {
         check_print_diags(diags);
         SETUP_FAIL("scene rejected: %s", json);

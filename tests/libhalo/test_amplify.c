@@ -38,7 +38,7 @@ static int test_stream_without_end(void)
     if (access("/dev/zero", R_OK))
         return 0;
     halo_diagnostics_clear(diags);
-    CHECK(halo_scene_load("/dev/zero", library, diags) == NULL);
+    CHECK(halo_scene_load("/dev/zero", NULL, library, diags) == NULL);
     CHECK_DIAG(diags, HALO_MSG_INPUT_TOO_LARGE);
     const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_INPUT_TOO_LARGE, 0);
     CHECK_STR_EQ(g->file, "/dev/zero");
@@ -58,7 +58,7 @@ static int test_regular_file_too_large(void)
     char path[] = "/tmp/halo-amplify-XXXXXX";
     SETUP(sparse_file(path, (off_t)HALO_MAX_FILE_BYTES + 1) == 0);
     halo_diagnostics_clear(diags);
-    halo_scene *s = halo_scene_load(path, library, diags);
+    halo_scene *s = halo_scene_load(path, NULL, library, diags);
     halo_status st = halo_library_add(library, path, NULL, HALO_ADD_NEW, diags);
     unlink(path);
     CHECK(s == NULL);
@@ -81,7 +81,7 @@ static int test_long_line_echo(void)
         len += (size_t)snprintf(text + len, cap - len, "%s\"nosuch%d\"", i ? ", " : "", i);
     len += (size_t)snprintf(text + len, cap - len, "]}");
     halo_diagnostics_clear(diags);
-    CHECK(halo_scene_parse(text, "long.json", library, diags) == NULL);
+    CHECK(halo_scene_load("long.json", text, library, diags) == NULL);
     CHECK_INT_EQ(halo_diagnostics_describe(diags).count, HALO_DIAGNOSTICS_DEFAULT_LIMIT);
     for (size_t i = 0; i < halo_diagnostics_describe(diags).count; i++) {
         const halo_diagnostic *g = halo_diagnostics_get(diags, i);
@@ -110,7 +110,7 @@ static int test_long_line_echo(void)
 static int test_short_line_echo(void)
 {
     halo_diagnostics_clear(diags);
-    CHECK(halo_scene_parse("{\"halo_scene\": 1, \"stages\": [\"nosuch\"]}", "short.json", library, diags) == NULL);
+    CHECK(halo_scene_load("short.json", "{\"halo_scene\": 1, \"stages\": [\"nosuch\"]}", library, diags) == NULL);
     const halo_diagnostic *g = check_find_diag(diags, HALO_MSG_SCENE_STAGE_UNKNOWN, 1);
     CHECK(g != NULL);
     CHECK_STR_EQ(g->source_line, "{\"halo_scene\": 1, \"stages\": [\"nosuch\"]}");

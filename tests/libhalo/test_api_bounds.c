@@ -12,7 +12,7 @@ static halo_diagnostics *diags;
 static halo_program *link_scene(const char *json)
 {
     halo_diagnostics_clear(diags);
-    halo_scene *scene = halo_scene_parse(json, "bounds.json", library, diags);
+    halo_scene *scene = halo_scene_load("bounds.json", json, library, diags);
     if (!scene)
         return NULL;
     halo_program *p = halo_link(

@@ -74,15 +74,15 @@ static char *compose(const halo_program *p, const char *uniforms, const char *te
     return d;
 }
 
-/* The declarations an engine writes from the reflection (halo_program_uniform_next). */
+/* The declarations an engine writes from the reflection (halo_reflection.declarations). */
 static char *engine_uniform_declarations(const halo_program *p, int *count)
 {
     static char buf[4096];
-    size_t len = 0, cursor = 0;
-    halo_uniform_decl u;
+    size_t len = 0;
     *count = 0;
     buf[0] = '\0';
-    while (halo_program_uniform_next(p, &cursor, &u)) {
+    for (size_t i = 0; i < halo_program_reflection(p).declaration_count; ++i) {
+        const halo_uniform_decl u = halo_program_reflection(p).declarations[i];
         (*count)++;
         if (u.name && u.array_size)
             len += (size_t)snprintf(buf + len, sizeof buf - len, "uniform %s %s[%d];\n", u.glsl_type, u.name,
@@ -98,7 +98,7 @@ static char *engine_uniform_declarations(const halo_program *p, int *count)
 static halo_program *link_pieces(const char *json, const halo_pieces_desc *names, halo_target target, int engine)
 {
     halo_diagnostics_clear(diags);
-    halo_scene *scene = halo_scene_parse(json, "compose.json", library, diags);
+    halo_scene *scene = halo_scene_load("compose.json", json, library, diags);
     if (!scene) {
         check_print_diags(diags);
         return NULL;
@@ -257,10 +257,9 @@ static int test_engine_uniforms(void)
     /* the pieces host declares them as the engine would: it validates */
     halo_diagnostics_clear(diags);
     CHECK_INT_EQ(halo_validate(&(halo_validate_desc){.program = p}, diags), HALO_OK);
-    size_t cursor = 0;
-    halo_uniform_decl u;
     int seen = 0;
-    while (halo_program_uniform_next(p, &cursor, &u)) {
+    for (size_t i = 0; i < halo_program_reflection(p).declaration_count; ++i) {
+        const halo_uniform_decl u = halo_program_reflection(p).declarations[i];
         if (u.name && !strcmp(u.name, "halo_engine_test_enabled")) {
             CHECK_STR_EQ(u.glsl_type, "int");
             CHECK(u.value[0] == 1.0);
@@ -284,7 +283,6 @@ static int test_engine_uniforms(void)
         }
     }
     CHECK_INT_EQ(seen, 15);
-    CHECK_INT_EQ(halo_program_uniform_next(p, &cursor, &u), 0);
     int n = 0;
     char *composed = compose(p, engine_uniform_declarations(p, &n), engine_template);
     CHECK(composed != NULL);
@@ -346,7 +344,7 @@ static int test_pieces_outputs(void)
     halo_program_destroy(p);
     /* GLSL 150 with GL_ARB_explicit_attrib_location: located, and the pieces host enables it */
     halo_diagnostics_clear(diags);
-    halo_scene *hs = halo_scene_parse(halo_json, "h.json", library, diags);
+    halo_scene *hs = halo_scene_load("h.json", halo_json, library, diags);
     CHECK(hs != NULL);
     p = halo_link(&(halo_link_desc){.library = library,
                                     .scene = hs,
@@ -394,7 +392,7 @@ static int test_version_modes(void)
         "#endif\n"
         "    color_out = color;\n"
         "}\n";
-    halo_scene *scene = halo_scene_parse(per_sample_scene, "v.json", library, diags);
+    halo_scene *scene = halo_scene_load("v.json", per_sample_scene, library, diags);
     CHECK(scene != NULL);
     static const char *const first_lines[] = {"#version 150 core\n", "#version 150\n", "// #version 150 (no"};
     for (int mode = HALO_VERSION_TARGET; mode <= HALO_VERSION_NONE; mode++) {
@@ -514,7 +512,7 @@ static int test_engine_channels(void)
         " {\"halo_generate\": {\"delta\": [0.9, 0.8], \"live\": [\"delta\"]}}, {\"halo_map\": {}}]}";
     static const halo_target targets[] = {HALO_TARGET_GLSL150, HALO_TARGET_GLSL330, HALO_TARGET_ES300};
     halo_diagnostics_clear(diags);
-    halo_scene *scene = halo_scene_parse(scene_json, "channels.json", library, diags);
+    halo_scene *scene = halo_scene_load("channels.json", scene_json, library, diags);
     CHECK(scene != NULL);
     halo_pieces_desc names = engine_names;
     names.segmented = 1;
@@ -529,18 +527,26 @@ static int test_engine_channels(void)
                                                           .all_live = all_live},
                                         diags);
             CHECK(p != NULL);
-            size_t cursor = 0;
-            halo_uniform_decl u;
             int delta = 0;
-            while (halo_program_uniform_next(p, &cursor, &u))
+            for (size_t i = 0; i < halo_program_reflection(p).declaration_count; ++i) {
+                const halo_uniform_decl u = halo_program_reflection(p).declarations[i];
                 if (u.name && strstr(u.name, "halo_generate_delta")) {
                     delta = 1;
                     CHECK_STR_EQ(u.glsl_type, "vec2");
                     CHECK_INT_EQ(u.array_size, 0);
                     CHECK_INT_EQ(u.components, 2);
                     CHECK(u.count_name == NULL);
+                    CHECK(u.value[0] == 0.9 && u.value[1] == 0.8);
                 }
+            }
             CHECK(delta);
+            /* the declarations follow halo_program_set: one value for two halos repeats */
+            CHECK_INT_EQ(halo_program_set(p, "halo_generate", "delta", (const double[]){0.7}, 1, diags), HALO_OK);
+            for (size_t i = 0; i < halo_program_reflection(p).declaration_count; ++i) {
+                const halo_uniform_decl u = halo_program_reflection(p).declarations[i];
+                if (u.name && strstr(u.name, "halo_generate_delta"))
+                    CHECK(u.value[0] == 0.7 && u.value[1] == 0.7);
+            }
             if (halo_validate(&(halo_validate_desc){.program = p}, diags) != HALO_OK) {
                 check_print_diags(diags);
                 CHECK_FAIL_AT("target %s, all_live %d: the pieces do not validate", halo_target_name(targets[t]),

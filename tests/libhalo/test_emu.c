@@ -18,7 +18,7 @@ static const char trivial_host[] =
 static halo_program *program_of(const char *json)
 {
     halo_diagnostics_clear(diags);
-    halo_scene *scene = halo_scene_parse(json, "test.json", library, diags);
+    halo_scene *scene = halo_scene_load("test.json", json, library, diags);
     if (!scene) {
         check_print_diags(diags);
         SETUP_FAIL("scene rejected: %s", json);
@@ -469,6 +469,78 @@ static int test_no_emulation(void)
     return check_unchanged("{}", sample(0.5, 0.1, 0.1, 0.1, 0.5, 0.5));
 }
 
+/* A line program's stages run through halo_emu_apply on the sample's line_vertex or
+ * line_fragment (docs/lines.md), line_strip's depth range from the frame's host uniform:
+ * the formulas of glsl/lines/strip.glsl and halo.glsl worked by hand at the defaults
+ * (strip_width 0.03, depth_attenuation 0.5, taper 0.1; core 0.4, d_max 0.05, linear). */
+static halo_program *line_program(const char *stage, halo_shader_kind kind, const char *host)
+{
+    char json[96];
+    snprintf(json, sizeof json, "{\"stages\": [\"%s\"]}", stage);
+    halo_diagnostics_clear(diags);
+    halo_scene *scene = halo_scene_load("lines.json", json, library, diags);
+    halo_program *p =
+        scene
+            ? halo_link(&(halo_link_desc){.library = library, .scene = scene, .host_source = host, .kind = kind}, diags)
+            : NULL;
+    halo_scene_destroy(scene);
+    if (!p)
+        check_print_diags(diags);
+    return p;
+}
+
+static int test_line_stages(void)
+{
+    CHECK(halo_module_describe(halo_library_find(library, "line_strip")).has_emulation);
+    CHECK(halo_module_describe(halo_library_find(library, "line_halo")).has_emulation);
+    halo_program *strip = line_program("line_strip", HALO_SHADER_VERTEX,
+                                       "#pragma halo declarations\n"
+                                       "void main() { halo_line_vertex v; halo_apply(v); gl_Position = "
+                                       "vec4(v.position, 1.0); }\n");
+    CHECK(strip != NULL);
+    /* a vertex at the origin on a line along x, seen from (0, 0, 2), on the strip's v = 1
+     * side, mid-line (no taper): S = V x D = (0, 1, 0), the vertex moves by strip / 2 */
+    const halo_emu_line_vertex vertex = {.direction = {1, 0, 0}, .uv = {0.5, 1}, .eye = {0, 0, 2}, .width = 1};
+    halo_emu_sample s = {.line_vertex = vertex};
+    CHECK_INT_EQ(halo_emu_apply(strip, NULL, &s, diags), HALO_OK); /* no frame: range (0, 0), unset */
+    CHECK_NEAR(s.line_vertex.width, 0.03, TOLERANCE);
+    CHECK_NEAR(s.line_vertex.position[1], 0.015, TOLERANCE);
+    CHECK_NEAR(s.line_vertex.position[0], 0, TOLERANCE);
+    halo_emu_frame *frame = halo_emu_frame_create(strip, 1, 1, diags);
+    CHECK(frame != NULL);
+    const double range[2] = {1, 3}; /* the vertex 2 from the eye: depth 0.5, width x 0.75 */
+    CHECK_INT_EQ(halo_emu_frame_set_host_uniform(frame, "depth_range", range, 2), HALO_OK);
+    s = (halo_emu_sample){.line_vertex = vertex};
+    CHECK_INT_EQ(halo_emu_apply(strip, frame, &s, diags), HALO_OK);
+    CHECK_NEAR(s.line_vertex.width, 0.0225, TOLERANCE);
+    CHECK_NEAR(s.line_vertex.position[1], 0.01125, TOLERANCE);
+    halo_emu_frame_destroy(frame);
+    halo_program_destroy(strip);
+
+    halo_program *halo = line_program("line_halo", HALO_SHADER_FRAGMENT,
+                                      "#pragma halo declarations\n"
+                                      "out vec4 color;\n"
+                                      "void main() { halo_line_fragment f; halo_apply(f); color = f.color; }\n");
+    CHECK(halo != NULL);
+    /* v = 0.9: x = 0.8, past the core: the background, opaque, depth + 0.05 x 0.8 */
+    const halo_emu_line_fragment fragment = {
+        .uv = {0.5, 0.9}, .depth = 0.3, .color = {1, 0, 0}, .opacity = 0.5, .background = {0, 0, 1}};
+    s = (halo_emu_sample){.line_fragment = fragment};
+    CHECK_INT_EQ(halo_emu_apply(halo, NULL, &s, diags), HALO_OK);
+    CHECK_NEAR(s.line_fragment.color[2], 1, 0);
+    CHECK_NEAR(s.line_fragment.opacity, 1, 0);
+    CHECK_NEAR(s.line_fragment.depth, 0.34, TOLERANCE);
+    /* the line's centre: unchanged */
+    s = (halo_emu_sample){.line_fragment = fragment};
+    s.line_fragment.uv[1] = 0.5;
+    CHECK_INT_EQ(halo_emu_apply(halo, NULL, &s, diags), HALO_OK);
+    CHECK_NEAR(s.line_fragment.color[0], 1, 0);
+    CHECK_NEAR(s.line_fragment.opacity, 0.5, 0);
+    CHECK_NEAR(s.line_fragment.depth, 0.3, 0);
+    halo_program_destroy(halo);
+    return 0;
+}
+
 /* The outlines' kernel sizes follow Svakhine et al. 2009 ("the size of the filtering
  * kernel sigma"): sigma, in percent of the image diagonal, is the full width of the
  * Gaussian truncated at 3 standard deviations, so its standard deviation is sigma / 6.
@@ -527,6 +599,7 @@ int main(void)
                                        CHECK_TEST(test_hard_cases),
                                        CHECK_TEST(test_program_set),
                                        CHECK_TEST(test_no_emulation),
+                                       CHECK_TEST(test_line_stages),
                                        CHECK_TEST(test_outline_kernel_size)};
     return check_main_with_library(&library, &diags, tests, sizeof tests / sizeof tests[0]);
 }

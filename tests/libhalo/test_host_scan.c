@@ -16,7 +16,7 @@ static halo_program *link_host(const char *scene_json, const char *host, halo_ta
 {
     halo_diagnostics_clear(diags);
     halo_scene *scene = NULL;
-    if (scene_json && !(scene = halo_scene_parse(scene_json, "test.json", library, diags))) {
+    if (scene_json && !(scene = halo_scene_load("test.json", scene_json, library, diags))) {
         check_print_diags(diags);
         SETUP_FAIL("scene rejected: %s", scene_json);
     }

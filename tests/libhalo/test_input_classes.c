@@ -91,7 +91,7 @@ static int test_scene_value_beyond_type_range(void)
     };
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
         halo_diagnostics_clear(diags);
-        halo_scene *s = halo_scene_parse(scenes[i], "range.json", library, diags);
+        halo_scene *s = halo_scene_load("range.json", scenes[i], library, diags);
         if (s) {
             halo_scene_destroy(s);
             CHECK_FAIL_AT("accepted: %s", scenes[i]);

@@ -21,7 +21,7 @@ static const char other_boundary[] =
 static halo_scene *scene_setup(halo_library **lib, halo_diagnostics **d)
 {
     *lib = check_library_setup(d);
-    halo_scene *scene = halo_scene_parse(scene_json, "scene.json", *lib, *d);
+    halo_scene *scene = halo_scene_load("scene.json", scene_json, *lib, *d);
     if (!scene) {
         check_print_diags(*d);
         SETUP_FAIL("scene_json rejected");
@@ -152,7 +152,7 @@ static int test_scene_of_another_library(void)
     halo_library *second = halo_library_create(d);
     CHECK(second != NULL);
     CHECK_INT_EQ(halo_library_add(second, "other_boundary.glsl", other_boundary, HALO_ADD_REPLACE, d), HALO_OK);
-    halo_scene *scene = halo_scene_parse("{\"halo_scene\": 1, \"stages\": [\"boundary\"]}", "s.json", first, d);
+    halo_scene *scene = halo_scene_load("s.json", "{\"halo_scene\": 1, \"stages\": [\"boundary\"]}", first, d);
     CHECK(scene != NULL);
     CHECK_NO_ERRORS(d);
     halo_program *p =

@@ -622,8 +622,23 @@ static int test_feature_groups(void)
     CHECK_NEAR(vmin->value[3], 0.6, 0);
     CHECK_NEAR(lambda->value[0], 5, 0); /* a list of five: its last for the rest */
     CHECK_NEAR(lambda->value[2], 5, 0);
+    /* the declarations an engine sets (halo_reflection.declarations) follow the group */
+    int declared = 0;
+    for (size_t i = 0; i < halo_program_reflection(p).declaration_count; i++) {
+        const halo_uniform_decl *u = &halo_program_reflection(p).declarations[i];
+        if (u->param == vmin) {
+            declared = 1;
+            CHECK(u->value != NULL && u->count == 1);
+            CHECK_NEAR(u->value[0], 0.5, 0);
+            CHECK_NEAR(u->value[3], 0.6, 0);
+        }
+    }
+    CHECK(declared);
     CHECK_INT_EQ(halo_program_select_group(p, 0), HALO_OK);
     CHECK_NEAR(vmin->value[1], 0.2, 0);
+    for (size_t i = 0; i < halo_program_reflection(p).declaration_count; i++)
+        if (halo_program_reflection(p).declarations[i].param == vmin)
+            CHECK_NEAR(halo_program_reflection(p).declarations[i].value[1], 0.2, 0);
     /* halo_program_set takes the whole list; the selected group's values follow */
     const double more[7] = {0.01, 0.02, 0.03, 0.04, 0.05, 0.06, 0.07};
     CHECK_INT_EQ(halo_program_select_group(p, 1), HALO_OK);
@@ -661,11 +676,12 @@ static int test_feature_groups(void)
     halo_program_destroy(q);
     /* more than 16 features, or more than four halos: the scene says no */
     halo_diagnostics_clear(diags);
-    CHECK(halo_scene_parse(
+    CHECK(halo_scene_load(
+              "t.json",
               "{\"stages\": [{\"outline_feature\": {\"label\": [1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17]}}]}",
-              "t.json", library, diags) == NULL);
+              library, diags) == NULL);
     halo_diagnostics_clear(diags);
-    CHECK(halo_scene_parse("{\"stages\": [{\"halo_seed\": {\"alpha\": [1, 2, 3, 4, 5]}}]}", "t.json", library, diags) ==
+    CHECK(halo_scene_load("t.json", "{\"stages\": [{\"halo_seed\": {\"alpha\": [1, 2, 3, 4, 5]}}]}", library, diags) ==
           NULL);
     halo_diagnostics_clear(diags);
     return 0;

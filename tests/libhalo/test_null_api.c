@@ -291,14 +291,9 @@ CASE(halo_module_find_param)
 
 CASE(halo_scene_load)
 {
-    REFUSES_D(halo_scene_load(NULL, lib, d) == NULL, "path");
-    REFUSES_D(halo_scene_load(scene_path, NULL, d) == NULL, "library");
-    return 0;
-}
-CASE(halo_scene_parse)
-{
-    REFUSES_D(halo_scene_parse(NULL, "s.json", lib, d) == NULL, "json_text");
-    REFUSES_D(halo_scene_parse("{\"stages\": [\"boundary\"]}", "s.json", NULL, d) == NULL, "library");
+    REFUSES_D(halo_scene_load(NULL, NULL, lib, d) == NULL, "file (or json_text)");
+    REFUSES_D(halo_scene_load(scene_path, NULL, NULL, d) == NULL, "library");
+    REFUSES_D(halo_scene_load("s.json", "{\"stages\": [\"boundary\"]}", NULL, d) == NULL, "library");
     return 0;
 }
 CASE(halo_scene_create)
@@ -396,15 +391,6 @@ CASE(halo_program_set)
     REFUSES_D(halo_program_set(program, NULL, "k_gc", values, 1, d) == HALO_ERROR_INPUT, "stage");
     REFUSES_D(halo_program_set(program, "boundary", NULL, values, 1, d) == HALO_ERROR_INPUT, "param");
     REFUSES_D(halo_program_set(program, "boundary", "k_gc", NULL, 1, d) == HALO_ERROR_INPUT, "values");
-    return 0;
-}
-CASE(halo_program_uniform_next)
-{
-    size_t cursor = 0;
-    halo_uniform_decl decl;
-    REFUSES(halo_program_uniform_next(NULL, &cursor, &decl) == 0, "program");
-    REFUSES(halo_program_uniform_next(program, NULL, &decl) == 0, "cursor");
-    REFUSES(halo_program_uniform_next(program, &cursor, NULL) == 0, "out");
     return 0;
 }
 CASE(halo_pass_reach)
@@ -706,21 +692,6 @@ CASE(halo_gl_frame_draw)
     REFUSES_D(halo_gl_frame_draw(gl_fixture.frame, 1, NULL, d) == HALO_ERROR_INPUT, "desc");
     return 0;
 }
-CASE(halo_emu_line_vertex_apply)
-{
-    halo_emu_line_vertex v = {.width = 1};
-    REFUSES_D(halo_emu_line_vertex_apply(NULL, NULL, &v, d) == HALO_ERROR_INPUT, "program");
-    REFUSES_D(halo_emu_line_vertex_apply(program, NULL, NULL, d) == HALO_ERROR_INPUT, "vertex");
-    return 0;
-}
-CASE(halo_emu_line_fragment_apply)
-{
-    halo_emu_line_fragment f = {.opacity = 1};
-    REFUSES_D(halo_emu_line_fragment_apply(NULL, &f, d) == HALO_ERROR_INPUT, "program");
-    REFUSES_D(halo_emu_line_fragment_apply(program, NULL, d) == HALO_ERROR_INPUT, "fragment");
-    return 0;
-}
-
 CASE(halo_feature_desc_layout)
 {
     /* NULL desc and dims are the defaults and no buffer */
@@ -847,7 +818,6 @@ static const api_case cases[] = {
     ROW(halo_module_describe),
     ROW(halo_module_find_param),
     ROW(halo_scene_load),
-    ROW(halo_scene_parse),
     ROW(halo_scene_create),
     ROW(halo_scene_destroy),
     ROW(halo_scene_enable),
@@ -861,7 +831,6 @@ static const api_case cases[] = {
     ROW(halo_program_reflection),
     ROW(halo_program_find_uniform),
     ROW(halo_program_set),
-    ROW(halo_program_uniform_next),
     ROW(halo_pass_reach),
     ROW(halo_program_select_group),
     ROW(halo_program_reflect_json),
@@ -904,8 +873,6 @@ static const api_case cases[] = {
     ROW(halo_gl_frame_read),
     ROW(halo_gl_set_camera),
     ROW(halo_gl_frame_draw),
-    ROW(halo_emu_line_vertex_apply),
-    ROW(halo_emu_line_fragment_apply),
     ROW(halo_feature_desc_layout),
     ROW(halo_feature_desc_from_program),
     ROW(halo_feature_gradient_magnitudes),
@@ -1057,8 +1024,8 @@ int main(void)
     lib = check_library_setup(&d);
     module = halo_library_find(lib, "boundary");
     SETUP(module != NULL);
-    scene = halo_scene_parse("{\"halo_scene\": 1, \"stages\": [{\"boundary\": {\"live\": [\"k_gc\"]}}]}", "null.json",
-                             lib, d);
+    scene = halo_scene_load("null.json", "{\"halo_scene\": 1, \"stages\": [{\"boundary\": {\"live\": [\"k_gc\"]}}]}",
+                            lib, d);
     SETUP(scene != NULL);
     program = halo_link(&(halo_link_desc){.library = lib, .scene = scene, .host_source = check_sample_host}, d);
     SETUP(program != NULL);

@@ -14,10 +14,10 @@ static int test_pipeline(void)
     CHECK(lib != NULL);
     CHECK(halo_library_describe(lib).module_count >= 9);
     CHECK(halo_library_find(lib, "boundary") != NULL);
-    halo_scene *scene = halo_scene_parse(
-        "{\"halo_scene\": 1, \"stages\": [{\"boundary\": {\"k_gs\": 10, \"live\":"
-        " [\"k_gc\"]}}, \"silhouette\", \"tone_shading\"]}",
-        "public.json", lib, d);
+    halo_scene *scene = halo_scene_load("public.json",
+                                        "{\"halo_scene\": 1, \"stages\": [{\"boundary\": {\"k_gs\": 10, \"live\":"
+                                        " [\"k_gc\"]}}, \"silhouette\", \"tone_shading\"]}",
+                                        lib, d);
     CHECK(scene != NULL);
     CHECK_INT_EQ(halo_scene_describe(scene).stage_count, 3);
     for (int t = HALO_TARGET_GLSL330; t < HALO_TARGET_COUNT; t++) {
@@ -52,7 +52,7 @@ static int test_pipeline(void)
     }
     CHECK_INT_EQ(halo_diagnostics_describe(d).errors, 0);
     /* Errors come back as ids. */
-    halo_scene *bad = halo_scene_parse("{\"stages\": [\"nope\"]}", "bad.json", lib, d);
+    halo_scene *bad = halo_scene_load("bad.json", "{\"stages\": [\"nope\"]}", lib, d);
     CHECK(bad == NULL);
     CHECK_DIAG(d, HALO_MSG_SCENE_STAGE_UNKNOWN);
     CHECK_STR_EQ(halo_message_name(HALO_MSG_SCENE_STAGE_UNKNOWN), "SCENE_STAGE_UNKNOWN");
@@ -75,7 +75,7 @@ static int test_logger(void)
     halo_diagnostics *d = halo_diagnostics_create();
     halo_library *lib = halo_library_create(d);
     CHECK(lib != NULL);
-    CHECK(halo_scene_parse("not json", "bad.json", lib, d) == NULL);
+    CHECK(halo_scene_load("bad.json", "not json", lib, d) == NULL);
     CHECK_INT_EQ(logged, 1);
     CHECK_INT_EQ(halo_diagnostics_describe(d).count, 1);
     halo_library_destroy(lib);

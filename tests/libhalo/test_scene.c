@@ -1,4 +1,4 @@
-/* Scenes (halo_scene_parse, halo_scene_set): valid scenes, and every error with its
+/* Scenes (halo_scene_load, halo_scene_set): valid scenes, and every error with its
  * message id and the JSON path in its text. No GL, no glslang. */
 #include "check.h"
 #include "internal.h"
@@ -9,7 +9,7 @@ static halo_diagnostics *diags;
 static halo_scene *parse(const char *json)
 {
     halo_diagnostics_clear(diags);
-    return halo_scene_parse(json, "test.json", library, diags);
+    return halo_scene_load("test.json", json, library, diags);
 }
 
 /* The scene's value record of stage.param (internal), or NULL. */
@@ -385,7 +385,7 @@ static int test_api(void)
 static int test_load(void)
 {
     halo_diagnostics_clear(diags);
-    halo_scene *s = halo_scene_load("/nonexistent/dir/scene.json", library, diags);
+    halo_scene *s = halo_scene_load("/nonexistent/dir/scene.json", NULL, library, diags);
     CHECK(s == NULL);
     CHECK_DIAG(diags, HALO_MSG_IO_READ);
     CHECK_STR_EQ(check_find_diag(diags, HALO_MSG_IO_READ, 0)->file, "/nonexistent/dir/scene.json");

@@ -1,7 +1,7 @@
 /* A scene value with the wrong number of elements or components is SCENE_VALUE_COUNT
  * ("value has the wrong number of components"), from JSON as from halo_scene_set.
  *
- * Known library bug (listed in XFAIL_TESTS until fixed): halo_scene_parse reports
+ * Known library bug (listed in XFAIL_TESTS until fixed): halo_scene_load reports
  * these as SCENE_TYPE (libhalo/module.c halo_param_from_json returns one failure for
  * every problem and scene.c read_param maps it to SCENE_TYPE), while halo_scene_set
  * and halo_program_set report SCENE_VALUE_COUNT for the same values. Once fixed, move
@@ -14,7 +14,7 @@ static halo_diagnostics *diags;
 static int check_count_error(const char *json, const char *path)
 {
     halo_diagnostics_clear(diags);
-    halo_scene *s = halo_scene_parse(json, "test.json", library, diags);
+    halo_scene *s = halo_scene_load("test.json", json, library, diags);
     if (s) {
         halo_scene_destroy(s);
         CHECK_FAIL_AT("scene accepted: %s", json);

@@ -46,10 +46,10 @@ static int work(worker *w)
                                    d),
                      HALO_ERROR_INPUT);
         CHECK_DIAG_LINE(d, HALO_MSG_GLSL_ERROR, 3); /* the other thread's log never mixes in */
-        CHECK(halo_scene_parse("{\"stages\": [\"no_such_stage\"]}", "bad.json", w->library, d) == NULL);
+        CHECK(halo_scene_load("bad.json", "{\"stages\": [\"no_such_stage\"]}", w->library, d) == NULL);
         CHECK_DIAG(d, HALO_MSG_SCENE_STAGE_UNKNOWN);
-        halo_scene *scene = halo_scene_parse("{\"halo_scene\": 1, \"stages\": [\"boundary\", \"silhouette\"]}",
-                                             "good.json", w->library, d);
+        halo_scene *scene = halo_scene_load(
+            "good.json", "{\"halo_scene\": 1, \"stages\": [\"boundary\", \"silhouette\"]}", w->library, d);
         CHECK(scene != NULL);
         halo_program *p =
             halo_link(&(halo_link_desc){.library = w->library, .scene = scene, .host_source = check_sample_host}, d);

@@ -335,7 +335,7 @@ void vtkHaloVolumeRepresentation::PrepareHalo(vtkRenderer *renderer, vtkVolume *
     if (!I->Library)
         I->Library = halo_library_create(I->Diag);
     halo_scene_destroy(I->Scene);
-    I->Scene = I->Library ? halo_scene_load(I->ScenePath.c_str(), I->Library, I->Diag) : nullptr;
+    I->Scene = I->Library ? halo_scene_load(I->ScenePath.c_str(), nullptr, I->Library, I->Diag) : nullptr;
     if (!I->Scene || !I->ApplySettings()) {
         vtkErrorMacro("HaloVolume: the scene '" << I->ScenePath << "' was not loaded (diagnostics on stderr)");
         I->Flush();

@@ -148,11 +148,11 @@ int main(void)
     halo_diagnostics *diag = halo_diagnostics_create();
     halo_library *lib = halo_library_create(diag);
     halo_scene *plain =
-        halo_scene_parse("{\"halo_scene\": 1, \"stages\": [{\"tone_shading\": {}}]}", "plain", lib, diag);
-    halo_scene *halos = halo_scene_parse(
-        "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": "
-        "{}}, {\"halo_map\": {}}]}",
-        "halos", lib, diag);
+        halo_scene_load("plain", "{\"halo_scene\": 1, \"stages\": [{\"tone_shading\": {}}]}", lib, diag);
+    halo_scene *halos = halo_scene_load("halos",
+                                        "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": "
+                                        "{}}, {\"halo_map\": {}}]}",
+                                        lib, diag);
     CHECK(lib && plain && halos, "the library and scenes");
     if (!lib || !plain || !halos) {
         halo_diagnostics_print(diag, stderr);
@@ -243,10 +243,10 @@ int main(void)
      * render stays. The cap: 1.25 x the field at 1/2, from the field at 1/4 (8 x 8 pixels
      * a layer, 1/4 of 16 x 16) that an install at 1/4 over a cap of one byte reports */
     halo_scene *seen =
-        halo_scene_parse(/* halos seeded on the ramp ball's edge (|grad| 0.2 a voxel) */
-                         "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"gradient_scale\": 6, \"alpha\": 1}}, "
-                         "{\"halo_generate\": {}}, {\"halo_map\": {\"full_at\": 0.25}}]}",
-                         "seen halos", lib, diag);
+        halo_scene_load("seen halos", /* halos seeded on the ramp ball's edge (|grad| 0.2 a voxel) */
+                        "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {\"gradient_scale\": 6, \"alpha\": 1}}, "
+                        "{\"halo_generate\": {}}, {\"halo_map\": {\"full_at\": 0.25}}]}",
+                        lib, diag);
     CHECK(seen, "the scene of visible halos");
     if (seen) {
         int scale = 0, layers = 0;

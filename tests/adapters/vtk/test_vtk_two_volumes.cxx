@@ -154,7 +154,7 @@ int main(void)
             for (const auto &c : cases)
                 for (int on_far = 0; on_far < 2; on_far++) {
                     std::string json = std::string("{\"halo_scene\": 1, \"stages\": ") + c.json + "}";
-                    halo_scene *scene = halo_scene_parse(json.c_str(), c.name, lib, diag);
+                    halo_scene *scene = halo_scene_load(c.name, json.c_str(), lib, diag);
                     std::string got =
                         scene ? render(lib, scene, c.halo_mapper, on_far, c.segments, far_first, sorted) : "";
                     halo_scene_destroy(scene);

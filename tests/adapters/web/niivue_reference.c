@@ -156,7 +156,7 @@ int main(int argc, char **argv)
         return status;
     }
     status = 1;
-    halo_scene *scene = halo_scene_load(argv[1], fx.lib, fx.diag);
+    halo_scene *scene = halo_scene_load(argv[1], NULL, fx.lib, fx.diag);
     char *host = halo_host_load("niivue_caster.frag", NULL, fx.diag);
     halo_program *program = scene && host ? halo_link(&(halo_link_desc){.library = fx.lib,
                                                                         .scene = scene,

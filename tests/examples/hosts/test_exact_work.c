@@ -338,7 +338,7 @@ static int check_skips(halo_gl *runtime, unsigned *state, int variant)
     char json[sizeof skip_scene + 64];
     snprintf(json, sizeof json, skip_scene, skip_variants[variant].params);
     skip_gradient = skip_variants[variant].gradient;
-    halo_scene *scene = lib ? halo_scene_parse(json, "(skip scene)", lib, diag) : NULL;
+    halo_scene *scene = lib ? halo_scene_load("(skip scene)", json, lib, diag) : NULL;
     float *volume = malloc((size_t)SIDE * SIDE * SIDE * sizeof *volume);
     for (int ball = 0; ball < 2; ++ball) {
         for (size_t i = 0; volume && i < (size_t)SIDE * SIDE * SIDE; ++i) {
@@ -394,7 +394,7 @@ static void slice_link_open(slice_link *l, const char *json, int image_scale)
     l->diag = halo_diagnostics_create();
     l->lib = halo_library_create(l->diag);
     l->host = halo_host_load("slice.frag", NULL, l->diag);
-    l->scene = l->lib ? halo_scene_parse(json, "(scene)", l->lib, l->diag) : NULL;
+    l->scene = l->lib ? halo_scene_load("(scene)", json, l->lib, l->diag) : NULL;
     l->program = l->scene && l->host ? halo_link(&(halo_link_desc){.library = l->lib,
                                                                    .scene = l->scene,
                                                                    .host_source = l->host,

@@ -141,7 +141,7 @@ static int run_case(halo_library *lib, halo_gl *runtime, const halo_glfuncs *gl,
                     const hard_case *c)
 {
     int ok = 0;
-    halo_scene *scene = halo_scene_parse(c->scene, c->name, lib, diag);
+    halo_scene *scene = halo_scene_load(c->name, c->scene, lib, diag);
     char *source = halo_host_load(c->slab ? "slab.frag" : "slice.frag", NULL, diag);
     halo_program *program = NULL;
     halo_slice *host = NULL;

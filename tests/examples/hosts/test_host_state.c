@@ -69,7 +69,7 @@ static halo_program *link_file(env *e, const char *scene_file, const char *host_
     char path[1024];
     snprintf(path, sizeof path, "%s/examples/scenes/%s", e->srcdir, scene_file);
     char *host = halo_host_load(host_name, NULL, e->g.diag);
-    halo_scene *scene = host ? halo_scene_load(path, e->g.lib, e->g.diag) : NULL;
+    halo_scene *scene = host ? halo_scene_load(path, NULL, e->g.lib, e->g.diag) : NULL;
     halo_program *p = scene ? halo_link(&(halo_link_desc){.library = e->g.lib,
                                                           .scene = scene,
                                                           .host_source = host,

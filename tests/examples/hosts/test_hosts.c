@@ -94,7 +94,7 @@ static char *scene_path(const context *c, const char *name)
 static halo_scene *load_scene(const context *c, const char *name)
 {
     char *path = scene_path(c, name);
-    halo_scene *s = path ? halo_scene_load(path, c->lib, c->diag) : NULL;
+    halo_scene *s = path ? halo_scene_load(path, NULL, c->lib, c->diag) : NULL;
     free(path);
     return s;
 }
@@ -333,7 +333,7 @@ static int stage_renders(const context *c, const host_case *h, const char *sourc
 static int segment_renders(const context *c, const host_case *h, const char *source)
 {
     int failed = 0;
-    halo_scene *scene = halo_scene_parse(per_sample_scene, "per-sample.json", c->lib, c->diag);
+    halo_scene *scene = halo_scene_load("per-sample.json", per_sample_scene, c->lib, c->diag);
     halo_program *once = scene ? link_host(c, h->file, source, scene, h->render_target, 0) : NULL;
     halo_program *forced = scene ? link_host(c, h->file, source, scene, h->render_target, 1) : NULL;
     if (report_diagnostics(c, h->file) || !once || !forced || halo_program_reflection(once).segment_location != 0 ||
@@ -473,7 +473,7 @@ static int mip_variant_checks(const context *c, const char *iso_source)
     static const char *const named[] = {"halo_map", "halo_seed", "outlines", "boundary"};
     for (int i = 0; i < 4; ++i) {
         halo_scene *scene = scenes[i] ? load_scene(c, scenes[i])
-                                      : halo_scene_parse(per_sample_scene, "per-sample.json", c->lib, c->diag);
+                                      : halo_scene_load("per-sample.json", per_sample_scene, c->lib, c->diag);
         halo_program *p = scene ? link_host(c, "mip_iso_caster.frag", mip, scene, HALO_TARGET_GLSL330, 0) : NULL;
         const halo_diagnostic *d = halo_diagnostics_describe(c->diag).count ? halo_diagnostics_get(c->diag, 0) : NULL;
         int ok = !p && d && d->id == HALO_MSG_HOST_COMPOSITING && d->line == pragma_line &&
@@ -534,7 +534,7 @@ static int build_defines_checks(const context *c, const char *file, const char *
     for (const char *p = text; p < text + head; ++p)
         line += *p == '\n';
     int failed = 0;
-    halo_scene *scene = halo_scene_parse(per_sample_scene, "(per-sample scene)", c->lib, c->diag);
+    halo_scene *scene = halo_scene_load("(per-sample scene)", per_sample_scene, c->lib, c->diag);
     halo_program *p = scene ? link_host(c, file, text, scene, HALO_TARGET_GLSL330, 0) : NULL;
     const char *vertex = halo_host_embedded("raycast.vert");
     for (int k = 0; k < 3 && p && vertex; ++k) {

@@ -122,7 +122,7 @@ int main(void)
                  "{\"halo_scene\": 1, \"stages\": [{\"halo_seed\": {}}, {\"halo_generate\": {%s}}, "
                  "{\"halo_map\": {\"mode\": 1}}]}",
                  variants[v]);
-        halo_scene *scene = halo_scene_parse(json, "fetch scene", lib, diag);
+        halo_scene *scene = halo_scene_load("fetch scene", json, lib, diag);
         halo_link_desc link = {.library = lib, .scene = scene};
         halo_program *p = scene ? halo_driver_link(&link, HALO_DRIVER_SLAB, 0, diag) : NULL;
         long long with = -1, without = -1, expected = p ? expected_fetches(p) : -1;

@@ -139,7 +139,7 @@ static void hostile_state(void *user, int before_draw)
 static halo_program *link_scene(env *e, const char *scene_text, const char *host, const char *file, int force,
                                 halo_scene **scene_out)
 {
-    halo_scene *scene = halo_scene_parse(scene_text, "(test scene)", e->g.lib, e->g.diag);
+    halo_scene *scene = halo_scene_load("(test scene)", scene_text, e->g.lib, e->g.diag);
     halo_program *p = scene ? halo_link(&(halo_link_desc){.library = e->g.lib,
                                                           .scene = scene,
                                                           .host_source = host,
@@ -654,7 +654,7 @@ static void test_diagnostics(env *e)
         "#endif\n"
         "    color = sum;\n"
         "}\n";
-    halo_scene *scene = halo_scene_parse(halos_scene, "(test scene)", e->g.lib, e->g.diag);
+    halo_scene *scene = halo_scene_load("(test scene)", halos_scene, e->g.lib, e->g.diag);
     halo_program *p = halo_link(
         &(halo_link_desc){.library = e->g.lib, .scene = scene, .host_source = single_pass, .host_file = "single.frag"},
         e->g.diag);
