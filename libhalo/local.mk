@@ -9,15 +9,16 @@ noinst_HEADERS += libhalo/diag.h libhalo/strbuf.h libhalo/internal.h libhalo/gls
 BUILT_SOURCES += libhalo/embedded_modules.c
 CLEANFILES += libhalo/embedded_modules.c
 
-# The per-sample and line stages' emulations, one file each, defining HALO_EMU_STAGE(name): the
-# registry's list (libhalo/emu/registry_list.h) is generated from them, so a stage's
-# emulation is its file and its line here.
+# The stages' emulations, one file a stage, defining HALO_EMU_STAGE(name) (a per-sample or
+# line stage) or HALO_EMU_PASS(module, entry) (each pass of an image stage): the registry's
+# lists (libhalo/emu/registry_list.h) are generated from them, so a stage's emulation is
+# its file and its line here.
 halo_emu_stage_files = \
 	libhalo/emu/gradient.c libhalo/emu/opacity_power.c libhalo/emu/boundary.c \
 	libhalo/emu/silhouette.c libhalo/emu/orientation_fade.c libhalo/emu/sketch.c \
 	libhalo/emu/tone_shading.c libhalo/emu/distance_blend.c libhalo/emu/distance_cue.c \
 	libhalo/emu/halo_seed.c libhalo/emu/halo_map.c libhalo/emu/outline.c libhalo/emu/feature_halo.c \
-	libhalo/emu/line_strip.c libhalo/emu/line_halo.c
+	libhalo/emu/line_strip.c libhalo/emu/line_halo.c libhalo/emu/halo_generate.c
 # What needs neither glslang nor desktop GL: the linker, modules, scenes, reflection and
 # the emulation (the web package builds these for WebAssembly: adapters/web/local.mk).
 halo_portable_files = \
@@ -26,7 +27,7 @@ halo_portable_files = \
 	libhalo/prepass.c libhalo/compose.c libhalo/piece_expression.c libhalo/contract.c libhalo/host_scan.c \
 	libhalo/target.c libhalo/budget.c \
 	libhalo/emu/apply.c libhalo/emu/math.c libhalo/emu/registry.c \
-	libhalo/emu/halo_generate.c libhalo/emu/frame.c $(halo_emu_stage_files)
+	libhalo/emu/frame.c $(halo_emu_stage_files)
 
 BUILT_SOURCES += libhalo/emu/registry_list.h
 CLEANFILES += libhalo/emu/registry_list.h

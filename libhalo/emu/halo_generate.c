@@ -24,7 +24,7 @@ static double median9(double v[9])
     return v[4];
 }
 
-void halo_emu_halo_generate_median(const halo_emu_pass_context *c, int x, int y, double out[4])
+HALO_EMU_PASS(halo_generate, median_pass)
 {
     for (int ch = 0; ch < c->channels; ++ch) {
         double v[9];
@@ -44,7 +44,7 @@ static double seed_gradient(const halo_emu_pass_context *c, int k, int x, int y,
     return halo_emu_clamp(sqrt(gx * gx + gy * gy), 0.0, 1.0);
 }
 
-void halo_emu_halo_generate_gradient(const halo_emu_pass_context *c, int x, int y, double out[4])
+HALO_EMU_PASS(halo_generate, gradient_pass)
 {
     for (int ch = 0; ch < c->channels; ++ch)
         out[ch] = seed_gradient(c, 0, x, y, ch);
@@ -79,24 +79,15 @@ static void spread(const halo_emu_pass_context *c, int x, int y, int taps_from_s
     }
 }
 
-void halo_emu_halo_generate_spread(const halo_emu_pass_context *c, int x, int y, double out[4])
-{
-    spread(c, x, y, 0, 1, 0, out);
-}
+HALO_EMU_PASS(halo_generate, spread_pass) { spread(c, x, y, 0, 1, 0, out); }
 
-void halo_emu_halo_generate_spread_seed(const halo_emu_pass_context *c, int x, int y, double out[4])
-{
-    spread(c, x, y, 1, 0, 1, out);
-}
+HALO_EMU_PASS(halo_generate, spread_seed_pass) { spread(c, x, y, 1, 0, 1, out); }
 
-void halo_emu_halo_generate_spread_on(const halo_emu_pass_context *c, int x, int y, double out[4])
-{
-    spread(c, x, y, 0, 1, 1, out);
-}
+HALO_EMU_PASS(halo_generate, spread_on_pass) { spread(c, x, y, 0, 1, 1, out); }
 
 /* wide: pass i of N, per axis [1 2 3 4 3 2 1]/16 at spacing s = 4^(N - i) (max(1, s / scale)
  * on images at 1/scale) over H_{i-1} (input 0), H_0 from input 1. */
-void halo_emu_halo_generate_spread_wide(const halo_emu_pass_context *c, int x, int y, double out[4])
+HALO_EMU_PASS(halo_generate, spread_wide_pass)
 {
     static const double weights[7] = {1, 2, 3, 4, 3, 2, 1};
     int shift = 2 * ((int)halo_emu_scalar(c->params, "passes") - c->pass_index);
@@ -116,7 +107,7 @@ void halo_emu_halo_generate_spread_wide(const halo_emu_pass_context *c, int x, i
     }
 }
 
-void halo_emu_halo_generate_occlusion(const halo_emu_pass_context *c, int x, int y, double out[4])
+HALO_EMU_PASS(halo_generate, occlusion_pass)
 {
     for (int ch = 0; ch < c->channels; ++ch) {
         double a = halo_emu_input(c, 0, x, y, ch), b = halo_emu_input(c, 1, x, y, ch);

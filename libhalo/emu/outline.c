@@ -141,21 +141,23 @@ static void keep_channels(const halo_emu_pass_context *c, double out[4])
 }
 
 /* The separable passes: one axis (ax, ay) of a blur or a minimum over the kernel of a
- * size parameter; the depth passes clear the channels beyond the features'. One row a
- * pass (the registry, registry.c, names them). */
-#define AXIS_PASS(NAME, AXIS_FUNCTION, AX, AY, SIZE_PARAMETER, CLEAR_UNUSED)         \
-    void NAME(const halo_emu_pass_context *c, int x, int y, double out[4])           \
-    {                                                                                \
-        AXIS_FUNCTION(c, 0, x, y, AX, AY, deviation_pixels(c, SIZE_PARAMETER), out); \
-        if (CLEAR_UNUSED)                                                            \
-            keep_channels(c, out);                                                   \
-    }
-AXIS_PASS(halo_emu_outline_blur_x, blur_axis, 1, 0, "sigma", 1)
-AXIS_PASS(halo_emu_outline_blur_y, blur_axis, 0, 1, "sigma", 1)
-AXIS_PASS(halo_emu_outline_min_x, min_axis, 1, 0, "sigma", 1)
-AXIS_PASS(halo_emu_outline_min_y, min_axis, 0, 1, "sigma", 1)
-AXIS_PASS(halo_emu_outline_normal_blur_x, blur_axis, 1, 0, "normal_sigma", 0)
-AXIS_PASS(halo_emu_outline_normal_blur_y, blur_axis, 0, 1, "normal_sigma", 0)
+ * size parameter; the depth passes clear the channels beyond the features'. */
+typedef void (*axis_fn)(const halo_emu_pass_context *c, int k, int x, int y, int ax, int ay, double sigma,
+                        double out[4]);
+static void axis_pass(const halo_emu_pass_context *c, int x, int y, axis_fn axis, int ax, int ay,
+                      const char *size_parameter, int clear_unused, double out[4])
+{
+    axis(c, 0, x, y, ax, ay, deviation_pixels(c, size_parameter), out);
+    if (clear_unused)
+        keep_channels(c, out);
+}
+
+HALO_EMU_PASS(outlines, blur_x_pass) { axis_pass(c, x, y, blur_axis, 1, 0, "sigma", 1, out); }
+HALO_EMU_PASS(outlines, blur_y_pass) { axis_pass(c, x, y, blur_axis, 0, 1, "sigma", 1, out); }
+HALO_EMU_PASS(outlines, min_x_pass) { axis_pass(c, x, y, min_axis, 1, 0, "sigma", 1, out); }
+HALO_EMU_PASS(outlines, min_y_pass) { axis_pass(c, x, y, min_axis, 0, 1, "sigma", 1, out); }
+HALO_EMU_PASS(outlines, normal_blur_x_pass) { axis_pass(c, x, y, blur_axis, 1, 0, "normal_sigma", 0, out); }
+HALO_EMU_PASS(outlines, normal_blur_y_pass) { axis_pass(c, x, y, blur_axis, 0, 1, "normal_sigma", 0, out); }
 
 static double depth_gamma(const halo_emu_params *p, double d)
 {
@@ -185,7 +187,7 @@ static double normal_importance(const halo_emu_params *p, int k, double dn)
     return halo_emu_pow((dn - lo) / (hi - lo), halo_emu_channel(p, "normal_power", k));
 }
 
-void halo_emu_outline_importance(const halo_emu_pass_context *c, int x, int y, double out[4])
+HALO_EMU_PASS(outlines, importance_pass)
 {
     const halo_emu_params *p = c->params;
     int n = c->channels, difference = halo_emu_scalar(p, "normal_difference") != 0.0,
@@ -242,7 +244,7 @@ void halo_emu_outline_importance(const halo_emu_pass_context *c, int x, int y, d
 
 /* reduce_pass: inputs importance, feature_depth, depth_min, reduced (the accumulator):
  * min(accumulator, (1 - max I, min d, min d_min, 1)). */
-void halo_emu_outline_reduce(const halo_emu_pass_context *c, int x, int y, double out[4])
+HALO_EMU_PASS(outlines, reduce_pass)
 {
     double d = 1.0, d_min = 1.0, line = 0.0;
     for (int k = 0; k < c->channels; ++k) {
@@ -270,7 +272,7 @@ static double pixel_gamma(const halo_emu_pass_context *c, int x, int y, int redu
     return halo_emu_mix(depth_gamma(c->params, d), depth_gamma(c->params, d_min), t);
 }
 
-void halo_emu_outline_compose(const halo_emu_pass_context *c, int x, int y, double out[4])
+HALO_EMU_PASS(outlines, compose_pass)
 {
     const halo_emu_params *p = c->params;
     double back[3], col[3], line[3];
@@ -304,13 +306,13 @@ static double final_sigma(const halo_emu_pass_context *c, int x, int y)
     return size <= 1.0 ? 0.0 : size / 6.0;
 }
 
-void halo_emu_outline_final_blur_x(const halo_emu_pass_context *c, int x, int y, double out[4])
+HALO_EMU_PASS(outlines, final_blur_x_pass)
 {
     blur_axis_tapered(c, 0, x, y, 1, 0, final_sigma(c, x, y), 1, out);
     out[3] = 1.0;
 }
 
-void halo_emu_outline_final_blur_y(const halo_emu_pass_context *c, int x, int y, double out[4])
+HALO_EMU_PASS(outlines, final_blur_y_pass)
 {
     blur_axis_tapered(c, 0, x, y, 0, 1, final_sigma(c, x, y), 1, out);
     out[3] = 1.0;

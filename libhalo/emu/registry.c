@@ -28,30 +28,16 @@ halo_emu_stage_fn halo_emu_lookup(const char *name)
     return NULL;
 }
 
-/* The image-pass emulations, looked up by module and entry. */
+/* The image-pass emulations, looked up by module and entry: HALO_EMU_PASSES(X), generated
+ * from the HALO_EMU_PASS(module, entry) definitions of the same files. */
+#define HALO_EMU_DECLARE_PASS(module, entry) HALO_EMU_PASS(module, entry);
+HALO_EMU_PASSES(HALO_EMU_DECLARE_PASS)
+#define HALO_EMU_PASS_ENTRY(module, entry) {#module, #entry, halo_emu_##module##_##entry},
+
 static const struct {
     const char *module, *entry;
     halo_emu_pass_fn fn;
-} halo_emu_passes[] = {
-    {"halo_generate", "median_pass", halo_emu_halo_generate_median},
-    {"halo_generate", "gradient_pass", halo_emu_halo_generate_gradient},
-    {"halo_generate", "spread_pass", halo_emu_halo_generate_spread},
-    {"halo_generate", "spread_seed_pass", halo_emu_halo_generate_spread_seed},
-    {"halo_generate", "spread_on_pass", halo_emu_halo_generate_spread_on},
-    {"halo_generate", "spread_wide_pass", halo_emu_halo_generate_spread_wide},
-    {"halo_generate", "occlusion_pass", halo_emu_halo_generate_occlusion},
-    {"outlines", "blur_x_pass", halo_emu_outline_blur_x},
-    {"outlines", "blur_y_pass", halo_emu_outline_blur_y},
-    {"outlines", "min_x_pass", halo_emu_outline_min_x},
-    {"outlines", "min_y_pass", halo_emu_outline_min_y},
-    {"outlines", "normal_blur_x_pass", halo_emu_outline_normal_blur_x},
-    {"outlines", "normal_blur_y_pass", halo_emu_outline_normal_blur_y},
-    {"outlines", "importance_pass", halo_emu_outline_importance},
-    {"outlines", "reduce_pass", halo_emu_outline_reduce},
-    {"outlines", "compose_pass", halo_emu_outline_compose},
-    {"outlines", "final_blur_x_pass", halo_emu_outline_final_blur_x},
-    {"outlines", "final_blur_y_pass", halo_emu_outline_final_blur_y},
-};
+} halo_emu_passes[] = {HALO_EMU_PASSES(HALO_EMU_PASS_ENTRY)};
 
 halo_emu_pass_fn halo_emu_lookup_pass(const char *module, const char *entry)
 {
