@@ -567,8 +567,9 @@ static int test_outline_kernel_size(void)
                                .input_count = 1,
                                .inputs = {impulse},
                                .input_components = {1}};
-    void (*const blurs[])(const halo_emu_pass_context *, int, int, double[4]) = {halo_emu_outline_blur_x,
-                                                                                 halo_emu_outline_normal_blur_x};
+    const halo_emu_pass_fn blurs[] = {halo_emu_lookup_pass("outlines", "blur_x_pass"),
+                                      halo_emu_lookup_pass("outlines", "normal_blur_x_pass")};
+    CHECK(blurs[0] && blurs[1]);
     for (int b = 0; b < 2; b++) {
         double sum = 0, moment = 0;
         for (int x = 0; x < side; x++) {
