@@ -3,7 +3,8 @@
 # libhalo/emu/registry.c: HALO_EMU_STAGES(X), the per-sample and line stages, from the
 # `HALO_EMU_STAGE(name)` definitions at the start of a line in each FILE (a path relative
 # to SRCDIR), and HALO_EMU_PASSES(X), the image passes, from the `HALO_EMU_PASS(module,
-# entry)` ones. A file with neither is an error: every file in the list is an emulation.
+# entry)` ones. A file with neither is an error: every file in the list is an emulation;
+# so is such a definition whose names are not [a-z][a-z0-9_]* (it would be left out).
 # Writes a temp file first and moves it into place.
 set -e
 out=$1; srcdir=$2; shift 2
@@ -12,6 +13,12 @@ stages=""; passes=""
 for f in "$@"; do
   s=$(sed -n 's/^HALO_EMU_STAGE(\([a-z][a-z0-9_]*\)).*/\1/p' "$srcdir/$f")
   p=$(sed -n 's/^HALO_EMU_PASS(\([a-z][a-z0-9_]*\), *\([a-z][a-z0-9_]*\)).*/\1, \2/p' "$srcdir/$f")
+  bad=$(grep -n '^HALO_EMU_\(STAGE\|PASS\)(' "$srcdir/$f" |
+        grep -v ':HALO_EMU_STAGE([a-z][a-z0-9_]*)\|:HALO_EMU_PASS([a-z][a-z0-9_]*, *[a-z][a-z0-9_]*)' | head -1)
+  if [ -n "$bad" ]; then
+    echo "emu_registry.sh: $f:${bad%%:*}: not HALO_EMU_STAGE(name) or HALO_EMU_PASS(module, entry) with names [a-z][a-z0-9_]*" >&2
+    exit 1
+  fi
   if [ -z "$s" ] && [ -z "$p" ]; then
     echo "emu_registry.sh: $f: no line starting HALO_EMU_STAGE(name) or HALO_EMU_PASS(module, entry): not an emulation" >&2
     exit 1

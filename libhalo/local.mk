@@ -9,7 +9,7 @@ noinst_HEADERS += libhalo/diag.h libhalo/strbuf.h libhalo/internal.h libhalo/gls
 BUILT_SOURCES += libhalo/embedded_modules.c
 CLEANFILES += libhalo/embedded_modules.c
 
-# The stages' emulations, one file a stage, defining HALO_EMU_STAGE(name) (a per-sample or
+# The stages' emulations, a file per stage (outline.c: both outline stages), defining HALO_EMU_STAGE(name) (a per-sample or
 # line stage) or HALO_EMU_PASS(module, entry) (each pass of an image stage): the registry's
 # lists (libhalo/emu/registry_list.h) are generated from them, so a stage's emulation is
 # its file and its line here.

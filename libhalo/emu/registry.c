@@ -1,4 +1,5 @@
-/* The table of stage emulations, looked up by module name. */
+/* The tables of the emulations: the stages by module name, the image passes by module
+ * and entry. */
 #include <string.h>
 
 #include "feature_internal.h"

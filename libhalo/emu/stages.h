@@ -1,5 +1,5 @@
-/* The per-sample and line stage emulations (one file each in emu/), and the few guards they share
- * beyond emu.h. Internal: not installed. */
+/* The stage emulations (per-sample, line and image-pass stages, in files of emu/) and
+ * the few guards they share beyond emu.h. Internal: not installed. */
 #ifndef HALO_EMU_STAGES_H
 #define HALO_EMU_STAGES_H
 
