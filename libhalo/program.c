@@ -425,7 +425,7 @@ void halo_program_load_group(halo_program *p, int g)
     halo_program_derive(p);
 }
 
-/* The values of the reflection's declarations (built at link: halo_link_declarations):
+/* The values of the reflection's declarations (built at link: link.c's link_declarations):
  * a parameter's current ones, a channels one converted to the program's halo_channels. */
 static void refresh_declarations(halo_program *p)
 {
